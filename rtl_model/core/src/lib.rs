@@ -1,0 +1,25 @@
+//! Digital core of the power management unit 50 of patent US 2022/0041215 A1 (NSK): the logic an
+//! HDL team implements, as a cycle-accurate register-transfer-level model.
+//!
+//! Integers and bits only: no floating point type appears in this crate (a test greps for it).
+//! One block per file, named after the patent block with its reference numeral; each has
+//! `Inputs`, `Outputs`, `Regs`, a `RESET` value and a pure `eval(&Regs, &Inputs) -> (Outputs, Regs)`.
+//! [`pmu50`] is the top level. See docs/spec.md for the specification and docs/glossary.md for
+//! the names.
+#![forbid(unsafe_code)]
+
+pub mod action_switching_56a;
+pub mod comparator_latch_58ab;
+pub mod config;
+pub mod count_diagnosis;
+pub mod drive_interval_changing_56b;
+pub mod params;
+pub mod pmu50;
+pub mod register_file;
+pub mod sensor_power_determination_57;
+pub mod timing_generator_56;
+pub mod updown_counter_58cd;
+
+pub use config::{ConfigError, CoreConfig, Dur};
+pub use params::{ParamError, Params};
+pub use pmu50::{Inputs, Internals, Outputs, Pmu50, Regs};

@@ -1,0 +1,555 @@
+//! Top level of the digital core of power management unit 50 (FIG. 14 / FIG. 20), third
+//! embodiment with the second embodiment's adaptive drive interval ([0413]-[0414]).
+//!
+//! One call of [`Pmu50::step`] is one rising clock edge. [`eval`] reads every register, evaluates
+//! the blocks in the fixed order below (each block only uses signals of blocks above it, so there is
+//! no combinational loop by construction), and returns the next value of every register, which
+//! the caller commits at once, as Verilog non-blocking assignments do.
+//!
+//! Evaluation order:
+//! 1. `action_switching`   (56a, 51): `ig` synchronizer -> `sig`, `kon`, `koff`, rail enables
+//! 2. `register_file`: parameters in force, W1C strobes, bus write, registered read
+//! 3. `timing_generator`   (56, 54): `st`, `vs2_en`, `ps_win`, `smp` from the timer
+//! 4. `sensor_power_determination` (57): `sr` <= `vs2_en` & `vs2_ok`
+//! 5. `comparator_latch`   (58a, 58b): latch `cmp_s`, `cmp_c` at `smp` & `sr`
+//! 6. `updown_counter`     (58c, 58d): count per [0096]-[0099]
+//! 7. `drive_interval`     (56b): FIG. 17/18 at key-off strobes
+//! 8. `count_diagnosis`    ([0119]): from the counters' next values
+//!
+//! Every top-level output ([`Outputs`]) is decoded from registers only (Moore): the environment can
+//! read this cycle's outputs with [`Pmu50::peek`] before it computes this cycle's inputs. A test
+//! checks that no input reaches an output combinationally.
+//!
+//! Top-level ports (the contract with the HDL team, docs/signals.md):
+//!
+//! | port        | width | dir | meaning |
+//! |-------------|-------|-----|---------|
+//! | `ig`        | 1     | in  | ignition key signal IG |
+//! | `vs2_ok`    | 1     | in  | Vs2 rail power-good (analog) |
+//! | `cmp_s`     | 1     | in  | raw decision of comparator 58a (sin2 >= Vr) |
+//! | `cmp_c`     | 1     | in  | raw decision of comparator 58b (cos2 >= Vr) |
+//! | `bus_we`    | 1     | in  | register write strobe |
+//! | `bus_addr`  | 8     | in  | register address |
+//! | `bus_wdata` | 16    | in  | register write data |
+//! | `sig`       | 1     | out | operation switching signal Sig |
+//! | `vr_hi`     | 1     | out | regulator 51 at 6 V (1) / 4 V (0) |
+//! | `vm_en`     | 1     | out | Vm on (unit 52) |
+//! | `vs1_en`    | 1     | out | Vs1 on (unit 53) |
+//! | `vs2_en`    | 1     | out | Vs2 on (unit 54) |
+//! | `vp_en`     | 1     | out | Vp on (always 1) |
+//! | `rail_hi`   | 1     | out | Vs2/Vp at Vcc1 (1) or Vcc2 (0) |
+//! | `st`        | 1     | out | timing signal St |
+//! | `sr`        | 1     | out | activation signal Sr |
+//! | `ps_win`    | 1     | out | sampling period Ps |
+//! | `smp`       | 1     | out | sampling strobe |
+//! | `cs`, `cc`  | 1     | out | sign signals Cs, Cc |
+//! | `cnt_s`, `cnt_c` | W (16) | out | count values CNTs, CNTc |
+//! | `cnt_r`     | 8     | out | power supply count CNTr |
+//! | `si`        | 16    | out | drive interval Si, ticks |
+//! | `hist_s`, `hist_c` | 1 | out | change history |
+//! | `diag`      | 1     | out | count diagnosis |
+//! | `quadrant_skip` | 1 | out | sticky quadrant skip |
+//! | `bus_rdata` | 16    | out | registered read data |
+//! | `bus_err`   | 1     | out | sticky refused write |
+
+use crate::action_switching_56a as sw;
+use crate::comparator_latch_58ab as cl;
+use crate::count_diagnosis as cd;
+use crate::drive_interval_changing_56b as di;
+use crate::params::{ParamError, Params};
+use crate::register_file as rf;
+use crate::sensor_power_determination_57 as spd;
+use crate::timing_generator_56 as tg;
+use crate::updown_counter_58cd as uc;
+
+/// Every register of the core, one field per block. Field paths are the VCD hierarchy
+/// (`pmu50.<block>.<register>`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Regs {
+    pub action_switching: sw::Regs,
+    pub register_file: rf::Regs,
+    pub timing_generator: tg::Regs,
+    pub sensor_power_determination: spd::Regs,
+    pub comparator_latch: cl::Regs,
+    pub updown_counter: uc::Regs,
+    pub drive_interval: di::Regs,
+    pub count_diagnosis: cd::Regs,
+}
+
+/// Power-on reset value for a given parameter set (the register file and `si` reset to the
+/// configured values; everything else to its block's `RESET`).
+pub fn reset(p: &Params) -> Regs {
+    Regs {
+        action_switching: sw::RESET,
+        register_file: rf::reset(p),
+        timing_generator: tg::RESET,
+        sensor_power_determination: spd::RESET,
+        comparator_latch: cl::RESET,
+        updown_counter: uc::RESET,
+        drive_interval: di::reset(p.si_max),
+        count_diagnosis: cd::RESET,
+    }
+}
+
+/// Structural parameters (Verilog `parameter`s), fixed for the life of a core instance.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Structural {
+    pub sync_depth: u8,
+    pub cnt_width: u8,
+}
+
+/// Top-level inputs for one clock cycle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Hash)]
+pub struct Inputs {
+    pub ig: bool,
+    pub vs2_ok: bool,
+    pub cmp_s: bool,
+    pub cmp_c: bool,
+    pub bus_we: bool,
+    pub bus_addr: u8,
+    pub bus_wdata: u16,
+}
+
+/// Top-level outputs (all Moore: functions of the registers only).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Hash)]
+pub struct Outputs {
+    pub sig: bool,
+    pub vr_hi: bool,
+    pub vm_en: bool,
+    pub vs1_en: bool,
+    pub vs2_en: bool,
+    pub vp_en: bool,
+    pub rail_hi: bool,
+    pub st: bool,
+    pub sr: bool,
+    pub ps_win: bool,
+    pub smp: bool,
+    pub cs: bool,
+    pub cc: bool,
+    pub cnt_s: u16,
+    pub cnt_c: u16,
+    pub cnt_r: u8,
+    pub si: u16,
+    pub hist_s: bool,
+    pub hist_c: bool,
+    pub diag: bool,
+    pub quadrant_skip: bool,
+    pub bus_rdata: u16,
+    pub bus_err: bool,
+}
+
+/// Internal combinational signals of one cycle (they depend on this cycle's inputs), for
+/// waveforms, change logs and coverage of the FIG. 17/18 branches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Hash)]
+pub struct Internals {
+    pub kon: bool,
+    pub koff: bool,
+    pub upd: bool,
+    pub first: bool,
+    pub chg_s: bool,
+    pub chg_c: bool,
+    pub skip_clr: bool,
+    pub fig17: di::Fig17,
+    pub fig18: di::Fig18,
+}
+
+fn tg_inputs(sw_o: &sw::Outputs, p: &Params, si: u16) -> tg::Inputs {
+    tg::Inputs {
+        sig: sw_o.sig,
+        kon: sw_o.kon,
+        koff: sw_o.koff,
+        si,
+        pw: p.pw,
+        pi: p.pi,
+        ps: p.ps,
+        smp_on: p.smp_on,
+    }
+}
+
+/// Moore outputs, decoded from the registers.
+pub fn ports(s: &Structural, r: &Regs) -> Outputs {
+    // The rail fields of the action switching unit depend on its register only; `ig` is a don't-care.
+    let (a, _) = sw::eval(&r.action_switching, &sw::Inputs { ig: false, sync_depth: s.sync_depth });
+    let p = r.register_file.params(s.sync_depth, s.cnt_width);
+    let t = tg::decode(r.timing_generator.tmr, &tg_inputs(&a, &p, r.drive_interval.si));
+    Outputs {
+        sig: a.sig,
+        vr_hi: a.vr_hi,
+        vm_en: a.vm_en,
+        vs1_en: a.vs1_en,
+        vs2_en: t.vs2_en,
+        vp_en: a.vp_en,
+        rail_hi: a.rail_hi,
+        st: t.st,
+        sr: r.sensor_power_determination.sr,
+        ps_win: t.ps_win,
+        smp: t.smp,
+        cs: r.comparator_latch.cs,
+        cc: r.comparator_latch.cc,
+        cnt_s: r.updown_counter.cnt_s,
+        cnt_c: r.updown_counter.cnt_c,
+        cnt_r: r.drive_interval.cnt_r,
+        si: r.drive_interval.si,
+        hist_s: r.drive_interval.hist_s,
+        hist_c: r.drive_interval.hist_c,
+        diag: r.count_diagnosis.diag,
+        quadrant_skip: r.updown_counter.quadrant_skip,
+        bus_rdata: r.register_file.rdata,
+        bus_err: r.register_file.bus_err,
+    }
+}
+
+fn status_view(r: &Regs, sig: bool) -> rf::StatusView {
+    rf::StatusView {
+        cnt_s: r.updown_counter.cnt_s,
+        cnt_c: r.updown_counter.cnt_c,
+        cnt_r: r.drive_interval.cnt_r,
+        si: r.drive_interval.si,
+        cs: r.comparator_latch.cs,
+        cc: r.comparator_latch.cc,
+        hist_s: r.drive_interval.hist_s,
+        hist_c: r.drive_interval.hist_c,
+        diag: r.count_diagnosis.diag,
+        quadrant_skip: r.updown_counter.quadrant_skip,
+        sig,
+        vld: r.comparator_latch.vld,
+        sr: r.sensor_power_determination.sr,
+    }
+}
+
+/// One clock edge: (outputs before the edge, internals of this cycle, registers after the edge).
+pub fn eval(s: &Structural, r: &Regs, i: &Inputs) -> (Outputs, Internals, Regs) {
+    // 1. Action switching unit 56a and regulator 51.
+    let (a, a_n) = sw::eval(&r.action_switching, &sw::Inputs { ig: i.ig, sync_depth: s.sync_depth });
+    // 2. Register file: the parameters in force this cycle are the registers before the edge.
+    let (f, f_n) = rf::eval(
+        &r.register_file,
+        &rf::Inputs {
+            bus_we: i.bus_we,
+            bus_addr: i.bus_addr,
+            bus_wdata: i.bus_wdata,
+            sig: a.sig,
+            view: status_view(r, a.sig),
+            sync_depth: s.sync_depth,
+            cnt_width: s.cnt_width,
+        },
+    );
+    let p = f.params;
+    // 3. Timing generator of 56 with the window of 54.
+    let (t, t_n) = tg::eval(&r.timing_generator, &tg_inputs(&a, &p, r.drive_interval.si));
+    // 4. Sensor power determination unit 57.
+    let (d, d_n) = spd::eval(&r.sensor_power_determination, &spd::Inputs { vs2_en: t.vs2_en, vs2_ok: i.vs2_ok });
+    // 5. Comparator latches 58a/58b.
+    let (c, c_n) = cl::eval(&r.comparator_latch, &cl::Inputs { cmp_s: i.cmp_s, cmp_c: i.cmp_c, smp: t.smp, sr: d.sr });
+    // 6. Up/down counters 58c/58d.
+    let (_, u_n) = uc::eval(
+        &r.updown_counter,
+        &uc::Inputs {
+            upd: c.upd,
+            first: c.first,
+            cs: c.cs,
+            cc: c.cc,
+            cs_new: c.cs_new,
+            cc_new: c.cc_new,
+            skip_clr: f.skip_clr,
+            cnt_width: s.cnt_width,
+        },
+    );
+    // 7. Drive interval changing unit 56b: one evaluation per key-off sampling strobe.
+    let (v, v_n) = di::eval(
+        &r.drive_interval,
+        &di::Inputs {
+            koff: a.koff,
+            pulse: t.smp && !a.sig,
+            sr: d.sr,
+            chg_s: c.chg_s,
+            chg_c: c.chg_c,
+            adaptive: p.adaptive,
+            si_min: p.si_min,
+            si_max: p.si_max,
+            t1: p.t1,
+            t2: p.t2,
+            cth: p.cth,
+        },
+    );
+    // 8. Count diagnosis, aligned with the counters' next values.
+    let (_, g_n) = cd::eval(
+        &r.count_diagnosis,
+        &cd::Inputs { cnt_s_nxt: u_n.cnt_s, cnt_c_nxt: u_n.cnt_c, skip_nxt: u_n.quadrant_skip, cnt_width: s.cnt_width },
+    );
+    let next = Regs {
+        action_switching: a_n,
+        register_file: f_n,
+        timing_generator: t_n,
+        sensor_power_determination: d_n,
+        comparator_latch: c_n,
+        updown_counter: u_n,
+        drive_interval: v_n,
+        count_diagnosis: g_n,
+    };
+    let internals = Internals {
+        kon: a.kon,
+        koff: a.koff,
+        upd: c.upd,
+        first: c.first,
+        chg_s: c.chg_s,
+        chg_c: c.chg_c,
+        skip_clr: f.skip_clr,
+        fig17: v.fig17,
+        fig18: v.fig18,
+    };
+    (ports(s, r), internals, next)
+}
+
+/// One register of the core, for waveforms, change logs and lockstep read-back.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RegValue {
+    /// Block instance name (the field of [`Regs`]).
+    pub block: &'static str,
+    pub name: &'static str,
+    pub width: u8,
+    pub value: u64,
+}
+
+impl Regs {
+    /// Every register with its width and value, in a fixed order (block order of [`eval`]).
+    pub fn values(&self, s: &Structural) -> Vec<RegValue> {
+        let w = s.cnt_width;
+        let f = &self.register_file;
+        let list: [(&'static str, &'static str, u8, u64); 26] = [
+            ("action_switching", "sync", s.sync_depth, u64::from(self.action_switching.sync)),
+            ("register_file", "adaptive", 1, u64::from(f.adaptive)),
+            ("register_file", "pw", 16, u64::from(f.pw)),
+            ("register_file", "pi", 16, u64::from(f.pi)),
+            ("register_file", "ps", 16, u64::from(f.ps)),
+            ("register_file", "si_max", 16, u64::from(f.si_max)),
+            ("register_file", "si_min", 16, u64::from(f.si_min)),
+            ("register_file", "t1", 16, u64::from(f.t1)),
+            ("register_file", "t2", 16, u64::from(f.t2)),
+            ("register_file", "cth", 8, u64::from(f.cth)),
+            ("register_file", "smp_on", 16, u64::from(f.smp_on)),
+            ("register_file", "bus_err", 1, u64::from(f.bus_err)),
+            ("register_file", "rdata", 16, u64::from(f.rdata)),
+            ("timing_generator", "tmr", 16, u64::from(self.timing_generator.tmr)),
+            ("sensor_power_determination", "sr", 1, u64::from(self.sensor_power_determination.sr)),
+            ("comparator_latch", "cs", 1, u64::from(self.comparator_latch.cs)),
+            ("comparator_latch", "cc", 1, u64::from(self.comparator_latch.cc)),
+            ("comparator_latch", "vld", 1, u64::from(self.comparator_latch.vld)),
+            ("updown_counter", "cnt_s", w, u64::from(self.updown_counter.cnt_s)),
+            ("updown_counter", "cnt_c", w, u64::from(self.updown_counter.cnt_c)),
+            ("updown_counter", "quadrant_skip", 1, u64::from(self.updown_counter.quadrant_skip)),
+            ("drive_interval", "si", 16, u64::from(self.drive_interval.si)),
+            ("drive_interval", "hist_s", 1, u64::from(self.drive_interval.hist_s)),
+            ("drive_interval", "hist_c", 1, u64::from(self.drive_interval.hist_c)),
+            ("drive_interval", "cnt_r", 8, u64::from(self.drive_interval.cnt_r)),
+            ("count_diagnosis", "diag", 1, u64::from(self.count_diagnosis.diag)),
+        ];
+        list.iter()
+            .map(|&(block, name, width, value)| RegValue { block, name, width, value })
+            .collect()
+    }
+}
+
+impl Outputs {
+    /// Every output port as (name, width, value), in the order of docs/signals.md.
+    pub fn values(&self, s: &Structural) -> [(&'static str, u8, u64); 23] {
+        [
+            ("sig", 1, u64::from(self.sig)),
+            ("vr_hi", 1, u64::from(self.vr_hi)),
+            ("vm_en", 1, u64::from(self.vm_en)),
+            ("vs1_en", 1, u64::from(self.vs1_en)),
+            ("vs2_en", 1, u64::from(self.vs2_en)),
+            ("vp_en", 1, u64::from(self.vp_en)),
+            ("rail_hi", 1, u64::from(self.rail_hi)),
+            ("st", 1, u64::from(self.st)),
+            ("sr", 1, u64::from(self.sr)),
+            ("ps_win", 1, u64::from(self.ps_win)),
+            ("smp", 1, u64::from(self.smp)),
+            ("cs", 1, u64::from(self.cs)),
+            ("cc", 1, u64::from(self.cc)),
+            ("cnt_s", s.cnt_width, u64::from(self.cnt_s)),
+            ("cnt_c", s.cnt_width, u64::from(self.cnt_c)),
+            ("cnt_r", 8, u64::from(self.cnt_r)),
+            ("si", 16, u64::from(self.si)),
+            ("hist_s", 1, u64::from(self.hist_s)),
+            ("hist_c", 1, u64::from(self.hist_c)),
+            ("diag", 1, u64::from(self.diag)),
+            ("quadrant_skip", 1, u64::from(self.quadrant_skip)),
+            ("bus_rdata", 16, u64::from(self.bus_rdata)),
+            ("bus_err", 1, u64::from(self.bus_err)),
+        ]
+    }
+}
+
+impl Inputs {
+    /// Every input port as (name, width, value).
+    pub fn values(&self) -> [(&'static str, u8, u64); 7] {
+        [
+            ("ig", 1, u64::from(self.ig)),
+            ("vs2_ok", 1, u64::from(self.vs2_ok)),
+            ("cmp_s", 1, u64::from(self.cmp_s)),
+            ("cmp_c", 1, u64::from(self.cmp_c)),
+            ("bus_we", 1, u64::from(self.bus_we)),
+            ("bus_addr", 8, u64::from(self.bus_addr)),
+            ("bus_wdata", 16, u64::from(self.bus_wdata)),
+        ]
+    }
+}
+
+impl Internals {
+    /// Every internal signal as (name, width, value).
+    pub fn values(&self) -> [(&'static str, u8, u64); 9] {
+        [
+            ("kon", 1, u64::from(self.kon)),
+            ("koff", 1, u64::from(self.koff)),
+            ("upd", 1, u64::from(self.upd)),
+            ("first", 1, u64::from(self.first)),
+            ("chg_s", 1, u64::from(self.chg_s)),
+            ("chg_c", 1, u64::from(self.chg_c)),
+            ("skip_clr", 1, u64::from(self.skip_clr)),
+            ("fig17", 3, self.fig17 as u64),
+            ("fig18", 3, self.fig18 as u64),
+        ]
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum FastForwardError {
+    #[error("cannot fast-forward {asked} ticks: only {quiet} ticks are free of register changes other than the timer")]
+    NotQuiet { asked: u64, quiet: u64 },
+}
+
+/// The core: registers plus the structural parameters, with the lockstep API.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Pmu50 {
+    s: Structural,
+    params: Params,
+    regs: Regs,
+    tick: u64,
+}
+
+impl Pmu50 {
+    /// A core at power-on reset with these parameters (which must be legal).
+    pub fn new(p: Params) -> Result<Pmu50, ParamError> {
+        p.validate()?;
+        Ok(Pmu50 {
+            s: Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width },
+            params: p,
+            regs: reset(&p),
+            tick: 0,
+        })
+    }
+
+    /// Back to power-on reset (the parameters given to [`Pmu50::new`]); tick count restarts at 0.
+    pub fn reset(&mut self) {
+        self.regs = reset(&self.params);
+        self.tick = 0;
+    }
+
+    pub fn structural(&self) -> Structural {
+        self.s
+    }
+
+    /// Outputs of the current cycle (Moore: registers only).
+    pub fn peek(&self) -> Outputs {
+        ports(&self.s, &self.regs)
+    }
+
+    /// One rising edge with these inputs; returns the outputs after the edge.
+    pub fn step(&mut self, i: &Inputs) -> Outputs {
+        self.step_traced(i).2
+    }
+
+    /// One rising edge; returns (outputs before the edge, internals of the cycle, outputs after).
+    pub fn step_traced(&mut self, i: &Inputs) -> (Outputs, Internals, Outputs) {
+        let (before, internals, next) = eval(&self.s, &self.regs, i);
+        self.regs = next;
+        self.tick += 1;
+        (before, internals, self.peek())
+    }
+
+    /// All registers (read access for lockstep comparison and waveforms).
+    pub fn regs(&self) -> &Regs {
+        &self.regs
+    }
+
+    /// Number of edges taken since reset.
+    pub fn tick(&self) -> u64 {
+        self.tick
+    }
+
+    /// The register file's read mux at `addr`, as the MPU would read it this cycle.
+    pub fn read(&self, addr: u8) -> u16 {
+        let a = self.peek();
+        let view = status_view(&self.regs, a.sig);
+        let i = rf::Inputs { view, sig: a.sig, sync_depth: self.s.sync_depth, cnt_width: self.s.cnt_width, ..Default::default() };
+        rf::read(&self.regs.register_file, &i, addr)
+    }
+
+    /// With the inputs held constant, the number of upcoming edges at which no register other
+    /// than the free-running timer `timing_generator.tmr` changes (`u64::MAX`: never). Exact:
+    /// the edge after that many changes some other register. Used to fast-forward idle key-off
+    /// gaps without evaluating every tick.
+    pub fn quiet_ticks(&self, i: &Inputs) -> u64 {
+        let (_, _, next) = eval(&self.s, &self.regs, i);
+        let only_tmr = Regs { timing_generator: self.regs.timing_generator, ..next } == self.regs;
+        if !only_tmr {
+            return 0;
+        }
+        // From here on the synchronizer is settled, no bus write happens, and rdata/diag are
+        // stable, so until the first event the state differs from today's only in the timer.
+        // The registers' next state depends on the timer only through `vs2_en`, `smp` and the
+        // end of the cycle, which are constant on [0, wt-1), {wt-1}, [wt, period) (key off) and
+        // on [0, smp_on-1), {smp_on-1} (key on). So the first event is at t+1 or at the start of
+        // one of those intervals; each candidate is checked with the real next-state function.
+        let a = self.peek();
+        let p = self.regs.register_file.params(self.s.sync_depth, self.s.cnt_width);
+        let ti = tg_inputs(&sw::Outputs { sig: a.sig, ..Default::default() }, &p, self.regs.drive_interval.si);
+        let period = u64::from(tg::period(&ti));
+        let t = u64::from(self.regs.timing_generator.tmr);
+        let dist = |c: u64| {
+            if t >= period {
+                1 + c // the next edge wraps the timer to 0
+            } else if c > t {
+                c - t
+            } else {
+                period - t + c
+            }
+        };
+        let event_at = |c: u64| {
+            let mut at = self.regs;
+            at.timing_generator.tmr = c as u16;
+            let (_, _, n) = eval(&self.s, &at, i);
+            Regs { timing_generator: at.timing_generator, ..n } != at
+        };
+        let wt = u64::from(p.pw) + u64::from(p.pi) + u64::from(p.ps);
+        let mut best = u64::MAX;
+        for c in [t + 1, 0, wt.wrapping_sub(1), wt, period.wrapping_sub(1)] {
+            if c < period && c != t && dist(c) < best && event_at(c) {
+                best = dist(c);
+            }
+        }
+        best
+    }
+
+    /// Advance `n` edges with constant inputs `i`, which must leave every register but the timer
+    /// unchanged (`n <= quiet_ticks(i)`); the result is identical to `n` calls of [`Pmu50::step`].
+    pub fn fast_forward(&mut self, n: u64, i: &Inputs) -> Result<(), FastForwardError> {
+        let quiet = self.quiet_ticks(i);
+        if n > quiet {
+            return Err(FastForwardError::NotQuiet { asked: n, quiet });
+        }
+        if n == 0 {
+            return Ok(());
+        }
+        let a = self.peek();
+        let p = self.regs.register_file.params(self.s.sync_depth, self.s.cnt_width);
+        let ti = tg_inputs(&sw::Outputs { sig: a.sig, ..Default::default() }, &p, self.regs.drive_interval.si);
+        let period = u64::from(tg::period(&ti)).max(1);
+        let t = u64::from(self.regs.timing_generator.tmr);
+        let tmr = if t + 1 >= period { (n - 1) % period } else { (t + n) % period };
+        self.regs.timing_generator.tmr = tmr as u16;
+        self.tick += n;
+        Ok(())
+    }
+}

@@ -1,0 +1,378 @@
+//! Register file: the microprocessor's view of the PMU 50 digital core.
+//!
+//! Paragraphs: [0108]/[0163] (at key-on the MPU reads CNTs and CNTc), [0321]-[0323] (Pw, Pi, Ps
+//! programmable), [0259] (T1, T2, x, minimum, Cth set according to the device), [0349] (on-key
+//! sampling period).
+//!
+//! Bus: one write port and one registered read port, 8-bit address, 16-bit data. A write is
+//! accepted at the edge where `bus_we` = 1; `bus_rdata` shows, one cycle later, the register at
+//! the address presented in the previous cycle. The MPU is powered only while the key is on
+//! ([0205]), so writes while `sig` = 0 are refused.
+//!
+//! A write is refused (register unchanged, sticky `bus_err` set) when the address is not writable,
+//! when `sig` = 0, or when the new value would make the parameter set illegal (the rules of
+//! [`crate::params::Params::validate`]: no zero period, minimum <= x, Wt < shortest interval). The
+//! parameter registers therefore always hold a legal set. When raising both x and the minimum,
+//! write x first; when lowering both, write the minimum first.
+//!
+//! Register map (also in docs/spec.md):
+//!
+//! | addr | name     | width | access | reset | content |
+//! |------|----------|-------|--------|-------|---------|
+//! | 0x00 | ID       | 16 | RO  | 0x5050 | identifies PMU 50 |
+//! | 0x01 | VERSION  | 16 | RO  | 0x0001 | register map version |
+//! | 0x02 | CTRL     | 1  | RW  | adaptive | bit 0 adaptive drive interval |
+//! | 0x03 | PW       | 16 | RW  | 5      | waiting period Pw, ticks |
+//! | 0x04 | PI       | 16 | RW  | 12     | idle period Pi, ticks |
+//! | 0x05 | PS       | 16 | RW  | 5      | sampling period Ps, ticks |
+//! | 0x06 | SI_MAX   | 16 | RW  | 660    | maximum interval x, ticks |
+//! | 0x07 | SI_MIN   | 16 | RW  | 220    | minimum interval, ticks |
+//! | 0x08 | T1       | 16 | RW  | 220    | shortening step, ticks |
+//! | 0x09 | T2       | 16 | RW  | 110    | expanding step, ticks |
+//! | 0x0A | CTH      | 8  | RW  | 4      | count threshold Cth |
+//! | 0x0B | SMP_ON   | 16 | RW  | 10     | on-key sampling period, ticks |
+//! | 0x0C | CFG      | 16 | RO  | -      | [2:0] sync_depth, [12:8] cnt_width |
+//! | 0x10 | CNT_S    | 16 | RO  | 0      | CNTs sign-extended to 16 bits |
+//! | 0x11 | CNT_C    | 16 | RO  | 0      | CNTc sign-extended to 16 bits |
+//! | 0x12 | CNT_R    | 8  | RO  | 0      | power supply count CNTr |
+//! | 0x13 | SI       | 16 | RO  | x      | current drive interval, ticks |
+//! | 0x14 | STATUS   | 10 | RO/W1C | 0   | see [`status`] |
+//!
+//! Reset values of the RW registers are the configured parameters (the patent's defaults unless a
+//! scenario overrides them); unknown addresses read 0.
+//!
+//! | register  | width | reset | meaning |
+//! |-----------|-------|-------|---------|
+//! | `adaptive`| 1     | cfg   | CTRL bit 0 |
+//! | `pw`, `pi`, `ps`, `si_max`, `si_min`, `t1`, `t2`, `smp_on` | 16 | cfg | periods in ticks |
+//! | `cth`     | 8     | cfg   | Cth |
+//! | `bus_err` | 1     | 0     | sticky: a write was refused |
+//! | `rdata`   | 16    | 0     | registered read data |
+
+use crate::params::Params;
+use bitvec::prelude::*;
+
+pub mod addr {
+    pub const ID: u8 = 0x00;
+    pub const VERSION: u8 = 0x01;
+    pub const CTRL: u8 = 0x02;
+    pub const PW: u8 = 0x03;
+    pub const PI: u8 = 0x04;
+    pub const PS: u8 = 0x05;
+    pub const SI_MAX: u8 = 0x06;
+    pub const SI_MIN: u8 = 0x07;
+    pub const T1: u8 = 0x08;
+    pub const T2: u8 = 0x09;
+    pub const CTH: u8 = 0x0A;
+    pub const SMP_ON: u8 = 0x0B;
+    pub const CFG: u8 = 0x0C;
+    pub const CNT_S: u8 = 0x10;
+    pub const CNT_C: u8 = 0x11;
+    pub const CNT_R: u8 = 0x12;
+    pub const SI: u8 = 0x13;
+    pub const STATUS: u8 = 0x14;
+}
+
+/// Bit positions of STATUS (0x14).
+pub mod status {
+    pub const CS: usize = 0;
+    pub const CC: usize = 1;
+    pub const HIST_S: usize = 2;
+    pub const HIST_C: usize = 3;
+    pub const DIAG: usize = 4;
+    /// W1C.
+    pub const QUADRANT_SKIP: usize = 5;
+    pub const SIG: usize = 6;
+    pub const VLD: usize = 7;
+    pub const SR: usize = 8;
+    /// W1C.
+    pub const BUS_ERR: usize = 9;
+}
+
+pub const ID_VALUE: u16 = 0x5050;
+pub const VERSION_VALUE: u16 = 0x0001;
+
+/// Name, address, width and access of every register, for docs, the CLI and the HDL kit.
+pub const MAP: &[(&str, u8, u8, &str)] = &[
+    ("ID", addr::ID, 16, "RO"),
+    ("VERSION", addr::VERSION, 16, "RO"),
+    ("CTRL", addr::CTRL, 1, "RW"),
+    ("PW", addr::PW, 16, "RW"),
+    ("PI", addr::PI, 16, "RW"),
+    ("PS", addr::PS, 16, "RW"),
+    ("SI_MAX", addr::SI_MAX, 16, "RW"),
+    ("SI_MIN", addr::SI_MIN, 16, "RW"),
+    ("T1", addr::T1, 16, "RW"),
+    ("T2", addr::T2, 16, "RW"),
+    ("CTH", addr::CTH, 8, "RW"),
+    ("SMP_ON", addr::SMP_ON, 16, "RW"),
+    ("CFG", addr::CFG, 16, "RO"),
+    ("CNT_S", addr::CNT_S, 16, "RO"),
+    ("CNT_C", addr::CNT_C, 16, "RO"),
+    ("CNT_R", addr::CNT_R, 8, "RO"),
+    ("SI", addr::SI, 16, "RO"),
+    ("STATUS", addr::STATUS, 10, "RO/W1C"),
+];
+
+/// Look up a register address by name (case-insensitive).
+pub fn address_of(name: &str) -> Option<u8> {
+    MAP.iter().find(|(n, ..)| n.eq_ignore_ascii_case(name)).map(|&(_, a, ..)| a)
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Regs {
+    pub adaptive: bool,
+    pub pw: u16,
+    pub pi: u16,
+    pub ps: u16,
+    pub si_max: u16,
+    pub si_min: u16,
+    pub t1: u16,
+    pub t2: u16,
+    pub cth: u8,
+    pub smp_on: u16,
+    pub bus_err: bool,
+    pub rdata: u16,
+}
+
+/// Reset with the patent's defaults; the top level uses [`reset`] with the configured values.
+pub const RESET: Regs = Regs {
+    adaptive: true,
+    pw: 5,
+    pi: 12,
+    ps: 5,
+    si_max: 660,
+    si_min: 220,
+    t1: 220,
+    t2: 110,
+    cth: 4,
+    smp_on: 10,
+    bus_err: false,
+    rdata: 0,
+};
+
+pub const fn reset(p: &Params) -> Regs {
+    Regs {
+        adaptive: p.adaptive,
+        pw: p.pw,
+        pi: p.pi,
+        ps: p.ps,
+        si_max: p.si_max,
+        si_min: p.si_min,
+        t1: p.t1,
+        t2: p.t2,
+        cth: p.cth,
+        smp_on: p.smp_on,
+        bus_err: false,
+        rdata: 0,
+    }
+}
+
+/// Read-only state of the other blocks, as seen by the read mux (register values before the edge).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct StatusView {
+    pub cnt_s: u16,
+    pub cnt_c: u16,
+    pub cnt_r: u8,
+    pub si: u16,
+    pub cs: bool,
+    pub cc: bool,
+    pub hist_s: bool,
+    pub hist_c: bool,
+    pub diag: bool,
+    pub quadrant_skip: bool,
+    pub sig: bool,
+    pub vld: bool,
+    pub sr: bool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Inputs {
+    pub bus_we: bool,
+    pub bus_addr: u8,
+    pub bus_wdata: u16,
+    pub sig: bool,
+    pub view: StatusView,
+    /// Structural parameters, visible in CFG.
+    pub sync_depth: u8,
+    pub cnt_width: u8,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Outputs {
+    /// The parameter registers as used by the other blocks in this cycle.
+    pub params: Params,
+    /// Write-1-to-clear strobe of STATUS.quadrant_skip.
+    pub skip_clr: bool,
+    pub bus_rdata: u16,
+    pub bus_err: bool,
+}
+
+impl Regs {
+    pub fn params(&self, sync_depth: u8, cnt_width: u8) -> Params {
+        Params {
+            sync_depth,
+            cnt_width,
+            adaptive: self.adaptive,
+            pw: self.pw,
+            pi: self.pi,
+            ps: self.ps,
+            si_max: self.si_max,
+            si_min: self.si_min,
+            t1: self.t1,
+            t2: self.t2,
+            cth: self.cth,
+            smp_on: self.smp_on,
+        }
+    }
+}
+
+/// STATUS as a 16-bit word.
+pub fn status_word(v: &StatusView, bus_err: bool) -> u16 {
+    let mut w = bitarr![u16, Lsb0; 0; 16];
+    w.set(status::CS, v.cs);
+    w.set(status::CC, v.cc);
+    w.set(status::HIST_S, v.hist_s);
+    w.set(status::HIST_C, v.hist_c);
+    w.set(status::DIAG, v.diag);
+    w.set(status::QUADRANT_SKIP, v.quadrant_skip);
+    w.set(status::SIG, v.sig);
+    w.set(status::VLD, v.vld);
+    w.set(status::SR, v.sr);
+    w.set(status::BUS_ERR, bus_err);
+    w.load_le::<u16>()
+}
+
+/// Combinational read mux.
+pub fn read(r: &Regs, i: &Inputs, a: u8) -> u16 {
+    let sx = |v: u16| crate::updown_counter_58cd::sext(v, i.cnt_width) as i16 as u16;
+    match a {
+        addr::ID => ID_VALUE,
+        addr::VERSION => VERSION_VALUE,
+        addr::CTRL => u16::from(r.adaptive),
+        addr::PW => r.pw,
+        addr::PI => r.pi,
+        addr::PS => r.ps,
+        addr::SI_MAX => r.si_max,
+        addr::SI_MIN => r.si_min,
+        addr::T1 => r.t1,
+        addr::T2 => r.t2,
+        addr::CTH => u16::from(r.cth),
+        addr::SMP_ON => r.smp_on,
+        addr::CFG => u16::from(i.sync_depth & 0x7) | (u16::from(i.cnt_width & 0x1F) << 8),
+        addr::CNT_S => sx(i.view.cnt_s),
+        addr::CNT_C => sx(i.view.cnt_c),
+        addr::CNT_R => u16::from(i.view.cnt_r),
+        addr::SI => i.view.si,
+        addr::STATUS => status_word(&i.view, r.bus_err),
+        _ => 0,
+    }
+}
+
+/// The register set after a parameter write, or `None` when the address is not a parameter.
+fn with_write(r: &Regs, a: u8, d: u16) -> Option<Regs> {
+    let mut n = *r;
+    match a {
+        addr::CTRL => n.adaptive = d & 1 == 1,
+        addr::PW => n.pw = d,
+        addr::PI => n.pi = d,
+        addr::PS => n.ps = d,
+        addr::SI_MAX => n.si_max = d,
+        addr::SI_MIN => n.si_min = d,
+        addr::T1 => n.t1 = d,
+        addr::T2 => n.t2 = d,
+        addr::CTH => n.cth = (d & 0xFF) as u8,
+        addr::SMP_ON => n.smp_on = d,
+        _ => return None,
+    }
+    Some(n)
+}
+
+pub fn eval(r: &Regs, i: &Inputs) -> (Outputs, Regs) {
+    let params = r.params(i.sync_depth, i.cnt_width);
+    let status_w1c = i.bus_we && i.sig && i.bus_addr == addr::STATUS;
+    let w1c = |bit: usize| status_w1c && (i.bus_wdata >> bit) & 1 == 1;
+    let mut n = *r;
+    let mut refused = false;
+    if i.bus_we && !status_w1c {
+        match with_write(r, i.bus_addr, i.bus_wdata) {
+            Some(cand) if i.sig && cand.params(i.sync_depth, i.cnt_width).validate().is_ok() => n = cand,
+            _ => refused = true,
+        }
+    }
+    // Set wins over clear.
+    n.bus_err = refused || (r.bus_err && !w1c(status::BUS_ERR));
+    n.rdata = read(r, i, i.bus_addr);
+    let o = Outputs { params, skip_clr: w1c(status::QUADRANT_SKIP), bus_rdata: r.rdata, bus_err: r.bus_err };
+    (o, n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wr(r: &Regs, a: u8, d: u16, sig: bool) -> (Outputs, Regs) {
+        eval(r, &Inputs { bus_we: true, bus_addr: a, bus_wdata: d, sig, sync_depth: 2, cnt_width: 16, ..Default::default() })
+    }
+
+    #[test]
+    fn legal_write_is_taken() {
+        let (_, n) = wr(&RESET, addr::T2, 220, true);
+        assert_eq!((n.t2, n.bus_err), (220, false));
+    }
+
+    #[test]
+    fn illegal_writes_are_refused_and_flagged() {
+        for (a, d) in [
+            (addr::SI_MIN, 0),        // zero
+            (addr::SI_MIN, 700),      // min above x
+            (addr::SI_MAX, 100),      // x below min
+            (addr::PI, 300),          // Wt >= min
+            (addr::CTH, 0),           // Cth zero
+            (addr::CNT_S, 5),         // read-only
+            (0x7F, 5),                // unmapped
+        ] {
+            let (_, n) = wr(&RESET, a, d, true);
+            assert!(n.bus_err, "addr {a:#x} value {d}");
+            assert_eq!(n.params(2, 16), RESET.params(2, 16));
+        }
+    }
+
+    #[test]
+    fn writes_while_key_off_are_refused() {
+        let (_, n) = wr(&RESET, addr::T2, 220, false);
+        assert_eq!((n.t2, n.bus_err), (110, true));
+    }
+
+    #[test]
+    fn status_w1c_clears_skip_and_bus_err() {
+        let r = Regs { bus_err: true, ..RESET };
+        let (o, n) = wr(&r, addr::STATUS, (1 << status::QUADRANT_SKIP) | (1 << status::BUS_ERR), true);
+        assert!(o.skip_clr && !n.bus_err);
+        let (o, n) = wr(&r, addr::STATUS, 0, true);
+        assert!(!o.skip_clr && n.bus_err);
+    }
+
+    #[test]
+    fn read_is_registered_and_sign_extends_counts() {
+        let view = StatusView { cnt_s: 0x7, cnt_c: 0x2, ..Default::default() };
+        let i = Inputs { bus_addr: addr::CNT_S, view, sync_depth: 2, cnt_width: 3, ..Default::default() };
+        let (o, n) = eval(&RESET, &i);
+        assert_eq!(o.bus_rdata, 0, "data appears one cycle later");
+        assert_eq!(n.rdata, 0xFFFF, "3-bit 0b111 is -1");
+        assert_eq!(read(&RESET, &i, addr::ID), ID_VALUE);
+        assert_eq!(read(&RESET, &i, addr::CFG), 0x0302);
+    }
+
+    #[test]
+    fn status_bits_are_where_the_map_says() {
+        let v = StatusView { cs: true, diag: true, sr: true, ..Default::default() };
+        assert_eq!(status_word(&v, true), 0b10_0001_0001 | (1 << 8));
+    }
+
+    #[test]
+    fn map_names_resolve() {
+        assert_eq!(address_of("cnt_s"), Some(addr::CNT_S));
+        assert_eq!(address_of("nope"), None);
+    }
+}
