@@ -1,0 +1,13 @@
+//! PMU 50 reference model: scenarios, the testbench binding the digital core to its environment,
+//! waveform and log output, vector export, and the command-line tool `pmu50`.
+//!
+//! The digital core is the crate `pmu50-core` (rtl_model/core), the environment models are
+//! `pmu50-env` (rtl_model/env), waveform tooling is `pmu50-waves` (waves/).
+
+pub mod changelog;
+pub mod output;
+pub mod random;
+pub mod scenario;
+pub mod sim;
+pub mod vectors;
+pub mod waveform;

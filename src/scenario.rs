@@ -1,0 +1,530 @@
+//! Scenario files (TOML): configuration overrides, environment, timeline, expectations.
+//!
+//! Format (every duration is a string with a unit: `"2.2 ms"`, `"220 us"`, `"1 s"`):
+//!
+//! ```toml
+//! name = "fig15a"                  # optional, default: file stem
+//! description = "..."
+//! duration = "60 ms"               # run length
+//!
+//! [core]                           # overrides of the core configuration (docs/spec.md)
+//! clock = "10 us"
+//! x = "6.6 ms"                     # also: min t1 t2 pw pi ps smp_on cth adaptive sync_depth cnt_width
+//!
+//! [env]                            # environment models (floats allowed here)
+//! vcc1_v = 5.0
+//! vcc2_v = 3.3
+//! mpu_boot = "1 ms"                # key-on to the MPU's read-out
+//! [env.sensor2]                    # gain_s gain_c offset_s_v offset_c_v phase_s_deg phase_c_deg tau_us
+//! [env.comparator]                 # vr_err_s vr_err_c (fraction of the amplitude Vs2/2)
+//! [env.sensor1]                    # resolution_deg error_deg
+//! [env.readout]                    # gear_ratio diag_threshold_deg count_diff_threshold
+//! [env.dark_current]               # i_vm_ma i_vs1_ma i_vs2_ma i_vp_ua i_q_ua
+//!
+//! [motor]
+//! start_deg = 45.0
+//! segments = [
+//!   { kind = "hold", duration = "10 ms" },
+//!   { kind = "move", duration = "20 ms", delta_deg = 90.0 },
+//! ]
+//!
+//! [[events]]                       # in time order; exactly one action each
+//! at = "0 ms"
+//! ig = true                        # or: write = { reg = "T2", value = 110 }  or: vs2_fault = true
+//!
+//! [expect]                         # checks; `pmu50 run` exits 1 when one fails
+//! si_sequence_ms = [6.6, 4.4, 2.2] # successive distinct drive intervals at key-off pulses
+//! readout_within_deg = 0.1         # every key-on read-out within this of the true angle
+//! diag = false                     # diag at the end of the run
+//! quadrant_skip = false            # quadrant_skip at the end of the run
+//!
+//! [vcd]
+//! window = ["10 ms", "60 ms"]      # dump only this time window
+//! ```
+//!
+//! Every error names the file, the line and the field, and says what is valid.
+
+use pmu50_core::register_file::MAP;
+use pmu50_core::{CoreConfig, Dur, Params};
+use pmu50_env::{
+    ComparatorConfig, ComparatorPair, DarkCurrentConfig, DarkCurrentMeter, MotorProfile, Readout,
+    ReadoutConfig, Segment, Sensor1, Sensor1Config, Sensor2, Sensor2Config,
+};
+use serde::Deserialize;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+#[derive(Debug, thiserror::Error)]
+pub enum ScenarioError {
+    #[error("{file}: cannot read the scenario: {msg}")]
+    Io { file: String, msg: String },
+    #[error("{file}:{line}:{col}: {msg}")]
+    Syntax { file: String, line: usize, col: usize, msg: String },
+    #[error("{file}:{line}: `{field}`: {msg}")]
+    Invalid { file: String, line: usize, field: String, msg: String },
+}
+
+// ---------------------------------------------------------------- raw (as written) ----
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Raw {
+    name: Option<Spanned<String>>,
+    description: Option<String>,
+    duration: Spanned<String>,
+    #[serde(default)]
+    core: RawCore,
+    #[serde(default)]
+    env: RawEnv,
+    motor: Option<Spanned<RawMotor>>,
+    #[serde(default)]
+    events: Vec<Spanned<RawEvent>>,
+    #[serde(default)]
+    expect: Option<Spanned<RawExpect>>,
+    #[serde(default)]
+    vcd: RawVcd,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawCore {
+    clock: Option<Spanned<String>>,
+    sync_depth: Option<Spanned<u8>>,
+    cnt_width: Option<Spanned<u8>>,
+    adaptive: Option<Spanned<bool>>,
+    pw: Option<Spanned<String>>,
+    pi: Option<Spanned<String>>,
+    ps: Option<Spanned<String>>,
+    x: Option<Spanned<String>>,
+    min: Option<Spanned<String>>,
+    t1: Option<Spanned<String>>,
+    t2: Option<Spanned<String>>,
+    cth: Option<Spanned<u32>>,
+    smp_on: Option<Spanned<String>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawEnv {
+    #[serde(default = "vcc1")]
+    vcc1_v: f64,
+    #[serde(default = "vcc2")]
+    vcc2_v: f64,
+    mpu_boot: Option<Spanned<String>>,
+    sensor2: Option<Spanned<Sensor2Config>>,
+    comparator: Option<Spanned<ComparatorConfig>>,
+    sensor1: Option<Spanned<Sensor1Config>>,
+    readout: Option<Spanned<ReadoutConfig>>,
+    dark_current: Option<Spanned<DarkCurrentConfig>>,
+}
+
+fn vcc1() -> f64 {
+    5.0
+}
+fn vcc2() -> f64 {
+    3.3
+}
+
+impl Default for RawEnv {
+    fn default() -> Self {
+        RawEnv {
+            vcc1_v: vcc1(),
+            vcc2_v: vcc2(),
+            mpu_boot: None,
+            sensor2: None,
+            comparator: None,
+            sensor1: None,
+            readout: None,
+            dark_current: None,
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMotor {
+    #[serde(default)]
+    start_deg: f64,
+    #[serde(default)]
+    segments: Vec<Spanned<RawSegment>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSegment {
+    kind: Spanned<String>,
+    duration: Spanned<String>,
+    delta_deg: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawEvent {
+    at: Spanned<String>,
+    ig: Option<bool>,
+    write: Option<Spanned<RawWrite>>,
+    vs2_fault: Option<bool>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawWrite {
+    reg: Spanned<String>,
+    value: Spanned<i64>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawExpect {
+    si_sequence_ms: Option<Vec<f64>>,
+    readout_within_deg: Option<f64>,
+    diag: Option<bool>,
+    quadrant_skip: Option<bool>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawVcd {
+    window: Option<Spanned<Vec<Spanned<String>>>>,
+}
+
+// ---------------------------------------------------------------- checked ----
+
+/// One action of the timeline.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Action {
+    /// The ignition key signal changes level.
+    Ig(bool),
+    /// The MPU writes a register (the key must be on).
+    Write { addr: u8, name: String, value: u16 },
+    /// Fault injection: the Vs2 rail does not come up (power-good stays low) while true.
+    Vs2Fault(bool),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Event {
+    pub tick: u64,
+    pub action: Action,
+}
+
+/// Checks a run must pass.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Expect {
+    pub si_sequence_ms: Option<Vec<f64>>,
+    pub readout_within_deg: Option<f64>,
+    pub diag: Option<bool>,
+    pub quadrant_skip: Option<bool>,
+}
+
+/// Environment of a run.
+#[derive(Clone, Debug)]
+pub struct EnvSpec {
+    pub vcc1_v: f64,
+    pub vcc2_v: f64,
+    pub mpu_boot_ticks: u64,
+    pub sensor2: Sensor2Config,
+    pub comparator: ComparatorConfig,
+    pub sensor1: Sensor1Config,
+    pub readout: ReadoutConfig,
+    pub dark_current: DarkCurrentConfig,
+}
+
+/// A validated scenario.
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    pub name: String,
+    pub description: String,
+    pub path: PathBuf,
+    pub core: CoreConfig,
+    pub params: Params,
+    pub env: EnvSpec,
+    pub motor: MotorProfile,
+    pub events: Vec<Event>,
+    pub ticks: u64,
+    pub expect: Expect,
+    /// VCD dump window in ticks, [start, end).
+    pub vcd_window: Option<(u64, u64)>,
+}
+
+impl Scenario {
+    pub fn clock_ns(&self) -> u64 {
+        self.core.clock.0
+    }
+
+    /// Read and validate a scenario file.
+    pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
+        let file = path.display().to_string();
+        let src = std::fs::read_to_string(path).map_err(|e| ScenarioError::Io { file: file.clone(), msg: e.to_string() })?;
+        let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        Scenario::parse(&src, &file, &stem, path)
+    }
+
+    /// Validate scenario text; `file` is used in messages, `stem` is the default name.
+    pub fn parse(src: &str, file: &str, stem: &str, path: &Path) -> Result<Scenario, ScenarioError> {
+        let cx = Cx { src, file };
+        let raw: Raw = toml::from_str(src).map_err(|e| {
+            let (line, col) = e.span().map(|s| cx.line_col(s.start)).unwrap_or((1, 1));
+            ScenarioError::Syntax { file: file.to_string(), line, col, msg: e.message().trim().to_string() }
+        })?;
+        cx.build(raw, stem, path)
+    }
+}
+
+struct Cx<'a> {
+    src: &'a str,
+    file: &'a str,
+}
+
+impl Cx<'_> {
+    fn line_col(&self, offset: usize) -> (usize, usize) {
+        let before = &self.src[..offset.min(self.src.len())];
+        let line = before.matches('\n').count() + 1;
+        let col = before.len() - before.rfind('\n').map(|i| i + 1).unwrap_or(0) + 1;
+        (line, col)
+    }
+
+    fn err(&self, span: Range<usize>, field: &str, msg: impl Into<String>) -> ScenarioError {
+        ScenarioError::Invalid { file: self.file.to_string(), line: self.line_col(span.start).0, field: field.to_string(), msg: msg.into() }
+    }
+
+    fn dur(&self, s: &Spanned<String>, field: &str) -> Result<Dur, ScenarioError> {
+        Dur::parse(s.get_ref()).map_err(|e| self.err(s.span(), field, e.to_string()))
+    }
+
+    /// A duration that must be a whole, positive number of ticks... or zero when `allow_zero`.
+    fn ticks(&self, s: &Spanned<String>, field: &str, clock: Dur, allow_zero: bool) -> Result<u64, ScenarioError> {
+        let d = self.dur(s, field)?;
+        if d.0 % clock.0 != 0 {
+            return Err(self.err(s.span(), field, format!("{d} is not a whole number of clock ticks (clock = {clock}); use a multiple of {clock}")));
+        }
+        if d.0 == 0 && !allow_zero {
+            return Err(self.err(s.span(), field, "must be longer than zero"));
+        }
+        Ok(d.0 / clock.0)
+    }
+
+    fn build(&self, raw: Raw, stem: &str, path: &Path) -> Result<Scenario, ScenarioError> {
+        // ---- core ----
+        let mut core = CoreConfig::default();
+        let rc = &raw.core;
+        // Span of each core field, to place errors from the core's own validation.
+        let mut spans: Vec<(&'static str, Range<usize>)> = Vec::new();
+        macro_rules! dur_field {
+            ($f:ident, $name:literal) => {
+                if let Some(s) = &rc.$f {
+                    core.$f = self.dur(s, concat!("core.", $name))?;
+                    spans.push(($name, s.span()));
+                }
+            };
+        }
+        dur_field!(clock, "clock");
+        dur_field!(pw, "pw");
+        dur_field!(pi, "pi");
+        dur_field!(ps, "ps");
+        dur_field!(x, "x");
+        dur_field!(min, "min");
+        dur_field!(t1, "t1");
+        dur_field!(t2, "t2");
+        dur_field!(smp_on, "smp_on");
+        if let Some(v) = &rc.cth {
+            core.cth = *v.get_ref();
+            spans.push(("cth", v.span()));
+        }
+        if let Some(v) = &rc.adaptive {
+            core.adaptive = *v.get_ref();
+            spans.push(("adaptive", v.span()));
+        }
+        if let Some(v) = &rc.sync_depth {
+            core.sync_depth = *v.get_ref();
+            spans.push(("sync_depth", v.span()));
+        }
+        if let Some(v) = &rc.cnt_width {
+            core.cnt_width = *v.get_ref();
+            spans.push(("cnt_width", v.span()));
+        }
+        let params = core.to_params().map_err(|e| {
+            let msg = e.to_string();
+            // The field the core names: the first `core.<name>` in its message.
+            let named = spans.iter().find(|(n, _)| msg.contains(&format!("core.{n} "))).or_else(|| spans.iter().find(|(n, _)| msg.contains(&format!("core.{n}"))));
+            match named {
+                Some((n, span)) => self.err(span.clone(), &format!("core.{n}"), msg),
+                None => ScenarioError::Invalid { file: self.file.to_string(), line: 1, field: "core".into(), msg: format!("{msg} (with the default values of the fields not given)") },
+            }
+        })?;
+        let clock = core.clock;
+
+        // ---- run length ----
+        let ticks = self.ticks(&raw.duration, "duration", clock, false)?;
+
+        // ---- env ----
+        let e = raw.env;
+        for (v, f) in [(e.vcc1_v, "env.vcc1_v"), (e.vcc2_v, "env.vcc2_v")] {
+            if !(v.is_finite() && v > 0.0 && v <= 40.0) {
+                return Err(ScenarioError::Invalid { file: self.file.into(), line: 1, field: f.into(), msg: format!("{v} V is not a supply voltage; valid is 0 < V <= 40") });
+            }
+        }
+        let mpu_boot_ticks = match &e.mpu_boot {
+            Some(s) => self.ticks(s, "env.mpu_boot", clock, true)?,
+            None => Dur::ms(1).0.div_ceil(clock.0),
+        };
+        macro_rules! sub {
+            ($opt:expr, $name:literal, $check:expr) => {{
+                match $opt {
+                    Some(s) => {
+                        let span = s.span();
+                        let v = s.into_inner();
+                        #[allow(clippy::redundant_closure_call)]
+                        ($check)(v.clone()).map_err(|er: pmu50_env::EnvError| self.err(span, $name, er.to_string()))?;
+                        v
+                    }
+                    None => Default::default(),
+                }
+            }};
+        }
+        let sensor2: Sensor2Config = sub!(e.sensor2, "env.sensor2", |c| Sensor2::new(c).map(|_| ()).map_err(Into::into));
+        let comparator: ComparatorConfig = sub!(e.comparator, "env.comparator", |c| ComparatorPair::new(c).map(|_| ()).map_err(Into::into));
+        let sensor1: Sensor1Config = sub!(e.sensor1, "env.sensor1", |c| Sensor1::new(c).map(|_| ()).map_err(Into::into));
+        let readout: ReadoutConfig = sub!(e.readout, "env.readout", |c| Readout::new(c).map(|_| ()).map_err(Into::into));
+        let dark_current: DarkCurrentConfig = sub!(e.dark_current, "env.dark_current", |c| DarkCurrentMeter::new(c).map(|_| ()).map_err(Into::into));
+        let env = EnvSpec { vcc1_v: e.vcc1_v, vcc2_v: e.vcc2_v, mpu_boot_ticks, sensor2, comparator, sensor1, readout, dark_current };
+
+        // ---- motor ----
+        let motor = match raw.motor {
+            None => MotorProfile::constant(0.0).map_err(|er| ScenarioError::Invalid { file: self.file.into(), line: 1, field: "motor".into(), msg: er.to_string() })?,
+            Some(m) => {
+                let mspan = m.span();
+                let m = m.into_inner();
+                let mut segs = Vec::new();
+                for (k, s) in m.segments.iter().enumerate() {
+                    let field = format!("motor.segments[{k}]");
+                    let d = self.dur(&s.get_ref().duration, &format!("{field}.duration"))?;
+                    let seg = match (s.get_ref().kind.get_ref().as_str(), s.get_ref().delta_deg) {
+                        ("hold", None) => Segment::Hold { duration_ns: d.0 },
+                        ("hold", Some(_)) => return Err(self.err(s.span(), &format!("{field}.delta_deg"), "a hold segment has no delta_deg")),
+                        ("move", Some(delta_deg)) => {
+                            if d.0 == 0 {
+                                return Err(self.err(s.get_ref().duration.span(), &format!("{field}.duration"), "a move must last longer than zero"));
+                            }
+                            Segment::Move { duration_ns: d.0, delta_deg }
+                        }
+                        ("move", None) => return Err(self.err(s.span(), &format!("{field}.delta_deg"), "a move segment needs delta_deg (degrees, signed)")),
+                        (other, _) => return Err(self.err(s.get_ref().kind.span(), &format!("{field}.kind"), format!("unknown kind `{other}`; valid kinds are \"hold\" and \"move\""))),
+                    };
+                    segs.push(seg);
+                }
+                MotorProfile::new(m.start_deg, segs).map_err(|er| self.err(mspan, "motor", er.to_string()))?
+            }
+        };
+
+        // ---- events ----
+        let mut events = Vec::new();
+        let mut last_tick = 0u64;
+        let mut ig = false;
+        for (k, ev) in raw.events.iter().enumerate() {
+            let field = format!("events[{k}]");
+            let r = ev.get_ref();
+            let tick = self.ticks(&r.at, &format!("{field}.at"), clock, true)?;
+            if tick < last_tick {
+                return Err(self.err(r.at.span(), &format!("{field}.at"), format!("time goes backwards: {} is before the previous event at {}; list events in time order", Dur(tick * clock.0), Dur(last_tick * clock.0))));
+            }
+            if tick >= ticks {
+                return Err(self.err(r.at.span(), &format!("{field}.at"), format!("{} is not before the end of the run (duration = {})", Dur(tick * clock.0), Dur(ticks * clock.0))));
+            }
+            last_tick = tick;
+            let given = usize::from(r.ig.is_some()) + usize::from(r.write.is_some()) + usize::from(r.vs2_fault.is_some());
+            if given != 1 {
+                return Err(self.err(ev.span(), &field, format!("an event has exactly one action (ig, write or vs2_fault); this one has {given}")));
+            }
+            let action = if let Some(v) = r.ig {
+                ig = v;
+                Action::Ig(v)
+            } else if let Some(v) = r.vs2_fault {
+                Action::Vs2Fault(v)
+            } else {
+                let w = r.write.as_ref().map(|w| w.get_ref()).ok_or_else(|| self.err(ev.span(), &field, "missing action"))?;
+                let name = w.reg.get_ref().to_ascii_uppercase();
+                let Some(&(_, addr, width, access)) = MAP.iter().find(|(n, ..)| *n == name) else {
+                    let names: Vec<&str> = MAP.iter().map(|(n, ..)| *n).collect();
+                    return Err(self.err(w.reg.span(), &format!("{field}.write.reg"), format!("unknown register `{}`; registers are {}", w.reg.get_ref(), names.join(", "))));
+                };
+                if !(access.contains("RW") || access.contains("W1C")) {
+                    return Err(self.err(w.reg.span(), &format!("{field}.write.reg"), format!("register {name} is read-only ({access})")));
+                }
+                let v = *w.value.get_ref();
+                let max = (1i64 << width.min(16)) - 1;
+                let max = if name == "STATUS" { 0xFFFF } else { max };
+                if !(0..=max).contains(&v) {
+                    return Err(self.err(w.value.span(), &format!("{field}.write.value"), format!("{v} does not fit register {name} ({width} bits); valid is 0..={max}")));
+                }
+                if !ig {
+                    return Err(self.err(r.at.span(), &format!("{field}.write"), "the key is off at this time: the MPU is not powered and cannot write ([0205]); turn ig on first"));
+                }
+                Action::Write { addr, name, value: v as u16 }
+            };
+            events.push(Event { tick, action });
+        }
+
+        // ---- expect ----
+        let expect = match raw.expect {
+            None => Expect::default(),
+            Some(x) => {
+                let span = x.span();
+                let x = x.into_inner();
+                if let Some(t) = x.readout_within_deg {
+                    if !(t.is_finite() && t > 0.0) {
+                        return Err(self.err(span, "expect.readout_within_deg", format!("{t} is not a positive angle in degrees")));
+                    }
+                }
+                if let Some(seq) = &x.si_sequence_ms {
+                    if seq.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+                        return Err(self.err(span, "expect.si_sequence_ms", "intervals are positive numbers of milliseconds"));
+                    }
+                }
+                Expect { si_sequence_ms: x.si_sequence_ms, readout_within_deg: x.readout_within_deg, diag: x.diag, quadrant_skip: x.quadrant_skip }
+            }
+        };
+
+        // ---- vcd ----
+        let vcd_window = match &raw.vcd.window {
+            None => None,
+            Some(w) => {
+                let list = w.get_ref();
+                if list.len() != 2 {
+                    return Err(self.err(w.span(), "vcd.window", format!("a window is [start, end], got {} values", list.len())));
+                }
+                let a = self.ticks(&list[0], "vcd.window[0]", clock, true)?;
+                let b = self.ticks(&list[1], "vcd.window[1]", clock, true)?;
+                if b <= a {
+                    return Err(self.err(list[1].span(), "vcd.window[1]", "the window ends before it starts"));
+                }
+                Some((a, b))
+            }
+        };
+
+        let name = match &raw.name {
+            Some(n) => {
+                let v = n.get_ref();
+                if v.is_empty() || !v.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+                    return Err(self.err(n.span(), "name", format!("`{v}` is not a valid name; use letters, digits, `_` and `-` (it names the output files)")));
+                }
+                v.clone()
+            }
+            None => stem.to_string(),
+        };
+
+        Ok(Scenario {
+            name,
+            description: raw.description.unwrap_or_default(),
+            path: path.to_path_buf(),
+            core,
+            params,
+            env,
+            motor,
+            events,
+            ticks,
+            expect,
+            vcd_window,
+        })
+    }
+}
