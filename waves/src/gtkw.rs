@@ -1,0 +1,480 @@
+//! GTKWave save files (`.gtkw`).
+//!
+//! The flag words follow GTKWave's `TraceEntFlagBits` (`src/analyzer.h`) and
+//! the line syntax follows `write_save_helper` (`src/savefile.c`):
+//!
+//! | bit | flag | used for |
+//! |-----|------|----------|
+//! | 0x1 | `TR_HIGHLIGHT` | – |
+//! | 0x2 | `TR_HEX` | [`Format::Hex`] |
+//! | 0x4 | `TR_DEC` | [`Format::Decimal`] |
+//! | 0x8 | `TR_BIN` | [`Format::Binary`] |
+//! | 0x20 | `TR_RJUSTIFY` | every trace |
+//! | 0x200 | `TR_BLANK` | group begin/end lines |
+//! | 0x400 | `TR_SIGNED` | [`Format::SignedDecimal`] |
+//! | 0x1000 | `TR_COLLAPSED` | closed group end |
+//! | 0x8000 | `TR_ANALOG_STEP` | [`Analog::Step`] |
+//! | 0x10000 | `TR_ANALOG_INTERPOLATED` | [`Analog::Interpolated`] |
+//! | 0x20000 | `TR_ANALOG_BLANK_STRETCH` | extra analog height rows |
+//! | 0x400000 | `TR_CLOSED` | closed groups |
+//! | 0x800000 | `TR_GRP_BEGIN` | group begin (`@800200`) |
+//! | 0x1000000 | `TR_GRP_END` | group end (`@1000200`) |
+//!
+//! A `@flags` line is written only when the flags differ from the previous
+//! trace's, exactly like GTKWave does. Trace names are GTKWave's names for VCD
+//! variables: the full dotted path, plus `[msb:lsb]` for vectors
+//! (`pmu50.drive_interval.si[15:0]`); get them from
+//! [`crate::writer::VcdWriter::gtkwave_name`] or
+//! [`crate::reader::SignalInfo::gtkwave_name`].
+//!
+//! Output is deterministic: no date, no window position, no file mtime/size.
+//!
+//! ```
+//! use pmu50_waves::gtkw::{Analog, Format, GtkwSave, Trace};
+//!
+//! let mut s = GtkwSave::new("run.vcd").unwrap();
+//! s.begin_group("drive", false).unwrap();
+//! s.trace(Trace::new("pmu50.drive_interval.si[15:0]").format(Format::SignedDecimal)).unwrap();
+//! s.trace(Trace::new("pmu50.vout").analog(Analog::Step, 3)).unwrap();
+//! s.end_group().unwrap();
+//! let text = s.render().unwrap();
+//! assert!(text.contains("@800200\n-drive\n@420\npmu50.drive_interval.si[15:0]\n"));
+//! assert!(text.contains("@8028\npmu50.vout\n@20000\n-\n-\n@1000200\n-drive\n"));
+//! ```
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use thiserror::Error;
+
+use crate::reader::Waveform;
+
+/// `TR_HEX`
+const TR_HEX: u64 = 1 << 1;
+/// `TR_DEC`
+const TR_DEC: u64 = 1 << 2;
+/// `TR_BIN`
+const TR_BIN: u64 = 1 << 3;
+/// `TR_RJUSTIFY`
+const TR_RJUSTIFY: u64 = 1 << 5;
+/// `TR_BLANK`
+const TR_BLANK: u64 = 1 << 9;
+/// `TR_SIGNED`
+const TR_SIGNED: u64 = 1 << 10;
+/// `TR_COLLAPSED`
+const TR_COLLAPSED: u64 = 1 << 12;
+/// `TR_ANALOG_STEP`
+const TR_ANALOG_STEP: u64 = 1 << 15;
+/// `TR_ANALOG_INTERPOLATED`
+const TR_ANALOG_INTERPOLATED: u64 = 1 << 16;
+/// `TR_ANALOG_BLANK_STRETCH`
+const TR_ANALOG_BLANK_STRETCH: u64 = 1 << 17;
+/// `TR_CLOSED`
+const TR_CLOSED: u64 = 1 << 22;
+/// `TR_GRP_BEGIN`
+const TR_GRP_BEGIN: u64 = 1 << 23;
+/// `TR_GRP_END`
+const TR_GRP_END: u64 = 1 << 24;
+
+/// Number of named markers (a..z) GTKWave 3.3 writes on the `*` zoom line.
+const NAMED_MARKERS: usize = 26;
+
+/// Number display format of a trace.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Format {
+    /// binary (`@28`); GTKWave's own default for VCD traces it adds
+    #[default]
+    Binary,
+    /// hexadecimal (`@22`)
+    Hex,
+    /// unsigned decimal (`@24`)
+    Decimal,
+    /// two's complement signed decimal (`@420`)
+    SignedDecimal,
+}
+
+impl Format {
+    fn flags(self) -> u64 {
+        match self {
+            Format::Binary => TR_BIN,
+            Format::Hex => TR_HEX,
+            Format::Decimal => TR_DEC,
+            Format::SignedDecimal => TR_SIGNED,
+        }
+    }
+}
+
+/// Analog rendering of a vector or real trace.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Analog {
+    /// sample-and-hold steps (`TR_ANALOG_STEP`)
+    Step,
+    /// linear interpolation (`TR_ANALOG_INTERPOLATED`)
+    Interpolated,
+}
+
+/// Trace colour (`[color] n`, GTKWave's rainbow indices 1..=7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Color {
+    /// 1
+    Red,
+    /// 2
+    Orange,
+    /// 3
+    Yellow,
+    /// 4
+    Green,
+    /// 5
+    Blue,
+    /// 6
+    Indigo,
+    /// 7
+    Violet,
+}
+
+impl Color {
+    fn index(self) -> u8 {
+        match self {
+            Color::Red => 1,
+            Color::Orange => 2,
+            Color::Yellow => 3,
+            Color::Green => 4,
+            Color::Blue => 5,
+            Color::Indigo => 6,
+            Color::Violet => 7,
+        }
+    }
+}
+
+/// One signal trace.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trace {
+    name: String,
+    format: Format,
+    analog: Option<(Analog, u32)>,
+    color: Option<Color>,
+}
+
+impl Trace {
+    /// Trace of GTKWave signal `name` (full path, `[msb:lsb]` for vectors),
+    /// binary format, digital, default colour.
+    pub fn new(name: impl Into<String>) -> Self {
+        Trace {
+            name: name.into(),
+            format: Format::Binary,
+            analog: None,
+            color: None,
+        }
+    }
+
+    /// Number format (for `real` variables GTKWave always shows the real value).
+    pub fn format(mut self, format: Format) -> Self {
+        self.format = format;
+        self
+    }
+
+    /// Draw as analog waveform, `rows` trace rows high (1 = normal height;
+    /// each extra row is an `@20000` blank-stretch line).
+    pub fn analog(mut self, mode: Analog, rows: u32) -> Self {
+        self.analog = Some((mode, rows));
+        self
+    }
+
+    /// Trace colour.
+    pub fn color(mut self, color: Color) -> Self {
+        self.color = Some(color);
+        self
+    }
+
+    /// GTKWave flag word of this trace.
+    pub fn flags(&self) -> u64 {
+        let analog = match self.analog {
+            Some((Analog::Step, _)) => TR_ANALOG_STEP,
+            Some((Analog::Interpolated, _)) => TR_ANALOG_INTERPOLATED,
+            None => 0,
+        };
+        self.format.flags() | TR_RJUSTIFY | analog
+    }
+}
+
+/// Errors building a save file.
+#[derive(Debug, Error)]
+pub enum GtkwError {
+    /// A name or path that cannot be written on one save-file line.
+    #[error("invalid {what} {text:?}: {why}")]
+    InvalidText {
+        /// "dump file path", "group name" or "trace name"
+        what: &'static str,
+        /// the rejected text
+        text: String,
+        /// what is valid
+        why: &'static str,
+    },
+    /// Analog trace with zero rows.
+    #[error("analog trace `{name}` has height 0 rows: the height must be at least 1")]
+    ZeroHeight {
+        /// trace name
+        name: String,
+    },
+    /// Zoom that is NaN or infinite.
+    #[error("zoom {0} is not finite: GTKWave zoom is a finite (usually negative) number")]
+    BadZoom(f64),
+    /// `end_group` without `begin_group`.
+    #[error("end_group called with no open group")]
+    NoOpenGroup,
+    /// `render` with groups still open.
+    #[error("group `{0}` is still open: call end_group for every begin_group before rendering")]
+    UnclosedGroup(String),
+    /// Traces naming signals the VCD does not have.
+    #[error("{} trace name(s) not found in {origin}: {}; GTKWave names are full dotted paths with `[msb:lsb]` for vectors, e.g. {example}", missing.len(), missing.join(", "))]
+    UnknownSignals {
+        /// the names not found
+        missing: Vec<String>,
+        /// waveform origin
+        origin: String,
+        /// an existing name to show the expected form
+        example: String,
+    },
+    /// Writing the file failed.
+    #[error("cannot write save file {path}: {source}")]
+    Io {
+        /// the path
+        path: String,
+        /// the I/O error
+        source: std::io::Error,
+    },
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum Entry {
+    GroupBegin { name: String, closed: bool },
+    GroupEnd { name: String, closed: bool },
+    Trace(Trace),
+}
+
+/// A GTKWave save file under construction.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GtkwSave {
+    dumpfile: String,
+    timestart: u64,
+    size: (u32, u32),
+    zoom: f64,
+    entries: Vec<Entry>,
+    open: Vec<(String, bool)>,
+}
+
+fn check_line(what: &'static str, text: &str, allow_empty: bool) -> Result<(), GtkwError> {
+    if !allow_empty && text.is_empty() {
+        return Err(GtkwError::InvalidText {
+            what,
+            text: text.into(),
+            why: "it must not be empty",
+        });
+    }
+    if text.chars().any(|c| c.is_control()) {
+        return Err(GtkwError::InvalidText {
+            what,
+            text: text.into(),
+            why: "it must fit on one line (no newline or other control characters)",
+        });
+    }
+    Ok(())
+}
+
+impl GtkwSave {
+    /// Save file that opens `dumpfile` (written as `[dumpfile] "dumpfile"`;
+    /// relative paths are resolved by GTKWave relative to its working directory).
+    pub fn new(dumpfile: &str) -> Result<Self, GtkwError> {
+        check_line("dump file path", dumpfile, false)?;
+        if dumpfile.contains('"') {
+            return Err(GtkwError::InvalidText {
+                what: "dump file path",
+                text: dumpfile.into(),
+                why: "it must not contain a double quote",
+            });
+        }
+        Ok(GtkwSave {
+            dumpfile: dumpfile.to_string(),
+            timestart: 0,
+            size: (1400, 800),
+            zoom: 0.0,
+            entries: Vec::new(),
+            open: Vec::new(),
+        })
+    }
+
+    /// `[timestart]`: first time shown, in VCD time units (default 0).
+    pub fn timestart(&mut self, t: u64) -> &mut Self {
+        self.timestart = t;
+        self
+    }
+
+    /// `[size]`: window size in pixels (default 1400 × 800).
+    pub fn size(&mut self, width: u32, height: u32) -> &mut Self {
+        self.size = (width, height);
+        self
+    }
+
+    /// Zoom level of the `*` line (GTKWave shows 2^-zoom time units per pixel;
+    /// default 0).
+    pub fn zoom(&mut self, zoom: f64) -> Result<&mut Self, GtkwError> {
+        if !zoom.is_finite() {
+            return Err(GtkwError::BadZoom(zoom));
+        }
+        self.zoom = zoom;
+        Ok(self)
+    }
+
+    /// Set `[timestart]` to `start` and an integer zoom that fits
+    /// `[start, end]` into the wave pane of the configured window width.
+    pub fn fit(&mut self, start: u64, end: u64) -> &mut Self {
+        self.timestart = start;
+        // wave pane ≈ window width minus the signal tree and name columns
+        let pane = f64::from(self.size.0.saturating_sub(400).max(100));
+        let span = end.saturating_sub(start).max(1) as f64;
+        self.zoom = -(span / pane).log2().ceil();
+        if self.zoom == 0.0 {
+            self.zoom = 0.0; // no "-0"
+        }
+        self
+    }
+
+    /// Start a (possibly closed) group named `name` (`@800200` / `-name`).
+    pub fn begin_group(&mut self, name: &str, closed: bool) -> Result<(), GtkwError> {
+        check_line("group name", name, false)?;
+        self.entries.push(Entry::GroupBegin {
+            name: name.to_string(),
+            closed,
+        });
+        self.open.push((name.to_string(), closed));
+        Ok(())
+    }
+
+    /// End the innermost open group (`@1000200` / `-name`).
+    pub fn end_group(&mut self) -> Result<(), GtkwError> {
+        let (name, closed) = self.open.pop().ok_or(GtkwError::NoOpenGroup)?;
+        self.entries.push(Entry::GroupEnd { name, closed });
+        Ok(())
+    }
+
+    /// Add a trace.
+    pub fn trace(&mut self, trace: Trace) -> Result<(), GtkwError> {
+        check_line("trace name", &trace.name, false)?;
+        let first = trace.name.chars().next().unwrap_or(' ');
+        if trace.name.chars().any(char::is_whitespace) || "@-*[#:+(>^!?%".contains(first) {
+            return Err(GtkwError::InvalidText {
+                what: "trace name",
+                text: trace.name.clone(),
+                why: "it must be a GTKWave signal name: no whitespace and not starting with one of @ - * [ # : + ( > ^ ! ? %",
+            });
+        }
+        if let Some((_, 0)) = trace.analog {
+            return Err(GtkwError::ZeroHeight {
+                name: trace.name.clone(),
+            });
+        }
+        self.entries.push(Entry::Trace(trace));
+        Ok(())
+    }
+
+    /// Check that every trace names a signal of `wave` (by GTKWave name).
+    pub fn check_names(&self, wave: &Waveform) -> Result<(), GtkwError> {
+        let known: std::collections::HashSet<String> =
+            wave.signals().iter().map(|s| s.gtkwave_name()).collect();
+        let missing: Vec<String> = self
+            .entries
+            .iter()
+            .filter_map(|e| match e {
+                Entry::Trace(t) if !known.contains(&t.name) => Some(t.name.clone()),
+                _ => None,
+            })
+            .collect();
+        if missing.is_empty() {
+            return Ok(());
+        }
+        let example = wave
+            .signals()
+            .iter()
+            .map(|s| s.gtkwave_name())
+            .find(|n| n.ends_with(']'))
+            .or_else(|| wave.signals().first().map(|s| s.gtkwave_name()))
+            .unwrap_or_else(|| "top.sig[7:0]".to_string());
+        Err(GtkwError::UnknownSignals {
+            missing,
+            origin: wave.origin().to_string(),
+            example,
+        })
+    }
+
+    /// The save file text.
+    pub fn render(&self) -> Result<String, GtkwError> {
+        if let Some((name, _)) = self.open.last() {
+            return Err(GtkwError::UnclosedGroup(name.clone()));
+        }
+        let mut s = String::new();
+        // writing to a String cannot fail
+        let _ = self.render_into(&mut s);
+        Ok(s)
+    }
+
+    fn render_into(&self, s: &mut String) -> std::fmt::Result {
+        writeln!(s, "[*]")?;
+        writeln!(s, "[*] pmu50-waves GTKWave save file")?;
+        writeln!(s, "[*]")?;
+        writeln!(s, "[dumpfile] \"{}\"", self.dumpfile)?;
+        writeln!(s, "[timestart] {}", self.timestart)?;
+        writeln!(s, "[size] {} {}", self.size.0, self.size.1)?;
+        write!(s, "*{:.6} -1", self.zoom)?;
+        for _ in 0..NAMED_MARKERS {
+            write!(s, " -1")?;
+        }
+        writeln!(s)?;
+        let mut prev: Option<u64> = None;
+        let mut set_flags = |s: &mut String, flags: u64| -> std::fmt::Result {
+            if prev != Some(flags) {
+                writeln!(s, "@{flags:x}")?;
+                prev = Some(flags);
+            }
+            Ok(())
+        };
+        for e in &self.entries {
+            match e {
+                Entry::GroupBegin { name, closed } => {
+                    let f = TR_GRP_BEGIN | TR_BLANK | if *closed { TR_CLOSED } else { 0 };
+                    set_flags(s, f)?;
+                    writeln!(s, "-{name}")?;
+                }
+                Entry::GroupEnd { name, closed } => {
+                    let f =
+                        TR_GRP_END | TR_BLANK | if *closed { TR_CLOSED | TR_COLLAPSED } else { 0 };
+                    set_flags(s, f)?;
+                    writeln!(s, "-{name}")?;
+                }
+                Entry::Trace(t) => {
+                    set_flags(s, t.flags())?;
+                    if let Some(c) = t.color {
+                        writeln!(s, "[color] {}", c.index())?;
+                    }
+                    writeln!(s, "{}", t.name)?;
+                    if let Some((_, rows)) = t.analog {
+                        for _ in 1..rows {
+                            set_flags(s, TR_ANALOG_BLANK_STRETCH)?;
+                            writeln!(s, "-")?;
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Render and write to `path`.
+    pub fn write(&self, path: impl AsRef<Path>) -> Result<(), GtkwError> {
+        let text = self.render()?;
+        let path = path.as_ref();
+        std::fs::write(path, text).map_err(|source| GtkwError::Io {
+            path: path.display().to_string(),
+            source,
+        })
+    }
+}

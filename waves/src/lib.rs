@@ -1,0 +1,24 @@
+//! Waveform tooling for the PMU 50 RTL model.
+//!
+//! * [`writer`] — a checked, deterministic VCD writer on top of the `vcd` crate
+//!   ([`writer::VcdBuilder`] declares the hierarchy, [`writer::VcdWriter`] dumps
+//!   value changes).
+//! * [`gtkw`] — GTKWave save files (`.gtkw`) that open a VCD with groups,
+//!   number formats and analog traces.
+//! * [`reader`] — reads any VCD back with `wellen` (independent of the writer).
+//! * [`diff`] — waveform diff of two VCD files with prefix mapping, timescale
+//!   and width normalisation, x/z policies and clock/period sampling.
+//!
+//! Every fallible operation returns a `thiserror` enum whose message says what
+//! was wrong, where, and what would have been valid. Nothing in this crate
+//! panics on user input.
+
+pub mod diff;
+pub mod gtkw;
+pub mod reader;
+pub mod writer;
+
+mod time;
+
+pub use reader::Value;
+pub use time::{TimeUnit, Timescale};

@@ -1,0 +1,527 @@
+//! Writer: exact output, rejection of invalid use, window option.
+
+mod common;
+
+use common::{sample, sample_builder, text, wave};
+use pmu50_waves::reader::Value;
+use pmu50_waves::writer::{BitType, Logic, VcdBuilder, WriteError};
+use pmu50_waves::{TimeUnit, Timescale};
+
+const HEADER: &str = "$version
+    pmu50-waves test
+$end
+$timescale 1 us $end
+$scope module pmu50 $end
+$var wire 1 ! clk $end
+$var reg 1 \" en $end
+$scope module drive_interval $end
+$var reg 16 # si [15:0] $end
+$var real 64 $ vout $end
+$upscope $end
+$upscope $end
+$enddefinitions $end
+";
+
+#[test]
+fn exact_output_with_full_dumpvars_and_only_changes() {
+    let mut s = sample();
+    // assignments at time 0 become the initial values of #0 $dumpvars
+    s.w.change_bool(s.en, false).unwrap();
+    s.w.set_time(2).unwrap();
+    s.w.change_bool(s.clk, true).unwrap();
+    s.w.change_vector(s.si, 0xabcd).unwrap();
+    s.w.change_real(s.vout, 3.3).unwrap();
+    s.w.change_bool(s.en, false).unwrap(); // same value: skipped
+    s.w.set_time(3).unwrap();
+    s.w.change_bool(s.en, false).unwrap(); // same value: no time stamp at all
+    s.w.set_time(4).unwrap();
+    s.w.change_bits(s.si, "xxxxzzzz0000111X").unwrap();
+    s.w.change_real(s.vout, -0.0).unwrap();
+    s.w.change_bit(s.clk, Logic::Z).unwrap();
+    s.w.set_time(10).unwrap();
+    let out = text(s.w);
+    let expected = format!(
+        "{HEADER}#0
+$dumpvars
+0!
+0\"
+b0000000000000000 #
+r0 $
+$end
+#2
+1!
+b1010101111001101 #
+r3.3 $
+#4
+z!
+bxxxxzzzz0000111x #
+r0 $
+#10
+"
+    );
+    assert_eq!(out, expected);
+}
+
+#[test]
+fn no_date_and_byte_identical_across_runs() {
+    let run = || {
+        let mut s = sample();
+        for t in 1..50u64 {
+            s.w.set_time(t * 3).unwrap();
+            s.w.change_bool(s.clk, t % 2 == 1).unwrap();
+            s.w.change_vector(s.si, t * 1000).unwrap();
+            s.w.change_real(s.vout, (t as f64).sqrt()).unwrap();
+        }
+        text(s.w)
+    };
+    let a = run();
+    assert!(!a.contains("$date"));
+    assert!(a.contains("$timescale 1 us $end"));
+    assert_eq!(a, run());
+}
+
+#[test]
+fn timescales_are_written_as_given() {
+    for (ts, line) in [
+        (Timescale::new(10, TimeUnit::Us), "$timescale 10 us $end"),
+        (Timescale::new(1, TimeUnit::Ns), "$timescale 1 ns $end"),
+        (Timescale::new(100, TimeUnit::Ps), "$timescale 100 ps $end"),
+    ] {
+        let (b, ..) = sample_builder(ts);
+        let out = text(b.start(Vec::new()).unwrap());
+        assert!(out.contains(line), "{out}");
+    }
+    let err = VcdBuilder::new(Timescale::new(2, TimeUnit::Us), "v").unwrap_err();
+    assert!(matches!(err, WriteError::InvalidTimescale { factor: 2 }));
+    assert!(err.to_string().contains("1, 10 or 100"), "{err}");
+}
+
+#[test]
+fn rejects_backwards_time() {
+    let mut s = sample();
+    s.w.set_time(5).unwrap();
+    s.w.set_time(5).unwrap(); // equal time is fine (same step)
+    let err = s.w.set_time(4).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            WriteError::TimeBackwards {
+                requested: 4,
+                current: 5
+            }
+        ),
+        "{err:?}"
+    );
+    let msg = err.to_string();
+    assert!(
+        msg.contains("set_time(4)") && msg.contains("current time is 5"),
+        "{msg}"
+    );
+    // the writer stays usable at the old time
+    assert_eq!(s.w.time(), 5);
+    s.w.set_time(6).unwrap();
+}
+
+#[test]
+fn rejects_double_change_in_one_step() {
+    let mut s = sample();
+    s.w.set_time(7).unwrap();
+    s.w.change_vector(s.si, 1).unwrap();
+    let err = s.w.change_vector(s.si, 2).unwrap_err();
+    assert!(
+        matches!(&err, WriteError::DoubleChange { name, time: 7 } if name == "pmu50.drive_interval.si"),
+        "{err:?}"
+    );
+    // re-entering the same time is still the same step
+    s.w.set_time(7).unwrap();
+    assert!(matches!(
+        s.w.change_vector(s.si, 1),
+        Err(WriteError::DoubleChange { .. })
+    ));
+    // assigning the same value twice is also a double change
+    s.w.change_bool(s.clk, false).unwrap();
+    assert!(matches!(
+        s.w.change_bool(s.clk, false),
+        Err(WriteError::DoubleChange { .. })
+    ));
+    // next step is fine
+    s.w.set_time(8).unwrap();
+    s.w.change_vector(s.si, 2).unwrap();
+    // double change before the first set_time (time 0) is caught too
+    let mut s = sample();
+    s.w.change_real(s.vout, 1.0).unwrap();
+    assert!(matches!(
+        s.w.change_real(s.vout, 2.0),
+        Err(WriteError::DoubleChange { time: 0, .. })
+    ));
+}
+
+#[test]
+fn rejects_values_that_do_not_fit_the_width() {
+    let mut s = sample();
+    let err = s.w.change_vector(s.si, 0x1_0000).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            WriteError::ValueTooWide {
+                width: 16,
+                max: 0xffff,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    assert!(err.to_string().contains("0..=65535"), "{err}");
+    assert!(matches!(
+        s.w.change_vector(s.clk, 2),
+        Err(WriteError::ValueTooWide { width: 1, .. })
+    ));
+    // bit strings of the wrong width
+    let err = s.w.change_bits(s.si, "0101").unwrap_err();
+    assert!(
+        matches!(
+            err,
+            WriteError::WrongWidth {
+                expected: 16,
+                got: 4,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    assert!(matches!(
+        s.w.change_bits(s.si, "00000000000000000"),
+        Err(WriteError::WrongWidth {
+            expected: 16,
+            got: 17,
+            ..
+        })
+    ));
+    // a single bit for a vector
+    assert!(matches!(
+        s.w.change_bit(s.si, Logic::One),
+        Err(WriteError::WrongWidth {
+            expected: 16,
+            got: 1,
+            ..
+        })
+    ));
+    // invalid characters
+    let err = s.w.change_bits(s.si, "000000000000000q").unwrap_err();
+    assert!(
+        matches!(
+            err,
+            WriteError::InvalidBit {
+                ch: 'q',
+                pos: 15,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    // declared initial value too wide
+    let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Us), "v").unwrap();
+    b.push_scope("top").unwrap();
+    assert!(matches!(
+        b.add_vector(BitType::Wire, "n", 3, 0, 16),
+        Err(WriteError::ValueTooWide { width: 4, .. })
+    ));
+    // none of the failed calls counted as an assignment
+    s.w.change_vector(s.si, 0xffff).unwrap();
+    s.w.change_bool(s.clk, true).unwrap();
+}
+
+#[test]
+fn rejects_nan_and_infinite_reals_and_normalises_negative_zero() {
+    let mut s = sample();
+    let err = s.w.change_real(s.vout, f64::NAN).unwrap_err();
+    assert!(
+        matches!(&err, WriteError::NotFinite { name, .. } if name == "pmu50.drive_interval.vout")
+    );
+    assert!(err.to_string().contains("NaN"), "{err}");
+    assert!(matches!(
+        s.w.change_real(s.vout, f64::INFINITY),
+        Err(WriteError::NotFinite { .. })
+    ));
+    assert!(matches!(
+        s.w.change_real(s.vout, f64::NEG_INFINITY),
+        Err(WriteError::NotFinite { .. })
+    ));
+    let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Us), "v").unwrap();
+    b.push_scope("top").unwrap();
+    assert!(matches!(
+        b.add_real("r", f64::NAN),
+        Err(WriteError::NotFinite { .. })
+    ));
+    // -0.0 equals the initial 0.0: no change written
+    s.w.set_time(1).unwrap();
+    s.w.change_real(s.vout, -0.0).unwrap();
+    s.w.set_time(2).unwrap();
+    s.w.change_real(s.vout, 1e300).unwrap();
+    s.w.set_time(3).unwrap();
+    s.w.change_real(s.vout, -2.5e-9).unwrap();
+    let out = text(s.w);
+    assert!(!out.contains("#1\n"), "{out}");
+    assert!(out.contains("#2\nr1e300 $\n#3\nr-2.5e-9 $\n"), "{out}");
+    let w = wave(&out);
+    let ch = w.changes("pmu50.drive_interval.vout").unwrap();
+    assert_eq!(
+        ch,
+        vec![
+            (0, Value::Real(0.0)),
+            (2, Value::Real(1e300)),
+            (3, Value::Real(-2.5e-9))
+        ]
+    );
+}
+
+#[test]
+fn rejects_type_mismatch_and_foreign_ids() {
+    let mut s = sample();
+    assert!(matches!(
+        s.w.change_real(s.clk, 1.0),
+        Err(WriteError::TypeMismatch { .. })
+    ));
+    assert!(matches!(
+        s.w.change_vector(s.vout, 1),
+        Err(WriteError::TypeMismatch { .. })
+    ));
+    assert!(matches!(
+        s.w.change_bits(s.vout, "1"),
+        Err(WriteError::TypeMismatch { .. })
+    ));
+    assert!(matches!(
+        s.w.change_bool(s.vout, true),
+        Err(WriteError::TypeMismatch { .. })
+    ));
+    let other = sample();
+    let err = s.w.change_bool(other.clk, true).unwrap_err();
+    assert!(matches!(err, WriteError::UnknownId { .. }), "{err:?}");
+    assert!(s.w.gtkwave_name(other.si).is_err());
+}
+
+#[test]
+fn rejects_bad_declarations() {
+    let ts = Timescale::new(1, TimeUnit::Us);
+    assert!(matches!(
+        VcdBuilder::new(ts, "x $end y"),
+        Err(WriteError::InvalidVersion { .. })
+    ));
+    assert!(matches!(
+        VcdBuilder::new(ts, ""),
+        Err(WriteError::InvalidVersion { .. })
+    ));
+    let mut b = VcdBuilder::new(ts, "v").unwrap();
+    assert!(matches!(
+        b.add_bit(BitType::Wire, "a", Logic::Zero),
+        Err(WriteError::NoScope { .. })
+    ));
+    assert!(matches!(b.pop_scope(), Err(WriteError::NoOpenScope)));
+    for bad in ["", "1abc", "a b", "a.b", "a[3]", "$x", "ä"] {
+        let err = b.push_scope(bad).unwrap_err();
+        assert!(
+            matches!(err, WriteError::InvalidName { what: "scope", .. }),
+            "{bad:?}: {err:?}"
+        );
+    }
+    b.push_scope("top").unwrap();
+    b.add_bit(BitType::Wire, "a", Logic::Zero).unwrap();
+    let err = b.add_bit(BitType::Reg, "a", Logic::One).unwrap_err();
+    assert!(
+        matches!(&err, WriteError::Duplicate { path } if path == "top.a"),
+        "{err:?}"
+    );
+    assert!(matches!(
+        b.push_scope("a"),
+        Err(WriteError::Duplicate { .. })
+    ));
+    assert!(matches!(
+        b.add_vector(BitType::Wire, "v", u32::MAX, 0, 0),
+        Err(WriteError::RangeTooLarge { .. })
+    ));
+    assert!(matches!(
+        b.add_vector(BitType::Wire, "v", 70_000, 0, 0),
+        Err(WriteError::RangeTooLarge { .. })
+    ));
+    b.add_vector(BitType::Wire, "v", 65_535, 0, 0).unwrap();
+    assert!(matches!(
+        b.add_real("bad name", 0.0),
+        Err(WriteError::InvalidName {
+            what: "variable",
+            ..
+        })
+    ));
+    b.push_scope("sub").unwrap();
+    let err = b.start(Vec::new()).unwrap_err();
+    assert!(
+        matches!(&err, WriteError::UnclosedScopes { open: 2, innermost } if innermost == "top.sub"),
+        "{err:?}"
+    );
+
+    let mut b = VcdBuilder::new(ts, "v").unwrap();
+    b.push_scope("top").unwrap();
+    b.pop_scope().unwrap();
+    assert!(matches!(b.start(Vec::new()), Err(WriteError::NoVariables)));
+
+    let mut b = VcdBuilder::new(ts, "v").unwrap();
+    assert!(matches!(
+        b.window(5, 5),
+        Err(WriteError::InvalidWindow { start: 5, end: 5 })
+    ));
+    assert!(matches!(
+        b.window(6, 5),
+        Err(WriteError::InvalidWindow { .. })
+    ));
+}
+
+#[test]
+fn gtkwave_names_and_bit_selects() {
+    let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Ns), "v").unwrap();
+    b.push_scope("pmu50").unwrap();
+    b.push_scope("drive_interval").unwrap();
+    let si = b.add_vector(BitType::Wire, "si", 15, 0, 0).unwrap();
+    let one = b.add_vector(BitType::Wire, "b", 3, 3, 1).unwrap();
+    let le = b.add_vector(BitType::Wire, "le", 0, 7, 0).unwrap();
+    let r = b.add_real("r", 0.0).unwrap();
+    b.pop_scope().unwrap();
+    b.pop_scope().unwrap();
+    assert_eq!(b.gtkwave_name(si).unwrap(), "pmu50.drive_interval.si[15:0]");
+    assert_eq!(b.gtkwave_name(one).unwrap(), "pmu50.drive_interval.b[3]");
+    assert_eq!(b.gtkwave_name(le).unwrap(), "pmu50.drive_interval.le[0:7]");
+    assert_eq!(b.gtkwave_name(r).unwrap(), "pmu50.drive_interval.r");
+    let mut w = b.start(Vec::new()).unwrap();
+    w.change_bit(one, Logic::Zero).unwrap();
+    w.change_bits(le, "10000000").unwrap();
+    let out = text(w);
+    assert!(out.contains("$var wire 1 \" b [3] $end"), "{out}");
+    assert!(out.contains("$var wire 8 # le [0:7] $end"), "{out}");
+    let names: Vec<String> = wave(&out)
+        .signals()
+        .iter()
+        .map(|s| s.gtkwave_name())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "pmu50.drive_interval.si[15:0]",
+            "pmu50.drive_interval.b[3]",
+            "pmu50.drive_interval.le[0:7]",
+            "pmu50.drive_interval.r"
+        ]
+    );
+}
+
+#[test]
+fn wide_vectors_beyond_64_bits() {
+    let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Ns), "v").unwrap();
+    b.push_scope("top").unwrap();
+    let v = b.add_vector(BitType::Reg, "wide", 79, 0, u64::MAX).unwrap();
+    b.pop_scope().unwrap();
+    let mut w = b.start(Vec::new()).unwrap();
+    w.set_time(1).unwrap();
+    let bits = format!("1{}", "0".repeat(79));
+    w.change_bits(v, &bits).unwrap();
+    w.set_time(2).unwrap();
+    w.change_vector(v, 5).unwrap();
+    let out = text(w);
+    let ch = wave(&out).changes("top.wide").unwrap();
+    assert_eq!(
+        ch[0],
+        (
+            0,
+            Value::Bits(format!("{}{}", "0".repeat(16), "1".repeat(64)))
+        )
+    );
+    assert_eq!(ch[1], (1, Value::Bits(bits)));
+    assert_eq!(ch[2], (2, Value::Bits(format!("{}101", "0".repeat(77)))));
+}
+
+fn windowed(start: u64, end: u64) -> String {
+    let (mut b, clk, _en, si, vout) = sample_builder(Timescale::new(1, TimeUnit::Us));
+    b.window(start, end).unwrap();
+    let mut w = b.start(Vec::new()).unwrap();
+    for t in 0..=20u64 {
+        w.set_time(t).unwrap();
+        w.change_bool(clk, t % 2 == 1).unwrap();
+        if t % 4 == 0 {
+            w.change_vector(si, t).unwrap();
+        }
+        if t == 3 {
+            w.change_real(vout, 1.25).unwrap();
+        }
+    }
+    text(w)
+}
+
+#[test]
+fn window_starts_with_dumpvars_at_start_and_keeps_absolute_times() {
+    // start = 6 falls on a step: dump at #6 with the values of step 6
+    let out = windowed(6, 10);
+    let body = out.split("$enddefinitions $end\n").nth(1).unwrap();
+    assert_eq!(
+        body,
+        "#6\n$dumpvars\n0!\nx\"\nb0000000000000100 #\nr1.25 $\n$end\n#7\n1!\n#8\n0!\nb0000000000001000 #\n#9\n1!\n"
+    );
+    // no change before start or at/after end was dumped
+    let w = wave(&out);
+    for s in w.signals() {
+        for (t, _) in w.changes(&s.path).unwrap() {
+            assert!((6..10).contains(&t), "{} at {t}", s.path);
+        }
+    }
+}
+
+#[test]
+fn window_start_between_steps_dumps_values_current_at_start() {
+    let (mut b, clk, _en, si, _vout) = sample_builder(Timescale::new(1, TimeUnit::Us));
+    b.window(15, u64::MAX).unwrap();
+    let mut w = b.start(Vec::new()).unwrap();
+    w.set_time(10).unwrap();
+    w.change_vector(si, 10).unwrap();
+    w.set_time(20).unwrap();
+    w.change_vector(si, 20).unwrap();
+    w.change_bool(clk, true).unwrap();
+    w.set_time(30).unwrap();
+    let out = text(w);
+    let body = out.split("$enddefinitions $end\n").nth(1).unwrap();
+    assert_eq!(
+        body,
+        "#15\n$dumpvars\n0!\nx\"\nb0000000000001010 #\nr0 $\n$end\n#20\n1!\nb0000000000010100 #\n#30\n"
+    );
+}
+
+#[test]
+fn window_that_is_never_reached_writes_only_the_header() {
+    let out = windowed(100, 200);
+    assert!(out.ends_with("$enddefinitions $end\n"), "{out}");
+}
+
+#[test]
+fn window_reads_back_like_the_full_dump_restricted_to_the_window() {
+    let full = wave(&windowed(0, u64::MAX));
+    let part = wave(&windowed(5, 13));
+    for s in full.signals() {
+        let all = full.changes(&s.path).unwrap();
+        // value at 5 = last change at or before 5
+        let at_start = all.iter().rev().find(|(t, _)| *t <= 5).unwrap().1.clone();
+        let mut expected = vec![(5, at_start)];
+        expected.extend(all.iter().filter(|(t, _)| *t > 5 && *t < 13).cloned());
+        assert_eq!(part.changes(&s.path).unwrap(), expected, "{}", s.path);
+    }
+}
+
+#[test]
+fn error_messages_say_what_where_and_what_is_valid() {
+    let mut s = sample();
+    s.w.set_time(3).unwrap();
+    let msg = s.w.change_bits(s.si, "12").unwrap_err().to_string();
+    assert!(
+        msg.contains("pmu50.drive_interval.si") && msg.contains("valid bits are 0, 1, x, z"),
+        "{msg}"
+    );
+    let msg = s.w.change_vector(s.si, 70000).unwrap_err().to_string();
+    assert!(
+        msg.contains("70000") && msg.contains("16 bit") && msg.contains("0..=65535"),
+        "{msg}"
+    );
+}
