@@ -344,12 +344,16 @@ impl Cx<'_> {
             spans.push(("cnt_width", v.span()));
         }
         let params = core.to_params().map_err(|e| {
-            let msg = e.to_string();
-            // The field the core names: the first `core.<name>` in its message.
-            let named = spans.iter().find(|(n, _)| msg.contains(&format!("core.{n} "))).or_else(|| spans.iter().find(|(n, _)| msg.contains(&format!("core.{n}"))));
+            // Point at the involved field written last in the file (the one most likely edited).
+            let named = spans.iter().filter(|(n, _)| e.fields().contains(n)).max_by_key(|(_, sp)| sp.start);
             match named {
-                Some((n, span)) => self.err(span.clone(), &format!("core.{n}"), msg),
-                None => ScenarioError::Invalid { file: self.file.to_string(), line: 1, field: "core".into(), msg: format!("{msg} (with the default values of the fields not given)") },
+                Some((n, span)) => self.err(span.clone(), &format!("core.{n}"), e.to_string()),
+                None => ScenarioError::Invalid {
+                    file: self.file.to_string(),
+                    line: 1,
+                    field: format!("core.{}", e.fields().first().copied().unwrap_or("core")),
+                    msg: format!("{e} (with the default values of the fields not given)"),
+                },
             }
         })?;
         let clock = core.clock;

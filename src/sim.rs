@@ -289,7 +289,8 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
                 let cnt_c = core.read(addr::CNT_C) as i16;
                 let status = core.read(addr::STATUS);
                 let r = readout.key_on(cnt_s, cnt_c, t1).map_err(|e| env_err(k, e.to_string()))?;
-                let true_deg = motor_rel(sc, t_ns, turn0);
+                // θ1 is the angle at the end of this tick; compare at that same instant.
+                let true_deg = theta - turn0.unwrap_or(0.0);
                 let th2 = theta2_deg(vs2_v, sin2, cos2);
                 keyons.push(KeyOnRow {
                     tick: k,
@@ -330,7 +331,16 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
         meter.tick(out.sig, RailStates { vm: out.vm_en, vs1: out.vs1_en, vs2: vs2_v > 0.0, vp: out.vp_en }, clk);
 
         if internals.first {
-            turn0 = Some((theta / 360.0).floor() * 360.0);
+            // The counters' origin is the turn in which the chip's first sample put the shaft:
+            // the turn that brings this angle nearest the middle of the sampled quadrant (at a
+            // boundary the chip may see either side, e.g. a settling sine exactly at 0 deg).
+            let q0 = match (after.cs, after.cc) {
+                (true, true) => 0.0,
+                (true, false) => 1.0,
+                (false, false) => 2.0,
+                (false, true) => 3.0,
+            };
+            turn0 = Some(((theta - (q0 * 90.0 + 45.0)) / 360.0).round() * 360.0);
         }
         if internals.fig17 != Fig17::Idle {
             pulses.push(PulseRow {

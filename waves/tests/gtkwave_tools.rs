@@ -106,6 +106,10 @@ fn check_tool_output(vcd: &Path) {
 #[test]
 fn gtkwave_loader_reads_written_vcds_without_warnings() {
     if tool("vcd2lxt2").is_none() {
+        assert!(
+            std::env::var_os("PMU50_ALLOW_MISSING_TOOLS").is_some(),
+            "missing tool for gtkwave_loader_reads_written_vcds_without_warnings: `vcd2lxt2` not on PATH (Debian package `gtkwave`); `make test` installs it (set PMU50_ALLOW_MISSING_TOOLS=1 to skip knowingly)"
+        );
         println!("SKIPPED gtkwave_loader_reads_written_vcds_without_warnings: `vcd2lxt2` not on PATH (Debian package `gtkwave`)");
         return;
     }

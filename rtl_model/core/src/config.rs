@@ -184,6 +184,27 @@ pub enum ConfigError {
     Param(#[from] ParamError),
 }
 
+impl ConfigError {
+    /// Every configuration field the violated rule involves (names as in `[core]`), so that a
+    /// loader can point at the one the user wrote.
+    pub fn fields(&self) -> &'static [&'static str] {
+        match self {
+            ConfigError::ZeroClock(_) => &["clock"],
+            ConfigError::NotWholeTicks { field, .. } | ConfigError::TooManyTicks { field, .. } => field_list(field),
+            ConfigError::Param(ParamError::OutOfRange { field, .. }) | ConfigError::Param(ParamError::Zero { field }) => field_list(field),
+            ConfigError::Param(ParamError::MinAboveMax { .. }) => &["min", "x"],
+            ConfigError::Param(ParamError::WindowTooLong { .. }) => &["pw", "pi", "ps", "min", "x", "adaptive"],
+        }
+    }
+}
+
+/// A static one-element list for a field name.
+fn field_list(field: &str) -> &'static [&'static str] {
+    const ALL: [&str; 14] = ["clock", "sync_depth", "cnt_width", "adaptive", "pw", "pi", "ps", "x", "min", "t1", "t2", "cth", "smp_on", "core"];
+    let i = ALL.iter().position(|f| *f == field).unwrap_or(ALL.len() - 1);
+    &ALL[i..=i]
+}
+
 impl CoreConfig {
     /// Convert to register values in ticks and check every rule of [`Params::validate`].
     pub fn to_params(&self) -> Result<Params, ConfigError> {

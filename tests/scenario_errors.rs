@@ -1,0 +1,120 @@
+//! Bad input is a clear error naming the file, the line and the field, never a panic.
+
+use pmu50::scenario::{Scenario, ScenarioError};
+use proptest::prelude::*;
+use std::path::Path;
+
+fn err(text: &str) -> String {
+    match Scenario::parse(text, "bad.toml", "bad", Path::new("bad.toml")) {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// (scenario text, substrings the message must contain)
+const CASES: &[(&str, &[&str])] = &[
+    // zero and negative durations
+    ("duration = \"0 ms\"", &["bad.toml:1:", "`duration`", "longer than zero"]),
+    ("duration = \"10 ms\"\n[core]\nt1 = \"0 ms\"", &["bad.toml:3:", "core.t1", "longer than zero"]),
+    ("duration = \"10 ms\"\n[core]\nt2 = \"-1.1 ms\"", &["bad.toml:3:", "core.t2", "negative"]),
+    // wrong units
+    ("duration = \"10 ms\"\n[core]\nx = \"6.6\"", &["bad.toml:3:", "core.x", "no unit"]),
+    ("duration = \"10 ms\"\n[core]\nx = \"6.6 min\"", &["bad.toml:3:", "core.x", "valid units are s, ms, us, ns"]),
+    // not whole ticks
+    ("duration = \"10 ms\"\n[core]\nt2 = \"1.105 ms\"", &["bad.toml:3:", "core.t2", "not a whole number of clock ticks"]),
+    ("duration = \"10.005 ms\"", &["bad.toml:1:", "duration", "whole number of clock ticks"]),
+    // Wt longer than the interval
+    ("duration = \"10 ms\"\n[core]\npi = \"3 ms\"", &["bad.toml:3:", "core.pi", "Wt"]),
+    // minimum above x
+    ("duration = \"10 ms\"\n[core]\n\nmin = \"7 ms\"", &["bad.toml:4:", "core.min", "maximum interval x"]),
+    // out-of-range integers
+    ("duration = \"10 ms\"\n[core]\ncth = 0", &["bad.toml:3:", "core.cth", "1..=255"]),
+    ("duration = \"10 ms\"\n[core]\nsync_depth = 9", &["bad.toml:3:", "core.sync_depth", "1..=4"]),
+    // unknown fields, anywhere
+    ("duration = \"10 ms\"\nspeed = 3", &["bad.toml:2:", "unknown field `speed`", "duration"]),
+    ("duration = \"10 ms\"\n[core]\nt3 = \"1 ms\"", &["bad.toml:3:", "unknown field `t3`", "t2"]),
+    ("duration = \"10 ms\"\n[env.sensor2]\ngain = 1.0", &["bad.toml:3:", "unknown field `gain`"]),
+    ("duration = \"10 ms\"\n[[events]]\nat = \"1 ms\"\nig = true\nfoo = 1", &["bad.toml:5:", "unknown field `foo`"]),
+    // times that go backwards, events outside the run
+    ("duration = \"10 ms\"\n[[events]]\nat = \"5 ms\"\nig = true\n[[events]]\nat = \"2 ms\"\nig = false", &["bad.toml:6:", "events[1].at", "backwards"]),
+    ("duration = \"10 ms\"\n[[events]]\nat = \"10 ms\"\nig = true", &["bad.toml:3:", "events[0].at", "not before the end"]),
+    // events with zero or two actions
+    ("duration = \"10 ms\"\n[[events]]\nat = \"1 ms\"", &["bad.toml:", "events[0]", "exactly one action"]),
+    // register writes: unknown, read-only, too wide, key off
+    ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"1 ms\"\nwrite = { reg = \"FOO\", value = 1 }", &["bad.toml:7:", "events[1].write.reg", "unknown register `FOO`", "SI_MAX"]),
+    ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"1 ms\"\nwrite = { reg = \"CNT_S\", value = 1 }", &["bad.toml:7:", "read-only"]),
+    ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"1 ms\"\nwrite = { reg = \"CTH\", value = 300 }", &["bad.toml:7:", "write.value", "0..=255"]),
+    ("duration = \"10 ms\"\n[[events]]\nat = \"1 ms\"\nwrite = { reg = \"T2\", value = 100 }", &["bad.toml:3:", "events[0].write", "key is off"]),
+    // motor
+    ("duration = \"10 ms\"\n[motor]\nsegments = [ { kind = \"spin\", duration = \"1 ms\" } ]", &["bad.toml:3:", "motor.segments[0].kind", "\"hold\" and \"move\""]),
+    ("duration = \"10 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"1 ms\" } ]", &["bad.toml:3:", "delta_deg"]),
+    ("duration = \"10 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"0 ms\", delta_deg = 5.0 } ]", &["bad.toml:3:", "longer than zero"]),
+    // environment values
+    ("duration = \"10 ms\"\n[env.comparator]\nvr_err_s = 1.5", &["bad.toml:2:", "env.comparator", "vr_err_s"]),
+    ("duration = \"10 ms\"\n[env]\nvcc2_v = -3.3", &["env.vcc2_v", "0 < V <= 40"]),
+    // syntax and types
+    ("duration = 10", &["bad.toml:1:", "string"]),
+    ("duration = \"10 ms\"\n[core\n", &["bad.toml:2:"]),
+    ("name = \"a b\"\nduration = \"1 ms\"", &["bad.toml:1:", "`name`", "letters, digits"]),
+    ("[vcd]\nwindow = [\"2 ms\"]\n", &["missing field `duration`"]),
+    ("duration = \"10 ms\"\n[vcd]\nwindow = [\"5 ms\", \"2 ms\"]", &["bad.toml:3:", "vcd.window[1]", "ends before it starts"]),
+];
+
+#[test]
+fn each_bad_input_names_file_line_and_field() {
+    for (text, want) in CASES {
+        let msg = err(text);
+        for w in *want {
+            assert!(msg.contains(w), "message for\n{text}\n---\n{msg}\n--- lacks `{w}`");
+        }
+    }
+}
+
+#[test]
+fn missing_file_is_an_io_error_naming_it() {
+    let e = Scenario::load(Path::new("no/such/scenario.toml")).unwrap_err();
+    assert!(matches!(e, ScenarioError::Io { .. }));
+    assert!(e.to_string().contains("no/such/scenario.toml"), "{e}");
+}
+
+const VALID: &str = r#"name = "ok"
+duration = "20 ms"
+[core]
+clock = "10 us"
+x = "6.6 ms"
+t2 = "1.1 ms"
+cth = 4
+[env.comparator]
+vr_err_s = -0.1
+[motor]
+start_deg = 10.0
+segments = [ { kind = "move", duration = "5 ms", delta_deg = 30.0 } ]
+[[events]]
+at = "0 ms"
+ig = true
+[[events]]
+at = "5 ms"
+write = { reg = "T2", value = 220 }
+[expect]
+diag = false
+"#;
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+    /// Any corruption of a valid file is either accepted or an error, never a panic; an
+    /// accepted scenario also runs without panicking.
+    #[test]
+    fn no_panic_on_corrupted_files(pos in 0usize..VALID.len(), del in 0usize..6, ins in "[ -~\n]{0,6}") {
+        let mut s = VALID.to_string();
+        let p = (0..=pos).rev().find(|&i| s.is_char_boundary(i)).unwrap_or(0);
+        let end = (p + del).min(s.len());
+        let end = (end..=s.len()).find(|&i| s.is_char_boundary(i)).unwrap_or(s.len());
+        s.replace_range(p..end, &ins);
+        if let Ok(sc) = Scenario::parse(&s, "fuzz.toml", "fuzz", Path::new("fuzz.toml")) {
+            if sc.ticks < 20_000 {
+                let _ = pmu50::sim::run(&sc, pmu50::sim::SimOptions::default(), &mut []);
+            }
+        }
+    }
+}
