@@ -109,7 +109,7 @@ impl Progress {
 
 impl Observer for Progress {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
-        if v.tick % 8192 == 0 {
+        if v.tick.is_multiple_of(8192) {
             if self.tty && !self.shown && self.start.elapsed() > Duration::from_secs(1) {
                 self.bar.set_draw_target(ProgressDrawTarget::stderr());
                 self.shown = true;

@@ -300,7 +300,7 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
                     diag: status >> pmu50_core::register_file::status::DIAG & 1 == 1,
                     quadrant_skip: status >> pmu50_core::register_file::status::QUADRANT_SKIP & 1 == 1,
                     theta_abnormal: readout.theta_abnormal(t1, th2),
-                    readout: r.clone(),
+                    readout: r,
                 });
                 tracker = Some(readout.tracker(&r));
                 boot_at = None;

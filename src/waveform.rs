@@ -48,7 +48,7 @@ pub fn timescale_for(clock_ns: u64) -> (Timescale, u64) {
         (100, 100, Timescale::new(100, TimeUnit::Ns)),
         (10, 10, Timescale::new(10, TimeUnit::Ns)),
     ] {
-        if clock_ns % unit == 0 {
+        if clock_ns.is_multiple_of(unit) {
             return (ts, ns);
         }
     }

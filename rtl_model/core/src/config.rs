@@ -64,7 +64,7 @@ impl Dur {
         let mut place = scale;
         for c in frac_part.chars() {
             let d = u64::from(c as u8 - b'0');
-            if place % 10 != 0 {
+            if !place.is_multiple_of(10) {
                 if d != 0 {
                     return Err(DurParseError::SubNanosecond(text.to_string()));
                 }
@@ -213,7 +213,7 @@ impl CoreConfig {
             return Err(ConfigError::ZeroClock(self.clock));
         }
         let ticks = |field: &'static str, d: Dur, max: u64| -> Result<u64, ConfigError> {
-            if d.0 % clk != 0 {
+            if !d.0.is_multiple_of(clk) {
                 return Err(ConfigError::NotWholeTicks { field, value: d, clock: self.clock });
             }
             let t = d.0 / clk;
