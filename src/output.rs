@@ -84,12 +84,12 @@ pub fn summary(sc: &Scenario, r: &RunResult) -> String {
     for k in &r.keyons {
         let ro = &k.readout;
         s += &format!(
-            "   key-on read-out at {:.3} ms: CNTs={} CNTc={} CNT={} Q1={} Q2={} diff={} ({:?}) CNTa={} Nr={} theta1={:.2} -> theta_m={:.2} deg, true {:.2} deg, error {:+.3} deg; diag={} theta1/theta2 abnormal={}\n",
-            k.time_ns as f64 / 1e6, ro.cnt_s, ro.cnt_c, ro.cnt, ro.q1, ro.q2, ro.quadrant_diff, ro.equation, ro.cnt_a, ro.nr, ro.theta1_deg, ro.theta_m_deg, k.true_deg, k.error_deg, u8::from(k.diag), u8::from(k.theta_abnormal)
+            "   key-on read-out at {:.3} ms: CNTs={} CNTc={} CNT={} Q1={} Q2={} diff={} ({:?}) CNTa={} Nr={} theta1={:.2} -> theta_m={:.2} deg, true {:.2} deg, error {:+.3} deg; theta_o={:.3} theta_i={:.3} deg; diag={} theta1/theta2 abnormal={}\n",
+            k.time_ns as f64 / 1e6, ro.cnt_s, ro.cnt_c, ro.cnt, ro.q1, ro.q2, ro.quadrant_diff, ro.equation, ro.cnt_a, ro.nr, ro.theta1_deg, ro.theta_m_deg, k.true_deg, k.error_deg, k.angles.theta_o_deg, k.angles.theta_i_deg, u8::from(k.diag), u8::from(k.theta_abnormal)
         );
     }
     for k in &r.keyoffs {
-        s += &format!("   key-off at {:.3} ms: tracked theta_m={:.2} deg, true {:.2} deg\n", ms(k.tick), k.theta_m_deg, k.true_deg);
+        s += &format!("   key-off at {:.3} ms: tracked theta_m={:.2} deg (theta_o={:.3}, theta_i={:.3}), true {:.2} deg\n", ms(k.tick), k.theta_m_deg, k.angles.theta_o_deg, k.angles.theta_i_deg, k.true_deg);
     }
     let d = &r.dark;
     if d.key_off_ns > 0 {

@@ -15,6 +15,7 @@
 //! vcc1_v = 5.0
 //! vcc2_v = 3.3
 //! mpu_boot = "1 ms"                # key-on to the MPU's read-out
+//! theta_t_deg = 0.0                # torsion angle θt for θi = θm·Rg + θt ([0116])
 //! [env.sensor2]                    # gain_s gain_c offset_s_v offset_c_v phase_s_deg phase_c_deg tau_us
 //! [env.comparator]                 # vr_err_s vr_err_c (fraction of the amplitude Vs2/2)
 //! [env.sensor1]                    # resolution_deg error_deg
@@ -112,6 +113,8 @@ struct RawEnv {
     #[serde(default = "vcc2")]
     vcc2_v: f64,
     mpu_boot: Option<Spanned<String>>,
+    #[serde(default)]
+    theta_t_deg: f64,
     sensor2: Option<Spanned<Sensor2Config>>,
     comparator: Option<Spanned<ComparatorConfig>>,
     sensor1: Option<Spanned<Sensor1Config>>,
@@ -132,6 +135,7 @@ impl Default for RawEnv {
             vcc1_v: vcc1(),
             vcc2_v: vcc2(),
             mpu_boot: None,
+            theta_t_deg: 0.0,
             sensor2: None,
             comparator: None,
             sensor1: None,
@@ -223,6 +227,8 @@ pub struct EnvSpec {
     pub vcc1_v: f64,
     pub vcc2_v: f64,
     pub mpu_boot_ticks: u64,
+    /// Torsion angle θt of the torsion bar ([0112], [0116]), constant during the run.
+    pub theta_t_deg: f64,
     pub sensor2: Sensor2Config,
     pub comparator: ComparatorConfig,
     pub sensor1: Sensor1Config,
@@ -391,7 +397,10 @@ impl Cx<'_> {
         let sensor1: Sensor1Config = sub!(e.sensor1, "env.sensor1", |c| Sensor1::new(c).map(|_| ()).map_err(Into::into));
         let readout: ReadoutConfig = sub!(e.readout, "env.readout", |c| Readout::new(c).map(|_| ()).map_err(Into::into));
         let dark_current: DarkCurrentConfig = sub!(e.dark_current, "env.dark_current", |c| DarkCurrentMeter::new(c).map(|_| ()).map_err(Into::into));
-        let env = EnvSpec { vcc1_v: e.vcc1_v, vcc2_v: e.vcc2_v, mpu_boot_ticks, sensor2, comparator, sensor1, readout, dark_current };
+        if !e.theta_t_deg.is_finite() || e.theta_t_deg.abs() > 90.0 {
+            return Err(ScenarioError::Invalid { file: self.file.into(), line: 1, field: "env.theta_t_deg".into(), msg: format!("{} deg is not a torsion angle; valid is -90..=90", e.theta_t_deg) });
+        }
+        let env = EnvSpec { vcc1_v: e.vcc1_v, vcc2_v: e.vcc2_v, mpu_boot_ticks, theta_t_deg: e.theta_t_deg, sensor2, comparator, sensor1, readout, dark_current };
 
         // ---- motor ----
         let motor = match raw.motor {

@@ -18,7 +18,7 @@ use pmu50_core::register_file::addr;
 use pmu50_core::{Inputs, Internals, Outputs, Pmu50, Regs};
 use pmu50_env::{
     theta2_deg, wrap_360, AngleTracker, ComparatorPair, DarkCurrentMeter, DarkCurrentReport, KeyOnReadout,
-    RailStates, Readout, Sensor1, Sensor2,
+    RailStates, Readout, RotationAngles, Sensor1, Sensor2,
 };
 
 #[derive(Debug, thiserror::Error)]
@@ -91,6 +91,8 @@ pub struct KeyOnRow {
     /// True multi-turn angle relative to the turn the counters started in.
     pub true_deg: f64,
     pub readout: KeyOnReadout,
+    /// θm, θo = θm·Rg, θi = θo + θt at the read-out ([0116]).
+    pub angles: RotationAngles,
     pub error_deg: f64,
     /// STATUS.diag and STATUS.quadrant_skip as read by the MPU.
     pub diag: bool,
@@ -105,6 +107,8 @@ pub struct KeyOffRow {
     pub tick: u64,
     pub true_deg: f64,
     pub theta_m_deg: f64,
+    /// θm, θo, θi as tracked up to key-off ([0115]-[0116]).
+    pub angles: RotationAngles,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -231,7 +235,7 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
             boot_at = None;
             if let Some(tr) = tracker.take() {
                 let true_deg = motor_rel(sc, t_ns, turn0);
-                keyoffs.push(KeyOffRow { tick: k, true_deg, theta_m_deg: tr.theta_m_deg() });
+                keyoffs.push(KeyOffRow { tick: k, true_deg, theta_m_deg: tr.theta_m_deg(), angles: tr.angles(sc.env.theta_t_deg) });
             }
         }
         prev_sig = out.sig;
@@ -301,6 +305,7 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
                     quadrant_skip: status >> pmu50_core::register_file::status::QUADRANT_SKIP & 1 == 1,
                     theta_abnormal: readout.theta_abnormal(t1, th2),
                     readout: r,
+                    angles: readout.tracker(&r).angles(sc.env.theta_t_deg),
                 });
                 tracker = Some(readout.tracker(&r));
                 boot_at = None;

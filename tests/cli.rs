@@ -24,7 +24,7 @@ fn run_prints_the_summary_and_writes_vcd_gtkw_log() {
     let o = pmu50(&["run", "scenarios/threshold_error.toml", "--out-dir", d.to_str().unwrap(), "--log"]);
     let t = text(&o);
     assert_eq!(o.status.code(), Some(0), "{t}");
-    for want in ["key-on read-out", "CNTa=6", "theta_m=543.00 deg, true 543.00 deg", "Vs2 duty", "average key-off current", "check readout_within_deg   PASS"] {
+    for want in ["key-on read-out", "CNTa=6", "theta_m=543.00 deg, true 543.00 deg", "theta_o=27.150 theta_i=28.650", "Vs2 duty", "average key-off current", "check readout_within_deg   PASS"] {
         assert!(t.contains(want), "summary lacks `{want}`:\n{t}");
     }
     for ext in ["vcd", "gtkw", "log"] {
