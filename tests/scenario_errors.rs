@@ -25,6 +25,8 @@ const CASES: &[(&str, &[&str])] = &[
     ("duration = \"10.005 ms\"", &["bad.toml:1:", "duration", "whole number of clock ticks"]),
     // Wt longer than the interval
     ("duration = \"10 ms\"\n[core]\npi = \"3 ms\"", &["bad.toml:3:", "core.pi", "Wt"]),
+    // no settling tick: sample before the registered sr rises
+    ("duration = \"10 ms\"\n[core]\npw = \"0 us\"\npi = \"0 us\"\nps = \"10 us\"", &["bad.toml:4:", "core.pi", "pw + pi"]),
     // minimum above x
     ("duration = \"10 ms\"\n[core]\n\nmin = \"7 ms\"", &["bad.toml:4:", "core.min", "maximum interval x"]),
     // out-of-range integers

@@ -194,6 +194,7 @@ impl ConfigError {
             ConfigError::Param(ParamError::OutOfRange { field, .. }) | ConfigError::Param(ParamError::Zero { field }) => field_list(field),
             ConfigError::Param(ParamError::MinAboveMax { .. }) => &["min", "x"],
             ConfigError::Param(ParamError::WindowTooLong { .. }) => &["pw", "pi", "ps", "min", "x", "adaptive"],
+            ConfigError::Param(ParamError::NoSettlingTick) => &["pw", "pi"],
         }
     }
 }

@@ -42,7 +42,8 @@
 //! increments), FIG. 16.
 //!
 //! Key-off and key-on (interpretation, docs/spec.md): at the edge where `sig` falls, `si` := x
-//! ("the initial drive interval is the maximum interval x", [0226]), both history bits := 0 (the
+//! ("the initial drive interval is the maximum interval x", [0226]) as x stands after that edge
+//! (`si_max_nxt`: a write of SI_MAX in the same cycle counts, so `si` never starts above x), both history bits := 0 (the
 //! history of the previous key-off says nothing about the new one) and `cnt_r` := 0. While the key
 //! is on nothing here changes, so the MPU can read the state the last key-off period ended in.
 //! With `adaptive` = 0 (first embodiment, fixed cycle T [0083]) every pulse reloads `si` := x and
@@ -56,6 +57,7 @@
 //! | `chg_s`, `chg_c` | 1 | in | sign changes of this sample |
 //! | `adaptive` | 1   | in  | CTRL.adaptive |
 //! | `si_min`, `si_max`, `t1`, `t2` | 16 | in | programmed values in ticks |
+//! | `si_max_nxt` | 16  | in  | SI_MAX after this edge (register file next state), loaded at `koff` |
 //! | `cth`    | 8     | in  | count threshold Cth |
 //! | `si`     | 16    | out | drive interval instruction Si in ticks |
 //! | `hist_s`, `hist_c` | 1 | out | change history flip-flops |
@@ -140,6 +142,7 @@ pub struct Inputs {
     pub adaptive: bool,
     pub si_min: u16,
     pub si_max: u16,
+    pub si_max_nxt: u16,
     pub t1: u16,
     pub t2: u16,
     pub cth: u8,
@@ -177,7 +180,7 @@ fn rotation_detection(r: &Regs, chg_s: bool, chg_c: bool) -> (bool, bool, bool, 
 pub fn eval(r: &Regs, i: &Inputs) -> (Outputs, Regs) {
     let mut o = Outputs { si: r.si, hist_s: r.hist_s, hist_c: r.hist_c, cnt_r: r.cnt_r, ..Default::default() };
     if i.koff {
-        return (o, reset(i.si_max));
+        return (o, reset(i.si_max_nxt));
     }
     if !i.pulse {
         return (o, *r);
@@ -224,7 +227,7 @@ mod tests {
 
     /// The patent's parameters at a 10 us clock: T1 2.2 ms, T2 1.1 ms, x 6.6 ms, min 2.2 ms, Cth 4.
     fn pulse(chg_s: bool, chg_c: bool) -> Inputs {
-        Inputs { pulse: true, sr: true, chg_s, chg_c, adaptive: true, si_min: 220, si_max: 660, t1: 220, t2: 110, cth: 4, koff: false }
+        Inputs { pulse: true, sr: true, chg_s, chg_c, adaptive: true, si_min: 220, si_max: 660, si_max_nxt: 660, t1: 220, t2: 110, cth: 4, koff: false }
     }
 
     fn run(r: Regs, i: Inputs) -> (Outputs, Regs) {
@@ -355,6 +358,12 @@ mod tests {
     fn key_off_loads_x_and_clears_history_and_count() {
         let (_, n) = run(Regs { si: 220, hist_s: true, hist_c: true, cnt_r: 7 }, Inputs { koff: true, ..pulse(true, true) });
         assert_eq!(n, reset(660));
+    }
+
+    #[test]
+    fn key_off_loads_x_as_written_in_the_same_cycle() {
+        let (_, n) = run(Regs { si: 660, ..X }, Inputs { koff: true, si_max_nxt: 440, ..pulse(false, false) });
+        assert_eq!(n.si, 440, "never above the new x");
     }
 
     #[test]

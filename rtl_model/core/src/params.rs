@@ -59,6 +59,8 @@ pub enum ParamError {
     Zero { field: &'static str },
     #[error("core.min ({min} ticks) is above core.x ({max} ticks); the minimum interval must not exceed the maximum interval x")]
     MinAboveMax { min: u16, max: u16 },
+    #[error("pw + pi is 0 ticks: the sample would be taken in the tick Vs2 rises, before the registered activation signal sr is 1, so no key-off sample would ever be taken; pw + pi must be at least 1 tick ([0321] waiting period)")]
+    NoSettlingTick,
     #[error("the output window Wt = pw + pi + ps = {wt} ticks is not shorter than the shortest drive interval core.min = {min} ticks (core.x = {max} ticks when adaptive = false); Vs2 must switch off between two pulses")]
     WindowTooLong { wt: u32, min: u16, max: u16 },
 }
@@ -98,6 +100,9 @@ impl Params {
                 return Err(ParamError::Zero { field });
             }
         }
+        if u32::from(self.pw) + u32::from(self.pi) == 0 {
+            return Err(ParamError::NoSettlingTick);
+        }
         if self.si_min > self.si_max {
             return Err(ParamError::MinAboveMax { min: self.si_min, max: self.si_max });
         }
@@ -133,6 +138,7 @@ mod tests {
             (Params { smp_on: 0, ..d }, "smp_on"),
             (Params { si_min: 700, ..d }, "min"),
             (Params { pi: 300, ..d }, "Wt"),
+            (Params { pw: 0, pi: 0, ..d }, "pw + pi"),
         ];
         for (p, word) in cases {
             let e = p.validate().unwrap_err();

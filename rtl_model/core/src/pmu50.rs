@@ -267,6 +267,7 @@ pub fn eval(s: &Structural, r: &Regs, i: &Inputs) -> (Outputs, Internals, Regs) 
             adaptive: p.adaptive,
             si_min: p.si_min,
             si_max: p.si_max,
+            si_max_nxt: f_n.si_max,
             t1: p.t1,
             t2: p.t2,
             cth: p.cth,

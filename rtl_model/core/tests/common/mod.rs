@@ -1,0 +1,111 @@
+//! Helpers shared by the integration tests of `pmu50-core`: a tiny deterministic PRNG for long
+//! simulations (the seed comes from proptest, so a failure is reproducible from its report),
+//! an independent statement of the legal-parameter rules of docs/spec.md section 4, and a
+//! proptest strategy for legal parameter sets.
+#![allow(dead_code)]
+
+use pmu50_core::Params;
+use proptest::prelude::*;
+
+/// SplitMix64: small, fast, good enough to draw stimuli.
+#[derive(Clone, Debug)]
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in lo..=hi.
+    pub fn range(&mut self, lo: u64, hi: u64) -> u64 {
+        lo + self.next() % (hi - lo + 1)
+    }
+    pub fn bit(&mut self) -> bool {
+        self.next() & 1 == 1
+    }
+    /// True with probability num/den.
+    pub fn chance(&mut self, num: u64, den: u64) -> bool {
+        self.next() % den < num
+    }
+}
+
+/// The legal-parameter rules of docs/spec.md section 4, written from the spec (not by calling
+/// `Params::validate`): no zero `ps`, `si_max`, `si_min`, `t1`, `t2`, `smp_on`; `cth` in 1..=255;
+/// `si_min <= si_max`; `pw + pi >= 1` (the sample comes after the registered `sr` rose);
+/// `pw + pi + ps` below the shortest interval (`si_min` if adaptive, else
+/// `si_max`).
+#[allow(clippy::too_many_arguments)]
+pub fn legal_set(adaptive: bool, pw: u16, pi: u16, ps: u16, si_max: u16, si_min: u16, t1: u16, t2: u16, cth: u16, smp_on: u16) -> bool {
+    let nonzero = [ps, si_max, si_min, t1, t2, smp_on].iter().all(|&v| v != 0);
+    let cth_ok = (1..=255).contains(&cth);
+    let order = si_min <= si_max;
+    let wt = u32::from(pw) + u32::from(pi) + u32::from(ps);
+    let shortest = if adaptive { si_min } else { si_max };
+    let settle = u32::from(pw) + u32::from(pi) >= 1;
+    nonzero && cth_ok && order && settle && wt < u32::from(shortest)
+}
+
+pub fn legal(p: &Params) -> bool {
+    (1..=4).contains(&p.sync_depth)
+        && (2..=16).contains(&p.cnt_width)
+        && legal_set(p.adaptive, p.pw, p.pi, p.ps, p.si_max, p.si_min, p.t1, p.t2, u16::from(p.cth), p.smp_on)
+}
+
+/// Legal parameter sets with short periods (so that simulations of a few periods are cheap):
+/// Wt below ~70 ticks, `si_max` at most about `wt + 1 + gap + spread`.
+pub fn params(gap: u16, spread: u16) -> impl Strategy<Value = Params> {
+    (
+        (1u8..=4, 2u8..=16, any::<bool>(), 0u16..=20, 0u16..=30, 1u16..=20),
+        (0..=gap, 0..=spread, any::<bool>(), any::<u16>()),
+        (1u16..=600, 1u16..=600, prop_oneof![1u8..=6, 1u8..=255], 1u16..=40),
+    )
+        .prop_map(|((sync_depth, cnt_width, adaptive, pw, pi, ps), (g, s, low_min, r), (t1, t2, cth, smp_on))| {
+            let pw = if pw + pi == 0 { 1 } else { pw }; // section 4: pw + pi >= 1
+            let wt = pw + pi + ps;
+            let mut si_min = wt + 1 + g;
+            let si_max = si_min + s;
+            if !adaptive && low_min {
+                // With the fixed cycle only x has to exceed Wt: the minimum may be anything legal.
+                si_min = 1 + r % si_max;
+            }
+            let p = Params { sync_depth, cnt_width, adaptive, pw, pi, ps, si_max, si_min, t1, t2, cth, smp_on };
+            assert!(legal(&p), "strategy produced an illegal set {p:?}");
+            p
+        })
+}
+
+/// Quadrant index of the sign pair, docs/spec.md 2.5: 0 = (1,1), 1 = (1,0), 2 = (0,0), 3 = (0,1).
+pub fn quadrant(cs: bool, cc: bool) -> u8 {
+    match (cs, cc) {
+        (true, true) => 0,
+        (true, false) => 1,
+        (false, false) => 2,
+        (false, true) => 3,
+    }
+}
+
+/// Sign pair of a quadrant index (mod 4).
+pub fn signs(q: u8) -> (bool, bool) {
+    [(true, true), (true, false), (false, false), (false, true)][usize::from(q & 3)]
+}
+
+/// Two's complement value of the low `w` bits of `v`.
+pub fn signed(v: u16, w: u8) -> i64 {
+    let m = (1i64 << w) - 1;
+    let x = i64::from(v) & m;
+    if x >= 1i64 << (w - 1) { x - (1i64 << w) } else { x }
+}
+
+/// `v` reduced to `w` bits.
+pub fn wrap(v: i64, w: u8) -> u16 {
+    v.rem_euclid(1i64 << w) as u16
+}
+
+/// Proptest configuration with an explicit case count. Failures are not persisted to files next
+/// to the sources (the report shows the minimal failing input, seeds included).
+pub fn cases(n: u32) -> ProptestConfig {
+    ProptestConfig { cases: n, failure_persistence: None, ..ProptestConfig::default() }
+}
