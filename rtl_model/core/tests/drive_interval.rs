@@ -47,6 +47,8 @@ struct State {
 struct Param {
     si_min: u16,
     si_max: u16,
+    /// SI_MAX after this edge (a write in the same cycle); what a key-off loads (spec 2.6).
+    si_max_nxt: u16,
     t1: u16,
     t2: u16,
     cth: u8,
@@ -154,10 +156,10 @@ fn fig17(st: &mut State, p: &Param, sr: bool, cs_changed: bool, cc_changed: bool
 /// Reference of one edge: (next state, fig17 code, fig18 code).
 #[allow(clippy::too_many_arguments)]
 fn reference(st: State, p: &Param, koff: bool, pulse: bool, adaptive: bool, sr: bool, cs_changed: bool, cc_changed: bool) -> (State, u8, u8) {
-    // Key-off: "the initial drive interval is the maximum interval x" [0226], history and CNTr
-    // cleared ([0248], spec section 3).
+    // Key-off: "the initial drive interval is the maximum interval x" [0226] (x as it stands after
+    // this edge, spec 2.6), history and CNTr cleared ([0248], spec section 3).
     if koff {
-        return (State { si: p.si_max, hist_s: false, hist_c: false, cnt_r: 0 }, 0, 0);
+        return (State { si: p.si_max_nxt, hist_s: false, hist_c: false, cnt_r: 0 }, 0, 0);
     }
     // The process runs once per key-off intermittent output.
     if !pulse {
@@ -210,8 +212,12 @@ fn param() -> impl Strategy<Value = Param> {
         small_or_any(),
         small_or_any(),
         prop_oneof![1u8..=8, 1u8..=255, 250u8..=255],
+        prop::option::weighted(0.3, any::<u16>()),
     )
-        .prop_map(|((si_min, spread), t1, t2, cth)| Param { si_min, si_max: si_min.saturating_add(spread), t1, t2, cth })
+        .prop_map(|((si_min, spread), t1, t2, cth, written)| {
+            let si_max = si_min.saturating_add(spread);
+            Param { si_min, si_max, si_max_nxt: written.unwrap_or(si_max), t1, t2, cth }
+        })
 }
 
 fn state(p: Param) -> impl Strategy<Value = State> {
@@ -234,7 +240,7 @@ fn eval(st: State, p: &Param, i: (bool, bool, bool, bool, bool, bool)) -> (di::O
     let r = di::Regs { si: st.si, hist_s: st.hist_s, hist_c: st.hist_c, cnt_r: st.cnt_r };
     let (o, n) = di::eval(
         &r,
-        &di::Inputs { koff, pulse, sr, chg_s, chg_c, adaptive, si_min: p.si_min, si_max: p.si_max, si_max_nxt: p.si_max, t1: p.t1, t2: p.t2, cth: p.cth },
+        &di::Inputs { koff, pulse, sr, chg_s, chg_c, adaptive, si_min: p.si_min, si_max: p.si_max, si_max_nxt: p.si_max_nxt, t1: p.t1, t2: p.t2, cth: p.cth },
     );
     (o, State { si: n.si, hist_s: n.hist_s, hist_c: n.hist_c, cnt_r: n.cnt_r })
 }
@@ -275,7 +281,7 @@ proptest! {
     /// key-offs, missing rises of Vs2, changes of either or both signs): si stays in
     /// [si_min, si_max], and the block keeps agreeing with the flowcharts.
     #[test]
-    fn si_stays_within_min_and_max(p in param(), adaptive in prop::bool::weighted(0.9), seq in prop::collection::vec(inputs(), 1..400)) {
+    fn si_stays_within_min_and_max(p in param().prop_map(|p| Param { si_max_nxt: p.si_max, ..p }), adaptive in prop::bool::weighted(0.9), seq in prop::collection::vec(inputs(), 1..400)) {
         let mut st = State { si: p.si_max, hist_s: false, hist_c: false, cnt_r: 0 };
         let r = di::reset(p.si_max);
         prop_assert_eq!((r.si, r.hist_s, r.hist_c, r.cnt_r), (st.si, st.hist_s, st.hist_c, st.cnt_r));
@@ -295,7 +301,7 @@ proptest! {
 /// fifth quiet pulse (I8), then one T2 per pulse up to x.
 #[test]
 fn patent_example_fig15a_fig16a() {
-    let p = Param { si_min: 220, si_max: 660, t1: 220, t2: 110, cth: 4 };
+    let p = Param { si_min: 220, si_max: 660, si_max_nxt: 660, t1: 220, t2: 110, cth: 4 };
     let mut st = State { si: 660, hist_s: false, hist_c: false, cnt_r: 0 };
     let mut sis = vec![];
     let pulses = [(true, false), (false, true)].into_iter().chain(std::iter::repeat_n((false, false), 10));

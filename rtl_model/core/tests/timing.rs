@@ -92,8 +92,17 @@ proptest! {
             }
             let o = m.peek();
             let ok = rng.bit();
-            let o2 = m.step(&Inputs { ig, vs2_ok: ok, ..Default::default() });
+            let cmp = (rng.bit(), rng.bit());
+            let (_, int, o2) = m.step_traced(&Inputs { ig, vs2_ok: ok, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
             prop_assert_eq!(o2.sr, o.vs2_en && ok, "sr after edge {}", k + 1);
+            // I2: without a good rail no sample; FIG. 17 ends at S1 (interval unchanged).
+            let sampled = o.smp && o.sr;
+            prop_assert_eq!(int.upd, sampled);
+            prop_assert_eq!((o2.cs, o2.cc), if sampled { cmp } else { (o.cs, o.cc) }, "latch at edge {}", k + 1);
+            if o.smp && !o.sig && !o.sr && p.adaptive && !int.koff {
+                prop_assert_eq!(int.fig17 as u8, 1, "S1: N");
+                prop_assert_eq!(o2.si, o.si);
+            }
         }
     }
 }
@@ -173,6 +182,9 @@ proptest! {
         let end = k_off + d + 2 * u64::from(p.si_max);
         let mut cmp = (rng.bit(), rng.bit());
         let mut held: Option<(u16, u8, bool, bool)> = None;
+        let write_x_at_koff = rng.bit();
+        let mut x_now = p.si_max;
+        let mut rf = RefRf::new(&p);
         for k in 0..end {
             let o = m.peek();
             let sig_want = k >= k_on + d && k < k_off + d;
@@ -192,17 +204,32 @@ proptest! {
             if k == k_off + d {
                 prop_assert!(o.st && o.vs2_en && !o.sig, "key-off starts a pulse at once");
                 prop_assert_eq!(m.regs().timing_generator.tmr, 0);
-                prop_assert_eq!((o.si, o.cnt_r, o.hist_s, o.hist_c), (p.si_max, 0, false, false));
+                prop_assert_eq!((o.si, o.cnt_r, o.hist_s, o.hist_c), (x_now, 0, false, false), "si = x as it stands after the key-off edge");
             }
             if rng.chance(1, 15) {
                 cmp = (rng.bit(), rng.bit());
             }
             let ig = k >= k_on && k < k_off;
+            // Sometimes a write of SI_MAX at the key-off edge itself: it counts for the new key-off
+            // period (spec 2.6 `si_max_nxt`) when it is legal.
+            let x_write = (k + 1 == k_off + d && write_x_at_koff).then(|| rng.range(u64::from(p.si_min), u64::from(p.si_max) + 300) as u16);
             // Registered reads across the key edges (no writes here: the parameters are the reset ones).
             let a = if rng.bit() { addr::STATUS } else { rng.range(0, 0x15) as u8 };
-            let want_rdata = RefRf::new(&p).read(a, &p, &o, m.regs().comparator_latch.vld);
-            let (_, int, o2) = m.step_traced(&Inputs { ig, vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, bus_addr: a, ..Default::default() });
-            prop_assert_eq!(o2.bus_rdata, want_rdata, "bus_rdata after edge {} (address {:#04x})", k + 1, a);
+            let want_rdata = rf.read(a, &p, &o, m.regs().comparator_latch.vld);
+            let mut i = Inputs { ig, vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, bus_addr: a, ..Default::default() };
+            if let Some(v) = x_write {
+                (i.bus_we, i.bus_wdata) = (true, v);
+                i.bus_addr = addr::SI_MAX;
+            }
+            let (_, int, o2) = m.step_traced(&i);
+            if let Some(v) = x_write {
+                prop_assert!(o.sig, "the key-off edge still has sig = 1: the write is not refused for the key");
+                rf.write(addr::SI_MAX, v, true);
+                prop_assert_eq!(RefRf::of(&m), rf, "write SI_MAX <- {} at the key-off edge", v);
+                x_now = rf.si_max;
+            } else {
+                prop_assert_eq!(o2.bus_rdata, want_rdata, "bus_rdata after edge {} (address {:#04x})", k + 1, a);
+            }
             prop_assert_eq!(int.kon, k + 1 == k_on + d, "kon at edge {}", k + 1);
             prop_assert_eq!(int.koff, k + 1 == k_off + d, "koff at edge {}", k + 1);
             // Latches: new values exactly at sampling edges, held otherwise (also across key edges).
@@ -398,6 +425,8 @@ proptest! {
                 let shortest = i64::from(if rf.adaptive { rf.si_min } else { rf.si_max });
                 let cur = |a: u8| i64::from(rf.read(a, &p, &o, false));
                 let target = match a {
+                    // Wt at the shortest interval, or pw + pi = 0 (section 4: pw + pi >= 1).
+                    0x03 | 0x04 if rng.chance(1, 3) => Some(-(i64::from(rf.pw) + i64::from(rf.pi) - cur(a))),
                     0x03..=0x05 => Some(shortest - (wt - cur(a))),
                     0x06 => Some(if rng.bit() { i64::from(rf.si_min) } else { wt }),
                     0x07 => Some(if rng.bit() { i64::from(rf.si_max) } else { wt }),
@@ -486,12 +515,10 @@ proptest! {
     }
 }
 
-/// Section 3 says `si` <= x at the key-off edge, and 2.8 that the parameters in force at an edge
-/// are the registers before it; a write is accepted while `sig` = 1, which includes the key-off
-/// edge itself. A write lowering SI_MAX at exactly that edge therefore leaves `si` = the old x,
-/// above the new x, for the whole key-off period (S7 `si >= si_max` holds it there): the key-off
-/// cycle is the old x and si is outside [si_min, si_max] ([0228], [0252]). FAILS against the
-/// current core; see the report.
+/// A write is accepted while `sig` = 1, which includes the key-off edge itself. A write lowering
+/// SI_MAX at exactly that edge must not leave `si` at the old x, above the new one, for the whole
+/// key-off period (S7 `si >= si_max` would hold it there; [0228], [0252]). This test found that
+/// the key-off edge loaded the x in force before the edge; spec 2.6 now loads `si_max_nxt`.
 #[test]
 fn si_within_min_and_max_in_key_off_even_with_a_write_at_the_key_off_edge() {
     let p = Params::default();
