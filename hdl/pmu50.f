@@ -1,0 +1,9 @@
+rtl/action_switching_56a.v
+rtl/register_file.v
+rtl/timing_generator_56.v
+rtl/sensor_power_determination_57.v
+rtl/comparator_latch_58ab.v
+rtl/updown_counter_58cd.v
+rtl/drive_interval_changing_56b.v
+rtl/count_diagnosis.v
+pmu50.v

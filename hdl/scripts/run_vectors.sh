@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# Method 1 (vector replay) with Icarus Verilog, for one vector file.
+#
+#   hdl/scripts/run_vectors.sh FILE.vec [--mutant MUT_NAME] [--vcd OUT.vcd] [--nocheck]
+#
+# Reads the `// param NAME VALUE` and `// clock_ns N` header lines, compiles hdl/tb/tb_vectors.v
+# with `-P tb_vectors.NAME=VALUE` (cached per parameter set and mutant in hdl/build/iv/) and runs
+# vvp. Exit 0 and `PASS ticks=<n>` on success; exit 1 with `MISMATCH tick=...` lines otherwise;
+# exit 2 on bad input or a compile error.
+set -uo pipefail
+HDL="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+VEC=""
+MUT=none
+VCD=""
+NOCHECK=0
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --mutant) MUT="$2"; shift 2 ;;
+        --vcd) VCD="$2"; shift 2 ;;
+        --nocheck) NOCHECK=1; shift ;;
+        -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
+        *) if [ -z "$VEC" ]; then VEC="$1"; shift; else echo "run_vectors: unexpected argument $1" >&2; exit 2; fi ;;
+    esac
+done
+[ -n "$VEC" ] && [ -r "$VEC" ] || { echo "run_vectors: cannot read vector file '$VEC'" >&2; exit 2; }
+
+# Parameters from the header (the header ends at the first data line).
+ARGS=()
+CLOCK_NS=10000
+while IFS= read -r line; do
+    case "$line" in
+        "// param CLOCK_US "*) CLOCK_NS=$(( ${line##* } * 1000 )) ;;
+        "// param "*) set -- $line; ARGS+=("-Ptb_vectors.$3=$4") ;;
+        "// clock_ns "*) CLOCK_NS="${line##* }" ;;
+        //*) ;;
+        *) break ;;
+    esac
+done < "$VEC"
+ARGS+=("-Ptb_vectors.CLOCK_NS=$CLOCK_NS")
+# 1 us timescale (as the model's VCD) when the half period is a whole number of microseconds.
+if [ $(( CLOCK_NS % 2000 )) -ne 0 ]; then ARGS+=("-DTB_TIMESCALE_NS"); fi
+[ "$MUT" != none ] && ARGS+=("-D$MUT")
+
+mapfile -t RTL < <(sed "s|^|$HDL/|" "$HDL/pmu50.f")
+KEY=$(printf '%s\n' "${ARGS[@]}" | md5sum | cut -c1-12)
+DIR="$HDL/build/iv/$MUT"
+VVP="$DIR/$KEY.vvp"
+mkdir -p "$DIR"
+stale=0
+[ -f "$VVP" ] || stale=1
+if [ $stale = 0 ]; then
+    for s in "$HDL/tb/tb_vectors.v" "${RTL[@]}"; do [ "$s" -nt "$VVP" ] && stale=1; done
+fi
+if [ $stale = 1 ]; then
+    TMP="$VVP.$$.tmp"
+    if ! iverilog -g2005 -Wall -Wno-timescale "${ARGS[@]}" -s tb_vectors -o "$TMP" \
+            "$HDL/tb/tb_vectors.v" "${RTL[@]}" > "$TMP.log" 2>&1 || [ -s "$TMP.log" ]; then
+        cat "$TMP.log" >&2
+        rm -f "$TMP" "$TMP.log"
+        echo "run_vectors: iverilog failed" >&2
+        exit 2
+    fi
+    rm -f "$TMP.log"
+    mv -f "$TMP" "$VVP"
+fi
+
+PLUS=("+vec=$VEC")
+[ -n "$VCD" ] && PLUS+=("+vcd=$VCD")
+[ $NOCHECK = 1 ] && PLUS+=("+nocheck")
+OUT=$(vvp -n "$VVP" "${PLUS[@]}" 2>&1)
+rc=$?
+printf '%s\n' "$OUT" | grep -v '^VCD info:'
+if printf '%s\n' "$OUT" | grep -q '^MISMATCH'; then exit 1; fi
+if [ $rc -ne 0 ]; then exit 2; fi
+if printf '%s\n' "$OUT" | grep -q -E '^(PASS|DONE) ticks='; then exit 0; fi
+exit 2

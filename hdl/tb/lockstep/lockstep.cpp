@@ -1,0 +1,437 @@
+// Lockstep co-simulation (verification method 2): the Verilog twin (Verilator) and the Rust
+// reference model (C ABI, hdl/ffi/include/pmu50.h) run side by side on the INPUT columns of a
+// vector file; after every rising edge all 23 outputs and all 26 registers are compared, and
+// before every edge the 9 combinational internals (scope `internals`). The expected-output
+// columns of the file are not used: the model computes them live.
+//
+// Usage: lockstep FILE.vec [--history N] [--max-ticks N]
+// Exit:  0 no divergence (prints `PASS ticks=<n> ...`), 1 divergence (report on stdout),
+//        2 bad input (unreadable file, illegal parameters, build/file structural mismatch).
+//
+// Build (hdl/scripts/build_lockstep.sh does this): one Verilator model per
+// (mutant, SYNC_DEPTH, CNT_W), compiled with -DPMU50_SYNC_DEPTH=.. -DPMU50_CNT_W=..; the reset
+// values of the programmable registers come from the vector header at run time: they are
+// deposited into the twin's registers right after reset (lockstep.vlt makes them writable).
+#include "Vpmu50.h"
+#include "Vpmu50___024root.h"
+#include "verilated.h"
+
+#include "pmu50.h"
+
+#include <cinttypes>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#ifndef PMU50_SYNC_DEPTH
+#define PMU50_SYNC_DEPTH 2
+#endif
+#ifndef PMU50_CNT_W
+#define PMU50_CNT_W 16
+#endif
+#ifndef PMU50_MUTANT
+#define PMU50_MUTANT "none"
+#endif
+
+namespace {
+
+constexpr int kInputs = 7;
+constexpr int kOutputs = 23;
+constexpr int kFields = kInputs + kOutputs;
+
+struct Header {
+    std::map<std::string, long> param;
+    long clock_ns = 10000;
+    long ticks = -1;
+    long fields = kFields;
+    std::string scenario = "?";
+};
+
+struct Diff {
+    std::string kind;  // output / register / internal
+    std::string name;
+    uint64_t model;
+    uint64_t rtl;
+    int width;
+};
+
+struct HistoryRow {
+    uint64_t tick;  // edge number the inputs were applied for
+    pmu50_inputs in;
+    pmu50_outputs model_after;
+};
+
+void die(int code, const char *fmt, const char *a = "", const char *b = "") {
+    std::printf("LOCKSTEP ERROR: ");
+    std::printf(fmt, a, b);
+    std::printf("\n");
+    std::exit(code);
+}
+
+std::string hex(uint64_t v, int width) {
+    char buf[32];
+    int digits = (width + 3) / 4;
+    if (digits < 1) digits = 1;
+    std::snprintf(buf, sizeof buf, "%0*" PRIx64, digits, v);
+    return buf;
+}
+
+// Parse whitespace-separated hex fields of one data line.
+int parse_fields(const char *s, uint32_t *f, int max) {
+    int n = 0;
+    while (*s) {
+        while (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n') ++s;
+        if (!*s) break;
+        char *end = nullptr;
+        unsigned long v = std::strtoul(s, &end, 16);
+        if (end == s) return -1;
+        if (n < max) f[n] = static_cast<uint32_t>(v);
+        ++n;
+        s = end;
+    }
+    return n;
+}
+
+template <typename T> uint64_t u(const T &v) { return static_cast<uint64_t>(v); }
+
+}  // namespace
+
+int main(int argc, char **argv) {
+    const char *path = nullptr;
+    size_t history = 8;
+    long max_ticks = -1;
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        if (a == "--history" && i + 1 < argc) history = std::strtoul(argv[++i], nullptr, 10);
+        else if (a == "--max-ticks" && i + 1 < argc) max_ticks = std::strtol(argv[++i], nullptr, 10);
+        else if (a == "-h" || a == "--help") {
+            std::printf("usage: %s FILE.vec [--history N] [--max-ticks N]\n", argv[0]);
+            return 0;
+        } else if (a.rfind("+", 0) == 0) {
+            // Verilator plusargs are ignored
+        } else if (!path) path = argv[i];
+        else die(2, "unexpected argument `%s`", argv[i]);
+    }
+    if (!path) die(2, "usage: lockstep FILE.vec [--history N] [--max-ticks N]");
+
+    FILE *fp = std::fopen(path, "r");
+    if (!fp) die(2, "cannot open `%s`: %s", path, std::strerror(errno));
+
+    // ------------------------------------------------------------------ header
+    Header h;
+    std::vector<char> buf(1 << 16);
+    std::string first_data;
+    long line_no = 0;
+    while (std::fgets(buf.data(), static_cast<int>(buf.size()), fp)) {
+        ++line_no;
+        const char *l = buf.data();
+        while (*l == ' ' || *l == '\t') ++l;
+        if (*l == '\n' || *l == '\r' || *l == 0) continue;
+        if (l[0] == '/' && l[1] == '/') {
+            char name[128];
+            long v;
+            if (std::sscanf(l, "// param %127s %ld", name, &v) == 2) h.param[name] = v;
+            else if (std::sscanf(l, "// clock_ns %ld", &v) == 1) h.clock_ns = v;
+            else if (std::sscanf(l, "// ticks %ld", &v) == 1) h.ticks = v;
+            else if (std::sscanf(l, "// fields %ld", &v) == 1) h.fields = v;
+            else if (std::sscanf(l, "// scenario %127s", name) == 1) h.scenario = name;
+            continue;
+        }
+        first_data = l;
+        break;
+    }
+    if (h.fields != kFields) die(2, "`%s`: header says fields %s, expected 30", path, std::to_string(h.fields).c_str());
+    if (h.param.count("CLOCK_US")) h.clock_ns = h.param["CLOCK_US"] * 1000;
+
+    pmu50_params p;
+    pmu50_params_default(&p);
+    auto take = [&](const char *n, auto &field) {
+        auto it = h.param.find(n);
+        if (it != h.param.end()) field = static_cast<std::remove_reference_t<decltype(field)>>(it->second);
+    };
+    take("SYNC_DEPTH", p.sync_depth);
+    take("CNT_W", p.cnt_width);
+    take("ADAPTIVE", p.adaptive);
+    take("PW", p.pw);
+    take("PI", p.pi);
+    take("PS", p.ps);
+    take("SI_MAX", p.si_max);
+    take("SI_MIN", p.si_min);
+    take("T1", p.t1);
+    take("T2", p.t2);
+    take("CTH", p.cth);
+    take("SMP_ON", p.smp_on);
+    if (p.sync_depth != PMU50_SYNC_DEPTH || p.cnt_width != PMU50_CNT_W) {
+        std::printf("LOCKSTEP ERROR: `%s` needs SYNC_DEPTH=%d CNT_W=%d, this binary was built for SYNC_DEPTH=%d CNT_W=%d "
+                    "(rebuild: hdl/scripts/build_lockstep.sh <mutant> %d %d)\n",
+                    path, p.sync_depth, p.cnt_width, PMU50_SYNC_DEPTH, PMU50_CNT_W, p.sync_depth, p.cnt_width);
+        return 2;
+    }
+
+    // ------------------------------------------------------------------ the two cores
+    pmu50_t *model = pmu50_new(&p);
+    if (!model) die(2, "illegal parameters in `%s`: %s", path, pmu50_last_error());
+    std::unique_ptr<pmu50_t, void (*)(pmu50_t *)> model_guard(model, pmu50_free);
+
+    auto ctx = std::make_unique<VerilatedContext>();
+    ctx->commandArgs(argc, argv);
+    auto top = std::make_unique<Vpmu50>(ctx.get(), "pmu50");
+    Vpmu50___024root *R = top->rootp;
+
+    // Registers of the twin under the model's names (order of pmu50_reg_info).
+    struct TwinReg {
+        const char *name;
+        std::function<uint64_t()> get;
+    };
+    const std::vector<TwinReg> twin_regs = {
+        {"action_switching.sync", [R] { return u(R->pmu50__DOT__action_switching__DOT__sync); }},
+        {"register_file.adaptive", [R] { return u(R->pmu50__DOT__register_file__DOT__adaptive); }},
+        {"register_file.pw", [R] { return u(R->pmu50__DOT__register_file__DOT__pw); }},
+        {"register_file.pi", [R] { return u(R->pmu50__DOT__register_file__DOT__pi); }},
+        {"register_file.ps", [R] { return u(R->pmu50__DOT__register_file__DOT__ps); }},
+        {"register_file.si_max", [R] { return u(R->pmu50__DOT__register_file__DOT__si_max); }},
+        {"register_file.si_min", [R] { return u(R->pmu50__DOT__register_file__DOT__si_min); }},
+        {"register_file.t1", [R] { return u(R->pmu50__DOT__register_file__DOT__t1); }},
+        {"register_file.t2", [R] { return u(R->pmu50__DOT__register_file__DOT__t2); }},
+        {"register_file.cth", [R] { return u(R->pmu50__DOT__register_file__DOT__cth); }},
+        {"register_file.smp_on", [R] { return u(R->pmu50__DOT__register_file__DOT__smp_on); }},
+        {"register_file.bus_err", [R] { return u(R->pmu50__DOT__register_file__DOT__bus_err); }},
+        {"register_file.rdata", [R] { return u(R->pmu50__DOT__register_file__DOT__rdata); }},
+        {"timing_generator.tmr", [R] { return u(R->pmu50__DOT__timing_generator__DOT__tmr); }},
+        {"sensor_power_determination.sr", [R] { return u(R->pmu50__DOT__sensor_power_determination__DOT__sr); }},
+        {"comparator_latch.cs", [R] { return u(R->pmu50__DOT__comparator_latch__DOT__cs); }},
+        {"comparator_latch.cc", [R] { return u(R->pmu50__DOT__comparator_latch__DOT__cc); }},
+        {"comparator_latch.vld", [R] { return u(R->pmu50__DOT__comparator_latch__DOT__vld); }},
+        {"updown_counter.cnt_s", [R] { return u(R->pmu50__DOT__updown_counter__DOT__cnt_s); }},
+        {"updown_counter.cnt_c", [R] { return u(R->pmu50__DOT__updown_counter__DOT__cnt_c); }},
+        {"updown_counter.quadrant_skip", [R] { return u(R->pmu50__DOT__updown_counter__DOT__quadrant_skip); }},
+        {"drive_interval.si", [R] { return u(R->pmu50__DOT__drive_interval__DOT__si); }},
+        {"drive_interval.hist_s", [R] { return u(R->pmu50__DOT__drive_interval__DOT__hist_s); }},
+        {"drive_interval.hist_c", [R] { return u(R->pmu50__DOT__drive_interval__DOT__hist_c); }},
+        {"drive_interval.cnt_r", [R] { return u(R->pmu50__DOT__drive_interval__DOT__cnt_r); }},
+        {"count_diagnosis.diag", [R] { return u(R->pmu50__DOT__count_diagnosis__DOT__diag); }},
+    };
+    // Pair every model register with the twin's by name.
+    struct RegPair {
+        size_t model_index;
+        const TwinReg *twin;
+        int width;
+    };
+    std::vector<RegPair> regs;
+    for (const auto &t : twin_regs) {
+        int idx = pmu50_reg_find(t.name);
+        if (idx < 0) die(2, "model has no register `%s`: %s", t.name, pmu50_last_error());
+        uint8_t w = 0;
+        pmu50_reg_info(model, static_cast<size_t>(idx), nullptr, nullptr, &w);
+        regs.push_back({static_cast<size_t>(idx), &t, w});
+    }
+    if (regs.size() != pmu50_reg_count()) {
+        std::printf("LOCKSTEP ERROR: the model has %zu registers, the twin table %zu\n", pmu50_reg_count(), regs.size());
+        return 2;
+    }
+
+    auto twin_outputs = [&](pmu50_outputs &o) {
+        o.sig = top->sig; o.vr_hi = top->vr_hi; o.vm_en = top->vm_en; o.vs1_en = top->vs1_en;
+        o.vs2_en = top->vs2_en; o.vp_en = top->vp_en; o.rail_hi = top->rail_hi; o.st = top->st;
+        o.sr = top->sr; o.ps_win = top->ps_win; o.smp = top->smp; o.cs = top->cs; o.cc = top->cc;
+        o.cnt_s = top->cnt_s; o.cnt_c = top->cnt_c; o.cnt_r = top->cnt_r; o.si = top->si;
+        o.hist_s = top->hist_s; o.hist_c = top->hist_c; o.diag = top->diag;
+        o.quadrant_skip = top->quadrant_skip; o.bus_rdata = top->bus_rdata; o.bus_err = top->bus_err;
+    };
+    auto twin_internals = [&](pmu50_internals &x) {
+        x.kon = R->pmu50__DOT__internals__DOT__kon;
+        x.koff = R->pmu50__DOT__internals__DOT__koff;
+        x.upd = R->pmu50__DOT__internals__DOT__upd;
+        x.first = R->pmu50__DOT__internals__DOT__first;
+        x.chg_s = R->pmu50__DOT__internals__DOT__chg_s;
+        x.chg_c = R->pmu50__DOT__internals__DOT__chg_c;
+        x.skip_clr = R->pmu50__DOT__internals__DOT__skip_clr;
+        x.fig17 = R->pmu50__DOT__internals__DOT__fig17;
+        x.fig18 = R->pmu50__DOT__internals__DOT__fig18;
+    };
+    auto set_inputs = [&](const pmu50_inputs &in) {
+        top->ig = in.ig; top->vs2_ok = in.vs2_ok; top->cmp_s = in.cmp_s; top->cmp_c = in.cmp_c;
+        top->bus_we = in.bus_we; top->bus_addr = in.bus_addr; top->bus_wdata = in.bus_wdata;
+    };
+
+    std::vector<Diff> diffs;
+    auto compare_outputs = [&](const pmu50_outputs &mo) {
+        pmu50_outputs ro;
+        twin_outputs(ro);
+        for (size_t i = 0; i < static_cast<size_t>(kOutputs); ++i) {
+            uint64_t a = 0, b = 0;
+            const char *n = nullptr;
+            uint8_t w = 0;
+            pmu50_output_get(&mo, i, &a);
+            pmu50_output_get(&ro, i, &b);
+            if (a != b) {
+                pmu50_output_info(model, i, &n, &w);
+                diffs.push_back({"output", n, a, b, w});
+            }
+        }
+    };
+    auto compare_registers = [&] {
+        for (const auto &r : regs) {
+            uint64_t a = 0;
+            pmu50_reg_get(model, r.model_index, &a);
+            uint64_t b = r.twin->get();
+            if (a != b) diffs.push_back({"register", r.twin->name, a, b, r.width});
+        }
+    };
+    auto compare_internals = [&](const pmu50_internals &mx) {
+        pmu50_internals rx;
+        twin_internals(rx);
+        for (size_t i = 0; i < pmu50_internal_count(); ++i) {
+            uint64_t a = 0, b = 0;
+            const char *n = nullptr;
+            uint8_t w = 0;
+            pmu50_internal_get(&mx, i, &a);
+            pmu50_internal_get(&rx, i, &b);
+            if (a != b) {
+                pmu50_internal_info(i, &n, &w);
+                diffs.push_back({"internal", std::string("internals.") + n, a, b, w});
+            }
+        }
+    };
+
+    std::deque<HistoryRow> hist;
+    auto report = [&](uint64_t tick, const pmu50_inputs *during) {
+        for (const auto &d : diffs)
+            std::printf("MISMATCH tick=%" PRIu64 " signal=%s model=%s rtl=%s\n", tick, d.name.c_str(),
+                        hex(d.model, d.width).c_str(), hex(d.rtl, d.width).c_str());
+        if (during)
+            std::printf("LOCKSTEP FAIL %s (scenario %s, mutant %s): first divergence at tick %" PRIu64
+                        " (combinational, before rising edge %" PRIu64 "), time %" PRIu64 " ns\n",
+                        path, h.scenario.c_str(), PMU50_MUTANT, tick, tick + 1, tick * static_cast<uint64_t>(h.clock_ns));
+        else
+            std::printf("LOCKSTEP FAIL %s (scenario %s, mutant %s): first divergence at tick %" PRIu64
+                        " (after rising edge %" PRIu64 "), time %" PRIu64 " ns\n",
+                        path, h.scenario.c_str(), PMU50_MUTANT, tick, tick, tick * static_cast<uint64_t>(h.clock_ns));
+        std::printf("  %-9s %-32s %-8s %-8s\n", "kind", "signal", "model", "rtl");
+        for (const auto &d : diffs)
+            std::printf("  %-9s %-32s %-8s %-8s\n", d.kind.c_str(), d.name.c_str(), hex(d.model, d.width).c_str(),
+                        hex(d.rtl, d.width).c_str());
+        std::printf("last %zu ticks: inputs applied in tick k-1 (sampled at edge k), model outputs after edge k\n", hist.size());
+        std::printf("  %8s | ig ok s c we ad wdat | sig st sr smp cs cc cnt_s cnt_c cnt_r   si hs hc dg qs rdat er\n", "edge k");
+        for (const auto &r : hist) {
+            const auto &i = r.in;
+            const auto &o = r.model_after;
+            std::printf("  %8" PRIu64 " |  %u  %u %u %u  %u %02x %04x |  %u   %u  %u  %u   %u  %u  %04x  %04x    %02x %04x  %u  %u  %u  %u %04x  %u\n",
+                        r.tick, i.ig, i.vs2_ok, i.cmp_s, i.cmp_c, i.bus_we, i.bus_addr, i.bus_wdata, o.sig, o.st, o.sr,
+                        o.smp, o.cs, o.cc, o.cnt_s, o.cnt_c, o.cnt_r, o.si, o.hist_s, o.hist_c, o.diag,
+                        o.quadrant_skip, o.bus_rdata, o.bus_err);
+        }
+        if (during) {
+            const auto &i = *during;
+            std::printf("  %8" PRIu64 " |  %u  %u %u %u  %u %02x %04x | (edge not taken: divergence before it)\n", tick + 1,
+                        i.ig, i.vs2_ok, i.cmp_s, i.cmp_c, i.bus_we, i.bus_addr, i.bus_wdata);
+        }
+    };
+
+    // ------------------------------------------------------------------ reset
+    top->clk = 0;
+    top->rst_n = 0;
+    set_inputs(pmu50_inputs{});
+    top->eval();
+    // Deposit the scenario's reset values (the build's parameters are the defaults).
+    R->pmu50__DOT__register_file__DOT__adaptive = p.adaptive ? 1 : 0;
+    R->pmu50__DOT__register_file__DOT__pw = p.pw;
+    R->pmu50__DOT__register_file__DOT__pi = p.pi;
+    R->pmu50__DOT__register_file__DOT__ps = p.ps;
+    R->pmu50__DOT__register_file__DOT__si_max = p.si_max;
+    R->pmu50__DOT__register_file__DOT__si_min = p.si_min;
+    R->pmu50__DOT__register_file__DOT__t1 = p.t1;
+    R->pmu50__DOT__register_file__DOT__t2 = p.t2;
+    R->pmu50__DOT__register_file__DOT__cth = p.cth;
+    R->pmu50__DOT__register_file__DOT__smp_on = p.smp_on;
+    R->pmu50__DOT__drive_interval__DOT__si = p.si_max;
+    top->eval();
+    top->rst_n = 1;
+    top->eval();
+
+    // Tick 0: reset state.
+    {
+        pmu50_outputs mo;
+        pmu50_peek(model, &mo);
+        compare_outputs(mo);
+        compare_registers();
+        if (!diffs.empty()) {
+            report(0, nullptr);
+            return 1;
+        }
+    }
+
+    // ------------------------------------------------------------------ run
+    uint64_t tick = 0;
+    uint32_t f[kFields];
+    std::string pending = first_data;
+    bool have = !pending.empty();
+    while (have) {
+        if (max_ticks >= 0 && static_cast<long>(tick) >= max_ticks) break;
+        int n = parse_fields(pending.c_str(), f, kFields);
+        if (n != kFields) {
+            std::printf("LOCKSTEP ERROR: `%s` line %ld: %d fields, expected %d\n", path, line_no, n, kFields);
+            return 2;
+        }
+        pmu50_inputs in{};
+        in.ig = f[0] & 1; in.vs2_ok = f[1] & 1; in.cmp_s = f[2] & 1; in.cmp_c = f[3] & 1;
+        in.bus_we = f[4] & 1; in.bus_addr = static_cast<uint8_t>(f[5]); in.bus_wdata = static_cast<uint16_t>(f[6]);
+
+        // cycle `tick`: inputs applied, combinational logic settles
+        set_inputs(in);
+        top->eval();
+        pmu50_internals mx;
+        pmu50_outputs mo;
+        if (pmu50_step_traced(model, &in, &mx, &mo) != PMU50_OK) {
+            std::printf("LOCKSTEP ERROR: model step failed: %s\n", pmu50_last_error());
+            return 2;
+        }
+        compare_internals(mx);
+        if (!diffs.empty()) {
+            // visible during tick `tick`, before rising edge tick+1 (as in the VCDs)
+            report(tick, &in);
+            return 1;
+        }
+        // rising edge tick+1
+        top->clk = 1;
+        top->eval();
+        ++tick;
+        compare_outputs(mo);
+        compare_registers();
+        hist.push_back({tick, in, mo});
+        if (hist.size() > history) hist.pop_front();
+        if (!diffs.empty()) {
+            report(tick, nullptr);
+            return 1;
+        }
+        top->clk = 0;
+        top->eval();
+
+        // next line
+        have = false;
+        while (std::fgets(buf.data(), static_cast<int>(buf.size()), fp)) {
+            ++line_no;
+            const char *l = buf.data();
+            while (*l == ' ' || *l == '\t') ++l;
+            if (*l == '\n' || *l == '\r' || *l == 0 || (l[0] == '/' && l[1] == '/')) continue;
+            pending = l;
+            have = true;
+            break;
+        }
+    }
+    std::fclose(fp);
+    if (max_ticks < 0 && h.ticks >= 0 && static_cast<long>(tick) != h.ticks) {
+        std::printf("LOCKSTEP ERROR: `%s` has %" PRIu64 " vector lines, header says ticks %ld\n", path, tick, h.ticks);
+        return 2;
+    }
+    top->final();
+    std::printf("PASS ticks=%" PRIu64 " outputs=%d registers=%zu internals=%zu (scenario %s, mutant %s)\n", tick,
+                    kOutputs, regs.size(), pmu50_internal_count(), h.scenario.c_str(), PMU50_MUTANT);
+    return 0;
+}

@@ -1,0 +1,256 @@
+// Lockstep testbench in SystemVerilog with DPI-C (verification method 2, simulator-neutral
+// variant of lockstep.cpp): reads the INPUT columns of a vector file, drives the DUT and steps
+// the Rust reference model through pmu50_dpi.c every clock, and compares, in every cycle k:
+//   - after rising edge k: the 23 outputs and (unless PORTS_ONLY) the 26 registers;
+//   - the 9 combinational internals of cycle k (before edge k+1) (unless PORTS_ONLY).
+// The first divergence is reported with its tick (edge number; = time / T), the differing
+// signals (model vs RTL) and the inputs of the last HISTORY ticks, then $fatal.
+//
+// Parameters: as tb_vectors.v (the reset values of the DUT and of the model come from them; the
+// testbench checks them against the vector header). Plusargs: +vec=FILE.
+// Run with Verilator: hdl/scripts/run_lockstep_dpi.sh FILE.vec (builds with --binary, one build per
+// parameter set). Other simulators: compile this file, pmu50_dpi.c (-I hdl/ffi/include) and the
+// design, link target/release/libpmu50_ffi.so (or .a), pass the parameters with -g/-G/-defparam.
+// Define PORTS_ONLY for a design that does not have the twin's register/internals hierarchy.
+// Timing (ns): rising edge k at k*T; in the middle of cycle k (k*T + T/2) the state after edge k
+// is compared and the inputs of cycle k are applied (blocking: no race with the clock edge), 1 ns
+// later the model takes its step and the internals are compared.
+`timescale 1ns/1ns
+
+module tb_lockstep_dpi;
+    parameter int SYNC_DEPTH = 2;
+    parameter int CNT_W      = 16;
+    parameter int ADAPTIVE   = 1;
+    parameter int PW         = 5;
+    parameter int PI         = 12;
+    parameter int PS         = 5;
+    parameter int SI_MAX     = 660;
+    parameter int SI_MIN     = 220;
+    parameter int T1         = 220;
+    parameter int T2         = 110;
+    parameter int CTH        = 4;
+    parameter int SMP_ON     = 10;
+    parameter int CLOCK_NS   = 10000;
+    parameter int HISTORY    = 8;
+
+    localparam int T = CLOCK_NS;       // >= 8
+    localparam int TH = T / 2;
+    localparam int NOUT = 23;
+    localparam int NREG = 26;
+    localparam int NINT = 9;
+
+    import "DPI-C" function chandle pmu50_dpi_new(input int sync_depth, input int cnt_width, input int adaptive,
+        input int pw, input int pi, input int ps, input int si_max, input int si_min, input int t1, input int t2,
+        input int cth, input int smp_on);
+    import "DPI-C" function string pmu50_dpi_last_error();
+    import "DPI-C" function void pmu50_dpi_free(input chandle h);
+    import "DPI-C" function int pmu50_dpi_step(input chandle h, input int ig, input int vs2_ok, input int cmp_s,
+        input int cmp_c, input int bus_we, input int bus_addr, input int bus_wdata);
+    import "DPI-C" function longint pmu50_dpi_output(input chandle h, input int index);
+    import "DPI-C" function longint pmu50_dpi_internal(input chandle h, input int index);
+    import "DPI-C" function longint pmu50_dpi_reg(input chandle h, input string name);
+    import "DPI-C" function string pmu50_dpi_output_name(input int index);
+    import "DPI-C" function string pmu50_dpi_internal_name(input int index);
+
+    // ---- DUT
+    logic        clk, rst_n;
+    logic        ig, vs2_ok, cmp_s, cmp_c, bus_we;
+    logic [7:0]  bus_addr;
+    logic [15:0] bus_wdata;
+    wire         sig, vr_hi, vm_en, vs1_en, vs2_en, vp_en, rail_hi, st, sr, ps_win, smp, cs, cc;
+    wire [CNT_W-1:0] cnt_s, cnt_c;
+    wire [7:0]   cnt_r;
+    wire [15:0]  si;
+    wire         hist_s, hist_c, diag, quadrant_skip;
+    wire [15:0]  bus_rdata;
+    wire         bus_err;
+
+    pmu50 #(
+        .SYNC_DEPTH(SYNC_DEPTH), .CNT_W(CNT_W), .ADAPTIVE(ADAPTIVE), .PW(PW), .PI(PI), .PS(PS),
+        .SI_MAX(SI_MAX), .SI_MIN(SI_MIN), .T1(T1), .T2(T2), .CTH(CTH), .SMP_ON(SMP_ON)
+    ) dut (.*);
+
+    function automatic longint rtl_output(int i);
+        case (i)
+            0: return sig;      1: return vr_hi;   2: return vm_en;   3: return vs1_en;
+            4: return vs2_en;   5: return vp_en;   6: return rail_hi; 7: return st;
+            8: return sr;       9: return ps_win;  10: return smp;    11: return cs;
+            12: return cc;      13: return cnt_s;  14: return cnt_c;  15: return cnt_r;
+            16: return si;      17: return hist_s; 18: return hist_c; 19: return diag;
+            20: return quadrant_skip; 21: return bus_rdata; default: return bus_err;
+        endcase
+    endfunction
+
+`ifndef PORTS_ONLY
+    string reg_name [NREG] = '{
+        "action_switching.sync", "register_file.adaptive", "register_file.pw", "register_file.pi",
+        "register_file.ps", "register_file.si_max", "register_file.si_min", "register_file.t1",
+        "register_file.t2", "register_file.cth", "register_file.smp_on", "register_file.bus_err",
+        "register_file.rdata", "timing_generator.tmr", "sensor_power_determination.sr",
+        "comparator_latch.cs", "comparator_latch.cc", "comparator_latch.vld", "updown_counter.cnt_s",
+        "updown_counter.cnt_c", "updown_counter.quadrant_skip", "drive_interval.si", "drive_interval.hist_s",
+        "drive_interval.hist_c", "drive_interval.cnt_r", "count_diagnosis.diag"};
+
+    function automatic longint rtl_reg(int i);
+        case (i)
+            0: return dut.action_switching.sync;          1: return dut.register_file.adaptive;
+            2: return dut.register_file.pw;               3: return dut.register_file.pi;
+            4: return dut.register_file.ps;               5: return dut.register_file.si_max;
+            6: return dut.register_file.si_min;           7: return dut.register_file.t1;
+            8: return dut.register_file.t2;               9: return dut.register_file.cth;
+            10: return dut.register_file.smp_on;          11: return dut.register_file.bus_err;
+            12: return dut.register_file.rdata;           13: return dut.timing_generator.tmr;
+            14: return dut.sensor_power_determination.sr; 15: return dut.comparator_latch.cs;
+            16: return dut.comparator_latch.cc;           17: return dut.comparator_latch.vld;
+            18: return dut.updown_counter.cnt_s;          19: return dut.updown_counter.cnt_c;
+            20: return dut.updown_counter.quadrant_skip;  21: return dut.drive_interval.si;
+            22: return dut.drive_interval.hist_s;         23: return dut.drive_interval.hist_c;
+            24: return dut.drive_interval.cnt_r;          default: return dut.count_diagnosis.diag;
+        endcase
+    endfunction
+
+    function automatic longint rtl_internal(int i);
+        case (i)
+            0: return dut.internals.kon;    1: return dut.internals.koff;  2: return dut.internals.upd;
+            3: return dut.internals.first;  4: return dut.internals.chg_s; 5: return dut.internals.chg_c;
+            6: return dut.internals.skip_clr; 7: return dut.internals.fig17; default: return dut.internals.fig18;
+        endcase
+    endfunction
+`endif
+
+    // ---- clock: rising edges at T, 2T, ...
+    initial begin
+        clk = 1'b0;
+        #T;
+        forever begin
+            clk = 1'b1;
+            #TH;
+            clk = 1'b0;
+            #(T - TH);
+        end
+    end
+
+    chandle m;
+    int fd, rc, k, nfail, hval, c;
+    string vecfile, line, hname;
+    logic [15:0] f [30];
+    logic [71:0] hist [$];   // {edge, ig, vs2_ok, cmp_s, cmp_c, bus_we, bus_addr, bus_wdata, 11'(0)}
+
+    task automatic fail_param(string n, int hv, int cv);
+        $display("FAIL header: %s = %0d in the vector file, compiled with %0d", n, hv, cv);
+        $fatal(1, "parameter mismatch");
+    endtask
+
+    task automatic check_param(string n, int v);
+        case (n)
+            "SYNC_DEPTH": if (v != SYNC_DEPTH) fail_param(n, v, SYNC_DEPTH);
+            "CNT_W":      if (v != CNT_W)      fail_param(n, v, CNT_W);
+            "ADAPTIVE":   if (v != ADAPTIVE)   fail_param(n, v, ADAPTIVE);
+            "PW":         if (v != PW)         fail_param(n, v, PW);
+            "PI":         if (v != PI)         fail_param(n, v, PI);
+            "PS":         if (v != PS)         fail_param(n, v, PS);
+            "SI_MAX":     if (v != SI_MAX)     fail_param(n, v, SI_MAX);
+            "SI_MIN":     if (v != SI_MIN)     fail_param(n, v, SI_MIN);
+            "T1":         if (v != T1)         fail_param(n, v, T1);
+            "T2":         if (v != T2)         fail_param(n, v, T2);
+            "CTH":        if (v != CTH)        fail_param(n, v, CTH);
+            "SMP_ON":     if (v != SMP_ON)     fail_param(n, v, SMP_ON);
+            default: ;
+        endcase
+    endtask
+
+    function automatic bit read_line();
+        rc = $fscanf(fd, "%h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h %h",
+                     f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7], f[8], f[9],
+                     f[10], f[11], f[12], f[13], f[14], f[15], f[16], f[17], f[18], f[19],
+                     f[20], f[21], f[22], f[23], f[24], f[25], f[26], f[27], f[28], f[29]);
+        return rc == 30;
+    endfunction
+
+    function automatic void mismatch(int tick, string name, longint model, longint rtl);
+        $display("MISMATCH tick=%0d signal=%s model=%0h rtl=%0h", tick, name, model, rtl);
+        nfail++;
+    endfunction
+
+    task automatic report_and_stop(int tick, string when);
+        $display("LOCKSTEP FAIL %s: first divergence at tick %0d (%s), time %0t", vecfile, tick, when, $time);
+        $display("last %0d ticks: edge | ig vs2_ok cmp_s cmp_c bus_we bus_addr bus_wdata (inputs sampled at that edge)", hist.size());
+        foreach (hist[i])
+            $display("  %8d | %0d %0d %0d %0d %0d %02h %04h", hist[i][71:40], hist[i][39], hist[i][38],
+                     hist[i][37], hist[i][36], hist[i][35], hist[i][34:27], hist[i][26:11]);
+        $fatal(1, "lockstep divergence");
+    endtask
+
+    // outputs and registers after edge `tick`
+    task automatic compare_state(int tick);
+        for (int i = 0; i < NOUT; i++) begin
+            longint a = pmu50_dpi_output(m, i);
+            longint b = rtl_output(i);
+            if (a != b) mismatch(tick, pmu50_dpi_output_name(i), a, b);
+        end
+`ifndef PORTS_ONLY
+        for (int i = 0; i < NREG; i++) begin
+            longint a = pmu50_dpi_reg(m, reg_name[i]);
+            longint b = rtl_reg(i);
+            if (a != b) mismatch(tick, reg_name[i], a, b);
+        end
+`endif
+        if (nfail != 0) report_and_stop(tick, "after the rising edge");
+    endtask
+
+    initial begin
+        ig = 0; vs2_ok = 0; cmp_s = 0; cmp_c = 0; bus_we = 0; bus_addr = 0; bus_wdata = 0;
+        rst_n = 1'b1;
+        if (T < 8) $fatal(1, "CLOCK_NS must be at least 8");
+        if (!$value$plusargs("vec=%s", vecfile)) $fatal(1, "usage: +vec=FILE.vec");
+        fd = $fopen(vecfile, "r");
+        if (fd == 0) $fatal(1, "cannot open %s", vecfile);
+        // header
+        c = $fgetc(fd);
+        while (c == "/" || c == "\n" || c == " " || c == "\r") begin
+            if (c == "/") begin
+                rc = $fgets(line, fd);
+                if ($sscanf(line, "/ param %s %d", hname, hval) == 2) check_param(hname, hval);
+                else if ($sscanf(line, "/ clock_ns %d", hval) == 1 && hval != CLOCK_NS) fail_param("clock_ns", hval, CLOCK_NS);
+            end
+            c = $fgetc(fd);
+        end
+        if (c != -1) rc = $ungetc(c, fd);
+        m = pmu50_dpi_new(SYNC_DEPTH, CNT_W, ADAPTIVE, PW, PI, PS, SI_MAX, SI_MIN, T1, T2, CTH, SMP_ON);
+        if (m == null) $fatal(1, "model: %s", pmu50_dpi_last_error());
+
+        // power-on reset pulse before the first edge
+        #1 rst_n = 1'b0;
+        #1 rst_n = 1'b1;
+        #(TH - 2);
+
+        k = 0;
+        nfail = 0;
+        forever begin
+            // middle of cycle k: the state after edge k is stable
+            compare_state(k);
+            if (!read_line()) break;
+            {ig, vs2_ok, cmp_s, cmp_c, bus_we} = {f[0][0], f[1][0], f[2][0], f[3][0], f[4][0]};
+            bus_addr = f[5][7:0];
+            bus_wdata = f[6];
+            hist.push_back({32'(k + 1), ig, vs2_ok, cmp_s, cmp_c, bus_we, bus_addr, bus_wdata, 11'd0});
+            if (hist.size() > HISTORY) void'(hist.pop_front());
+            #1;
+            if (pmu50_dpi_step(m, ig, vs2_ok, cmp_s, cmp_c, bus_we, bus_addr, bus_wdata) != 0)
+                $fatal(1, "model: %s", pmu50_dpi_last_error());
+`ifndef PORTS_ONLY
+            for (int i = 0; i < NINT; i++) begin
+                longint a = pmu50_dpi_internal(m, i);
+                longint b = rtl_internal(i);
+                if (a != b) mismatch(k, {"internals.", pmu50_dpi_internal_name(i)}, a, b);
+            end
+            if (nfail != 0) report_and_stop(k, "combinational, before the next rising edge");
+`endif
+            #(T - 1);
+            k++;
+        end
+        $display("PASS ticks=%0d outputs=%0d registers=%0d internals=%0d", k, NOUT, NREG, NINT);
+        pmu50_dpi_free(m);
+        $finish;
+    end
+endmodule
