@@ -10,10 +10,18 @@ use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
 use pmu50::vectors::VectorWriter;
 use pmu50_core::Dur;
 use pmu50_waves::diff::{diff_files, DiffOptions, Outcome, Sample, XPolicy};
-use std::io::{BufWriter, IsTerminal};
+use std::io::{BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
+
+/// `println!` that does not panic when stdout is a closed pipe (`pmu50 diff a b | head`): the
+/// reader has gone, so the rest of the output is dropped.
+macro_rules! out {
+    ($($t:tt)*) => {{
+        let _ = writeln!(std::io::stdout().lock(), $($t)*);
+    }};
+}
 
 #[derive(Parser)]
 #[command(name = "pmu50", version, about = "Cycle-accurate reference model of PMU 50 (US 2022/0041215 A1)")]
@@ -172,8 +180,8 @@ fn main() -> ExitCode {
                 let mut prog = Progress::new(sc.ticks, &sc.name);
                 match run_to_files(&sc, &out_dir, FileOptions { log, window }, &mut [&mut prog]) {
                     Ok((res, w)) => {
-                        print!("{}", summary(&sc, &res));
-                        println!("   wrote {} and {}{}", w.vcd.display(), w.gtkw.display(), w.log.map(|l| format!(" and {}", l.display())).unwrap_or_default());
+                        out!("{}", summary(&sc, &res).trim_end());
+                        out!("   wrote {} and {}{}", w.vcd.display(), w.gtkw.display(), w.log.map(|l| format!(" and {}", l.display())).unwrap_or_default());
                         if !res.passed() {
                             code = code.max(1);
                         }
@@ -190,7 +198,7 @@ fn main() -> ExitCode {
             let mut bad = false;
             for p in &scenarios {
                 match Scenario::load(p) {
-                    Ok(sc) => println!("ok   {} ({}, {} ticks)", p.display(), sc.name, sc.ticks),
+                    Ok(sc) => out!("ok   {} ({}, {} ticks)", p.display(), sc.name, sc.ticks),
                     Err(e) => {
                         eprintln!("error: {e}");
                         bad = true;
@@ -210,17 +218,20 @@ fn main() -> ExitCode {
             files.sort();
             for p in files {
                 match Scenario::load(&p) {
-                    Ok(sc) => println!("{:<18} {:>10}  {}", sc.name, Dur(sc.ticks * sc.clock_ns()).to_string(), sc.description),
-                    Err(e) => println!("{:<18} INVALID: {e}", p.display()),
+                    Ok(sc) => out!("{:<18} {:>10}  {}", sc.name, Dur(sc.ticks * sc.clock_ns()).to_string(), sc.description),
+                    Err(e) => out!("{:<18} INVALID: {e}", p.display()),
                 }
             }
             ExitCode::SUCCESS
         }
         Cmd::Vectors { scenario, output, vcd_dir } => {
-            let sc = match load(&scenario) {
+            let mut sc = match load(&scenario) {
                 Ok(s) => s,
                 Err(c) => return c,
             };
+            // The model VCD written beside the vectors is compared tick by tick with the RTL's:
+            // it must cover the whole run, whatever window the scenario asks for.
+            sc.vcd_window = None;
             let f = match std::fs::File::create(&output) {
                 Ok(f) => f,
                 Err(e) => {
@@ -234,7 +245,7 @@ fn main() -> ExitCode {
             });
             match result {
                 Ok(r) => {
-                    println!("wrote {} ({} ticks)", output.display(), r.ticks);
+                    out!("wrote {} ({} ticks)", output.display(), r.ticks);
                     ExitCode::SUCCESS
                 }
                 Err(e) => {
@@ -282,7 +293,7 @@ fn main() -> ExitCode {
             let opts = DiffOptions { prefix_map, sample, x_policy, max_reported: max, real_tolerance: real_tol, allow_unmatched };
             match diff_files(&left, &right, &opts) {
                 Ok(rep) => {
-                    print!("{rep}");
+                    out!("{}", rep.to_string().trim_end());
                     ExitCode::from(if rep.outcome == Outcome::Equal { 0 } else { 1 })
                 }
                 Err(e) => {

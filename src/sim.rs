@@ -9,12 +9,18 @@
 //! 5. MPU: read-out Vm-boot time after key-on (FIG. 12-13), then tracking of θm ([0115]);
 //!    dark-current accounting while the key is off.
 //!
+//! While the key is on and the timeline has no write for the tick, the MPU model polls the
+//! register map over the bus, one address per tick in map order, so the register file's
+//! registered read path (`bus_addr` -> `bus_rdata`) is exercised in every waveform and vector
+//! file. Its read-out uses the read mux of the same cycle (`Pmu50::read`), which is what the
+//! polled `bus_rdata` shows one tick later.
+//!
 //! Observers (VCD writer, change log) see every tick. Without observers the bench fast-forwards
 //! idle key-off gaps with [`Pmu50::fast_forward`]; results are identical (tested).
 
 use crate::scenario::{Action, Scenario};
 use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
-use pmu50_core::register_file::addr;
+use pmu50_core::register_file::{addr, MAP};
 use pmu50_core::{Inputs, Internals, Outputs, Pmu50, Regs};
 use pmu50_env::{
     theta2_deg, wrap_360, AngleTracker, ComparatorPair, DarkCurrentMeter, DarkCurrentReport, KeyOnReadout,
@@ -255,6 +261,9 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
             next_event += 1;
         }
         inputs.ig = ig;
+        if out.sig && !inputs.bus_we {
+            inputs.bus_addr = MAP[(k % MAP.len() as u64) as usize].1;
+        }
 
         // Fast-forward an idle key-off gap: Vs2 off, nothing scheduled, nobody watching.
         if ff && !out.sig && !out.vs2_en && !out.sr && !inputs.bus_we && boot_at.is_none() {

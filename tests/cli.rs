@@ -145,3 +145,24 @@ fn diff_equal_differ_and_bad_input() {
     assert_eq!(pmu50(&["diff", va.to_str().unwrap(), vb.to_str().unwrap(), "--map", "nonsense"]).status.code(), Some(2));
     std::fs::remove_dir_all(&d).ok();
 }
+
+#[test]
+fn key_on_polling_exercises_the_registered_read_path() {
+    let d = tmp("poll");
+    let f = d.join("k.vec");
+    assert_eq!(pmu50(&["vectors", "scenarios/first_embodiment.toml", "-o", f.to_str().unwrap()]).status.code(), Some(0));
+    let v = std::fs::read_to_string(&f).unwrap();
+    let mut seen = std::collections::BTreeMap::new();
+    for l in v.lines().filter(|l| !l.starts_with("//")) {
+        let x: Vec<u32> = l.split(' ').map(|h| u32::from_str_radix(h, 16).unwrap()).collect();
+        // Line k: bus_addr (field 5) of edge k+1, and bus_rdata (field 7 + 21) after it.
+        seen.entry(x[5]).or_insert_with(Vec::new).push(x[28]);
+    }
+    assert!(seen[&0x00].iter().all(|&r| r == 0x5050), "ID");
+    assert!(seen[&0x01].iter().all(|&r| r == 0x0001), "VERSION");
+    assert!(seen[&0x0C].iter().all(|&r| r == 0x1002), "CFG: cnt_width 16, sync_depth 2");
+    assert!(seen[&0x06].iter().all(|&r| r == 660), "SI_MAX");
+    assert!(seen[&0x02].iter().all(|&r| r == 0), "CTRL: adaptive off");
+    assert!(seen.contains_key(&0x10) && seen.contains_key(&0x14), "counts and STATUS are polled");
+    std::fs::remove_dir_all(&d).ok();
+}
