@@ -30,20 +30,7 @@ impl<W: Write> VectorWriter<W> {
         h += "// pmu50 vectors v1\n";
         h += &format!("// scenario {}\n", sc.name);
         h += &format!("// clock_ns {}\n", sc.clock_ns());
-        for (n, v) in [
-            ("SYNC_DEPTH", u64::from(p.sync_depth)),
-            ("CNT_W", u64::from(p.cnt_width)),
-            ("ADAPTIVE", u64::from(p.adaptive)),
-            ("PW", u64::from(p.pw)),
-            ("PI", u64::from(p.pi)),
-            ("PS", u64::from(p.ps)),
-            ("SI_MAX", u64::from(p.si_max)),
-            ("SI_MIN", u64::from(p.si_min)),
-            ("T1", u64::from(p.t1)),
-            ("T2", u64::from(p.t2)),
-            ("CTH", u64::from(p.cth)),
-            ("SMP_ON", u64::from(p.smp_on)),
-        ] {
+        for (n, v) in p.hdl_parameters() {
             h += &format!("// param {n} {v}\n");
         }
         h += &format!("// ticks {}\n", sc.ticks);

@@ -759,31 +759,11 @@ pub unsafe extern "C" fn pmu50_output_info(
     width: *mut u8,
 ) -> c_int {
     guard("pmu50_output_info", || {
-        let names = pmu50_outputs::default().values();
-        let Some((n, _)) = names.get(index) else {
-            set_error(format!(
-                "pmu50_output_info: index {index} out of range 0..{}",
-                names.len()
-            ));
-            return PMU50_ERR_RANGE;
-        };
         // SAFETY: the caller passes NULL or a live handle.
         let cw = unsafe { m.as_ref() }.map_or(16, |m| m.core.structural().cnt_width);
-        let w = if OUTPUT_WIDTHS[index] == 0 {
-            cw
-        } else {
-            OUTPUT_WIDTHS[index]
-        };
-        // SAFETY: out pointers checked non-null.
-        unsafe {
-            if !name.is_null() {
-                name.write(n.as_ptr());
-            }
-            if !width.is_null() {
-                width.write(w);
-            }
-        }
-        PMU50_OK
+        let widths = OUTPUT_WIDTHS.map(|w| if w == 0 { cw } else { w });
+        // SAFETY: the caller passes NULL or writable out pointers.
+        unsafe { write_info("pmu50_output_info", &pmu50_outputs::default().values(), &widths, index, name, width) }
     })
 }
 
@@ -802,20 +782,8 @@ pub unsafe extern "C" fn pmu50_output_get(
         let Some(o) = (unsafe { o.as_ref() }) else {
             return null("pmu50_output_get", "o");
         };
-        if value.is_null() {
-            return null("pmu50_output_get", "value");
-        }
-        let vals = o.values();
-        let Some((_, v)) = vals.get(index) else {
-            set_error(format!(
-                "pmu50_output_get: index {index} out of range 0..{}",
-                vals.len()
-            ));
-            return PMU50_ERR_RANGE;
-        };
-        // SAFETY: checked non-null.
-        unsafe { value.write(*v) };
-        PMU50_OK
+        // SAFETY: the caller passes NULL or a writable pointer.
+        unsafe { write_value("pmu50_output_get", &o.values(), index, value) }
     })
 }
 
@@ -836,24 +804,8 @@ pub unsafe extern "C" fn pmu50_internal_info(
     width: *mut u8,
 ) -> c_int {
     guard("pmu50_internal_info", || {
-        let names = pmu50_internals::default().values();
-        let Some((n, _)) = names.get(index) else {
-            set_error(format!(
-                "pmu50_internal_info: index {index} out of range 0..{}",
-                names.len()
-            ));
-            return PMU50_ERR_RANGE;
-        };
-        // SAFETY: out pointers checked non-null.
-        unsafe {
-            if !name.is_null() {
-                name.write(n.as_ptr());
-            }
-            if !width.is_null() {
-                width.write(INTERNAL_WIDTHS[index]);
-            }
-        }
-        PMU50_OK
+        // SAFETY: the caller passes NULL or writable out pointers.
+        unsafe { write_info("pmu50_internal_info", &pmu50_internals::default().values(), &INTERNAL_WIDTHS, index, name, width) }
     })
 }
 
@@ -872,21 +824,47 @@ pub unsafe extern "C" fn pmu50_internal_get(
         let Some(x) = (unsafe { x.as_ref() }) else {
             return null("pmu50_internal_get", "x");
         };
-        if value.is_null() {
-            return null("pmu50_internal_get", "value");
-        }
-        let vals = x.values();
-        let Some((_, v)) = vals.get(index) else {
-            set_error(format!(
-                "pmu50_internal_get: index {index} out of range 0..{}",
-                vals.len()
-            ));
-            return PMU50_ERR_RANGE;
-        };
-        // SAFETY: checked non-null.
-        unsafe { value.write(*v) };
-        PMU50_OK
+        // SAFETY: the caller passes NULL or a writable pointer.
+        unsafe { write_value("pmu50_internal_get", &x.values(), index, value) }
     })
+}
+
+/// Shared body of the indexed value getters: value `index` of `vals` into `value`.
+///
+/// # Safety
+/// `value` NULL or writable.
+unsafe fn write_value(what: &str, vals: &[(&'static CStr, u64)], index: usize, value: *mut u64) -> c_int {
+    if value.is_null() {
+        return null(what, "value");
+    }
+    let Some((_, v)) = vals.get(index) else {
+        set_error(format!("{what}: index {index} out of range 0..{}", vals.len()));
+        return PMU50_ERR_RANGE;
+    };
+    // SAFETY: checked non-null; the caller guarantees writable.
+    unsafe { value.write(*v) };
+    PMU50_OK
+}
+
+/// Shared body of the name/width getters; out pointers may be NULL.
+///
+/// # Safety
+/// `name` and `width` NULL or writable.
+unsafe fn write_info(what: &str, vals: &[(&'static CStr, u64)], widths: &[u8], index: usize, name: *mut *const c_char, width: *mut u8) -> c_int {
+    let (Some((n, _)), Some(&w)) = (vals.get(index), widths.get(index)) else {
+        set_error(format!("{what}: index {index} out of range 0..{}", vals.len()));
+        return PMU50_ERR_RANGE;
+    };
+    // SAFETY: checked non-null; the caller guarantees writable.
+    unsafe {
+        if !name.is_null() {
+            name.write(n.as_ptr());
+        }
+        if !width.is_null() {
+            width.write(w);
+        }
+    }
+    PMU50_OK
 }
 
 #[cfg(test)]

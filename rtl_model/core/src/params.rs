@@ -76,6 +76,25 @@ impl Params {
         if self.adaptive { self.si_min } else { self.si_max }
     }
 
+    /// The Verilog parameters of the twin with their values, in the order of the `// param`
+    /// lines of a vector file (docs/spec.md 6.2).
+    pub fn hdl_parameters(&self) -> [(&'static str, u64); 12] {
+        [
+            ("SYNC_DEPTH", u64::from(self.sync_depth)),
+            ("CNT_W", u64::from(self.cnt_width)),
+            ("ADAPTIVE", u64::from(self.adaptive)),
+            ("PW", u64::from(self.pw)),
+            ("PI", u64::from(self.pi)),
+            ("PS", u64::from(self.ps)),
+            ("SI_MAX", u64::from(self.si_max)),
+            ("SI_MIN", u64::from(self.si_min)),
+            ("T1", u64::from(self.t1)),
+            ("T2", u64::from(self.t2)),
+            ("CTH", u64::from(self.cth)),
+            ("SMP_ON", u64::from(self.smp_on)),
+        ]
+    }
+
     /// Every rule a legal configuration obeys (docs/spec.md, "Legal parameter values").
     pub fn validate(&self) -> Result<(), ParamError> {
         let range = |field, value: u64, min: u64, max: u64| {
