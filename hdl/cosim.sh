@@ -176,6 +176,8 @@ START=$(date +%s)
 stamp() { echo "[$(( $(date +%s) - START ))s] $*" >&2; }
 
 # Tools.
+# hdl/build/ is git-ignored: a fresh clone does not have it.
+mkdir -p "$HDL/build" "$B"
 missing=0
 for t in iverilog vvp verilator yosys; do command -v "$t" > /dev/null || missing=1; done
 if [ $missing = 1 ]; then
