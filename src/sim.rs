@@ -228,9 +228,10 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
     let mut evaluated = 0u64;
     let mut env = EnvSample::default();
     let mut k = 0u64;
+    // Outputs of the current tick: from reset, then the `after` of each edge (Moore outputs).
+    let mut out = core.peek();
 
     while k < sc.ticks {
-        let out = core.peek();
         let t_ns = k * clk;
 
         // Key edges seen by the MPU model.
@@ -279,6 +280,7 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
                     meter.tick(out.sig, rails, n * clk);
                     core.fast_forward(n, &idle).map_err(|e| env_err(k, e.to_string()))?;
                     k += n;
+                    out = core.peek();
                     continue;
                 }
             }
@@ -372,6 +374,7 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
                 fig18: internals.fig18,
             });
         }
+        out = after;
         k += 1;
     }
 
