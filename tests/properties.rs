@@ -123,8 +123,11 @@ proptest! {
     fn quadrant_correction_gives_the_true_rotation_number_with_threshold_errors(s in stim(10.0, 0.10)) {
         let r = sim(&s, true);
         for k in &r.keyons {
-            let true_nr = (k.true_deg / 360.0).floor() as i32;
-            prop_assert_eq!(k.readout.nr, true_nr, "{:?}\n{}", k, to_toml(&s));
+            // Within half a theta1 resolution step (0.05 deg) of a turn boundary the first sensor
+            // may round to either side, and both turns are then right.
+            let nr_lo = ((k.true_deg - 0.05) / 360.0).floor() as i32;
+            let nr_hi = ((k.true_deg + 0.05) / 360.0).floor() as i32;
+            prop_assert!((nr_lo..=nr_hi).contains(&k.readout.nr), "Nr {} not in {nr_lo}..={nr_hi}: {:?}\n{}", k.readout.nr, k, to_toml(&s));
             prop_assert!(k.error_deg.abs() <= 0.05 + 1e-9);
         }
         counts_and_interval_invariants(&r)?;
