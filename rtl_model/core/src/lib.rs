@@ -17,6 +17,7 @@ pub mod params;
 pub mod pmu50;
 pub mod register_file;
 pub mod sensor_power_determination_57;
+pub mod signals;
 pub mod timing_generator_56;
 pub mod updown_counter_58cd;
 

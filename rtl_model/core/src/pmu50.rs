@@ -59,6 +59,7 @@ use crate::drive_interval_changing_56b as di;
 use crate::params::{ParamError, Params};
 use crate::register_file as rf;
 use crate::sensor_power_determination_57 as spd;
+use crate::signals;
 use crate::timing_generator_56 as tg;
 use crate::updown_counter_58cd as uc;
 
@@ -313,104 +314,46 @@ pub struct RegValue {
 }
 
 impl Regs {
-    /// Every register with its width and value, in a fixed order (block order of [`eval`]).
+    /// Every register with its width and value, in a fixed order (block order of [`eval`]):
+    /// [`signals::REGISTERS`].
     pub fn values(&self, s: &Structural) -> Vec<RegValue> {
-        let w = s.cnt_width;
-        let f = &self.register_file;
-        let list: [(&'static str, &'static str, u8, u64); 26] = [
-            ("action_switching", "sync", s.sync_depth, u64::from(self.action_switching.sync)),
-            ("register_file", "adaptive", 1, u64::from(f.adaptive)),
-            ("register_file", "pw", 16, u64::from(f.pw)),
-            ("register_file", "pi", 16, u64::from(f.pi)),
-            ("register_file", "ps", 16, u64::from(f.ps)),
-            ("register_file", "si_max", 16, u64::from(f.si_max)),
-            ("register_file", "si_min", 16, u64::from(f.si_min)),
-            ("register_file", "t1", 16, u64::from(f.t1)),
-            ("register_file", "t2", 16, u64::from(f.t2)),
-            ("register_file", "cth", 8, u64::from(f.cth)),
-            ("register_file", "smp_on", 16, u64::from(f.smp_on)),
-            ("register_file", "bus_err", 1, u64::from(f.bus_err)),
-            ("register_file", "rdata", 16, u64::from(f.rdata)),
-            ("timing_generator", "tmr", 16, u64::from(self.timing_generator.tmr)),
-            ("sensor_power_determination", "sr", 1, u64::from(self.sensor_power_determination.sr)),
-            ("comparator_latch", "cs", 1, u64::from(self.comparator_latch.cs)),
-            ("comparator_latch", "cc", 1, u64::from(self.comparator_latch.cc)),
-            ("comparator_latch", "vld", 1, u64::from(self.comparator_latch.vld)),
-            ("updown_counter", "cnt_s", w, u64::from(self.updown_counter.cnt_s)),
-            ("updown_counter", "cnt_c", w, u64::from(self.updown_counter.cnt_c)),
-            ("updown_counter", "quadrant_skip", 1, u64::from(self.updown_counter.quadrant_skip)),
-            ("drive_interval", "si", 16, u64::from(self.drive_interval.si)),
-            ("drive_interval", "hist_s", 1, u64::from(self.drive_interval.hist_s)),
-            ("drive_interval", "hist_c", 1, u64::from(self.drive_interval.hist_c)),
-            ("drive_interval", "cnt_r", 8, u64::from(self.drive_interval.cnt_r)),
-            ("count_diagnosis", "diag", 1, u64::from(self.count_diagnosis.diag)),
-        ];
-        list.iter()
-            .map(|&(block, name, width, value)| RegValue { block, name, width, value })
+        signals::REGISTERS
+            .iter()
+            .map(|r| RegValue { block: r.scope, name: r.name, width: r.bits(s), value: (r.get)(self) })
             .collect()
     }
 }
 
 impl Outputs {
-    /// Every output port as (name, width, value), in the order of docs/signals.md.
-    pub fn values(&self, s: &Structural) -> [(&'static str, u8, u64); 23] {
-        [
-            ("sig", 1, u64::from(self.sig)),
-            ("vr_hi", 1, u64::from(self.vr_hi)),
-            ("vm_en", 1, u64::from(self.vm_en)),
-            ("vs1_en", 1, u64::from(self.vs1_en)),
-            ("vs2_en", 1, u64::from(self.vs2_en)),
-            ("vp_en", 1, u64::from(self.vp_en)),
-            ("rail_hi", 1, u64::from(self.rail_hi)),
-            ("st", 1, u64::from(self.st)),
-            ("sr", 1, u64::from(self.sr)),
-            ("ps_win", 1, u64::from(self.ps_win)),
-            ("smp", 1, u64::from(self.smp)),
-            ("cs", 1, u64::from(self.cs)),
-            ("cc", 1, u64::from(self.cc)),
-            ("cnt_s", s.cnt_width, u64::from(self.cnt_s)),
-            ("cnt_c", s.cnt_width, u64::from(self.cnt_c)),
-            ("cnt_r", 8, u64::from(self.cnt_r)),
-            ("si", 16, u64::from(self.si)),
-            ("hist_s", 1, u64::from(self.hist_s)),
-            ("hist_c", 1, u64::from(self.hist_c)),
-            ("diag", 1, u64::from(self.diag)),
-            ("quadrant_skip", 1, u64::from(self.quadrant_skip)),
-            ("bus_rdata", 16, u64::from(self.bus_rdata)),
-            ("bus_err", 1, u64::from(self.bus_err)),
-        ]
+    /// Every output port as (name, width, value), in the order of [`signals::OUTPUTS`].
+    pub fn values(&self, s: &Structural) -> [(&'static str, u8, u64); signals::N_OUTPUTS] {
+        std::array::from_fn(|k| {
+            let o = &signals::OUTPUTS[k];
+            (o.name, o.bits(s), (o.get)(self))
+        })
     }
 }
 
 impl Inputs {
-    /// Every input port as (name, width, value).
-    pub fn values(&self) -> [(&'static str, u8, u64); 7] {
-        [
-            ("ig", 1, u64::from(self.ig)),
-            ("vs2_ok", 1, u64::from(self.vs2_ok)),
-            ("cmp_s", 1, u64::from(self.cmp_s)),
-            ("cmp_c", 1, u64::from(self.cmp_c)),
-            ("bus_we", 1, u64::from(self.bus_we)),
-            ("bus_addr", 8, u64::from(self.bus_addr)),
-            ("bus_wdata", 16, u64::from(self.bus_wdata)),
-        ]
+    /// Every input port as (name, width, value), in the order of [`signals::INPUTS`].
+    pub fn values(&self) -> [(&'static str, u8, u64); signals::N_INPUTS] {
+        // Inputs have no structural width.
+        let s = Structural { sync_depth: 1, cnt_width: 16 };
+        std::array::from_fn(|k| {
+            let i = &signals::INPUTS[k];
+            (i.name, i.bits(&s), (i.get)(self))
+        })
     }
 }
 
 impl Internals {
-    /// Every internal signal as (name, width, value).
-    pub fn values(&self) -> [(&'static str, u8, u64); 9] {
-        [
-            ("kon", 1, u64::from(self.kon)),
-            ("koff", 1, u64::from(self.koff)),
-            ("upd", 1, u64::from(self.upd)),
-            ("first", 1, u64::from(self.first)),
-            ("chg_s", 1, u64::from(self.chg_s)),
-            ("chg_c", 1, u64::from(self.chg_c)),
-            ("skip_clr", 1, u64::from(self.skip_clr)),
-            ("fig17", 3, self.fig17 as u64),
-            ("fig18", 3, self.fig18 as u64),
-        ]
+    /// Every internal signal as (name, width, value), in the order of [`signals::INTERNALS`].
+    pub fn values(&self) -> [(&'static str, u8, u64); signals::N_INTERNALS] {
+        let s = Structural { sync_depth: 1, cnt_width: 16 };
+        std::array::from_fn(|k| {
+            let x = &signals::INTERNALS[k];
+            (x.name, x.bits(&s), (x.get)(self))
+        })
     }
 }
 
