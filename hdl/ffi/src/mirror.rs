@@ -198,7 +198,7 @@ fn c_struct<T, const N: usize>(out: &mut String, doc: &str, name: &str, list: &[
     *out += &format!("typedef struct {name} {{\n");
     for (s, &sz) in list.iter().zip(&l.size) {
         let field = format!("    {:<8} {};", c_type(sz), s.name);
-        *out += &format!("{field:<28} /* {:>10}: {} */\n", s.width.doc(), s.meaning);
+        *out += &format!("{field:<28} /* [{}] {} */\n", s.width.doc(), s.meaning);
     }
     *out += &format!("}} {name};\n");
 }
