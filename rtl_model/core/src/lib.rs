@@ -4,7 +4,8 @@
 //! Integers and bits only: no floating point type appears in this crate (a test greps for it).
 //! One block per file, named after the patent block with its reference numeral; each has
 //! `Inputs`, `Outputs`, `Regs`, a `RESET` value and a pure `eval(&Regs, &Inputs) -> (Outputs, Regs)`.
-//! [`pmu50`] is the top level. See docs/spec.md for the specification and docs/glossary.md for
+//! [`pmu50`] is the top level (the specification; [`reference::Pmu50Spec`] steps it) and
+//! [`kernel`] the fast path that [`Pmu50::step`] runs, proven equal to it by tests. See docs/spec.md for the specification and docs/glossary.md for
 //! the names.
 #![forbid(unsafe_code)]
 
@@ -13,8 +14,10 @@ pub mod comparator_latch_58ab;
 pub mod config;
 pub mod count_diagnosis;
 pub mod drive_interval_changing_56b;
+pub mod kernel;
 pub mod params;
 pub mod pmu50;
+pub mod reference;
 pub mod register_file;
 pub mod sensor_power_determination_57;
 pub mod timing_generator_56;
@@ -23,3 +26,4 @@ pub mod updown_counter_58cd;
 pub use config::{ConfigError, CoreConfig, Dur};
 pub use params::{ParamError, Params};
 pub use pmu50::{Inputs, Internals, Outputs, Pmu50, Regs};
+pub use reference::Pmu50Spec;
