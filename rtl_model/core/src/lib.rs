@@ -11,8 +11,10 @@
 //!
 //! A block with a structural parameter (`sync_depth`, `cnt_width`: Verilog `parameter`s) is a
 //! small value built once with it (`ActionSwitching::new(sync_depth)`, ...), whose `outputs` and
-//! `eval` take `&self`; the parameters are never per-tick inputs. [`pmu50`] is the top level;
-//! [`signals`] is the table of every port, register and internal signal. See docs/spec.md for
+//! `eval` take `&self`; the parameters are never per-tick inputs. [`pmu50`] is the top level
+//! (the specification; [`reference::Pmu50Spec`] steps it) and [`kernel`] the fast path that
+//! [`Pmu50::step`] runs, proven equal to it by tests; [`signals`] is the table of every port,
+//! register and internal signal. See docs/spec.md for
 //! the specification and docs/glossary.md for the names.
 #![forbid(unsafe_code)]
 
@@ -21,8 +23,10 @@ pub mod comparator_latch_58ab;
 pub mod config;
 pub mod count_diagnosis;
 pub mod drive_interval_changing_56b;
+pub mod kernel;
 pub mod params;
 pub mod pmu50;
+pub mod reference;
 pub mod register_file;
 pub mod sensor_power_determination_57;
 pub mod signals;
@@ -32,3 +36,4 @@ pub mod updown_counter_58cd;
 pub use config::{ConfigError, CoreConfig, Dur};
 pub use params::{ParamError, Params};
 pub use pmu50::{Inputs, Internals, Outputs, Pmu50, Regs};
+pub use reference::Pmu50Spec;

@@ -388,6 +388,8 @@ pub struct Pmu50 {
     params: Params,
     regs: Regs,
     tick: u64,
+    /// Structural parameters pre-decoded for the fast kernel.
+    k: crate::kernel::Consts,
 }
 
 impl Pmu50 {
@@ -399,6 +401,7 @@ impl Pmu50 {
             params: p,
             regs: reset(&p),
             tick: 0,
+            k: crate::kernel::Consts::new(&Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width }),
         })
     }
 
@@ -417,17 +420,21 @@ impl Pmu50 {
         ports(&self.s, &self.regs)
     }
 
-    /// One rising edge with these inputs; returns the outputs after the edge.
+    /// One rising edge with these inputs; returns the outputs after the edge. Runs the fast
+    /// kernel ([`crate::kernel`]), proven equal to [`eval`] by tests; [`crate::Pmu50Spec`] steps
+    /// [`eval`] itself.
+    #[inline]
     pub fn step(&mut self, i: &Inputs) -> Outputs {
-        self.step_traced(i).2
+        self.tick += 1;
+        crate::kernel::step(&self.k, &mut self.regs, i)
     }
 
     /// One rising edge; returns (outputs before the edge, internals of the cycle, outputs after).
     pub fn step_traced(&mut self, i: &Inputs) -> (Outputs, Internals, Outputs) {
-        let (before, internals, next) = eval(&self.s, &self.regs, i);
-        self.regs = next;
+        let before = crate::kernel::ports(&self.k, &self.regs);
+        let internals = crate::kernel::edge(&self.k, &mut self.regs, i);
         self.tick += 1;
-        (before, internals, self.peek())
+        (before, internals, crate::kernel::ports(&self.k, &self.regs))
     }
 
     /// All registers (read access for lockstep comparison and waveforms).
