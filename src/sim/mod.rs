@@ -1,38 +1,72 @@
 //! Testbench: the digital core in its environment, one clock edge per iteration.
 //!
-//! Per tick *k* (time k·T, see docs/spec.md 6.1):
-//! 1. read the core's outputs of this tick (`peek`; all outputs are Moore);
-//! 2. apply the timeline events of this tick (ignition, MPU register writes, rail faults);
-//! 3. environment: Vs2 rail voltage from `vs2_en`/`rail_hi`, motor angle at the end of the tick,
-//!    second sensor settling ([0326]), comparators against Vr = Vs2/2 ([0351]);
-//! 4. one edge of the core with those inputs;
-//! 5. MPU: read-out Vm-boot time after key-on (FIG. 12-13), then tracking of θm ([0115]);
-//!    dark-current accounting while the key is off.
+//! The bench is a loop over named parts, evaluated in this order per tick *k* (time k·T,
+//! docs/spec.md 6.1):
+//! 1. the core's outputs of this tick (all Moore: the `after` of the previous edge);
+//! 2. the MPU sees key edges on `sig` (boot scheduled, tracking ends) ([`mpu::Mpu::key_edges`]);
+//! 3. the timeline applies the events of this tick: key, MPU register writes, rail faults
+//!    ([`Timeline::apply`]); the MPU polls the register map while it is powered;
+//! 4. the analog front: Vs2 rail from `vs2_en`/`rail_hi`, second sensor settling towards the
+//!    shaft angle at the end of the tick ([0326]), comparators against Vr = Vs2/2 ([0351])
+//!    ([`front::AnalogFront::sample`]);
+//! 5. the MPU: read-out Vm-boot time after key-on (FIG. 12-13), then tracking of θm ([0115]);
+//! 6. one edge of the core with those inputs; observers see the tick;
+//! 7. the dark-current meter accounts the tick while the key is off ([0324]);
+//! 8. the recorder adds a row to the pulse table at each key-off decision (FIG. 17/18).
 //!
-//! While the key is on and the timeline has no write for the tick, the MPU model polls the
-//! register map over the bus, one address per tick in map order, so the register file's
-//! registered read path (`bus_addr` -> `bus_rdata`) is exercised in every waveform and vector
-//! file. Its read-out uses the read mux of the same cycle (`Pmu50::read`), which is what the
-//! polled `bus_rdata` shows one tick later.
-//!
-//! Observers (VCD writer, change log) see every tick. Without observers the bench fast-forwards
-//! idle key-off gaps with [`Pmu50::fast_forward`]; results are identical (tested).
+//! Observers (VCD writer, change log) get [`Observer::begin`] with the reset state, then every
+//! tick, then [`Observer::finish`]. When no observer needs every tick the bench may skip what it
+//! can account exactly ([`Stepping`]): idle key-off gaps with [`Pmu50::fast_forward`], and whole
+//! repeated key-off periods ([`skip`], issue 8). Results are identical to stepping every tick
+//! (tests/properties.rs, tests/skip_ahead.rs).
 
-use crate::scenario::{Action, Scenario};
+pub mod front;
+pub mod mpu;
+pub mod recorder;
+pub mod skip;
+
+use crate::scenario::{Action, Event, Scenario};
+use front::AnalogFront;
+use mpu::Mpu;
 use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
-use pmu50_core::register_file::{addr, MAP};
-use pmu50_core::{Inputs, Internals, Outputs, Pmu50, Regs};
-use pmu50_env::{
-    theta2_deg, wrap_360, AngleTracker, ComparatorPair, DarkCurrentMeter, DarkCurrentReport, KeyOnReadout,
-    RailStates, Readout, RotationAngles, Sensor1, Sensor2,
-};
+use pmu50_core::pmu50::FastForwardError;
+use pmu50_core::{Inputs, Internals, Outputs, ParamError, Pmu50, Regs};
+use pmu50_env::{DarkCurrentMeter, DarkCurrentReport, EnvError, KeyOnReadout, RailStates, RotationAngles};
+pub use recorder::{PulseLog, PulseRun};
+use recorder::Recorder;
+use skip::{At, PeriodSkip, Snapshot};
 
 #[derive(Debug, thiserror::Error)]
 pub enum SimError {
-    #[error("scenario {scenario}: environment model failed at t = {time_us} us: {msg}")]
-    Env { scenario: String, time_us: f64, msg: String },
-    #[error("scenario {scenario}: {msg}")]
-    Setup { scenario: String, msg: String },
+    #[error("scenario {scenario}: the core's parameters are not legal: {source}")]
+    Core {
+        scenario: String,
+        #[source]
+        source: ParamError,
+    },
+    #[error("scenario {scenario}: environment model configuration: {source}")]
+    EnvSetup {
+        scenario: String,
+        #[source]
+        source: EnvError,
+    },
+    #[error("scenario {scenario}: environment model failed at t = {time_us} us: {source}")]
+    Env {
+        scenario: String,
+        time_us: f64,
+        #[source]
+        source: EnvError,
+    },
+    #[error("scenario {scenario}: fast-forward at t = {time_us} us: {source}")]
+    FastForward {
+        scenario: String,
+        time_us: f64,
+        #[source]
+        source: FastForwardError,
+    },
+    #[error("observer used before the bench called `begin`")]
+    NotBegun,
+    /// An observer (waveform, log, vectors) could not write its output.
     #[error("{0}")]
     Observer(String),
 }
@@ -66,9 +100,64 @@ pub struct TickView<'a> {
 }
 
 pub trait Observer {
+    /// Called once before the first tick with the reset state at time 0 (default inputs,
+    /// internals and analog values).
+    fn begin(&mut self, _v: &TickView<'_>) -> Result<(), SimError> {
+        Ok(())
+    }
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError>;
     /// Called once after the last tick with the final state at time `ticks`·T.
     fn finish(&mut self, v: &TickView<'_>) -> Result<(), SimError>;
+    /// Whether this observer must see every tick (a waveform must). While one does, the bench
+    /// evaluates every tick; otherwise it may skip stretches it accounts exactly.
+    fn needs_every_tick(&self) -> bool {
+        true
+    }
+}
+
+/// An observer built from the reset state at [`Observer::begin`] (a waveform writer declares
+/// its signals with their initial values), so that nobody rebuilds the reset state by hand.
+pub struct OnBegin<O, F> {
+    make: Option<F>,
+    inner: Option<O>,
+}
+
+impl<O, F> OnBegin<O, F>
+where
+    O: Observer,
+    F: FnOnce(&TickView<'_>) -> Result<O, SimError>,
+{
+    pub fn new(make: F) -> Self {
+        OnBegin { make: Some(make), inner: None }
+    }
+
+    /// The observer, once begun.
+    pub fn get(&self) -> Option<&O> {
+        self.inner.as_ref()
+    }
+}
+
+impl<O, F> Observer for OnBegin<O, F>
+where
+    O: Observer,
+    F: FnOnce(&TickView<'_>) -> Result<O, SimError>,
+{
+    fn begin(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+        let make = self.make.take().ok_or(SimError::NotBegun)?;
+        let mut o = make(v)?;
+        o.begin(v)?;
+        self.inner = Some(o);
+        Ok(())
+    }
+    fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+        self.inner.as_mut().ok_or(SimError::NotBegun)?.tick(v)
+    }
+    fn finish(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+        self.inner.as_mut().ok_or(SimError::NotBegun)?.finish(v)
+    }
+    fn needs_every_tick(&self) -> bool {
+        self.inner.as_ref().is_none_or(|o| o.needs_every_tick())
+    }
 }
 
 /// One row of the per-pulse event table: the state after a key-off sampling edge.
@@ -129,9 +218,12 @@ pub struct RunResult {
     pub name: String,
     pub ticks: u64,
     pub clock_ns: u64,
-    /// Ticks evaluated one by one (the rest were fast-forwarded).
+    /// Ticks evaluated one by one (the rest were fast-forwarded or skipped).
     pub evaluated_ticks: u64,
-    pub pulses: Vec<PulseRow>,
+    /// Ticks skipped as whole repeated key-off periods.
+    pub skipped_ticks: u64,
+    /// The per-pulse table (run-length aggregated; [`PulseLog::iter`] gives every row).
+    pub pulses: PulseLog,
     pub keyons: Vec<KeyOnRow>,
     pub keyoffs: Vec<KeyOffRow>,
     pub final_ports: Outputs,
@@ -150,8 +242,9 @@ impl RunResult {
     /// the interval at the first pulse.
     pub fn si_sequence_ms(&self) -> Vec<f64> {
         let mut out: Vec<f64> = Vec::new();
-        for p in &self.pulses {
-            let ms = f64::from(p.si) * self.clock_ns as f64 / 1e6;
+        // Every row of a run has the run's interval.
+        for r in self.pulses.runs() {
+            let ms = f64::from(r.first.si) * self.clock_ns as f64 / 1e6;
             if out.last().is_none_or(|&l| (l - ms).abs() > 1e-9) {
                 out.push(ms);
             }
@@ -159,33 +252,17 @@ impl RunResult {
         out
     }
 
-    /// The per-pulse event table, as text (golden snapshots, CLI).
+    /// The per-pulse event table, as text (golden snapshots, CLI): one line per pulse.
     pub fn pulse_table(&self) -> String {
-        let mut s = String::from("    time_us  cs cc hist_s hist_c cnt_r  si_ms  cnt_s  cnt_c  fig17       fig18\n");
-        for p in &self.pulses {
-            s += &format!(
-                "{:>11} {:>3} {:>2} {:>6} {:>6} {:>5} {:>6} {:>6} {:>6}  {:<11} {:?}\n",
-                p.time_ns / 1_000,
-                u8::from(p.cs),
-                u8::from(p.cc),
-                u8::from(p.hist_s),
-                u8::from(p.hist_c),
-                p.cnt_r,
-                format!("{:.1}", f64::from(p.si) * self.clock_ns as f64 / 1e6),
-                p.cnt_s,
-                p.cnt_c,
-                format!("{:?}", p.fig17),
-                p.fig18
-            );
-        }
-        s
+        self.pulses.table()
     }
 }
 
 /// Options of a run.
 #[derive(Clone, Copy, Debug)]
 pub struct SimOptions {
-    /// Skip idle key-off gaps when no observer is attached.
+    /// Skip what can be skipped exactly ([`Stepping::Periods`]) when no observer needs every
+    /// tick; `false`: evaluate every tick ([`Stepping::EveryTick`]).
     pub fast_forward: bool,
 }
 
@@ -195,90 +272,143 @@ impl Default for SimOptions {
     }
 }
 
-fn sext(v: u16, w: u8) -> i32 {
-    pmu50_core::updown_counter_58cd::sext(v, w)
+/// How the bench advances time when no observer needs every tick.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stepping {
+    /// Every tick evaluated: the reference.
+    EveryTick,
+    /// Idle key-off gaps (Vs2 off, nothing due) advanced in O(1) with [`Pmu50::fast_forward`].
+    IdleGaps,
+    /// Idle gaps, and whole key-off periods once they repeat (docs/spec.md 5.1).
+    Periods,
 }
 
-/// Run a scenario.
-pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer]) -> Result<RunResult, SimError> {
-    let setup = |m: String| SimError::Setup { scenario: sc.name.clone(), msg: m };
-    let mut core = Pmu50::new(sc.params).map_err(|e| setup(e.to_string()))?;
-    let w = sc.params.cnt_width;
-    let clk = sc.clock_ns();
-    let mut sensor2 = Sensor2::new(sc.env.sensor2).map_err(|e| setup(e.to_string()))?;
-    let cmp = ComparatorPair::new(sc.env.comparator).map_err(|e| setup(e.to_string()))?;
-    let sensor1 = Sensor1::new(sc.env.sensor1).map_err(|e| setup(e.to_string()))?;
-    let readout = Readout::new(sc.env.readout).map_err(|e| setup(e.to_string()))?;
-    let mut meter = DarkCurrentMeter::new(sc.env.dark_current).map_err(|e| setup(e.to_string()))?;
-    let env_err = |k: u64, m: String| SimError::Env { scenario: sc.name.clone(), time_us: (k * clk) as f64 / 1e3, msg: m };
-
-    let ff = opts.fast_forward && observers.is_empty();
-    let wt = u64::from(sc.params.pw) + u64::from(sc.params.pi) + u64::from(sc.params.ps);
-
-    let mut ig = false;
-    let mut fault = false;
-    let mut next_event = 0usize;
-    let mut pulses = Vec::new();
-    let mut keyons = Vec::new();
-    let mut keyoffs = Vec::new();
-    let mut boot_at: Option<u64> = None;
-    let mut tracker: Option<AngleTracker> = None;
-    let mut turn0: Option<f64> = None;
-    let mut prev_sig = false;
-    let mut evaluated = 0u64;
-    let mut env = EnvSample::default();
-    let mut k = 0u64;
-    // Outputs of the current tick: from reset, then the `after` of each edge (Moore outputs).
-    let mut out = core.peek();
-
-    while k < sc.ticks {
-        let t_ns = k * clk;
-
-        // Key edges seen by the MPU model.
-        if out.sig && !prev_sig {
-            boot_at = Some(k + sc.env.mpu_boot_ticks);
+impl From<SimOptions> for Stepping {
+    fn from(o: SimOptions) -> Stepping {
+        if o.fast_forward {
+            Stepping::IdleGaps
+        } else {
+            Stepping::EveryTick
         }
-        if !out.sig && prev_sig {
-            boot_at = None;
-            if let Some(tr) = tracker.take() {
-                let true_deg = motor_rel(sc, t_ns, turn0);
-                keyoffs.push(KeyOffRow { tick: k, true_deg, theta_m_deg: tr.theta_m_deg(), angles: tr.angles(sc.env.theta_t_deg) });
-            }
-        }
-        prev_sig = out.sig;
+    }
+}
 
-        // Timeline events of this tick.
+/// The scenario's timeline: the key level and the events not yet applied.
+struct Timeline<'a> {
+    events: &'a [Event],
+    next: usize,
+    ig: bool,
+}
+
+impl Timeline<'_> {
+    /// Apply the events of tick `k`; returns this tick's inputs with the key level and any
+    /// register write (the analog inputs are filled in by the front).
+    fn apply(&mut self, k: u64, front: &mut AnalogFront) -> Inputs {
         let mut inputs = Inputs::default();
-        while next_event < sc.events.len() && sc.events[next_event].tick == k {
-            match &sc.events[next_event].action {
-                Action::Ig(v) => ig = *v,
-                Action::Vs2Fault(v) => fault = *v,
+        while let Some(e) = self.events.get(self.next).filter(|e| e.tick == k) {
+            match &e.action {
+                Action::Ig(v) => self.ig = *v,
+                Action::Vs2Fault(v) => front.set_fault(*v),
                 Action::Write { addr, value, .. } => {
                     inputs.bus_we = true;
                     inputs.bus_addr = *addr;
                     inputs.bus_wdata = *value;
                 }
             }
-            next_event += 1;
+            self.next += 1;
         }
-        inputs.ig = ig;
-        if out.sig && !inputs.bus_we {
-            inputs.bus_addr = MAP[(k % MAP.len() as u64) as usize].1;
+        inputs.ig = self.ig;
+        inputs
+    }
+
+    fn next_tick(&self) -> Option<u64> {
+        self.events.get(self.next).map(|e| e.tick)
+    }
+}
+
+/// Run a scenario.
+pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer]) -> Result<RunResult, SimError> {
+    run_with(sc, opts.into(), observers)
+}
+
+/// Run a scenario with the given stepping (used only while no observer needs every tick).
+pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Observer]) -> Result<RunResult, SimError> {
+    let setup = |source: EnvError| SimError::EnvSetup { scenario: sc.name.clone(), source };
+    let mut core = Pmu50::new(sc.params).map_err(|source| SimError::Core { scenario: sc.name.clone(), source })?;
+    let w = sc.params.cnt_width;
+    let clk = sc.clock_ns();
+    let env_err = |k: u64, source: EnvError| SimError::Env { scenario: sc.name.clone(), time_us: (k * clk) as f64 / 1e3, source };
+
+    // The parts.
+    let mut timeline = Timeline { events: &sc.events, next: 0, ig: false };
+    let mut front = AnalogFront::new(&sc.env).map_err(setup)?;
+    let mut mpu = Mpu::new(&sc.env).map_err(setup)?;
+    let mut meter = DarkCurrentMeter::new(sc.env.dark_current).map_err(|e| setup(e.into()))?;
+    let mut rec = Recorder::new(clk, w);
+
+    let mut stepping = stepping;
+    let wt = u64::from(sc.params.pw) + u64::from(sc.params.pi) + u64::from(sc.params.ps);
+    let mut evaluated = 0u64;
+    let mut skipped = 0u64;
+    let mut env = EnvSample::default();
+    // Outputs of the current tick: from reset, then the `after` of each edge (Moore outputs).
+    let mut out = core.peek();
+
+    let reset = *core.regs();
+    for o in observers.iter_mut() {
+        o.begin(&TickView { tick: 0, time_ns: 0, regs: &reset, ports: &out, inputs: &Inputs::default(), internals: &Internals::default(), env: &env })?;
+    }
+    if observers.iter().any(|o| o.needs_every_tick()) {
+        stepping = Stepping::EveryTick;
+    }
+    let mut periods = (stepping == Stepping::Periods).then(PeriodSkip::new);
+
+    let mut k = 0u64;
+    while k < sc.ticks {
+        let t_ns = k * clk;
+        mpu.key_edges(k, t_ns, &out, &sc.motor);
+
+        // Whole repeated key-off periods, checked at each period start (key off, timer at 0).
+        if let Some(ps) = periods.as_mut() {
+            if !out.sig && core.regs().timing_generator.tmr == 0 {
+                let at = At {
+                    k,
+                    snap: Snapshot { regs: *core.regs(), front: front.state(), mpu: mpu.state().clone(), ig: timeline.ig },
+                    next_event: timeline.next,
+                    next_event_tick: timeline.next_tick(),
+                    meter: meter.on_times(),
+                    rows: rec.take_period_count(),
+                    motor: &sc.motor,
+                    clock_ns: clk,
+                    end_tick: sc.ticks,
+                };
+                if let Some(s) = ps.at_boundary(at) {
+                    meter.repeat(s.meter, s.periods);
+                    if s.rows == 1 {
+                        rec.log.repeat_last(s.periods, s.len);
+                    }
+                    k += s.periods * s.len;
+                    skipped += s.periods * s.len;
+                    continue;
+                }
+            }
         }
 
+        let mut inputs = timeline.apply(k, &mut front);
+        mpu.poll_bus(k, &out, &mut inputs);
+
         // Fast-forward an idle key-off gap: Vs2 off, nothing scheduled, nobody watching.
-        if ff && !out.sig && !out.vs2_en && !out.sr && !inputs.bus_we && boot_at.is_none() {
+        if stepping != Stepping::EveryTick && !out.sig && !out.vs2_en && !out.sr && !inputs.bus_we && mpu.idle() {
             let tmr = u64::from(core.regs().timing_generator.tmr);
             let si = u64::from(core.regs().drive_interval.si);
             if tmr >= wt && tmr < si {
-                let until_event = sc.events.get(next_event).map_or(u64::MAX, |e| e.tick - k);
+                let until_event = timeline.next_tick().map_or(u64::MAX, |e| e - k);
                 let n = (si - tmr).min(until_event).min(sc.ticks - k);
-                let idle = Inputs { ig, ..Inputs::default() };
+                let idle = Inputs { ig: timeline.ig, ..Inputs::default() };
                 if n > 1 && core.quiet_ticks(&idle) >= n {
-                    sensor2.step(0.0, 0.0, clk).map_err(|e| env_err(k, e.to_string()))?;
-                    let rails = RailStates { vm: out.vm_en, vs1: out.vs1_en, vs2: false, vp: out.vp_en };
-                    meter.tick(out.sig, rails, n * clk);
-                    core.fast_forward(n, &idle).map_err(|e| env_err(k, e.to_string()))?;
+                    front.unpowered(clk).map_err(|e| env_err(k, e))?;
+                    meter.tick(out.sig, RailStates { vm: out.vm_en, vs1: out.vs1_en, vs2: false, vp: out.vp_en }, n * clk);
+                    core.fast_forward(n, &idle).map_err(|source| SimError::FastForward { scenario: sc.name.clone(), time_us: t_ns as f64 / 1e3, source })?;
                     k += n;
                     out = core.peek();
                     continue;
@@ -286,56 +416,17 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
             }
         }
 
-        // Environment of this tick.
-        let vs2_nominal = if out.rail_hi { sc.env.vcc1_v } else { sc.env.vcc2_v };
-        let vs2_v = if out.vs2_en && !fault { vs2_nominal } else { 0.0 };
+        // Analog front of this tick; the shaft angle is the one at the end of the tick.
         let theta = sc.motor.angle_at(t_ns + clk);
-        let (sin2, cos2) = sensor2.step(vs2_v, theta, clk).map_err(|e| env_err(k, e.to_string()))?;
-        let bits = cmp.compare(vs2_v, sin2, cos2);
-        inputs.vs2_ok = vs2_v > 0.0;
-        inputs.cmp_s = bits.cs;
-        inputs.cmp_c = bits.cc;
+        let f = front.sample(&out, theta, clk).map_err(|e| env_err(k, e))?;
+        inputs.vs2_ok = f.vs2_v > 0.0;
+        inputs.cmp_s = f.bits.cs;
+        inputs.cmp_c = f.bits.cc;
 
         // MPU: read-out at boot, then tracking ([0108]-[0116]).
-        let theta1 = if out.vs1_en { Some(sensor1.theta1_deg(wrap_360(theta)).map_err(|e| env_err(k, e.to_string()))?) } else { None };
-        if let (Some(b), Some(t1)) = (boot_at, theta1) {
-            if k == b {
-                let cnt_s = core.read(addr::CNT_S) as i16;
-                let cnt_c = core.read(addr::CNT_C) as i16;
-                let status = core.read(addr::STATUS);
-                let r = readout.key_on(cnt_s, cnt_c, t1).map_err(|e| env_err(k, e.to_string()))?;
-                // θ1 is the angle at the end of this tick; compare at that same instant.
-                let true_deg = theta - turn0.unwrap_or(0.0);
-                let th2 = theta2_deg(vs2_v, sin2, cos2);
-                keyons.push(KeyOnRow {
-                    tick: k,
-                    time_ns: t_ns,
-                    true_deg,
-                    error_deg: r.theta_m_deg - true_deg,
-                    diag: status >> pmu50_core::register_file::status::DIAG & 1 == 1,
-                    quadrant_skip: status >> pmu50_core::register_file::status::QUADRANT_SKIP & 1 == 1,
-                    theta_abnormal: readout.theta_abnormal(t1, th2),
-                    readout: r,
-                    angles: readout.tracker(&r).angles(sc.env.theta_t_deg),
-                });
-                tracker = Some(readout.tracker(&r));
-                boot_at = None;
-            }
-        }
-        if let (Some(tr), Some(t1)) = (tracker.as_mut(), theta1) {
-            tr.update(t1).map_err(|e| env_err(k, e.to_string()))?;
-        }
+        let (theta1, theta_m) = mpu.read_and_track(k, t_ns, &core, &out, theta, &f).map_err(|e| env_err(k, e))?;
 
-        env = EnvSample {
-            theta_deg: theta,
-            sin2_v: sin2,
-            cos2_v: cos2,
-            vs2_v,
-            vp_v: if out.rail_hi { sc.env.vcc1_v } else { sc.env.vcc2_v },
-            vr_v: vs2_v / 2.0,
-            theta1_deg: theta1,
-            theta_m_deg: tracker.as_ref().map(|t| t.theta_m_deg()),
-        };
+        env = EnvSample { theta_deg: theta, sin2_v: f.sin2_v, cos2_v: f.cos2_v, vs2_v: f.vs2_v, vp_v: f.vp_v, vr_v: f.vs2_v / 2.0, theta1_deg: theta1, theta_m_deg: theta_m };
 
         // One clock edge.
         let regs_before = *core.regs();
@@ -344,36 +435,13 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
         for o in observers.iter_mut() {
             o.tick(&TickView { tick: k, time_ns: t_ns, regs: &regs_before, ports: &out, inputs: &inputs, internals: &internals, env: &env })?;
         }
-        meter.tick(out.sig, RailStates { vm: out.vm_en, vs1: out.vs1_en, vs2: vs2_v > 0.0, vp: out.vp_en }, clk);
 
+        // Dark-current meter and recorder.
+        meter.tick(out.sig, RailStates { vm: out.vm_en, vs1: out.vs1_en, vs2: f.vs2_v > 0.0, vp: out.vp_en }, clk);
         if internals.first {
-            // The counters' origin is the turn in which the chip's first sample put the shaft:
-            // the turn that brings this angle nearest the middle of the sampled quadrant (at a
-            // boundary the chip may see either side, e.g. a settling sine exactly at 0 deg).
-            let q0 = match (after.cs, after.cc) {
-                (true, true) => 0.0,
-                (true, false) => 1.0,
-                (false, false) => 2.0,
-                (false, true) => 3.0,
-            };
-            turn0 = Some(((theta - (q0 * 90.0 + 45.0)) / 360.0).round() * 360.0);
+            mpu.first_sample(&after, theta);
         }
-        if internals.fig17 != Fig17::Idle {
-            pulses.push(PulseRow {
-                tick: k + 1,
-                time_ns: (k + 1) * clk,
-                cs: after.cs,
-                cc: after.cc,
-                hist_s: after.hist_s,
-                hist_c: after.hist_c,
-                cnt_r: after.cnt_r,
-                si: after.si,
-                cnt_s: sext(after.cnt_s, w),
-                cnt_c: sext(after.cnt_c, w),
-                fig17: internals.fig17,
-                fig18: internals.fig18,
-            });
-        }
+        rec.edge(k, clk, &internals, &after);
         out = after;
         k += 1;
     }
@@ -381,7 +449,7 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
     let final_ports = core.peek();
     let final_regs = *core.regs();
     let idle = Internals::default();
-    let last_in = Inputs { ig, ..Inputs::default() };
+    let last_in = Inputs { ig: timeline.ig, ..Inputs::default() };
     for o in observers.iter_mut() {
         o.finish(&TickView { tick: sc.ticks, time_ns: sc.ticks * clk, regs: &final_regs, ports: &final_ports, inputs: &last_in, internals: &idle, env: &env })?;
     }
@@ -391,9 +459,10 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
         ticks: sc.ticks,
         clock_ns: clk,
         evaluated_ticks: evaluated,
-        pulses,
-        keyons,
-        keyoffs,
+        skipped_ticks: skipped,
+        pulses: rec.log,
+        keyons: mpu.keyons,
+        keyoffs: mpu.keyoffs,
         final_ports,
         final_regs,
         dark: meter.report(),
@@ -402,11 +471,6 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
     };
     res.checks = checks(sc, &res);
     Ok(res)
-}
-
-/// True angle relative to the turn in which the counters took their first sample.
-fn motor_rel(sc: &Scenario, t_ns: u64, turn0: Option<f64>) -> f64 {
-    sc.motor.angle_at(t_ns) - turn0.unwrap_or(0.0)
 }
 
 fn checks(sc: &Scenario, r: &RunResult) -> Vec<Check> {
