@@ -286,7 +286,7 @@ pub enum Stepping {
 impl From<SimOptions> for Stepping {
     fn from(o: SimOptions) -> Stepping {
         if o.fast_forward {
-            Stepping::IdleGaps
+            Stepping::Periods
         } else {
             Stepping::EveryTick
         }
