@@ -56,10 +56,17 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 
+/// Largest scenario file accepted (1 MiB; the shipped ones are under 4 kB).
+pub const MAX_SCENARIO_BYTES: u64 = 1 << 20;
+
 #[derive(Debug, thiserror::Error)]
 pub enum ScenarioError {
-    #[error("{file}: cannot read the scenario: {msg}")]
-    Io { file: String, msg: String },
+    #[error("{file}: cannot read the scenario: {source}")]
+    Io { file: String, #[source] source: std::io::Error },
+    #[error("{file}: is {kind}, not a regular file; a scenario is a TOML file")]
+    NotAFile { file: String, kind: &'static str },
+    #[error("{file}: {size} bytes is larger than a scenario can be ({max} bytes at most)")]
+    TooLarge { file: String, size: u64, max: u64 },
     #[error("{file}:{line}:{col}: {msg}")]
     Syntax { file: String, line: usize, col: usize, msg: String },
     #[error("{file}:{line}: `{field}`: {msg}")]
@@ -210,6 +217,8 @@ pub enum Action {
 pub struct Event {
     pub tick: u64,
     pub action: Action,
+    /// Line of the event's `at` in the scenario file (for messages).
+    pub line: usize,
 }
 
 /// Checks a run must pass.
@@ -258,10 +267,39 @@ impl Scenario {
         self.core.clock.0
     }
 
-    /// Read and validate a scenario file.
+    /// Read and validate a scenario file. FIFOs, devices, sockets and folders are refused before
+    /// they are opened (opening a FIFO would block), and so are files over [`MAX_SCENARIO_BYTES`].
     pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
+        use std::io::Read;
+        use std::os::unix::fs::FileTypeExt;
         let file = path.display().to_string();
-        let src = std::fs::read_to_string(path).map_err(|e| ScenarioError::Io { file: file.clone(), msg: e.to_string() })?;
+        let io = |source| ScenarioError::Io { file: file.clone(), source };
+        let meta = std::fs::metadata(path).map_err(io)?;
+        let ft = meta.file_type();
+        if !ft.is_file() {
+            let kind = if ft.is_dir() {
+                "a folder"
+            } else if ft.is_fifo() {
+                "a FIFO (named pipe)"
+            } else if ft.is_socket() {
+                "a socket"
+            } else if ft.is_char_device() || ft.is_block_device() {
+                "a device"
+            } else {
+                "not a regular file"
+            };
+            return Err(ScenarioError::NotAFile { file, kind });
+        }
+        if meta.len() > MAX_SCENARIO_BYTES {
+            return Err(ScenarioError::TooLarge { file, size: meta.len(), max: MAX_SCENARIO_BYTES });
+        }
+        let mut src = String::new();
+        // Read at most one byte past the limit: the file may have grown since `metadata`.
+        let f = std::fs::File::open(path).map_err(io)?;
+        f.take(MAX_SCENARIO_BYTES + 1).read_to_string(&mut src).map_err(io)?;
+        if src.len() as u64 > MAX_SCENARIO_BYTES {
+            return Err(ScenarioError::TooLarge { file, size: src.len() as u64, max: MAX_SCENARIO_BYTES });
+        }
         let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         Scenario::parse(&src, &file, &stem, path)
     }
@@ -475,7 +513,7 @@ impl Cx<'_> {
                 }
                 Action::Write { addr, name, value: v as u16 }
             };
-            events.push(Event { tick, action });
+            events.push(Event { tick, action, line: self.line_col(r.at.span().start).0 });
         }
 
         // ---- expect ----

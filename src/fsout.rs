@@ -1,0 +1,292 @@
+//! Atomic output files: nothing the CLI writes is ever lost or left half-written.
+//!
+//! Every output (`.vcd`, `.gtkw`, `.log`, vectors, random scenarios) is written to a temporary
+//! file `.<name>.<random>.tmp` in the folder of its final path, and renamed into place only when
+//! the whole run succeeded ([`Batch::commit`]). rename(2) replaces whatever is at the final path,
+//! a symlink included: the link itself is replaced, its target is never written.
+//!
+//! Interruptions:
+//! - an error (disk full, a refused write) drops the temporary files, the previous outputs stay;
+//! - SIGINT/SIGTERM ([`install_signal_cleanup`]): a thread removes every live temporary file and
+//!   exits 130/143; a batch being renamed into place finishes first (it holds the registry
+//!   lock), so the files of one run are either all old or all new;
+//! - SIGKILL cannot be caught: at most a stray `.*.tmp` file is left, never a damaged final file.
+
+use std::fs::Permissions;
+use std::io::{self, Write};
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
+
+/// Temporary files alive in this process, removed by the signal thread.
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn live() -> MutexGuard<'static, Vec<PathBuf>> {
+    LIVE.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+/// Errors writing output files.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("{}: cannot create the output folder: {source}", path.display())]
+    Folder { path: PathBuf, #[source] source: io::Error },
+    #[error("{}: cannot create a temporary file beside it: {source}", path.display())]
+    Create { path: PathBuf, #[source] source: io::Error },
+    #[error("{}: cannot write (the previous file is left as it was): {source}", path.display())]
+    Write { path: PathBuf, #[source] source: io::Error },
+    #[error("{}: cannot rename the complete file into place: {source}", path.display())]
+    Rename { path: PathBuf, #[source] source: io::Error },
+    #[error("{}: is a directory; an output file cannot replace it", path.display())]
+    IsDir { path: PathBuf },
+    #[error("{}: cannot remove the stale file: {source}", path.display())]
+    Remove { path: PathBuf, #[source] source: io::Error },
+}
+
+/// An output file being written: a temporary file beside `dest`.
+#[derive(Debug)]
+pub struct AtomicFile {
+    file: Option<tempfile::NamedTempFile>,
+    dest: PathBuf,
+    tmp: PathBuf,
+}
+
+impl AtomicFile {
+    /// Start writing `dest` (its folder must exist).
+    pub fn create(dest: &Path) -> Result<AtomicFile, OutputError> {
+        if dest.is_dir() {
+            return Err(OutputError::IsDir { path: dest.to_path_buf() });
+        }
+        let dir = match dest.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let base = dest.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let mut reg = live();
+        // 0o666 less the umask, like File::create; the registry lock is held while the file is
+        // created so that a signal cannot slip between creation and registration.
+        let file = tempfile::Builder::new()
+            .prefix(&format!(".{base}."))
+            .suffix(".tmp")
+            .permissions(Permissions::from_mode(0o666))
+            .tempfile_in(&dir)
+            .map_err(|source| OutputError::Create { path: dest.to_path_buf(), source })?;
+        let tmp = file.path().to_path_buf();
+        reg.push(tmp.clone());
+        Ok(AtomicFile { file: Some(file), dest: dest.to_path_buf(), tmp })
+    }
+
+    /// The final path.
+    pub fn dest(&self) -> &Path {
+        &self.dest
+    }
+
+    /// The temporary path (for tests and messages).
+    pub fn temp_path(&self) -> &Path {
+        &self.tmp
+    }
+
+    fn inner(&mut self) -> io::Result<&mut tempfile::NamedTempFile> {
+        self.file.as_mut().ok_or_else(|| io::Error::other("output file already committed"))
+    }
+
+    /// Flush to disk and rename into place; the caller holds the registry lock.
+    fn persist(mut self, reg: &mut Vec<PathBuf>) -> Result<(), OutputError> {
+        let dest = self.dest.clone();
+        let file = self.file.take().ok_or_else(|| OutputError::Write { path: dest.clone(), source: io::Error::other("output file already committed") })?;
+        file.as_file().sync_data().map_err(|source| OutputError::Write { path: dest.clone(), source })?;
+        if dest.is_dir() {
+            return Err(OutputError::IsDir { path: dest });
+        }
+        match file.persist(&dest) {
+            Ok(_) => {
+                reg.retain(|p| p != &self.tmp);
+                Ok(())
+            }
+            // The returned temp file is dropped (deleted) here.
+            Err(e) => Err(OutputError::Rename { path: dest, source: e.error }),
+        }
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.inner()?.write(buf)
+    }
+    fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
+        self.inner()?.write_all(buf)
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.inner()?.flush()
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if self.file.is_some() {
+            let mut reg = live();
+            // NamedTempFile removes the file when dropped.
+            self.file = None;
+            reg.retain(|p| p != &self.tmp);
+        }
+    }
+}
+
+/// Write a whole small file atomically (e.g. a `.gtkw` or a random scenario).
+pub fn write_atomic(dest: &Path, bytes: &[u8]) -> Result<AtomicFile, OutputError> {
+    let mut f = AtomicFile::create(dest)?;
+    f.write_all(bytes).map_err(|source| OutputError::Write { path: dest.to_path_buf(), source })?;
+    Ok(f)
+}
+
+/// The files of one run, renamed into place together, in the order they were added (the
+/// `.gtkw` last), and stale files to remove at the same moment.
+#[derive(Debug, Default)]
+pub struct Batch {
+    files: Vec<AtomicFile>,
+    last: Option<AtomicFile>,
+    stale: Vec<PathBuf>,
+}
+
+impl Batch {
+    pub fn new() -> Batch {
+        Batch::default()
+    }
+
+    pub fn add(&mut self, f: AtomicFile) {
+        self.files.push(f);
+    }
+
+    /// The file renamed last (the `.gtkw`, so that it never points at a file not yet in place).
+    pub fn set_last(&mut self, f: AtomicFile) {
+        self.last = Some(f);
+    }
+
+    /// Remove `path` when the batch is committed (when it exists).
+    pub fn remove_stale(&mut self, path: PathBuf) {
+        self.stale.push(path);
+    }
+
+    /// Final paths of the files in this batch.
+    pub fn paths(&self) -> Vec<PathBuf> {
+        self.files.iter().chain(&self.last).map(|f| f.dest.clone()).collect()
+    }
+
+    /// Rename every file into place. A signal arriving meanwhile waits until all are renamed.
+    pub fn commit(self) -> Result<(), OutputError> {
+        let mut reg = live();
+        let Batch { files, last, stale } = self;
+        for f in files.into_iter().chain(last) {
+            f.persist(&mut reg)?;
+        }
+        for p in stale {
+            match std::fs::remove_file(&p) {
+                Ok(()) => {}
+                Err(e) if e.kind() == io::ErrorKind::NotFound => {}
+                Err(source) => return Err(OutputError::Remove { path: p, source }),
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Create `dir` (and parents) for outputs.
+pub fn create_dir(dir: &Path) -> Result<(), OutputError> {
+    std::fs::create_dir_all(dir).map_err(|source| OutputError::Folder { path: dir.to_path_buf(), source })
+}
+
+/// Remove every live temporary file (signal thread; also usable before an emergency exit).
+pub fn remove_temporaries() {
+    let mut reg = live();
+    for p in reg.drain(..) {
+        let _ = std::fs::remove_file(&p);
+    }
+    // Keep the lock until the process exits so that no new temporary file appears.
+    std::mem::forget(reg);
+}
+
+/// On SIGINT or SIGTERM: remove the temporary files and exit 130 or 143 (128 + signal number).
+pub fn install_signal_cleanup() -> Result<(), io::Error> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM])?;
+    std::thread::Builder::new().name("signal-cleanup".into()).spawn(move || {
+        if let Some(sig) = signals.forever().next() {
+            remove_temporaries();
+            std::process::exit(128 + sig);
+        }
+    })?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dir(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("pmu50-fsout-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn names(d: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn nothing_appears_until_commit_and_drop_leaves_the_old_file() {
+        let d = dir("drop");
+        let p = d.join("a.vcd");
+        std::fs::write(&p, "old").unwrap();
+        {
+            let mut f = AtomicFile::create(&p).unwrap();
+            f.write_all(b"new, half").unwrap();
+            assert_eq!(std::fs::read_to_string(&p).unwrap(), "old");
+            assert_eq!(names(&d).len(), 2, "the temporary file is beside it");
+        }
+        assert_eq!(names(&d), ["a.vcd"]);
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "old");
+        assert!(live().is_empty());
+        std::fs::remove_dir_all(&d).ok();
+    }
+
+    #[test]
+    fn commit_replaces_a_symlink_and_leaves_its_target_alone() {
+        let d = dir("link");
+        let target = d.join("precious.txt");
+        std::fs::write(&target, "keep me").unwrap();
+        let p = d.join("a.gtkw");
+        std::os::unix::fs::symlink(&target, &p).unwrap();
+        let mut b = Batch::new();
+        b.add(write_atomic(&p, b"save file").unwrap());
+        b.remove_stale(d.join("a.log"));
+        b.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep me");
+        assert!(!std::fs::symlink_metadata(&p).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "save file");
+        assert_eq!(names(&d), ["a.gtkw", "precious.txt"]);
+        std::fs::remove_dir_all(&d).ok();
+    }
+
+    #[test]
+    fn a_directory_at_the_output_path_is_an_error() {
+        let d = dir("isdir");
+        std::fs::create_dir(d.join("a.vcd")).unwrap();
+        assert!(matches!(AtomicFile::create(&d.join("a.vcd")), Err(OutputError::IsDir { .. })));
+        std::fs::remove_dir_all(&d).ok();
+    }
+
+    #[test]
+    fn stale_files_are_removed_on_commit() {
+        let d = dir("stale");
+        std::fs::write(d.join("a.log"), "old log").unwrap();
+        let mut b = Batch::new();
+        b.add(write_atomic(&d.join("a.vcd"), b"vcd").unwrap());
+        b.remove_stale(d.join("a.log"));
+        assert!(d.join("a.log").exists());
+        b.commit().unwrap();
+        assert_eq!(names(&d), ["a.vcd"]);
+        std::fs::remove_dir_all(&d).ok();
+    }
+}
