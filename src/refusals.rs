@@ -26,7 +26,7 @@ impl std::fmt::Display for RefusedWrite {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let why = match &self.reason {
             WriteRefusal::KeyOff => "the chip's synchronised key signal sig is still 0 at this tick (the MPU is not powered, [0205]); \
-                write after sig has risen, i.e. more than sync_depth ticks after `ig = true`"
+                `ig` passes through sync_depth flip-flops first, so write a few ticks after `ig = true`"
                 .to_string(),
             WriteRefusal::NotWritable => "the register is not writable".to_string(),
             WriteRefusal::Illegal(e) => format!("the parameter set would become illegal: {e}"),

@@ -98,8 +98,8 @@ struct Raw {
 #[serde(deny_unknown_fields)]
 struct RawCore {
     clock: Option<Spanned<String>>,
-    sync_depth: Option<Spanned<u8>>,
-    cnt_width: Option<Spanned<u8>>,
+    sync_depth: Option<Spanned<i64>>,
+    cnt_width: Option<Spanned<i64>>,
     adaptive: Option<Spanned<bool>>,
     pw: Option<Spanned<String>>,
     pi: Option<Spanned<String>>,
@@ -108,20 +108,17 @@ struct RawCore {
     min: Option<Spanned<String>>,
     t1: Option<Spanned<String>>,
     t2: Option<Spanned<String>>,
-    cth: Option<Spanned<u32>>,
+    cth: Option<Spanned<i64>>,
     smp_on: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawEnv {
-    #[serde(default = "vcc1")]
-    vcc1_v: f64,
-    #[serde(default = "vcc2")]
-    vcc2_v: f64,
+    vcc1_v: Option<Spanned<f64>>,
+    vcc2_v: Option<Spanned<f64>>,
     mpu_boot: Option<Spanned<String>>,
-    #[serde(default)]
-    theta_t_deg: f64,
+    theta_t_deg: Option<Spanned<f64>>,
     sensor2: Option<Spanned<Sensor2Config>>,
     comparator: Option<Spanned<ComparatorConfig>>,
     sensor1: Option<Spanned<Sensor1Config>>,
@@ -129,27 +126,33 @@ struct RawEnv {
     dark_current: Option<Spanned<DarkCurrentConfig>>,
 }
 
-fn vcc1() -> f64 {
-    5.0
-}
-fn vcc2() -> f64 {
-    3.3
-}
-
 impl Default for RawEnv {
     fn default() -> Self {
-        RawEnv {
-            vcc1_v: vcc1(),
-            vcc2_v: vcc2(),
-            mpu_boot: None,
-            theta_t_deg: 0.0,
-            sensor2: None,
-            comparator: None,
-            sensor1: None,
-            readout: None,
-            dark_current: None,
-        }
+        RawEnv { vcc1_v: None, vcc2_v: None, mpu_boot: None, theta_t_deg: None, sensor2: None, comparator: None, sensor1: None, readout: None, dark_current: None }
     }
+}
+
+/// serde's words for a wrong type, in the scenario's terms (no Rust type or struct names).
+fn humanize(msg: &str) -> String {
+    if msg.contains("expected struct ") {
+        // `core = []`, `env = 3`, ...: serde names the Rust struct.
+        let got = msg.split(',').next().unwrap_or(msg).trim();
+        let got = got.strip_prefix("invalid type: ").or_else(|| got.strip_prefix("invalid length ").map(|_| "an array")).unwrap_or(got);
+        return format!("expected a table (a `[section]` of `key = value` lines, or `{{ key = value, ... }}`), got {got}");
+    }
+    let mut m = msg.to_string();
+    for (rust, words) in [
+        ("expected u8", "expected a whole number from 0 to 255"),
+        ("expected u16", "expected a whole number from 0 to 65535"),
+        ("expected u32", "expected a whole number from 0 to 4294967295"),
+        ("expected i64", "expected a whole number"),
+        ("expected f64", "expected a number"),
+        ("expected a sequence", "expected an array `[...]`"),
+        ("expected a boolean", "expected true or false"),
+    ] {
+        m = m.replace(rust, words);
+    }
+    m
 }
 
 #[derive(Deserialize)]
@@ -309,7 +312,7 @@ impl Scenario {
         let cx = Cx { src, file };
         let raw: Raw = toml::from_str(src).map_err(|e| {
             let (line, col) = e.span().map(|s| cx.line_col(s.start)).unwrap_or((1, 1));
-            ScenarioError::Syntax { file: file.to_string(), line, col, msg: e.message().trim().to_string() }
+            ScenarioError::Syntax { file: file.to_string(), line, col, msg: humanize(e.message().trim()) }
         })?;
         cx.build(raw, stem, path)
     }
@@ -330,6 +333,35 @@ impl Cx<'_> {
 
     fn err(&self, span: Range<usize>, field: &str, msg: impl Into<String>) -> ScenarioError {
         ScenarioError::Invalid { file: self.file.to_string(), line: self.line_col(span.start).0, field: field.to_string(), msg: msg.into() }
+    }
+
+    /// Offset of `field = ` inside the table that starts at `from` (up to the next `[` header),
+    /// to place an error about one field of a table on its own line.
+    fn field_offset(&self, from: usize, field: &str) -> Option<usize> {
+        let from = from.min(self.src.len());
+        let rest = &self.src[from..];
+        let end = rest[1.min(rest.len())..].find("\n[").map_or(rest.len(), |i| i + 1);
+        let body = &rest[..end];
+        let mut at = 0;
+        while let Some(i) = body[at..].find(field) {
+            let k = at + i;
+            let before = body[..k].chars().next_back();
+            let after = body[k + field.len()..].trim_start();
+            if before.is_none_or(|c| c.is_whitespace() || c == '{' || c == ',') && after.starts_with('=') {
+                return Some(from + k);
+            }
+            at = k + field.len();
+        }
+        None
+    }
+
+    /// An integer field of `[core]` within `lo..=hi`, said in words.
+    fn int(&self, v: &Spanned<i64>, field: &str, lo: i64, hi: i64, what: &str) -> Result<i64, ScenarioError> {
+        let x = *v.get_ref();
+        if x < lo || x > hi {
+            return Err(self.err(v.span(), field, format!("{x} is out of range; valid is {what} from {lo} to {hi}")));
+        }
+        Ok(x)
     }
 
     fn dur(&self, s: &Spanned<String>, field: &str) -> Result<Dur, ScenarioError> {
@@ -372,7 +404,7 @@ impl Cx<'_> {
         dur_field!(t2, "t2");
         dur_field!(smp_on, "smp_on");
         if let Some(v) = &rc.cth {
-            core.cth = *v.get_ref();
+            core.cth = self.int(v, "core.cth", 1, 255, "a whole number of quiet pulses")? as u32;
             spans.push(("cth", v.span()));
         }
         if let Some(v) = &rc.adaptive {
@@ -380,11 +412,11 @@ impl Cx<'_> {
             spans.push(("adaptive", v.span()));
         }
         if let Some(v) = &rc.sync_depth {
-            core.sync_depth = *v.get_ref();
+            core.sync_depth = self.int(v, "core.sync_depth", 1, 4, "a whole number of flip-flops")? as u8;
             spans.push(("sync_depth", v.span()));
         }
         if let Some(v) = &rc.cnt_width {
-            core.cnt_width = *v.get_ref();
+            core.cnt_width = self.int(v, "core.cnt_width", 2, 16, "a whole number of bits")? as u8;
             spans.push(("cnt_width", v.span()));
         }
         let params = core.to_params().map_err(|e| {
@@ -407,11 +439,16 @@ impl Cx<'_> {
 
         // ---- env ----
         let e = raw.env;
-        for (v, f) in [(e.vcc1_v, "env.vcc1_v"), (e.vcc2_v, "env.vcc2_v")] {
-            if !(v.is_finite() && v > 0.0 && v <= 40.0) {
-                return Err(ScenarioError::Invalid { file: self.file.into(), line: 1, field: f.into(), msg: format!("{v} V is not a supply voltage; valid is 0 < V <= 40") });
+        let volts = |v: &Option<Spanned<f64>>, f: &str, default: f64| -> Result<f64, ScenarioError> {
+            let Some(v) = v else { return Ok(default) };
+            let x = *v.get_ref();
+            if !(x.is_finite() && x > 0.0 && x <= 40.0) {
+                return Err(self.err(v.span(), f, format!("{x} V is not a supply voltage; valid is 0 < V <= 40")));
             }
-        }
+            Ok(x)
+        };
+        let vcc1_v = volts(&e.vcc1_v, "env.vcc1_v", 5.0)?;
+        let vcc2_v = volts(&e.vcc2_v, "env.vcc2_v", 3.3)?;
         let mpu_boot_ticks = match &e.mpu_boot {
             Some(s) => self.ticks(s, "env.mpu_boot", clock, true)?,
             None => Dur::ms(1).0.div_ceil(clock.0),
@@ -423,7 +460,15 @@ impl Cx<'_> {
                         let span = s.span();
                         let v = s.into_inner();
                         #[allow(clippy::redundant_closure_call)]
-                        ($check)(v.clone()).map_err(|er: pmu50_env::EnvError| self.err(span, $name, er.to_string()))?;
+                        ($check)(v.clone()).map_err(|er: pmu50_env::EnvError| {
+                            // Point at the line of the field the model names, when it is written.
+                            let msg = er.to_string();
+                            let field = msg.split_once("field `").and_then(|(_, r)| r.split_once('`')).map(|(f, _)| f.to_string());
+                            match field.as_deref().and_then(|f| self.field_offset(span.start, f)) {
+                                Some(at) => self.err(at..at, &format!("{}.{}", $name, field.unwrap_or_default()), msg),
+                                None => self.err(span, $name, msg),
+                            }
+                        })?;
                         v
                     }
                     None => Default::default(),
@@ -435,10 +480,17 @@ impl Cx<'_> {
         let sensor1: Sensor1Config = sub!(e.sensor1, "env.sensor1", |c| Sensor1::new(c).map(|_| ()).map_err(Into::into));
         let readout: ReadoutConfig = sub!(e.readout, "env.readout", |c| Readout::new(c).map(|_| ()).map_err(Into::into));
         let dark_current: DarkCurrentConfig = sub!(e.dark_current, "env.dark_current", |c| DarkCurrentMeter::new(c).map(|_| ()).map_err(Into::into));
-        if !e.theta_t_deg.is_finite() || e.theta_t_deg.abs() > 90.0 {
-            return Err(ScenarioError::Invalid { file: self.file.into(), line: 1, field: "env.theta_t_deg".into(), msg: format!("{} deg is not a torsion angle; valid is -90..=90", e.theta_t_deg) });
-        }
-        let env = EnvSpec { vcc1_v: e.vcc1_v, vcc2_v: e.vcc2_v, mpu_boot_ticks, theta_t_deg: e.theta_t_deg, sensor2, comparator, sensor1, readout, dark_current };
+        let theta_t_deg = match &e.theta_t_deg {
+            None => 0.0,
+            Some(v) => {
+                let x = *v.get_ref();
+                if !x.is_finite() || x.abs() > 90.0 {
+                    return Err(self.err(v.span(), "env.theta_t_deg", format!("{x} deg is not a torsion angle; valid is -90 to 90 degrees")));
+                }
+                x
+            }
+        };
+        let env = EnvSpec { vcc1_v, vcc2_v, mpu_boot_ticks, theta_t_deg, sensor2, comparator, sensor1, readout, dark_current };
 
         // ---- motor ----
         let motor = match raw.motor {
@@ -472,6 +524,8 @@ impl Cx<'_> {
         let mut events = Vec::new();
         let mut last_tick = 0u64;
         let mut ig = false;
+        // (tick, line) of the last write: the bus takes one write per tick.
+        let mut last_write: Option<(u64, usize)> = None;
         for (k, ev) in raw.events.iter().enumerate() {
             let field = format!("events[{k}]");
             let r = ev.get_ref();
@@ -493,6 +547,7 @@ impl Cx<'_> {
             } else if let Some(v) = r.vs2_fault {
                 Action::Vs2Fault(v)
             } else {
+                let w_span = r.write.as_ref().map_or(r.at.span(), |w| w.span());
                 let w = r.write.as_ref().map(|w| w.get_ref()).ok_or_else(|| self.err(ev.span(), &field, "missing action"))?;
                 let name = w.reg.get_ref().to_ascii_uppercase();
                 let Some(&(_, addr, width, access)) = MAP.iter().find(|(n, ..)| *n == name) else {
@@ -511,9 +566,20 @@ impl Cx<'_> {
                 if !ig {
                     return Err(self.err(r.at.span(), &format!("{field}.write"), "the key is off at this time: the MPU is not powered and cannot write ([0205]); turn ig on first"));
                 }
+                let line = self.line_col(w_span.start).0;
+                if let Some((t, l)) = last_write.filter(|(t, _)| *t == tick) {
+                    return Err(self.err(
+                        w_span,
+                        &format!("{field}.write"),
+                        format!("a second write at {} (the write of line {l} is at the same time); the bus takes one write per clock tick, so only the last would happen; move it at least one tick ({clock}) later", Dur(t * clock.0)),
+                    ));
+                }
+                last_write = Some((tick, line));
                 Action::Write { addr, name, value: v as u16 }
             };
-            events.push(Event { tick, action, line: self.line_col(r.at.span().start).0 });
+            // Messages point at the action's line (`write = ...`), else at `at`.
+            let line = self.line_col(r.write.as_ref().map_or(r.at.span().start, |w| w.span().start)).0;
+            events.push(Event { tick, action, line });
         }
 
         // ---- expect ----
@@ -548,6 +614,9 @@ impl Cx<'_> {
                 let b = self.ticks(&list[1], "vcd.window[1]", clock, true)?;
                 if b <= a {
                     return Err(self.err(list[1].span(), "vcd.window[1]", "the window ends before it starts"));
+                }
+                if b > ticks {
+                    return Err(self.err(list[1].span(), "vcd.window[1]", format!("the window ends at {}, after the end of the run (duration = {}); valid is a window within 0 to {}", Dur(b * clock.0), Dur(ticks * clock.0), Dur(ticks * clock.0))));
                 }
                 Some((a, b))
             }
