@@ -337,14 +337,17 @@ impl GtkwSave {
         Ok(self)
     }
 
-    /// Set `[timestart]` to `start` and an integer zoom that fits
-    /// `[start, end]` into the wave pane of the configured window width.
+    /// Set `[timestart]` to `start` and the zoom that shows `[start, end]` across the wave pane
+    /// of the configured window width. GTKWave shows 2^-zoom / 200 time units per pixel (its
+    /// "zoom best fit" sets zoom = -log2(span / pane · 200)); the pane is taken as the window
+    /// width less 600 pixels for the signal tree and the name column, so the span fits with a
+    /// small margin.
     pub fn fit(&mut self, start: u64, end: u64) -> &mut Self {
         self.timestart = start;
-        // wave pane ≈ window width minus the signal tree and name columns
-        let pane = f64::from(self.size.0.saturating_sub(400).max(100));
+        let pane = f64::from(self.size.0.saturating_sub(600).max(100));
         let span = end.saturating_sub(start).max(1) as f64;
-        self.zoom = -(span / pane).log2().ceil();
+        // Rounded down to the 6 decimals written, so that the whole span stays visible.
+        self.zoom = (-(span * 200.0 / pane).log2() * 1e6).floor() / 1e6;
         if self.zoom == 0.0 {
             self.zoom = 0.0; // no "-0"
         }
