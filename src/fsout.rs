@@ -89,22 +89,24 @@ impl AtomicFile {
         self.file.as_mut().ok_or_else(|| io::Error::other("output file already committed"))
     }
 
-    /// Flush to disk and rename into place; the caller holds the registry lock.
+    /// Flush to disk and rename into place; the caller holds the registry lock (so this never
+    /// locks it: on every path the temporary file is taken out before `self` is dropped).
     fn persist(mut self, reg: &mut Vec<PathBuf>) -> Result<(), OutputError> {
         let dest = self.dest.clone();
+        reg.retain(|p| p != &self.tmp);
         let file = self.file.take().ok_or_else(|| OutputError::Write { path: dest.clone(), source: io::Error::other("output file already committed") })?;
+        // On an error the temporary file is dropped (deleted) on return.
         file.as_file().sync_data().map_err(|source| OutputError::Write { path: dest.clone(), source })?;
         if dest.is_dir() {
             return Err(OutputError::IsDir { path: dest });
         }
-        match file.persist(&dest) {
-            Ok(_) => {
-                reg.retain(|p| p != &self.tmp);
-                Ok(())
-            }
-            // The returned temp file is dropped (deleted) here.
-            Err(e) => Err(OutputError::Rename { path: dest, source: e.error }),
-        }
+        file.persist(&dest).map(|_| ()).map_err(|e| OutputError::Rename { path: dest, source: e.error })
+    }
+
+    /// Delete the temporary file; the caller holds the registry lock.
+    fn discard(mut self, reg: &mut Vec<PathBuf>) {
+        reg.retain(|p| p != &self.tmp);
+        self.file = None;
     }
 }
 
@@ -175,9 +177,16 @@ impl Batch {
     pub fn commit(self) -> Result<(), OutputError> {
         let mut reg = live();
         let Batch { files, last, stale } = self;
+        let mut result = Ok(());
         for f in files.into_iter().chain(last) {
-            f.persist(&mut reg)?;
+            if result.is_ok() {
+                result = f.persist(&mut reg);
+            } else {
+                // A file failed: the ones after it (the `.gtkw` among them) stay as they were.
+                f.discard(&mut reg);
+            }
         }
+        result?;
         for p in stale {
             match std::fs::remove_file(&p) {
                 Ok(()) => {}
@@ -274,6 +283,20 @@ mod tests {
         let d = dir("isdir");
         std::fs::create_dir(d.join("a.vcd")).unwrap();
         assert!(matches!(AtomicFile::create(&d.join("a.vcd")), Err(OutputError::IsDir { .. })));
+        std::fs::remove_dir_all(&d).ok();
+    }
+
+    #[test]
+    fn a_failed_rename_discards_the_rest_of_the_batch() {
+        let d = dir("fail");
+        std::fs::write(d.join("b.gtkw"), "old save file").unwrap();
+        let mut b = Batch::new();
+        b.add(write_atomic(&d.join("a.vcd"), b"vcd").unwrap());
+        b.set_last(write_atomic(&d.join("b.gtkw"), b"new save file").unwrap());
+        std::fs::create_dir(d.join("a.vcd")).unwrap();
+        assert!(matches!(b.commit(), Err(OutputError::IsDir { .. })));
+        assert_eq!(names(&d), ["a.vcd", "b.gtkw"]);
+        assert_eq!(std::fs::read_to_string(d.join("b.gtkw")).unwrap(), "old save file");
         std::fs::remove_dir_all(&d).ok();
     }
 

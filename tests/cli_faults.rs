@@ -248,11 +248,14 @@ fn the_save_file_opens_on_the_whole_run_with_named_markers() {
     let d = tmp("gtkw");
     expect(&pmu50(&["run", "scenarios/fig16.toml", "--out-dir", s(&d)]), 0, &[]);
     let g = std::fs::read_to_string(d.join("fig16.gtkw")).unwrap();
-    // 110 ms = 110000 us in a pane of about 1000 px: 2^7 = 128 us per pixel, zoom -7.
+    // 110 ms = 110000 us in GTKWave's wave pane (about 800 px of the 1400 px window); GTKWave
+    // shows 2^-zoom / 200 us per pixel.
     assert!(g.contains("[timestart] 0\n"), "{g}");
     let star = g.lines().find(|l| l.starts_with('*')).unwrap();
     let f: Vec<&str> = star.split(' ').collect();
-    assert_eq!(f[0], "*-7.000000", "{star}");
+    assert_eq!(f[0], "*-14.747144", "{star}");
+    let us_per_px = 2f64.powf(14.747144) / 200.0;
+    assert!((110_000.0..110_100.0).contains(&(us_per_px * 800.0)), "{us_per_px}");
     assert_eq!(f.len(), 2 + 26);
     // FIG. 16: Cs then Cc rotation (each with its shortening), then the climb 3.3 .. 6.6 ms.
     let names: Vec<&str> = g.lines().filter_map(|l| l.strip_prefix("[markername] ")).collect();
@@ -270,5 +273,31 @@ fn a_windowed_save_file_opens_on_the_window_with_its_markers_only() {
     assert!(g.contains("[timestart] 30000\n"), "{g}");
     let names: Vec<&str> = g.lines().filter_map(|l| l.strip_prefix("[markername] ")).collect();
     assert_eq!(names, ["Arotation cc, si 2.2 ms"], "{g}");
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn vectors_and_random_outputs_are_atomic_too() {
+    let d = tmp("vecatomic");
+    let vec = d.join("f.vec");
+    std::fs::write(&vec, "previous vectors\n").unwrap();
+    // The VCD folder is a file: the run fails after the vectors were written to their temporary
+    // file; the previous vector file stays and no temporary file is left.
+    let blocker = d.join("not_a_dir");
+    std::fs::write(&blocker, "x").unwrap();
+    let o = pmu50(&["vectors", "scenarios/fig15a.toml", "-o", s(&vec), "--vcd-dir", s(&blocker)]);
+    expect(&o, 2, &["not_a_dir: cannot create the output folder"]);
+    assert_eq!(std::fs::read_to_string(&vec).unwrap(), "previous vectors\n");
+    assert_eq!(names(&d), ["f.vec", "not_a_dir"]);
+    // A symlink at the output of `random` is replaced, its target untouched.
+    let target = d.join("target.txt");
+    std::fs::write(&target, "keep").unwrap();
+    let link = d.join("r.toml");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    expect(&pmu50(&["random", "--seed", "3", "-o", s(&link)]), 0, &[]);
+    assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep");
+    assert!(std::fs::read_to_string(&link).unwrap().contains("random_3"));
+    // An output folder that does not exist is an error naming it, exit 2.
+    expect(&pmu50(&["random", "--seed", "3", "-o", s(&d.join("no/such/r.toml"))]), 2, &["no/such/r.toml: cannot create a temporary file beside it"]);
     std::fs::remove_dir_all(&d).ok();
 }
