@@ -112,7 +112,7 @@ struct RawCore {
     smp_on: Option<Spanned<String>>,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct RawEnv {
     vcc1_v: Option<Spanned<f64>>,
@@ -124,12 +124,6 @@ struct RawEnv {
     sensor1: Option<Spanned<Sensor1Config>>,
     readout: Option<Spanned<ReadoutConfig>>,
     dark_current: Option<Spanned<DarkCurrentConfig>>,
-}
-
-impl Default for RawEnv {
-    fn default() -> Self {
-        RawEnv { vcc1_v: None, vcc2_v: None, mpu_boot: None, theta_t_deg: None, sensor2: None, comparator: None, sensor1: None, readout: None, dark_current: None }
-    }
 }
 
 /// serde's words for a wrong type, in the scenario's terms (no Rust type or struct names).
