@@ -43,6 +43,8 @@ pub enum RunError {
     Output(#[from] OutputError),
     #[error("{}: save file: {source}", path.display())]
     Gtkw { path: PathBuf, #[source] source: pmu50_waves::gtkw::GtkwError },
+    #[error("{}: the {what} was not finished by the run (internal error)", path.display())]
+    Unfinished { path: PathBuf, what: &'static str },
 }
 
 /// The files a run writes, for `dir` and scenario `name` (to detect two scenarios writing the
@@ -98,7 +100,7 @@ pub fn run_to_batch(sc: &Scenario, dir: &Path, fo: FileOptions, extra: &mut [&mu
     let gtkw_path = dir.join(format!("{}.gtkw", sc.name));
     let mut batch = Batch::new();
     let (vcd_file, gtkw) = vcd.into_outputs();
-    let missing = |what: &str| SimError::Observer(format!("{}: the {what} was not finished", vcd_path.display()));
+    let missing = |what| RunError::Unfinished { path: vcd_path.clone(), what };
     batch.add(vcd_file.ok_or_else(|| missing("VCD"))?);
     match log {
         Some(l) => batch.add(l.into_inner().into_inner().map_err(|e| OutputError::Write { path: log_path.clone(), source: e.into_error() })?),

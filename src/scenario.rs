@@ -71,6 +71,22 @@ pub enum ScenarioError {
     Syntax { file: String, line: usize, col: usize, msg: String },
     #[error("{file}:{line}: `{field}`: {msg}")]
     Invalid { file: String, line: usize, field: String, msg: String },
+    /// A value the core's or an environment model's own validation refused.
+    #[error("{file}:{line}: `{field}`: {source}")]
+    Model { file: String, line: usize, field: String, #[source] source: ModelError },
+}
+
+/// The typed error of the model that refused a scenario value.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelError {
+    #[error(transparent)]
+    Duration(#[from] pmu50_core::config::DurParseError),
+    #[error(transparent)]
+    Core(#[from] pmu50_core::ConfigError),
+    #[error(transparent)]
+    Env(#[from] pmu50_env::EnvError),
+    #[error(transparent)]
+    Motor(#[from] pmu50_env::MotorError),
 }
 
 // ---------------------------------------------------------------- raw (as written) ----
@@ -358,8 +374,12 @@ impl Cx<'_> {
         Ok(x)
     }
 
+    fn model(&self, span: Range<usize>, field: &str, source: impl Into<ModelError>) -> ScenarioError {
+        ScenarioError::Model { file: self.file.to_string(), line: self.line_col(span.start).0, field: field.to_string(), source: source.into() }
+    }
+
     fn dur(&self, s: &Spanned<String>, field: &str) -> Result<Dur, ScenarioError> {
-        Dur::parse(s.get_ref()).map_err(|e| self.err(s.span(), field, e.to_string()))
+        Dur::parse(s.get_ref()).map_err(|e| self.model(s.span(), field, e))
     }
 
     /// A duration that must be a whole, positive number of ticks... or zero when `allow_zero`.
@@ -417,7 +437,7 @@ impl Cx<'_> {
             // Point at the involved field written last in the file (the one most likely edited).
             let named = spans.iter().filter(|(n, _)| e.fields().contains(n)).max_by_key(|(_, sp)| sp.start);
             match named {
-                Some((n, span)) => self.err(span.clone(), &format!("core.{n}"), e.to_string()),
+                Some((n, span)) => self.model(span.clone(), &format!("core.{n}"), e),
                 None => ScenarioError::Invalid {
                     file: self.file.to_string(),
                     line: 1,
@@ -459,8 +479,8 @@ impl Cx<'_> {
                             let msg = er.to_string();
                             let field = msg.split_once("field `").and_then(|(_, r)| r.split_once('`')).map(|(f, _)| f.to_string());
                             match field.as_deref().and_then(|f| self.field_offset(span.start, f)) {
-                                Some(at) => self.err(at..at, &format!("{}.{}", $name, field.unwrap_or_default()), msg),
-                                None => self.err(span, $name, msg),
+                                Some(at) => self.model(at..at, &format!("{}.{}", $name, field.unwrap_or_default()), er),
+                                None => self.model(span, $name, er),
                             }
                         })?;
                         v
@@ -510,7 +530,7 @@ impl Cx<'_> {
                     };
                     segs.push(seg);
                 }
-                MotorProfile::new(m.start_deg, segs).map_err(|er| self.err(mspan, "motor", er.to_string()))?
+                MotorProfile::new(m.start_deg, segs).map_err(|er| self.model(mspan, "motor", er))?
             }
         };
 

@@ -141,3 +141,23 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn model_errors_keep_their_typed_source() {
+    use pmu50::scenario::ModelError;
+    use std::error::Error;
+    let cases: [(&str, fn(&ModelError) -> bool); 4] = [
+        ("duration = \"10 ms\"\n[core]\nt2 = \"-1.1 ms\"", |m| matches!(m, ModelError::Duration(_))),
+        ("duration = \"10 ms\"\n[core]\npi = \"3 ms\"", |m| matches!(m, ModelError::Core(_))),
+        ("duration = \"10 ms\"\n[env.comparator]\nvr_err_s = 1.5", |m| matches!(m, ModelError::Env(_))),
+        ("duration = \"10 ms\"\n[motor]\nstart_deg = nan", |m| matches!(m, ModelError::Motor(_))),
+    ];
+    for (text, kind) in cases {
+        let e = Scenario::parse(text, "bad.toml", "bad", Path::new("bad.toml")).unwrap_err();
+        match &e {
+            ScenarioError::Model { source, .. } => assert!(kind(source), "{text}: {source:?}"),
+            other => panic!("{text}: expected a model error, got {other:?}"),
+        }
+        assert!(e.source().is_some(), "{text}");
+    }
+}
