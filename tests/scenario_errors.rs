@@ -146,7 +146,8 @@ proptest! {
 fn model_errors_keep_their_typed_source() {
     use pmu50::scenario::ModelError;
     use std::error::Error;
-    let cases: [(&str, fn(&ModelError) -> bool); 4] = [
+    type IsKind = fn(&ModelError) -> bool;
+    let cases: [(&str, IsKind); 4] = [
         ("duration = \"10 ms\"\n[core]\nt2 = \"-1.1 ms\"", |m| matches!(m, ModelError::Duration(_))),
         ("duration = \"10 ms\"\n[core]\npi = \"3 ms\"", |m| matches!(m, ModelError::Core(_))),
         ("duration = \"10 ms\"\n[env.comparator]\nvr_err_s = 1.5", |m| matches!(m, ModelError::Env(_))),
