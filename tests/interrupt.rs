@@ -89,9 +89,10 @@ fn start_long(long: &Path, out: &Path, extra: Duration, ctx: &str) -> Child {
     child
 }
 
+/// The shell's `kill` builtin (a fresh Debian has no /usr/bin/kill without procps).
 fn kill(pid: u32, sig: &str) {
-    let st = Command::new("kill").args([&format!("-{sig}"), &pid.to_string()]).status().unwrap();
-    assert!(st.success(), "kill -{sig} {pid} failed");
+    let st = Command::new("sh").args(["-c", &format!("kill -s {sig} {pid}")]).status().unwrap();
+    assert!(st.success(), "kill -s {sig} {pid} failed");
 }
 
 fn interrupt(sig: &str, want_code: Option<i32>, rounds: usize) {
