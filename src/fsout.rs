@@ -1,7 +1,7 @@
 //! Atomic output files: nothing the CLI writes is ever lost or left half-written.
 //!
 //! Every output (`.vcd`, `.gtkw`, `.log`, vectors, random scenarios) is written to a temporary
-//! file `.<name>.<random>.tmp` in the folder of its final path, and renamed into place only when
+//! file `.<name>.<pid>.<random>.tmp` in the folder of its final path, and renamed into place only when
 //! the whole run succeeded ([`Batch::commit`]). rename(2) replaces whatever is at the final path,
 //! a symlink included: the link itself is replaced, its target is never written.
 //!
@@ -10,7 +10,8 @@
 //! - SIGINT/SIGTERM ([`install_signal_cleanup`]): a thread removes every live temporary file and
 //!   exits 130/143; a batch being renamed into place finishes first (it holds the registry
 //!   lock), so the files of one run are either all old or all new;
-//! - SIGKILL cannot be caught: at most a stray `.*.tmp` file is left, never a damaged final file.
+//! - SIGKILL cannot be caught: at most a stray `.*.tmp` file is left, never a damaged final file;
+//!   the next run writing the same output removes it (its process is gone).
 
 use std::fs::Permissions;
 use std::io::{self, Write};
@@ -61,11 +62,12 @@ impl AtomicFile {
             _ => PathBuf::from("."),
         };
         let base = dest.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        remove_strays(&dir, &base);
         let mut reg = live();
         // 0o666 less the umask, like File::create; the registry lock is held while the file is
         // created so that a signal cannot slip between creation and registration.
         let file = tempfile::Builder::new()
-            .prefix(&format!(".{base}."))
+            .prefix(&format!(".{base}.{}.", std::process::id()))
             .suffix(".tmp")
             .permissions(Permissions::from_mode(0o666))
             .tempfile_in(&dir)
@@ -129,6 +131,21 @@ impl Drop for AtomicFile {
             // NamedTempFile removes the file when dropped.
             self.file = None;
             reg.retain(|p| p != &self.tmp);
+        }
+    }
+}
+
+/// Remove temporary files `.<base>.<pid>.*.tmp` in `dir` left by a process that no longer runs
+/// (a run killed by SIGKILL): the next run that writes the same output cleans up after it.
+fn remove_strays(dir: &Path, base: &str) {
+    let Ok(rd) = std::fs::read_dir(dir) else { return };
+    let prefix = format!(".{base}.");
+    for e in rd.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(rest) = name.strip_prefix(&prefix).filter(|_| name.ends_with(".tmp")) else { continue };
+        let Some(pid) = rest.split('.').next().and_then(|p| p.parse::<u32>().ok()) else { continue };
+        if pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() && e.file_type().is_ok_and(|t| t.is_file()) {
+            let _ = std::fs::remove_file(e.path());
         }
     }
 }
@@ -297,6 +314,23 @@ mod tests {
         assert!(matches!(b.commit(), Err(OutputError::IsDir { .. })));
         assert_eq!(names(&d), ["a.vcd", "b.gtkw"]);
         assert_eq!(std::fs::read_to_string(d.join("b.gtkw")).unwrap(), "old save file");
+        std::fs::remove_dir_all(&d).ok();
+    }
+
+    #[test]
+    fn strays_of_dead_processes_are_removed_and_live_ones_kept() {
+        let d = dir("strays");
+        // pid 0x7fff_fff0 does not run; our own pid does.
+        let dead = d.join(".a.vcd.2147483632.XyZ123.tmp");
+        let alive = d.join(format!(".a.vcd.{}.AbC456.tmp", std::process::id()));
+        let other = d.join(".b.vcd.2147483632.XyZ123.tmp");
+        for p in [&dead, &alive, &other] {
+            std::fs::write(p, "partial").unwrap();
+        }
+        let f = AtomicFile::create(&d.join("a.vcd")).unwrap();
+        assert!(!dead.exists(), "the dead run's temporary file is removed");
+        assert!(alive.exists() && other.exists(), "a live process's and another output's are kept");
+        drop(f);
         std::fs::remove_dir_all(&d).ok();
     }
 

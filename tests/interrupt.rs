@@ -36,9 +36,14 @@ fn scenario(dir: &Path, file: &str, duration: &str) -> PathBuf {
     p
 }
 
-/// Every file in `d` with its bytes.
+/// Every file in `d` but temporary files, with its bytes.
 fn snapshot(d: &Path) -> BTreeMap<String, Vec<u8>> {
-    std::fs::read_dir(d).unwrap().map(|e| e.unwrap()).filter(|e| e.file_type().unwrap().is_file()).map(|e| (e.file_name().to_string_lossy().into_owned(), std::fs::read(e.path()).unwrap())).collect()
+    std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap())
+        .filter(|e| e.file_type().unwrap().is_file() && !e.file_name().to_string_lossy().ends_with(".tmp"))
+        .map(|e| (e.file_name().to_string_lossy().into_owned(), std::fs::read(e.path()).unwrap()))
+        .collect()
 }
 
 fn temporaries(d: &Path) -> Vec<String> {
@@ -79,7 +84,8 @@ fn start_long(long: &Path, out: &Path, extra: Duration, ctx: &str) -> Child {
         .spawn()
         .unwrap();
     let t0 = Instant::now();
-    while temporaries(out).is_empty() {
+    let mine = format!(".{}.", child.id());
+    while !temporaries(out).iter().any(|t| t.contains(&mine)) {
         assert!(t0.elapsed() < Duration::from_secs(30), "{ctx}: no temporary file appeared within 30 s");
         assert!(child.try_wait().unwrap().is_none(), "{ctx}: the run ended before writing");
         std::thread::sleep(Duration::from_millis(2));
@@ -122,10 +128,8 @@ fn interrupt(sig: &str, want_code: Option<i32>, rounds: usize) {
             }
             None => {
                 assert_eq!(st.signal(), Some(9), "{ctx}: {st:?}");
-                // SIGKILL: stray temporary files are allowed; remove them for the next round.
-                for t in temporaries(&out) {
-                    std::fs::remove_file(out.join(t)).unwrap();
-                }
+                // SIGKILL: stray temporary files are allowed (the run was writing when killed) ...
+                assert!(!temporaries(&out).is_empty(), "{ctx}: a killed run leaves its temporary files");
             }
         }
         let after = snapshot(&out);
@@ -133,6 +137,13 @@ fn interrupt(sig: &str, want_code: Option<i32>, rounds: usize) {
         for (k, v) in &before {
             assert!(after[k] == *v, "{ctx}: {k} changed ({} -> {} bytes)", v.len(), after[k].len());
         }
+    }
+    if want_code.is_none() {
+        // ... and the next run that writes the same outputs removes them.
+        let short = work.join("short.toml");
+        let o = Command::new(BIN).args(["run", short.to_str().unwrap(), "--log", "--out-dir", out.to_str().unwrap()]).output().unwrap();
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        assert_eq!(temporaries(&out), Vec::<String>::new(), "strays of killed runs are removed by the next run");
     }
     std::fs::remove_dir_all(&work).ok();
 }
