@@ -54,7 +54,7 @@ pub struct AtomicFile {
 impl AtomicFile {
     /// Start writing `dest` (its folder must exist).
     pub fn create(dest: &Path) -> Result<AtomicFile, OutputError> {
-        if dest.is_dir() {
+        if is_real_dir(dest) {
             return Err(OutputError::IsDir { path: dest.to_path_buf() });
         }
         let dir = match dest.parent() {
@@ -99,7 +99,7 @@ impl AtomicFile {
         let file = self.file.take().ok_or_else(|| OutputError::Write { path: dest.clone(), source: io::Error::other("output file already committed") })?;
         // On an error the temporary file is dropped (deleted) on return.
         file.as_file().sync_data().map_err(|source| OutputError::Write { path: dest.clone(), source })?;
-        if dest.is_dir() {
+        if is_real_dir(&dest) {
             return Err(OutputError::IsDir { path: dest });
         }
         file.persist(&dest).map(|_| ()).map_err(|e| OutputError::Rename { path: dest, source: e.error })
@@ -133,6 +133,11 @@ impl Drop for AtomicFile {
             reg.retain(|p| p != &self.tmp);
         }
     }
+}
+
+/// A folder (not a symlink to one: rename replaces a symlink whatever it points at).
+fn is_real_dir(p: &Path) -> bool {
+    std::fs::symlink_metadata(p).is_ok_and(|m| m.file_type().is_dir())
 }
 
 /// Remove temporary files `.<base>.<pid>.*.tmp` in `dir` left by a process that no longer runs
@@ -292,6 +297,15 @@ mod tests {
         assert!(!std::fs::symlink_metadata(&p).unwrap().file_type().is_symlink());
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "save file");
         assert_eq!(names(&d), ["a.gtkw", "precious.txt"]);
+        // A symlink to a folder is replaced as well; the folder stays.
+        let folder = d.join("folder");
+        std::fs::create_dir(&folder).unwrap();
+        std::os::unix::fs::symlink(&folder, d.join("b.vcd")).unwrap();
+        let mut b = Batch::new();
+        b.add(write_atomic(&d.join("b.vcd"), b"vcd").unwrap());
+        b.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(d.join("b.vcd")).unwrap(), "vcd");
+        assert!(folder.is_dir());
         std::fs::remove_dir_all(&d).ok();
     }
 
