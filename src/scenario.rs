@@ -440,7 +440,9 @@ impl Cx<'_> {
                 Some((n, span)) => self.model(span.clone(), &format!("core.{n}"), e),
                 None => ScenarioError::Invalid {
                     file: self.file.to_string(),
-                    line: 1,
+                    // A default that no longer fits, e.g. after a change of `clock`: point at
+                    // the clock when it is given.
+                    line: spans.iter().find(|(n, _)| *n == "clock").map_or(1, |(_, sp)| self.line_col(sp.start).0),
                     field: format!("core.{}", e.fields().first().copied().unwrap_or("core")),
                     msg: format!("{e} (with the default values of the fields not given)"),
                 },
@@ -604,12 +606,14 @@ impl Cx<'_> {
                 let x = x.into_inner();
                 if let Some(t) = x.readout_within_deg {
                     if !(t.is_finite() && t > 0.0) {
-                        return Err(self.err(span, "expect.readout_within_deg", format!("{t} is not a positive angle in degrees")));
+                        let at = self.field_offset(span.start, "readout_within_deg").unwrap_or(span.start);
+                        return Err(self.err(at..at, "expect.readout_within_deg", format!("{t} is not a positive angle in degrees")));
                     }
                 }
                 if let Some(seq) = &x.si_sequence_ms {
                     if seq.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-                        return Err(self.err(span, "expect.si_sequence_ms", "intervals are positive numbers of milliseconds"));
+                        let at = self.field_offset(span.start, "si_sequence_ms").unwrap_or(span.start);
+                        return Err(self.err(at..at, "expect.si_sequence_ms", "intervals are positive numbers of milliseconds"));
                     }
                 }
                 Expect { si_sequence_ms: x.si_sequence_ms, readout_within_deg: x.readout_within_deg, diag: x.diag, quadrant_skip: x.quadrant_skip }

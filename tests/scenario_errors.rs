@@ -67,6 +67,10 @@ const CASES: &[(&str, &[&str])] = &[
     ("duration = \"10 ms\"\n[env]\nvcc1_v = 5.0\ntheta_t_deg = 91.0", &["bad.toml:4:", "env.theta_t_deg", "-90 to 90 degrees"]),
     // two writes at the same time: only the last would happen
     ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"2 ms\"\nwrite = { reg = \"T2\", value = 100 }\n[[events]]\nat = \"2 ms\"\nwrite = { reg = \"T1\", value = 100 }", &["bad.toml:10:", "events[2].write", "a second write at 2 ms (the write of line 7 is at the same time)"]),
+    // expectations and defaults that no longer fit name their line
+    ("duration = \"10 ms\"\n[expect]\ndiag = false\nreadout_within_deg = -1.0", &["bad.toml:4:", "expect.readout_within_deg", "positive angle"]),
+    ("duration = \"10 ms\"\n[expect]\n\nsi_sequence_ms = [6.6, 0.0]", &["bad.toml:4:", "expect.si_sequence_ms"]),
+    ("duration = \"10 ms\"\n[core]\nadaptive = true\nclock = \"1 ms\"", &["bad.toml:4:", "with the default values of the fields not given"]),
     // a dump window beyond the run
     ("duration = \"10 ms\"\n[vcd]\nwindow = [\"2 ms\", \"12 ms\"]", &["bad.toml:3:", "vcd.window[1]", "after the end of the run (duration = 10 ms)"]),
     ("duration = \"10 ms\"\n[env]\nvcc2_v = -3.3", &["env.vcc2_v", "0 < V <= 40"]),
@@ -86,7 +90,7 @@ fn each_bad_input_names_file_line_and_field() {
             assert!(msg.contains(w), "message for\n{text}\n---\n{msg}\n--- lacks `{w}`");
         }
         // No Rust type or internal struct names (RawCore, u8, f64, Spanned, ...).
-        for internal in ["Raw", "struct", "Spanned", "u8", "u16", "u32", "i64", "f64", "sequence"] {
+        for internal in ["Raw", "struct", "Spanned", "u8", "u16", "u32", "i64", "f64", "a sequence"] {
             assert!(!msg.contains(internal), "message for\n{text}\n---\n{msg}\n--- names `{internal}`");
         }
     }
