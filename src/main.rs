@@ -378,6 +378,16 @@ fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>) -> u8 {
     // The model VCD written beside the vectors is compared tick by tick with the RTL's:
     // it must cover the whole run, whatever window the scenario asks for.
     sc.vcd_window = None;
+    if let Some(d) = vcd_dir {
+        // Same folder and name (the folders compared once they exist).
+        let same = |a: &Path, b: &Path| {
+            a == b || (a.file_name() == b.file_name() && matches!((a.parent().map(std::fs::canonicalize), b.parent().map(std::fs::canonicalize)), (Some(Ok(x)), Some(Ok(y))) if x == y))
+        };
+        if let Some(p) = output_paths(d, &sc.name, false).into_iter().find(|p| same(p, output)) {
+            err!("error: -o {} is also the model's {} written into --vcd-dir; choose another name for the vectors", output.display(), p.display());
+            return 2;
+        }
+    }
     let result = (|| -> Result<u64, RunError> {
         let f = AtomicFile::create(output)?;
         let mut vw = VectorWriter::new(BufWriter::new(f), &sc)?;

@@ -289,6 +289,10 @@ fn vectors_and_random_outputs_are_atomic_too() {
     expect(&o, 2, &["not_a_dir: cannot create the output folder"]);
     assert_eq!(std::fs::read_to_string(&vec).unwrap(), "previous vectors\n");
     assert_eq!(names(&d), ["f.vec", "not_a_dir"]);
+    // Vectors written over the model's own VCD: refused before running.
+    let o = pmu50(&["vectors", "scenarios/fig15a.toml", "-o", s(&d.join("fig15a.vcd")), "--vcd-dir", s(&d)]);
+    expect(&o, 2, &["fig15a.vcd is also the model's", "written into --vcd-dir"]);
+    assert_eq!(names(&d), ["f.vec", "not_a_dir"]);
     // A symlink at the output of `random` is replaced, its target untouched.
     let target = d.join("target.txt");
     std::fs::write(&target, "keep").unwrap();
