@@ -235,7 +235,24 @@ fn with_streams(code: u8) -> ExitCode {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // clap's own printing ignores a full or closed stream; print its help and errors ourselves.
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            let text = e.render().to_string();
+            return match e.kind() {
+                ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+                    out!("{}", text.trim_end());
+                    with_streams(0)
+                }
+                _ => {
+                    err!("{}", text.trim_end());
+                    with_streams(2)
+                }
+            };
+        }
+    };
     if let Err(e) = fsout::install_signal_cleanup() {
         err!("error: cannot install the SIGINT/SIGTERM handler that removes temporary files: {e}");
         return with_streams(2);

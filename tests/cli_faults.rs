@@ -122,6 +122,13 @@ fn closed_or_full_streams_exit_2_without_panic_text() {
     // stderr on a full device (the error message cannot be written)
     let o = Command::new(BIN).args(["check", "no/such.toml"]).stderr(std::fs::File::create("/dev/full").unwrap()).output().unwrap();
     expect(&o, 2, &[]);
+    // clap's help and usage errors too
+    let o = Command::new(BIN).arg("--help").stdout(std::fs::File::create("/dev/full").unwrap()).output().unwrap();
+    expect(&o, 2, &[]);
+    let o = Command::new(BIN).arg("--help").output().unwrap();
+    expect(&o, 0, &["Usage: pmu50"]);
+    let o = Command::new(BIN).args(["run", "--bogus"]).output().unwrap();
+    expect(&o, 2, &["unexpected argument '--bogus'"]);
     // stdout a closed pipe: the reader went away before the summary
     let mut child = Command::new(BIN).args(["run", "scenarios/fig15a.toml", "--out-dir", s(&tmp("pipe"))]).current_dir(env!("CARGO_MANIFEST_DIR")).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
     drop(child.stdout.take());
