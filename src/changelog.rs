@@ -47,6 +47,13 @@ impl<W: Write> ChangeLog<W> {
     }
 }
 
+impl<W: Write> ChangeLog<W> {
+    /// The writer, after `finish` (for the caller to rename the file into place).
+    pub fn into_inner(self) -> W {
+        self.out
+    }
+}
+
 impl<W: Write> Observer for ChangeLog<W> {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
         self.record(v)

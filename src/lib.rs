@@ -5,8 +5,11 @@
 //! `pmu50-env` (rtl_model/env), waveform tooling is `pmu50-waves` (waves/).
 
 pub mod changelog;
+pub mod fsout;
+pub mod markers;
 pub mod output;
 pub mod random;
+pub mod refusals;
 pub mod scenario;
 pub mod sim;
 pub mod vectors;

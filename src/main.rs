@@ -4,23 +4,73 @@
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use pmu50::output::{run_to_files, summary, FileOptions};
+use pmu50::fsout::{self, AtomicFile, Batch};
+use pmu50::output::{estimate_vcd_bytes, output_paths, run_to_batch, summary, FileOptions, RunError};
+use pmu50::refusals::RefusalWatch;
 use pmu50::scenario::Scenario;
 use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
 use pmu50::vectors::VectorWriter;
 use pmu50_core::Dur;
 use pmu50_waves::diff::{diff_files, DiffOptions, Outcome, Sample, XPolicy};
+use std::collections::BTreeMap;
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-/// `println!` that does not panic when stdout is a closed pipe (`pmu50 diff a b | head`): the
-/// reader has gone, so the rest of the output is dropped.
+/// Set when stdout or stderr could not be written (closed pipe, full disk): the exit code is
+/// then 2, and nothing panics.
+static STREAM_FAILED: AtomicBool = AtomicBool::new(false);
+
+/// `println!` that never panics: on a closed or full stdout the rest of the output is dropped
+/// and the exit code becomes 2.
 macro_rules! out {
     ($($t:tt)*) => {{
-        let _ = writeln!(std::io::stdout().lock(), $($t)*);
+        if writeln!(std::io::stdout().lock(), $($t)*).is_err() {
+            STREAM_FAILED.store(true, Ordering::Relaxed);
+        }
     }};
+}
+
+/// `eprintln!` that never panics (see [`out!`]).
+macro_rules! err {
+    ($($t:tt)*) => {{
+        if writeln!(std::io::stderr().lock(), $($t)*).is_err() {
+            STREAM_FAILED.store(true, Ordering::Relaxed);
+        }
+    }};
+}
+
+/// Default limit of one VCD (`--max-vcd-bytes`).
+const DEFAULT_MAX_VCD_BYTES: u64 = 2_000_000_000;
+
+/// Bad command-line values.
+#[derive(Debug, thiserror::Error)]
+enum CliError {
+    #[error("--window {which}: {source}")]
+    WindowDur { which: &'static str, #[source] source: pmu50_core::config::DurParseError },
+    #[error("--window {which}: {value} is not a whole number of ticks of {clock} (scenario {file})")]
+    WindowTicks { which: &'static str, value: Dur, clock: Dur, file: String },
+    #[error("--window: END ({end}) must be after START ({start})")]
+    WindowOrder { start: Dur, end: Dur },
+    #[error("--window {start} {end} is outside the run of {file} (0 to {duration}); valid is 0 <= START < END <= {duration}")]
+    WindowOutside { start: Dur, end: Dur, duration: Dur, file: String },
+    #[error("{file}: the VCD would be about {} ({ticks} dumped ticks), above the limit of {}; dump part of the run with --window START END, or raise the limit with --max-vcd-bytes", human(*estimate), human(*limit))]
+    VcdTooLarge { file: String, ticks: u64, estimate: u64, limit: u64 },
+    #[error("{} would be written by two scenarios: {first} and {second} (both are named `{name}`); give one of them another `name`", path.display())]
+    SameOutput { path: PathBuf, first: String, second: String, name: String },
+}
+
+fn human(bytes: u64) -> String {
+    let b = bytes as f64;
+    if b >= 1e9 {
+        format!("{:.1} GB", b / 1e9)
+    } else if b >= 1e6 {
+        format!("{:.1} MB", b / 1e6)
+    } else {
+        format!("{:.0} kB", b / 1e3)
+    }
 }
 
 #[derive(Parser)]
@@ -44,6 +94,9 @@ enum Cmd {
         /// Dump only this time window, e.g. `--window "10 ms" "60 ms"`.
         #[arg(long, num_args = 2, value_names = ["START", "END"])]
         window: Option<Vec<String>>,
+        /// Refuse a scenario whose VCD would be larger than this (bytes; default 2 GB).
+        #[arg(long, value_name = "BYTES")]
+        max_vcd_bytes: Option<u64>,
     },
     /// Validate scenarios without running them.
     Check { scenarios: Vec<PathBuf> },
@@ -134,173 +187,290 @@ impl Observer for Progress {
 
 fn load(p: &Path) -> Result<Scenario, ExitCode> {
     Scenario::load(p).map_err(|e| {
-        eprintln!("error: {e}");
+        err!("error: {e}");
         ExitCode::from(2)
     })
 }
 
-fn window_ticks(sc: &Scenario, w: &Option<Vec<String>>) -> Result<Option<(u64, u64)>, String> {
+/// `--window START END` in ticks of `sc`, within the run.
+fn window_ticks(sc: &Scenario, w: &Option<Vec<String>>) -> Result<Option<(u64, u64)>, CliError> {
     let Some(w) = w else { return Ok(None) };
     let clk = sc.clock_ns();
     let mut t = [0u64; 2];
-    for (i, s) in w.iter().enumerate() {
-        let d = Dur::parse(s).map_err(|e| format!("--window: {e}"))?;
+    for (i, s) in w.iter().enumerate().take(2) {
+        let which = if i == 0 { "START" } else { "END" };
+        let d = Dur::parse(s).map_err(|source| CliError::WindowDur { which, source })?;
         if d.0 % clk != 0 {
-            return Err(format!("--window: {d} is not a whole number of ticks of {}", Dur(clk)));
+            return Err(CliError::WindowTicks { which, value: d, clock: Dur(clk), file: sc.path.display().to_string() });
         }
         t[i] = d.0 / clk;
     }
     if t[1] <= t[0] {
-        return Err("--window: END must be after START".into());
+        return Err(CliError::WindowOrder { start: Dur(t[0] * clk), end: Dur(t[1] * clk) });
+    }
+    if t[1] > sc.ticks {
+        return Err(CliError::WindowOutside { start: Dur(t[0] * clk), end: Dur(t[1] * clk), duration: Dur(sc.ticks * clk), file: sc.path.display().to_string() });
     }
     Ok(Some((t[0], t[1])))
 }
 
+/// Refuse a run whose VCD would exceed the limit.
+fn check_vcd_size(sc: &Scenario, window: Option<(u64, u64)>, max: Option<u64>) -> Result<(), CliError> {
+    let (a, z) = window.or(sc.vcd_window).unwrap_or((0, sc.ticks));
+    let ticks = z.min(sc.ticks).saturating_sub(a);
+    let estimate = estimate_vcd_bytes(ticks);
+    let limit = max.unwrap_or(DEFAULT_MAX_VCD_BYTES);
+    if estimate > limit {
+        return Err(CliError::VcdTooLarge { file: sc.path.display().to_string(), ticks, estimate, limit });
+    }
+    Ok(())
+}
+
+fn with_streams(code: u8) -> ExitCode {
+    if STREAM_FAILED.load(Ordering::Relaxed) {
+        ExitCode::from(code.max(2))
+    } else {
+        ExitCode::from(code)
+    }
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    match cli.cmd {
-        Cmd::Run { scenarios, out_dir, log, window } => {
-            if scenarios.is_empty() {
-                eprintln!("error: run needs at least one scenario file (see `pmu50 list`)");
-                return ExitCode::from(2);
-            }
-            let mut code = 0u8;
-            for p in &scenarios {
-                let sc = match load(p) {
-                    Ok(s) => s,
-                    Err(c) => return c,
-                };
-                let window = match window_ticks(&sc, &window) {
-                    Ok(w) => w,
-                    Err(e) => {
-                        eprintln!("error: {e}");
-                        return ExitCode::from(2);
-                    }
-                };
-                let mut prog = Progress::new(sc.ticks, &sc.name);
-                match run_to_files(&sc, &out_dir, FileOptions { log, window }, &mut [&mut prog]) {
-                    Ok((res, w)) => {
-                        out!("{}", summary(&sc, &res).trim_end());
-                        out!("   wrote {} and {}{}", w.vcd.display(), w.gtkw.display(), w.log.map(|l| format!(" and {}", l.display())).unwrap_or_default());
-                        if !res.passed() {
-                            code = code.max(1);
-                        }
-                    }
-                    Err(e) => {
-                        eprintln!("error: {e}");
-                        return ExitCode::from(2);
-                    }
+    // clap's own printing ignores a full or closed stream; print its help and errors ourselves.
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            let text = e.render().to_string();
+            return match e.kind() {
+                ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+                    out!("{}", text.trim_end());
+                    with_streams(0)
                 }
-            }
-            ExitCode::from(code)
+                _ => {
+                    err!("{}", text.trim_end());
+                    with_streams(2)
+                }
+            };
         }
+    };
+    if let Err(e) = fsout::install_signal_cleanup() {
+        err!("error: cannot install the SIGINT/SIGTERM handler that removes temporary files: {e}");
+        return with_streams(2);
+    }
+    let code = match cli.cmd {
+        Cmd::Run { scenarios, out_dir, log, window, max_vcd_bytes } => cmd_run(&scenarios, &out_dir, log, &window, max_vcd_bytes),
         Cmd::Check { scenarios } => {
             let mut bad = false;
+            if scenarios.is_empty() {
+                err!("error: check needs at least one scenario file");
+                bad = true;
+            }
             for p in &scenarios {
                 match Scenario::load(p) {
                     Ok(sc) => out!("ok   {} ({}, {} ticks)", p.display(), sc.name, sc.ticks),
                     Err(e) => {
-                        eprintln!("error: {e}");
+                        err!("error: {e}");
                         bad = true;
                     }
                 }
             }
-            ExitCode::from(if bad { 2 } else { 0 })
+            if bad { 2 } else { 0 }
         }
         Cmd::List { dir } => {
             let mut files: Vec<PathBuf> = match std::fs::read_dir(&dir) {
                 Ok(rd) => rd.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|x| x == "toml")).collect(),
                 Err(e) => {
-                    eprintln!("error: {}: {e}", dir.display());
-                    return ExitCode::from(2);
+                    err!("error: {}: {e}", dir.display());
+                    return with_streams(2);
                 }
             };
             files.sort();
             for p in files {
+                // Scenario::load refuses FIFOs, devices and folders before opening them.
                 match Scenario::load(&p) {
                     Ok(sc) => out!("{:<18} {:>10}  {}", sc.name, Dur(sc.ticks * sc.clock_ns()).to_string(), sc.description),
                     Err(e) => out!("{:<18} INVALID: {e}", p.display()),
                 }
             }
-            ExitCode::SUCCESS
+            0
         }
-        Cmd::Vectors { scenario, output, vcd_dir } => {
-            let mut sc = match load(&scenario) {
-                Ok(s) => s,
-                Err(c) => return c,
-            };
-            // The model VCD written beside the vectors is compared tick by tick with the RTL's:
-            // it must cover the whole run, whatever window the scenario asks for.
-            sc.vcd_window = None;
-            let f = match std::fs::File::create(&output) {
-                Ok(f) => f,
-                Err(e) => {
-                    eprintln!("error: {}: {e}", output.display());
-                    return ExitCode::from(2);
-                }
-            };
-            let result = VectorWriter::new(BufWriter::new(f), &sc).and_then(|mut vw| match &vcd_dir {
-                Some(d) => run_to_files(&sc, d, FileOptions::default(), &mut [&mut vw]).map(|r| r.0),
-                None => sim::run(&sc, SimOptions { fast_forward: false }, &mut [&mut vw]),
+        Cmd::Vectors { scenario, output, vcd_dir } => cmd_vectors(&scenario, &output, vcd_dir.as_deref()),
+        Cmd::Random { seed, output } => {
+            let text = pmu50::random::random_scenario(seed);
+            let r = fsout::write_atomic(&output, text.as_bytes()).and_then(|f| {
+                let mut b = Batch::new();
+                b.add(f);
+                b.commit()
             });
-            match result {
-                Ok(r) => {
-                    out!("wrote {} ({} ticks)", output.display(), r.ticks);
-                    ExitCode::SUCCESS
-                }
+            match r {
+                Ok(()) => 0,
                 Err(e) => {
-                    eprintln!("error: {e}");
-                    ExitCode::from(2)
+                    err!("error: {e}");
+                    2
                 }
             }
         }
-        Cmd::Random { seed, output } => match std::fs::write(&output, pmu50::random::random_scenario(seed)) {
-            Ok(()) => ExitCode::SUCCESS,
+        Cmd::Diff { left, right, map, clock, every, x, max, allow_unmatched, real_tol } => cmd_diff(left, right, map, clock, every, x, max, allow_unmatched, real_tol),
+    };
+    with_streams(code)
+}
+
+/// `pmu50 run`: load every file first; report every bad one; refuse two scenarios writing the
+/// same file before anything runs; run the good ones; exit with the worst code.
+fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, log: bool, window: &Option<Vec<String>>, max_vcd_bytes: Option<u64>) -> u8 {
+    if scenarios.is_empty() {
+        err!("error: run needs at least one scenario file (see `pmu50 list`)");
+        return 2;
+    }
+    let mut code = 0u8;
+    let mut good: Vec<(Scenario, Option<(u64, u64)>)> = Vec::new();
+    for p in scenarios {
+        let sc = match Scenario::load(p) {
+            Ok(s) => s,
             Err(e) => {
-                eprintln!("error: {}: {e}", output.display());
-                ExitCode::from(2)
+                err!("error: {e}");
+                code = 2;
+                continue;
             }
-        },
-        Cmd::Diff { left, right, map, clock, every, x, max, allow_unmatched, real_tol } => {
-            let mut prefix_map = Vec::new();
-            for m in &map {
-                match m.split_once('=') {
-                    Some((a, b)) if !a.is_empty() && !b.is_empty() => prefix_map.push((a.to_string(), b.to_string())),
-                    _ => {
-                        eprintln!("error: --map {m}: expected LEFT=RIGHT, e.g. pmu50=tb_vectors.dut");
-                        return ExitCode::from(2);
-                    }
+        };
+        let w = match window_ticks(&sc, window).and_then(|w| check_vcd_size(&sc, w, max_vcd_bytes).map(|()| w)) {
+            Ok(w) => w,
+            Err(e) => {
+                err!("error: {e}");
+                code = 2;
+                continue;
+            }
+        };
+        good.push((sc, w));
+    }
+    let mut owner: BTreeMap<PathBuf, usize> = BTreeMap::new();
+    let mut clash = false;
+    for (k, (sc, _)) in good.iter().enumerate() {
+        for path in output_paths(out_dir, &sc.name, true) {
+            if let Some(&j) = owner.get(&path) {
+                let e = CliError::SameOutput { path, first: good[j].0.path.display().to_string(), second: sc.path.display().to_string(), name: sc.name.clone() };
+                err!("error: {e}");
+                clash = true;
+                break;
+            }
+            owner.insert(path, k);
+        }
+    }
+    if clash {
+        err!("error: nothing was run");
+        return 2;
+    }
+    for (sc, window) in &good {
+        let mut prog = Progress::new(sc.ticks, &sc.name);
+        let mut watch = RefusalWatch::new(sc);
+        let r = run_to_batch(sc, out_dir, FileOptions { log, window: *window }, &mut [&mut prog, &mut watch]).and_then(|(res, w, batch)| {
+            batch.commit()?;
+            Ok((res, w))
+        });
+        match r {
+            Ok((res, w)) => {
+                out!("{}", summary(sc, &res).trim_end());
+                for rw in &watch.refused {
+                    out!("   refused write {rw}");
+                }
+                out!("   wrote {} and {}{}", w.vcd.display(), w.gtkw.display(), w.log.map(|l| format!(" and {}", l.display())).unwrap_or_default());
+                if !res.passed() || !watch.refused.is_empty() {
+                    code = code.max(1);
                 }
             }
-            let x_policy = match x.as_str() {
-                "strict" => XPolicy::Strict,
-                "left" => XPolicy::LeftXIsWildcard,
-                "either" => XPolicy::EitherXIsWildcard,
-                other => {
-                    eprintln!("error: --x {other}: valid are strict, left, either");
-                    return ExitCode::from(2);
-                }
-            };
-            let sample = match (clock, every) {
-                (Some(c), _) => Sample::RisingEdge(c),
-                (None, Some(0)) => {
-                    eprintln!("error: --every must be at least 1");
-                    return ExitCode::from(2);
-                }
-                (None, Some(n)) => Sample::Every(n),
-                (None, None) => Sample::Changes,
-            };
-            let opts = DiffOptions { prefix_map, sample, x_policy, max_reported: max, real_tolerance: real_tol, allow_unmatched };
-            match diff_files(&left, &right, &opts) {
-                Ok(rep) => {
-                    out!("{}", rep.to_string().trim_end());
-                    ExitCode::from(if rep.outcome == Outcome::Equal { 0 } else { 1 })
-                }
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    ExitCode::from(2)
-                }
+            Err(e) => {
+                err!("error: {e}");
+                code = 2;
             }
+        }
+    }
+    code
+}
+
+fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>) -> u8 {
+    let mut sc = match load(scenario) {
+        Ok(s) => s,
+        Err(_) => return 2,
+    };
+    // The model VCD written beside the vectors is compared tick by tick with the RTL's:
+    // it must cover the whole run, whatever window the scenario asks for.
+    sc.vcd_window = None;
+    if let Some(d) = vcd_dir {
+        // Same folder and name (the folders compared once they exist).
+        let same = |a: &Path, b: &Path| {
+            a == b || (a.file_name() == b.file_name() && matches!((a.parent().map(std::fs::canonicalize), b.parent().map(std::fs::canonicalize)), (Some(Ok(x)), Some(Ok(y))) if x == y))
+        };
+        if let Some(p) = output_paths(d, &sc.name, false).into_iter().find(|p| same(p, output)) {
+            err!("error: -o {} is also the model's {} written into --vcd-dir; choose another name for the vectors", output.display(), p.display());
+            return 2;
+        }
+    }
+    let result = (|| -> Result<u64, RunError> {
+        let f = AtomicFile::create(output)?;
+        let mut vw = VectorWriter::new(BufWriter::new(f), &sc)?;
+        let (ticks, mut batch) = match vcd_dir {
+            Some(d) => {
+                let (r, _, b) = run_to_batch(&sc, d, FileOptions::default(), &mut [&mut vw])?;
+                (r.ticks, b)
+            }
+            None => (sim::run(&sc, SimOptions { fast_forward: false }, &mut [&mut vw])?.ticks, Batch::new()),
+        };
+        let f = vw.into_inner().into_inner().map_err(|e| fsout::OutputError::Write { path: output.to_path_buf(), source: e.into_error() })?;
+        batch.add(f);
+        batch.commit()?;
+        Ok(ticks)
+    })();
+    match result {
+        Ok(ticks) => {
+            out!("wrote {} ({} ticks)", output.display(), ticks);
+            0
+        }
+        Err(e) => {
+            err!("error: {e}");
+            2
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn cmd_diff(left: PathBuf, right: PathBuf, map: Vec<String>, clock: Option<String>, every: Option<u64>, x: String, max: usize, allow_unmatched: bool, real_tol: f64) -> u8 {
+    let mut prefix_map = Vec::new();
+    for m in &map {
+        match m.split_once('=') {
+            Some((a, b)) if !a.is_empty() && !b.is_empty() => prefix_map.push((a.to_string(), b.to_string())),
+            _ => {
+                err!("error: --map {m}: expected LEFT=RIGHT, e.g. pmu50=tb_vectors.dut");
+                return 2;
+            }
+        }
+    }
+    let x_policy = match x.as_str() {
+        "strict" => XPolicy::Strict,
+        "left" => XPolicy::LeftXIsWildcard,
+        "either" => XPolicy::EitherXIsWildcard,
+        other => {
+            err!("error: --x {other}: valid are strict, left, either");
+            return 2;
+        }
+    };
+    let sample = match (clock, every) {
+        (Some(c), _) => Sample::RisingEdge(c),
+        (None, Some(0)) => {
+            err!("error: --every must be at least 1");
+            return 2;
+        }
+        (None, Some(n)) => Sample::Every(n),
+        (None, None) => Sample::Changes,
+    };
+    let opts = DiffOptions { prefix_map, sample, x_policy, max_reported: max, real_tolerance: real_tol, allow_unmatched };
+    match diff_files(&left, &right, &opts) {
+        Ok(rep) => {
+            out!("{}", rep.to_string().trim_end());
+            if rep.outcome == Outcome::Equal { 0 } else { 1 }
+        }
+        Err(e) => {
+            err!("error: {e}");
+            2
         }
     }
 }

@@ -56,14 +56,37 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 
+/// Largest scenario file accepted (1 MiB; the shipped ones are under 4 kB).
+pub const MAX_SCENARIO_BYTES: u64 = 1 << 20;
+
 #[derive(Debug, thiserror::Error)]
 pub enum ScenarioError {
-    #[error("{file}: cannot read the scenario: {msg}")]
-    Io { file: String, msg: String },
+    #[error("{file}: cannot read the scenario: {source}")]
+    Io { file: String, #[source] source: std::io::Error },
+    #[error("{file}: is {kind}, not a regular file; a scenario is a TOML file")]
+    NotAFile { file: String, kind: &'static str },
+    #[error("{file}: {size} bytes is larger than a scenario can be ({max} bytes at most)")]
+    TooLarge { file: String, size: u64, max: u64 },
     #[error("{file}:{line}:{col}: {msg}")]
     Syntax { file: String, line: usize, col: usize, msg: String },
     #[error("{file}:{line}: `{field}`: {msg}")]
     Invalid { file: String, line: usize, field: String, msg: String },
+    /// A value the core's or an environment model's own validation refused.
+    #[error("{file}:{line}: `{field}`: {source}")]
+    Model { file: String, line: usize, field: String, #[source] source: ModelError },
+}
+
+/// The typed error of the model that refused a scenario value.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelError {
+    #[error(transparent)]
+    Duration(#[from] pmu50_core::config::DurParseError),
+    #[error(transparent)]
+    Core(#[from] pmu50_core::ConfigError),
+    #[error(transparent)]
+    Env(#[from] pmu50_env::EnvError),
+    #[error(transparent)]
+    Motor(#[from] pmu50_env::MotorError),
 }
 
 // ---------------------------------------------------------------- raw (as written) ----
@@ -91,8 +114,8 @@ struct Raw {
 #[serde(deny_unknown_fields)]
 struct RawCore {
     clock: Option<Spanned<String>>,
-    sync_depth: Option<Spanned<u8>>,
-    cnt_width: Option<Spanned<u8>>,
+    sync_depth: Option<Spanned<i64>>,
+    cnt_width: Option<Spanned<i64>>,
     adaptive: Option<Spanned<bool>>,
     pw: Option<Spanned<String>>,
     pi: Option<Spanned<String>>,
@@ -101,20 +124,17 @@ struct RawCore {
     min: Option<Spanned<String>>,
     t1: Option<Spanned<String>>,
     t2: Option<Spanned<String>>,
-    cth: Option<Spanned<u32>>,
+    cth: Option<Spanned<i64>>,
     smp_on: Option<Spanned<String>>,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct RawEnv {
-    #[serde(default = "vcc1")]
-    vcc1_v: f64,
-    #[serde(default = "vcc2")]
-    vcc2_v: f64,
+    vcc1_v: Option<Spanned<f64>>,
+    vcc2_v: Option<Spanned<f64>>,
     mpu_boot: Option<Spanned<String>>,
-    #[serde(default)]
-    theta_t_deg: f64,
+    theta_t_deg: Option<Spanned<f64>>,
     sensor2: Option<Spanned<Sensor2Config>>,
     comparator: Option<Spanned<ComparatorConfig>>,
     sensor1: Option<Spanned<Sensor1Config>>,
@@ -122,27 +142,27 @@ struct RawEnv {
     dark_current: Option<Spanned<DarkCurrentConfig>>,
 }
 
-fn vcc1() -> f64 {
-    5.0
-}
-fn vcc2() -> f64 {
-    3.3
-}
-
-impl Default for RawEnv {
-    fn default() -> Self {
-        RawEnv {
-            vcc1_v: vcc1(),
-            vcc2_v: vcc2(),
-            mpu_boot: None,
-            theta_t_deg: 0.0,
-            sensor2: None,
-            comparator: None,
-            sensor1: None,
-            readout: None,
-            dark_current: None,
-        }
+/// serde's words for a wrong type, in the scenario's terms (no Rust type or struct names).
+fn humanize(msg: &str) -> String {
+    if msg.contains("expected struct ") {
+        // `core = []`, `env = 3`, ...: serde names the Rust struct.
+        let got = msg.split(',').next().unwrap_or(msg).trim();
+        let got = got.strip_prefix("invalid type: ").or_else(|| got.strip_prefix("invalid length ").map(|_| "an array")).unwrap_or(got);
+        return format!("expected a table (a `[section]` of `key = value` lines, or `{{ key = value, ... }}`), got {got}");
     }
+    let mut m = msg.to_string();
+    for (rust, words) in [
+        ("expected u8", "expected a whole number from 0 to 255"),
+        ("expected u16", "expected a whole number from 0 to 65535"),
+        ("expected u32", "expected a whole number from 0 to 4294967295"),
+        ("expected i64", "expected a whole number"),
+        ("expected f64", "expected a number"),
+        ("expected a sequence", "expected an array `[...]`"),
+        ("expected a boolean", "expected true or false"),
+    ] {
+        m = m.replace(rust, words);
+    }
+    m
 }
 
 #[derive(Deserialize)]
@@ -210,6 +230,8 @@ pub enum Action {
 pub struct Event {
     pub tick: u64,
     pub action: Action,
+    /// Line of the event's `at` in the scenario file (for messages).
+    pub line: usize,
 }
 
 /// Checks a run must pass.
@@ -258,10 +280,39 @@ impl Scenario {
         self.core.clock.0
     }
 
-    /// Read and validate a scenario file.
+    /// Read and validate a scenario file. FIFOs, devices, sockets and folders are refused before
+    /// they are opened (opening a FIFO would block), and so are files over [`MAX_SCENARIO_BYTES`].
     pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
+        use std::io::Read;
+        use std::os::unix::fs::FileTypeExt;
         let file = path.display().to_string();
-        let src = std::fs::read_to_string(path).map_err(|e| ScenarioError::Io { file: file.clone(), msg: e.to_string() })?;
+        let io = |source| ScenarioError::Io { file: file.clone(), source };
+        let meta = std::fs::metadata(path).map_err(io)?;
+        let ft = meta.file_type();
+        if !ft.is_file() {
+            let kind = if ft.is_dir() {
+                "a folder"
+            } else if ft.is_fifo() {
+                "a FIFO (named pipe)"
+            } else if ft.is_socket() {
+                "a socket"
+            } else if ft.is_char_device() || ft.is_block_device() {
+                "a device"
+            } else {
+                "not a regular file"
+            };
+            return Err(ScenarioError::NotAFile { file, kind });
+        }
+        if meta.len() > MAX_SCENARIO_BYTES {
+            return Err(ScenarioError::TooLarge { file, size: meta.len(), max: MAX_SCENARIO_BYTES });
+        }
+        let mut src = String::new();
+        // Read at most one byte past the limit: the file may have grown since `metadata`.
+        let f = std::fs::File::open(path).map_err(io)?;
+        f.take(MAX_SCENARIO_BYTES + 1).read_to_string(&mut src).map_err(io)?;
+        if src.len() as u64 > MAX_SCENARIO_BYTES {
+            return Err(ScenarioError::TooLarge { file, size: src.len() as u64, max: MAX_SCENARIO_BYTES });
+        }
         let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         Scenario::parse(&src, &file, &stem, path)
     }
@@ -271,7 +322,7 @@ impl Scenario {
         let cx = Cx { src, file };
         let raw: Raw = toml::from_str(src).map_err(|e| {
             let (line, col) = e.span().map(|s| cx.line_col(s.start)).unwrap_or((1, 1));
-            ScenarioError::Syntax { file: file.to_string(), line, col, msg: e.message().trim().to_string() }
+            ScenarioError::Syntax { file: file.to_string(), line, col, msg: humanize(e.message().trim()) }
         })?;
         cx.build(raw, stem, path)
     }
@@ -294,8 +345,41 @@ impl Cx<'_> {
         ScenarioError::Invalid { file: self.file.to_string(), line: self.line_col(span.start).0, field: field.to_string(), msg: msg.into() }
     }
 
+    /// Offset of `field = ` inside the table that starts at `from` (up to the next `[` header),
+    /// to place an error about one field of a table on its own line.
+    fn field_offset(&self, from: usize, field: &str) -> Option<usize> {
+        let from = from.min(self.src.len());
+        let rest = &self.src[from..];
+        let end = rest[1.min(rest.len())..].find("\n[").map_or(rest.len(), |i| i + 1);
+        let body = &rest[..end];
+        let mut at = 0;
+        while let Some(i) = body[at..].find(field) {
+            let k = at + i;
+            let before = body[..k].chars().next_back();
+            let after = body[k + field.len()..].trim_start();
+            if before.is_none_or(|c| c.is_whitespace() || c == '{' || c == ',') && after.starts_with('=') {
+                return Some(from + k);
+            }
+            at = k + field.len();
+        }
+        None
+    }
+
+    /// An integer field of `[core]` within `lo..=hi`, said in words.
+    fn int(&self, v: &Spanned<i64>, field: &str, lo: i64, hi: i64, what: &str) -> Result<i64, ScenarioError> {
+        let x = *v.get_ref();
+        if x < lo || x > hi {
+            return Err(self.err(v.span(), field, format!("{x} is out of range; valid is {what} from {lo} to {hi}")));
+        }
+        Ok(x)
+    }
+
+    fn model(&self, span: Range<usize>, field: &str, source: impl Into<ModelError>) -> ScenarioError {
+        ScenarioError::Model { file: self.file.to_string(), line: self.line_col(span.start).0, field: field.to_string(), source: source.into() }
+    }
+
     fn dur(&self, s: &Spanned<String>, field: &str) -> Result<Dur, ScenarioError> {
-        Dur::parse(s.get_ref()).map_err(|e| self.err(s.span(), field, e.to_string()))
+        Dur::parse(s.get_ref()).map_err(|e| self.model(s.span(), field, e))
     }
 
     /// A duration that must be a whole, positive number of ticks... or zero when `allow_zero`.
@@ -334,7 +418,7 @@ impl Cx<'_> {
         dur_field!(t2, "t2");
         dur_field!(smp_on, "smp_on");
         if let Some(v) = &rc.cth {
-            core.cth = *v.get_ref();
+            core.cth = self.int(v, "core.cth", 1, 255, "a whole number of quiet pulses")? as u32;
             spans.push(("cth", v.span()));
         }
         if let Some(v) = &rc.adaptive {
@@ -342,21 +426,23 @@ impl Cx<'_> {
             spans.push(("adaptive", v.span()));
         }
         if let Some(v) = &rc.sync_depth {
-            core.sync_depth = *v.get_ref();
+            core.sync_depth = self.int(v, "core.sync_depth", 1, 4, "a whole number of flip-flops")? as u8;
             spans.push(("sync_depth", v.span()));
         }
         if let Some(v) = &rc.cnt_width {
-            core.cnt_width = *v.get_ref();
+            core.cnt_width = self.int(v, "core.cnt_width", 2, 16, "a whole number of bits")? as u8;
             spans.push(("cnt_width", v.span()));
         }
         let params = core.to_params().map_err(|e| {
             // Point at the involved field written last in the file (the one most likely edited).
             let named = spans.iter().filter(|(n, _)| e.fields().contains(n)).max_by_key(|(_, sp)| sp.start);
             match named {
-                Some((n, span)) => self.err(span.clone(), &format!("core.{n}"), e.to_string()),
+                Some((n, span)) => self.model(span.clone(), &format!("core.{n}"), e),
                 None => ScenarioError::Invalid {
                     file: self.file.to_string(),
-                    line: 1,
+                    // A default that no longer fits, e.g. after a change of `clock`: point at
+                    // the clock when it is given.
+                    line: spans.iter().find(|(n, _)| *n == "clock").map_or(1, |(_, sp)| self.line_col(sp.start).0),
                     field: format!("core.{}", e.fields().first().copied().unwrap_or("core")),
                     msg: format!("{e} (with the default values of the fields not given)"),
                 },
@@ -369,11 +455,16 @@ impl Cx<'_> {
 
         // ---- env ----
         let e = raw.env;
-        for (v, f) in [(e.vcc1_v, "env.vcc1_v"), (e.vcc2_v, "env.vcc2_v")] {
-            if !(v.is_finite() && v > 0.0 && v <= 40.0) {
-                return Err(ScenarioError::Invalid { file: self.file.into(), line: 1, field: f.into(), msg: format!("{v} V is not a supply voltage; valid is 0 < V <= 40") });
+        let volts = |v: &Option<Spanned<f64>>, f: &str, default: f64| -> Result<f64, ScenarioError> {
+            let Some(v) = v else { return Ok(default) };
+            let x = *v.get_ref();
+            if !(x.is_finite() && x > 0.0 && x <= 40.0) {
+                return Err(self.err(v.span(), f, format!("{x} V is not a supply voltage; valid is 0 < V <= 40")));
             }
-        }
+            Ok(x)
+        };
+        let vcc1_v = volts(&e.vcc1_v, "env.vcc1_v", 5.0)?;
+        let vcc2_v = volts(&e.vcc2_v, "env.vcc2_v", 3.3)?;
         let mpu_boot_ticks = match &e.mpu_boot {
             Some(s) => self.ticks(s, "env.mpu_boot", clock, true)?,
             None => Dur::ms(1).0.div_ceil(clock.0),
@@ -385,7 +476,15 @@ impl Cx<'_> {
                         let span = s.span();
                         let v = s.into_inner();
                         #[allow(clippy::redundant_closure_call)]
-                        ($check)(v.clone()).map_err(|er: pmu50_env::EnvError| self.err(span, $name, er.to_string()))?;
+                        ($check)(v.clone()).map_err(|er: pmu50_env::EnvError| {
+                            // Point at the line of the field the model names, when it is written.
+                            let msg = er.to_string();
+                            let field = msg.split_once("field `").and_then(|(_, r)| r.split_once('`')).map(|(f, _)| f.to_string());
+                            match field.as_deref().and_then(|f| self.field_offset(span.start, f)) {
+                                Some(at) => self.model(at..at, &format!("{}.{}", $name, field.unwrap_or_default()), er),
+                                None => self.model(span, $name, er),
+                            }
+                        })?;
                         v
                     }
                     None => Default::default(),
@@ -397,10 +496,17 @@ impl Cx<'_> {
         let sensor1: Sensor1Config = sub!(e.sensor1, "env.sensor1", |c| Sensor1::new(c).map(|_| ()).map_err(Into::into));
         let readout: ReadoutConfig = sub!(e.readout, "env.readout", |c| Readout::new(c).map(|_| ()).map_err(Into::into));
         let dark_current: DarkCurrentConfig = sub!(e.dark_current, "env.dark_current", |c| DarkCurrentMeter::new(c).map(|_| ()).map_err(Into::into));
-        if !e.theta_t_deg.is_finite() || e.theta_t_deg.abs() > 90.0 {
-            return Err(ScenarioError::Invalid { file: self.file.into(), line: 1, field: "env.theta_t_deg".into(), msg: format!("{} deg is not a torsion angle; valid is -90..=90", e.theta_t_deg) });
-        }
-        let env = EnvSpec { vcc1_v: e.vcc1_v, vcc2_v: e.vcc2_v, mpu_boot_ticks, theta_t_deg: e.theta_t_deg, sensor2, comparator, sensor1, readout, dark_current };
+        let theta_t_deg = match &e.theta_t_deg {
+            None => 0.0,
+            Some(v) => {
+                let x = *v.get_ref();
+                if !x.is_finite() || x.abs() > 90.0 {
+                    return Err(self.err(v.span(), "env.theta_t_deg", format!("{x} deg is not a torsion angle; valid is -90 to 90 degrees")));
+                }
+                x
+            }
+        };
+        let env = EnvSpec { vcc1_v, vcc2_v, mpu_boot_ticks, theta_t_deg, sensor2, comparator, sensor1, readout, dark_current };
 
         // ---- motor ----
         let motor = match raw.motor {
@@ -426,7 +532,7 @@ impl Cx<'_> {
                     };
                     segs.push(seg);
                 }
-                MotorProfile::new(m.start_deg, segs).map_err(|er| self.err(mspan, "motor", er.to_string()))?
+                MotorProfile::new(m.start_deg, segs).map_err(|er| self.model(mspan, "motor", er))?
             }
         };
 
@@ -434,6 +540,8 @@ impl Cx<'_> {
         let mut events = Vec::new();
         let mut last_tick = 0u64;
         let mut ig = false;
+        // (tick, line) of the last write: the bus takes one write per tick.
+        let mut last_write: Option<(u64, usize)> = None;
         for (k, ev) in raw.events.iter().enumerate() {
             let field = format!("events[{k}]");
             let r = ev.get_ref();
@@ -455,6 +563,7 @@ impl Cx<'_> {
             } else if let Some(v) = r.vs2_fault {
                 Action::Vs2Fault(v)
             } else {
+                let w_span = r.write.as_ref().map_or(r.at.span(), |w| w.span());
                 let w = r.write.as_ref().map(|w| w.get_ref()).ok_or_else(|| self.err(ev.span(), &field, "missing action"))?;
                 let name = w.reg.get_ref().to_ascii_uppercase();
                 let Some(&(_, addr, width, access)) = MAP.iter().find(|(n, ..)| *n == name) else {
@@ -473,9 +582,20 @@ impl Cx<'_> {
                 if !ig {
                     return Err(self.err(r.at.span(), &format!("{field}.write"), "the key is off at this time: the MPU is not powered and cannot write ([0205]); turn ig on first"));
                 }
+                let line = self.line_col(w_span.start).0;
+                if let Some((t, l)) = last_write.filter(|(t, _)| *t == tick) {
+                    return Err(self.err(
+                        w_span,
+                        &format!("{field}.write"),
+                        format!("a second write at {} (the write of line {l} is at the same time); the bus takes one write per clock tick, so only the last would happen; move it at least one tick ({clock}) later", Dur(t * clock.0)),
+                    ));
+                }
+                last_write = Some((tick, line));
                 Action::Write { addr, name, value: v as u16 }
             };
-            events.push(Event { tick, action });
+            // Messages point at the action's line (`write = ...`), else at `at`.
+            let line = self.line_col(r.write.as_ref().map_or(r.at.span().start, |w| w.span().start)).0;
+            events.push(Event { tick, action, line });
         }
 
         // ---- expect ----
@@ -486,12 +606,14 @@ impl Cx<'_> {
                 let x = x.into_inner();
                 if let Some(t) = x.readout_within_deg {
                     if !(t.is_finite() && t > 0.0) {
-                        return Err(self.err(span, "expect.readout_within_deg", format!("{t} is not a positive angle in degrees")));
+                        let at = self.field_offset(span.start, "readout_within_deg").unwrap_or(span.start);
+                        return Err(self.err(at..at, "expect.readout_within_deg", format!("{t} is not a positive angle in degrees")));
                     }
                 }
                 if let Some(seq) = &x.si_sequence_ms {
                     if seq.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-                        return Err(self.err(span, "expect.si_sequence_ms", "intervals are positive numbers of milliseconds"));
+                        let at = self.field_offset(span.start, "si_sequence_ms").unwrap_or(span.start);
+                        return Err(self.err(at..at, "expect.si_sequence_ms", "intervals are positive numbers of milliseconds"));
                     }
                 }
                 Expect { si_sequence_ms: x.si_sequence_ms, readout_within_deg: x.readout_within_deg, diag: x.diag, quadrant_skip: x.quadrant_skip }
@@ -510,6 +632,9 @@ impl Cx<'_> {
                 let b = self.ticks(&list[1], "vcd.window[1]", clock, true)?;
                 if b <= a {
                     return Err(self.err(list[1].span(), "vcd.window[1]", "the window ends before it starts"));
+                }
+                if b > ticks {
+                    return Err(self.err(list[1].span(), "vcd.window[1]", format!("the window ends at {}, after the end of the run (duration = {}); valid is a window within 0 to {}", Dur(b * clock.0), Dur(ticks * clock.0), Dur(ticks * clock.0))));
                 }
                 Some((a, b))
             }

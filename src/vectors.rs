@@ -58,6 +58,13 @@ impl<W: Write> VectorWriter<W> {
     }
 }
 
+impl<W: Write> VectorWriter<W> {
+    /// The writer, after `finish` (for the caller to rename the file into place).
+    pub fn into_inner(self) -> W {
+        self.out
+    }
+}
+
 impl<W: Write> Observer for VectorWriter<W> {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
         if let Some(i) = self.pending.take() {

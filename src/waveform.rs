@@ -16,7 +16,7 @@ use pmu50_core::signals::{self, Dir, Radix, Signal};
 use pmu50_waves::gtkw::{Analog, Color, Format, GtkwSave, Trace};
 use pmu50_waves::writer::{BitType, SigId, VcdBuilder, VcdWriter};
 use pmu50_waves::{TimeUnit, Timescale};
-use std::fs::File;
+use crate::fsout::AtomicFile;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
@@ -31,7 +31,11 @@ struct Ids {
 }
 
 pub struct VcdObserver {
-    w: Option<VcdWriter<BufWriter<File>>>,
+    w: Option<VcdWriter<BufWriter<AtomicFile>>>,
+    /// The complete VCD (temporary file) after `finish`, and the save file, for the caller to
+    /// rename into place (crate::fsout).
+    file: Option<AtomicFile>,
+    gtkw: Option<GtkwSave>,
     ids: Ids,
     unit_ns: u64,
     path: PathBuf,
@@ -194,11 +198,14 @@ impl VcdObserver {
         if let Some((a, z)) = window {
             gt.fit(a * clock_ns / unit_ns, z * clock_ns / unit_ns);
         }
-        gt.write(dir.join(format!("{name}.gtkw"))).map_err(|e| err(&path, e))?;
-
-        let file = File::create(&path).map_err(|e| err(&path, e))?;
+        let file = AtomicFile::create(&path).map_err(|e| err(&path, e))?;
         let w = b.start(BufWriter::new(file)).map_err(|e| err(&path, e))?;
-        Ok(VcdObserver { w: Some(w), ids: Ids { inputs, ports, regs, internals, env }, unit_ns, path })
+        Ok(VcdObserver { w: Some(w), file: None, gtkw: Some(gt), ids: Ids { inputs, ports, regs, internals, env }, unit_ns, path })
+    }
+
+    /// The complete VCD (after `finish`, still a temporary file) and its save file.
+    pub fn into_outputs(self) -> (Option<AtomicFile>, Option<GtkwSave>) {
+        (self.file, self.gtkw)
     }
 
     fn dump(&mut self, v: &TickView<'_>, with_inputs: bool) -> Result<(), SimError> {
@@ -227,8 +234,8 @@ impl Observer for VcdObserver {
         self.dump(v, false)?;
         let path = self.path.clone();
         let w = self.w.take().ok_or_else(|| err(&path, "writer already closed"))?;
-        let mut out = w.finish().map_err(|e| err(&path, e))?;
-        std::io::Write::flush(&mut out).map_err(|e| err(&path, e))?;
+        let out = w.finish().map_err(|e| err(&path, e))?;
+        self.file = Some(out.into_inner().map_err(|e| err(&path, e.error()))?);
         Ok(())
     }
 }

@@ -30,8 +30,15 @@ const CASES: &[(&str, &[&str])] = &[
     // minimum above x
     ("duration = \"10 ms\"\n[core]\n\nmin = \"7 ms\"", &["bad.toml:4:", "core.min", "maximum interval x"]),
     // out-of-range integers
-    ("duration = \"10 ms\"\n[core]\ncth = 0", &["bad.toml:3:", "core.cth", "1..=255"]),
-    ("duration = \"10 ms\"\n[core]\nsync_depth = 9", &["bad.toml:3:", "core.sync_depth", "1..=4"]),
+    ("duration = \"10 ms\"\n[core]\ncth = 0", &["bad.toml:3:", "core.cth", "valid is a whole number of quiet pulses from 1 to 255"]),
+    ("duration = \"10 ms\"\n[core]\nsync_depth = 9", &["bad.toml:3:", "core.sync_depth", "valid is a whole number of flip-flops from 1 to 4"]),
+    ("duration = \"10 ms\"\n[core]\ncnt_width = 256", &["bad.toml:3:", "`core.cnt_width`: 256 is out of range; valid is a whole number of bits from 2 to 16"]),
+    ("duration = \"10 ms\"\n[core]\ncnt_width = -1", &["bad.toml:3:", "valid is a whole number of bits from 2 to 16"]),
+    ("duration = \"10 ms\"\ncore = []", &["bad.toml:2:", "expected a table (a `[section]` of `key = value` lines, or `{ key = value, ... }`), got an array"]),
+    ("duration = \"10 ms\"\nenv = 3", &["bad.toml:2:", "expected a table", "got integer `3`"]),
+    ("duration = \"10 ms\"\nevents = 3", &["bad.toml:2:", "expected an array `[...]`"]),
+    ("duration = \"10 ms\"\n[env]\nvcc1_v = \"5\"", &["bad.toml:3:", "expected a number"]),
+    ("duration = \"10 ms\"\n[expect]\ndiag = 1", &["bad.toml:3:", "expected true or false"]),
     // unknown fields, anywhere
     ("duration = \"10 ms\"\nspeed = 3", &["bad.toml:2:", "unknown field `speed`", "duration"]),
     ("duration = \"10 ms\"\n[core]\nt3 = \"1 ms\"", &["bad.toml:3:", "unknown field `t3`", "t2"]),
@@ -52,7 +59,20 @@ const CASES: &[(&str, &[&str])] = &[
     ("duration = \"10 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"1 ms\" } ]", &["bad.toml:3:", "delta_deg"]),
     ("duration = \"10 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"0 ms\", delta_deg = 5.0 } ]", &["bad.toml:3:", "longer than zero"]),
     // environment values
-    ("duration = \"10 ms\"\n[env.comparator]\nvr_err_s = 1.5", &["bad.toml:2:", "env.comparator", "vr_err_s"]),
+    ("duration = \"10 ms\"\n[env.comparator]\nvr_err_s = 1.5", &["bad.toml:3:", "env.comparator.vr_err_s", "between -1.0 and 1.0"]),
+    // env errors name the line of the field, not line 1
+    ("duration = \"10 ms\"\n\n[env.sensor2]\ngain_s = 1.0\ntau_us = -5.0\n[motor]\nstart_deg = 1.0", &["bad.toml:5:", "env.sensor2.tau_us"]),
+    ("duration = \"10 ms\"\nenv.comparator = { vr_err_c = 0.0, vr_err_s = 2.0 }", &["bad.toml:2:", "env.comparator.vr_err_s"]),
+    ("duration = \"10 ms\"\n[env]\n\nvcc1_v = 50.0", &["bad.toml:4:", "env.vcc1_v", "0 < V <= 40"]),
+    ("duration = \"10 ms\"\n[env]\nvcc1_v = 5.0\ntheta_t_deg = 91.0", &["bad.toml:4:", "env.theta_t_deg", "-90 to 90 degrees"]),
+    // two writes at the same time: only the last would happen
+    ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"2 ms\"\nwrite = { reg = \"T2\", value = 100 }\n[[events]]\nat = \"2 ms\"\nwrite = { reg = \"T1\", value = 100 }", &["bad.toml:10:", "events[2].write", "a second write at 2 ms (the write of line 7 is at the same time)"]),
+    // expectations and defaults that no longer fit name their line
+    ("duration = \"10 ms\"\n[expect]\ndiag = false\nreadout_within_deg = -1.0", &["bad.toml:4:", "expect.readout_within_deg", "positive angle"]),
+    ("duration = \"10 ms\"\n[expect]\n\nsi_sequence_ms = [6.6, 0.0]", &["bad.toml:4:", "expect.si_sequence_ms"]),
+    ("duration = \"10 ms\"\n[core]\nadaptive = true\nclock = \"1 ms\"", &["bad.toml:4:", "with the default values of the fields not given"]),
+    // a dump window beyond the run
+    ("duration = \"10 ms\"\n[vcd]\nwindow = [\"2 ms\", \"12 ms\"]", &["bad.toml:3:", "vcd.window[1]", "after the end of the run (duration = 10 ms)"]),
     ("duration = \"10 ms\"\n[env]\nvcc2_v = -3.3", &["env.vcc2_v", "0 < V <= 40"]),
     // syntax and types
     ("duration = 10", &["bad.toml:1:", "string"]),
@@ -69,6 +89,10 @@ fn each_bad_input_names_file_line_and_field() {
         for w in *want {
             assert!(msg.contains(w), "message for\n{text}\n---\n{msg}\n--- lacks `{w}`");
         }
+        // No Rust type or internal struct names (RawCore, u8, f64, Spanned, ...).
+        for internal in ["Raw", "struct", "Spanned", "u8", "u16", "u32", "i64", "f64", "a sequence"] {
+            assert!(!msg.contains(internal), "message for\n{text}\n---\n{msg}\n--- names `{internal}`");
+        }
     }
 }
 
@@ -76,6 +100,7 @@ fn each_bad_input_names_file_line_and_field() {
 fn missing_file_is_an_io_error_naming_it() {
     let e = Scenario::load(Path::new("no/such/scenario.toml")).unwrap_err();
     assert!(matches!(e, ScenarioError::Io { .. }));
+    assert!(std::error::Error::source(&e).is_some(), "the io::Error is the source");
     assert!(e.to_string().contains("no/such/scenario.toml"), "{e}");
 }
 
@@ -118,5 +143,26 @@ proptest! {
                 let _ = pmu50::sim::run(&sc, pmu50::sim::SimOptions::default(), &mut []);
             }
         }
+    }
+}
+
+#[test]
+fn model_errors_keep_their_typed_source() {
+    use pmu50::scenario::ModelError;
+    use std::error::Error;
+    type IsKind = fn(&ModelError) -> bool;
+    let cases: [(&str, IsKind); 4] = [
+        ("duration = \"10 ms\"\n[core]\nt2 = \"-1.1 ms\"", |m| matches!(m, ModelError::Duration(_))),
+        ("duration = \"10 ms\"\n[core]\npi = \"3 ms\"", |m| matches!(m, ModelError::Core(_))),
+        ("duration = \"10 ms\"\n[env.comparator]\nvr_err_s = 1.5", |m| matches!(m, ModelError::Env(_))),
+        ("duration = \"10 ms\"\n[motor]\nstart_deg = nan", |m| matches!(m, ModelError::Motor(_))),
+    ];
+    for (text, kind) in cases {
+        let e = Scenario::parse(text, "bad.toml", "bad", Path::new("bad.toml")).unwrap_err();
+        match &e {
+            ScenarioError::Model { source, .. } => assert!(kind(source), "{text}: {source:?}"),
+            other => panic!("{text}: expected a model error, got {other:?}"),
+        }
+        assert!(e.source().is_some(), "{text}");
     }
 }

@@ -135,6 +135,11 @@ where
     pub fn get(&self) -> Option<&O> {
         self.inner.as_ref()
     }
+
+    /// The observer, once begun (to finish its files after the run).
+    pub fn into_inner(self) -> Option<O> {
+        self.inner
+    }
 }
 
 impl<O, F> Observer for OnBegin<O, F>

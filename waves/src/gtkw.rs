@@ -235,6 +235,14 @@ pub enum GtkwError {
         /// an existing name to show the expected form
         example: String,
     },
+    /// More named markers than GTKWave has (A-Z).
+    #[error("marker `{name}`: GTKWave has {max} named markers (A-Z), all in use")]
+    TooManyMarkers {
+        /// the marker that did not fit
+        name: String,
+        /// GTKWave's number of named markers
+        max: usize,
+    },
     /// Writing the file failed.
     #[error("cannot write save file {path}: {source}")]
     Io {
@@ -261,6 +269,8 @@ pub struct GtkwSave {
     zoom: f64,
     entries: Vec<Entry>,
     open: Vec<(String, bool)>,
+    markers: Vec<(u64, String)>,
+    notes: Vec<String>,
 }
 
 fn check_line(what: &'static str, text: &str, allow_empty: bool) -> Result<(), GtkwError> {
@@ -300,6 +310,8 @@ impl GtkwSave {
             zoom: 0.0,
             entries: Vec::new(),
             open: Vec::new(),
+            markers: Vec::new(),
+            notes: Vec::new(),
         })
     }
 
@@ -325,18 +337,51 @@ impl GtkwSave {
         Ok(self)
     }
 
-    /// Set `[timestart]` to `start` and an integer zoom that fits
-    /// `[start, end]` into the wave pane of the configured window width.
+    /// Set `[timestart]` to `start` and the zoom that shows `[start, end]` across the wave pane
+    /// of the configured window width. GTKWave shows 2^-zoom / 200 time units per pixel (its
+    /// "zoom best fit" sets zoom = -log2(span / pane · 200)); the pane is taken as the window
+    /// width less 600 pixels for the signal tree and the name column, so the span fits with a
+    /// small margin.
     pub fn fit(&mut self, start: u64, end: u64) -> &mut Self {
         self.timestart = start;
-        // wave pane ≈ window width minus the signal tree and name columns
-        let pane = f64::from(self.size.0.saturating_sub(400).max(100));
+        let pane = f64::from(self.size.0.saturating_sub(600).max(100));
         let span = end.saturating_sub(start).max(1) as f64;
-        self.zoom = -(span / pane).log2().ceil();
+        // Rounded down to the 6 decimals written, so that the whole span stays visible.
+        self.zoom = (-(span * 200.0 / pane).log2() * 1e6).floor() / 1e6;
         if self.zoom == 0.0 {
             self.zoom = 0.0; // no "-0"
         }
         self
+    }
+
+    /// Add a named marker at time `t` (VCD time units): GTKWave's markers A, B, ... in the order
+    /// added, shown with `name` above the waves (`[markername]`). The name must fit on one line
+    /// and must not start with an upper-case letter (GTKWave would read it as part of the
+    /// marker's letter).
+    pub fn marker(&mut self, t: u64, name: &str) -> Result<(), GtkwError> {
+        check_line("marker name", name, false)?;
+        if name.starts_with(|c: char| c.is_ascii_uppercase()) {
+            return Err(GtkwError::InvalidText {
+                what: "marker name",
+                text: name.into(),
+                why: "it must not start with an upper-case letter A-Z",
+            });
+        }
+        if self.markers.len() >= NAMED_MARKERS {
+            return Err(GtkwError::TooManyMarkers {
+                name: name.into(),
+                max: NAMED_MARKERS,
+            });
+        }
+        self.markers.push((t, name.to_string()));
+        Ok(())
+    }
+
+    /// A comment line (`[*] text`) in the header.
+    pub fn note(&mut self, text: &str) -> Result<(), GtkwError> {
+        check_line("note", text, false)?;
+        self.notes.push(text.to_string());
+        Ok(())
     }
 
     /// Start a (possibly closed) group named `name` (`@800200` / `-name`).
@@ -420,15 +465,26 @@ impl GtkwSave {
     fn render_into(&self, s: &mut String) -> std::fmt::Result {
         writeln!(s, "[*]")?;
         writeln!(s, "[*] pmu50-waves GTKWave save file")?;
+        for n in &self.notes {
+            writeln!(s, "[*] {n}")?;
+        }
         writeln!(s, "[*]")?;
         writeln!(s, "[dumpfile] \"{}\"", self.dumpfile)?;
         writeln!(s, "[timestart] {}", self.timestart)?;
         writeln!(s, "[size] {} {}", self.size.0, self.size.1)?;
         write!(s, "*{:.6} -1", self.zoom)?;
-        for _ in 0..NAMED_MARKERS {
-            write!(s, " -1")?;
+        for i in 0..NAMED_MARKERS {
+            match self.markers.get(i) {
+                Some((t, _)) => write!(s, " {t}")?,
+                None => write!(s, " -1")?,
+            }
         }
         writeln!(s)?;
+        for (i, (_, name)) in self.markers.iter().enumerate() {
+            // `i < NAMED_MARKERS` (checked in `marker`), so this is one letter A-Z.
+            let letter = char::from(b'A' + i as u8);
+            writeln!(s, "[markername] {letter}{name}")?;
+        }
         let mut prev: Option<u64> = None;
         let mut set_flags = |s: &mut String, flags: u64| -> std::fmt::Result {
             if prev != Some(flags) {

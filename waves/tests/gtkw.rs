@@ -162,12 +162,41 @@ fn rejects_invalid_input() {
 }
 
 #[test]
-fn fit_sets_timestart_and_integer_zoom() {
+fn fit_sets_timestart_and_gtkwave_zoom() {
+    // Pane 1400 - 600 = 800 px; GTKWave shows 2^-zoom / 200 units per pixel: 4096 units in
+    // 800 px is 2^10 / 200 per pixel, zoom -10.
     let mut s = GtkwSave::new("x.vcd").unwrap();
-    s.size(1400, 800).fit(100, 100 + 1000 * 1024);
+    s.size(1400, 800).fit(100, 100 + 4096);
     let out = s.render().unwrap();
     assert!(out.contains("[timestart] 100\n"), "{out}");
     assert!(out.contains("*-10.000000 -1"), "{out}");
+    // Any span: rounded down (more zoomed out), so the whole span is visible.
+    s.fit(0, 48_000);
+    let z: f64 = s.render().unwrap().lines().find_map(|l| l.strip_prefix('*')).unwrap().split(' ').next().unwrap().parse().unwrap();
+    let units_per_px = 2f64.powf(-z) / 200.0;
+    assert!(units_per_px * 800.0 >= 48_000.0 && units_per_px * 800.0 < 48_000.0 * 1.0001, "{z}");
+}
+
+#[test]
+fn named_markers_go_on_the_zoom_line_with_their_names() {
+    let mut s = GtkwSave::new("x.vcd").unwrap();
+    s.marker(26_620, "rotation cs, si 4.4 ms").unwrap();
+    s.marker(39_820, "rotation cc").unwrap();
+    s.note("two markers").unwrap();
+    let out = s.render().unwrap();
+    let star = out.lines().find(|l| l.starts_with('*')).unwrap();
+    let f: Vec<&str> = star.split(' ').collect();
+    assert_eq!(f.len(), 2 + 26, "zoom, primary marker, 26 named markers: {star}");
+    assert_eq!(&f[1..4], ["-1", "26620", "39820"]);
+    assert!(out.contains("\n[markername] Arotation cs, si 4.4 ms\n[markername] Brotation cc\n"), "{out}");
+    assert!(out.starts_with("[*]\n[*] pmu50-waves GTKWave save file\n[*] two markers\n[*]\n"), "{out}");
+    // GTKWave reads leading capitals as the marker's letters; 26 is all it has.
+    assert!(matches!(s.marker(1, "Key on"), Err(GtkwError::InvalidText { .. })));
+    assert!(matches!(s.marker(1, "a\nb"), Err(GtkwError::InvalidText { .. })));
+    for t in 2..26 {
+        s.marker(t, "m").unwrap();
+    }
+    assert!(matches!(s.marker(99, "one too many"), Err(GtkwError::TooManyMarkers { max: 26, .. })));
 }
 
 #[test]
@@ -230,7 +259,9 @@ fn gtkwave_reads_and_rewrites_the_save_file_identically() {
     smp.w.change_bool(smp.en, true).unwrap();
     let vcd_path = dir.join("run.vcd");
     std::fs::write(&vcd_path, text(smp.w)).unwrap();
-    let save = sample_save(vcd_path.to_str().unwrap());
+    let mut save = sample_save(vcd_path.to_str().unwrap());
+    save.marker(5, "key on").unwrap();
+    save.marker(11, "rotation cs, si 4.4 ms").unwrap();
     let ours = save.render().unwrap();
     let gtkw_path = dir.join("view.gtkw");
     save.write(&gtkw_path).unwrap();
@@ -288,5 +319,14 @@ fn gtkwave_reads_and_rewrites_the_save_file_identically() {
         "{theirs}"
     );
     assert!(theirs.contains("[size] 1200 700"), "{theirs}");
+    // GTKWave kept the zoom, the named markers and their names.
+    let markers = |s: &str| -> Vec<String> {
+        s.lines()
+            .filter(|l| l.starts_with('*') || l.starts_with("[markername]"))
+            .map(String::from)
+            .collect()
+    };
+    assert_eq!(markers(&theirs), markers(&ours), "GTKWave rewrote:\n{theirs}");
+    assert!(ours.contains("*-3.000000 -1 5 11 -1"), "{ours}");
     let _ = std::fs::remove_dir_all(&dir);
 }

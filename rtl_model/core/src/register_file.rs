@@ -287,6 +287,17 @@ fn with_write(r: &Regs, a: u8, d: u16) -> Option<Regs> {
     Some(n)
 }
 
+/// Why the chip refuses a bus write (sets `bus_err`, registers unchanged).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum WriteRefusal {
+    /// `sig` = 0: the MPU is not powered ([0205]).
+    KeyOff,
+    /// The address is not a writable register.
+    NotWritable,
+    /// The new value would make the parameter set illegal.
+    Illegal(crate::params::ParamError),
+}
+
 impl RegisterFile {
     pub const fn new(sync_depth: u8, cnt_width: u8) -> Self {
         RegisterFile { sync_depth, cnt_width }
@@ -328,18 +339,33 @@ impl RegisterFile {
         }
     }
 
+    /// The bus write of this cycle: `Ok(Some(regs))` a parameter write that is taken, `Ok(None)`
+    /// no parameter write (no `bus_we`, or a STATUS write-1-to-clear), `Err` refused and why.
+    pub fn bus_write(&self, r: &Regs, i: &Inputs) -> Result<Option<Regs>, WriteRefusal> {
+        if !i.bus_we {
+            return Ok(None);
+        }
+        if !i.sig {
+            return Err(WriteRefusal::KeyOff);
+        }
+        if i.bus_addr == addr::STATUS {
+            return Ok(None);
+        }
+        let cand = with_write(r, i.bus_addr, i.bus_wdata).ok_or(WriteRefusal::NotWritable)?;
+        self.params(&cand).validate().map_err(WriteRefusal::Illegal)?;
+        Ok(Some(cand))
+    }
+
     /// Pure next-state function, with the combinational outputs of the cycle.
     pub fn eval(&self, r: &Regs, i: &Inputs) -> (Comb, Regs) {
         let status_w1c = i.bus_we && i.sig && i.bus_addr == addr::STATUS;
         let w1c = |bit: usize| status_w1c && (i.bus_wdata >> bit) & 1 == 1;
         let mut n = *r;
-        let mut refused = false;
-        if i.bus_we && !status_w1c {
-            match with_write(r, i.bus_addr, i.bus_wdata) {
-                Some(cand) if i.sig && self.params(&cand).validate().is_ok() => n = cand,
-                _ => refused = true,
-            }
+        let write = self.bus_write(r, i);
+        if let Ok(Some(cand)) = write {
+            n = cand;
         }
+        let refused = write.is_err();
         // Set wins over clear.
         n.bus_err = refused || (r.bus_err && !w1c(status::BUS_ERR));
         n.rdata = self.read(r, i, i.bus_addr);

@@ -1,0 +1,364 @@
+//! Atomic output files: nothing the CLI writes is ever lost or left half-written.
+//!
+//! Every output (`.vcd`, `.gtkw`, `.log`, vectors, random scenarios) is written to a temporary
+//! file `.<name>.<pid>.<random>.tmp` in the folder of its final path, and renamed into place only when
+//! the whole run succeeded ([`Batch::commit`]). rename(2) replaces whatever is at the final path,
+//! a symlink included: the link itself is replaced, its target is never written.
+//!
+//! Interruptions:
+//! - an error (disk full, a refused write) drops the temporary files, the previous outputs stay;
+//! - SIGINT/SIGTERM ([`install_signal_cleanup`]): a thread removes every live temporary file and
+//!   exits 130/143; a batch being renamed into place finishes first (it holds the registry
+//!   lock), so the files of one run are either all old or all new;
+//! - SIGKILL cannot be caught: at most a stray `.*.tmp` file is left, never a damaged final file;
+//!   the next run writing the same output removes it (its process is gone).
+
+use std::fs::Permissions;
+use std::io::{self, Write};
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
+
+/// Temporary files alive in this process, removed by the signal thread.
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn live() -> MutexGuard<'static, Vec<PathBuf>> {
+    LIVE.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+/// Errors writing output files.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("{}: cannot create the output folder: {source}", path.display())]
+    Folder { path: PathBuf, #[source] source: io::Error },
+    #[error("{}: cannot create a temporary file beside it: {source}", path.display())]
+    Create { path: PathBuf, #[source] source: io::Error },
+    #[error("{}: cannot write (the previous file is left as it was): {source}", path.display())]
+    Write { path: PathBuf, #[source] source: io::Error },
+    #[error("{}: cannot rename the complete file into place: {source}", path.display())]
+    Rename { path: PathBuf, #[source] source: io::Error },
+    #[error("{}: is a directory; an output file cannot replace it", path.display())]
+    IsDir { path: PathBuf },
+    #[error("{}: cannot remove the stale file: {source}", path.display())]
+    Remove { path: PathBuf, #[source] source: io::Error },
+}
+
+/// An output file being written: a temporary file beside `dest`.
+#[derive(Debug)]
+pub struct AtomicFile {
+    file: Option<tempfile::NamedTempFile>,
+    dest: PathBuf,
+    tmp: PathBuf,
+}
+
+impl AtomicFile {
+    /// Start writing `dest` (its folder must exist).
+    pub fn create(dest: &Path) -> Result<AtomicFile, OutputError> {
+        if is_real_dir(dest) {
+            return Err(OutputError::IsDir { path: dest.to_path_buf() });
+        }
+        let dir = match dest.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let base = dest.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        remove_strays(&dir, &base);
+        let mut reg = live();
+        // 0o666 less the umask, like File::create; the registry lock is held while the file is
+        // created so that a signal cannot slip between creation and registration.
+        let file = tempfile::Builder::new()
+            .prefix(&format!(".{base}.{}.", std::process::id()))
+            .suffix(".tmp")
+            .permissions(Permissions::from_mode(0o666))
+            .tempfile_in(&dir)
+            .map_err(|source| OutputError::Create { path: dest.to_path_buf(), source })?;
+        let tmp = file.path().to_path_buf();
+        reg.push(tmp.clone());
+        Ok(AtomicFile { file: Some(file), dest: dest.to_path_buf(), tmp })
+    }
+
+    /// The final path.
+    pub fn dest(&self) -> &Path {
+        &self.dest
+    }
+
+    /// The temporary path (for tests and messages).
+    pub fn temp_path(&self) -> &Path {
+        &self.tmp
+    }
+
+    fn inner(&mut self) -> io::Result<&mut tempfile::NamedTempFile> {
+        self.file.as_mut().ok_or_else(|| io::Error::other("output file already committed"))
+    }
+
+    /// Flush to disk and rename into place; the caller holds the registry lock (so this never
+    /// locks it: on every path the temporary file is taken out before `self` is dropped).
+    fn persist(mut self, reg: &mut Vec<PathBuf>) -> Result<(), OutputError> {
+        let dest = self.dest.clone();
+        reg.retain(|p| p != &self.tmp);
+        let file = self.file.take().ok_or_else(|| OutputError::Write { path: dest.clone(), source: io::Error::other("output file already committed") })?;
+        // On an error the temporary file is dropped (deleted) on return.
+        file.as_file().sync_data().map_err(|source| OutputError::Write { path: dest.clone(), source })?;
+        if is_real_dir(&dest) {
+            return Err(OutputError::IsDir { path: dest });
+        }
+        file.persist(&dest).map(|_| ()).map_err(|e| OutputError::Rename { path: dest, source: e.error })
+    }
+
+    /// Delete the temporary file; the caller holds the registry lock.
+    fn discard(mut self, reg: &mut Vec<PathBuf>) {
+        reg.retain(|p| p != &self.tmp);
+        self.file = None;
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.inner()?.write(buf)
+    }
+    fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
+        self.inner()?.write_all(buf)
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.inner()?.flush()
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if self.file.is_some() {
+            let mut reg = live();
+            // NamedTempFile removes the file when dropped.
+            self.file = None;
+            reg.retain(|p| p != &self.tmp);
+        }
+    }
+}
+
+/// A folder (not a symlink to one: rename replaces a symlink whatever it points at).
+fn is_real_dir(p: &Path) -> bool {
+    std::fs::symlink_metadata(p).is_ok_and(|m| m.file_type().is_dir())
+}
+
+/// Remove temporary files `.<base>.<pid>.*.tmp` in `dir` left by a process that no longer runs
+/// (a run killed by SIGKILL): the next run that writes the same output cleans up after it.
+fn remove_strays(dir: &Path, base: &str) {
+    let Ok(rd) = std::fs::read_dir(dir) else { return };
+    let prefix = format!(".{base}.");
+    for e in rd.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(rest) = name.strip_prefix(&prefix).filter(|_| name.ends_with(".tmp")) else { continue };
+        let Some(pid) = rest.split('.').next().and_then(|p| p.parse::<u32>().ok()) else { continue };
+        if pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() && e.file_type().is_ok_and(|t| t.is_file()) {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
+}
+
+/// Write a whole small file atomically (e.g. a `.gtkw` or a random scenario).
+pub fn write_atomic(dest: &Path, bytes: &[u8]) -> Result<AtomicFile, OutputError> {
+    let mut f = AtomicFile::create(dest)?;
+    f.write_all(bytes).map_err(|source| OutputError::Write { path: dest.to_path_buf(), source })?;
+    Ok(f)
+}
+
+/// The files of one run, renamed into place together, in the order they were added (the
+/// `.gtkw` last), and stale files to remove at the same moment.
+#[derive(Debug, Default)]
+pub struct Batch {
+    files: Vec<AtomicFile>,
+    last: Option<AtomicFile>,
+    stale: Vec<PathBuf>,
+}
+
+impl Batch {
+    pub fn new() -> Batch {
+        Batch::default()
+    }
+
+    pub fn add(&mut self, f: AtomicFile) {
+        self.files.push(f);
+    }
+
+    /// The file renamed last (the `.gtkw`, so that it never points at a file not yet in place).
+    pub fn set_last(&mut self, f: AtomicFile) {
+        self.last = Some(f);
+    }
+
+    /// Remove `path` when the batch is committed (when it exists).
+    pub fn remove_stale(&mut self, path: PathBuf) {
+        self.stale.push(path);
+    }
+
+    /// Final paths of the files in this batch.
+    pub fn paths(&self) -> Vec<PathBuf> {
+        self.files.iter().chain(&self.last).map(|f| f.dest.clone()).collect()
+    }
+
+    /// Rename every file into place. A signal arriving meanwhile waits until all are renamed.
+    pub fn commit(self) -> Result<(), OutputError> {
+        let mut reg = live();
+        let Batch { files, last, stale } = self;
+        let mut result = Ok(());
+        for f in files.into_iter().chain(last) {
+            if result.is_ok() {
+                result = f.persist(&mut reg);
+            } else {
+                // A file failed: the ones after it (the `.gtkw` among them) stay as they were.
+                f.discard(&mut reg);
+            }
+        }
+        result?;
+        for p in stale {
+            match std::fs::remove_file(&p) {
+                Ok(()) => {}
+                Err(e) if e.kind() == io::ErrorKind::NotFound => {}
+                Err(source) => return Err(OutputError::Remove { path: p, source }),
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Create `dir` (and parents) for outputs.
+pub fn create_dir(dir: &Path) -> Result<(), OutputError> {
+    std::fs::create_dir_all(dir).map_err(|source| OutputError::Folder { path: dir.to_path_buf(), source })
+}
+
+/// Remove every live temporary file (signal thread; also usable before an emergency exit).
+pub fn remove_temporaries() {
+    let mut reg = live();
+    for p in reg.drain(..) {
+        let _ = std::fs::remove_file(&p);
+    }
+    // Keep the lock until the process exits so that no new temporary file appears.
+    std::mem::forget(reg);
+}
+
+/// On SIGINT or SIGTERM: remove the temporary files and exit 130 or 143 (128 + signal number).
+pub fn install_signal_cleanup() -> Result<(), io::Error> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM])?;
+    std::thread::Builder::new().name("signal-cleanup".into()).spawn(move || {
+        if let Some(sig) = signals.forever().next() {
+            remove_temporaries();
+            std::process::exit(128 + sig);
+        }
+    })?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dir(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("pmu50-fsout-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn names(d: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn nothing_appears_until_commit_and_drop_leaves_the_old_file() {
+        let d = dir("drop");
+        let p = d.join("a.vcd");
+        std::fs::write(&p, "old").unwrap();
+        {
+            let mut f = AtomicFile::create(&p).unwrap();
+            f.write_all(b"new, half").unwrap();
+            assert_eq!(std::fs::read_to_string(&p).unwrap(), "old");
+            assert_eq!(names(&d).len(), 2, "the temporary file is beside it");
+        }
+        assert_eq!(names(&d), ["a.vcd"]);
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "old");
+        // Other tests of this process may hold temporary files of their own at this moment.
+        assert!(!live().iter().any(|t| t.starts_with(&d)), "no temporary file of this folder stays registered");
+        std::fs::remove_dir_all(&d).ok();
+    }
+
+    #[test]
+    fn commit_replaces_a_symlink_and_leaves_its_target_alone() {
+        let d = dir("link");
+        let target = d.join("precious.txt");
+        std::fs::write(&target, "keep me").unwrap();
+        let p = d.join("a.gtkw");
+        std::os::unix::fs::symlink(&target, &p).unwrap();
+        let mut b = Batch::new();
+        b.add(write_atomic(&p, b"save file").unwrap());
+        b.remove_stale(d.join("a.log"));
+        b.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep me");
+        assert!(!std::fs::symlink_metadata(&p).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "save file");
+        assert_eq!(names(&d), ["a.gtkw", "precious.txt"]);
+        // A symlink to a folder is replaced as well; the folder stays.
+        let folder = d.join("folder");
+        std::fs::create_dir(&folder).unwrap();
+        std::os::unix::fs::symlink(&folder, d.join("b.vcd")).unwrap();
+        let mut b = Batch::new();
+        b.add(write_atomic(&d.join("b.vcd"), b"vcd").unwrap());
+        b.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(d.join("b.vcd")).unwrap(), "vcd");
+        assert!(folder.is_dir());
+        std::fs::remove_dir_all(&d).ok();
+    }
+
+    #[test]
+    fn a_directory_at_the_output_path_is_an_error() {
+        let d = dir("isdir");
+        std::fs::create_dir(d.join("a.vcd")).unwrap();
+        assert!(matches!(AtomicFile::create(&d.join("a.vcd")), Err(OutputError::IsDir { .. })));
+        std::fs::remove_dir_all(&d).ok();
+    }
+
+    #[test]
+    fn a_failed_rename_discards_the_rest_of_the_batch() {
+        let d = dir("fail");
+        std::fs::write(d.join("b.gtkw"), "old save file").unwrap();
+        let mut b = Batch::new();
+        b.add(write_atomic(&d.join("a.vcd"), b"vcd").unwrap());
+        b.set_last(write_atomic(&d.join("b.gtkw"), b"new save file").unwrap());
+        std::fs::create_dir(d.join("a.vcd")).unwrap();
+        assert!(matches!(b.commit(), Err(OutputError::IsDir { .. })));
+        assert_eq!(names(&d), ["a.vcd", "b.gtkw"]);
+        assert_eq!(std::fs::read_to_string(d.join("b.gtkw")).unwrap(), "old save file");
+        std::fs::remove_dir_all(&d).ok();
+    }
+
+    #[test]
+    fn strays_of_dead_processes_are_removed_and_live_ones_kept() {
+        let d = dir("strays");
+        // pid 0x7fff_fff0 does not run; our own pid does.
+        let dead = d.join(".a.vcd.2147483632.XyZ123.tmp");
+        let alive = d.join(format!(".a.vcd.{}.AbC456.tmp", std::process::id()));
+        let other = d.join(".b.vcd.2147483632.XyZ123.tmp");
+        for p in [&dead, &alive, &other] {
+            std::fs::write(p, "partial").unwrap();
+        }
+        let f = AtomicFile::create(&d.join("a.vcd")).unwrap();
+        assert!(!dead.exists(), "the dead run's temporary file is removed");
+        assert!(alive.exists() && other.exists(), "a live process's and another output's are kept");
+        drop(f);
+        std::fs::remove_dir_all(&d).ok();
+    }
+
+    #[test]
+    fn stale_files_are_removed_on_commit() {
+        let d = dir("stale");
+        std::fs::write(d.join("a.log"), "old log").unwrap();
+        let mut b = Batch::new();
+        b.add(write_atomic(&d.join("a.vcd"), b"vcd").unwrap());
+        b.remove_stale(d.join("a.log"));
+        assert!(d.join("a.log").exists());
+        b.commit().unwrap();
+        assert_eq!(names(&d), ["a.vcd"]);
+        std::fs::remove_dir_all(&d).ok();
+    }
+}

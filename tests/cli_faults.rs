@@ -1,0 +1,314 @@
+//! Issue 7, sections 1, 2 and 5 at the command line: each case with its exit code and message.
+//! (Interruptions and disk full: tests/interrupt.rs.)
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+const BIN: &str = env!("CARGO_BIN_EXE_pmu50");
+
+fn pmu50(args: &[&str]) -> Output {
+    Command::new(BIN).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
+}
+
+fn text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+fn tmp(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pmu50-faults-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn names(d: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    v.sort();
+    v
+}
+
+fn expect(o: &Output, code: i32, want: &[&str]) {
+    let t = text(o);
+    assert_eq!(o.status.code(), Some(code), "{t}");
+    for w in want {
+        assert!(t.contains(w), "output lacks `{w}`:\n{t}");
+    }
+    assert!(!t.contains("panicked"), "{t}");
+}
+
+const SHORT: &str = "duration = \"5 ms\"\n";
+
+// ------------------------------------------------------------------ section 1 ----
+
+#[test]
+fn a_symlink_at_the_output_path_is_replaced_not_followed() {
+    let d = tmp("link");
+    let precious = d.join("precious.txt");
+    std::fs::write(&precious, "not a waveform").unwrap();
+    let out = d.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    for ext in ["vcd", "gtkw", "log"] {
+        std::os::unix::fs::symlink(&precious, out.join(format!("v.{ext}"))).unwrap();
+    }
+    let sc = d.join("v.toml");
+    std::fs::write(&sc, SHORT).unwrap();
+    expect(&pmu50(&["run", s(&sc), "--log", "--out-dir", s(&out)]), 0, &["wrote"]);
+    assert_eq!(std::fs::read_to_string(&precious).unwrap(), "not a waveform");
+    for ext in ["vcd", "gtkw", "log"] {
+        let m = std::fs::symlink_metadata(out.join(format!("v.{ext}"))).unwrap();
+        assert!(m.file_type().is_file(), "v.{ext} is a regular file now");
+    }
+    assert_eq!(names(&out), ["v.gtkw", "v.log", "v.vcd"], "no temporary file left");
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn two_scenarios_writing_the_same_file_exit_2_before_simulating() {
+    let d = tmp("same");
+    let (a, b) = (d.join("a.toml"), d.join("b.toml"));
+    std::fs::write(&a, format!("name = \"twin\"\n{SHORT}")).unwrap();
+    std::fs::write(&b, format!("name = \"twin\"\n{SHORT}")).unwrap();
+    let out = d.join("out");
+    let o = pmu50(&["run", s(&a), s(&b), "--out-dir", s(&out)]);
+    expect(&o, 2, &["twin.vcd would be written by two scenarios", "a.toml", "b.toml", "nothing was run"]);
+    assert!(!out.exists() || names(&out).is_empty(), "nothing was simulated or written");
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn bad_files_are_all_reported_the_good_ones_run_and_the_worst_code_wins() {
+    let d = tmp("many");
+    let (a, bad, bad2, c) = (d.join("a.toml"), d.join("bad.toml"), d.join("bad2.toml"), d.join("c.toml"));
+    std::fs::write(&a, SHORT).unwrap();
+    std::fs::write(&bad, "duration = \"5 ms\"\n[core]\nt2 = \"1.105 ms\"\n").unwrap();
+    std::fs::write(&bad2, "duration = 3\n").unwrap();
+    std::fs::write(&c, format!("{SHORT}[expect]\nsi_sequence_ms = [2.2]\n")).unwrap();
+    let out = d.join("out");
+    let o = pmu50(&["run", s(&a), s(&bad), s(&bad2), s(&c), "--out-dir", s(&out)]);
+    expect(&o, 2, &["bad.toml:3: `core.t2`", "bad2.toml:1:", "== a:", "== c:", "check si_sequence_ms       FAIL"]);
+    assert_eq!(names(&out), ["a.gtkw", "a.vcd", "c.gtkw", "c.vcd"]);
+    // Without the bad files the worst is the failed check: 1.
+    expect(&pmu50(&["run", s(&a), s(&c), "--out-dir", s(&out)]), 1, &["== a:", "== c:"]);
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn a_stale_log_is_removed_when_the_new_run_writes_none() {
+    let d = tmp("stale");
+    let sc = d.join("v.toml");
+    std::fs::write(&sc, SHORT).unwrap();
+    let out = d.join("out");
+    expect(&pmu50(&["run", s(&sc), "--log", "--out-dir", s(&out)]), 0, &["v.log"]);
+    assert_eq!(names(&out), ["v.gtkw", "v.log", "v.vcd"]);
+    // A file of the user's that merely has the name is not a change log: it stays.
+    expect(&pmu50(&["run", s(&sc), "--out-dir", s(&out)]), 0, &["wrote"]);
+    assert_eq!(names(&out), ["v.gtkw", "v.vcd"]);
+    std::fs::write(out.join("v.log"), "my notes\n").unwrap();
+    expect(&pmu50(&["run", s(&sc), "--out-dir", s(&out)]), 0, &["wrote"]);
+    assert_eq!(std::fs::read_to_string(out.join("v.log")).unwrap(), "my notes\n");
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn closed_or_full_streams_exit_2_without_panic_text() {
+    // stdout on a full device
+    let o = Command::new(BIN).args(["list", "scenarios"]).current_dir(env!("CARGO_MANIFEST_DIR")).stdout(std::fs::File::create("/dev/full").unwrap()).output().unwrap();
+    expect(&o, 2, &[]);
+    assert!(o.stderr.is_empty(), "{}", String::from_utf8_lossy(&o.stderr));
+    // stderr on a full device (the error message cannot be written)
+    let o = Command::new(BIN).args(["check", "no/such.toml"]).stderr(std::fs::File::create("/dev/full").unwrap()).output().unwrap();
+    expect(&o, 2, &[]);
+    // clap's help and usage errors too
+    let o = Command::new(BIN).arg("--help").stdout(std::fs::File::create("/dev/full").unwrap()).output().unwrap();
+    expect(&o, 2, &[]);
+    let o = Command::new(BIN).arg("--help").output().unwrap();
+    expect(&o, 0, &["Usage: pmu50"]);
+    let o = Command::new(BIN).args(["run", "--bogus"]).output().unwrap();
+    expect(&o, 2, &["unexpected argument '--bogus'"]);
+    // stdout a closed pipe: the reader went away before the summary
+    let mut child = Command::new(BIN).args(["run", "scenarios/fig15a.toml", "--out-dir", s(&tmp("pipe"))]).current_dir(env!("CARGO_MANIFEST_DIR")).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    expect(&o, 2, &[]);
+}
+
+// ------------------------------------------------------------------ section 2 ----
+
+#[test]
+fn refused_writes_are_reported_with_file_line_and_reason_and_exit_1() {
+    let d = tmp("refused");
+    let sc = d.join("w.toml");
+    std::fs::write(
+        &sc,
+        "duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"0 ms\"\nwrite = { reg = \"T2\", value = 100 }\n\
+         [[events]]\nat = \"5 ms\"\nwrite = { reg = \"SI_MIN\", value = 700 }\n[[events]]\nat = \"6 ms\"\nwrite = { reg = \"T1\", value = 100 }\n",
+    )
+    .unwrap();
+    let o = pmu50(&["run", s(&sc), "--out-dir", s(&d)]);
+    expect(
+        &o,
+        1,
+        &[
+            "w.toml:7: write T2 = 100 at 0.000 ms refused by the chip (bus_err set): the chip's synchronised key signal sig is still 0",
+            "w.toml:10: write SI_MIN = 700 at 5.000 ms refused by the chip (bus_err set): the parameter set would become illegal: core.min (700 ticks) is above core.x (660 ticks)",
+        ],
+    );
+    assert!(!text(&o).contains("w.toml:13"), "the legal T1 write is not reported:\n{}", text(&o));
+    // `check` validates statically; it cannot know the chip's state, and says the file is ok.
+    expect(&pmu50(&["check", s(&sc)]), 0, &["ok"]);
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn the_model_refuses_exactly_the_writes_reported() {
+    // Cross-check with the waveform: bus_err rises right after the first refused write.
+    let d = tmp("buserr");
+    let sc = d.join("w.toml");
+    std::fs::write(&sc, "duration = \"2 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"1 ms\"\nwrite = { reg = \"CTH\", value = 0 }\n").unwrap();
+    let o = pmu50(&["run", s(&sc), "--log", "--out-dir", s(&d)]);
+    expect(&o, 1, &["w.toml:7: write CTH = 0 at 1.000 ms refused", "core.cth = 0 is out of range"]);
+    let log = std::fs::read_to_string(d.join("w.log")).unwrap();
+    let line = log.lines().find(|l| l.contains("register_file.bus_err")).expect("bus_err changes in the log");
+    assert!(line.trim_start().starts_with("101 "), "bus_err rises at edge 101 (write at tick 100): {line}");
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn a_window_outside_the_run_exits_2() {
+    let d = tmp("window");
+    let o = pmu50(&["run", "scenarios/fig15a.toml", "--window", "40 ms", "50 ms", "--out-dir", s(&d)]);
+    expect(&o, 2, &["--window 40 ms 50 ms is outside the run of scenarios/fig15a.toml (0 to 48 ms)"]);
+    let sc = d.join("w.toml");
+    std::fs::write(&sc, "duration = \"10 ms\"\n[vcd]\nwindow = [\"12 ms\", \"20 ms\"]\n").unwrap();
+    expect(&pmu50(&["check", s(&sc)]), 2, &["w.toml:3: `vcd.window[1]`", "after the end of the run (duration = 10 ms)"]);
+    assert_eq!(names(&d), ["w.toml"], "nothing written");
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn a_vcd_over_the_limit_is_refused_unless_windowed_or_allowed() {
+    let d = tmp("big");
+    let sc = d.join("long.toml");
+    std::fs::write(&sc, "duration = \"1000 s\"\n").unwrap();
+    let o = pmu50(&["run", s(&sc), "--out-dir", s(&d)]);
+    expect(&o, 2, &["long.toml: the VCD would be about 16.0 GB (100000000 dumped ticks), above the limit of 2.0 GB", "--window", "--max-vcd-bytes"]);
+    let o = pmu50(&["run", s(&sc), "--out-dir", s(&d), "--max-vcd-bytes", "1000000000"]);
+    expect(&o, 2, &["above the limit of 1.0 GB"]);
+    // A small explicit limit applies to short runs too; a window brings the estimate down.
+    std::fs::write(&sc, "duration = \"50 ms\"\n").unwrap();
+    expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--max-vcd-bytes", "100000"]), 2, &["about 816 kB (5000 dumped ticks)"]);
+    expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--max-vcd-bytes", "100000", "--window", "0 ms", "0.5 ms"]), 0, &["wrote"]);
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn vcd_size_estimate_is_an_upper_bound() {
+    // The estimate (160 bytes per tick) against real runs: key off (shipped) and key on all the time.
+    let d = tmp("est");
+    let on = d.join("on.toml");
+    std::fs::write(&on, "duration = \"50 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"50 ms\", delta_deg = 2000.0 } ]\n[[events]]\nat = \"0 ms\"\nig = true\n").unwrap();
+    let fig = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/too_fast.toml");
+    for (sc, name, ticks) in [(on.as_path(), "on", 5_000u64), (fig.as_path(), "too_fast", 20_000)] {
+        expect(&pmu50(&["run", s(sc), "--out-dir", s(&d)]), 0, &[]);
+        let size = std::fs::metadata(d.join(format!("{name}.vcd"))).unwrap().len();
+        let est = pmu50::output::estimate_vcd_bytes(ticks);
+        assert!(size <= est && est <= 4 * size, "{name}: {size} bytes, estimate {est}");
+    }
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn list_never_blocks_on_a_fifo_and_check_refuses_non_regular_and_huge_files() {
+    let d = tmp("fifo");
+    let fifo = d.join("pipe.toml");
+    let st = Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(st.success(), "mkfifo");
+    std::fs::write(d.join("ok.toml"), SHORT).unwrap();
+    std::fs::create_dir(d.join("dir.toml")).unwrap();
+    let mut child = Command::new(BIN).args(["list", s(&d)]).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let t0 = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if t0.elapsed() > std::time::Duration::from_secs(20) {
+            child.kill().ok();
+            panic!("`pmu50 list` blocked on a FIFO");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let o = child.wait_with_output().unwrap();
+    expect(&o, 0, &["pipe.toml: is a FIFO (named pipe), not a regular file", "dir.toml: is a folder", "ok "]);
+    expect(&pmu50(&["check", s(&fifo)]), 2, &["pipe.toml: is a FIFO (named pipe), not a regular file; a scenario is a TOML file"]);
+    expect(&pmu50(&["check", "/dev/null"]), 2, &["/dev/null: is a device, not a regular file"]);
+    let huge = d.join("huge.toml");
+    std::fs::write(&huge, format!("{SHORT}{}", "# padding\n".repeat(120_000))).unwrap();
+    expect(&pmu50(&["check", s(&huge)]), 2, &["huge.toml: 1200018 bytes is larger than a scenario can be (1048576 bytes at most)"]);
+    std::fs::remove_dir_all(&d).ok();
+}
+
+// ------------------------------------------------------------------ section 5 ----
+
+#[test]
+fn the_save_file_opens_on_the_whole_run_with_named_markers() {
+    let d = tmp("gtkw");
+    expect(&pmu50(&["run", "scenarios/fig16.toml", "--out-dir", s(&d)]), 0, &[]);
+    let g = std::fs::read_to_string(d.join("fig16.gtkw")).unwrap();
+    // 110 ms = 110000 us in GTKWave's wave pane (about 800 px of the 1400 px window); GTKWave
+    // shows 2^-zoom / 200 us per pixel.
+    assert!(g.contains("[timestart] 0\n"), "{g}");
+    let star = g.lines().find(|l| l.starts_with('*')).unwrap();
+    let f: Vec<&str> = star.split(' ').collect();
+    assert_eq!(f[0], "*-14.747144", "{star}");
+    let us_per_px = 2f64.powf(14.747144) / 200.0;
+    assert!((110_000.0..110_100.0).contains(&(us_per_px * 800.0)), "{us_per_px}");
+    assert_eq!(f.len(), 2 + 26);
+    // FIG. 16: Cs then Cc rotation (each with its shortening), then the climb 3.3 .. 6.6 ms.
+    let names: Vec<&str> = g.lines().filter_map(|l| l.strip_prefix("[markername] ")).collect();
+    assert_eq!(names, ["Arotation cs, si 4.4 ms", "Brotation cc, si 2.2 ms", "Csi 3.3 ms", "Dsi 4.4 ms", "Esi 5.5 ms", "Fsi 6.6 ms"]);
+    assert_eq!(&f[2..4], ["26620", "39820"], "the FIG. 15A edges of the README walk-through");
+    assert!(f[8..].iter().all(|m| *m == "-1"));
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn a_windowed_save_file_opens_on_the_window_with_its_markers_only() {
+    let d = tmp("gtkww");
+    expect(&pmu50(&["run", "scenarios/fig16.toml", "--window", "30 ms", "50 ms", "--out-dir", s(&d)]), 0, &[]);
+    let g = std::fs::read_to_string(d.join("fig16.gtkw")).unwrap();
+    assert!(g.contains("[timestart] 30000\n"), "{g}");
+    let names: Vec<&str> = g.lines().filter_map(|l| l.strip_prefix("[markername] ")).collect();
+    assert_eq!(names, ["Arotation cc, si 2.2 ms"], "{g}");
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn vectors_and_random_outputs_are_atomic_too() {
+    let d = tmp("vecatomic");
+    let vec = d.join("f.vec");
+    std::fs::write(&vec, "previous vectors\n").unwrap();
+    // The VCD folder is a file: the run fails after the vectors were written to their temporary
+    // file; the previous vector file stays and no temporary file is left.
+    let blocker = d.join("not_a_dir");
+    std::fs::write(&blocker, "x").unwrap();
+    let o = pmu50(&["vectors", "scenarios/fig15a.toml", "-o", s(&vec), "--vcd-dir", s(&blocker)]);
+    expect(&o, 2, &["not_a_dir: cannot create the output folder"]);
+    assert_eq!(std::fs::read_to_string(&vec).unwrap(), "previous vectors\n");
+    assert_eq!(names(&d), ["f.vec", "not_a_dir"]);
+    // Vectors written over the model's own VCD: refused before running.
+    let o = pmu50(&["vectors", "scenarios/fig15a.toml", "-o", s(&d.join("fig15a.vcd")), "--vcd-dir", s(&d)]);
+    expect(&o, 2, &["fig15a.vcd is also the model's", "written into --vcd-dir"]);
+    assert_eq!(names(&d), ["f.vec", "not_a_dir"]);
+    // A symlink at the output of `random` is replaced, its target untouched.
+    let target = d.join("target.txt");
+    std::fs::write(&target, "keep").unwrap();
+    let link = d.join("r.toml");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    expect(&pmu50(&["random", "--seed", "3", "-o", s(&link)]), 0, &[]);
+    assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep");
+    assert!(std::fs::read_to_string(&link).unwrap().contains("random_3"));
+    // An output folder that does not exist is an error naming it, exit 2.
+    expect(&pmu50(&["random", "--seed", "3", "-o", s(&d.join("no/such/r.toml"))]), 2, &["no/such/r.toml: cannot create a temporary file beside it"]);
+    std::fs::remove_dir_all(&d).ok();
+}
