@@ -15,6 +15,7 @@
 //! `pmu50.<block>`: registers; `pmu50.internals`), for `pmu50 diff` (method 3). Clock 10 us.
 
 use pmu50_core::pmu50::Structural;
+use pmu50_core::signals;
 use pmu50_core::{Inputs, Params, Pmu50};
 use std::fmt::Write as _;
 use std::io::{BufWriter, Write};
@@ -290,7 +291,7 @@ fn run(seed: u64, ticks: u64, out: &str, vcd_path: Option<&str>) -> Result<(), S
     for (n, v) in p.hdl_parameters() {
         h += &format!("// param {n} {v}\n");
     }
-    h += &format!("// ticks {ticks}\n// fields 30\n");
+    h += &format!("// ticks {ticks}\n// fields {}\n", signals::N_INPUTS + signals::N_OUTPUTS);
     let ins: Vec<&str> = Inputs::default().values().iter().map(|v| v.0).collect();
     let outs: Vec<&str> = core.peek().values(&s).iter().map(|v| v.0).collect();
     h += &format!("// columns {} | {}\n", ins.join(" "), outs.join(" "));
@@ -344,8 +345,8 @@ fn run(seed: u64, ticks: u64, out: &str, vcd_path: Option<&str>) -> Result<(), S
             })
         }
     };
-    let n_in = 7;
-    let n_out = 23;
+    let n_in = signals::N_INPUTS;
+    let n_out = signals::N_OUTPUTS;
     let n_reg = core.regs().values(&s).len();
 
     let t_us = CLOCK_NS / 1000;

@@ -1,8 +1,9 @@
 // Lockstep co-simulation (verification method 2): the Verilog twin (Verilator) and the Rust
 // reference model (C ABI, hdl/ffi/include/pmu50.h) run side by side on the INPUT columns of a
-// vector file; after every rising edge all 23 outputs and all 26 registers are compared, and
-// before every edge the 9 combinational internals (scope `internals`). The expected-output
-// columns of the file are not used: the model computes them live.
+// vector file; after every rising edge all outputs and registers are compared, and before every
+// edge the combinational internals (scope `internals`). The expected-output columns of the file
+// are not used: the model computes them live. This file only feeds values: the comparison and
+// its MISMATCH lines are the model's (pmu50_check), shared with the SystemVerilog bench.
 //
 // Usage: lockstep FILE.vec [--history N] [--max-ticks N]
 // Exit:  0 no divergence (prints `PASS ticks=<n> ...`), 1 divergence (report on stdout),
@@ -41,9 +42,7 @@
 
 namespace {
 
-constexpr int kInputs = 7;
-constexpr int kOutputs = 23;
-constexpr int kFields = kInputs + kOutputs;
+constexpr int kFields = PMU50_INPUT_COUNT + PMU50_OUTPUT_COUNT;
 
 struct Header {
     std::map<std::string, long> param;
@@ -51,14 +50,6 @@ struct Header {
     long ticks = -1;
     long fields = kFields;
     std::string scenario = "?";
-};
-
-struct Diff {
-    std::string kind;  // output / register / internal
-    std::string name;
-    uint64_t model;
-    uint64_t rtl;
-    int width;
 };
 
 struct HistoryRow {
@@ -72,14 +63,6 @@ void die(int code, const char *fmt, const char *a = "", const char *b = "") {
     std::printf(fmt, a, b);
     std::printf("\n");
     std::exit(code);
-}
-
-std::string hex(uint64_t v, int width) {
-    char buf[32];
-    int digits = (width + 3) / 4;
-    if (digits < 1) digits = 1;
-    std::snprintf(buf, sizeof buf, "%0*" PRIx64, digits, v);
-    return buf;
 }
 
 // Parse whitespace-separated hex fields of one data line.
@@ -146,7 +129,7 @@ int main(int argc, char **argv) {
         first_data = l;
         break;
     }
-    if (h.fields != kFields) die(2, "`%s`: header says fields %s, expected 30", path, std::to_string(h.fields).c_str());
+    if (h.fields != kFields) die(2, "`%s`: header says fields %s, expected PMU50_INPUT_COUNT + PMU50_OUTPUT_COUNT", path, std::to_string(h.fields).c_str());
     if (h.param.count("CLOCK_US")) h.clock_ns = h.param["CLOCK_US"] * 1000;
 
     pmu50_params p;
@@ -217,24 +200,24 @@ int main(int argc, char **argv) {
         {"drive_interval.cnt_r", [R] { return u(R->pmu50__DOT__drive_interval__DOT__cnt_r); }},
         {"count_diagnosis.diag", [R] { return u(R->pmu50__DOT__count_diagnosis__DOT__diag); }},
     };
-    // Pair every model register with the twin's by name.
-    struct RegPair {
-        size_t model_index;
-        const TwinReg *twin;
-        int width;
-    };
-    std::vector<RegPair> regs;
+    // Place every twin register at the model's index (pmu50_check takes them in that order).
+    std::vector<int> reg_index;
+    std::vector<bool> covered(pmu50_reg_count(), false);
     for (const auto &t : twin_regs) {
         int idx = pmu50_reg_find(t.name);
         if (idx < 0) die(2, "model has no register `%s`: %s", t.name, pmu50_last_error());
-        uint8_t w = 0;
-        pmu50_reg_info(model, static_cast<size_t>(idx), nullptr, nullptr, &w);
-        regs.push_back({static_cast<size_t>(idx), &t, w});
+        if (covered[static_cast<size_t>(idx)]) die(2, "twin register `%s` listed twice", t.name);
+        covered[static_cast<size_t>(idx)] = true;
+        reg_index.push_back(idx);
     }
-    if (regs.size() != pmu50_reg_count()) {
-        std::printf("LOCKSTEP ERROR: the model has %zu registers, the twin table %zu\n", pmu50_reg_count(), regs.size());
+    if (twin_regs.size() != pmu50_reg_count()) {
+        std::printf("LOCKSTEP ERROR: the model has %zu registers, the twin table %zu\n", pmu50_reg_count(), twin_regs.size());
         return 2;
     }
+    uint64_t rtl_regs[PMU50_REG_COUNT];
+    auto twin_registers = [&] {
+        for (size_t k = 0; k < twin_regs.size(); ++k) rtl_regs[reg_index[k]] = twin_regs[k].get();
+    };
 
     auto twin_outputs = [&](pmu50_outputs &o) {
         o.sig = top->sig; o.vr_hi = top->vr_hi; o.vm_en = top->vm_en; o.vs1_en = top->vs1_en;
@@ -260,51 +243,19 @@ int main(int argc, char **argv) {
         top->bus_we = in.bus_we; top->bus_addr = in.bus_addr; top->bus_wdata = in.bus_wdata;
     };
 
-    std::vector<Diff> diffs;
-    auto compare_outputs = [&](const pmu50_outputs &mo) {
-        pmu50_outputs ro;
-        twin_outputs(ro);
-        for (size_t i = 0; i < static_cast<size_t>(kOutputs); ++i) {
-            uint64_t a = 0, b = 0;
-            const char *n = nullptr;
-            uint8_t w = 0;
-            pmu50_output_get(&mo, i, &a);
-            pmu50_output_get(&ro, i, &b);
-            if (a != b) {
-                pmu50_output_info(model, i, &n, &w);
-                diffs.push_back({"output", n, a, b, w});
-            }
+    // The comparison itself is the model's: pmu50_check. >0 mismatches, <0 error.
+    auto check = [&](const pmu50_outputs *ro, const uint64_t *rr, const pmu50_internals *rx) {
+        int n = pmu50_check(model, ro, rr, rx);
+        if (n < 0) {
+            std::printf("LOCKSTEP ERROR: pmu50_check: %s\n", pmu50_last_error());
+            std::exit(2);
         }
-    };
-    auto compare_registers = [&] {
-        for (const auto &r : regs) {
-            uint64_t a = 0;
-            pmu50_reg_get(model, r.model_index, &a);
-            uint64_t b = r.twin->get();
-            if (a != b) diffs.push_back({"register", r.twin->name, a, b, r.width});
-        }
-    };
-    auto compare_internals = [&](const pmu50_internals &mx) {
-        pmu50_internals rx;
-        twin_internals(rx);
-        for (size_t i = 0; i < pmu50_internal_count(); ++i) {
-            uint64_t a = 0, b = 0;
-            const char *n = nullptr;
-            uint8_t w = 0;
-            pmu50_internal_get(&mx, i, &a);
-            pmu50_internal_get(&rx, i, &b);
-            if (a != b) {
-                pmu50_internal_info(i, &n, &w);
-                diffs.push_back({"internal", std::string("internals.") + n, a, b, w});
-            }
-        }
+        return n;
     };
 
     std::deque<HistoryRow> hist;
     auto report = [&](uint64_t tick, const pmu50_inputs *during) {
-        for (const auto &d : diffs)
-            std::printf("MISMATCH tick=%" PRIu64 " signal=%s model=%s rtl=%s\n", tick, d.name.c_str(),
-                        hex(d.model, d.width).c_str(), hex(d.rtl, d.width).c_str());
+        std::printf("%s", pmu50_check_report(model));
         if (during)
             std::printf("LOCKSTEP FAIL %s (scenario %s, mutant %s): first divergence at tick %" PRIu64
                         " (combinational, before rising edge %" PRIu64 "), time %" PRIu64 " ns\n",
@@ -313,10 +264,6 @@ int main(int argc, char **argv) {
             std::printf("LOCKSTEP FAIL %s (scenario %s, mutant %s): first divergence at tick %" PRIu64
                         " (after rising edge %" PRIu64 "), time %" PRIu64 " ns\n",
                         path, h.scenario.c_str(), PMU50_MUTANT, tick, tick, tick * static_cast<uint64_t>(h.clock_ns));
-        std::printf("  %-9s %-32s %-8s %-8s\n", "kind", "signal", "model", "rtl");
-        for (const auto &d : diffs)
-            std::printf("  %-9s %-32s %-8s %-8s\n", d.kind.c_str(), d.name.c_str(), hex(d.model, d.width).c_str(),
-                        hex(d.rtl, d.width).c_str());
         std::printf("last %zu ticks: inputs applied in tick k-1 (sampled at edge k), model outputs after edge k\n", hist.size());
         std::printf("  %8s | ig ok s c we ad wdat | sig st sr smp cs cc cnt_s cnt_c cnt_r   si hs hc dg qs rdat er\n", "edge k");
         for (const auto &r : hist) {
@@ -357,11 +304,10 @@ int main(int argc, char **argv) {
 
     // Tick 0: reset state.
     {
-        pmu50_outputs mo;
-        pmu50_peek(model, &mo);
-        compare_outputs(mo);
-        compare_registers();
-        if (!diffs.empty()) {
+        pmu50_outputs ro;
+        twin_outputs(ro);
+        twin_registers();
+        if (check(&ro, rtl_regs, nullptr) > 0) {
             report(0, nullptr);
             return 1;
         }
@@ -386,14 +332,14 @@ int main(int argc, char **argv) {
         // cycle `tick`: inputs applied, combinational logic settles
         set_inputs(in);
         top->eval();
-        pmu50_internals mx;
         pmu50_outputs mo;
-        if (pmu50_step_traced(model, &in, &mx, &mo) != PMU50_OK) {
+        if (pmu50_step_traced(model, &in, nullptr, &mo) != PMU50_OK) {
             std::printf("LOCKSTEP ERROR: model step failed: %s\n", pmu50_last_error());
             return 2;
         }
-        compare_internals(mx);
-        if (!diffs.empty()) {
+        pmu50_internals rx;
+        twin_internals(rx);
+        if (check(nullptr, nullptr, &rx) > 0) {
             // visible during tick `tick`, before rising edge tick+1 (as in the VCDs)
             report(tick, &in);
             return 1;
@@ -402,11 +348,13 @@ int main(int argc, char **argv) {
         top->clk = 1;
         top->eval();
         ++tick;
-        compare_outputs(mo);
-        compare_registers();
+        pmu50_outputs ro;
+        twin_outputs(ro);
+        twin_registers();
+        int nm = check(&ro, rtl_regs, nullptr);
         hist.push_back({tick, in, mo});
         if (hist.size() > history) hist.pop_front();
-        if (!diffs.empty()) {
+        if (nm > 0) {
             report(tick, nullptr);
             return 1;
         }
@@ -431,7 +379,7 @@ int main(int argc, char **argv) {
         return 2;
     }
     top->final();
-    std::printf("PASS ticks=%" PRIu64 " outputs=%d registers=%zu internals=%zu (scenario %s, mutant %s)\n", tick,
-                    kOutputs, regs.size(), pmu50_internal_count(), h.scenario.c_str(), PMU50_MUTANT);
+    std::printf("PASS ticks=%" PRIu64 " outputs=%zu registers=%zu internals=%zu (scenario %s, mutant %s)\n", tick,
+                    pmu50_output_count(), pmu50_reg_count(), pmu50_internal_count(), h.scenario.c_str(), PMU50_MUTANT);
     return 0;
 }

@@ -100,6 +100,45 @@ long long pmu50_dpi_reg(void *handle, const char *name) {
     return (long long)v;
 }
 
+/* 0 when the bench's array sizes are the library's counts, else -1 (message in
+ * pmu50_dpi_last_error is not set: the caller reports). */
+int pmu50_dpi_check_sizes(int n_outputs, int n_regs, int n_internals) {
+    return (n_outputs == PMU50_OUTPUT_COUNT && n_regs == PMU50_REG_COUNT && n_internals == PMU50_INTERNAL_COUNT) ? 0 : -1;
+}
+
+/* Lockstep compare of the state after the last step (pmu50_check): `outputs` has
+ * PMU50_OUTPUT_COUNT values in output index order, `regs` PMU50_REG_COUNT values in register
+ * index order (ignored when with_regs = 0). Returns the number of differing signals or a negative
+ * error; the MISMATCH lines are in pmu50_dpi_check_report. */
+int pmu50_dpi_check_state(void *handle, const long long *outputs, const long long *regs, int with_regs) {
+    pmu50_dpi_t *h = (pmu50_dpi_t *)handle;
+    if (!h || !outputs || (with_regs && !regs)) return PMU50_ERR_NULL;
+    pmu50_outputs o;
+    memset(&o, 0, sizeof o);
+    for (size_t i = 0; i < PMU50_OUTPUT_COUNT; i++) pmu50_output_set(&o, i, (uint64_t)outputs[i]);
+    uint64_t r[PMU50_REG_COUNT];
+    if (with_regs)
+        for (size_t i = 0; i < PMU50_REG_COUNT; i++) r[i] = (uint64_t)regs[i];
+    return pmu50_check(h->m, &o, with_regs ? r : NULL, NULL);
+}
+
+/* Lockstep compare of the internals of the cycle that ended at the last step (sampled before
+ * that edge): PMU50_INTERNAL_COUNT values in internal index order. */
+int pmu50_dpi_check_internals(void *handle, const long long *internals) {
+    pmu50_dpi_t *h = (pmu50_dpi_t *)handle;
+    if (!h || !internals) return PMU50_ERR_NULL;
+    pmu50_internals x;
+    memset(&x, 0, sizeof x);
+    for (size_t i = 0; i < PMU50_INTERNAL_COUNT; i++) pmu50_internal_set(&x, i, (uint64_t)internals[i]);
+    return pmu50_check(h->m, NULL, NULL, &x);
+}
+
+/* MISMATCH lines of the last check ("" when equal). */
+const char *pmu50_dpi_check_report(void *handle) {
+    pmu50_dpi_t *h = (pmu50_dpi_t *)handle;
+    return h ? pmu50_check_report(h->m) : "";
+}
+
 const char *pmu50_dpi_output_name(int index) {
     const char *n = "?";
     if (index < 0 || pmu50_output_info(NULL, (size_t)index, &n, NULL) != PMU50_OK) return "?";

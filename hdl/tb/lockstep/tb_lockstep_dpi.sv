@@ -1,8 +1,10 @@
 // Lockstep testbench in SystemVerilog with DPI-C (verification method 2, simulator-neutral
 // variant of lockstep.cpp): reads the INPUT columns of a vector file, drives the DUT and steps
-// the Rust reference model through pmu50_dpi.c every clock, and compares, in every cycle k:
-//   - after rising edge k: the 23 outputs and (unless PORTS_ONLY) the 26 registers;
-//   - the 9 combinational internals of cycle k (before edge k+1) (unless PORTS_ONLY).
+// the Rust reference model through pmu50_dpi.c every clock, and has the model compare (the one
+// comparison of the C ABI, pmu50_check), in every cycle k:
+//   - after rising edge k: the outputs and (unless PORTS_ONLY) the registers;
+//   - the combinational internals of cycle k (before edge k+1) (unless PORTS_ONLY).
+// This bench only feeds values, in the C ABI's index order (hdl/ffi/include/pmu50.h).
 // The first divergence is reported with its tick (edge number; = time / T), the differing
 // signals (model vs RTL) and the inputs of the last HISTORY ticks, then $fatal.
 //
@@ -46,11 +48,11 @@ module tb_lockstep_dpi;
     import "DPI-C" function void pmu50_dpi_free(input chandle h);
     import "DPI-C" function int pmu50_dpi_step(input chandle h, input int ig, input int vs2_ok, input int cmp_s,
         input int cmp_c, input int bus_we, input int bus_addr, input int bus_wdata);
-    import "DPI-C" function longint pmu50_dpi_output(input chandle h, input int index);
-    import "DPI-C" function longint pmu50_dpi_internal(input chandle h, input int index);
-    import "DPI-C" function longint pmu50_dpi_reg(input chandle h, input string name);
-    import "DPI-C" function string pmu50_dpi_output_name(input int index);
-    import "DPI-C" function string pmu50_dpi_internal_name(input int index);
+    import "DPI-C" function int pmu50_dpi_check_sizes(input int n_outputs, input int n_regs, input int n_internals);
+    import "DPI-C" function int pmu50_dpi_check_state(input chandle h, input longint outputs[NOUT],
+        input longint regs[NREG], input int with_regs);
+    import "DPI-C" function int pmu50_dpi_check_internals(input chandle h, input longint internals[NINT]);
+    import "DPI-C" function string pmu50_dpi_check_report(input chandle h);
 
     // ---- DUT
     logic        clk, rst_n;
@@ -82,15 +84,7 @@ module tb_lockstep_dpi;
     endfunction
 
 `ifndef PORTS_ONLY
-    string reg_name [NREG] = '{
-        "action_switching.sync", "register_file.adaptive", "register_file.pw", "register_file.pi",
-        "register_file.ps", "register_file.si_max", "register_file.si_min", "register_file.t1",
-        "register_file.t2", "register_file.cth", "register_file.smp_on", "register_file.bus_err",
-        "register_file.rdata", "timing_generator.tmr", "sensor_power_determination.sr",
-        "comparator_latch.cs", "comparator_latch.cc", "comparator_latch.vld", "updown_counter.cnt_s",
-        "updown_counter.cnt_c", "updown_counter.quadrant_skip", "drive_interval.si", "drive_interval.hist_s",
-        "drive_interval.hist_c", "drive_interval.cnt_r", "count_diagnosis.diag"};
-
+    // register index order of hdl/ffi/include/pmu50.h
     function automatic longint rtl_reg(int i);
         case (i)
             0: return dut.action_switching.sync;          1: return dut.register_file.adaptive;
@@ -131,7 +125,8 @@ module tb_lockstep_dpi;
     end
 
     chandle m;
-    int fd, rc, k, nfail, hval, c;
+    int fd, rc, k, nx, hval, c;
+    longint rx [NINT];
     string vecfile, line, hname;
     logic [15:0] f [30];
     logic [71:0] hist [$];   // {edge, ig, vs2_ok, cmp_s, cmp_c, bus_we, bus_addr, bus_wdata, 11'(0)}
@@ -167,12 +162,8 @@ module tb_lockstep_dpi;
         return rc == 30;
     endfunction
 
-    function automatic void mismatch(int tick, string name, longint model, longint rtl);
-        $display("MISMATCH tick=%0d signal=%s model=%0h rtl=%0h", tick, name, model, rtl);
-        nfail++;
-    endfunction
-
     task automatic report_and_stop(int tick, string when);
+        $write("%s", pmu50_dpi_check_report(m));
         $display("LOCKSTEP FAIL %s: first divergence at tick %0d (%s), time %0t", vecfile, tick, when, $time);
         $display("last %0d ticks: edge | ig vs2_ok cmp_s cmp_c bus_we bus_addr bus_wdata (inputs sampled at that edge)", hist.size());
         foreach (hist[i])
@@ -183,19 +174,19 @@ module tb_lockstep_dpi;
 
     // outputs and registers after edge `tick`
     task automatic compare_state(int tick);
-        for (int i = 0; i < NOUT; i++) begin
-            longint a = pmu50_dpi_output(m, i);
-            longint b = rtl_output(i);
-            if (a != b) mismatch(tick, pmu50_dpi_output_name(i), a, b);
-        end
+        longint ro [NOUT];
+        longint rr [NREG];
+        int n;
+        for (int i = 0; i < NOUT; i++) ro[i] = rtl_output(i);
+        for (int i = 0; i < NREG; i++) rr[i] = 0;
 `ifndef PORTS_ONLY
-        for (int i = 0; i < NREG; i++) begin
-            longint a = pmu50_dpi_reg(m, reg_name[i]);
-            longint b = rtl_reg(i);
-            if (a != b) mismatch(tick, reg_name[i], a, b);
-        end
+        for (int i = 0; i < NREG; i++) rr[i] = rtl_reg(i);
+        n = pmu50_dpi_check_state(m, ro, rr, 1);
+`else
+        n = pmu50_dpi_check_state(m, ro, rr, 0);
 `endif
-        if (nfail != 0) report_and_stop(tick, "after the rising edge");
+        if (n < 0) $fatal(1, "model: %s", pmu50_dpi_last_error());
+        if (n > 0) report_and_stop(tick, "after the rising edge");
     endtask
 
     initial begin
@@ -218,6 +209,7 @@ module tb_lockstep_dpi;
         if (c != -1) rc = $ungetc(c, fd);
         m = pmu50_dpi_new(SYNC_DEPTH, CNT_W, ADAPTIVE, PW, PI, PS, SI_MAX, SI_MIN, T1, T2, CTH, SMP_ON);
         if (m == null) $fatal(1, "model: %s", pmu50_dpi_last_error());
+        if (pmu50_dpi_check_sizes(NOUT, NREG, NINT) != 0) $fatal(1, "NOUT/NREG/NINT differ from the C ABI's counts (pmu50.h)");
 
         // power-on reset pulse before the first edge
         #1 rst_n = 1'b0;
@@ -225,7 +217,6 @@ module tb_lockstep_dpi;
         #(TH - 2);
 
         k = 0;
-        nfail = 0;
         forever begin
             // middle of cycle k: the state after edge k is stable
             compare_state(k);
@@ -239,12 +230,10 @@ module tb_lockstep_dpi;
             if (pmu50_dpi_step(m, ig, vs2_ok, cmp_s, cmp_c, bus_we, bus_addr, bus_wdata) != 0)
                 $fatal(1, "model: %s", pmu50_dpi_last_error());
 `ifndef PORTS_ONLY
-            for (int i = 0; i < NINT; i++) begin
-                longint a = pmu50_dpi_internal(m, i);
-                longint b = rtl_internal(i);
-                if (a != b) mismatch(k, {"internals.", pmu50_dpi_internal_name(i)}, a, b);
-            end
-            if (nfail != 0) report_and_stop(k, "combinational, before the next rising edge");
+            for (int i = 0; i < NINT; i++) rx[i] = rtl_internal(i);
+            nx = pmu50_dpi_check_internals(m, rx);
+            if (nx < 0) $fatal(1, "model: %s", pmu50_dpi_last_error());
+            if (nx > 0) report_and_stop(k, "combinational, before the next rising edge");
 `endif
             #(T - 1);
             k++;
