@@ -202,3 +202,52 @@ fn a_still_park_skips_almost_everything() {
     assert_same(&sc, &tick, &skip, true);
     assert!(skip.skipped_ticks * 10 > 9 * 600_000, "skipped {}", skip.skipped_ticks);
 }
+
+/// An observer that does not need every tick: it gets the reset state at `begin` and the final
+/// state at `finish`, and the bench still skips.
+#[derive(Default)]
+struct Ends {
+    begin: Option<(u64, pmu50_core::Regs)>,
+    ticks: u64,
+    finish: Option<(u64, pmu50_core::Regs)>,
+}
+
+impl pmu50::sim::Observer for Ends {
+    fn begin(&mut self, v: &pmu50::sim::TickView<'_>) -> Result<(), pmu50::sim::SimError> {
+        self.begin = Some((v.tick, *v.regs));
+        Ok(())
+    }
+    fn tick(&mut self, _: &pmu50::sim::TickView<'_>) -> Result<(), pmu50::sim::SimError> {
+        self.ticks += 1;
+        Ok(())
+    }
+    fn finish(&mut self, v: &pmu50::sim::TickView<'_>) -> Result<(), pmu50::sim::SimError> {
+        self.finish = Some((v.tick, *v.regs));
+        Ok(())
+    }
+    fn needs_every_tick(&self) -> bool {
+        false
+    }
+}
+
+#[test]
+fn observers_begin_with_the_reset_state_and_may_let_the_bench_skip() {
+    let sc = park_1d();
+    let mut o = Ends::default();
+    let r = run_with(&sc, Stepping::Periods, &mut [&mut o]).unwrap();
+    assert_eq!(o.begin, Some((0, pmu50_core::pmu50::reset(&sc.params))));
+    assert_eq!(o.finish, Some((sc.ticks, r.final_regs)));
+    assert_eq!(o.ticks, r.evaluated_ticks);
+    assert!(r.skipped_ticks > 0);
+}
+
+#[test]
+fn sim_errors_are_typed_with_their_source() {
+    let mut sc = parse("duration = \"1 ms\"\n", "bad");
+    sc.params.si_min = 0; // not legal: the core refuses it
+    let e = run_with(&sc, Stepping::Periods, &mut []).unwrap_err();
+    assert!(matches!(e, pmu50::sim::SimError::Core { .. }), "{e:?}");
+    let src = std::error::Error::source(&e).expect("a source");
+    assert!(src.downcast_ref::<pmu50_core::ParamError>().is_some());
+    assert!(e.to_string().contains("scenario bad"), "{e}");
+}

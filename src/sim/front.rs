@@ -78,6 +78,11 @@ impl AnalogFront {
         Ok(())
     }
 
+    /// Quiet until Vs2 next rises: the sensor is unpowered, the comparators (stateless) give 0.
+    pub fn quiet_while_off(&self) -> bool {
+        self.sensor2.is_unpowered()
+    }
+
     pub fn state(&self) -> FrontState {
         FrontState { sensor2: self.sensor2.clone(), fault: self.fault }
     }

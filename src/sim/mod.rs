@@ -375,7 +375,7 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
 
         // Whole repeated key-off periods, checked at each period start (key off, timer at 0).
         if let Some(ps) = periods.as_mut() {
-            if !out.sig && core.regs().timing_generator.tmr == 0 {
+            if !out.sig && core.regs().timing_generator.tmr == 0 && front.quiet_while_off() {
                 let at = At {
                     k,
                     snap: Snapshot { regs: *core.regs(), front: front.state(), mpu: mpu.state().clone(), ig: timeline.ig },

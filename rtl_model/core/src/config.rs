@@ -303,7 +303,7 @@ mod tests {
         // 1e-11 h = 36 ns exactly; 1e-13 h = 0.36 ns is below the resolution.
         assert_eq!(Dur::parse("0.00000000001 h"), Ok(Dur(36)));
         assert!(matches!(Dur::parse("0.0000000000001 h"), Err(DurParseError::SubNanosecond(_))));
-        assert!(matches!(Dur::parse("213503 d"), Ok(_)));
+        assert_eq!(Dur::parse("213503 d"), Ok(Dur(213_503 * Dur::DAY_NS)));
         assert!(matches!(Dur::parse("213504 d"), Err(DurParseError::TooLarge(_))));
         assert!(matches!(Dur::parse("-1 d"), Err(DurParseError::Negative(_))));
         assert!(matches!(Dur::parse("2 days"), Err(DurParseError::BadUnit(..))));

@@ -240,6 +240,13 @@ impl Sensor2 {
         self.on_ns
     }
 
+    /// "No change before the next rise of Vs2": while unpowered the outputs are forced to 0 V
+    /// whatever the angle, and every step with `vs2_volts = 0` leaves the state as it is. (While
+    /// powered the state changes every step: the time since the rise grows.)
+    pub fn is_unpowered(&self) -> bool {
+        self.last_vs2_v == 0.0 && self.on_ns.is_none() && self.sin2_v == 0.0 && self.cos2_v == 0.0
+    }
+
     /// Back to the unpowered state.
     pub fn reset(&mut self) {
         self.sin2_v = 0.0;
@@ -298,6 +305,21 @@ mod tests {
         let alpha = 1.0 - (-10.0 / DEFAULT_TAU_US).exp();
         assert!((first.0 - tgt.0 * alpha).abs() < 1e-12);
         assert!((first.1 - tgt.1 * alpha).abs() < 1e-12);
+    }
+
+    #[test]
+    fn unpowered_steps_change_nothing() {
+        let mut s = Sensor2::new(Sensor2Config::default()).unwrap();
+        assert!(s.is_unpowered());
+        s.step(3.3, 30.0, TICK).unwrap();
+        assert!(!s.is_unpowered());
+        s.step(0.0, 30.0, TICK).unwrap();
+        assert!(s.is_unpowered());
+        let before = s.clone();
+        for th in [0.0, 90.0, 271.5] {
+            assert_eq!(s.step(0.0, th, 123_456).unwrap(), (0.0, 0.0));
+        }
+        assert_eq!(s, before, "unpowered steps leave the whole state as it was");
     }
 
     #[test]
