@@ -9,7 +9,8 @@ use pmu50::scenario::Scenario;
 use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
 use pmu50::vectors::VectorWriter;
 use pmu50_core::Dur;
-use pmu50_waves::diff::{diff_files, DiffOptions, Outcome, Sample, XPolicy};
+use pmu50_waves::diff::{diff_files, DiffOptions, Sample, XPolicy};
+use pmu50_waves::reader::{ReadLimits, DEFAULT_MAX_FILE_BYTES};
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -93,6 +94,9 @@ enum Cmd {
         /// Absolute tolerance for real values.
         #[arg(long, default_value_t = 0.0)]
         real_tol: f64,
+        /// Refuse (exit 2) a file larger than this many bytes (default 2 GiB).
+        #[arg(long, default_value_t = DEFAULT_MAX_FILE_BYTES)]
+        max_bytes: u64,
     },
 }
 
@@ -261,7 +265,7 @@ fn main() -> ExitCode {
                 ExitCode::from(2)
             }
         },
-        Cmd::Diff { left, right, map, clock, every, x, max, allow_unmatched, real_tol } => {
+        Cmd::Diff { left, right, map, clock, every, x, max, allow_unmatched, real_tol, max_bytes } => {
             let mut prefix_map = Vec::new();
             for m in &map {
                 match m.split_once('=') {
@@ -290,15 +294,16 @@ fn main() -> ExitCode {
                 (None, Some(n)) => Sample::Every(n),
                 (None, None) => Sample::Changes,
             };
-            let opts = DiffOptions { prefix_map, sample, x_policy, max_reported: max, real_tolerance: real_tol, allow_unmatched };
+            let read_limits = ReadLimits { max_file_bytes: max_bytes, ..ReadLimits::default() };
+            let opts = DiffOptions { prefix_map, sample, x_policy, max_reported: max, real_tolerance: real_tol, allow_unmatched, read_limits };
             match diff_files(&left, &right, &opts) {
                 Ok(rep) => {
                     out!("{}", rep.to_string().trim_end());
-                    ExitCode::from(if rep.outcome == Outcome::Equal { 0 } else { 1 })
+                    ExitCode::from(rep.exit_code())
                 }
                 Err(e) => {
                     eprintln!("error: {e}");
-                    ExitCode::from(2)
+                    ExitCode::from(e.exit_code())
                 }
             }
         }
