@@ -5,6 +5,7 @@
 //! `pmu50-env` (rtl_model/env), waveform tooling is `pmu50-waves` (waves/).
 
 pub mod changelog;
+pub mod fuzzing;
 pub mod output;
 pub mod random;
 pub mod scenario;
