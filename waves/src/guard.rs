@@ -53,3 +53,23 @@ pub(crate) fn quietly<T>(f: impl FnOnce() -> T) -> Result<T, String> {
     QUIET.with(|q| q.set(was));
     r.map_err(|p| LAST.with(|l| l.borrow_mut().take()).unwrap_or_else(|| payload_text(p.as_ref())))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::quietly;
+
+    #[test]
+    fn a_panic_becomes_its_message_and_other_results_pass_through() {
+        assert_eq!(quietly(|| 7), Ok(7));
+        let e = quietly(|| -> u8 { panic!("bad bit {}", 2) }).unwrap_err();
+        assert!(e.starts_with("bad bit 2 at "), "{e}");
+        assert!(e.contains("guard.rs"), "{e}");
+        // nested use restores the outer state
+        let outer = quietly(|| {
+            let inner = quietly(|| -> u8 { panic!("inner") });
+            assert!(inner.unwrap_err().starts_with("inner"));
+            panic!("outer")
+        });
+        assert!(outer.unwrap_err().starts_with("outer"));
+    }
+}
