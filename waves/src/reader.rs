@@ -1,5 +1,15 @@
 //! Read a VCD back with `wellen`, independently of [`crate::writer`].
 //!
+//! Every input first passes [`crate::validate`] (one streaming pass): a file
+//! `wellen` would panic on, warn about or silently misread is refused with its
+//! line ([`ReadError::Malformed`]). [`Waveform::open_with`] also refuses
+//! anything but a regular file and files over [`ReadLimits::max_file_bytes`]
+//! (2 GiB by default); `$var` sizes above [`ReadLimits::max_var_width`] (65 536
+//! bits) are refused before anything is allocated for them. Only VCD is read
+//! (wellen's FST and GHW readers are not used). wellen runs single-threaded
+//! under a panic guard, so even a validator gap prints nothing and becomes
+//! [`ReadError::ParserPanicked`].
+//!
 //! [`Waveform`] lists every variable by full hierarchical path with width and
 //! kind, gives the file's timescale, and returns each signal's value changes
 //! as `(time, Value)` in file time units, in file order. wellen drops a value

@@ -287,11 +287,14 @@ fn check_name(line: u64, what: &str, raw: &[u8]) -> Result<String, ValidateError
     Ok(s.to_string())
 }
 
+/// A header command: keyword (without `$`), line, body (empty for free-text commands).
+type Command = (Vec<u8>, u64, Vec<u8>);
+
 impl<R: Read> Validator<R> {
     /// Reads one header command the way `wellen` does. Returns `None` at end of
-    /// file before a command; the keyword, its line, and the body (stored only
-    /// when `keep`).
-    fn command(&mut self) -> Result<Option<(Vec<u8>, u64, Vec<u8>)>, ValidateError> {
+    /// file before a command; the keyword, its line, and the body (kept only
+    /// for commands other than `$comment`, `$date`, `$version`).
+    fn command(&mut self) -> Result<Option<Command>, ValidateError> {
         let first = loop {
             match self.src.next()? {
                 None => return Ok(None),
@@ -577,7 +580,7 @@ impl<R: Read> Validator<R> {
             path.push('.');
         }
         path.push_str(&name);
-        if let Some(prev) = self.ids.get(id.as_ref() as &[u8]) {
+        if let Some(prev) = self.ids.get(id) {
             if prev.kind != kind {
                 return bad(
                     line,
