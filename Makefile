@@ -53,7 +53,8 @@ cosim: deps $(BIN)
 	bash hdl/cosim.sh
 
 ## Fuzz each target for FUZZ_SECONDS (libFuzzer via cargo-fuzz, nightly toolchain; installs
-## cargo-fuzz when missing). New corpus entries go to fuzz/corpus/ (not committed), crashes to
+## cargo-fuzz when missing): one process, no sanitizer (safe Rust), debug assertions on, a token
+## dictionary from fuzz/dicts/. New corpus entries go to fuzz/corpus/ (not committed), crashes to
 ## fuzz/artifacts/. `make test` replays the seeds and regressions on stable (tests/fuzz_replay.rs).
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := scenario duration vcd_diff
@@ -65,7 +66,7 @@ fuzz:
 	  mkdir -p fuzz/corpus/$$t fuzz/regressions/$$t fuzz/logs; \
 	  echo "fuzz: $$t for $(FUZZ_SECONDS) s (log: fuzz/logs/$$t.log)"; \
 	  $(CARGO) +nightly fuzz run -s none -a $$t fuzz/corpus/$$t fuzz/seeds/$$t fuzz/regressions/$$t -- \
-	    -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 > fuzz/logs/$$t.log 2>&1; rc=$$?; \
+	    -dict=fuzz/dicts/$$t.dict -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 > fuzz/logs/$$t.log 2>&1; rc=$$?; \
 	  grep -E "^(Done|stat::number_of_executed_units)" fuzz/logs/$$t.log; \
 	  if [ $$rc -ne 0 ]; then tail -n 40 fuzz/logs/$$t.log; echo "fuzz: $$t FAILED (reproducer in fuzz/artifacts/$$t/)" >&2; exit 1; fi; \
 	done
