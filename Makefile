@@ -9,7 +9,7 @@ SCENARIO  ?= fig15a
 # Debian packages the tests use, as "command:package".
 TOOLS := vcd2lxt2:gtkwave xvfb-run:xvfb xauth:xauth iverilog:iverilog verilator:verilator yosys:yosys
 
-.PHONY: run test deps view golden bench cosim lint clean
+.PHONY: run test deps view golden bench cosim lint clean fuzz
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -51,6 +51,25 @@ bench:
 ## HDL twin against the model: vectors (Icarus), lockstep (Verilator DPI-C), VCD diff, mutants.
 cosim: deps $(BIN)
 	bash hdl/cosim.sh
+
+## Fuzz each target for FUZZ_SECONDS (libFuzzer via cargo-fuzz, nightly toolchain; installs
+## cargo-fuzz when missing): one process, no sanitizer (safe Rust), debug assertions on, a token
+## dictionary from fuzz/dicts/. New corpus entries go to fuzz/corpus/ (not committed), crashes to
+## fuzz/artifacts/. `make test` replays the seeds and regressions on stable (tests/fuzz_replay.rs).
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS := scenario duration vcd_diff
+fuzz:
+	@if ! rustup run nightly rustc --version >/dev/null 2>&1; then \
+	  echo "make fuzz needs the nightly toolchain, which is not installed (rustup toolchain install nightly)" >&2; exit 2; fi
+	@command -v cargo-fuzz >/dev/null 2>&1 || $(CARGO) install cargo-fuzz --locked
+	@for t in $(FUZZ_TARGETS); do \
+	  mkdir -p fuzz/corpus/$$t fuzz/regressions/$$t fuzz/logs; \
+	  echo "fuzz: $$t for $(FUZZ_SECONDS) s (log: fuzz/logs/$$t.log)"; \
+	  $(CARGO) +nightly fuzz run -s none -a $$t fuzz/corpus/$$t fuzz/seeds/$$t fuzz/regressions/$$t -- \
+	    -dict=fuzz/dicts/$$t.dict -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 > fuzz/logs/$$t.log 2>&1; rc=$$?; \
+	  grep -E "^(Done|stat::number_of_executed_units)" fuzz/logs/$$t.log; \
+	  if [ $$rc -ne 0 ]; then tail -n 40 fuzz/logs/$$t.log; echo "fuzz: $$t FAILED (reproducer in fuzz/artifacts/$$t/)" >&2; exit 1; fi; \
+	done
 
 lint:
 	$(CARGO) clippy --workspace --all-targets -- -D warnings

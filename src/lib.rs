@@ -6,6 +6,7 @@
 
 pub mod changelog;
 pub mod fsout;
+pub mod fuzzing;
 pub mod markers;
 pub mod output;
 pub mod random;

@@ -11,7 +11,8 @@ use pmu50::scenario::Scenario;
 use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
 use pmu50::vectors::VectorWriter;
 use pmu50_core::Dur;
-use pmu50_waves::diff::{diff_files, DiffOptions, Outcome, Sample, XPolicy};
+use pmu50_waves::diff::{diff_files, DiffOptions, Sample, XPolicy};
+use pmu50_waves::reader::{ReadLimits, DEFAULT_MAX_FILE_BYTES};
 use std::collections::BTreeMap;
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -146,6 +147,9 @@ enum Cmd {
         /// Absolute tolerance for real values.
         #[arg(long, default_value_t = 0.0)]
         real_tol: f64,
+        /// Refuse (exit 2) a file larger than this many bytes (default 2 GiB).
+        #[arg(long, default_value_t = DEFAULT_MAX_FILE_BYTES)]
+        max_bytes: u64,
     },
 }
 
@@ -310,7 +314,7 @@ fn main() -> ExitCode {
                 }
             }
         }
-        Cmd::Diff { left, right, map, clock, every, x, max, allow_unmatched, real_tol } => cmd_diff(left, right, map, clock, every, x, max, allow_unmatched, real_tol),
+        Cmd::Diff { left, right, map, clock, every, x, max, allow_unmatched, real_tol, max_bytes } => cmd_diff(left, right, map, clock, every, x, max, allow_unmatched, real_tol, max_bytes),
     };
     with_streams(code)
 }
@@ -433,7 +437,8 @@ fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>) -> u8 {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn cmd_diff(left: PathBuf, right: PathBuf, map: Vec<String>, clock: Option<String>, every: Option<u64>, x: String, max: usize, allow_unmatched: bool, real_tol: f64) -> u8 {
+#[allow(clippy::too_many_arguments)]
+fn cmd_diff(left: PathBuf, right: PathBuf, map: Vec<String>, clock: Option<String>, every: Option<u64>, x: String, max: usize, allow_unmatched: bool, real_tol: f64, max_bytes: u64) -> u8 {
     let mut prefix_map = Vec::new();
     for m in &map {
         match m.split_once('=') {
@@ -462,15 +467,17 @@ fn cmd_diff(left: PathBuf, right: PathBuf, map: Vec<String>, clock: Option<Strin
         (None, Some(n)) => Sample::Every(n),
         (None, None) => Sample::Changes,
     };
-    let opts = DiffOptions { prefix_map, sample, x_policy, max_reported: max, real_tolerance: real_tol, allow_unmatched };
+    let read_limits = ReadLimits { max_file_bytes: max_bytes, ..ReadLimits::default() };
+    let opts = DiffOptions { prefix_map, sample, x_policy, max_reported: max, real_tolerance: real_tol, allow_unmatched, read_limits };
+    // The exit codes are the diff API's own (0 equal, 1 different, 2 bad input).
     match diff_files(&left, &right, &opts) {
         Ok(rep) => {
             out!("{}", rep.to_string().trim_end());
-            if rep.outcome == Outcome::Equal { 0 } else { 1 }
+            rep.exit_code()
         }
         Err(e) => {
             err!("error: {e}");
-            2
+            e.exit_code()
         }
     }
 }

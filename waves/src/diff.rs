@@ -27,7 +27,7 @@ use std::path::Path;
 
 use thiserror::Error;
 
-use crate::reader::{ReadError, SignalInfo, SignalKind, Value, Waveform};
+use crate::reader::{ReadError, ReadLimits, SignalInfo, SignalKind, Value, Waveform};
 use crate::time::{TimeUnit, Timescale};
 
 /// When signals are compared.
@@ -72,6 +72,8 @@ pub struct DiffOptions {
     pub real_tolerance: f64,
     /// If true, signals present on one side only do not make the result `Differ`.
     pub allow_unmatched: bool,
+    /// Size bounds for [`diff_files`] (file bytes, declared widths).
+    pub read_limits: ReadLimits,
 }
 
 impl Default for DiffOptions {
@@ -83,6 +85,7 @@ impl Default for DiffOptions {
             max_reported: 20,
             real_tolerance: 0.0,
             allow_unmatched: false,
+            read_limits: ReadLimits::default(),
         }
     }
 }
@@ -152,8 +155,8 @@ pub struct DiffReport {
 }
 
 impl DiffReport {
-    /// 0 for [`Outcome::Equal`], 1 for [`Outcome::Differ`].
-    pub fn exit_code(&self) -> i32 {
+    /// Process exit code: 0 for [`Outcome::Equal`], 1 for [`Outcome::Differ`].
+    pub fn exit_code(&self) -> u8 {
         match self.outcome {
             Outcome::Equal => 0,
             Outcome::Differ => 1,
@@ -246,28 +249,38 @@ pub enum DiffError {
 
 impl DiffError {
     /// Exit code for bad input.
-    pub const EXIT_CODE: i32 = 2;
-}
+    pub const EXIT_CODE: u8 = 2;
 
-/// Exit code of a diff result: 0 equal, 1 differ, 2 bad input.
-pub fn exit_code(result: &Result<DiffReport, DiffError>) -> i32 {
-    match result {
-        Ok(r) => r.exit_code(),
-        Err(_) => DiffError::EXIT_CODE,
+    /// Process exit code for this error: always [`DiffError::EXIT_CODE`] (2,
+    /// bad input), whatever was wrong.
+    pub fn exit_code(&self) -> u8 {
+        Self::EXIT_CODE
     }
 }
 
-/// Diff two waveform files.
+/// Exit code of a diff result: 0 equal, 1 differ, 2 bad input.
+pub fn exit_code(result: &Result<DiffReport, DiffError>) -> u8 {
+    match result {
+        Ok(r) => r.exit_code(),
+        Err(e) => e.exit_code(),
+    }
+}
+
+/// Diff two VCD files. Each must be a regular file of at most
+/// `opts.read_limits.max_file_bytes` bytes (2 GiB by default) whose `$var`
+/// sizes are at most `opts.read_limits.max_var_width` bits (65 536); a FIFO,
+/// directory or device, a larger file, or a malformed VCD is a
+/// [`DiffError::Read`] (exit code 2), never a result.
 pub fn diff_files(
     left: impl AsRef<Path>,
     right: impl AsRef<Path>,
     opts: &DiffOptions,
 ) -> Result<DiffReport, DiffError> {
-    let l = Waveform::open(left).map_err(|source| DiffError::Read {
+    let l = Waveform::open_with(left, &opts.read_limits).map_err(|source| DiffError::Read {
         side: "left",
         source,
     })?;
-    let r = Waveform::open(right).map_err(|source| DiffError::Read {
+    let r = Waveform::open_with(right, &opts.read_limits).map_err(|source| DiffError::Read {
         side: "right",
         source,
     })?;
@@ -602,7 +615,10 @@ fn values_equal(l: Option<&V>, r: Option<&V>, policy: XPolicy, tol: f64) -> bool
             _ => matches!(v, V::Bits(b) if b.iter().all(|c| *c == b'x')),
         },
         (Some(V::Bits(a)), Some(V::Bits(b))) => bits_equal(a, b, policy),
-        (Some(V::Real(a)), Some(V::Real(b))) => a == b || (a - b).abs() <= tol,
+        // NaN equals NaN: a diff asks whether both files hold the same value.
+        (Some(V::Real(a)), Some(V::Real(b))) => {
+            a == b || (a.is_nan() && b.is_nan()) || (a - b).abs() <= tol
+        }
         (Some(V::Text(a)), Some(V::Text(b))) => a == b,
         _ => false,
     }

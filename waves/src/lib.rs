@@ -5,7 +5,11 @@
 //!   value changes).
 //! * [`gtkw`] — GTKWave save files (`.gtkw`) that open a VCD with groups,
 //!   number formats and analog traces.
-//! * [`reader`] — reads any VCD back with `wellen` (independent of the writer).
+//! * [`reader`] — reads any VCD back with `wellen` (independent of the writer),
+//!   after [`validate`] has checked it: a malformed file is an error with its
+//!   line, never a panic, a warning or silently dropped data.
+//! * [`validate`] — streaming VCD validator with bounded memory.
+//! * [`fuzzing`] — bodies of the fuzz targets (also replayed by `cargo test`).
 //! * [`diff`] — waveform diff of two VCD files with prefix mapping, timescale
 //!   and width normalisation, x/z policies and clock/period sampling.
 //!
@@ -14,10 +18,13 @@
 //! panics on user input.
 
 pub mod diff;
+pub mod fuzzing;
 pub mod gtkw;
 pub mod reader;
+pub mod validate;
 pub mod writer;
 
+mod guard;
 mod time;
 
 pub use reader::Value;

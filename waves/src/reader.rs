@@ -1,5 +1,15 @@
 //! Read a VCD back with `wellen`, independently of [`crate::writer`].
 //!
+//! Every input first passes [`crate::validate`] (one streaming pass): a file
+//! `wellen` would panic on, warn about or silently misread is refused with its
+//! line ([`ReadError::Malformed`]). [`Waveform::open_with`] also refuses
+//! anything but a regular file and files over [`ReadLimits::max_file_bytes`]
+//! (2 GiB by default); `$var` sizes above [`ReadLimits::max_var_width`] (65 536
+//! bits) are refused before anything is allocated for them. Only VCD is read
+//! (wellen's FST and GHW readers are not used). wellen runs single-threaded
+//! under a panic guard, so even a validator gap prints nothing and becomes
+//! [`ReadError::ParserPanicked`].
+//!
 //! [`Waveform`] lists every variable by full hierarchical path with width and
 //! kind, gives the file's timescale, and returns each signal's value changes
 //! as `(time, Value)` in file time units, in file order. wellen drops a value
@@ -19,14 +29,40 @@
 //! assert_eq!(ch[1], (5, Value::Bits("0100".into())));
 //! ```
 
-use std::io::Cursor;
-use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::io::{Cursor, Read};
 use std::path::{Path, PathBuf};
 
+use std::collections::HashMap;
 use thiserror::Error;
-use wellen::{SignalEncoding, SignalRef, SignalValueRef};
+use wellen::{Hierarchy, LoadOptions, Signal, SignalEncoding, SignalRef, SignalSource, SignalValueRef};
 
+use crate::guard::quietly;
 use crate::time::{TimeUnit, Timescale};
+use crate::validate::{validate, ValidateError};
+
+/// Default bound on the size of a waveform file: 2 GiB.
+pub const DEFAULT_MAX_FILE_BYTES: u64 = 2 << 30;
+
+/// Default bound on a declared `$var` size: 65 536 bits (IEEE 1364-2005 §6.1.1
+/// lets tools limit vectors to 2^16 bits; no file of this project comes near).
+pub const DEFAULT_MAX_VAR_WIDTH: u32 = 1 << 16;
+
+/// What the reader refuses before it allocates anything in proportion to a
+/// declaration: files larger than `max_file_bytes`, `$var` sizes above
+/// `max_var_width`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ReadLimits {
+    /// Largest file accepted, in bytes ([`DEFAULT_MAX_FILE_BYTES`]).
+    pub max_file_bytes: u64,
+    /// Largest declared width accepted, in bits ([`DEFAULT_MAX_VAR_WIDTH`]).
+    pub max_var_width: u32,
+}
+
+impl Default for ReadLimits {
+    fn default() -> Self {
+        ReadLimits { max_file_bytes: DEFAULT_MAX_FILE_BYTES, max_var_width: DEFAULT_MAX_VAR_WIDTH }
+    }
+}
 
 /// One value of a signal.
 #[derive(Debug, Clone, PartialEq)]
@@ -100,7 +136,7 @@ impl SignalInfo {
 /// Errors while reading a waveform.
 #[derive(Debug, Error)]
 pub enum ReadError {
-    /// File could not be opened.
+    /// File could not be opened or read.
     #[error("cannot open waveform file {path}: {source}")]
     Open {
         /// the path
@@ -108,12 +144,49 @@ pub enum ReadError {
         /// the I/O error
         source: std::io::Error,
     },
-    /// wellen rejected the input.
+    /// The path is a directory, FIFO, device or socket.
+    #[error("{path} is a {kind}, not a regular file; give the path of a VCD file")]
+    NotRegular {
+        /// the path
+        path: PathBuf,
+        /// what it is instead (`directory`, `FIFO`, `character device`, ...)
+        kind: &'static str,
+    },
+    /// The input is larger than [`ReadLimits::max_file_bytes`].
+    #[error("{origin} is {size} bytes, more than the limit of {limit} bytes; raise the limit (`pmu50 diff --max-bytes N`) if the file really is this large")]
+    TooLarge {
+        /// file path or `<memory>`
+        origin: String,
+        /// its size in bytes (at least; a growing file may be larger)
+        size: u64,
+        /// the limit
+        limit: u64,
+    },
+    /// The validator refused the file: what is wrong and on which line.
+    #[error("{origin}:{line}: malformed VCD: {what}")]
+    Malformed {
+        /// file path or `<memory>`
+        origin: String,
+        /// 1-based line
+        line: u64,
+        /// what is wrong
+        what: String,
+    },
+    /// wellen rejected a file the validator accepted.
     #[error("cannot parse waveform {origin}: {message} (expected a VCD file with $timescale, $scope/$var declarations and $enddefinitions)")]
     Parse {
         /// file path or `<memory>`
         origin: String,
         /// wellen's message
+        message: String,
+    },
+    /// wellen panicked on a file the validator accepted (a validator gap: the
+    /// fuzz targets treat this as a failure).
+    #[error("{origin}: the VCD parser failed on a file that passed validation ({message}); please report this with the file")]
+    ParserPanicked {
+        /// file path or `<memory>`
+        origin: String,
+        /// the panic message
         message: String,
     },
     /// The file declares a unit outside s..fs.
@@ -137,7 +210,8 @@ pub enum ReadError {
 /// A fully loaded waveform file.
 pub struct Waveform {
     origin: String,
-    inner: wellen::simple::Waveform,
+    data: HashMap<SignalRef, Signal>,
+    time_table: Vec<u64>,
     signals: Vec<SignalInfo>,
     refs: Vec<SignalRef>,
     timescale: Option<Timescale>,
@@ -153,46 +227,105 @@ impl std::fmt::Debug for Waveform {
     }
 }
 
-fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
-    if let Some(s) = p.downcast_ref::<&str>() {
-        format!("parser panicked: {s}")
-    } else if let Some(s) = p.downcast_ref::<String>() {
-        format!("parser panicked: {s}")
+/// What a path is, when it is not a regular file.
+fn file_kind(ft: std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if ft.is_dir() {
+        "directory"
+    } else if ft.is_fifo() {
+        "FIFO"
+    } else if ft.is_char_device() {
+        "character device"
+    } else if ft.is_block_device() {
+        "block device"
+    } else if ft.is_socket() {
+        "socket"
     } else {
-        "parser panicked".to_string()
+        "special file"
     }
 }
 
 impl Waveform {
-    /// Read a waveform file (VCD; wellen also accepts FST and GHW).
+    /// Read a VCD file with the default [`ReadLimits`].
     pub fn open(path: impl AsRef<Path>) -> Result<Self, ReadError> {
+        Self::open_with(path, &ReadLimits::default())
+    }
+
+    /// Read a VCD file. Refuses anything but a regular file (checked before
+    /// opening, so a FIFO never blocks) and files over `limits.max_file_bytes`.
+    pub fn open_with(path: impl AsRef<Path>, limits: &ReadLimits) -> Result<Self, ReadError> {
         let path = path.as_ref();
-        let bytes = std::fs::read(path).map_err(|source| ReadError::Open {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        Self::load(bytes, path.display().to_string())
+        let open_err = |source| ReadError::Open { path: path.to_path_buf(), source };
+        let not_regular = |ft| ReadError::NotRegular { path: path.to_path_buf(), kind: file_kind(ft) };
+        let origin = path.display().to_string();
+        let too_large = |size| ReadError::TooLarge { origin: origin.clone(), size, limit: limits.max_file_bytes };
+        let meta = std::fs::metadata(path).map_err(open_err)?;
+        if !meta.is_file() {
+            return Err(not_regular(meta.file_type()));
+        }
+        if meta.len() > limits.max_file_bytes {
+            return Err(too_large(meta.len()));
+        }
+        let file = std::fs::File::open(path).map_err(open_err)?;
+        // the path may have been replaced between the two looks
+        let meta = file.metadata().map_err(open_err)?;
+        if !meta.is_file() {
+            return Err(not_regular(meta.file_type()));
+        }
+        if meta.len() > limits.max_file_bytes {
+            return Err(too_large(meta.len()));
+        }
+        let mut bytes = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
+        file.take(limits.max_file_bytes.saturating_add(1))
+            .read_to_end(&mut bytes)
+            .map_err(open_err)?;
+        if bytes.len() as u64 > limits.max_file_bytes {
+            return Err(too_large(bytes.len() as u64));
+        }
+        Self::load(bytes, origin, limits)
     }
 
-    /// Read a waveform held in memory.
+    /// Read a VCD held in memory with the default [`ReadLimits`].
     pub fn from_bytes(bytes: Vec<u8>) -> Result<Self, ReadError> {
-        Self::load(bytes, "<memory>".to_string())
+        Self::from_bytes_with(bytes, &ReadLimits::default())
     }
 
-    fn load(bytes: Vec<u8>, origin: String) -> Result<Self, ReadError> {
-        let parse_err = |message: String| ReadError::Parse {
-            origin: origin.clone(),
-            message,
-        };
-        let read = catch_unwind(AssertUnwindSafe(|| {
-            wellen::simple::read_from_reader(Cursor::new(bytes))
-        }));
-        let mut inner = match read {
+    /// Read a VCD held in memory.
+    pub fn from_bytes_with(bytes: Vec<u8>, limits: &ReadLimits) -> Result<Self, ReadError> {
+        if bytes.len() as u64 > limits.max_file_bytes {
+            return Err(ReadError::TooLarge {
+                origin: "<memory>".into(),
+                size: bytes.len() as u64,
+                limit: limits.max_file_bytes,
+            });
+        }
+        Self::load(bytes, "<memory>".to_string(), limits)
+    }
+
+    fn load(bytes: Vec<u8>, origin: String, limits: &ReadLimits) -> Result<Self, ReadError> {
+        match validate(bytes.as_slice(), limits.max_var_width) {
+            Ok(_) => {}
+            Err(ValidateError::Malformed(p)) => {
+                return Err(ReadError::Malformed { origin, line: p.line, what: p.what })
+            }
+            Err(ValidateError::Io(e)) => {
+                return Err(ReadError::Parse { origin, message: e.to_string() })
+            }
+        }
+        let parse_err = |message: String| ReadError::Parse { origin: origin.clone(), message };
+        let panicked = |message: String| ReadError::ParserPanicked { origin: origin.clone(), message };
+        // One thread: a panic on a rayon worker would be printed by a hook we do not guard.
+        let options = LoadOptions { multi_thread: false, remove_scopes_with_empty_name: false };
+        let read = quietly(move || -> Result<(Hierarchy, SignalSource, Vec<u64>), wellen::WellenError> {
+            let header = wellen::viewers::read_header(Cursor::new(bytes), &options)?;
+            let body = wellen::viewers::read_body(header.body, &header.hierarchy, None)?;
+            Ok((header.hierarchy, body.source, body.time_table))
+        });
+        let (h, mut source, time_table) = match read {
             Ok(Ok(w)) => w,
             Ok(Err(e)) => return Err(parse_err(e.to_string())),
-            Err(p) => return Err(parse_err(panic_message(p))),
+            Err(p) => return Err(panicked(p)),
         };
-        let h = inner.hierarchy();
         let timescale = match h.timescale() {
             None => None,
             Some(ts) => {
@@ -209,36 +342,31 @@ impl Waveform {
         };
         let mut signals = Vec::new();
         let mut refs = Vec::new();
-        for vr in h.all_vars() {
-            let v = &h[vr];
-            let (kind, width) = match v.signal_encoding(h) {
-                SignalEncoding::BitVector(w) => (SignalKind::Bits, w),
-                SignalEncoding::Real => (SignalKind::Real, 64),
-                SignalEncoding::String => (SignalKind::Text, 0),
-            };
-            signals.push(SignalInfo {
-                path: v.full_name(h),
-                index: v.index().map(|i| (i.msb(), i.lsb())),
-                width,
-                kind,
-                var_type: format!("{:?}", v.var_type()).to_lowercase(),
-            });
-            refs.push(v.signal_ref());
-        }
+        let listed = quietly(|| {
+            for vr in h.all_vars() {
+                let v = &h[vr];
+                let (kind, width) = match v.signal_encoding(&h) {
+                    SignalEncoding::BitVector(w) => (SignalKind::Bits, w),
+                    SignalEncoding::Real => (SignalKind::Real, 64),
+                    SignalEncoding::String => (SignalKind::Text, 0),
+                };
+                signals.push(SignalInfo {
+                    path: v.full_name(&h),
+                    index: v.index().map(|i| (i.msb(), i.lsb())),
+                    width,
+                    kind,
+                    var_type: format!("{:?}", v.var_type()).to_lowercase(),
+                });
+                refs.push(v.signal_ref());
+            }
+        });
+        listed.map_err(panicked)?;
         let mut unique = refs.clone();
         unique.sort_unstable();
         unique.dedup();
-        let loaded = catch_unwind(AssertUnwindSafe(|| inner.load_signals(&unique)));
-        if let Err(p) = loaded {
-            return Err(parse_err(panic_message(p)));
-        }
-        Ok(Waveform {
-            origin,
-            inner,
-            signals,
-            refs,
-            timescale,
-        })
+        let loaded = quietly(|| source.load_signals(&unique, &h, false)).map_err(panicked)?;
+        let data = loaded.into_iter().map(|s| (s.signal_ref(), s)).collect();
+        Ok(Waveform { origin, data, time_table, signals, refs, timescale })
     }
 
     /// The file's `$timescale`, or `None` if it declares none.
@@ -253,7 +381,7 @@ impl Waveform {
 
     /// Last time stamp in the file (0 for a file without time stamps).
     pub fn end_time(&self) -> u64 {
-        self.inner.time_table().last().copied().unwrap_or(0)
+        self.time_table.last().copied().unwrap_or(0)
     }
 
     /// Index into [`Waveform::signals`] of `name`, given as full path
@@ -283,10 +411,10 @@ impl Waveform {
         let Some(r) = self.refs.get(i) else {
             return Vec::new();
         };
-        let Some(sig) = self.inner.get_signal(*r) else {
+        let Some(sig) = self.data.get(r) else {
             return Vec::new();
         };
-        let tt = self.inner.time_table();
+        let tt = &self.time_table;
         let mut out = Vec::with_capacity(sig.time_indices().len());
         for (ti, v) in sig.iter_changes() {
             let Some(t) = tt.get(ti as usize) else {
