@@ -6,6 +6,7 @@
 
 pub mod changelog;
 pub mod output;
+pub mod plot;
 pub mod random;
 pub mod scenario;
 pub mod sim;

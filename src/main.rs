@@ -4,7 +4,7 @@
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use pmu50::output::{run_to_files, summary, FileOptions};
+use pmu50::output::{run_to_files, run_to_files_svg, summary, FileOptions};
 use pmu50::scenario::Scenario;
 use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
 use pmu50::vectors::VectorWriter;
@@ -44,6 +44,9 @@ enum Cmd {
         /// Dump only this time window, e.g. `--window "10 ms" "60 ms"`.
         #[arg(long, num_args = 2, value_names = ["START", "END"])]
         window: Option<Vec<String>>,
+        /// Also write <name>.svg, a timing diagram in the style of FIG. 15/16 (and <name>_timing.csv).
+        #[arg(long)]
+        svg: bool,
     },
     /// Validate scenarios without running them.
     Check { scenarios: Vec<PathBuf> },
@@ -159,7 +162,7 @@ fn window_ticks(sc: &Scenario, w: &Option<Vec<String>>) -> Result<Option<(u64, u
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.cmd {
-        Cmd::Run { scenarios, out_dir, log, window } => {
+        Cmd::Run { scenarios, out_dir, log, window, svg } => {
             if scenarios.is_empty() {
                 eprintln!("error: run needs at least one scenario file (see `pmu50 list`)");
                 return ExitCode::from(2);
@@ -178,10 +181,19 @@ fn main() -> ExitCode {
                     }
                 };
                 let mut prog = Progress::new(sc.ticks, &sc.name);
-                match run_to_files(&sc, &out_dir, FileOptions { log, window }, &mut [&mut prog]) {
-                    Ok((res, w)) => {
+                let fo = FileOptions { log, window };
+                let ran = if svg {
+                    run_to_files_svg(&sc, &out_dir, fo, &mut [&mut prog]).map(|(r, w, s)| (r, w, Some(s)))
+                } else {
+                    run_to_files(&sc, &out_dir, fo, &mut [&mut prog]).map(|(r, w)| (r, w, None))
+                };
+                match ran {
+                    Ok((res, w, s)) => {
                         out!("{}", summary(&sc, &res).trim_end());
                         out!("   wrote {} and {}{}", w.vcd.display(), w.gtkw.display(), w.log.map(|l| format!(" and {}", l.display())).unwrap_or_default());
+                        if let Some(s) = s {
+                            out!("   wrote {} and {}", s.svg.display(), s.csv.display());
+                        }
                         if !res.passed() {
                             code = code.max(1);
                         }

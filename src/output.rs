@@ -55,6 +55,30 @@ pub fn run_to_files(sc: &Scenario, dir: &Path, fo: FileOptions, extra: &mut [&mu
     Ok((res, Written { vcd: dir.join(format!("{}.vcd", sc.name)), gtkw: dir.join(format!("{}.gtkw", sc.name)), log: fo.log.then_some(log_path) }))
 }
 
+/// Paths of the timing diagram written by [`run_to_files_svg`].
+#[derive(Clone, Debug)]
+pub struct WrittenSvg {
+    pub svg: PathBuf,
+    pub csv: PathBuf,
+}
+
+/// [`run_to_files`], and also `<dir>/<name>.svg`, a timing diagram in the style of the patent's
+/// FIG. 15/16 of the whole run or of the window (`--window`, else `[vcd] window`), with its
+/// numbers in `<dir>/<name>_timing.csv` (src/plot/timing.rs).
+pub fn run_to_files_svg(sc: &Scenario, dir: &Path, fo: FileOptions, extra: &mut [&mut dyn Observer]) -> Result<(RunResult, Written, WrittenSvg), SimError> {
+    let mut rec = crate::plot::timing::TimingRecorder::new(sc.clock_ns(), fo.window.or(sc.vcd_window));
+    let mut obs: Vec<&mut dyn Observer> = vec![&mut rec];
+    for e in extra.iter_mut() {
+        obs.push(&mut **e);
+    }
+    let (res, w) = run_to_files(sc, dir, fo, &mut obs)?;
+    let title = if sc.description.is_empty() { sc.name.clone() } else { format!("{}: {}", sc.name, sc.description) };
+    let ws = WrittenSvg { svg: dir.join(format!("{}.svg", sc.name)), csv: dir.join(format!("{}_timing.csv", sc.name)) };
+    crate::plot::write_atomic(&ws.svg, rec.svg(&title).as_bytes()).map_err(SimError::Observer)?;
+    crate::plot::write_atomic(&ws.csv, rec.csv().as_bytes()).map_err(SimError::Observer)?;
+    Ok((res, w, ws))
+}
+
 /// Human summary of a run: counts, read-outs against the true angle, diagnosis, Vs2 duty,
 /// average key-off current, checks.
 pub fn summary(sc: &Scenario, r: &RunResult) -> String {

@@ -117,6 +117,50 @@ fn golden_fig16() {
     golden("fig16");
 }
 
+/// The timing diagram in the patent's FIG. 15/16 style (`pmu50 run --svg`): the SVG itself is the
+/// snapshot, reviewed as a picture (render it with `rsvg-convert golden/..`), and its numbers are
+/// checked against the event table: every detected change carries the patent's reference sign.
+fn golden_svg(name: &str) {
+    let sc = scenario(name);
+    let dir = tmp(&format!("svg-{name}"));
+    let (res, _, ws) = pmu50::output::run_to_files_svg(&sc, &dir, FileOptions::default(), &mut []).unwrap();
+    let svg = std::fs::read_to_string(&ws.svg).unwrap();
+    let csv = std::fs::read_to_string(&ws.csv).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    // one reference sign per rotation detected in the pulse table (FIG. 18 S23 / S28), at its time
+    use pmu50_core::drive_interval_changing_56b::Fig18;
+    let detected: Vec<String> = res
+        .pulses
+        .iter()
+        .filter_map(|p| match p.fig18 {
+            Fig18::S23DetectedCs => Some(format!("{:.3},100", p.time_ns as f64 / 1e6)),
+            Fig18::S28DetectedCc => Some(format!("{:.3},101", p.time_ns as f64 / 1e6)),
+            _ => None,
+        })
+        .collect();
+    let signs: Vec<String> = csv.lines().filter(|l| l.ends_with(",100") || l.ends_with(",101")).map(|l| format!("{},{}", &l[..l.find(',').unwrap()], &l[l.len() - 3..])).collect();
+    assert!(!detected.is_empty(), "{name}: no rotation detected");
+    assert_eq!(signs, detected, "{name}: {csv}");
+    insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false, omit_expression => true }, {
+        insta::assert_snapshot!(format!("{name}_svg"), svg);
+    });
+}
+
+#[test]
+fn golden_svg_fig15a() {
+    golden_svg("fig15a");
+}
+
+#[test]
+fn golden_svg_fig15b() {
+    golden_svg("fig15b");
+}
+
+#[test]
+fn golden_svg_fig16() {
+    golden_svg("fig16");
+}
+
 #[test]
 fn same_scenario_gives_byte_identical_files() {
     let sc = scenario("fig15b");
