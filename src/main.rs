@@ -71,6 +71,34 @@ enum Cmd {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Sweep motor speeds and accelerations with the key off: highest speed tracked without a
+    /// quadrant skip, against the analytic bound (docs/analysis.md). Writes speed_limit.csv/.svg
+    /// and speed_limit_grid.csv/.svg (a grid of x, min, Cth).
+    SpeedLimit {
+        /// Scenario whose [core] and [env] are used (defaults when omitted).
+        scenario: Option<PathBuf>,
+        #[arg(long, default_value = "vcd_out")]
+        out_dir: PathBuf,
+        /// Speed sweep step, deg/s (default: 1.5 x the steady-state bound / 60, rounded).
+        #[arg(long)]
+        step: Option<f64>,
+        /// First speed of the sweep, deg/s (default: one step).
+        #[arg(long)]
+        from: Option<f64>,
+        /// Last speed of the sweep, deg/s (default: 1.5 x 90 deg / min).
+        #[arg(long)]
+        to: Option<f64>,
+        /// Skip the grid of configurations (x, min, Cth).
+        #[arg(long)]
+        no_grid: bool,
+    },
+    /// Key-off battery budget of a park: adaptive, fixed cycle T = x, sensor always on.
+    /// Writes budget.csv, budget_cumulative.csv and budget.svg (docs/power.md).
+    Budget {
+        scenario: PathBuf,
+        #[arg(long, default_value = "vcd_out")]
+        out_dir: PathBuf,
+    },
     /// Compare two VCD files; exit 0 equal, 1 different, 2 bad input.
     Diff {
         left: PathBuf,
@@ -273,6 +301,47 @@ fn main() -> ExitCode {
                 ExitCode::from(2)
             }
         },
+        Cmd::SpeedLimit { scenario, out_dir, step, from, to, no_grid } => {
+            let sc = match &scenario {
+                Some(p) => match load(p) {
+                    Ok(s) => s,
+                    Err(c) => return c,
+                },
+                None => match Scenario::parse("duration = \"1 ms\"\n", "<defaults>", "defaults", Path::new("")) {
+                    Ok(s) => s,
+                    Err(e) => {
+                        eprintln!("error: {e}");
+                        return ExitCode::from(2);
+                    }
+                },
+            };
+            match pmu50::analysis::speed::run_cli(&sc, &out_dir, step, from, to, !no_grid) {
+                Ok(text) => {
+                    out!("{}", text.trim_end());
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            }
+        }
+        Cmd::Budget { scenario, out_dir } => {
+            let sc = match load(&scenario) {
+                Ok(s) => s,
+                Err(c) => return c,
+            };
+            match pmu50::analysis::budget::run_cli(&sc, &out_dir) {
+                Ok(text) => {
+                    out!("{}", text.trim_end());
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            }
+        }
         Cmd::Diff { left, right, map, clock, every, x, max, allow_unmatched, real_tol } => {
             let mut prefix_map = Vec::new();
             for m in &map {

@@ -167,6 +167,8 @@ pub enum Style {
     Points,
     /// Line with markers.
     LinePoints,
+    /// A short dashed horizontal bar at each point (x +- 0.3), for category charts.
+    Level,
 }
 
 #[derive(Clone, Debug)]
@@ -234,7 +236,9 @@ impl Chart {
     pub fn draw(&self, svg: &mut Svg, bx: f64, by: f64, bw: f64, bh: f64) {
         let left = bx + 78.0;
         let top = by + 34.0;
-        let legend_h = 18.0 * self.series.len().div_ceil(3) as f64;
+        // three legend entries per line, two when a name is long
+        let per_line = if self.series.iter().any(|s| text_width(&s.name, 11.0) > (bw - 94.0) / 3.0 - 34.0) { 2 } else { 3 };
+        let legend_h = 18.0 * self.series.len().div_ceil(per_line) as f64;
         let right = bx + bw - 16.0;
         let bottom = by + bh - 46.0 - legend_h;
         let (w, h) = (right - left, bottom - top);
@@ -266,11 +270,10 @@ impl Chart {
         svg.line(left, top, left, bottom, "#000", 1.0, None);
         svg.text(left + w / 2.0, bottom + 34.0, 12.0, Anchor::Middle, "#000", &self.x_label);
         svg.text_vertical(bx + 16.0, top + h / 2.0, 12.0, &self.y_label);
-        for (x, label, color) in &self.vlines {
-            svg.line(sx(*x), top, sx(*x), bottom, color, 1.5, Some("6 4"));
-            let anchor = if sx(*x) > left + w * 0.7 { Anchor::End } else { Anchor::Start };
-            let dx = if anchor == Anchor::End { -4.0 } else { 4.0 };
-            svg.text(sx(*x) + dx, top + 12.0, 11.0, anchor, color, label);
+        for (x, _, color) in &self.vlines {
+            if *x >= x0 && *x <= x1 {
+                svg.line(sx(*x), top, sx(*x), bottom, color, 1.5, Some("6 4"));
+            }
         }
         for s in &self.series {
             let clip = |(x, y): (f64, f64)| (sx(x.clamp(x0, x1)), sy(y.clamp(y0, y1)));
@@ -294,16 +297,35 @@ impl Chart {
                     svg.polyline(&pts, &s.color, 1.5, None);
                     pts.iter().for_each(|(x, y)| svg.circle(*x, *y, 2.5, &s.color));
                 }
+                Style::Level => {
+                    for p in &s.points {
+                        let y = sy(p.1.clamp(y0, y1));
+                        svg.line(sx((p.0 - 0.3).max(x0)), y, sx((p.0 + 0.3).min(x1)), y, &s.color, 2.0, Some("6 3"));
+                    }
+                }
             }
         }
-        // legend: three entries per line under the x label
-        let col_w = w / 3.0;
+        // marker labels over the data, at mid-height, one below the other so they never touch
+        for (i, (x, label, color)) in self.vlines.iter().enumerate() {
+            if *x < x0 || *x > x1 {
+                continue;
+            }
+            let anchor = if sx(*x) > left + w * 0.7 { Anchor::End } else { Anchor::Start };
+            let dx = if anchor == Anchor::End { -4.0 } else { 4.0 };
+            let y = top + h * 0.4 + 16.0 * i as f64;
+            let tw = text_width(label, 11.0);
+            let bx0 = if anchor == Anchor::End { sx(*x) + dx - tw } else { sx(*x) + dx };
+            svg.rect(bx0 - 2.0, y - 10.0, tw + 4.0, 13.0, "#ffffff", None);
+            svg.text(sx(*x) + dx, y, 11.0, anchor, color, label);
+        }
+        // legend under the x label
+        let col_w = w / per_line as f64;
         for (i, s) in self.series.iter().enumerate() {
-            let lx = left + (i % 3) as f64 * col_w;
-            let ly = bottom + 52.0 + (i / 3) as f64 * 18.0;
+            let lx = left + (i % per_line) as f64 * col_w;
+            let ly = bottom + 52.0 + (i / per_line) as f64 * 18.0;
             match s.style {
                 Style::Points => svg.circle(lx + 11.0, ly - 4.0, 3.0, &s.color),
-                Style::Dashed => svg.line(lx, ly - 4.0, lx + 22.0, ly - 4.0, &s.color, 2.0, Some("8 5")),
+                Style::Dashed | Style::Level => svg.line(lx, ly - 4.0, lx + 22.0, ly - 4.0, &s.color, 2.0, Some("6 3")),
                 _ => svg.line(lx, ly - 4.0, lx + 22.0, ly - 4.0, &s.color, 2.0, None),
             }
             svg.text(lx + 28.0, ly, 11.0, Anchor::Start, "#000", &s.name);
