@@ -107,6 +107,12 @@ pub struct Budget {
     pub rows: Vec<Row>,
 }
 
+/// Key-off time of the whole run in ns, from the timeline alone (compared with the meter's in
+/// tests/plots.rs: the cumulative curve relies on it).
+pub fn key_off_ns_from_timeline(sc: &Scenario) -> u64 {
+    key_off_ticks_before(sc, sc.ticks) * sc.clock_ns()
+}
+
 /// Key-off time in [0, t) ticks, from the timeline (Sig follows IG through the synchronizer).
 fn key_off_ticks_before(sc: &Scenario, t: u64) -> u64 {
     let d = u64::from(sc.params.sync_depth);
@@ -201,8 +207,15 @@ pub fn budget(base: &Scenario) -> Result<Budget, AnalysisError> {
         let r = run(&sc)?;
         rows.push(row_from(&sc, &r, Variant::FixedMin, t.elapsed().as_secs_f64()));
     }
-    if rows.iter().all(|r| r.key_off_ns == 0) {
-        return Err(AnalysisError::Input(format!("{}: the key is never off in this scenario; a budget needs key-off time (add `ig = false` events)", base.path.display())));
+    let x_ns = u64::from(p.si_max) * base.clock_ns();
+    if rows.iter().all(|r| r.key_off_ns < x_ns) {
+        let off = rows.first().map_or(0, |r| r.key_off_ns);
+        return Err(AnalysisError::Input(format!(
+            "{}: the key is never off for a whole interval x = {} (key off {} in all); a budget needs key-off time: add `ig = false` events",
+            base.path.display(),
+            pmu50_core::Dur(x_ns),
+            pmu50_core::Dur(off)
+        )));
     }
     Ok(Budget {
         name: base.name.clone(),

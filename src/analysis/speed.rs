@@ -172,7 +172,15 @@ fn mv(duration_ns: u64, delta_deg: f64) -> Segment {
 }
 
 /// Finish a profile: hold 3 x, key on, MPU read-out, 2 ms.
-fn finish(base: &Scenario, name: &str, start_deg: f64, mut segs: Vec<Segment>, t_ns: u64, si_at_start_ms: f64, sweep: Sweep, value: f64) -> Result<Point, AnalysisError> {
+/// What a finished run is reported as.
+struct Tag {
+    sweep: Sweep,
+    value: f64,
+    si_at_start_ms: f64,
+}
+
+fn finish(base: &Scenario, name: &str, start_deg: f64, mut segs: Vec<Segment>, t_ns: u64, tag: Tag) -> Result<Point, AnalysisError> {
+    let Tag { sweep, value, si_at_start_ms } = tag;
     let clk = base.clock_ns();
     let x_ns = u64::from(base.params.si_max) * clk;
     segs.push(Segment::Hold { duration_ns: 3 * x_ns });
@@ -208,7 +216,7 @@ const REST_NS: u64 = 20_000_000;
 pub fn from_rest(base: &Scenario, t_s: u64, w: f64, run_ns: u64) -> Result<Point, AnalysisError> {
     let segs = vec![Segment::Hold { duration_ns: t_s }, mv(run_ns, w * run_ns as f64 / 1e9)];
     let si = f64::from(base.params.si_max) * base.clock_ns() as f64 / 1e6;
-    finish(base, "speed_from_rest", START_DEG, segs, t_s + run_ns, si, Sweep::FromRest, w)
+    finish(base, "speed_from_rest", START_DEG, segs, t_s + run_ns, Tag { sweep: Sweep::FromRest, value: w, si_at_start_ms: si })
 }
 
 /// One point of the steady-state sweep.
@@ -222,7 +230,7 @@ pub fn steady(base: &Scenario, t_s: u64, w: f64, run_ns: u64) -> Result<Point, A
     let mut segs = vec![Segment::Hold { duration_ns: t_s }, mv(spin_ns, w0 * spin_ns as f64 / 1e9)];
     let si = si_at(base, START_DEG, &segs, t_s + spin_ns)?;
     segs.push(mv(run_ns, w * run_ns as f64 / 1e9));
-    finish(base, "speed_steady", START_DEG, segs, t_s + spin_ns + run_ns, si, Sweep::SteadyState, w)
+    finish(base, "speed_steady", START_DEG, segs, t_s + spin_ns + run_ns, Tag { sweep: Sweep::SteadyState, value: w, si_at_start_ms: si })
 }
 
 /// One point of the acceleration sweep: a from rest up to `w_end`, then `w_end` for 50 ms.
@@ -241,7 +249,7 @@ pub fn accel(base: &Scenario, t_s: u64, a: f64, w_end: f64) -> Result<Point, Ana
     let hold_ns = 50_000_000u64;
     segs.push(mv(hold_ns, w_end * 0.05));
     let si = f64::from(base.params.si_max) * base.clock_ns() as f64 / 1e6;
-    finish(base, "accel_from_rest", START_DEG, segs, t_s + pieces * piece + hold_ns, si, Sweep::Acceleration, a)
+    finish(base, "accel_from_rest", START_DEG, segs, t_s + pieces * piece + hold_ns, Tag { sweep: Sweep::Acceleration, value: a, si_at_start_ms: si })
 }
 
 /// Run all three sweeps. `progress` is called after every point.

@@ -67,6 +67,8 @@ impl Svg {
         Svg { width, height, body: String::new() }
     }
 
+    /// One `<line>`: the element's own attributes, in its order.
+    #[allow(clippy::too_many_arguments)]
     pub fn line(&mut self, x1: f64, y1: f64, x2: f64, y2: f64, stroke: &str, width: f64, dash: Option<&str>) {
         let d = dash.map(|d| format!(" stroke-dasharray=\"{d}\"")).unwrap_or_default();
         let _ = writeln!(self.body, "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{stroke}\" stroke-width=\"{}\"{d}/>", n(x1), n(y1), n(x2), n(y2), n(width));
