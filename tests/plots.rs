@@ -219,3 +219,25 @@ fn bad_input_exits_2_with_a_message() {
     assert!(!d.join("budget.svg").exists());
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// `--window` / `[vcd] window`: the diagram and its CSV cover exactly the window, time in ms.
+#[test]
+fn timing_diagram_covers_the_window_only() {
+    let sc = scenario("fig16");
+    let d = tmp("window");
+    let (_, _, w) = run_to_files_svg(&sc, &d, FileOptions { log: false, window: Some((3_000, 6_000)) }, &mut []).unwrap();
+    let csv = std::fs::read_to_string(&w.csv).unwrap();
+    let times: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').next().unwrap().parse().unwrap()).collect();
+    assert_eq!(times.first(), Some(&30.0));
+    assert_eq!(times.last(), Some(&60.0));
+    assert!(times.windows(2).all(|t| t[0] < t[1]));
+    // inside this window the interval is shortened to 2.2 ms and climbs back to 5.5 ms (FIG. 16;
+    // 6.6 ms comes at 64 ms, after the window)
+    let si: Vec<&str> = csv.lines().skip(1).filter_map(|l| l.split(',').nth(9)).filter(|s| !s.is_empty()).collect();
+    let mut steps: Vec<&str> = si.clone();
+    steps.dedup();
+    assert_eq!(steps, ["4.400", "2.200", "3.300", "4.400", "5.500"]);
+    let t = parse_svg(&std::fs::read_to_string(&w.svg).unwrap());
+    assert!(t.iter().any(|s| s == "30") && t.iter().any(|s| s == "60") && !t.iter().any(|s| s == "25" || s == "65"), "{t:?}");
+    std::fs::remove_dir_all(&d).ok();
+}
