@@ -254,21 +254,25 @@ impl TimingRecorder {
                 pts.push((right, sy(p)));
             }
             svg.polyline(&pts, "#0072B2", 2.0, None);
-            // value labels at each step
-            let mut last_label = (f64::NEG_INFINITY, 0.0);
-            let mut prev: Option<u16> = None;
+            // value labels: one per step, where the step is wide enough to hold it
+            let mut segs: Vec<(f64, f64, u16)> = Vec::new();
             for (t, st) in &self.rows {
-                if prev != Some(st.si) {
-                    let x = sx(self.ms(*t));
-                    let y = sy(self.ms(u64::from(st.si))) - 5.0;
-                    let s = format!("{:.1}", self.ms(u64::from(st.si)));
-                    // a label is drawn when it cannot touch the previous one
-                    if x - last_label.0 > super::svg::text_width(&s, 11.0) + 8.0 || (y - last_label.1).abs() > 13.0 {
-                        svg.text(x + 3.0, y, 11.0, Anchor::Start, "#0072B2", &s);
-                        last_label = (x, y);
+                let x = sx(self.ms(*t));
+                match segs.last_mut() {
+                    Some(l) if l.2 == st.si => {}
+                    Some(l) => {
+                        l.1 = x;
+                        segs.push((x, right, st.si));
                     }
+                    None => segs.push((x, right, st.si)),
                 }
-                prev = Some(st.si);
+            }
+            for (a, b, v) in segs {
+                let ms = self.ms(u64::from(v));
+                let s = format!("{ms:.1}");
+                if b - a >= super::svg::text_width(&s, 11.0) + 6.0 {
+                    svg.text(a + 3.0, sy(ms) - 5.0, 11.0, Anchor::Start, "#0072B2", &s);
+                }
             }
         }
 
