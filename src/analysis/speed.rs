@@ -321,7 +321,7 @@ pub fn summary(r: &Report) -> String {
     s += &format!("   from rest (interval x):   tracked up to {}; bound 90 deg / x = {:.0} deg/s = {:.0} rpm\n", f(r.limit(Sweep::FromRest)), b.rest_dps, rpm(b.rest_dps));
     s += &format!("   steady state (interval min): tracked up to {}; bound 90 deg / min = {:.0} deg/s = {:.0} rpm\n", f(r.limit(Sweep::SteadyState)), b.steady_dps, rpm(b.steady_dps));
     s += &format!("   constant acceleration from rest: tracked up to {}\n", r.limit(Sweep::Acceleration).map_or("none".to_string(), |a| format!("{a:.0} deg/s^2")));
-    s += "   for comparison (same one-quadrant-per-sample rule): TMAG6181-Q1 samples every 1.6 ms at rest and 0.2 ms on rotation (9 375 / 75 000 rpm); iC-PV is specified for 12 000 rpm (docs/analysis.md)\n";
+    s += "   for comparison (the same one-quadrant-per-sample rule applied to its periods): TMAG6181-Q1 samples every 1.6 ms at rest and 0.2 ms on rotation: 9 375 / 75 000 rpm; iC-PV: 12 000 rpm as quoted in issue 9, not confirmed from its datasheet (docs/analysis.md)\n";
     s
 }
 
@@ -341,10 +341,10 @@ pub fn svg(r: &Report) -> String {
     c.vlines.push((rpm(b.rest_dps), format!("90 deg / x = {:.0} rpm", rpm(b.rest_dps)), PALETTE[0].into()));
     c.vlines.push((rpm(b.steady_dps), format!("90 deg / min = {:.0} rpm", rpm(b.steady_dps)), PALETTE[1].into()));
     if 12_000.0 <= rpm(r.spec.to_dps) {
-        c.vlines.push((12_000.0, "iC-PV: 12000 rpm".into(), "#009E73".into()));
+        c.vlines.push((12_000.0, "iC-PV 12000 rpm (quoted, unconfirmed)".into(), "#009E73".into()));
     }
     if 9_375.0 <= rpm(r.spec.to_dps) {
-        c.vlines.push((9_375.0, "TMAG6181 at 1.6 ms: 9375 rpm".into(), "#CC79A7".into()));
+        c.vlines.push((9_375.0, "90 deg / 1.6 ms (TMAG6181 at rest) = 9375 rpm".into(), "#CC79A7".into()));
     }
     c.x_range = (0.0, rpm(r.spec.to_dps));
     c.y_range = (0.0, 420.0);
