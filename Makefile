@@ -24,9 +24,9 @@ $(BIN): FORCE
 
 FORCE:
 
-## Run every shipped scenario: vcd_out/<name>.vcd, .gtkw and .log, and a summary each.
+## Run every shipped scenario: vcd_out/<name>.vcd, .gtkw, .log and .svg (timing diagram), and a summary each.
 run: $(BIN)
-	$(BIN) run $(SCENARIOS) --out-dir vcd_out --log
+	$(BIN) run $(SCENARIOS) --out-dir vcd_out --log --svg
 
 ## Everything: unit, property, golden and system tests of all crates, then HDL co-simulation.
 test: deps

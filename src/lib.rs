@@ -4,11 +4,13 @@
 //! The digital core is the crate `pmu50-core` (rtl_model/core), the environment models are
 //! `pmu50-env` (rtl_model/env), waveform tooling is `pmu50-waves` (waves/).
 
+pub mod analysis;
 pub mod changelog;
 pub mod fsout;
 pub mod fuzzing;
 pub mod markers;
 pub mod output;
+pub mod plot;
 pub mod random;
 pub mod refusals;
 pub mod scenario;

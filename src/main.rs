@@ -98,6 +98,9 @@ enum Cmd {
         /// Refuse a scenario whose VCD would be larger than this (bytes; default 2 GB).
         #[arg(long, value_name = "BYTES")]
         max_vcd_bytes: Option<u64>,
+        /// Also write <name>.svg, a timing diagram in the style of FIG. 15/16 (and <name>_timing.csv).
+        #[arg(long)]
+        svg: bool,
     },
     /// Validate scenarios without running them.
     Check { scenarios: Vec<PathBuf> },
@@ -121,6 +124,34 @@ enum Cmd {
         seed: u64,
         #[arg(short, long)]
         output: PathBuf,
+    },
+    /// Sweep motor speeds and accelerations with the key off: highest speed tracked without a
+    /// quadrant skip, against the analytic bound (docs/analysis.md). Writes speed_limit.csv/.svg
+    /// and speed_limit_grid.csv/.svg (a grid of x, min, Cth).
+    SpeedLimit {
+        /// Scenario whose [core] and [env] are used (defaults when omitted).
+        scenario: Option<PathBuf>,
+        #[arg(long, default_value = "vcd_out")]
+        out_dir: PathBuf,
+        /// Speed sweep step, deg/s (default: 1.5 x the steady-state bound / 60, rounded).
+        #[arg(long)]
+        step: Option<f64>,
+        /// First speed of the sweep, deg/s (default: one step).
+        #[arg(long)]
+        from: Option<f64>,
+        /// Last speed of the sweep, deg/s (default: 1.5 x 90 deg / min).
+        #[arg(long)]
+        to: Option<f64>,
+        /// Skip the grid of configurations (x, min, Cth).
+        #[arg(long)]
+        no_grid: bool,
+    },
+    /// Key-off battery budget of a park: adaptive, fixed cycle T = x, sensor always on.
+    /// Writes budget.csv, budget_cumulative.csv and budget.svg (docs/power.md).
+    Budget {
+        scenario: PathBuf,
+        #[arg(long, default_value = "vcd_out")]
+        out_dir: PathBuf,
     },
     /// Compare two VCD files; exit 0 equal, 1 different, 2 bad input.
     Diff {
@@ -262,7 +293,7 @@ fn main() -> ExitCode {
         return with_streams(2);
     }
     let code = match cli.cmd {
-        Cmd::Run { scenarios, out_dir, log, window, max_vcd_bytes } => cmd_run(&scenarios, &out_dir, log, &window, max_vcd_bytes),
+        Cmd::Run { scenarios, out_dir, log, window, max_vcd_bytes, svg } => cmd_run(&scenarios, &out_dir, log, svg, &window, max_vcd_bytes),
         Cmd::Check { scenarios } => {
             let mut bad = false;
             if scenarios.is_empty() {
@@ -314,14 +345,48 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Cmd::SpeedLimit { scenario, out_dir, step, from, to, no_grid } => {
+            let sc = match &scenario {
+                Some(p) => Scenario::load(p),
+                None => Scenario::parse("duration = \"1 ms\"\n", "<defaults>", "defaults", Path::new("")),
+            };
+            match sc {
+                Ok(sc) => report(pmu50::analysis::speed::run_cli(&sc, &out_dir, step, from, to, !no_grid)),
+                Err(e) => {
+                    err!("error: {e}");
+                    2
+                }
+            }
+        }
+        Cmd::Budget { scenario, out_dir } => match Scenario::load(&scenario) {
+            Ok(sc) => report(pmu50::analysis::budget::run_cli(&sc, &out_dir)),
+            Err(e) => {
+                err!("error: {e}");
+                2
+            }
+        },
         Cmd::Diff { left, right, map, clock, every, x, max, allow_unmatched, real_tol, max_bytes } => cmd_diff(left, right, map, clock, every, x, max, allow_unmatched, real_tol, max_bytes),
     };
     with_streams(code)
 }
 
+/// Print an analysis' text (exit 0) or its error (exit 2).
+fn report(r: Result<String, pmu50::analysis::AnalysisError>) -> u8 {
+    match r {
+        Ok(text) => {
+            out!("{}", text.trim_end());
+            0
+        }
+        Err(e) => {
+            err!("error: {e}");
+            2
+        }
+    }
+}
+
 /// `pmu50 run`: load every file first; report every bad one; refuse two scenarios writing the
 /// same file before anything runs; run the good ones; exit with the worst code.
-fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, log: bool, window: &Option<Vec<String>>, max_vcd_bytes: Option<u64>) -> u8 {
+fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, log: bool, svg: bool, window: &Option<Vec<String>>, max_vcd_bytes: Option<u64>) -> u8 {
     if scenarios.is_empty() {
         err!("error: run needs at least one scenario file (see `pmu50 list`)");
         return 2;
@@ -367,7 +432,7 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, log: bool, window: &Option<Vec
     for (sc, window) in &good {
         let mut prog = Progress::new(sc.ticks, &sc.name);
         let mut watch = RefusalWatch::new(sc);
-        let r = run_to_batch(sc, out_dir, FileOptions { log, window: *window }, &mut [&mut prog, &mut watch]).and_then(|(res, w, batch)| {
+        let r = run_to_batch(sc, out_dir, FileOptions { log, window: *window, svg }, &mut [&mut prog, &mut watch]).and_then(|(res, w, batch)| {
             batch.commit()?;
             Ok((res, w))
         });
@@ -378,6 +443,9 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, log: bool, window: &Option<Vec
                     out!("   refused write {rw}");
                 }
                 out!("   wrote {} and {}{}", w.vcd.display(), w.gtkw.display(), w.log.map(|l| format!(" and {}", l.display())).unwrap_or_default());
+                if let Some(s) = &w.svg {
+                    out!("   wrote {} and {}", s.svg.display(), s.csv.display());
+                }
                 if !res.passed() || !watch.refused.is_empty() {
                     code = code.max(1);
                 }

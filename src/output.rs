@@ -23,6 +23,9 @@ pub struct FileOptions {
     pub log: bool,
     /// Dump window in ticks (overrides the scenario's `[vcd] window`).
     pub window: Option<(u64, u64)>,
+    /// Also write `<name>.svg`, a timing diagram in the style of the patent's FIG. 15/16 of the
+    /// whole run or of the window, with its numbers in `<name>_timing.csv` (src/plot/timing.rs).
+    pub svg: bool,
 }
 
 /// Paths written by [`run_to_files`].
@@ -31,6 +34,7 @@ pub struct Written {
     pub vcd: PathBuf,
     pub gtkw: PathBuf,
     pub log: Option<PathBuf>,
+    pub svg: Option<WrittenSvg>,
 }
 
 /// A run failed: the model or an observer, or an output file.
@@ -53,7 +57,13 @@ pub fn output_paths(dir: &Path, name: &str, log: bool) -> Vec<PathBuf> {
     if log {
         v.push(dir.join(format!("{name}.log")));
     }
+    let svg = svg_paths(dir, name);
+    v.extend([svg.svg, svg.csv]);
     v
+}
+
+fn svg_paths(dir: &Path, name: &str) -> WrittenSvg {
+    WrittenSvg { svg: dir.join(format!("{name}.svg")), csv: dir.join(format!("{name}_timing.csv")) }
 }
 
 /// Estimated VCD size in bytes for `ticks` dumped ticks: 160 bytes per tick plus the header.
@@ -83,8 +93,12 @@ pub fn run_to_batch(sc: &Scenario, dir: &Path, fo: FileOptions, extra: &mut [&mu
         None
     };
     let mut marks = MarkerObserver::new(sc.clock_ns());
+    let mut timing = crate::plot::timing::TimingRecorder::new(sc.clock_ns(), window);
     let res = {
         let mut obs: Vec<&mut dyn Observer> = vec![&mut vcd, &mut marks];
+        if fo.svg {
+            obs.push(&mut timing);
+        }
         if let Some(l) = log.as_mut() {
             obs.push(l);
         }
@@ -108,6 +122,15 @@ pub fn run_to_batch(sc: &Scenario, dir: &Path, fo: FileOptions, extra: &mut [&mu
             }
         }
     }
+    let svg = if fo.svg {
+        let title = if sc.description.is_empty() { sc.name.clone() } else { format!("{}: {}", sc.name, sc.description) };
+        let ws = svg_paths(dir, &sc.name);
+        batch.add(fsout::write_atomic(&ws.svg, timing.svg(&title).as_bytes())?);
+        batch.add(fsout::write_atomic(&ws.csv, timing.csv().as_bytes())?);
+        Some(ws)
+    } else {
+        None
+    };
     let mut gtkw = gtkw.ok_or_else(|| missing("save file"))?;
     let (_, unit_ns) = timescale_for(sc.clock_ns());
     let to_units = |tick: u64| tick * sc.clock_ns() / unit_ns;
@@ -123,7 +146,7 @@ pub fn run_to_batch(sc: &Scenario, dir: &Path, fo: FileOptions, extra: &mut [&mu
     }
     let text = gtkw.render().map_err(gerr)?;
     batch.set_last(fsout::write_atomic(&gtkw_path, text.as_bytes())?);
-    Ok((res, Written { vcd: vcd_path, gtkw: gtkw_path, log: fo.log.then_some(log_path) }, batch))
+    Ok((res, Written { vcd: vcd_path, gtkw: gtkw_path, log: fo.log.then_some(log_path), svg }, batch))
 }
 
 /// Run `sc`, writing `<dir>/<name>.vcd`, `.gtkw` and optionally `.log` (each renamed into
@@ -132,6 +155,13 @@ pub fn run_to_files(sc: &Scenario, dir: &Path, fo: FileOptions, extra: &mut [&mu
     let (res, w, batch) = run_to_batch(sc, dir, fo, extra)?;
     batch.commit()?;
     Ok((res, w))
+}
+
+/// Paths of the timing diagram (`FileOptions::svg`).
+#[derive(Clone, Debug)]
+pub struct WrittenSvg {
+    pub svg: PathBuf,
+    pub csv: PathBuf,
 }
 
 /// Human summary of a run: counts, read-outs against the true angle, diagnosis, Vs2 duty,

@@ -117,12 +117,57 @@ fn golden_fig16() {
     golden("fig16");
 }
 
+/// The timing diagram in the patent's FIG. 15/16 style (`pmu50 run --svg`): the SVG itself is the
+/// snapshot, reviewed as a picture (render it with `rsvg-convert golden/..`), and its numbers are
+/// checked against the event table: every detected change carries the patent's reference sign.
+fn golden_svg(name: &str) {
+    let sc = scenario(name);
+    let dir = tmp(&format!("svg-{name}"));
+    let (res, w) = pmu50::output::run_to_files(&sc, &dir, FileOptions { svg: true, ..FileOptions::default() }, &mut []).unwrap();
+    let ws = w.svg.unwrap();
+    let svg = std::fs::read_to_string(&ws.svg).unwrap();
+    let csv = std::fs::read_to_string(&ws.csv).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    // one reference sign per rotation detected in the pulse table (FIG. 18 S23 / S28), at its time
+    use pmu50_core::drive_interval_changing_56b::Fig18;
+    let detected: Vec<String> = res
+        .pulses
+        .iter()
+        .filter_map(|p| match p.fig18 {
+            Fig18::S23DetectedCs => Some(format!("{:.3},100", p.time_ns as f64 / 1e6)),
+            Fig18::S28DetectedCc => Some(format!("{:.3},101", p.time_ns as f64 / 1e6)),
+            _ => None,
+        })
+        .collect();
+    let signs: Vec<String> = csv.lines().filter(|l| l.ends_with(",100") || l.ends_with(",101")).map(|l| format!("{},{}", &l[..l.find(',').unwrap()], &l[l.len() - 3..])).collect();
+    assert!(!detected.is_empty(), "{name}: no rotation detected");
+    assert_eq!(signs, detected, "{name}: {csv}");
+    insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false, omit_expression => true }, {
+        insta::assert_snapshot!(format!("{name}_svg"), svg);
+    });
+}
+
+#[test]
+fn golden_svg_fig15a() {
+    golden_svg("fig15a");
+}
+
+#[test]
+fn golden_svg_fig15b() {
+    golden_svg("fig15b");
+}
+
+#[test]
+fn golden_svg_fig16() {
+    golden_svg("fig16");
+}
+
 #[test]
 fn same_scenario_gives_byte_identical_files() {
     let sc = scenario("fig15b");
     let (a, b) = (tmp("det-a"), tmp("det-b"));
     for d in [&a, &b] {
-        run_to_files(&sc, d, FileOptions { log: true, window: None }, &mut []).unwrap();
+        run_to_files(&sc, d, FileOptions { log: true, ..FileOptions::default() }, &mut []).unwrap();
     }
     for ext in ["vcd", "gtkw", "log"] {
         let fa = std::fs::read(a.join(format!("fig15b.{ext}"))).unwrap();
@@ -159,7 +204,7 @@ fn gtkwave_loader_reads_every_shipped_vcd_without_a_warning() {
         let half = sc.ticks / 2;
         for (tag, window) in [("full", None), ("window", Some((half / 2, half)))] {
             let d = dir.join(tag);
-            let (_, w) = run_to_files(&sc, &d, FileOptions { log: false, window }, &mut []).unwrap();
+            let (_, w) = run_to_files(&sc, &d, FileOptions { window, ..FileOptions::default() }, &mut []).unwrap();
             let lxt = d.join(format!("{}.lxt", sc.name));
             let out = std::process::Command::new(&conv).arg(&w.vcd).arg(&lxt).output().unwrap();
             let stderr = String::from_utf8_lossy(&out.stderr);
@@ -177,7 +222,7 @@ fn gtkwave_loader_reads_every_shipped_vcd_without_a_warning() {
 fn windowed_vcd_holds_only_the_window() {
     let sc = scenario("fig16");
     let dir = tmp("win");
-    let (_, w) = run_to_files(&sc, &dir, FileOptions { log: false, window: Some((5_000, 6_000)) }, &mut []).unwrap();
+    let (_, w) = run_to_files(&sc, &dir, FileOptions { window: Some((5_000, 6_000)), ..FileOptions::default() }, &mut []).unwrap();
     let wave = Waveform::open(&w.vcd).unwrap();
     let tmr = wave.changes("pmu50.timing_generator.tmr").unwrap();
     assert!(tmr.first().unwrap().0 >= 50_000 && tmr.last().unwrap().0 <= 60_000, "{:?}..{:?}", tmr.first(), tmr.last());

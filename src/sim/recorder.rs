@@ -113,6 +113,21 @@ impl PulseLog {
         }
     }
 
+    /// Number of rows whose edge is at or before `tick` (without expanding the runs).
+    pub fn count_until(&self, tick: u64) -> u64 {
+        self.runs
+            .iter()
+            .take_while(|r| r.first.tick <= tick)
+            .map(|r| if r.stride == 0 { r.count } else { r.count.min((tick - r.first.tick) / r.stride + 1) })
+            .sum()
+    }
+
+    /// Consecutive pairs of rows, as (last row of a run, first row of the next): rows inside a
+    /// run are equal but for their time, so these are the only pairs at which anything changes.
+    pub fn run_boundaries(&self) -> impl Iterator<Item = (PulseRow, PulseRow)> + '_ {
+        self.runs.windows(2).map(move |w| (w[0].row(w[0].count - 1, self.clock_ns), w[1].first.clone()))
+    }
+
     /// The last row.
     pub fn last(&self) -> Option<PulseRow> {
         self.runs.last().map(|r| r.row(r.count - 1, self.clock_ns))
