@@ -1,0 +1,154 @@
+"""pytest driver of the cocotb testbench tb_pmu50.py: the Verilog twin on Icarus Verilog against
+pmu50.Core (docs/python.md, "cocotb").
+
+- every shipped scenario (scenarios/*.toml): its vector file, written by
+  ``target/release/pmu50 vectors``, replayed into the twin, every output compared with the
+  model every tick;
+- seeded random stimulus on a few core configurations (short timing parameters, so that a few
+  thousand cycles cover many key-off pulses, interval changes and register writes);
+- mutants of hdl/mutants.txt (one-line bugs, `define): each must make the scoreboard fail, with a
+  message naming the tick and the signal.
+
+Work files: target/cocotb/ (one Icarus build per parameter set and mutant). Needs ``iverilog``
+and the ``pmu50`` package (``make cocotb`` provides both). Environment: PMU50_COCOTB_SEEDS
+(number of random seeds, default 12), PMU50_COCOTB_CYCLES (cycles per seed, default 3000).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import re
+import subprocess
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+from cocotb_tools.runner import get_runner
+
+import pmu50
+
+HERE = Path(__file__).resolve().parent
+HDL = HERE.parent
+ROOT = HDL.parent
+WORK = ROOT / "target" / "cocotb"
+PMU50_BIN = ROOT / "target" / "release" / "pmu50"
+SOURCES = [HDL / line.strip() for line in (HDL / "pmu50.f").read_text().splitlines() if line.strip()]
+SHIPPED = sorted((ROOT / "scenarios").glob("*.toml"))
+
+SEEDS = int(os.environ.get("PMU50_COCOTB_SEEDS", "12"))
+CYCLES = int(os.environ.get("PMU50_COCOTB_CYCLES", "3000"))
+
+# Core configurations of the random runs: short windows and intervals (ticks of 10 us), all three
+# structural corners, both embodiments.
+RANDOM_CONFIGS = [
+    dict(pw="10 us", pi="20 us", ps="10 us", min="100 us", x="300 us", t1="100 us", t2="50 us", cth=2, smp_on="30 us"),
+    dict(sync_depth=1, cnt_width=4, pw="10 us", pi="10 us", ps="20 us", min="80 us", x="240 us", t1="60 us", t2="40 us", cth=1, smp_on="20 us"),
+    dict(sync_depth=4, cnt_width=8, adaptive=False, pw="20 us", pi="10 us", ps="10 us", min="60 us", x="200 us", t1="60 us", t2="30 us", cth=3, smp_on="50 us"),
+]
+
+# Mutants the scoreboard must catch, with the random seed and configuration that exercise them.
+MUTANTS = [
+    ("MUT_SMP_LATE", 1, 0),
+    ("MUT_SYNC_SHORT", 1, 0),
+    ("MUT_CNT_C_SIGN", 1, 0),
+    ("MUT_WRITE_KEY_OFF", 1, 0),
+    ("MUT_CTH_OFF_BY_ONE", 1, 0),
+    ("MUT_SR_IGNORES_VS2_OK", 1, 0),
+]
+
+MISMATCH = re.compile(r"MISMATCH tick=(\d+) signal=(\w+) expected=(0x[0-9a-f]+) got=(\S+)")
+
+
+def build(params: dict, mutant: str | None = None) -> Path:
+    """The twin compiled with these Verilog parameters (and mutant), cached per set."""
+    key = hashlib.sha1(json.dumps([sorted(params.items()), mutant]).encode()).hexdigest()[:12]
+    d = WORK / "build" / f"{mutant or 'none'}_{key}"
+    runner = get_runner("icarus")
+    runner.build(
+        sources=SOURCES,
+        hdl_toplevel="pmu50",
+        parameters=params,
+        defines={mutant: 1} if mutant else {},
+        build_dir=d,
+        timescale=("1ns", "1ps"),
+        build_args=["-Wall", "-Wno-timescale"],
+    )
+    return d
+
+
+def simulate(build_dir: Path, env: dict, results: Path) -> tuple[bool, str]:
+    """Run tb_pmu50 in the simulator; (passed, failure message)."""
+    runner = get_runner("icarus")
+    passed = True
+    try:
+        runner.test(
+            test_module="tb_pmu50",
+            hdl_toplevel="pmu50",
+            hdl_toplevel_lang="verilog",
+            build_dir=build_dir,
+            test_dir=build_dir,
+            extra_env=env,
+            results_xml=str(results),
+        )
+    except SystemExit as e:  # cocotb's runner exits when a test failed under pytest
+        passed = e.code in (0, None)
+    root = ET.parse(results).getroot()
+    cases = root.findall(".//testcase")
+    assert len(cases) == 1, f"{results}: expected one test case, found {len(cases)}"
+    fail = cases[0].find("failure")
+    if fail is None:
+        fail = cases[0].find("error")
+    if fail is not None:
+        passed = False
+    return passed, "" if fail is None else (fail.get("message") or "") + (fail.text or "")
+
+
+@pytest.fixture(scope="session")
+def vectors() -> Path:
+    """Vector files of the shipped scenarios, written by the CLI."""
+    d = WORK / "vec"
+    d.mkdir(parents=True, exist_ok=True)
+    assert PMU50_BIN.exists(), f"{PMU50_BIN} missing: build it with `cargo build --release --bin pmu50` (make does)"
+    for sc in SHIPPED:
+        subprocess.run([str(PMU50_BIN), "vectors", str(sc), "-o", str(d / f"{sc.stem}.vec")], check=True, stdout=subprocess.DEVNULL)
+    return d
+
+
+def test_shipped_scenarios_exist():
+    assert len(SHIPPED) >= 7, SHIPPED
+
+
+@pytest.mark.parametrize("scenario", SHIPPED, ids=[p.stem for p in SHIPPED])
+def test_scenario_vectors(scenario: Path, vectors: Path):
+    sc = pmu50.Scenario.load(scenario)
+    d = build(sc.hdl_parameters)
+    env = {"PMU50_CORE": json.dumps(sc.core), "PMU50_VEC": str(vectors / f"{scenario.stem}.vec")}
+    ok, msg = simulate(d, env, WORK / "results" / f"vec_{scenario.stem}.xml")
+    assert ok, msg
+
+
+@pytest.mark.parametrize("seed", range(1, SEEDS + 1))
+def test_random(seed: int):
+    cfg = RANDOM_CONFIGS[seed % len(RANDOM_CONFIGS)]
+    core = pmu50.Core(**cfg)
+    d = build(core.hdl_parameters)
+    env = {"PMU50_CORE": json.dumps(cfg), "PMU50_SEED": str(seed), "PMU50_CYCLES": str(CYCLES)}
+    ok, msg = simulate(d, env, WORK / "results" / f"random_{seed}.xml")
+    assert ok, msg
+
+
+@pytest.mark.parametrize("mutant,seed,config", MUTANTS, ids=[m[0] for m in MUTANTS])
+def test_mutant_is_caught(mutant: str, seed: int, config: int):
+    listed = (HDL / "mutants.txt").read_text()
+    assert re.search(rf"^{mutant}\s*\|", listed, re.M), f"{mutant} is not in hdl/mutants.txt"
+    cfg = RANDOM_CONFIGS[config]
+    core = pmu50.Core(**cfg)
+    d = build(core.hdl_parameters, mutant)
+    env = {"PMU50_CORE": json.dumps(cfg), "PMU50_SEED": str(seed), "PMU50_CYCLES": str(CYCLES)}
+    ok, msg = simulate(d, env, WORK / "results" / f"mutant_{mutant}.xml")
+    assert not ok, f"{mutant} escaped the scoreboard ({CYCLES} random cycles, seed {seed})"
+    m = MISMATCH.search(msg)
+    assert m, f"{mutant}: the failure does not name tick and signal:\n{msg}"
+    print(f"{mutant}: caught at tick {m.group(1)}, signal {m.group(2)} (expected {m.group(3)}, got {m.group(4)})")
