@@ -64,8 +64,12 @@ def random_inputs(seed: int, cycles: int, core: pmu50.Core):
     """Seeded random stimulus, chosen from the model's outputs of the current tick (a
     stimulus reacting to the design, as an MPU would)."""
     rng = random.Random(seed)
-    regs = [0x00, 0x02, 0x04, 0x06, 0x08, 0x0A, 0x0C, 0x0E, 0x10, 0x12, 0x14, 0x16, 0x18, 0x1A, 0x1C, 0x1E, 0x20, 0x22, 0x24]
+    rmap = {name: (addr, width, access) for name, addr, width, access in pmu50.REGISTER_MAP}
+    addrs = [a for a, _, _ in rmap.values()]
+    writable = [n for n, (_, _, acc) in rmap.items() if "RW" in acc or "W1C" in acc]
     hdl = core.hdl_parameters
+    # timing registers and the Verilog parameter of their reset value
+    timing = [n for n in ("PW", "PI", "PS", "SI_MAX", "SI_MIN", "T1", "T2", "CTH", "SMP_ON") if n in rmap]
     ig = 0
     fault = 0
     cmp_s = rng.getrandbits(1)
@@ -91,19 +95,25 @@ def random_inputs(seed: int, cycles: int, core: pmu50.Core):
             "cmp_s": cmp_s ^ int(noise),
             "cmp_c": cmp_c,
             "bus_we": 0,
-            "bus_addr": rng.choice(regs) if rng.random() < 0.8 else rng.getrandbits(8),
+            "bus_addr": rng.choice(addrs) if rng.random() < 0.8 else rng.getrandbits(8),
             "bus_wdata": 0,
         }
         if rng.random() < 0.03:
+            # a register write (refused while the key is off, or when illegal: bus_err)
             inp["bus_we"] = 1
             w = rng.random()
             if w < 0.5:
-                # a plausible value for a timing register: around its reset value
-                name, base = rng.choice([(0x02, hdl["PW"]), (0x04, hdl["PI"]), (0x06, hdl["PS"]), (0x08, hdl["SI_MAX"]), (0x0A, hdl["SI_MIN"]), (0x0C, hdl["T1"]), (0x0E, hdl["T2"]), (0x12, hdl["SMP_ON"])])
-                inp["bus_addr"] = name
-                inp["bus_wdata"] = max(0, min(0xFFFF, base + rng.randint(-3, 3)))
+                # a timing register, near its reset value: mostly legal, sometimes not
+                name = rng.choice(timing)
+                inp["bus_addr"] = rmap[name][0]
+                inp["bus_wdata"] = max(0, min(0xFFFF, hdl[name] + rng.randint(-3, 3)))
+            elif w < 0.8:
+                name = rng.choice(writable)
+                inp["bus_addr"] = rmap[name][0]
+                inp["bus_wdata"] = rng.getrandbits(16) if rng.random() < 0.3 else rng.getrandbits(3)
             else:
-                inp["bus_wdata"] = rng.getrandbits(16) if rng.random() < 0.5 else rng.getrandbits(3)
+                # any address (read-only and unmapped ones too), random data
+                inp["bus_wdata"] = rng.getrandbits(16)
         yield inp
 
 
@@ -150,23 +160,61 @@ async def run(dut, stimulus_factory):
     # first inputs before the first edge
     first = next(stimulus, None)
     if first is None:
-        return 0
+        return 0, Coverage()
     for n, h in zip(in_names, in_h):
         h.value = first[n]
     driver = cocotb.start_soon(drive(dut, in_names, stimulus, dut.clk))
 
     tick = 0
     clk = dut.clk
+    cov = Coverage()
     while True:
         await RisingEdge(clk)
         seen = {n: read_value(h) for n, h in zip(in_names, in_h)}
-        expected = model.step(**seen)
+        trace = model.step_traced(**seen)
         tick += 1
         await ReadOnly()
-        check(tick, expected)
+        check(tick, trace.after)
+        cov.add(trace)
         if driver.done():
             break
-    return tick
+    return tick, cov
+
+
+class Coverage:
+    """What a run exercised, from the model's side of each edge: FIG. 17 branches and FIG. 18
+    paths at key-off strobes, key edges, register writes accepted and refused."""
+
+    def __init__(self) -> None:
+        self.fig17: dict[int, int] = {}
+        self.fig18: dict[int, int] = {}
+        self.counts = {"kon": 0, "koff": 0, "writes": 0, "refused": 0, "first": 0, "quadrant_skip": 0, "diag": 0}
+
+    def add(self, t: pmu50.Trace) -> None:
+        x = t.internals
+        if x.fig17:
+            self.fig17[x.fig17] = self.fig17.get(x.fig17, 0) + 1
+        if x.fig18:
+            self.fig18[x.fig18] = self.fig18.get(x.fig18, 0) + 1
+        c = self.counts
+        c["kon"] += x.kon
+        c["koff"] += x.koff
+        c["first"] += x.first
+        c["writes"] += t.inputs.bus_we
+        c["refused"] += int(t.after.bus_err and not t.before.bus_err)
+        c["quadrant_skip"] += int(t.after.quadrant_skip and not t.before.quadrant_skip)
+        c["diag"] += int(t.after.diag and not t.before.diag)
+
+    def to_dict(self) -> dict:
+        return {"fig17": self.fig17, "fig18": self.fig18, **self.counts}
+
+
+def save_coverage(cov: Coverage) -> None:
+    path = os.environ.get("PMU50_COVERAGE")
+    if path:
+        with open(path + ".tmp", "w", encoding="ascii") as f:
+            json.dump(cov.to_dict(), f, sort_keys=True)
+        os.replace(path + ".tmp", path)
 
 
 @cocotb.test()
@@ -175,10 +223,11 @@ async def twin_matches_model(dut):
     vec = os.environ.get("PMU50_VEC")
     if vec:
         names = [s.name for s in pmu50.signal_table("input")]
-        ticks = await run(dut, lambda core: vector_inputs(vec, names))
-        dut._log.info("PASS %s: %d ticks, 23 outputs each", os.path.basename(vec), ticks)
+        ticks, cov = await run(dut, lambda core: vector_inputs(vec, names))
+        dut._log.info("PASS %s: %d ticks, 23 outputs each; coverage %s", os.path.basename(vec), ticks, cov.to_dict())
     else:
         seed = int(os.environ["PMU50_SEED"])
         cycles = int(os.environ.get("PMU50_CYCLES", "2000"))
-        ticks = await run(dut, lambda core: random_inputs(seed, cycles, core))
-        dut._log.info("PASS seed %d: %d ticks, 23 outputs each", seed, ticks)
+        ticks, cov = await run(dut, lambda core: random_inputs(seed, cycles, core))
+        dut._log.info("PASS seed %d: %d ticks, 23 outputs each; coverage %s", seed, ticks, cov.to_dict())
+    save_coverage(cov)

@@ -16,6 +16,7 @@ and the ``pmu50`` package (``make cocotb`` provides both). Environment: PMU50_CO
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -129,14 +130,42 @@ def test_scenario_vectors(scenario: Path, vectors: Path):
     assert ok, msg
 
 
-@pytest.mark.parametrize("seed", range(1, SEEDS + 1))
-def test_random(seed: int):
+@functools.cache
+def random_run(seed: int) -> tuple[bool, str, dict]:
+    """One seeded random run on the clean twin: (passed, failure message, coverage)."""
     cfg = RANDOM_CONFIGS[seed % len(RANDOM_CONFIGS)]
     core = pmu50.Core(**cfg)
     d = build(core.hdl_parameters)
-    env = {"PMU50_CORE": json.dumps(cfg), "PMU50_SEED": str(seed), "PMU50_CYCLES": str(CYCLES)}
+    cov = WORK / "results" / f"random_{seed}.coverage.json"
+    cov.unlink(missing_ok=True)
+    env = {"PMU50_CORE": json.dumps(cfg), "PMU50_SEED": str(seed), "PMU50_CYCLES": str(CYCLES), "PMU50_COVERAGE": str(cov)}
     ok, msg = simulate(d, env, WORK / "results" / f"random_{seed}.xml")
+    return ok, msg, json.loads(cov.read_text()) if ok else {}
+
+
+@pytest.mark.parametrize("seed", range(1, SEEDS + 1))
+def test_random(seed: int):
+    ok, msg, _ = random_run(seed)
     assert ok, msg
+
+
+def test_random_coverage():
+    """Over all seeds the stimulus takes every FIG. 17 branch and FIG. 18 path, turns the key
+    on and off, writes registers (some refused), and provokes a quadrant skip and a diagnosis."""
+    total: dict = {"fig17": set(), "fig18": set()}
+    for seed in range(1, SEEDS + 1):
+        ok, msg, cov = random_run(seed)
+        assert ok, msg
+        total["fig17"] |= {int(k) for k in cov["fig17"]}
+        total["fig18"] |= {int(k) for k in cov["fig18"]}
+        for k, v in cov.items():
+            if k not in ("fig17", "fig18"):
+                total[k] = total.get(k, 0) + v
+    print(f"random coverage over {SEEDS} seeds x {CYCLES} cycles: {total}")
+    assert total["fig17"] == set(range(1, 8)), f"FIG. 17 branches taken: {sorted(total['fig17'])} of 1..7"
+    assert total["fig18"] == set(range(1, 6)), f"FIG. 18 paths taken: {sorted(total['fig18'])} of 1..5"
+    for k in ("kon", "koff", "first", "writes", "refused", "quadrant_skip", "diag"):
+        assert total[k] > 0, f"random stimulus never produced {k}: {total}"
 
 
 @pytest.mark.parametrize("mutant,seed,config", MUTANTS, ids=[m[0] for m in MUTANTS])

@@ -8,7 +8,9 @@ Python package (docs/python.md):
   :meth:`Core.read`, :attr:`Core.tick`, :meth:`Core.signals`.
 - :class:`Scenario`: a scenario file (``Scenario.load(path)``, ``Scenario.from_str(text)``) and
   its run with the environment models (:meth:`Scenario.run`), the summary of ``pmu50 run``.
-- :func:`signal_table`: names and widths of every port, register and internal signal.
+- :func:`signal_table`: names and widths of every port, register and internal signal;
+  :data:`REGISTER_MAP`: the register map (name, address, width, access);
+  :data:`CORE_PARAMETERS`: the ``[core]`` parameter names.
 
 Errors: :class:`ConfigError` and :class:`ScenarioError` (both ``ValueError``) carry the CLI's
 messages; :class:`SimulationError` a failed run; :class:`InternalError` a caught Rust panic.
@@ -16,6 +18,7 @@ messages; :class:`SimulationError` a failed run; :class:`InternalError` a caught
 
 from ._native import (
     CORE_PARAMETERS,
+    REGISTER_MAP,
     Check,
     ConfigError,
     Core,
@@ -39,6 +42,7 @@ from ._native import (
 
 __all__ = [
     "CORE_PARAMETERS",
+    "REGISTER_MAP",
     "Check",
     "ConfigError",
     "Core",

@@ -62,7 +62,7 @@ macro_rules! signal_bag {
 
             fn __dir__(&self) -> Vec<&'static str> {
                 let mut d: Vec<&'static str> = self.vals.iter().map(|v| v.0).collect();
-                d.extend(["to_dict", "names", "widths", "mismatches"]);
+                d.extend(["to_dict", "names", "values", "widths", "mismatches"]);
                 d
             }
 
@@ -80,6 +80,11 @@ macro_rules! signal_bag {
                     return Ok(PyBool::new(py, mine.eq(d)?).to_owned().into_any().unbind());
                 }
                 Ok(py.NotImplemented())
+            }
+
+            /// Signal values as ints, in table order (the order of `names()`).
+            fn values(&self) -> Vec<u64> {
+                self.vals.iter().map(|v| v.2).collect()
             }
 
             /// Signal names, in table order.
