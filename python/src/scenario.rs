@@ -273,11 +273,13 @@ impl Scenario {
         })
     }
 
+    /// The scenario's name (the `name` key, else the file stem): names the output files.
     #[getter]
     fn name(&self) -> &str {
         &self.sc.name
     }
 
+    /// The `description` key ("" when absent).
     #[getter]
     fn description(&self) -> &str {
         &self.sc.description
@@ -289,6 +291,7 @@ impl Scenario {
         self.sc.ticks
     }
 
+    /// Clock period in nanoseconds (`[core] clock`).
     #[getter]
     fn clock_ns(&self) -> u64 {
         self.sc.clock_ns()
