@@ -136,7 +136,7 @@ async def run(dut, stimulus_factory):
     period_ns = model.clock_ns
     half = period_ns // 2
 
-    # Reset: inputs 0, rst_n low, released half a period before the first rising edge.
+    # Reset: inputs 0, rst_n low for half a period, released 3/4 period before the first rising edge.
     for h in in_h:
         h.value = 0
     dut.rst_n.value = 0

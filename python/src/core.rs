@@ -12,7 +12,7 @@ use pmu50_core::pmu50::Structural;
 use pmu50_core::{CoreConfig, Inputs, Params, Pmu50};
 use pyo3::exceptions::{PyAttributeError, PyKeyError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyInt};
+use pyo3::types::{PyBool, PyDict, PyInt, PyString};
 
 /// Values of a group of signals (outputs, internals or inputs) in table order.
 type Vals = Vec<(&'static str, u8, u64)>;
@@ -245,9 +245,14 @@ impl Core {
                 let names: Vec<&str> = table.iter().map(|t| t.0).collect();
                 return Err(PyTypeError::new_err(format!("step() got an unexpected keyword argument `{name}`; the inputs are {}", names.join(", "))));
             };
-            if !v.is_instance_of::<PyInt>() {
+            // ints, bools, and integer-like objects (`__index__`: numpy integers, simulator values)
+            let v = if v.is_instance_of::<PyInt>() {
+                v
+            } else if !v.is_instance_of::<PyString>() && v.hasattr("__index__")? {
+                v.call_method0("__index__")?
+            } else {
                 return Err(PyTypeError::new_err(format!("input `{name}` takes an int or a bool, got {}", v.get_type().name()?)));
-            }
+            };
             let max = (1u64 << w) - 1;
             let x = match v.extract::<u64>() {
                 Ok(x) if x <= max => x,

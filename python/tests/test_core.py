@@ -79,10 +79,21 @@ def test_every_input_reaches_its_own_port():
         assert tr.inputs.to_dict() == want, name
 
 
-def test_bools_and_ints_are_the_same_input():
-    a, b = pmu50.Core(), pmu50.Core()
+class Index:
+    """An integer-like object that is not an int (as numpy integers and simulator values are)."""
+
+    def __init__(self, v: int) -> None:
+        self.v = v
+
+    def __index__(self) -> int:
+        return self.v
+
+
+def test_bools_ints_and_integer_likes_are_the_same_input():
+    a, b, c = pmu50.Core(), pmu50.Core(), pmu50.Core()
     for _ in range(10):
-        assert a.step(ig=True, vs2_ok=True) == b.step(ig=1, vs2_ok=1)
+        assert a.step(ig=True, vs2_ok=True) == b.step(ig=1, vs2_ok=1) == c.step(ig=Index(1), vs2_ok=Index(1))
+    assert c.step_traced(bus_addr=Index(0x13)).inputs.bus_addr == 0x13
 
 
 def test_bad_inputs():
@@ -97,6 +108,8 @@ def test_bad_inputs():
         c.step(clk=1)
     with pytest.raises(TypeError, match="input `ig` takes an int or a bool, got str"):
         c.step(ig="1")
+    with pytest.raises(TypeError, match="input `ig` takes an int or a bool, got float"):
+        c.step(ig=1.0)
     assert c.tick == 0, "a refused step takes no edge"
 
 
