@@ -47,7 +47,7 @@ use std::io::Write;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 use thiserror::Error;
-use vcd::{IdCode, ReferenceIndex, SimulationCommand, VarType};
+use vcd::{IdCode, ReferenceIndex, VarType};
 
 use crate::time::Timescale;
 
@@ -250,8 +250,25 @@ pub enum WriteError {
         /// the rejected handle
         id: SigId,
     },
+    /// More than [`MAX_FRAMES`] frames declared on one writer.
+    #[error("too many frames: one writer serves at most {MAX_FRAMES}; put more variables into one frame instead")]
+    TooManyFrames,
+    /// A frame used with a writer that did not declare it.
+    #[error("unknown frame: it was not declared by this writer (Writer::frame)")]
+    UnknownFrame,
+    /// `dump_frame` with a value list of the wrong length.
+    #[error("dump_frame got {got} values for a frame of {expected} variables: pass exactly one value per variable, in the frame's order")]
+    FrameLength {
+        /// variables in the frame
+        expected: usize,
+        /// values passed
+        got: usize,
+    },
+    /// FST output failure (from the `fst-writer` crate).
+    #[error("FST output: {0}")]
+    Fst(String),
     /// Underlying I/O failure.
-    #[error("I/O error while writing the VCD: {0}")]
+    #[error("I/O error while writing the waveform: {0}")]
     Io(#[from] std::io::Error),
 }
 
@@ -560,8 +577,9 @@ impl VcdBuilder {
         Ok(self.vars[id.index as usize].gtkwave_name())
     }
 
-    /// Write the header to `out` and switch to the value-change phase.
-    pub fn start<W: Write>(self, out: W) -> Result<VcdWriter<W>> {
+    /// Check the declarations before the value-change phase (every scope closed, at least one
+    /// variable).
+    fn check_complete(&self) -> Result<()> {
         if !self.stack.is_empty() {
             return Err(WriteError::UnclosedScopes {
                 open: self.stack.len(),
@@ -571,10 +589,16 @@ impl VcdBuilder {
         if self.vars.is_empty() {
             return Err(WriteError::NoVariables);
         }
-        let mut w = vcd::Writer::new(Slot(Some(std::io::BufWriter::new(out))));
+        Ok(())
+    }
+
+    /// Write the VCD header to `out` and switch to the value-change phase.
+    pub fn start<W: Write>(self, mut out: W) -> Result<VcdWriter<W>> {
+        self.check_complete()?;
+        let mut w = vcd::Writer::new(Slot(Some(Vec::with_capacity(4096))));
         w.version(&self.version)?;
         w.timescale(self.timescale.factor, self.timescale.unit.to_vcd())?;
-        let mut codes = vec![IdCode::FIRST; self.vars.len()];
+        let mut codes = vec![Box::<[u8]>::default(); self.vars.len()];
         let mut next = IdCode::FIRST;
         for item in &self.items {
             match item {
@@ -600,28 +624,105 @@ impl VcdBuilder {
                         Kind::Real => (VarType::Real, None),
                     };
                     w.var_def(ty, v.width(), next, &v.name, index)?;
-                    codes[*i] = next;
+                    codes[*i] = next.to_string().into_bytes().into_boxed_slice();
                     next = next.next();
                 }
             }
         }
         w.enddefinitions()?;
+        let header = w.writer().0.take().unwrap_or_default();
+        out.write_all(&header)?;
+        let emitter = VcdOut {
+            out,
+            buf: Vec::with_capacity(VCD_BUFFER * 2),
+            codes,
+            widths: self.vars.iter().map(|v| v.width()).collect(),
+        };
+        Ok(self.into_writer(emitter))
+    }
+
+    /// The checked writer over an emitter (VCD here, FST in [`crate::fst`]).
+    pub(crate) fn into_writer<E: Emitter>(self, e: E) -> Writer<E> {
         let n = self.vars.len();
-        Ok(VcdWriter {
-            w,
+        Writer {
+            e,
             owner: self.owner,
             vars: self.vars,
-            codes,
             cur: self.init,
             assigned: vec![0; n],
+            var_frames: vec![0; n],
             pending: Vec::new(),
             time: 0,
             step: 1,
             window: self.window,
             dumped: false,
             last_written: None,
-        })
+            generation: 0,
+            frame_steps: Vec::new(),
+            frame_overlap: Vec::new(),
+        }
     }
+
+    /// Variables in declaration order, for other emitters: (scope path, name, width, is real).
+    pub(crate) fn declarations(&self) -> Vec<Declaration> {
+        let mut out = Vec::new();
+        let mut stack: Vec<String> = Vec::new();
+        for item in &self.items {
+            match item {
+                Item::Scope(name) => {
+                    out.push(Declaration::Scope(name.clone()));
+                    stack.push(name.clone());
+                }
+                Item::Upscope => {
+                    out.push(Declaration::Upscope);
+                    stack.pop();
+                }
+                Item::Var(i) => {
+                    let v = &self.vars[*i];
+                    let (wire, range) = match v.kind {
+                        Kind::Bits { ty, range, .. } => (ty == BitType::Wire, range),
+                        Kind::Real => (false, None),
+                    };
+                    out.push(Declaration::Var {
+                        index: *i,
+                        name: v.name.clone(),
+                        width: v.width(),
+                        real: matches!(v.kind, Kind::Real),
+                        wire,
+                        range,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    pub(crate) fn timescale(&self) -> Timescale {
+        self.timescale
+    }
+
+    pub(crate) fn version(&self) -> &str {
+        &self.version
+    }
+
+    pub(crate) fn complete(&self) -> Result<()> {
+        self.check_complete()
+    }
+}
+
+/// One item of the declared hierarchy, for emitters other than VCD.
+#[derive(Debug, Clone)]
+pub(crate) enum Declaration {
+    Scope(String),
+    Upscope,
+    Var {
+        index: usize,
+        name: String,
+        width: u32,
+        real: bool,
+        wire: bool,
+        range: Option<(u32, u32)>,
+    },
 }
 
 fn int_to_bits(v: u64, width: u32) -> Vec<u8> {
@@ -637,17 +738,214 @@ fn int_to_bits(v: u64, width: u32) -> Vec<u8> {
         .collect()
 }
 
-/// Dumps value changes; created by [`VcdBuilder::start`]. Call
-/// [`VcdWriter::finish`] at the end or the last time step is lost.
-/// Output is buffered internally; pass a plain `File`.
-pub struct VcdWriter<W: Write> {
-    w: vcd::Writer<Slot<W>>,
+/// One variable's current value, as handed to an [`Emitter`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ValueRef<'a> {
+    /// two-state value of a bit or vector variable at most 64 bits wide
+    Int(u64),
+    /// msb-first ASCII bits (`0 1 x z`), exactly the declared width
+    Bits(&'a [u8]),
+    /// finite real, never -0.0
+    Real(f64),
+}
+
+impl Stored {
+    fn as_ref(&self) -> ValueRef<'_> {
+        match self {
+            Stored::Int(v) => ValueRef::Int(*v),
+            Stored::Bits(b) => ValueRef::Bits(b),
+            Stored::Real(v) => ValueRef::Real(*v),
+        }
+    }
+}
+
+/// Output format of a checked [`Writer`]: the writer does every check and keeps the values; the
+/// emitter only formats what the writer hands it. [`VcdOut`] writes VCD text,
+/// [`crate::fst::FstOut`] writes FST.
+pub trait Emitter {
+    /// What [`Writer::finish`] returns.
+    type Output;
+    /// Start of the first written step, at time `t`: every variable's value follows.
+    fn dump_begin(&mut self, t: u64) -> Result<()>;
+    /// End of the first written step.
+    fn dump_end(&mut self) -> Result<()>;
+    /// Start of a later step with at least one change, at time `t`.
+    fn timestamp(&mut self, t: u64) -> Result<()>;
+    /// The value of variable `index` (declaration order) in the current step.
+    fn value(&mut self, index: usize, v: ValueRef<'_>) -> Result<()>;
+    /// Close the output; `closing` is a final time stamp to write when the run ends after the
+    /// last written change.
+    fn finish(self, closing: Option<u64>) -> Result<Self::Output>;
+}
+
+/// Bytes of VCD text collected before one write to the output.
+const VCD_BUFFER: usize = 1 << 17;
+
+/// `b"00000000"` .. `b"11111111"`: the 8 VCD bits of each byte value, msb first.
+const BITS8: [[u8; 8]; 256] = {
+    let mut t = [[b'0'; 8]; 256];
+    let mut v = 0;
+    while v < 256 {
+        let mut k = 0;
+        while k < 8 {
+            if (v >> (7 - k)) & 1 == 1 {
+                t[v][k] = b'1';
+            }
+            k += 1;
+        }
+        v += 1;
+    }
+    t
+};
+
+/// VCD text emitter: identifier codes precomputed at declaration, values formatted straight into
+/// one buffer that goes to the output in large writes.
+pub struct VcdOut<W: Write> {
+    out: W,
+    buf: Vec<u8>,
+    codes: Vec<Box<[u8]>>,
+    widths: Vec<u32>,
+}
+
+impl<W: Write> VcdOut<W> {
+    #[inline]
+    fn spill(&mut self) -> Result<()> {
+        if self.buf.len() >= VCD_BUFFER {
+            self.out.write_all(&self.buf)?;
+            self.buf.clear();
+        }
+        Ok(())
+    }
+
+    #[inline]
+    fn decimal(&mut self, mut t: u64) {
+        let mut d = [0u8; 20];
+        let mut k = d.len();
+        loop {
+            k -= 1;
+            d[k] = b'0' + (t % 10) as u8;
+            t /= 10;
+            if t == 0 {
+                break;
+            }
+        }
+        self.buf.extend_from_slice(&d[k..]);
+    }
+}
+
+impl<W: Write> Emitter for VcdOut<W> {
+    type Output = W;
+
+    fn dump_begin(&mut self, t: u64) -> Result<()> {
+        self.timestamp(t)?;
+        self.buf.extend_from_slice(b"$dumpvars\n");
+        Ok(())
+    }
+
+    fn dump_end(&mut self) -> Result<()> {
+        self.buf.extend_from_slice(b"$end\n");
+        self.spill()
+    }
+
+    #[inline]
+    fn timestamp(&mut self, t: u64) -> Result<()> {
+        self.spill()?;
+        self.buf.push(b'#');
+        self.decimal(t);
+        self.buf.push(b'\n');
+        Ok(())
+    }
+
+    #[inline]
+    fn value(&mut self, i: usize, v: ValueRef<'_>) -> Result<()> {
+        let width = self.widths[i];
+        match v {
+            ValueRef::Int(v) if width == 1 => self.buf.push(b'0' + (v & 1) as u8),
+            ValueRef::Int(v) => {
+                self.buf.push(b'b');
+                let top = width % 8;
+                for k in (width - top..width).rev() {
+                    self.buf.push(b'0' + ((v >> k) & 1) as u8);
+                }
+                let mut k = width - top;
+                while k > 0 {
+                    k -= 8;
+                    self.buf.extend_from_slice(&BITS8[((v >> k) & 0xFF) as usize]);
+                }
+                self.buf.push(b' ');
+            }
+            ValueRef::Bits(bits) if width == 1 => self.buf.extend_from_slice(bits),
+            ValueRef::Bits(bits) => {
+                self.buf.push(b'b');
+                self.buf.extend_from_slice(bits);
+                self.buf.push(b' ');
+            }
+            ValueRef::Real(r) => {
+                self.buf.push(b'r');
+                self.buf.extend_from_slice(format_real(r).as_bytes());
+                self.buf.push(b' ');
+            }
+        }
+        self.buf.extend_from_slice(&self.codes[i]);
+        self.buf.push(b'\n');
+        Ok(())
+    }
+
+    fn finish(mut self, closing: Option<u64>) -> Result<W> {
+        if let Some(t) = closing {
+            self.timestamp(t)?;
+        }
+        self.out.write_all(&self.buf)?;
+        self.out.flush()?;
+        Ok(self.out)
+    }
+}
+
+/// The checked VCD writer (see the module documentation).
+pub type VcdWriter<W> = Writer<VcdOut<W>>;
+
+/// Most frames one writer serves (each frame owns one bit of a per-variable mask).
+pub const MAX_FRAMES: usize = 32;
+
+/// A fixed list of variables that are dumped together, every step: declared once with
+/// [`Writer::frame`] (which checks that each is a bit or vector variable of at most 64 bits, so
+/// [`Writer::dump_frame`] only has to check the values that changed against their width).
+/// The frame keeps the values it last dumped, so a step compares plain integers.
+#[derive(Debug, Clone)]
+pub struct Frame {
+    owner: u32,
+    id: u32,
+    idx: Vec<u32>,
+    max: Vec<u64>,
+    prev: Vec<u64>,
+    /// writer generation after this frame's last dump (`u64::MAX`: never dumped)
+    generation: u64,
+}
+
+impl Frame {
+    /// Number of variables in the frame.
+    pub fn len(&self) -> usize {
+        self.idx.len()
+    }
+
+    /// True for a frame without variables.
+    pub fn is_empty(&self) -> bool {
+        self.idx.is_empty()
+    }
+}
+
+/// Dumps value changes with every check of the module documentation; created by
+/// [`VcdBuilder::start`] (VCD) or [`crate::fst::start_fst`] (FST). Call [`Writer::finish`] at
+/// the end or the last time step is lost.
+pub struct Writer<E: Emitter> {
+    e: E,
     owner: u32,
     vars: Vec<VarDecl>,
-    codes: Vec<IdCode>,
     cur: Vec<Stored>,
-    /// step number of the last assignment per variable (0 = never)
+    /// step number of the last individual assignment per variable (0 = never)
     assigned: Vec<u64>,
+    /// per variable: bit f set when frame f holds it
+    var_frames: Vec<u32>,
     /// variables whose value changed in the current step
     pending: Vec<usize>,
     time: u64,
@@ -655,11 +953,17 @@ pub struct VcdWriter<W: Write> {
     window: (u64, u64),
     dumped: bool,
     last_written: Option<u64>,
+    /// incremented whenever a value changes (frames use it to know their copy is current)
+    generation: u64,
+    /// per frame: step of its last dump (0 = never)
+    frame_steps: Vec<u64>,
+    /// per frame: bit g set when frame g shares a variable with it
+    frame_overlap: Vec<u32>,
 }
 
-impl<W: Write> std::fmt::Debug for VcdWriter<W> {
+impl<E: Emitter> std::fmt::Debug for Writer<E> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("VcdWriter")
+        f.debug_struct("Writer")
             .field("time", &self.time)
             .field("variables", &self.vars.len())
             .field("window", &self.window)
@@ -668,7 +972,7 @@ impl<W: Write> std::fmt::Debug for VcdWriter<W> {
     }
 }
 
-impl<W: Write> VcdWriter<W> {
+impl<E: Emitter> Writer<E> {
     /// Current simulation time (timescale units).
     pub fn time(&self) -> u64 {
         self.time
@@ -680,6 +984,7 @@ impl<W: Write> VcdWriter<W> {
         Ok(self.vars[i].gtkwave_name())
     }
 
+    #[inline]
     fn index(&self, id: SigId) -> Result<usize> {
         if id.owner != self.owner || id.index as usize >= self.vars.len() {
             return Err(WriteError::UnknownId { id });
@@ -693,15 +998,16 @@ impl<W: Write> VcdWriter<W> {
 
     /// Advance to time `t`. Equal time stays in the current step; an earlier
     /// time is an error.
+    #[inline]
     pub fn set_time(&mut self, t: u64) -> Result<()> {
+        if t == self.time {
+            return Ok(());
+        }
         if t < self.time {
             return Err(WriteError::TimeBackwards {
                 requested: t,
                 current: self.time,
             });
-        }
-        if t == self.time {
-            return Ok(());
         }
         self.flush_step()?;
         let start = self.window.0;
@@ -729,7 +1035,16 @@ impl<W: Write> VcdWriter<W> {
 
     /// Change a one-bit variable from a `bool`.
     pub fn change_bool(&mut self, id: SigId, v: bool) -> Result<()> {
-        self.change_bit(id, Logic::from(v))
+        let i = self.index(id)?;
+        match self.vars[i].kind {
+            Kind::Bits { width: 1, .. } => self.assign(i, Stored::Int(u64::from(v))),
+            Kind::Bits { width, .. } => Err(WriteError::WrongWidth {
+                name: self.vars[i].path.clone(),
+                expected: width,
+                got: 1,
+            }),
+            Kind::Real => Err(self.type_mismatch(i, "bit")),
+        }
     }
 
     /// Change a bit/vector variable to a two-state integer, which must fit the
@@ -807,21 +1122,155 @@ impl<W: Write> VcdWriter<W> {
         self.assign(i, Stored::Real(v + 0.0))
     }
 
+    /// Declare a frame: variables dumped together by [`Writer::dump_frame`]. Each must be a bit
+    /// or vector variable of at most 64 bits of this writer; a variable may appear once.
+    pub fn frame(&mut self, ids: &[SigId]) -> Result<Frame> {
+        let f = self.frame_steps.len();
+        if f >= MAX_FRAMES {
+            return Err(WriteError::TooManyFrames);
+        }
+        let bit = 1u32 << f;
+        let mut idx = Vec::with_capacity(ids.len());
+        let mut max = Vec::with_capacity(ids.len());
+        let mut prev = Vec::with_capacity(ids.len());
+        let mut seen = HashSet::new();
+        for &id in ids {
+            let i = self.index(id)?;
+            let width = match self.vars[i].kind {
+                Kind::Bits { width, .. } if width <= 64 => width,
+                _ => return Err(self.type_mismatch(i, "frame value (integer of at most 64 bits)")),
+            };
+            if !seen.insert(i) {
+                return Err(WriteError::Duplicate {
+                    path: self.vars[i].path.clone(),
+                });
+            }
+            idx.push(i as u32);
+            max.push(max_for_width(width));
+            prev.push(match self.cur[i] {
+                Stored::Int(v) => v,
+                _ => 0,
+            });
+        }
+        let mut overlap = bit;
+        for &i in &idx {
+            overlap |= self.var_frames[i as usize];
+        }
+        for g in 0..f {
+            if overlap & (1 << g) != 0 {
+                self.frame_overlap[g] |= bit;
+            }
+        }
+        for &i in &idx {
+            self.var_frames[i as usize] |= bit;
+        }
+        self.frame_steps.push(0);
+        self.frame_overlap.push(overlap);
+        Ok(Frame {
+            owner: self.owner,
+            id: f as u32,
+            idx,
+            max,
+            prev,
+            generation: u64::MAX,
+        })
+    }
+
+    /// Advance to time `t` (as [`Writer::set_time`]) and assign every variable of the frame its
+    /// value from `values` (same order and length as the frame). Equivalent to `set_time(t)` and
+    /// one `change_vector` per variable, with the same checks: time never goes backwards, no
+    /// variable is assigned twice in a step (by this frame, another frame or a single change),
+    /// values fit their width. Only the values that changed are compared with their width and
+    /// formatted. A time or double-assignment error assigns nothing; after a value that does not
+    /// fit, the values before it in the frame are assigned.
+    pub fn dump_frame(&mut self, frame: &mut Frame, t: u64, values: &[u64]) -> Result<()> {
+        if frame.owner != self.owner || frame.id as usize >= self.frame_steps.len() {
+            return Err(WriteError::UnknownFrame);
+        }
+        if values.len() != frame.idx.len() {
+            return Err(WriteError::FrameLength {
+                expected: frame.idx.len(),
+                got: values.len(),
+            });
+        }
+        self.set_time(t)?;
+        let f = frame.id as usize;
+        let step = self.step;
+        // Double assignment: another (or the same) overlapping frame already dumped in this step.
+        let ov = self.frame_overlap[f];
+        let mut g = ov;
+        while g != 0 {
+            let k = g.trailing_zeros() as usize;
+            g &= g - 1;
+            if self.frame_steps[k] == step {
+                let i = frame.idx.iter().map(|&i| i as usize).find(|&i| self.var_frames[i] & (1 << k) != 0).unwrap_or(frame.idx[0] as usize);
+                return Err(WriteError::DoubleChange {
+                    name: self.vars[i].path.clone(),
+                    time: self.time,
+                });
+            }
+        }
+        let fast = frame.generation == self.generation;
+        if !fast {
+            // Values changed since this frame's last dump: maybe by single changes in this step.
+            if let Some(&i) = frame.idx.iter().find(|&&i| self.assigned[i as usize] == step) {
+                return Err(WriteError::DoubleChange {
+                    name: self.vars[i as usize].path.clone(),
+                    time: self.time,
+                });
+            }
+        }
+        let mut changed = false;
+        for k in 0..values.len() {
+            let i = frame.idx[k] as usize;
+            let v = values[k];
+            let same = if fast { v == frame.prev[k] } else { matches!(self.cur[i], Stored::Int(c) if c == v) };
+            if same {
+                continue;
+            }
+            if v > frame.max[k] {
+                self.frame_steps[f] = step;
+                if changed {
+                    self.generation += 1;
+                }
+                return Err(WriteError::ValueTooWide {
+                    name: self.vars[i].path.clone(),
+                    value: v,
+                    width: 64 - frame.max[k].leading_zeros(),
+                    max: frame.max[k],
+                });
+            }
+            frame.prev[k] = v;
+            self.cur[i] = Stored::Int(v);
+            self.pending.push(i);
+            changed = true;
+        }
+        if !fast {
+            for (k, &i) in frame.idx.iter().enumerate() {
+                if let Stored::Int(c) = self.cur[i as usize] {
+                    frame.prev[k] = c;
+                }
+            }
+        }
+        self.frame_steps[f] = step;
+        if changed {
+            self.generation += 1;
+        }
+        frame.generation = self.generation;
+        Ok(())
+    }
+
     /// Flush the last step, write a closing time stamp at the current time
     /// (if it lies in the window and is later than the last one written) and
     /// return the output.
-    pub fn finish(mut self) -> Result<W> {
+    pub fn finish(mut self) -> Result<E::Output> {
         self.flush_step()?;
-        if self.dumped && self.in_window(self.time) && self.last_written != Some(self.time) {
-            self.w.timestamp(self.time)?;
-        }
-        self.w.flush()?;
-        match self.w.writer().0.take() {
-            Some(buf) => buf.into_inner().map_err(|e| WriteError::Io(e.into_error())),
-            None => Err(WriteError::Io(std::io::Error::other(
-                "VCD output already taken",
-            ))),
-        }
+        let closing = if self.dumped && self.in_window(self.time) && self.last_written != Some(self.time) {
+            Some(self.time)
+        } else {
+            None
+        };
+        self.e.finish(closing)
     }
 
     fn type_mismatch(&self, i: usize, given: &'static str) -> WriteError {
@@ -833,7 +1282,14 @@ impl<W: Write> VcdWriter<W> {
     }
 
     fn assign(&mut self, i: usize, v: Stored) -> Result<()> {
-        if self.assigned[i] == self.step {
+        let mut frames = self.var_frames[i];
+        let mut in_frame = false;
+        while frames != 0 {
+            let k = frames.trailing_zeros() as usize;
+            frames &= frames - 1;
+            in_frame |= self.frame_steps[k] == self.step;
+        }
+        if self.assigned[i] == self.step || in_frame {
             return Err(WriteError::DoubleChange {
                 name: self.vars[i].path.clone(),
                 time: self.time,
@@ -843,6 +1299,7 @@ impl<W: Write> VcdWriter<W> {
         if self.cur[i] != v {
             self.cur[i] = v;
             self.pending.push(i);
+            self.generation += 1;
         }
         Ok(())
     }
@@ -854,10 +1311,9 @@ impl<W: Write> VcdWriter<W> {
                 self.write_dump(t)?;
             } else if !self.pending.is_empty() {
                 self.pending.sort_unstable();
-                self.w.timestamp(t)?;
-                for k in 0..self.pending.len() {
-                    let i = self.pending[k];
-                    self.write_value(i)?;
+                self.e.timestamp(t)?;
+                for &i in &self.pending {
+                    self.e.value(i, self.cur[i].as_ref())?;
                 }
                 self.last_written = Some(t);
             }
@@ -867,68 +1323,30 @@ impl<W: Write> VcdWriter<W> {
     }
 
     fn write_dump(&mut self, t: u64) -> Result<()> {
-        self.w.timestamp(t)?;
-        self.w.begin(SimulationCommand::Dumpvars)?;
+        self.e.dump_begin(t)?;
         for i in 0..self.vars.len() {
-            self.write_value(i)?;
+            self.e.value(i, self.cur[i].as_ref())?;
         }
-        self.w.end()?;
+        self.e.dump_end()?;
         self.dumped = true;
         self.last_written = Some(t);
         Ok(())
     }
-
-    fn write_value(&mut self, i: usize) -> Result<()> {
-        let code = self.codes[i];
-        let width = self.vars[i].width();
-        let is_real = matches!(self.vars[i].kind, Kind::Real);
-        let out = self.w.writer();
-        match &self.cur[i] {
-            Stored::Real(v) => writeln!(out, "r{} {}", format_real(*v), code)?,
-            Stored::Int(v) if width == 1 && !is_real => writeln!(out, "{}{}", v & 1, code)?,
-            Stored::Int(v) => {
-                let bits = int_to_bits(*v, width);
-                out.write_all(b"b")?;
-                out.write_all(&bits)?;
-                writeln!(out, " {code}")?;
-            }
-            Stored::Bits(bits) if width == 1 => {
-                out.write_all(bits)?;
-                writeln!(out, "{code}")?;
-            }
-            Stored::Bits(bits) => {
-                out.write_all(b"b")?;
-                out.write_all(bits)?;
-                writeln!(out, " {code}")?;
-            }
-        }
-        Ok(())
-    }
 }
 
-/// `vcd::Writer` cannot give its inner writer back, so it writes into this
-/// buffered slot from which [`VcdWriter::finish`] takes the output.
-struct Slot<W: Write>(Option<std::io::BufWriter<W>>);
+/// `vcd::Writer` cannot give its inner writer back, so the header is written into this slot
+/// from which [`VcdBuilder::start`] takes it.
+struct Slot(Option<Vec<u8>>);
 
-impl<W: Write> Write for Slot<W> {
+impl Write for Slot {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
         match &mut self.0 {
             Some(w) => w.write(buf),
-            None => Err(std::io::Error::other("VCD output already taken")),
-        }
-    }
-
-    fn write_all(&mut self, buf: &[u8]) -> std::io::Result<()> {
-        match &mut self.0 {
-            Some(w) => w.write_all(buf),
-            None => Err(std::io::Error::other("VCD output already taken")),
+            None => Err(std::io::Error::other("VCD header already taken")),
         }
     }
 
     fn flush(&mut self) -> std::io::Result<()> {
-        match &mut self.0 {
-            Some(w) => w.flush(),
-            None => Ok(()),
-        }
+        Ok(())
     }
 }

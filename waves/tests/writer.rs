@@ -525,3 +525,126 @@ fn error_messages_say_what_where_and_what_is_valid() {
         "{msg}"
     );
 }
+
+// ---- frames: declared once, dumped every step, identical output to single changes ----
+
+fn frame_builder() -> (VcdBuilder, Vec<pmu50_waves::writer::SigId>) {
+    let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Us), "pmu50-waves test").unwrap();
+    b.push_scope("pmu50").unwrap();
+    let mut ids = vec![b.add_bit(BitType::Wire, "a", Logic::Zero).unwrap()];
+    ids.push(b.add_vector(BitType::Reg, "tmr", 15, 0, 0).unwrap());
+    ids.push(b.add_vector(BitType::Reg, "w", 4, 0, 3).unwrap());
+    ids.push(b.add_vector(BitType::Wire, "wide", 63, 0, 0).unwrap());
+    ids.push(b.add_bit(BitType::Reg, "z", Logic::X).unwrap());
+    b.pop_scope().unwrap();
+    (b, ids)
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 200, failure_persistence: None, ..Default::default() })]
+
+    /// A frame dump writes exactly what `set_time` plus one `change_vector` per variable writes.
+    #[test]
+    fn frame_dumps_equal_single_changes(steps in proptest::collection::vec((0u64..3, proptest::array::uniform4(0u64..4), proptest::prelude::any::<bool>()), 0..60)) {
+        let (b1, ids) = frame_builder();
+        let (b2, ids2) = frame_builder();
+        let mut w1 = b1.start(Vec::new()).unwrap();
+        let mut w2 = b2.start(Vec::new()).unwrap();
+        let mut f = w2.frame(&ids2[..4]).unwrap();
+        let mut t = 0;
+        let mut first = true;
+        for (dt, v, z) in steps {
+            t += dt;
+            let vals = [v[0] & 1, v[1] * 1000, v[2] * 7, v[3] << 60];
+            if dt == 0 && !first {
+                // Same time again: every frame variable is already assigned in this step.
+                let again = w2.dump_frame(&mut f, t, &vals);
+                proptest::prop_assert!(matches!(again, Err(WriteError::DoubleChange { .. })), "{:?}", again);
+                continue;
+            }
+            first = false;
+            w1.set_time(t).unwrap();
+            for (id, x) in ids.iter().zip(vals) {
+                w1.change_vector(*id, x).unwrap();
+            }
+            w2.dump_frame(&mut f, t, &vals).unwrap();
+            // A variable outside the frame, changed singly in the same step.
+            if z {
+                w1.change_bool(ids[4], t % 2 == 0).unwrap();
+                w2.change_bool(ids2[4], t % 2 == 0).unwrap();
+            }
+        }
+        let a = String::from_utf8(w1.finish().unwrap()).unwrap();
+        let c = String::from_utf8(w2.finish().unwrap()).unwrap();
+        proptest::prop_assert_eq!(a, c);
+    }
+}
+
+#[test]
+fn frames_keep_every_check() {
+    let (b, ids) = frame_builder();
+    let mut w = b.start(Vec::new()).unwrap();
+    let mut f = w.frame(&ids[..3]).unwrap();
+    let mut g = w.frame(&ids[2..4]).unwrap();
+    w.set_time(1).unwrap();
+    // value wider than the variable: 5-bit `w` takes at most 31 (the values before it are taken)
+    let e = w.dump_frame(&mut f, 1, &[1, 2, 32]).unwrap_err();
+    assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
+    assert!(e.to_string().contains("pmu50.w"), "{e}");
+    w.set_time(2).unwrap();
+    // wrong number of values
+    assert!(matches!(w.dump_frame(&mut f, 2, &[1, 2]), Err(WriteError::FrameLength { expected: 3, got: 2 })));
+    // a single change, then the frame, in one step
+    w.change_vector(ids[1], 5).unwrap();
+    assert!(matches!(w.dump_frame(&mut f, 2, &[0, 5, 1]), Err(WriteError::DoubleChange { .. })));
+    // the frame, then a single change of one of its variables, in one step
+    w.dump_frame(&mut f, 3, &[0, 5, 1]).unwrap();
+    assert!(matches!(w.change_vector(ids[0], 1), Err(WriteError::DoubleChange { .. })));
+    // two frames sharing `w` in one step
+    let e = w.dump_frame(&mut g, 3, &[1, 0]).unwrap_err();
+    assert!(matches!(&e, WriteError::DoubleChange { name, .. } if name == "pmu50.w"), "{e}");
+    // time backwards
+    assert!(matches!(w.dump_frame(&mut f, 2, &[0, 5, 1]), Err(WriteError::TimeBackwards { .. })));
+    // later steps are fine again, and a variable outside both frames changes with them
+    w.dump_frame(&mut g, 4, &[2, 9]).unwrap();
+    w.dump_frame(&mut f, 5, &[1, 6, 2]).unwrap();
+    w.change_bit(ids[4], Logic::One).unwrap();
+    let got = String::from_utf8(w.finish().unwrap()).unwrap();
+
+    // The same accepted assignments through single changes.
+    let (b, ids) = frame_builder();
+    let mut r = b.start(Vec::new()).unwrap();
+    for (t, ch) in [(1, vec![(0, 1), (1, 2)]), (2, vec![(1, 5)]), (3, vec![(0, 0), (1, 5), (2, 1)]), (4, vec![(2, 2), (3, 9)]), (5, vec![(0, 1), (1, 6), (2, 2)])] {
+        r.set_time(t).unwrap();
+        for (k, v) in ch {
+            r.change_vector(ids[k], v).unwrap();
+        }
+    }
+    r.change_bit(ids[4], Logic::One).unwrap();
+    let want = String::from_utf8(r.finish().unwrap()).unwrap();
+    assert_eq!(got, want);
+    assert!(got.contains("#4\nb00010 #\n"), "{got}");
+}
+
+#[test]
+fn frames_refuse_reals_wide_vectors_foreign_writers_and_duplicates() {
+    let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Us), "t").unwrap();
+    b.push_scope("m").unwrap();
+    let r = b.add_real("r", 0.0).unwrap();
+    let big = b.add_vector(BitType::Wire, "big", 64, 0, 0).unwrap();
+    let a = b.add_bit(BitType::Wire, "a", Logic::Zero).unwrap();
+    b.pop_scope().unwrap();
+    let mut w = b.start(Vec::new()).unwrap();
+    assert!(matches!(w.frame(&[r]), Err(WriteError::TypeMismatch { .. })));
+    assert!(matches!(w.frame(&[big]), Err(WriteError::TypeMismatch { .. })));
+    assert!(matches!(w.frame(&[a, a]), Err(WriteError::Duplicate { .. })));
+    let (b2, ids2) = frame_builder();
+    let mut other = b2.start(Vec::new()).unwrap();
+    assert!(matches!(w.frame(&ids2[..1]), Err(WriteError::UnknownId { .. })));
+    let mut f2 = other.frame(&ids2[..1]).unwrap();
+    assert!(matches!(w.dump_frame(&mut f2, 1, &[1]), Err(WriteError::UnknownFrame)));
+    for _ in 0..pmu50_waves::writer::MAX_FRAMES {
+        w.frame(&[a]).unwrap();
+    }
+    assert!(matches!(w.frame(&[a]), Err(WriteError::TooManyFrames)));
+}

@@ -1,0 +1,410 @@
+//! Fast kernel of the PMU 50 core: the fast path that [`crate::Pmu50::step`] runs.
+//!
+//! This file is an implementation, not the specification. The specification is the readable
+//! per-block model: one file per patent block and the top level [`crate::pmu50::eval`], stepped by
+//! [`crate::reference::Pmu50Spec`]. This kernel computes the same clock edge as that model, hand
+//! specialised for speed:
+//!
+//! - the registers stay in the spec's [`Regs`] (no conversion: waveforms, lockstep read-back and
+//!   fast-forward read them directly) and are updated in place;
+//! - the structural parameters are turned once into masks ([`Consts`]); the programmable
+//!   parameters are read straight from the register file instead of being copied into a
+//!   [`crate::Params`] every tick;
+//! - the common edge (no bus write, no sample, no key edge) touches only the synchronizer, the
+//!   timer, `sr`, `rdata` and `diag`; the rare events (bus write, sample, key-off strobe) are
+//!   branches out of line;
+//! - the counter rules of [0096]-[0099] are used in closed form (`cnt_s` counts up iff
+//!   `cs_new == cc`, `cnt_c` counts up iff `cc_new != cs`), and the diagnosis of [0119]
+//!   (|cnt_s - cnt_c| >= 2 in the counters' two's complement) as `((d + 1) & mask) > 2`.
+//!
+//! Equality with the specification is proven by tests that run both and compare every register
+//! and every output on every tick, and the internals of every cycle:
+//! `rtl_model/core/tests/kernel_equivalence.rs` (proptest: arbitrary register states and inputs
+//! for one edge; random legal parameters with random input runs, bus writes including refused
+//! ones, key edges and W1C clears for long runs) and `tests/kernel_scenarios.rs` (every shipped
+//! scenario and the 200 seeded random scenarios of the co-simulation, `hdl/cosim.sh`, replayed
+//! through both). The C ABI (`hdl/ffi`) calls `Pmu50::step_traced`, so the HDL lockstep and its
+//! mutants run against this kernel.
+//!
+//! Evaluation order and paragraphs are those of [`crate::pmu50`]; each step below names the block
+//! it stands for.
+
+use crate::drive_interval_changing_56b::{Fig17, Fig18};
+use crate::params::Params;
+use crate::pmu50::{Inputs, Internals, Outputs, Regs, Structural};
+use crate::register_file::{addr, status, ID_VALUE, VERSION_VALUE};
+
+/// The structural parameters, pre-decoded into the masks the kernel uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Consts {
+    /// As given (for the legality check of bus writes and the CFG register).
+    sync_depth: u8,
+    cnt_width: u8,
+    /// Bit of `sync` that is `sig` (`sync_depth - 1`, depth clamped to 1..=4 as in 56a).
+    last: u8,
+    /// Mask of the synchronizer stages.
+    sync_mask: u8,
+    /// Mask and sign bit of a `cnt_width`-bit counter (width clamped to 2..=16 as in 58c/58d).
+    cnt_mask: u16,
+    cnt_sign: u16,
+    /// Read value of CFG (0x0C).
+    cfg: u16,
+}
+
+impl Consts {
+    pub fn new(s: &Structural) -> Consts {
+        let depth = s.sync_depth.clamp(1, 4);
+        let w = s.cnt_width.clamp(2, 16);
+        let cnt_mask = ((1u32 << w) - 1) as u16;
+        Consts {
+            sync_depth: s.sync_depth,
+            cnt_width: s.cnt_width,
+            last: depth - 1,
+            sync_mask: (1u8 << depth) - 1,
+            cnt_mask,
+            cnt_sign: 1u16 << (w - 1),
+            cfg: u16::from(s.sync_depth & 0x7) | (u16::from(s.cnt_width & 0x1F) << 8),
+        }
+    }
+}
+
+#[inline(always)]
+fn sig_of(c: &Consts, sync: u8) -> bool {
+    (sync >> c.last) & 1 == 1
+}
+
+/// Timing generator 56 decode (Moore): (`st`, `vs2_en`, `ps_win`, `smp`) of the registers `r`.
+#[inline(always)]
+fn decode(r: &Regs, sig: bool) -> (bool, bool, bool, bool) {
+    let f = &r.register_file;
+    let t = u32::from(r.timing_generator.tmr);
+    if sig {
+        (false, true, false, t + 1 == u32::from(f.smp_on))
+    } else {
+        let ps_start = u32::from(f.pw) + u32::from(f.pi);
+        let wt = ps_start + u32::from(f.ps);
+        (t == 0, t < wt, t >= ps_start && t < wt, t + 1 == wt)
+    }
+}
+
+/// The Moore outputs of the registers `r` (same as [`crate::pmu50::ports`]).
+#[inline(always)]
+pub fn ports(c: &Consts, r: &Regs) -> Outputs {
+    let sig = sig_of(c, r.action_switching.sync);
+    let (st, vs2_en, ps_win, smp) = decode(r, sig);
+    Outputs {
+        sig,
+        vr_hi: sig,
+        vm_en: sig,
+        vs1_en: sig,
+        vs2_en,
+        vp_en: true,
+        rail_hi: sig,
+        st,
+        sr: r.sensor_power_determination.sr,
+        ps_win,
+        smp,
+        cs: r.comparator_latch.cs,
+        cc: r.comparator_latch.cc,
+        cnt_s: r.updown_counter.cnt_s,
+        cnt_c: r.updown_counter.cnt_c,
+        cnt_r: r.drive_interval.cnt_r,
+        si: r.drive_interval.si,
+        hist_s: r.drive_interval.hist_s,
+        hist_c: r.drive_interval.hist_c,
+        diag: r.count_diagnosis.diag,
+        quadrant_skip: r.updown_counter.quadrant_skip,
+        bus_rdata: r.register_file.rdata,
+        bus_err: r.register_file.bus_err,
+    }
+}
+
+/// Register file read mux (same as [`crate::register_file::read`] with the status view of `r`).
+#[inline(always)]
+fn read(c: &Consts, r: &Regs, sig: bool, a: u8) -> u16 {
+    let f = &r.register_file;
+    let sx = |v: u16| {
+        let v = v & c.cnt_mask;
+        if v & c.cnt_sign != 0 { v | !c.cnt_mask } else { v }
+    };
+    match a {
+        addr::ID => ID_VALUE,
+        addr::VERSION => VERSION_VALUE,
+        addr::CTRL => u16::from(f.adaptive),
+        addr::PW => f.pw,
+        addr::PI => f.pi,
+        addr::PS => f.ps,
+        addr::SI_MAX => f.si_max,
+        addr::SI_MIN => f.si_min,
+        addr::T1 => f.t1,
+        addr::T2 => f.t2,
+        addr::CTH => u16::from(f.cth),
+        addr::SMP_ON => f.smp_on,
+        addr::CFG => c.cfg,
+        addr::CNT_S => sx(r.updown_counter.cnt_s),
+        addr::CNT_C => sx(r.updown_counter.cnt_c),
+        addr::CNT_R => u16::from(r.drive_interval.cnt_r),
+        addr::SI => r.drive_interval.si,
+        addr::STATUS => {
+            let b = |v: bool, bit: usize| u16::from(v) << bit;
+            b(r.comparator_latch.cs, status::CS)
+                | b(r.comparator_latch.cc, status::CC)
+                | b(r.drive_interval.hist_s, status::HIST_S)
+                | b(r.drive_interval.hist_c, status::HIST_C)
+                | b(r.count_diagnosis.diag, status::DIAG)
+                | b(r.updown_counter.quadrant_skip, status::QUADRANT_SKIP)
+                | b(sig, status::SIG)
+                | b(r.comparator_latch.vld, status::VLD)
+                | b(r.sensor_power_determination.sr, status::SR)
+                | b(f.bus_err, status::BUS_ERR)
+        }
+        _ => 0,
+    }
+}
+
+/// Register file write port (the rare path): returns (parameter registers after the edge,
+/// `bus_err` after the edge, `skip_clr`). `rdata` is set by the caller.
+#[cold]
+#[inline(never)]
+fn bus_write(c: &Consts, f: &crate::register_file::Regs, sig: bool, a: u8, d: u16) -> (crate::register_file::Regs, bool, bool) {
+    if sig && a == addr::STATUS {
+        // W1C; set wins over clear (a refused write cannot happen in the same cycle).
+        let clr_err = (d >> status::BUS_ERR) & 1 == 1;
+        return (*f, f.bus_err && !clr_err, (d >> status::QUADRANT_SKIP) & 1 == 1);
+    }
+    let mut n = *f;
+    let mapped = match a {
+        addr::CTRL => {
+            n.adaptive = d & 1 == 1;
+            true
+        }
+        addr::PW => {
+            n.pw = d;
+            true
+        }
+        addr::PI => {
+            n.pi = d;
+            true
+        }
+        addr::PS => {
+            n.ps = d;
+            true
+        }
+        addr::SI_MAX => {
+            n.si_max = d;
+            true
+        }
+        addr::SI_MIN => {
+            n.si_min = d;
+            true
+        }
+        addr::T1 => {
+            n.t1 = d;
+            true
+        }
+        addr::T2 => {
+            n.t2 = d;
+            true
+        }
+        addr::CTH => {
+            n.cth = (d & 0xFF) as u8;
+            true
+        }
+        addr::SMP_ON => {
+            n.smp_on = d;
+            true
+        }
+        _ => false,
+    };
+    let legal = mapped
+        && sig
+        && Params {
+            sync_depth: c.sync_depth,
+            cnt_width: c.cnt_width,
+            adaptive: n.adaptive,
+            pw: n.pw,
+            pi: n.pi,
+            ps: n.ps,
+            si_max: n.si_max,
+            si_min: n.si_min,
+            t1: n.t1,
+            t2: n.t2,
+            cth: n.cth,
+            smp_on: n.smp_on,
+        }
+        .validate()
+        .is_ok();
+    if legal {
+        (n, f.bus_err, false)
+    } else {
+        (*f, true, false)
+    }
+}
+
+/// Result of a sample edge for the comparator latch, the counters and FIG. 17/18.
+struct Sample {
+    first: bool,
+    chg_s: bool,
+    chg_c: bool,
+}
+
+/// Comparator latches 58a/58b and up/down counters 58c/58d at a sampling edge (`upd` = 1),
+/// updating `r` in place; `skip_clr` is this cycle's W1C of `quadrant_skip`.
+#[inline(always)]
+fn sample(c: &Consts, r: &mut Regs, i: &Inputs) -> Sample {
+    let (cs, cc, vld) = (r.comparator_latch.cs, r.comparator_latch.cc, r.comparator_latch.vld);
+    let (cs_new, cc_new) = (i.cmp_s, i.cmp_c);
+    r.comparator_latch.cs = cs_new;
+    r.comparator_latch.cc = cc_new;
+    r.comparator_latch.vld = true;
+    let m = c.cnt_mask;
+    let u = &mut r.updown_counter;
+    if !vld {
+        // First sample after reset: preset from the quadrant.
+        let (s, k) = match (cs_new, cc_new) {
+            (true, true) => (0, 0),
+            (true, false) => (0, 1),
+            (false, false) => (1, 1),
+            (false, true) => (1, 2),
+        };
+        u.cnt_s = s & m;
+        u.cnt_c = k & m;
+        return Sample { first: true, chg_s: false, chg_c: false };
+    }
+    let chg_s = cs_new != cs;
+    let chg_c = cc_new != cc;
+    if chg_s && chg_c {
+        u.quadrant_skip = true;
+    } else if chg_s {
+        // [0096]/[0097]: up iff the new Cs equals Cc.
+        u.cnt_s = if cs_new == cc { u.cnt_s.wrapping_add(1) } else { u.cnt_s.wrapping_sub(1) } & m;
+    } else if chg_c {
+        // [0098]/[0099]: up iff the new Cc differs from Cs.
+        u.cnt_c = if cc_new != cs { u.cnt_c.wrapping_add(1) } else { u.cnt_c.wrapping_sub(1) } & m;
+    }
+    Sample { first: false, chg_s, chg_c }
+}
+
+/// Drive interval changing unit 56b at a key-off sampling strobe (`pulse` = 1, no `koff`), with the
+/// pre-edge `sr`, the sign changes of this sample and the pre-edge parameters `f`. Returns the
+/// FIG. 17 and FIG. 18 paths.
+#[inline(always)]
+fn drive_interval_pulse(r: &mut Regs, f: &crate::register_file::Regs, sr: bool, chg_s: bool, chg_c: bool) -> (Fig17, Fig18) {
+    let d = &mut r.drive_interval;
+    if !f.adaptive {
+        d.si = f.si_max;
+        return (Fig17::Fixed, Fig18::Idle);
+    }
+    if !sr {
+        return (Fig17::S1NoRise, Fig18::Idle);
+    }
+    // FIG. 18.
+    let (detected, f18) = if chg_s {
+        if d.hist_s {
+            (false, Fig18::S21CsRepeat)
+        } else {
+            d.hist_s = true;
+            d.hist_c = false;
+            (true, Fig18::S23DetectedCs)
+        }
+    } else if chg_c {
+        if d.hist_c {
+            (false, Fig18::S26CcRepeat)
+        } else {
+            d.hist_s = false;
+            d.hist_c = true;
+            (true, Fig18::S28DetectedCc)
+        }
+    } else {
+        (false, Fig18::S25NoChange)
+    };
+    // FIG. 17.
+    let f17 = if detected {
+        d.cnt_r = 0;
+        if d.si <= f.si_min {
+            Fig17::S5AtMin
+        } else {
+            d.si = d.si.saturating_sub(f.t1).max(f.si_min);
+            Fig17::S6Shorten
+        }
+    } else if d.si >= f.si_max {
+        Fig17::S7AtMax
+    } else if d.cnt_r >= f.cth {
+        d.si = (u32::from(d.si) + u32::from(f.t2)).min(u32::from(f.si_max)) as u16;
+        d.hist_s = false;
+        d.hist_c = false;
+        d.cnt_r = d.cnt_r.saturating_add(1);
+        Fig17::S10Expand
+    } else {
+        d.cnt_r = d.cnt_r.saturating_add(1);
+        Fig17::S9Count
+    };
+    (f17, f18)
+}
+
+/// One rising clock edge: updates `r` in place to the registers after the edge and returns the
+/// internals of the cycle. Identical to [`crate::pmu50::eval`] (tested on every tick).
+#[inline(always)]
+pub fn edge(c: &Consts, r: &mut Regs, i: &Inputs) -> Internals {
+    // 1. Action switching unit 56a: synchronizer.
+    let sync = r.action_switching.sync;
+    let sig = sig_of(c, sync);
+    let sync_n = ((sync << 1) | u8::from(i.ig)) & c.sync_mask;
+    let sig_n = sig_of(c, sync_n);
+    let kon = !sig && sig_n;
+    let koff = sig && !sig_n;
+    // 3./4. Timing generator 56 and sensor power determination 57 (pre-edge registers).
+    let (_, vs2_en, _, smp) = decode(r, sig);
+    let tmr = r.timing_generator.tmr;
+    let period = if sig { r.register_file.smp_on } else { r.drive_interval.si };
+    let end_of_cycle = u32::from(tmr) + 1 >= u32::from(period);
+    let sr = r.sensor_power_determination.sr;
+    // 2. Register file: the read mux sees every register before the edge.
+    let rdata = read(c, r, sig, i.bus_addr);
+    let f = r.register_file;
+    let (f_n, bus_err_n, skip_clr) = if i.bus_we { bus_write(c, &f, sig, i.bus_addr, i.bus_wdata) } else { (f, f.bus_err, false) };
+
+    // Commit (non-blocking: every value above was computed from the registers before the edge).
+    r.action_switching.sync = sync_n;
+    r.timing_generator.tmr = if kon || koff || end_of_cycle { 0 } else { tmr.wrapping_add(1) };
+    r.sensor_power_determination.sr = vs2_en && i.vs2_ok;
+    // 5./6. Comparator latches and counters.
+    let upd = smp && sr;
+    let s = if upd { sample(c, r, i) } else { Sample { first: false, chg_s: false, chg_c: false } };
+    if skip_clr && !(s.chg_s && s.chg_c) {
+        r.updown_counter.quadrant_skip = false;
+    }
+    // 7. Drive interval changing unit 56b.
+    let (fig17, fig18) = if koff {
+        r.drive_interval = crate::drive_interval_changing_56b::reset(f_n.si_max);
+        (Fig17::Idle, Fig18::Idle)
+    } else if smp && !sig {
+        drive_interval_pulse(r, &f, sr, s.chg_s, s.chg_c)
+    } else {
+        (Fig17::Idle, Fig18::Idle)
+    };
+    // 8. Count diagnosis from the counters' next values: |d| >= 2 iff (d + 1) mod 2^W > 2.
+    let u = &r.updown_counter;
+    let d = u.cnt_s.wrapping_sub(u.cnt_c).wrapping_add(1) & c.cnt_mask;
+    r.count_diagnosis.diag = d > 2 || u.quadrant_skip;
+    // 2. Register file commit.
+    r.register_file = crate::register_file::Regs { bus_err: bus_err_n, rdata, ..f_n };
+    Internals { kon, koff, upd, first: s.first, chg_s: s.chg_s, chg_c: s.chg_c, skip_clr, fig17, fig18 }
+}
+
+/// One edge, returning the outputs after it (the untraced path of [`crate::Pmu50::step`]).
+#[inline(always)]
+pub fn step(c: &Consts, r: &mut Regs, i: &Inputs) -> Outputs {
+    edge(c, r, i);
+    ports(c, r)
+}
+
+/// The same signature as [`crate::pmu50::eval`]: (outputs before the edge, internals of the
+/// cycle, registers after the edge). For the equivalence tests.
+pub fn eval(s: &Structural, r: &Regs, i: &Inputs) -> (Outputs, Internals, Regs) {
+    let c = Consts::new(s);
+    let before = ports(&c, r);
+    let mut n = *r;
+    let x = edge(&c, &mut n, i);
+    (before, x, n)
+}

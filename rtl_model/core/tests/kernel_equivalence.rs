@@ -1,0 +1,276 @@
+//! The fast kernel (`pmu50_core::kernel`, run by `Pmu50::step`) equals the per-block
+//! specification (`pmu50_core::pmu50::eval`, stepped by `Pmu50Spec`): every register, every
+//! output before and after each edge and every internal signal, on every tick.
+//!
+//! - one edge from an arbitrary register state (reachable or not) under arbitrary inputs and
+//!   structural parameters;
+//! - long runs from reset with random legal parameters and a stimulus with memory: key-on/off runs
+//!   and one-tick `ig` glitches, Vs2 power-good mostly following the enable, comparator changes
+//!   (single and double, so quadrant skips happen), bus writes of every address (legal, refused
+//!   as illegal, refused while the key is off, read-only and unmapped), STATUS W1C clears, reads;
+//! - a coverage check that this stimulus reaches every FIG. 17 and FIG. 18 path, refused and
+//!   accepted writes, first samples, skips and W1C clears, so the comparison is not vacuous.
+
+mod common;
+
+use common::Rng;
+use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
+use pmu50_core::pmu50::{eval, Regs, Structural};
+use pmu50_core::register_file::{addr, status};
+use pmu50_core::{action_switching_56a as sw, comparator_latch_58ab as cl, count_diagnosis as cd, drive_interval_changing_56b as di};
+use pmu50_core::{kernel, register_file as rf, sensor_power_determination_57 as spd, timing_generator_56 as tg, updown_counter_58cd as uc};
+use pmu50_core::{Inputs, Internals, Params, Pmu50, Pmu50Spec};
+use proptest::prelude::*;
+use std::collections::HashSet;
+
+fn any_inputs() -> impl Strategy<Value = Inputs> {
+    (any::<[bool; 5]>(), any::<u8>(), any::<u16>(), any::<bool>()).prop_map(|(b, a, d, mapped)| Inputs {
+        ig: b[0],
+        vs2_ok: b[1],
+        cmp_s: b[2],
+        cmp_c: b[3],
+        bus_we: b[4],
+        bus_addr: if mapped { a % 0x16 } else { a },
+        bus_wdata: d,
+    })
+}
+
+/// Any register state at all: every field over its full type range (also values no legal run
+/// reaches: counters beyond their width, `tmr` past the period, `si` outside [min, x]).
+fn any_regs() -> impl Strategy<Value = Regs> {
+    (
+        (any::<u8>(), any::<bool>(), any::<[u16; 9]>(), any::<u8>(), any::<bool>(), any::<u16>()),
+        (any::<u16>(), any::<[bool; 4]>(), any::<u16>(), any::<u16>()),
+        (any::<u16>(), any::<[bool; 3]>(), any::<u8>()),
+    )
+        .prop_map(|((sync, adaptive, p, cth, bus_err, rdata), (tmr, b, cnt_s, cnt_c), (si, h, cnt_r))| Regs {
+            action_switching: sw::Regs { sync: sync & 0xF },
+            register_file: rf::Regs {
+                adaptive,
+                pw: p[0],
+                pi: p[1],
+                ps: p[2],
+                si_max: p[3],
+                si_min: p[4],
+                t1: p[5],
+                t2: p[6],
+                cth,
+                smp_on: p[7],
+                bus_err,
+                rdata,
+            },
+            timing_generator: tg::Regs { tmr },
+            sensor_power_determination: spd::Regs { sr: b[0] },
+            comparator_latch: cl::Regs { cs: b[1], cc: b[2], vld: b[3] },
+            updown_counter: uc::Regs { cnt_s, cnt_c, quadrant_skip: h[0] },
+            drive_interval: di::Regs { si, hist_s: h[1], hist_c: h[2], cnt_r },
+            count_diagnosis: cd::Regs { diag: p[8] & 1 == 1 },
+        })
+}
+
+/// Legal register states are a subset worth sampling more densely: small periods so that the
+/// timer sits at the interesting boundaries.
+fn small_regs() -> impl Strategy<Value = Regs> {
+    (any_regs(), 0u16..8, 0u16..8, 1u16..8, 0u16..40, 0u16..40, 0u16..30, 0u16..40, 0u8..6, 0u16..12).prop_map(
+        |(mut r, pw, pi, ps, si_max, si_min, tmr, si, cth, smp_on)| {
+            let f = &mut r.register_file;
+            (f.pw, f.pi, f.ps, f.si_max, f.si_min, f.cth, f.smp_on) = (pw, pi, ps, si_max, si_min, cth, smp_on);
+            f.t1 %= 50;
+            f.t2 %= 50;
+            r.timing_generator.tmr = tmr;
+            r.drive_interval.si = si;
+            r
+        },
+    )
+}
+
+proptest! {
+    #![proptest_config(common::cases(4000))]
+
+    #[test]
+    fn one_edge_from_any_state(r in prop_oneof![any_regs(), small_regs()], i in any_inputs(), sd in 1u8..=4, w in 2u8..=16) {
+        let s = Structural { sync_depth: sd, cnt_width: w };
+        prop_assert_eq!(kernel::eval(&s, &r, &i), eval(&s, &r, &i));
+    }
+}
+
+/// Stimulus with memory, to reach deep states and every branch.
+struct Driver {
+    rng: Rng,
+    ig: bool,
+    run: u64,
+    cmp: (bool, bool),
+}
+
+impl Driver {
+    fn new(seed: u64) -> Driver {
+        let mut rng = Rng(seed);
+        let ig = rng.bit();
+        let run = rng.range(0, 3000);
+        Driver { rng, ig, run, cmp: (true, true) }
+    }
+
+    fn next(&mut self, m: &Pmu50Spec) -> Inputs {
+        let rng = &mut self.rng;
+        if self.run == 0 {
+            self.ig = !self.ig;
+            // Mostly long phases; sometimes a glitch shorter than the synchronizer.
+            self.run = if rng.chance(1, 8) { rng.range(1, 3) } else { rng.range(50, 4000) };
+        }
+        self.run -= 1;
+        match rng.range(0, 99) {
+            0..=3 => self.cmp = (rng.bit(), rng.bit()),          // anything, also both signs
+            4..=11 => self.cmp.0 = !self.cmp.0,                  // one quadrant step through Cs
+            12..=19 => self.cmp.1 = !self.cmp.1,                 // one quadrant step through Cc
+            _ => {}
+        }
+        let o = m.peek();
+        let mut i = Inputs { ig: self.ig, vs2_ok: o.vs2_en != rng.chance(1, 40), cmp_s: self.cmp.0, cmp_c: self.cmp.1, ..Default::default() };
+        if rng.chance(1, 60) {
+            i.bus_we = true;
+            i.bus_addr = match rng.range(0, 9) {
+                0 => rng.next() as u8,
+                1 => addr::STATUS,
+                _ => rng.range(0, 0x15) as u8,
+            };
+            let cur = m.peek();
+            i.bus_wdata = match rng.range(0, 5) {
+                0 => rng.next() as u16,
+                1 => rng.range(0, 12) as u16,
+                2 => cur.si.wrapping_add(rng.range(0, 40) as u16).wrapping_sub(20),
+                3 => rng.range(0, 700) as u16,
+                4 => (1 << status::QUADRANT_SKIP) | (1 << status::BUS_ERR),
+                _ => 0x3FF,
+            };
+        } else if rng.chance(1, 4) {
+            i.bus_addr = rng.range(0, 0x20) as u8;
+        }
+        i
+    }
+}
+
+#[derive(Default)]
+struct Coverage {
+    fig17: HashSet<Fig17>,
+    fig18: HashSet<Fig18>,
+    refused: bool,
+    accepted: bool,
+    refused_key_off: bool,
+    first: bool,
+    skip: bool,
+    skip_clr: bool,
+    kon: bool,
+    koff: bool,
+    diag: bool,
+}
+
+/// Run both models `len` ticks from reset and compare everything on every tick.
+fn lockstep(p: Params, seed: u64, len: u64, cov: &mut Coverage) -> Result<(), TestCaseError> {
+    let mut fast = Pmu50::new(p).unwrap();
+    let mut spec = Pmu50Spec::new(p).unwrap();
+    let mut d = Driver::new(seed);
+    prop_assert_eq!(fast.regs(), spec.regs());
+    prop_assert_eq!(fast.peek(), spec.peek());
+    for k in 0..len {
+        let i = d.next(&spec);
+        let err_before = spec.regs().register_file.bus_err;
+        let sig_before = spec.peek().sig;
+        let regs_before = *spec.regs();
+        let (b1, x1, a1): (_, Internals, _) = fast.step_traced(&i);
+        let (b2, x2, a2) = spec.step_traced(&i);
+        prop_assert_eq!(b1, b2, "outputs before edge {} (seed {}, {:?})", k + 1, seed, p);
+        prop_assert_eq!(x1, x2, "internals of cycle {} (seed {})", k, seed);
+        prop_assert_eq!(a1, a2, "outputs after edge {} (seed {})", k + 1, seed);
+        prop_assert_eq!(fast.regs(), spec.regs(), "registers after edge {} (seed {}, inputs {:?})", k + 1, seed, i);
+        prop_assert_eq!(fast.tick(), spec.tick());
+        cov.fig17.insert(x2.fig17);
+        cov.fig18.insert(x2.fig18);
+        let now = spec.regs();
+        if i.bus_we && !(sig_before && i.bus_addr == addr::STATUS) {
+            if now.register_file.bus_err && (!err_before || now.register_file == rf::Regs { rdata: now.register_file.rdata, bus_err: true, ..regs_before.register_file }) {
+                cov.refused = true;
+                cov.refused_key_off |= !sig_before;
+            }
+            if now.register_file.params(p.sync_depth, p.cnt_width) != regs_before.register_file.params(p.sync_depth, p.cnt_width) {
+                cov.accepted = true;
+            }
+        }
+        cov.first |= x2.first;
+        cov.skip |= x2.chg_s && x2.chg_c;
+        cov.skip_clr |= x2.skip_clr && regs_before.updown_counter.quadrant_skip;
+        cov.kon |= x2.kon;
+        cov.koff |= x2.koff;
+        cov.diag |= a2.diag;
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(common::cases(64))]
+
+    #[test]
+    fn long_runs_from_reset_with_random_legal_parameters(p in common::params(300, 700), seed in any::<u64>(), len in 1u64..40_000) {
+        lockstep(p, seed, len, &mut Coverage::default())?;
+    }
+}
+
+/// `Pmu50::step` (untraced) leaves the same registers and returns the same outputs as the spec.
+#[test]
+fn untraced_step_equals_the_spec() {
+    let p = Params::default();
+    let mut fast = Pmu50::new(p).unwrap();
+    let mut spec = Pmu50Spec::new(p).unwrap();
+    let mut d = Driver::new(42);
+    for _ in 0..300_000 {
+        let i = d.next(&spec);
+        assert_eq!(fast.step(&i), spec.step(&i));
+        assert_eq!(fast.regs(), spec.regs());
+    }
+}
+
+/// The stimulus of the long runs reaches every branch, so their comparison is not vacuous.
+#[test]
+fn the_stimulus_covers_every_branch() {
+    let mut cov = Coverage::default();
+    let mut r = Rng(2026);
+    let mut seeds = 0;
+    for seed in 0..400u64 {
+        // Short periods and small thresholds, so that key-off pulses are many.
+        let p = loop {
+            let pw = r.range(0, 4) as u16;
+            let pi = r.range(if pw == 0 { 1 } else { 0 }, 6) as u16;
+            let ps = r.range(1, 4) as u16;
+            let si_min = pw + pi + ps + r.range(1, 40) as u16;
+            let p = Params {
+                sync_depth: r.range(1, 4) as u8,
+                cnt_width: r.range(2, 16) as u8,
+                adaptive: !r.chance(1, 8),
+                pw,
+                pi,
+                ps,
+                si_max: si_min + r.range(0, 200) as u16,
+                si_min,
+                t1: r.range(1, 80) as u16,
+                t2: r.range(1, 80) as u16,
+                cth: r.range(1, 5) as u8,
+                smp_on: r.range(2, 20) as u16,
+            };
+            if p.validate().is_ok() {
+                break p;
+            }
+        };
+        lockstep(p, seed, 20_000, &mut cov).unwrap();
+        seeds += 1;
+    }
+    assert_eq!(seeds, 400);
+    let all17 = [Fig17::Idle, Fig17::S1NoRise, Fig17::S5AtMin, Fig17::S6Shorten, Fig17::S7AtMax, Fig17::S9Count, Fig17::S10Expand, Fig17::Fixed];
+    let all18 = [Fig18::Idle, Fig18::S23DetectedCs, Fig18::S21CsRepeat, Fig18::S28DetectedCc, Fig18::S26CcRepeat, Fig18::S25NoChange];
+    for f in all17 {
+        assert!(cov.fig17.contains(&f), "FIG. 17 path {f:?} never taken");
+    }
+    for f in all18 {
+        assert!(cov.fig18.contains(&f), "FIG. 18 path {f:?} never taken");
+    }
+    assert!(cov.refused && cov.refused_key_off && cov.accepted, "bus writes: refused {} (key off {}), accepted {}", cov.refused, cov.refused_key_off, cov.accepted);
+    assert!(cov.first && cov.skip && cov.skip_clr && cov.kon && cov.koff && cov.diag);
+}
