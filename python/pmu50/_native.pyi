@@ -1,9 +1,9 @@
 """Type stubs of the native module pmu50._native (python/src/*.rs); `pmu50` re-exports it all."""
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from os import PathLike
 from pathlib import Path
-from typing import Literal, Optional, Union
+from typing import Literal, Optional, Union, overload
 
 __version__: str
 
@@ -35,6 +35,13 @@ class Signal:
     name: str
     """Port or internal name; registers: ``block.register`` (VCD path below ``pmu50``)."""
     width: int
+    signed: bool
+    """Two's complement (cnt_s, cnt_c)."""
+    reset: Optional[int]
+    """A register's reset value in this configuration; None for ports and internals."""
+    meaning: str
+    patent: str
+    """Patent paragraphs, e.g. ``[0096]-[0097]``."""
 
 class _Values:
     """Signal values by name: ``v.si``, ``v["si"]``; one-bit signals are 0 or 1."""
@@ -211,6 +218,26 @@ class Pulse:
     fig17: str
     fig18: str
 
+class PulseRun:
+    """Identical pulses: ``first``, then ``count - 1`` more every ``stride`` ticks."""
+
+    first: Pulse
+    count: int
+    stride: int
+
+class PulseTable:
+    """The per-pulse table, run-length encoded: a sequence of :class:`Pulse` built on demand."""
+
+    def __len__(self) -> int: ...
+    @overload
+    def __getitem__(self, i: int) -> Pulse: ...
+    @overload
+    def __getitem__(self, i: slice) -> list[Pulse]: ...
+    def __iter__(self) -> Iterator[Pulse]: ...
+    @property
+    def runs(self) -> list[PulseRun]:
+        """The run-length rows."""
+
 class Readout:
     """One key-on read-out by the MPU (FIG. 12-13)."""
 
@@ -266,7 +293,8 @@ class RunResult:
     ticks: int
     clock_ns: int
     evaluated_ticks: int
-    pulses: list[Pulse]
+    skipped_ticks: int
+    pulses: PulseTable
     intervals_ms: list[float]
     readouts: list[Readout]
     keyoffs: list[KeyOff]

@@ -6,7 +6,7 @@
 //! so a testbench may `peek()` before it decides this tick's inputs.
 
 use crate::config;
-use crate::signals::{self, Kind};
+use crate::signals;
 use crate::guard;
 use pmu50_core::pmu50::Structural;
 use pmu50_core::{CoreConfig, Inputs, Params, Pmu50};
@@ -135,14 +135,20 @@ signal_bag!(Outputs, "Outputs", "The 23 top-level outputs of one tick, by name (
 signal_bag!(Internals, "Internals", "The combinational internals of one cycle (`kon`, `koff`, `upd`, `first`, `chg_s`, `chg_c`, `skip_clr`, `fig17`, `fig18`).");
 signal_bag!(InputValues, "InputValues", "The 7 top-level inputs of one cycle as the core applied them.");
 
-/// One row of the signal table: `kind` ("input", "output", "register", "internal"), `name`
-/// (registers: `block.register`, the VCD path below `pmu50`), `width` in bits.
+/// One row of the signal table (the core's, rtl_model/core/src/signals.rs): `kind` ("input",
+/// "output", "register", "internal"), `name` (registers: `block.register`, the VCD path below
+/// `pmu50`), `width` in bits, `signed` (two's complement), `reset` (a register's reset value in
+/// this configuration, else None), `meaning` and the `patent` paragraphs.
 #[pyclass(module = "pmu50", name = "Signal", frozen, get_all)]
 #[derive(Clone)]
 pub struct Signal {
     kind: &'static str,
     name: String,
     width: u8,
+    signed: bool,
+    reset: Option<u64>,
+    meaning: &'static str,
+    patent: &'static str,
 }
 
 #[pymethods]
@@ -153,28 +159,23 @@ impl Signal {
     fn __eq__(&self, o: &Bound<'_, PyAny>) -> bool {
         o.cast::<Signal>().is_ok_and(|o| {
             let o = o.get();
-            (o.kind, &o.name, o.width) == (self.kind, &self.name, self.width)
+            (o.kind, &o.name, o.width, o.signed, o.reset) == (self.kind, &self.name, self.width, self.signed, self.reset)
         })
     }
 }
 
-fn kind_filter(kind: Option<&str>) -> PyResult<Option<Kind>> {
-    Ok(match kind {
-        None => None,
-        Some("input") => Some(Kind::Input),
-        Some("output") => Some(Kind::Output),
-        Some("register") => Some(Kind::Register),
-        Some("internal") => Some(Kind::Internal),
-        Some(k) => return Err(PyValueError::new_err(format!("unknown signal kind `{k}`; kinds are input, output, register, internal"))),
-    })
-}
-
-fn table(s: &Structural, kind: Option<&str>) -> PyResult<Vec<Signal>> {
-    let k = kind_filter(kind)?;
-    Ok(signals::table(s)
+fn table(p: &Params, kind: Option<&str>) -> PyResult<Vec<Signal>> {
+    const KINDS: [&str; 4] = ["input", "output", "register", "internal"];
+    if let Some(k) = kind {
+        if !KINDS.contains(&k) {
+            return Err(PyValueError::new_err(format!("unknown signal kind `{k}`; kinds are {}", KINDS.join(", "))));
+        }
+    }
+    let s = Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width };
+    Ok(signals::table(&s, &p.hdl_parameters())
         .into_iter()
-        .filter(|r| k.is_none_or(|k| r.kind == k))
-        .map(|r| Signal { kind: r.kind.as_str(), name: r.name, width: r.width })
+        .filter(|r| kind.is_none_or(|k| r.kind == k))
+        .map(|r| Signal { kind: r.kind, name: r.name, width: r.width, signed: r.signed, reset: r.reset, meaning: r.meaning, patent: r.patent })
         .collect())
 }
 
@@ -185,7 +186,7 @@ fn table(s: &Structural, kind: Option<&str>) -> PyResult<Vec<Signal>> {
 pub fn signal_table(kind: Option<&str>, sync_depth: u8, cnt_width: u8) -> PyResult<Vec<Signal>> {
     let p = Params { sync_depth, cnt_width, ..Params::default() };
     p.validate().map_err(|e| crate::ConfigError::new_err(e.to_string()))?;
-    table(&Structural { sync_depth, cnt_width }, kind)
+    table(&p, kind)
 }
 
 /// One edge with its detail: the outputs before and after it, the internals of the cycle and the
@@ -231,7 +232,7 @@ impl Core {
     }
 
     fn outputs(&self, o: &pmu50_core::Outputs) -> Outputs {
-        Outputs { vals: signals::output_values(&self.s(), o).to_vec() }
+        Outputs { vals: signals::output_values(&self.s(), o) }
     }
 
     /// Inputs from keyword arguments, each checked against its width. Unset inputs are 0.
@@ -295,9 +296,9 @@ impl Core {
             Ok(Trace {
                 tick: self.m.tick(),
                 before: self.outputs(&b),
-                internals: Internals { vals: signals::internal_values(&x).to_vec() },
+                internals: Internals { vals: signals::internal_values(&x) },
                 after: self.outputs(&a),
-                inputs: InputValues { vals: signals::input_values(&i).to_vec() },
+                inputs: InputValues { vals: signals::input_values(&i) },
             })
         })
     }
@@ -372,7 +373,7 @@ impl Core {
     /// `kind`: "input", "output", "register" or "internal".
     #[pyo3(signature = (kind=None))]
     fn signals(&self, kind: Option<&str>) -> PyResult<Vec<Signal>> {
-        table(&self.s(), kind)
+        table(&self.params, kind)
     }
 
     /// An independent copy (same registers and tick).

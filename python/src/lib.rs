@@ -92,6 +92,8 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scenario::Scenario>()?;
     m.add_class::<scenario::RunResult>()?;
     m.add_class::<scenario::Pulse>()?;
+    m.add_class::<scenario::PulseRun>()?;
+    m.add_class::<scenario::PulseTable>()?;
     m.add_class::<scenario::Readout>()?;
     m.add_class::<scenario::KeyOff>()?;
     m.add_class::<scenario::Check>()?;

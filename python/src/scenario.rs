@@ -191,16 +191,134 @@ fn dark(d: &DarkCurrentReport) -> DarkCurrent {
     }
 }
 
+/// A run of identical pulses (run-length table of the pulse log): `first`, then `count - 1` more
+/// every `stride` ticks, differing only in time.
+#[pyclass(module = "pmu50", name = "PulseRun", frozen, get_all)]
+#[derive(Clone)]
+pub struct PulseRun {
+    first: Pulse,
+    count: u64,
+    /// Ticks between two pulses of the run (0 when `count` is 1).
+    stride: u64,
+}
+
+#[pymethods]
+impl PulseRun {
+    fn __repr__(&self) -> String {
+        format!("PulseRun(first={}, count={}, stride={})", self.first.__repr__(), self.count, self.stride)
+    }
+}
+
+/// The per-pulse event table of a run, stored run-length encoded (days of parking have hundreds
+/// of millions of identical pulses): a sequence of `Pulse` (`len`, index, iteration, built on
+/// demand) plus its `runs`.
+#[pyclass(module = "pmu50", name = "PulseTable", frozen, sequence)]
+pub struct PulseTable {
+    runs: Vec<PulseRun>,
+    /// Index of the first pulse of each run.
+    starts: Vec<u64>,
+    len: u64,
+    clock_ns: u64,
+}
+
+impl PulseTable {
+    fn new(log: &pmu50::sim::PulseLog, clock_ns: u64) -> PulseTable {
+        let mut starts = Vec::new();
+        let mut runs = Vec::new();
+        let mut n = 0u64;
+        for r in log.runs() {
+            starts.push(n);
+            n += r.count;
+            runs.push(PulseRun { first: pulse(&r.first, clock_ns), count: r.count, stride: r.stride });
+        }
+        PulseTable { runs, starts, len: n, clock_ns }
+    }
+
+    fn row(&self, i: u64) -> Pulse {
+        let k = self.starts.partition_point(|&s| s <= i) - 1;
+        let r = &self.runs[k];
+        let tick = r.first.tick + (i - self.starts[k]) * r.stride;
+        Pulse { tick, time_ns: tick * self.clock_ns, ..r.first.clone() }
+    }
+}
+
+#[pymethods]
+impl PulseTable {
+    fn __len__(&self) -> usize {
+        self.len as usize
+    }
+
+    /// `table[i]` (negative from the end) or `table[a:b:c]` (a list).
+    fn __getitem__<'py>(&self, py: Python<'py>, i: &Bound<'py, PyAny>) -> PyResult<Py<PyAny>> {
+        if let Ok(sl) = i.cast::<pyo3::types::PySlice>() {
+            let ind = sl.indices(self.len as isize)?;
+            let mut out = Vec::new();
+            let mut k = ind.start;
+            for _ in 0..ind.slicelength {
+                out.push(self.row(k as u64));
+                k += ind.step;
+            }
+            return Ok(out.into_pyobject(py)?.into_any().unbind());
+        }
+        let i: isize = i.extract()?;
+        let n = self.len as i128;
+        let j = if i < 0 { n + i as i128 } else { i as i128 };
+        if !(0..n).contains(&j) {
+            return Err(pyo3::exceptions::PyIndexError::new_err(format!("pulse index {i} out of range ({} pulses)", self.len)));
+        }
+        Ok(self.row(j as u64).into_pyobject(py)?.into_any().unbind())
+    }
+
+    fn __iter__(slf: Bound<'_, Self>) -> PulseIter {
+        PulseIter { table: slf.unbind(), next: 0 }
+    }
+
+    /// The run-length rows: `[PulseRun(first, count, stride)]`.
+    #[getter]
+    fn runs(&self) -> Vec<PulseRun> {
+        self.runs.clone()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("PulseTable(len={}, runs={})", self.len, self.runs.len())
+    }
+}
+
+/// Iterator over a `PulseTable`, one `Pulse` at a time.
+#[pyclass(module = "pmu50", name = "PulseIter")]
+pub struct PulseIter {
+    table: Py<PulseTable>,
+    next: u64,
+}
+
+#[pymethods]
+impl PulseIter {
+    fn __iter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
+        slf
+    }
+
+    fn __next__(&mut self) -> Option<Pulse> {
+        let t = self.table.get();
+        if self.next >= t.len {
+            return None;
+        }
+        self.next += 1;
+        Some(t.row(self.next - 1))
+    }
+}
+
 /// The result of `Scenario.run()`: what `pmu50 run` prints, as Python objects.
 #[pyclass(module = "pmu50", name = "RunResult", frozen, get_all)]
 pub struct RunResult {
     name: String,
     ticks: u64,
     clock_ns: u64,
-    /// Ticks evaluated one by one (the rest of the key-off gaps were fast-forwarded).
+    /// Ticks evaluated one by one (the rest were fast-forwarded or skipped).
     evaluated_ticks: u64,
+    /// Ticks skipped as whole repeated key-off periods (docs/spec.md 5.1).
+    skipped_ticks: u64,
     /// The per-pulse event table (one row per key-off sampling edge).
-    pulses: Vec<Pulse>,
+    pulses: Py<PulseTable>,
     /// Successive distinct drive intervals at key-off pulses, ms (`[expect] si_sequence_ms`).
     intervals_ms: Vec<f64>,
     /// Key-on read-outs by the MPU.
@@ -231,7 +349,7 @@ impl RunResult {
             "RunResult(name={:?}, ticks={}, pulses={}, intervals_ms={:?}, readouts={}, passed={}{})",
             self.name,
             self.ticks,
-            self.pulses.len(),
+            self.pulses.get().len,
             self.intervals_ms,
             self.readouts.len(),
             if self.passed { "True" } else { "False" },
@@ -368,14 +486,15 @@ fn result(py: Python<'_>, s: Structural, summary: String, r: &RsRunResult, w: Op
         ticks: r.ticks,
         clock_ns: r.clock_ns,
         evaluated_ticks: r.evaluated_ticks,
-        pulses: r.pulses.iter().map(|p| pulse(p, r.clock_ns)).collect(),
+        skipped_ticks: r.skipped_ticks,
+        pulses: Py::new(py, PulseTable::new(&r.pulses, r.clock_ns))?,
         intervals_ms: r.si_sequence_ms(),
         readouts: r.keyons.iter().map(readout).collect(),
         keyoffs: r.keyoffs.iter().map(keyoff).collect(),
         checks: r.checks.iter().map(|c| Check { name: c.name.clone(), ok: c.ok, detail: c.detail.clone() }).collect(),
         passed: r.passed(),
         dark: dark(&r.dark),
-        final_outputs: Outputs { vals: signals::output_values(&s, &r.final_ports).to_vec() },
+        final_outputs: Outputs { vals: signals::output_values(&s, &r.final_ports) },
         final_regs: regs.unbind(),
         summary,
         vcd_path: w.as_ref().map(|w| w.vcd.clone()),

@@ -9,6 +9,18 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENARIOS = sorted((ROOT / "scenarios").glob("*.toml"))
+# Days of parking (scenarios/park_30d.toml, 2.6e11 ticks) have no vector file and no VCD of every
+# tick: the per-tick comparisons take the others (as tests/golden.rs does).
+DAYS = 1_000_000_000
+
+
+def per_tick(paths: list[Path]) -> list[Path]:
+    import pmu50
+
+    return [p for p in paths if pmu50.Scenario.load(p).ticks <= DAYS]
+
+
+PER_TICK = per_tick(SCENARIOS)
 PMU50_BIN = ROOT / "target" / "release" / "pmu50"
 
 
@@ -22,6 +34,6 @@ def cli(*args: str, check: bool = True) -> subprocess.CompletedProcess:
 def vector_dir(tmp_path_factory) -> Path:
     """The vector files of every shipped scenario, written by `pmu50 vectors`."""
     d = tmp_path_factory.mktemp("vectors")
-    for sc in SCENARIOS:
+    for sc in PER_TICK:
         cli("vectors", str(sc), "-o", str(d / f"{sc.stem}.vec"))
     return d

@@ -68,6 +68,12 @@ def test_signal_table_matches_every_view():
     assert pmu50.signal_table("register", sync_depth=3, cnt_width=6) == kinds["register"]
     with pytest.raises(ValueError, match="unknown signal kind `port`"):
         c.signals("port")
+    # the table's documentation comes along
+    by_name = {s.name: s for s in table}
+    assert by_name["cnt_s"].signed and not by_name["si"].signed
+    assert by_name["cnt_s"].patent == "[0096]-[0097]" and by_name["cnt_s"].meaning
+    assert by_name["drive_interval.si"].reset == 660 and by_name["si"].reset is None
+    assert pmu50.Core(x="5 ms").signals("register")[[s.name for s in kinds["register"]].index("drive_interval.si")].reset == 500
 
 
 def test_every_input_reaches_its_own_port():

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 import pmu50
-from conftest import ROOT, SCENARIOS, cli
+from conftest import DAYS, PER_TICK, ROOT, SCENARIOS, cli
 
 
 def by_name(name: str) -> Path:
@@ -27,7 +27,7 @@ def test_load_and_properties():
     assert dict((n, a) for n, a, _, _ in pmu50.REGISTER_MAP)[name] == addr and 0 <= data <= 0xFFFF
 
 
-@pytest.mark.parametrize("scenario", SCENARIOS, ids=[p.stem for p in SCENARIOS])
+@pytest.mark.parametrize("scenario", PER_TICK, ids=[p.stem for p in PER_TICK])
 def test_run_summary_is_the_clis(scenario: Path, tmp_path: Path):
     r = pmu50.Scenario.load(scenario).run()
     out = cli("run", str(scenario), "--out-dir", str(tmp_path), check=False)
@@ -42,6 +42,40 @@ def test_run_summary_is_the_clis(scenario: Path, tmp_path: Path):
     for c in r.checks:
         assert f"check {c.name:<20} {'PASS' if c.ok else 'FAIL'}  {c.detail}" in r.summary
     assert r.passed == all(c.ok for c in r.checks)
+
+
+def test_the_parked_days_run_with_skips():
+    """scenarios/park_30d.toml: 30 days in about a second, the CLI's summary without a VCD."""
+    parked = [p for p in SCENARIOS if p not in PER_TICK]
+    for p in parked:
+        sc = pmu50.Scenario.load(p)
+        assert sc.ticks > DAYS
+        r = sc.run()
+        assert r.passed, r.summary
+        assert r.skipped_ticks > 0 and r.evaluated_ticks + r.skipped_ticks <= r.ticks
+        assert r.readouts and r.dark.key_off_ns > 0
+        assert f"{len(r.pulses)} key-off pulses" in r.summary
+        # hundreds of millions of pulses, a short run-length table, rows built on demand
+        assert len(r.pulses) > 100_000_000 and len(r.pulses.runs) < 100_000
+        last = r.pulses[-1]
+        assert last.tick <= r.ticks and last.si_ms == pytest.approx(r.intervals_ms[-1])
+
+
+def test_pulse_table_rows_are_its_runs():
+    r = pmu50.Scenario.load(by_name("keyoff_turns")).run()
+    rows = list(r.pulses)
+    assert len(rows) == len(r.pulses) == sum(run.count for run in r.pulses.runs)
+    k = 0
+    for run in r.pulses.runs:
+        for j in range(run.count):
+            row = rows[k]
+            assert row.tick == run.first.tick + j * run.stride
+            assert (row.si, row.cnt_s, row.cnt_c, row.fig17) == (run.first.si, run.first.cnt_s, run.first.cnt_c, run.first.fig17)
+            k += 1
+    assert [p.tick for p in r.pulses[3:9:2]] == [p.tick for p in rows[3:9:2]]
+    assert r.pulses[-1].tick == rows[-1].tick
+    with pytest.raises(IndexError, match="out of range"):
+        r.pulses[len(rows)]
 
 
 def test_fig15a_pulses_and_intervals():

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 import pmu50
-from conftest import SCENARIOS
+from conftest import PER_TICK, SCENARIOS
 
 
 def read_vectors(path: Path):
@@ -32,7 +32,11 @@ def read_vectors(path: Path):
     return header, params, rows
 
 
-@pytest.mark.parametrize("scenario", SCENARIOS, ids=[p.stem for p in SCENARIOS])
+def test_every_shipped_scenario_but_the_parked_days_has_vectors():
+    assert len(PER_TICK) >= 7 and len(SCENARIOS) - len(PER_TICK) <= 1, (SCENARIOS, PER_TICK)
+
+
+@pytest.mark.parametrize("scenario", PER_TICK, ids=[p.stem for p in PER_TICK])
 def test_core_step_agrees_with_the_vector_file(scenario: Path, vector_dir: Path):
     sc = pmu50.Scenario.load(scenario)
     core = pmu50.Core(**sc.core)
