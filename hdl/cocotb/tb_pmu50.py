@@ -5,8 +5,8 @@ Three concurrent parts:
 
 - a clock on ``clk`` (period from the configuration, docs/spec.md 6.1);
 - a stimulus coroutine that drives the seven inputs at every falling edge, either from the input
-  columns of a vector file (``PMU50_VEC``) or seeded random (``PMU50_SEED``): key edges with
-  glitches, comparator bits, Vs2 rail faults (``vs2_ok`` low while ``vs2_en``), register writes
+  columns of a vector file (``PMU50_VEC``) or seeded random (``PMU50_SEED``): key edges at random
+  times, comparator bits, Vs2 rail faults (``vs2_ok`` low while ``vs2_en``), register writes
   (legal, illegal, read-only, unmapped, with the key off) and bus reads;
 - a scoreboard that samples the inputs the DUT sees at each rising edge, steps ``pmu50.Core``
   with them, and compares all 23 top-level outputs after the edge. The first mismatching tick
@@ -77,7 +77,7 @@ def random_inputs(seed: int, cycles: int, core: pmu50.Core):
     for _ in range(cycles):
         now = core.peek()
         r = rng.random()
-        # key edges: mostly long stretches, sometimes a glitch of a tick or two
+        # key edges at random times: key-on and key-off stretches of random length
         if r < 0.004 or (r < 0.02 and rng.random() < 0.1):
             ig ^= 1
         # rail faults: a dead Vs2 for a while

@@ -6,7 +6,7 @@
 //! through `Scenario.from_str`). The rules themselves are `CoreConfig::to_params` and
 //! `Params::validate` of the core; nothing here restates a limit.
 
-use crate::{guard, ConfigError};
+use crate::ConfigError;
 use pmu50_core::{ConfigError as CoreConfigError, CoreConfig, Dur, ParamError, Params};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
@@ -68,8 +68,8 @@ fn int_value(field: &'static str, v: &Bound<'_, PyAny>) -> PyResult<Result<u32, 
     }
 }
 
-/// Check keyword arguments against the `[core]` table and convert them to register values.
-/// `Err` of the outer result: a Python type error; of the inner one: the CLI's message.
+/// Check keyword arguments against the `[core]` table and convert them to register values
+/// (`TypeError` for a wrong type or name, `ConfigError` with the CLI's message for a bad value).
 pub fn from_kwargs(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<(CoreConfig, Params)> {
     let mut core = CoreConfig::default();
     let mut given: Vec<&'static str> = Vec::new();
@@ -123,7 +123,7 @@ pub fn from_kwargs(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<(CoreConfig, 
             given.push(field);
         }
     }
-    let params = guard("Core()", || Ok(core.to_params())).and_then(|r| r.map_err(|e| ConfigError::new_err(message(&e, &given))))?;
+    let params = core.to_params().map_err(|e| ConfigError::new_err(message(&e, &given)))?;
     Ok((core, params))
 }
 

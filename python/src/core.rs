@@ -270,9 +270,11 @@ impl Core {
     #[new]
     #[pyo3(signature = (**params))]
     fn new(params: Option<&Bound<'_, PyDict>>) -> PyResult<Core> {
-        let (cfg, p) = config::from_kwargs(params)?;
-        let m = guard("Core()", || Pmu50::new(p).map_err(|e| crate::ConfigError::new_err(e.to_string())))?;
-        Ok(Core { m, cfg, params: p })
+        guard("Core()", || {
+            let (cfg, p) = config::from_kwargs(params)?;
+            let m = Pmu50::new(p).map_err(|e| crate::ConfigError::new_err(e.to_string()))?;
+            Ok(Core { m, cfg, params: p })
+        })
     }
 
     /// One rising clock edge with these inputs (keyword arguments `ig`, `vs2_ok`, `cmp_s`,
@@ -280,8 +282,8 @@ impl Core {
     /// the outputs after the edge.
     #[pyo3(signature = (**inputs))]
     fn step(&mut self, inputs: Option<&Bound<'_, PyDict>>) -> PyResult<Outputs> {
-        let i = Core::inputs(inputs)?;
         guard("Core.step()", || {
+            let i = Core::inputs(inputs)?;
             let o = self.m.step(&i);
             Ok(self.outputs(&o))
         })
@@ -290,8 +292,8 @@ impl Core {
     /// Like `step`, with the detail of the edge: outputs before and after, internals, inputs.
     #[pyo3(signature = (**inputs))]
     fn step_traced(&mut self, inputs: Option<&Bound<'_, PyDict>>) -> PyResult<Trace> {
-        let i = Core::inputs(inputs)?;
         guard("Core.step_traced()", || {
+            let i = Core::inputs(inputs)?;
             let (b, x, a) = self.m.step_traced(&i);
             Ok(Trace {
                 tick: self.m.tick(),

@@ -460,7 +460,7 @@ impl Scenario {
         })?;
         let (text, r, written) = done.map_err(|e| SimulationError::new_err(e.to_string()))?;
         let s = Structural { sync_depth: self.sc.params.sync_depth, cnt_width: self.sc.params.cnt_width };
-        result(py, s, text, &r, written)
+        guard("Scenario.run()", || result(py, s, text, &r, written))
     }
 
     fn __repr__(&self) -> String {
