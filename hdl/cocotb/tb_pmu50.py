@@ -19,7 +19,8 @@ Tick numbers are edge numbers (tick k = after rising edge k), as in docs/hdl-gui
 Configuration (environment variables, set by test_cocotb.py):
   PMU50_CORE   JSON object of ``pmu50.Core`` keyword arguments (the twin was built with the
                matching Verilog parameters, ``Core.hdl_parameters``)
-  PMU50_VEC    vector file to replay (inputs only; expected outputs come from the model)
+  PMU50_VEC    vector file to replay (inputs only; expected outputs come from the model), its
+               first PMU50_MAX_TICKS lines when that is set and not 0
   PMU50_SEED   random seed, PMU50_CYCLES cycles
 """
 
@@ -49,13 +50,18 @@ def read_value(handle) -> int | str:
         return str(v)
 
 
-def vector_inputs(path: str, names: list[str]):
-    """The input columns of a vector file (docs/spec.md 6.2), one dict per line."""
+def vector_inputs(path: str, names: list[str], max_ticks: int = 0):
+    """The input columns of a vector file (docs/spec.md 6.2), one dict per line; only the first
+    `max_ticks` lines when it is not 0."""
     n = len(names)
+    k = 0
     with open(path, encoding="ascii") as f:
         for line in f:
             if line.startswith("//") or not line.strip():
                 continue
+            if max_ticks and k >= max_ticks:
+                return
+            k += 1
             fields = line.split()
             yield {name: int(x, 16) for name, x in zip(names, fields[:n])}
 
@@ -223,7 +229,8 @@ async def twin_matches_model(dut):
     vec = os.environ.get("PMU50_VEC")
     if vec:
         names = [s.name for s in pmu50.signal_table("input")]
-        ticks, cov = await run(dut, lambda core: vector_inputs(vec, names))
+        limit = int(os.environ.get("PMU50_MAX_TICKS", "0"))
+        ticks, cov = await run(dut, lambda core: vector_inputs(vec, names, limit))
         dut._log.info("PASS %s: %d ticks, 23 outputs each; coverage %s", os.path.basename(vec), ticks, cov.to_dict())
     else:
         seed = int(os.environ["PMU50_SEED"])
