@@ -9,7 +9,15 @@ SCENARIO  ?= fig15a
 # Debian packages the tests use, as "command:package".
 TOOLS := vcd2lxt2:gtkwave xvfb-run:xvfb xauth:xauth iverilog:iverilog verilator:verilator yosys:yosys
 
-.PHONY: run test deps view golden bench cosim lint clean fuzz
+# Python: a project-local virtual environment (nothing is installed outside the project folder);
+# the extension's cargo target folder is its own, so the workspace builds are not disturbed.
+PYTHON3   ?= python3
+VENV      := target/venv
+VPY       := $(VENV)/bin/python
+PY_TARGET := target/python
+PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
+
+.PHONY: run test deps view golden bench cosim lint clean fuzz python pytest cocotb
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -28,10 +36,12 @@ FORCE:
 run: $(BIN)
 	$(BIN) run $(SCENARIOS) --out-dir vcd_out --log --svg
 
-## Everything: unit, property, golden and system tests of all crates, then HDL co-simulation.
+## Everything: unit, property, golden and system tests of all crates, HDL co-simulation, then the
+## Python package's tests and the cocotb testbench (in target/venv).
 test: deps
 	$(CARGO) test --workspace
 	$(MAKE) cosim
+	$(MAKE) pytest cocotb
 
 ## Open one scenario in GTKWave with its save file: make view SCENARIO=fig15a
 view: $(BIN) deps
@@ -73,6 +83,30 @@ fuzz:
 
 lint:
 	$(CARGO) clippy --workspace --all-targets -- -D warnings
+
+## target/venv with maturin, cocotb and pytest (python/requirements-dev.txt); python3-venv if needed.
+$(VENV)/.ready: python/requirements-dev.txt
+	@$(PYTHON3) -m venv $(VENV) 2>/dev/null || { \
+	  echo "installing Debian package python3-venv"; rm -rf $(VENV); \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends python3-venv >/dev/null && \
+	  $(PYTHON3) -m venv $(VENV); }
+	$(PIP) install -q -r python/requirements-dev.txt
+	@touch $@
+
+## The Python package pmu50 (python/, PyO3 + maturin), installed into target/venv (docs/python.md).
+python: $(VENV)/.ready
+	rm -rf $(PY_TARGET)/wheels
+	$(VENV)/bin/maturin build --release -i $(VPY) -m python/Cargo.toml --target-dir $(PY_TARGET) --out $(PY_TARGET)/wheels
+	$(PIP) install -q --force-reinstall --no-deps $(PY_TARGET)/wheels/pmu50-*.whl
+	@echo "pmu50 is installed in $(VENV); use it with:  . $(VENV)/bin/activate   (or $(VPY) directly)"
+
+## Tests of the Python package (python/tests): Core against the shipped vector files, Scenario against the CLI.
+pytest: python $(BIN)
+	$(VPY) -m pytest python/tests -q
+
+## cocotb testbench (hdl/cocotb): the Verilog twin on Icarus against pmu50.Core; vectors, random seeds, mutants.
+cocotb: deps python $(BIN)
+	$(VPY) -m pytest hdl/cocotb -q
 
 clean:
 	$(CARGO) clean

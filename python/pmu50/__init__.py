@@ -1,0 +1,69 @@
+"""PMU 50 reference model (patent US 2022/0041215 A1) for Python.
+
+The cycle-accurate model of the digital core of power management unit 50, written in Rust, as a
+Python package (docs/python.md):
+
+- :class:`Core`: the core, one rising clock edge per :meth:`Core.step`, configured with the
+  scenario ``[core]`` names (``Core(x="6.6 ms", cth=4)``); :meth:`Core.peek`, :meth:`Core.regs`,
+  :meth:`Core.read`, :attr:`Core.tick`, :meth:`Core.signals`.
+- :class:`Scenario`: a scenario file (``Scenario.load(path)``, ``Scenario.from_str(text)``) and
+  its run with the environment models (:meth:`Scenario.run`), the summary of ``pmu50 run``.
+- :func:`signal_table`: names and widths of every port, register and internal signal;
+  :data:`REGISTER_MAP`: the register map (name, address, width, access);
+  :data:`CORE_PARAMETERS`: the ``[core]`` parameter names.
+
+Errors: :class:`ConfigError` and :class:`ScenarioError` (both ``ValueError``) carry the CLI's
+messages; :class:`SimulationError` a failed run; :class:`InternalError` a caught Rust panic.
+"""
+
+from ._native import (
+    CORE_PARAMETERS,
+    REGISTER_MAP,
+    Check,
+    ConfigError,
+    Core,
+    DarkCurrent,
+    InputValues,
+    InternalError,
+    Internals,
+    KeyOff,
+    Outputs,
+    Pulse,
+    PulseRun,
+    PulseTable,
+    Readout,
+    RunResult,
+    Scenario,
+    ScenarioError,
+    Signal,
+    SimulationError,
+    Trace,
+    __version__,
+    signal_table,
+)
+
+__all__ = [
+    "CORE_PARAMETERS",
+    "REGISTER_MAP",
+    "Check",
+    "ConfigError",
+    "Core",
+    "DarkCurrent",
+    "InputValues",
+    "InternalError",
+    "Internals",
+    "KeyOff",
+    "Outputs",
+    "Pulse",
+    "PulseRun",
+    "PulseTable",
+    "Readout",
+    "RunResult",
+    "Scenario",
+    "ScenarioError",
+    "Signal",
+    "SimulationError",
+    "Trace",
+    "__version__",
+    "signal_table",
+]

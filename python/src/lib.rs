@@ -1,0 +1,109 @@
+//! Python bindings of the PMU 50 reference model (issue 10), the native part of the package
+//! `pmu50` (`pmu50._native`; `python/pmu50/__init__.py` re-exports it, `_native.pyi` types it).
+//!
+//! - [`core::Core`]: the digital core of power management unit 50 (US 2022/0041215 A1, FIG. 14 /
+//!   FIG. 20, [0205]-[0414]) one rising clock edge per `step`, configured with the scenario
+//!   `[core]` names and limits (docs/spec.md);
+//! - [`scenario::Scenario`]: a scenario file, run with its environment to the same summary as
+//!   `pmu50 run` (pulses, drive intervals, key-on read-outs, checks, dark current), optionally
+//!   with the VCD;
+//! - the signal table ([`signals`]), taken from the core.
+//!
+//! Errors are Python exceptions with the messages of the CLI; no Rust panic crosses into
+//! Python: every entry point runs inside [`guard`], which turns a panic into `pmu50.InternalError`.
+
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+mod config;
+mod core;
+mod scenario;
+mod signals;
+
+pyo3::create_exception!(
+    pmu50,
+    ConfigError,
+    PyValueError,
+    "An illegal `[core]` parameter value (same message as the CLI, without file:line)."
+);
+pyo3::create_exception!(
+    pmu50,
+    ScenarioError,
+    PyValueError,
+    "An invalid scenario: the message starts with `file:line:` and names the field, as the CLI's."
+);
+pyo3::create_exception!(
+    pmu50,
+    SimulationError,
+    PyRuntimeError,
+    "A scenario run failed (environment model or output file), as `pmu50 run` reports it."
+);
+pyo3::create_exception!(
+    pmu50,
+    InternalError,
+    PyRuntimeError,
+    "A Rust panic inside the model, caught at the boundary: a bug, please report it."
+);
+
+/// The text of a panic payload.
+fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = p.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = p.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "(no message)".to_string()
+    }
+}
+
+/// Run `f`; a panic becomes `pmu50.InternalError` instead of unwinding into Python.
+pub(crate) fn guard<T>(what: &str, f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(r) => r,
+        Err(p) => Err(InternalError::new_err(format!(
+            "internal error in the PMU 50 model during {what}: Rust panic `{}`; this is a bug, please report it with the inputs that led to it",
+            panic_text(p.as_ref())
+        ))),
+    }
+}
+
+/// Test hook: panics inside [`guard`], to prove that a Rust panic reaches Python as
+/// `pmu50.InternalError` (python/tests/test_errors.py).
+#[pyfunction]
+fn _panic_for_test(msg: &str) -> PyResult<()> {
+    guard("_panic_for_test", || panic!("{msg}"))
+}
+
+#[pymodule]
+#[pyo3(name = "_native")]
+fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("ConfigError", py.get_type::<ConfigError>())?;
+    m.add("ScenarioError", py.get_type::<ScenarioError>())?;
+    m.add("SimulationError", py.get_type::<SimulationError>())?;
+    m.add("InternalError", py.get_type::<InternalError>())?;
+    m.add_class::<core::Core>()?;
+    m.add_class::<core::Outputs>()?;
+    m.add_class::<core::Internals>()?;
+    m.add_class::<core::InputValues>()?;
+    m.add_class::<core::Trace>()?;
+    m.add_class::<core::Signal>()?;
+    m.add_class::<scenario::Scenario>()?;
+    m.add_class::<scenario::RunResult>()?;
+    m.add_class::<scenario::Pulse>()?;
+    m.add_class::<scenario::PulseRun>()?;
+    m.add_class::<scenario::PulseTable>()?;
+    m.add_class::<scenario::Readout>()?;
+    m.add_class::<scenario::KeyOff>()?;
+    m.add_class::<scenario::Check>()?;
+    m.add_class::<scenario::DarkCurrent>()?;
+    m.add_function(wrap_pyfunction!(core::signal_table, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
+    m.add("CORE_PARAMETERS", config::FIELDS.to_vec())?;
+    // The register map of docs/spec.md: (name, address, width, access).
+    let map: Vec<(&str, u8, u8, &str)> = pmu50_core::register_file::MAP.to_vec();
+    m.add("REGISTER_MAP", map)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
