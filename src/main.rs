@@ -7,7 +7,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pmu50::fsout::{self, AtomicFile, Batch};
 use pmu50::output::{estimate_vcd_bytes, output_paths, run_to_batch, summary, FileOptions, RunError};
 use pmu50::refusals::RefusalWatch;
-use pmu50::scenario::Scenario;
+use pmu50::scenario::{Scenario, Trace};
 use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
 use pmu50::vectors::VectorWriter;
 use pmu50_core::Dur;
@@ -101,6 +101,11 @@ enum Cmd {
         /// Also write <name>.svg, a timing diagram in the style of FIG. 15/16 (and <name>_timing.csv).
         #[arg(long)]
         svg: bool,
+        /// What to write besides the summary: all (VCD and save file, plus --log/--svg) or none
+        /// (summary only; repeated key-off periods are then skipped, docs/spec.md 5.1).
+        /// Default: the scenario's `[vcd] trace`, else all.
+        #[arg(long, value_parser = ["all", "none"])]
+        trace: Option<String>,
     },
     /// Validate scenarios without running them.
     Check { scenarios: Vec<PathBuf> },
@@ -214,6 +219,10 @@ impl Observer for Progress {
         }
         Ok(())
     }
+    /// A progress bar is content with the ticks the bench evaluates.
+    fn needs_every_tick(&self) -> bool {
+        false
+    }
     fn finish(&mut self, _: &TickView<'_>) -> Result<(), SimError> {
         self.bar.finish_and_clear();
         Ok(())
@@ -293,7 +302,10 @@ fn main() -> ExitCode {
         return with_streams(2);
     }
     let code = match cli.cmd {
-        Cmd::Run { scenarios, out_dir, log, window, max_vcd_bytes, svg } => cmd_run(&scenarios, &out_dir, log, svg, &window, max_vcd_bytes),
+        Cmd::Run { scenarios, out_dir, log, window, max_vcd_bytes, svg, trace } => {
+            let trace = trace.as_deref().and_then(Trace::parse);
+            cmd_run(&scenarios, &out_dir, RunFlags { log, svg, trace }, &window, max_vcd_bytes)
+        }
         Cmd::Check { scenarios } => {
             let mut bad = false;
             if scenarios.is_empty() {
@@ -386,13 +398,24 @@ fn report(r: Result<String, pmu50::analysis::AnalysisError>) -> u8 {
 
 /// `pmu50 run`: load every file first; report every bad one; refuse two scenarios writing the
 /// same file before anything runs; run the good ones; exit with the worst code.
-fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, log: bool, svg: bool, window: &Option<Vec<String>>, max_vcd_bytes: Option<u64>) -> u8 {
+/// The output flags of `pmu50 run`.
+#[derive(Clone, Copy)]
+struct RunFlags {
+    log: bool,
+    svg: bool,
+    /// `--trace`, overriding each scenario's `[vcd] trace`.
+    trace: Option<Trace>,
+}
+
+fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Option<Vec<String>>, max_vcd_bytes: Option<u64>) -> u8 {
+    let RunFlags { log, svg, .. } = flags;
     if scenarios.is_empty() {
         err!("error: run needs at least one scenario file (see `pmu50 list`)");
         return 2;
     }
     let mut code = 0u8;
     let mut good: Vec<(Scenario, Option<(u64, u64)>)> = Vec::new();
+    let traced = |sc: &Scenario| flags.trace.unwrap_or(sc.trace) == Trace::All;
     for p in scenarios {
         let sc = match Scenario::load(p) {
             Ok(s) => s,
@@ -402,7 +425,13 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, log: bool, svg: bool, window: 
                 continue;
             }
         };
-        let w = match window_ticks(&sc, window).and_then(|w| check_vcd_size(&sc, w, max_vcd_bytes).map(|()| w)) {
+        if !traced(&sc) && window.is_some() {
+            err!("error: --window: {} is run with trace = none, which writes no waveform; drop --window or run it with --trace all", sc.path.display());
+            code = 2;
+            continue;
+        }
+        let checked = if traced(&sc) { window_ticks(&sc, window).and_then(|w| check_vcd_size(&sc, w, max_vcd_bytes).map(|()| w)) } else { Ok(None) };
+        let w = match checked {
             Ok(w) => w,
             Err(e) => {
                 err!("error: {e}");
@@ -414,7 +443,7 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, log: bool, svg: bool, window: 
     }
     let mut owner: BTreeMap<PathBuf, usize> = BTreeMap::new();
     let mut clash = false;
-    for (k, (sc, _)) in good.iter().enumerate() {
+    for (k, (sc, _)) in good.iter().enumerate().filter(|(_, (sc, _))| traced(sc)) {
         for path in output_paths(out_dir, &sc.name, true) {
             if let Some(&j) = owner.get(&path) {
                 let e = CliError::SameOutput { path, first: good[j].0.path.display().to_string(), second: sc.path.display().to_string(), name: sc.name.clone() };
@@ -432,6 +461,25 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, log: bool, svg: bool, window: 
     for (sc, window) in &good {
         let mut prog = Progress::new(sc.ticks, &sc.name);
         let mut watch = RefusalWatch::new(sc);
+        if !traced(sc) {
+            match sim::run(sc, SimOptions::default(), &mut [&mut prog, &mut watch]) {
+                Ok(res) => {
+                    out!("{}", summary(sc, &res).trim_end());
+                    for rw in &watch.refused {
+                        out!("   refused write {rw}");
+                    }
+                    out!("   trace = none: no waveform, log or timing diagram written; {} of {} ticks evaluated, the rest skipped exactly (docs/spec.md 5.1)", res.evaluated_ticks, res.ticks);
+                    if !res.passed() || !watch.refused.is_empty() {
+                        code = code.max(1);
+                    }
+                }
+                Err(e) => {
+                    err!("error: {e}");
+                    code = 2;
+                }
+            }
+            continue;
+        }
         let r = run_to_batch(sc, out_dir, FileOptions { log, window: *window, svg }, &mut [&mut prog, &mut watch]).and_then(|(res, w, batch)| {
             batch.commit()?;
             Ok((res, w))

@@ -41,6 +41,7 @@
 //!
 //! [vcd]
 //! window = ["10 ms", "60 ms"]      # dump only this time window
+//! trace = "all"                    # "none": summary only (days of parking; docs/spec.md 5.1)
 //! ```
 //!
 //! Every error names the file, the line and the field, and says what is valid.
@@ -211,6 +212,7 @@ struct RawExpect {
 #[serde(deny_unknown_fields)]
 struct RawVcd {
     window: Option<Spanned<Vec<Spanned<String>>>>,
+    trace: Option<Spanned<String>>,
 }
 
 // ---------------------------------------------------------------- checked ----
@@ -273,6 +275,30 @@ pub struct Scenario {
     pub expect: Expect,
     /// VCD dump window in ticks, [start, end).
     pub vcd_window: Option<(u64, u64)>,
+    /// What `pmu50 run` writes of the run besides its summary (`[vcd] trace`).
+    pub trace: Trace,
+}
+
+/// What `pmu50 run` writes of a run besides its summary: `all` (default) the VCD, its GTKWave
+/// save file and, on request, the change log and the timing diagram; `none` only the summary,
+/// for days of parking, where a waveform of every tick cannot be written and the bench skips
+/// repeated key-off periods instead of stepping them (docs/spec.md 5.1).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Trace {
+    #[default]
+    All,
+    None,
+}
+
+impl Trace {
+    /// The level named `text` (`all`, `none`).
+    pub fn parse(text: &str) -> Option<Trace> {
+        match text {
+            "all" => Some(Trace::All),
+            "none" => Some(Trace::None),
+            _ => None,
+        }
+    }
 }
 
 impl Scenario {
@@ -640,6 +666,17 @@ impl Cx<'_> {
             }
         };
 
+        let trace = match &raw.vcd.trace {
+            None => Trace::All,
+            Some(t) => Trace::parse(t.get_ref()).ok_or_else(|| {
+                self.err(t.span(), "vcd.trace", format!("`{}` is not a trace level; valid are \"all\" (VCD and save file, and the log and timing diagram on request) and \"none\" (the summary only)", t.get_ref()))
+            })?,
+        };
+        if trace == Trace::None && vcd_window.is_some() {
+            let at = raw.vcd.trace.as_ref().map_or(0..0, |t| t.span());
+            return Err(self.err(at, "vcd.trace", "a run with trace = \"none\" writes no waveform, so a `window` has nothing to limit; remove one of them"));
+        }
+
         let name = match &raw.name {
             Some(n) => {
                 let v = n.get_ref();
@@ -663,6 +700,7 @@ impl Cx<'_> {
             ticks,
             expect,
             vcd_window,
+            trace,
         })
     }
 }
