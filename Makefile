@@ -69,7 +69,7 @@ cosim: deps $(BIN)
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := scenario duration vcd_diff
 fuzz:
-	@if ! rustup run nightly rustc --version >/dev/null 2>&1; then \
+	@if ! rustup toolchain list 2>/dev/null | grep -q '^nightly'; then \
 	  echo "make fuzz needs the nightly toolchain, which is not installed (rustup toolchain install nightly)" >&2; exit 2; fi
 	@command -v cargo-fuzz >/dev/null 2>&1 || $(CARGO) install cargo-fuzz --locked
 	@for t in $(FUZZ_TARGETS); do \
