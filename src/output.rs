@@ -164,15 +164,28 @@ pub struct WrittenSvg {
     pub csv: PathBuf,
 }
 
+/// Distinct drive intervals listed in full in a summary; more are shortened.
+const SI_SEQ_SHOWN: usize = 24;
+
+/// A time in a summary: `12.345 ms` up to 100 s (what every shipped short scenario prints), and
+/// beyond that also in days, hours, minutes and seconds (`2591999001.020 ms (29 d 23:59:59.001)`).
+fn at_ms(ns: u64) -> String {
+    let ms = format!("{:.3} ms", ns as f64 / 1e6);
+    if ns < 100_000_000_000 {
+        return ms;
+    }
+    let s = ns / 1_000_000_000;
+    format!("{ms} ({} d {:02}:{:02}:{:02}.{:03})", s / 86_400, s / 3_600 % 24, s / 60 % 60, s % 60, ns / 1_000_000 % 1_000)
+}
+
 /// Human summary of a run: counts, read-outs against the true angle, diagnosis, Vs2 duty,
 /// average key-off current, checks.
 pub fn summary(sc: &Scenario, r: &RunResult) -> String {
     let mut s = String::new();
-    let ms = |ticks: u64| ticks as f64 * r.clock_ns as f64 / 1e6;
     let w = r.cnt_width;
     let sx = |v: u16| pmu50_core::updown_counter_58cd::sext(v, w);
     s += &format!("== {}: {}\n", sc.name, sc.description);
-    s += &format!("   simulated {:.3} ms ({} ticks of {} ns), {} key-off pulses\n", ms(r.ticks), r.ticks, r.clock_ns, r.pulses.len());
+    s += &format!("   simulated {} ({} ticks of {} ns), {} key-off pulses\n", at_ms(r.ticks * r.clock_ns), r.ticks, r.clock_ns, r.pulses.len());
     let p = &r.final_ports;
     s += &format!(
         "   final: cnt_s={} cnt_c={} (CNT={}) si={:.1} ms cnt_r={} hist_s={} hist_c={} diag={} quadrant_skip={}\n",
@@ -187,24 +200,29 @@ pub fn summary(sc: &Scenario, r: &RunResult) -> String {
         u8::from(p.quadrant_skip)
     );
     let seq: Vec<String> = r.si_sequence_ms().iter().map(|v| format!("{v:.1}")).collect();
-    if !seq.is_empty() {
+    if seq.len() > SI_SEQ_SHOWN {
+        // Days of parking: the first and the last changes, and how many there were.
+        let head = seq[..SI_SEQ_SHOWN / 2].join(" -> ");
+        let tail = seq[seq.len() - SI_SEQ_SHOWN / 2..].join(" -> ");
+        s += &format!("   drive interval at key-off pulses (ms): {head} -> ... ({} intervals in all) ... -> {tail}\n", seq.len());
+    } else if !seq.is_empty() {
         s += &format!("   drive interval at key-off pulses (ms): {}\n", seq.join(" -> "));
     }
     for k in &r.keyons {
         let ro = &k.readout;
         s += &format!(
-            "   key-on read-out at {:.3} ms: CNTs={} CNTc={} CNT={} Q1={} Q2={} diff={} ({:?}) CNTa={} Nr={} theta1={:.2} -> theta_m={:.2} deg, true {:.2} deg, error {:+.3} deg; theta_o={:.3} theta_i={:.3} deg; diag={} theta1/theta2 abnormal={}\n",
-            k.time_ns as f64 / 1e6, ro.cnt_s, ro.cnt_c, ro.cnt, ro.q1, ro.q2, ro.quadrant_diff, ro.equation, ro.cnt_a, ro.nr, ro.theta1_deg, ro.theta_m_deg, k.true_deg, k.error_deg, k.angles.theta_o_deg, k.angles.theta_i_deg, u8::from(k.diag), u8::from(k.theta_abnormal)
+            "   key-on read-out at {}: CNTs={} CNTc={} CNT={} Q1={} Q2={} diff={} ({:?}) CNTa={} Nr={} theta1={:.2} -> theta_m={:.2} deg, true {:.2} deg, error {:+.3} deg; theta_o={:.3} theta_i={:.3} deg; diag={} theta1/theta2 abnormal={}\n",
+            at_ms(k.time_ns), ro.cnt_s, ro.cnt_c, ro.cnt, ro.q1, ro.q2, ro.quadrant_diff, ro.equation, ro.cnt_a, ro.nr, ro.theta1_deg, ro.theta_m_deg, k.true_deg, k.error_deg, k.angles.theta_o_deg, k.angles.theta_i_deg, u8::from(k.diag), u8::from(k.theta_abnormal)
         );
     }
     for k in &r.keyoffs {
-        s += &format!("   key-off at {:.3} ms: tracked theta_m={:.2} deg (theta_o={:.3}, theta_i={:.3}), true {:.2} deg\n", ms(k.tick), k.theta_m_deg, k.angles.theta_o_deg, k.angles.theta_i_deg, k.true_deg);
+        s += &format!("   key-off at {}: tracked theta_m={:.2} deg (theta_o={:.3}, theta_i={:.3}), true {:.2} deg\n", at_ms(k.tick * r.clock_ns), k.theta_m_deg, k.angles.theta_o_deg, k.angles.theta_i_deg, k.true_deg);
     }
     let d = &r.dark;
     if d.key_off_ns > 0 {
         let duty = d.vs2_duty.map_or("-".into(), |v| format!("{:.2} %", v * 100.0));
         let cur = d.avg_current_ua.map_or("-".into(), |v| format!("{v:.1} uA"));
-        s += &format!("   key off for {:.3} ms: Vs2 duty {duty}, average key-off current {cur}\n", d.key_off_ns as f64 / 1e6);
+        s += &format!("   key off for {}: Vs2 duty {duty}, average key-off current {cur}\n", at_ms(d.key_off_ns));
     }
     for c in &r.checks {
         s += &format!("   check {:<20} {}  {}\n", c.name, if c.ok { "PASS" } else { "FAIL" }, c.detail);
