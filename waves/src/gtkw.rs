@@ -524,13 +524,20 @@ impl GtkwSave {
         Ok(())
     }
 
-    /// Render and write to `path`.
+    /// Render and write to `path`: to a temporary file beside it, renamed into place when
+    /// complete (an interrupted write never leaves a cut save file; a symlink at `path` is
+    /// replaced, not followed). The `pmu50` CLI stages its save files with its own output batch
+    /// instead (src/fsout.rs), so that the `.gtkw` lands after the VCD.
     pub fn write(&self, path: impl AsRef<Path>) -> Result<(), GtkwError> {
         let text = self.render()?;
         let path = path.as_ref();
-        std::fs::write(path, text).map_err(|source| GtkwError::Io {
-            path: path.display().to_string(),
-            source,
+        let io = |source| GtkwError::Io { path: path.display().to_string(), source };
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+        std::fs::write(&tmp, text).map_err(io)?;
+        std::fs::rename(&tmp, path).map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            io(e)
         })
     }
 }
