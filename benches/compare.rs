@@ -279,7 +279,7 @@ fn traced(st: &Stim, dir: &Path, fst: bool) -> Meas {
     let cpu = cpu_now() - t0;
     let bytes = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
     let _ = std::fs::remove_file(&path);
-    Meas { ticks: st.inputs.len() as u64, cpu, checksum: Some(h), note: format!("{NSIG} signals, {:.1} MB", bytes as f64 / 1e6) }
+    Meas { ticks: st.inputs.len() as u64, cpu, checksum: Some(h), note: format!("{NSIG} signals, {}", fmt_bytes(bytes)) }
 }
 
 /// Run a harness binary that prints `ticks=N cpu_s=S checksum=H`.
@@ -307,7 +307,7 @@ fn verilator(st: &Stim, dir: &Path, seconds: f64, trace: bool) -> Result<Meas, S
         let bytes = std::fs::metadata(&vcd).map(|m| m.len()).unwrap_or(0);
         let vars = std::fs::read(&vcd).map(|b| String::from_utf8_lossy(&b[..b.len().min(1 << 16)]).matches("$var").count()).unwrap_or(0);
         let _ = std::fs::remove_file(&vcd);
-        m.note = format!("{vars} $var lines, {:.1} MB", bytes as f64 / 1e6);
+        m.note = format!("{vars} $var lines, {}", fmt_bytes(bytes));
         return Ok(m);
     }
     let one = external(&bin, &[vec.clone(), "1".into()])?;
@@ -349,6 +349,10 @@ fn park(secs: u64) -> Result<(f64, f64), String> {
     }
     let field = |k: &str| text.split_whitespace().find_map(|w| w.strip_prefix(k)).and_then(|v| v.parse::<f64>().ok()).ok_or_else(|| format!("park: no `{k}` in `{text}`"));
     Ok((field("cpu_s=")?, field("maxrss_kib=")? / 1024.0))
+}
+
+fn fmt_bytes(b: u64) -> String {
+    if b >= 1_000_000 { format!("{:.1} MB", b as f64 / 1e6) } else { format!("{:.0} kB", b as f64 / 1e3) }
 }
 
 fn fmt_rate(r: f64) -> String {
