@@ -278,7 +278,9 @@ fn traced(st: &Stim, dir: &Path, fst: bool) -> Meas {
     };
     let cpu = cpu_now() - t0;
     let bytes = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
-    let _ = std::fs::remove_file(&path);
+    if std::env::var_os("PMU50_BENCH_KEEP").is_none() {
+        let _ = std::fs::remove_file(&path);
+    }
     Meas { ticks: st.inputs.len() as u64, cpu, checksum: Some(h), note: format!("{NSIG} signals, {}", fmt_bytes(bytes)) }
 }
 
