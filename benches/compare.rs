@@ -190,7 +190,7 @@ fn frame_values(v: &mut [u64; NSIG], i: &Inputs, o: &Outputs, r: &Regs, x: &Inte
 /// Declarations of the model's VCD (src/waveform.rs) without the `env` reals.
 fn declare(st: &Stim) -> (VcdBuilder, Vec<SigId>, u64) {
     let s = Structural { sync_depth: st.params.sync_depth, cnt_width: st.params.cnt_width };
-    let (ts, unit_ns) = if st.clock_ns % 1000 == 0 { (Timescale::new(1, TimeUnit::Us), 1000) } else { (Timescale::new(1, TimeUnit::Ns), 1) };
+    let (ts, unit_ns) = if st.clock_ns.is_multiple_of(1000) { (Timescale::new(1, TimeUnit::Us), 1000) } else { (Timescale::new(1, TimeUnit::Ns), 1) };
     let mut b = VcdBuilder::new(ts, "pmu50 bench").expect("valid header");
     let mut ids = Vec::new();
     let mut add = |b: &mut VcdBuilder, ty: BitType, n: &str, w: u8| {

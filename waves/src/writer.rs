@@ -1230,9 +1230,8 @@ impl<E: Emitter> Writer<E> {
             }
         }
         let mut changed = false;
-        for k in 0..values.len() {
+        for (k, &v) in values.iter().enumerate() {
             let i = frame.idx[k] as usize;
-            let v = values[k];
             let same = if fast { v == frame.prev[k] } else { matches!(self.cur[i], Stored::Int(c) if c == v) };
             if same {
                 continue;
