@@ -8,18 +8,19 @@
 //!
 //! The line for edge *k* carries time k·T, the instant the register takes its new value
 //! (docs/spec.md 6.1). The free-running timer `pmu50.timing_generator.tmr` changes every tick and
-//! is left out. Counters are printed as signed decimals, everything else unsigned.
+//! (`free_running` in the signal table) is left out. Signed registers of the table (the counters)
+//! are printed as signed decimals, everything else unsigned.
 
 use crate::sim::{Observer, SimError, TickView};
-use pmu50_core::pmu50::{RegValue, Structural};
-use pmu50_core::updown_counter_58cd::sext;
+use pmu50_core::pmu50::Structural;
+use pmu50_core::signals::{self, N_REGISTERS};
 use std::io::Write;
 
 pub struct ChangeLog<W: Write> {
     out: W,
     s: Structural,
     clock_ns: u64,
-    prev: Option<Vec<RegValue>>,
+    prev: Option<[u64; N_REGISTERS]>,
 }
 
 impl<W: Write> ChangeLog<W> {
@@ -28,23 +29,15 @@ impl<W: Write> ChangeLog<W> {
         Ok(ChangeLog { out, s, clock_ns, prev: None })
     }
 
-    fn show(&self, r: &RegValue, v: u64) -> String {
-        if r.name == "cnt_s" || r.name == "cnt_c" {
-            sext(v as u16, self.s.cnt_width).to_string()
-        } else {
-            v.to_string()
-        }
-    }
-
     fn record(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
-        let now = v.regs.values(&self.s);
+        let now: [u64; N_REGISTERS] = signals::values(signals::REGISTERS, v.regs);
         if let Some(prev) = &self.prev {
             let time_us = (v.tick * self.clock_ns) as f64 / 1e3;
             let mut lines = String::new();
-            for (a, b) in prev.iter().zip(&now) {
-                if a.value != b.value && b.name != "tmr" {
-                    let path = format!("pmu50.{}.{}", b.block, b.name);
-                    lines += &format!("{:>6} {:>12.1}  {:<44} {} -> {}\n", v.tick, time_us, path, self.show(a, a.value), self.show(b, b.value));
+            for ((a, b), r) in prev.iter().zip(&now).zip(signals::REGISTERS) {
+                if a != b && !r.free_running {
+                    let path = format!("pmu50.{}", r.path());
+                    lines += &format!("{:>6} {:>12.1}  {:<44} {} -> {}\n", v.tick, time_us, path, r.show(*a, &self.s), r.show(*b, &self.s));
                 }
             }
             self.out.write_all(lines.as_bytes()).map_err(|e| SimError::Observer(format!("change log: {e}")))?;

@@ -2,10 +2,9 @@
 
 use crate::changelog::ChangeLog;
 use crate::scenario::Scenario;
-use crate::sim::{self, EnvSample, Observer, RunResult, SimError, SimOptions, TickView};
+use crate::sim::{self, Observer, RunResult, SimError, SimOptions, TickView};
 use crate::waveform::VcdObserver;
-use pmu50_core::pmu50::{self, Structural};
-use pmu50_core::{Inputs, Internals};
+use pmu50_core::pmu50::Structural;
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -32,11 +31,9 @@ pub struct Written {
 pub fn run_to_files(sc: &Scenario, dir: &Path, fo: FileOptions, extra: &mut [&mut dyn Observer]) -> Result<(RunResult, Written), SimError> {
     std::fs::create_dir_all(dir).map_err(|e| SimError::Observer(format!("{}: {e}", dir.display())))?;
     let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
-    let regs = pmu50::reset(&sc.params);
-    let ports = pmu50::ports(&s, &regs);
-    let init = TickView { tick: 0, time_ns: 0, regs: &regs, ports: &ports, inputs: &Inputs::default(), internals: &Internals::default(), env: &EnvSample::default() };
     let window = fo.window.or(sc.vcd_window);
-    let mut vcd = VcdObserver::create(dir, &sc.name, s, sc.clock_ns(), window, &init)?;
+    // The VCD declares every signal with its reset value: built when the bench begins.
+    let mut vcd = sim::OnBegin::new(|init: &TickView<'_>| VcdObserver::create(dir, &sc.name, s, sc.clock_ns(), window, init));
     let log_path = dir.join(format!("{}.log", sc.name));
     let mut log = if fo.log {
         let f = File::create(&log_path).map_err(|e| SimError::Observer(format!("{}: {e}", log_path.display())))?;

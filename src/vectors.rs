@@ -1,9 +1,11 @@
 //! Vector export for HDL testbenches (docs/spec.md 6.2): per tick the core's inputs and the
 //! outputs expected after the edge, as whitespace-separated hex fields, `$readmemh`-friendly.
+//! Columns and their widths come from the signal table (`pmu50_core::signals`).
 
 use crate::scenario::Scenario;
 use crate::sim::{Observer, SimError, TickView};
 use pmu50_core::pmu50::Structural;
+use pmu50_core::signals;
 use pmu50_core::Inputs;
 use std::io::Write;
 
@@ -34,8 +36,8 @@ impl<W: Write> VectorWriter<W> {
             h += &format!("// param {n} {v}\n");
         }
         h += &format!("// ticks {}\n", sc.ticks);
-        let ins: Vec<&str> = Inputs::default().values().iter().map(|v| v.0).collect();
-        let outs: Vec<&str> = pmu50_core::Outputs::default().values(&s).iter().map(|v| v.0).collect();
+        let ins: Vec<&str> = signals::INPUTS.iter().map(|sig| sig.name).collect();
+        let outs: Vec<&str> = signals::OUTPUTS.iter().map(|sig| sig.name).collect();
         h += &format!("// fields {}\n", ins.len() + outs.len());
         h += &format!("// columns {} | {}\n", ins.join(" "), outs.join(" "));
         out.write_all(h.as_bytes()).map_err(io)?;
@@ -44,11 +46,11 @@ impl<W: Write> VectorWriter<W> {
 
     fn line(&mut self, i: &Inputs, v: &TickView<'_>) -> Result<(), SimError> {
         let mut l = String::with_capacity(96);
-        for (_, w, val) in i.values() {
-            l += &format!("{:0d$x} ", val, d = digits(w));
+        for sig in signals::INPUTS {
+            l += &format!("{:0d$x} ", (sig.get)(i), d = digits(sig.bits(&self.s)));
         }
-        for (_, w, val) in v.ports.values(&self.s) {
-            l += &format!("{:0d$x} ", val, d = digits(w));
+        for sig in signals::OUTPUTS {
+            l += &format!("{:0d$x} ", (sig.get)(v.ports), d = digits(sig.bits(&self.s)));
         }
         l.pop();
         l.push('\n');

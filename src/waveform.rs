@@ -12,6 +12,7 @@
 
 use crate::sim::{Observer, SimError, TickView};
 use pmu50_core::pmu50::Structural;
+use pmu50_core::signals::{self, Dir, Radix, Signal};
 use pmu50_waves::gtkw::{Analog, Color, Format, GtkwSave, Trace};
 use pmu50_waves::writer::{BitType, SigId, VcdBuilder, VcdWriter};
 use pmu50_waves::{TimeUnit, Timescale};
@@ -33,7 +34,6 @@ pub struct VcdObserver {
     w: Option<VcdWriter<BufWriter<File>>>,
     ids: Ids,
     unit_ns: u64,
-    s: Structural,
     path: PathBuf,
 }
 
@@ -74,6 +74,54 @@ fn env_values(v: &TickView<'_>) -> [f64; 8] {
     ]
 }
 
+/// Register groups shown collapsed in the save file (the parameter registers rarely change).
+const COLLAPSED_BLOCKS: &[&str] = &["register_file"];
+
+/// GTKWave display format of a signal: a bit for 1-bit signals, else the table's radix.
+fn format_of<T>(sig: &Signal<T>, s: &Structural) -> Format {
+    match sig.radix {
+        _ if sig.bits(s) == 1 => Format::Binary,
+        Radix::Decimal if sig.signed => Format::SignedDecimal,
+        Radix::Decimal => Format::Decimal,
+        Radix::Hex => Format::Hex,
+        Radix::Binary => Format::Binary,
+    }
+}
+
+/// Declare every signal of `list` with its value in `v`: `reg` for registers, `wire` otherwise,
+/// in the table's scopes (below the current scope `pmu50`).
+fn declare<T>(b: &mut VcdBuilder, list: &[Signal<T>], v: &T, s: &Structural) -> Result<Vec<SigId>, pmu50_waves::writer::WriteError> {
+    let mut ids = Vec::with_capacity(list.len());
+    let mut scope = "";
+    for sig in list {
+        if sig.scope != scope {
+            if !scope.is_empty() {
+                b.pop_scope()?;
+            }
+            if !sig.scope.is_empty() {
+                b.push_scope(sig.scope)?;
+            }
+            scope = sig.scope;
+        }
+        let ty = if sig.dir == Dir::Reg { BitType::Reg } else { BitType::Wire };
+        let width = sig.bits(s);
+        let value = (sig.get)(v);
+        ids.push(if width == 1 { b.add_bit(ty, sig.name, (value != 0).into())? } else { b.add_vector(ty, sig.name, u32::from(width) - 1, 0, value)? });
+    }
+    if !scope.is_empty() {
+        b.pop_scope()?;
+    }
+    Ok(ids)
+}
+
+/// Write the value of every signal of `list` (the writer drops unchanged values).
+fn change_all<T, W: std::io::Write>(w: &mut VcdWriter<W>, ids: &[SigId], list: &[Signal<T>], v: &T) -> Result<(), pmu50_waves::writer::WriteError> {
+    for (id, sig) in ids.iter().zip(list) {
+        w.change_vector(*id, (sig.get)(v))?;
+    }
+    Ok(())
+}
+
 const ENV_NAMES: [&str; 8] = ["theta_deg", "sin2_v", "cos2_v", "vs2_v", "vp_v", "vr_v", "theta1_deg", "theta_m_deg"];
 
 impl VcdObserver {
@@ -86,96 +134,55 @@ impl VcdObserver {
             b.window(a * clock_ns / unit_ns, z * clock_ns / unit_ns).map_err(|e| err(&path, e))?;
         }
         let mut gt = GtkwSave::new(&format!("{name}.vcd")).map_err(|e| err(&path, e))?;
-        let vec_or_bit = |b: &mut VcdBuilder, ty: BitType, name: &str, width: u8, v: u64| -> Result<SigId, SimError> {
-            if width == 1 {
-                b.add_bit(ty, name, (v != 0).into()).map_err(|e| err(&path, e))
-            } else {
-                b.add_vector(ty, name, u32::from(width) - 1, 0, v).map_err(|e| err(&path, e))
-            }
-        };
         b.push_scope("pmu50").map_err(|e| err(&path, e))?;
-        let inputs = first
-            .inputs
-            .values()
-            .iter()
-            .map(|&(n, w, v)| vec_or_bit(&mut b, BitType::Wire, n, w, v))
-            .collect::<Result<Vec<_>, _>>()?;
-        let ports = first
-            .ports
-            .values(&s)
-            .iter()
-            .map(|&(n, w, v)| vec_or_bit(&mut b, BitType::Wire, n, w, v))
-            .collect::<Result<Vec<_>, _>>()?;
-        let mut regs = Vec::new();
-        let values = first.regs.values(&s);
-        let mut block = "";
-        for r in &values {
-            if r.block != block {
-                if !block.is_empty() {
-                    b.pop_scope().map_err(|e| err(&path, e))?;
-                }
-                b.push_scope(r.block).map_err(|e| err(&path, e))?;
-                block = r.block;
-            }
-            regs.push(vec_or_bit(&mut b, BitType::Reg, r.name, r.width, r.value)?);
-        }
-        b.pop_scope().map_err(|e| err(&path, e))?;
-        b.push_scope("internals").map_err(|e| err(&path, e))?;
-        let internals = first
-            .internals
-            .values()
-            .iter()
-            .map(|&(n, w, v)| vec_or_bit(&mut b, BitType::Wire, n, w, v))
-            .collect::<Result<Vec<_>, _>>()?;
-        b.pop_scope().map_err(|e| err(&path, e))?;
+        let inputs = declare(&mut b, signals::INPUTS, first.inputs, &s).map_err(|e| err(&path, e))?;
+        let ports = declare(&mut b, signals::OUTPUTS, first.ports, &s).map_err(|e| err(&path, e))?;
+        let regs = declare(&mut b, signals::REGISTERS, first.regs, &s).map_err(|e| err(&path, e))?;
+        let internals = declare(&mut b, signals::INTERNALS, first.internals, &s).map_err(|e| err(&path, e))?;
         b.pop_scope().map_err(|e| err(&path, e))?;
         b.push_scope("env").map_err(|e| err(&path, e))?;
         let ev = env_values(first);
         let env = ENV_NAMES.iter().zip(ev).map(|(n, v)| b.add_real(n, v).map_err(|e| err(&path, e))).collect::<Result<Vec<_>, _>>()?;
         b.pop_scope().map_err(|e| err(&path, e))?;
 
-        // GTKWave save file: one group per block, contract ports first.
-        let name_of = |b: &VcdBuilder, id: SigId| b.gtkwave_name(id).map_err(|e| err(&path, e));
-        let port_names: Vec<(&str, u8)> = first.ports.values(&s).iter().map(|&(n, w, _)| (n, w)).collect();
-        let fmt_for = |n: &str, w: u8| match n {
-            "cnt_s" | "cnt_c" => Format::SignedDecimal,
-            "si" | "cnt_r" | "tmr" | "pw" | "pi" | "ps" | "si_max" | "si_min" | "t1" | "t2" | "cth" | "smp_on" | "fig17" | "fig18" => Format::Decimal,
-            _ if w > 1 => Format::Hex,
-            _ => Format::Binary,
-        };
+        // GTKWave save file: the contract ports first, then the inputs, one group per block, the
+        // internals; display formats from the signal table.
         let gerr = |e: pmu50_waves::gtkw::GtkwError| err(&path, e);
+        let trace = |gt: &mut GtkwSave, id: SigId, f: Format| -> Result<(), SimError> {
+            let n = b.gtkwave_name(id).map_err(|e| err(&path, e))?;
+            gt.trace(Trace::new(n).format(f)).map_err(gerr)
+        };
         gt.begin_group("ports", false).map_err(gerr)?;
-        for (id, &(n, _, _)) in inputs.iter().zip(first.inputs.values().iter()) {
-            if n == "ig" {
-                gt.trace(Trace::new(name_of(&b, *id)?)).map_err(gerr)?;
-            }
+        for (id, sig) in inputs.iter().zip(signals::INPUTS).filter(|(_, sig)| sig.contract) {
+            trace(&mut gt, *id, format_of(sig, &s))?;
         }
-        for (id, &(n, w)) in ports.iter().zip(&port_names) {
-            gt.trace(Trace::new(name_of(&b, *id)?).format(fmt_for(n, w))).map_err(gerr)?;
+        for (id, sig) in ports.iter().zip(signals::OUTPUTS) {
+            trace(&mut gt, *id, format_of(sig, &s))?;
         }
         gt.end_group().map_err(gerr)?;
         gt.begin_group("inputs", true).map_err(gerr)?;
-        for id in &inputs {
-            gt.trace(Trace::new(name_of(&b, *id)?)).map_err(gerr)?;
+        for (id, sig) in inputs.iter().zip(signals::INPUTS) {
+            trace(&mut gt, *id, format_of(sig, &s))?;
         }
         gt.end_group().map_err(gerr)?;
         let mut block = "";
-        for (id, r) in regs.iter().zip(&values) {
-            if r.block != block {
+        for (id, sig) in regs.iter().zip(signals::REGISTERS) {
+            if sig.scope != block {
                 if !block.is_empty() {
                     gt.end_group().map_err(gerr)?;
                 }
-                gt.begin_group(r.block, r.block == "register_file").map_err(gerr)?;
-                block = r.block;
+                gt.begin_group(sig.scope, COLLAPSED_BLOCKS.contains(&sig.scope)).map_err(gerr)?;
+                block = sig.scope;
             }
-            gt.trace(Trace::new(name_of(&b, *id)?).format(fmt_for(r.name, r.width))).map_err(gerr)?;
+            trace(&mut gt, *id, format_of(sig, &s))?;
         }
         gt.end_group().map_err(gerr)?;
         gt.begin_group("internals", true).map_err(gerr)?;
-        for (id, &(n, w, _)) in internals.iter().zip(first.internals.values().iter()) {
-            gt.trace(Trace::new(name_of(&b, *id)?).format(fmt_for(n, w))).map_err(gerr)?;
+        for (id, sig) in internals.iter().zip(signals::INTERNALS) {
+            trace(&mut gt, *id, format_of(sig, &s))?;
         }
         gt.end_group().map_err(gerr)?;
+        let name_of = |b: &VcdBuilder, id: SigId| b.gtkwave_name(id).map_err(|e| err(&path, e));
         gt.begin_group("env", false).map_err(gerr)?;
         let colors = [Color::Yellow, Color::Orange, Color::Green, Color::Red, Color::Violet, Color::Indigo, Color::Blue, Color::Yellow];
         for ((id, n), c) in env.iter().zip(ENV_NAMES).zip(colors) {
@@ -191,26 +198,18 @@ impl VcdObserver {
 
         let file = File::create(&path).map_err(|e| err(&path, e))?;
         let w = b.start(BufWriter::new(file)).map_err(|e| err(&path, e))?;
-        Ok(VcdObserver { w: Some(w), ids: Ids { inputs, ports, regs, internals, env }, unit_ns, s, path })
+        Ok(VcdObserver { w: Some(w), ids: Ids { inputs, ports, regs, internals, env }, unit_ns, path })
     }
 
     fn dump(&mut self, v: &TickView<'_>, with_inputs: bool) -> Result<(), SimError> {
         let path = self.path.clone();
         let w = self.w.as_mut().ok_or_else(|| err(&path, "writer already closed"))?;
         w.set_time(v.time_ns / self.unit_ns).map_err(|e| err(&path, e))?;
-        for (id, (_, _, val)) in self.ids.ports.iter().zip(v.ports.values(&self.s)) {
-            w.change_vector(*id, val).map_err(|e| err(&path, e))?;
-        }
-        for (id, r) in self.ids.regs.iter().zip(v.regs.values(&self.s)) {
-            w.change_vector(*id, r.value).map_err(|e| err(&path, e))?;
-        }
+        change_all(w, &self.ids.ports, signals::OUTPUTS, v.ports).map_err(|e| err(&path, e))?;
+        change_all(w, &self.ids.regs, signals::REGISTERS, v.regs).map_err(|e| err(&path, e))?;
         if with_inputs {
-            for (id, (_, _, val)) in self.ids.inputs.iter().zip(v.inputs.values()) {
-                w.change_vector(*id, val).map_err(|e| err(&path, e))?;
-            }
-            for (id, (_, _, val)) in self.ids.internals.iter().zip(v.internals.values()) {
-                w.change_vector(*id, val).map_err(|e| err(&path, e))?;
-            }
+            change_all(w, &self.ids.inputs, signals::INPUTS, v.inputs).map_err(|e| err(&path, e))?;
+            change_all(w, &self.ids.internals, signals::INTERNALS, v.internals).map_err(|e| err(&path, e))?;
             for (id, val) in self.ids.env.iter().zip(env_values(v)) {
                 w.change_real(*id, val).map_err(|e| err(&path, e))?;
             }

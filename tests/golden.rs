@@ -152,6 +152,10 @@ fn gtkwave_loader_reads_every_shipped_vcd_without_a_warning() {
     assert!(files.len() >= 7);
     for p in files {
         let sc = Scenario::load(&p).unwrap();
+        if sc.ticks > 1_000_000_000 {
+            // Days of parking have no VCD of every tick (issue 8); tests/skip_ahead.rs checks them.
+            continue;
+        }
         let half = sc.ticks / 2;
         for (tag, window) in [("full", None), ("window", Some((half / 2, half)))] {
             let d = dir.join(tag);

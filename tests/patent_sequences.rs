@@ -22,10 +22,10 @@ fn sim(sc: &Scenario) -> RunResult {
 fn changes(r: &RunResult) -> Vec<(f64, PulseRow)> {
     let mut out = Vec::new();
     let mut si = None;
-    for p in &r.pulses {
+    for p in r.pulses.iter() {
         if si != Some(p.si) {
-            out.push((f64::from(p.si) * r.clock_ns as f64 / 1e6, p.clone()));
             si = Some(p.si);
+            out.push((f64::from(p.si) * r.clock_ns as f64 / 1e6, p));
         }
     }
     out
@@ -51,18 +51,20 @@ fn fig15a_cs_then_cc_shortens_6_6_to_4_4_to_2_2() {
     assert_eq!((p.fig17, p.fig18), (Fig17::S6Shorten, Fig18::S28DetectedCc));
     // Cycle from st to st equals the interval decided at that pulse: the next pulse comes
     // exactly si ticks after this one.
-    let i = r.pulses.iter().position(|q| q == p).unwrap();
-    assert_eq!(r.pulses[i + 1].tick - p.tick, u64::from(p.si));
+    let rows = r.pulses.rows();
+    let i = rows.iter().position(|q| q == p).unwrap();
+    assert_eq!(rows[i + 1].tick - p.tick, u64::from(p.si));
 }
 
 #[test]
 fn fig15b_15c_a_second_change_of_the_same_sign_does_not_shorten_again() {
     let r = sim(&load("fig15b"));
-    let first = r.pulses.iter().position(|p| p.fig18 == Fig18::S23DetectedCs).expect("Cs change");
-    let again = r.pulses.iter().position(|p| p.fig18 == Fig18::S21CsRepeat).expect("Cs changes back");
+    let rows = r.pulses.rows();
+    let first = rows.iter().position(|p| p.fig18 == Fig18::S23DetectedCs).expect("Cs change");
+    let again = rows.iter().position(|p| p.fig18 == Fig18::S21CsRepeat).expect("Cs changes back");
     assert!(again > first);
-    assert_eq!(r.pulses[first].si, 440, "6.6 -> 4.4 ms at the first change");
-    let p = &r.pulses[again];
+    assert_eq!(rows[first].si, 440, "6.6 -> 4.4 ms at the first change");
+    let p = &rows[again];
     assert_eq!(p.si, 440, "no second shortening [0236]: {}", r.pulse_table());
     assert!(!p.cs && p.hist_s, "Cs is back at 0, history still stored");
     assert_eq!(p.fig17, Fig17::S9Count, "not a rotation: counts as a quiet pulse");
@@ -72,8 +74,9 @@ fn fig15b_15c_a_second_change_of_the_same_sign_does_not_shorten_again() {
 #[test]
 fn fig16_expands_2_2_3_3_4_4_5_5_6_6_and_stops_at_x() {
     let r = sim(&load("fig16"));
-    let at_min = r.pulses.iter().position(|p| p.si == 220).expect("reaches 2.2 ms");
-    let after = &r.pulses[at_min + 1..];
+    let rows = r.pulses.rows();
+    let at_min = rows.iter().position(|p| p.si == 220).expect("reaches 2.2 ms");
+    let after = &rows[at_min + 1..];
     // Cth = 4: four quiet pulses count 1..4, the fifth expands by T2 = 1.1 ms, and every later
     // quiet pulse expands again until x.
     let got: Vec<(Fig17, u8, u16)> = after.iter().take(10).map(|p| (p.fig17, p.cnt_r, p.si)).collect();
@@ -119,9 +122,10 @@ segments = [
         end = (t_ms + 8.0).round(),
     );
     let r = sim(&parse(&text));
-    let i = r.pulses.iter().position(|p| p.fig17 == Fig17::S10Expand).unwrap();
-    let p = &r.pulses[i + 1];
-    assert_eq!(r.pulses[i].si, 330);
+    let rows = r.pulses.rows();
+    let i = rows.iter().position(|p| p.fig17 == Fig17::S10Expand).unwrap();
+    let p = &rows[i + 1];
+    assert_eq!(rows[i].si, 330);
     assert_eq!((p.fig17, p.si), (Fig17::S6Shorten, 220), "3.3 ms - T1 clamps at the 2.2 ms minimum: {}", r.pulse_table());
 }
 
@@ -163,7 +167,7 @@ at = "5 ms"
 vs2_fault = true
 "#,
     ));
-    let faulted: Vec<&PulseRow> = r.pulses.iter().filter(|p| p.time_ns > 5_000_000).collect();
+    let faulted: Vec<PulseRow> = r.pulses.iter().filter(|p| p.time_ns > 5_000_000).collect();
     assert!(!faulted.is_empty());
     assert!(faulted.iter().all(|p| p.fig17 == Fig17::S1NoRise && p.si == 660 && p.cnt_r == 0), "{}", r.pulse_table());
     assert!(!r.final_ports.cs && !r.final_ports.cc, "Cs/Cc keep the last sampled values (third quadrant)");

@@ -85,7 +85,7 @@ fn stim(max_deg_per_ms: f64, vr_err: f64) -> impl Strategy<Value = Stim> {
 }
 
 fn counts_and_interval_invariants(r: &RunResult) -> Result<(), TestCaseError> {
-    for p in &r.pulses {
+    for p in r.pulses.iter() {
         prop_assert!((220..=660).contains(&p.si), "si {} outside [min, x]", p.si);
     }
     let w = r.cnt_width;
@@ -94,7 +94,7 @@ fn counts_and_interval_invariants(r: &RunResult) -> Result<(), TestCaseError> {
         prop_assert!(r.final_ports.diag, "a skipped quadrant sets diag");
     } else {
         prop_assert!(d.abs() <= 1, "|cnt_s - cnt_c| = {} without a skip", d.abs());
-        for p in &r.pulses {
+        for p in r.pulses.iter() {
             prop_assert!((p.cnt_s - p.cnt_c).abs() <= 1, "{p:?}");
         }
     }
@@ -159,6 +159,6 @@ fn fast_forward_skips_most_of_a_parked_hour_fraction() {
     // 10 s parked at x = 6.6 ms: only the windows and a few ticks around them are evaluated.
     let s = Stim { start: 10.0, segs: vec![Seg { ticks: 10, delta: 0.0 }], keys: vec![], vr_err: (0.0, 0.0), ticks: 1_000_000 };
     let r = sim(&s, true);
-    assert_eq!(r.pulses.len(), 1_000_000usize.div_ceil(660));
+    assert_eq!(r.pulses.len(), 1_000_000u64.div_ceil(660));
     assert!(r.evaluated_ticks * 10 < r.ticks, "evaluated {} of {}", r.evaluated_ticks, r.ticks);
 }

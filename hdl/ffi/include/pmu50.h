@@ -55,37 +55,94 @@ typedef struct pmu50_params {
     uint16_t smp_on;     /* SMP_ON (not 0) */
 } pmu50_params;
 
+/* BEGIN GENERATED from rtl_model/core/src/signals.rs; do not edit (hdl/ffi/tests/header.rs) */
+#define PMU50_INPUT_COUNT    7
+#define PMU50_OUTPUT_COUNT   23
+#define PMU50_REG_COUNT      26
+#define PMU50_INTERNAL_COUNT 9
+
 /* Inputs of one clock cycle (held during the cycle, sampled at the rising edge). */
 typedef struct pmu50_inputs {
-    uint8_t  ig;
-    uint8_t  vs2_ok;
-    uint8_t  cmp_s;
-    uint8_t  cmp_c;
-    uint8_t  bus_we;
-    uint8_t  bus_addr;
-    uint16_t bus_wdata;
+    uint8_t  ig;             /* [1] ignition key signal IG */
+    uint8_t  vs2_ok;         /* [1] Vs2 power-good from the analog rail monitor */
+    uint8_t  cmp_s;          /* [1] raw decision of comparator 58a (sin2 >= Vr) */
+    uint8_t  cmp_c;          /* [1] raw decision of comparator 58b (cos2 >= Vr) */
+    uint8_t  bus_we;         /* [1] register write strobe */
+    uint8_t  bus_addr;       /* [8] register address */
+    uint16_t bus_wdata;      /* [16] register write data */
 } pmu50_inputs;
 
-/* Top-level outputs, in the order of docs/signals.md and of the vector file columns.
- * cnt_s, cnt_c hold CNT_W bits (upper bits 0). */
+/* Top-level outputs, in the order of docs/signals.md and of the vector file columns. A
+ * field wider than its signal holds it in the low bits (upper bits 0). */
 typedef struct pmu50_outputs {
-    uint8_t  sig, vr_hi, vm_en, vs1_en, vs2_en, vp_en, rail_hi;
-    uint8_t  st, sr, ps_win, smp;
-    uint8_t  cs, cc;
-    uint16_t cnt_s, cnt_c;
-    uint8_t  cnt_r;
-    uint16_t si;
-    uint8_t  hist_s, hist_c, diag, quadrant_skip;
-    uint16_t bus_rdata;
-    uint8_t  bus_err;
+    uint8_t  sig;            /* [1] operation switching signal Sig */
+    uint8_t  vr_hi;          /* [1] regulator 51: 6 V (1) / 4 V (0) */
+    uint8_t  vm_en;          /* [1] power source Vm on (unit 52) */
+    uint8_t  vs1_en;         /* [1] first sensor power Vs1 on (unit 53) */
+    uint8_t  vs2_en;         /* [1] second sensor power Vs2 on (unit 54) */
+    uint8_t  vp_en;          /* [1] internal power Vp on (always 1) */
+    uint8_t  rail_hi;        /* [1] Vs2 and Vp at Vcc1 (1) / Vcc2 (0) */
+    uint8_t  st;             /* [1] timing signal St */
+    uint8_t  sr;             /* [1] activation signal Sr */
+    uint8_t  ps_win;         /* [1] inside the sampling period Ps */
+    uint8_t  smp;            /* [1] sampling strobe */
+    uint8_t  cs;             /* [1] sign signal Cs (latched) */
+    uint8_t  cc;             /* [1] sign signal Cc (latched) */
+    uint16_t cnt_s;          /* [CNT_W] sine count value CNTs */
+    uint16_t cnt_c;          /* [CNT_W] cosine count value CNTc */
+    uint8_t  cnt_r;          /* [8] power supply count CNTr */
+    uint16_t si;             /* [16] drive interval instruction Si, in ticks */
+    uint8_t  hist_s;         /* [1] change history of Cs */
+    uint8_t  hist_c;         /* [1] change history of Cc */
+    uint8_t  diag;           /* [1] count diagnosis */
+    uint8_t  quadrant_skip;  /* [1] sticky: both signs changed in one sample */
+    uint16_t bus_rdata;      /* [16] registered read data */
+    uint8_t  bus_err;        /* [1] sticky: a write was refused */
 } pmu50_outputs;
 
 /* Combinational internals of the cycle that ends at an edge (model VCD scope pmu50.internals,
  * twin scope pmu50.internals). fig17 / fig18: path codes of spec 2.6. */
 typedef struct pmu50_internals {
-    uint8_t kon, koff, upd, first, chg_s, chg_c, skip_clr;
-    uint8_t fig17, fig18;
+    uint8_t  kon;            /* [1] `sig` rises at this edge (key on) */
+    uint8_t  koff;           /* [1] `sig` falls at this edge (key off) */
+    uint8_t  upd;            /* [1] a sample is taken at this edge (`smp` & `sr`) */
+    uint8_t  first;          /* [1] this sample is the first since reset */
+    uint8_t  chg_s;          /* [1] `cs` changes at this edge */
+    uint8_t  chg_c;          /* [1] `cc` changes at this edge */
+    uint8_t  skip_clr;       /* [1] write-1-to-clear strobe of STATUS.quadrant_skip */
+    uint8_t  fig17;          /* [3] FIG. 17 path taken at this edge (spec 2.6) */
+    uint8_t  fig18;          /* [3] FIG. 18 path taken at this edge (spec 2.6) */
 } pmu50_internals;
+
+/* Registers by index (pmu50_reg_info, pmu50_reg_get, the rtl_regs array of pmu50_check):
+ *   0  action_switching.sync                  SYNC_DEPTH
+ *   1  register_file.adaptive                 1
+ *   2  register_file.pw                       16
+ *   3  register_file.pi                       16
+ *   4  register_file.ps                       16
+ *   5  register_file.si_max                   16
+ *   6  register_file.si_min                   16
+ *   7  register_file.t1                       16
+ *   8  register_file.t2                       16
+ *   9  register_file.cth                      8
+ *  10  register_file.smp_on                   16
+ *  11  register_file.bus_err                  1
+ *  12  register_file.rdata                    16
+ *  13  timing_generator.tmr                   16
+ *  14  sensor_power_determination.sr          1
+ *  15  comparator_latch.cs                    1
+ *  16  comparator_latch.cc                    1
+ *  17  comparator_latch.vld                   1
+ *  18  updown_counter.cnt_s                   CNT_W
+ *  19  updown_counter.cnt_c                   CNT_W
+ *  20  updown_counter.quadrant_skip           1
+ *  21  drive_interval.si                      16
+ *  22  drive_interval.hist_s                  1
+ *  23  drive_interval.hist_c                  1
+ *  24  drive_interval.cnt_r                   8
+ *  25  count_diagnosis.diag                   1
+ */
+/* END GENERATED */
 
 typedef struct pmu50_t pmu50_t; /* opaque */
 
@@ -120,8 +177,9 @@ uint64_t pmu50_tick(const pmu50_t *m);
 /* Register file read mux at `addr` in the current cycle (bus_rdata one edge later). */
 int pmu50_bus_read(const pmu50_t *m, uint8_t addr, uint16_t *out);
 
-/* Registers: every flip-flop of the core, in a fixed order (26 entries), named as the model's
- * VCD sub-scopes pmu50.<block>.<name> and as the twin's instances and regs. */
+/* Registers: every flip-flop of the core, in a fixed order (PMU50_REG_COUNT entries, listed
+ * above), named as the model's VCD sub-scopes pmu50.<block>.<name> and as the twin's instances
+ * and regs. */
 size_t pmu50_reg_count(void);
 /* block, name: static strings; width: bits in core `m` (NULL: default configuration). */
 int pmu50_reg_info(const pmu50_t *m, size_t index, const char **block, const char **name,
@@ -132,15 +190,33 @@ int pmu50_reg_get(const pmu50_t *m, size_t index, uint64_t *value);
 int pmu50_reg_find(const char *name);
 int pmu50_reg_get_by_name(const pmu50_t *m, const char *name, uint64_t *value);
 
-/* Outputs by index (23 entries, column order of the vector files). */
+/* Outputs by index (PMU50_OUTPUT_COUNT entries, column order of the vector files). */
 size_t pmu50_output_count(void);
 int pmu50_output_info(const pmu50_t *m, size_t index, const char **name, uint8_t *width);
 int pmu50_output_get(const pmu50_outputs *o, size_t index, uint64_t *value);
+/* Set output `index` (low bits of `value`): fill a struct from an RTL simulator by index. */
+int pmu50_output_set(pmu50_outputs *o, size_t index, uint64_t value);
 
-/* Internals by index (9 entries). */
+/* Internals by index (PMU50_INTERNAL_COUNT entries). */
 size_t pmu50_internal_count(void);
 int pmu50_internal_info(size_t index, const char **name, uint8_t *width);
 int pmu50_internal_get(const pmu50_internals *x, size_t index, uint64_t *value);
+int pmu50_internal_set(pmu50_internals *x, size_t index, uint64_t value);
+
+/* Lockstep compare (verification method 2), the one comparison every testbench uses: the RTL's
+ * values against the model's. Each set is optional (NULL: not compared):
+ *   rtl_outputs    the RTL's outputs after the last edge (tick = pmu50_tick(m));
+ *   rtl_regs       PMU50_REG_COUNT register values after the last edge, in register index order;
+ *   rtl_internals  the RTL's internals of the cycle that ended at the last edge, sampled before
+ *                  that edge (tick = pmu50_tick(m) - 1; needs a pmu50_step/_traced first).
+ * Returns the number of differing signals (0: equal) or a negative PMU50_ERR_*. The report is in
+ * pmu50_check_report(m), one line per difference, in table order:
+ *   MISMATCH tick=<k> signal=<path> expected=<model, hex> got=<rtl, hex>
+ * with <path> as below pmu50 in the VCD (si, drive_interval.si, internals.fig17). */
+int pmu50_check(pmu50_t *m, const pmu50_outputs *rtl_outputs, const uint64_t *rtl_regs,
+                const pmu50_internals *rtl_internals);
+/* Report of the last pmu50_check on `m` ("" when equal); valid until the next check on `m`. */
+const char *pmu50_check_report(const pmu50_t *m);
 
 #ifdef __cplusplus
 }

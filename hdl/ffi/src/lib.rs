@@ -16,8 +16,12 @@
 
 #![allow(non_camel_case_types)]
 
+pub mod mirror;
+
+pub use mirror::{pmu50_inputs, pmu50_internals, pmu50_outputs};
 use pmu50_core::pmu50::Structural;
-use pmu50_core::{Inputs, Internals, Outputs, Params, Pmu50};
+use pmu50_core::signals;
+use pmu50_core::{Inputs, Internals, Params, Pmu50};
 use std::cell::RefCell;
 use std::ffi::{c_char, c_int, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -49,67 +53,14 @@ pub struct pmu50_params {
     pub smp_on: u16,
 }
 
-/// Top-level inputs of one clock cycle (one rising edge).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct pmu50_inputs {
-    pub ig: u8,
-    pub vs2_ok: u8,
-    pub cmp_s: u8,
-    pub cmp_c: u8,
-    pub bus_we: u8,
-    pub bus_addr: u8,
-    pub bus_wdata: u16,
-}
-
-/// Top-level outputs (Moore), in the order of docs/signals.md and of the vector columns.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct pmu50_outputs {
-    pub sig: u8,
-    pub vr_hi: u8,
-    pub vm_en: u8,
-    pub vs1_en: u8,
-    pub vs2_en: u8,
-    pub vp_en: u8,
-    pub rail_hi: u8,
-    pub st: u8,
-    pub sr: u8,
-    pub ps_win: u8,
-    pub smp: u8,
-    pub cs: u8,
-    pub cc: u8,
-    pub cnt_s: u16,
-    pub cnt_c: u16,
-    pub cnt_r: u8,
-    pub si: u16,
-    pub hist_s: u8,
-    pub hist_c: u8,
-    pub diag: u8,
-    pub quadrant_skip: u8,
-    pub bus_rdata: u16,
-    pub bus_err: u8,
-}
-
-/// Combinational internals of the cycle that ends at the edge (model VCD scope `pmu50.internals`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct pmu50_internals {
-    pub kon: u8,
-    pub koff: u8,
-    pub upd: u8,
-    pub first: u8,
-    pub chg_s: u8,
-    pub chg_c: u8,
-    pub skip_clr: u8,
-    pub fig17: u8,
-    pub fig18: u8,
-}
-
 /// Opaque handle.
 pub struct pmu50_t {
     core: Pmu50,
     params: Params,
+    /// Internals of the cycle that ended at the last edge (`None` before the first edge).
+    last: Option<Internals>,
+    /// Report of the last `pmu50_check` (one `MISMATCH` line per difference).
+    report: CString,
 }
 
 // ------------------------------------------------------------------------------------------
@@ -153,183 +104,88 @@ impl From<pmu50_params> for Params {
     }
 }
 
-impl From<pmu50_inputs> for Inputs {
-    fn from(i: pmu50_inputs) -> Self {
-        Inputs {
-            ig: i.ig != 0,
-            vs2_ok: i.vs2_ok != 0,
-            cmp_s: i.cmp_s != 0,
-            cmp_c: i.cmp_c != 0,
-            bus_we: i.bus_we != 0,
-            bus_addr: i.bus_addr,
-            bus_wdata: i.bus_wdata,
-        }
-    }
+/// NUL-terminated copies of the table's names (static for the life of the library).
+struct Names {
+    outputs: Vec<CString>,
+    internals: Vec<CString>,
+    reg_scopes: Vec<CString>,
+    reg_names: Vec<CString>,
 }
 
-impl From<Outputs> for pmu50_outputs {
-    fn from(o: Outputs) -> Self {
-        let b = u8::from;
-        pmu50_outputs {
-            sig: b(o.sig),
-            vr_hi: b(o.vr_hi),
-            vm_en: b(o.vm_en),
-            vs1_en: b(o.vs1_en),
-            vs2_en: b(o.vs2_en),
-            vp_en: b(o.vp_en),
-            rail_hi: b(o.rail_hi),
-            st: b(o.st),
-            sr: b(o.sr),
-            ps_win: b(o.ps_win),
-            smp: b(o.smp),
-            cs: b(o.cs),
-            cc: b(o.cc),
-            cnt_s: o.cnt_s,
-            cnt_c: o.cnt_c,
-            cnt_r: o.cnt_r,
-            si: o.si,
-            hist_s: b(o.hist_s),
-            hist_c: b(o.hist_c),
-            diag: b(o.diag),
-            quadrant_skip: b(o.quadrant_skip),
-            bus_rdata: o.bus_rdata,
-            bus_err: b(o.bus_err),
-        }
-    }
-}
-
-impl From<Internals> for pmu50_internals {
-    fn from(i: Internals) -> Self {
-        let b = u8::from;
-        pmu50_internals {
-            kon: b(i.kon),
-            koff: b(i.koff),
-            upd: b(i.upd),
-            first: b(i.first),
-            chg_s: b(i.chg_s),
-            chg_c: b(i.chg_c),
-            skip_clr: b(i.skip_clr),
-            fig17: i.fig17 as u8,
-            fig18: i.fig18 as u8,
-        }
-    }
-}
-
-impl pmu50_outputs {
-    /// (name, value) of every output, in column order.
-    pub fn values(&self) -> [(&'static CStr, u64); 23] {
-        fn u<T: Into<u64>>(v: T) -> u64 {
-            v.into()
-        }
-        [
-            (c"sig", u(self.sig)),
-            (c"vr_hi", u(self.vr_hi)),
-            (c"vm_en", u(self.vm_en)),
-            (c"vs1_en", u(self.vs1_en)),
-            (c"vs2_en", u(self.vs2_en)),
-            (c"vp_en", u(self.vp_en)),
-            (c"rail_hi", u(self.rail_hi)),
-            (c"st", u(self.st)),
-            (c"sr", u(self.sr)),
-            (c"ps_win", u(self.ps_win)),
-            (c"smp", u(self.smp)),
-            (c"cs", u(self.cs)),
-            (c"cc", u(self.cc)),
-            (c"cnt_s", u(self.cnt_s)),
-            (c"cnt_c", u(self.cnt_c)),
-            (c"cnt_r", u(self.cnt_r)),
-            (c"si", u(self.si)),
-            (c"hist_s", u(self.hist_s)),
-            (c"hist_c", u(self.hist_c)),
-            (c"diag", u(self.diag)),
-            (c"quadrant_skip", u(self.quadrant_skip)),
-            (c"bus_rdata", u(self.bus_rdata)),
-            (c"bus_err", u(self.bus_err)),
-        ]
-    }
-}
-
-impl pmu50_internals {
-    /// (name, value) of every internal signal.
-    pub fn values(&self) -> [(&'static CStr, u64); 9] {
-        fn u<T: Into<u64>>(v: T) -> u64 {
-            v.into()
-        }
-        [
-            (c"kon", u(self.kon)),
-            (c"koff", u(self.koff)),
-            (c"upd", u(self.upd)),
-            (c"first", u(self.first)),
-            (c"chg_s", u(self.chg_s)),
-            (c"chg_c", u(self.chg_c)),
-            (c"skip_clr", u(self.skip_clr)),
-            (c"fig17", u(self.fig17)),
-            (c"fig18", u(self.fig18)),
-        ]
-    }
-}
-
-const OUTPUT_WIDTHS: [u8; 23] = [
-    1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0, 0, 8, 16, 1, 1, 1, 1, 16, 1,
-];
-const INTERNAL_WIDTHS: [u8; 9] = [1, 1, 1, 1, 1, 1, 1, 3, 3];
-
-/// Register names (`block`, `name`, `block.name`) in the order of `Regs::values`.
-struct RegName {
-    block: CString,
-    name: CString,
-    full: String,
-}
-
-fn reg_names() -> &'static [RegName] {
-    static NAMES: OnceLock<Vec<RegName>> = OnceLock::new();
+fn names() -> &'static Names {
+    static NAMES: OnceLock<Names> = OnceLock::new();
     NAMES.get_or_init(|| {
-        let p = Params::default();
-        let core = Pmu50::new(p).expect("default parameters are legal");
-        let s = core.structural();
-        core.regs()
-            .values(&s)
-            .iter()
-            .map(|r| RegName {
-                block: CString::new(r.block).unwrap_or_default(),
-                name: CString::new(r.name).unwrap_or_default(),
-                full: format!("{}.{}", r.block, r.name),
-            })
-            .collect()
+        let c = |s: &str| CString::new(s).unwrap_or_default();
+        Names {
+            outputs: signals::OUTPUTS.iter().map(|s| c(s.name)).collect(),
+            internals: signals::INTERNALS.iter().map(|s| c(s.name)).collect(),
+            reg_scopes: signals::REGISTERS.iter().map(|s| c(s.scope)).collect(),
+            reg_names: signals::REGISTERS.iter().map(|s| c(s.name)).collect(),
+        }
     })
 }
 
 /// Index of a register by `name`, `block.name` or `pmu50.block.name`; a bare name must be unique.
 pub fn find_register(query: &str) -> Result<usize, String> {
-    let q = query.strip_prefix("pmu50.").unwrap_or(query);
-    let names = reg_names();
-    if let Some(i) = names.iter().position(|r| r.full == q) {
-        return Ok(i);
+    signals::find_register(query).map_err(|e| e.to_string())
+}
+
+/// One difference found by [`check`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Mismatch {
+    /// Tick the value belongs to (edge number; for internals the cycle before that edge).
+    pub tick: u64,
+    /// Path below `pmu50`: `si`, `drive_interval.si`, `internals.fig17`.
+    pub signal: String,
+    pub width: u8,
+    /// The model's value.
+    pub expected: u64,
+    /// The RTL's value.
+    pub got: u64,
+}
+
+impl std::fmt::Display for Mismatch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let d = usize::from(self.width).div_ceil(4).max(1);
+        write!(f, "MISMATCH tick={} signal={} expected={:0d$x} got={:0d$x}", self.tick, self.signal, self.expected, self.got)
     }
-    let hits: Vec<usize> = names
-        .iter()
-        .enumerate()
-        .filter(|(_, r)| r.name.to_str() == Ok(q))
-        .map(|(i, _)| i)
-        .collect();
-    match hits.as_slice() {
-        [i] => Ok(*i),
-        [] => Err(format!(
-            "no register named `{query}`; valid: {}",
-            names
-                .iter()
-                .map(|r| r.full.as_str())
-                .collect::<Vec<_>>()
-                .join(", ")
-        )),
-        _ => Err(format!(
-            "register name `{query}` is ambiguous: {}",
-            hits.iter()
-                .map(|&i| names[i].full.as_str())
-                .collect::<Vec<_>>()
-                .join(", ")
-        )),
+}
+
+/// The lockstep comparison (verification method 2), once for every testbench: the RTL's
+/// outputs and registers after the last edge and its internals of the cycle before that edge,
+/// each optional, against the model's. Differences in table order.
+pub fn check(m: &pmu50_t, outputs: Option<&pmu50_outputs>, regs: Option<&[u64; signals::N_REGISTERS]>, internals: Option<&pmu50_internals>) -> Result<Vec<Mismatch>, String> {
+    let s = m.core.structural();
+    let tick = m.core.tick();
+    let mut out = Vec::new();
+    if let Some(rtl) = outputs {
+        let model = pmu50_outputs::from(m.core.peek()).values();
+        for ((sig, &e), g) in signals::OUTPUTS.iter().zip(&model).zip(rtl.values()) {
+            if e != g {
+                out.push(Mismatch { tick, signal: sig.path(), width: sig.bits(&s), expected: e, got: g });
+            }
+        }
     }
+    if let Some(rtl) = regs {
+        for (sig, &g) in signals::REGISTERS.iter().zip(rtl) {
+            let e = (sig.get)(m.core.regs());
+            if e != g {
+                out.push(Mismatch { tick, signal: sig.path(), width: sig.bits(&s), expected: e, got: g });
+            }
+        }
+    }
+    if let Some(rtl) = internals {
+        let Some(last) = m.last else {
+            return Err("internals can only be compared after a step (pmu50_step_traced)".to_string());
+        };
+        let model = pmu50_internals::from(last).values();
+        for ((sig, &e), g) in signals::INTERNALS.iter().zip(&model).zip(rtl.values()) {
+            if e != g {
+                out.push(Mismatch { tick: tick - 1, signal: sig.path(), width: sig.bits(&s), expected: e, got: g });
+            }
+        }
+    }
+    Ok(out)
 }
 
 // ------------------------------------------------------------------------------------------
@@ -442,7 +298,7 @@ pub unsafe extern "C" fn pmu50_new(p: *const pmu50_params) -> *mut pmu50_t {
         // SAFETY: checked non-null.
         let params: Params = unsafe { p.read() }.into();
         match Pmu50::new(params) {
-            Ok(core) => Box::into_raw(Box::new(pmu50_t { core, params })),
+            Ok(core) => Box::into_raw(Box::new(pmu50_t { core, params, last: None, report: CString::default() })),
             Err(e) => {
                 set_error(format!("pmu50_new: {e}"));
                 std::ptr::null_mut()
@@ -482,6 +338,7 @@ pub unsafe extern "C" fn pmu50_reset(m: *mut pmu50_t) -> c_int {
             return null("pmu50_reset", "m");
         };
         m.core.reset();
+        m.last = None;
         PMU50_OK
     })
 }
@@ -543,6 +400,7 @@ pub unsafe extern "C" fn pmu50_step_traced(
         // SAFETY: checked non-null.
         let inputs: Inputs = unsafe { i.read() }.into();
         let (_, int, out) = m.core.step_traced(&inputs);
+        m.last = Some(int);
         if !internals.is_null() {
             // SAFETY: checked non-null.
             unsafe { internals.write(int.into()) };
@@ -608,10 +466,20 @@ pub unsafe extern "C" fn pmu50_bus_read(m: *const pmu50_t, addr: u8, out: *mut u
     })
 }
 
-/// Number of registers (26).
+/// Number of registers (`PMU50_REG_COUNT`).
 #[no_mangle]
 pub extern "C" fn pmu50_reg_count() -> usize {
-    catch_unwind(reg_names).map_or(0, <[RegName]>::len)
+    signals::N_REGISTERS
+}
+
+/// The structural parameters of `m`, or the default configuration's for NULL.
+///
+/// # Safety
+/// `m` NULL or live.
+unsafe fn structural_of(m: *const pmu50_t) -> Structural {
+    let d = Params::default();
+    // SAFETY: the caller passes NULL or a live handle.
+    unsafe { m.as_ref() }.map_or(Structural { sync_depth: d.sync_depth, cnt_width: d.cnt_width }, |m| m.core.structural())
 }
 
 /// Name of register `index`: `block` (VCD sub-scope, e.g. "updown_counter"), `name` (e.g.
@@ -629,30 +497,20 @@ pub unsafe extern "C" fn pmu50_reg_info(
     width: *mut u8,
 ) -> c_int {
     guard("pmu50_reg_info", || {
-        let names = reg_names();
-        let Some(r) = names.get(index) else {
-            set_error(format!(
-                "pmu50_reg_info: index {index} out of range 0..{}",
-                names.len()
-            ));
+        let Some(r) = signals::REGISTERS.get(index) else {
+            set_error(format!("pmu50_reg_info: index {index} out of range 0..{}", signals::N_REGISTERS));
             return PMU50_ERR_RANGE;
         };
-        // SAFETY: the caller passes NULL or a live handle.
-        let s = unsafe { m.as_ref() }.map_or(
-            Structural {
-                sync_depth: 2,
-                cnt_width: 16,
-            },
-            |m| m.core.structural(),
-        );
-        let w = reg_widths(&s)[index];
+        // SAFETY: forwarded contract.
+        let w = r.bits(&unsafe { structural_of(m) });
+        let n = names();
         // SAFETY: each out pointer is checked non-null; the caller guarantees writability.
         unsafe {
             if !block.is_null() {
-                block.write(r.block.as_ptr());
+                block.write(n.reg_scopes[index].as_ptr());
             }
             if !name.is_null() {
-                name.write(r.name.as_ptr());
+                name.write(n.reg_names[index].as_ptr());
             }
             if !width.is_null() {
                 width.write(w);
@@ -660,11 +518,6 @@ pub unsafe extern "C" fn pmu50_reg_info(
         }
         PMU50_OK
     })
-}
-
-fn reg_widths(s: &Structural) -> Vec<u8> {
-    let core = Pmu50::new(Params::default()).expect("default parameters are legal");
-    core.regs().values(s).iter().map(|r| r.width).collect()
 }
 
 /// Value of register `index`.
@@ -681,16 +534,12 @@ pub unsafe extern "C" fn pmu50_reg_get(m: *const pmu50_t, index: usize, value: *
         if value.is_null() {
             return null("pmu50_reg_get", "value");
         }
-        let vals = m.core.regs().values(&m.core.structural());
-        let Some(r) = vals.get(index) else {
-            set_error(format!(
-                "pmu50_reg_get: index {index} out of range 0..{}",
-                vals.len()
-            ));
+        let Some(r) = signals::REGISTERS.get(index) else {
+            set_error(format!("pmu50_reg_get: index {index} out of range 0..{}", signals::N_REGISTERS));
             return PMU50_ERR_RANGE;
         };
         // SAFETY: checked non-null.
-        unsafe { value.write(r.value) };
+        unsafe { value.write((r.get)(m.core.regs())) };
         PMU50_OK
     })
 }
@@ -740,10 +589,10 @@ pub unsafe extern "C" fn pmu50_reg_get_by_name(
     unsafe { pmu50_reg_get(m, i as usize, value) }
 }
 
-/// Number of top-level outputs (23).
+/// Number of top-level outputs (`PMU50_OUTPUT_COUNT`).
 #[no_mangle]
 pub extern "C" fn pmu50_output_count() -> usize {
-    OUTPUT_WIDTHS.len()
+    signals::N_OUTPUTS
 }
 
 /// Name (static) and width of output `index` in the core `m` (NULL: default configuration, cnt
@@ -759,11 +608,14 @@ pub unsafe extern "C" fn pmu50_output_info(
     width: *mut u8,
 ) -> c_int {
     guard("pmu50_output_info", || {
-        // SAFETY: the caller passes NULL or a live handle.
-        let cw = unsafe { m.as_ref() }.map_or(16, |m| m.core.structural().cnt_width);
-        let widths = OUTPUT_WIDTHS.map(|w| if w == 0 { cw } else { w });
+        // SAFETY: forwarded contract.
+        let s = unsafe { structural_of(m) };
+        let Some(sig) = signals::OUTPUTS.get(index) else {
+            set_error(format!("pmu50_output_info: index {index} out of range 0..{}", signals::N_OUTPUTS));
+            return PMU50_ERR_RANGE;
+        };
         // SAFETY: the caller passes NULL or writable out pointers.
-        unsafe { write_info("pmu50_output_info", &pmu50_outputs::default().values(), &widths, index, name, width) }
+        unsafe { write_info(&names().outputs[index], sig.bits(&s), name, width) }
     })
 }
 
@@ -783,14 +635,34 @@ pub unsafe extern "C" fn pmu50_output_get(
             return null("pmu50_output_get", "o");
         };
         // SAFETY: the caller passes NULL or a writable pointer.
-        unsafe { write_value("pmu50_output_get", &o.values(), index, value) }
+        unsafe { write_value("pmu50_output_get", o.get(index), signals::N_OUTPUTS, index, value) }
     })
 }
 
-/// Number of internal signals (9).
+/// Set output `index` of an outputs struct (low bits of `value`), e.g. to fill it from an RTL
+/// simulator by index.
+///
+/// # Safety
+/// `o` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn pmu50_output_set(o: *mut pmu50_outputs, index: usize, value: u64) -> c_int {
+    guard("pmu50_output_set", || {
+        // SAFETY: the caller passes NULL or a writable struct.
+        let Some(o) = (unsafe { o.as_mut() }) else {
+            return null("pmu50_output_set", "o");
+        };
+        if !o.set(index, value) {
+            set_error(format!("pmu50_output_set: index {index} out of range 0..{}", signals::N_OUTPUTS));
+            return PMU50_ERR_RANGE;
+        }
+        PMU50_OK
+    })
+}
+
+/// Number of internal signals (`PMU50_INTERNAL_COUNT`).
 #[no_mangle]
 pub extern "C" fn pmu50_internal_count() -> usize {
-    INTERNAL_WIDTHS.len()
+    signals::N_INTERNALS
 }
 
 /// Name (static) and width of internal signal `index`; out pointers may be NULL.
@@ -804,8 +676,15 @@ pub unsafe extern "C" fn pmu50_internal_info(
     width: *mut u8,
 ) -> c_int {
     guard("pmu50_internal_info", || {
+        let Some(sig) = signals::INTERNALS.get(index) else {
+            set_error(format!("pmu50_internal_info: index {index} out of range 0..{}", signals::N_INTERNALS));
+            return PMU50_ERR_RANGE;
+        };
+        // Internals have fixed widths.
+        // SAFETY: forwarded contract (NULL core: default configuration).
+        let w = sig.bits(&unsafe { structural_of(std::ptr::null()) });
         // SAFETY: the caller passes NULL or writable out pointers.
-        unsafe { write_info("pmu50_internal_info", &pmu50_internals::default().values(), &INTERNAL_WIDTHS, index, name, width) }
+        unsafe { write_info(&names().internals[index], w, name, width) }
     })
 }
 
@@ -825,24 +704,92 @@ pub unsafe extern "C" fn pmu50_internal_get(
             return null("pmu50_internal_get", "x");
         };
         // SAFETY: the caller passes NULL or a writable pointer.
-        unsafe { write_value("pmu50_internal_get", &x.values(), index, value) }
+        unsafe { write_value("pmu50_internal_get", x.get(index), signals::N_INTERNALS, index, value) }
     })
 }
 
-/// Shared body of the indexed value getters: value `index` of `vals` into `value`.
+/// Set internal signal `index` of an internals struct.
+///
+/// # Safety
+/// `x` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn pmu50_internal_set(x: *mut pmu50_internals, index: usize, value: u64) -> c_int {
+    guard("pmu50_internal_set", || {
+        // SAFETY: the caller passes NULL or a writable struct.
+        let Some(x) = (unsafe { x.as_mut() }) else {
+            return null("pmu50_internal_set", "x");
+        };
+        if !x.set(index, value) {
+            set_error(format!("pmu50_internal_set: index {index} out of range 0..{}", signals::N_INTERNALS));
+            return PMU50_ERR_RANGE;
+        }
+        PMU50_OK
+    })
+}
+
+/// Lockstep compare (verification method 2): the RTL's values against the model's. Each set is
+/// optional (NULL: not compared): `rtl_outputs` and `rtl_regs` (`PMU50_REG_COUNT` values in
+/// register index order) after the last edge, `rtl_internals` of the cycle that ended at the last
+/// edge (sampled before it). Returns the number of differing signals (0: all equal) or a negative
+/// error code; the report, one line per difference, is in `pmu50_check_report(m)`.
+///
+/// # Safety
+/// `m` NULL or live; `rtl_outputs`, `rtl_internals` NULL or readable; `rtl_regs` NULL or
+/// `PMU50_REG_COUNT` readable values.
+#[no_mangle]
+pub unsafe extern "C" fn pmu50_check(
+    m: *mut pmu50_t,
+    rtl_outputs: *const pmu50_outputs,
+    rtl_regs: *const u64,
+    rtl_internals: *const pmu50_internals,
+) -> c_int {
+    guard("pmu50_check", || {
+        // SAFETY: the caller passes NULL or a live handle.
+        let Some(m) = (unsafe { m.as_mut() }) else {
+            return null("pmu50_check", "m");
+        };
+        // SAFETY: NULL or readable, by contract (`rtl_regs`: PMU50_REG_COUNT values).
+        let (o, r, x) = unsafe { (rtl_outputs.as_ref(), rtl_regs.cast::<[u64; signals::N_REGISTERS]>().as_ref(), rtl_internals.as_ref()) };
+        match check(m, o, r, x) {
+            Ok(diffs) => {
+                let text: String = diffs.iter().map(|d| format!("{d}\n")).collect();
+                m.report = CString::new(text).unwrap_or_default();
+                c_int::try_from(diffs.len()).unwrap_or(c_int::MAX)
+            }
+            Err(e) => {
+                set_error(format!("pmu50_check: {e}"));
+                PMU50_ERR_RANGE
+            }
+        }
+    })
+}
+
+/// Report of the last `pmu50_check` on `m`: one line per difference,
+/// `MISMATCH tick=<k> signal=<path> expected=<model, hex> got=<rtl, hex>`; "" when equal or NULL.
+/// Valid until the next `pmu50_check` on `m`.
+///
+/// # Safety
+/// `m` NULL or live.
+#[no_mangle]
+pub unsafe extern "C" fn pmu50_check_report(m: *const pmu50_t) -> *const c_char {
+    // SAFETY: the caller passes NULL or a live handle.
+    unsafe { m.as_ref() }.map_or(c"".as_ptr(), |m| m.report.as_ptr())
+}
+
+/// Shared body of the indexed value getters.
 ///
 /// # Safety
 /// `value` NULL or writable.
-unsafe fn write_value(what: &str, vals: &[(&'static CStr, u64)], index: usize, value: *mut u64) -> c_int {
+unsafe fn write_value(what: &str, v: Option<u64>, len: usize, index: usize, value: *mut u64) -> c_int {
     if value.is_null() {
         return null(what, "value");
     }
-    let Some((_, v)) = vals.get(index) else {
-        set_error(format!("{what}: index {index} out of range 0..{}", vals.len()));
+    let Some(v) = v else {
+        set_error(format!("{what}: index {index} out of range 0..{len}"));
         return PMU50_ERR_RANGE;
     };
     // SAFETY: checked non-null; the caller guarantees writable.
-    unsafe { value.write(*v) };
+    unsafe { value.write(v) };
     PMU50_OK
 }
 
@@ -850,11 +797,7 @@ unsafe fn write_value(what: &str, vals: &[(&'static CStr, u64)], index: usize, v
 ///
 /// # Safety
 /// `name` and `width` NULL or writable.
-unsafe fn write_info(what: &str, vals: &[(&'static CStr, u64)], widths: &[u8], index: usize, name: *mut *const c_char, width: *mut u8) -> c_int {
-    let (Some((n, _)), Some(&w)) = (vals.get(index), widths.get(index)) else {
-        set_error(format!("{what}: index {index} out of range 0..{}", vals.len()));
-        return PMU50_ERR_RANGE;
-    };
+unsafe fn write_info(n: &'static CStr, w: u8, name: *mut *const c_char, width: *mut u8) -> c_int {
     // SAFETY: checked non-null; the caller guarantees writable.
     unsafe {
         if !name.is_null() {
@@ -921,13 +864,14 @@ mod tests {
             let mut o = pmu50_outputs::default();
             let mut x = pmu50_internals::default();
             for k in 0..5000u32 {
-                let i = pmu50_inputs {
-                    ig: u8::from(k % 3000 > 1500),
-                    vs2_ok: 1,
-                    cmp_s: u8::from(k % 700 > 350),
-                    cmp_c: u8::from(k % 500 > 250),
+                let core_in = Inputs {
+                    ig: k % 3000 > 1500,
+                    vs2_ok: true,
+                    cmp_s: k % 700 > 350,
+                    cmp_c: k % 500 > 250,
                     ..Default::default()
                 };
+                let i = pmu50_inputs::from(core_in);
                 assert_eq!(pmu50_step_traced(m, &i, &mut x, &mut o), PMU50_OK);
                 let (_, int, out) = core.step_traced(&i.into());
                 assert_eq!(o, out.into());
@@ -941,7 +885,8 @@ mod tests {
             assert_eq!(pmu50_reg_find(c"nope".as_ptr()), PMU50_ERR_NAME);
             let mut v = 0u64;
             assert_eq!(pmu50_reg_get_by_name(m, c"si".as_ptr(), &mut v), PMU50_OK);
-            assert_eq!(v, u64::from(o.si));
+            let si = signals::OUTPUTS.iter().position(|s| s.name == "si").unwrap();
+            assert_eq!(Some(v), o.get(si));
             let mut w = 0u8;
             let mut b: *const c_char = ptr::null();
             assert_eq!(
@@ -954,6 +899,52 @@ mod tests {
             let mut q = pmu50_params::default();
             assert_eq!(pmu50_get_params(m, &mut q), PMU50_OK);
             assert_eq!(q, p);
+            pmu50_free(m);
+        }
+    }
+
+    #[test]
+    fn check_names_tick_signal_expected_and_got() {
+        let mut p = pmu50_params::default();
+        // SAFETY: valid pointers; the handle is freed at the end.
+        unsafe {
+            pmu50_params_default(&mut p);
+            let m = pmu50_new(&p);
+            let on = pmu50_inputs::from(Inputs { ig: true, vs2_ok: true, ..Default::default() });
+            let mut after = pmu50_outputs::default();
+            let mut x = pmu50_internals::default();
+            let mut regs = [0u64; signals::N_REGISTERS];
+            for _ in 0..3 {
+                assert_eq!(pmu50_step_traced(m, &on, &mut x, &mut after), PMU50_OK);
+            }
+            for (k, r) in regs.iter_mut().enumerate() {
+                assert_eq!(pmu50_reg_get(m, k, r), PMU50_OK);
+            }
+            // The model's own values: no difference.
+            assert_eq!(pmu50_check(m, &after, regs.as_ptr(), &x), 0);
+            assert_eq!(CStr::from_ptr(pmu50_check_report(m)).to_str().unwrap(), "");
+            // One output, one register and one internal wrong.
+            let si_out = signals::OUTPUTS.iter().position(|s| s.name == "si").unwrap();
+            let si_reg = find_register("drive_interval.si").unwrap();
+            let fig17 = signals::INTERNALS.iter().position(|s| s.name == "fig17").unwrap();
+            let (mut o2, mut r2, mut x2) = (after, regs, x);
+            assert_eq!(pmu50_output_set(&mut o2, si_out, 0x1b8), PMU50_OK);
+            r2[si_reg] = 0x1b8;
+            assert_eq!(pmu50_internal_set(&mut x2, fig17, 6), PMU50_OK);
+            assert_eq!(pmu50_check(m, &o2, r2.as_ptr(), &x2), 3);
+            let report = CStr::from_ptr(pmu50_check_report(m)).to_str().unwrap().to_string();
+            assert_eq!(
+                report,
+                "MISMATCH tick=3 signal=si expected=0294 got=01b8\n\
+                 MISMATCH tick=3 signal=drive_interval.si expected=0294 got=01b8\n\
+                 MISMATCH tick=2 signal=internals.fig17 expected=0 got=6\n"
+            );
+            // Each set is optional.
+            assert_eq!(pmu50_check(m, ptr::null(), ptr::null(), &x2), 1);
+            assert_eq!(pmu50_check(ptr::null_mut(), &o2, ptr::null(), ptr::null()), PMU50_ERR_NULL);
+            pmu50_reset(m);
+            assert_eq!(pmu50_check(m, ptr::null(), ptr::null(), &x), PMU50_ERR_RANGE, "no internals before a step");
+            assert!(last_error().contains("after a step"), "{}", last_error());
             pmu50_free(m);
         }
     }

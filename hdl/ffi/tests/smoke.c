@@ -52,7 +52,7 @@ int main(void) {
     uint16_t r = 0;
     CHECK(pmu50_bus_read(m, 0x00, &r) == PMU50_OK && r == 0x5050);
 
-    CHECK(pmu50_reg_count() == 26 && pmu50_output_count() == 23 && pmu50_internal_count() == 9);
+    CHECK(pmu50_reg_count() == PMU50_REG_COUNT && pmu50_output_count() == PMU50_OUTPUT_COUNT && pmu50_internal_count() == PMU50_INTERNAL_COUNT);
     const char *block = NULL, *name = NULL;
     uint8_t w = 0;
     CHECK(pmu50_reg_info(m, 18, &block, &name, &w) == PMU50_OK);
@@ -60,6 +60,28 @@ int main(void) {
     CHECK(pmu50_reg_info(m, 26, NULL, NULL, NULL) == PMU50_ERR_RANGE);
     CHECK(pmu50_output_info(m, 16, &name, &w) == PMU50_OK && strcmp(name, "si") == 0 && w == 16);
     CHECK(pmu50_output_get(&o, 0, &v) == PMU50_OK && v == o.sig);
+
+    /* The C mirror structs have the layout the library computes: fields set by index are the
+     * named fields. */
+    pmu50_outputs t;
+    memset(&t, 0, sizeof t);
+    for (size_t i = 0; i < PMU50_OUTPUT_COUNT; i++) CHECK(pmu50_output_set(&t, i, i + 1) == PMU50_OK);
+    CHECK(t.sig == 1 && t.cc == 13 && t.cnt_s == 14 && t.cnt_c == 15 && t.cnt_r == 16 && t.si == 17);
+    CHECK(t.quadrant_skip == 21 && t.bus_rdata == 22 && t.bus_err == 23);
+    pmu50_internals ti;
+    memset(&ti, 0, sizeof ti);
+    for (size_t i = 0; i < PMU50_INTERNAL_COUNT; i++) CHECK(pmu50_internal_set(&ti, i, i + 1) == PMU50_OK);
+    CHECK(ti.kon == 1 && ti.skip_clr == 7 && ti.fig17 == 8 && ti.fig18 == 9);
+    CHECK(pmu50_output_set(&t, PMU50_OUTPUT_COUNT, 0) == PMU50_ERR_RANGE);
+
+    /* Lockstep compare: the model's own values are equal; one wrong output is reported. */
+    CHECK(pmu50_step_traced(m, &in, &x, &o) == PMU50_OK);
+    uint64_t regs[PMU50_REG_COUNT];
+    for (size_t i = 0; i < PMU50_REG_COUNT; i++) CHECK(pmu50_reg_get(m, i, &regs[i]) == PMU50_OK);
+    CHECK(pmu50_check(m, &o, regs, &x) == 0 && strcmp(pmu50_check_report(m), "") == 0);
+    o.si ^= 1;
+    CHECK(pmu50_check(m, &o, NULL, NULL) == 1);
+    CHECK(strstr(pmu50_check_report(m), "MISMATCH tick=5 signal=si expected=0294 got=0295") != NULL);
 
     CHECK(pmu50_reset(m) == PMU50_OK && pmu50_tick(m) == 0);
     pmu50_params q;

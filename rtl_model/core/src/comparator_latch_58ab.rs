@@ -20,8 +20,8 @@
 //! | `cmp_s`, `cmp_c` | 1 | in | raw comparator decisions (sin2 >= Vr, cos2 >= Vr) |
 //! | `smp`    | 1     | in  | sampling strobe |
 //! | `sr`     | 1     | in  | activation signal |
-//! | `cs`, `cc` | 1   | out | latched sign signals (registers) |
-//! | `upd`    | 1     | out | a sample is taken at this edge (`smp` & `sr`) |
+//! | `cs`, `cc` | 1   | out | latched sign signals (registered, [`outputs`]) |
+//! | `upd`    | 1     | out | a sample is taken at this edge (`smp` & `sr`); this and the rows below are combinational ([`Comb`], from [`eval`]) |
 //! | `first`  | 1     | out | this sample is the first since reset |
 //! | `cs_new`, `cc_new` | 1 | out | the values `cs`/`cc` take at this edge |
 //! | `chg_s`, `chg_c` | 1 | out | `cs`/`cc` change at this edge (never on the first sample) |
@@ -49,10 +49,16 @@ pub struct Inputs {
     pub sr: bool,
 }
 
+/// Registered outputs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct Outputs {
     pub cs: bool,
     pub cc: bool,
+}
+
+/// Combinational outputs of the cycle (they depend on this cycle's inputs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Comb {
     pub upd: bool,
     pub first: bool,
     pub cs_new: bool,
@@ -61,14 +67,18 @@ pub struct Outputs {
     pub chg_c: bool,
 }
 
-pub fn eval(r: &Regs, i: &Inputs) -> (Outputs, Regs) {
+/// Registered outputs, decoded from the registers.
+pub fn outputs(r: &Regs) -> Outputs {
+    Outputs { cs: r.cs, cc: r.cc }
+}
+
+/// Pure next-state function, with the combinational outputs of the cycle.
+pub fn eval(r: &Regs, i: &Inputs) -> (Comb, Regs) {
     let upd = i.smp && i.sr;
     let first = upd && !r.vld;
     let (cs_new, cc_new) = if upd { (i.cmp_s, i.cmp_c) } else { (r.cs, r.cc) };
     let counted = upd && r.vld;
-    let o = Outputs {
-        cs: r.cs,
-        cc: r.cc,
+    let o = Comb {
         upd,
         first,
         cs_new,

@@ -28,7 +28,11 @@ impl Dur {
     pub const fn ms(v: u64) -> Dur {
         Dur(v * 1_000_000)
     }
-    /// Parse `"<decimal> <unit>"`, unit one of `s`, `ms`, `us` (or `µs`), `ns`; space optional.
+    pub const HOUR_NS: u64 = 3_600_000_000_000;
+    pub const DAY_NS: u64 = 86_400_000_000_000;
+
+    /// Parse `"<decimal> <unit>"`, unit one of `d` (86 400 s), `h` (3 600 s), `s`, `ms`, `us`
+    /// (or `µs`), `ns`; space optional. Hours and days are for parked runs (`"30 d"`, `"12 h"`).
     pub fn parse(text: &str) -> Result<Dur, DurParseError> {
         let t = text.trim();
         let split = t
@@ -38,6 +42,8 @@ impl Dur {
         let num = num.trim();
         let unit = unit.trim();
         let scale: u64 = match unit {
+            "d" => Dur::DAY_NS,
+            "h" => Dur::HOUR_NS,
             "s" => 1_000_000_000,
             "ms" => 1_000_000,
             "us" | "µs" => 1_000,
@@ -78,9 +84,15 @@ impl Dur {
 }
 
 impl fmt::Display for Dur {
-    /// Shortest exact form: `2.2 ms`, `220 us`, `10 ns`.
+    /// Shortest exact form: `2.2 ms`, `220 us`, `10 ns`; whole days and hours as `30 d`, `12 h`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let v = self.0;
+        if v > 0 && v.is_multiple_of(Dur::DAY_NS) {
+            return write!(f, "{} d", v / Dur::DAY_NS);
+        }
+        if v > 0 && v.is_multiple_of(Dur::HOUR_NS) {
+            return write!(f, "{} h", v / Dur::HOUR_NS);
+        }
         let (scale, unit) = if v >= 1_000_000_000 {
             (1_000_000_000, "s")
         } else if v >= 1_000_000 {
@@ -104,9 +116,9 @@ impl fmt::Display for Dur {
 
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum DurParseError {
-    #[error("duration `{0}` has no unit; write it as e.g. \"2.2 ms\", \"220 us\", \"10 ns\" (units: s, ms, us, ns)")]
+    #[error("duration `{0}` has no unit; write it as e.g. \"2.2 ms\", \"220 us\", \"10 ns\", \"12 h\" (units: s, ms, us, ns, h, d)")]
     MissingUnit(String),
-    #[error("duration `{0}` has unknown unit `{1}`; valid units are s, ms, us, ns")]
+    #[error("duration `{0}` has unknown unit `{1}`; valid units are s, ms, us, ns, and h, d for hours and days")]
     BadUnit(String, String),
     #[error("duration `{0}` is negative; durations are zero or positive")]
     Negative(String),
@@ -283,8 +295,29 @@ mod tests {
     }
 
     #[test]
+    fn hours_and_days() {
+        assert_eq!(Dur::parse("30 d"), Ok(Dur(30 * 86_400 * 1_000_000_000)));
+        assert_eq!(Dur::parse("12 h"), Ok(Dur(12 * 3_600 * 1_000_000_000)));
+        assert_eq!(Dur::parse("1.5h"), Ok(Dur(5_400 * 1_000_000_000)));
+        assert_eq!(Dur::parse("0.25 d"), Ok(Dur(6 * 3_600 * 1_000_000_000)));
+        // 1e-11 h = 36 ns exactly; 1e-13 h = 0.36 ns is below the resolution.
+        assert_eq!(Dur::parse("0.00000000001 h"), Ok(Dur(36)));
+        assert!(matches!(Dur::parse("0.0000000000001 h"), Err(DurParseError::SubNanosecond(_))));
+        assert!(matches!(Dur::parse("213503 d"), Ok(_)));
+        assert!(matches!(Dur::parse("213504 d"), Err(DurParseError::TooLarge(_))));
+        assert!(matches!(Dur::parse("-1 d"), Err(DurParseError::Negative(_))));
+        assert!(matches!(Dur::parse("2 days"), Err(DurParseError::BadUnit(..))));
+        let e = Dur::parse("2 min").unwrap_err().to_string();
+        assert!(e.contains("s, ms, us, ns, and h, d"), "{e}");
+        assert_eq!(Dur::parse("30 d").unwrap().to_string(), "30 d");
+        assert_eq!(Dur::parse("36 h").unwrap().to_string(), "36 h");
+        assert_eq!(Dur::parse("48 h").unwrap().to_string(), "2 d");
+        assert_eq!(Dur::parse("5400 s").unwrap().to_string(), "5400 s");
+    }
+
+    #[test]
     fn display_round_trips() {
-        for s in ["2.2 ms", "220 us", "10 ns", "1 s", "1.000001 s", "6.6 ms", "0 ns"] {
+        for s in ["2.2 ms", "220 us", "10 ns", "1 s", "1.000001 s", "6.6 ms", "0 ns", "30 d", "12 h", "3601 s"] {
             let d = Dur::parse(s).unwrap();
             assert_eq!(d.to_string(), s);
             assert_eq!(Dur::parse(&d.to_string()), Ok(d));

@@ -17,8 +17,10 @@
 //! |------------|-------|-----|---------|
 //! | `cnt_s_nxt`, `cnt_c_nxt` | W | in | counter values after this edge |
 //! | `skip_nxt` | 1     | in  | `quadrant_skip` after this edge |
-//! | `cnt_width`| 5     | in  | structural parameter |
-//! | `diag`     | 1     | out | diagnosis flag |
+//! | `diag`     | 1     | out | diagnosis flag (registered, [`CountDiagnosis::outputs`]) |
+//!
+//! Structural parameter, fixed when the block is built ([`CountDiagnosis::new`]): `cnt_width`
+//! (`CNT_W`) = W.
 //!
 //! | register | width | reset | meaning |
 //! |----------|-------|-------|---------|
@@ -38,7 +40,6 @@ pub struct Inputs {
     pub cnt_s_nxt: u16,
     pub cnt_c_nxt: u16,
     pub skip_nxt: bool,
-    pub cnt_width: u8,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -51,9 +52,27 @@ pub fn difference(cnt_s: u16, cnt_c: u16, width: u8) -> i32 {
     sext(cnt_s.wrapping_sub(cnt_c) & mask(width), width)
 }
 
-pub fn eval(r: &Regs, i: &Inputs) -> (Outputs, Regs) {
-    let d = difference(i.cnt_s_nxt, i.cnt_c_nxt, i.cnt_width);
-    (Outputs { diag: r.diag }, Regs { diag: d.abs() >= 2 || i.skip_nxt })
+/// The flag with its structural parameter, fixed at construction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CountDiagnosis {
+    cnt_width: u8,
+}
+
+impl CountDiagnosis {
+    pub const fn new(cnt_width: u8) -> Self {
+        CountDiagnosis { cnt_width }
+    }
+
+    /// Registered outputs, decoded from the registers.
+    pub fn outputs(&self, r: &Regs) -> Outputs {
+        Outputs { diag: r.diag }
+    }
+
+    /// Pure next-state function (no combinational outputs).
+    pub fn eval(&self, _r: &Regs, i: &Inputs) -> Regs {
+        let d = difference(i.cnt_s_nxt, i.cnt_c_nxt, self.cnt_width);
+        Regs { diag: d.abs() >= 2 || i.skip_nxt }
+    }
 }
 
 #[cfg(test)]
@@ -61,7 +80,7 @@ mod tests {
     use super::*;
 
     fn diag(s: u16, c: u16, skip: bool, w: u8) -> bool {
-        eval(&RESET, &Inputs { cnt_s_nxt: s, cnt_c_nxt: c, skip_nxt: skip, cnt_width: w }).1.diag
+        CountDiagnosis::new(w).eval(&RESET, &Inputs { cnt_s_nxt: s, cnt_c_nxt: c, skip_nxt: skip }).diag
     }
 
     #[test]

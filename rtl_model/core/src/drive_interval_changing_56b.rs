@@ -59,11 +59,11 @@
 //! | `si_min`, `si_max`, `t1`, `t2` | 16 | in | programmed values in ticks |
 //! | `si_max_nxt` | 16  | in  | SI_MAX after this edge (register file next state), loaded at `koff` |
 //! | `cth`    | 8     | in  | count threshold Cth |
-//! | `si`     | 16    | out | drive interval instruction Si in ticks |
-//! | `hist_s`, `hist_c` | 1 | out | change history flip-flops |
-//! | `cnt_r`  | 8     | out | power supply count CNTr |
-//! | `fig17`  | 3     | out | FIG. 17 path taken at this edge ([`Fig17`]) |
-//! | `fig18`  | 3     | out | FIG. 18 path taken at this edge ([`Fig18`]) |
+//! | `si`     | 16    | out | drive interval instruction Si in ticks (registered, [`outputs`]) |
+//! | `hist_s`, `hist_c` | 1 | out | change history flip-flops (registered) |
+//! | `cnt_r`  | 8     | out | power supply count CNTr (registered) |
+//! | `fig17`  | 3     | out | FIG. 17 path taken at this edge ([`Fig17`]; combinational, [`Comb`] from [`eval`]) |
+//! | `fig18`  | 3     | out | FIG. 18 path taken at this edge ([`Fig18`]; combinational) |
 //!
 //! | register | width | reset | meaning |
 //! |----------|-------|-------|---------|
@@ -148,14 +148,25 @@ pub struct Inputs {
     pub cth: u8,
 }
 
+/// Registered outputs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct Outputs {
     pub si: u16,
     pub hist_s: bool,
     pub hist_c: bool,
     pub cnt_r: u8,
+}
+
+/// Combinational outputs of the cycle: the FIG. 17/18 paths taken at this edge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Comb {
     pub fig17: Fig17,
     pub fig18: Fig18,
+}
+
+/// Registered outputs, decoded from the registers.
+pub fn outputs(r: &Regs) -> Outputs {
+    Outputs { si: r.si, hist_s: r.hist_s, hist_c: r.hist_c, cnt_r: r.cnt_r }
 }
 
 /// FIG. 18: returns (rotation detected, next hist_s, next hist_c, path).
@@ -177,8 +188,9 @@ fn rotation_detection(r: &Regs, chg_s: bool, chg_c: bool) -> (bool, bool, bool, 
     }
 }
 
-pub fn eval(r: &Regs, i: &Inputs) -> (Outputs, Regs) {
-    let mut o = Outputs { si: r.si, hist_s: r.hist_s, hist_c: r.hist_c, cnt_r: r.cnt_r, ..Default::default() };
+/// Pure next-state function, with the combinational outputs of the cycle.
+pub fn eval(r: &Regs, i: &Inputs) -> (Comb, Regs) {
+    let mut o = Comb::default();
     if i.koff {
         return (o, reset(i.si_max_nxt));
     }
@@ -230,7 +242,7 @@ mod tests {
         Inputs { pulse: true, sr: true, chg_s, chg_c, adaptive: true, si_min: 220, si_max: 660, si_max_nxt: 660, t1: 220, t2: 110, cth: 4, koff: false }
     }
 
-    fn run(r: Regs, i: Inputs) -> (Outputs, Regs) {
+    fn run(r: Regs, i: Inputs) -> (Comb, Regs) {
         eval(&r, &i)
     }
 

@@ -3,10 +3,19 @@
 //!
 //! Integers and bits only: no floating point type appears in this crate (a test greps for it).
 //! One block per file, named after the patent block with its reference numeral; each has
-//! `Inputs`, `Outputs`, `Regs`, a `RESET` value and a pure `eval(&Regs, &Inputs) -> (Outputs, Regs)`.
-//! [`pmu50`] is the top level (the specification; [`reference::Pmu50Spec`] steps it) and
-//! [`kernel`] the fast path that [`Pmu50::step`] runs, proven equal to it by tests. See docs/spec.md for the specification and docs/glossary.md for
-//! the names.
+//! `Inputs`, `Outputs`, `Regs` and a `RESET` value, with the synchronous and the combinational
+//! side apart, as an HDL engineer writes them:
+//! - `outputs(&Regs) -> Outputs`: the registered outputs, decoded from the block's registers;
+//! - `eval(&Regs, &Inputs) -> (Comb, Regs)`: the pure next-state function with the block's
+//!   combinational outputs of the cycle (`Comb`; `-> Regs` for a block that has none).
+//!
+//! A block with a structural parameter (`sync_depth`, `cnt_width`: Verilog `parameter`s) is a
+//! small value built once with it (`ActionSwitching::new(sync_depth)`, ...), whose `outputs` and
+//! `eval` take `&self`; the parameters are never per-tick inputs. [`pmu50`] is the top level
+//! (the specification; [`reference::Pmu50Spec`] steps it) and [`kernel`] the fast path that
+//! [`Pmu50::step`] runs, proven equal to it by tests; [`signals`] is the table of every port,
+//! register and internal signal. See docs/spec.md for
+//! the specification and docs/glossary.md for the names.
 #![forbid(unsafe_code)]
 
 pub mod action_switching_56a;
@@ -20,6 +29,7 @@ pub mod pmu50;
 pub mod reference;
 pub mod register_file;
 pub mod sensor_power_determination_57;
+pub mod signals;
 pub mod timing_generator_56;
 pub mod updown_counter_58cd;
 

@@ -1,10 +1,12 @@
 //! Top level of the digital core of power management unit 50 (FIG. 14 / FIG. 20), third
 //! embodiment with the second embodiment's adaptive drive interval ([0413]-[0414]).
 //!
-//! One call of [`Pmu50::step`] is one rising clock edge. [`eval`] reads every register, evaluates
-//! the blocks in the fixed order below (each block only uses signals of blocks above it, so there is
-//! no combinational loop by construction), and returns the next value of every register, which
-//! the caller commits at once, as Verilog non-blocking assignments do.
+//! One call of [`Pmu50::step`] is one rising clock edge. [`eval`] reads every register, decodes
+//! each block's registered outputs, evaluates the blocks' next-state functions in the fixed order
+//! below (each block only uses signals of blocks above it, so there is no combinational loop by
+//! construction), and returns the next value of every register, which the caller commits at
+//! once, as Verilog non-blocking assignments do. The structural parameters are fixed when the
+//! core is built ([`Structural`], [`Blocks`]).
 //!
 //! Evaluation order:
 //! 1. `action_switching`   (56a, 51): `ig` synchronizer -> `sig`, `kon`, `koff`, rail enables
@@ -20,7 +22,8 @@
 //! read this cycle's outputs with [`Pmu50::peek`] before it computes this cycle's inputs. A test
 //! checks that no input reaches an output combinationally.
 //!
-//! Top-level ports (the contract with the HDL team, docs/signals.md):
+//! Top-level ports (the contract with the HDL team; names, widths and order are declared once in
+//! [`crate::signals`], from which docs/signals.md is generated):
 //!
 //! | port        | width | dir | meaning |
 //! |-------------|-------|-----|---------|
@@ -59,6 +62,7 @@ use crate::drive_interval_changing_56b as di;
 use crate::params::{ParamError, Params};
 use crate::register_file as rf;
 use crate::sensor_power_determination_57 as spd;
+use crate::signals;
 use crate::timing_generator_56 as tg;
 use crate::updown_counter_58cd as uc;
 
@@ -153,25 +157,43 @@ pub struct Internals {
     pub fig18: di::Fig18,
 }
 
-fn tg_inputs(sw_o: &sw::Outputs, p: &Params, si: u16) -> tg::Inputs {
-    tg::Inputs {
-        sig: sw_o.sig,
-        kon: sw_o.kon,
-        koff: sw_o.koff,
-        si,
-        pw: p.pw,
-        pi: p.pi,
-        ps: p.ps,
-        smp_on: p.smp_on,
+impl Structural {
+    /// The blocks that have structural parameters, built with them.
+    pub const fn blocks(&self) -> Blocks {
+        Blocks {
+            action_switching: sw::ActionSwitching::new(self.sync_depth),
+            register_file: rf::RegisterFile::new(self.sync_depth, self.cnt_width),
+            updown_counter: uc::UpdownCounter::new(self.cnt_width),
+            count_diagnosis: cd::CountDiagnosis::new(self.cnt_width),
+        }
     }
+}
+
+/// The block instances whose behaviour depends on a structural parameter (the others are plain
+/// functions), fixed for the life of a core.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Blocks {
+    pub action_switching: sw::ActionSwitching,
+    pub register_file: rf::RegisterFile,
+    pub updown_counter: uc::UpdownCounter,
+    pub count_diagnosis: cd::CountDiagnosis,
+}
+
+fn tg_inputs(sig: bool, kon: bool, koff: bool, p: &Params, si: u16) -> tg::Inputs {
+    tg::Inputs { sig, kon, koff, si, pw: p.pw, pi: p.pi, ps: p.ps, smp_on: p.smp_on }
 }
 
 /// Moore outputs, decoded from the registers.
 pub fn ports(s: &Structural, r: &Regs) -> Outputs {
-    // The rail fields of the action switching unit depend on its register only; `ig` is a don't-care.
-    let (a, _) = sw::eval(&r.action_switching, &sw::Inputs { ig: false, sync_depth: s.sync_depth });
-    let p = r.register_file.params(s.sync_depth, s.cnt_width);
-    let t = tg::decode(r.timing_generator.tmr, &tg_inputs(&a, &p, r.drive_interval.si));
+    let b = s.blocks();
+    let a = b.action_switching.outputs(&r.action_switching);
+    let f = b.register_file.outputs(&r.register_file);
+    let t = tg::outputs(&r.timing_generator, &tg_inputs(a.sig, false, false, &f.params, r.drive_interval.si));
+    let d = spd::outputs(&r.sensor_power_determination);
+    let c = cl::outputs(&r.comparator_latch);
+    let u = b.updown_counter.outputs(&r.updown_counter);
+    let v = di::outputs(&r.drive_interval);
+    let g = b.count_diagnosis.outputs(&r.count_diagnosis);
     Outputs {
         sig: a.sig,
         vr_hi: a.vr_hi,
@@ -181,21 +203,21 @@ pub fn ports(s: &Structural, r: &Regs) -> Outputs {
         vp_en: a.vp_en,
         rail_hi: a.rail_hi,
         st: t.st,
-        sr: r.sensor_power_determination.sr,
+        sr: d.sr,
         ps_win: t.ps_win,
         smp: t.smp,
-        cs: r.comparator_latch.cs,
-        cc: r.comparator_latch.cc,
-        cnt_s: r.updown_counter.cnt_s,
-        cnt_c: r.updown_counter.cnt_c,
-        cnt_r: r.drive_interval.cnt_r,
-        si: r.drive_interval.si,
-        hist_s: r.drive_interval.hist_s,
-        hist_c: r.drive_interval.hist_c,
-        diag: r.count_diagnosis.diag,
-        quadrant_skip: r.updown_counter.quadrant_skip,
-        bus_rdata: r.register_file.rdata,
-        bus_err: r.register_file.bus_err,
+        cs: c.cs,
+        cc: c.cc,
+        cnt_s: u.cnt_s,
+        cnt_c: u.cnt_c,
+        cnt_r: v.cnt_r,
+        si: v.si,
+        hist_s: v.hist_s,
+        hist_c: v.hist_c,
+        diag: g.diag,
+        quadrant_skip: u.quadrant_skip,
+        bus_rdata: f.bus_rdata,
+        bus_err: f.bus_err,
     }
 }
 
@@ -218,52 +240,52 @@ fn status_view(r: &Regs, sig: bool) -> rf::StatusView {
 }
 
 /// One clock edge: (outputs before the edge, internals of this cycle, registers after the edge).
+/// Each block's registered outputs are decoded from the registers before the edge; its `eval`
+/// gives the combinational outputs of the cycle and its next state.
 pub fn eval(s: &Structural, r: &Regs, i: &Inputs) -> (Outputs, Internals, Regs) {
+    let b = s.blocks();
     // 1. Action switching unit 56a and regulator 51.
-    let (a, a_n) = sw::eval(&r.action_switching, &sw::Inputs { ig: i.ig, sync_depth: s.sync_depth });
+    let a = b.action_switching.outputs(&r.action_switching);
+    let (ac, a_n) = b.action_switching.eval(&r.action_switching, &sw::Inputs { ig: i.ig });
     // 2. Register file: the parameters in force this cycle are the registers before the edge.
-    let (f, f_n) = rf::eval(
+    let f = b.register_file.outputs(&r.register_file);
+    let (fc, f_n) = b.register_file.eval(
         &r.register_file,
-        &rf::Inputs {
-            bus_we: i.bus_we,
-            bus_addr: i.bus_addr,
-            bus_wdata: i.bus_wdata,
-            sig: a.sig,
-            view: status_view(r, a.sig),
-            sync_depth: s.sync_depth,
-            cnt_width: s.cnt_width,
-        },
+        &rf::Inputs { bus_we: i.bus_we, bus_addr: i.bus_addr, bus_wdata: i.bus_wdata, sig: a.sig, view: status_view(r, a.sig) },
     );
     let p = f.params;
     // 3. Timing generator of 56 with the window of 54.
-    let (t, t_n) = tg::eval(&r.timing_generator, &tg_inputs(&a, &p, r.drive_interval.si));
+    let ti = tg_inputs(a.sig, ac.kon, ac.koff, &p, r.drive_interval.si);
+    let t = tg::outputs(&r.timing_generator, &ti);
+    let t_n = tg::eval(&r.timing_generator, &ti);
     // 4. Sensor power determination unit 57.
-    let (d, d_n) = spd::eval(&r.sensor_power_determination, &spd::Inputs { vs2_en: t.vs2_en, vs2_ok: i.vs2_ok });
+    let d = spd::outputs(&r.sensor_power_determination);
+    let d_n = spd::eval(&r.sensor_power_determination, &spd::Inputs { vs2_en: t.vs2_en, vs2_ok: i.vs2_ok });
     // 5. Comparator latches 58a/58b.
-    let (c, c_n) = cl::eval(&r.comparator_latch, &cl::Inputs { cmp_s: i.cmp_s, cmp_c: i.cmp_c, smp: t.smp, sr: d.sr });
+    let c = cl::outputs(&r.comparator_latch);
+    let (cc, c_n) = cl::eval(&r.comparator_latch, &cl::Inputs { cmp_s: i.cmp_s, cmp_c: i.cmp_c, smp: t.smp, sr: d.sr });
     // 6. Up/down counters 58c/58d.
-    let (_, u_n) = uc::eval(
+    let u_n = b.updown_counter.eval(
         &r.updown_counter,
         &uc::Inputs {
-            upd: c.upd,
-            first: c.first,
+            upd: cc.upd,
+            first: cc.first,
             cs: c.cs,
             cc: c.cc,
-            cs_new: c.cs_new,
-            cc_new: c.cc_new,
-            skip_clr: f.skip_clr,
-            cnt_width: s.cnt_width,
+            cs_new: cc.cs_new,
+            cc_new: cc.cc_new,
+            skip_clr: fc.skip_clr,
         },
     );
     // 7. Drive interval changing unit 56b: one evaluation per key-off sampling strobe.
-    let (v, v_n) = di::eval(
+    let (vc, v_n) = di::eval(
         &r.drive_interval,
         &di::Inputs {
-            koff: a.koff,
+            koff: ac.koff,
             pulse: t.smp && !a.sig,
             sr: d.sr,
-            chg_s: c.chg_s,
-            chg_c: c.chg_c,
+            chg_s: cc.chg_s,
+            chg_c: cc.chg_c,
             adaptive: p.adaptive,
             si_min: p.si_min,
             si_max: p.si_max,
@@ -274,10 +296,7 @@ pub fn eval(s: &Structural, r: &Regs, i: &Inputs) -> (Outputs, Internals, Regs) 
         },
     );
     // 8. Count diagnosis, aligned with the counters' next values.
-    let (_, g_n) = cd::eval(
-        &r.count_diagnosis,
-        &cd::Inputs { cnt_s_nxt: u_n.cnt_s, cnt_c_nxt: u_n.cnt_c, skip_nxt: u_n.quadrant_skip, cnt_width: s.cnt_width },
-    );
+    let g_n = b.count_diagnosis.eval(&r.count_diagnosis, &cd::Inputs { cnt_s_nxt: u_n.cnt_s, cnt_c_nxt: u_n.cnt_c, skip_nxt: u_n.quadrant_skip });
     let next = Regs {
         action_switching: a_n,
         register_file: f_n,
@@ -289,15 +308,15 @@ pub fn eval(s: &Structural, r: &Regs, i: &Inputs) -> (Outputs, Internals, Regs) 
         count_diagnosis: g_n,
     };
     let internals = Internals {
-        kon: a.kon,
-        koff: a.koff,
-        upd: c.upd,
-        first: c.first,
-        chg_s: c.chg_s,
-        chg_c: c.chg_c,
-        skip_clr: f.skip_clr,
-        fig17: v.fig17,
-        fig18: v.fig18,
+        kon: ac.kon,
+        koff: ac.koff,
+        upd: cc.upd,
+        first: cc.first,
+        chg_s: cc.chg_s,
+        chg_c: cc.chg_c,
+        skip_clr: fc.skip_clr,
+        fig17: vc.fig17,
+        fig18: vc.fig18,
     };
     (ports(s, r), internals, next)
 }
@@ -313,104 +332,46 @@ pub struct RegValue {
 }
 
 impl Regs {
-    /// Every register with its width and value, in a fixed order (block order of [`eval`]).
+    /// Every register with its width and value, in a fixed order (block order of [`eval`]):
+    /// [`signals::REGISTERS`].
     pub fn values(&self, s: &Structural) -> Vec<RegValue> {
-        let w = s.cnt_width;
-        let f = &self.register_file;
-        let list: [(&'static str, &'static str, u8, u64); 26] = [
-            ("action_switching", "sync", s.sync_depth, u64::from(self.action_switching.sync)),
-            ("register_file", "adaptive", 1, u64::from(f.adaptive)),
-            ("register_file", "pw", 16, u64::from(f.pw)),
-            ("register_file", "pi", 16, u64::from(f.pi)),
-            ("register_file", "ps", 16, u64::from(f.ps)),
-            ("register_file", "si_max", 16, u64::from(f.si_max)),
-            ("register_file", "si_min", 16, u64::from(f.si_min)),
-            ("register_file", "t1", 16, u64::from(f.t1)),
-            ("register_file", "t2", 16, u64::from(f.t2)),
-            ("register_file", "cth", 8, u64::from(f.cth)),
-            ("register_file", "smp_on", 16, u64::from(f.smp_on)),
-            ("register_file", "bus_err", 1, u64::from(f.bus_err)),
-            ("register_file", "rdata", 16, u64::from(f.rdata)),
-            ("timing_generator", "tmr", 16, u64::from(self.timing_generator.tmr)),
-            ("sensor_power_determination", "sr", 1, u64::from(self.sensor_power_determination.sr)),
-            ("comparator_latch", "cs", 1, u64::from(self.comparator_latch.cs)),
-            ("comparator_latch", "cc", 1, u64::from(self.comparator_latch.cc)),
-            ("comparator_latch", "vld", 1, u64::from(self.comparator_latch.vld)),
-            ("updown_counter", "cnt_s", w, u64::from(self.updown_counter.cnt_s)),
-            ("updown_counter", "cnt_c", w, u64::from(self.updown_counter.cnt_c)),
-            ("updown_counter", "quadrant_skip", 1, u64::from(self.updown_counter.quadrant_skip)),
-            ("drive_interval", "si", 16, u64::from(self.drive_interval.si)),
-            ("drive_interval", "hist_s", 1, u64::from(self.drive_interval.hist_s)),
-            ("drive_interval", "hist_c", 1, u64::from(self.drive_interval.hist_c)),
-            ("drive_interval", "cnt_r", 8, u64::from(self.drive_interval.cnt_r)),
-            ("count_diagnosis", "diag", 1, u64::from(self.count_diagnosis.diag)),
-        ];
-        list.iter()
-            .map(|&(block, name, width, value)| RegValue { block, name, width, value })
+        signals::REGISTERS
+            .iter()
+            .map(|r| RegValue { block: r.scope, name: r.name, width: r.bits(s), value: (r.get)(self) })
             .collect()
     }
 }
 
 impl Outputs {
-    /// Every output port as (name, width, value), in the order of docs/signals.md.
-    pub fn values(&self, s: &Structural) -> [(&'static str, u8, u64); 23] {
-        [
-            ("sig", 1, u64::from(self.sig)),
-            ("vr_hi", 1, u64::from(self.vr_hi)),
-            ("vm_en", 1, u64::from(self.vm_en)),
-            ("vs1_en", 1, u64::from(self.vs1_en)),
-            ("vs2_en", 1, u64::from(self.vs2_en)),
-            ("vp_en", 1, u64::from(self.vp_en)),
-            ("rail_hi", 1, u64::from(self.rail_hi)),
-            ("st", 1, u64::from(self.st)),
-            ("sr", 1, u64::from(self.sr)),
-            ("ps_win", 1, u64::from(self.ps_win)),
-            ("smp", 1, u64::from(self.smp)),
-            ("cs", 1, u64::from(self.cs)),
-            ("cc", 1, u64::from(self.cc)),
-            ("cnt_s", s.cnt_width, u64::from(self.cnt_s)),
-            ("cnt_c", s.cnt_width, u64::from(self.cnt_c)),
-            ("cnt_r", 8, u64::from(self.cnt_r)),
-            ("si", 16, u64::from(self.si)),
-            ("hist_s", 1, u64::from(self.hist_s)),
-            ("hist_c", 1, u64::from(self.hist_c)),
-            ("diag", 1, u64::from(self.diag)),
-            ("quadrant_skip", 1, u64::from(self.quadrant_skip)),
-            ("bus_rdata", 16, u64::from(self.bus_rdata)),
-            ("bus_err", 1, u64::from(self.bus_err)),
-        ]
+    /// Every output port as (name, width, value), in the order of [`signals::OUTPUTS`].
+    pub fn values(&self, s: &Structural) -> [(&'static str, u8, u64); signals::N_OUTPUTS] {
+        std::array::from_fn(|k| {
+            let o = &signals::OUTPUTS[k];
+            (o.name, o.bits(s), (o.get)(self))
+        })
     }
 }
 
 impl Inputs {
-    /// Every input port as (name, width, value).
-    pub fn values(&self) -> [(&'static str, u8, u64); 7] {
-        [
-            ("ig", 1, u64::from(self.ig)),
-            ("vs2_ok", 1, u64::from(self.vs2_ok)),
-            ("cmp_s", 1, u64::from(self.cmp_s)),
-            ("cmp_c", 1, u64::from(self.cmp_c)),
-            ("bus_we", 1, u64::from(self.bus_we)),
-            ("bus_addr", 8, u64::from(self.bus_addr)),
-            ("bus_wdata", 16, u64::from(self.bus_wdata)),
-        ]
+    /// Every input port as (name, width, value), in the order of [`signals::INPUTS`].
+    pub fn values(&self) -> [(&'static str, u8, u64); signals::N_INPUTS] {
+        // Inputs have no structural width.
+        let s = Structural { sync_depth: 1, cnt_width: 16 };
+        std::array::from_fn(|k| {
+            let i = &signals::INPUTS[k];
+            (i.name, i.bits(&s), (i.get)(self))
+        })
     }
 }
 
 impl Internals {
-    /// Every internal signal as (name, width, value).
-    pub fn values(&self) -> [(&'static str, u8, u64); 9] {
-        [
-            ("kon", 1, u64::from(self.kon)),
-            ("koff", 1, u64::from(self.koff)),
-            ("upd", 1, u64::from(self.upd)),
-            ("first", 1, u64::from(self.first)),
-            ("chg_s", 1, u64::from(self.chg_s)),
-            ("chg_c", 1, u64::from(self.chg_c)),
-            ("skip_clr", 1, u64::from(self.skip_clr)),
-            ("fig17", 3, self.fig17 as u64),
-            ("fig18", 3, self.fig18 as u64),
-        ]
+    /// Every internal signal as (name, width, value), in the order of [`signals::INTERNALS`].
+    pub fn values(&self) -> [(&'static str, u8, u64); signals::N_INTERNALS] {
+        let s = Structural { sync_depth: 1, cnt_width: 16 };
+        std::array::from_fn(|k| {
+            let x = &signals::INTERNALS[k];
+            (x.name, x.bits(&s), (x.get)(self))
+        })
     }
 }
 
@@ -490,8 +451,8 @@ impl Pmu50 {
     pub fn read(&self, addr: u8) -> u16 {
         let a = self.peek();
         let view = status_view(&self.regs, a.sig);
-        let i = rf::Inputs { view, sig: a.sig, sync_depth: self.s.sync_depth, cnt_width: self.s.cnt_width, ..Default::default() };
-        rf::read(&self.regs.register_file, &i, addr)
+        let i = rf::Inputs { view, sig: a.sig, ..Default::default() };
+        self.s.blocks().register_file.read(&self.regs.register_file, &i, addr)
     }
 
     /// With the inputs held constant, the number of upcoming edges at which no register other
@@ -512,7 +473,7 @@ impl Pmu50 {
         // one of those intervals; each candidate is checked with the real next-state function.
         let a = self.peek();
         let p = self.regs.register_file.params(self.s.sync_depth, self.s.cnt_width);
-        let ti = tg_inputs(&sw::Outputs { sig: a.sig, ..Default::default() }, &p, self.regs.drive_interval.si);
+        let ti = tg_inputs(a.sig, false, false, &p, self.regs.drive_interval.si);
         let period = u64::from(tg::period(&ti));
         let t = u64::from(self.regs.timing_generator.tmr);
         let dist = |c: u64| {
@@ -552,7 +513,7 @@ impl Pmu50 {
         }
         let a = self.peek();
         let p = self.regs.register_file.params(self.s.sync_depth, self.s.cnt_width);
-        let ti = tg_inputs(&sw::Outputs { sig: a.sig, ..Default::default() }, &p, self.regs.drive_interval.si);
+        let ti = tg_inputs(a.sig, false, false, &p, self.regs.drive_interval.si);
         let period = u64::from(tg::period(&ti)).max(1);
         let t = u64::from(self.regs.timing_generator.tmr);
         let tmr = if t + 1 >= period { (n - 1) % period } else { (t + n) % period };

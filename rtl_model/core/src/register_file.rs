@@ -38,6 +38,20 @@
 //! | 0x13 | SI       | 16 | RO  | x      | current drive interval, ticks |
 //! | 0x14 | STATUS   | 10 | RO/W1C | 0   | see [`status`] |
 //!
+//! Ports ([`RegisterFile::outputs`]: registered; [`RegisterFile::eval`]: next state and the
+//! combinational `skip_clr`). Structural parameters `sync_depth`, `cnt_width` are fixed when the
+//! block is built ([`RegisterFile::new`]).
+//!
+//! | port      | width | dir | meaning |
+//! |-----------|-------|-----|---------|
+//! | `bus_we`, `bus_addr`, `bus_wdata` | 1, 8, 16 | in | write strobe, address, data |
+//! | `sig`     | 1     | in  | key on: writes are accepted only then |
+//! | `view`    | -     | in  | registers of the other blocks, for the read mux ([`StatusView`]) |
+//! | `params`  | -     | out | the parameter registers in force ([`Params`], registered) |
+//! | `bus_rdata` | 16  | out | registered read data |
+//! | `bus_err` | 1     | out | sticky refused write (registered) |
+//! | `skip_clr`| 1     | out | W1C strobe of STATUS.quadrant_skip (combinational) |
+//!
 //! Reset values of the RW registers are the configured parameters (the patent's defaults unless a
 //! scenario overrides them); unknown addresses read 0.
 //!
@@ -193,19 +207,30 @@ pub struct Inputs {
     pub bus_wdata: u16,
     pub sig: bool,
     pub view: StatusView,
-    /// Structural parameters, visible in CFG.
-    pub sync_depth: u8,
-    pub cnt_width: u8,
 }
 
+/// Registered outputs (functions of the registers only).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct Outputs {
     /// The parameter registers as used by the other blocks in this cycle.
     pub params: Params,
-    /// Write-1-to-clear strobe of STATUS.quadrant_skip.
-    pub skip_clr: bool,
     pub bus_rdata: u16,
     pub bus_err: bool,
+}
+
+/// Combinational outputs of the cycle (they depend on the bus inputs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Comb {
+    /// Write-1-to-clear strobe of STATUS.quadrant_skip.
+    pub skip_clr: bool,
+}
+
+/// The block with its structural parameters (visible in CFG, used by the legality check of a
+/// write and the sign extension of CNT_S/CNT_C), fixed at construction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct RegisterFile {
+    sync_depth: u8,
+    cnt_width: u8,
 }
 
 impl Regs {
@@ -243,32 +268,6 @@ pub fn status_word(v: &StatusView, bus_err: bool) -> u16 {
     w.load_le::<u16>()
 }
 
-/// Combinational read mux.
-pub fn read(r: &Regs, i: &Inputs, a: u8) -> u16 {
-    let sx = |v: u16| crate::updown_counter_58cd::sext(v, i.cnt_width) as i16 as u16;
-    match a {
-        addr::ID => ID_VALUE,
-        addr::VERSION => VERSION_VALUE,
-        addr::CTRL => u16::from(r.adaptive),
-        addr::PW => r.pw,
-        addr::PI => r.pi,
-        addr::PS => r.ps,
-        addr::SI_MAX => r.si_max,
-        addr::SI_MIN => r.si_min,
-        addr::T1 => r.t1,
-        addr::T2 => r.t2,
-        addr::CTH => u16::from(r.cth),
-        addr::SMP_ON => r.smp_on,
-        addr::CFG => u16::from(i.sync_depth & 0x7) | (u16::from(i.cnt_width & 0x1F) << 8),
-        addr::CNT_S => sx(i.view.cnt_s),
-        addr::CNT_C => sx(i.view.cnt_c),
-        addr::CNT_R => u16::from(i.view.cnt_r),
-        addr::SI => i.view.si,
-        addr::STATUS => status_word(&i.view, r.bus_err),
-        _ => 0,
-    }
-}
-
 /// The register set after a parameter write, or `None` when the address is not a parameter.
 fn with_write(r: &Regs, a: u8, d: u16) -> Option<Regs> {
     let mut n = *r;
@@ -288,31 +287,74 @@ fn with_write(r: &Regs, a: u8, d: u16) -> Option<Regs> {
     Some(n)
 }
 
-pub fn eval(r: &Regs, i: &Inputs) -> (Outputs, Regs) {
-    let params = r.params(i.sync_depth, i.cnt_width);
-    let status_w1c = i.bus_we && i.sig && i.bus_addr == addr::STATUS;
-    let w1c = |bit: usize| status_w1c && (i.bus_wdata >> bit) & 1 == 1;
-    let mut n = *r;
-    let mut refused = false;
-    if i.bus_we && !status_w1c {
-        match with_write(r, i.bus_addr, i.bus_wdata) {
-            Some(cand) if i.sig && cand.params(i.sync_depth, i.cnt_width).validate().is_ok() => n = cand,
-            _ => refused = true,
+impl RegisterFile {
+    pub const fn new(sync_depth: u8, cnt_width: u8) -> Self {
+        RegisterFile { sync_depth, cnt_width }
+    }
+
+    /// The parameter set the registers hold, with this block's structural parameters.
+    pub fn params(&self, r: &Regs) -> Params {
+        r.params(self.sync_depth, self.cnt_width)
+    }
+
+    /// Registered outputs, decoded from the registers.
+    pub fn outputs(&self, r: &Regs) -> Outputs {
+        Outputs { params: self.params(r), bus_rdata: r.rdata, bus_err: r.bus_err }
+    }
+
+    /// Combinational read mux.
+    pub fn read(&self, r: &Regs, i: &Inputs, a: u8) -> u16 {
+        let sx = |v: u16| crate::updown_counter_58cd::sext(v, self.cnt_width) as i16 as u16;
+        match a {
+            addr::ID => ID_VALUE,
+            addr::VERSION => VERSION_VALUE,
+            addr::CTRL => u16::from(r.adaptive),
+            addr::PW => r.pw,
+            addr::PI => r.pi,
+            addr::PS => r.ps,
+            addr::SI_MAX => r.si_max,
+            addr::SI_MIN => r.si_min,
+            addr::T1 => r.t1,
+            addr::T2 => r.t2,
+            addr::CTH => u16::from(r.cth),
+            addr::SMP_ON => r.smp_on,
+            addr::CFG => u16::from(self.sync_depth & 0x7) | (u16::from(self.cnt_width & 0x1F) << 8),
+            addr::CNT_S => sx(i.view.cnt_s),
+            addr::CNT_C => sx(i.view.cnt_c),
+            addr::CNT_R => u16::from(i.view.cnt_r),
+            addr::SI => i.view.si,
+            addr::STATUS => status_word(&i.view, r.bus_err),
+            _ => 0,
         }
     }
-    // Set wins over clear.
-    n.bus_err = refused || (r.bus_err && !w1c(status::BUS_ERR));
-    n.rdata = read(r, i, i.bus_addr);
-    let o = Outputs { params, skip_clr: w1c(status::QUADRANT_SKIP), bus_rdata: r.rdata, bus_err: r.bus_err };
-    (o, n)
+
+    /// Pure next-state function, with the combinational outputs of the cycle.
+    pub fn eval(&self, r: &Regs, i: &Inputs) -> (Comb, Regs) {
+        let status_w1c = i.bus_we && i.sig && i.bus_addr == addr::STATUS;
+        let w1c = |bit: usize| status_w1c && (i.bus_wdata >> bit) & 1 == 1;
+        let mut n = *r;
+        let mut refused = false;
+        if i.bus_we && !status_w1c {
+            match with_write(r, i.bus_addr, i.bus_wdata) {
+                Some(cand) if i.sig && self.params(&cand).validate().is_ok() => n = cand,
+                _ => refused = true,
+            }
+        }
+        // Set wins over clear.
+        n.bus_err = refused || (r.bus_err && !w1c(status::BUS_ERR));
+        n.rdata = self.read(r, i, i.bus_addr);
+        (Comb { skip_clr: w1c(status::QUADRANT_SKIP) }, n)
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn wr(r: &Regs, a: u8, d: u16, sig: bool) -> (Outputs, Regs) {
-        eval(r, &Inputs { bus_we: true, bus_addr: a, bus_wdata: d, sig, sync_depth: 2, cnt_width: 16, ..Default::default() })
+    const RF: RegisterFile = RegisterFile::new(2, 16);
+
+    fn wr(r: &Regs, a: u8, d: u16, sig: bool) -> (Comb, Regs) {
+        RF.eval(r, &Inputs { bus_we: true, bus_addr: a, bus_wdata: d, sig, ..Default::default() })
     }
 
     #[test]
@@ -356,12 +398,13 @@ mod tests {
     #[test]
     fn read_is_registered_and_sign_extends_counts() {
         let view = StatusView { cnt_s: 0x7, cnt_c: 0x2, ..Default::default() };
-        let i = Inputs { bus_addr: addr::CNT_S, view, sync_depth: 2, cnt_width: 3, ..Default::default() };
-        let (o, n) = eval(&RESET, &i);
-        assert_eq!(o.bus_rdata, 0, "data appears one cycle later");
-        assert_eq!(n.rdata, 0xFFFF, "3-bit 0b111 is -1");
-        assert_eq!(read(&RESET, &i, addr::ID), ID_VALUE);
-        assert_eq!(read(&RESET, &i, addr::CFG), 0x0302);
+        let i = Inputs { bus_addr: addr::CNT_S, view, ..Default::default() };
+        let rf = RegisterFile::new(2, 3);
+        let (_, n) = rf.eval(&RESET, &i);
+        assert_eq!(rf.outputs(&RESET).bus_rdata, 0, "data appears one cycle later");
+        assert_eq!(rf.outputs(&n).bus_rdata, 0xFFFF, "3-bit 0b111 is -1");
+        assert_eq!(rf.read(&RESET, &i, addr::ID), ID_VALUE);
+        assert_eq!(rf.read(&RESET, &i, addr::CFG), 0x0302);
     }
 
     #[test]

@@ -16,7 +16,7 @@
 //! |----------|-------|-----|---------|
 //! | `vs2_en` | 1     | in  | unit 54 drives Vs2 (from the timing generator) |
 //! | `vs2_ok` | 1     | in  | analog power-good of the Vs2 rail |
-//! | `sr`     | 1     | out | activation signal Sr |
+//! | `sr`     | 1     | out | activation signal Sr (registered, [`outputs`]) |
 //!
 //! | register | width | reset | meaning |
 //! |----------|-------|-------|---------|
@@ -40,8 +40,14 @@ pub struct Outputs {
     pub sr: bool,
 }
 
-pub fn eval(r: &Regs, i: &Inputs) -> (Outputs, Regs) {
-    (Outputs { sr: r.sr }, Regs { sr: i.vs2_en && i.vs2_ok })
+/// Registered outputs, decoded from the registers.
+pub fn outputs(r: &Regs) -> Outputs {
+    Outputs { sr: r.sr }
+}
+
+/// Pure next-state function (no combinational outputs).
+pub fn eval(_r: &Regs, i: &Inputs) -> Regs {
+    Regs { sr: i.vs2_en && i.vs2_ok }
 }
 
 #[cfg(test)]
@@ -51,14 +57,13 @@ mod tests {
     #[test]
     fn sr_needs_both_the_enable_and_a_good_rail() {
         for (en, ok) in [(false, false), (false, true), (true, false), (true, true)] {
-            let (_, n) = eval(&RESET, &Inputs { vs2_en: en, vs2_ok: ok });
+            let n = eval(&RESET, &Inputs { vs2_en: en, vs2_ok: ok });
             assert_eq!(n.sr, en && ok, "en={en} ok={ok}");
         }
     }
 
     #[test]
     fn sr_output_is_the_register() {
-        let (o, _) = eval(&Regs { sr: true }, &Inputs::default());
-        assert!(o.sr);
+        assert!(outputs(&Regs { sr: true }).sr);
     }
 }

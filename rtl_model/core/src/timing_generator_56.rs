@@ -6,8 +6,10 @@
 //! Vs2 at the timing of St for Wt), [0354] (comparators sample during Ps), [0349] (while the key
 //! is on, sampling at a period shorter than T), [0206] (cycle = drive interval Si).
 //!
-//! One 16-bit timer `tmr` counts ticks from the last cycle start. All outputs are decoded from
-//! registers only (Moore), so the environment can read them before it computes this tick's inputs.
+//! One 16-bit timer `tmr` counts ticks from the last cycle start. The outputs ([`outputs`]) are
+//! decoded from `tmr` and the programmed periods, which are registers of other blocks (Moore at
+//! the top level), so the environment can read them before it computes this tick's inputs; the
+//! key strobes `kon`/`koff` only enter the next state ([`eval`]).
 //!
 //! Key off (`sig` = 0), cycle length = drive interval `si`:
 //!
@@ -29,7 +31,7 @@
 //! | port     | width | dir | meaning |
 //! |----------|-------|-----|---------|
 //! | `sig`    | 1     | in  | operation switching signal |
-//! | `kon`, `koff` | 1 | in | `sig` changes at this edge |
+//! | `kon`, `koff` | 1 | in | `sig` changes at this edge (next state only) |
 //! | `si`     | 16    | in  | drive interval in ticks (from 56b) |
 //! | `pw`, `pi`, `ps`, `smp_on` | 16 | in | programmed periods in ticks |
 //! | `st`     | 1     | out | timing signal St |
@@ -68,7 +70,12 @@ pub struct Outputs {
     pub smp: bool,
 }
 
-/// Moore decode of the outputs from the timer (shared by [`eval`] and the fast-forward query).
+/// Outputs, decoded from the timer register and the registered inputs (`sig`, `si`, periods).
+pub fn outputs(r: &Regs, i: &Inputs) -> Outputs {
+    decode(r.tmr, i)
+}
+
+/// The decode of [`outputs`] for any timer value (the fast-forward query probes future values).
 pub fn decode(tmr: u16, i: &Inputs) -> Outputs {
     let t = u32::from(tmr);
     let ps_start = u32::from(i.pw) + u32::from(i.pi);
@@ -90,15 +97,14 @@ pub fn period(i: &Inputs) -> u16 {
     if i.sig { i.smp_on } else { i.si }
 }
 
-/// Pure next-state function.
-pub fn eval(r: &Regs, i: &Inputs) -> (Outputs, Regs) {
-    let o = decode(r.tmr, i);
+/// Pure next-state function (the block has no combinational outputs besides [`outputs`]).
+pub fn eval(r: &Regs, i: &Inputs) -> Regs {
     // `>=` rather than `==`: if the interval register is ever below the timer (it cannot be
     // with legal parameters, see docs/spec.md), the cycle still ends instead of running 65536
     // ticks.
     let end_of_cycle = u32::from(r.tmr) + 1 >= u32::from(period(i));
     let tmr = if i.kon || i.koff || end_of_cycle { 0 } else { r.tmr + 1 };
-    (o, Regs { tmr })
+    Regs { tmr }
 }
 
 #[cfg(test)]
@@ -113,8 +119,8 @@ mod tests {
         let mut r = RESET;
         (0..n)
             .map(|_| {
-                let (o, nr) = eval(&r, i);
-                r = nr;
+                let o = outputs(&r, i);
+                r = eval(&r, i);
                 o
             })
             .collect()
@@ -153,13 +159,13 @@ mod tests {
     fn key_edges_restart_the_timer() {
         let r = Regs { tmr: 100 };
         for i in [Inputs { koff: true, ..off(220) }, Inputs { kon: true, ..off(220) }] {
-            assert_eq!(eval(&r, &i).1.tmr, 0);
+            assert_eq!(eval(&r, &i).tmr, 0);
         }
     }
 
     #[test]
     fn an_interval_below_the_timer_still_ends_the_cycle() {
         let r = Regs { tmr: 300 };
-        assert_eq!(eval(&r, &off(220)).1.tmr, 0);
+        assert_eq!(eval(&r, &off(220)).tmr, 0);
     }
 }

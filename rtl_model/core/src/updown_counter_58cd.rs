@@ -38,9 +38,12 @@
 //! | `cs`, `cc` | 1     | in  | sign signals before the edge |
 //! | `cs_new`, `cc_new` | 1 | in | sign signals after the edge |
 //! | `skip_clr` | 1     | in  | write-1-to-clear of `quadrant_skip` (register file) |
-//! | `cnt_width`| 5     | in  | structural parameter, 2..=16 |
-//! | `cnt_s`, `cnt_c` | W | out | count values CNTs, CNTc |
-//! | `quadrant_skip` | 1 | out | sticky: both signs changed in one sample |
+//! | `cnt_s`, `cnt_c` | W | out | count values CNTs, CNTc (registered, [`UpdownCounter::outputs`]) |
+//! | `quadrant_skip` | 1 | out | sticky: both signs changed in one sample (registered) |
+//!
+//! Structural parameter, fixed when the block is built ([`UpdownCounter::new`]): `cnt_width`
+//! (`CNT_W`, 2..=16) = W. The block has no combinational outputs; [`UpdownCounter::eval`] is
+//! the next-state function.
 //!
 //! | register | width | reset | meaning |
 //! |----------|-------|-------|---------|
@@ -66,9 +69,9 @@ pub struct Inputs {
     pub cs_new: bool,
     pub cc_new: bool,
     pub skip_clr: bool,
-    pub cnt_width: u8,
 }
 
+/// Registered outputs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct Outputs {
     pub cnt_s: u16,
@@ -98,11 +101,33 @@ fn preset(cs: bool, cc: bool) -> (u16, u16) {
     }
 }
 
-pub fn eval(r: &Regs, i: &Inputs) -> (Outputs, Regs) {
-    let m = mask(i.cnt_width);
+/// The counters with their structural parameter, fixed at construction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct UpdownCounter {
+    cnt_width: u8,
+}
+
+impl UpdownCounter {
+    /// `cnt_width` bits (legal 2..=16; clamped by [`mask`]).
+    pub const fn new(cnt_width: u8) -> Self {
+        UpdownCounter { cnt_width }
+    }
+
+    /// Registered outputs, decoded from the registers.
+    pub fn outputs(&self, r: &Regs) -> Outputs {
+        Outputs { cnt_s: r.cnt_s, cnt_c: r.cnt_c, quadrant_skip: r.quadrant_skip }
+    }
+
+    /// Pure next-state function.
+    pub fn eval(&self, r: &Regs, i: &Inputs) -> Regs {
+        next(self.cnt_width, r, i)
+    }
+}
+
+fn next(width: u8, r: &Regs, i: &Inputs) -> Regs {
+    let m = mask(width);
     let inc = |v: u16| v.wrapping_add(1) & m;
     let dec = |v: u16| v.wrapping_sub(1) & m;
-    let o = Outputs { cnt_s: r.cnt_s, cnt_c: r.cnt_c, quadrant_skip: r.quadrant_skip };
 
     let chg_s = i.upd && !i.first && i.cs != i.cs_new;
     let chg_c = i.upd && !i.first && i.cc != i.cc_new;
@@ -134,7 +159,7 @@ pub fn eval(r: &Regs, i: &Inputs) -> (Outputs, Regs) {
     }
     // Set wins over clear: a skip seen in the same cycle as the MPU's clear is not lost.
     let quadrant_skip = both || (r.quadrant_skip && !i.skip_clr);
-    (o, Regs { cnt_s, cnt_c, quadrant_skip })
+    Regs { cnt_s, cnt_c, quadrant_skip }
 }
 
 #[cfg(test)]
@@ -142,7 +167,7 @@ mod tests {
     use super::*;
 
     fn sample(r: &Regs, cs: bool, cc: bool, cs_new: bool, cc_new: bool) -> Regs {
-        eval(r, &Inputs { upd: true, first: false, cs, cc, cs_new, cc_new, skip_clr: false, cnt_width: 16 }).1
+        UpdownCounter::new(16).eval(r, &Inputs { upd: true, first: false, cs, cc, cs_new, cc_new, skip_clr: false })
     }
 
     const Z: Regs = RESET;
@@ -190,7 +215,7 @@ mod tests {
         // Cleared by the W1C strobe, but a new skip in the same cycle wins.
         let clr = |r: &Regs, both: bool| {
             let (cs_new, cc_new) = if both { (true, true) } else { (false, false) };
-            eval(r, &Inputs { upd: true, cs: false, cc: false, cs_new, cc_new, skip_clr: true, cnt_width: 16, ..Default::default() }).1
+            UpdownCounter::new(16).eval(r, &Inputs { upd: true, cs: false, cc: false, cs_new, cc_new, skip_clr: true, ..Default::default() })
         };
         assert!(!clr(&n, false).quadrant_skip);
         assert!(clr(&n, true).quadrant_skip);
@@ -200,7 +225,7 @@ mod tests {
     fn first_sample_presets_from_the_quadrant() {
         for ((cs, cc), want) in [((true, true), (0, 0)), ((true, false), (0, 1)), ((false, false), (1, 1)), ((false, true), (1, 2))] {
             let r = Regs { cnt_s: 77, cnt_c: 99, quadrant_skip: false };
-            let n = eval(&r, &Inputs { upd: true, first: true, cs_new: cs, cc_new: cc, cnt_width: 16, ..Default::default() }).1;
+            let n = UpdownCounter::new(16).eval(&r, &Inputs { upd: true, first: true, cs_new: cs, cc_new: cc, ..Default::default() });
             assert_eq!((n.cnt_s, n.cnt_c), want);
         }
     }
@@ -208,7 +233,7 @@ mod tests {
     #[test]
     fn wraps_at_the_configured_width() {
         let r = Regs { cnt_s: 0x7, cnt_c: 0, quadrant_skip: false };
-        let n = eval(&r, &Inputs { upd: true, cs: false, cc: true, cs_new: true, cc_new: true, cnt_width: 3, ..Default::default() }).1;
+        let n = UpdownCounter::new(3).eval(&r, &Inputs { upd: true, cs: false, cc: true, cs_new: true, cc_new: true, ..Default::default() });
         assert_eq!(n.cnt_s, 0);
         assert_eq!(sext(0x7, 3), -1);
         assert_eq!(sext(0x3, 3), 3);
@@ -218,7 +243,7 @@ mod tests {
     #[test]
     fn no_update_no_change() {
         let r = Regs { cnt_s: 3, cnt_c: 4, quadrant_skip: true };
-        let n = eval(&r, &Inputs { upd: false, cs: false, cs_new: true, cnt_width: 16, ..Default::default() }).1;
+        let n = UpdownCounter::new(16).eval(&r, &Inputs { upd: false, cs: false, cs_new: true, ..Default::default() });
         assert_eq!(n, r);
     }
 }

@@ -112,10 +112,10 @@ struct Latch {
 }
 
 impl Latch {
-    fn inputs(&self, sample: Option<(bool, bool)>, skip_clr: bool, w: u8) -> uc::Inputs {
+    fn inputs(&self, sample: Option<(bool, bool)>, skip_clr: bool) -> uc::Inputs {
         let upd = sample.is_some();
         let (cs_new, cc_new) = sample.unwrap_or((self.cs, self.cc));
-        uc::Inputs { upd, first: upd && !self.vld, cs: self.cs, cc: self.cc, cs_new, cc_new, skip_clr, cnt_width: w }
+        uc::Inputs { upd, first: upd && !self.vld, cs: self.cs, cc: self.cc, cs_new, cc_new, skip_clr }
     }
     fn commit(&mut self, sample: Option<(bool, bool)>) {
         if let Some((s, c)) = sample {
@@ -193,8 +193,9 @@ fn run_block(w: u8, mut latch: Latch, mut regs: uc::Regs, mut rf: RefCounters, f
         } else {
             None
         };
-        let i = latch.inputs(sample, clr, w);
-        let (o, n) = uc::eval(&regs, &i);
+        let i = latch.inputs(sample, clr);
+        let b = uc::UpdownCounter::new(w);
+        let (o, n) = (b.outputs(&regs), b.eval(&regs, &i));
         assert_eq!((o.cnt_s, o.cnt_c, o.quadrant_skip), (regs.cnt_s, regs.cnt_c, regs.quadrant_skip), "outputs are the registers");
         let mv = rf.edge(sample, clr);
         check_edge(w, &regs, &n, &i, &rf, mv, target);
@@ -244,8 +245,8 @@ proptest! {
     ) {
         let regs = uc::Regs { cnt_s: cnt_s & uc::mask(w), cnt_c: cnt_c & uc::mask(w), quadrant_skip: skip };
         let latch = Latch { cs, cc, vld };
-        let i = latch.inputs(sample, clr, w);
-        let (_, n) = uc::eval(&regs, &i);
+        let i = latch.inputs(sample, clr);
+        let n = uc::UpdownCounter::new(w).eval(&regs, &i);
         let mut rf = RefCounters { s: i64::from(regs.cnt_s), c: i64::from(regs.cnt_c), skip, q: vld.then(|| quadrant(cs, cc)), skips: 0 };
         rf.edge(sample, clr);
         prop_assert_eq!(n.cnt_s, wrap(rf.s, w));
@@ -259,7 +260,9 @@ proptest! {
         let (s, c) = (s & uc::mask(w), c & uc::mask(w));
         let d = (i64::from(s) - i64::from(c)).rem_euclid(1i64 << w);
         let d = if d >= 1i64 << (w - 1) { d - (1i64 << w) } else { d };
-        let (o, n) = cd::eval(&cd::Regs { diag: old }, &cd::Inputs { cnt_s_nxt: s, cnt_c_nxt: c, skip_nxt: skip, cnt_width: w });
+        let b = cd::CountDiagnosis::new(w);
+        let r = cd::Regs { diag: old };
+        let (o, n) = (b.outputs(&r), b.eval(&r, &cd::Inputs { cnt_s_nxt: s, cnt_c_nxt: c, skip_nxt: skip }));
         prop_assert_eq!(o.diag, old);
         prop_assert_eq!(n.diag, d.abs() >= 2 || skip);
     }
@@ -321,7 +324,6 @@ fn run_top(p: Params, seed: u64, samples: u32) {
             cs_new: o2.cs,
             cc_new: o2.cc,
             skip_clr: clr,
-            cnt_width: w,
         };
         check_edge(w, &before.updown_counter, &m.regs().updown_counter, &ui, &rf, mv, target);
         // Outputs and register file views of the counters.

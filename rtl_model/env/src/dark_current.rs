@@ -115,6 +115,29 @@ impl DarkCurrentReport {
     }
 }
 
+/// The meter's accumulated times, ns (the exact integers behind a [`DarkCurrentReport`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct OnTimes {
+    pub key_off_ns: u64,
+    pub vm_on_ns: u64,
+    pub vs1_on_ns: u64,
+    pub vs2_on_ns: u64,
+    pub vp_on_ns: u64,
+}
+
+impl OnTimes {
+    /// What was accumulated between `earlier` and `self` (`earlier` taken first).
+    pub fn since(&self, earlier: &OnTimes) -> OnTimes {
+        OnTimes {
+            key_off_ns: self.key_off_ns.saturating_sub(earlier.key_off_ns),
+            vm_on_ns: self.vm_on_ns.saturating_sub(earlier.vm_on_ns),
+            vs1_on_ns: self.vs1_on_ns.saturating_sub(earlier.vs1_on_ns),
+            vs2_on_ns: self.vs2_on_ns.saturating_sub(earlier.vs2_on_ns),
+            vp_on_ns: self.vp_on_ns.saturating_sub(earlier.vp_on_ns),
+        }
+    }
+}
+
 /// Accumulates rail on-times while the ignition is off.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DarkCurrentMeter {
@@ -159,6 +182,30 @@ impl DarkCurrentMeter {
         add(&mut self.vs1_on_ns, rails.vs1);
         add(&mut self.vs2_on_ns, rails.vs2);
         add(&mut self.vp_on_ns, rails.vp);
+    }
+
+    /// The accumulated times so far.
+    pub fn on_times(&self) -> OnTimes {
+        OnTimes {
+            key_off_ns: self.key_off_ns,
+            vm_on_ns: self.vm_on_ns,
+            vs1_on_ns: self.vs1_on_ns,
+            vs2_on_ns: self.vs2_on_ns,
+            vp_on_ns: self.vp_on_ns,
+        }
+    }
+
+    /// Accounts `n` more repetitions of a stretch that added `delta` (taken with
+    /// [`OnTimes::since`]): the same totals as ticking through each repetition, saturating at
+    /// u64::MAX ns as [`DarkCurrentMeter::tick`] does (a saturating sum of non-negative terms
+    /// is the true sum clamped, whatever the grouping).
+    pub fn repeat(&mut self, delta: OnTimes, n: u64) {
+        let add = |acc: &mut u64, d: u64| *acc = acc.saturating_add(d.saturating_mul(n));
+        add(&mut self.key_off_ns, delta.key_off_ns);
+        add(&mut self.vm_on_ns, delta.vm_on_ns);
+        add(&mut self.vs1_on_ns, delta.vs1_on_ns);
+        add(&mut self.vs2_on_ns, delta.vs2_on_ns);
+        add(&mut self.vp_on_ns, delta.vp_on_ns);
     }
 
     /// Summary so far.
@@ -272,6 +319,26 @@ mod tests {
         assert!((r.avg_current_ua.unwrap() - (50e3 + 10e3 + 10e3 + 5.0 + 20.0)).abs() < 1e-6);
         m.reset();
         assert_eq!(m.report().vm_on_ns, 0);
+    }
+
+    #[test]
+    fn repeat_equals_ticking_every_period() {
+        // Five periods of 220 ticks with Vs2 on for 22, ticked one by one, against one period
+        // ticked and four repeated.
+        let mut a = DarkCurrentMeter::new(DarkCurrentConfig::default()).unwrap();
+        run(&mut a, 220, 22, 5);
+        let mut b = DarkCurrentMeter::new(DarkCurrentConfig::default()).unwrap();
+        let before = b.on_times();
+        run(&mut b, 220, 22, 1);
+        let delta = b.on_times().since(&before);
+        assert_eq!(delta.vs2_on_ns, 220_000);
+        b.repeat(delta, 4);
+        assert_eq!(a.on_times(), b.on_times());
+        assert_eq!(a.report(), b.report());
+        // Saturation as in `tick`.
+        b.repeat(delta, u64::MAX);
+        assert_eq!(b.on_times().key_off_ns, u64::MAX);
+        assert_eq!(b.on_times().vm_on_ns, 0);
     }
 
     #[test]

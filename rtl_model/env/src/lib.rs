@@ -33,7 +33,7 @@ pub mod sensor2;
 pub use angle::{circular_diff_deg, wrap_180, wrap_360};
 pub use comparator::{ComparatorBits, ComparatorConfig, ComparatorError, ComparatorPair};
 pub use dark_current::{
-    DarkCurrentConfig, DarkCurrentError, DarkCurrentMeter, DarkCurrentReport, RailStates,
+    DarkCurrentConfig, DarkCurrentError, DarkCurrentMeter, DarkCurrentReport, OnTimes, RailStates,
 };
 pub use motor::{MotorConfig, MotorError, MotorProfile, Segment};
 pub use readout::{

@@ -188,6 +188,36 @@ impl MotorProfile {
         }
     }
 
+    /// "No change before t": the last time up to which the angle stays exactly (bit for bit)
+    /// what it is at `t_ns`: `angle_at(u)` equals `angle_at(t_ns)` for every `u` in
+    /// `[t_ns, constant_until_ns(t_ns)]`; `u64::MAX` when it never changes again. Inside a Move
+    /// this is `t_ns` itself. Exact at segment boundaries (the cumulative start angles).
+    pub fn constant_until_ns(&self, t_ns: u64) -> u64 {
+        if t_ns >= self.end_ns {
+            return u64::MAX;
+        }
+        let a = self.angle_at(t_ns).to_bits();
+        let mut i = self.seg_start_ns.partition_point(|&s| s <= t_ns) - 1;
+        if matches!(self.segments[i], Segment::Move { .. }) {
+            return t_ns;
+        }
+        // A Hold: constant through its end, and through every following Hold at the same angle.
+        loop {
+            i += 1;
+            if i == self.segments.len() {
+                return if self.end_deg.to_bits() == a { u64::MAX } else { self.end_ns - 1 };
+            }
+            // Every later segment starts after t_ns (partition_point took the last start <= t_ns).
+            if self.seg_start_deg[i].to_bits() != a {
+                return self.seg_start_ns[i] - 1;
+            }
+            if matches!(self.segments[i], Segment::Move { .. }) {
+                // The Move starts at the held angle and leaves it right after its start.
+                return self.seg_start_ns[i];
+            }
+        }
+    }
+
     /// Largest absolute speed over all Move segments, deg/s (0 if none).
     pub fn max_speed_deg_per_s(&self) -> f64 {
         self.segments
@@ -289,6 +319,40 @@ mod tests {
             a += s.delta_deg();
         }
         assert_eq!(p.angle_at(t), a);
+    }
+
+    #[test]
+    fn constant_until_agrees_with_angle_at() {
+        let p = MotorProfile::new(
+            5.0,
+            vec![
+                Segment::Hold { duration_ns: 100 },
+                Segment::Hold { duration_ns: 0 },
+                Segment::Hold { duration_ns: 50 },
+                Segment::Move { duration_ns: 30, delta_deg: 2.5 },
+                Segment::Hold { duration_ns: 40 },
+                Segment::Move { duration_ns: 20, delta_deg: -2.5 },
+            ],
+        )
+        .unwrap();
+        assert_eq!(p.constant_until_ns(0), 150);
+        assert_eq!(p.constant_until_ns(149), 150);
+        assert_eq!(p.constant_until_ns(150), 150);
+        assert_eq!(p.constant_until_ns(160), 160);
+        assert_eq!(p.constant_until_ns(180), 220);
+        assert_eq!(p.constant_until_ns(240), u64::MAX);
+        // Brute force: the angle is constant up to the bound and changes right after it.
+        for t in 0..260u64 {
+            let u = p.constant_until_ns(t);
+            let a = p.angle_at(t).to_bits();
+            for v in t..=u.min(300) {
+                assert_eq!(p.angle_at(v).to_bits(), a, "t={t} v={v} until={u}");
+            }
+            if u < 300 {
+                assert_ne!(p.angle_at(u + 1).to_bits(), a, "t={t} until={u} is not the last");
+            }
+        }
+        assert_eq!(MotorProfile::constant(1.0).unwrap().constant_until_ns(0), u64::MAX);
     }
 
     #[test]

@@ -1,0 +1,500 @@
+//! Testbench: the digital core in its environment, one clock edge per iteration.
+//!
+//! The bench is a loop over named parts, evaluated in this order per tick *k* (time k·T,
+//! docs/spec.md 6.1):
+//! 1. the core's outputs of this tick (all Moore: the `after` of the previous edge);
+//! 2. the MPU sees key edges on `sig` (boot scheduled, tracking ends) ([`mpu::Mpu::key_edges`]);
+//! 3. the timeline applies the events of this tick: key, MPU register writes, rail faults
+//!    ([`Timeline::apply`]); the MPU polls the register map while it is powered;
+//! 4. the analog front: Vs2 rail from `vs2_en`/`rail_hi`, second sensor settling towards the
+//!    shaft angle at the end of the tick ([0326]), comparators against Vr = Vs2/2 ([0351])
+//!    ([`front::AnalogFront::sample`]);
+//! 5. the MPU: read-out Vm-boot time after key-on (FIG. 12-13), then tracking of θm ([0115]);
+//! 6. one edge of the core with those inputs; observers see the tick;
+//! 7. the dark-current meter accounts the tick while the key is off ([0324]);
+//! 8. the recorder adds a row to the pulse table at each key-off decision (FIG. 17/18).
+//!
+//! Observers (VCD writer, change log) get [`Observer::begin`] with the reset state, then every
+//! tick, then [`Observer::finish`]. When no observer needs every tick the bench may skip what it
+//! can account exactly ([`Stepping`]): idle key-off gaps with [`Pmu50::fast_forward`], and whole
+//! repeated key-off periods ([`skip`], issue 8). Results are identical to stepping every tick
+//! (tests/properties.rs, tests/skip_ahead.rs).
+
+pub mod front;
+pub mod mpu;
+pub mod recorder;
+pub mod skip;
+
+use crate::scenario::{Action, Event, Scenario};
+use front::AnalogFront;
+use mpu::Mpu;
+use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
+use pmu50_core::pmu50::FastForwardError;
+use pmu50_core::{Inputs, Internals, Outputs, ParamError, Pmu50, Regs};
+use pmu50_env::{DarkCurrentMeter, DarkCurrentReport, EnvError, KeyOnReadout, RailStates, RotationAngles};
+pub use recorder::{PulseLog, PulseRun};
+use recorder::Recorder;
+use skip::{At, PeriodSkip, Snapshot};
+
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    #[error("scenario {scenario}: the core's parameters are not legal: {source}")]
+    Core {
+        scenario: String,
+        #[source]
+        source: ParamError,
+    },
+    #[error("scenario {scenario}: environment model configuration: {source}")]
+    EnvSetup {
+        scenario: String,
+        #[source]
+        source: EnvError,
+    },
+    #[error("scenario {scenario}: environment model failed at t = {time_us} us: {source}")]
+    Env {
+        scenario: String,
+        time_us: f64,
+        #[source]
+        source: EnvError,
+    },
+    #[error("scenario {scenario}: fast-forward at t = {time_us} us: {source}")]
+    FastForward {
+        scenario: String,
+        time_us: f64,
+        #[source]
+        source: FastForwardError,
+    },
+    #[error("observer used before the bench called `begin`")]
+    NotBegun,
+    /// An observer (waveform, log, vectors) could not write its output.
+    #[error("{0}")]
+    Observer(String),
+}
+
+/// Analog values of one tick.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EnvSample {
+    pub theta_deg: f64,
+    pub sin2_v: f64,
+    pub cos2_v: f64,
+    pub vs2_v: f64,
+    pub vp_v: f64,
+    pub vr_v: f64,
+    /// θ1 while the first sensor is powered (key on).
+    pub theta1_deg: Option<f64>,
+    /// The MPU's multi-turn angle while it tracks (key on, after the read-out).
+    pub theta_m_deg: Option<f64>,
+}
+
+/// Everything visible in one tick, for observers.
+pub struct TickView<'a> {
+    pub tick: u64,
+    pub time_ns: u64,
+    /// Registers during this tick (after edge `tick`).
+    pub regs: &'a Regs,
+    pub ports: &'a Outputs,
+    /// Inputs applied during this tick (they act at edge `tick + 1`).
+    pub inputs: &'a Inputs,
+    pub internals: &'a Internals,
+    pub env: &'a EnvSample,
+}
+
+pub trait Observer {
+    /// Called once before the first tick with the reset state at time 0 (default inputs,
+    /// internals and analog values).
+    fn begin(&mut self, _v: &TickView<'_>) -> Result<(), SimError> {
+        Ok(())
+    }
+    fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError>;
+    /// Called once after the last tick with the final state at time `ticks`·T.
+    fn finish(&mut self, v: &TickView<'_>) -> Result<(), SimError>;
+    /// Whether this observer must see every tick (a waveform must). While one does, the bench
+    /// evaluates every tick; otherwise it may skip stretches it accounts exactly.
+    fn needs_every_tick(&self) -> bool {
+        true
+    }
+}
+
+/// An observer built from the reset state at [`Observer::begin`] (a waveform writer declares
+/// its signals with their initial values), so that nobody rebuilds the reset state by hand.
+pub struct OnBegin<O, F> {
+    make: Option<F>,
+    inner: Option<O>,
+}
+
+impl<O, F> OnBegin<O, F>
+where
+    O: Observer,
+    F: FnOnce(&TickView<'_>) -> Result<O, SimError>,
+{
+    pub fn new(make: F) -> Self {
+        OnBegin { make: Some(make), inner: None }
+    }
+
+    /// The observer, once begun.
+    pub fn get(&self) -> Option<&O> {
+        self.inner.as_ref()
+    }
+}
+
+impl<O, F> Observer for OnBegin<O, F>
+where
+    O: Observer,
+    F: FnOnce(&TickView<'_>) -> Result<O, SimError>,
+{
+    fn begin(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+        let make = self.make.take().ok_or(SimError::NotBegun)?;
+        let mut o = make(v)?;
+        o.begin(v)?;
+        self.inner = Some(o);
+        Ok(())
+    }
+    fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+        self.inner.as_mut().ok_or(SimError::NotBegun)?.tick(v)
+    }
+    fn finish(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+        self.inner.as_mut().ok_or(SimError::NotBegun)?.finish(v)
+    }
+    fn needs_every_tick(&self) -> bool {
+        self.inner.as_ref().is_none_or(|o| o.needs_every_tick())
+    }
+}
+
+/// One row of the per-pulse event table: the state after a key-off sampling edge.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PulseRow {
+    /// Edge number (the sample was taken at the end of tick `tick - 1`).
+    pub tick: u64,
+    pub time_ns: u64,
+    pub cs: bool,
+    pub cc: bool,
+    pub hist_s: bool,
+    pub hist_c: bool,
+    pub cnt_r: u8,
+    pub si: u16,
+    pub cnt_s: i32,
+    pub cnt_c: i32,
+    pub fig17: Fig17,
+    pub fig18: Fig18,
+}
+
+/// One key-on read-out by the MPU.
+#[derive(Clone, Debug, PartialEq)]
+pub struct KeyOnRow {
+    pub tick: u64,
+    pub time_ns: u64,
+    /// True multi-turn angle relative to the turn the counters started in.
+    pub true_deg: f64,
+    pub readout: KeyOnReadout,
+    /// θm, θo = θm·Rg, θi = θo + θt at the read-out ([0116]).
+    pub angles: RotationAngles,
+    pub error_deg: f64,
+    /// STATUS.diag and STATUS.quadrant_skip as read by the MPU.
+    pub diag: bool,
+    pub quadrant_skip: bool,
+    /// θ1 against θ2 diagnosis ([0118]).
+    pub theta_abnormal: bool,
+}
+
+/// θm at the moment the key goes off (end of tracking), against the true angle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct KeyOffRow {
+    pub tick: u64,
+    pub true_deg: f64,
+    pub theta_m_deg: f64,
+    /// θm, θo, θi as tracked up to key-off ([0115]-[0116]).
+    pub angles: RotationAngles,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Check {
+    pub name: String,
+    pub ok: bool,
+    pub detail: String,
+}
+
+#[derive(Clone, Debug)]
+pub struct RunResult {
+    pub name: String,
+    pub ticks: u64,
+    pub clock_ns: u64,
+    /// Ticks evaluated one by one (the rest were fast-forwarded or skipped).
+    pub evaluated_ticks: u64,
+    /// Ticks skipped as whole repeated key-off periods.
+    pub skipped_ticks: u64,
+    /// The per-pulse table (run-length aggregated; [`PulseLog::iter`] gives every row).
+    pub pulses: PulseLog,
+    pub keyons: Vec<KeyOnRow>,
+    pub keyoffs: Vec<KeyOffRow>,
+    pub final_ports: Outputs,
+    pub final_regs: Regs,
+    pub dark: DarkCurrentReport,
+    pub checks: Vec<Check>,
+    pub cnt_width: u8,
+}
+
+impl RunResult {
+    pub fn passed(&self) -> bool {
+        self.checks.iter().all(|c| c.ok)
+    }
+
+    /// Successive distinct drive intervals (ms) in force after each key-off pulse, starting with
+    /// the interval at the first pulse.
+    pub fn si_sequence_ms(&self) -> Vec<f64> {
+        let mut out: Vec<f64> = Vec::new();
+        // Every row of a run has the run's interval.
+        for r in self.pulses.runs() {
+            let ms = f64::from(r.first.si) * self.clock_ns as f64 / 1e6;
+            if out.last().is_none_or(|&l| (l - ms).abs() > 1e-9) {
+                out.push(ms);
+            }
+        }
+        out
+    }
+
+    /// The per-pulse event table, as text (golden snapshots, CLI): one line per pulse.
+    pub fn pulse_table(&self) -> String {
+        self.pulses.table()
+    }
+}
+
+/// Options of a run.
+#[derive(Clone, Copy, Debug)]
+pub struct SimOptions {
+    /// Skip what can be skipped exactly ([`Stepping::Periods`]) when no observer needs every
+    /// tick; `false`: evaluate every tick ([`Stepping::EveryTick`]).
+    pub fast_forward: bool,
+}
+
+impl Default for SimOptions {
+    fn default() -> Self {
+        SimOptions { fast_forward: true }
+    }
+}
+
+/// How the bench advances time when no observer needs every tick.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stepping {
+    /// Every tick evaluated: the reference.
+    EveryTick,
+    /// Idle key-off gaps (Vs2 off, nothing due) advanced in O(1) with [`Pmu50::fast_forward`].
+    IdleGaps,
+    /// Idle gaps, and whole key-off periods once they repeat (docs/spec.md 5.1).
+    Periods,
+}
+
+impl From<SimOptions> for Stepping {
+    fn from(o: SimOptions) -> Stepping {
+        if o.fast_forward {
+            Stepping::Periods
+        } else {
+            Stepping::EveryTick
+        }
+    }
+}
+
+/// The scenario's timeline: the key level and the events not yet applied.
+struct Timeline<'a> {
+    events: &'a [Event],
+    next: usize,
+    ig: bool,
+}
+
+impl Timeline<'_> {
+    /// Apply the events of tick `k`; returns this tick's inputs with the key level and any
+    /// register write (the analog inputs are filled in by the front).
+    fn apply(&mut self, k: u64, front: &mut AnalogFront) -> Inputs {
+        let mut inputs = Inputs::default();
+        while let Some(e) = self.events.get(self.next).filter(|e| e.tick == k) {
+            match &e.action {
+                Action::Ig(v) => self.ig = *v,
+                Action::Vs2Fault(v) => front.set_fault(*v),
+                Action::Write { addr, value, .. } => {
+                    inputs.bus_we = true;
+                    inputs.bus_addr = *addr;
+                    inputs.bus_wdata = *value;
+                }
+            }
+            self.next += 1;
+        }
+        inputs.ig = self.ig;
+        inputs
+    }
+
+    fn next_tick(&self) -> Option<u64> {
+        self.events.get(self.next).map(|e| e.tick)
+    }
+}
+
+/// Run a scenario.
+pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer]) -> Result<RunResult, SimError> {
+    run_with(sc, opts.into(), observers)
+}
+
+/// Run a scenario with the given stepping (used only while no observer needs every tick).
+pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Observer]) -> Result<RunResult, SimError> {
+    let setup = |source: EnvError| SimError::EnvSetup { scenario: sc.name.clone(), source };
+    let mut core = Pmu50::new(sc.params).map_err(|source| SimError::Core { scenario: sc.name.clone(), source })?;
+    let w = sc.params.cnt_width;
+    let clk = sc.clock_ns();
+    let env_err = |k: u64, source: EnvError| SimError::Env { scenario: sc.name.clone(), time_us: (k * clk) as f64 / 1e3, source };
+
+    // The parts.
+    let mut timeline = Timeline { events: &sc.events, next: 0, ig: false };
+    let mut front = AnalogFront::new(&sc.env).map_err(setup)?;
+    let mut mpu = Mpu::new(&sc.env).map_err(setup)?;
+    let mut meter = DarkCurrentMeter::new(sc.env.dark_current).map_err(|e| setup(e.into()))?;
+    let mut rec = Recorder::new(clk, w);
+
+    let mut stepping = stepping;
+    let wt = u64::from(sc.params.pw) + u64::from(sc.params.pi) + u64::from(sc.params.ps);
+    let mut evaluated = 0u64;
+    let mut skipped = 0u64;
+    let mut env = EnvSample::default();
+    // Outputs of the current tick: from reset, then the `after` of each edge (Moore outputs).
+    let mut out = core.peek();
+
+    let reset = *core.regs();
+    for o in observers.iter_mut() {
+        o.begin(&TickView { tick: 0, time_ns: 0, regs: &reset, ports: &out, inputs: &Inputs::default(), internals: &Internals::default(), env: &env })?;
+    }
+    if observers.iter().any(|o| o.needs_every_tick()) {
+        stepping = Stepping::EveryTick;
+    }
+    let mut periods = (stepping == Stepping::Periods).then(PeriodSkip::new);
+
+    let mut k = 0u64;
+    while k < sc.ticks {
+        let t_ns = k * clk;
+        mpu.key_edges(k, t_ns, &out, &sc.motor);
+
+        // Whole repeated key-off periods, checked at each period start (key off, timer at 0).
+        if let Some(ps) = periods.as_mut() {
+            if !out.sig && core.regs().timing_generator.tmr == 0 {
+                let at = At {
+                    k,
+                    snap: Snapshot { regs: *core.regs(), front: front.state(), mpu: mpu.state().clone(), ig: timeline.ig },
+                    next_event: timeline.next,
+                    next_event_tick: timeline.next_tick(),
+                    meter: meter.on_times(),
+                    rows: rec.take_period_count(),
+                    motor: &sc.motor,
+                    clock_ns: clk,
+                    end_tick: sc.ticks,
+                };
+                if let Some(s) = ps.at_boundary(at) {
+                    meter.repeat(s.meter, s.periods);
+                    if s.rows == 1 {
+                        rec.log.repeat_last(s.periods, s.len);
+                    }
+                    k += s.periods * s.len;
+                    skipped += s.periods * s.len;
+                    continue;
+                }
+            }
+        }
+
+        let mut inputs = timeline.apply(k, &mut front);
+        mpu.poll_bus(k, &out, &mut inputs);
+
+        // Fast-forward an idle key-off gap: Vs2 off, nothing scheduled, nobody watching.
+        if stepping != Stepping::EveryTick && !out.sig && !out.vs2_en && !out.sr && !inputs.bus_we && mpu.idle() {
+            let tmr = u64::from(core.regs().timing_generator.tmr);
+            let si = u64::from(core.regs().drive_interval.si);
+            if tmr >= wt && tmr < si {
+                let until_event = timeline.next_tick().map_or(u64::MAX, |e| e - k);
+                let n = (si - tmr).min(until_event).min(sc.ticks - k);
+                let idle = Inputs { ig: timeline.ig, ..Inputs::default() };
+                if n > 1 && core.quiet_ticks(&idle) >= n {
+                    front.unpowered(clk).map_err(|e| env_err(k, e))?;
+                    meter.tick(out.sig, RailStates { vm: out.vm_en, vs1: out.vs1_en, vs2: false, vp: out.vp_en }, n * clk);
+                    core.fast_forward(n, &idle).map_err(|source| SimError::FastForward { scenario: sc.name.clone(), time_us: t_ns as f64 / 1e3, source })?;
+                    k += n;
+                    out = core.peek();
+                    continue;
+                }
+            }
+        }
+
+        // Analog front of this tick; the shaft angle is the one at the end of the tick.
+        let theta = sc.motor.angle_at(t_ns + clk);
+        let f = front.sample(&out, theta, clk).map_err(|e| env_err(k, e))?;
+        inputs.vs2_ok = f.vs2_v > 0.0;
+        inputs.cmp_s = f.bits.cs;
+        inputs.cmp_c = f.bits.cc;
+
+        // MPU: read-out at boot, then tracking ([0108]-[0116]).
+        let (theta1, theta_m) = mpu.read_and_track(k, t_ns, &core, &out, theta, &f).map_err(|e| env_err(k, e))?;
+
+        env = EnvSample { theta_deg: theta, sin2_v: f.sin2_v, cos2_v: f.cos2_v, vs2_v: f.vs2_v, vp_v: f.vp_v, vr_v: f.vs2_v / 2.0, theta1_deg: theta1, theta_m_deg: theta_m };
+
+        // One clock edge.
+        let regs_before = *core.regs();
+        let (_, internals, after) = core.step_traced(&inputs);
+        evaluated += 1;
+        for o in observers.iter_mut() {
+            o.tick(&TickView { tick: k, time_ns: t_ns, regs: &regs_before, ports: &out, inputs: &inputs, internals: &internals, env: &env })?;
+        }
+
+        // Dark-current meter and recorder.
+        meter.tick(out.sig, RailStates { vm: out.vm_en, vs1: out.vs1_en, vs2: f.vs2_v > 0.0, vp: out.vp_en }, clk);
+        if internals.first {
+            mpu.first_sample(&after, theta);
+        }
+        rec.edge(k, clk, &internals, &after);
+        out = after;
+        k += 1;
+    }
+
+    let final_ports = core.peek();
+    let final_regs = *core.regs();
+    let idle = Internals::default();
+    let last_in = Inputs { ig: timeline.ig, ..Inputs::default() };
+    for o in observers.iter_mut() {
+        o.finish(&TickView { tick: sc.ticks, time_ns: sc.ticks * clk, regs: &final_regs, ports: &final_ports, inputs: &last_in, internals: &idle, env: &env })?;
+    }
+
+    let mut res = RunResult {
+        name: sc.name.clone(),
+        ticks: sc.ticks,
+        clock_ns: clk,
+        evaluated_ticks: evaluated,
+        skipped_ticks: skipped,
+        pulses: rec.log,
+        keyons: mpu.keyons,
+        keyoffs: mpu.keyoffs,
+        final_ports,
+        final_regs,
+        dark: meter.report(),
+        checks: Vec::new(),
+        cnt_width: w,
+    };
+    res.checks = checks(sc, &res);
+    Ok(res)
+}
+
+fn checks(sc: &Scenario, r: &RunResult) -> Vec<Check> {
+    let x = &sc.expect;
+    let mut out = Vec::new();
+    if let Some(want) = &x.si_sequence_ms {
+        let got = r.si_sequence_ms();
+        let ok = got.len() == want.len() && got.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-6);
+        out.push(Check { name: "si_sequence_ms".into(), ok, detail: format!("expected {want:?}, got {got:?}") });
+    }
+    if let Some(tol) = x.readout_within_deg {
+        let worst = r.keyons.iter().map(|k| k.error_deg.abs()).fold(0.0, f64::max);
+        let ok = !r.keyons.is_empty() && worst <= tol;
+        out.push(Check {
+            name: "readout_within_deg".into(),
+            ok,
+            detail: if r.keyons.is_empty() { "no key-on read-out happened".into() } else { format!("worst |theta_m - true| = {worst:.4} deg over {} read-outs, limit {tol}", r.keyons.len()) },
+        });
+    }
+    if let Some(want) = x.diag {
+        out.push(Check { name: "diag".into(), ok: r.final_ports.diag == want, detail: format!("expected {want}, got {}", r.final_ports.diag) });
+    }
+    if let Some(want) = x.quadrant_skip {
+        out.push(Check { name: "quadrant_skip".into(), ok: r.final_ports.quadrant_skip == want, detail: format!("expected {want}, got {}", r.final_ports.quadrant_skip) });
+    }
+    out
+}

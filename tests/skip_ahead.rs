@@ -1,0 +1,204 @@
+//! The skipping bench against the per-tick bench (issue 7 section 4, issue 8 section 1).
+//!
+//! - every shipped scenario, run both ways, gives the same summary (every figure: counters,
+//!   intervals, read-outs, key-off current), the same table rows, read-outs, final registers and
+//!   dark-current times; the parked 30-day scenario is compared on a 1-day copy;
+//! - proptest over random park scenarios (random core configuration, key-off for seconds with
+//!   bumps and turns at random times, key-on read-out) compares the two on every output;
+//! - the 30-day park passes its checks with a bounded table (run-length rows).
+//!
+//! The per-tick reference of the 1-day copy uses the idle-gap fast-forward
+//! ([`Stepping::IdleGaps`]), itself proven equal to stepping every tick in tests/properties.rs
+//! and below: stepping every one of its 8.6e9 ticks would take CI an hour.
+
+use pmu50::output::summary;
+use pmu50::scenario::Scenario;
+use pmu50::sim::{run_with, RunResult, Stepping};
+use proptest::prelude::*;
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+fn scenarios_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios")
+}
+
+fn parse(text: &str, name: &str) -> Scenario {
+    Scenario::parse(text, &format!("{name}.toml"), name, Path::new("inline.toml")).unwrap_or_else(|e| panic!("{e}\n{text}"))
+}
+
+/// Every output of two runs, equal (the table row by row only when `rows`).
+fn same(sc: &Scenario, a: &RunResult, b: &RunResult, rows: bool) -> Result<(), TestCaseError> {
+    prop_assert_eq!(summary(sc, a), summary(sc, b));
+    prop_assert_eq!(a.ticks, b.ticks);
+    prop_assert_eq!(a.pulses.len(), b.pulses.len());
+    if rows {
+        prop_assert!(a.pulses.iter().eq(b.pulses.iter()), "pulse tables differ");
+    } else {
+        prop_assert_eq!(a.pulses.runs(), b.pulses.runs());
+    }
+    prop_assert_eq!(a.si_sequence_ms(), b.si_sequence_ms());
+    prop_assert_eq!(&a.keyons, &b.keyons);
+    prop_assert_eq!(&a.keyoffs, &b.keyoffs);
+    prop_assert_eq!(a.final_regs, b.final_regs);
+    prop_assert_eq!(a.final_ports, b.final_ports);
+    prop_assert_eq!(a.dark, b.dark);
+    prop_assert_eq!(&a.checks, &b.checks);
+    Ok(())
+}
+
+fn assert_same(sc: &Scenario, a: &RunResult, b: &RunResult, rows: bool) {
+    if let Err(e) = same(sc, a, b, rows) {
+        panic!("{}: {e}", sc.name);
+    }
+}
+
+#[test]
+fn every_shipped_scenario_gives_the_same_summary_skipping_and_per_tick() {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(scenarios_dir()).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|x| x == "toml")).collect();
+    files.sort();
+    let mut n = 0;
+    for p in files {
+        let sc = Scenario::load(&p).unwrap();
+        if sc.ticks > 1_000_000_000 {
+            continue; // the parked days: compared on a 1-day copy below
+        }
+        let tick = run_with(&sc, Stepping::EveryTick, &mut []).unwrap();
+        let gaps = run_with(&sc, Stepping::IdleGaps, &mut []).unwrap();
+        let skip = run_with(&sc, Stepping::Periods, &mut []).unwrap();
+        assert_same(&sc, &tick, &gaps, true);
+        assert_same(&sc, &tick, &skip, true);
+        assert_eq!(tick.evaluated_ticks, sc.ticks);
+        n += 1;
+    }
+    assert!(n >= 7);
+}
+
+/// The shipped 30-day park shortened to one day (same disturbances, key-on one second before
+/// the end).
+fn park_1d() -> Scenario {
+    let text = std::fs::read_to_string(scenarios_dir().join("park_30d.toml")).unwrap();
+    assert!(text.contains("duration = \"30 d\"") && text.contains("at = \"2591999 s\""));
+    let text = text.replace("duration = \"30 d\"", "duration = \"1 d\"").replace("at = \"2591999 s\"", "at = \"86399 s\"").replace("name = \"park_30d\"", "name = \"park_1d\"");
+    parse(&text, "park_1d")
+}
+
+#[test]
+fn one_parked_day_skipping_equals_per_tick() {
+    let sc = park_1d();
+    let skip = run_with(&sc, Stepping::Periods, &mut []).unwrap();
+    let gaps = run_with(&sc, Stepping::IdleGaps, &mut []).unwrap();
+    assert_same(&sc, &gaps, &skip, false);
+    assert!(skip.passed(), "{:?}", skip.checks);
+    assert_eq!(skip.keyons.len(), 2);
+    // Most of the day is skipped; the table holds a few runs per disturbance.
+    assert!(skip.skipped_ticks * 100 > sc.ticks * 99, "skipped {} of {}", skip.skipped_ticks, sc.ticks);
+    assert!(skip.pulses.runs().len() < 1_000, "{} runs", skip.pulses.runs().len());
+    assert!(skip.pulses.len() > 10_000_000);
+}
+
+#[test]
+fn thirty_parked_days_pass_their_checks_with_a_bounded_table() {
+    let sc = Scenario::load(&scenarios_dir().join("park_30d.toml")).unwrap();
+    assert_eq!(sc.ticks, 30 * 86_400 * 100_000);
+    let r = run_with(&sc, Stepping::Periods, &mut []).unwrap();
+    assert!(r.passed(), "{:?}", r.checks);
+    assert_eq!(r.keyons.len(), 2);
+    let k = &r.keyons[1];
+    // 30 days of +4 +360 -3 -270 deg a day from 37 deg.
+    assert!((k.true_deg - (r.keyons[0].true_deg + 30.0 * 91.0)).abs() < 1e-6, "{k:?}");
+    assert!(k.error_deg.abs() <= 0.05 && !k.diag && !k.theta_abnormal, "{k:?}");
+    assert!(r.pulses.runs().len() < 30 * 4 * 100, "{} runs", r.pulses.runs().len());
+    assert!(r.evaluated_ticks < 20_000_000, "evaluated {}", r.evaluated_ticks);
+    // The interval settles back to x = 6.6 ms after every disturbance: the key-off current is
+    // close to the settled one (duty 220 us / 6.6 ms).
+    let duty = r.dark.vs2_duty.unwrap();
+    assert!(duty > 1.0 / 30.0 && duty < 1.0 / 29.0, "duty {duty}");
+}
+
+/// A random parked car: core configuration, a short drive, key off for seconds with bumps and
+/// turns by hand at random times, key on and read out at the end.
+#[derive(Clone, Debug)]
+struct Park {
+    adaptive: bool,
+    /// x = 2.2 ms times this (1..=3).
+    x_ms: u64,
+    cth: u8,
+    start: f64,
+    /// (hold before, in 10 us ticks; move duration in ticks; delta deg)
+    moves: Vec<(u64, u64, f64)>,
+    fault: Option<(u64, u64)>,
+    keyoff_ticks: u64,
+}
+
+fn park_toml(p: &Park) -> String {
+    let mut t = String::new();
+    let off = 20_000u64; // key off at 200 ms
+    let on = off + p.keyoff_ticks;
+    let end = on + 30_000;
+    let _ = writeln!(t, "duration = \"{} us\"", end * 10);
+    let x = ["2.2", "4.4", "6.6"][(p.x_ms - 1) as usize];
+    let _ = writeln!(t, "[core]\nadaptive = {}\nx = \"{x} ms\"\ncth = {}", p.adaptive, p.cth);
+    let _ = writeln!(t, "[motor]\nstart_deg = {}\nsegments = [", p.start);
+    for (hold, dur, delta) in &p.moves {
+        let _ = writeln!(t, "  {{ kind = \"hold\", duration = \"{} us\" }},", hold * 10);
+        let _ = writeln!(t, "  {{ kind = \"move\", duration = \"{} us\", delta_deg = {delta} }},", dur * 10);
+    }
+    t += "]\n";
+    let mut ev: Vec<(u64, String)> = vec![(0, "ig = true".into()), (off, "ig = false".into()), (on, "ig = true".into())];
+    if let Some((a, b)) = p.fault {
+        ev.push((off + a, "vs2_fault = true".into()));
+        ev.push((off + a + b, "vs2_fault = false".into()));
+    }
+    ev.sort_by_key(|e| e.0);
+    for (tick, what) in ev {
+        let _ = writeln!(t, "[[events]]\nat = \"{} us\"\n{what}", tick * 10);
+    }
+    t
+}
+
+fn park() -> impl Strategy<Value = Park> {
+    let mv = (1_000u64..150_000, 50u64..20_000, -400.0f64..400.0);
+    (
+        any::<bool>(),
+        1u64..=3,
+        1u8..6,
+        0.0f64..360.0,
+        prop::collection::vec(mv, 0..5),
+        prop::option::of((0u64..300_000, 1u64..50_000)),
+        200_000u64..600_000,
+    )
+        .prop_map(|(adaptive, x, cth, start, moves, fault, keyoff_ticks)| Park {
+            adaptive,
+            x_ms: x,
+            cth,
+            start: (start * 10.0).round() / 10.0,
+            // At most 10 deg/ms: never a skipped quadrant at any interval up to 6.6 ms.
+            moves: moves.into_iter().map(|(h, d, a)| (h, d, ((a.clamp(-(d as f64) / 10.0, d as f64 / 10.0)) * 100.0).round() / 100.0)).collect(),
+            fault,
+            keyoff_ticks,
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    /// Random parks: skipping whole periods equals stepping every tick, on every output.
+    #[test]
+    fn random_parks_skipping_equals_every_tick(p in park()) {
+        let sc = parse(&park_toml(&p), "park");
+        let tick = run_with(&sc, Stepping::EveryTick, &mut []).unwrap();
+        let skip = run_with(&sc, Stepping::Periods, &mut []).unwrap();
+        same(&sc, &tick, &skip, true)?;
+        prop_assert!(skip.evaluated_ticks <= tick.evaluated_ticks);
+    }
+}
+
+#[test]
+fn a_still_park_skips_almost_everything() {
+    let p = Park { adaptive: true, x_ms: 3, cth: 4, start: 100.0, moves: vec![], fault: None, keyoff_ticks: 600_000 };
+    let sc = parse(&park_toml(&p), "still");
+    let skip = run_with(&sc, Stepping::Periods, &mut []).unwrap();
+    let tick = run_with(&sc, Stepping::EveryTick, &mut []).unwrap();
+    assert_same(&sc, &tick, &skip, true);
+    assert!(skip.skipped_ticks * 10 > 9 * 600_000, "skipped {}", skip.skipped_ticks);
+}
