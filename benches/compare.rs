@@ -498,7 +498,7 @@ fn main() {
                 if secs == 3600 {
                     fast_enough = cpu < 0.1;
                 }
-                out += &format!("  {label:>4}: {cpu:.2} CPU-s, peak {mib:.0} MiB\n");
+                out += &format!("  {label:>4}: {cpu:.4} CPU-s, peak {mib:.0} MiB (the child process whole)\n");
             }
             Err(e) => {
                 out += &format!("  {label:>4}: failed: {e}\n");
