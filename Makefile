@@ -54,9 +54,11 @@ golden:
 	-INSTA_UPDATE=new $(CARGO) test --test golden
 	$(CARGO) insta review --workspace
 
-## Speed: core edges per second, scenarios with and without fast-forward (criterion).
-bench:
-	$(CARGO) bench --bench sim_speed
+## Speed, side by side in one table: readable model, fast kernel, Verilator (-O3, --trace), the
+## Rust tracer (VCD, FST), Icarus; park figures (docs/performance.md). Criterion micro-benchmarks
+## of the simulator: cargo bench --bench sim_speed.
+bench: deps
+	bash benches/compare.sh
 
 ## HDL twin against the model: vectors (Icarus), lockstep (Verilator DPI-C), VCD diff, mutants.
 cosim: deps $(BIN)

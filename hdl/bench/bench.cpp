@@ -64,11 +64,16 @@ int main(int argc, char **argv) {
     }
     const char *path = argv[1];
     long reps = std::strtol(argv[2], nullptr, 10);
+    // a VCD holds one replay (time restarts with every replay)
     const char *trace = nullptr;
     for (int i = 3; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--trace") && i + 1 < argc) trace = argv[++i];
     }
     FILE *fp = std::fopen(path, "r");
+    if (trace && reps != 1) {
+        std::fprintf(stderr, "bench: --trace needs REPS = 1\n");
+        return 2;
+    }
     if (!fp || reps < 1) {
         std::fprintf(stderr, "bench: cannot read %s or bad REPS\n", path);
         return 2;
@@ -108,7 +113,10 @@ int main(int argc, char **argv) {
     uint64_t h = 0;
     double t0 = cpu_now();
     for (long r = 0; r < reps; ++r) {
+        // Power-on reset: a falling edge of rst_n (the asynchronous reset is edge-triggered).
         top->clk = 0;
+        top->rst_n = 1;
+        top->eval();
         top->rst_n = 0;
         top->eval();
         top->rst_n = 1;

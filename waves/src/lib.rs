@@ -3,6 +3,7 @@
 //! * [`writer`] — a checked, deterministic VCD writer on top of the `vcd` crate
 //!   ([`writer::VcdBuilder`] declares the hierarchy, [`writer::VcdWriter`] dumps
 //!   value changes).
+//! * [`fst`] — the same checked writer with FST output (`fst-writer`), for long runs.
 //! * [`gtkw`] — GTKWave save files (`.gtkw`) that open a VCD with groups,
 //!   number formats and analog traces.
 //! * [`reader`] — reads any VCD back with `wellen` (independent of the writer),
@@ -18,6 +19,7 @@
 //! panics on user input.
 
 pub mod diff;
+pub mod fst;
 pub mod fuzzing;
 pub mod gtkw;
 pub mod reader;

@@ -272,7 +272,7 @@ pub enum WriteError {
     Io(#[from] std::io::Error),
 }
 
-type Result<T> = std::result::Result<T, WriteError>;
+pub(crate) type Result<T> = std::result::Result<T, WriteError>;
 
 /// Stored value of a variable, canonical so that `==` means "same value".
 #[derive(Debug, Clone, PartialEq)]
@@ -387,6 +387,11 @@ pub(crate) fn format_real(v: f64) -> String {
     } else {
         format!("{v:e}")
     }
+}
+
+/// FST's encoding of a real value: the IEEE 754 bits, little endian.
+pub(crate) fn format_real_bits(v: f64) -> [u8; 8] {
+    v.to_le_bytes()
 }
 
 /// Declares the VCD header: timescale, version, optional window, scopes and variables.
@@ -699,6 +704,10 @@ impl VcdBuilder {
 
     pub(crate) fn timescale(&self) -> Timescale {
         self.timescale
+    }
+
+    pub(crate) fn window_start(&self) -> u64 {
+        self.window.0
     }
 
     pub(crate) fn version(&self) -> &str {
@@ -1221,9 +1230,8 @@ impl<E: Emitter> Writer<E> {
             }
         }
         let mut changed = false;
-        for k in 0..values.len() {
+        for (k, &v) in values.iter().enumerate() {
             let i = frame.idx[k] as usize;
-            let v = values[k];
             let same = if fast { v == frame.prev[k] } else { matches!(self.cur[i], Stored::Int(c) if c == v) };
             if same {
                 continue;

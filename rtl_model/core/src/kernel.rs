@@ -359,10 +359,11 @@ pub fn edge(c: &Consts, r: &mut Regs, i: &Inputs) -> Internals {
     let period = if sig { r.register_file.smp_on } else { r.drive_interval.si };
     let end_of_cycle = u32::from(tmr) + 1 >= u32::from(period);
     let sr = r.sensor_power_determination.sr;
-    // 2. Register file: the read mux sees every register before the edge.
+    // 2. Register file: the read mux sees every register before the edge; a write (rare) is
+    // computed here and committed last, so steps 3-8 see the parameters before the edge.
     let rdata = read(c, r, sig, i.bus_addr);
-    let f = r.register_file;
-    let (f_n, bus_err_n, skip_clr) = if i.bus_we { bus_write(c, &f, sig, i.bus_addr, i.bus_wdata) } else { (f, f.bus_err, false) };
+    let write = if i.bus_we { Some(bus_write(c, &r.register_file, sig, i.bus_addr, i.bus_wdata)) } else { None };
+    let skip_clr = matches!(write, Some((_, _, true)));
 
     // Commit (non-blocking: every value above was computed from the registers before the edge).
     r.action_switching.sync = sync_n;
@@ -374,11 +375,16 @@ pub fn edge(c: &Consts, r: &mut Regs, i: &Inputs) -> Internals {
     if skip_clr && !(s.chg_s && s.chg_c) {
         r.updown_counter.quadrant_skip = false;
     }
-    // 7. Drive interval changing unit 56b.
+    // 7. Drive interval changing unit 56b (parameters before the edge; x after it at key-off).
     let (fig17, fig18) = if koff {
-        r.drive_interval = crate::drive_interval_changing_56b::reset(f_n.si_max);
+        let si_max_n = match &write {
+            Some((f_n, _, _)) => f_n.si_max,
+            None => r.register_file.si_max,
+        };
+        r.drive_interval = crate::drive_interval_changing_56b::reset(si_max_n);
         (Fig17::Idle, Fig18::Idle)
     } else if smp && !sig {
+        let f = r.register_file;
         drive_interval_pulse(r, &f, sr, s.chg_s, s.chg_c)
     } else {
         (Fig17::Idle, Fig18::Idle)
@@ -388,7 +394,11 @@ pub fn edge(c: &Consts, r: &mut Regs, i: &Inputs) -> Internals {
     let d = u.cnt_s.wrapping_sub(u.cnt_c).wrapping_add(1) & c.cnt_mask;
     r.count_diagnosis.diag = d > 2 || u.quadrant_skip;
     // 2. Register file commit.
-    r.register_file = crate::register_file::Regs { bus_err: bus_err_n, rdata, ..f_n };
+    if let Some((f_n, bus_err_n, _)) = write {
+        r.register_file = f_n;
+        r.register_file.bus_err = bus_err_n;
+    }
+    r.register_file.rdata = rdata;
     Internals { kon, koff, upd, first: s.first, chg_s: s.chg_s, chg_c: s.chg_c, skip_clr, fig17, fig18 }
 }
 

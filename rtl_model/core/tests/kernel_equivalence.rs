@@ -167,6 +167,7 @@ struct Coverage {
 /// Run both models `len` ticks from reset and compare everything on every tick.
 fn lockstep(p: Params, seed: u64, len: u64, cov: &mut Coverage) -> Result<(), TestCaseError> {
     let mut fast = Pmu50::new(p).unwrap();
+    let mut untraced = Pmu50::new(p).unwrap();
     let mut spec = Pmu50Spec::new(p).unwrap();
     let mut d = Driver::new(seed);
     prop_assert_eq!(fast.regs(), spec.regs());
@@ -183,6 +184,9 @@ fn lockstep(p: Params, seed: u64, len: u64, cov: &mut Coverage) -> Result<(), Te
         prop_assert_eq!(a1, a2, "outputs after edge {} (seed {})", k + 1, seed);
         prop_assert_eq!(fast.regs(), spec.regs(), "registers after edge {} (seed {}, inputs {:?})", k + 1, seed, i);
         prop_assert_eq!(fast.tick(), spec.tick());
+        // `Pmu50::step` (with the kernel's idle memo) from the same inputs.
+        prop_assert_eq!(untraced.step(&i), a2, "untraced outputs after edge {} (seed {})", k + 1, seed);
+        prop_assert_eq!(untraced.regs(), spec.regs(), "untraced registers after edge {} (seed {})", k + 1, seed);
         cov.fig17.insert(x2.fig17);
         cov.fig18.insert(x2.fig18);
         let now = spec.regs();
@@ -225,6 +229,58 @@ fn untraced_step_equals_the_spec() {
         let i = d.next(&spec);
         assert_eq!(fast.step(&i), spec.step(&i));
         assert_eq!(fast.regs(), spec.regs());
+    }
+}
+
+/// Held inputs (a parked car: long idle stretches) interrupted by input changes, bus writes,
+/// resets and fast-forwards (`quiet_ticks` + `fast_forward`), `Pmu50::step` against the spec.
+#[test]
+fn memo_across_held_inputs_resets_and_fast_forward() {
+    let mut r = Rng(99);
+    for case in 0..300u64 {
+        let p = Params {
+            sync_depth: r.range(1, 4) as u8,
+            cnt_width: r.range(2, 16) as u8,
+            adaptive: r.bit(),
+            pw: r.range(0, 3) as u16 + 1,
+            pi: r.range(0, 3) as u16,
+            ps: r.range(1, 3) as u16,
+            si_max: r.range(20, 60) as u16,
+            si_min: 15,
+            t1: r.range(1, 30) as u16,
+            t2: r.range(1, 30) as u16,
+            cth: r.range(1, 4) as u8,
+            smp_on: r.range(2, 12) as u16,
+        };
+        if p.validate().is_err() {
+            continue;
+        }
+        let mut fast = Pmu50::new(p).unwrap();
+        let mut spec = Pmu50Spec::new(p).unwrap();
+        let mut i = Inputs::default();
+        for k in 0..20_000u64 {
+            if r.chance(1, 150) {
+                i = Inputs { ig: r.chance(1, 3), vs2_ok: r.bit(), cmp_s: r.bit(), cmp_c: r.bit(), bus_we: r.chance(1, 20), bus_addr: r.range(0, 0x15) as u8, bus_wdata: r.range(0, 80) as u16 };
+            } else if i.bus_we {
+                i.bus_we = false;
+            }
+            if r.chance(1, 5000) {
+                fast.reset();
+                spec.reset();
+            }
+            if r.chance(1, 700) {
+                // fast-forward the core (the spec steps the same edges)
+                let n = fast.quiet_ticks(&i).min(r.range(0, 500));
+                fast.fast_forward(n, &i).unwrap();
+                for _ in 0..n {
+                    spec.step(&i);
+                }
+            }
+            let a = fast.step(&i);
+            let b = spec.step(&i);
+            assert_eq!(a, b, "case {case} tick {k} {p:?}");
+            assert_eq!(fast.regs(), spec.regs(), "case {case} tick {k} {p:?} {i:?}");
+        }
     }
 }
 

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# `make bench`: the Rust model and the Verilog twin side by side, same stimulus, one run, one table
+# (benches/compare.rs prints it; docs/performance.md explains it).
+#
+#   benches/compare.sh [--seconds S]     (CPU seconds per untraced harness and stimulus, default 1)
+#
+# 1. target/release/pmu50 writes the stimuli as vector files: scenarios/keyoff_turns.toml and the
+#    seeded random scenario PMU50_BENCH_SEED (default 7, as `pmu50 random --seed 7`);
+# 2. hdl/bench/build.sh builds the Verilator harness per stimulus, without and with --trace
+#    (verilator -O3, g++ -O3; cached in hdl/build/bench/); iverilog compiles tb_vectors.v for the
+#    Icarus row (keyoff_turns only);
+# 3. cargo bench --bench compare runs every harness and prints the table; exit 1 when the output
+#    checksums of the harnesses differ.
+# Needs verilator and iverilog (installed with apt-get when missing, as `make deps` does).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+B="$ROOT/hdl/build/bench"
+SEED="${PMU50_BENCH_SEED:-7}"
+SECONDS_ARG=()
+[ "${1:-}" = "--seconds" ] && SECONDS_ARG=(--seconds "$2")
+mkdir -p "$B"
+for t in verilator iverilog vvp g++; do
+    command -v "$t" > /dev/null || { echo "compare: $t missing; installing verilator iverilog g++" >&2;
+        (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends verilator iverilog g++) > "$B/apt.log" 2>&1 \
+        || { echo "compare: apt-get failed, see $B/apt.log" >&2; exit 2; }; break; }
+done
+cd "$ROOT"
+cargo build --release --bin pmu50 >&2
+PMU50="$ROOT/target/release/pmu50"
+"$PMU50" vectors scenarios/keyoff_turns.toml -o "$B/keyoff_turns.vec" >&2
+"$PMU50" random --seed "$SEED" -o "$B/random_$SEED.toml"
+"$PMU50" vectors "$B/random_$SEED.toml" -o "$B/random_$SEED.vec" >&2
+for s in keyoff_turns "random_$SEED"; do
+    echo "compare: Verilator harnesses for $s (cached)" >&2
+    "$ROOT/hdl/bench/build.sh" "$B/$s.vec" "$B/vl_$s"
+    "$ROOT/hdl/bench/build.sh" "$B/$s.vec" "$B/vlt_$s" --trace
+done
+# Icarus: the vector-replay testbench of method 1, compiled with the file's parameters.
+IV=(-Ptb_vectors.CLOCK_NS=10000)
+while IFS= read -r line; do
+    case "$line" in
+        "// param "*) set -- $line; IV+=("-Ptb_vectors.$3=$4") ;;
+        //*) ;;
+        *) break ;;
+    esac
+done < "$B/keyoff_turns.vec"
+mapfile -t RTL < <(sed "s|^|$ROOT/hdl/|" "$ROOT/hdl/pmu50.f")
+iverilog -g2005 -Wall -Wno-timescale "${IV[@]}" -s tb_vectors -o "$B/iv_keyoff_turns.vvp" "$ROOT/hdl/tb/tb_vectors.v" "${RTL[@]}"
+cargo bench --bench compare -- --dir "$B" --stim keyoff_turns --stim "random_$SEED" --icarus keyoff_turns "${SECONDS_ARG[@]}"
