@@ -553,7 +553,6 @@ fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>) -> u8 {
 }
 
 #[allow(clippy::too_many_arguments)]
-#[allow(clippy::too_many_arguments)]
 fn cmd_diff(left: PathBuf, right: PathBuf, map: Vec<String>, clock: Option<String>, every: Option<u64>, x: String, max: usize, allow_unmatched: bool, real_tol: f64, max_bytes: u64) -> u8 {
     let mut prefix_map = Vec::new();
     for m in &map {

@@ -118,7 +118,7 @@ impl PulseLog {
         self.runs
             .iter()
             .take_while(|r| r.first.tick <= tick)
-            .map(|r| if r.stride == 0 { r.count } else { r.count.min((tick - r.first.tick) / r.stride + 1) })
+            .map(|r| (tick - r.first.tick).checked_div(r.stride).map_or(r.count, |n| r.count.min(n + 1)))
             .sum()
     }
 
