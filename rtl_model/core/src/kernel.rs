@@ -289,8 +289,7 @@ fn sample(c: &Consts, r: &mut Regs, i: &Inputs) -> Sample {
 /// pre-edge `sr`, the sign changes of this sample and the pre-edge parameters `f`. Returns the
 /// FIG. 17 and FIG. 18 paths.
 #[inline(always)]
-fn drive_interval_pulse(r: &mut Regs, f: &crate::register_file::Regs, sr: bool, chg_s: bool, chg_c: bool) -> (Fig17, Fig18) {
-    let d = &mut r.drive_interval;
+fn drive_interval_pulse(d: &mut crate::drive_interval_changing_56b::Regs, f: &crate::register_file::Regs, sr: bool, chg_s: bool, chg_c: bool) -> (Fig17, Fig18) {
     if !f.adaptive {
         d.si = f.si_max;
         return (Fig17::Fixed, Fig18::Idle);
@@ -384,8 +383,7 @@ pub fn edge(c: &Consts, r: &mut Regs, i: &Inputs) -> Internals {
         r.drive_interval = crate::drive_interval_changing_56b::reset(si_max_n);
         (Fig17::Idle, Fig18::Idle)
     } else if smp && !sig {
-        let f = r.register_file;
-        drive_interval_pulse(r, &f, sr, s.chg_s, s.chg_c)
+        drive_interval_pulse(&mut r.drive_interval, &r.register_file, sr, s.chg_s, s.chg_c)
     } else {
         (Fig17::Idle, Fig18::Idle)
     };
@@ -403,10 +401,98 @@ pub fn edge(c: &Consts, r: &mut Regs, i: &Inputs) -> Internals {
 }
 
 /// One edge, returning the outputs after it (the untraced path of [`crate::Pmu50::step`]).
+///
+/// The common edge (no bus write, no key edge: so no W1C, no key-off reset of 56b and the
+/// parameters unchanged) is computed inline here, including the sampling strobe (`upd`, the
+/// comparator latches, the counters and the FIG. 17/18 pulse), and the outputs after it are decoded
+/// from the values just computed. A bus write or a key edge goes through [`edge`] out of line. Both give the same
+/// registers as [`crate::pmu50::eval`] (tested on every tick).
 #[inline(always)]
 pub fn step(c: &Consts, r: &mut Regs, i: &Inputs) -> Outputs {
+    // 1. Synchronizer (56a).
+    let sync = r.action_switching.sync;
+    let sig = sig_of(c, sync);
+    let sync_n = ((sync << 1) | u8::from(i.ig)) & c.sync_mask;
+    let sig_n = sig_of(c, sync_n);
+    // 3. Timing generator decode of the pre-edge registers (parameters before the edge).
+    let f = &r.register_file;
+    let t = u32::from(r.timing_generator.tmr);
+    let ps_start = u32::from(f.pw) + u32::from(f.pi);
+    let wt = ps_start + u32::from(f.ps);
+    let smp_at = if sig { u32::from(f.smp_on) } else { wt };
+    if (sig != sig_n) | i.bus_we {
+        // Outputs from the registers inline, so that both paths give the outputs as values (an
+        // `Outputs` returned through memory by the out-of-line call costs a store-forwarding stall
+        // in the caller every tick).
+        edge_rare(c, r, i);
+        return ports(c, r);
+    }
+    let smp = t + 1 == smp_at;
+    let vs2_en = sig | (t < wt);
+    let period = if sig { u32::from(f.smp_on) } else { u32::from(r.drive_interval.si) };
+    // t + 1 < period <= 0xFFFF in the else branch, so the increment cannot wrap.
+    let t_n = if t + 1 >= period { 0 } else { t + 1 };
+    let sr_pre = r.sensor_power_determination.sr;
+    // 2. Read mux (every register before the edge).
+    let rdata = read(c, r, sig, i.bus_addr);
+    // 4. Sensor power determination 57.
+    let sr = vs2_en & i.vs2_ok;
+    // 5.-7. Sampling strobe: latches and counters when `upd`, the 56b pulse at key-off (the
+    // parameters before the edge; no write this cycle).
+    if smp {
+        let s = if sr_pre { sample(c, r, i) } else { Sample { first: false, chg_s: false, chg_c: false } };
+        if !sig {
+            drive_interval_pulse(&mut r.drive_interval, &r.register_file, sr_pre, s.chg_s, s.chg_c);
+        }
+    }
+    // 8. Count diagnosis from the counters after the edge.
+    let u = &r.updown_counter;
+    let d = u.cnt_s.wrapping_sub(u.cnt_c).wrapping_add(1) & c.cnt_mask;
+    let diag = (d > 2) | u.quadrant_skip;
+    // Commit.
+    r.action_switching.sync = sync_n;
+    r.timing_generator.tmr = t_n as u16;
+    r.sensor_power_determination.sr = sr;
+    r.count_diagnosis.diag = diag;
+    r.register_file.rdata = rdata;
+    // Moore outputs after the edge: `sig` and the parameters are unchanged, the timer is `t_n`.
+    let (st, vs2_en_n, ps_win, smp_n) = if sig {
+        (false, true, false, t_n + 1 == smp_at)
+    } else {
+        (t_n == 0, t_n < wt, (t_n >= ps_start) & (t_n < wt), t_n + 1 == wt)
+    };
+    Outputs {
+        sig,
+        vr_hi: sig,
+        vm_en: sig,
+        vs1_en: sig,
+        vs2_en: vs2_en_n,
+        vp_en: true,
+        rail_hi: sig,
+        st,
+        sr,
+        ps_win,
+        smp: smp_n,
+        cs: r.comparator_latch.cs,
+        cc: r.comparator_latch.cc,
+        cnt_s: u.cnt_s,
+        cnt_c: u.cnt_c,
+        cnt_r: r.drive_interval.cnt_r,
+        si: r.drive_interval.si,
+        hist_s: r.drive_interval.hist_s,
+        hist_c: r.drive_interval.hist_c,
+        diag,
+        quadrant_skip: u.quadrant_skip,
+        bus_rdata: rdata,
+        bus_err: r.register_file.bus_err,
+    }
+}
+
+/// The edges [`step`] does not take inline: a bus write or a key edge.
+#[cold]
+#[inline(never)]
+fn edge_rare(c: &Consts, r: &mut Regs, i: &Inputs) {
     edge(c, r, i);
-    ports(c, r)
 }
 
 /// The same signature as [`crate::pmu50::eval`]: (outputs before the edge, internals of the
