@@ -14,7 +14,7 @@ use crate::sim::{Observer, SimError, TickView};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::signals::{self, Dir, Radix, Signal};
 use pmu50_waves::gtkw::{Analog, Color, Format, GtkwSave, Trace};
-use pmu50_waves::writer::{BitType, SigId, VcdBuilder, VcdWriter};
+use pmu50_waves::writer::{BitType, Frame, SigId, VcdBuilder, VcdWriter};
 use pmu50_waves::{TimeUnit, Timescale};
 use crate::fsout::AtomicFile;
 use std::io::BufWriter;
@@ -22,12 +22,28 @@ use std::path::{Path, PathBuf};
 
 const VERSION: &str = concat!("pmu50 reference model ", env!("CARGO_PKG_VERSION"));
 
+/// The per-tick dump: every signal of the table is declared once, in two frames
+/// (`pmu50_waves::writer::Frame`), so a tick compares plain integers and formats only changes.
 struct Ids {
-    inputs: Vec<SigId>,
-    ports: Vec<SigId>,
-    regs: Vec<SigId>,
-    internals: Vec<SigId>,
+    /// ports, registers, inputs and internals: dumped every tick
+    all: Frame,
+    /// ports and registers: the final dump (`finish`), which has no inputs of its own
+    state: Frame,
     env: Vec<SigId>,
+    /// values of the current tick, in the order of `all` (`state` is its prefix)
+    values: Vec<u64>,
+}
+
+/// Fill `out` with the values of the current tick in the order of the frames: ports, registers,
+/// then (with `with_inputs`) inputs and internals.
+fn frame_values(out: &mut Vec<u64>, v: &TickView<'_>, with_inputs: bool) {
+    out.clear();
+    out.extend(signals::OUTPUTS.iter().map(|s| (s.get)(v.ports)));
+    out.extend(signals::REGISTERS.iter().map(|s| (s.get)(v.regs)));
+    if with_inputs {
+        out.extend(signals::INPUTS.iter().map(|s| (s.get)(v.inputs)));
+        out.extend(signals::INTERNALS.iter().map(|s| (s.get)(v.internals)));
+    }
 }
 
 pub struct VcdObserver {
@@ -118,14 +134,6 @@ fn declare<T>(b: &mut VcdBuilder, list: &[Signal<T>], v: &T, s: &Structural) -> 
     Ok(ids)
 }
 
-/// Write the value of every signal of `list` (the writer drops unchanged values).
-fn change_all<T, W: std::io::Write>(w: &mut VcdWriter<W>, ids: &[SigId], list: &[Signal<T>], v: &T) -> Result<(), pmu50_waves::writer::WriteError> {
-    for (id, sig) in ids.iter().zip(list) {
-        w.change_vector(*id, (sig.get)(v))?;
-    }
-    Ok(())
-}
-
 const ENV_NAMES: [&str; 8] = ["theta_deg", "sin2_v", "cos2_v", "vs2_v", "vp_v", "vr_v", "theta1_deg", "theta_m_deg"];
 
 impl VcdObserver {
@@ -199,8 +207,13 @@ impl VcdObserver {
             gt.fit(a * clock_ns / unit_ns, z * clock_ns / unit_ns);
         }
         let file = AtomicFile::create(&path).map_err(|e| err(&path, e))?;
-        let w = b.start(BufWriter::new(file)).map_err(|e| err(&path, e))?;
-        Ok(VcdObserver { w: Some(w), file: None, gtkw: Some(gt), ids: Ids { inputs, ports, regs, internals, env }, unit_ns, path })
+        let mut w = b.start(BufWriter::new(file)).map_err(|e| err(&path, e))?;
+        let state_ids: Vec<SigId> = ports.iter().chain(&regs).copied().collect();
+        let all_ids: Vec<SigId> = state_ids.iter().chain(&inputs).chain(&internals).copied().collect();
+        let all = w.frame(&all_ids).map_err(|e| err(&path, e))?;
+        let state = w.frame(&state_ids).map_err(|e| err(&path, e))?;
+        let ids = Ids { all, state, env, values: Vec::with_capacity(all_ids.len()) };
+        Ok(VcdObserver { w: Some(w), file: None, gtkw: Some(gt), ids, unit_ns, path })
     }
 
     /// The complete VCD (after `finish`, still a temporary file) and its save file.
@@ -209,16 +222,16 @@ impl VcdObserver {
     }
 
     fn dump(&mut self, v: &TickView<'_>, with_inputs: bool) -> Result<(), SimError> {
-        let path = self.path.clone();
-        let w = self.w.as_mut().ok_or_else(|| err(&path, "writer already closed"))?;
-        w.set_time(v.time_ns / self.unit_ns).map_err(|e| err(&path, e))?;
-        change_all(w, &self.ids.ports, signals::OUTPUTS, v.ports).map_err(|e| err(&path, e))?;
-        change_all(w, &self.ids.regs, signals::REGISTERS, v.regs).map_err(|e| err(&path, e))?;
+        let path = &self.path;
+        let w = self.w.as_mut().ok_or_else(|| err(path, "writer already closed"))?;
+        let t = v.time_ns / self.unit_ns;
+        let ids = &mut self.ids;
+        frame_values(&mut ids.values, v, with_inputs);
+        let frame = if with_inputs { &mut ids.all } else { &mut ids.state };
+        w.dump_frame(frame, t, &ids.values).map_err(|e| err(path, e))?;
         if with_inputs {
-            change_all(w, &self.ids.inputs, signals::INPUTS, v.inputs).map_err(|e| err(&path, e))?;
-            change_all(w, &self.ids.internals, signals::INTERNALS, v.internals).map_err(|e| err(&path, e))?;
-            for (id, val) in self.ids.env.iter().zip(env_values(v)) {
-                w.change_real(*id, val).map_err(|e| err(&path, e))?;
+            for (id, val) in ids.env.iter().zip(env_values(v)) {
+                w.change_real(*id, val).map_err(|e| err(path, e))?;
             }
         }
         Ok(())
