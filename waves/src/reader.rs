@@ -5,8 +5,10 @@
 //! line ([`ReadError::Malformed`]). [`Waveform::open_with`] also refuses
 //! anything but a regular file and files over [`ReadLimits::max_file_bytes`]
 //! (2 GiB by default); `$var` sizes above [`ReadLimits::max_var_width`] (65 536
-//! bits) are refused before anything is allocated for them. Only VCD is read
-//! (wellen's FST and GHW readers are not used). wellen runs single-threaded
+//! bits) are refused before anything is allocated for them. FST is read too: a
+//! file whose first byte is FST's header block type (0, `FST_BL_HDR`) and that
+//! wellen's own detection calls FST skips the VCD validator and goes straight to
+//! wellen (GHW is not read). wellen runs single-threaded
 //! under a panic guard, so even a validator gap prints nothing and becomes
 //! [`ReadError::ParserPanicked`].
 //!
@@ -227,6 +229,12 @@ impl std::fmt::Debug for Waveform {
     }
 }
 
+/// True when `bytes` start like an FST file: the first block is the header block, block type 0
+/// (`FST_BL_HDR`). Text (VCD) never starts with a NUL byte.
+pub fn is_fst(bytes: &[u8]) -> bool {
+    bytes.first() == Some(&0)
+}
+
 /// What a path is, when it is not a regular file.
 fn file_kind(ft: std::fs::FileType) -> &'static str {
     use std::os::unix::fs::FileTypeExt;
@@ -303,15 +311,30 @@ impl Waveform {
     }
 
     fn load(bytes: Vec<u8>, origin: String, limits: &ReadLimits) -> Result<Self, ReadError> {
-        match validate(bytes.as_slice(), limits.max_var_width) {
-            Ok(_) => {}
-            Err(ValidateError::Malformed(p)) => {
-                return Err(ReadError::Malformed { origin, line: p.line, what: p.what })
+        // An FST starts with its header block, block type 0 (FST_BL_HDR); a VCD is text and never
+        // starts with a NUL byte. FST goes to wellen directly (under the panic guard below), once
+        // wellen's own detection agrees that it is an FST.
+        if is_fst(&bytes) {
+            let fst = quietly(|| wellen::viewers::detect_file_format(&mut Cursor::new(bytes.as_slice())) == wellen::FileFormat::Fst);
+            if fst != Ok(true) {
+                return Err(ReadError::Parse { origin, message: "starts like an FST file (block type 0, FST_BL_HDR) but its header block is not valid".into() });
             }
-            Err(ValidateError::Io(e)) => {
-                return Err(ReadError::Parse { origin, message: e.to_string() })
-            }
+        } else {
+            Self::validate_vcd(&bytes, &origin, limits)?;
         }
+        Self::parse(bytes, origin)
+    }
+
+    fn validate_vcd(bytes: &[u8], origin: &str, limits: &ReadLimits) -> Result<(), ReadError> {
+        let origin = origin.to_string();
+        match validate(bytes, limits.max_var_width) {
+            Ok(_) => Ok(()),
+            Err(ValidateError::Malformed(p)) => Err(ReadError::Malformed { origin, line: p.line, what: p.what }),
+            Err(ValidateError::Io(e)) => Err(ReadError::Parse { origin, message: e.to_string() }),
+        }
+    }
+
+    fn parse(bytes: Vec<u8>, origin: String) -> Result<Self, ReadError> {
         let parse_err = |message: String| ReadError::Parse { origin: origin.clone(), message };
         let panicked = |message: String| ReadError::ParserPanicked { origin: origin.clone(), message };
         // One thread: a panic on a rayon worker would be printed by a hook we do not guard.
