@@ -182,6 +182,14 @@ pub enum ReadError {
         /// wellen's message
         message: String,
     },
+    /// An FST (first byte 0) that wellen cannot read, or panicked on: damaged or unfinished.
+    #[error("cannot read FST {origin}: {message} (the file is damaged or was not finished; an FST is complete only when the run that wrote it ended)")]
+    BadFst {
+        /// file path or `<memory>`
+        origin: String,
+        /// wellen's message, on one line
+        message: String,
+    },
     /// wellen panicked on a file the validator accepted (a validator gap: the
     /// fuzz targets treat this as a failure).
     #[error("{origin}: the VCD parser failed on a file that passed validation ({message}); please report this with the file")]
@@ -317,12 +325,13 @@ impl Waveform {
         if is_fst(&bytes) {
             let fst = quietly(|| wellen::viewers::detect_file_format(&mut Cursor::new(bytes.as_slice())) == wellen::FileFormat::Fst);
             if fst != Ok(true) {
-                return Err(ReadError::Parse { origin, message: "starts like an FST file (block type 0, FST_BL_HDR) but its header block is not valid".into() });
+                return Err(ReadError::BadFst { origin, message: "it starts like an FST (block type 0, FST_BL_HDR) but its header block is not valid".into() });
             }
+            Self::parse(bytes, origin, true)
         } else {
             Self::validate_vcd(&bytes, &origin, limits)?;
+            Self::parse(bytes, origin, false)
         }
-        Self::parse(bytes, origin)
     }
 
     fn validate_vcd(bytes: &[u8], origin: &str, limits: &ReadLimits) -> Result<(), ReadError> {
@@ -334,9 +343,11 @@ impl Waveform {
         }
     }
 
-    fn parse(bytes: Vec<u8>, origin: String) -> Result<Self, ReadError> {
-        let parse_err = |message: String| ReadError::Parse { origin: origin.clone(), message };
-        let panicked = |message: String| ReadError::ParserPanicked { origin: origin.clone(), message };
+    fn parse(bytes: Vec<u8>, origin: String, fst: bool) -> Result<Self, ReadError> {
+        // wellen's FST messages span lines; an error is one line.
+        let bad_fst = |message: String| ReadError::BadFst { origin: origin.clone(), message: message.split_whitespace().collect::<Vec<_>>().join(" ") };
+        let parse_err = |message: String| if fst { bad_fst(message) } else { ReadError::Parse { origin: origin.clone(), message } };
+        let panicked = |message: String| if fst { bad_fst(message) } else { ReadError::ParserPanicked { origin: origin.clone(), message } };
         // One thread: a panic on a rayon worker would be printed by a hook we do not guard.
         let options = LoadOptions { multi_thread: false, remove_scopes_with_empty_name: false };
         let read = quietly(move || -> Result<(Hierarchy, SignalSource, Vec<u64>), wellen::WellenError> {
