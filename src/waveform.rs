@@ -78,9 +78,9 @@ impl WaveFormat {
 
 /// The checked writer of either format (the same declarations, frames and checks).
 enum Out {
-    Vcd(VcdWriter<BufWriter<AtomicFile>>),
+    Vcd(Box<VcdWriter<BufWriter<AtomicFile>>>),
     /// The FST writer writes the temporary file of the `AtomicFile` by its own path.
-    Fst(FstWriter, AtomicFile),
+    Fst(Box<FstWriter>, AtomicFile),
 }
 
 /// Observer writing the waveform (VCD or FST) of a run and its GTKWave save file.
@@ -258,13 +258,13 @@ impl VcdObserver {
                 let mut w = b.start(BufWriter::new(file)).map_err(|e| err(&path, e))?;
                 let all = w.frame(&all_ids).map_err(|e| err(&path, e))?;
                 let state = w.frame(&state_ids).map_err(|e| err(&path, e))?;
-                (Out::Vcd(w), all, state)
+                (Out::Vcd(Box::new(w)), all, state)
             }
             WaveFormat::Fst => {
                 let mut w = start_fst(b, file.temp_path()).map_err(|e| err(&path, e))?;
                 let all = w.frame(&all_ids).map_err(|e| err(&path, e))?;
                 let state = w.frame(&state_ids).map_err(|e| err(&path, e))?;
-                (Out::Fst(w, file), all, state)
+                (Out::Fst(Box::new(w), file), all, state)
             }
         };
         let ids = Ids { all, state, env, values: Vec::with_capacity(all_ids.len()) };
@@ -311,7 +311,7 @@ impl Observer for VcdObserver {
         let path = self.path.clone();
         let w = self.w.take().ok_or_else(|| err(&path, "writer already closed"))?;
         self.file = Some(match w {
-            Out::Vcd(w) => w.finish().map_err(|e| err(&path, e))?.into_inner().map_err(|e| err(&path, e.error()))?,
+            Out::Vcd(w) => (*w).finish().map_err(|e| err(&path, e))?.into_inner().map_err(|e| err(&path, e.error()))?,
             Out::Fst(w, file) => {
                 w.finish().map_err(|e| err(&path, e))?;
                 file
