@@ -5,7 +5,8 @@
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pmu50::fsout::{self, AtomicFile, Batch};
-use pmu50::output::{estimate_vcd_bytes, output_paths, run_to_batch, summary, FileOptions, RunError};
+use pmu50::output::{estimate_vcd_bytes, output_paths, run_to_batch, run_to_batch_as, summary, FileOptions, RunError};
+use pmu50::waveform::WaveFormat;
 use pmu50::refusals::RefusalWatch;
 use pmu50::scenario::{Scenario, Trace};
 use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
@@ -106,6 +107,10 @@ enum Cmd {
         /// Default: the scenario's `[vcd] trace`, else all.
         #[arg(long, value_parser = ["all", "none"])]
         trace: Option<String>,
+        /// Waveform format: vcd (text) or fst (compressed, for long runs; GTKWave and Surfer
+        /// read it, and so does `pmu50 diff`). The .gtkw save file points at the file written.
+        #[arg(long, value_parser = ["vcd", "fst"], default_value = "vcd")]
+        format: String,
     },
     /// Validate scenarios without running them.
     Check { scenarios: Vec<PathBuf> },
@@ -302,9 +307,10 @@ fn main() -> ExitCode {
         return with_streams(2);
     }
     let code = match cli.cmd {
-        Cmd::Run { scenarios, out_dir, log, window, max_vcd_bytes, svg, trace } => {
+        Cmd::Run { scenarios, out_dir, log, window, max_vcd_bytes, svg, trace, format } => {
             let trace = trace.as_deref().and_then(Trace::parse);
-            cmd_run(&scenarios, &out_dir, RunFlags { log, svg, trace }, &window, max_vcd_bytes)
+            let format = WaveFormat::parse(&format).unwrap_or_default();
+            cmd_run(&scenarios, &out_dir, RunFlags { log, svg, trace, format }, &window, max_vcd_bytes)
         }
         Cmd::Check { scenarios } => {
             let mut bad = false;
@@ -405,6 +411,8 @@ struct RunFlags {
     svg: bool,
     /// `--trace`, overriding each scenario's `[vcd] trace`.
     trace: Option<Trace>,
+    /// `--format`: the waveform file's format.
+    format: WaveFormat,
 }
 
 fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Option<Vec<String>>, max_vcd_bytes: Option<u64>) -> u8 {
@@ -480,7 +488,7 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
             }
             continue;
         }
-        let r = run_to_batch(sc, out_dir, FileOptions { log, window: *window, svg }, &mut [&mut prog, &mut watch]).and_then(|(res, w, batch)| {
+        let r = run_to_batch_as(sc, out_dir, FileOptions { log, window: *window, svg }, flags.format, &mut [&mut prog, &mut watch]).and_then(|(res, w, batch)| {
             batch.commit()?;
             Ok((res, w))
         });

@@ -8,7 +8,7 @@ use crate::fsout::{self, AtomicFile, Batch, OutputError};
 use crate::markers::MarkerObserver;
 use crate::scenario::Scenario;
 use crate::sim::{self, Observer, RunResult, SimError, SimOptions, TickView};
-use crate::waveform::{timescale_for, VcdObserver};
+use crate::waveform::{timescale_for, VcdObserver, WaveFormat};
 use pmu50_core::pmu50::Structural;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -80,11 +80,17 @@ const VCD_HEADER_BYTES: u64 = 16 * 1024;
 /// Run `sc` and stage its files (temporary files, not yet in place); the returned batch renames
 /// them into place. `extra` observers (a progress bar, a vector writer) see every tick as well.
 pub fn run_to_batch(sc: &Scenario, dir: &Path, fo: FileOptions, extra: &mut [&mut dyn Observer]) -> Result<(RunResult, Written, Batch), RunError> {
+    run_to_batch_as(sc, dir, fo, WaveFormat::Vcd, extra)
+}
+
+/// [`run_to_batch`] with the waveform in `format` (`<name>.vcd` or `<name>.fst`; the `.gtkw`
+/// points at it).
+pub fn run_to_batch_as(sc: &Scenario, dir: &Path, fo: FileOptions, format: WaveFormat, extra: &mut [&mut dyn Observer]) -> Result<(RunResult, Written, Batch), RunError> {
     fsout::create_dir(dir)?;
     let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
     let window = fo.window.or(sc.vcd_window);
     // The VCD declares every signal with its reset value: built when the bench begins.
-    let mut vcd = sim::OnBegin::new(|init: &TickView<'_>| VcdObserver::create(dir, &sc.name, s, sc.clock_ns(), window, init));
+    let mut vcd = sim::OnBegin::new(|init: &TickView<'_>| VcdObserver::create_as(dir, &sc.name, s, sc.clock_ns(), window, format, init));
     let log_path = dir.join(format!("{}.log", sc.name));
     let mut log = if fo.log {
         let f = AtomicFile::create(&log_path)?;
@@ -107,7 +113,7 @@ pub fn run_to_batch(sc: &Scenario, dir: &Path, fo: FileOptions, extra: &mut [&mu
         }
         sim::run(sc, SimOptions::default(), &mut obs)?
     };
-    let vcd_path = dir.join(format!("{}.vcd", sc.name));
+    let vcd_path = dir.join(format!("{}.{}", sc.name, format.ext()));
     let gtkw_path = dir.join(format!("{}.gtkw", sc.name));
     let mut batch = Batch::new();
     let missing = |what| RunError::Unfinished { path: vcd_path.clone(), what };

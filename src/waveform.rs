@@ -14,7 +14,8 @@ use crate::sim::{Observer, SimError, TickView};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::signals::{self, Dir, Radix, Signal};
 use pmu50_waves::gtkw::{Analog, Color, Format, GtkwSave, Trace};
-use pmu50_waves::writer::{BitType, SigId, VcdBuilder, VcdWriter};
+use pmu50_waves::fst::{start_fst, FstWriter};
+use pmu50_waves::writer::{BitType, Emitter, Frame, SigId, VcdBuilder, VcdWriter, WriteError, Writer};
 use pmu50_waves::{TimeUnit, Timescale};
 use crate::fsout::AtomicFile;
 use std::io::BufWriter;
@@ -22,16 +23,69 @@ use std::path::{Path, PathBuf};
 
 const VERSION: &str = concat!("pmu50 reference model ", env!("CARGO_PKG_VERSION"));
 
+/// The per-tick dump: every signal of the table is declared once, in two frames
+/// (`pmu50_waves::writer::Frame`), so a tick compares plain integers and formats only changes.
 struct Ids {
-    inputs: Vec<SigId>,
-    ports: Vec<SigId>,
-    regs: Vec<SigId>,
-    internals: Vec<SigId>,
+    /// ports, registers, inputs and internals: dumped every tick
+    all: Frame,
+    /// ports and registers: the final dump (`finish`), which has no inputs of its own
+    state: Frame,
     env: Vec<SigId>,
+    /// values of the current tick, in the order of `all` (`state` is its prefix)
+    values: Vec<u64>,
 }
 
+/// Fill `out` with the values of the current tick in the order of the frames: ports, registers,
+/// then (with `with_inputs`) inputs and internals.
+fn frame_values(out: &mut Vec<u64>, v: &TickView<'_>, with_inputs: bool) {
+    out.clear();
+    out.extend(signals::OUTPUTS.iter().map(|s| (s.get)(v.ports)));
+    out.extend(signals::REGISTERS.iter().map(|s| (s.get)(v.regs)));
+    if with_inputs {
+        out.extend(signals::INPUTS.iter().map(|s| (s.get)(v.inputs)));
+        out.extend(signals::INTERNALS.iter().map(|s| (s.get)(v.internals)));
+    }
+}
+
+/// Waveform file format of `pmu50 run --format`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum WaveFormat {
+    /// Value Change Dump, text (IEEE 1364 §18).
+    #[default]
+    Vcd,
+    /// GTKWave's Fast Signal Trace: compressed blocks, for long runs (GTKWave and Surfer read it).
+    Fst,
+}
+
+impl WaveFormat {
+    /// File extension, without the dot.
+    pub fn ext(self) -> &'static str {
+        match self {
+            WaveFormat::Vcd => "vcd",
+            WaveFormat::Fst => "fst",
+        }
+    }
+
+    /// `vcd` or `fst`.
+    pub fn parse(s: &str) -> Option<WaveFormat> {
+        match s {
+            "vcd" => Some(WaveFormat::Vcd),
+            "fst" => Some(WaveFormat::Fst),
+            _ => None,
+        }
+    }
+}
+
+/// The checked writer of either format (the same declarations, frames and checks).
+enum Out {
+    Vcd(Box<VcdWriter<BufWriter<AtomicFile>>>),
+    /// The FST writer writes the temporary file of the `AtomicFile` by its own path.
+    Fst(Box<FstWriter>, AtomicFile),
+}
+
+/// Observer writing the waveform (VCD or FST) of a run and its GTKWave save file.
 pub struct VcdObserver {
-    w: Option<VcdWriter<BufWriter<AtomicFile>>>,
+    w: Option<Out>,
     /// The complete VCD (temporary file) after `finish`, and the save file, for the caller to
     /// rename into place (crate::fsout).
     file: Option<AtomicFile>,
@@ -118,26 +172,24 @@ fn declare<T>(b: &mut VcdBuilder, list: &[Signal<T>], v: &T, s: &Structural) -> 
     Ok(ids)
 }
 
-/// Write the value of every signal of `list` (the writer drops unchanged values).
-fn change_all<T, W: std::io::Write>(w: &mut VcdWriter<W>, ids: &[SigId], list: &[Signal<T>], v: &T) -> Result<(), pmu50_waves::writer::WriteError> {
-    for (id, sig) in ids.iter().zip(list) {
-        w.change_vector(*id, (sig.get)(v))?;
-    }
-    Ok(())
-}
-
 const ENV_NAMES: [&str; 8] = ["theta_deg", "sin2_v", "cos2_v", "vs2_v", "vp_v", "vr_v", "theta1_deg", "theta_m_deg"];
 
 impl VcdObserver {
     /// Create `<dir>/<name>.vcd` and `<dir>/<name>.gtkw`. `window` is in ticks.
     pub fn create(dir: &Path, name: &str, s: Structural, clock_ns: u64, window: Option<(u64, u64)>, first: &TickView<'_>) -> Result<VcdObserver, SimError> {
-        let path = dir.join(format!("{name}.vcd"));
+        Self::create_as(dir, name, s, clock_ns, window, WaveFormat::Vcd, first)
+    }
+
+    /// Create `<dir>/<name>.<vcd|fst>` and `<dir>/<name>.gtkw` (pointing at the waveform file).
+    pub fn create_as(dir: &Path, name: &str, s: Structural, clock_ns: u64, window: Option<(u64, u64)>, format: WaveFormat, first: &TickView<'_>) -> Result<VcdObserver, SimError> {
+        let file_name = format!("{name}.{}", format.ext());
+        let path = dir.join(&file_name);
         let (ts, unit_ns) = timescale_for(clock_ns);
         let mut b = VcdBuilder::new(ts, VERSION).map_err(|e| err(&path, e))?;
         if let Some((a, z)) = window {
             b.window(a * clock_ns / unit_ns, z * clock_ns / unit_ns).map_err(|e| err(&path, e))?;
         }
-        let mut gt = GtkwSave::new(&format!("{name}.vcd")).map_err(|e| err(&path, e))?;
+        let mut gt = GtkwSave::new(&file_name).map_err(|e| err(&path, e))?;
         b.push_scope("pmu50").map_err(|e| err(&path, e))?;
         let inputs = declare(&mut b, signals::INPUTS, first.inputs, &s).map_err(|e| err(&path, e))?;
         let ports = declare(&mut b, signals::OUTPUTS, first.ports, &s).map_err(|e| err(&path, e))?;
@@ -199,8 +251,24 @@ impl VcdObserver {
             gt.fit(a * clock_ns / unit_ns, z * clock_ns / unit_ns);
         }
         let file = AtomicFile::create(&path).map_err(|e| err(&path, e))?;
-        let w = b.start(BufWriter::new(file)).map_err(|e| err(&path, e))?;
-        Ok(VcdObserver { w: Some(w), file: None, gtkw: Some(gt), ids: Ids { inputs, ports, regs, internals, env }, unit_ns, path })
+        let state_ids: Vec<SigId> = ports.iter().chain(&regs).copied().collect();
+        let all_ids: Vec<SigId> = state_ids.iter().chain(&inputs).chain(&internals).copied().collect();
+        let (w, all, state) = match format {
+            WaveFormat::Vcd => {
+                let mut w = b.start(BufWriter::new(file)).map_err(|e| err(&path, e))?;
+                let all = w.frame(&all_ids).map_err(|e| err(&path, e))?;
+                let state = w.frame(&state_ids).map_err(|e| err(&path, e))?;
+                (Out::Vcd(Box::new(w)), all, state)
+            }
+            WaveFormat::Fst => {
+                let mut w = start_fst(b, file.temp_path()).map_err(|e| err(&path, e))?;
+                let all = w.frame(&all_ids).map_err(|e| err(&path, e))?;
+                let state = w.frame(&state_ids).map_err(|e| err(&path, e))?;
+                (Out::Fst(Box::new(w), file), all, state)
+            }
+        };
+        let ids = Ids { all, state, env, values: Vec::with_capacity(all_ids.len()) };
+        Ok(VcdObserver { w: Some(w), file: None, gtkw: Some(gt), ids, unit_ns, path })
     }
 
     /// The complete VCD (after `finish`, still a temporary file) and its save file.
@@ -209,20 +277,28 @@ impl VcdObserver {
     }
 
     fn dump(&mut self, v: &TickView<'_>, with_inputs: bool) -> Result<(), SimError> {
-        let path = self.path.clone();
-        let w = self.w.as_mut().ok_or_else(|| err(&path, "writer already closed"))?;
-        w.set_time(v.time_ns / self.unit_ns).map_err(|e| err(&path, e))?;
-        change_all(w, &self.ids.ports, signals::OUTPUTS, v.ports).map_err(|e| err(&path, e))?;
-        change_all(w, &self.ids.regs, signals::REGISTERS, v.regs).map_err(|e| err(&path, e))?;
-        if with_inputs {
-            change_all(w, &self.ids.inputs, signals::INPUTS, v.inputs).map_err(|e| err(&path, e))?;
-            change_all(w, &self.ids.internals, signals::INTERNALS, v.internals).map_err(|e| err(&path, e))?;
-            for (id, val) in self.ids.env.iter().zip(env_values(v)) {
-                w.change_real(*id, val).map_err(|e| err(&path, e))?;
-            }
-        }
-        Ok(())
+        let path = &self.path;
+        let t = v.time_ns / self.unit_ns;
+        let r = match self.w.as_mut() {
+            Some(Out::Vcd(w)) => dump_into(w, &mut self.ids, v, t, with_inputs),
+            Some(Out::Fst(w, _)) => dump_into(w, &mut self.ids, v, t, with_inputs),
+            None => return Err(err(path, "writer already closed")),
+        };
+        r.map_err(|e| err(path, e))
     }
+}
+
+/// One tick into either writer: the frame of this dump, then the analog values.
+fn dump_into<E: Emitter>(w: &mut Writer<E>, ids: &mut Ids, v: &TickView<'_>, t: u64, with_inputs: bool) -> Result<(), WriteError> {
+    frame_values(&mut ids.values, v, with_inputs);
+    let frame = if with_inputs { &mut ids.all } else { &mut ids.state };
+    w.dump_frame(frame, t, &ids.values)?;
+    if with_inputs {
+        for (id, val) in ids.env.iter().zip(env_values(v)) {
+            w.change_real(*id, val)?;
+        }
+    }
+    Ok(())
 }
 
 impl Observer for VcdObserver {
@@ -234,8 +310,13 @@ impl Observer for VcdObserver {
         self.dump(v, false)?;
         let path = self.path.clone();
         let w = self.w.take().ok_or_else(|| err(&path, "writer already closed"))?;
-        let out = w.finish().map_err(|e| err(&path, e))?;
-        self.file = Some(out.into_inner().map_err(|e| err(&path, e.error()))?);
+        self.file = Some(match w {
+            Out::Vcd(w) => (*w).finish().map_err(|e| err(&path, e))?.into_inner().map_err(|e| err(&path, e.error()))?,
+            Out::Fst(w, file) => {
+                w.finish().map_err(|e| err(&path, e))?;
+                file
+            }
+        });
         Ok(())
     }
 }

@@ -452,7 +452,7 @@ impl Scenario {
         let done = py.detach(move || {
             guard("Scenario.run()", || {
                 let r = match &out_dir {
-                    Some(d) => run_to_files(&sc, d, FileOptions { log, window: None }, &mut []).map(|(r, w)| (r, Some(w))),
+                    Some(d) => run_to_files(&sc, d, FileOptions { log, ..FileOptions::default() }, &mut []).map(|(r, w)| (r, Some(w))),
                     None => sim::run(&sc, SimOptions::default(), &mut []).map(|r| (r, None)),
                 };
                 Ok(r.map(|(r, w)| (summary(&sc, &r), r, w)))

@@ -5,8 +5,10 @@
 //! line ([`ReadError::Malformed`]). [`Waveform::open_with`] also refuses
 //! anything but a regular file and files over [`ReadLimits::max_file_bytes`]
 //! (2 GiB by default); `$var` sizes above [`ReadLimits::max_var_width`] (65 536
-//! bits) are refused before anything is allocated for them. Only VCD is read
-//! (wellen's FST and GHW readers are not used). wellen runs single-threaded
+//! bits) are refused before anything is allocated for them. FST is read too: a
+//! file whose first byte is FST's header block type (0, `FST_BL_HDR`) and that
+//! wellen's own detection calls FST skips the VCD validator and goes straight to
+//! wellen (GHW is not read). wellen runs single-threaded
 //! under a panic guard, so even a validator gap prints nothing and becomes
 //! [`ReadError::ParserPanicked`].
 //!
@@ -180,6 +182,14 @@ pub enum ReadError {
         /// wellen's message
         message: String,
     },
+    /// An FST (first byte 0) that wellen cannot read, or panicked on: damaged or unfinished.
+    #[error("cannot read FST {origin}: {message} (the file is damaged or was not finished; an FST is complete only when the run that wrote it ended)")]
+    BadFst {
+        /// file path or `<memory>`
+        origin: String,
+        /// wellen's message, on one line
+        message: String,
+    },
     /// wellen panicked on a file the validator accepted (a validator gap: the
     /// fuzz targets treat this as a failure).
     #[error("{origin}: the VCD parser failed on a file that passed validation ({message}); please report this with the file")]
@@ -225,6 +235,12 @@ impl std::fmt::Debug for Waveform {
             .field("signals", &self.signals.len())
             .finish_non_exhaustive()
     }
+}
+
+/// True when `bytes` start like an FST file: the first block is the header block, block type 0
+/// (`FST_BL_HDR`). Text (VCD) never starts with a NUL byte.
+pub fn is_fst(bytes: &[u8]) -> bool {
+    bytes.first() == Some(&0)
 }
 
 /// What a path is, when it is not a regular file.
@@ -303,17 +319,35 @@ impl Waveform {
     }
 
     fn load(bytes: Vec<u8>, origin: String, limits: &ReadLimits) -> Result<Self, ReadError> {
-        match validate(bytes.as_slice(), limits.max_var_width) {
-            Ok(_) => {}
-            Err(ValidateError::Malformed(p)) => {
-                return Err(ReadError::Malformed { origin, line: p.line, what: p.what })
+        // An FST starts with its header block, block type 0 (FST_BL_HDR); a VCD is text and never
+        // starts with a NUL byte. FST goes to wellen directly (under the panic guard below), once
+        // wellen's own detection agrees that it is an FST.
+        if is_fst(&bytes) {
+            let fst = quietly(|| wellen::viewers::detect_file_format(&mut Cursor::new(bytes.as_slice())) == wellen::FileFormat::Fst);
+            if fst != Ok(true) {
+                return Err(ReadError::BadFst { origin, message: "it starts like an FST (block type 0, FST_BL_HDR) but its header block is not valid".into() });
             }
-            Err(ValidateError::Io(e)) => {
-                return Err(ReadError::Parse { origin, message: e.to_string() })
-            }
+            Self::parse(bytes, origin, true)
+        } else {
+            Self::validate_vcd(&bytes, &origin, limits)?;
+            Self::parse(bytes, origin, false)
         }
-        let parse_err = |message: String| ReadError::Parse { origin: origin.clone(), message };
-        let panicked = |message: String| ReadError::ParserPanicked { origin: origin.clone(), message };
+    }
+
+    fn validate_vcd(bytes: &[u8], origin: &str, limits: &ReadLimits) -> Result<(), ReadError> {
+        let origin = origin.to_string();
+        match validate(bytes, limits.max_var_width) {
+            Ok(_) => Ok(()),
+            Err(ValidateError::Malformed(p)) => Err(ReadError::Malformed { origin, line: p.line, what: p.what }),
+            Err(ValidateError::Io(e)) => Err(ReadError::Parse { origin, message: e.to_string() }),
+        }
+    }
+
+    fn parse(bytes: Vec<u8>, origin: String, fst: bool) -> Result<Self, ReadError> {
+        // wellen's FST messages span lines; an error is one line.
+        let bad_fst = |message: String| ReadError::BadFst { origin: origin.clone(), message: message.split_whitespace().collect::<Vec<_>>().join(" ") };
+        let parse_err = |message: String| if fst { bad_fst(message) } else { ReadError::Parse { origin: origin.clone(), message } };
+        let panicked = |message: String| if fst { bad_fst(message) } else { ReadError::ParserPanicked { origin: origin.clone(), message } };
         // One thread: a panic on a rayon worker would be printed by a hook we do not guard.
         let options = LoadOptions { multi_thread: false, remove_scopes_with_empty_name: false };
         let read = quietly(move || -> Result<(Hierarchy, SignalSource, Vec<u64>), wellen::WellenError> {
