@@ -443,17 +443,22 @@ impl Scenario {
         Ok(out)
     }
 
-    /// Run the scenario. Without `out_dir` idle key-off gaps are fast-forwarded (identical
-    /// results); with it, `<out_dir>/<name>.vcd` and `.gtkw` (and `.log` when `log`) are written
+    /// Run the scenario. Without `out_dir` (or when the scenario says `[vcd] trace = "none"`)
+    /// nothing is written and idle key-off gaps and repeated key-off periods are skipped
+    /// (identical results); with it, `<out_dir>/<name>.vcd` and `.gtkw` (and `.log` when `log`) are written
     /// as by `pmu50 run`, and their paths are in the result. The GIL is released during the run.
     #[pyo3(signature = (out_dir=None, *, log=false))]
     fn run(&self, py: Python<'_>, out_dir: Option<PathBuf>, log: bool) -> PyResult<RunResult> {
         let sc = self.sc.clone();
         let done = py.detach(move || {
             guard("Scenario.run()", || {
+                // A scenario with `[vcd] trace = "none"` (days of parking) writes no files, as
+                // with `pmu50 run`.
                 let r = match &out_dir {
-                    Some(d) => run_to_files(&sc, d, FileOptions { log, ..FileOptions::default() }, &mut []).map(|(r, w)| (r, Some(w))),
-                    None => sim::run(&sc, SimOptions::default(), &mut []).map(|r| (r, None)),
+                    Some(d) if sc.trace == pmu50::scenario::Trace::All => {
+                        run_to_files(&sc, d, FileOptions { log, ..FileOptions::default() }, &mut []).map(|(r, w)| (r, Some(w))).map_err(|e| e.to_string())
+                    }
+                    _ => sim::run(&sc, SimOptions::default(), &mut []).map(|r| (r, None)).map_err(|e| e.to_string()),
                 };
                 Ok(r.map(|(r, w)| (summary(&sc, &r), r, w)))
             })
