@@ -25,7 +25,7 @@ pub struct ChangeLog<W: Write> {
 
 impl<W: Write> ChangeLog<W> {
     pub fn new(mut out: W, s: Structural, clock_ns: u64) -> Result<Self, SimError> {
-        writeln!(out, "# tick      time_us  register                                      old -> new").map_err(|e| SimError::Observer(format!("change log: {e}")))?;
+        writeln!(out, "# tick      time_us  register                                      old -> new").map_err(|e| SimError::observer("change log", e))?;
         Ok(ChangeLog { out, s, clock_ns, prev: None })
     }
 
@@ -40,7 +40,7 @@ impl<W: Write> ChangeLog<W> {
                     lines += &format!("{:>6} {:>12.1}  {:<44} {} -> {}\n", v.tick, time_us, path, r.show(*a, &self.s), r.show(*b, &self.s));
                 }
             }
-            self.out.write_all(lines.as_bytes()).map_err(|e| SimError::Observer(format!("change log: {e}")))?;
+            self.out.write_all(lines.as_bytes()).map_err(|e| SimError::observer("change log", e))?;
         }
         self.prev = Some(now);
         Ok(())
@@ -60,6 +60,6 @@ impl<W: Write> Observer for ChangeLog<W> {
     }
     fn finish(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
         self.record(v)?;
-        self.out.flush().map_err(|e| SimError::Observer(format!("change log: {e}")))
+        self.out.flush().map_err(|e| SimError::observer("change log", e))
     }
 }

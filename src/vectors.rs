@@ -16,7 +16,7 @@ pub struct VectorWriter<W: Write> {
 }
 
 fn io(e: std::io::Error) -> SimError {
-    SimError::Observer(format!("vector file: {e}"))
+    SimError::observer("vector file", e)
 }
 
 /// Hex digits needed for a field of `width` bits.

@@ -95,8 +95,8 @@ pub struct VcdObserver {
     path: PathBuf,
 }
 
-fn err(path: &Path, e: impl std::fmt::Display) -> SimError {
-    SimError::Observer(format!("{}: {e}", path.display()))
+fn err(path: &Path, e: impl Into<Box<dyn std::error::Error + Send + Sync + 'static>>) -> SimError {
+    SimError::observer(path.display().to_string(), e)
 }
 
 /// Timescale for a clock period in ns.
@@ -311,7 +311,7 @@ impl Observer for VcdObserver {
         let path = self.path.clone();
         let w = self.w.take().ok_or_else(|| err(&path, "writer already closed"))?;
         self.file = Some(match w {
-            Out::Vcd(w) => (*w).finish().map_err(|e| err(&path, e))?.into_inner().map_err(|e| err(&path, e.error()))?,
+            Out::Vcd(w) => (*w).finish().map_err(|e| err(&path, e))?.into_inner().map_err(|e| err(&path, e.into_error()))?,
             Out::Fst(w, file) => {
                 w.finish().map_err(|e| err(&path, e))?;
                 file

@@ -23,13 +23,13 @@ struct SpecLockstep {
 impl SpecLockstep {
     fn check(&self, v: &TickView<'_>, what: &str) -> Result<(), SimError> {
         if self.spec.tick() != v.tick {
-            return Err(SimError::Observer(format!("{}: spec at tick {}, simulator at {} ({what})", self.name, self.spec.tick(), v.tick)));
+            return Err(SimError::observer("kernel against the specification model", format!("{}: spec at tick {}, simulator at {} ({what})", self.name, self.spec.tick(), v.tick)));
         }
         if self.spec.regs() != v.regs {
-            return Err(SimError::Observer(format!("{}: registers differ at tick {} ({what}):\nkernel {:?}\nspec   {:?}", self.name, v.tick, v.regs, self.spec.regs())));
+            return Err(SimError::observer("kernel against the specification model", format!("{}: registers differ at tick {} ({what}):\nkernel {:?}\nspec   {:?}", self.name, v.tick, v.regs, self.spec.regs())));
         }
         if self.spec.peek() != *v.ports {
-            return Err(SimError::Observer(format!("{}: outputs differ at tick {} ({what}):\nkernel {:?}\nspec   {:?}", self.name, v.tick, v.ports, self.spec.peek())));
+            return Err(SimError::observer("kernel against the specification model", format!("{}: outputs differ at tick {} ({what}):\nkernel {:?}\nspec   {:?}", self.name, v.tick, v.ports, self.spec.peek())));
         }
         Ok(())
     }
@@ -40,7 +40,7 @@ impl Observer for SpecLockstep {
         self.check(v, "before the edge")?;
         let (_, internals, _) = self.spec.step_traced(v.inputs);
         if internals != *v.internals {
-            return Err(SimError::Observer(format!("{}: internals differ in cycle {}:\nkernel {:?}\nspec   {:?}", self.name, v.tick, v.internals, internals)));
+            return Err(SimError::observer("kernel against the specification model", format!("{}: internals differ in cycle {}:\nkernel {:?}\nspec   {:?}", self.name, v.tick, v.internals, internals)));
         }
         self.ticks += 1;
         Ok(())

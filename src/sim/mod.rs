@@ -66,9 +66,20 @@ pub enum SimError {
     },
     #[error("observer used before the bench called `begin`")]
     NotBegun,
-    /// An observer (waveform, log, vectors) could not write its output.
-    #[error("{0}")]
-    Observer(String),
+    /// An observer (waveform, log, vectors) could not do its work: what it was doing, and why.
+    #[error("{what}: {source}")]
+    Observer {
+        what: String,
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync + 'static>,
+    },
+}
+
+impl SimError {
+    /// An observer's error: `what` it was writing (a file, "change log"), and the cause.
+    pub fn observer(what: impl Into<String>, source: impl Into<Box<dyn std::error::Error + Send + Sync + 'static>>) -> SimError {
+        SimError::Observer { what: what.into(), source: source.into() }
+    }
 }
 
 /// Analog values of one tick.
