@@ -20,7 +20,9 @@ fn fst_bytes() -> Vec<u8> {
     b.push_scope("top").unwrap();
     let c = b.add_vector(BitType::Reg, "cnt", 7, 0, 0).unwrap();
     b.pop_scope().unwrap();
-    let path = tmp("cnt.fst");
+    // Tests run in parallel threads of one process: each FST gets a file of its own.
+    static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let path = tmp(&format!("cnt_{}.fst", N.fetch_add(1, std::sync::atomic::Ordering::Relaxed)));
     let mut w = start_fst(b, &path).unwrap();
     let mut f = w.frame(&[c]).unwrap();
     for k in 0..200u64 {
