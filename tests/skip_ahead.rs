@@ -146,6 +146,9 @@ fn park_toml(p: &Park) -> String {
     t += "]\n";
     let mut ev: Vec<(u64, String)> = vec![(0, "ig = true".into()), (off, "ig = false".into()), (on, "ig = true".into())];
     if let Some((a, b)) = p.fault {
+        // Both fault edges inside the run: a scenario refuses events at or after its end.
+        let a = a % p.keyoff_ticks;
+        let b = b.min(end - 1 - off - a).max(1);
         ev.push((off + a, "vs2_fault = true".into()));
         ev.push((off + a + b, "vs2_fault = false".into()));
     }
