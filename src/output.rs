@@ -171,7 +171,7 @@ pub struct WrittenSvg {
 }
 
 /// Distinct drive intervals listed in full in a summary; more are shortened.
-const SI_SEQ_SHOWN: usize = 24;
+const SI_SEQ_SHOWN: usize = 200;
 
 /// A time in a summary: `12.345 ms` up to 100 s (what every shipped short scenario prints), and
 /// beyond that also in days, hours, minutes and seconds (`2591999001.020 ms (29 d 23:59:59.001)`).

@@ -215,6 +215,21 @@ struct RawVcd {
     trace: Option<Spanned<String>>,
 }
 
+/// The integer fields of `[core]`: name, legal range, and what they count (for messages). The
+/// Python binding checks its keyword arguments with the same table and words.
+pub const CORE_INTS: [(&str, i64, i64, &str); 3] = [
+    ("cth", 1, 255, "a whole number of quiet pulses"),
+    ("sync_depth", 1, 4, "a whole number of flip-flops"),
+    ("cnt_width", 2, 16, "a whole number of bits"),
+];
+
+/// The message for the integer field `field` of `[core]` ([`CORE_INTS`]) when `value` (shown as
+/// `shown`) is out of its range; `None` when it is in range or the field is not an integer field.
+pub fn core_int_out_of_range(field: &str, shown: &str, value: i64) -> Option<String> {
+    let &(_, lo, hi, what) = CORE_INTS.iter().find(|f| f.0 == field)?;
+    (value < lo || value > hi).then(|| format!("{shown} is out of range; valid is {what} from {lo} to {hi}"))
+}
+
 // ---------------------------------------------------------------- checked ----
 
 /// One action of the timeline.
@@ -391,13 +406,13 @@ impl Cx<'_> {
         None
     }
 
-    /// An integer field of `[core]` within `lo..=hi`, said in words.
-    fn int(&self, v: &Spanned<i64>, field: &str, lo: i64, hi: i64, what: &str) -> Result<i64, ScenarioError> {
+    /// An integer field of `[core]` ([`CORE_INTS`]), its range said in words.
+    fn int(&self, v: &Spanned<i64>, field: &str) -> Result<i64, ScenarioError> {
         let x = *v.get_ref();
-        if x < lo || x > hi {
-            return Err(self.err(v.span(), field, format!("{x} is out of range; valid is {what} from {lo} to {hi}")));
+        match core_int_out_of_range(field, &x.to_string(), x) {
+            Some(msg) => Err(self.err(v.span(), &format!("core.{field}"), msg)),
+            None => Ok(x),
         }
-        Ok(x)
     }
 
     fn model(&self, span: Range<usize>, field: &str, source: impl Into<ModelError>) -> ScenarioError {
@@ -444,7 +459,7 @@ impl Cx<'_> {
         dur_field!(t2, "t2");
         dur_field!(smp_on, "smp_on");
         if let Some(v) = &rc.cth {
-            core.cth = self.int(v, "core.cth", 1, 255, "a whole number of quiet pulses")? as u32;
+            core.cth = self.int(v, "cth")? as u32;
             spans.push(("cth", v.span()));
         }
         if let Some(v) = &rc.adaptive {
@@ -452,11 +467,11 @@ impl Cx<'_> {
             spans.push(("adaptive", v.span()));
         }
         if let Some(v) = &rc.sync_depth {
-            core.sync_depth = self.int(v, "core.sync_depth", 1, 4, "a whole number of flip-flops")? as u8;
+            core.sync_depth = self.int(v, "sync_depth")? as u8;
             spans.push(("sync_depth", v.span()));
         }
         if let Some(v) = &rc.cnt_width {
-            core.cnt_width = self.int(v, "core.cnt_width", 2, 16, "a whole number of bits")? as u8;
+            core.cnt_width = self.int(v, "cnt_width")? as u8;
             spans.push(("cnt_width", v.span()));
         }
         let params = core.to_params().map_err(|e| {

@@ -7,7 +7,7 @@
 //! `Params::validate` of the core; nothing here restates a limit.
 
 use crate::ConfigError;
-use pmu50_core::{ConfigError as CoreConfigError, CoreConfig, Dur, ParamError, Params};
+use pmu50_core::{ConfigError as CoreConfigError, CoreConfig, Dur, Params};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyInt, PyString};
@@ -38,33 +38,20 @@ fn repr(v: &Bound<'_, PyAny>) -> String {
     v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into())
 }
 
-/// The legal range of an integer field, as `Params::validate` states it (asked, not restated).
-fn int_range(field: &'static str) -> (u64, u64) {
-    let mut p = Params::default();
-    match field {
-        "sync_depth" => p.sync_depth = 0,
-        "cnt_width" => p.cnt_width = 0,
-        _ => p.cth = 0,
-    }
-    match p.validate() {
-        Err(ParamError::OutOfRange { min, max, .. }) => (min, max),
-        _ => (0, u64::MAX),
-    }
-}
-
-/// An integer field's value as the field's Rust type, or the validator's out-of-range message.
+/// An integer field's value as the field's Rust type, or the CLI's out-of-range message (the
+/// same table and words, `pmu50::scenario::CORE_INTS`).
 fn int_value(field: &'static str, v: &Bound<'_, PyAny>) -> PyResult<Result<u32, String>> {
     if v.is_instance_of::<PyBool>() || !v.is_instance_of::<PyInt>() {
         return Err(PyTypeError::new_err(format!("`core.{field}` takes an integer, got {} {}", type_name(v), repr(v))));
     }
-    let limit: i128 = if field == "cth" { i128::from(u32::MAX) } else { i128::from(u8::MAX) };
-    let (min, max) = int_range(field);
-    // Beyond the field's storage: the validator's message with the value as given.
-    let out_of_range = |shown: String| Ok(Err(format!("`core.{field}`: core.{field} = {shown} is out of range; valid is {min}..={max}")));
-    match v.extract::<i128>() {
-        Ok(x) if (0..=limit).contains(&x) => Ok(Ok(x as u32)),
-        Ok(x) => out_of_range(x.to_string()),
-        Err(_) => out_of_range(repr(v)),
+    let out_of_range = |msg: String| Ok(Err(format!("`core.{field}`: {msg}")));
+    match v.extract::<i64>() {
+        Ok(x) => match pmu50::scenario::core_int_out_of_range(field, &x.to_string(), x) {
+            Some(msg) => out_of_range(msg),
+            None => Ok(Ok(x as u32)),
+        },
+        // Beyond any i64: out of range whatever the field.
+        Err(_) => out_of_range(pmu50::scenario::core_int_out_of_range(field, &repr(v), i64::MAX).unwrap_or_default()),
     }
 }
 
