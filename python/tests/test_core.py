@@ -200,11 +200,12 @@ def test_config_errors_are_the_clis(kwargs, toml):
 
 
 def test_config_errors_outside_the_storage_of_the_field():
-    with pytest.raises(pmu50.ConfigError, match=r"^`core.sync_depth`: core.sync_depth = 300 is out of range; valid is 1..=4$"):
+    """Values no register could hold get the CLI's words too (the range of pmu50::scenario::CORE_INTS)."""
+    with pytest.raises(pmu50.ConfigError, match=r"^`core.sync_depth`: 300 is out of range; valid is a whole number of flip-flops from 1 to 4$"):
         pmu50.Core(sync_depth=300)
-    with pytest.raises(pmu50.ConfigError, match=r"^`core.cth`: core.cth = -1 is out of range; valid is 1..=255$"):
+    with pytest.raises(pmu50.ConfigError, match=r"^`core.cth`: -1 is out of range; valid is a whole number of quiet pulses from 1 to 255$"):
         pmu50.Core(cth=-1)
-    with pytest.raises(pmu50.ConfigError, match=r"core.cth = 99999999999999999999999 is out of range"):
+    with pytest.raises(pmu50.ConfigError, match=r"^`core.cth`: 99999999999999999999999 is out of range; valid is a whole number of quiet pulses from 1 to 255$"):
         pmu50.Core(cth=99999999999999999999999)
 
 
