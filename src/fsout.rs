@@ -52,8 +52,9 @@ pub struct AtomicFile {
 }
 
 impl AtomicFile {
-    /// Start writing `dest` (its folder must exist).
-    pub fn create(dest: &Path) -> Result<AtomicFile, OutputError> {
+    /// Stage a new `dest`: a temporary file beside it (its folder must exist), renamed over
+    /// `dest` only when its batch commits.
+    pub fn stage(dest: &Path) -> Result<AtomicFile, OutputError> {
         if is_real_dir(dest) {
             return Err(OutputError::IsDir { path: dest.to_path_buf() });
         }
@@ -157,7 +158,7 @@ fn remove_strays(dir: &Path, base: &str) {
 
 /// Write a whole small file atomically (e.g. a `.gtkw` or a random scenario).
 pub fn write_atomic(dest: &Path, bytes: &[u8]) -> Result<AtomicFile, OutputError> {
-    let mut f = AtomicFile::create(dest)?;
+    let mut f = AtomicFile::stage(dest)?;
     f.write_all(bytes).map_err(|source| OutputError::Write { path: dest.to_path_buf(), source })?;
     Ok(f)
 }
@@ -271,7 +272,7 @@ mod tests {
         let p = d.join("a.vcd");
         std::fs::write(&p, "old").unwrap();
         {
-            let mut f = AtomicFile::create(&p).unwrap();
+            let mut f = AtomicFile::stage(&p).unwrap();
             f.write_all(b"new, half").unwrap();
             assert_eq!(std::fs::read_to_string(&p).unwrap(), "old");
             assert_eq!(names(&d).len(), 2, "the temporary file is beside it");
@@ -314,7 +315,7 @@ mod tests {
     fn a_directory_at_the_output_path_is_an_error() {
         let d = dir("isdir");
         std::fs::create_dir(d.join("a.vcd")).unwrap();
-        assert!(matches!(AtomicFile::create(&d.join("a.vcd")), Err(OutputError::IsDir { .. })));
+        assert!(matches!(AtomicFile::stage(&d.join("a.vcd")), Err(OutputError::IsDir { .. })));
         std::fs::remove_dir_all(&d).ok();
     }
 
@@ -342,7 +343,7 @@ mod tests {
         for p in [&dead, &alive, &other] {
             std::fs::write(p, "partial").unwrap();
         }
-        let f = AtomicFile::create(&d.join("a.vcd")).unwrap();
+        let f = AtomicFile::stage(&d.join("a.vcd")).unwrap();
         assert!(!dead.exists(), "the dead run's temporary file is removed");
         assert!(alive.exists() && other.exists(), "a live process's and another output's are kept");
         drop(f);

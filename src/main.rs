@@ -534,7 +534,7 @@ fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>) -> u8 {
         }
     }
     let result = (|| -> Result<u64, RunError> {
-        let f = AtomicFile::create(output)?;
+        let f = AtomicFile::stage(output)?;
         let mut vw = VectorWriter::new(BufWriter::new(f), &sc)?;
         let (ticks, mut batch) = match vcd_dir {
             Some(d) => {

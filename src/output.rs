@@ -93,7 +93,7 @@ pub fn run_to_batch_as(sc: &Scenario, dir: &Path, fo: FileOptions, format: WaveF
     let mut vcd = sim::OnBegin::new(|init: &TickView<'_>| VcdObserver::create_as(dir, &sc.name, s, sc.clock_ns(), window, format, init));
     let log_path = dir.join(format!("{}.log", sc.name));
     let mut log = if fo.log {
-        let f = AtomicFile::create(&log_path)?;
+        let f = AtomicFile::stage(&log_path)?;
         Some(ChangeLog::new(BufWriter::new(f), s, sc.clock_ns())?)
     } else {
         None

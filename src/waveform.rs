@@ -250,7 +250,7 @@ impl VcdObserver {
         if let Some((a, z)) = window {
             gt.fit(a * clock_ns / unit_ns, z * clock_ns / unit_ns);
         }
-        let file = AtomicFile::create(&path).map_err(|e| err(&path, e))?;
+        let file = AtomicFile::stage(&path).map_err(|e| err(&path, e))?;
         let state_ids: Vec<SigId> = ports.iter().chain(&regs).copied().collect();
         let all_ids: Vec<SigId> = state_ids.iter().chain(&inputs).chain(&internals).copied().collect();
         let (w, all, state) = match format {
