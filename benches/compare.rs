@@ -126,20 +126,33 @@ impl Meas {
     }
 }
 
-/// Repeat `pass` (one replay from reset, returns its checksum) for about `seconds` of CPU.
+/// Rounds per measurement: every harness is timed in this many rounds and the fastest round
+/// counts. On a shared machine the load only ever slows a round down, so the best round is the
+/// one least disturbed; all harnesses are measured the same way, so their ratios stay fair.
+const ROUNDS: u32 = 7;
+
+/// Time `pass` (one replay from reset, returns its checksum) in [`ROUNDS`] rounds of about
+/// `seconds / ROUNDS` CPU seconds each; the fastest round is reported.
 fn repeat(st: &Stim, seconds: f64, mut pass: impl FnMut(&Stim) -> u64) -> Meas {
     let t0 = cpu_now();
     let h = black_box(pass(st));
     let one = (cpu_now() - t0).max(1e-6);
-    let reps = ((seconds / one).ceil() as u64).clamp(1, 1_000_000);
-    let t0 = cpu_now();
-    let mut last = 0;
-    for _ in 0..reps {
-        last = black_box(pass(black_box(st)));
+    let reps = ((seconds / f64::from(ROUNDS) / one).ceil() as u64).clamp(1, 1_000_000);
+    let mut best: Option<Meas> = None;
+    for _ in 0..ROUNDS {
+        let t0 = cpu_now();
+        let mut last = 0;
+        for _ in 0..reps {
+            last = black_box(pass(black_box(st)));
+        }
+        let cpu = cpu_now() - t0;
+        assert_eq!(h, last, "a replay from reset must give the same checksum");
+        let m = Meas { ticks: reps * st.inputs.len() as u64, cpu, checksum: Some(last), note: String::new() };
+        if best.as_ref().is_none_or(|b| m.rate() > b.rate()) {
+            best = Some(m);
+        }
     }
-    let cpu = cpu_now() - t0;
-    assert_eq!(h, last, "a replay from reset must give the same checksum");
-    Meas { ticks: reps * st.inputs.len() as u64, cpu, checksum: Some(last), note: String::new() }
+    best.expect("ROUNDS > 0")
 }
 
 #[inline(never)]
@@ -258,7 +271,12 @@ fn check_frame_order(st: &Stim) {
     }
 }
 
+/// The fastest of [`ROUNDS`] traced replays (each to a file of its own format).
 fn traced(st: &Stim, dir: &Path, fst: bool) -> Meas {
+    (0..ROUNDS).map(|_| traced_once(st, dir, fst)).max_by(|a, b| a.rate().total_cmp(&b.rate())).expect("ROUNDS > 0")
+}
+
+fn traced_once(st: &Stim, dir: &Path, fst: bool) -> Meas {
     let (b, ids, unit_ns) = declare(st);
     let path = dir.join(format!("rust_{}.{}", st.name, if fst { "fst" } else { "vcd" }));
     let t0 = cpu_now();
@@ -305,7 +323,14 @@ fn verilator(st: &Stim, dir: &Path, seconds: f64, trace: bool) -> Result<Meas, S
     let vec = st.vec.display().to_string();
     if trace {
         let vcd = dir.join(format!("verilator_{}.vcd", st.name));
-        let mut m = external(&bin, &[vec, "1".into(), "--trace".into(), vcd.display().to_string()])?;
+        let mut m: Option<Meas> = None;
+        for _ in 0..ROUNDS {
+            let r = external(&bin, &[vec.clone(), "1".into(), "--trace".into(), vcd.display().to_string()])?;
+            if m.as_ref().is_none_or(|b| r.rate() > b.rate()) {
+                m = Some(r);
+            }
+        }
+        let mut m = m.expect("ROUNDS > 0");
         let bytes = std::fs::metadata(&vcd).map(|m| m.len()).unwrap_or(0);
         let vars = std::fs::read(&vcd).map(|b| String::from_utf8_lossy(&b[..b.len().min(1 << 16)]).matches("$var").count()).unwrap_or(0);
         let _ = std::fs::remove_file(&vcd);
@@ -313,8 +338,15 @@ fn verilator(st: &Stim, dir: &Path, seconds: f64, trace: bool) -> Result<Meas, S
         return Ok(m);
     }
     let one = external(&bin, &[vec.clone(), "1".into()])?;
-    let reps = ((seconds / one.cpu.max(1e-6)).ceil() as u64).clamp(1, 100_000);
-    external(&bin, &[vec, reps.to_string()])
+    let reps = ((seconds / f64::from(ROUNDS) / one.cpu.max(1e-6)).ceil() as u64).clamp(1, 100_000);
+    let mut best: Option<Meas> = None;
+    for _ in 0..ROUNDS {
+        let m = external(&bin, &[vec.clone(), reps.to_string()])?;
+        if best.as_ref().is_none_or(|b| m.rate() > b.rate()) {
+            best = Some(m);
+        }
+    }
+    Ok(best.expect("ROUNDS > 0"))
 }
 
 fn icarus(st: &Stim, dir: &Path) -> Result<Meas, String> {

@@ -11,8 +11,9 @@
 //!   parameters are read straight from the register file instead of being copied into a
 //!   [`crate::Params`] every tick;
 //! - the common edge (no bus write, no sample, no key edge) touches only the synchronizer, the
-//!   timer, `sr`, `rdata` and `diag`; the rare events (bus write, sample, key-off strobe) are
-//!   branches out of line;
+//!   timer, `sr`, `rdata` and `diag`; the rare events (bus write, key edge) are out of line;
+//! - the registered read mux reads a table of what each address reads ([`Shadow`]), kept beside
+//!   the registers and rebuilt where the readable registers change outside the common edge;
 //! - the counter rules of [0096]-[0099] are used in closed form (`cnt_s` counts up iff
 //!   `cs_new == cc`, `cnt_c` counts up iff `cc_new != cs`), and the diagnosis of [0119]
 //!   (|cnt_s - cnt_c| >= 2 in the counters' two's complement) as `((d + 1) & mask) > 2`.
@@ -66,6 +67,119 @@ impl Consts {
             cfg: u16::from(s.sync_depth & 0x7) | (u16::from(s.cnt_width & 0x1F) << 8),
         }
     }
+}
+
+/// The read side of register file 2, kept beside the registers by [`step`]: what each bus address
+/// reads, and the timing generator's decode bounds, which depend on the parameters only.
+///
+/// A cache, not state: it is a function of the registers ([`Shadow::of`]) and is rebuilt whenever
+/// that function's inputs change outside the common edge (a bus write, a key edge, an edge taken by
+/// [`edge`] through [`crate::Pmu50::step_traced`]). In the common edge, the only readable values
+/// that change are the counters and the STATUS bits of a sample (refreshed there) and
+/// STATUS.`sig`/`sr`/`diag`, which the read adds from the registers at each edge. With it, the
+/// registered read mux of every edge is one table load instead of a jump over 21 addresses
+/// (the bus address changes on 18 % of the keyoff_turns edges and 59 % of the random ones, and
+/// each change mispredicted the jump).
+#[derive(Clone)]
+pub struct Shadow {
+    /// Read value of each address; STATUS without its `sig`, `sr` and `diag` bits.
+    rd: [u16; 256],
+    /// `pw + pi`, `pw + pi + ps`, `smp_on` (timing generator 56 decode bounds).
+    ps_start: u32,
+    wt: u32,
+    smp_on: u32,
+    /// Count diagnosis of the counters held (|cnt_s - cnt_c| >= 2 or `quadrant_skip`): the
+    /// value `diag` takes at an edge that does not change them.
+    diag: bool,
+    /// False: rebuild before the next [`step`].
+    valid: bool,
+}
+
+/// STATUS bits the common edge changes, read from the registers at each edge.
+const STATUS_LIVE: u16 = (1 << status::SIG) | (1 << status::SR) | (1 << status::DIAG);
+
+impl Shadow {
+    /// A shadow that [`step`] rebuilds before its first use.
+    pub const STALE: Shadow = Shadow { rd: [0; 256], ps_start: 0, wt: 0, smp_on: 0, diag: false, valid: false };
+
+    /// The shadow of the registers `r`.
+    pub fn of(c: &Consts, r: &Regs) -> Shadow {
+        let mut s = Shadow::STALE;
+        s.rebuild(c, r);
+        s
+    }
+
+    /// Mark stale: the registers changed outside [`step`].
+    #[inline(always)]
+    pub fn invalidate(&mut self) {
+        self.valid = false;
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn rebuild(&mut self, c: &Consts, r: &Regs) {
+        for a in 0..=addr::STATUS {
+            self.rd[usize::from(a)] = read(c, r, false, a);
+        }
+        self.rd[usize::from(addr::STATUS)] &= !STATUS_LIVE;
+        let f = &r.register_file;
+        self.ps_start = u32::from(f.pw) + u32::from(f.pi);
+        self.wt = self.ps_start + u32::from(f.ps);
+        self.smp_on = u32::from(f.smp_on);
+        self.diag = diag_of(c, &r.updown_counter);
+        self.valid = true;
+    }
+
+    /// After a sample that changed the latches or counters (the registers after the edge): the
+    /// counters, their diagnosis and STATUS.
+    #[inline(always)]
+    fn refresh_sample(&mut self, c: &Consts, r: &Regs) {
+        for a in [addr::CNT_S, addr::CNT_C, addr::STATUS] {
+            self.rd[usize::from(a)] = read(c, r, false, a);
+        }
+        self.rd[usize::from(addr::STATUS)] &= !STATUS_LIVE;
+        self.diag = diag_of(c, &r.updown_counter);
+    }
+
+    /// After a 56b pulse (the registers after the edge): `cnt_r`, `si` and STATUS (history).
+    #[inline(always)]
+    fn refresh_pulse(&mut self, c: &Consts, r: &Regs) {
+        for a in [addr::CNT_R, addr::SI, addr::STATUS] {
+            self.rd[usize::from(a)] = read(c, r, false, a);
+        }
+        self.rd[usize::from(addr::STATUS)] &= !STATUS_LIVE;
+    }
+
+    /// The read mux at `a` for the registers before the edge (`sig`, `sr` and `diag` of `r`).
+    #[inline(always)]
+    fn read(&self, r: &Regs, sig: bool, a: u8) -> u16 {
+        let live = (u16::from(sig) << status::SIG) | (u16::from(r.sensor_power_determination.sr) << status::SR) | (u16::from(r.count_diagnosis.diag) << status::DIAG);
+        let is_status = 0u16.wrapping_sub(u16::from(a == addr::STATUS));
+        self.rd[usize::from(a)] | (live & is_status)
+    }
+}
+
+impl std::fmt::Debug for Shadow {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Shadow").field("valid", &self.valid).finish_non_exhaustive()
+    }
+}
+
+/// A cache of the registers compares equal whatever it holds: two cores are equal when their
+/// registers are.
+impl PartialEq for Shadow {
+    fn eq(&self, _: &Shadow) -> bool {
+        true
+    }
+}
+impl Eq for Shadow {}
+
+/// Count diagnosis 58e/[0119] of the counters: |cnt_s - cnt_c| >= 2 in the counters' two's
+/// complement, i.e. (d + 1) mod 2^W > 2, or a quadrant skip.
+#[inline(always)]
+fn diag_of(c: &Consts, u: &crate::updown_counter_58cd::Regs) -> bool {
+    let d = u.cnt_s.wrapping_sub(u.cnt_c).wrapping_add(1) & c.cnt_mask;
+    (d > 2) | u.quadrant_skip
 }
 
 #[inline(always)]
@@ -388,9 +502,7 @@ pub fn edge(c: &Consts, r: &mut Regs, i: &Inputs) -> Internals {
         (Fig17::Idle, Fig18::Idle)
     };
     // 8. Count diagnosis from the counters' next values: |d| >= 2 iff (d + 1) mod 2^W > 2.
-    let u = &r.updown_counter;
-    let d = u.cnt_s.wrapping_sub(u.cnt_c).wrapping_add(1) & c.cnt_mask;
-    r.count_diagnosis.diag = d > 2 || u.quadrant_skip;
+    r.count_diagnosis.diag = diag_of(c, &r.updown_counter);
     // 2. Register file commit.
     if let Some((f_n, bus_err_n, _)) = write {
         r.register_file = f_n;
@@ -408,47 +520,53 @@ pub fn edge(c: &Consts, r: &mut Regs, i: &Inputs) -> Internals {
 /// from the values just computed. A bus write or a key edge goes through [`edge`] out of line. Both give the same
 /// registers as [`crate::pmu50::eval`] (tested on every tick).
 #[inline(always)]
-pub fn step(c: &Consts, r: &mut Regs, i: &Inputs) -> Outputs {
+pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
+    if !sh.valid {
+        sh.rebuild(c, r);
+    }
     // 1. Synchronizer (56a).
     let sync = r.action_switching.sync;
     let sig = sig_of(c, sync);
     let sync_n = ((sync << 1) | u8::from(i.ig)) & c.sync_mask;
     let sig_n = sig_of(c, sync_n);
-    // 3. Timing generator decode of the pre-edge registers (parameters before the edge).
-    let f = &r.register_file;
-    let t = u32::from(r.timing_generator.tmr);
-    let ps_start = u32::from(f.pw) + u32::from(f.pi);
-    let wt = ps_start + u32::from(f.ps);
-    let smp_at = if sig { u32::from(f.smp_on) } else { wt };
     if (sig != sig_n) | i.bus_we {
         // Outputs from the registers inline, so that both paths give the outputs as values (an
         // `Outputs` returned through memory by the out-of-line call costs a store-forwarding stall
         // in the caller every tick).
-        edge_rare(c, r, i);
+        edge_rare(c, r, sh, i);
         return ports(c, r);
     }
+    // 3. Timing generator decode of the pre-edge registers (parameters before the edge, from
+    // the shadow).
+    let t = u32::from(r.timing_generator.tmr);
+    let (ps_start, wt) = (sh.ps_start, sh.wt);
+    let smp_at = if sig { sh.smp_on } else { wt };
     let smp = t + 1 == smp_at;
     let vs2_en = sig | (t < wt);
-    let period = if sig { u32::from(f.smp_on) } else { u32::from(r.drive_interval.si) };
+    let period = if sig { sh.smp_on } else { u32::from(r.drive_interval.si) };
     // t + 1 < period <= 0xFFFF in the else branch, so the increment cannot wrap.
     let t_n = if t + 1 >= period { 0 } else { t + 1 };
     let sr_pre = r.sensor_power_determination.sr;
-    // 2. Read mux (every register before the edge).
-    let rdata = read(c, r, sig, i.bus_addr);
+    // 2. Read mux (every register before the edge): the shadow's table.
+    let rdata = sh.read(r, sig, i.bus_addr);
     // 4. Sensor power determination 57.
     let sr = vs2_en & i.vs2_ok;
     // 5.-7. Sampling strobe: latches and counters when `upd`, the 56b pulse at key-off (the
     // parameters before the edge; no write this cycle).
     if smp {
         let s = if sr_pre { sample(c, r, i) } else { Sample { first: false, chg_s: false, chg_c: false } };
+        if s.first | s.chg_s | s.chg_c {
+            sh.refresh_sample(c, r);
+        }
         if !sig {
             drive_interval_pulse(&mut r.drive_interval, &r.register_file, sr_pre, s.chg_s, s.chg_c);
+            sh.refresh_pulse(c, r);
         }
     }
-    // 8. Count diagnosis from the counters after the edge.
+    // 8. Count diagnosis from the counters after the edge (the shadow's, refreshed above when a
+    // sample changed them).
     let u = &r.updown_counter;
-    let d = u.cnt_s.wrapping_sub(u.cnt_c).wrapping_add(1) & c.cnt_mask;
-    let diag = (d > 2) | u.quadrant_skip;
+    let diag = sh.diag;
     // Commit.
     r.action_switching.sync = sync_n;
     r.timing_generator.tmr = t_n as u16;
@@ -491,8 +609,9 @@ pub fn step(c: &Consts, r: &mut Regs, i: &Inputs) -> Outputs {
 /// The edges [`step`] does not take inline: a bus write or a key edge.
 #[cold]
 #[inline(never)]
-fn edge_rare(c: &Consts, r: &mut Regs, i: &Inputs) {
+fn edge_rare(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) {
     edge(c, r, i);
+    sh.rebuild(c, r);
 }
 
 /// The same signature as [`crate::pmu50::eval`]: (outputs before the edge, internals of the

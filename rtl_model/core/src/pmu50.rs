@@ -390,6 +390,8 @@ pub struct Pmu50 {
     tick: u64,
     /// Structural parameters pre-decoded for the fast kernel.
     k: crate::kernel::Consts,
+    /// The fast kernel's read-side cache of `regs` (compares equal whatever it holds).
+    sh: crate::kernel::Shadow,
 }
 
 impl Pmu50 {
@@ -402,12 +404,14 @@ impl Pmu50 {
             regs: reset(&p),
             tick: 0,
             k: crate::kernel::Consts::new(&Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width }),
+            sh: crate::kernel::Shadow::STALE,
         })
     }
 
     /// Back to power-on reset (the parameters given to [`Pmu50::new`]); tick count restarts at 0.
     pub fn reset(&mut self) {
         self.regs = reset(&self.params);
+        self.sh.invalidate();
         self.tick = 0;
     }
 
@@ -426,13 +430,14 @@ impl Pmu50 {
     #[inline]
     pub fn step(&mut self, i: &Inputs) -> Outputs {
         self.tick += 1;
-        crate::kernel::step(&self.k, &mut self.regs, i)
+        crate::kernel::step(&self.k, &mut self.regs, &mut self.sh, i)
     }
 
     /// One rising edge; returns (outputs before the edge, internals of the cycle, outputs after).
     pub fn step_traced(&mut self, i: &Inputs) -> (Outputs, Internals, Outputs) {
         let before = crate::kernel::ports(&self.k, &self.regs);
         let internals = crate::kernel::edge(&self.k, &mut self.regs, i);
+        self.sh.invalidate();
         self.tick += 1;
         (before, internals, crate::kernel::ports(&self.k, &self.regs))
     }

@@ -92,6 +92,31 @@ proptest! {
         let s = Structural { sync_depth: sd, cnt_width: w };
         prop_assert_eq!(kernel::eval(&s, &r, &i), eval(&s, &r, &i));
     }
+
+    /// The inline edge of `Pmu50::step` (`kernel::step`, with its read-side shadow built from the
+    /// registers) from any state: the registers and the outputs after the edge, then a second
+    /// edge through the shadow that the first one left (refreshed by a sample, rebuilt by a write
+    /// or key edge, or untouched).
+    #[test]
+    fn step_from_any_state(r in prop_oneof![any_regs(), small_regs()], i in any_inputs(), i2 in any_inputs(), sd in 1u8..=4, w in 2u8..=16) {
+        let s = Structural { sync_depth: sd, cnt_width: w };
+        let c = kernel::Consts::new(&s);
+        let mut sh = kernel::Shadow::of(&c, &r);
+        let mut k = r;
+        let out = kernel::step(&c, &mut k, &mut sh, &i);
+        let (_, _, want) = eval(&s, &r, &i);
+        prop_assert_eq!(k, want);
+        prop_assert_eq!(out, pmu50_core::pmu50::ports(&s, &want));
+        // Every address read through the shadow the first edge left, then `i2` as drawn.
+        let reads = (0..=0x16u8).map(|a| Inputs { bus_we: false, bus_addr: a, ..i2 });
+        for i2 in reads.chain([i2]) {
+            let (mut k2, mut sh2) = (k, sh.clone());
+            let out2 = kernel::step(&c, &mut k2, &mut sh2, &i2);
+            let (_, _, want2) = eval(&s, &want, &i2);
+            prop_assert_eq!(k2, want2);
+            prop_assert_eq!(out2, pmu50_core::pmu50::ports(&s, &want2));
+        }
+    }
 }
 
 /// Stimulus with memory, to reach deep states and every branch.
