@@ -439,6 +439,15 @@ fn main() {
             std::process::exit(2);
         }
     };
+    if args.iter().any(|a| a == "--quick-traced") {
+        // Only the Rust tracer (for tuning it): ticks per CPU-second, VCD and FST.
+        for st in &stims {
+            let v = traced(st, &dir, false);
+            let f = traced(st, &dir, true);
+            println!("{}: tracer VCD {} FST {} ({}; {}; checksum {:016x})", st.name, fmt_rate(v.rate()), fmt_rate(f.rate()), v.note, f.note, v.checksum.unwrap_or(0));
+        }
+        return;
+    }
     if quick {
         // Only the two Rust models (for tuning the kernel): ticks per CPU-second.
         for st in &stims {
