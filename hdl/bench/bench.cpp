@@ -9,8 +9,9 @@
 //
 // The checksum folds the 23 outputs after every edge exactly as benches/compare.rs does for the
 // Rust model (pack and mix below), over the last repetition; equal checksums mean equal outputs.
-// With --trace (a build with `verilator --trace`) every signal of the twin is dumped once per
-// tick (after the rising edge, time = tick x clock period) into OUT.vcd.
+// With --trace (a build with `verilator --trace`) the traced signals of the twin are dumped once
+// per tick (after the rising edge, time = tick x clock period) into OUT.vcd: build.sh passes
+// hdl/bench/trace.vlt, which traces the counterparts of the Rust tracer's 65 signals only.
 //
 // Build: hdl/bench/build.sh (verilator -O3, g++ -O3, the file's parameters as -G values, so the
 // programmable registers reset to the scenario's values without any deposit).
