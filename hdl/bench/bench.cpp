@@ -96,12 +96,15 @@ int main(int argc, char **argv) {
 
     auto ctx = std::make_unique<VerilatedContext>();
     auto top = std::make_unique<Vpmu50>(ctx.get(), "pmu50");
+    const uint64_t unit = clock_ns % 1000 == 0 ? 1000 : 1;  // VCD time in us when possible
 #if VM_TRACE
     std::unique_ptr<VerilatedVcdC> tfp;
     if (trace) {
         ctx->traceEverOn(true);
         tfp = std::make_unique<VerilatedVcdC>();
         top->trace(tfp.get(), 99);
+        // the $timescale of the times dumped below (Verilator's default says 1ps)
+        tfp->set_time_resolution(unit == 1000 ? "1us" : "1ns");
         tfp->open(trace);
     }
 #else
@@ -110,7 +113,6 @@ int main(int argc, char **argv) {
         return 2;
     }
 #endif
-    const uint64_t unit = clock_ns % 1000 == 0 ? 1000 : 1;  // VCD time in us when possible
     uint64_t h = 0;
     double t0 = cpu_now();
     for (long r = 0; r < reps; ++r) {
