@@ -13,7 +13,7 @@
 //! | readable model | `Pmu50Spec::step`: the per-block specification (`pmu50::eval`) |
 //! | fast kernel | `Pmu50::step`: `rtl_model/core/src/kernel.rs` |
 //! | Verilator -O3 | `DIR/vl_NAME/bench` (hdl/bench/bench.cpp), untraced |
-//! | Verilator -O3 --trace | `DIR/vlt_NAME/bench --trace`: VCD of every signal of the twin |
+//! | Verilator -O3 --trace | `DIR/vlt_NAME/bench --trace`: VCD of the twin's counterparts of the Rust tracer's 65 signals (hdl/bench/trace.vlt); the note says how many `$var`s it dumps and names any of the 65 without a counterpart |
 //! | Rust tracer VCD / FST | `Pmu50::step_traced` + `pmu50_waves` writer (one frame per tick) of the model's signals: ports, registers, internals, as `pmu50 run` writes them (without the analog `env` reals, which the twin does not have) |
 //! | Icarus | `vvp DIR/iv_NAME.vvp +vec=DIR/NAME.vec` (hdl/tb/tb_vectors.v, which compares every output with the file: for scale) |
 //!
@@ -332,9 +332,9 @@ fn verilator(st: &Stim, dir: &Path, seconds: f64, trace: bool) -> Result<Meas, S
         }
         let mut m = m.expect("ROUNDS > 0");
         let bytes = std::fs::metadata(&vcd).map(|m| m.len()).unwrap_or(0);
-        let vars = std::fs::read(&vcd).map(|b| String::from_utf8_lossy(&b[..b.len().min(1 << 16)]).matches("$var").count()).unwrap_or(0);
+        let twin = std::fs::read(&vcd).map(|b| var_paths(&b)).unwrap_or_default();
         let _ = std::fs::remove_file(&vcd);
-        m.note = format!("{vars} $var lines, {}", fmt_bytes(bytes));
+        m.note = format!("{}, {}", same_signals(st, &twin), fmt_bytes(bytes));
         return Ok(m);
     }
     let one = external(&bin, &[vec.clone(), "1".into()])?;
@@ -347,6 +347,50 @@ fn verilator(st: &Stim, dir: &Path, seconds: f64, trace: bool) -> Result<Meas, S
         }
     }
     Ok(best.expect("ROUNDS > 0"))
+}
+
+/// Full dotted paths of the `$var`s of a VCD header, one per `$var` line, in file order.
+fn var_paths(vcd: &[u8]) -> Vec<String> {
+    let mut scopes: Vec<String> = Vec::new();
+    let mut paths = Vec::new();
+    for line in String::from_utf8_lossy(vcd).lines() {
+        let t: Vec<&str> = line.split_whitespace().collect();
+        match t.first().copied() {
+            Some("$scope") if t.len() > 2 => scopes.push(t[2].to_string()),
+            Some("$upscope") => {
+                scopes.pop();
+            }
+            Some("$var") if t.len() > 4 => paths.push(scopes.iter().map(String::as_str).chain([t[4]]).collect::<Vec<_>>().join(".")),
+            Some("$enddefinitions") => break,
+            _ => {}
+        }
+    }
+    paths
+}
+
+/// Note of the Verilator --trace row: how many `$var` lines the twin dumps and whether they are
+/// the counterparts of the Rust tracer's signals (the twin module's `X`, `pmu50.pmu50.X` under
+/// the harness's top name, for the model's `pmu50.X`; hdl/bench/trace.vlt), naming the tracer's
+/// signals without a counterpart and the twin's extra ones.
+fn same_signals(st: &Stim, twin: &[String]) -> String {
+    let (b, _, _) = declare(st);
+    let rust = b.start(Vec::new()).and_then(|w| w.finish()).map(|v| var_paths(&v)).unwrap_or_default();
+    let mapped: Vec<String> = twin.iter().map(|p| p.strip_prefix("pmu50.pmu50.").map_or_else(|| format!("(twin) {p}"), |r| format!("pmu50.{r}"))).collect();
+    let missing: Vec<&str> = rust.iter().filter(|p| !mapped.contains(p)).map(String::as_str).collect();
+    let extra = mapped.iter().filter(|p| !rust.contains(p)).count();
+    let mut note = format!("{} $var lines", twin.len());
+    if missing.is_empty() && extra == 0 && twin.len() == rust.len() {
+        note += &format!(", the counterparts of the Rust tracer's {} signals", rust.len());
+    } else {
+        note += &format!(" for the Rust tracer's {}", rust.len());
+        if !missing.is_empty() {
+            note += &format!(", {} without counterpart: {}", missing.len(), missing.join(" "));
+        }
+        if extra > 0 {
+            note += &format!(", {extra} not in the Rust tracer");
+        }
+    }
+    note
 }
 
 fn icarus(st: &Stim, dir: &Path) -> Result<Meas, String> {

@@ -1,7 +1,8 @@
 //! `pmu50 run --format fst`: the FST of a scenario holds the same waveform as its VCD (`pmu50
 //! diff` says EQUAL, exit 0), its `.gtkw` points at the `.fst`, no `.vcd` is written beside it,
 //! reruns are byte-identical, and a damaged FST makes `pmu50 diff` exit 2 with one line and no
-//! panic text.
+//! panic text. With `--window A B` the FST and the VCD of the same run are EQUAL too (the FST
+//! starts at the window start), and a different window is not.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -27,12 +28,17 @@ fn scenario(name: &str) -> String {
 }
 
 fn run(name: &str, dir: &Path, format: Option<&str>) {
+    run_with(name, dir, format, &[]);
+}
+
+fn run_with(name: &str, dir: &Path, format: Option<&str>, extra: &[&str]) {
     let sc = scenario(name);
     let d = dir.display().to_string();
     let mut args = vec!["run", sc.as_str(), "--out-dir", d.as_str()];
     if let Some(f) = format {
         args.extend(["--format", f]);
     }
+    args.extend(extra);
     let o = pmu50(&args);
     assert!(o.status.success(), "pmu50 {args:?}: {}", String::from_utf8_lossy(&o.stderr));
 }
@@ -65,6 +71,31 @@ fn fst_run_equals_vcd_run_and_gtkw_points_at_it() {
     let other = f.join("fig15a.fst").display().to_string();
     let o = pmu50(&["diff", &vcd, &other]);
     assert_eq!(o.status.code(), Some(1), "{}", String::from_utf8_lossy(&o.stdout));
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// Regression: the windowed FST had its window-start values at time 0 (and the window start in
+/// the header's time-zero field), so the diff said DIFFER with a mismatch per signal at 0 us.
+#[test]
+fn windowed_fst_run_equals_windowed_vcd_run() {
+    let d = tmp("window");
+    let (v, f, g) = (d.join("v"), d.join("f"), d.join("g"));
+    run_with("fig15a", &v, None, &["--window", "10 ms", "30 ms"]);
+    run_with("fig15a", &f, Some("fst"), &["--window", "10 ms", "30 ms"]);
+    run_with("fig15a", &g, Some("fst"), &["--window", "12 ms", "30 ms"]);
+    let vcd = v.join("fig15a.vcd").display().to_string();
+    let fst = f.join("fig15a.fst").display().to_string();
+    for (l, r) in [(&vcd, &fst), (&fst, &vcd)] {
+        let o = pmu50(&["diff", l, r]);
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(o.status.code(), Some(0), "{out}{}", String::from_utf8_lossy(&o.stderr));
+        assert!(out.contains("EQUAL") && out.contains("value mismatches: 0"), "{out}");
+    }
+    let later = g.join("fig15a.fst").display().to_string();
+    let o = pmu50(&["diff", &vcd, &later]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{out}");
+    assert!(out.contains("(first at 10000 us)"), "{out}");
     std::fs::remove_dir_all(&d).unwrap();
 }
 

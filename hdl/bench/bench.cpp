@@ -9,8 +9,9 @@
 //
 // The checksum folds the 23 outputs after every edge exactly as benches/compare.rs does for the
 // Rust model (pack and mix below), over the last repetition; equal checksums mean equal outputs.
-// With --trace (a build with `verilator --trace`) every signal of the twin is dumped once per
-// tick (after the rising edge, time = tick x clock period) into OUT.vcd.
+// With --trace (a build with `verilator --trace`) the traced signals of the twin are dumped once
+// per tick (after the rising edge, time = tick x clock period) into OUT.vcd: build.sh passes
+// hdl/bench/trace.vlt, which traces the counterparts of the Rust tracer's 65 signals only.
 //
 // Build: hdl/bench/build.sh (verilator -O3, g++ -O3, the file's parameters as -G values, so the
 // programmable registers reset to the scenario's values without any deposit).
@@ -95,12 +96,15 @@ int main(int argc, char **argv) {
 
     auto ctx = std::make_unique<VerilatedContext>();
     auto top = std::make_unique<Vpmu50>(ctx.get(), "pmu50");
+    const uint64_t unit = clock_ns % 1000 == 0 ? 1000 : 1;  // VCD time in us when possible
 #if VM_TRACE
     std::unique_ptr<VerilatedVcdC> tfp;
     if (trace) {
         ctx->traceEverOn(true);
         tfp = std::make_unique<VerilatedVcdC>();
         top->trace(tfp.get(), 99);
+        // the $timescale of the times dumped below (Verilator's default says 1ps)
+        tfp->set_time_resolution(unit == 1000 ? "1us" : "1ns");
         tfp->open(trace);
     }
 #else
@@ -109,7 +113,6 @@ int main(int argc, char **argv) {
         return 2;
     }
 #endif
-    const uint64_t unit = clock_ns % 1000 == 0 ? 1000 : 1;  // VCD time in us when possible
     uint64_t h = 0;
     double t0 = cpu_now();
     for (long r = 0; r < reps; ++r) {

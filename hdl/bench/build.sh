@@ -4,7 +4,9 @@
 #   hdl/bench/build.sh FILE.vec OUTDIR [--trace]
 #
 # verilator --cc -O3 (with --trace when asked) and g++ -O3 -march=native of the generated model,
-# the harness and the Verilator runtime; the `// param` lines of FILE.vec become -G values. Output:
+# the harness and the Verilator runtime; the `// param` lines of FILE.vec become -G values. With
+# --trace, hdl/bench/trace.vlt limits the dump to the twin's counterparts of the Rust tracer's 65
+# signals (inputs, outputs, registers, internals; not the twin's other nets). Output:
 # OUTDIR/bench (skipped when newer than its sources). Exit 2 on a tool failure.
 set -euo pipefail
 HDL="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -23,7 +25,7 @@ while IFS= read -r line; do
 done < "$VEC"
 if [ -x "$OUT/bench" ] && [ -f "$OUT/params" ] && [ "$(cat "$OUT/params")" = "${GS[*]} $TRACE" ]; then
     newer=0
-    for s in "${BASH_SOURCE[0]}" "$HDL/bench/bench.cpp" "${RTL[@]}"; do [ "$s" -nt "$OUT/bench" ] && newer=1; done
+    for s in "${BASH_SOURCE[0]}" "$HDL/bench/bench.cpp" "$HDL/bench/trace.vlt" "${RTL[@]}"; do [ "$s" -nt "$OUT/bench" ] && newer=1; done
     [ $newer = 0 ] && exit 0
 fi
 rm -rf "$OUT"
@@ -33,7 +35,7 @@ VFLAGS=(--cc -O3 --x-assign fast --x-initial fast --top-module pmu50 -Mdir "$OUT
 RT=(verilated.cpp verilated_threads.cpp)
 TRACE_DEF=0
 if [ "$TRACE" = "--trace" ]; then
-    VFLAGS+=(--trace)
+    VFLAGS+=(--trace "$HDL/bench/trace.vlt")
     RT+=(verilated_vcd_c.cpp)
     TRACE_DEF=1
 fi

@@ -6,17 +6,23 @@
 //! the VCD of the same calls; [`crate::reader::Waveform`] (wellen) reads both, which a test
 //! checks signal by signal.
 //!
-//! With a time window the full dump at the window start is the FST's initial frame (FST has no
-//! "nothing before" state; wellen reports those values from time 0).
+//! With a time window the full dump at the window start is the FST's initial frame, and the file
+//! starts at the window start: the header's start time and the first value-change block's start
+//! time (the time of that frame) are the window start, as in the VCD, whose first time stamp is
+//! the window start. `fst-writer` 0.3 always writes 0 there (and writes its `FstInfo::start_time`
+//! into the header's *time zero* field, which viewers add to every displayed time), so
+//! [`start_fst`] passes time zero 0 and [`FstOut`] sets both start times when the file is
+//! finished ([`set_start_time`]). wellen (fst-reader) and GTKWave then report the frame at the
+//! window start, exactly where the VCD has it.
 //!
 //! FST stores its timescale as a power of ten of a second, so `10 ns` is written as 10^-8 s and
 //! the time values are the same numbers as in the VCD.
 //!
 //! [GTKWave's Fast Signal Trace format]: https://gtkwave.sourceforge.net/
 
-use std::fs::File;
-use std::io::BufWriter;
-use std::path::Path;
+use std::fs::{File, OpenOptions};
+use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
 
 use fst_writer::{FstBodyWriter, FstFileType, FstInfo, FstScopeType, FstSignalId, FstSignalType, FstVarDirection, FstVarType};
 
@@ -43,6 +49,8 @@ pub struct FstOut {
     scale: u64,
     /// start time of the file: the full dump at this time is FST's initial frame
     start: u64,
+    /// the file, reopened at the end to set its start time ([`set_start_time`])
+    path: PathBuf,
     scratch: Vec<u8>,
 }
 
@@ -62,7 +70,9 @@ pub fn start_fst(b: VcdBuilder, path: &Path) -> Result<FstWriter> {
     };
     let start = b.window_start();
     let info = FstInfo {
-        start_time: start,
+        // fst-writer writes this into the header's time-zero field (an offset viewers add to
+        // every time), not its start time: 0, the file's times are absolute.
+        start_time: 0,
         timescale_exponent: exp as i8,
         version: b.version().to_string(),
         date: String::new(),
@@ -97,7 +107,7 @@ pub fn start_fst(b: VcdBuilder, path: &Path) -> Result<FstWriter> {
     }
     let ids = ids.into_iter().map(|i| i.ok_or_else(|| WriteError::Fst("a declared variable has no FST id".into()))).collect::<Result<Vec<_>>>()?;
     let body = h.finish().map_err(fst_err)?;
-    Ok(b.into_writer(FstOut { body, ids, widths, real, scale, start, scratch: Vec::with_capacity(64) }))
+    Ok(b.into_writer(FstOut { body, ids, widths, real, scale, start, path: path.to_path_buf(), scratch: Vec::with_capacity(64) }))
 }
 
 impl Emitter for FstOut {
@@ -148,7 +158,68 @@ impl Emitter for FstOut {
             self.body.time_change(t * self.scale).map_err(fst_err)?;
         }
         let mut out = self.body.finish().map_err(fst_err)?;
-        std::io::Write::flush(&mut out)?;
+        out.flush()?;
+        drop(out);
+        if self.start > 0 {
+            let mut f = OpenOptions::new().read(true).write(true).open(&self.path)?;
+            set_start_time(&mut f, self.start)?;
+            f.flush()?;
+        }
         Ok(())
+    }
+}
+
+/// FST block types of value-change data (`FST_BL_VCDATA`, `FST_BL_VCDATA_DYN_ALIAS`,
+/// `FST_BL_VCDATA_DYN_ALIAS2`; GTKWave's `fstapi.h`).
+const FST_VC_BLOCKS: [u8; 3] = [1, 5, 8];
+
+/// Set the start time of a finished FST to `start`: the header's start time (bytes 9..17; every
+/// block is a type byte, then a big-endian u64 length that counts itself, then its data) and the
+/// start time of the first value-change block, which is the time of its initial frame. An end
+/// time before `start` (a file with no time step after its frame) becomes `start`. Later blocks
+/// start where the previous one ended and are left as they are.
+pub fn set_start_time(f: &mut (impl Read + Write + Seek), start: u64) -> Result<()> {
+    let bad = |what: &str| WriteError::Fst(format!("cannot set the FST start time: {what}"));
+    let mut head = [0u8; 9];
+    let mut pos = 0u64;
+    let mut vc_seen = false;
+    loop {
+        f.seek(SeekFrom::Start(pos))?;
+        match f.read_exact(&mut head) {
+            Ok(()) => {}
+            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => break,
+            Err(e) => return Err(e.into()),
+        }
+        let mut len = [0u8; 8];
+        len.copy_from_slice(&head[1..9]);
+        let len = u64::from_be_bytes(len);
+        let vc = FST_VC_BLOCKS.contains(&head[0]);
+        if pos == 0 && head[0] != 0 {
+            return Err(bad("the first block is not the header block (type 0)"));
+        }
+        if pos == 0 || vc {
+            // start time, then end time, right after the length
+            let mut end = [0u8; 8];
+            f.seek(SeekFrom::Start(pos + 17))?;
+            f.read_exact(&mut end)?;
+            f.seek(SeekFrom::Start(pos + 9))?;
+            f.write_all(&start.to_be_bytes())?;
+            if u64::from_be_bytes(end) < start {
+                f.write_all(&start.to_be_bytes())?;
+            }
+        }
+        if vc {
+            vc_seen = true;
+            break;
+        }
+        if len < 8 {
+            return Err(bad(&format!("block at byte {pos} has length {len}")));
+        }
+        pos += 1 + len;
+    }
+    if vc_seen {
+        Ok(())
+    } else {
+        Err(bad("the file has no value-change block"))
     }
 }

@@ -1,7 +1,11 @@
 //! FST output: the same calls give an FST that wellen reads back exactly like the VCD (every
 //! signal's path, range, width, kind and every value change), with frames, single changes, x/z
 //! bits, reals, windows and timescales of 10 and 100 units; and the checks hold for FST too.
+//! A windowed FST starts at the window start (header and first block), so `pmu50 diff` of the
+//! windowed VCD against the windowed FST of the same calls is EQUAL, and different windows or
+//! values are still told apart.
 
+use pmu50_waves::diff::{diff, DiffOptions, Outcome};
 use pmu50_waves::fst::start_fst;
 use pmu50_waves::reader::Waveform;
 use pmu50_waves::writer::{BitType, Logic, SigId, VcdBuilder, WriteError};
@@ -71,7 +75,7 @@ macro_rules! drive {
     }};
 }
 
-fn same_content(vcd: &Waveform, fst: &Waveform, start: u64) {
+fn same_content(vcd: &Waveform, fst: &Waveform) {
     assert_eq!(vcd.timescale().map(|t| t.unit.exponent() + (t.factor as f64).log10() as i32), fst.timescale().map(|t| t.unit.exponent() + (t.factor as f64).log10() as i32));
     assert_eq!(vcd.signals().len(), fst.signals().len());
     let mut n = 0;
@@ -81,9 +85,7 @@ fn same_content(vcd: &Waveform, fst: &Waveform, start: u64) {
         assert_eq!((&s.path, s.index, s.width, &s.kind), (&t.path, t.index, t.width, &t.kind), "{}", s.path);
         let scale = |w: &Waveform| w.timescale().map_or(1, |t| u64::from(t.factor));
         let a: Vec<_> = vcd.changes_at(i).into_iter().map(|(t, v)| (t * scale(vcd), v)).collect();
-        // A windowed FST holds the window-start values as its initial frame, which wellen
-        // reports at time 0.
-        let b: Vec<_> = fst.changes_at(j).into_iter().map(|(t, v)| (t.max(start) * scale(fst), v)).collect();
+        let b: Vec<_> = fst.changes_at(j).into_iter().map(|(t, v)| (t * scale(fst), v)).collect();
         assert_eq!(a, b, "{}", s.path);
         n += a.len();
     }
@@ -107,7 +109,9 @@ fn fst_reads_back_like_the_vcd() {
         drive!(f, ids);
         f.finish().unwrap();
         let fst = Waveform::open(&path).unwrap();
-        same_content(&vcd, &fst, window.map_or(0, |w| w.0));
+        same_content(&vcd, &fst);
+        let d = diff(&vcd, &fst, &DiffOptions::default()).unwrap();
+        assert_eq!(d.outcome, Outcome::Equal, "{window:?}: {d}");
         std::fs::remove_file(&path).unwrap();
     }
 }
@@ -132,4 +136,71 @@ fn fst_keeps_the_checks() {
     let p2 = tmp("unclosed.fst");
     assert!(matches!(start_fst(b, &p2), Err(WriteError::UnclosedScopes { .. })));
     assert!(!p2.exists());
+}
+
+fn vcd_of(ts: Timescale, window: Option<(u64, u64)>) -> Waveform {
+    let (b, ids) = builder(ts, window);
+    let mut v = b.start(Vec::new()).unwrap();
+    drive!(v, ids);
+    Waveform::from_bytes(v.finish().unwrap()).unwrap()
+}
+
+/// Writes the FST of `drive!` (plus, if `extra`, a change of `tmr` at its last time, 1000) and returns its bytes and its reading.
+fn fst_of(name: &str, ts: Timescale, window: Option<(u64, u64)>, extra: bool) -> (Vec<u8>, Waveform) {
+    let (b, ids) = builder(ts, window);
+    let path = tmp(name);
+    let mut f = start_fst(b, &path).unwrap();
+    drive!(f, ids);
+    if extra {
+        f.change_vector(ids.tmr, 40).unwrap(); // drive! writes tmr values 0..37 only
+    }
+    f.finish().unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let w = Waveform::open(&path).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    (bytes, w)
+}
+
+fn be64(b: &[u8], at: usize) -> u64 {
+    u64::from_be_bytes(b[at..at + 8].try_into().unwrap())
+}
+
+/// Regression (`pmu50 run --window A..B` in VCD and in FST said DIFFER): fst-writer wrote the
+/// window start into the header's time-zero field and left the start times 0, so wellen gave the
+/// window-start frame at time 0 while the VCD starts at the window start.
+#[test]
+fn windowed_fst_starts_at_the_window_and_diffs_equal_to_the_vcd() {
+    let ts = Timescale::new(1, TimeUnit::Us);
+    let window = Some((50, 700));
+    let vcd = vcd_of(ts, window);
+    let (bytes, fst) = fst_of("window.fst", ts, window, false);
+    // FST header block: type 0, length 329, start time, end time, ..., time zero last.
+    assert_eq!((bytes[0], be64(&bytes, 1)), (0, 329));
+    assert_eq!(be64(&bytes, 9), 50, "header start time");
+    assert_eq!(be64(&bytes, 17), vcd.end_time(), "header end time");
+    assert!(vcd.end_time() > 600);
+    assert_eq!(be64(&bytes, 1 + 329 - 8), 0, "time zero (an offset viewers add to every time)");
+    // every signal's first value is at the window start, as in the VCD
+    for (i, s) in fst.signals().iter().enumerate() {
+        assert_eq!(fst.changes_at(i).first().map(|c| c.0), Some(50), "{}", s.path);
+    }
+    for (l, r) in [(&vcd, &fst), (&fst, &vcd)] {
+        let d = diff(l, r, &DiffOptions::default()).unwrap();
+        assert_eq!(d.outcome, Outcome::Equal, "{d}");
+        assert_eq!(d.signals_compared, 5);
+    }
+    // genuinely different files still differ: another window, the whole run, one more change
+    let (_, later) = fst_of("later.fst", ts, Some((51, 700)), false);
+    let d = diff(&vcd, &later, &DiffOptions::default()).unwrap();
+    assert_eq!((d.outcome, d.first_mismatch_time), (Outcome::Differ, Some(50)), "{d}");
+    let (_, whole) = fst_of("whole.fst", ts, None, false);
+    let d = diff(&vcd, &whole, &DiffOptions::default()).unwrap();
+    assert_eq!((d.outcome, d.first_mismatch_time), (Outcome::Differ, Some(0)), "{d}");
+    // without a window the file starts at 0 and equals its VCD, and one more change differs
+    let unwindowed = vcd_of(ts, None);
+    let d = diff(&unwindowed, &whole, &DiffOptions::default()).unwrap();
+    assert_eq!(d.outcome, Outcome::Equal, "{d}");
+    let (_, extra) = fst_of("extra.fst", ts, None, true);
+    let d = diff(&unwindowed, &extra, &DiffOptions::default()).unwrap();
+    assert_eq!((d.outcome, d.mismatch_count, d.first_mismatch_time), (Outcome::Differ, 1, Some(1000)), "{d}");
 }
