@@ -421,6 +421,13 @@ struct RunFlags {
     format: WaveFormat,
 }
 
+/// A scenario `run` will run: its dump window of `--window` (in ticks) and its trace level.
+struct Planned {
+    sc: Scenario,
+    window: Option<(u64, u64)>,
+    choice: TraceChoice,
+}
+
 fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Option<Vec<String>>, max_vcd_bytes: Option<u64>) -> u8 {
     let RunFlags { log, svg, .. } = flags;
     if scenarios.is_empty() {
@@ -428,7 +435,7 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
         return 2;
     }
     let mut code = 0u8;
-    let mut good: Vec<(Scenario, Option<(u64, u64)>, TraceChoice)> = Vec::new();
+    let mut good: Vec<Planned> = Vec::new();
     for p in scenarios {
         let sc = match Scenario::load(p) {
             Ok(s) => s,
@@ -452,7 +459,7 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
                 err!("error: --window: {} is run with trace = none, which writes no waveform; drop --window or run it with --trace ports, registers or all", sc.path.display());
                 code = 2;
             } else {
-                good.push((sc, None, choice));
+                good.push(Planned { sc, window: None, choice });
             }
             continue;
         };
@@ -461,14 +468,14 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
             code = 2;
             continue;
         }
-        good.push((sc, window_flag, choice));
+        good.push(Planned { sc, window: window_flag, choice });
     }
     let mut owner: BTreeMap<PathBuf, usize> = BTreeMap::new();
     let mut clash = false;
-    for (k, (sc, _, _)) in good.iter().enumerate().filter(|(_, (_, _, c))| c.trace.level().is_some()) {
+    for (k, Planned { sc, .. }) in good.iter().enumerate().filter(|(_, p)| p.choice.trace.level().is_some()) {
         for path in output_paths(out_dir, &sc.name, true) {
             if let Some(&j) = owner.get(&path) {
-                let e = CliError::SameOutput { path, first: good[j].0.path.display().to_string(), second: sc.path.display().to_string(), name: sc.name.clone() };
+                let e = CliError::SameOutput { path, first: good[j].sc.path.display().to_string(), second: sc.path.display().to_string(), name: sc.name.clone() };
                 err!("error: {e}");
                 clash = true;
                 break;
@@ -480,7 +487,7 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
         err!("error: nothing was run");
         return 2;
     }
-    for (sc, window, choice) in &good {
+    for Planned { sc, window, choice } in &good {
         let mut prog = Progress::new(sc.ticks, &sc.name);
         let mut watch = RefusalWatch::new(sc);
         let Some(level) = choice.trace.level() else {
