@@ -99,6 +99,9 @@ fn levels_against_all(format: &str, window: Option<[&str; 2]>) {
             // Only changes are written: equal change lists are equal values at every tick.
             assert_eq!(w.changes_at(i), all.changes_at(a), "{word}: values of {p}");
         }
+        // The same through `pmu50 diff`, the signals of `all` alone set aside.
+        let file = |l: &str| d.join(l).join(format!("fig15a.{format}"));
+        expect(&pmu50(&["diff", s(&file("all")), s(&file(word)), "--allow-unmatched"]), 0, &["waveform diff: EQUAL", "value mismatches: 0", "only in left: pmu50.internals.fig17[2:0]"]);
     }
     std::fs::remove_dir_all(&d).ok();
 }
