@@ -93,6 +93,14 @@ fn levels_against_all(format: &str, window: Option<[&str; 2]>) {
         assert_eq!(paths.iter().cloned().collect::<BTreeSet<_>>(), expected(level), "{word}: declared signals");
         assert_eq!(paths.len(), expected(level).len(), "{word}: each signal declared once");
         assert_eq!(w.end_time(), all.end_time(), "{word}: same end time");
+        if window.is_some() {
+            // 20 ms to 30 ms in us: the last dumped tick starts at 29.99 ms.
+            assert_eq!(w.end_time(), 29_990, "{word}: the window's end");
+            // (wellen reports an FST's initial frame, the dump at the window start, from time 0:
+            // waves/src/fst.rs)
+            let first = if format == "fst" { 0 } else { 20_000 };
+            assert!(w.changes_at(0).iter().all(|(t, _)| *t == first || (20_000..30_000).contains(t)), "{word}: only the window is dumped: {:?}", w.changes_at(0));
+        }
         for (i, p) in paths.iter().enumerate() {
             let a = all.find(p).unwrap_or_else(|| panic!("{p} is not in the all file"));
             assert_eq!(all.signals()[a].gtkwave_name(), w.signals()[i].gtkwave_name(), "{word}: {p} same name and width");
@@ -119,6 +127,7 @@ fn each_fst_level_declares_its_signals_with_the_values_of_all() {
 #[test]
 fn every_level_takes_a_window() {
     levels_against_all("vcd", Some(["20 ms", "30 ms"]));
+    levels_against_all("fst", Some(["20 ms", "30 ms"]));
 }
 
 #[test]
