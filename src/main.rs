@@ -5,7 +5,7 @@
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pmu50::fsout::{self, AtomicFile, Batch};
-use pmu50::output::{choose_trace, dumped_ticks, estimate_wave_bytes, human_bytes as human, output_paths, run_to_batch, run_to_batch_as, summary, FileOptions, RunError, TraceChoice};
+use pmu50::output::{choose_trace, dumped_ticks, estimate_run_bytes, human_bytes as human, output_paths, run_to_batch, run_to_batch_as, summary, FileOptions, RunError, TraceChoice};
 use pmu50::waveform::{Level, WaveFormat};
 use pmu50::refusals::RefusalWatch;
 use pmu50::scenario::{Scenario, Trace};
@@ -273,7 +273,7 @@ fn window_ticks(sc: &Scenario, w: &Option<Vec<String>>) -> Result<Option<(u64, u
 /// Refuse a run whose waveform (of `level`, in `format`) would exceed the limit.
 fn check_vcd_size(sc: &Scenario, window: Option<(u64, u64)>, level: Level, format: WaveFormat, max: Option<u64>) -> Result<(), CliError> {
     let ticks = dumped_ticks(sc, window);
-    let estimate = estimate_wave_bytes(ticks, level, format);
+    let estimate = estimate_run_bytes(sc, window, level, format);
     let limit = max.unwrap_or(DEFAULT_MAX_VCD_BYTES);
     if estimate > limit {
         return Err(CliError::VcdTooLarge { file: sc.path.display().to_string(), ticks, estimate, limit, level, format });

@@ -105,6 +105,119 @@ pub fn estimate_wave_bytes(ticks: u64, level: Level, format: WaveFormat) -> u64 
     WAVE_HEADER_BYTES + ticks.saturating_mul(per_tick)
 }
 
+/// Estimated size in bytes of the waveform of a run of `sc` dumping the ticks of `window` (else
+/// the scenario's window, else the whole run) at `level` in `format`: [`estimate_wave_bytes`]
+/// for the active ticks, and a lower bound per tick for the parked ones ([`parked_ticks`]).
+///
+/// A parked tick (key off, shaft still, no fault) changes only what a key-off output pulse
+/// changes, plus the free-running timer `tmr` every tick at `registers` and `all`. Pulses come at
+/// most every `si_min` ticks (the drive interval never goes below it, [0228]) and each changes
+/// values for at most its window Wt = Pw + Pi + Ps and the settling of the second sensor after it
+/// (11 time constants from 5 V to the 0.1 mV the VCD rounds to). So a parked tick costs at most
+/// the base (`tmr`'s 20-byte value line and a time stamp of up to 18 bytes: 48 bytes of VCD; 1 of
+/// FST) plus the active bound times the busy share (Wt + settling) / si_min, at most 1. With the
+/// defaults (Wt 22 ticks, settling 24, si_min 220) that is 82 / 25 bytes per tick of VCD at
+/// `all` / `ports` and 4.8 of FST, against 31 / 1.5 / 0.017 measured for a minute of key-off
+/// (README). Parks measured against it (5 s, release build, real / estimate): a fixed 1 ms cycle
+/// 18.2 / 56.8 MB (`all` VCD), 4.7 / 27.0 MB (`ports` VCD), 18 kB / 4.7 MB (`all` FST); a 300 us
+/// sensor time constant, 15.0 / 100 MB and 0.75 / 58 MB; a fast turn then a hold at a 0.5 ms
+/// si_min, 15.4 / 93 MB and 1.4 / 54 MB; a 2.5 ms output window, 15.3 / 93 MB and 0.96 / 53 MB
+/// (estimates with a 40-byte base; tests/trace_levels.rs `parked_estimates_are_upper_bounds`).
+pub fn estimate_run_bytes(sc: &Scenario, window: Option<(u64, u64)>, level: Level, format: WaveFormat) -> u64 {
+    let (a, z) = window.or(sc.vcd_window).unwrap_or((0, sc.ticks));
+    let z = z.min(sc.ticks);
+    let dumped = z.saturating_sub(a);
+    let parked = parked_ticks(sc, a, z);
+    let active = estimate_wave_bytes(dumped - parked, level, format);
+    let p = &sc.params;
+    let settle = (PARK_SETTLE_TAUS * sc.env.sensor2.tau_us * 1e3 / sc.clock_ns() as f64).ceil().max(0.0) as u64;
+    let busy = u64::from(p.pw) + u64::from(p.pi) + u64::from(p.ps) + settle;
+    let si_min = u64::from(p.si_min).max(1);
+    let rate = estimate_wave_bytes(1, level, format) - WAVE_HEADER_BYTES;
+    let base = match (format, level) {
+        (_, Level::Ports) => 1,
+        (WaveFormat::Vcd, _) => 48,
+        (WaveFormat::Fst, _) => 1,
+    };
+    // Bytes per 1000 parked ticks, rounded up.
+    let per_kilotick = base * 1000 + (rate * 1000 * busy.min(si_min)).div_ceil(si_min);
+    active.saturating_add(parked.saturating_mul(per_kilotick).div_ceil(1000))
+}
+
+/// Time constants of the second sensor's settling counted after an output pulse (e^-11 of 5 V is
+/// below the 0.1 mV the waveform rounds to).
+const PARK_SETTLE_TAUS: f64 = 11.0;
+
+/// Ticks of [a, z) that are parked: the key off (from the tick after `ig` falls plus the
+/// synchroniser, one output window and the sensor's settling, until `ig` rises), the shaft
+/// still (outside every move segment, one tick either side) and no Vs2 fault injected; none in a
+/// scenario that writes a register. Every other tick is active, bounded by [`estimate_wave_bytes`].
+pub fn parked_ticks(sc: &Scenario, a: u64, z: u64) -> u64 {
+    use crate::scenario::Action;
+    // A register write (key on) may change Pw, Pi, Ps or si_min for the parks after it: then no
+    // tick counts as parked.
+    if z <= a || sc.events.iter().any(|e| matches!(e.action, Action::Write { .. })) {
+        return 0;
+    }
+    let clk = sc.clock_ns().max(1);
+    let p = &sc.params;
+    let settle = (PARK_SETTLE_TAUS * sc.env.sensor2.tau_us * 1e3 / clk as f64).ceil().max(0.0) as u64;
+    let after_off = u64::from(p.sync_depth) + 2 + u64::from(p.pw) + u64::from(p.pi) + u64::from(p.ps) + settle;
+    // Active intervals [from, to) in ticks.
+    let mut active: Vec<(u64, u64)> = Vec::new();
+    let (mut ig, mut ig_since) = (false, 0u64);
+    let (mut fault, mut fault_since) = (false, 0u64);
+    // Before the first event the key is off since power-on; the reset itself is a key-off edge.
+    active.push((0, after_off));
+    for e in &sc.events {
+        match e.action {
+            Action::Ig(on) if on != ig => {
+                if on {
+                    ig_since = e.tick;
+                } else {
+                    active.push((ig_since, e.tick.saturating_add(after_off)));
+                }
+                ig = on;
+            }
+            Action::Vs2Fault(on) if on != fault => {
+                if on {
+                    fault_since = e.tick;
+                } else {
+                    active.push((fault_since, e.tick.saturating_add(after_off)));
+                }
+                fault = on;
+            }
+            _ => {}
+        }
+    }
+    if ig {
+        active.push((ig_since, u64::MAX));
+    }
+    if fault {
+        active.push((fault_since, u64::MAX));
+    }
+    let mut t_ns = 0u64;
+    for seg in sc.motor.segments() {
+        let d = seg.duration_ns();
+        if matches!(seg, pmu50_env::Segment::Move { .. }) {
+            active.push(((t_ns / clk).saturating_sub(1), (t_ns.saturating_add(d)).div_ceil(clk).saturating_add(1)));
+        }
+        t_ns = t_ns.saturating_add(d);
+    }
+    active.sort_unstable();
+    // Length of the union of the active intervals within [a, z).
+    let mut busy = 0u64;
+    let mut reach = a;
+    for (from, to) in active {
+        let (from, to) = (from.max(reach), to.min(z));
+        if to > from {
+            busy += to - from;
+            reach = to;
+        }
+    }
+    (z - a) - busy
+}
+
 /// Header of either format (declarations, save-file-independent), rounded up.
 const WAVE_HEADER_BYTES: u64 = 16 * 1024;
 
@@ -142,8 +255,8 @@ pub fn dumped_ticks(sc: &Scenario, window: Option<(u64, u64)>) -> u64 {
 }
 
 /// The trace level of a run of `sc`: `flag` (`--trace`) if given, else the scenario's
-/// `[vcd] trace`, else `all` when the estimated `all` waveform of the dumped ticks (`window`, in
-/// `format`) is at most [`DEFAULT_ALL_MAX_BYTES`], otherwise `ports`.
+/// `[vcd] trace`, else `all` when the estimated `all` waveform ([`estimate_run_bytes`] of the
+/// dumped ticks of `window`, in `format`) is at most [`DEFAULT_ALL_MAX_BYTES`], otherwise `ports`.
 pub fn choose_trace(sc: &Scenario, flag: Option<Trace>, window: Option<(u64, u64)>, format: WaveFormat) -> TraceChoice {
     if let Some(trace) = flag {
         return TraceChoice { trace, from: TraceFrom::Flag };
@@ -151,7 +264,7 @@ pub fn choose_trace(sc: &Scenario, flag: Option<Trace>, window: Option<(u64, u64
     if let Some(trace) = sc.trace {
         return TraceChoice { trace, from: TraceFrom::Scenario };
     }
-    let all_estimate = estimate_wave_bytes(dumped_ticks(sc, window), Level::All, format);
+    let all_estimate = estimate_run_bytes(sc, window, Level::All, format);
     let level = if all_estimate <= DEFAULT_ALL_MAX_BYTES { Level::All } else { Level::Ports };
     TraceChoice { trace: Trace::Wave(level), from: TraceFrom::Default { all_estimate } }
 }

@@ -4,7 +4,7 @@
 //! signals of the file; the default is chosen from the run's length; bad values are refused with
 //! exit 2; the size estimate behind `--max-vcd-bytes` depends on the level and the format.
 
-use pmu50::output::{choose_trace, estimate_wave_bytes, TraceFrom, DEFAULT_ALL_MAX_BYTES};
+use pmu50::output::{choose_trace, estimate_run_bytes, estimate_wave_bytes, parked_ticks, TraceFrom, DEFAULT_ALL_MAX_BYTES};
 use pmu50::scenario::{Scenario, Trace};
 use pmu50::waveform::{Level, WaveFormat};
 use pmu50_core::signals;
@@ -147,7 +147,7 @@ fn the_scenario_key_takes_every_level_and_the_flag_overrides_it() {
 #[test]
 fn a_short_run_defaults_to_all_and_says_why() {
     let d = tmp("short");
-    let t = expect(&pmu50(&["run", "scenarios/fig15a.toml", "--out-dir", s(&d)]), 0, &["trace = all (chosen for this run: the VCD of every signal is at most about 784 kB, within the default's limit of 256 MiB; ask for less with --trace registers, ports or none"]);
+    let t = expect(&pmu50(&["run", "scenarios/fig15a.toml", "--out-dir", s(&d)]), 0, &["trace = all (chosen for this run: the VCD of every signal is at most about 553 kB, within the default's limit of 256 MiB; ask for less with --trace registers, ports or none"]);
     assert!(t.contains("wrote"), "{t}");
     assert_eq!(Waveform::open(d.join("fig15a.vcd")).unwrap().signals().len(), expected(Level::All).len());
     std::fs::remove_dir_all(&d).ok();
@@ -157,13 +157,16 @@ fn parse(src: &str) -> Scenario {
     Scenario::parse(src, "t.toml", "t", Path::new("t.toml")).unwrap()
 }
 
+/// The key on all the time: every tick is active.
+const ON: &str = "[[events]]\nat = \"0 ms\"\nig = true\n";
+
 #[test]
 fn the_default_is_all_up_to_the_threshold_and_ports_beyond() {
-    // 10 us ticks: 160 bytes per tick of VCD `all` reach 256 MiB at 1 677 619 ticks (16.8 s); FST
-    // at 18 bytes per tick reaches it at 14.9 M ticks.
-    let short = parse("duration = \"16 s\"\n");
-    let long = parse("duration = \"17 s\"\n");
-    assert!(estimate_wave_bytes(short.ticks, Level::All, WaveFormat::Vcd) <= DEFAULT_ALL_MAX_BYTES);
+    // 10 us ticks with the key on: 160 bytes per tick of VCD `all` reach 256 MiB at 1 677 619
+    // ticks (16.8 s); FST at 18 bytes per tick at 14.9 M ticks.
+    let short = parse(&format!("duration = \"16 s\"\n{ON}"));
+    let long = parse(&format!("duration = \"17 s\"\n{ON}"));
+    assert_eq!(estimate_run_bytes(&long, None, Level::All, WaveFormat::Vcd), estimate_wave_bytes(long.ticks, Level::All, WaveFormat::Vcd), "all active");
     let c = choose_trace(&short, None, None, WaveFormat::Vcd);
     assert_eq!(c.trace, Trace::ALL);
     let c = choose_trace(&long, None, None, WaveFormat::Vcd);
@@ -174,10 +177,14 @@ fn the_default_is_all_up_to_the_threshold_and_ports_beyond() {
     // A window counts only the dumped ticks; the FST's bound is lower; flag and key win.
     assert_eq!(choose_trace(&long, None, Some((0, 100_000)), WaveFormat::Vcd).trace, Trace::ALL);
     assert_eq!(choose_trace(&long, None, None, WaveFormat::Fst).trace, Trace::ALL);
-    assert_eq!(choose_trace(&parse("duration = \"180 s\"\n"), None, None, WaveFormat::Fst).trace, Trace::Wave(Level::Ports));
+    assert_eq!(choose_trace(&parse(&format!("duration = \"180 s\"\n{ON}")), None, None, WaveFormat::Fst).trace, Trace::Wave(Level::Ports));
     assert_eq!(choose_trace(&long, Some(Trace::ALL), None, WaveFormat::Vcd).from, TraceFrom::Flag);
-    let keyed = parse("duration = \"17 s\"\n[vcd]\ntrace = \"registers\"\n");
+    let keyed = parse(&format!("duration = \"17 s\"\n{ON}[vcd]\ntrace = \"registers\"\n"));
     assert_eq!(choose_trace(&keyed, None, None, WaveFormat::Vcd), pmu50::output::TraceChoice { trace: Trace::Wave(Level::Registers), from: TraceFrom::Scenario });
+    // Parked (key off, shaft still) ticks cost less: 17 s parked stays `all`, a minute does not
+    // (186 MB written, estimated at 82 bytes per tick).
+    assert_eq!(choose_trace(&parse("duration = \"17 s\"\n"), None, None, WaveFormat::Vcd).trace, Trace::ALL);
+    assert_eq!(choose_trace(&parse("duration = \"60 s\"\n"), None, None, WaveFormat::Vcd).trace, Trace::Wave(Level::Ports));
     // Every shipped scenario either says `none` or stays within the threshold (its VCD keeps
     // every signal).
     for e in std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios")).unwrap() {
@@ -188,17 +195,68 @@ fn the_default_is_all_up_to_the_threshold_and_ports_beyond() {
 }
 
 #[test]
+fn parked_ticks_are_key_off_still_and_unfaulted() {
+    // After power-on and after each key-off: sync_depth 2 + 2, Wt 22 and the sensor's settling
+    // 24 ticks (11 x 21.7 us) stay active.
+    let settle = 2 + 2 + 22 + 24;
+    let sc = parse("duration = \"10 s\"\n");
+    assert_eq!(parked_ticks(&sc, 0, sc.ticks), sc.ticks - settle);
+    assert_eq!(parked_ticks(&sc, 10, 30), 0);
+    assert_eq!(parked_ticks(&sc, 500, 700), 200);
+    let sc = parse("duration = \"10 s\"\n[[events]]\nat = \"1 s\"\nig = true\n[[events]]\nat = \"2 s\"\nig = false\n");
+    assert_eq!(parked_ticks(&sc, 0, sc.ticks), sc.ticks - settle - (100_000 + settle));
+    let sc = parse("duration = \"10 s\"\n[motor]\nsegments = [ { kind = \"hold\", duration = \"3 s\" }, { kind = \"move\", duration = \"1 s\", delta_deg = 10.0 } ]\n");
+    assert_eq!(parked_ticks(&sc, 0, sc.ticks), sc.ticks - settle - (100_000 + 2), "a move and one tick either side");
+    let sc = parse("duration = \"10 s\"\n[[events]]\nat = \"1 s\"\nvs2_fault = true\n[[events]]\nat = \"2 s\"\nvs2_fault = false\n");
+    assert_eq!(parked_ticks(&sc, 0, sc.ticks), sc.ticks - settle - (100_000 + settle));
+    let sc = parse("duration = \"10 s\"\n[[events]]\nat = \"1 s\"\nig = true\n");
+    assert_eq!(parked_ticks(&sc, 0, sc.ticks), 100_000 - settle, "key on to the end");
+    let sc = parse("duration = \"10 s\"\n[[events]]\nat = \"1 s\"\nig = true\n[[events]]\nat = \"1.5 s\"\nwrite = { reg = \"T2\", value = 110 }\n[[events]]\nat = \"2 s\"\nig = false\n");
+    assert_eq!(parked_ticks(&sc, 0, sc.ticks), 0, "a register write may change the key-off pulses");
+}
+
+#[test]
+fn parked_estimates_are_upper_bounds() {
+    // Parks that pulse more than the defaults (src/output.rs `estimate_run_bytes` has 5 s
+    // measurements of these and more): a fixed 1 ms cycle; a fast turn then a hold at a short
+    // si_min; key on, a turn and a Vs2 fault in the middle of a park.
+    let d = tmp("parked");
+    let cases = [
+        ("fixed", "duration = \"1 s\"\n[core]\nadaptive = false\nx = \"1 ms\"\nmin = \"1 ms\"\n"),
+        ("turn", "duration = \"1 s\"\n[core]\nmin = \"0.5 ms\"\nt2 = \"0.01 ms\"\ncth = 255\n[motor]\nsegments = [ { kind = \"move\", duration = \"100 ms\", delta_deg = 900.0 }, { kind = \"hold\", duration = \"900 ms\" } ]\n"),
+        ("mixed", "duration = \"1 s\"\n[motor]\nsegments = [ { kind = \"hold\", duration = \"200 ms\" }, { kind = \"move\", duration = \"200 ms\", delta_deg = 30.0 } ]\n[[events]]\nat = \"500 ms\"\nig = true\n[[events]]\nat = \"600 ms\"\nig = false\n[[events]]\nat = \"700 ms\"\nvs2_fault = true\n[[events]]\nat = \"750 ms\"\nvs2_fault = false\n"),
+    ];
+    for (name, src) in cases {
+        let p = d.join(format!("{name}.toml"));
+        std::fs::write(&p, src).unwrap();
+        let sc = Scenario::load(&p).unwrap();
+        assert!(parked_ticks(&sc, 0, sc.ticks) > sc.ticks / 2, "{name}: mostly parked");
+        for (f, format) in [("vcd", WaveFormat::Vcd), ("fst", WaveFormat::Fst)] {
+            for (word, level) in [("all", Level::All), ("ports", Level::Ports)] {
+                let out = d.join(format!("{f}-{word}"));
+                expect(&pmu50(&["run", s(&p), "--out-dir", s(&out), "--trace", word, "--format", f]), 0, &[]);
+                let size = std::fs::metadata(out.join(format!("{name}.{f}"))).unwrap().len();
+                let est = estimate_run_bytes(&sc, None, level, format);
+                assert!(size <= est, "{name} {f} {word}: {size} bytes, estimate {est}");
+            }
+        }
+    }
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
 fn a_long_run_defaults_to_ports_and_its_refusal_says_level_and_format() {
     let d = tmp("long");
     let sc = d.join("long.toml");
-    std::fs::write(&sc, "duration = \"1000 s\"\n").unwrap();
+    // The key on all the time (every tick active); a parked run: tests/cli_faults.rs.
+    std::fs::write(&sc, format!("duration = \"1000 s\"\n{ON}")).unwrap();
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d)]), 2, &["long.toml: the VCD at trace = ports would be about 11.5 GB (100000000 dumped ticks), above the limit of 2.0 GB; dump part of the run with --window START END, write the summary only with --trace none, write the compressed --format fst, or raise"]);
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--trace", "all"]), 2, &["the VCD at trace = all would be about 16.0 GB", "trace fewer signals with --trace ports (or none)"]);
     // FST: its own estimate (18 bytes per tick), its own words.
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--format", "fst", "--max-vcd-bytes", "1000000000"]), 2, &["long.toml: the FST at trace = ports would be about 1.8 GB (100000000 dumped ticks), above the limit of 1.0 GB"]);
     let t = expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--format", "fst", "--trace", "registers", "--max-vcd-bytes", "1000000000"]), 2, &["the FST at trace = registers would be about 1.8 GB"]);
     assert!(!t.contains("--format fst"), "{t}");
-    std::fs::write(&sc, "duration = \"50 ms\"\n").unwrap();
+    std::fs::write(&sc, format!("duration = \"50 ms\"\n{ON}")).unwrap();
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--format", "fst", "--max-vcd-bytes", "50000"]), 2, &["the FST at trace = all would be about 106 kB (5000 dumped ticks), above the limit of 50 kB"]);
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--format", "fst", "--max-vcd-bytes", "110000"]), 0, &["wrote"]);
     std::fs::remove_dir_all(&d).ok();
