@@ -111,7 +111,7 @@ enum Cmd {
         /// internals), each with its save file and --log/--svg on request, or none (summary
         /// only; repeated key-off periods are then skipped, docs/spec.md 5.1).
         /// Default: the scenario's `[vcd] trace`, else all when a waveform of every signal
-        /// stays within 256 MiB, else ports.
+        /// is estimated within 256 MiB, else ports.
         #[arg(long, value_parser = pmu50::scenario::TRACE_WORDS)]
         trace: Option<String>,
         /// Waveform format: vcd (text) or fst (compressed, for long runs; GTKWave and Surfer
