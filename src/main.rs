@@ -5,8 +5,8 @@
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pmu50::fsout::{self, AtomicFile, Batch};
-use pmu50::output::{estimate_vcd_bytes, output_paths, run_to_batch, run_to_batch_as, summary, FileOptions, RunError};
-use pmu50::waveform::WaveFormat;
+use pmu50::output::{choose_trace, dumped_ticks, estimate_run_bytes, human_bytes as human, output_paths, run_to_batch, run_to_batch_as, summary, FileOptions, RunError, TraceChoice};
+use pmu50::waveform::{Level, WaveFormat};
 use pmu50::refusals::RefusalWatch;
 use pmu50::scenario::{Scenario, Trace};
 use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
@@ -58,21 +58,24 @@ enum CliError {
     WindowOrder { start: Dur, end: Dur },
     #[error("--window {start} {end} is outside the run of {file} (0 to {duration}); valid is 0 <= START < END <= {duration}")]
     WindowOutside { start: Dur, end: Dur, duration: Dur, file: String },
-    #[error("{file}: the VCD would be about {} ({ticks} dumped ticks), above the limit of {}; dump part of the run with --window START END, or raise the limit with --max-vcd-bytes", human(*estimate), human(*limit))]
-    VcdTooLarge { file: String, ticks: u64, estimate: u64, limit: u64 },
+    #[error("{file}: the {} at trace = {} would be about {} ({ticks} dumped ticks), above the limit of {}; {}", format.ext().to_uppercase(), level.name(), human(*estimate), human(*limit), too_large_hint(*level, *format))]
+    VcdTooLarge { file: String, ticks: u64, estimate: u64, limit: u64, level: Level, format: WaveFormat },
     #[error("{} would be written by two scenarios: {first} and {second} (both are named `{name}`); give one of them another `name`", path.display())]
     SameOutput { path: PathBuf, first: String, second: String, name: String },
 }
 
-fn human(bytes: u64) -> String {
-    let b = bytes as f64;
-    if b >= 1e9 {
-        format!("{:.1} GB", b / 1e9)
-    } else if b >= 1e6 {
-        format!("{:.1} MB", b / 1e6)
+/// What to do about a waveform over the limit: the smaller choices the run has not taken.
+fn too_large_hint(level: Level, format: WaveFormat) -> String {
+    let mut ways = vec!["dump part of the run with --window START END".to_string()];
+    if level > Level::Ports {
+        ways.push("trace fewer signals with --trace ports (or none)".into());
     } else {
-        format!("{:.0} kB", b / 1e3)
+        ways.push("write the summary only with --trace none".into());
     }
+    if format == WaveFormat::Vcd {
+        ways.push("write the compressed --format fst".into());
+    }
+    format!("{}, or raise the limit with --max-vcd-bytes", ways.join(", "))
 }
 
 #[derive(Parser)]
@@ -96,16 +99,20 @@ enum Cmd {
         /// Dump only this time window, e.g. `--window "10 ms" "60 ms"`.
         #[arg(long, num_args = 2, value_names = ["START", "END"])]
         window: Option<Vec<String>>,
-        /// Refuse a scenario whose VCD would be larger than this (bytes; default 2 GB).
+        /// Refuse a scenario whose waveform would be larger than this (bytes; default 2 GB;
+        /// estimated for its trace level and format).
         #[arg(long, value_name = "BYTES")]
         max_vcd_bytes: Option<u64>,
         /// Also write <name>.svg, a timing diagram in the style of FIG. 15/16 (and <name>_timing.csv).
         #[arg(long)]
         svg: bool,
-        /// What to write besides the summary: all (VCD and save file, plus --log/--svg) or none
-        /// (summary only; repeated key-off periods are then skipped, docs/spec.md 5.1).
-        /// Default: the scenario's `[vcd] trace`, else all.
-        #[arg(long, value_parser = ["all", "none"])]
+        /// What to write besides the summary: ports (the core's inputs and outputs and the
+        /// analog env values), registers (ports and every register), all (registers and the
+        /// internals), each with its save file and --log/--svg on request, or none (summary
+        /// only; repeated key-off periods are then skipped, docs/spec.md 5.1).
+        /// Default: the scenario's `[vcd] trace`, else all when a waveform of every signal
+        /// is estimated within 256 MiB, else ports.
+        #[arg(long, value_parser = pmu50::scenario::TRACE_WORDS)]
         trace: Option<String>,
         /// Waveform format: vcd (text) or fst (compressed, for long runs; GTKWave and Surfer
         /// read it, and so does `pmu50 diff`). The .gtkw save file points at the file written.
@@ -263,14 +270,13 @@ fn window_ticks(sc: &Scenario, w: &Option<Vec<String>>) -> Result<Option<(u64, u
     Ok(Some((t[0], t[1])))
 }
 
-/// Refuse a run whose VCD would exceed the limit.
-fn check_vcd_size(sc: &Scenario, window: Option<(u64, u64)>, max: Option<u64>) -> Result<(), CliError> {
-    let (a, z) = window.or(sc.vcd_window).unwrap_or((0, sc.ticks));
-    let ticks = z.min(sc.ticks).saturating_sub(a);
-    let estimate = estimate_vcd_bytes(ticks);
+/// Refuse a run whose waveform (of `level`, in `format`) would exceed the limit.
+fn check_vcd_size(sc: &Scenario, window: Option<(u64, u64)>, level: Level, format: WaveFormat, max: Option<u64>) -> Result<(), CliError> {
+    let ticks = dumped_ticks(sc, window);
+    let estimate = estimate_run_bytes(sc, window, level, format);
     let limit = max.unwrap_or(DEFAULT_MAX_VCD_BYTES);
     if estimate > limit {
-        return Err(CliError::VcdTooLarge { file: sc.path.display().to_string(), ticks, estimate, limit });
+        return Err(CliError::VcdTooLarge { file: sc.path.display().to_string(), ticks, estimate, limit, level, format });
     }
     Ok(())
 }
@@ -415,6 +421,13 @@ struct RunFlags {
     format: WaveFormat,
 }
 
+/// A scenario `run` will run: its dump window of `--window` (in ticks) and its trace level.
+struct Planned {
+    sc: Scenario,
+    window: Option<(u64, u64)>,
+    choice: TraceChoice,
+}
+
 fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Option<Vec<String>>, max_vcd_bytes: Option<u64>) -> u8 {
     let RunFlags { log, svg, .. } = flags;
     if scenarios.is_empty() {
@@ -422,8 +435,7 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
         return 2;
     }
     let mut code = 0u8;
-    let mut good: Vec<(Scenario, Option<(u64, u64)>)> = Vec::new();
-    let traced = |sc: &Scenario| flags.trace.unwrap_or(sc.trace) == Trace::All;
+    let mut good: Vec<Planned> = Vec::new();
     for p in scenarios {
         let sc = match Scenario::load(p) {
             Ok(s) => s,
@@ -433,13 +445,7 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
                 continue;
             }
         };
-        if !traced(&sc) && window.is_some() {
-            err!("error: --window: {} is run with trace = none, which writes no waveform; drop --window or run it with --trace all", sc.path.display());
-            code = 2;
-            continue;
-        }
-        let checked = if traced(&sc) { window_ticks(&sc, window).and_then(|w| check_vcd_size(&sc, w, max_vcd_bytes).map(|()| w)) } else { Ok(None) };
-        let w = match checked {
+        let window_flag = match window_ticks(&sc, window) {
             Ok(w) => w,
             Err(e) => {
                 err!("error: {e}");
@@ -447,14 +453,29 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
                 continue;
             }
         };
-        good.push((sc, w));
+        let choice = choose_trace(&sc, flags.trace, window_flag, flags.format);
+        let Some(level) = choice.trace.level() else {
+            if window.is_some() {
+                err!("error: --window: {} is run with trace = none, which writes no waveform; drop --window or run it with --trace ports, registers or all", sc.path.display());
+                code = 2;
+            } else {
+                good.push(Planned { sc, window: None, choice });
+            }
+            continue;
+        };
+        if let Err(e) = check_vcd_size(&sc, window_flag, level, flags.format, max_vcd_bytes) {
+            err!("error: {e}");
+            code = 2;
+            continue;
+        }
+        good.push(Planned { sc, window: window_flag, choice });
     }
     let mut owner: BTreeMap<PathBuf, usize> = BTreeMap::new();
     let mut clash = false;
-    for (k, (sc, _)) in good.iter().enumerate().filter(|(_, (sc, _))| traced(sc)) {
+    for (k, Planned { sc, .. }) in good.iter().enumerate().filter(|(_, p)| p.choice.trace.level().is_some()) {
         for path in output_paths(out_dir, &sc.name, true) {
             if let Some(&j) = owner.get(&path) {
-                let e = CliError::SameOutput { path, first: good[j].0.path.display().to_string(), second: sc.path.display().to_string(), name: sc.name.clone() };
+                let e = CliError::SameOutput { path, first: good[j].sc.path.display().to_string(), second: sc.path.display().to_string(), name: sc.name.clone() };
                 err!("error: {e}");
                 clash = true;
                 break;
@@ -466,10 +487,10 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
         err!("error: nothing was run");
         return 2;
     }
-    for (sc, window) in &good {
+    for Planned { sc, window, choice } in &good {
         let mut prog = Progress::new(sc.ticks, &sc.name);
         let mut watch = RefusalWatch::new(sc);
-        if !traced(sc) {
+        let Some(level) = choice.trace.level() else {
             match sim::run(sc, SimOptions::default(), &mut [&mut prog, &mut watch]) {
                 Ok(res) => {
                     out!("{}", summary(sc, &res).trim_end());
@@ -487,8 +508,8 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
                 }
             }
             continue;
-        }
-        let r = run_to_batch_as(sc, out_dir, FileOptions { log, window: *window, svg }, flags.format, &mut [&mut prog, &mut watch]).and_then(|(res, w, batch)| {
+        };
+        let r = run_to_batch_as(sc, out_dir, FileOptions { log, window: *window, svg, level }, flags.format, &mut [&mut prog, &mut watch]).and_then(|(res, w, batch)| {
             batch.commit()?;
             Ok((res, w))
         });
@@ -498,6 +519,7 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
                 for rw in &watch.refused {
                     out!("   refused write {rw}");
                 }
+                out!("   {}", choice.describe(flags.format));
                 out!("   wrote {} and {}{}", w.vcd.display(), w.gtkw.display(), w.log.map(|l| format!(" and {}", l.display())).unwrap_or_default());
                 if let Some(s) = &w.svg {
                     out!("   wrote {} and {}", s.svg.display(), s.csv.display());

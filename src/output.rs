@@ -6,9 +6,9 @@
 use crate::changelog::ChangeLog;
 use crate::fsout::{self, AtomicFile, Batch, OutputError};
 use crate::markers::MarkerObserver;
-use crate::scenario::Scenario;
+use crate::scenario::{Scenario, Trace};
 use crate::sim::{self, Observer, RunResult, SimError, SimOptions, TickView};
-use crate::waveform::{timescale_for, VcdObserver, WaveFormat};
+use crate::waveform::{timescale_for, Level, VcdObserver, WaveFormat};
 use pmu50_core::pmu50::Structural;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -26,6 +26,8 @@ pub struct FileOptions {
     /// Also write `<name>.svg`, a timing diagram in the style of the patent's FIG. 15/16 of the
     /// whole run or of the window, with its numbers in `<name>_timing.csv` (src/plot/timing.rs).
     pub svg: bool,
+    /// The signals of the waveform (`--trace`, `[vcd] trace`; default `all`).
+    pub level: Level,
 }
 
 /// Paths written by [`run_to_files`].
@@ -66,16 +68,240 @@ fn svg_paths(dir: &Path, name: &str) -> WrittenSvg {
     WrittenSvg { svg: dir.join(format!("{name}.svg")), csv: dir.join(format!("{name}_timing.csv")) }
 }
 
-/// Estimated VCD size in bytes for `ticks` dumped ticks: 160 bytes per tick plus the header.
-/// Measured: the shipped scenarios write 30-47 bytes per tick, a run with the key on all the
-/// time and the shaft turning fast (bus polling, every analog trace moving) about 135
-/// (test `vcd_size_estimate_is_an_upper_bound`).
+/// Estimated size in bytes of the VCD of every signal (`trace = all`) for `ticks` dumped ticks:
+/// [`estimate_wave_bytes`] at `Level::All`, `WaveFormat::Vcd`.
 pub fn estimate_vcd_bytes(ticks: u64) -> u64 {
-    VCD_HEADER_BYTES + ticks.saturating_mul(VCD_BYTES_PER_TICK)
+    estimate_wave_bytes(ticks, Level::All, WaveFormat::Vcd)
 }
 
-const VCD_BYTES_PER_TICK: u64 = 160;
-const VCD_HEADER_BYTES: u64 = 16 * 1024;
+/// Estimated size in bytes of the waveform of `ticks` dumped ticks at `level` in `format`: an
+/// upper bound per tick plus the header. The bounds are measured, not derived: the worst case is a
+/// run with the key on all the time and the shaft turning fast (bus polling, every analog value
+/// moving every tick); key-off runs write far less (test `size_estimates_are_upper_bounds` in
+/// tests/trace_levels.rs checks both ends). Bytes per tick, VCD / FST, measured with
+/// target/release/pmu50 (`pmu50 run FILE --trace LEVEL --format F`, file size / ticks): `on` is the
+/// test's 50 ms key-on run turning 2000 deg; `keyoff 1 min` is 10 ms of key-on then a minute of
+/// key-off, the shaft still:
+///
+/// | level | on | too_fast | keyoff_turns | threshold_error | keyoff 1 min |
+/// |---|---|---|---|---|---|
+/// | all | 135.0 / 12.1 | 47.8 / 3.0 | 41.1 / 1.36 | 41.5 / 2.08 | 31.0 / 0.017 |
+/// | registers | 134.3 / 12.1 | 47.6 / 3.0 | 40.9 / 1.36 | 41.4 / 2.08 | 30.9 / 0.017 |
+/// | ports | 96.8 / 11.8 | 21.2 / 2.8 | 13.4 / 1.32 | 15.5 / 2.04 | 1.5 / 0.003 |
+///
+/// Six random scenarios of `pmu50 random --seed 1..6` (key on and off, turning) write 57-91 / 4.2-9.6
+/// bytes per tick at `all` and 29-55 / 4.1-9.5 at `ports`.
+///
+/// The bound is the key-on figure with about 20 % margin for the VCD (text: the same values give
+/// the same bytes) and 50 % for the FST (its compression depends on how the values repeat). The
+/// internals change rarely, so `registers` is bounded like `all`; in the FST the analog reals,
+/// which every level has, dominate the worst case, so the levels share one bound.
+pub fn estimate_wave_bytes(ticks: u64, level: Level, format: WaveFormat) -> u64 {
+    let per_tick = match (format, level) {
+        (WaveFormat::Vcd, Level::All | Level::Registers) => 160,
+        (WaveFormat::Vcd, Level::Ports) => 115,
+        (WaveFormat::Fst, _) => 18,
+    };
+    WAVE_HEADER_BYTES + ticks.saturating_mul(per_tick)
+}
+
+/// Estimated size in bytes of the waveform of a run of `sc` dumping the ticks of `window` (else
+/// the scenario's window, else the whole run) at `level` in `format`: [`estimate_wave_bytes`]
+/// for the active ticks, and a lower bound per tick for the parked ones ([`parked_ticks`]).
+///
+/// A parked tick (key off, shaft still, no fault) changes only what a key-off output pulse
+/// changes, plus the free-running timer `tmr` every tick at `registers` and `all`. Pulses come at
+/// most every `si_min` ticks (the drive interval never goes below it, [0228]) and each changes
+/// values for at most its window Wt = Pw + Pi + Ps and the settling of the second sensor after it
+/// (11 time constants from 5 V to the 0.1 mV the VCD rounds to). So a parked tick costs at most
+/// the base (`tmr`'s 20-byte value line and a time stamp of up to 18 bytes: 48 bytes of VCD; 1 of
+/// FST) plus the active bound times the busy share (Wt + settling) / si_min, at most 1. With the
+/// defaults (Wt 22 ticks, settling 24, si_min 220) that is 82 / 25 bytes per tick of VCD at
+/// `all` / `ports` and 4.8 of FST, against 31 / 1.5 / 0.017 measured for a minute of key-off
+/// (README). Parks measured against it (5 s, release build, real / estimate): a fixed 1 ms cycle
+/// 18.2 / 56.8 MB (`all` VCD), 4.7 / 27.0 MB (`ports` VCD), 18 kB / 4.7 MB (`all` FST); a 300 us
+/// sensor time constant, 15.0 / 100 MB and 0.75 / 58 MB; a fast turn then a hold at a 0.5 ms
+/// si_min, 15.4 / 93 MB and 1.4 / 54 MB; a 2.5 ms output window, 15.3 / 93 MB and 0.96 / 53 MB
+/// (estimates with a 40-byte base; tests/trace_levels.rs `parked_estimates_are_upper_bounds`).
+pub fn estimate_run_bytes(sc: &Scenario, window: Option<(u64, u64)>, level: Level, format: WaveFormat) -> u64 {
+    let (a, z) = window.or(sc.vcd_window).unwrap_or((0, sc.ticks));
+    let z = z.min(sc.ticks);
+    let dumped = z.saturating_sub(a);
+    let parked = parked_ticks(sc, a, z);
+    let active = estimate_wave_bytes(dumped - parked, level, format);
+    let p = &sc.params;
+    let settle = (PARK_SETTLE_TAUS * sc.env.sensor2.tau_us * 1e3 / sc.clock_ns() as f64).ceil().max(0.0) as u64;
+    let busy = u64::from(p.pw) + u64::from(p.pi) + u64::from(p.ps) + settle;
+    let si_min = u64::from(p.si_min).max(1);
+    let rate = estimate_wave_bytes(1, level, format) - WAVE_HEADER_BYTES;
+    let base = match (format, level) {
+        (_, Level::Ports) => 1,
+        (WaveFormat::Vcd, _) => 48,
+        (WaveFormat::Fst, _) => 1,
+    };
+    // Bytes per 1000 parked ticks, rounded up.
+    let per_kilotick = base * 1000 + (rate * 1000 * busy.min(si_min)).div_ceil(si_min);
+    active.saturating_add(parked.saturating_mul(per_kilotick).div_ceil(1000))
+}
+
+/// Time constants of the second sensor's settling counted after an output pulse (e^-11 of 5 V is
+/// below the 0.1 mV the waveform rounds to).
+const PARK_SETTLE_TAUS: f64 = 11.0;
+
+/// Ticks of [a, z) that are parked: the key off (from the tick after `ig` falls plus the
+/// synchroniser, one output window and the sensor's settling, until `ig` rises), the shaft
+/// still (outside every move segment, one tick either side) and no Vs2 fault injected; none in a
+/// scenario that writes a register. Every other tick is active, bounded by [`estimate_wave_bytes`].
+pub fn parked_ticks(sc: &Scenario, a: u64, z: u64) -> u64 {
+    use crate::scenario::Action;
+    // A register write (key on) may change Pw, Pi, Ps or si_min for the parks after it: then no
+    // tick counts as parked.
+    if z <= a || sc.events.iter().any(|e| matches!(e.action, Action::Write { .. })) {
+        return 0;
+    }
+    let clk = sc.clock_ns().max(1);
+    let p = &sc.params;
+    let settle = (PARK_SETTLE_TAUS * sc.env.sensor2.tau_us * 1e3 / clk as f64).ceil().max(0.0) as u64;
+    let after_off = u64::from(p.sync_depth) + 2 + u64::from(p.pw) + u64::from(p.pi) + u64::from(p.ps) + settle;
+    // Active intervals [from, to) in ticks.
+    let mut active: Vec<(u64, u64)> = Vec::new();
+    let (mut ig, mut ig_since) = (false, 0u64);
+    let (mut fault, mut fault_since) = (false, 0u64);
+    // Before the first event the key is off since power-on; the reset itself is a key-off edge.
+    active.push((0, after_off));
+    for e in &sc.events {
+        match e.action {
+            Action::Ig(on) if on != ig => {
+                if on {
+                    ig_since = e.tick;
+                } else {
+                    active.push((ig_since, e.tick.saturating_add(after_off)));
+                }
+                ig = on;
+            }
+            Action::Vs2Fault(on) if on != fault => {
+                if on {
+                    fault_since = e.tick;
+                } else {
+                    active.push((fault_since, e.tick.saturating_add(after_off)));
+                }
+                fault = on;
+            }
+            _ => {}
+        }
+    }
+    if ig {
+        active.push((ig_since, u64::MAX));
+    }
+    if fault {
+        active.push((fault_since, u64::MAX));
+    }
+    let mut t_ns = 0u64;
+    for seg in sc.motor.segments() {
+        let d = seg.duration_ns();
+        if matches!(seg, pmu50_env::Segment::Move { .. }) {
+            active.push(((t_ns / clk).saturating_sub(1), (t_ns.saturating_add(d)).div_ceil(clk).saturating_add(1)));
+        }
+        t_ns = t_ns.saturating_add(d);
+    }
+    active.sort_unstable();
+    // Length of the union of the active intervals within [a, z).
+    let mut busy = 0u64;
+    let mut reach = a;
+    for (from, to) in active {
+        let (from, to) = (from.max(reach), to.min(z));
+        if to > from {
+            busy += to - from;
+            reach = to;
+        }
+    }
+    (z - a) - busy
+}
+
+/// Header of either format (declarations, save-file-independent), rounded up.
+const WAVE_HEADER_BYTES: u64 = 16 * 1024;
+
+/// The largest estimated `all` waveform a run writes when neither `--trace` nor `[vcd] trace`
+/// says a level: above it the run writes `ports`. 256 MiB: GTKWave loads a VCD of that size in
+/// seconds and it fits any disk; with the bounds of [`estimate_wave_bytes`] that is 1.68 M ticks
+/// (16.8 s at the default 10 us clock) in VCD, 14.9 M ticks in FST. Every shipped scenario that
+/// writes a waveform (3.6 s at most) stays below it and keeps its VCD of every signal. A minute
+/// of key-off writes 186 MB of `all` VCD (31 bytes per tick, the timer `tmr` every tick) but 8.9
+/// MB of `ports`.
+pub const DEFAULT_ALL_MAX_BYTES: u64 = 256 << 20;
+
+/// Where the trace level of a run comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TraceFrom {
+    /// `--trace` on the command line.
+    Flag,
+    /// `[vcd] trace` in the scenario.
+    Scenario,
+    /// Neither: chosen from the estimated size of the `all` waveform of the dumped ticks.
+    Default { all_estimate: u64 },
+}
+
+/// The trace level of a run and why ([`choose_trace`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TraceChoice {
+    pub trace: Trace,
+    pub from: TraceFrom,
+}
+
+/// Ticks dumped by a run of `sc` with the dump window `window` (else the scenario's, else all).
+pub fn dumped_ticks(sc: &Scenario, window: Option<(u64, u64)>) -> u64 {
+    let (a, z) = window.or(sc.vcd_window).unwrap_or((0, sc.ticks));
+    z.min(sc.ticks).saturating_sub(a)
+}
+
+/// The trace level of a run of `sc`: `flag` (`--trace`) if given, else the scenario's
+/// `[vcd] trace`, else `all` when the estimated `all` waveform ([`estimate_run_bytes`] of the
+/// dumped ticks of `window`, in `format`) is at most [`DEFAULT_ALL_MAX_BYTES`], otherwise `ports`.
+pub fn choose_trace(sc: &Scenario, flag: Option<Trace>, window: Option<(u64, u64)>, format: WaveFormat) -> TraceChoice {
+    if let Some(trace) = flag {
+        return TraceChoice { trace, from: TraceFrom::Flag };
+    }
+    if let Some(trace) = sc.trace {
+        return TraceChoice { trace, from: TraceFrom::Scenario };
+    }
+    let all_estimate = estimate_run_bytes(sc, window, Level::All, format);
+    let level = if all_estimate <= DEFAULT_ALL_MAX_BYTES { Level::All } else { Level::Ports };
+    TraceChoice { trace: Trace::Wave(level), from: TraceFrom::Default { all_estimate } }
+}
+
+/// A size for messages: `58.0 MB`, `1.2 GB`, `900 kB`.
+pub fn human_bytes(bytes: u64) -> String {
+    let b = bytes as f64;
+    if b >= 1e9 {
+        format!("{:.1} GB", b / 1e9)
+    } else if b >= 1e6 {
+        format!("{:.1} MB", b / 1e6)
+    } else {
+        format!("{:.0} kB", b / 1e3)
+    }
+}
+
+impl TraceChoice {
+    /// One line for the run summary: the level, why, and how to ask for another.
+    pub fn describe(&self, format: WaveFormat) -> String {
+        let name = self.trace.name();
+        let ext = format.ext().to_uppercase();
+        match self.from {
+            TraceFrom::Flag => format!("trace = {name} (--trace)"),
+            TraceFrom::Scenario => format!("trace = {name} ([vcd] trace of the scenario; --trace overrides it)"),
+            TraceFrom::Default { all_estimate } if self.trace == Trace::ALL => format!(
+                "trace = all (chosen for this run: the {ext} of every signal is at most about {}, within the default's limit of {} MiB; ask for less with --trace registers, ports or none, or [vcd] trace in the scenario)",
+                human_bytes(all_estimate),
+                DEFAULT_ALL_MAX_BYTES >> 20
+            ),
+            TraceFrom::Default { all_estimate } => format!(
+                "trace = {name} (chosen for this run: the {ext} of every signal could reach about {}, above the default's limit of {} MiB; ask for more with --trace registers or all, or [vcd] trace in the scenario, and --window START END for a part of the run)",
+                human_bytes(all_estimate),
+                DEFAULT_ALL_MAX_BYTES >> 20
+            ),
+        }
+    }
+}
 
 /// Run `sc` and stage its files (temporary files, not yet in place); the returned batch renames
 /// them into place. `extra` observers (a progress bar, a vector writer) see every tick as well.
@@ -90,7 +316,7 @@ pub fn run_to_batch_as(sc: &Scenario, dir: &Path, fo: FileOptions, format: WaveF
     let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
     let window = fo.window.or(sc.vcd_window);
     // The VCD declares every signal with its reset value: built when the bench begins.
-    let mut vcd = sim::OnBegin::new(|init: &TickView<'_>| VcdObserver::create_as(dir, &sc.name, s, sc.clock_ns(), window, format, init));
+    let mut vcd = sim::OnBegin::new(|init: &TickView<'_>| VcdObserver::create_level(dir, &sc.name, s, sc.clock_ns(), window, format, fo.level, init));
     let log_path = dir.join(format!("{}.log", sc.name));
     let mut log = if fo.log {
         let f = AtomicFile::stage(&log_path)?;

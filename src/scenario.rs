@@ -41,11 +41,13 @@
 //!
 //! [vcd]
 //! window = ["10 ms", "60 ms"]      # dump only this time window
-//! trace = "all"                    # "none": summary only (days of parking; docs/spec.md 5.1)
+//! trace = "all"                    # "ports", "registers", "all", or "none" (summary only; days of
+//!                                  # parking, docs/spec.md 5.1); absent: chosen from the run's length
 //! ```
 //!
 //! Every error names the file, the line and the field, and says what is valid.
 
+use crate::waveform::Level;
 use pmu50_core::register_file::MAP;
 use pmu50_core::{CoreConfig, Dur, Params};
 use pmu50_env::{
@@ -290,28 +292,57 @@ pub struct Scenario {
     pub expect: Expect,
     /// VCD dump window in ticks, [start, end).
     pub vcd_window: Option<(u64, u64)>,
-    /// What `pmu50 run` writes of the run besides its summary (`[vcd] trace`).
-    pub trace: Trace,
+    /// What `pmu50 run` writes of the run besides its summary (`[vcd] trace`); `None` when the
+    /// scenario does not say, and the level is chosen from the run's length
+    /// (`pmu50::output::choose_trace`).
+    pub trace: Option<Trace>,
 }
 
-/// What `pmu50 run` writes of a run besides its summary: `all` (default) the VCD, its GTKWave
-/// save file and, on request, the change log and the timing diagram; `none` only the summary,
-/// for days of parking, where a waveform of every tick cannot be written and the bench skips
-/// repeated key-off periods instead of stepping them (docs/spec.md 5.1).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// What `pmu50 run` writes of a run besides its summary. `ports`, `registers` and `all` write the
+/// waveform with the signals of that level ([`Level`]), its GTKWave save file and, on request,
+/// the change log and the timing diagram; `none` only the summary, for days of parking, where a
+/// waveform of every tick cannot be written and the bench skips repeated key-off periods instead
+/// of stepping them (docs/spec.md 5.1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Trace {
-    #[default]
-    All,
     None,
+    Wave(Level),
 }
+
+/// The words of `--trace` and `[vcd] trace`, in the order of the messages.
+pub const TRACE_WORDS: [&str; 4] = ["ports", "registers", "all", "none"];
+
+/// What each word writes (for messages listing the valid words).
+pub const TRACE_VALID: &str = "\"ports\" (the core's inputs and outputs and the analog env values), \"registers\" (ports and every register), \"all\" (registers and the internals) and \"none\" (the summary only)";
 
 impl Trace {
-    /// The level named `text` (`all`, `none`).
+    /// Every level, as the VCD of every signal: the default of a short run.
+    pub const ALL: Trace = Trace::Wave(Level::All);
+
+    /// The level named `text` (one of [`TRACE_WORDS`]).
     pub fn parse(text: &str) -> Option<Trace> {
         match text {
-            "all" => Some(Trace::All),
+            "ports" => Some(Trace::Wave(Level::Ports)),
+            "registers" => Some(Trace::Wave(Level::Registers)),
+            "all" => Some(Trace::ALL),
             "none" => Some(Trace::None),
             _ => None,
+        }
+    }
+
+    /// Its word.
+    pub fn name(self) -> &'static str {
+        match self {
+            Trace::None => "none",
+            Trace::Wave(l) => l.name(),
+        }
+    }
+
+    /// The signals of the waveform, or `None` when no waveform is written.
+    pub fn level(self) -> Option<Level> {
+        match self {
+            Trace::None => None,
+            Trace::Wave(l) => Some(l),
         }
     }
 }
@@ -682,12 +713,10 @@ impl Cx<'_> {
         };
 
         let trace = match &raw.vcd.trace {
-            None => Trace::All,
-            Some(t) => Trace::parse(t.get_ref()).ok_or_else(|| {
-                self.err(t.span(), "vcd.trace", format!("`{}` is not a trace level; valid are \"all\" (VCD and save file, and the log and timing diagram on request) and \"none\" (the summary only)", t.get_ref()))
-            })?,
+            None => None,
+            Some(t) => Some(Trace::parse(t.get_ref()).ok_or_else(|| self.err(t.span(), "vcd.trace", format!("`{}` is not a trace level; valid are {TRACE_VALID}", t.get_ref())))?),
         };
-        if trace == Trace::None && vcd_window.is_some() {
+        if trace == Some(Trace::None) && vcd_window.is_some() {
             let at = raw.vcd.trace.as_ref().map_or(0..0, |t| t.span());
             return Err(self.err(at, "vcd.trace", "a run with trace = \"none\" writes no waveform, so a `window` has nothing to limit; remove one of them"));
         }

@@ -6,6 +6,10 @@
 //! - `pmu50.internals`: combinational signals of the cycle (`kon`, `fig17`, ...);
 //! - `env`: analog values as `real` (θ, sin2, cos2, Vs2, Vp, Vr, θ1, θm).
 //!
+//! A [`Level`] below `all` declares the same hierarchy with fewer signals (names unchanged):
+//! `ports` the core's inputs and outputs and `env`; `registers` adds every `pmu50.<block>`
+//! register; `all` adds `pmu50.internals`.
+//!
 //! Time convention: docs/spec.md 6.1. Timescale: the largest of 1 us, 100 ns, 10 ns, 1 ns that
 //! divides the clock period. Reals are rounded (angles to 0.001 deg, volts to 0.1 mV) so that
 //! settling tails do not flood the file; only changes are written.
@@ -33,17 +37,55 @@ struct Ids {
     env: Vec<SigId>,
     /// values of the current tick, in the order of `all` (`state` is its prefix)
     values: Vec<u64>,
+    /// which signals are declared and dumped
+    level: Level,
 }
 
-/// Fill `out` with the values of the current tick in the order of the frames: ports, registers,
-/// then (with `with_inputs`) inputs and internals.
-fn frame_values(out: &mut Vec<u64>, v: &TickView<'_>, with_inputs: bool) {
+/// Which signals a waveform holds (`pmu50 run --trace`, `[vcd] trace`): each level is the one
+/// below plus more signals, in the same scopes under the same names.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Level {
+    /// The core's ports (inputs and outputs, scope `pmu50`) and the analog `env` reals.
+    Ports,
+    /// `ports` and every register (`pmu50.<block>`), the free-running timer `tmr` among them.
+    Registers,
+    /// `registers` and the combinational internals (`pmu50.internals`).
+    #[default]
+    All,
+}
+
+impl Level {
+    /// The word of the CLI and the scenario (`ports`, `registers`, `all`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Level::Ports => "ports",
+            Level::Registers => "registers",
+            Level::All => "all",
+        }
+    }
+
+    fn registers(self) -> bool {
+        self >= Level::Registers
+    }
+
+    fn internals(self) -> bool {
+        self == Level::All
+    }
+}
+
+/// Fill `out` with the values of the current tick in the order of the frames: ports, registers
+/// (from `Level::Registers`), then (with `with_inputs`) inputs and internals (`Level::All`).
+fn frame_values(out: &mut Vec<u64>, v: &TickView<'_>, with_inputs: bool, level: Level) {
     out.clear();
     out.extend(signals::OUTPUTS.iter().map(|s| (s.get)(v.ports)));
-    out.extend(signals::REGISTERS.iter().map(|s| (s.get)(v.regs)));
+    if level.registers() {
+        out.extend(signals::REGISTERS.iter().map(|s| (s.get)(v.regs)));
+    }
     if with_inputs {
         out.extend(signals::INPUTS.iter().map(|s| (s.get)(v.inputs)));
-        out.extend(signals::INTERNALS.iter().map(|s| (s.get)(v.internals)));
+        if level.internals() {
+            out.extend(signals::INTERNALS.iter().map(|s| (s.get)(v.internals)));
+        }
     }
 }
 
@@ -182,6 +224,12 @@ impl VcdObserver {
 
     /// Create `<dir>/<name>.<vcd|fst>` and `<dir>/<name>.gtkw` (pointing at the waveform file).
     pub fn create_as(dir: &Path, name: &str, s: Structural, clock_ns: u64, window: Option<(u64, u64)>, format: WaveFormat, first: &TickView<'_>) -> Result<VcdObserver, SimError> {
+        Self::create_level(dir, name, s, clock_ns, window, format, Level::All, first)
+    }
+
+    /// [`VcdObserver::create_as`] with the signals of `level` only (the save file lists only them).
+    #[allow(clippy::too_many_arguments)]
+    pub fn create_level(dir: &Path, name: &str, s: Structural, clock_ns: u64, window: Option<(u64, u64)>, format: WaveFormat, level: Level, first: &TickView<'_>) -> Result<VcdObserver, SimError> {
         let file_name = format!("{name}.{}", format.ext());
         let path = dir.join(&file_name);
         let (ts, unit_ns) = timescale_for(clock_ns);
@@ -193,8 +241,8 @@ impl VcdObserver {
         b.push_scope("pmu50").map_err(|e| err(&path, e))?;
         let inputs = declare(&mut b, signals::INPUTS, first.inputs, &s).map_err(|e| err(&path, e))?;
         let ports = declare(&mut b, signals::OUTPUTS, first.ports, &s).map_err(|e| err(&path, e))?;
-        let regs = declare(&mut b, signals::REGISTERS, first.regs, &s).map_err(|e| err(&path, e))?;
-        let internals = declare(&mut b, signals::INTERNALS, first.internals, &s).map_err(|e| err(&path, e))?;
+        let regs = if level.registers() { declare(&mut b, signals::REGISTERS, first.regs, &s).map_err(|e| err(&path, e))? } else { Vec::new() };
+        let internals = if level.internals() { declare(&mut b, signals::INTERNALS, first.internals, &s).map_err(|e| err(&path, e))? } else { Vec::new() };
         b.pop_scope().map_err(|e| err(&path, e))?;
         b.push_scope("env").map_err(|e| err(&path, e))?;
         let ev = env_values(first);
@@ -232,12 +280,16 @@ impl VcdObserver {
             }
             trace(&mut gt, *id, format_of(sig, &s))?;
         }
-        gt.end_group().map_err(gerr)?;
-        gt.begin_group("internals", true).map_err(gerr)?;
-        for (id, sig) in internals.iter().zip(signals::INTERNALS) {
-            trace(&mut gt, *id, format_of(sig, &s))?;
+        if !block.is_empty() {
+            gt.end_group().map_err(gerr)?;
         }
-        gt.end_group().map_err(gerr)?;
+        if !internals.is_empty() {
+            gt.begin_group("internals", true).map_err(gerr)?;
+            for (id, sig) in internals.iter().zip(signals::INTERNALS) {
+                trace(&mut gt, *id, format_of(sig, &s))?;
+            }
+            gt.end_group().map_err(gerr)?;
+        }
         let name_of = |b: &VcdBuilder, id: SigId| b.gtkwave_name(id).map_err(|e| err(&path, e));
         gt.begin_group("env", false).map_err(gerr)?;
         let colors = [Color::Yellow, Color::Orange, Color::Green, Color::Red, Color::Violet, Color::Indigo, Color::Blue, Color::Yellow];
@@ -267,7 +319,7 @@ impl VcdObserver {
                 (Out::Fst(Box::new(w), file), all, state)
             }
         };
-        let ids = Ids { all, state, env, values: Vec::with_capacity(all_ids.len()) };
+        let ids = Ids { all, state, env, values: Vec::with_capacity(all_ids.len()), level };
         Ok(VcdObserver { w: Some(w), file: None, gtkw: Some(gt), ids, unit_ns, path })
     }
 
@@ -290,7 +342,7 @@ impl VcdObserver {
 
 /// One tick into either writer: the frame of this dump, then the analog values.
 fn dump_into<E: Emitter>(w: &mut Writer<E>, ids: &mut Ids, v: &TickView<'_>, t: u64, with_inputs: bool) -> Result<(), WriteError> {
-    frame_values(&mut ids.values, v, with_inputs);
+    frame_values(&mut ids.values, v, with_inputs, ids.level);
     let frame = if with_inputs { &mut ids.all } else { &mut ids.state };
     w.dump_frame(frame, t, &ids.values)?;
     if with_inputs {

@@ -195,12 +195,12 @@ fn a_vcd_over_the_limit_is_refused_unless_windowed_or_allowed() {
     let sc = d.join("long.toml");
     std::fs::write(&sc, "duration = \"1000 s\"\n").unwrap();
     let o = pmu50(&["run", s(&sc), "--out-dir", s(&d)]);
-    expect(&o, 2, &["long.toml: the VCD would be about 16.0 GB (100000000 dumped ticks), above the limit of 2.0 GB", "--window", "--max-vcd-bytes"]);
+    expect(&o, 2, &["long.toml: the VCD at trace = ports would be about 2.5 GB (100000000 dumped ticks), above the limit of 2.0 GB", "--window", "--max-vcd-bytes"]);
     let o = pmu50(&["run", s(&sc), "--out-dir", s(&d), "--max-vcd-bytes", "1000000000"]);
     expect(&o, 2, &["above the limit of 1.0 GB"]);
     // A small explicit limit applies to short runs too; a window brings the estimate down.
     std::fs::write(&sc, "duration = \"50 ms\"\n").unwrap();
-    expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--max-vcd-bytes", "100000"]), 2, &["about 816 kB (5000 dumped ticks)"]);
+    expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--max-vcd-bytes", "100000"]), 2, &["about 428 kB (5000 dumped ticks)"]);
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--max-vcd-bytes", "100000", "--window", "0 ms", "0.5 ms"]), 0, &["wrote"]);
     std::fs::remove_dir_all(&d).ok();
 }

@@ -225,7 +225,7 @@ fn bad_input_exits_2_with_a_message() {
 fn timing_diagram_covers_the_window_only() {
     let sc = scenario("fig16");
     let d = tmp("window");
-    let w = run_to_files(&sc, &d, FileOptions { log: false, window: Some((3_000, 6_000)), svg: true }, &mut []).unwrap().1.svg.unwrap();
+    let w = run_to_files(&sc, &d, FileOptions { log: false, window: Some((3_000, 6_000)), svg: true, ..FileOptions::default() }, &mut []).unwrap().1.svg.unwrap();
     let csv = std::fs::read_to_string(&w.csv).unwrap();
     let times: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').next().unwrap().parse().unwrap()).collect();
     assert_eq!(times.first(), Some(&30.0));

@@ -453,10 +453,11 @@ impl Scenario {
         let done = py.detach(move || {
             guard("Scenario.run()", || {
                 // A scenario with `[vcd] trace = "none"` (days of parking) writes no files, as
-                // with `pmu50 run`.
-                let r = match &out_dir {
-                    Some(d) if sc.trace == pmu50::scenario::Trace::All => {
-                        run_to_files(&sc, d, FileOptions { log, ..FileOptions::default() }, &mut []).map(|(r, w)| (r, Some(w))).map_err(|e| e.to_string())
+                // with `pmu50 run`; otherwise the level is chosen as `pmu50 run` chooses it.
+                let level = pmu50::output::choose_trace(&sc, None, None, pmu50::waveform::WaveFormat::Vcd).trace.level();
+                let r = match (&out_dir, level) {
+                    (Some(d), Some(level)) => {
+                        run_to_files(&sc, d, FileOptions { log, level, ..FileOptions::default() }, &mut []).map(|(r, w)| (r, Some(w))).map_err(|e| e.to_string())
                     }
                     _ => sim::run(&sc, SimOptions::default(), &mut []).map(|r| (r, None)).map_err(|e| e.to_string()),
                 };
