@@ -1231,42 +1231,47 @@ impl<E: Emitter> Writer<E> {
         }
         let mut changed = false;
         let n = values.len();
+        // Chunks of eight: in the fast path a chunk whose values all equal the frame's copy is
+        // passed with one OR of XORs, which the compiler vectorises (most of a frame is
+        // unchanged in most steps); the values of the other chunks are compared one by one.
         let mut k = 0;
         while k < n {
+            let end = (k + 8).min(n);
             if fast {
-                // Skip runs of unchanged values eight at a time: one OR of XORs per chunk, which
-                // the compiler vectorises (most of a frame is unchanged in most steps).
-                while k + 8 <= n && values[k..k + 8].iter().zip(&frame.prev[k..k + 8]).fold(0, |a, (x, y)| a | (x ^ y)) == 0 {
-                    k += 8;
-                }
-                if k >= n {
-                    break;
+                let unchanged = match (<&[u64; 8]>::try_from(&values[k..end]), <&[u64; 8]>::try_from(&frame.prev[k..end])) {
+                    (Ok(a), Ok(b)) => a.iter().zip(b).fold(0, |acc, (x, y)| acc | (x ^ y)) == 0,
+                    _ => values[k..end] == frame.prev[k..end],
+                };
+                if unchanged {
+                    k = end;
+                    continue;
                 }
             }
-            let v = values[k];
-            let i = frame.idx[k] as usize;
-            let same = if fast { v == frame.prev[k] } else { matches!(self.cur[i], Stored::Int(c) if c == v) };
-            k += 1;
-            if same {
-                continue;
-            }
-            let k = k - 1;
-            if v > frame.max[k] {
-                self.frame_steps[f] = step;
-                if changed {
-                    self.generation += 1;
+            for k in k..end {
+                let v = values[k];
+                let i = frame.idx[k] as usize;
+                let same = if fast { v == frame.prev[k] } else { matches!(self.cur[i], Stored::Int(c) if c == v) };
+                if same {
+                    continue;
                 }
-                return Err(WriteError::ValueTooWide {
-                    name: self.vars[i].path.clone(),
-                    value: v,
-                    width: 64 - frame.max[k].leading_zeros(),
-                    max: frame.max[k],
-                });
+                if v > frame.max[k] {
+                    self.frame_steps[f] = step;
+                    if changed {
+                        self.generation += 1;
+                    }
+                    return Err(WriteError::ValueTooWide {
+                        name: self.vars[i].path.clone(),
+                        value: v,
+                        width: 64 - frame.max[k].leading_zeros(),
+                        max: frame.max[k],
+                    });
+                }
+                frame.prev[k] = v;
+                self.cur[i] = Stored::Int(v);
+                self.pending.push(i);
+                changed = true;
             }
-            frame.prev[k] = v;
-            self.cur[i] = Stored::Int(v);
-            self.pending.push(i);
-            changed = true;
+            k = end;
         }
         if !fast {
             for (k, &i) in frame.idx.iter().enumerate() {
