@@ -5,15 +5,21 @@
 //!   dark-current times; the parked 30-day scenario is compared on a 1-day copy;
 //! - proptest over random park scenarios (random core configuration, key-off for seconds with
 //!   bumps and turns at random times, key-on read-out) compares the two on every output;
-//! - the 30-day park passes its checks with a bounded table (run-length rows).
+//! - the 30-day park passes its checks with a bounded table (run-length rows);
+//! - with a waveform (VCD or FST, whole run or `--window`), the skipping bench replays the
+//!   skipped periods to the writer: the file is byte-identical to the one of the per-tick bench,
+//!   on the shipped parks and in a proptest over random parks (with the GTKWave markers).
 //!
 //! The per-tick reference of the 1-day copy uses the idle-gap fast-forward
 //! ([`Stepping::IdleGaps`]), itself proven equal to stepping every tick in tests/properties.rs
 //! and below: stepping every one of its 8.6e9 ticks would take CI an hour.
 
+use pmu50::markers::{Marker, MarkerObserver};
 use pmu50::output::summary;
 use pmu50::scenario::Scenario;
-use pmu50::sim::{run_with, RunResult, Stepping};
+use pmu50::sim::{run_with, OnBegin, RunResult, Stepping, TickView};
+use pmu50::waveform::{VcdObserver, WaveFormat};
+use pmu50_core::pmu50::Structural;
 use proptest::prelude::*;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -253,4 +259,57 @@ fn sim_errors_are_typed_with_their_source() {
     let src = std::error::Error::source(&e).expect("a source");
     assert!(src.downcast_ref::<pmu50_core::ParamError>().is_some());
     assert!(e.to_string().contains("scenario bad"), "{e}");
+}
+
+/// A run writing the waveform of `sc` (with the GTKWave markers' observer, as `pmu50 run`):
+/// its result, the waveform file's bytes and the markers.
+fn traced(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: Option<(u64, u64)>) -> (RunResult, Vec<u8>, Vec<Marker>) {
+    let dir = tempfile::tempdir().unwrap();
+    let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
+    let mut vcd = OnBegin::new(|init: &TickView<'_>| VcdObserver::create_as(dir.path(), &sc.name, s, sc.clock_ns(), window, format, init));
+    let mut marks = MarkerObserver::new(sc.clock_ns());
+    let r = run_with(sc, stepping, &mut [&mut vcd, &mut marks]).unwrap();
+    let (file, _) = vcd.into_inner().unwrap().into_outputs();
+    let file = file.unwrap();
+    let bytes = std::fs::read(file.temp_path()).unwrap();
+    (r, bytes, marks.markers(None).0)
+}
+
+/// The waveform of the skipping bench equals the per-tick one byte for byte, and so does
+/// everything else; returns the ticks skipped.
+fn same_waves(sc: &Scenario, format: WaveFormat, window: Option<(u64, u64)>) -> Result<u64, TestCaseError> {
+    let (tick, a, ma) = traced(sc, Stepping::EveryTick, format, window);
+    let (skip, b, mb) = traced(sc, Stepping::Periods, format, window);
+    prop_assert_eq!(tick.evaluated_ticks, sc.ticks);
+    same(sc, &tick, &skip, true)?;
+    prop_assert_eq!(ma, mb);
+    prop_assert!(a.len() > 100);
+    if a != b {
+        let at = a.iter().zip(&b).position(|(x, y)| x != y).unwrap_or(a.len().min(b.len()));
+        let from = at.saturating_sub(200);
+        return Err(TestCaseError::fail(format!(
+            "{} {format:?} window {window:?}: waveforms differ at byte {at} of {} / {}\nper tick: {:?}\nskipping: {:?}",
+            sc.name,
+            a.len(),
+            b.len(),
+            String::from_utf8_lossy(&a[from..(at + 200).min(a.len())]),
+            String::from_utf8_lossy(&b[from..(at + 200).min(b.len())]),
+        )));
+    }
+    Ok(skip.skipped_ticks)
+}
+
+#[test]
+fn shipped_parks_write_the_same_waveform_skipping_and_per_tick() {
+    for name in ["park_still", "park_bumps", "park_ferry"] {
+        let sc = Scenario::load(&scenarios_dir().join(format!("{name}.toml"))).unwrap();
+        assert!(sc.vcd_window.is_some(), "{name}: the shipped parks have a window");
+        let runs = [(WaveFormat::Vcd, None), (WaveFormat::Vcd, sc.vcd_window), (WaveFormat::Fst, sc.vcd_window)];
+        for (format, window) in runs {
+            let skipped = same_waves(&sc, format, window).unwrap_or_else(|e| panic!("{e}"));
+            if name == "park_still" {
+                assert!(skipped * 10 > sc.ticks * 8, "{name}: skipped {skipped} of {}", sc.ticks);
+            }
+        }
+    }
 }

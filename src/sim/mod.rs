@@ -23,6 +23,7 @@
 pub mod front;
 pub mod mpu;
 pub mod recorder;
+pub mod replay;
 pub mod skip;
 
 use crate::scenario::{Action, Event, Scenario};
@@ -124,6 +125,30 @@ pub trait Observer {
     fn needs_every_tick(&self) -> bool {
         true
     }
+    /// Whether this observer, although it needs every tick, can replay whole repeated key-off
+    /// periods ([`Observer::replay`]): when every observer that needs every tick can, the bench
+    /// still skips repeated periods (docs/spec.md 5.1), but no idle gaps. Default: no, so the
+    /// bench evaluates every tick.
+    fn replays_periods(&self) -> bool {
+        false
+    }
+    /// A key-off period may start at tick `k` (called before tick `k` is evaluated, only while
+    /// the bench may skip periods): an observer that replays keeps what it saw since the
+    /// previous call, the last whole period.
+    fn period_boundary(&mut self, _k: u64) -> Result<(), SimError> {
+        Ok(())
+    }
+    /// Whether the observer can now replay the period `[k - len, k)` it has seen.
+    fn can_replay(&self, _k: u64, _len: u64) -> bool {
+        false
+    }
+    /// The bench skips `periods` copies of the period `[k - len, k)` (it evaluates tick
+    /// `k + periods·len` next): do what `periods·len` more ticks would have done, copy `j` of
+    /// that period shifted by `(j + 1)·len` ticks. Called only after [`Observer::can_replay`]
+    /// said yes.
+    fn replay(&mut self, _k: u64, _periods: u64, _len: u64) -> Result<(), SimError> {
+        Ok(())
+    }
 }
 
 /// An observer built from the reset state at [`Observer::begin`] (a waveform writer declares
@@ -173,6 +198,18 @@ where
     }
     fn needs_every_tick(&self) -> bool {
         self.inner.as_ref().is_none_or(|o| o.needs_every_tick())
+    }
+    fn replays_periods(&self) -> bool {
+        self.inner.as_ref().is_some_and(|o| o.replays_periods())
+    }
+    fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        self.inner.as_mut().ok_or(SimError::NotBegun)?.period_boundary(k)
+    }
+    fn can_replay(&self, k: u64, len: u64) -> bool {
+        self.inner.as_ref().is_some_and(|o| o.can_replay(k, len))
+    }
+    fn replay(&mut self, k: u64, periods: u64, len: u64) -> Result<(), SimError> {
+        self.inner.as_mut().ok_or(SimError::NotBegun)?.replay(k, periods, len)
     }
 }
 
@@ -374,9 +411,14 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
     for o in observers.iter_mut() {
         o.begin(&TickView { tick: 0, time_ns: 0, regs: &reset, ports: &out, inputs: &Inputs::default(), internals: &Internals::default(), env: &env })?;
     }
-    if observers.iter().any(|o| o.needs_every_tick()) {
+    // Observers that need every tick: if one of them cannot replay a skipped period, every tick
+    // is evaluated; if all can, whole repeated periods are still skipped (and replayed to them),
+    // but no idle gap (nobody could replay the timer counting through it).
+    let replaying = observers.iter().any(|o| o.needs_every_tick());
+    if observers.iter().any(|o| o.needs_every_tick() && !o.replays_periods()) {
         stepping = Stepping::EveryTick;
     }
+    let idle_gaps = stepping != Stepping::EveryTick && !replaying;
     let mut periods = (stepping == Stepping::Periods).then(PeriodSkip::new);
 
     let mut k = 0u64;
@@ -398,7 +440,16 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
                     clock_ns: clk,
                     end_tick: sc.ticks,
                 };
-                if let Some(s) = ps.at_boundary(at) {
+                if replaying {
+                    for o in observers.iter_mut() {
+                        o.period_boundary(k)?;
+                    }
+                }
+                let skip = ps.at_boundary(at).filter(|s| observers.iter().all(|o| !o.needs_every_tick() || o.can_replay(k, s.len)));
+                if let Some(s) = skip {
+                    for o in observers.iter_mut().filter(|o| o.needs_every_tick()) {
+                        o.replay(k, s.periods, s.len)?;
+                    }
                     meter.repeat(s.meter, s.periods);
                     if s.rows == 1 {
                         rec.log.repeat_last(s.periods, s.len);
@@ -414,7 +465,7 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
         mpu.poll_bus(k, &out, &mut inputs);
 
         // Fast-forward an idle key-off gap: Vs2 off, nothing scheduled, nobody watching.
-        if stepping != Stepping::EveryTick && !out.sig && !out.vs2_en && !out.sr && !inputs.bus_we && mpu.idle() {
+        if idle_gaps && !out.sig && !out.vs2_en && !out.sr && !inputs.bus_we && mpu.idle() {
             let tmr = u64::from(core.regs().timing_generator.tmr);
             let si = u64::from(core.regs().drive_interval.si);
             if tmr >= wt && tmr < si {
