@@ -313,3 +313,30 @@ fn shipped_parks_write_the_same_waveform_skipping_and_per_tick() {
         }
     }
 }
+
+/// A random park of 0.5 to 1.5 s key-off (shorter than [`park`]: the per-tick reference
+/// writes every tick), a waveform format and an optional window (fractions of the run).
+fn traced_park() -> impl Strategy<Value = (Park, WaveFormat, Option<(f64, f64)>)> {
+    let shorter = park().prop_map(|mut p| {
+        p.keyoff_ticks /= 4;
+        p.moves.iter_mut().for_each(|m| m.0 /= 2);
+        p
+    });
+    (shorter, prop_oneof![Just(WaveFormat::Vcd), Just(WaveFormat::Fst)], prop::option::of((0.0f64..1.0, 0.0f64..1.0)))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 10, ..ProptestConfig::default() })]
+
+    /// Random parks with a waveform: the skipping bench (replaying the skipped periods to the
+    /// writer) writes the same bytes as the per-tick bench, whole run or window.
+    #[test]
+    fn random_parks_write_the_same_waveform_skipping_and_per_tick((p, format, w) in traced_park()) {
+        let sc = parse(&park_toml(&p), "park");
+        let window = w.map(|(x, y)| {
+            let (a, z) = ((x.min(y) * sc.ticks as f64) as u64, (x.max(y) * sc.ticks as f64) as u64);
+            (a, z.max(a + 1))
+        });
+        same_waves(&sc, format, window)?;
+    }
+}
