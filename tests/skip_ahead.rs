@@ -8,12 +8,14 @@
 //! - the 30-day park passes its checks with a bounded table (run-length rows);
 //! - with a waveform (VCD or FST, whole run or `--window`), the skipping bench replays the
 //!   skipped periods to the writer: the file is byte-identical to the one of the per-tick bench,
-//!   on the shipped parks and in a proptest over random parks (with the GTKWave markers).
+//!   on the shipped parks and in a proptest over random parks (with the GTKWave markers and the
+//!   change log of `--log`, which replay too).
 //!
 //! The per-tick reference of the 1-day copy uses the idle-gap fast-forward
 //! ([`Stepping::IdleGaps`]), itself proven equal to stepping every tick in tests/properties.rs
 //! and below: stepping every one of its 8.6e9 ticks would take CI an hour.
 
+use pmu50::changelog::ChangeLog;
 use pmu50::markers::{Marker, MarkerObserver};
 use pmu50::output::summary;
 use pmu50::scenario::Scenario;
@@ -261,28 +263,31 @@ fn sim_errors_are_typed_with_their_source() {
     assert!(e.to_string().contains("scenario bad"), "{e}");
 }
 
-/// A run writing the waveform of `sc` (with the GTKWave markers' observer, as `pmu50 run`):
-/// its result, the waveform file's bytes and the markers.
-fn traced(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: Option<(u64, u64)>) -> (RunResult, Vec<u8>, Vec<Marker>) {
+/// A run writing the waveform of `sc` (with the GTKWave markers' observer, as `pmu50 run`, and
+/// the change log of `--log`): its result, the waveform file's bytes, the markers and the log.
+fn traced(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: Option<(u64, u64)>) -> (RunResult, Vec<u8>, Vec<Marker>, Vec<u8>) {
     let dir = tempfile::tempdir().unwrap();
     let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
     let mut vcd = OnBegin::new(|init: &TickView<'_>| VcdObserver::create_as(dir.path(), &sc.name, s, sc.clock_ns(), window, format, init));
     let mut marks = MarkerObserver::new(sc.clock_ns());
-    let r = run_with(sc, stepping, &mut [&mut vcd, &mut marks]).unwrap();
+    let mut log = ChangeLog::new(Vec::new(), s, sc.clock_ns()).unwrap();
+    let r = run_with(sc, stepping, &mut [&mut vcd, &mut marks, &mut log]).unwrap();
     let (file, _) = vcd.into_inner().unwrap().into_outputs();
     let file = file.unwrap();
     let bytes = std::fs::read(file.temp_path()).unwrap();
-    (r, bytes, marks.markers(None).0)
+    (r, bytes, marks.markers(None).0, log.into_inner())
 }
 
 /// The waveform of the skipping bench equals the per-tick one byte for byte, and so does
 /// everything else; returns the ticks skipped.
 fn same_waves(sc: &Scenario, format: WaveFormat, window: Option<(u64, u64)>) -> Result<u64, TestCaseError> {
-    let (tick, a, ma) = traced(sc, Stepping::EveryTick, format, window);
-    let (skip, b, mb) = traced(sc, Stepping::Periods, format, window);
+    let (tick, a, ma, la) = traced(sc, Stepping::EveryTick, format, window);
+    let (skip, b, mb, lb) = traced(sc, Stepping::Periods, format, window);
     prop_assert_eq!(tick.evaluated_ticks, sc.ticks);
     same(sc, &tick, &skip, true)?;
     prop_assert_eq!(ma, mb);
+    prop_assert!(la.len() > 100);
+    prop_assert!(la == lb, "{}: the change logs differ:\n{}\n----\n{}", sc.name, String::from_utf8_lossy(&la), String::from_utf8_lossy(&lb));
     prop_assert!(a.len() > 100);
     if a != b {
         let at = a.iter().zip(&b).position(|(x, y)| x != y).unwrap_or(a.len().min(b.len()));
@@ -326,7 +331,7 @@ fn traced_park() -> impl Strategy<Value = (Park, WaveFormat, Option<(f64, f64)>)
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 10, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 8, ..ProptestConfig::default() })]
 
     /// Random parks with a waveform: the skipping bench (replaying the skipped periods to the
     /// writer) writes the same bytes as the per-tick bench, whole run or window.
