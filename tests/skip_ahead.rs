@@ -8,8 +8,8 @@
 //! - the 30-day park passes its checks with a bounded table (run-length rows);
 //! - with a waveform (VCD or FST, whole run or `--window`), the skipping bench replays the
 //!   skipped periods to the writer: the file is byte-identical to the one of the per-tick bench,
-//!   on the shipped parks and in a proptest over random parks (with the GTKWave markers and the
-//!   change log of `--log`, which replay too).
+//!   on the shipped parks and in a proptest over random parks (with the GTKWave markers, the
+//!   change log of `--log` and the timing diagram of `--svg`, which replay too).
 //!
 //! The per-tick reference of the 1-day copy uses the idle-gap fast-forward
 //! ([`Stepping::IdleGaps`]), itself proven equal to stepping every tick in tests/properties.rs
@@ -18,6 +18,7 @@
 use pmu50::changelog::ChangeLog;
 use pmu50::markers::{Marker, MarkerObserver};
 use pmu50::output::summary;
+use pmu50::plot::timing::TimingRecorder;
 use pmu50::scenario::Scenario;
 use pmu50::sim::{run_with, OnBegin, RunResult, Stepping, TickView};
 use pmu50::waveform::{VcdObserver, WaveFormat};
@@ -263,19 +264,24 @@ fn sim_errors_are_typed_with_their_source() {
     assert!(e.to_string().contains("scenario bad"), "{e}");
 }
 
-/// A run writing the waveform of `sc` (with the GTKWave markers' observer, as `pmu50 run`, and
-/// the change log of `--log`): its result, the waveform file's bytes, the markers and the log.
+/// A run writing the waveform of `sc` (with the GTKWave markers' observer, as `pmu50 run`, the
+/// change log of `--log` and the timing diagram of `--svg`): its result, the waveform file's
+/// bytes, the markers, and the log followed by the diagram's CSV.
 fn traced(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: Option<(u64, u64)>) -> (RunResult, Vec<u8>, Vec<Marker>, Vec<u8>) {
     let dir = tempfile::tempdir().unwrap();
     let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
     let mut vcd = OnBegin::new(|init: &TickView<'_>| VcdObserver::create_as(dir.path(), &sc.name, s, sc.clock_ns(), window, format, init));
     let mut marks = MarkerObserver::new(sc.clock_ns());
     let mut log = ChangeLog::new(Vec::new(), s, sc.clock_ns()).unwrap();
-    let r = run_with(sc, stepping, &mut [&mut vcd, &mut marks, &mut log]).unwrap();
+    let mut timing = TimingRecorder::new(sc.clock_ns(), window);
+    let r = run_with(sc, stepping, &mut [&mut vcd, &mut marks, &mut log, &mut timing]).unwrap();
+    let mut log = log.into_inner();
+    // The timing diagram of `--svg`, as its CSV (every row and mark, and the end).
+    log.extend_from_slice(timing.csv().as_bytes());
     let (file, _) = vcd.into_inner().unwrap().into_outputs();
     let file = file.unwrap();
     let bytes = std::fs::read(file.temp_path()).unwrap();
-    (r, bytes, marks.markers(None).0, log.into_inner())
+    (r, bytes, marks.markers(None).0, log)
 }
 
 /// The waveform of the skipping bench equals the per-tick one byte for byte, and so does
@@ -287,7 +293,7 @@ fn same_waves(sc: &Scenario, format: WaveFormat, window: Option<(u64, u64)>) -> 
     same(sc, &tick, &skip, true)?;
     prop_assert_eq!(ma, mb);
     prop_assert!(la.len() > 100);
-    prop_assert!(la == lb, "{}: the change logs differ:\n{}\n----\n{}", sc.name, String::from_utf8_lossy(&la), String::from_utf8_lossy(&lb));
+    prop_assert!(la == lb, "{}: the change logs or timing diagrams differ:\n{}\n----\n{}", sc.name, String::from_utf8_lossy(&la), String::from_utf8_lossy(&lb));
     prop_assert!(a.len() > 100);
     if a != b {
         let at = a.iter().zip(&b).position(|(x, y)| x != y).unwrap_or(a.len().min(b.len()));
@@ -343,5 +349,17 @@ proptest! {
             (a, z.max(a + 1))
         });
         same_waves(&sc, format, window)?;
+    }
+}
+
+/// A window that starts and ends inside skipped stretches, off any period boundary: the
+/// replay writes its first dump and its last change exactly where stepping does.
+#[test]
+fn a_window_inside_a_skipped_stretch_gives_the_same_waveform() {
+    let p = Park { adaptive: true, x_ms: 3, cth: 4, start: 100.0, moves: vec![(30_000, 2_000, 20.0)], fault: None, keyoff_ticks: 100_000 };
+    let sc = parse(&park_toml(&p), "still");
+    for (format, window) in [(WaveFormat::Vcd, (60_007, 90_013)), (WaveFormat::Fst, (60_007, 90_013)), (WaveFormat::Vcd, (75_001, 75_002))] {
+        let skipped = same_waves(&sc, format, Some(window)).unwrap_or_else(|e| panic!("{e}"));
+        assert!(skipped > 60_000, "skipped {skipped}");
     }
 }

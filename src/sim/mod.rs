@@ -17,8 +17,11 @@
 //! Observers (VCD writer, change log) get [`Observer::begin`] with the reset state, then every
 //! tick, then [`Observer::finish`]. When no observer needs every tick the bench may skip what it
 //! can account exactly ([`Stepping`]): idle key-off gaps with [`Pmu50::fast_forward`], and whole
-//! repeated key-off periods ([`skip`], issue 8). Results are identical to stepping every tick
-//! (tests/properties.rs, tests/skip_ahead.rs).
+//! repeated key-off periods ([`skip`], issue 8). Observers that need every tick but can replay a
+//! repeated period (the waveform writer, the change log, the markers: [`Observer::replay`],
+//! [`replay`]) still let the bench skip whole periods, and emit the skipped copies themselves.
+//! Results, and the files written, are identical to stepping every tick (tests/properties.rs,
+//! tests/skip_ahead.rs).
 
 pub mod front;
 pub mod mpu;
@@ -384,7 +387,8 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
     run_with(sc, opts.into(), observers)
 }
 
-/// Run a scenario with the given stepping (used only while no observer needs every tick).
+/// Run a scenario with the given stepping: as given while no observer needs every tick; whole
+/// periods only (no idle gaps) while those that do all replay periods; else every tick.
 pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Observer]) -> Result<RunResult, SimError> {
     let setup = |source: EnvError| SimError::EnvSetup { scenario: sc.name.clone(), source };
     let mut core = Pmu50::new(sc.params).map_err(|source| SimError::Core { scenario: sc.name.clone(), source })?;
