@@ -310,6 +310,18 @@ fn same_waves(sc: &Scenario, format: WaveFormat, window: Option<(u64, u64)>) -> 
     Ok(skip.skipped_ticks)
 }
 
+/// The other shipped scenarios (figures, turns, faults) have key-off stretches too: their
+/// waveforms (in their own window, as `pmu50 run` writes them) are the same skipping.
+#[test]
+fn shipped_scenarios_write_the_same_waveform_skipping_and_per_tick() {
+    let mut skipped = 0;
+    for name in ["fig15a", "fig15b", "fig16", "first_embodiment", "keyoff_turns", "threshold_error", "too_fast"] {
+        let sc = Scenario::load(&scenarios_dir().join(format!("{name}.toml"))).unwrap();
+        skipped += same_waves(&sc, WaveFormat::Vcd, sc.vcd_window).unwrap_or_else(|e| panic!("{e}"));
+    }
+    assert!(skipped > 0);
+}
+
 #[test]
 fn shipped_parks_write_the_same_waveform_skipping_and_per_tick() {
     for name in ["park_still", "park_bumps", "park_ferry"] {
