@@ -58,9 +58,13 @@ pub struct TimingRecorder {
     pub end: u64,
     /// Replay of skipped key-off periods: the stretch since the last period boundary (first
     /// tick, and per tick its state and label) and the last whole one.
-    cur: Option<(u64, Vec<(State, Option<&'static str>)>)>,
-    done: Option<(u64, Vec<(State, Option<&'static str>)>)>,
+    cur: Option<Drawn>,
+    done: Option<Drawn>,
 }
+
+/// A stretch of ticks from a period boundary: its first tick, and per tick the drawn state and
+/// the label of its edge.
+type Drawn = (u64, Vec<(State, Option<&'static str>)>);
 
 impl TimingRecorder {
     pub fn new(clock_ns: u64, window: Option<(u64, u64)>) -> TimingRecorder {

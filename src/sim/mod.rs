@@ -124,7 +124,8 @@ pub trait Observer {
     /// Called once after the last tick with the final state at time `ticks`·T.
     fn finish(&mut self, v: &TickView<'_>) -> Result<(), SimError>;
     /// Whether this observer must see every tick (a waveform must). While one does, the bench
-    /// evaluates every tick; otherwise it may skip stretches it accounts exactly.
+    /// evaluates every tick, except whole repeated periods when it can replay them
+    /// ([`Observer::replays_periods`]); otherwise it may skip stretches it accounts exactly.
     fn needs_every_tick(&self) -> bool {
         true
     }
@@ -317,8 +318,9 @@ impl RunResult {
 /// Options of a run.
 #[derive(Clone, Copy, Debug)]
 pub struct SimOptions {
-    /// Skip what can be skipped exactly ([`Stepping::Periods`]) when no observer needs every
-    /// tick; `false`: evaluate every tick ([`Stepping::EveryTick`]).
+    /// Skip what can be skipped exactly ([`Stepping::Periods`]): everything when no observer
+    /// needs every tick, whole repeated periods when those that do can replay them; `false`:
+    /// evaluate every tick ([`Stepping::EveryTick`]).
     pub fast_forward: bool,
 }
 
