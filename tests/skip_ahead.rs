@@ -377,3 +377,64 @@ fn a_window_inside_a_skipped_stretch_gives_the_same_waveform() {
         assert!(skipped > 60_000, "skipped {skipped}");
     }
 }
+
+/// An observer that needs every tick and replays, but declines the first offers: the bench
+/// then steps on (and finds the repeat again), and every tick reaches the observer exactly once,
+/// stepped or replayed, in order.
+struct Picky {
+    next: u64,
+    offers: u32,
+    decline: u32,
+    replayed: u64,
+}
+
+impl pmu50::sim::Observer for Picky {
+    fn tick(&mut self, v: &TickView<'_>) -> Result<(), pmu50::sim::SimError> {
+        assert_eq!(v.tick, self.next, "ticks in order, none twice, none left out");
+        self.next += 1;
+        Ok(())
+    }
+    fn finish(&mut self, v: &TickView<'_>) -> Result<(), pmu50::sim::SimError> {
+        assert_eq!(v.tick, self.next);
+        Ok(())
+    }
+    fn replays_periods(&self) -> bool {
+        true
+    }
+    fn can_replay(&self, k: u64, _len: u64) -> bool {
+        assert_eq!(k, self.next);
+        // Boundaries seen so far (a skip is offered at a boundary).
+        self.offers > self.decline
+    }
+    fn period_boundary(&mut self, _k: u64) -> Result<(), pmu50::sim::SimError> {
+        self.offers += 1;
+        Ok(())
+    }
+    fn replay(&mut self, k: u64, periods: u64, len: u64) -> Result<(), pmu50::sim::SimError> {
+        assert_eq!(k, self.next);
+        assert!(periods > 0 && len > 0);
+        self.next += periods * len;
+        self.replayed += periods * len;
+        Ok(())
+    }
+}
+
+#[test]
+fn a_declined_replay_steps_on_and_every_tick_is_seen_once() {
+    let p = Park { adaptive: true, x_ms: 1, cth: 2, start: 10.0, moves: vec![(40_000, 3_000, 30.0)], fault: Some((90_000, 5_000)), keyoff_ticks: 150_000 };
+    let sc = parse(&park_toml(&p), "picky");
+    let tick = run_with(&sc, Stepping::EveryTick, &mut []).unwrap();
+    for decline in [0, 5, 40, u32::MAX] {
+        let mut o = Picky { next: 0, offers: 0, decline, replayed: 0 };
+        let r = run_with(&sc, Stepping::Periods, &mut [&mut o]).unwrap();
+        assert_same(&sc, &tick, &r, true);
+        assert_eq!(o.next, sc.ticks);
+        assert_eq!(o.replayed, r.skipped_ticks, "decline {decline}");
+        assert_eq!(r.evaluated_ticks + r.skipped_ticks, sc.ticks, "no idle gap is fast-forwarded past a waveform");
+        if decline == u32::MAX {
+            assert_eq!(r.skipped_ticks, 0);
+        } else {
+            assert!(r.skipped_ticks > 50_000, "decline {decline}: skipped {}", r.skipped_ticks);
+        }
+    }
+}
