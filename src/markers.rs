@@ -33,14 +33,21 @@ pub struct MarkerObserver {
     prev_ig: bool,
     prev_si: Option<u16>,
     events: Vec<Marker>,
+    /// Marker events pushed so far (a push may join an existing marker).
+    pushes: u64,
+    /// Replay of skipped periods: the stretch since the last period boundary (first tick, tick
+    /// expected next, pushes before it), and the last whole stretch without an event.
+    cur: Option<(u64, u64, u64)>,
+    quiet: Option<(u64, u64)>,
 }
 
 impl MarkerObserver {
     pub fn new(clock_ns: u64) -> MarkerObserver {
-        MarkerObserver { clock_ns, prev_ig: false, prev_si: None, events: Vec::new() }
+        MarkerObserver { clock_ns, prev_ig: false, prev_si: None, events: Vec::new(), pushes: 0, cur: None, quiet: None }
     }
 
     fn push(&mut self, tick: u64, name: String, key: bool) {
+        self.pushes += 1;
         match self.events.iter_mut().find(|m| m.tick == tick) {
             Some(m) => {
                 m.name = format!("{}, {name}", m.name);
@@ -83,6 +90,7 @@ impl MarkerObserver {
 
 impl Observer for MarkerObserver {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+        self.cur = self.cur.filter(|c| c.1 == v.tick).map(|(a, n, p)| (a, n + 1, p));
         if v.inputs.ig != self.prev_ig {
             self.prev_ig = v.inputs.ig;
             self.push(v.tick, if v.inputs.ig { "key on".into() } else { "key off".into() }, true);
@@ -107,6 +115,28 @@ impl Observer for MarkerObserver {
             self.push(v.tick, format!("si {ms:.1} ms"), false);
         }
         // Rotations detected at the last edge belong at tick `ticks`, already pushed.
+        Ok(())
+    }
+
+    /// A skipped period is replayed when the last one pushed no event: then its copies push
+    /// none either (the key level and `si` stay those of the tick before the period, and no
+    /// rotation is detected), and nothing is left to do.
+    fn replays_periods(&self) -> bool {
+        true
+    }
+
+    fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        self.quiet = self.cur.filter(|&(a, n, p)| n == k && n > a && p == self.pushes).map(|(a, _, _)| (a, k));
+        self.cur = Some((k, k, self.pushes));
+        Ok(())
+    }
+
+    fn can_replay(&self, k: u64, len: u64) -> bool {
+        self.quiet.is_some_and(|(a, z)| z == k && z - a == len)
+    }
+
+    fn replay(&mut self, _k: u64, _periods: u64, _len: u64) -> Result<(), SimError> {
+        self.cur = None;
         Ok(())
     }
 }

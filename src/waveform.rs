@@ -14,6 +14,7 @@
 //! divides the clock period. Reals are rounded (angles to 0.001 deg, volts to 0.1 mV) so that
 //! settling tails do not flood the file; only changes are written.
 
+use crate::sim::replay::PeriodRecorder;
 use crate::sim::{Observer, SimError, TickView};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::signals::{self, Dir, Radix, Signal};
@@ -39,6 +40,8 @@ struct Ids {
     values: Vec<u64>,
     /// which signals are declared and dumped
     level: Level,
+    /// the variables of `all`, in order (replay of skipped periods)
+    all_ids: Vec<SigId>,
 }
 
 /// Which signals a waveform holds (`pmu50 run --trace`, `[vcd] trace`): each level is the one
@@ -135,6 +138,12 @@ pub struct VcdObserver {
     ids: Ids,
     unit_ns: u64,
     path: PathBuf,
+    /// Replay of skipped key-off periods (crate::sim::replay): per tick the values of `all`,
+    /// then the bits of the analog values.
+    rec: PeriodRecorder,
+    rec_values: Vec<u64>,
+    clock_ns: u64,
+    window: Option<(u64, u64)>,
 }
 
 fn err(path: &Path, e: impl Into<Box<dyn std::error::Error + Send + Sync + 'static>>) -> SimError {
@@ -319,8 +328,8 @@ impl VcdObserver {
                 (Out::Fst(Box::new(w), file), all, state)
             }
         };
-        let ids = Ids { all, state, env, values: Vec::with_capacity(all_ids.len()), level };
-        Ok(VcdObserver { w: Some(w), file: None, gtkw: Some(gt), ids, unit_ns, path })
+        let ids = Ids { all, state, env, values: Vec::with_capacity(all_ids.len()), level, all_ids };
+        Ok(VcdObserver { w: Some(w), file: None, gtkw: Some(gt), ids, unit_ns, path, rec: PeriodRecorder::new(), rec_values: Vec::new(), clock_ns, window })
     }
 
     /// The complete VCD (after `finish`, still a temporary file) and its save file.
@@ -353,9 +362,55 @@ fn dump_into<E: Emitter>(w: &mut Writer<E>, ids: &mut Ids, v: &TickView<'_>, t: 
     Ok(())
 }
 
+/// One replayed tick of a skipped period: slots below `all.len()` are variables of the frame
+/// `all`, the others the analog values (bits of the `f64`), through the writer's checked calls
+/// (the same values as the frame and `change_real` of a stepped tick, hence the same bytes).
+fn replay_into<E: Emitter>(w: &mut Writer<E>, all: &[SigId], env: &[SigId], t: u64, changes: &[(u32, u64)]) -> Result<(), WriteError> {
+    w.set_time(t)?;
+    for &(slot, v) in changes {
+        match all.get(slot as usize) {
+            Some(id) => w.change_vector(*id, v)?,
+            None => w.change_real(env[slot as usize - all.len()], f64::from_bits(v))?,
+        }
+    }
+    Ok(())
+}
+
 impl Observer for VcdObserver {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
-        self.dump(v, true)
+        self.dump(v, true)?;
+        if self.rec.active() {
+            self.rec_values.clear();
+            self.rec_values.extend_from_slice(&self.ids.values);
+            self.rec_values.extend(env_values(v).map(f64::to_bits));
+            self.rec.record(v.tick, &self.rec_values);
+        }
+        Ok(())
+    }
+
+    /// A waveform needs every tick, but replays skipped periods (crate::sim::replay).
+    fn replays_periods(&self) -> bool {
+        true
+    }
+
+    fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        self.rec.boundary(k);
+        Ok(())
+    }
+
+    fn can_replay(&self, k: u64, len: u64) -> bool {
+        self.rec.can_replay(k, len)
+    }
+
+    fn replay(&mut self, k: u64, periods: u64, len: u64) -> Result<(), SimError> {
+        let (clk, unit) = (self.clock_ns, self.unit_ns);
+        let (all, env) = (&self.ids.all_ids, &self.ids.env);
+        let r = match self.w.as_mut() {
+            Some(Out::Vcd(w)) => self.rec.replay(k, periods, len, self.window, |tick, c| replay_into(w, all, env, tick * clk / unit, c)),
+            Some(Out::Fst(w, _)) => self.rec.replay(k, periods, len, self.window, |tick, c| replay_into(w, all, env, tick * clk / unit, c)),
+            None => return Err(err(&self.path, "writer already closed")),
+        };
+        r.map_err(|e| err(&self.path, e))
     }
 
     fn finish(&mut self, v: &TickView<'_>) -> Result<(), SimError> {

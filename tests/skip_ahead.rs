@@ -5,15 +5,24 @@
 //!   dark-current times; the parked 30-day scenario is compared on a 1-day copy;
 //! - proptest over random park scenarios (random core configuration, key-off for seconds with
 //!   bumps and turns at random times, key-on read-out) compares the two on every output;
-//! - the 30-day park passes its checks with a bounded table (run-length rows).
+//! - the 30-day park passes its checks with a bounded table (run-length rows);
+//! - with a waveform (VCD or FST, whole run or `--window`), the skipping bench replays the
+//!   skipped periods to the writer: the file is byte-identical to the one of the per-tick bench,
+//!   on the shipped parks and in a proptest over random parks (with the GTKWave markers, the
+//!   change log of `--log` and the timing diagram of `--svg`, which replay too).
 //!
 //! The per-tick reference of the 1-day copy uses the idle-gap fast-forward
 //! ([`Stepping::IdleGaps`]), itself proven equal to stepping every tick in tests/properties.rs
 //! and below: stepping every one of its 8.6e9 ticks would take CI an hour.
 
+use pmu50::changelog::ChangeLog;
+use pmu50::markers::{Marker, MarkerObserver};
 use pmu50::output::summary;
+use pmu50::plot::timing::TimingRecorder;
 use pmu50::scenario::Scenario;
-use pmu50::sim::{run_with, RunResult, Stepping};
+use pmu50::sim::{run_with, OnBegin, RunResult, Stepping, TickView};
+use pmu50::waveform::{VcdObserver, WaveFormat};
+use pmu50_core::pmu50::Structural;
 use proptest::prelude::*;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -253,4 +262,179 @@ fn sim_errors_are_typed_with_their_source() {
     let src = std::error::Error::source(&e).expect("a source");
     assert!(src.downcast_ref::<pmu50_core::ParamError>().is_some());
     assert!(e.to_string().contains("scenario bad"), "{e}");
+}
+
+/// A run writing the waveform of `sc` (with the GTKWave markers' observer, as `pmu50 run`, the
+/// change log of `--log` and the timing diagram of `--svg`): its result, the waveform file's
+/// bytes, the markers, and the log followed by the diagram's CSV.
+fn traced(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: Option<(u64, u64)>) -> (RunResult, Vec<u8>, Vec<Marker>, Vec<u8>) {
+    let dir = tempfile::tempdir().unwrap();
+    let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
+    let mut vcd = OnBegin::new(|init: &TickView<'_>| VcdObserver::create_as(dir.path(), &sc.name, s, sc.clock_ns(), window, format, init));
+    let mut marks = MarkerObserver::new(sc.clock_ns());
+    let mut log = ChangeLog::new(Vec::new(), s, sc.clock_ns()).unwrap();
+    let mut timing = TimingRecorder::new(sc.clock_ns(), window);
+    let r = run_with(sc, stepping, &mut [&mut vcd, &mut marks, &mut log, &mut timing]).unwrap();
+    let mut log = log.into_inner();
+    // The timing diagram of `--svg`, as its CSV (every row and mark, and the end).
+    log.extend_from_slice(timing.csv().as_bytes());
+    let (file, _) = vcd.into_inner().unwrap().into_outputs();
+    let file = file.unwrap();
+    let bytes = std::fs::read(file.temp_path()).unwrap();
+    (r, bytes, marks.markers(None).0, log)
+}
+
+/// The waveform of the skipping bench equals the per-tick one byte for byte, and so does
+/// everything else; returns the ticks skipped.
+fn same_waves(sc: &Scenario, format: WaveFormat, window: Option<(u64, u64)>) -> Result<u64, TestCaseError> {
+    let (tick, a, ma, la) = traced(sc, Stepping::EveryTick, format, window);
+    let (skip, b, mb, lb) = traced(sc, Stepping::Periods, format, window);
+    prop_assert_eq!(tick.evaluated_ticks, sc.ticks);
+    same(sc, &tick, &skip, true)?;
+    prop_assert_eq!(ma, mb);
+    prop_assert!(la.len() > 100);
+    prop_assert!(la == lb, "{}: the change logs or timing diagrams differ:\n{}\n----\n{}", sc.name, String::from_utf8_lossy(&la), String::from_utf8_lossy(&lb));
+    prop_assert!(a.len() > 100);
+    if a != b {
+        let at = a.iter().zip(&b).position(|(x, y)| x != y).unwrap_or(a.len().min(b.len()));
+        let from = at.saturating_sub(200);
+        return Err(TestCaseError::fail(format!(
+            "{} {format:?} window {window:?}: waveforms differ at byte {at} of {} / {}\nper tick: {:?}\nskipping: {:?}",
+            sc.name,
+            a.len(),
+            b.len(),
+            String::from_utf8_lossy(&a[from..(at + 200).min(a.len())]),
+            String::from_utf8_lossy(&b[from..(at + 200).min(b.len())]),
+        )));
+    }
+    Ok(skip.skipped_ticks)
+}
+
+/// The other shipped scenarios (figures, turns, faults) have key-off stretches too: their
+/// waveforms (in their own window, as `pmu50 run` writes them) are the same skipping.
+#[test]
+fn shipped_scenarios_write_the_same_waveform_skipping_and_per_tick() {
+    let mut skipped = 0;
+    for name in ["fig15a", "fig15b", "fig16", "first_embodiment", "keyoff_turns", "threshold_error", "too_fast"] {
+        let sc = Scenario::load(&scenarios_dir().join(format!("{name}.toml"))).unwrap();
+        skipped += same_waves(&sc, WaveFormat::Vcd, sc.vcd_window).unwrap_or_else(|e| panic!("{e}"));
+    }
+    assert!(skipped > 0);
+}
+
+#[test]
+fn shipped_parks_write_the_same_waveform_skipping_and_per_tick() {
+    // Each park in both formats, with and without its window (two runs each: the per-tick
+    // reference writes 300 000 ticks).
+    for (name, vcd_windowed) in [("park_still", false), ("park_bumps", true), ("park_ferry", false)] {
+        let sc = Scenario::load(&scenarios_dir().join(format!("{name}.toml"))).unwrap();
+        assert!(sc.vcd_window.is_some(), "{name}: the shipped parks have a window");
+        let runs = if vcd_windowed { [(WaveFormat::Vcd, sc.vcd_window), (WaveFormat::Fst, None)] } else { [(WaveFormat::Vcd, None), (WaveFormat::Fst, sc.vcd_window)] };
+        for (format, window) in runs {
+            let skipped = same_waves(&sc, format, window).unwrap_or_else(|e| panic!("{e}"));
+            if name == "park_still" {
+                assert!(skipped * 10 > sc.ticks * 8, "{name}: skipped {skipped} of {}", sc.ticks);
+            }
+        }
+    }
+}
+
+/// A random park of 0.5 to 1.5 s key-off (shorter than [`park`]: the per-tick reference
+/// writes every tick), a waveform format and an optional window (fractions of the run).
+fn traced_park() -> impl Strategy<Value = (Park, WaveFormat, Option<(f64, f64)>)> {
+    let shorter = park().prop_map(|mut p| {
+        p.keyoff_ticks /= 4;
+        p.moves.iter_mut().for_each(|m| m.0 /= 2);
+        p
+    });
+    (shorter, prop_oneof![Just(WaveFormat::Vcd), Just(WaveFormat::Fst)], prop::option::of((0.0f64..1.0, 0.0f64..1.0)))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 8, ..ProptestConfig::default() })]
+
+    /// Random parks with a waveform: the skipping bench (replaying the skipped periods to the
+    /// writer) writes the same bytes as the per-tick bench, whole run or window.
+    #[test]
+    fn random_parks_write_the_same_waveform_skipping_and_per_tick((p, format, w) in traced_park()) {
+        let sc = parse(&park_toml(&p), "park");
+        let window = w.map(|(x, y)| {
+            let (a, z) = ((x.min(y) * sc.ticks as f64) as u64, (x.max(y) * sc.ticks as f64) as u64);
+            (a, z.max(a + 1))
+        });
+        same_waves(&sc, format, window)?;
+    }
+}
+
+/// A window that starts and ends inside skipped stretches, off any period boundary: the
+/// replay writes its first dump and its last change exactly where stepping does.
+#[test]
+fn a_window_inside_a_skipped_stretch_gives_the_same_waveform() {
+    let p = Park { adaptive: true, x_ms: 3, cth: 4, start: 100.0, moves: vec![(30_000, 2_000, 20.0)], fault: None, keyoff_ticks: 100_000 };
+    let sc = parse(&park_toml(&p), "still");
+    for (format, window) in [(WaveFormat::Vcd, (60_007, 90_013)), (WaveFormat::Fst, (60_007, 90_013)), (WaveFormat::Vcd, (75_001, 75_002))] {
+        let skipped = same_waves(&sc, format, Some(window)).unwrap_or_else(|e| panic!("{e}"));
+        assert!(skipped > 60_000, "skipped {skipped}");
+    }
+}
+
+/// An observer that needs every tick and replays, but declines the first offers: the bench
+/// then steps on (and finds the repeat again), and every tick reaches the observer exactly once,
+/// stepped or replayed, in order.
+struct Picky {
+    next: u64,
+    offers: u32,
+    decline: u32,
+    replayed: u64,
+}
+
+impl pmu50::sim::Observer for Picky {
+    fn tick(&mut self, v: &TickView<'_>) -> Result<(), pmu50::sim::SimError> {
+        assert_eq!(v.tick, self.next, "ticks in order, none twice, none left out");
+        self.next += 1;
+        Ok(())
+    }
+    fn finish(&mut self, v: &TickView<'_>) -> Result<(), pmu50::sim::SimError> {
+        assert_eq!(v.tick, self.next);
+        Ok(())
+    }
+    fn replays_periods(&self) -> bool {
+        true
+    }
+    fn can_replay(&self, k: u64, _len: u64) -> bool {
+        assert_eq!(k, self.next);
+        // Boundaries seen so far (a skip is offered at a boundary).
+        self.offers > self.decline
+    }
+    fn period_boundary(&mut self, _k: u64) -> Result<(), pmu50::sim::SimError> {
+        self.offers += 1;
+        Ok(())
+    }
+    fn replay(&mut self, k: u64, periods: u64, len: u64) -> Result<(), pmu50::sim::SimError> {
+        assert_eq!(k, self.next);
+        assert!(periods > 0 && len > 0);
+        self.next += periods * len;
+        self.replayed += periods * len;
+        Ok(())
+    }
+}
+
+#[test]
+fn a_declined_replay_steps_on_and_every_tick_is_seen_once() {
+    let p = Park { adaptive: true, x_ms: 1, cth: 2, start: 10.0, moves: vec![(40_000, 3_000, 30.0)], fault: Some((90_000, 5_000)), keyoff_ticks: 150_000 };
+    let sc = parse(&park_toml(&p), "picky");
+    let tick = run_with(&sc, Stepping::EveryTick, &mut []).unwrap();
+    for decline in [0, 5, 40, u32::MAX] {
+        let mut o = Picky { next: 0, offers: 0, decline, replayed: 0 };
+        let r = run_with(&sc, Stepping::Periods, &mut [&mut o]).unwrap();
+        assert_same(&sc, &tick, &r, true);
+        assert_eq!(o.next, sc.ticks);
+        assert_eq!(o.replayed, r.skipped_ticks, "decline {decline}");
+        assert_eq!(r.evaluated_ticks + r.skipped_ticks, sc.ticks, "no idle gap is fast-forwarded past a waveform");
+        if decline == u32::MAX {
+            assert_eq!(r.skipped_ticks, 0);
+        } else {
+            assert!(r.skipped_ticks > 50_000, "decline {decline}: skipped {}", r.skipped_ticks);
+        }
+    }
 }

@@ -56,11 +56,19 @@ pub struct TimingRecorder {
     /// First and last tick drawn (the end is exclusive).
     pub start: u64,
     pub end: u64,
+    /// Replay of skipped key-off periods: the stretch since the last period boundary (first
+    /// tick, and per tick its state and label) and the last whole one.
+    cur: Option<Drawn>,
+    done: Option<Drawn>,
 }
+
+/// A stretch of ticks from a period boundary: its first tick, and per tick the drawn state and
+/// the label of its edge.
+type Drawn = (u64, Vec<(State, Option<&'static str>)>);
 
 impl TimingRecorder {
     pub fn new(clock_ns: u64, window: Option<(u64, u64)>) -> TimingRecorder {
-        TimingRecorder { window, clock_ns, rows: Vec::new(), marks: Vec::new(), start: window.map_or(0, |w| w.0), end: 0 }
+        TimingRecorder { window, clock_ns, rows: Vec::new(), marks: Vec::new(), start: window.map_or(0, |w| w.0), end: 0, cur: None, done: None }
     }
 
     fn inside(&self, tick: u64) -> bool {
@@ -288,11 +296,26 @@ impl TimingRecorder {
     }
 }
 
+impl TimingRecorder {
+    /// One tick of the diagram: its state from this tick on and the label of its edge.
+    fn draw(&mut self, tick: u64, st: State, label: Option<&'static str>) {
+        if !self.inside(tick) {
+            return;
+        }
+        if self.rows.last().is_none_or(|r| r.1 != st) {
+            self.rows.push((tick, st));
+        }
+        self.end = tick + 1;
+        if let Some(label) = label {
+            if self.inside(tick + 1) {
+                self.marks.push(Mark { tick: tick + 1, label });
+            }
+        }
+    }
+}
+
 impl Observer for TimingRecorder {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
-        if !self.inside(v.tick) {
-            return Ok(());
-        }
         let st = State {
             sig: v.ports.sig,
             st: v.ports.st,
@@ -304,10 +327,6 @@ impl Observer for TimingRecorder {
             cnt_r: v.ports.cnt_r,
             si: v.ports.si,
         };
-        if self.rows.last().is_none_or(|r| r.1 != st) {
-            self.rows.push((v.tick, st));
-        }
-        self.end = v.tick + 1;
         // The edge at the end of this tick: a detected change shows from tick + 1 on.
         let label = match v.internals.fig18 {
             Fig18::S23DetectedCs => Some("100"),
@@ -316,10 +335,74 @@ impl Observer for TimingRecorder {
             Fig18::S26CcRepeat => Some("Cc back"),
             _ => None,
         };
-        if let Some(label) = label {
-            if self.inside(v.tick + 1) {
-                self.marks.push(Mark { tick: v.tick + 1, label });
+        self.draw(v.tick, st, label);
+        if let Some((start, per)) = self.cur.as_mut() {
+            if *start + per.len() as u64 == v.tick && (per.len() as u64) < crate::sim::replay::MAX_TICKS {
+                per.push((st, label));
+            } else {
+                self.cur = None;
             }
+        }
+        Ok(())
+    }
+
+    /// The diagram replays skipped periods: it keeps each tick's state and label of the last
+    /// whole period, and draws the copies as stepping would (only the ticks where the state
+    /// changes, a label falls or the window starts do anything).
+    fn replays_periods(&self) -> bool {
+        true
+    }
+
+    fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        self.done = self.cur.take().filter(|(a, per)| !per.is_empty() && a + per.len() as u64 == k);
+        self.cur = Some((k, Vec::new()));
+        Ok(())
+    }
+
+    fn can_replay(&self, k: u64, len: u64) -> bool {
+        self.done.as_ref().is_some_and(|(a, per)| a + len == k && per.len() as u64 == len)
+    }
+
+    fn replay(&mut self, k: u64, periods: u64, len: u64) -> Result<(), SimError> {
+        self.cur = None;
+        let Some((_, per)) = self.done.take() else {
+            return Ok(());
+        };
+        let n = per.len();
+        // Offsets where a tick does something once the tick before it was drawn: the state
+        // changes (the first tick against the last one, the tick before it in the copy before)
+        // or a label falls.
+        let busy: Vec<usize> = (0..n).filter(|&i| per[i].1.is_some() || per[i].0 != per[(i + n - 1) % n].0).collect();
+        let stop = k + periods * len;
+        let (lo, hi) = match self.window {
+            Some((a, z)) => (if a > k { (a - k) / len } else { 0 }, if z > k { (z - k).div_ceil(len).min(periods) } else { 0 }),
+            None => (0, periods),
+        };
+        // The first tick drawn, when the window starts inside the skipped stretch.
+        let first = self.window.map(|w| w.0).filter(|&a| a >= k && a < stop);
+        for j in lo..hi {
+            let base = k + j * len;
+            let mut done_first = false;
+            for &i in &busy {
+                let t = base + i as u64;
+                if let Some(a) = first.filter(|&a| !done_first && a < t && a >= base) {
+                    let (st, label) = per[(a - base) as usize];
+                    self.draw(a, st, label);
+                    done_first = true;
+                }
+                done_first |= first == Some(t);
+                let (st, label) = per[i];
+                self.draw(t, st, label);
+            }
+            if let Some(a) = first.filter(|&a| !done_first && a >= base && a < base + len) {
+                let (st, label) = per[(a - base) as usize];
+                self.draw(a, st, label);
+            }
+        }
+        // Every tick drawn sets the end: the last tick of the stretch inside the window.
+        let last = self.window.map_or(stop, |(_, z)| z.min(stop));
+        if last > k && self.inside(last - 1) {
+            self.end = last;
         }
         Ok(())
     }

@@ -17,12 +17,16 @@
 //! Observers (VCD writer, change log) get [`Observer::begin`] with the reset state, then every
 //! tick, then [`Observer::finish`]. When no observer needs every tick the bench may skip what it
 //! can account exactly ([`Stepping`]): idle key-off gaps with [`Pmu50::fast_forward`], and whole
-//! repeated key-off periods ([`skip`], issue 8). Results are identical to stepping every tick
-//! (tests/properties.rs, tests/skip_ahead.rs).
+//! repeated key-off periods ([`skip`], issue 8). Observers that need every tick but can replay a
+//! repeated period (the waveform writer, the change log, the markers: [`Observer::replay`],
+//! [`replay`]) still let the bench skip whole periods, and emit the skipped copies themselves.
+//! Results, and the files written, are identical to stepping every tick (tests/properties.rs,
+//! tests/skip_ahead.rs).
 
 pub mod front;
 pub mod mpu;
 pub mod recorder;
+pub mod replay;
 pub mod skip;
 
 use crate::scenario::{Action, Event, Scenario};
@@ -120,9 +124,34 @@ pub trait Observer {
     /// Called once after the last tick with the final state at time `ticks`·T.
     fn finish(&mut self, v: &TickView<'_>) -> Result<(), SimError>;
     /// Whether this observer must see every tick (a waveform must). While one does, the bench
-    /// evaluates every tick; otherwise it may skip stretches it accounts exactly.
+    /// evaluates every tick, except whole repeated periods when it can replay them
+    /// ([`Observer::replays_periods`]); otherwise it may skip stretches it accounts exactly.
     fn needs_every_tick(&self) -> bool {
         true
+    }
+    /// Whether this observer, although it needs every tick, can replay whole repeated key-off
+    /// periods ([`Observer::replay`]): when every observer that needs every tick can, the bench
+    /// still skips repeated periods (docs/spec.md 5.1), but no idle gaps. Default: no, so the
+    /// bench evaluates every tick.
+    fn replays_periods(&self) -> bool {
+        false
+    }
+    /// A key-off period may start at tick `k` (called before tick `k` is evaluated, only while
+    /// the bench may skip periods): an observer that replays keeps what it saw since the
+    /// previous call, the last whole period.
+    fn period_boundary(&mut self, _k: u64) -> Result<(), SimError> {
+        Ok(())
+    }
+    /// Whether the observer can now replay the period `[k - len, k)` it has seen.
+    fn can_replay(&self, _k: u64, _len: u64) -> bool {
+        false
+    }
+    /// The bench skips `periods` copies of the period `[k - len, k)` (it evaluates tick
+    /// `k + periods·len` next): do what `periods·len` more ticks would have done, copy `j` of
+    /// that period shifted by `(j + 1)·len` ticks. Called only after [`Observer::can_replay`]
+    /// said yes.
+    fn replay(&mut self, _k: u64, _periods: u64, _len: u64) -> Result<(), SimError> {
+        Ok(())
     }
 }
 
@@ -173,6 +202,18 @@ where
     }
     fn needs_every_tick(&self) -> bool {
         self.inner.as_ref().is_none_or(|o| o.needs_every_tick())
+    }
+    fn replays_periods(&self) -> bool {
+        self.inner.as_ref().is_some_and(|o| o.replays_periods())
+    }
+    fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        self.inner.as_mut().ok_or(SimError::NotBegun)?.period_boundary(k)
+    }
+    fn can_replay(&self, k: u64, len: u64) -> bool {
+        self.inner.as_ref().is_some_and(|o| o.can_replay(k, len))
+    }
+    fn replay(&mut self, k: u64, periods: u64, len: u64) -> Result<(), SimError> {
+        self.inner.as_mut().ok_or(SimError::NotBegun)?.replay(k, periods, len)
     }
 }
 
@@ -277,8 +318,9 @@ impl RunResult {
 /// Options of a run.
 #[derive(Clone, Copy, Debug)]
 pub struct SimOptions {
-    /// Skip what can be skipped exactly ([`Stepping::Periods`]) when no observer needs every
-    /// tick; `false`: evaluate every tick ([`Stepping::EveryTick`]).
+    /// Skip what can be skipped exactly ([`Stepping::Periods`]): everything when no observer
+    /// needs every tick, whole repeated periods when those that do can replay them; `false`:
+    /// evaluate every tick ([`Stepping::EveryTick`]).
     pub fast_forward: bool,
 }
 
@@ -347,7 +389,8 @@ pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer])
     run_with(sc, opts.into(), observers)
 }
 
-/// Run a scenario with the given stepping (used only while no observer needs every tick).
+/// Run a scenario with the given stepping: as given while no observer needs every tick; whole
+/// periods only (no idle gaps) while those that do all replay periods; else every tick.
 pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Observer]) -> Result<RunResult, SimError> {
     let setup = |source: EnvError| SimError::EnvSetup { scenario: sc.name.clone(), source };
     let mut core = Pmu50::new(sc.params).map_err(|source| SimError::Core { scenario: sc.name.clone(), source })?;
@@ -374,9 +417,14 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
     for o in observers.iter_mut() {
         o.begin(&TickView { tick: 0, time_ns: 0, regs: &reset, ports: &out, inputs: &Inputs::default(), internals: &Internals::default(), env: &env })?;
     }
-    if observers.iter().any(|o| o.needs_every_tick()) {
+    // Observers that need every tick: if one of them cannot replay a skipped period, every tick
+    // is evaluated; if all can, whole repeated periods are still skipped (and replayed to them),
+    // but no idle gap (nobody could replay the timer counting through it).
+    let replaying = observers.iter().any(|o| o.needs_every_tick());
+    if observers.iter().any(|o| o.needs_every_tick() && !o.replays_periods()) {
         stepping = Stepping::EveryTick;
     }
+    let idle_gaps = stepping != Stepping::EveryTick && !replaying;
     let mut periods = (stepping == Stepping::Periods).then(PeriodSkip::new);
 
     let mut k = 0u64;
@@ -398,7 +446,16 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
                     clock_ns: clk,
                     end_tick: sc.ticks,
                 };
-                if let Some(s) = ps.at_boundary(at) {
+                if replaying {
+                    for o in observers.iter_mut() {
+                        o.period_boundary(k)?;
+                    }
+                }
+                let skip = ps.at_boundary(at).filter(|s| observers.iter().all(|o| !o.needs_every_tick() || o.can_replay(k, s.len)));
+                if let Some(s) = skip {
+                    for o in observers.iter_mut().filter(|o| o.needs_every_tick()) {
+                        o.replay(k, s.periods, s.len)?;
+                    }
                     meter.repeat(s.meter, s.periods);
                     if s.rows == 1 {
                         rec.log.repeat_last(s.periods, s.len);
@@ -414,7 +471,7 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
         mpu.poll_bus(k, &out, &mut inputs);
 
         // Fast-forward an idle key-off gap: Vs2 off, nothing scheduled, nobody watching.
-        if stepping != Stepping::EveryTick && !out.sig && !out.vs2_en && !out.sr && !inputs.bus_we && mpu.idle() {
+        if idle_gaps && !out.sig && !out.vs2_en && !out.sr && !inputs.bus_we && mpu.idle() {
             let tmr = u64::from(core.regs().timing_generator.tmr);
             let si = u64::from(core.regs().drive_interval.si);
             if tmr >= wt && tmr < si {
