@@ -21,7 +21,7 @@ use pmu50::output::summary;
 use pmu50::plot::timing::TimingRecorder;
 use pmu50::scenario::Scenario;
 use pmu50::sim::{run_with, OnBegin, RunResult, Stepping, TickView};
-use pmu50::waveform::{VcdObserver, WaveFormat};
+use pmu50::waveform::{Level, VcdObserver, WaveFormat};
 use pmu50_core::pmu50::Structural;
 use proptest::prelude::*;
 use std::fmt::Write;
@@ -268,9 +268,14 @@ fn sim_errors_are_typed_with_their_source() {
 /// change log of `--log` and the timing diagram of `--svg`): its result, the waveform file's
 /// bytes, the markers, and the log followed by the diagram's CSV.
 fn traced(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: Option<(u64, u64)>) -> (RunResult, Vec<u8>, Vec<Marker>, Vec<u8>) {
+    traced_level(sc, stepping, format, window, Level::All)
+}
+
+/// [`traced`] with the signals of a trace level.
+fn traced_level(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: Option<(u64, u64)>, level: Level) -> (RunResult, Vec<u8>, Vec<Marker>, Vec<u8>) {
     let dir = tempfile::tempdir().unwrap();
     let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
-    let mut vcd = OnBegin::new(|init: &TickView<'_>| VcdObserver::create_as(dir.path(), &sc.name, s, sc.clock_ns(), window, format, init));
+    let mut vcd = OnBegin::new(|init: &TickView<'_>| VcdObserver::create_level(dir.path(), &sc.name, s, sc.clock_ns(), window, format, level, init));
     let mut marks = MarkerObserver::new(sc.clock_ns());
     let mut log = ChangeLog::new(Vec::new(), s, sc.clock_ns()).unwrap();
     let mut timing = TimingRecorder::new(sc.clock_ns(), window);
@@ -336,6 +341,20 @@ fn shipped_parks_write_the_same_waveform_skipping_and_per_tick() {
                 assert!(skipped * 10 > sc.ticks * 8, "{name}: skipped {skipped} of {}", sc.ticks);
             }
         }
+    }
+}
+
+/// The lower trace levels replay too: `ports` (no timer: a few changes per period) and
+/// `registers`, in both formats, give the same bytes skipping as per tick.
+#[test]
+fn lower_trace_levels_write_the_same_waveform_skipping_and_per_tick() {
+    let sc = Scenario::load(&scenarios_dir().join("park_bumps.toml")).unwrap();
+    for (level, format) in [(Level::Ports, WaveFormat::Vcd), (Level::Ports, WaveFormat::Fst), (Level::Registers, WaveFormat::Vcd)] {
+        let (tick, a, _, _) = traced_level(&sc, Stepping::EveryTick, format, None, level);
+        let (skip, b, _, _) = traced_level(&sc, Stepping::Periods, format, None, level);
+        assert_same(&sc, &tick, &skip, true);
+        assert!(skip.skipped_ticks * 2 > sc.ticks, "{level:?} {format:?}: skipped only {} of {}", skip.skipped_ticks, sc.ticks);
+        assert!(a.len() > 100 && a == b, "{level:?} {format:?}: the waveforms differ ({} / {} bytes)", a.len(), b.len());
     }
 }
 
