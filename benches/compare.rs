@@ -21,11 +21,10 @@
 //! hdl/bench/bench.cpp); the run fails (exit 1) unless all checksums of a stimulus agree. Times are
 //! process CPU seconds (`clock_gettime(CLOCK_PROCESS_CPUTIME_ID)`, `getrusage` for children).
 //!
-//! Park figures (issue 8): a parked car, key off, motor still, for 1 h, 1 d and 30 d, through the
-//! simulator with fast-forward (`pmu50::sim::run` as `pmu50 run` without waveforms), each in a
-//! child process for its peak memory. 1 d and 30 d run only when 1 h takes under 0.1 CPU-s (that
-//! is, once the period skip-ahead of issue 8 section 1 has landed) or with `PMU50_BENCH_PARK=all`;
-//! otherwise they are printed as pending.
+//! Park figures (issue 8): a parked car, key off, motor still, for 1 h, 1 d and 30 d, and
+//! `scenarios/park_30d.toml` (30 days with a disturbance every 6 h), through the simulator with
+//! fast-forward and period skip (`pmu50::sim::run` as `pmu50 run` with trace = none), each in a
+//! child process for its CPU time and peak memory.
 
 use pmu50::scenario::Scenario;
 use pmu50::sim::{run, SimOptions};
@@ -405,28 +404,35 @@ fn icarus(st: &Stim, dir: &Path) -> Result<Meas, String> {
     Ok(Meas { ticks: st.inputs.len() as u64, cpu: c1 - c0, checksum: None, note: "outputs == vector file".into() })
 }
 
-/// Child process: a parked car for `secs` seconds through the simulator with fast-forward.
-fn park_child(secs: u64) {
-    let text = format!(
-        "name = \"park_{secs}s\"\ndescription = \"parked: key off, motor still\"\nduration = \"{secs} s\"\n\n[motor]\nstart_deg = 37.0\nsegments = [ {{ kind = \"hold\", duration = \"{secs} s\" }} ]\n"
-    );
-    let sc = Scenario::parse(&text, "park.toml", "park", Path::new("park.toml")).unwrap_or_else(|e| panic!("{e}"));
+/// Child process: a parked car for `secs` seconds through the simulator with fast-forward, or
+/// (`secs` = 0) the scenario file `file`.
+fn park_child(secs: u64, file: Option<&str>) {
+    let sc = match file {
+        Some(f) => Scenario::load(Path::new(f)).unwrap_or_else(|e| panic!("{e}")),
+        None => {
+            let text = format!(
+                "name = \"park_{secs}s\"\ndescription = \"parked: key off, motor still\"\nduration = \"{secs} s\"\n\n[motor]\nstart_deg = 37.0\nsegments = [ {{ kind = \"hold\", duration = \"{secs} s\" }} ]\n"
+            );
+            Scenario::parse(&text, "park.toml", "park", Path::new("park.toml")).unwrap_or_else(|e| panic!("{e}"))
+        }
+    };
     let t0 = cpu_now();
     let r = run(&sc, SimOptions { fast_forward: true }, &mut []).unwrap_or_else(|e| panic!("{e}"));
     let cpu = cpu_now() - t0;
     let (_, rss) = rusage(libc::RUSAGE_SELF);
-    println!("park secs={secs} cpu_s={cpu:.3} maxrss_kib={rss} ticks={} evaluated={} pulses={}", r.ticks, r.evaluated_ticks, r.pulses.len());
+    println!("park cpu_s={cpu:.9} maxrss_kib={rss} ticks={} evaluated={} pulses={}", r.ticks, r.evaluated_ticks, r.pulses.len());
 }
 
-fn park(secs: u64) -> Result<(f64, f64), String> {
+/// (CPU seconds, peak MiB, ticks, evaluated ticks) of a park child.
+fn park(args: &[&str]) -> Result<(f64, f64, f64, f64), String> {
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
-    let out = Command::new(exe).arg("--park-child").arg(secs.to_string()).output().map_err(|e| e.to_string())?;
+    let out = Command::new(exe).arg("--park-child").args(args).output().map_err(|e| e.to_string())?;
     let text = String::from_utf8_lossy(&out.stdout).to_string();
     if !out.status.success() {
-        return Err(format!("park {secs} s failed: {text}{}", String::from_utf8_lossy(&out.stderr)));
+        return Err(format!("park {args:?} failed: {text}{}", String::from_utf8_lossy(&out.stderr)));
     }
     let field = |k: &str| text.split_whitespace().find_map(|w| w.strip_prefix(k)).and_then(|v| v.parse::<f64>().ok()).ok_or_else(|| format!("park: no `{k}` in `{text}`"));
-    Ok((field("cpu_s=")?, field("maxrss_kib=")? / 1024.0))
+    Ok((field("cpu_s=")?, field("maxrss_kib=")? / 1024.0, field("ticks=")?, field("evaluated=")?))
 }
 
 fn fmt_bytes(b: u64) -> String {
@@ -440,7 +446,10 @@ fn fmt_rate(r: f64) -> String {
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     if let Some(k) = args.iter().position(|a| a == "--park-child") {
-        park_child(args.get(k + 1).and_then(|s| s.parse().ok()).expect("--park-child SECONDS"));
+        match args.get(k + 1).map(String::as_str) {
+            Some("--file") => park_child(0, args.get(k + 2).map(String::as_str)),
+            a => park_child(a.and_then(|s| s.parse().ok()).expect("--park-child SECONDS | --file PATH"), None),
+        }
         return;
     }
     let mut dir = PathBuf::from("hdl/build/bench");
@@ -570,23 +579,21 @@ fn main() {
     out += &format!("\noutput checksums: {}\n", sums.join("; "));
 
     // Park figures.
-    out += "\npark (key off, motor still; pmu50 simulator with fast-forward, no waveform; child process each):\n";
-    let all = std::env::var("PMU50_BENCH_PARK").is_ok_and(|v| v == "all");
-    let mut fast_enough = false;
-    for (label, secs) in [("1 h", 3600u64), ("1 d", 86_400), ("30 d", 30 * 86_400)] {
-        if secs > 3600 && !(fast_enough || all) {
-            out += &format!("  {label:>4}: pending (1 h takes over 0.1 CPU-s: needs the period skip-ahead of issue 8 section 1; PMU50_BENCH_PARK=all runs it anyway)\n");
-            continue;
-        }
-        match park(secs) {
-            Ok((cpu, mib)) => {
-                if secs == 3600 {
-                    fast_enough = cpu < 0.1;
-                }
-                out += &format!("  {label:>4}: {cpu:.4} CPU-s, peak {mib:.0} MiB (the child process whole)\n");
+    out += "\npark (key off; pmu50 simulator with fast-forward and period skip, no waveform, as `pmu50 run` with trace = none; one child process each, its CPU time and peak memory):\n";
+    let park_30d = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/park_30d.toml").display().to_string();
+    let runs: [(&str, Vec<&str>); 4] = [
+        ("1 h still", vec!["3600"]),
+        ("1 d still", vec!["86400"]),
+        ("30 d still", vec!["2592000"]),
+        ("scenarios/park_30d.toml (a bump or turn by hand every 6 h)", vec!["--file", &park_30d]),
+    ];
+    for (label, a) in &runs {
+        match park(a) {
+            Ok((cpu, mib, ticks, evaluated)) => {
+                out += &format!("  {label}: {:.3} ms CPU, peak {mib:.0} MiB, {evaluated:.0} of {ticks:.3e} ticks evaluated\n", cpu * 1e3);
             }
             Err(e) => {
-                out += &format!("  {label:>4}: failed: {e}\n");
+                out += &format!("  {label}: failed: {e}\n");
                 ok = false;
             }
         }
