@@ -1,0 +1,32 @@
+//! Helpers shared by the command-line tests (`tests/cli.rs`, `tests/cli_faults.rs`,
+//! `tests/trace_levels.rs`): run the `pmu50` binary from the project folder, its output as
+//! text, a fresh temporary folder per test.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+pub const BIN: &str = env!("CARGO_BIN_EXE_pmu50");
+
+/// `pmu50 ARGS` run in the project folder (so `scenarios/...` paths work).
+pub fn pmu50(args: &[&str]) -> Output {
+    Command::new(BIN).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
+}
+
+/// Standard output then standard error.
+pub fn text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+/// An empty folder of this test binary and `tag` (whatever a previous run left is removed).
+pub fn tmp(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pmu50-{}-{tag}-{}", env!("CARGO_CRATE_NAME"), std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A path as the `&str` argument of a command line.
+pub fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
