@@ -41,8 +41,9 @@ pub struct Consts {
     /// As given (for the legality check of bus writes and the CFG register).
     sync_depth: u8,
     cnt_width: u8,
-    /// Bit of `sync` that is `sig` (`sync_depth - 1`, depth clamped to 1..=4 as in 56a).
-    last: u8,
+    /// The stage of `sync` that is `sig`, as a mask: bit `sync_depth - 1` (depth clamped to
+    /// 1..=4 as in 56a), tested instead of shifted by a variable.
+    sig_bit: u8,
     /// Mask of the synchronizer stages.
     sync_mask: u8,
     /// Mask and sign bit of a `cnt_width`-bit counter (width clamped to 2..=16 as in 58c/58d).
@@ -60,7 +61,7 @@ impl Consts {
         Consts {
             sync_depth: s.sync_depth,
             cnt_width: s.cnt_width,
-            last: depth - 1,
+            sig_bit: 1u8 << (depth - 1),
             sync_mask: (1u8 << depth) - 1,
             cnt_mask,
             cnt_sign: 1u16 << (w - 1),
@@ -184,7 +185,7 @@ fn diag_of(c: &Consts, u: &crate::updown_counter_58cd::Regs) -> bool {
 
 #[inline(always)]
 fn sig_of(c: &Consts, sync: u8) -> bool {
-    (sync >> c.last) & 1 == 1
+    sync & c.sig_bit != 0
 }
 
 /// Timing generator 56 decode (Moore): (`st`, `vs2_en`, `ps_win`, `smp`) of the registers `r`.
