@@ -1247,6 +1247,8 @@ impl<E: Emitter> Writer<E> {
                     continue;
                 }
             }
+            // One position indexes four arrays (values, variable, last value, limit).
+            #[allow(clippy::needless_range_loop)]
             for k in k..end {
                 let v = values[k];
                 let i = frame.idx[k] as usize;
