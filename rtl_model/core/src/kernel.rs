@@ -85,10 +85,18 @@ impl Consts {
 pub struct Shadow {
     /// Read value of each address; STATUS without its `sig`, `sr` and `diag` bits.
     rd: [u16; 256],
-    /// `pw + pi`, `pw + pi + ps`, `smp_on` (timing generator 56 decode bounds).
-    ps_start: u32,
-    wt: u32,
-    smp_on: u32,
+    /// Timing generator 56's decode in the key mode of the registers (`sig`, which changes only
+    /// at a key edge, where the shadow is rebuilt), so the common edge decodes the timer `t`
+    /// without choosing between the modes: `st` = (t == `st_at`), `vs2_en` = (t < `vs2_lt`),
+    /// `ps_win` = (t - `ps_lo` < `ps_len`, wrapping), `smp` = (t + 1 == `smp_at`), and the timer
+    /// wraps at `period`. Key off: 0, Wt = pw + pi + ps, pw + pi, ps, Wt, `si`. Key on: never
+    /// (`u32::MAX`), always (`u32::MAX`), never (0, 0), `smp_on`, `smp_on`.
+    st_at: u32,
+    vs2_lt: u32,
+    ps_lo: u32,
+    ps_len: u32,
+    smp_at: u32,
+    period: u32,
     /// Count diagnosis of the counters held (|cnt_s - cnt_c| >= 2 or `quadrant_skip`): the
     /// value `diag` takes at an edge that does not change them.
     diag: bool,
@@ -101,7 +109,7 @@ const STATUS_LIVE: u16 = (1 << status::SIG) | (1 << status::SR) | (1 << status::
 
 impl Shadow {
     /// A shadow that [`step`] rebuilds before its first use.
-    pub const STALE: Shadow = Shadow { rd: [0; 256], ps_start: 0, wt: 0, smp_on: 0, diag: false, valid: false };
+    pub const STALE: Shadow = Shadow { rd: [0; 256], st_at: 0, vs2_lt: 0, ps_lo: 0, ps_len: 0, smp_at: 0, period: 0, diag: false, valid: false };
 
     /// The shadow of the registers `r`.
     pub fn of(c: &Consts, r: &Regs) -> Shadow {
@@ -124,9 +132,15 @@ impl Shadow {
         }
         self.rd[usize::from(addr::STATUS)] &= !STATUS_LIVE;
         let f = &r.register_file;
-        self.ps_start = u32::from(f.pw) + u32::from(f.pi);
-        self.wt = self.ps_start + u32::from(f.ps);
-        self.smp_on = u32::from(f.smp_on);
+        let ps_start = u32::from(f.pw) + u32::from(f.pi);
+        let wt = ps_start + u32::from(f.ps);
+        if sig_of(c, r.action_switching.sync) {
+            (self.st_at, self.vs2_lt, self.ps_lo, self.ps_len) = (u32::MAX, u32::MAX, 0, 0);
+            (self.smp_at, self.period) = (u32::from(f.smp_on), u32::from(f.smp_on));
+        } else {
+            (self.st_at, self.vs2_lt, self.ps_lo, self.ps_len) = (0, wt, ps_start, u32::from(f.ps));
+            (self.smp_at, self.period) = (wt, u32::from(r.drive_interval.si));
+        }
         self.diag = diag_of(c, &r.updown_counter);
         self.valid = true;
     }
@@ -142,13 +156,15 @@ impl Shadow {
         self.diag = diag_of(c, &r.updown_counter);
     }
 
-    /// After a 56b pulse (the registers after the edge): `cnt_r`, `si` and STATUS (history).
+    /// After a 56b pulse (key off; the registers after the edge): `cnt_r`, `si`, STATUS
+    /// (history) and the timer's period, which is `si` with the key off.
     #[inline(always)]
     fn refresh_pulse(&mut self, c: &Consts, r: &Regs) {
         for a in [addr::CNT_R, addr::SI, addr::STATUS] {
             self.rd[usize::from(a)] = read(c, r, false, a);
         }
         self.rd[usize::from(addr::STATUS)] &= !STATUS_LIVE;
+        self.period = u32::from(r.drive_interval.si);
     }
 
     /// The read mux at `a` for the registers before the edge (`sig`, `sr` and `diag` of `r`).
@@ -540,13 +556,10 @@ pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
     // 3. Timing generator decode of the pre-edge registers (parameters before the edge, from
     // the shadow).
     let t = u32::from(r.timing_generator.tmr);
-    let (ps_start, wt) = (sh.ps_start, sh.wt);
-    let smp_at = if sig { sh.smp_on } else { wt };
-    let smp = t + 1 == smp_at;
-    let vs2_en = sig | (t < wt);
-    let period = if sig { sh.smp_on } else { u32::from(r.drive_interval.si) };
+    let smp = t + 1 == sh.smp_at;
+    let vs2_en = t < sh.vs2_lt;
     // t + 1 < period <= 0xFFFF in the else branch, so the increment cannot wrap.
-    let t_n = if t + 1 >= period { 0 } else { t + 1 };
+    let t_n = if t + 1 >= sh.period { 0 } else { t + 1 };
     let sr_pre = r.sensor_power_determination.sr;
     // 2. Read mux (every register before the edge): the shadow's table.
     let rdata = sh.read(r, sig, i.bus_addr);
@@ -574,12 +587,12 @@ pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
     r.sensor_power_determination.sr = sr;
     r.count_diagnosis.diag = diag;
     r.register_file.rdata = rdata;
-    // Moore outputs after the edge: `sig` and the parameters are unchanged, the timer is `t_n`.
-    let (st, vs2_en_n, ps_win, smp_n) = if sig {
-        (false, true, false, t_n + 1 == smp_at)
-    } else {
-        (t_n == 0, t_n < wt, (t_n >= ps_start) & (t_n < wt), t_n + 1 == wt)
-    };
+    // Moore outputs after the edge: `sig` and the parameters are unchanged, the timer is `t_n`
+    // (the decode of the key mode, from the shadow).
+    let st = t_n == sh.st_at;
+    let vs2_en_n = t_n < sh.vs2_lt;
+    let ps_win = t_n.wrapping_sub(sh.ps_lo) < sh.ps_len;
+    let smp_n = t_n + 1 == sh.smp_at;
     Outputs {
         sig,
         vr_hi: sig,
