@@ -128,7 +128,7 @@ impl Meas {
 /// Rounds per measurement: every harness is timed in this many rounds and the fastest round
 /// counts. On a shared machine the load only ever slows a round down, so the best round is the
 /// one least disturbed; all harnesses are measured the same way, so their ratios stay fair.
-const ROUNDS: u32 = 7;
+const ROUNDS: u32 = 15;
 
 /// Time `pass` (one replay from reset, returns its checksum) in [`ROUNDS`] rounds of about
 /// `seconds / ROUNDS` CPU seconds each; the fastest round is reported.
