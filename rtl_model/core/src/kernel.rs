@@ -12,8 +12,10 @@
 //!   [`crate::Params`] every tick;
 //! - the common edge (no bus write, no sample, no key edge) touches only the synchronizer, the
 //!   timer, `sr`, `rdata` and `diag`; the rare events (bus write, key edge) are out of line;
-//! - the registered read mux reads a table of what each address reads ([`Shadow`]), kept beside
-//!   the registers and rebuilt where the readable registers change outside the common edge;
+//! - the registered read mux reads a table of what each address reads, and the timer is decoded
+//!   with thresholds for the key mode of the registers ([`Shadow`]), both kept beside the
+//!   registers and rebuilt where what they depend on changes outside the common edge;
+//! - `sig` is a test of the synchronizer stage's mask ([`Consts`]), not a shift by a variable;
 //! - the counter rules of [0096]-[0099] are used in closed form (`cnt_s` counts up iff
 //!   `cs_new == cc`, `cnt_c` counts up iff `cc_new != cs`), and the diagnosis of [0119]
 //!   (|cnt_s - cnt_c| >= 2 in the counters' two's complement) as `((d + 1) & mask) > 2`.
@@ -71,7 +73,9 @@ impl Consts {
 }
 
 /// The read side of register file 2, kept beside the registers by [`step`]: what each bus address
-/// reads, and the timing generator's decode bounds, which depend on the parameters only.
+/// reads, and the timing generator's decode for the key mode and parameters of the registers
+/// (both change only at a bus write or a key edge; the period with the key off is `si`, which a
+/// 56b pulse refreshes).
 ///
 /// A cache, not state: it is a function of the registers ([`Shadow::of`]) and is rebuilt whenever
 /// that function's inputs change outside the common edge (a bus write, a key edge, an edge taken by
