@@ -78,8 +78,8 @@ impl Consts {
 /// 56b pulse refreshes).
 ///
 /// A cache, not state: it is a function of the registers ([`Shadow::of`]) and is rebuilt whenever
-/// that function's inputs change outside the common edge (a bus write, a key edge, an edge taken by
-/// [`edge`] through [`crate::Pmu50::step_traced`]). In the common edge, the only readable values
+/// that function's inputs change outside the common edge (a bus write or a key edge, which go
+/// through [`edge`]; a reset). In the common edge, the only readable values
 /// that change are the counters and the STATUS bits of a sample (refreshed there) and
 /// STATUS.`sig`/`sr`/`diag`, which the read adds from the registers at each edge. With it, the
 /// registered read mux of every edge is one table load instead of a jump over 21 addresses
@@ -542,6 +542,21 @@ pub fn edge(c: &Consts, r: &mut Regs, i: &Inputs) -> Internals {
 /// registers as [`crate::pmu50::eval`] (tested on every tick).
 #[inline(always)]
 pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
+    step_with::<false>(c, r, sh, i).0
+}
+
+/// [`step`] that also returns the internals of the cycle (the traced path of
+/// [`crate::Pmu50::step_traced`]: waveforms, the C ABI's lockstep): (outputs after the edge,
+/// internals). The same inline common edge; a bus write or key edge goes through [`edge`].
+#[inline(always)]
+pub fn step_traced(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> (Outputs, Internals) {
+    step_with::<true>(c, r, sh, i)
+}
+
+/// The edge of [`step`] and [`step_traced`]; with `TRACED` false the internals are not built
+/// (the compiler drops them).
+#[inline(always)]
+fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> (Outputs, Internals) {
     if !sh.valid {
         sh.rebuild(c, r);
     }
@@ -554,8 +569,12 @@ pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
         // Outputs from the registers inline, so that both paths give the outputs as values (an
         // `Outputs` returned through memory by the out-of-line call costs a store-forwarding stall
         // in the caller every tick).
+        if TRACED {
+            let x = edge_rare_traced(c, r, sh, i);
+            return (ports(c, r), x);
+        }
         edge_rare(c, r, sh, i);
-        return ports(c, r);
+        return (ports(c, r), Internals::default());
     }
     // 3. Timing generator decode of the pre-edge registers (parameters before the edge, from
     // the shadow).
@@ -571,14 +590,21 @@ pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
     let sr = vs2_en & i.vs2_ok;
     // 5.-7. Sampling strobe: latches and counters when `upd`, the 56b pulse at key-off (the
     // parameters before the edge; no write this cycle).
+    let mut x = Internals::default();
     if smp {
         let s = if sr_pre { sample(c, r, i) } else { Sample { first: false, chg_s: false, chg_c: false } };
         if s.first | s.chg_s | s.chg_c {
             sh.refresh_sample(c, r);
         }
         if !sig {
-            drive_interval_pulse(&mut r.drive_interval, &r.register_file, sr_pre, s.chg_s, s.chg_c);
+            let (f17, f18) = drive_interval_pulse(&mut r.drive_interval, &r.register_file, sr_pre, s.chg_s, s.chg_c);
             sh.refresh_pulse(c, r);
+            if TRACED {
+                (x.fig17, x.fig18) = (f17, f18);
+            }
+        }
+        if TRACED {
+            (x.upd, x.first, x.chg_s, x.chg_c) = (sr_pre, s.first, s.chg_s, s.chg_c);
         }
     }
     // 8. Count diagnosis from the counters after the edge (the shadow's, refreshed above when a
@@ -597,7 +623,7 @@ pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
     let vs2_en_n = t_n < sh.vs2_lt;
     let ps_win = t_n.wrapping_sub(sh.ps_lo) < sh.ps_len;
     let smp_n = t_n + 1 == sh.smp_at;
-    Outputs {
+    let o = Outputs {
         sig,
         vr_hi: sig,
         vm_en: sig,
@@ -621,7 +647,8 @@ pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
         quadrant_skip: u.quadrant_skip,
         bus_rdata: rdata,
         bus_err: r.register_file.bus_err,
-    }
+    };
+    (o, x)
 }
 
 /// The edges [`step`] does not take inline: a bus write or a key edge.
@@ -630,6 +657,15 @@ pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
 fn edge_rare(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) {
     edge(c, r, i);
     sh.rebuild(c, r);
+}
+
+/// [`edge_rare`] for [`step_traced`], with the internals of the cycle.
+#[cold]
+#[inline(never)]
+fn edge_rare_traced(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Internals {
+    let x = edge(c, r, i);
+    sh.rebuild(c, r);
+    x
 }
 
 /// The same signature as [`crate::pmu50::eval`]: (outputs before the edge, internals of the

@@ -434,12 +434,12 @@ impl Pmu50 {
     }
 
     /// One rising edge; returns (outputs before the edge, internals of the cycle, outputs after).
+    /// Runs the fast kernel's traced edge ([`crate::kernel::step_traced`]).
     pub fn step_traced(&mut self, i: &Inputs) -> (Outputs, Internals, Outputs) {
         let before = crate::kernel::ports(&self.k, &self.regs);
-        let internals = crate::kernel::edge(&self.k, &mut self.regs, i);
-        self.sh.invalidate();
+        let (after, internals) = crate::kernel::step_traced(&self.k, &mut self.regs, &mut self.sh, i);
         self.tick += 1;
-        (before, internals, crate::kernel::ports(&self.k, &self.regs))
+        (before, internals, after)
     }
 
     /// All registers (read access for lockstep comparison and waveforms).
