@@ -104,28 +104,17 @@ pub struct Shadow {
     /// Count diagnosis of the counters held (|cnt_s - cnt_c| >= 2 or `quadrant_skip`): the
     /// value `diag` takes at an edge that does not change them.
     diag: bool,
-    /// False: rebuild before the next [`step`].
-    valid: bool,
 }
 
 /// STATUS bits the common edge changes, read from the registers at each edge.
 const STATUS_LIVE: u16 = (1 << status::SIG) | (1 << status::SR) | (1 << status::DIAG);
 
 impl Shadow {
-    /// A shadow that [`step`] rebuilds before its first use.
-    pub const STALE: Shadow = Shadow { rd: [0; 256], st_at: 0, vs2_lt: 0, ps_lo: 0, ps_len: 0, smp_at: 0, period: 0, diag: false, valid: false };
-
-    /// The shadow of the registers `r`.
+    /// The shadow of the registers `r` (built with the core, at reset, and for the tests).
     pub fn of(c: &Consts, r: &Regs) -> Shadow {
-        let mut s = Shadow::STALE;
+        let mut s = Shadow { rd: [0; 256], st_at: 0, vs2_lt: 0, ps_lo: 0, ps_len: 0, smp_at: 0, period: 0, diag: false };
         s.rebuild(c, r);
         s
-    }
-
-    /// Mark stale: the registers changed outside [`step`].
-    #[inline(always)]
-    pub fn invalidate(&mut self) {
-        self.valid = false;
     }
 
     #[cold]
@@ -146,7 +135,6 @@ impl Shadow {
             (self.smp_at, self.period) = (wt, u32::from(r.drive_interval.si));
         }
         self.diag = diag_of(c, &r.updown_counter);
-        self.valid = true;
     }
 
     /// After a sample that changed the latches or counters (the registers after the edge): the
@@ -182,7 +170,7 @@ impl Shadow {
 
 impl std::fmt::Debug for Shadow {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Shadow").field("valid", &self.valid).finish_non_exhaustive()
+        f.debug_struct("Shadow").field("period", &self.period).field("diag", &self.diag).finish_non_exhaustive()
     }
 }
 
@@ -557,9 +545,6 @@ pub fn step_traced(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> (Ou
 /// (the compiler drops them).
 #[inline(always)]
 fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> (Outputs, Internals) {
-    if !sh.valid {
-        sh.rebuild(c, r);
-    }
     // 1. Synchronizer (56a).
     let sync = r.action_switching.sync;
     let sig = sig_of(c, sync);

@@ -398,20 +398,16 @@ impl Pmu50 {
     /// A core at power-on reset with these parameters (which must be legal).
     pub fn new(p: Params) -> Result<Pmu50, ParamError> {
         p.validate()?;
-        Ok(Pmu50 {
-            s: Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width },
-            params: p,
-            regs: reset(&p),
-            tick: 0,
-            k: crate::kernel::Consts::new(&Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width }),
-            sh: crate::kernel::Shadow::STALE,
-        })
+        let s = Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width };
+        let k = crate::kernel::Consts::new(&s);
+        let regs = reset(&p);
+        Ok(Pmu50 { s, params: p, regs, tick: 0, k, sh: crate::kernel::Shadow::of(&k, &regs) })
     }
 
     /// Back to power-on reset (the parameters given to [`Pmu50::new`]); tick count restarts at 0.
     pub fn reset(&mut self) {
         self.regs = reset(&self.params);
-        self.sh.invalidate();
+        self.sh = crate::kernel::Shadow::of(&self.k, &self.regs);
         self.tick = 0;
     }
 
