@@ -264,6 +264,14 @@ pub enum WriteError {
         /// values passed
         got: usize,
     },
+    /// [`FrameStep::set`] with a position outside the frame.
+    #[error("frame position {position} does not exist: the frame has {len} variables (positions 0..{len}, in the order given to Writer::frame)")]
+    FramePosition {
+        /// the rejected position
+        position: usize,
+        /// variables in the frame
+        len: usize,
+    },
     /// FST output failure (from the `fst-writer` crate).
     #[error("FST output: {0}")]
     Fst(String),
@@ -637,12 +645,8 @@ impl VcdBuilder {
         w.enddefinitions()?;
         let header = w.writer().0.take().unwrap_or_default();
         out.write_all(&header)?;
-        let emitter = VcdOut {
-            out,
-            buf: Vec::with_capacity(VCD_BUFFER * 2),
-            codes,
-            widths: self.vars.iter().map(|v| v.width()).collect(),
-        };
+        let widths: Vec<u32> = self.vars.iter().map(|v| v.width()).collect();
+        let emitter = VcdOut::new(out, codes, widths);
         Ok(self.into_writer(emitter))
     }
 
@@ -807,38 +811,110 @@ const BITS8: [[u8; 8]; 256] = {
     t
 };
 
-/// VCD text emitter: identifier codes precomputed at declaration, values formatted straight into
-/// one buffer that goes to the output in large writes.
+/// Longest change line that is written from a template ([`VcdOut`]): `b`, 64 bits, a space, an
+/// identifier code of up to 13 characters and the newline. Variables with longer lines take the
+/// general path.
+const LINE: usize = 80;
+
+/// Bytes the buffer holds beyond [`VCD_BUFFER`]: one template line or one time stamp fits after
+/// any position below `VCD_BUFFER`.
+const SLACK: usize = LINE + 32;
+
+/// VCD text emitter: identifier codes and the text of every change line precomputed at
+/// declaration; a change is one fixed-size copy of its line and its value bits written in place,
+/// into one buffer that goes to the output in large writes.
 pub struct VcdOut<W: Write> {
     out: W,
-    buf: Vec<u8>,
+    /// `VCD_BUFFER + SLACK` bytes; `buf[..pos]` is the text not yet written to `out`
+    buf: Box<[u8]>,
+    pos: usize,
     codes: Vec<Box<[u8]>>,
     widths: Vec<u32>,
+    /// Per variable, the template of its two-state change line.
+    lines: Vec<Template>,
+}
+
+/// The change line of a variable of at most 64 bits with the value bits `0` (`b0000 !\n`,
+/// `0!\n`), padded to [`LINE`] bytes; `len` 0: no template (reals, wider vectors, long codes).
+#[derive(Clone, Copy)]
+struct Template {
+    line: [u8; LINE],
+    len: u8,
+    width: u8,
+}
+
+/// `00` .. `99`: the two decimal digits of each value below 100.
+const DIGITS2: [[u8; 2]; 100] = {
+    let mut t = [[b'0'; 2]; 100];
+    let mut v = 0;
+    while v < 100 {
+        t[v] = [b'0' + (v / 10) as u8, b'0' + (v % 10) as u8];
+        v += 1;
+    }
+    t
+};
+
+/// Write `v` msb first as ASCII bits into `bits` (its length is the width, 1..=64).
+#[inline(always)]
+fn fill_bits(bits: &mut [u8], v: u64) {
+    let w = bits.len();
+    let mut k = 0;
+    // whole bytes from the lsb end, eight characters at a time
+    while k + 8 <= w {
+        let b = ((v >> k) & 0xFF) as usize;
+        bits[w - k - 8..w - k].copy_from_slice(&BITS8[b]);
+        k += 8;
+    }
+    // the top `w % 8` bits
+    while k < w {
+        bits[w - k - 1] = b'0' + ((v >> k) & 1) as u8;
+        k += 1;
+    }
 }
 
 impl<W: Write> VcdOut<W> {
-    #[inline]
-    fn spill(&mut self) -> Result<()> {
-        if self.buf.len() >= VCD_BUFFER {
-            self.out.write_all(&self.buf)?;
-            self.buf.clear();
+    fn new(out: W, codes: Vec<Box<[u8]>>, widths: Vec<u32>) -> VcdOut<W> {
+        let mut lines = Vec::with_capacity(codes.len());
+        for (code, &w) in codes.iter().zip(&widths) {
+            let text: Vec<u8> = match w {
+                1 => [b"0", &code[..], b"\n"].concat(),
+                2..=64 => [&b"b"[..], &vec![b'0'; w as usize], b" ", code, b"\n"].concat(),
+                _ => Vec::new(),
+            };
+            let mut t = Template { line: [0; LINE], len: 0, width: 0 };
+            if !text.is_empty() && text.len() <= LINE {
+                t.line[..text.len()].copy_from_slice(&text);
+                t.len = text.len() as u8;
+                t.width = w as u8;
+            }
+            lines.push(t);
+        }
+        VcdOut { out, buf: vec![0; VCD_BUFFER + SLACK].into_boxed_slice(), pos: 0, codes, widths, lines }
+    }
+
+    /// Write the buffer out once it holds [`VCD_BUFFER`] bytes; afterwards at least [`SLACK`]
+    /// bytes are free.
+    #[inline(always)]
+    fn room(&mut self) -> Result<()> {
+        if self.pos >= VCD_BUFFER {
+            self.out.write_all(&self.buf[..self.pos])?;
+            self.pos = 0;
         }
         Ok(())
     }
 
-    #[inline]
-    fn decimal(&mut self, mut t: u64) {
-        let mut d = [0u8; 20];
-        let mut k = d.len();
-        loop {
-            k -= 1;
-            d[k] = b'0' + (t % 10) as u8;
-            t /= 10;
-            if t == 0 {
-                break;
-            }
+    /// Append text of any length (the general path).
+    fn put(&mut self, text: &[u8]) -> Result<()> {
+        self.room()?;
+        if self.pos + text.len() <= self.buf.len() {
+            self.buf[self.pos..self.pos + text.len()].copy_from_slice(text);
+            self.pos += text.len();
+        } else {
+            self.out.write_all(&self.buf[..self.pos])?;
+            self.pos = 0;
+            self.out.write_all(text)?;
         }
-        self.buf.extend_from_slice(&d[k..]);
+        Ok(())
     }
 }
 
@@ -847,64 +923,97 @@ impl<W: Write> Emitter for VcdOut<W> {
 
     fn dump_begin(&mut self, t: u64) -> Result<()> {
         self.timestamp(t)?;
-        self.buf.extend_from_slice(b"$dumpvars\n");
-        Ok(())
+        self.put(b"$dumpvars\n")
     }
 
     fn dump_end(&mut self) -> Result<()> {
-        self.buf.extend_from_slice(b"$end\n");
-        self.spill()
+        self.put(b"$end\n")
     }
 
+    /// `#t`: the digits right-aligned in a scratch array, two per division, then one fixed-size
+    /// copy.
     #[inline]
-    fn timestamp(&mut self, t: u64) -> Result<()> {
-        self.spill()?;
-        self.buf.push(b'#');
-        self.decimal(t);
-        self.buf.push(b'\n');
+    fn timestamp(&mut self, mut t: u64) -> Result<()> {
+        self.room()?;
+        let mut d = [0u8; 48];
+        d[23] = b'\n';
+        let mut k = 23;
+        while t >= 100 {
+            k -= 2;
+            d[k..k + 2].copy_from_slice(&DIGITS2[(t % 100) as usize]);
+            t /= 100;
+        }
+        if t >= 10 {
+            k -= 2;
+            d[k..k + 2].copy_from_slice(&DIGITS2[t as usize]);
+        } else {
+            k -= 1;
+            d[k] = b'0' + t as u8;
+        }
+        k -= 1;
+        d[k] = b'#';
+        // 24 bytes from `k`, a fixed-size copy (the bytes after the newline are overwritten by
+        // what follows)
+        let p = self.pos;
+        self.buf[p..p + 24].copy_from_slice(&d[k..k + 24]);
+        self.pos = p + 24 - k;
         Ok(())
     }
 
     #[inline]
     fn value(&mut self, i: usize, v: ValueRef<'_>) -> Result<()> {
-        let width = self.widths[i];
-        match v {
-            ValueRef::Int(v) if width == 1 => self.buf.push(b'0' + (v & 1) as u8),
-            ValueRef::Int(v) => {
-                self.buf.push(b'b');
-                let top = width % 8;
-                for k in (width - top..width).rev() {
-                    self.buf.push(b'0' + ((v >> k) & 1) as u8);
+        if let ValueRef::Int(v) = v {
+            let t = &self.lines[i];
+            if t.len > 0 {
+                // the template line, then the value bits in place (after `b` unless one bit)
+                let (len, width) = (usize::from(t.len), usize::from(t.width));
+                if self.pos >= VCD_BUFFER {
+                    self.out.write_all(&self.buf[..self.pos])?;
+                    self.pos = 0;
                 }
-                let mut k = width - top;
-                while k > 0 {
-                    k -= 8;
-                    self.buf.extend_from_slice(&BITS8[((v >> k) & 0xFF) as usize]);
+                let p = self.pos;
+                let out: &mut [u8; LINE] = (&mut self.buf[p..p + LINE]).try_into().expect("SLACK >= LINE");
+                *out = t.line;
+                if width == 1 {
+                    out[0] = b'0' + (v & 1) as u8;
+                } else {
+                    fill_bits(&mut out[1..1 + width], v);
                 }
-                self.buf.push(b' ');
-            }
-            ValueRef::Bits(bits) if width == 1 => self.buf.extend_from_slice(bits),
-            ValueRef::Bits(bits) => {
-                self.buf.push(b'b');
-                self.buf.extend_from_slice(bits);
-                self.buf.push(b' ');
-            }
-            ValueRef::Real(r) => {
-                self.buf.push(b'r');
-                self.buf.extend_from_slice(format_real(r).as_bytes());
-                self.buf.push(b' ');
+                self.pos = p + len;
+                return Ok(());
             }
         }
-        self.buf.extend_from_slice(&self.codes[i]);
-        self.buf.push(b'\n');
-        Ok(())
+        let width = self.widths[i];
+        let mut line = Vec::with_capacity(width as usize + 16);
+        match v {
+            ValueRef::Int(v) if width == 1 => line.push(b'0' + (v & 1) as u8),
+            ValueRef::Int(v) => {
+                line.push(b'b');
+                line.extend_from_slice(&int_to_bits(v, width));
+                line.push(b' ');
+            }
+            ValueRef::Bits(bits) if width == 1 => line.extend_from_slice(bits),
+            ValueRef::Bits(bits) => {
+                line.push(b'b');
+                line.extend_from_slice(bits);
+                line.push(b' ');
+            }
+            ValueRef::Real(r) => {
+                line.push(b'r');
+                line.extend_from_slice(format_real(r).as_bytes());
+                line.push(b' ');
+            }
+        }
+        line.extend_from_slice(&self.codes[i]);
+        line.push(b'\n');
+        self.put(&line)
     }
 
     fn finish(mut self, closing: Option<u64>) -> Result<W> {
         if let Some(t) = closing {
             self.timestamp(t)?;
         }
-        self.out.write_all(&self.buf)?;
+        self.out.write_all(&self.buf[..self.pos])?;
         self.out.flush()?;
         Ok(self.out)
     }
@@ -929,6 +1038,8 @@ pub struct Frame {
     prev: Vec<u64>,
     /// writer generation after this frame's last dump (`u64::MAX`: never dumped)
     generation: u64,
+    /// positions set in the current [`FrameStep`], one bit each
+    seen: Vec<u64>,
 }
 
 impl Frame {
@@ -940,6 +1051,82 @@ impl Frame {
     /// True for a frame without variables.
     pub fn is_empty(&self) -> bool {
         self.idx.is_empty()
+    }
+}
+
+/// One step of a [`Frame`] whose values are given one by one ([`Writer::frame_step`]).
+pub struct FrameStep<'a, E: Emitter> {
+    w: &'a mut Writer<E>,
+    f: &'a mut Frame,
+    /// A variable of the frame holds a four-state value (a single change), which the frame's
+    /// integer copy cannot hold: compare with the writer's values in this step.
+    slow: bool,
+    current: bool,
+}
+
+impl<E: Emitter> FrameStep<'_, E> {
+    /// True when no variable of the writer changed since this frame's last step (by a single
+    /// change or another frame): the frame's variables hold exactly the values of that step, so
+    /// a caller that kept them may leave out every value that is still the same. False at the
+    /// frame's first step.
+    #[inline]
+    pub fn is_current(&self) -> bool {
+        self.current
+    }
+
+    /// Give the value of the frame's variable at position `k` (the order of
+    /// [`Writer::frame`]'s list) in this step. Only a value that differs from the variable's
+    /// current one is compared with its width and written. Errors: a position outside the frame
+    /// ([`WriteError::FramePosition`]), a position given twice in the step
+    /// ([`WriteError::DoubleChange`]), a changed value wider than the variable
+    /// ([`WriteError::ValueTooWide`]: nothing assigned, and the position may still be given a
+    /// value in this step).
+    #[inline(always)]
+    pub fn set(&mut self, k: usize, v: u64) -> Result<()> {
+        let f = &mut *self.f;
+        let (Some(&prev), Some(seen)) = (f.prev.get(k), f.seen.get_mut(k / 64)) else {
+            return Err(WriteError::FramePosition { position: k, len: f.idx.len() });
+        };
+        let bit = 1u64 << (k % 64);
+        if *seen & bit != 0 {
+            return Err(WriteError::DoubleChange {
+                name: self.w.vars[f.idx[k] as usize].path.clone(),
+                time: self.w.time,
+            });
+        }
+        let same = if self.slow { self.w.cur[f.idx[k] as usize] == Stored::Int(v) } else { v == prev };
+        if same {
+            *seen |= bit;
+            return Ok(());
+        }
+        self.changed(k, v)
+    }
+
+    /// The rarer half of [`FrameStep::set`]: a value that changed.
+    #[inline(never)]
+    fn changed(&mut self, k: usize, v: u64) -> Result<()> {
+        let (f, w) = (&mut *self.f, &mut *self.w);
+        let i = f.idx[k] as usize;
+        if v > f.max[k] {
+            return Err(WriteError::ValueTooWide {
+                name: w.vars[i].path.clone(),
+                value: v,
+                width: 64 - f.max[k].leading_zeros(),
+                max: f.max[k],
+            });
+        }
+        f.seen[k / 64] |= 1 << (k % 64);
+        f.prev[k] = v;
+        match &mut w.cur[i] {
+            Stored::Int(c) => *c = v,
+            c => *c = Stored::Int(v),
+        }
+        w.pending.push(i);
+        w.generation += 1;
+        if !self.slow {
+            f.generation = w.generation;
+        }
+        Ok(())
     }
 }
 
@@ -1175,6 +1362,7 @@ impl<E: Emitter> Writer<E> {
         }
         self.frame_steps.push(0);
         self.frame_overlap.push(overlap);
+        let seen = vec![0; idx.len().div_ceil(64)];
         Ok(Frame {
             owner: self.owner,
             id: f as u32,
@@ -1182,6 +1370,7 @@ impl<E: Emitter> Writer<E> {
             max,
             prev,
             generation: u64::MAX,
+            seen,
         })
     }
 
@@ -1202,33 +1391,10 @@ impl<E: Emitter> Writer<E> {
                 got: values.len(),
             });
         }
-        self.set_time(t)?;
+        self.frame_prologue(frame, t)?;
         let f = frame.id as usize;
         let step = self.step;
-        // Double assignment: another (or the same) overlapping frame already dumped in this step.
-        let ov = self.frame_overlap[f];
-        let mut g = ov;
-        while g != 0 {
-            let k = g.trailing_zeros() as usize;
-            g &= g - 1;
-            if self.frame_steps[k] == step {
-                let i = frame.idx.iter().map(|&i| i as usize).find(|&i| self.var_frames[i] & (1 << k) != 0).unwrap_or(frame.idx[0] as usize);
-                return Err(WriteError::DoubleChange {
-                    name: self.vars[i].path.clone(),
-                    time: self.time,
-                });
-            }
-        }
         let fast = frame.generation == self.generation;
-        if !fast {
-            // Values changed since this frame's last dump: maybe by single changes in this step.
-            if let Some(&i) = frame.idx.iter().find(|&&i| self.assigned[i as usize] == step) {
-                return Err(WriteError::DoubleChange {
-                    name: self.vars[i as usize].path.clone(),
-                    time: self.time,
-                });
-            }
-        }
         let mut changed = false;
         let n = values.len();
         // Chunks of eight: in the fast path a chunk whose values all equal the frame's copy is
@@ -1290,6 +1456,75 @@ impl<E: Emitter> Writer<E> {
         Ok(())
     }
 
+    /// The checks and time advance that start a frame's step (shared by [`Writer::dump_frame`]
+    /// and [`Writer::frame_step`]): the frame is this writer's, time does not go backwards, and
+    /// no variable of the frame was assigned in the step at `t` yet (by an overlapping frame or
+    /// a single change). Assigns nothing on error.
+    #[inline]
+    fn frame_prologue(&mut self, frame: &Frame, t: u64) -> Result<()> {
+        if frame.owner != self.owner || frame.id as usize >= self.frame_steps.len() {
+            return Err(WriteError::UnknownFrame);
+        }
+        self.set_time(t)?;
+        let f = frame.id as usize;
+        let step = self.step;
+        // Double assignment: another (or the same) overlapping frame already dumped in this step.
+        let ov = self.frame_overlap[f];
+        let mut g = ov;
+        while g != 0 {
+            let k = g.trailing_zeros() as usize;
+            g &= g - 1;
+            if self.frame_steps[k] == step {
+                let i = frame.idx.iter().map(|&i| i as usize).find(|&i| self.var_frames[i] & (1 << k) != 0).unwrap_or(frame.idx[0] as usize);
+                return Err(WriteError::DoubleChange {
+                    name: self.vars[i].path.clone(),
+                    time: self.time,
+                });
+            }
+        }
+        if frame.generation != self.generation {
+            // Values changed since this frame's last dump: maybe by single changes in this step.
+            if let Some(&i) = frame.idx.iter().find(|&&i| self.assigned[i as usize] == step) {
+                return Err(WriteError::DoubleChange {
+                    name: self.vars[i as usize].path.clone(),
+                    time: self.time,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Start a step of `frame` at time `t` in which only some of its values are given: the
+    /// sparse form of [`Writer::dump_frame`], for callers that know which of their values may
+    /// have changed (a struct equal to the last step's needs no value at all).
+    ///
+    /// The step assigns every variable of the frame at `t`, exactly as `dump_frame` with the
+    /// values set through [`FrameStep::set`] and, at every other position, the value the
+    /// variable has now. So it has every check of `dump_frame`: here time, foreign frames and
+    /// double assignment by an overlapping frame or a single change; in `set` the position, a
+    /// position set twice in the step, and the width of a value that changed. A single change of
+    /// one of the frame's variables later in the same step is a double assignment.
+    #[inline]
+    pub fn frame_step<'a>(&'a mut self, frame: &'a mut Frame, t: u64) -> Result<FrameStep<'a, E>> {
+        self.frame_prologue(frame, t)?;
+        let current = frame.generation == self.generation;
+        let mut slow = false;
+        if !current {
+            // The frame's copy is stale (single changes, or another frame): take the values now.
+            for (k, &i) in frame.idx.iter().enumerate() {
+                match self.cur[i as usize] {
+                    Stored::Int(c) => frame.prev[k] = c,
+                    // `x`/`z` from a single change: this step compares with the writer's value
+                    _ => slow = true,
+                }
+            }
+            frame.generation = if slow { u64::MAX } else { self.generation };
+        }
+        self.frame_steps[frame.id as usize] = self.step;
+        frame.seen.fill(0);
+        Ok(FrameStep { w: self, f: frame, slow, current })
+    }
+
     /// Flush the last step, write a closing time stamp at the current time
     /// (if it lies in the window and is later than the last one written) and
     /// return the output.
@@ -1340,7 +1575,9 @@ impl<E: Emitter> Writer<E> {
             if !self.dumped {
                 self.write_dump(t)?;
             } else if !self.pending.is_empty() {
-                self.pending.sort_unstable();
+                if self.pending.len() > 1 {
+                    self.pending.sort_unstable();
+                }
                 self.e.timestamp(t)?;
                 for &i in &self.pending {
                     self.e.value(i, self.cur[i].as_ref())?;
