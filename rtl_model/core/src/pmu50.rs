@@ -431,6 +431,7 @@ impl Pmu50 {
 
     /// One rising edge; returns (outputs before the edge, internals of the cycle, outputs after).
     /// Runs the fast kernel's traced edge ([`crate::kernel::step_traced`]).
+    #[inline]
     pub fn step_traced(&mut self, i: &Inputs) -> (Outputs, Internals, Outputs) {
         let before = crate::kernel::ports(&self.k, &self.regs);
         let (after, internals) = crate::kernel::step_traced(&self.k, &mut self.regs, &mut self.sh, i);
