@@ -2,7 +2,7 @@
 //! Verilog twin side by side, on the same stimulus held in memory, in one run, in one table.
 //!
 //!   cargo bench --bench compare -- --dir hdl/build/bench --stim keyoff_turns --stim random_7 \
-//!       [--icarus keyoff_turns] [--seconds 1.0]
+//!       [--icarus keyoff_turns] [--seconds 1.0] [--rounds 15] [--quick | --quick-traced]
 //!
 //! For each stimulus NAME, `DIR/NAME.vec` is a vector file (`pmu50 vectors`): its inputs are the
 //! stimulus, its `// param` lines the parameters. Harnesses, each replaying the stimulus from reset
@@ -14,8 +14,11 @@
 //! | fast kernel | `Pmu50::step`: `rtl_model/core/src/kernel.rs` |
 //! | Verilator -O3 | `DIR/vl_NAME/bench` (hdl/bench/bench.cpp), untraced |
 //! | Verilator -O3 --trace | `DIR/vlt_NAME/bench --trace`: VCD of the twin's counterparts of the Rust tracer's 65 signals (hdl/bench/trace.vlt); the note says how many `$var`s it dumps and names any of the 65 without a counterpart |
-//! | Rust tracer VCD / FST | `Pmu50::step_traced` + `pmu50_waves` writer (one frame per tick) of the model's signals: ports, registers, internals, as `pmu50 run` writes them (without the analog `env` reals, which the twin does not have) |
+//! | Rust tracer VCD / FST | `Pmu50::step_traced` + `pmu50::core_trace::CoreTrace` + the checked `pmu50_waves` writer (one frame step per tick, only the values of the structs that changed) of the model's signals: ports, registers, internals, as `pmu50 run` declares them (without the analog `env` reals, which the twin does not have). Before the table the run checks that this VCD is byte for byte the one of `Writer::dump_frame` with every value of every tick |
 //! | Icarus | `vvp DIR/iv_NAME.vvp +vec=DIR/NAME.vec` (hdl/tb/tb_vectors.v, which compares every output with the file: for scale) |
+//!
+//! `--quick-traced` prints only the Rust tracer's rows, with two parts of its tick: the traced
+//! edge alone (`Pmu50::step_traced`, no writer) and the tracer writing to `std::io::sink`.
 //!
 //! Every harness folds the 23 outputs after every edge into a checksum (packing and mixing as in
 //! hdl/bench/bench.cpp); the run fails (exit 1) unless all checksums of a stimulus agree. Times are
@@ -26,12 +29,13 @@
 //! fast-forward and period skip (`pmu50::sim::run` as `pmu50 run` with trace = none), each in a
 //! child process for its CPU time and peak memory.
 
+use pmu50::core_trace::{CoreTrace, Layout};
 use pmu50::scenario::Scenario;
 use pmu50::sim::{run, SimOptions};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::{Inputs, Internals, Outputs, Params, Pmu50, Pmu50Spec, Regs};
 use pmu50_waves::fst::start_fst;
-use pmu50_waves::writer::{BitType, Emitter, Frame, SigId, VcdBuilder, Writer};
+use pmu50_waves::writer::{BitType, Emitter, SigId, VcdBuilder, Writer};
 use pmu50_waves::{TimeUnit, Timescale};
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -130,15 +134,24 @@ impl Meas {
 /// one least disturbed; all harnesses are measured the same way, so their ratios stay fair.
 const ROUNDS: u32 = 15;
 
+/// [`ROUNDS`], or the `--rounds N` of the command line (1 for profiling under callgrind).
+fn rounds() -> u32 {
+    static R: std::sync::OnceLock<u32> = std::sync::OnceLock::new();
+    *R.get_or_init(|| {
+        let a: Vec<String> = std::env::args().collect();
+        a.iter().position(|x| x == "--rounds").and_then(|k| a.get(k + 1)).and_then(|v| v.parse().ok()).filter(|&n| n > 0).unwrap_or(ROUNDS)
+    })
+}
+
 /// Time `pass` (one replay from reset, returns its checksum) in [`ROUNDS`] rounds of about
 /// `seconds / ROUNDS` CPU seconds each; the fastest round is reported.
 fn repeat(st: &Stim, seconds: f64, mut pass: impl FnMut(&Stim) -> u64) -> Meas {
     let t0 = cpu_now();
     let h = black_box(pass(st));
     let one = (cpu_now() - t0).max(1e-6);
-    let reps = ((seconds / f64::from(ROUNDS) / one).ceil() as u64).clamp(1, 1_000_000);
+    let reps = ((seconds / f64::from(rounds()) / one).ceil() as u64).clamp(1, 1_000_000);
     let mut best: Option<Meas> = None;
-    for _ in 0..ROUNDS {
+    for _ in 0..rounds() {
         let t0 = cpu_now();
         let mut last = 0;
         for _ in 0..reps {
@@ -240,20 +253,74 @@ fn declare(st: &Stim) -> (VcdBuilder, Vec<SigId>, u64) {
 }
 
 /// One traced replay into `w`; returns the checksum.
-fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: &mut Frame, unit_ns: u64) -> u64 {
+#[inline(never)]
+fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, trace: &mut CoreTrace, unit_ns: u64) -> u64 {
     let mut m = Pmu50::new(st.params).expect("legal parameters");
-    let mut vals = [0u64; NSIG];
     let mut h = 0;
     let dt = st.clock_ns / unit_ns;
     for (k, i) in st.inputs.iter().enumerate() {
         let regs = *m.regs();
         let (before, x, after) = m.step_traced(i);
-        frame_values(&mut vals, i, &before, &regs, &x);
-        w.dump_frame(frame, k as u64 * dt, &vals).expect("traced values fit their declarations");
+        trace.dump(w, k as u64 * dt, i, &before, &regs, &x).expect("traced values fit their declarations");
         h = mix(h, &after);
     }
     w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
     h
+}
+
+/// [`pass_traced`] into a VCD writer whose text is thrown away ([`std::io::sink`]).
+#[inline(never)]
+fn pass_sink(st: &Stim) -> u64 {
+    let (b, ids, unit_ns) = declare(st);
+    let mut w = b.start(std::io::sink()).expect("VCD header");
+    let mut f = CoreTrace::new(w.frame(&ids).unwrap(), Layout::ALL).expect("frame of the layout");
+    let h = pass_traced(st, &mut w, &mut f, unit_ns);
+    w.finish().expect("VCD written");
+    h
+}
+
+/// The traced edges of [`pass_traced`] without a writer.
+#[inline(never)]
+fn pass_edge_only(st: &Stim) -> u64 {
+    let mut m = Pmu50::new(st.params).expect("legal parameters");
+    let mut h = 0;
+    for i in &st.inputs {
+        let regs = *m.regs();
+        let (before, x, after) = m.step_traced(i);
+        black_box((&regs, &before, &x));
+        h = mix(h, &after);
+    }
+    h
+}
+
+/// The traced replay with every value of every tick through `Writer::dump_frame` (what
+/// [`CoreTrace`] leaves out must not change the file): the VCD bytes.
+fn vcd_every_value(st: &Stim) -> Vec<u8> {
+    let (b, ids, unit_ns) = declare(st);
+    let mut w = b.start(Vec::new()).expect("VCD header");
+    let mut f = w.frame(&ids).unwrap();
+    let mut m = Pmu50::new(st.params).expect("legal parameters");
+    let mut vals = [0u64; NSIG];
+    let dt = st.clock_ns / unit_ns;
+    for (k, i) in st.inputs.iter().enumerate() {
+        let regs = *m.regs();
+        let (before, x, _) = m.step_traced(i);
+        frame_values(&mut vals, i, &before, &regs, &x);
+        w.dump_frame(&mut f, k as u64 * dt, &vals).expect("traced values fit their declarations");
+    }
+    w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
+    w.finish().expect("VCD written")
+}
+
+/// The VCD [`CoreTrace`] writes (only the changed structs' values) is byte for byte the one of
+/// every value of every tick through `dump_frame`.
+fn check_core_trace(st: &Stim) {
+    let (b, ids, unit_ns) = declare(st);
+    let mut w = b.start(Vec::new()).expect("VCD header");
+    let mut f = CoreTrace::new(w.frame(&ids).unwrap(), Layout::ALL).expect("frame of the layout");
+    pass_traced(st, &mut w, &mut f, unit_ns);
+    let sparse = w.finish().expect("VCD written");
+    assert!(sparse == vcd_every_value(st), "{}: the CoreTrace VCD differs from the dump_frame VCD", st.name);
 }
 
 fn check_frame_order(st: &Stim) {
@@ -272,7 +339,7 @@ fn check_frame_order(st: &Stim) {
 
 /// The fastest of [`ROUNDS`] traced replays (each to a file of its own format).
 fn traced(st: &Stim, dir: &Path, fst: bool) -> Meas {
-    (0..ROUNDS).map(|_| traced_once(st, dir, fst)).max_by(|a, b| a.rate().total_cmp(&b.rate())).expect("ROUNDS > 0")
+    (0..rounds()).map(|_| traced_once(st, dir, fst)).max_by(|a, b| a.rate().total_cmp(&b.rate())).expect("ROUNDS > 0")
 }
 
 fn traced_once(st: &Stim, dir: &Path, fst: bool) -> Meas {
@@ -281,14 +348,14 @@ fn traced_once(st: &Stim, dir: &Path, fst: bool) -> Meas {
     let t0 = cpu_now();
     let h = if fst {
         let mut w = start_fst(b, &path).expect("FST file");
-        let mut f = w.frame(&ids).unwrap();
+        let mut f = CoreTrace::new(w.frame(&ids).unwrap(), Layout::ALL).expect("frame of the layout");
         let h = pass_traced(st, &mut w, &mut f, unit_ns);
         w.finish().expect("FST written");
         h
     } else {
         let file = std::fs::File::create(&path).expect("VCD file");
         let mut w = b.start(file).expect("VCD header");
-        let mut f = w.frame(&ids).unwrap();
+        let mut f = CoreTrace::new(w.frame(&ids).unwrap(), Layout::ALL).expect("frame of the layout");
         let h = pass_traced(st, &mut w, &mut f, unit_ns);
         w.finish().expect("VCD written");
         h
@@ -323,7 +390,7 @@ fn verilator(st: &Stim, dir: &Path, seconds: f64, trace: bool) -> Result<Meas, S
     if trace {
         let vcd = dir.join(format!("verilator_{}.vcd", st.name));
         let mut m: Option<Meas> = None;
-        for _ in 0..ROUNDS {
+        for _ in 0..rounds() {
             let r = external(&bin, &[vec.clone(), "1".into(), "--trace".into(), vcd.display().to_string()])?;
             if m.as_ref().is_none_or(|b| r.rate() > b.rate()) {
                 m = Some(r);
@@ -337,9 +404,9 @@ fn verilator(st: &Stim, dir: &Path, seconds: f64, trace: bool) -> Result<Meas, S
         return Ok(m);
     }
     let one = external(&bin, &[vec.clone(), "1".into()])?;
-    let reps = ((seconds / f64::from(ROUNDS) / one.cpu.max(1e-6)).ceil() as u64).clamp(1, 100_000);
+    let reps = ((seconds / f64::from(rounds()) / one.cpu.max(1e-6)).ceil() as u64).clamp(1, 100_000);
     let mut best: Option<Meas> = None;
-    for _ in 0..ROUNDS {
+    for _ in 0..rounds() {
         let m = external(&bin, &[vec.clone(), reps.to_string()])?;
         if best.as_ref().is_none_or(|b| m.rate() > b.rate()) {
             best = Some(m);
@@ -495,6 +562,11 @@ fn main() {
     if args.iter().any(|a| a == "--quick-traced") {
         // Only the Rust tracer (for tuning it): ticks per CPU-second, VCD and FST.
         for st in &stims {
+            check_core_trace(st);
+            // the parts of a traced tick: the traced edge alone, then with the VCD text thrown away
+            let edge = repeat(st, 0.5, pass_edge_only);
+            let sink = repeat(st, 0.5, pass_sink);
+            println!("{}: traced edge only {}, tracer VCD to io::sink {}", st.name, fmt_rate(edge.rate()), fmt_rate(sink.rate()));
             let v = traced(st, &dir, false);
             let f = traced(st, &dir, true);
             println!("{}: tracer VCD {} FST {} ({}; {}; checksum {:016x})", st.name, fmt_rate(v.rate()), fmt_rate(f.rate()), v.note, f.note, v.checksum.unwrap_or(0));
@@ -523,6 +595,7 @@ fn main() {
     for st in &stims {
         eprintln!("compare: {} ({} ticks)", st.name, st.inputs.len());
         check_frame_order(st);
+        check_core_trace(st);
         table[0].push(Ok(repeat(st, seconds, pass_spec)));
         table[1].push(Ok(repeat(st, seconds, pass_kernel)));
         table[2].push(verilator(st, &dir, seconds, false));
