@@ -14,7 +14,7 @@
 //! | fast kernel | `Pmu50::step`: `rtl_model/core/src/kernel.rs` |
 //! | Verilator -O3 | `DIR/vl_NAME/bench` (hdl/bench/bench.cpp), untraced |
 //! | Verilator -O3 --trace | `DIR/vlt_NAME/bench --trace`: VCD of the twin's counterparts of the Rust tracer's 65 signals (hdl/bench/trace.vlt); the note says how many `$var`s it dumps and names any of the 65 without a counterpart |
-//! | Rust tracer VCD / FST | `Pmu50::step_traced` + `pmu50::core_trace::CoreTrace` + the checked `pmu50_waves` writer (one frame step per tick, only the values of the structs that changed) of the model's signals: ports, registers, internals, as `pmu50 run` declares them (without the analog `env` reals, which the twin does not have). Before the table the run checks that this VCD is byte for byte the one of `Writer::dump_frame` with every value of every tick |
+//! | Rust tracer VCD / FST | `Pmu50::step_traced` + `pmu50_waves` writer (one frame per tick) of the model's signals: ports, registers, internals, as `pmu50 run` writes them (without the analog `env` reals, which the twin does not have) |
 //! | Icarus | `vvp DIR/iv_NAME.vvp +vec=DIR/NAME.vec` (hdl/tb/tb_vectors.v, which compares every output with the file: for scale) |
 //!
 //! `--quick-traced` prints only the Rust tracer's rows, with two parts of its tick: the traced
@@ -29,13 +29,12 @@
 //! fast-forward and period skip (`pmu50::sim::run` as `pmu50 run` with trace = none), each in a
 //! child process for its CPU time and peak memory.
 
-use pmu50::core_trace::{CoreTrace, Layout};
 use pmu50::scenario::Scenario;
 use pmu50::sim::{run, SimOptions};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::{Inputs, Internals, Outputs, Params, Pmu50, Pmu50Spec, Regs};
 use pmu50_waves::fst::start_fst;
-use pmu50_waves::writer::{BitType, Emitter, SigId, VcdBuilder, Writer};
+use pmu50_waves::writer::{BitType, Emitter, Frame, SigId, VcdBuilder, Writer};
 use pmu50_waves::{TimeUnit, Timescale};
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -254,14 +253,16 @@ fn declare(st: &Stim) -> (VcdBuilder, Vec<SigId>, u64) {
 
 /// One traced replay into `w`; returns the checksum.
 #[inline(never)]
-fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, trace: &mut CoreTrace, unit_ns: u64) -> u64 {
+fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: &mut Frame, unit_ns: u64) -> u64 {
     let mut m = Pmu50::new(st.params).expect("legal parameters");
+    let mut vals = [0u64; NSIG];
     let mut h = 0;
     let dt = st.clock_ns / unit_ns;
     for (k, i) in st.inputs.iter().enumerate() {
         let regs = *m.regs();
         let (before, x, after) = m.step_traced(i);
-        trace.dump(w, k as u64 * dt, i, &before, &regs, &x).expect("traced values fit their declarations");
+        frame_values(&mut vals, i, &before, &regs, &x);
+        w.dump_frame(frame, k as u64 * dt, &vals).expect("traced values fit their declarations");
         h = mix(h, &after);
     }
     w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
@@ -273,7 +274,7 @@ fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, trace: &mut CoreTrace, 
 fn pass_sink(st: &Stim) -> u64 {
     let (b, ids, unit_ns) = declare(st);
     let mut w = b.start(std::io::sink()).expect("VCD header");
-    let mut f = CoreTrace::new(w.frame(&ids).unwrap(), Layout::ALL).expect("frame of the layout");
+    let mut f = w.frame(&ids).unwrap();
     let h = pass_traced(st, &mut w, &mut f, unit_ns);
     w.finish().expect("VCD written");
     h
@@ -291,36 +292,6 @@ fn pass_edge_only(st: &Stim) -> u64 {
         h = mix(h, &after);
     }
     h
-}
-
-/// The traced replay with every value of every tick through `Writer::dump_frame` (what
-/// [`CoreTrace`] leaves out must not change the file): the VCD bytes.
-fn vcd_every_value(st: &Stim) -> Vec<u8> {
-    let (b, ids, unit_ns) = declare(st);
-    let mut w = b.start(Vec::new()).expect("VCD header");
-    let mut f = w.frame(&ids).unwrap();
-    let mut m = Pmu50::new(st.params).expect("legal parameters");
-    let mut vals = [0u64; NSIG];
-    let dt = st.clock_ns / unit_ns;
-    for (k, i) in st.inputs.iter().enumerate() {
-        let regs = *m.regs();
-        let (before, x, _) = m.step_traced(i);
-        frame_values(&mut vals, i, &before, &regs, &x);
-        w.dump_frame(&mut f, k as u64 * dt, &vals).expect("traced values fit their declarations");
-    }
-    w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
-    w.finish().expect("VCD written")
-}
-
-/// The VCD [`CoreTrace`] writes (only the changed structs' values) is byte for byte the one of
-/// every value of every tick through `dump_frame`.
-fn check_core_trace(st: &Stim) {
-    let (b, ids, unit_ns) = declare(st);
-    let mut w = b.start(Vec::new()).expect("VCD header");
-    let mut f = CoreTrace::new(w.frame(&ids).unwrap(), Layout::ALL).expect("frame of the layout");
-    pass_traced(st, &mut w, &mut f, unit_ns);
-    let sparse = w.finish().expect("VCD written");
-    assert!(sparse == vcd_every_value(st), "{}: the CoreTrace VCD differs from the dump_frame VCD", st.name);
 }
 
 fn check_frame_order(st: &Stim) {
@@ -348,14 +319,14 @@ fn traced_once(st: &Stim, dir: &Path, fst: bool) -> Meas {
     let t0 = cpu_now();
     let h = if fst {
         let mut w = start_fst(b, &path).expect("FST file");
-        let mut f = CoreTrace::new(w.frame(&ids).unwrap(), Layout::ALL).expect("frame of the layout");
+        let mut f = w.frame(&ids).unwrap();
         let h = pass_traced(st, &mut w, &mut f, unit_ns);
         w.finish().expect("FST written");
         h
     } else {
         let file = std::fs::File::create(&path).expect("VCD file");
         let mut w = b.start(file).expect("VCD header");
-        let mut f = CoreTrace::new(w.frame(&ids).unwrap(), Layout::ALL).expect("frame of the layout");
+        let mut f = w.frame(&ids).unwrap();
         let h = pass_traced(st, &mut w, &mut f, unit_ns);
         w.finish().expect("VCD written");
         h
@@ -562,8 +533,7 @@ fn main() {
     if args.iter().any(|a| a == "--quick-traced") {
         // Only the Rust tracer (for tuning it): ticks per CPU-second, VCD and FST.
         for st in &stims {
-            check_core_trace(st);
-            // the parts of a traced tick: the traced edge alone, then with the VCD text thrown away
+                // the parts of a traced tick: the traced edge alone, then with the VCD text thrown away
             let edge = repeat(st, 0.5, pass_edge_only);
             let sink = repeat(st, 0.5, pass_sink);
             println!("{}: traced edge only {}, tracer VCD to io::sink {}", st.name, fmt_rate(edge.rate()), fmt_rate(sink.rate()));
@@ -595,7 +565,6 @@ fn main() {
     for st in &stims {
         eprintln!("compare: {} ({} ticks)", st.name, st.inputs.len());
         check_frame_order(st);
-        check_core_trace(st);
         table[0].push(Ok(repeat(st, seconds, pass_spec)));
         table[1].push(Ok(repeat(st, seconds, pass_kernel)));
         table[2].push(verilator(st, &dir, seconds, false));

@@ -6,7 +6,6 @@
 
 pub mod analysis;
 pub mod changelog;
-pub mod core_trace;
 pub mod fsout;
 pub mod fuzzing;
 pub mod markers;
