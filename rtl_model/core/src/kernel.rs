@@ -533,18 +533,35 @@ pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
     step_with::<false>(c, r, sh, i).0
 }
 
+/// The registers a narrow edge may write (see [`step_traced_wide`]): the synchronizer
+/// `action_switching.sync`, the timer `timing_generator.tmr`, `sensor_power_determination.sr`,
+/// `register_file.rdata` and `count_diagnosis.diag`. Every other register keeps its value.
+pub const NARROW_WRITES: [&str; 5] = ["action_switching.sync", "timing_generator.tmr", "sensor_power_determination.sr", "register_file.rdata", "count_diagnosis.diag"];
+
 /// [`step`] that also returns the internals of the cycle (the traced path of
 /// [`crate::Pmu50::step_traced`]: waveforms, the C ABI's lockstep): (outputs after the edge,
 /// internals). The same inline common edge; a bus write or key edge goes through [`edge`].
 #[inline(always)]
 pub fn step_traced(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> (Outputs, Internals) {
+    let (o, x, _) = step_with::<true>(c, r, sh, i);
+    (o, x)
+}
+
+/// [`step_traced`] that also says whether the edge was *wide*: a bus write or a key edge (the
+/// out-of-line [`edge`]) or a sampling strobe (`smp`), which may write any register. A narrow
+/// edge (false) writes only the registers of [`NARROW_WRITES`], leaves `sig` (and so every
+/// output that is `sig`) unchanged, and has all internals false (`Internals::default()`).
+/// Tested on any register state and inputs (`rtl_model/core/tests/kernel_equivalence.rs`). A
+/// tracer uses it to compare only what a narrow edge can change.
+#[inline(always)]
+pub fn step_traced_wide(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> (Outputs, Internals, bool) {
     step_with::<true>(c, r, sh, i)
 }
 
 /// The edge of [`step`] and [`step_traced`]; with `TRACED` false the internals are not built
 /// (the compiler drops them).
 #[inline(always)]
-fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> (Outputs, Internals) {
+fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> (Outputs, Internals, bool) {
     // 1. Synchronizer (56a).
     let sync = r.action_switching.sync;
     let sig = sig_of(c, sync);
@@ -556,10 +573,10 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
         // in the caller every tick).
         if TRACED {
             let x = edge_rare_traced(c, r, sh, i);
-            return (ports(c, r), x);
+            return (ports(c, r), x, true);
         }
         edge_rare(c, r, sh, i);
-        return (ports(c, r), Internals::default());
+        return (ports(c, r), Internals::default(), true);
     }
     // 3. Timing generator decode of the pre-edge registers (parameters before the edge, from
     // the shadow).
@@ -633,7 +650,7 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
         bus_rdata: rdata,
         bus_err: r.register_file.bus_err,
     };
-    (o, x)
+    (o, x, smp)
 }
 
 /// The edges [`step`] does not take inline: a bus write or a key edge.
