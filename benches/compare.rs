@@ -30,6 +30,7 @@
 //! child process for its CPU time and peak memory.
 
 use pmu50::scenario::Scenario;
+use pmu50::tracer::CoreTracer;
 use pmu50::sim::{run, SimOptions};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::{Inputs, Internals, Outputs, Params, Pmu50, Pmu50Spec, Regs};
@@ -251,22 +252,48 @@ fn declare(st: &Stim) -> (VcdBuilder, Vec<SigId>, u64) {
     (b, ids, unit_ns)
 }
 
-/// One traced replay into `w`; returns the checksum.
+/// One traced replay into `w` through [`CoreTracer`]; returns the checksum.
 #[inline(never)]
-fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: &mut Frame, unit_ns: u64) -> u64 {
+fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: Frame, unit_ns: u64) -> u64 {
     let mut m = Pmu50::new(st.params).expect("legal parameters");
-    let mut vals = [0u64; NSIG];
+    let mut tr = CoreTracer::new(frame, &m).expect("a frame of the 65 signals");
     let mut h = 0;
     let dt = st.clock_ns / unit_ns;
     for (k, i) in st.inputs.iter().enumerate() {
-        let regs = *m.regs();
-        let (before, x, after) = m.step_traced(i);
-        frame_values(&mut vals, i, &before, &regs, &x);
-        w.dump_frame(frame, k as u64 * dt, &vals).expect("traced values fit their declarations");
+        let after = tr.step(w, &mut m, k as u64 * dt, i).expect("traced values fit their declarations");
         h = mix(h, &after);
     }
     w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
     h
+}
+
+/// The VCD of every value of every tick through `Writer::dump_frame`, which [`CoreTracer`] must
+/// write byte for byte.
+fn vcd_every_value(st: &Stim) -> Vec<u8> {
+    let (b, ids, unit_ns) = declare(st);
+    let mut w = b.start(Vec::new()).expect("VCD header");
+    let mut f = w.frame(&ids).unwrap();
+    let mut m = Pmu50::new(st.params).expect("legal parameters");
+    let mut vals = [0u64; NSIG];
+    let dt = st.clock_ns / unit_ns;
+    for (k, i) in st.inputs.iter().enumerate() {
+        let regs = *m.regs();
+        let (before, x, _) = m.step_traced(i);
+        frame_values(&mut vals, i, &before, &regs, &x);
+        w.dump_frame(&mut f, k as u64 * dt, &vals).expect("traced values fit their declarations");
+    }
+    w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
+    w.finish().expect("VCD written")
+}
+
+/// The tracer's VCD is the one of every value through `dump_frame`.
+fn check_tracer(st: &Stim) {
+    let (b, ids, unit_ns) = declare(st);
+    let mut w = b.start(Vec::new()).expect("VCD header");
+    let f = w.frame(&ids).unwrap();
+    pass_traced(st, &mut w, f, unit_ns);
+    let vcd = w.finish().expect("VCD written");
+    assert!(vcd == vcd_every_value(st), "{}: the CoreTracer VCD differs from dump_frame's with every value", st.name);
 }
 
 /// [`pass_traced`] into a VCD writer whose text is thrown away ([`std::io::sink`]).
@@ -274,8 +301,8 @@ fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: &mut Frame, unit
 fn pass_sink(st: &Stim) -> u64 {
     let (b, ids, unit_ns) = declare(st);
     let mut w = b.start(std::io::sink()).expect("VCD header");
-    let mut f = w.frame(&ids).unwrap();
-    let h = pass_traced(st, &mut w, &mut f, unit_ns);
+    let f = w.frame(&ids).unwrap();
+    let h = pass_traced(st, &mut w, f, unit_ns);
     w.finish().expect("VCD written");
     h
 }
@@ -319,15 +346,15 @@ fn traced_once(st: &Stim, dir: &Path, fst: bool) -> Meas {
     let t0 = cpu_now();
     let h = if fst {
         let mut w = start_fst(b, &path).expect("FST file");
-        let mut f = w.frame(&ids).unwrap();
-        let h = pass_traced(st, &mut w, &mut f, unit_ns);
+        let f = w.frame(&ids).unwrap();
+        let h = pass_traced(st, &mut w, f, unit_ns);
         w.finish().expect("FST written");
         h
     } else {
         let file = std::fs::File::create(&path).expect("VCD file");
         let mut w = b.start(file).expect("VCD header");
-        let mut f = w.frame(&ids).unwrap();
-        let h = pass_traced(st, &mut w, &mut f, unit_ns);
+        let f = w.frame(&ids).unwrap();
+        let h = pass_traced(st, &mut w, f, unit_ns);
         w.finish().expect("VCD written");
         h
     };
@@ -565,6 +592,7 @@ fn main() {
     for st in &stims {
         eprintln!("compare: {} ({} ticks)", st.name, st.inputs.len());
         check_frame_order(st);
+        check_tracer(st);
         table[0].push(Ok(repeat(st, seconds, pass_spec)));
         table[1].push(Ok(repeat(st, seconds, pass_kernel)));
         table[2].push(verilator(st, &dir, seconds, false));

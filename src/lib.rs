@@ -15,5 +15,6 @@ pub mod random;
 pub mod refusals;
 pub mod scenario;
 pub mod sim;
+pub mod tracer;
 pub mod vectors;
 pub mod waveform;

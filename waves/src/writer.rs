@@ -903,6 +903,36 @@ impl<W: Write> VcdOut<W> {
         Ok(())
     }
 
+    /// A change without a template line: four-state bits, reals, vectors wider than 64 bits.
+    #[cold]
+    #[inline(never)]
+    fn value_general(&mut self, i: usize, v: ValueRef<'_>) -> Result<()> {
+        let width = self.widths[i];
+        let mut line = Vec::with_capacity(width as usize + 16);
+        match v {
+            ValueRef::Int(v) if width == 1 => line.push(b'0' + (v & 1) as u8),
+            ValueRef::Int(v) => {
+                line.push(b'b');
+                line.extend_from_slice(&int_to_bits(v, width));
+                line.push(b' ');
+            }
+            ValueRef::Bits(bits) if width == 1 => line.extend_from_slice(bits),
+            ValueRef::Bits(bits) => {
+                line.push(b'b');
+                line.extend_from_slice(bits);
+                line.push(b' ');
+            }
+            ValueRef::Real(r) => {
+                line.push(b'r');
+                line.extend_from_slice(format_real(r).as_bytes());
+                line.push(b' ');
+            }
+        }
+        line.extend_from_slice(&self.codes[i]);
+        line.push(b'\n');
+        self.put(&line)
+    }
+
     /// Append text of any length (the general path).
     fn put(&mut self, text: &[u8]) -> Result<()> {
         self.room()?;
@@ -983,30 +1013,7 @@ impl<W: Write> Emitter for VcdOut<W> {
                 return Ok(());
             }
         }
-        let width = self.widths[i];
-        let mut line = Vec::with_capacity(width as usize + 16);
-        match v {
-            ValueRef::Int(v) if width == 1 => line.push(b'0' + (v & 1) as u8),
-            ValueRef::Int(v) => {
-                line.push(b'b');
-                line.extend_from_slice(&int_to_bits(v, width));
-                line.push(b' ');
-            }
-            ValueRef::Bits(bits) if width == 1 => line.extend_from_slice(bits),
-            ValueRef::Bits(bits) => {
-                line.push(b'b');
-                line.extend_from_slice(bits);
-                line.push(b' ');
-            }
-            ValueRef::Real(r) => {
-                line.push(b'r');
-                line.extend_from_slice(format_real(r).as_bytes());
-                line.push(b' ');
-            }
-        }
-        line.extend_from_slice(&self.codes[i]);
-        line.push(b'\n');
-        self.put(&line)
+        self.value_general(i, v)
     }
 
     fn finish(mut self, closing: Option<u64>) -> Result<W> {

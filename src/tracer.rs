@@ -1,0 +1,263 @@
+//! The core's 65 signals into a checked waveform frame, one edge per step, comparing only what
+//! the edge can have changed.
+//!
+//! A traced tick of the core is its inputs, its outputs and registers before the edge, and the
+//! internals of the edge (docs/signals.md; the frame order below). Comparing all 65 values with
+//! the last tick's costs as much as the edge itself, and most edges change almost nothing: the
+//! kernel says which. A *narrow* edge ([`pmu50_core::kernel::step_traced_wide`]: no bus write,
+//! no key edge, no sampling strobe) writes only `sync`, `tmr`, `sr`, `rdata` and `diag`, keeps
+//! `sig`, and has all internals false. So after a narrow edge [`CoreTracer`] compares only those
+//! registers, the outputs decoded from them (`vs2_en`, `st`, `sr`, `ps_win`, `smp`, `diag`,
+//! `bus_rdata`) and the inputs; after a wide edge, every value. This is how Verilator's tracer
+//! skips the signals of logic that was not evaluated (its activity flags); here the flag comes
+//! from the kernel and its contract is tested on any register state
+//! (`rtl_model/core/tests/kernel_equivalence.rs`, `narrow_edges_write_only_their_registers`).
+//!
+//! The writer ([`pmu50_waves::writer::FrameStep`]) keeps every check (time order, double
+//! assignment, the width of every value that changed, positions) and writes only the values that
+//! changed, so the file is byte for byte the one [`Writer::dump_frame`] writes from every value
+//! of every tick: `tests/tracer.rs` compares the two on random runs.
+//!
+//! Frame order (positions of the `ids` given to [`Writer::frame`]): the 7 inputs
+//! (`Inputs::values`), the 23 outputs (`Outputs::values`), the 26 registers (`Regs::values`), the
+//! 9 internals (`Internals::values`).
+
+use pmu50_core::pmu50::{Inputs, Internals, Outputs, Regs};
+use pmu50_core::Pmu50;
+use pmu50_waves::writer::{Emitter, Frame, FrameStep, WriteError, Writer};
+
+/// Number of signals in a [`CoreTracer`]'s frame, and where each group starts.
+pub const N_SIGNALS: usize = 65;
+const INPUTS: usize = 0;
+const OUTPUTS: usize = 7;
+const REGISTERS: usize = 30;
+const INTERNALS: usize = 56;
+
+/// A frame of another length than [`N_SIGNALS`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("a core tracer needs a frame of {N_SIGNALS} variables (inputs, outputs, registers, internals in declaration order); this frame has {got}")]
+pub struct FrameSizeError {
+    pub got: usize,
+}
+
+/// Traces every edge of one [`Pmu50`] into a frame of its 65 signals (see the module
+/// documentation). It must see every edge of the core: an edge taken elsewhere (or a reset, a
+/// fast-forward) is noticed by the core's tick count, and the next step then gives every value.
+pub struct CoreTracer {
+    frame: Frame,
+    h: Held,
+}
+
+/// What a [`CoreTracer`] keeps between steps.
+struct Held {
+    /// The values the frame holds (when `valid`): inputs, outputs, registers, internals.
+    last_i: Inputs,
+    last_o: Outputs,
+    last_r: Regs,
+    last_x: Internals,
+    /// `last_x` is all false.
+    x_quiet: bool,
+    /// The outputs after the last edge, i.e. before the next one (the core's `peek`).
+    o: Outputs,
+    /// The last edge was wide: the next step compares every register and output.
+    wide: bool,
+    /// The core's tick count after the last step.
+    tick: u64,
+    /// The last step was complete (a failed step leaves some values of its tick assigned).
+    valid: bool,
+}
+
+impl CoreTracer {
+    /// Trace the core `m` into `frame`, declared with [`Writer::frame`] from the 65 signals in
+    /// the order of the module documentation.
+    pub fn new(frame: Frame, m: &Pmu50) -> Result<CoreTracer, FrameSizeError> {
+        if frame.len() != N_SIGNALS {
+            return Err(FrameSizeError { got: frame.len() });
+        }
+        let (r, o) = (*m.regs(), m.peek());
+        Ok(CoreTracer { frame, h: Held { last_i: Inputs::default(), last_o: o, last_r: r, last_x: Internals::default(), x_quiet: true, o, wide: true, tick: m.tick(), valid: false } })
+    }
+
+    /// The frame (for other dumps of its variables).
+    pub fn frame_mut(&mut self) -> &mut Frame {
+        &mut self.frame
+    }
+
+    /// One rising edge of `m` with inputs `i`, traced at time `t` (the inputs, the outputs and
+    /// registers before the edge, its internals); returns the outputs after the edge. The file
+    /// is the one [`Writer::dump_frame`] writes with every value, with the same checks. When the
+    /// step cannot start (time backwards, a variable of the frame already assigned at `t`, a
+    /// frame of another writer) the edge is not taken; once it has started the edge is always
+    /// taken, and a value that does not fit its variable is reported after it (the values
+    /// before it are assigned, and the next step gives every value again).
+    #[inline]
+    pub fn step<E: Emitter>(&mut self, w: &mut Writer<E>, m: &mut Pmu50, t: u64, i: &Inputs) -> Result<Outputs, WriteError> {
+        let mut s = w.frame_step(&mut self.frame, t)?;
+        let h = &mut self.h;
+        let same_core = m.tick() == h.tick;
+        if !same_core {
+            h.o = m.peek();
+        }
+        // Every value at the first step, after other writes to the frame's variables, after an
+        // edge the tracer did not see, and after a failed step.
+        let full = !(h.valid && same_core && s.is_current());
+        h.valid = false;
+        let before = h.before_edge(&mut s, m.regs(), i, full);
+        let (x, after, wide) = m.step_traced_wide(i);
+        h.o = after;
+        h.wide = wide;
+        h.tick = m.tick();
+        before?;
+        if full {
+            h.x_quiet = x == Internals::default();
+            h.last_x = x;
+            all_internals(&mut s, &x)?;
+        } else if wide || !h.x_quiet {
+            h.x_quiet = x == Internals::default();
+            diff_internals(&mut s, &x, &mut h.last_x)?;
+        }
+        h.valid = true;
+        Ok(after)
+    }
+}
+
+impl Held {
+    /// The inputs, outputs and registers of the step (before the edge).
+    #[inline(always)]
+    fn before_edge<E: Emitter>(&mut self, s: &mut FrameStep<'_, E>, r: &Regs, i: &Inputs, full: bool) -> Result<(), WriteError> {
+        if full {
+            self.last_i = *i;
+            self.last_o = self.o;
+            self.last_r = *r;
+            all_inputs(s, i)?;
+            all_outputs(s, &self.o)?;
+            return all_registers(s, r);
+        }
+        if self.last_i != *i {
+            diff_inputs(s, i, &mut self.last_i)?;
+        }
+        let tmr = r.timing_generator.tmr;
+        if tmr != self.last_r.timing_generator.tmr {
+            self.last_r.timing_generator.tmr = tmr;
+            s.set(REGISTERS + 13, u64::from(tmr))?;
+        }
+        if self.wide {
+            diff_outputs(s, &self.o, &mut self.last_o)?;
+            diff_registers(s, r, &mut self.last_r)
+        } else {
+            narrow_outputs(s, &self.o, &mut self.last_o)?;
+            narrow_registers(s, r, &mut self.last_r)
+        }
+    }
+}
+
+/// A traced value as the frame's integer.
+trait Value: Copy + PartialEq {
+    fn value(self) -> u64;
+}
+
+impl Value for bool {
+    #[inline(always)]
+    fn value(self) -> u64 {
+        u64::from(self)
+    }
+}
+
+impl Value for u8 {
+    #[inline(always)]
+    fn value(self) -> u64 {
+        u64::from(self)
+    }
+}
+
+impl Value for u16 {
+    #[inline(always)]
+    fn value(self) -> u64 {
+        u64::from(self)
+    }
+}
+
+impl Value for pmu50_core::drive_interval_changing_56b::Fig17 {
+    #[inline(always)]
+    fn value(self) -> u64 {
+        self as u64
+    }
+}
+
+impl Value for pmu50_core::drive_interval_changing_56b::Fig18 {
+    #[inline(always)]
+    fn value(self) -> u64 {
+        self as u64
+    }
+}
+
+/// Functions over one group's fields at positions `base + k`, the code written out per field:
+/// `all` sets every field; `diff` compares each with the held value, sets the ones that differ
+/// and updates the held value.
+macro_rules! group {
+    ($all:ident, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
+        #[inline(never)]
+        fn $all<E: Emitter>(s: &mut FrameStep<'_, E>, cur: &$t) -> Result<(), WriteError> {
+            $( s.set($base + $k, Value::value(cur.$($f).+))?; )*
+            Ok(())
+        }
+
+        #[inline(never)]
+        fn $diff<E: Emitter>(s: &mut FrameStep<'_, E>, cur: &$t, held: &mut $t) -> Result<(), WriteError> {
+            $( if cur.$($f).+ != held.$($f).+ {
+                s.set($base + $k, Value::value(cur.$($f).+))?;
+                held.$($f).+ = cur.$($f).+;
+            } )*
+            Ok(())
+        }
+    };
+}
+
+/// [`group!`]'s `diff` alone, inlined: the few fields a narrow edge can change.
+macro_rules! narrow {
+    ($diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
+        #[inline(always)]
+        fn $diff<E: Emitter>(s: &mut FrameStep<'_, E>, cur: &$t, held: &mut $t) -> Result<(), WriteError> {
+            $( if cur.$($f).+ != held.$($f).+ {
+                s.set($base + $k, Value::value(cur.$($f).+))?;
+                held.$($f).+ = cur.$($f).+;
+            } )*
+            Ok(())
+        }
+    };
+}
+
+group!(all_inputs, diff_inputs, Inputs, INPUTS, [0: ig, 1: vs2_ok, 2: cmp_s, 3: cmp_c, 4: bus_we, 5: bus_addr, 6: bus_wdata]);
+
+group!(all_outputs, diff_outputs, Outputs, OUTPUTS, [
+    0: sig, 1: vr_hi, 2: vm_en, 3: vs1_en, 4: vs2_en, 5: vp_en, 6: rail_hi, 7: st, 8: sr, 9: ps_win, 10: smp, 11: cs, 12: cc,
+    13: cnt_s, 14: cnt_c, 15: cnt_r, 16: si, 17: hist_s, 18: hist_c, 19: diag, 20: quadrant_skip, 21: bus_rdata, 22: bus_err,
+]);
+
+// The outputs a narrow edge can change: the timer's decode, `sr`, `diag`, the read data.
+narrow!(narrow_outputs, Outputs, OUTPUTS, [4: vs2_en, 7: st, 8: sr, 9: ps_win, 10: smp, 19: diag, 21: bus_rdata]);
+
+// Every register in the order of `Regs::values`; the timer (13) only in `all_registers`, the
+// step compares it on its own (it changes at most edges).
+group!(all_registers_but_tmr, diff_registers, Regs, REGISTERS, [
+    0: action_switching.sync,
+    1: register_file.adaptive, 2: register_file.pw, 3: register_file.pi, 4: register_file.ps, 5: register_file.si_max,
+    6: register_file.si_min, 7: register_file.t1, 8: register_file.t2, 9: register_file.cth, 10: register_file.smp_on,
+    11: register_file.bus_err, 12: register_file.rdata,
+    14: sensor_power_determination.sr,
+    15: comparator_latch.cs, 16: comparator_latch.cc, 17: comparator_latch.vld,
+    18: updown_counter.cnt_s, 19: updown_counter.cnt_c, 20: updown_counter.quadrant_skip,
+    21: drive_interval.si, 22: drive_interval.hist_s, 23: drive_interval.hist_c, 24: drive_interval.cnt_r,
+    25: count_diagnosis.diag,
+]);
+
+// The registers a narrow edge writes (`kernel::NARROW_WRITES`) but the timer.
+narrow!(narrow_registers, Regs, REGISTERS, [0: action_switching.sync, 12: register_file.rdata, 14: sensor_power_determination.sr, 25: count_diagnosis.diag]);
+
+group!(all_internals, diff_internals, Internals, INTERNALS, [0: kon, 1: koff, 2: upd, 3: first, 4: chg_s, 5: chg_c, 6: skip_clr, 7: fig17, 8: fig18]);
+
+#[inline(never)]
+fn all_registers<E: Emitter>(s: &mut FrameStep<'_, E>, r: &Regs) -> Result<(), WriteError> {
+    all_registers_but_tmr(s, r)?;
+    s.set(REGISTERS + 13, u64::from(r.timing_generator.tmr))
+}
