@@ -261,7 +261,7 @@ fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: Frame, unit_ns: 
     let dt = st.clock_ns / unit_ns;
     for (k, i) in st.inputs.iter().enumerate() {
         let after = tr.step(w, &mut m, k as u64 * dt, i).expect("traced values fit their declarations");
-        h = mix(h, &after);
+        h = mix(h, after);
     }
     w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
     h
@@ -561,8 +561,8 @@ fn main() {
         // Only the Rust tracer (for tuning it): ticks per CPU-second, VCD and FST.
         for st in &stims {
                 // the parts of a traced tick: the traced edge alone, then with the VCD text thrown away
-            let edge = repeat(st, 0.5, pass_edge_only);
-            let sink = repeat(st, 0.5, pass_sink);
+            let edge = repeat(st, seconds / 2.0, pass_edge_only);
+            let sink = repeat(st, seconds / 2.0, pass_sink);
             println!("{}: traced edge only {}, tracer VCD to io::sink {}", st.name, fmt_rate(edge.rate()), fmt_rate(sink.rate()));
             let v = traced(st, &dir, false);
             let f = traced(st, &dir, true);

@@ -91,7 +91,7 @@ impl CoreTracer {
     /// taken, and a value that does not fit its variable is reported after it (the values
     /// before it are assigned, and the next step gives every value again).
     #[inline]
-    pub fn step<E: Emitter>(&mut self, w: &mut Writer<E>, m: &mut Pmu50, t: u64, i: &Inputs) -> Result<Outputs, WriteError> {
+    pub fn step<E: Emitter>(&mut self, w: &mut Writer<E>, m: &mut Pmu50, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
         let mut s = w.frame_step(&mut self.frame, t)?;
         let h = &mut self.h;
         let same_core = m.tick() == h.tick;
@@ -104,7 +104,19 @@ impl CoreTracer {
         h.valid = false;
         let before = h.before_edge(&mut s, m.regs(), i, full);
         let (x, after, wide) = m.step_traced_wide(i);
-        h.o = after;
+        if wide {
+            h.o = after;
+        } else {
+            // a narrow edge changes only these outputs (the others are `sig` or decoded from
+            // registers it does not write)
+            h.o.vs2_en = after.vs2_en;
+            h.o.st = after.st;
+            h.o.sr = after.sr;
+            h.o.ps_win = after.ps_win;
+            h.o.smp = after.smp;
+            h.o.diag = after.diag;
+            h.o.bus_rdata = after.bus_rdata;
+        }
         h.wide = wide;
         h.tick = m.tick();
         before?;
@@ -117,7 +129,7 @@ impl CoreTracer {
             diff_internals(&mut s, &x, &mut h.last_x)?;
         }
         h.valid = true;
-        Ok(after)
+        Ok(&h.o)
     }
 }
 
@@ -136,11 +148,7 @@ impl Held {
         if self.last_i != *i {
             diff_inputs(s, i, &mut self.last_i)?;
         }
-        let tmr = r.timing_generator.tmr;
-        if tmr != self.last_r.timing_generator.tmr {
-            self.last_r.timing_generator.tmr = tmr;
-            s.set(REGISTERS + 13, u64::from(tmr))?;
-        }
+        // the groups in the frame's order, so the writer's list of changes stays sorted
         if self.wide {
             diff_outputs(s, &self.o, &mut self.last_o)?;
             diff_registers(s, r, &mut self.last_r)
@@ -237,13 +245,13 @@ group!(all_outputs, diff_outputs, Outputs, OUTPUTS, [
 // The outputs a narrow edge can change: the timer's decode, `sr`, `diag`, the read data.
 narrow!(narrow_outputs, Outputs, OUTPUTS, [4: vs2_en, 7: st, 8: sr, 9: ps_win, 10: smp, 19: diag, 21: bus_rdata]);
 
-// Every register in the order of `Regs::values`; the timer (13) only in `all_registers`, the
-// step compares it on its own (it changes at most edges).
-group!(all_registers_but_tmr, diff_registers, Regs, REGISTERS, [
+// Every register in the order of `Regs::values`.
+group!(all_registers, diff_registers, Regs, REGISTERS, [
     0: action_switching.sync,
     1: register_file.adaptive, 2: register_file.pw, 3: register_file.pi, 4: register_file.ps, 5: register_file.si_max,
     6: register_file.si_min, 7: register_file.t1, 8: register_file.t2, 9: register_file.cth, 10: register_file.smp_on,
     11: register_file.bus_err, 12: register_file.rdata,
+    13: timing_generator.tmr,
     14: sensor_power_determination.sr,
     15: comparator_latch.cs, 16: comparator_latch.cc, 17: comparator_latch.vld,
     18: updown_counter.cnt_s, 19: updown_counter.cnt_c, 20: updown_counter.quadrant_skip,
@@ -251,13 +259,8 @@ group!(all_registers_but_tmr, diff_registers, Regs, REGISTERS, [
     25: count_diagnosis.diag,
 ]);
 
-// The registers a narrow edge writes (`kernel::NARROW_WRITES`) but the timer.
-narrow!(narrow_registers, Regs, REGISTERS, [0: action_switching.sync, 12: register_file.rdata, 14: sensor_power_determination.sr, 25: count_diagnosis.diag]);
+// The registers a narrow edge writes (`kernel::NARROW_WRITES`).
+narrow!(narrow_registers, Regs, REGISTERS, [0: action_switching.sync, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr, 25: count_diagnosis.diag]);
 
 group!(all_internals, diff_internals, Internals, INTERNALS, [0: kon, 1: koff, 2: upd, 3: first, 4: chg_s, 5: chg_c, 6: skip_clr, 7: fig17, 8: fig18]);
 
-#[inline(never)]
-fn all_registers<E: Emitter>(s: &mut FrameStep<'_, E>, r: &Regs) -> Result<(), WriteError> {
-    all_registers_but_tmr(s, r)?;
-    s.set(REGISTERS + 13, u64::from(r.timing_generator.tmr))
-}

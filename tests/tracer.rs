@@ -66,7 +66,7 @@ fn both(p: Params, run: &[(Inputs, Between)]) -> (String, String) {
         let (before, x, after2) = m2.step_traced(i);
         w2.dump_frame(&mut f2, t, &values(&m2, i, &x, &before, &r)).unwrap();
         let after1 = tr.step(&mut w1, &mut m1, t, i).unwrap();
-        assert_eq!(after1, after2);
+        assert_eq!(*after1, after2);
         t += 2;
         match between {
             Between::Nothing => {}

@@ -661,6 +661,7 @@ impl VcdBuilder {
             assigned: vec![0; n],
             var_frames: vec![0; n],
             pending: Vec::new(),
+            pending_sorted: true,
             time: 0,
             step: 1,
             window: self.window,
@@ -832,6 +833,10 @@ pub struct VcdOut<W: Write> {
     widths: Vec<u32>,
     /// Per variable, the template of its two-state change line.
     lines: Vec<Template>,
+    /// The time stamp line being written, `#digits\n`, right-aligned: `stamp[stamp_at..24]`
+    /// (the rest is room for a fixed-size copy).
+    stamp: [u8; 48],
+    stamp_at: usize,
 }
 
 /// The change line of a variable of at most 64 bits with the value bits `0` (`b0000 !\n`,
@@ -889,7 +894,7 @@ impl<W: Write> VcdOut<W> {
             }
             lines.push(t);
         }
-        VcdOut { out, buf: vec![0; VCD_BUFFER + SLACK].into_boxed_slice(), pos: 0, codes, widths, lines }
+        VcdOut { out, buf: vec![0; VCD_BUFFER + SLACK].into_boxed_slice(), pos: 0, codes, widths, lines, stamp: [0; 48], stamp_at: 24 }
     }
 
     /// Write the buffer out once it holds [`VCD_BUFFER`] bytes; afterwards at least [`SLACK`]
@@ -901,6 +906,28 @@ impl<W: Write> VcdOut<W> {
             self.pos = 0;
         }
         Ok(())
+    }
+
+    /// `stamp` := `#t\n`, every digit computed, two per division.
+    fn stamp_new(&mut self, mut t: u64) {
+        let d = &mut self.stamp;
+        d[23] = b'\n';
+        let mut k = 23;
+        while t >= 100 {
+            k -= 2;
+            d[k..k + 2].copy_from_slice(&DIGITS2[(t % 100) as usize]);
+            t /= 100;
+        }
+        if t >= 10 {
+            k -= 2;
+            d[k..k + 2].copy_from_slice(&DIGITS2[t as usize]);
+        } else {
+            k -= 1;
+            d[k] = b'0' + t as u8;
+        }
+        k -= 1;
+        d[k] = b'#';
+        self.stamp_at = k;
     }
 
     /// A change without a template line: four-state bits, reals, vectors wider than 64 bits.
@@ -960,32 +987,15 @@ impl<W: Write> Emitter for VcdOut<W> {
         self.put(b"$end\n")
     }
 
-    /// `#t`: the digits right-aligned in a scratch array, two per division, then one fixed-size
-    /// copy.
+    /// `#t`: the digits right-aligned in a scratch array, two per division, then one
+    /// fixed-size copy.
     #[inline]
-    fn timestamp(&mut self, mut t: u64) -> Result<()> {
+    fn timestamp(&mut self, t: u64) -> Result<()> {
         self.room()?;
-        let mut d = [0u8; 48];
-        d[23] = b'\n';
-        let mut k = 23;
-        while t >= 100 {
-            k -= 2;
-            d[k..k + 2].copy_from_slice(&DIGITS2[(t % 100) as usize]);
-            t /= 100;
-        }
-        if t >= 10 {
-            k -= 2;
-            d[k..k + 2].copy_from_slice(&DIGITS2[t as usize]);
-        } else {
-            k -= 1;
-            d[k] = b'0' + t as u8;
-        }
-        k -= 1;
-        d[k] = b'#';
-        // 24 bytes from `k`, a fixed-size copy (the bytes after the newline are overwritten by
-        // what follows)
-        let p = self.pos;
-        self.buf[p..p + 24].copy_from_slice(&d[k..k + 24]);
+        self.stamp_new(t);
+        // 24 bytes from `stamp_at` (the bytes after the newline are overwritten by what follows)
+        let (p, k) = (self.pos, self.stamp_at);
+        self.buf[p..p + 24].copy_from_slice(&self.stamp[k..k + 24]);
         self.pos = p + 24 - k;
         Ok(())
     }
@@ -1115,12 +1125,7 @@ impl<E: Emitter> FrameStep<'_, E> {
         let (f, w) = (&mut *self.f, &mut *self.w);
         let i = f.idx[k] as usize;
         if v > f.max[k] {
-            return Err(WriteError::ValueTooWide {
-                name: w.vars[i].path.clone(),
-                value: v,
-                width: 64 - f.max[k].leading_zeros(),
-                max: f.max[k],
-            });
+            return Err(too_wide(w, f, k, v));
         }
         f.seen[k / 64] |= 1 << (k % 64);
         f.prev[k] = v;
@@ -1128,12 +1133,24 @@ impl<E: Emitter> FrameStep<'_, E> {
             Stored::Int(c) => *c = v,
             c => *c = Stored::Int(v),
         }
-        w.pending.push(i);
+        w.push_pending(i);
         w.generation += 1;
         if !self.slow {
             f.generation = w.generation;
         }
         Ok(())
+    }
+}
+
+/// The error of a frame value `v` at position `k` wider than its variable.
+#[cold]
+#[inline(never)]
+fn too_wide<E: Emitter>(w: &Writer<E>, f: &Frame, k: usize, v: u64) -> WriteError {
+    WriteError::ValueTooWide {
+        name: w.vars[f.idx[k] as usize].path.clone(),
+        value: v,
+        width: 64 - f.max[k].leading_zeros(),
+        max: f.max[k],
     }
 }
 
@@ -1151,6 +1168,9 @@ pub struct Writer<E: Emitter> {
     var_frames: Vec<u32>,
     /// variables whose value changed in the current step
     pending: Vec<usize>,
+    /// `pending` is in increasing order (frames given in declaration order keep it so, and the
+    /// step is then written without sorting)
+    pending_sorted: bool,
     time: u64,
     step: u64,
     window: (u64, u64),
@@ -1443,7 +1463,7 @@ impl<E: Emitter> Writer<E> {
                 }
                 frame.prev[k] = v;
                 self.cur[i] = Stored::Int(v);
-                self.pending.push(i);
+                self.push_pending(i);
                 changed = true;
             }
             k = end;
@@ -1570,7 +1590,7 @@ impl<E: Emitter> Writer<E> {
         self.assigned[i] = self.step;
         if self.cur[i] != v {
             self.cur[i] = v;
-            self.pending.push(i);
+            self.push_pending(i);
             self.generation += 1;
         }
         Ok(())
@@ -1582,7 +1602,7 @@ impl<E: Emitter> Writer<E> {
             if !self.dumped {
                 self.write_dump(t)?;
             } else if !self.pending.is_empty() {
-                if self.pending.len() > 1 {
+                if !self.pending_sorted {
                     self.pending.sort_unstable();
                 }
                 self.e.timestamp(t)?;
@@ -1593,7 +1613,17 @@ impl<E: Emitter> Writer<E> {
             }
         }
         self.pending.clear();
+        self.pending_sorted = true;
         Ok(())
+    }
+
+    /// Note that variable `i` changed in this step.
+    #[inline]
+    fn push_pending(&mut self, i: usize) {
+        if self.pending.last().is_some_and(|&l| l > i) {
+            self.pending_sorted = false;
+        }
+        self.pending.push(i);
     }
 
     fn write_dump(&mut self, t: u64) -> Result<()> {

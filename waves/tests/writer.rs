@@ -772,3 +772,23 @@ fn frame_steps_after_four_state_values() {
     let vcd = String::from_utf8(w.finish().unwrap()).unwrap();
     assert!(vcd.contains("#2\nbx0x0x #\n#3\nb00101 #\n#4\nbxxxxx #\n#5\n1!\n"), "{vcd}");
 }
+
+/// Time stamps are written from the last one plus the difference: across digit boundaries,
+/// large jumps and the largest times they are the decimal of the time (`u64::MAX` itself is
+/// outside every window, which ends before it).
+#[test]
+fn time_stamps_across_digit_boundaries() {
+    let times = [0u64, 1, 9, 10, 11, 19, 99, 100, 101, 999, 1000, 1009, 99_999, 100_000, 123_456_789, 123_456_790, 999_999_999_999, 1_000_000_000_000, u64::MAX / 2, u64::MAX - 10, u64::MAX - 2, u64::MAX - 1];
+    let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Ns), "t").unwrap();
+    b.push_scope("m").unwrap();
+    let a = b.add_bit(BitType::Wire, "a", Logic::Zero).unwrap();
+    b.pop_scope().unwrap();
+    let mut w = b.start(Vec::new()).unwrap();
+    for (k, &t) in times.iter().enumerate() {
+        w.set_time(t).unwrap();
+        w.change_bool(a, k % 2 == 1).unwrap();
+    }
+    let vcd = String::from_utf8(w.finish().unwrap()).unwrap();
+    let stamps: Vec<u64> = vcd.lines().filter_map(|l| l.strip_prefix('#')).map(|d| d.parse().unwrap()).collect();
+    assert_eq!(stamps, times, "{vcd}");
+}
