@@ -909,6 +909,7 @@ impl<W: Write> VcdOut<W> {
     }
 
     /// `stamp` := `#t\n`, every digit computed, two per division.
+    #[inline]
     fn stamp_new(&mut self, mut t: u64) {
         let d = &mut self.stamp;
         d[23] = b'\n';
@@ -1000,7 +1001,7 @@ impl<W: Write> Emitter for VcdOut<W> {
         Ok(())
     }
 
-    #[inline]
+    #[inline(always)]
     fn value(&mut self, i: usize, v: ValueRef<'_>) -> Result<()> {
         if let ValueRef::Int(v) = v {
             let t = &self.lines[i];
@@ -1548,7 +1549,12 @@ impl<E: Emitter> Writer<E> {
             frame.generation = if slow { u64::MAX } else { self.generation };
         }
         self.frame_steps[frame.id as usize] = self.step;
-        frame.seen.fill(0);
+        // (the usual frame has at most 128 variables: no call to `memset`)
+        match &mut frame.seen[..] {
+            [a] => *a = 0,
+            [a, b] => (*a, *b) = (0, 0),
+            seen => seen.fill(0),
+        }
         Ok(FrameStep { w: self, f: frame, slow, current })
     }
 
