@@ -21,6 +21,12 @@
 //! assignments made at time 0 become the initial values of the `#0 $dumpvars`
 //! section rather than a second value at time 0.
 //!
+//! For values dumped every step, a [`Frame`] ([`Writer::frame`]) is declared once and checked
+//! then (bit or vector variables of at most 64 bits, each once): [`Writer::dump_frame`] takes
+//! all its values and compares them with the last ones; [`Writer::frame_step`] takes only the
+//! values the caller says may have changed ([`FrameStep::set`]), the others keeping theirs. Both
+//! keep every check below and write what the single changes would.
+//!
 //! With a time window `[start, end)` ([`VcdBuilder::window`]) nothing before
 //! `start` or at/after `end` is written; the file begins with `#start $dumpvars`
 //! holding the values current at `start`, and time stamps stay absolute.
