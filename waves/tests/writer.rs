@@ -792,3 +792,34 @@ fn time_stamps_across_digit_boundaries() {
     let stamps: Vec<u64> = vcd.lines().filter_map(|l| l.strip_prefix('#')).map(|d| d.parse().unwrap()).collect();
     assert_eq!(stamps, times, "{vcd}");
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 300, failure_persistence: None, ..Default::default() })]
+
+    /// Time stamps of any increasing times (runs of equal steps, jumps, the 10^16 boundary of the
+    /// BCD path) are the decimal of the time.
+    #[test]
+    fn time_stamps_are_the_decimal_of_the_time(start in 0u64..20_000_000_000_000_000, steps in proptest::collection::vec((1u64..4, 0u64..3), 1..80)) {
+        let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Ns), "t").unwrap();
+        b.push_scope("m").unwrap();
+        let a = b.add_bit(BitType::Wire, "a", Logic::Zero).unwrap();
+        b.pop_scope().unwrap();
+        let mut w = b.start(Vec::new()).unwrap();
+        let mut times = Vec::new();
+        let mut t = start;
+        for (k, (n, kind)) in steps.into_iter().enumerate() {
+            // a step of 10, a step of 9_999, or a jump of 10^15
+            let d = [10, 9_999, 1_000_000_000_000_000][kind as usize] * n;
+            t = t.saturating_add(d).min(u64::MAX - 1);
+            if times.last() == Some(&t) {
+                break;
+            }
+            w.set_time(t).unwrap();
+            w.change_bool(a, k % 2 == 0).unwrap();
+            times.push(t);
+        }
+        let vcd = String::from_utf8(w.finish().unwrap()).unwrap();
+        let stamps: Vec<u64> = vcd.lines().filter_map(|l| l.strip_prefix('#')).map(|d| d.parse().unwrap()).collect();
+        proptest::prop_assert_eq!(&stamps[1..], &times[..]);
+    }
+}
