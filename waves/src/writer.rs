@@ -1109,32 +1109,29 @@ impl<E: Emitter> FrameStep<'_, E> {
     pub fn set(&mut self, k: usize, v: u64) -> Result<()> {
         let f = &mut *self.f;
         let (Some(&prev), Some(seen)) = (f.prev.get(k), f.seen.get_mut(k / 64)) else {
-            return Err(WriteError::FramePosition { position: k, len: f.idx.len() });
+            return Err(position_error(f, k));
         };
         let bit = 1u64 << (k % 64);
         if *seen & bit != 0 {
-            return Err(WriteError::DoubleChange {
-                name: self.w.vars[f.idx[k] as usize].path.clone(),
-                time: self.w.time,
-            });
+            return Err(double_error(self.w, f, k));
         }
         let same = if self.slow { self.w.cur[f.idx[k] as usize] == Stored::Int(v) } else { v == prev };
-        if same {
-            *seen |= bit;
-            return Ok(());
+        if !same && !self.changed(k, v) {
+            return Err(too_wide(self.w, self.f, k, v));
         }
-        self.changed(k, v)
+        self.f.seen[k / 64] |= bit;
+        Ok(())
     }
 
-    /// The rarer half of [`FrameStep::set`]: a value that changed.
+    /// The rarer half of [`FrameStep::set`]: a value that changed. False (nothing assigned)
+    /// when it is wider than its variable.
     #[inline(never)]
-    fn changed(&mut self, k: usize, v: u64) -> Result<()> {
+    fn changed(&mut self, k: usize, v: u64) -> bool {
         let (f, w) = (&mut *self.f, &mut *self.w);
         let i = f.idx[k] as usize;
         if v > f.max[k] {
-            return Err(too_wide(w, f, k, v));
+            return false;
         }
-        f.seen[k / 64] |= 1 << (k % 64);
         f.prev[k] = v;
         match &mut w.cur[i] {
             Stored::Int(c) => *c = v,
@@ -1145,7 +1142,24 @@ impl<E: Emitter> FrameStep<'_, E> {
         if !self.slow {
             f.generation = w.generation;
         }
-        Ok(())
+        true
+    }
+}
+
+/// The error of a position outside the frame.
+#[cold]
+#[inline(never)]
+fn position_error(f: &Frame, k: usize) -> WriteError {
+    WriteError::FramePosition { position: k, len: f.idx.len() }
+}
+
+/// The error of a position given twice in one frame step.
+#[cold]
+#[inline(never)]
+fn double_error<E: Emitter>(w: &Writer<E>, f: &Frame, k: usize) -> WriteError {
+    WriteError::DoubleChange {
+        name: w.vars[f.idx[k] as usize].path.clone(),
+        time: w.time,
     }
 }
 
