@@ -14,7 +14,7 @@
 //! | fast kernel | `Pmu50::step`: `rtl_model/core/src/kernel.rs` |
 //! | Verilator -O3 | `DIR/vl_NAME/bench` (hdl/bench/bench.cpp), untraced |
 //! | Verilator -O3 --trace | `DIR/vlt_NAME/bench --trace`: VCD of the twin's counterparts of the Rust tracer's 65 signals (hdl/bench/trace.vlt); the note says how many `$var`s it dumps and names any of the 65 without a counterpart |
-//! | Rust tracer VCD / FST | `Pmu50::step_traced` + `pmu50_waves` writer (one frame per tick) of the model's signals: ports, registers, internals, as `pmu50 run` writes them (without the analog `env` reals, which the twin does not have) |
+//! | Rust tracer VCD / FST | `pmu50::tracer::CoreTracer` (the core's traced edge and the checked `pmu50_waves` writer, one frame step per tick, comparing only what the edge can have changed) of the model's signals: ports, registers, internals, as `pmu50 run` declares them (without the analog `env` reals, which the twin does not have). Before timing, the run checks that its VCD is byte for byte the one of `Writer::dump_frame` with every value of every tick |
 //! | Icarus | `vvp DIR/iv_NAME.vvp +vec=DIR/NAME.vec` (hdl/tb/tb_vectors.v, which compares every output with the file: for scale) |
 //!
 //! `--quick-traced` prints only the Rust tracer's rows, with two parts of its tick: the traced
@@ -134,17 +134,25 @@ impl Meas {
 /// one least disturbed; all harnesses are measured the same way, so their ratios stay fair.
 const ROUNDS: u32 = 15;
 
-/// [`ROUNDS`], or the `--rounds N` of the command line (1 for profiling under callgrind).
+/// [`ROUNDS`], or the `--rounds N` of the command line (1 for profiling under callgrind); a
+/// value that is not a whole number of at least 1 ends the run with exit 2.
 fn rounds() -> u32 {
     static R: std::sync::OnceLock<u32> = std::sync::OnceLock::new();
     *R.get_or_init(|| {
         let a: Vec<String> = std::env::args().collect();
-        a.iter().position(|x| x == "--rounds").and_then(|k| a.get(k + 1)).and_then(|v| v.parse().ok()).filter(|&n| n > 0).unwrap_or(ROUNDS)
+        let Some(k) = a.iter().position(|x| x == "--rounds") else { return ROUNDS };
+        match a.get(k + 1).and_then(|v| v.parse().ok()).filter(|&n: &u32| n > 0) {
+            Some(n) => n,
+            None => {
+                eprintln!("compare: --rounds needs a whole number of at least 1, got {:?}", a.get(k + 1));
+                std::process::exit(2);
+            }
+        }
     })
 }
 
-/// Time `pass` (one replay from reset, returns its checksum) in [`ROUNDS`] rounds of about
-/// `seconds / ROUNDS` CPU seconds each; the fastest round is reported.
+/// Time `pass` (one replay from reset, returns its checksum) in [`rounds`] rounds of about
+/// `seconds / rounds` CPU seconds each; the fastest round is reported.
 fn repeat(st: &Stim, seconds: f64, mut pass: impl FnMut(&Stim) -> u64) -> Meas {
     let t0 = cpu_now();
     let h = black_box(pass(st));
@@ -255,12 +263,12 @@ fn declare(st: &Stim) -> (VcdBuilder, Vec<SigId>, u64) {
 /// One traced replay into `w` through [`CoreTracer`]; returns the checksum.
 #[inline(never)]
 fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: Frame, unit_ns: u64) -> u64 {
-    let mut m = Pmu50::new(st.params).expect("legal parameters");
-    let mut tr = CoreTracer::new(frame, &m).expect("a frame of the 65 signals");
+    let m = Pmu50::new(st.params).expect("legal parameters");
+    let mut tr = CoreTracer::new(frame, m).expect("a frame of the 65 signals");
     let mut h = 0;
     let dt = st.clock_ns / unit_ns;
     for (k, i) in st.inputs.iter().enumerate() {
-        let after = tr.step(w, &mut m, k as u64 * dt, i).expect("traced values fit their declarations");
+        let after = tr.step(w, k as u64 * dt, i).expect("traced values fit their declarations");
         h = mix(h, after);
     }
     w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
@@ -335,7 +343,7 @@ fn check_frame_order(st: &Stim) {
     }
 }
 
-/// The fastest of [`ROUNDS`] traced replays (each to a file of its own format).
+/// The fastest of [`rounds`] traced replays (each to a file of its own format).
 fn traced(st: &Stim, dir: &Path, fst: bool) -> Meas {
     (0..rounds()).map(|_| traced_once(st, dir, fst)).max_by(|a, b| a.rate().total_cmp(&b.rate())).expect("ROUNDS > 0")
 }
@@ -560,7 +568,8 @@ fn main() {
     if args.iter().any(|a| a == "--quick-traced") {
         // Only the Rust tracer (for tuning it): ticks per CPU-second, VCD and FST.
         for st in &stims {
-                // the parts of a traced tick: the traced edge alone, then with the VCD text thrown away
+            check_tracer(st);
+            // the parts of a traced tick: the traced edge alone, then with the VCD text thrown away
             let edge = repeat(st, seconds / 2.0, pass_edge_only);
             let sink = repeat(st, seconds / 2.0, pass_sink);
             println!("{}: traced edge only {}, tracer VCD to io::sink {}", st.name, fmt_rate(edge.rate()), fmt_rate(sink.rate()));

@@ -16,7 +16,10 @@
 //! The writer ([`pmu50_waves::writer::FrameStep`]) keeps every check (time order, double
 //! assignment, the width of every value that changed, positions) and writes only the values that
 //! changed, so the file is byte for byte the one [`Writer::dump_frame`] writes from every value
-//! of every tick: `tests/tracer.rs` compares the two on random runs.
+//! of every tick: `tests/tracer.rs` compares the two on random runs. The tracer owns the core and
+//! the frame, so no edge and no other dump of the frame can happen behind its back; other writes
+//! to the frame's variables (single changes, overlapping frames) make its next step give every
+//! value ([`pmu50_waves::writer::FrameStep::is_current`]).
 //!
 //! Frame order (positions of the `ids` given to [`Writer::frame`]): the 7 inputs
 //! (`Inputs::values`), the 23 outputs (`Outputs::values`), the 26 registers (`Regs::values`), the
@@ -33,17 +36,25 @@ const OUTPUTS: usize = 7;
 const REGISTERS: usize = 30;
 const INTERNALS: usize = 56;
 
+/// Positions among the registers (the order of `Regs::values`) of the registers a narrow edge
+/// writes, [`pmu50_core::kernel::NARROW_WRITES`]: the ones the step compares after a narrow edge
+/// (`narrow_registers` below lists the same; `tests/tracer.rs` checks the names).
+pub const NARROW_REGISTERS: [usize; 5] = [0, 12, 13, 14, 25];
+
 /// A frame of another length than [`N_SIGNALS`].
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("a core tracer needs a frame of {N_SIGNALS} variables (inputs, outputs, registers, internals in declaration order); this frame has {got}")]
 pub struct FrameSizeError {
+    /// variables in the frame given
     pub got: usize,
 }
 
-/// Traces every edge of one [`Pmu50`] into a frame of its 65 signals (see the module
-/// documentation). It must see every edge of the core: an edge taken elsewhere (or a reset, a
-/// fast-forward) is noticed by the core's tick count, and the next step then gives every value.
+/// Traces every edge of the [`Pmu50`] it owns into a frame of its 65 signals (see the module
+/// documentation). It owns the core so that no edge, reset or fast-forward can happen behind
+/// its back ([`CoreTracer::core`] reads it, [`CoreTracer::into_core`] gives it back), and it
+/// owns the frame so that no other dump of the frame can go unnoticed.
 pub struct CoreTracer {
+    m: Pmu50,
     frame: Frame,
     h: Held,
 }
@@ -61,8 +72,6 @@ struct Held {
     o: Outputs,
     /// The last edge was wide: the next step compares every register and output.
     wide: bool,
-    /// The core's tick count after the last step.
-    tick: u64,
     /// The last step was complete (a failed step leaves some values of its tick assigned).
     valid: bool,
 }
@@ -70,37 +79,38 @@ struct Held {
 impl CoreTracer {
     /// Trace the core `m` into `frame`, declared with [`Writer::frame`] from the 65 signals in
     /// the order of the module documentation.
-    pub fn new(frame: Frame, m: &Pmu50) -> Result<CoreTracer, FrameSizeError> {
+    pub fn new(frame: Frame, m: Pmu50) -> Result<CoreTracer, FrameSizeError> {
         if frame.len() != N_SIGNALS {
             return Err(FrameSizeError { got: frame.len() });
         }
         let (r, o) = (*m.regs(), m.peek());
-        Ok(CoreTracer { frame, h: Held { last_i: Inputs::default(), last_o: o, last_r: r, last_x: Internals::default(), x_quiet: true, o, wide: true, tick: m.tick(), valid: false } })
+        Ok(CoreTracer { m, frame, h: Held { last_i: Inputs::default(), last_o: o, last_r: r, last_x: Internals::default(), x_quiet: true, o, wide: true, valid: false } })
     }
 
-    /// The frame (for other dumps of its variables).
-    pub fn frame_mut(&mut self) -> &mut Frame {
-        &mut self.frame
+    /// The core (its registers, tick count, read-out).
+    pub fn core(&self) -> &Pmu50 {
+        &self.m
     }
 
-    /// One rising edge of `m` with inputs `i`, traced at time `t` (the inputs, the outputs and
-    /// registers before the edge, its internals); returns the outputs after the edge. The file
-    /// is the one [`Writer::dump_frame`] writes with every value, with the same checks. When the
-    /// step cannot start (time backwards, a variable of the frame already assigned at `t`, a
-    /// frame of another writer) the edge is not taken; once it has started the edge is always
-    /// taken, and a value that does not fit its variable is reported after it (the values
+    /// The core back, at the end of the trace.
+    pub fn into_core(self) -> Pmu50 {
+        self.m
+    }
+
+    /// One rising edge of the core with inputs `i`, traced at time `t` (the inputs, the outputs
+    /// and registers before the edge, its internals); returns the outputs after the edge. The
+    /// file is the one [`Writer::dump_frame`] writes with every value, with the same checks.
+    /// When the step cannot start (time backwards, a variable of the frame already assigned at
+    /// `t`, a frame of another writer) the edge is not taken; once it has started the edge is
+    /// always taken, and a value that does not fit its variable is reported after it (the values
     /// before it are assigned, and the next step gives every value again).
     #[inline]
-    pub fn step<E: Emitter>(&mut self, w: &mut Writer<E>, m: &mut Pmu50, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
+    pub fn step<E: Emitter>(&mut self, w: &mut Writer<E>, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
         let mut s = w.frame_step(&mut self.frame, t)?;
-        let h = &mut self.h;
-        let same_core = m.tick() == h.tick;
-        if !same_core {
-            h.o = m.peek();
-        }
-        // Every value at the first step, after other writes to the frame's variables, after an
-        // edge the tracer did not see, and after a failed step.
-        let full = !(h.valid && same_core && s.is_current());
+        let (h, m) = (&mut self.h, &mut self.m);
+        // Every value at the first step, after other writes to the frame's variables, and after
+        // a failed step.
+        let full = !(h.valid && s.is_current());
         h.valid = false;
         let before = h.before_edge(&mut s, m.regs(), i, full);
         let (x, after, wide) = m.step_traced_wide(i);
@@ -118,7 +128,6 @@ impl CoreTracer {
             h.o.bus_rdata = after.bus_rdata;
         }
         h.wide = wide;
-        h.tick = m.tick();
         before?;
         if full {
             h.x_quiet = x == Internals::default();
@@ -259,7 +268,7 @@ group!(all_registers, diff_registers, Regs, REGISTERS, [
     25: count_diagnosis.diag,
 ]);
 
-// The registers a narrow edge writes (`kernel::NARROW_WRITES`).
+// The registers a narrow edge writes (`kernel::NARROW_WRITES`), at `NARROW_REGISTERS`.
 narrow!(narrow_registers, Regs, REGISTERS, [0: action_switching.sync, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr, 25: count_diagnosis.diag]);
 
 group!(all_internals, diff_internals, Internals, INTERNALS, [0: kon, 1: koff, 2: upd, 3: first, 4: chg_s, 5: chg_c, 6: skip_clr, 7: fig17, 8: fig18]);

@@ -259,6 +259,9 @@ pub enum WriteError {
     /// More than [`MAX_FRAMES`] frames declared on one writer.
     #[error("too many frames: one writer serves at most {MAX_FRAMES}; put more variables into one frame instead")]
     TooManyFrames,
+    /// A frame declared without variables.
+    #[error("a frame needs at least one variable (Writer::frame got an empty list)")]
+    EmptyFrame,
     /// A frame used with a writer that did not declare it.
     #[error("unknown frame: it was not declared by this writer (Writer::frame)")]
     UnknownFrame,
@@ -665,6 +668,7 @@ impl VcdBuilder {
             vars: self.vars,
             cur: self.init,
             assigned: vec![0; n],
+            single_step: 0,
             var_frames: vec![0; n],
             pending: Vec::new(),
             pending_sorted: true,
@@ -846,7 +850,9 @@ pub struct VcdOut<W: Write> {
 }
 
 /// The change line of a variable of at most 64 bits with the value bits `0` (`b0000 !\n`,
-/// `0!\n`), padded to [`LINE`] bytes; `len` 0: no template (reals, wider vectors, long codes).
+/// `0!\n`), padded to [`LINE`] bytes; `len` 0: no template (vectors wider than 64 bits, codes
+/// longer than 13 characters). A real has one too (64 bits wide) that is never used: its values
+/// come as [`ValueRef::Real`].
 #[derive(Clone, Copy)]
 struct Template {
     line: [u8; LINE],
@@ -1185,6 +1191,8 @@ pub struct Writer<E: Emitter> {
     cur: Vec<Stored>,
     /// step number of the last individual assignment per variable (0 = never)
     assigned: Vec<u64>,
+    /// step number of the last individual assignment of any variable (0 = never)
+    single_step: u64,
     /// per variable: bit f set when frame f holds it
     var_frames: Vec<u32>,
     /// variables whose value changed in the current step
@@ -1366,12 +1374,16 @@ impl<E: Emitter> Writer<E> {
         self.assign(i, Stored::Real(v + 0.0))
     }
 
-    /// Declare a frame: variables dumped together by [`Writer::dump_frame`]. Each must be a bit
-    /// or vector variable of at most 64 bits of this writer; a variable may appear once.
+    /// Declare a frame: variables dumped together by [`Writer::dump_frame`] or
+    /// [`Writer::frame_step`]. At least one; each must be a bit or vector variable of at most 64
+    /// bits of this writer; a variable may appear once.
     pub fn frame(&mut self, ids: &[SigId]) -> Result<Frame> {
         let f = self.frame_steps.len();
         if f >= MAX_FRAMES {
             return Err(WriteError::TooManyFrames);
+        }
+        if ids.is_empty() {
+            return Err(WriteError::EmptyFrame);
         }
         let bit = 1u32 << f;
         let mut idx = Vec::with_capacity(ids.len());
@@ -1530,8 +1542,9 @@ impl<E: Emitter> Writer<E> {
                 });
             }
         }
-        if frame.generation != self.generation {
-            // Values changed since this frame's last dump: maybe by single changes in this step.
+        if frame.generation != self.generation || self.single_step == step {
+            // Values changed since this frame's last dump, or single assignments in this step
+            // (one that kept a variable's value changes no generation): any of the frame's?
             if let Some(&i) = frame.idx.iter().find(|&&i| self.assigned[i as usize] == step) {
                 return Err(WriteError::DoubleChange {
                     name: self.vars[i as usize].path.clone(),
@@ -1614,6 +1627,7 @@ impl<E: Emitter> Writer<E> {
             });
         }
         self.assigned[i] = self.step;
+        self.single_step = self.step;
         if self.cur[i] != v {
             self.cur[i] = v;
             self.push_pending(i);

@@ -715,7 +715,7 @@ fn frame_steps_keep_every_check() {
         // a changed value wider than the variable: 5-bit `w` takes at most 31, nothing assigned
         let e = s.set(2, 32).unwrap_err();
         assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
-        // an unchanged value is taken without a width check
+        // the refused position may still be given a value in the step (here its current one)
         s.set(2, 3).unwrap();
     }
     // a single change of a frame variable in the frame's step is a double assignment
@@ -773,9 +773,9 @@ fn frame_steps_after_four_state_values() {
     assert!(vcd.contains("#2\nbx0x0x #\n#3\nb00101 #\n#4\nbxxxxx #\n#5\n1!\n"), "{vcd}");
 }
 
-/// Time stamps are written from the last one plus the difference: across digit boundaries,
-/// large jumps and the largest times they are the decimal of the time (`u64::MAX` itself is
-/// outside every window, which ends before it).
+/// Time stamps (two digits per division into a reused line): across digit boundaries, large
+/// jumps and the largest times they are the decimal of the time (`u64::MAX` itself is outside
+/// every window, which ends before it).
 #[test]
 fn time_stamps_across_digit_boundaries() {
     let times = [0u64, 1, 9, 10, 11, 19, 99, 100, 101, 999, 1000, 1009, 99_999, 100_000, 123_456_789, 123_456_790, 999_999_999_999, 1_000_000_000_000, u64::MAX / 2, u64::MAX - 10, u64::MAX - 2, u64::MAX - 1];
@@ -796,8 +796,8 @@ fn time_stamps_across_digit_boundaries() {
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig { cases: 300, failure_persistence: None, ..Default::default() })]
 
-    /// Time stamps of any increasing times (runs of equal steps, jumps, the 10^16 boundary of the
-    /// BCD path) are the decimal of the time.
+    /// Time stamps of any increasing times (runs of equal steps, odd steps, jumps past 10^16)
+    /// are the decimal of the time.
     #[test]
     fn time_stamps_are_the_decimal_of_the_time(start in 0u64..20_000_000_000_000_000, steps in proptest::collection::vec((1u64..4, 0u64..3), 1..80)) {
         let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Ns), "t").unwrap();
@@ -822,4 +822,20 @@ proptest::proptest! {
         let stamps: Vec<u64> = vcd.lines().filter_map(|l| l.strip_prefix('#')).map(|d| d.parse().unwrap()).collect();
         proptest::prop_assert_eq!(&stamps[1..], &times[..]);
     }
+}
+
+/// A single change that keeps a frame variable's value is still an assignment: the frame cannot
+/// be dumped in the same step (neither whole nor by a frame step), and an empty frame is refused.
+#[test]
+fn a_single_change_to_the_same_value_blocks_the_frame_in_its_step() {
+    let (b, ids) = frame_builder();
+    let mut w = b.start(Vec::new()).unwrap();
+    let mut f = w.frame(&ids[..3]).unwrap();
+    w.dump_frame(&mut f, 1, &[1, 2, 3]).unwrap();
+    w.set_time(2).unwrap();
+    w.change_vector(ids[1], 2).unwrap();
+    assert!(matches!(w.dump_frame(&mut f, 2, &[1, 2, 3]), Err(WriteError::DoubleChange { .. })));
+    assert!(matches!(w.frame_step(&mut f, 2), Err(WriteError::DoubleChange { .. })));
+    w.dump_frame(&mut f, 3, &[1, 2, 3]).unwrap();
+    assert!(matches!(w.frame(&[]), Err(WriteError::EmptyFrame)));
 }
