@@ -154,30 +154,6 @@ fn rounds() -> u32 {
     })
 }
 
-/// Time `pass` (one replay from reset, returns its checksum) in [`rounds`] rounds of about
-/// `seconds / rounds` CPU seconds each; the fastest round is reported.
-fn repeat(st: &Stim, seconds: f64, mut pass: impl FnMut(&Stim) -> u64) -> Meas {
-    let t0 = cpu_now();
-    let h = black_box(pass(st));
-    let one = (cpu_now() - t0).max(1e-6);
-    let reps = ((seconds / f64::from(rounds()) / one).ceil() as u64).clamp(1, 1_000_000);
-    let mut best: Option<Meas> = None;
-    for _ in 0..rounds() {
-        let t0 = cpu_now();
-        let mut last = 0;
-        for _ in 0..reps {
-            last = black_box(pass(black_box(st)));
-        }
-        let cpu = cpu_now() - t0;
-        assert_eq!(h, last, "a replay from reset must give the same checksum");
-        let m = Meas { ticks: reps * st.inputs.len() as u64, cpu, checksum: Some(last), note: String::new() };
-        if best.as_ref().is_none_or(|b| m.rate() > b.rate()) {
-            best = Some(m);
-        }
-    }
-    best.expect("ROUNDS > 0")
-}
-
 /// One round of one harness (a closure that times one round and returns its measurement).
 type Round<'a> = Box<dyn FnMut() -> Result<Meas, String> + 'a>;
 
@@ -219,6 +195,18 @@ fn pass_rounds<'a>(st: &'a Stim, seconds: f64, pass: fn(&Stim) -> u64) -> Round<
         }
         Ok(Meas { ticks: reps * st.inputs.len() as u64, cpu, checksum: Some(last), note: String::new() })
     })
+}
+
+/// One harness alone, for `--quick` and `--quick-traced`: its fastest round.
+fn alone(round: Round<'_>) -> Meas {
+    match interleaved(vec![Ok(round)]).pop() {
+        Some(Ok(m)) => m,
+        Some(Err(e)) => {
+            eprintln!("compare: {e}");
+            std::process::exit(1);
+        }
+        None => unreachable!("one harness gives one result"),
+    }
 }
 
 #[inline(never)]
@@ -387,12 +375,6 @@ fn check_frame_order(st: &Stim) {
         let want: Vec<u64> = i.values().iter().map(|t| t.2).chain(before.values(&s).iter().map(|t| t.2)).chain(regs.values(&s).iter().map(|r| r.value)).chain(x.values().iter().map(|t| t.2)).collect();
         assert_eq!(v.to_vec(), want, "frame_values order differs from the declarations");
     }
-}
-
-/// The fastest of [`rounds`] traced replays (each to a file of its own format), for
-/// `--quick-traced`.
-fn traced(st: &Stim, dir: &Path, fst: bool) -> Meas {
-    (0..rounds()).map(|_| traced_once(st, dir, fst)).max_by(|a, b| a.rate().total_cmp(&b.rate())).expect("rounds() > 0")
 }
 
 fn traced_once(st: &Stim, dir: &Path, fst: bool) -> Meas {
@@ -616,11 +598,11 @@ fn main() {
         for st in &stims {
             check_tracer(st);
             // the parts of a traced tick: the traced edge alone, then with the VCD text thrown away
-            let edge = repeat(st, seconds / 2.0, pass_edge_only);
-            let sink = repeat(st, seconds / 2.0, pass_sink);
+            let edge = alone(pass_rounds(st, seconds / 2.0, pass_edge_only));
+            let sink = alone(pass_rounds(st, seconds / 2.0, pass_sink));
             println!("{}: traced edge only {}, tracer VCD to io::sink {}", st.name, fmt_rate(edge.rate()), fmt_rate(sink.rate()));
-            let v = traced(st, &dir, false);
-            let f = traced(st, &dir, true);
+            let v = alone(Box::new(|| Ok(traced_once(st, &dir, false))));
+            let f = alone(Box::new(|| Ok(traced_once(st, &dir, true))));
             println!("{}: tracer VCD {} FST {} ({}; {}; checksum {:016x})", st.name, fmt_rate(v.rate()), fmt_rate(f.rate()), v.note, f.note, v.checksum.unwrap_or(0));
         }
         return;
@@ -628,8 +610,8 @@ fn main() {
     if quick {
         // Only the two Rust models (for tuning the kernel): ticks per CPU-second.
         for st in &stims {
-            let a = repeat(st, seconds, pass_spec);
-            let b = repeat(st, seconds, pass_kernel);
+            let a = alone(pass_rounds(st, seconds, pass_spec));
+            let b = alone(pass_rounds(st, seconds, pass_kernel));
             println!("{}: spec {} kernel {} ({:.2}x; checksums {:016x} {:016x})", st.name, fmt_rate(a.rate()), fmt_rate(b.rate()), b.rate() / a.rate(), a.checksum.unwrap_or(0), b.checksum.unwrap_or(0));
         }
         return;

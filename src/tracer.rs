@@ -66,11 +66,10 @@ struct Held {
     last_o: Outputs,
     last_r: Regs,
     last_x: Internals,
-    /// `last_x` is all false.
-    x_quiet: bool,
     /// The outputs after the last edge, i.e. before the next one (the core's `peek`).
     o: Outputs,
-    /// The last edge was wide: the next step compares every register and output.
+    /// The last edge was wide: the next step compares every register and output, and the
+    /// internals (a narrow edge's are all false, so after two narrow edges they are unchanged).
     wide: bool,
     /// The last step was complete (a failed step leaves some values of its tick assigned).
     valid: bool,
@@ -84,7 +83,7 @@ impl CoreTracer {
             return Err(FrameSizeError { got: frame.len() });
         }
         let (r, o) = (*m.regs(), m.peek());
-        Ok(CoreTracer { m, frame, h: Held { last_i: Inputs::default(), last_o: o, last_r: r, last_x: Internals::default(), x_quiet: true, o, wide: true, valid: false } })
+        Ok(CoreTracer { m, frame, h: Held { last_i: Inputs::default(), last_o: o, last_r: r, last_x: Internals::default(), o, wide: true, valid: false } })
     }
 
     /// The core (its registers, tick count, read-out).
@@ -117,24 +116,14 @@ impl CoreTracer {
         if wide {
             h.o = after;
         } else {
-            // a narrow edge changes only these outputs (the others are `sig` or decoded from
-            // registers it does not write)
-            h.o.vs2_en = after.vs2_en;
-            h.o.st = after.st;
-            h.o.sr = after.sr;
-            h.o.ps_win = after.ps_win;
-            h.o.smp = after.smp;
-            h.o.diag = after.diag;
-            h.o.bus_rdata = after.bus_rdata;
+            copy_narrow_outputs(&mut h.o, &after);
         }
-        h.wide = wide;
+        let was_wide = std::mem::replace(&mut h.wide, wide);
         before?;
         if full {
-            h.x_quiet = x == Internals::default();
             h.last_x = x;
             all_internals(&mut s, &x)?;
-        } else if wide || !h.x_quiet {
-            h.x_quiet = x == Internals::default();
+        } else if wide || was_wide {
             diff_internals(&mut s, &x, &mut h.last_x)?;
         }
         h.valid = true;
@@ -208,18 +197,11 @@ impl Value for pmu50_core::drive_interval_changing_56b::Fig18 {
     }
 }
 
-/// Functions over one group's fields at positions `base + k`, the code written out per field:
-/// `all` sets every field; `diff` compares each with the held value, sets the ones that differ
-/// and updates the held value.
-macro_rules! group {
-    ($all:ident, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
-        #[inline(never)]
-        fn $all<E: Emitter>(s: &mut FrameStep<'_, E>, cur: &$t) -> Result<(), WriteError> {
-            $( s.set($base + $k, Value::value(cur.$($f).+))?; )*
-            Ok(())
-        }
-
-        #[inline(never)]
+/// `diff`: compare each field of a group with the held value, give the writer the ones that
+/// differ (at positions `base + k`) and update the held value; the code written out per field.
+macro_rules! diff_fn {
+    ($inline:meta, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
+        #[$inline]
         fn $diff<E: Emitter>(s: &mut FrameStep<'_, E>, cur: &$t, held: &mut $t) -> Result<(), WriteError> {
             $( if cur.$($f).+ != held.$($f).+ {
                 s.set($base + $k, Value::value(cur.$($f).+))?;
@@ -230,16 +212,32 @@ macro_rules! group {
     };
 }
 
-/// [`group!`]'s `diff` alone, inlined: the few fields a narrow edge can change.
+/// Functions over one group's fields: `all` gives the writer every field, `diff` as
+/// [`diff_fn!`] (both out of line: they run at the first step and after wide edges).
+macro_rules! group {
+    ($all:ident, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
+        #[inline(never)]
+        fn $all<E: Emitter>(s: &mut FrameStep<'_, E>, cur: &$t) -> Result<(), WriteError> {
+            $( s.set($base + $k, Value::value(cur.$($f).+))?; )*
+            Ok(())
+        }
+
+        diff_fn!(inline(never), $diff, $t, $base, [$($k : $($f).+),*]);
+    };
+}
+
+/// The few fields a narrow edge can change: [`diff_fn!`] inlined, and (with `$copy`) a copy of
+/// just those fields from one struct into another.
 macro_rules! narrow {
     ($diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
+        diff_fn!(inline(always), $diff, $t, $base, [$($k : $($f).+),*]);
+    };
+    ($diff:ident, $copy:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
+        diff_fn!(inline(always), $diff, $t, $base, [$($k : $($f).+),*]);
+
         #[inline(always)]
-        fn $diff<E: Emitter>(s: &mut FrameStep<'_, E>, cur: &$t, held: &mut $t) -> Result<(), WriteError> {
-            $( if cur.$($f).+ != held.$($f).+ {
-                s.set($base + $k, Value::value(cur.$($f).+))?;
-                held.$($f).+ = cur.$($f).+;
-            } )*
-            Ok(())
+        fn $copy(dst: &mut $t, src: &$t) {
+            $( dst.$($f).+ = src.$($f).+; )*
         }
     };
 }
@@ -251,8 +249,9 @@ group!(all_outputs, diff_outputs, Outputs, OUTPUTS, [
     13: cnt_s, 14: cnt_c, 15: cnt_r, 16: si, 17: hist_s, 18: hist_c, 19: diag, 20: quadrant_skip, 21: bus_rdata, 22: bus_err,
 ]);
 
-// The outputs a narrow edge can change: the timer's decode, `sr`, `diag`, the read data.
-narrow!(narrow_outputs, Outputs, OUTPUTS, [4: vs2_en, 7: st, 8: sr, 9: ps_win, 10: smp, 19: diag, 21: bus_rdata]);
+// The outputs a narrow edge can change: the timer's decode, `sr`, `diag`, the read data (the
+// others are `sig` or decoded from registers it does not write).
+narrow!(narrow_outputs, copy_narrow_outputs, Outputs, OUTPUTS, [4: vs2_en, 7: st, 8: sr, 9: ps_win, 10: smp, 19: diag, 21: bus_rdata]);
 
 // Every register in the order of `Regs::values`.
 group!(all_registers, diff_registers, Regs, REGISTERS, [

@@ -843,10 +843,6 @@ pub struct VcdOut<W: Write> {
     widths: Vec<u32>,
     /// Per variable, the template of its two-state change line.
     lines: Vec<Template>,
-    /// The time stamp line being written, `#digits\n`, right-aligned: `stamp[stamp_at..24]`
-    /// (the rest is room for a fixed-size copy).
-    stamp: [u8; 48],
-    stamp_at: usize,
 }
 
 /// The change line of a variable of at most 64 bits with the value bits `0` (`b0000 !\n`,
@@ -906,7 +902,7 @@ impl<W: Write> VcdOut<W> {
             }
             lines.push(t);
         }
-        VcdOut { out, buf: vec![0; VCD_BUFFER + SLACK].into_boxed_slice(), pos: 0, codes, widths, lines, stamp: [0; 48], stamp_at: 24 }
+        VcdOut { out, buf: vec![0; VCD_BUFFER + SLACK].into_boxed_slice(), pos: 0, codes, widths, lines }
     }
 
     /// Write the buffer out once it holds [`VCD_BUFFER`] bytes; afterwards at least [`SLACK`]
@@ -920,10 +916,11 @@ impl<W: Write> VcdOut<W> {
         Ok(())
     }
 
-    /// `stamp` := `#t\n`, every digit computed, two per division.
+    /// `#t\n` right-aligned in a 48-byte scratch, ending at index 23, two digits per division,
+    /// and the index of its `#` (the rest of the scratch is room for a fixed-size copy).
     #[inline]
-    fn stamp_new(&mut self, mut t: u64) {
-        let d = &mut self.stamp;
+    fn stamp(mut t: u64) -> ([u8; 48], usize) {
+        let mut d = [0u8; 48];
         d[23] = b'\n';
         let mut k = 23;
         while t >= 100 {
@@ -940,7 +937,7 @@ impl<W: Write> VcdOut<W> {
         }
         k -= 1;
         d[k] = b'#';
-        self.stamp_at = k;
+        (d, k)
     }
 
     /// A change without a template line: four-state bits, reals, vectors wider than 64 bits.
@@ -1005,10 +1002,10 @@ impl<W: Write> Emitter for VcdOut<W> {
     #[inline]
     fn timestamp(&mut self, t: u64) -> Result<()> {
         self.room()?;
-        self.stamp_new(t);
-        // 24 bytes from `stamp_at` (the bytes after the newline are overwritten by what follows)
-        let (p, k) = (self.pos, self.stamp_at);
-        self.buf[p..p + 24].copy_from_slice(&self.stamp[k..k + 24]);
+        let (d, k) = Self::stamp(t);
+        // 24 bytes from the `#` (the bytes after the newline are overwritten by what follows)
+        let p = self.pos;
+        self.buf[p..p + 24].copy_from_slice(&d[k..k + 24]);
         self.pos = p + 24 - k;
         Ok(())
     }
@@ -1020,13 +1017,10 @@ impl<W: Write> Emitter for VcdOut<W> {
             if t.len > 0 {
                 // the template line, then the value bits in place (after `b` unless one bit)
                 let (len, width) = (usize::from(t.len), usize::from(t.width));
-                if self.pos >= VCD_BUFFER {
-                    self.out.write_all(&self.buf[..self.pos])?;
-                    self.pos = 0;
-                }
+                self.room()?;
                 let p = self.pos;
                 let out: &mut [u8; LINE] = (&mut self.buf[p..p + LINE]).try_into().expect("SLACK >= LINE");
-                *out = t.line;
+                *out = self.lines[i].line;
                 if width == 1 {
                     out[0] = b'0' + (v & 1) as u8;
                 } else {
@@ -1119,7 +1113,7 @@ impl<E: Emitter> FrameStep<'_, E> {
         };
         let bit = 1u64 << (k % 64);
         if *seen & bit != 0 {
-            return Err(double_error(self.w, f, k));
+            return Err(self.w.double_change(f.idx[k] as usize));
         }
         let same = if self.slow { self.w.cur[f.idx[k] as usize] == Stored::Int(v) } else { v == prev };
         if !same && !self.changed(k, v) {
@@ -1159,15 +1153,6 @@ fn position_error(f: &Frame, k: usize) -> WriteError {
     WriteError::FramePosition { position: k, len: f.idx.len() }
 }
 
-/// The error of a position given twice in one frame step.
-#[cold]
-#[inline(never)]
-fn double_error<E: Emitter>(w: &Writer<E>, f: &Frame, k: usize) -> WriteError {
-    WriteError::DoubleChange {
-        name: w.vars[f.idx[k] as usize].path.clone(),
-        time: w.time,
-    }
-}
 
 /// The error of a frame value `v` at position `k` wider than its variable.
 #[cold]
@@ -1487,12 +1472,7 @@ impl<E: Emitter> Writer<E> {
                     if changed {
                         self.generation += 1;
                     }
-                    return Err(WriteError::ValueTooWide {
-                        name: self.vars[i].path.clone(),
-                        value: v,
-                        width: 64 - frame.max[k].leading_zeros(),
-                        max: frame.max[k],
-                    });
+                    return Err(too_wide(self, frame, k, v));
                 }
                 frame.prev[k] = v;
                 self.cur[i] = Stored::Int(v);
@@ -1536,20 +1516,14 @@ impl<E: Emitter> Writer<E> {
             g &= g - 1;
             if self.frame_steps[k] == step {
                 let i = frame.idx.iter().map(|&i| i as usize).find(|&i| self.var_frames[i] & (1 << k) != 0).unwrap_or(frame.idx[0] as usize);
-                return Err(WriteError::DoubleChange {
-                    name: self.vars[i].path.clone(),
-                    time: self.time,
-                });
+                return Err(self.double_change(i));
             }
         }
         if frame.generation != self.generation || self.single_step == step {
             // Values changed since this frame's last dump, or single assignments in this step
             // (one that kept a variable's value changes no generation): any of the frame's?
             if let Some(&i) = frame.idx.iter().find(|&&i| self.assigned[i as usize] == step) {
-                return Err(WriteError::DoubleChange {
-                    name: self.vars[i as usize].path.clone(),
-                    time: self.time,
-                });
+                return Err(self.double_change(i as usize));
             }
         }
         Ok(())
@@ -1621,10 +1595,7 @@ impl<E: Emitter> Writer<E> {
             in_frame |= self.frame_steps[k] == self.step;
         }
         if self.assigned[i] == self.step || in_frame {
-            return Err(WriteError::DoubleChange {
-                name: self.vars[i].path.clone(),
-                time: self.time,
-            });
+            return Err(self.double_change(i));
         }
         self.assigned[i] = self.step;
         self.single_step = self.step;
@@ -1655,6 +1626,16 @@ impl<E: Emitter> Writer<E> {
         self.pending.clear();
         self.pending_sorted = true;
         Ok(())
+    }
+
+    /// The error of variable `i` assigned a second time in the current step.
+    #[cold]
+    #[inline(never)]
+    fn double_change(&self, i: usize) -> WriteError {
+        WriteError::DoubleChange {
+            name: self.vars[i].path.clone(),
+            time: self.time,
+        }
     }
 
     /// Note that variable `i` changed in this step.

@@ -571,12 +571,8 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
         // Outputs from the registers inline, so that both paths give the outputs as values (an
         // `Outputs` returned through memory by the out-of-line call costs a store-forwarding stall
         // in the caller every tick).
-        if TRACED {
-            let x = edge_rare_traced(c, r, sh, i);
-            return (ports(c, r), x, true);
-        }
-        edge_rare(c, r, sh, i);
-        return (ports(c, r), Internals::default(), true);
+        let x = edge_rare(c, r, sh, i);
+        return (ports(c, r), if TRACED { x } else { Internals::default() }, true);
     }
     // 3. Timing generator decode of the pre-edge registers (parameters before the edge, from
     // the shadow).
@@ -653,18 +649,11 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
     (o, x, smp)
 }
 
-/// The edges [`step`] does not take inline: a bus write or a key edge.
+/// The edges [`step`] does not take inline: a bus write or a key edge (with the internals of
+/// the cycle, which only the traced edge keeps).
 #[cold]
 #[inline(never)]
-fn edge_rare(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) {
-    edge(c, r, i);
-    sh.rebuild(c, r);
-}
-
-/// [`edge_rare`] for [`step_traced`], with the internals of the cycle.
-#[cold]
-#[inline(never)]
-fn edge_rare_traced(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Internals {
+fn edge_rare(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Internals {
     let x = edge(c, r, i);
     sh.rebuild(c, r);
     x
