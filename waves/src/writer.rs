@@ -670,7 +670,9 @@ impl VcdBuilder {
             assigned: vec![0; n],
             single_step: 0,
             var_frames: vec![0; n],
-            pending: Vec::new(),
+            pending: vec![0; n].into_boxed_slice(),
+            npending: 0,
+            pending_floor: 0,
             pending_sorted: true,
             time: 0,
             step: 1,
@@ -822,18 +824,24 @@ const BITS8: [[u8; 8]; 256] = {
     t
 };
 
-/// Longest change line that is written from a template ([`VcdOut`]): `b`, 64 bits, a space, an
-/// identifier code of up to 13 characters and the newline. Variables with longer lines take the
-/// general path.
-const LINE: usize = 80;
+/// Longest identifier code written from a [`Line`] ([`VcdOut`]): with the space before it and
+/// the newline after it, its [`Line::suffix`] is 16 bytes. Variables with longer codes, and
+/// vectors wider than 64 bits, take the general path.
+const CODE: usize = 14;
 
-/// Bytes the buffer holds beyond [`VCD_BUFFER`]: one template line or one time stamp fits after
+/// Bytes one change line may touch past its start: `b`, 64 bits and the 16-byte suffix store
+/// (the 8-character chunks of the bits are written whole, 8 of them at most, and the suffix
+/// overwrites what the last chunk wrote beyond the width).
+const LINE: usize = 1 + 64 + 16;
+
+/// Bytes the buffer holds beyond [`VCD_BUFFER`]: one change line or one time stamp fits after
 /// any position below `VCD_BUFFER`.
-const SLACK: usize = LINE + 32;
+const SLACK: usize = 128;
+const _: () = assert!(SLACK >= LINE && SLACK >= 24);
 
-/// VCD text emitter: identifier codes and the text of every change line precomputed at
-/// declaration; a change is one fixed-size copy of its line and its value bits written in place,
-/// into one buffer that goes to the output in large writes.
+/// VCD text emitter: identifier codes and the text after every change's value precomputed at
+/// declaration; a change is its value's characters and one fixed-size copy of that text, into
+/// one buffer that goes to the output in large writes.
 pub struct VcdOut<W: Write> {
     out: W,
     /// `VCD_BUFFER + SLACK` bytes; `buf[..pos]` is the text not yet written to `out`
@@ -841,18 +849,20 @@ pub struct VcdOut<W: Write> {
     pos: usize,
     codes: Vec<Box<[u8]>>,
     widths: Vec<u32>,
-    /// Per variable, the template of its two-state change line.
-    lines: Vec<Template>,
+    /// Per variable, the fixed part of its two-state change line.
+    lines: Vec<Line>,
 }
 
-/// The change line of a variable of at most 64 bits with the value bits `0` (`b0000 !\n`,
-/// `0!\n`), padded to [`LINE`] bytes; `len` 0: no template (vectors wider than 64 bits, codes
-/// longer than 13 characters). A real has one too (64 bits wide) that is never used: its values
-/// come as [`ValueRef::Real`].
+/// The change line of a variable of at most 64 bits, `b<bits> <code>\n` (vector) or
+/// `<bit><code>\n` (scalar), as the text after the value: `suffix` holds ` <code>\n` or
+/// `<code>\n` in its first `len` bytes. `width` 0: no line (vectors wider than 64 bits, codes
+/// longer than [`CODE`]). A real has one too (64 bits wide) that is never used: its values come
+/// as [`ValueRef::Real`].
 #[derive(Clone, Copy)]
-struct Template {
-    line: [u8; LINE],
+struct Line {
+    suffix: [u8; 16],
     len: u8,
+    /// 1: a scalar's line (no `b`); 2..=64: a vector's
     width: u8,
 }
 
@@ -867,40 +877,18 @@ const DIGITS2: [[u8; 2]; 100] = {
     t
 };
 
-/// Write `v` msb first as ASCII bits into `bits` (its length is the width, 1..=64).
-#[inline(always)]
-fn fill_bits(bits: &mut [u8], v: u64) {
-    let w = bits.len();
-    let mut k = 0;
-    // whole bytes from the lsb end, eight characters at a time
-    while k + 8 <= w {
-        let b = ((v >> k) & 0xFF) as usize;
-        bits[w - k - 8..w - k].copy_from_slice(&BITS8[b]);
-        k += 8;
-    }
-    // the top `w % 8` bits
-    while k < w {
-        bits[w - k - 1] = b'0' + ((v >> k) & 1) as u8;
-        k += 1;
-    }
-}
-
 impl<W: Write> VcdOut<W> {
     fn new(out: W, codes: Vec<Box<[u8]>>, widths: Vec<u32>) -> VcdOut<W> {
         let mut lines = Vec::with_capacity(codes.len());
         for (code, &w) in codes.iter().zip(&widths) {
-            let text: Vec<u8> = match w {
-                1 => [b"0", &code[..], b"\n"].concat(),
-                2..=64 => [&b"b"[..], &vec![b'0'; w as usize], b" ", code, b"\n"].concat(),
-                _ => Vec::new(),
-            };
-            let mut t = Template { line: [0; LINE], len: 0, width: 0 };
-            if !text.is_empty() && text.len() <= LINE {
-                t.line[..text.len()].copy_from_slice(&text);
-                t.len = text.len() as u8;
-                t.width = w as u8;
+            let mut l = Line { suffix: [0; 16], len: 0, width: 0 };
+            let text: Vec<u8> = if w == 1 { [&code[..], b"\n"].concat() } else { [&b" "[..], code, b"\n"].concat() };
+            if (1..=64).contains(&w) && code.len() <= CODE {
+                l.suffix[..text.len()].copy_from_slice(&text);
+                l.len = text.len() as u8;
+                l.width = w as u8;
             }
-            lines.push(t);
+            lines.push(l);
         }
         VcdOut { out, buf: vec![0; VCD_BUFFER + SLACK].into_boxed_slice(), pos: 0, codes, widths, lines }
     }
@@ -1013,20 +1001,30 @@ impl<W: Write> Emitter for VcdOut<W> {
     #[inline(always)]
     fn value(&mut self, i: usize, v: ValueRef<'_>) -> Result<()> {
         if let ValueRef::Int(v) = v {
-            let t = &self.lines[i];
-            if t.len > 0 {
-                // the template line, then the value bits in place (after `b` unless one bit)
-                let (len, width) = (usize::from(t.len), usize::from(t.width));
+            let l = self.lines[i];
+            if l.width > 0 {
                 self.room()?;
                 let p = self.pos;
-                let out: &mut [u8; LINE] = (&mut self.buf[p..p + LINE]).try_into().expect("SLACK >= LINE");
-                *out = self.lines[i].line;
-                if width == 1 {
+                let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("SLACK bytes free after room()");
+                if l.width == 1 {
                     out[0] = b'0' + (v & 1) as u8;
+                    out[1..17].copy_from_slice(&l.suffix);
+                    self.pos = p + 1 + usize::from(l.len);
                 } else {
-                    fill_bits(&mut out[1..1 + width], v);
+                    // The bits msb first from `out[1]`, in whole chunks of 8 characters (the
+                    // value fits the width, so the characters past it are the chunk's low bits,
+                    // overwritten by the suffix).
+                    let w = usize::from(l.width).min(64);
+                    out[0] = b'b';
+                    let u = v << (64 - w);
+                    let mut j = 0;
+                    while j < 8 && 8 * j < w {
+                        out[1 + 8 * j..9 + 8 * j].copy_from_slice(&BITS8[(u >> (56 - 8 * j)) as usize & 0xFF]);
+                        j += 1;
+                    }
+                    out[1 + w..17 + w].copy_from_slice(&l.suffix);
+                    self.pos = p + 1 + w + usize::from(l.len);
                 }
-                self.pos = p + len;
                 return Ok(());
             }
         }
@@ -1125,7 +1123,7 @@ impl<E: Emitter> FrameStep<'_, E> {
 
     /// The rarer half of [`FrameStep::set`]: a value that changed. False (nothing assigned)
     /// when it is wider than its variable.
-    #[inline(never)]
+    #[inline(always)]
     fn changed(&mut self, k: usize, v: u64) -> bool {
         let (f, w) = (&mut *self.f, &mut *self.w);
         let i = f.idx[k] as usize;
@@ -1180,10 +1178,15 @@ pub struct Writer<E: Emitter> {
     single_step: u64,
     /// per variable: bit f set when frame f holds it
     var_frames: Vec<u32>,
-    /// variables whose value changed in the current step
-    pending: Vec<usize>,
-    /// `pending` is in increasing order (frames given in declaration order keep it so, and the
-    /// step is then written without sorting)
+    /// `pending[..npending]`: the variables whose value changed in the current step (each at
+    /// most once: a second assignment in a step is an error, so `pending` has one slot per
+    /// variable and a push never allocates)
+    pending: Box<[u32]>,
+    npending: usize,
+    /// the last variable pushed in this step (0 at its start)
+    pending_floor: u32,
+    /// `pending[..npending]` is in increasing order (frames given in declaration order keep it
+    /// so, and the step is then written without sorting)
     pending_sorted: bool,
     time: u64,
     step: u64,
@@ -1612,18 +1615,20 @@ impl<E: Emitter> Writer<E> {
         if self.in_window(t) {
             if !self.dumped {
                 self.write_dump(t)?;
-            } else if !self.pending.is_empty() {
+            } else if self.npending > 0 {
+                let pending = &mut self.pending[..self.npending];
                 if !self.pending_sorted {
-                    self.pending.sort_unstable();
+                    pending.sort_unstable();
                 }
                 self.e.timestamp(t)?;
-                for &i in &self.pending {
-                    self.e.value(i, self.cur[i].as_ref())?;
+                for &i in pending.iter() {
+                    self.e.value(i as usize, self.cur[i as usize].as_ref())?;
                 }
                 self.last_written = Some(t);
             }
         }
-        self.pending.clear();
+        self.npending = 0;
+        self.pending_floor = 0;
         self.pending_sorted = true;
         Ok(())
     }
@@ -1641,10 +1646,11 @@ impl<E: Emitter> Writer<E> {
     /// Note that variable `i` changed in this step.
     #[inline]
     fn push_pending(&mut self, i: usize) {
-        if self.pending.last().is_some_and(|&l| l > i) {
-            self.pending_sorted = false;
-        }
-        self.pending.push(i);
+        let i = i as u32;
+        self.pending_sorted &= i >= self.pending_floor;
+        self.pending_floor = i;
+        self.pending[self.npending] = i;
+        self.npending += 1;
     }
 
     fn write_dump(&mut self, t: u64) -> Result<()> {
