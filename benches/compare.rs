@@ -301,10 +301,12 @@ fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: Frame, unit_ns: 
     let mut tr = CoreTracer::new(frame, m).expect("a frame of the 65 signals");
     let mut h = 0;
     let dt = st.clock_ns / unit_ns;
+    let mut run = tr.run(w).expect("the tracer's frame is this writer's");
     for (k, i) in st.inputs.iter().enumerate() {
-        let after = tr.step(w, k as u64 * dt, i).expect("traced values fit their declarations");
+        let after = run.step(k as u64 * dt, i).expect("traced values fit their declarations");
         h = mix(h, after);
     }
+    drop(run);
     w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
     h
 }

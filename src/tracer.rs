@@ -13,13 +13,18 @@
 //! from the kernel and its contract is tested on any register state
 //! (`rtl_model/core/tests/kernel_equivalence.rs`, `narrow_edges_write_only_their_registers`).
 //!
-//! The writer ([`pmu50_waves::writer::FrameStep`]) keeps every check (time order, double
-//! assignment, the width of every value that changed, positions) and writes only the values that
-//! changed, so the file is byte for byte the one [`Writer::dump_frame`] writes from every value
-//! of every tick: `tests/tracer.rs` compares the two on random runs. The tracer owns the core and
-//! the frame, so no edge and no other dump of the frame can happen behind its back; other writes
-//! to the frame's variables (single changes, overlapping frames) make its next step give every
-//! value ([`pmu50_waves::writer::FrameStep::is_current`]).
+//! The tracer steps in a run ([`CoreTracer::run`], [`TracerRun::step`]): the writer is lent to
+//! its frame ([`pmu50_waves::writer::FrameRun`]) for as many edges as the caller likes, so a
+//! step inside the window writes its changed values straight from the frame's copy when the
+//! next one begins, without the writer's per-variable bookkeeping (the way Verilator's tracer
+//! owns its file). [`CoreTracer::step`] is one edge in a run of its own. The writer keeps every
+//! check (time order, double assignment, the width of every value that changed, positions, and
+//! in a run increasing positions) and writes only the values that changed, so the file is byte
+//! for byte the one [`Writer::dump_frame`] writes from every value of every tick:
+//! `tests/tracer.rs` compares the two on random runs, stepped both ways. The tracer owns the
+//! core and the frame, so no edge and no other dump of the frame can happen behind its back;
+//! other writes to the frame's variables between runs (single changes, overlapping frames) make
+//! its next step give every value ([`pmu50_waves::writer::RunStep::is_current`]).
 //!
 //! Frame order (positions of the `ids` given to [`Writer::frame`]): the 7 inputs
 //! (`Inputs::values`), the 23 outputs (`Outputs::values`), the 26 registers (`Regs::values`), the
@@ -27,7 +32,7 @@
 
 use pmu50_core::pmu50::{Inputs, Internals, Outputs, Regs};
 use pmu50_core::Pmu50;
-use pmu50_waves::writer::{Emitter, Frame, FrameStep, WriteError, Writer};
+use pmu50_waves::writer::{Emitter, Frame, FrameRun, RunStep, WriteError, Writer};
 
 /// Number of signals in a [`CoreTracer`]'s frame, and where each group starts.
 pub const N_SIGNALS: usize = 65;
@@ -96,17 +101,44 @@ impl CoreTracer {
         self.m
     }
 
+    /// Lend the writer to the tracer for a run of edges ([`TracerRun::step`]), the fast way
+    /// to trace many: the writer is a [`FrameRun`] of the tracer's frame until the run is
+    /// dropped (then the last edge's values become the writer's pending step).
+    pub fn run<'a, E: Emitter>(&'a mut self, w: &'a mut Writer<E>) -> Result<TracerRun<'a, E>, WriteError> {
+        Ok(TracerRun { run: w.frame_run(&mut self.frame)?, h: &mut self.h, m: &mut self.m })
+    }
+
+    /// One traced edge, as [`TracerRun::step`] in a run of its own.
+    pub fn step<E: Emitter>(&mut self, w: &mut Writer<E>, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
+        self.run(w)?.step(t, i)?;
+        Ok(&self.h.o)
+    }
+}
+
+/// A [`CoreTracer`] with the writer lent to it ([`CoreTracer::run`]).
+pub struct TracerRun<'a, E: Emitter> {
+    run: FrameRun<'a, E>,
+    h: &'a mut Held,
+    m: &'a mut Pmu50,
+}
+
+impl<E: Emitter> TracerRun<'_, E> {
+    /// The core (its registers, tick count, read-out).
+    pub fn core(&self) -> &Pmu50 {
+        self.m
+    }
+
     /// One rising edge of the core with inputs `i`, traced at time `t` (the inputs, the outputs
     /// and registers before the edge, its internals); returns the outputs after the edge. The
     /// file is the one [`Writer::dump_frame`] writes with every value, with the same checks.
     /// When the step cannot start (time backwards, a variable of the frame already assigned at
-    /// `t`, a frame of another writer) the edge is not taken; once it has started the edge is
-    /// always taken, and a value that does not fit its variable is reported after it (the values
-    /// before it are assigned, and the next step gives every value again).
+    /// `t`) the edge is not taken; once it has started the edge is always taken, and a value
+    /// that does not fit its variable is reported after it (the values before it are assigned,
+    /// and the next step gives every value again).
     #[inline]
-    pub fn step<E: Emitter>(&mut self, w: &mut Writer<E>, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
-        let mut s = w.frame_step(&mut self.frame, t)?;
-        let (h, m) = (&mut self.h, &mut self.m);
+    pub fn step(&mut self, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
+        let mut s = self.run.step(t)?;
+        let (h, m) = (&mut *self.h, &mut *self.m);
         // Every value at the first step, after other writes to the frame's variables, and after
         // a failed step.
         let full = !(h.valid && s.is_current());
@@ -134,7 +166,7 @@ impl CoreTracer {
 impl Held {
     /// The inputs, outputs and registers of the step (before the edge).
     #[inline(always)]
-    fn before_edge<E: Emitter>(&mut self, s: &mut FrameStep<'_, E>, r: &Regs, i: &Inputs, full: bool) -> Result<(), WriteError> {
+    fn before_edge<E: Emitter>(&mut self, s: &mut RunStep<'_, E>, r: &Regs, i: &Inputs, full: bool) -> Result<(), WriteError> {
         if full {
             self.last_i = *i;
             self.last_o = self.o;
@@ -202,7 +234,7 @@ impl Value for pmu50_core::drive_interval_changing_56b::Fig18 {
 macro_rules! diff_fn {
     ($inline:meta, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
         #[$inline]
-        fn $diff<E: Emitter>(s: &mut FrameStep<'_, E>, cur: &$t, held: &mut $t) -> Result<(), WriteError> {
+        fn $diff<E: Emitter>(s: &mut RunStep<'_, E>, cur: &$t, held: &mut $t) -> Result<(), WriteError> {
             $( if cur.$($f).+ != held.$($f).+ {
                 s.set($base + $k, Value::value(cur.$($f).+))?;
                 held.$($f).+ = cur.$($f).+;
@@ -217,7 +249,7 @@ macro_rules! diff_fn {
 macro_rules! group {
     ($all:ident, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
         #[inline(never)]
-        fn $all<E: Emitter>(s: &mut FrameStep<'_, E>, cur: &$t) -> Result<(), WriteError> {
+        fn $all<E: Emitter>(s: &mut RunStep<'_, E>, cur: &$t) -> Result<(), WriteError> {
             $( s.set($base + $k, Value::value(cur.$($f).+))?; )*
             Ok(())
         }

@@ -4,7 +4,7 @@
 //! after a step that failed half way.
 
 use pmu50::tracer::{CoreTracer, FrameSizeError, NARROW_REGISTERS, N_SIGNALS};
-use pmu50_core::pmu50::{Inputs, Structural};
+use pmu50_core::pmu50::{Inputs, Outputs, Structural};
 use pmu50_core::{Params, Pmu50};
 use pmu50_waves::writer::{BitType, Logic, SigId, VcdBuilder, WriteError};
 use pmu50_waves::{TimeUnit, Timescale};
@@ -47,8 +47,10 @@ enum Between {
     SingleChanges,
 }
 
-/// Both writers over one run: (the tracer's file, dump_frame's file with every value).
-fn both(p: Params, run: &[(Inputs, Between)]) -> (String, String) {
+/// Both writers over one run: (the tracer's file, dump_frame's file with every value). With
+/// `runs` the tracer steps in a [`pmu50::tracer::TracerRun`] from one `SingleChanges` to the
+/// next (direct steps, written when the next begins), otherwise each step is a run of its own.
+fn both(p: Params, run: &[(Inputs, Between)], runs: bool) -> (String, String) {
     let (b1, ids1, extra1) = declare(&p, false);
     let (b2, ids2, extra2) = declare(&p, false);
     let mut w1 = b1.start(Vec::new()).unwrap();
@@ -58,22 +60,39 @@ fn both(p: Params, run: &[(Inputs, Between)]) -> (String, String) {
     let mut f2 = w2.frame(&ids2).unwrap();
     let mut flip = false;
     let mut t = 0;
-    for (i, between) in run {
-        let r = *m2.regs();
-        let (before, x, after2) = m2.step_traced(i);
-        w2.dump_frame(&mut f2, t, &values(&m2, i, &x, &before, &r)).unwrap();
-        let after1 = tr.step(&mut w1, t, i).unwrap();
-        assert_eq!(*after1, after2);
-        t += 2;
-        match between {
-            Between::Nothing => {}
-            Between::SingleChanges => {
-                flip = !flip;
-                for (w, e, ig) in [(&mut w1, extra1, ids1[0]), (&mut w2, extra2, ids2[0])] {
-                    w.set_time(t - 1).unwrap();
-                    w.change_bool(e, flip).unwrap();
-                    w.change_bool(ig, !i.ig).unwrap();
+    let mut k = 0;
+    while k < run.len() {
+        let between = {
+            // the ticks up to the next `SingleChanges`, through `step`
+            let mut ticks = |step: &mut dyn FnMut(u64, &Inputs) -> Outputs| {
+                while k < run.len() {
+                    let (i, b) = &run[k];
+                    k += 1;
+                    let regs = *m2.regs();
+                    let (before, x, after2) = m2.step_traced(i);
+                    w2.dump_frame(&mut f2, t, &values(&m2, i, &x, &before, &regs)).unwrap();
+                    assert_eq!(step(t, i), after2);
+                    t += 2;
+                    if let Between::SingleChanges = b {
+                        return *b;
+                    }
                 }
+                Between::Nothing
+            };
+            if runs {
+                let mut r = tr.run(&mut w1).unwrap();
+                ticks(&mut |t, i| *r.step(t, i).unwrap())
+            } else {
+                ticks(&mut |t, i| *tr.step(&mut w1, t, i).unwrap())
+            }
+        };
+        if let Between::SingleChanges = between {
+            flip = !flip;
+            let i = &run[k - 1].0;
+            for (w, e, ig) in [(&mut w1, extra1, ids1[0]), (&mut w2, extra2, ids2[0])] {
+                w.set_time(t - 1).unwrap();
+                w.change_bool(e, flip).unwrap();
+                w.change_bool(ig, !i.ig).unwrap();
             }
         }
     }
@@ -100,7 +119,7 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]
-    fn same_file_as_every_value(run in arb_run(), which in 0usize..3) {
+    fn same_file_as_every_value(run in arb_run(), which in 0usize..3, runs in any::<bool>()) {
         // the defaults, a deep synchronizer with 3-bit counters (as random_7), a fast park
         let p = [
             Params::default(),
@@ -108,7 +127,7 @@ proptest! {
             Params { pw: 1, pi: 1, ps: 1, si_max: 6, si_min: 4, smp_on: 3, ..Params::default() },
         ][which];
         prop_assume!(Pmu50::new(p).is_ok());
-        let (a, b) = both(p, &run);
+        let (a, b) = both(p, &run, runs);
         prop_assert_eq!(a, b);
     }
 }
@@ -121,7 +140,7 @@ proptest! {
 #[test]
 fn a_failed_step_takes_its_edge_and_is_followed_by_a_full_one() {
     let p = Params::default();
-    let run = |fail_at: u64, write_at: Option<u64>| {
+    let run = |fail_at: u64, write_at: Option<u64>, runs: bool| {
         let (b, ids, _) = declare(&p, true);
         let mut w = b.start(Vec::new()).unwrap();
         let mut tr = CoreTracer::new(w.frame(&ids).unwrap(), Pmu50::new(p).unwrap()).unwrap();
@@ -129,34 +148,50 @@ fn a_failed_step_takes_its_edge_and_is_followed_by_a_full_one() {
         let mut w2 = b2.start(Vec::new()).unwrap();
         let mut f2 = w2.frame(&ids2).unwrap();
         let mut m2 = Pmu50::new(p).unwrap();
-        for t in 0..40u64 {
-            // the failing tick: bus_addr 7 is assigned, then bus_wdata 0x30 does not fit its 4
-            // bits; the write: PW := 9 (a wide edge)
-            let i = if t == fail_at {
+        // the failing tick: bus_addr 7 is assigned, then bus_wdata 0x30 does not fit its 4 bits;
+        // the write: PW := 9 (a wide edge)
+        let input = |t: u64| {
+            if t == fail_at {
                 Inputs { bus_addr: 7, bus_wdata: 0x30, ..Inputs::default() }
             } else if Some(t) == write_at {
                 Inputs { bus_we: true, bus_addr: 0x03, bus_wdata: 9, ..Inputs::default() }
             } else {
                 Inputs { bus_addr: 1, bus_wdata: 3, ..Inputs::default() }
-            };
-            let res = tr.step(&mut w, t, &i).copied();
+            }
+        };
+        let mut check = |t: u64, i: &Inputs, res: Result<Outputs, WriteError>, tick: u64| {
             let r = *m2.regs();
-            let (before, x, after) = m2.step_traced(&i);
+            let (before, x, after) = m2.step_traced(i);
             if t == fail_at {
                 assert!(matches!(res, Err(WriteError::ValueTooWide { value: 0x30, .. })), "{res:?}");
             } else {
                 assert_eq!(res.unwrap(), after);
-                w2.dump_frame(&mut f2, t, &values(&m2, &i, &x, &before, &r)).unwrap();
+                w2.dump_frame(&mut f2, t, &values(&m2, i, &x, &before, &r)).unwrap();
             }
-            assert_eq!(tr.core().tick(), t + 1, "the edge is taken");
+            assert_eq!(tick, t + 1, "the edge is taken");
+        };
+        // the 40 ticks in one run of the tracer, or each in a run of its own
+        if runs {
+            let mut r = tr.run(&mut w).unwrap();
+            for t in 0..40u64 {
+                let i = input(t);
+                let res = r.step(t, &i).copied();
+                check(t, &i, res, r.core().tick());
+            }
+        } else {
+            for t in 0..40u64 {
+                let i = input(t);
+                let res = tr.step(&mut w, t, &i).copied();
+                check(t, &i, res, tr.core().tick());
+            }
         }
         // an error before the step starts (time backwards) takes no edge
         assert!(matches!(tr.step(&mut w, 5, &Inputs::default()), Err(WriteError::TimeBackwards { .. })));
         assert_eq!(tr.core().tick(), 40);
         (String::from_utf8(w.finish().unwrap()).unwrap(), String::from_utf8(w2.finish().unwrap()).unwrap())
     };
-    for (fail_at, write_at) in [(10, None), (6, Some(5))] {
-        let (vcd, every) = run(fail_at, write_at);
+    for (fail_at, write_at, runs) in [(10, None, false), (6, Some(5), false), (10, None, true), (6, Some(5), true)] {
+        let (vcd, every) = run(fail_at, write_at, runs);
         // From the tick after the failed one on, the tracer's file holds what every value gives
         // (before it, they differ by what the failed tick assigned, which `every` skipped).
         let step = |v: &str, t: u64| {

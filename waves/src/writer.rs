@@ -25,7 +25,10 @@
 //! then (bit or vector variables of at most 64 bits, each once): [`Writer::dump_frame`] takes
 //! all its values and compares them with the last ones; [`Writer::frame_step`] takes only the
 //! values the caller says may have changed ([`FrameStep::set`]), the others keeping theirs. Both
-//! keep every check below and write what the single changes would.
+//! keep every check below and write what the single changes would. [`Writer::frame_run`] lends
+//! the writer to one frame for a run of such steps ([`FrameRun`]): nothing else can write while
+//! it lives, so a step inside the window skips the writer's per-variable bookkeeping and its
+//! changes are written straight from the frame's copy (the fast path of a tracer).
 //!
 //! With a time window `[start, end)` ([`VcdBuilder::window`]) nothing before
 //! `start` or at/after `end` is written; the file begins with `#start $dumpvars`
@@ -272,6 +275,14 @@ pub enum WriteError {
         expected: usize,
         /// values passed
         got: usize,
+    },
+    /// [`RunStep::set`] with a position not after the last one given in the step.
+    #[error("frame position {position} given after position {previous} in one step of a frame run: give a step's positions in increasing order, each at most once")]
+    FrameOrder {
+        /// the rejected position
+        position: usize,
+        /// the position given before it
+        previous: usize,
     },
     /// [`FrameStep::set`] with a position outside the frame.
     #[error("frame position {position} does not exist: the frame has {len} variables (positions 0..{len}, in the order given to Writer::frame)")]
@@ -775,6 +786,19 @@ pub enum ValueRef<'a> {
     Real(f64),
 }
 
+/// The current value of every variable of a [`Writer`], as an [`Emitter`] reads them in
+/// [`Emitter::step`].
+#[derive(Clone, Copy)]
+pub struct Values<'a>(&'a [Stored]);
+
+impl<'a> Values<'a> {
+    /// The value of variable `i` (declaration order).
+    #[inline(always)]
+    pub fn get(&self, i: usize) -> ValueRef<'a> {
+        self.0[i].as_ref()
+    }
+}
+
 impl Stored {
     fn as_ref(&self) -> ValueRef<'_> {
         match self {
@@ -799,6 +823,30 @@ pub trait Emitter {
     fn timestamp(&mut self, t: u64) -> Result<()>;
     /// The value of variable `index` (declaration order) in the current step.
     fn value(&mut self, index: usize, v: ValueRef<'_>) -> Result<()>;
+    /// A later step with at least one change: its time stamp at `t`, then the value of each
+    /// variable of `vars` (declaration indices, increasing) as `values` holds it. The default is
+    /// [`Emitter::timestamp`] and [`Emitter::value`] per change; an emitter may write the step
+    /// in one go.
+    #[inline]
+    fn step(&mut self, t: u64, vars: &[u32], values: Values<'_>) -> Result<()> {
+        self.timestamp(t)?;
+        for &i in vars {
+            self.value(i as usize, values.get(i as usize))?;
+        }
+        Ok(())
+    }
+    /// A later step whose changes are two-state values of variables of at most 64 bits (a
+    /// direct step of a [`FrameRun`]): its time stamp at `t`, then for each position `k` of
+    /// `ks` (increasing variables) variable `vars[k]` with value `values[k]`. The default is
+    /// [`Emitter::timestamp`] and [`Emitter::value`] per change.
+    #[inline]
+    fn int_step(&mut self, t: u64, vars: &[u32], values: &[u64], ks: &[u32]) -> Result<()> {
+        self.timestamp(t)?;
+        for &k in ks {
+            self.value(vars[k as usize] as usize, ValueRef::Int(values[k as usize]))?;
+        }
+        Ok(())
+    }
     /// Close the output; `closing` is a final time stamp to write when the run ends after the
     /// last written change.
     fn finish(self, closing: Option<u64>) -> Result<Self::Output>;
@@ -837,7 +885,7 @@ const LINE: usize = 1 + 64 + 16;
 /// Bytes the buffer holds beyond [`VCD_BUFFER`]: one change line or one time stamp fits after
 /// any position below `VCD_BUFFER`.
 const SLACK: usize = 128;
-const _: () = assert!(SLACK >= LINE && SLACK >= 24);
+const _: () = assert!(SLACK >= LINE && SLACK >= 26);
 
 /// VCD text emitter: identifier codes and the text after every change's value precomputed at
 /// declaration; a change is its value's characters and one fixed-size copy of that text, into
@@ -877,6 +925,48 @@ const DIGITS2: [[u8; 2]; 100] = {
     t
 };
 
+/// `b'0'` in every byte of a `u64`.
+const ASCII0: u64 = 0x3030_3030_3030_3030;
+
+/// The eight decimal digits of `x` (< 10^8, leading zeros included) as the bytes of a `u64`,
+/// most significant digit in the lowest byte (first in memory as `to_le_bytes`), each byte
+/// 0..=9: `x` split into two groups of four digits in 32-bit lanes, those into groups of two in
+/// 16-bit lanes, those into digits in bytes; each division by a constant is a multiply and a
+/// shift that is exact over the lane's range (`x / 100 = x * 10486 >> 20` for `x < 10^4`,
+/// `x / 10 = x * 103 >> 10` for `x < 100`).
+#[inline(always)]
+fn digits8(x: u32) -> u64 {
+    let x = u64::from(x);
+    let merged = (x / 10_000) | ((x % 10_000) << 32);
+    let top = ((merged * 10_486) >> 20) & 0x0000_007F_0000_007F;
+    let hundreds = ((merged - 100 * top) << 16) + top;
+    let tens = ((hundreds * 103) >> 10) & 0x000F_000F_000F_000F;
+    tens + ((hundreds - 10 * tens) << 8)
+}
+
+/// Write the change line of a variable with line `l` and two-state value `v` (which fits its
+/// width) at the start of `out`; returns its length.
+#[inline(always)]
+fn int_line(out: &mut [u8; SLACK], l: &Line, v: u64) -> usize {
+    if l.width == 1 {
+        out[0] = b'0' + (v & 1) as u8;
+        out[1..17].copy_from_slice(&l.suffix);
+        return 1 + usize::from(l.len);
+    }
+    // The bits msb first from `out[1]`, in whole chunks of 8 characters (the value fits the
+    // width, so the characters past it are the chunk's low bits, overwritten by the suffix).
+    let w = usize::from(l.width).min(64);
+    out[0] = b'b';
+    let u = v << (64 - w);
+    let mut j = 0;
+    while j < 8 && 8 * j < w {
+        out[1 + 8 * j..9 + 8 * j].copy_from_slice(&BITS8[(u >> (56 - 8 * j)) as usize & 0xFF]);
+        j += 1;
+    }
+    out[1 + w..17 + w].copy_from_slice(&l.suffix);
+    1 + w + usize::from(l.len)
+}
+
 impl<W: Write> VcdOut<W> {
     fn new(out: W, codes: Vec<Box<[u8]>>, widths: Vec<u32>) -> VcdOut<W> {
         let mut lines = Vec::with_capacity(codes.len());
@@ -904,11 +994,34 @@ impl<W: Write> VcdOut<W> {
         Ok(())
     }
 
-    /// `#t\n` right-aligned in a 48-byte scratch, ending at index 23, two digits per division,
-    /// and the index of its `#` (the rest of the scratch is room for a fixed-size copy).
-    #[inline]
-    fn stamp(mut t: u64) -> ([u8; 48], usize) {
-        let mut d = [0u8; 48];
+    /// `#t\n` from `buf[pos]` (at most 19 bytes up to 10^16, beyond that a loop; the output
+    /// has [`SLACK`] bytes free): the decimal digits eight at a time, computed in the lanes of a
+    /// `u64` ([`digits8`]), the leading zeros of the first group shifted out.
+    #[inline(always)]
+    fn stamp(&mut self, t: u64) {
+        const E8: u64 = 100_000_000;
+        let p = self.pos;
+        let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("SLACK bytes free after room()");
+        out[0] = b'#';
+        let (first, rest) = if t < E8 { (t, None) } else if t < E8 * E8 { (t / E8, Some(t % E8)) } else { return self.stamp_long(t) };
+        let d = digits8(first as u32);
+        // leading zero digits of the first group (t = 0 keeps its last digit)
+        let lead = if first == 0 { 7 } else { (d.trailing_zeros() / 8) as usize };
+        out[1..9].copy_from_slice(&((d | ASCII0) >> (8 * lead)).to_le_bytes());
+        let mut n = 1 + 8 - lead;
+        if let Some(r) = rest {
+            out[n..n + 8].copy_from_slice(&(digits8(r as u32) | ASCII0).to_le_bytes());
+            n += 8;
+        }
+        out[n] = b'\n';
+        self.pos = p + n + 1;
+    }
+
+    /// A time stamp of 10^16 or later: two digits per division.
+    #[cold]
+    #[inline(never)]
+    fn stamp_long(&mut self, mut t: u64) {
+        let mut d = [0u8; 24];
         d[23] = b'\n';
         let mut k = 23;
         while t >= 100 {
@@ -923,9 +1036,9 @@ impl<W: Write> VcdOut<W> {
             k -= 1;
             d[k] = b'0' + t as u8;
         }
-        k -= 1;
-        d[k] = b'#';
-        (d, k)
+        let p = self.pos;
+        self.buf[p + 1..p + 25 - k].copy_from_slice(&d[k..]);
+        self.pos = p + 25 - k;
     }
 
     /// A change without a template line: four-state bits, reals, vectors wider than 64 bits.
@@ -958,6 +1071,17 @@ impl<W: Write> VcdOut<W> {
         self.put(&line)
     }
 
+    /// The changes of an [`Emitter::int_step`] after position `done`, one [`Emitter::value`]
+    /// each (after a variable without a [`Line`]).
+    #[cold]
+    #[inline(never)]
+    fn int_step_rest(&mut self, vars: &[u32], values: &[u64], ks: &[u32], done: usize) -> Result<()> {
+        for &k in ks.iter().filter(|&&k| k as usize > done) {
+            self.value(vars[k as usize] as usize, ValueRef::Int(values[k as usize]))?;
+        }
+        Ok(())
+    }
+
     /// Append text of any length (the general path).
     fn put(&mut self, text: &[u8]) -> Result<()> {
         self.room()?;
@@ -987,48 +1111,81 @@ impl<W: Write> Emitter for VcdOut<W> {
 
     /// `#t`: the digits right-aligned in a scratch array, two per division, then one
     /// fixed-size copy.
-    #[inline]
+    #[inline(always)]
     fn timestamp(&mut self, t: u64) -> Result<()> {
         self.room()?;
-        let (d, k) = Self::stamp(t);
-        // 24 bytes from the `#` (the bytes after the newline are overwritten by what follows)
-        let p = self.pos;
-        self.buf[p..p + 24].copy_from_slice(&d[k..k + 24]);
-        self.pos = p + 24 - k;
+        self.stamp(t);
         Ok(())
     }
 
     #[inline(always)]
     fn value(&mut self, i: usize, v: ValueRef<'_>) -> Result<()> {
         if let ValueRef::Int(v) = v {
-            let l = self.lines[i];
-            if l.width > 0 {
+            if self.lines[i].width > 0 {
                 self.room()?;
                 let p = self.pos;
                 let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("SLACK bytes free after room()");
-                if l.width == 1 {
-                    out[0] = b'0' + (v & 1) as u8;
-                    out[1..17].copy_from_slice(&l.suffix);
-                    self.pos = p + 1 + usize::from(l.len);
-                } else {
-                    // The bits msb first from `out[1]`, in whole chunks of 8 characters (the
-                    // value fits the width, so the characters past it are the chunk's low bits,
-                    // overwritten by the suffix).
-                    let w = usize::from(l.width).min(64);
-                    out[0] = b'b';
-                    let u = v << (64 - w);
-                    let mut j = 0;
-                    while j < 8 && 8 * j < w {
-                        out[1 + 8 * j..9 + 8 * j].copy_from_slice(&BITS8[(u >> (56 - 8 * j)) as usize & 0xFF]);
-                        j += 1;
-                    }
-                    out[1 + w..17 + w].copy_from_slice(&l.suffix);
-                    self.pos = p + 1 + w + usize::from(l.len);
-                }
+                self.pos = p + int_line(out, &self.lines[i], v);
                 return Ok(());
             }
         }
         self.value_general(i, v)
+    }
+
+    /// The step in one go: the time stamp, then each change from its [`Line`] with the buffer
+    /// position in a register (the general path for the rest).
+    #[inline(always)]
+    fn step(&mut self, t: u64, vars: &[u32], values: Values<'_>) -> Result<()> {
+        self.timestamp(t)?;
+        let mut p = self.pos;
+        for &i in vars {
+            let i = i as usize;
+            if p >= VCD_BUFFER {
+                self.out.write_all(&self.buf[..p])?;
+                p = 0;
+            }
+            let l = &self.lines[i];
+            match values.0[i] {
+                Stored::Int(v) if l.width > 0 => {
+                    let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("SLACK bytes free below VCD_BUFFER");
+                    p += int_line(out, l, v);
+                }
+                ref v => {
+                    self.pos = p;
+                    self.value_general(i, v.as_ref())?;
+                    p = self.pos;
+                }
+            }
+        }
+        self.pos = p;
+        Ok(())
+    }
+
+    /// The direct step of a frame run: the time stamp, then one [`Line`] per change, with the
+    /// buffer, its position and the lines in locals (registers) for the whole loop.
+    #[inline(always)]
+    fn int_step(&mut self, t: u64, vars: &[u32], values: &[u64], ks: &[u32]) -> Result<()> {
+        self.timestamp(t)?;
+        let VcdOut { out, buf, pos, lines, .. } = self;
+        let mut p = *pos;
+        for &k in ks {
+            let k = k as usize;
+            let i = vars[k] as usize;
+            let l = &lines[i];
+            if l.width == 0 {
+                *pos = p;
+                self.value_general(i, ValueRef::Int(values[k]))?;
+                return self.int_step_rest(vars, values, ks, k);
+            }
+            if p >= VCD_BUFFER {
+                out.write_all(&buf[..p])?;
+                p = 0;
+            }
+            let line: &mut [u8; SLACK] = (&mut buf[p..p + SLACK]).try_into().expect("SLACK bytes free below VCD_BUFFER");
+            p += int_line(line, l, values[k]);
+        }
+        *pos = p;
+        Ok(())
     }
 
     fn finish(mut self, closing: Option<u64>) -> Result<W> {
@@ -1062,6 +1219,9 @@ pub struct Frame {
     generation: u64,
     /// positions set in the current [`FrameStep`], one bit each
     seen: Vec<u64>,
+    /// the variables are in declaration order (`idx` increasing): a [`FrameRun`] may write
+    /// its steps directly
+    sorted: bool,
 }
 
 impl Frame {
@@ -1142,6 +1302,176 @@ impl<E: Emitter> FrameStep<'_, E> {
         }
         true
     }
+}
+
+/// A [`Writer`] lent to one [`Frame`] for a run of steps ([`Writer::frame_run`]), the way a
+/// simulator's tracer owns its waveform: while the run lives nothing else can write, so a step
+/// inside the window is *direct*. Its changed values go to the frame's copy and a list of
+/// positions, and that list is written out (time stamp and change lines) when the next step
+/// begins; the writer's own values and pending changes are brought up to date only when the
+/// run ends (the last step then becomes the writer's pending step, so a later single change at
+/// its time is merged or refused exactly as after [`Writer::frame_step`]) or when a step cannot
+/// be direct. A step is a [`FrameStep`] (every bookkeeping of the writer, per change) when it
+/// is at the writer's current time, before the first dump, outside the window, when a variable
+/// of the frame holds `x`/`z`, or when the frame is not in declaration order.
+///
+/// Every check of [`Writer::frame_step`] stays (time order, double assignment, positions,
+/// the width of every changed value); in addition a step's positions come in increasing order
+/// ([`WriteError::FrameOrder`]), which is what lets a direct step write its changes in
+/// declaration order without sorting and without a per-position mark. The file is byte for
+/// byte the one `dump_frame` writes (tests/writer.rs compares them on random runs).
+pub struct FrameRun<'a, E: Emitter> {
+    w: &'a mut Writer<E>,
+    f: &'a mut Frame,
+    /// `open[..n]`: positions changed in the open direct step, increasing
+    open: Box<[u32]>,
+    n: usize,
+    /// the open step (at the writer's time) is direct
+    direct: bool,
+}
+
+impl<E: Emitter> Writer<E> {
+    /// Lend the writer to `frame` for a run of steps ([`FrameRun::step`]); the writer is
+    /// brought up to date when the run is dropped. Error: a frame of another writer.
+    pub fn frame_run<'a>(&'a mut self, frame: &'a mut Frame) -> Result<FrameRun<'a, E>> {
+        if frame.owner != self.owner || frame.id as usize >= self.frame_steps.len() {
+            return Err(WriteError::UnknownFrame);
+        }
+        let open = vec![0; frame.idx.len()].into_boxed_slice();
+        Ok(FrameRun { w: self, f: frame, open, n: 0, direct: false })
+    }
+}
+
+impl<'a, E: Emitter> FrameRun<'a, E> {
+    /// Start the frame's step at time `t`: as [`Writer::frame_step`], with the positions of the
+    /// step given in increasing order ([`RunStep::set`]). When the previous step was direct its
+    /// changes are written now.
+    #[inline]
+    pub fn step(&mut self, t: u64) -> Result<RunStep<'_, E>> {
+        if self.direct {
+            let w = &mut *self.w;
+            if t <= w.time {
+                return Err(if t < w.time { WriteError::TimeBackwards { requested: t, current: w.time } } else { w.double_change(self.f.idx[0] as usize) });
+            }
+            if w.in_window(t) {
+                if self.n > 0 {
+                    w.e.int_step(w.time, &self.f.idx, &self.f.prev, &self.open[..self.n])?;
+                    w.last_written = Some(w.time);
+                    self.n = 0;
+                }
+                w.time = t;
+                w.step += 1;
+                w.frame_steps[self.f.id as usize] = w.step;
+                return Ok(RunStep { inner: Inner::Direct { w: &*self.w, f: &mut *self.f, open: &mut self.open, n: &mut self.n }, next: 0, current: true });
+            }
+            self.close();
+        }
+        let (w, f) = (&mut *self.w, &mut *self.f);
+        if t > w.time && f.sorted {
+            w.frame_prologue(f, t)?;
+            if w.dumped && w.in_window(t) {
+                let current = f.generation == w.generation;
+                let all_int = current || f.idx.iter().all(|&i| matches!(w.cur[i as usize], Stored::Int(_)));
+                if all_int {
+                    if !current {
+                        for (k, &i) in f.idx.iter().enumerate() {
+                            if let Stored::Int(c) = w.cur[i as usize] {
+                                f.prev[k] = c;
+                            }
+                        }
+                    }
+                    w.frame_steps[f.id as usize] = w.step;
+                    self.direct = true;
+                    self.n = 0;
+                    return Ok(RunStep { inner: Inner::Direct { w: &*self.w, f: &mut *self.f, open: &mut self.open, n: &mut self.n }, next: 0, current });
+                }
+            }
+        }
+        let s = self.w.frame_step(self.f, t)?;
+        let current = s.is_current();
+        Ok(RunStep { inner: Inner::Checked(s), next: 0, current })
+    }
+
+    /// The writer takes over the frame's values after direct steps: every variable of the frame
+    /// its value, and the open step's changes as its pending step.
+    fn close(&mut self) {
+        if !std::mem::replace(&mut self.direct, false) {
+            return;
+        }
+        let (w, f) = (&mut *self.w, &mut *self.f);
+        for (k, &i) in f.idx.iter().enumerate() {
+            w.cur[i as usize] = Stored::Int(f.prev[k]);
+        }
+        for &k in &self.open[..self.n] {
+            w.push_pending(f.idx[k as usize] as usize);
+        }
+        self.n = 0;
+        w.generation += 1;
+        f.generation = w.generation;
+    }
+}
+
+impl<E: Emitter> Drop for FrameRun<'_, E> {
+    fn drop(&mut self) {
+        self.close();
+    }
+}
+
+/// One step of a [`FrameRun`]: [`RunStep::set`] takes the step's positions in increasing order.
+pub struct RunStep<'r, E: Emitter> {
+    inner: Inner<'r, E>,
+    /// the lowest position still allowed in this step
+    next: usize,
+    current: bool,
+}
+
+enum Inner<'r, E: Emitter> {
+    Direct { w: &'r Writer<E>, f: &'r mut Frame, open: &'r mut [u32], n: &'r mut usize },
+    Checked(FrameStep<'r, E>),
+}
+
+impl<E: Emitter> RunStep<'_, E> {
+    /// As [`FrameStep::is_current`]: the frame's variables hold exactly the values of its last
+    /// step (true in every step of a run after the first).
+    #[inline]
+    pub fn is_current(&self) -> bool {
+        self.current
+    }
+
+    /// As [`FrameStep::set`], with positions in increasing order within the step
+    /// ([`WriteError::FrameOrder`]); a value too wide for its variable assigns nothing, and
+    /// the position may be given again.
+    #[inline(always)]
+    pub fn set(&mut self, k: usize, v: u64) -> Result<()> {
+        if k < self.next {
+            return Err(order_error(k, self.next));
+        }
+        match &mut self.inner {
+            Inner::Direct { w, f, open, n } => {
+                let Some(prev) = f.prev.get_mut(k) else {
+                    return Err(position_error(f, k));
+                };
+                if v != *prev {
+                    if v > f.max[k] {
+                        return Err(too_wide(w, f, k, v));
+                    }
+                    *prev = v;
+                    open[**n] = k as u32;
+                    **n += 1;
+                }
+            }
+            Inner::Checked(s) => s.set(k, v)?,
+        }
+        self.next = k + 1;
+        Ok(())
+    }
+}
+
+/// The error of position `k` given after `next - 1`.
+#[cold]
+#[inline(never)]
+fn order_error(k: usize, next: usize) -> WriteError {
+    WriteError::FrameOrder { position: k, previous: next - 1 }
 }
 
 /// The error of a position outside the frame.
@@ -1414,11 +1744,12 @@ impl<E: Emitter> Writer<E> {
         Ok(Frame {
             owner: self.owner,
             id: f as u32,
-            idx,
             max,
             prev,
             generation: u64::MAX,
             seen,
+            sorted: idx.windows(2).all(|p| p[0] < p[1]),
+            idx,
         })
     }
 
@@ -1620,10 +1951,7 @@ impl<E: Emitter> Writer<E> {
                 if !self.pending_sorted {
                     pending.sort_unstable();
                 }
-                self.e.timestamp(t)?;
-                for &i in pending.iter() {
-                    self.e.value(i as usize, self.cur[i as usize].as_ref())?;
-                }
+                self.e.step(t, pending, Values(&self.cur))?;
                 self.last_written = Some(t);
             }
         }
@@ -1679,5 +2007,25 @@ impl Write for Slot {
 
     fn flush(&mut self) -> std::io::Result<()> {
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{digits8, ASCII0};
+
+    /// `digits8` is the zero-padded decimal of every group of eight digits: every value below
+    /// 10^5, every power of ten and its neighbours, and a stride through the rest.
+    #[test]
+    fn digits8_is_the_zero_padded_decimal() {
+        let pow = (0..8).flat_map(|e| {
+            let p = 10u32.pow(e);
+            [p - 1, p, p + 1, 2 * p - 1, 5 * p, 10 * p - 1]
+        });
+        let all = (0..100_000).chain((0..100_000_000).step_by(9_973)).chain(pow).chain([99_999_999]);
+        for x in all {
+            let got = (digits8(x) | ASCII0).to_le_bytes();
+            assert_eq!(std::str::from_utf8(&got).unwrap(), format!("{x:08}"), "{x}");
+        }
     }
 }

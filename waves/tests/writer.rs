@@ -752,6 +752,213 @@ fn frame_steps_keep_every_check() {
     assert_eq!(got, want);
 }
 
+// ---- frame runs: the writer lent to one frame, direct steps ----
+
+/// What happens after a step of a frame run (the run is ended for everything but `Nothing`).
+#[derive(Debug, Clone, Copy)]
+enum AfterStep {
+    Nothing,
+    /// the variable outside the frame changes in the same time step
+    OutsideSameTime,
+    /// one tick later a frame variable takes `x` bits (or, for the 64-bit one, a value)
+    FrameVarLater,
+    /// one tick later, nothing
+    TimeOnly,
+    /// one tick later the 64-bit frame variable takes a value by a single change
+    FrameIntLater(u64),
+}
+
+fn after_step() -> impl proptest::strategy::Strategy<Value = AfterStep> {
+    use proptest::prelude::*;
+    prop_oneof![12 => Just(AfterStep::Nothing), 1 => Just(AfterStep::OutsideSameTime), 1 => Just(AfterStep::FrameVarLater), 1 => Just(AfterStep::TimeOnly), 2 => (0u64..5).prop_map(|v| AfterStep::FrameIntLater(v << 60))]
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 300, failure_persistence: None, ..Default::default() })]
+
+    /// Runs of frame steps (direct ones inside the window, checked ones elsewhere: at the
+    /// writer's time, before the first dump, after the window, after `x` values, for a frame
+    /// out of declaration order) write exactly what `dump_frame` writes with the same values,
+    /// with single changes between runs, repeated times refused on both sides, and refused
+    /// too-wide values.
+    #[test]
+    fn frame_runs_equal_dump_frame(
+        sorted in proptest::prelude::any::<bool>(),
+        window in proptest::option::of((0u64..30, 0u64..80)),
+        steps in proptest::collection::vec((0u64..3, proptest::array::uniform4(proptest::option::of(0u64..5)), proptest::prelude::any::<bool>(), after_step()), 0..80),
+    ) {
+        let order: [usize; 4] = if sorted { [0, 1, 2, 3] } else { [3, 1, 0, 2] };
+        let start = |ids: &[pmu50_waves::writer::SigId], b: VcdBuilder| {
+            let mut b = b;
+            if let Some((s, len)) = window {
+                b.window(s, s + len + 1).unwrap();
+            }
+            let mut w = b.start(Vec::new()).unwrap();
+            let f = w.frame(&order.map(|k| ids[k])).unwrap();
+            (w, f)
+        };
+        let (b1, ids1) = frame_builder();
+        let (b2, ids2) = frame_builder();
+        let (mut w1, mut f1) = start(&ids1, b1);
+        let (mut w2, mut f2) = start(&ids2, b2);
+        let value = |var: usize, v: u64| [v & 1, v * 1000, v * 7, v << 60][var];
+        // the frame's values by position
+        let mut cur = order.map(|var| [0, 0, 3, 0][var]);
+        let (mut t, mut zv, mut idx) = (0u64, false, 0);
+        // the time of the frame's last step
+        let mut frame_at = None;
+        while idx < steps.len() {
+            let mut after = AfterStep::Nothing;
+            {
+                let mut run = w1.frame_run(&mut f1).unwrap();
+                let mut steps_in_run = 0;
+                while idx < steps.len() {
+                    let (dt, set, too_wide, a) = steps[idx];
+                    idx += 1;
+                    t += dt;
+                    if frame_at == Some(t) {
+                        // the frame's variables are assigned at `t` already
+                        let e = run.step(t).err();
+                        proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
+                        let e = w2.dump_frame(&mut f2, t, &cur).err();
+                        proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
+                        continue;
+                    }
+                    frame_at = Some(t);
+                    let mut s = run.step(t).unwrap();
+                    if steps_in_run > 0 {
+                        proptest::prop_assert!(s.is_current());
+                    }
+                    steps_in_run += 1;
+                    for (k, v) in set.iter().enumerate() {
+                        let Some(v) = v else { continue };
+                        if too_wide && order[k] == 2 {
+                            // 5-bit `w`: refused, nothing assigned, the position may be given again
+                            let e = s.set(k, 32 + v).unwrap_err();
+                            proptest::prop_assert!(matches!(e, WriteError::ValueTooWide { max: 31, .. }), "{}", e);
+                        }
+                        let v = value(order[k], *v);
+                        s.set(k, v).unwrap();
+                        cur[k] = v;
+                    }
+                    if too_wide {
+                        // a position again, or one before the last, in the same step
+                        let e = s.set(0, cur[0]).err();
+                        let given = set.iter().any(|v| v.is_some());
+                        proptest::prop_assert_eq!(given, matches!(e, Some(WriteError::FrameOrder { .. })), "{:?}", e);
+                    }
+                    w2.dump_frame(&mut f2, t, &cur).unwrap();
+                    if !matches!(a, AfterStep::Nothing) {
+                        after = a;
+                        break;
+                    }
+                }
+            }
+            match after {
+                AfterStep::Nothing => {}
+                AfterStep::OutsideSameTime => {
+                    zv = !zv;
+                    w1.change_bool(ids1[4], zv).unwrap();
+                    w2.change_bool(ids2[4], zv).unwrap();
+                    // and a frame variable at that time is a double assignment
+                    let e = w1.change_vector(ids1[0], 1).err();
+                    proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
+                }
+                AfterStep::FrameIntLater(v) => {
+                    // the frame's copy is stale at the next run's first step
+                    t += 1;
+                    w1.set_time(t).unwrap();
+                    w2.set_time(t).unwrap();
+                    w1.change_vector(ids1[3], v).unwrap();
+                    w2.change_vector(ids2[3], v).unwrap();
+                    cur[order.iter().position(|&var| var == 3).unwrap()] = v;
+                    // a frame variable is assigned at `t`: the frame's step there is refused
+                    frame_at = Some(t);
+                }
+                AfterStep::FrameVarLater | AfterStep::TimeOnly => {
+                    t += 1;
+                    w1.set_time(t).unwrap();
+                    w2.set_time(t).unwrap();
+                    if matches!(after, AfterStep::FrameVarLater) {
+                        // `w` (5 bits) becomes x0x0x; its frame position then holds no integer
+                        w1.change_bits(ids1[2], "x0x0x").unwrap();
+                        w2.change_bits(ids2[2], "x0x0x").unwrap();
+                        w1.change_vector(ids1[3], 5).unwrap();
+                        w2.change_vector(ids2[3], 5).unwrap();
+                        let k3 = order.iter().position(|&var| var == 3).unwrap();
+                        cur[k3] = 5;
+                        // the x bits stay until a step sets `w`: dump_frame would set all, so
+                        // the reference gets `w` back through a single change at the next step
+                        let k2 = order.iter().position(|&var| var == 2).unwrap();
+                        cur[k2] = u64::MAX;
+                    }
+                }
+            }
+            if cur.contains(&u64::MAX) {
+                // the next step sets every position (both writers compare `w` with x0x0x)
+                let k2 = order.iter().position(|&var| var == 2).unwrap();
+                cur[k2] = 3;
+                t += 1;
+                let mut run = w1.frame_run(&mut f1).unwrap();
+                let mut s = run.step(t).unwrap();
+                for (k, v) in cur.iter().enumerate() {
+                    s.set(k, *v).unwrap();
+                }
+                drop(run);
+                w2.dump_frame(&mut f2, t, &cur).unwrap();
+                frame_at = Some(t);
+            }
+        }
+        let a = String::from_utf8(w1.finish().unwrap()).unwrap();
+        let c = String::from_utf8(w2.finish().unwrap()).unwrap();
+        proptest::prop_assert_eq!(a, c);
+    }
+}
+
+/// A run's direct steps are written when the next step begins and the last one when the run
+/// ends; the checks of a frame step stay (position, order, width, time, a step at a time the
+/// frame was assigned), and a frame of another writer is refused.
+#[test]
+fn frame_runs_keep_every_check() {
+    let (b, ids) = frame_builder();
+    let mut w = b.start(Vec::new()).unwrap();
+    let mut f = w.frame(&ids[..3]).unwrap();
+    {
+        let mut run = w.frame_run(&mut f).unwrap();
+        // t = 0 is the writer's time: a checked step (the first dump)
+        run.step(0).unwrap().set(1, 4).unwrap();
+        for t in 1..4 {
+            let mut s = run.step(t).unwrap();
+            assert!(s.is_current());
+            s.set(1, 4 + t).unwrap();
+            let e = s.set(3, 1).unwrap_err();
+            assert!(matches!(e, WriteError::FramePosition { position: 3, len: 3 }), "{e}");
+            let e = s.set(0, 1).unwrap_err();
+            assert!(matches!(e, WriteError::FrameOrder { position: 0, previous: 1 }), "{e}");
+            assert!(e.to_string().contains("increasing order"), "{e}");
+            let e = s.set(1, 9).unwrap_err();
+            assert!(matches!(e, WriteError::FrameOrder { position: 1, previous: 1 }), "{e}");
+            let e = s.set(2, 32).unwrap_err();
+            assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
+            assert!(e.to_string().contains("pmu50.w"), "{e}");
+            s.set(2, t).unwrap();
+        }
+        assert!(matches!(run.step(3), Err(WriteError::DoubleChange { .. })));
+        assert!(matches!(run.step(2), Err(WriteError::TimeBackwards { requested: 2, current: 3 })));
+    }
+    // the last step is the writer's pending one: a frame variable again is a double assignment,
+    // another variable joins the step
+    assert!(matches!(w.change_vector(ids[1], 1), Err(WriteError::DoubleChange { .. })));
+    w.change_vector(ids[3], 1).unwrap();
+    let (b2, ids2) = frame_builder();
+    let mut other = b2.start(Vec::new()).unwrap();
+    let mut f2 = other.frame(&ids2[..1]).unwrap();
+    assert!(matches!(w.frame_run(&mut f2), Err(WriteError::UnknownFrame)));
+    let got = String::from_utf8(w.finish().unwrap()).unwrap();
+    assert!(got.contains("#1\nb0000000000000101 \"\nb00001 #\n#2\n"), "{got}");
+    assert!(got.ends_with("#3\nb0000000000000111 \"\nb00011 #\nb0000000000000000000000000000000000000000000000000000000000000001 $\n"), "{got}");
+}
+
 /// A frame variable that holds `x` from a single change: the next frame step compares with the
 /// writer's value, so setting the integer it had before is a change, not a repeat.
 #[test]
