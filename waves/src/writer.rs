@@ -1132,7 +1132,7 @@ impl<W: Write> Emitter for VcdOut<W> {
         self.value_general(i, v)
     }
 
-    /// The step in one go: the time stamp, then each change from its [`Line`] with the buffer
+    /// The step in one go: the time stamp, then each change from its `Line` with the buffer
     /// position in a register (the general path for the rest).
     #[inline(always)]
     fn step(&mut self, t: u64, vars: &[u32], values: Values<'_>) -> Result<()> {
@@ -1161,7 +1161,7 @@ impl<W: Write> Emitter for VcdOut<W> {
         Ok(())
     }
 
-    /// The direct step of a frame run: the time stamp, then one [`Line`] per change, with the
+    /// The direct step of a frame run: the time stamp, then one `Line` per change, with the
     /// buffer, its position and the lines in locals (registers) for the whole loop.
     #[inline(always)]
     fn int_step(&mut self, t: u64, vars: &[u32], values: &[u64], ks: &[u32]) -> Result<()> {
