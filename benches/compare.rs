@@ -14,7 +14,8 @@
 //! | fast kernel | `Pmu50::step`: `rtl_model/core/src/kernel.rs` |
 //! | Verilator -O3 | `DIR/vl_NAME/bench` (hdl/bench/bench.cpp), untraced |
 //! | Verilator -O3 --trace | `DIR/vlt_NAME/bench --trace`: VCD of the twin's counterparts of the Rust tracer's 65 signals (hdl/bench/trace.vlt); the note says how many `$var`s it dumps and names any of the 65 without a counterpart |
-//! | Rust tracer VCD / FST | `pmu50::tracer::CoreTracer` (the core's traced edge and the checked `pmu50_waves` writer, one frame step per tick, comparing only what the edge can have changed) of the model's signals: ports, registers, internals, as `pmu50 run` declares them (without the analog `env` reals, which the twin does not have). Before timing, the run checks that its VCD is byte for byte the one of `Writer::dump_frame` with every value of every tick |
+//! | Rust tracer VCD / FST | `pmu50::tracer::CoreTracer` in one run (`CoreTracer::run`: the core's traced edge and the checked `pmu50_waves` writer lent to the tracer's frame, comparing only what the edge can have changed) of the model's signals: ports, registers, internals, as `pmu50 run` declares them (without the analog `env` reals, which the twin does not have). Before timing, the run checks that its VCD is byte for byte the one of `Writer::dump_frame` with every value of every tick |
+//! | ... to /dev/null | the same two VCD harnesses (Verilator --trace, Rust tracer VCD) writing to `/dev/null`: the same writes, which the kernel throws away, so the row is the tracer's own cost without the page cache's (writing the 8 MB of keyoff_turns to a file costs both sides the same, and is a large part of the Rust tracer's time) |
 //! | Icarus | `vvp DIR/iv_NAME.vvp +vec=DIR/NAME.vec` (hdl/tb/tb_vectors.v, which compares every output with the file: for scale) |
 //!
 //! `--quick-traced` prints only the Rust tracer's rows, with two parts of its tick: the traced
@@ -379,9 +380,22 @@ fn check_frame_order(st: &Stim) {
     }
 }
 
-fn traced_once(st: &Stim, dir: &Path, fst: bool) -> Meas {
+/// Where a traced harness writes its waveform.
+#[derive(Clone, Copy, PartialEq)]
+enum Sink {
+    /// a file in the bench directory (removed after the last round)
+    File,
+    /// `/dev/null`: the same writes, which the kernel throws away (no page cache): the
+    /// tracer's own cost, without the disk's
+    Null,
+}
+
+fn traced_once(st: &Stim, dir: &Path, fst: bool, sink: Sink) -> Meas {
     let (b, ids, unit_ns) = declare(st);
-    let path = dir.join(format!("rust_{}.{}", st.name, if fst { "fst" } else { "vcd" }));
+    let path = match sink {
+        Sink::File => dir.join(format!("rust_{}.{}", st.name, if fst { "fst" } else { "vcd" })),
+        Sink::Null => PathBuf::from("/dev/null"),
+    };
     let t0 = cpu_now();
     let h = if fst {
         let mut w = start_fst(b, &path).expect("FST file");
@@ -390,19 +404,28 @@ fn traced_once(st: &Stim, dir: &Path, fst: bool) -> Meas {
         w.finish().expect("FST written");
         h
     } else {
-        let file = std::fs::File::create(&path).expect("VCD file");
-        let mut w = b.start(file).expect("VCD header");
+        let file = match sink {
+            Sink::File => std::fs::File::create(&path),
+            Sink::Null => std::fs::OpenOptions::new().write(true).open(&path),
+        };
+        let mut w = b.start(file.expect("VCD file")).expect("VCD header");
         let f = w.frame(&ids).unwrap();
         let h = pass_traced(st, &mut w, f, unit_ns);
         w.finish().expect("VCD written");
         h
     };
     let cpu = cpu_now() - t0;
-    let bytes = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
-    if std::env::var_os("PMU50_BENCH_KEEP").is_none() {
-        let _ = std::fs::remove_file(&path);
-    }
-    Meas { ticks: st.inputs.len() as u64, cpu, checksum: Some(h), note: format!("{NSIG} signals, {}", fmt_bytes(bytes)) }
+    let note = match sink {
+        Sink::File => {
+            let bytes = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
+            if std::env::var_os("PMU50_BENCH_KEEP").is_none() {
+                let _ = std::fs::remove_file(&path);
+            }
+            format!("{NSIG} signals, {}", fmt_bytes(bytes))
+        }
+        Sink::Null => format!("{NSIG} signals"),
+    };
+    Meas { ticks: st.inputs.len() as u64, cpu, checksum: Some(h), note }
 }
 
 /// Run a harness binary that prints `ticks=N cpu_s=S checksum=H`.
@@ -424,10 +447,13 @@ fn external(bin: &Path, args: &[String]) -> Result<Meas, String> {
 /// Rounds of the Verilator harness, untraced (`reps` replays per round, chosen from one replay)
 /// or with `--trace` (one replay per round into a VCD; the note, from the last round's VCD,
 /// counts its `$var`s against the Rust tracer's signals).
-fn verilator<'a>(st: &'a Stim, dir: &Path, seconds: f64, trace: bool) -> Result<Round<'a>, String> {
-    let bin = dir.join(format!("{}_{}/bench", if trace { "vlt" } else { "vl" }, st.name));
+fn verilator<'a>(st: &'a Stim, dir: &Path, seconds: f64, trace: Option<Sink>) -> Result<Round<'a>, String> {
+    let bin = dir.join(format!("{}_{}/bench", if trace.is_some() { "vlt" } else { "vl" }, st.name));
     let vec = st.vec.display().to_string();
-    if trace {
+    if trace == Some(Sink::Null) {
+        return Ok(Box::new(move || external(&bin, &[vec.clone(), "1".into(), "--trace".into(), "/dev/null".into()])));
+    }
+    if trace.is_some() {
         let vcd = dir.join(format!("verilator_{}.vcd", st.name));
         let mut left = rounds();
         let mut note: Option<String> = None;
@@ -603,8 +629,8 @@ fn main() {
             let edge = alone(pass_rounds(st, seconds / 2.0, pass_edge_only));
             let sink = alone(pass_rounds(st, seconds / 2.0, pass_sink));
             println!("{}: traced edge only {}, tracer VCD to io::sink {}", st.name, fmt_rate(edge.rate()), fmt_rate(sink.rate()));
-            let v = alone(Box::new(|| Ok(traced_once(st, &dir, false))));
-            let f = alone(Box::new(|| Ok(traced_once(st, &dir, true))));
+            let v = alone(Box::new(|| Ok(traced_once(st, &dir, false, Sink::File))));
+            let f = alone(Box::new(|| Ok(traced_once(st, &dir, true, Sink::File))));
             println!("{}: tracer VCD {} FST {} ({}; {}; checksum {:016x})", st.name, fmt_rate(v.rate()), fmt_rate(f.rate()), v.note, f.note, v.checksum.unwrap_or(0));
         }
         return;
@@ -625,8 +651,12 @@ fn main() {
         "Verilator -O3 --trace (VCD)",
         "Rust tracer VCD (CoreTracer + pmu50_waves)",
         "Rust tracer FST (CoreTracer + pmu50_waves)",
+        "Verilator -O3 --trace, VCD to /dev/null",
+        "Rust tracer VCD to /dev/null",
         "Icarus Verilog (vvp), for scale",
     ];
+    // the row each ratio is taken against: Verilator -O3, Verilator --trace to a file, to /dev/null
+    let base = [2, 2, 2, 3, 3, 3, 6, 6, 2];
     let mut table: Vec<Vec<Result<Meas, String>>> = vec![Vec::new(); labels.len()];
     for st in &stims {
         eprintln!("compare: {} ({} ticks)", st.name, st.inputs.len());
@@ -636,15 +666,17 @@ fn main() {
         let harnesses: Vec<Result<Round<'_>, String>> = vec![
             Ok(pass_rounds(st, seconds, pass_spec)),
             Ok(pass_rounds(st, seconds, pass_kernel)),
-            verilator(st, dir, seconds, false),
-            verilator(st, dir, seconds, true),
-            Ok(Box::new(move || Ok(traced_once(st, dir, false)))),
-            Ok(Box::new(move || Ok(traced_once(st, dir, true)))),
+            verilator(st, dir, seconds, None),
+            verilator(st, dir, seconds, Some(Sink::File)),
+            Ok(Box::new(move || Ok(traced_once(st, dir, false, Sink::File)))),
+            Ok(Box::new(move || Ok(traced_once(st, dir, true, Sink::File)))),
+            verilator(st, dir, seconds, Some(Sink::Null)),
+            Ok(Box::new(move || Ok(traced_once(st, dir, false, Sink::Null)))),
         ];
         for (row, m) in table.iter_mut().zip(interleaved(harnesses)) {
             row.push(m);
         }
-        table[6].push(if iv.contains(&st.name) { icarus(st, dir) } else { Err("not run (slow; see --icarus)".into()) });
+        table[8].push(if iv.contains(&st.name) { icarus(st, dir) } else { Err("not run (slow; see --icarus)".into()) });
     }
 
     // Checksums: every harness of a stimulus must agree.
@@ -659,7 +691,7 @@ fn main() {
 
     let w0 = labels.iter().map(|l| l.len()).max().unwrap_or(0);
     let mut out = String::new();
-    out += "ticks per CPU-second, same stimulus held in memory, measured in this run; ratio = this row / Verilator -O3 (untraced rows) or / Verilator -O3 --trace (traced rows)\n\n";
+    out += "ticks per CPU-second, same stimulus held in memory, measured in this run; ratio = this row / Verilator -O3 (untraced rows), / Verilator -O3 --trace (traced rows, VCD and FST to a file), / Verilator -O3 --trace to /dev/null (the rows to /dev/null: the same writes, without the page cache)\n\n";
     out += &format!("| {:w0$} |", "harness");
     for st in &stims {
         out += &format!(" {} ({} ticks) | ratio |", st.name, st.inputs.len());
@@ -672,7 +704,7 @@ fn main() {
     out += "---|\n";
     for (r, label) in labels.iter().enumerate() {
         out += &format!("| {label:w0$} |");
-        let base = if matches!(r, 3..=5) { 3 } else { 2 };
+        let base = base[r];
         let mut notes = Vec::new();
         for j in 0..stims.len() {
             match &table[r][j] {
