@@ -1222,6 +1222,9 @@ pub struct Frame {
     /// the variables are in declaration order (`idx` increasing): a [`FrameRun`] may write
     /// its steps directly
     sorted: bool,
+    /// `open[..nopen]`: the positions changed in a [`FrameRun`]'s open direct step, increasing
+    open: Box<[u32]>,
+    nopen: usize,
 }
 
 impl Frame {
@@ -1322,10 +1325,8 @@ impl<E: Emitter> FrameStep<'_, E> {
 /// byte the one `dump_frame` writes (tests/writer.rs compares them on random runs).
 pub struct FrameRun<'a, E: Emitter> {
     w: &'a mut Writer<E>,
+    /// the frame; its `open[..nopen]` are the positions changed in the open direct step
     f: &'a mut Frame,
-    /// `open[..n]`: positions changed in the open direct step, increasing
-    open: Box<[u32]>,
-    n: usize,
     /// the open step (at the writer's time) is direct
     direct: bool,
 }
@@ -1337,8 +1338,8 @@ impl<E: Emitter> Writer<E> {
         if frame.owner != self.owner || frame.id as usize >= self.frame_steps.len() {
             return Err(WriteError::UnknownFrame);
         }
-        let open = vec![0; frame.idx.len()].into_boxed_slice();
-        Ok(FrameRun { w: self, f: frame, open, n: 0, direct: false })
+        frame.nopen = 0;
+        Ok(FrameRun { w: self, f: frame, direct: false })
     }
 }
 
@@ -1354,15 +1355,16 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
                 return Err(if t < w.time { WriteError::TimeBackwards { requested: t, current: w.time } } else { w.double_change(self.f.idx[0] as usize) });
             }
             if w.in_window(t) {
-                if self.n > 0 {
-                    w.e.int_step(w.time, &self.f.idx, &self.f.prev, &self.open[..self.n])?;
+                let f = &mut *self.f;
+                if f.nopen > 0 {
+                    w.e.int_step(w.time, &f.idx, &f.prev, &f.open[..f.nopen])?;
                     w.last_written = Some(w.time);
-                    self.n = 0;
+                    f.nopen = 0;
                 }
                 w.time = t;
                 w.step += 1;
                 w.frame_steps[self.f.id as usize] = w.step;
-                return Ok(RunStep { inner: Inner::Direct { w: &*self.w, f: &mut *self.f, open: &mut self.open, n: &mut self.n }, next: 0, current: true });
+                return Ok(RunStep { inner: Inner::Direct { w: &*self.w, f: &mut *self.f }, next: 0, current: true });
             }
             self.close();
         }
@@ -1382,8 +1384,8 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
                     }
                     w.frame_steps[f.id as usize] = w.step;
                     self.direct = true;
-                    self.n = 0;
-                    return Ok(RunStep { inner: Inner::Direct { w: &*self.w, f: &mut *self.f, open: &mut self.open, n: &mut self.n }, next: 0, current });
+                    f.nopen = 0;
+                    return Ok(RunStep { inner: Inner::Direct { w: &*self.w, f: &mut *self.f }, next: 0, current });
                 }
             }
         }
@@ -1402,10 +1404,10 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
         for (k, &i) in f.idx.iter().enumerate() {
             w.cur[i as usize] = Stored::Int(f.prev[k]);
         }
-        for &k in &self.open[..self.n] {
+        for &k in &f.open[..f.nopen] {
             w.push_pending(f.idx[k as usize] as usize);
         }
-        self.n = 0;
+        f.nopen = 0;
         w.generation += 1;
         f.generation = w.generation;
     }
@@ -1426,7 +1428,7 @@ pub struct RunStep<'r, E: Emitter> {
 }
 
 enum Inner<'r, E: Emitter> {
-    Direct { w: &'r Writer<E>, f: &'r mut Frame, open: &'r mut [u32], n: &'r mut usize },
+    Direct { w: &'r Writer<E>, f: &'r mut Frame },
     Checked(FrameStep<'r, E>),
 }
 
@@ -1447,7 +1449,7 @@ impl<E: Emitter> RunStep<'_, E> {
             return Err(order_error(k, self.next));
         }
         match &mut self.inner {
-            Inner::Direct { w, f, open, n } => {
+            Inner::Direct { w, f } => {
                 let Some(prev) = f.prev.get_mut(k) else {
                     return Err(position_error(f, k));
                 };
@@ -1456,8 +1458,8 @@ impl<E: Emitter> RunStep<'_, E> {
                         return Err(too_wide(w, f, k, v));
                     }
                     *prev = v;
-                    open[**n] = k as u32;
-                    **n += 1;
+                    f.open[f.nopen] = k as u32;
+                    f.nopen += 1;
                 }
             }
             Inner::Checked(s) => s.set(k, v)?,
@@ -1749,6 +1751,8 @@ impl<E: Emitter> Writer<E> {
             generation: u64::MAX,
             seen,
             sorted: idx.windows(2).all(|p| p[0] < p[1]),
+            open: vec![0; idx.len()].into_boxed_slice(),
+            nopen: 0,
             idx,
         })
     }
