@@ -108,7 +108,9 @@ impl CoreTracer {
         Ok(TracerRun { run: w.frame_run(&mut self.frame)?, h: &mut self.h, m: &mut self.m })
     }
 
-    /// One traced edge, as [`TracerRun::step`] in a run of its own.
+    /// One traced edge, as [`TracerRun::step`] in a run of its own (each call ends its run:
+    /// when a value changed, the writer takes the frame's 65 values; [`CoreTracer::run`] for
+    /// many edges).
     pub fn step<E: Emitter>(&mut self, w: &mut Writer<E>, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
         self.run(w)?.step(t, i)?;
         Ok(&self.h.o)

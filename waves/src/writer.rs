@@ -277,7 +277,7 @@ pub enum WriteError {
         got: usize,
     },
     /// [`RunStep::set`] with a position not after the last one given in the step.
-    #[error("frame position {position} given after position {previous} in one step of a frame run: give a step's positions in increasing order, each at most once")]
+    #[error("frame position {position} given after position {previous} in one step of a frame run: give a step's positions in increasing order, each at most once (a position given twice is a double assignment)")]
     FrameOrder {
         /// the rejected position
         position: usize,
@@ -1041,7 +1041,8 @@ impl<W: Write> VcdOut<W> {
         self.pos = p + 25 - k;
     }
 
-    /// A change without a template line: four-state bits, reals, vectors wider than 64 bits.
+    /// A change without a `Line`: four-state bits, reals, vectors wider than 64 bits, variables
+    /// whose identifier code is longer than [`CODE`].
     #[cold]
     #[inline(never)]
     fn value_general(&mut self, i: usize, v: ValueRef<'_>) -> Result<()> {
@@ -1109,8 +1110,7 @@ impl<W: Write> Emitter for VcdOut<W> {
         self.put(b"$end\n")
     }
 
-    /// `#t`: the digits right-aligned in a scratch array, two per division, then one
-    /// fixed-size copy.
+    /// `#t`: `VcdOut::stamp` after making room.
     #[inline(always)]
     fn timestamp(&mut self, t: u64) -> Result<()> {
         self.room()?;
@@ -1323,12 +1323,19 @@ impl<E: Emitter> FrameStep<'_, E> {
 /// ([`WriteError::FrameOrder`]), which is what lets a direct step write its changes in
 /// declaration order without sorting and without a per-position mark. The file is byte for
 /// byte the one `dump_frame` writes (tests/writer.rs compares them on random runs).
+///
+/// A direct step's changes are written one step late (at the next [`FrameRun::step`] or when
+/// the run is dropped), and until the run is dropped the writer's own values are stale: the run
+/// must be dropped, not leaked (`std::mem::forget` loses its last step). Ending a run in which
+/// no value changed costs nothing; otherwise it copies the frame's values into the writer once.
 pub struct FrameRun<'a, E: Emitter> {
     w: &'a mut Writer<E>,
     /// the frame; its `open[..nopen]` are the positions changed in the open direct step
     f: &'a mut Frame,
     /// the open step (at the writer's time) is direct
     direct: bool,
+    /// a direct step of this run changed a value (the writer's values are stale)
+    dirty: bool,
 }
 
 impl<E: Emitter> Writer<E> {
@@ -1339,7 +1346,7 @@ impl<E: Emitter> Writer<E> {
             return Err(WriteError::UnknownFrame);
         }
         frame.nopen = 0;
-        Ok(FrameRun { w: self, f: frame, direct: false })
+        Ok(FrameRun { w: self, f: frame, direct: false, dirty: false })
     }
 }
 
@@ -1351,12 +1358,17 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
     pub fn step(&mut self, t: u64) -> Result<RunStep<'_, E>> {
         if self.direct {
             let w = &mut *self.w;
-            if t <= w.time {
-                return Err(if t < w.time { WriteError::TimeBackwards { requested: t, current: w.time } } else { w.double_change(self.f.idx[0] as usize) });
+            if t < w.time {
+                return Err(WriteError::TimeBackwards { requested: t, current: w.time });
+            }
+            if t == w.time {
+                // the open step assigned every variable of the frame at `t`
+                return Err(w.double_change(self.f.idx[0] as usize));
             }
             if w.in_window(t) {
                 let f = &mut *self.f;
                 if f.nopen > 0 {
+                    self.dirty = true;
                     w.e.int_step(w.time, &f.idx, &f.prev, &f.open[..f.nopen])?;
                     w.last_written = Some(w.time);
                     f.nopen = 0;
@@ -1401,6 +1413,12 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
             return;
         }
         let (w, f) = (&mut *self.w, &mut *self.f);
+        if !std::mem::replace(&mut self.dirty, false) && f.nopen == 0 {
+            // nothing changed: the writer's values are the frame's copy (refreshed when the
+            // first direct step began)
+            f.generation = w.generation;
+            return;
+        }
         for (k, &i) in f.idx.iter().enumerate() {
             w.cur[i as usize] = Stored::Int(f.prev[k]);
         }
@@ -1434,7 +1452,8 @@ enum Inner<'r, E: Emitter> {
 
 impl<E: Emitter> RunStep<'_, E> {
     /// As [`FrameStep::is_current`]: the frame's variables hold exactly the values of its last
-    /// step (true in every step of a run after the first).
+    /// step (true in every direct step after the first; a checked step is current as
+    /// [`FrameStep::is_current`] says, so not while a frame variable holds `x`/`z`).
     #[inline]
     pub fn is_current(&self) -> bool {
         self.current
