@@ -574,9 +574,7 @@ proptest::proptest! {
                 w2.change_bool(ids2[4], t % 2 == 0).unwrap();
             }
         }
-        let a = String::from_utf8(w1.finish().unwrap()).unwrap();
-        let c = String::from_utf8(w2.finish().unwrap()).unwrap();
-        proptest::prop_assert_eq!(a, c);
+        proptest::prop_assert_eq!(text(w1), text(w2));
     }
 }
 
@@ -609,7 +607,7 @@ fn frames_keep_every_check() {
     w.dump_frame(&mut g, 4, &[2, 9]).unwrap();
     w.dump_frame(&mut f, 5, &[1, 6, 2]).unwrap();
     w.change_bit(ids[4], Logic::One).unwrap();
-    let got = String::from_utf8(w.finish().unwrap()).unwrap();
+    let got = text(w);
 
     // The same accepted assignments through single changes.
     let (b, ids) = frame_builder();
@@ -621,7 +619,7 @@ fn frames_keep_every_check() {
         }
     }
     r.change_bit(ids[4], Logic::One).unwrap();
-    let want = String::from_utf8(r.finish().unwrap()).unwrap();
+    let want = text(r);
     assert_eq!(got, want);
     assert!(got.contains("#4\nb00010 #\n"), "{got}");
 }
@@ -689,9 +687,7 @@ proptest::proptest! {
                 w2.change_bool(ids2[4], zv).unwrap();
             }
         }
-        let a = String::from_utf8(w1.finish().unwrap()).unwrap();
-        let c = String::from_utf8(w2.finish().unwrap()).unwrap();
-        proptest::prop_assert_eq!(a, c);
+        proptest::prop_assert_eq!(text(w1), text(w2));
     }
 }
 
@@ -738,7 +734,7 @@ fn frame_steps_keep_every_check() {
     let mut s = w.frame_step(&mut f, 4).unwrap();
     assert!(s.is_current());
     s.set(0, 1).unwrap();
-    let got = String::from_utf8(w.finish().unwrap()).unwrap();
+    let got = text(w);
 
     let (b, ids) = frame_builder();
     let mut r = b.start(Vec::new()).unwrap();
@@ -748,7 +744,7 @@ fn frame_steps_keep_every_check() {
             r.change_vector(ids[k], v).unwrap();
         }
     }
-    let want = String::from_utf8(r.finish().unwrap()).unwrap();
+    let want = text(r);
     assert_eq!(got, want);
 }
 
@@ -788,6 +784,8 @@ proptest::proptest! {
         steps in proptest::collection::vec((0u64..3, proptest::array::uniform4(proptest::option::of(0u64..5)), proptest::prelude::any::<bool>(), after_step()), 0..80),
     ) {
         let order: [usize; 4] = if sorted { [0, 1, 2, 3] } else { [3, 1, 0, 2] };
+        // the frame position of each variable
+        let at: [usize; 4] = std::array::from_fn(|var| order.iter().position(|&v| v == var).unwrap());
         let start = |ids: &[pmu50_waves::writer::SigId], b: VcdBuilder| {
             let mut b = b;
             if let Some((s, len)) = window {
@@ -871,47 +869,41 @@ proptest::proptest! {
                     w2.set_time(t).unwrap();
                     w1.change_vector(ids1[3], v).unwrap();
                     w2.change_vector(ids2[3], v).unwrap();
-                    cur[order.iter().position(|&var| var == 3).unwrap()] = v;
+                    cur[at[3]] = v;
                     // a frame variable is assigned at `t`: the frame's step there is refused
                     frame_at = Some(t);
                 }
-                AfterStep::FrameVarLater | AfterStep::TimeOnly => {
+                AfterStep::TimeOnly => {
                     t += 1;
                     w1.set_time(t).unwrap();
                     w2.set_time(t).unwrap();
-                    if matches!(after, AfterStep::FrameVarLater) {
-                        // `w` (5 bits) becomes x0x0x; its frame position then holds no integer
-                        w1.change_bits(ids1[2], "x0x0x").unwrap();
-                        w2.change_bits(ids2[2], "x0x0x").unwrap();
-                        w1.change_vector(ids1[3], 5).unwrap();
-                        w2.change_vector(ids2[3], 5).unwrap();
-                        let k3 = order.iter().position(|&var| var == 3).unwrap();
-                        cur[k3] = 5;
-                        // the x bits stay until a step sets `w`: dump_frame would set all, so
-                        // the reference gets `w` back through a single change at the next step
-                        let k2 = order.iter().position(|&var| var == 2).unwrap();
-                        cur[k2] = u64::MAX;
+                }
+                AfterStep::FrameVarLater => {
+                    // `w` (5 bits) becomes x0x0x (its frame position then holds no integer), and
+                    // the 64-bit variable 5
+                    t += 1;
+                    for (w, ids) in [(&mut w1, &ids1), (&mut w2, &ids2)] {
+                        w.set_time(t).unwrap();
+                        w.change_bits(ids[2], "x0x0x").unwrap();
+                        w.change_vector(ids[3], 5).unwrap();
                     }
+                    cur[at[3]] = 5;
+                    // the next step sets every position, `w` back to 3 (a run's step is a
+                    // checked one while `w` holds x; dump_frame compares with x0x0x too)
+                    cur[at[2]] = 3;
+                    t += 1;
+                    let mut run = w1.frame_run(&mut f1).unwrap();
+                    let mut s = run.step(t).unwrap();
+                    for (k, v) in cur.iter().enumerate() {
+                        s.set(k, *v).unwrap();
+                    }
+                    drop(run);
+                    w2.dump_frame(&mut f2, t, &cur).unwrap();
+                    frame_at = Some(t);
                 }
-            }
-            if cur.contains(&u64::MAX) {
-                // the next step sets every position (both writers compare `w` with x0x0x)
-                let k2 = order.iter().position(|&var| var == 2).unwrap();
-                cur[k2] = 3;
-                t += 1;
-                let mut run = w1.frame_run(&mut f1).unwrap();
-                let mut s = run.step(t).unwrap();
-                for (k, v) in cur.iter().enumerate() {
-                    s.set(k, *v).unwrap();
-                }
-                drop(run);
-                w2.dump_frame(&mut f2, t, &cur).unwrap();
-                frame_at = Some(t);
             }
         }
-        let a = String::from_utf8(w1.finish().unwrap()).unwrap();
-        let c = String::from_utf8(w2.finish().unwrap()).unwrap();
-        proptest::prop_assert_eq!(a, c);
+        proptest::prop_assert_eq!(text(w1), text(w2));
     }
 }
 
@@ -954,7 +946,7 @@ fn frame_runs_keep_every_check() {
     let mut other = b2.start(Vec::new()).unwrap();
     let mut f2 = other.frame(&ids2[..1]).unwrap();
     assert!(matches!(w.frame_run(&mut f2), Err(WriteError::UnknownFrame)));
-    let got = String::from_utf8(w.finish().unwrap()).unwrap();
+    let got = text(w);
     assert!(got.contains("#1\nb0000000000000101 \"\nb00001 #\n#2\n"), "{got}");
     assert!(got.ends_with("#3\nb0000000000000111 \"\nb00011 #\nb0000000000000000000000000000000000000000000000000000000000000001 $\n"), "{got}");
 }
@@ -976,7 +968,7 @@ fn frame_steps_after_four_state_values() {
     w.set_time(4).unwrap();
     w.change_bits(ids[2], "xxxxx").unwrap();
     w.frame_step(&mut f, 5).unwrap().set(0, 1).unwrap();
-    let vcd = String::from_utf8(w.finish().unwrap()).unwrap();
+    let vcd = text(w);
     assert!(vcd.contains("#2\nbx0x0x #\n#3\nb00101 #\n#4\nbxxxxx #\n#5\n1!\n"), "{vcd}");
 }
 
@@ -995,7 +987,7 @@ fn time_stamps_across_digit_boundaries() {
         w.set_time(t).unwrap();
         w.change_bool(a, k % 2 == 1).unwrap();
     }
-    let vcd = String::from_utf8(w.finish().unwrap()).unwrap();
+    let vcd = text(w);
     let stamps: Vec<u64> = vcd.lines().filter_map(|l| l.strip_prefix('#')).map(|d| d.parse().unwrap()).collect();
     assert_eq!(stamps, times, "{vcd}");
 }
@@ -1025,7 +1017,7 @@ proptest::proptest! {
             w.change_bool(a, k % 2 == 0).unwrap();
             times.push(t);
         }
-        let vcd = String::from_utf8(w.finish().unwrap()).unwrap();
+        let vcd = text(w);
         let stamps: Vec<u64> = vcd.lines().filter_map(|l| l.strip_prefix('#')).map(|d| d.parse().unwrap()).collect();
         proptest::prop_assert_eq!(&stamps[1..], &times[..]);
     }
