@@ -683,7 +683,6 @@ impl VcdBuilder {
             var_frames: vec![0; n],
             pending: vec![0; n].into_boxed_slice(),
             npending: 0,
-            pending_floor: 0,
             pending_sorted: true,
             time: 0,
             step: 1,
@@ -786,19 +785,6 @@ pub enum ValueRef<'a> {
     Real(f64),
 }
 
-/// The current value of every variable of a [`Writer`], as an [`Emitter`] reads them in
-/// [`Emitter::step`].
-#[derive(Clone, Copy)]
-pub struct Values<'a>(&'a [Stored]);
-
-impl<'a> Values<'a> {
-    /// The value of variable `i` (declaration order).
-    #[inline(always)]
-    pub fn get(&self, i: usize) -> ValueRef<'a> {
-        self.0[i].as_ref()
-    }
-}
-
 impl Stored {
     fn as_ref(&self) -> ValueRef<'_> {
         match self {
@@ -823,30 +809,6 @@ pub trait Emitter {
     fn timestamp(&mut self, t: u64) -> Result<()>;
     /// The value of variable `index` (declaration order) in the current step.
     fn value(&mut self, index: usize, v: ValueRef<'_>) -> Result<()>;
-    /// A later step with at least one change: its time stamp at `t`, then the value of each
-    /// variable of `vars` (declaration indices, increasing) as `values` holds it. The default is
-    /// [`Emitter::timestamp`] and [`Emitter::value`] per change; an emitter may write the step
-    /// in one go.
-    #[inline]
-    fn step(&mut self, t: u64, vars: &[u32], values: Values<'_>) -> Result<()> {
-        self.timestamp(t)?;
-        for &i in vars {
-            self.value(i as usize, values.get(i as usize))?;
-        }
-        Ok(())
-    }
-    /// A later step whose changes are two-state values of variables of at most 64 bits (a
-    /// direct step of a [`FrameRun`]): its time stamp at `t`, then for each position `k` of
-    /// `ks` (increasing variables) variable `vars[k]` with value `values[k]`. The default is
-    /// [`Emitter::timestamp`] and [`Emitter::value`] per change.
-    #[inline]
-    fn int_step(&mut self, t: u64, vars: &[u32], values: &[u64], ks: &[u32]) -> Result<()> {
-        self.timestamp(t)?;
-        for &k in ks {
-            self.value(vars[k as usize] as usize, ValueRef::Int(values[k as usize]))?;
-        }
-        Ok(())
-    }
     /// Close the output; `closing` is a final time stamp to write when the run ends after the
     /// last written change.
     fn finish(self, closing: Option<u64>) -> Result<Self::Output>;
@@ -1072,17 +1034,6 @@ impl<W: Write> VcdOut<W> {
         self.put(&line)
     }
 
-    /// The changes of an [`Emitter::int_step`] after position `done`, one [`Emitter::value`]
-    /// each (after a variable without a [`Line`]).
-    #[cold]
-    #[inline(never)]
-    fn int_step_rest(&mut self, vars: &[u32], values: &[u64], ks: &[u32], done: usize) -> Result<()> {
-        for &k in ks.iter().filter(|&&k| k as usize > done) {
-            self.value(vars[k as usize] as usize, ValueRef::Int(values[k as usize]))?;
-        }
-        Ok(())
-    }
-
     /// Append text of any length (the general path).
     fn put(&mut self, text: &[u8]) -> Result<()> {
         self.room()?;
@@ -1118,74 +1069,19 @@ impl<W: Write> Emitter for VcdOut<W> {
         Ok(())
     }
 
+    /// A two-state value from its `Line` (`int_line`), anything else by the general path.
     #[inline(always)]
     fn value(&mut self, i: usize, v: ValueRef<'_>) -> Result<()> {
-        if let ValueRef::Int(v) = v {
-            if self.lines[i].width > 0 {
+        match v {
+            ValueRef::Int(v) if self.lines[i].width > 0 => {
                 self.room()?;
                 let p = self.pos;
                 let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("SLACK bytes free after room()");
                 self.pos = p + int_line(out, &self.lines[i], v);
-                return Ok(());
+                Ok(())
             }
+            v => self.value_general(i, v),
         }
-        self.value_general(i, v)
-    }
-
-    /// The step in one go: the time stamp, then each change from its `Line` with the buffer
-    /// position in a register (the general path for the rest).
-    #[inline(always)]
-    fn step(&mut self, t: u64, vars: &[u32], values: Values<'_>) -> Result<()> {
-        self.timestamp(t)?;
-        let mut p = self.pos;
-        for &i in vars {
-            let i = i as usize;
-            if p >= VCD_BUFFER {
-                self.out.write_all(&self.buf[..p])?;
-                p = 0;
-            }
-            let l = &self.lines[i];
-            match values.0[i] {
-                Stored::Int(v) if l.width > 0 => {
-                    let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("SLACK bytes free below VCD_BUFFER");
-                    p += int_line(out, l, v);
-                }
-                ref v => {
-                    self.pos = p;
-                    self.value_general(i, v.as_ref())?;
-                    p = self.pos;
-                }
-            }
-        }
-        self.pos = p;
-        Ok(())
-    }
-
-    /// The direct step of a frame run: the time stamp, then one `Line` per change, with the
-    /// buffer, its position and the lines in locals (registers) for the whole loop.
-    #[inline(always)]
-    fn int_step(&mut self, t: u64, vars: &[u32], values: &[u64], ks: &[u32]) -> Result<()> {
-        self.timestamp(t)?;
-        let VcdOut { out, buf, pos, lines, .. } = self;
-        let mut p = *pos;
-        for &k in ks {
-            let k = k as usize;
-            let i = vars[k] as usize;
-            let l = &lines[i];
-            if l.width == 0 {
-                *pos = p;
-                self.value_general(i, ValueRef::Int(values[k]))?;
-                return self.int_step_rest(vars, values, ks, k);
-            }
-            if p >= VCD_BUFFER {
-                out.write_all(&buf[..p])?;
-                p = 0;
-            }
-            let line: &mut [u8; SLACK] = (&mut buf[p..p + SLACK]).try_into().expect("SLACK bytes free below VCD_BUFFER");
-            p += int_line(line, l, values[k]);
-        }
-        *pos = p;
-        Ok(())
     }
 
     fn finish(mut self, closing: Option<u64>) -> Result<W> {
@@ -1369,7 +1265,10 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
                 let f = &mut *self.f;
                 if f.nopen > 0 {
                     self.dirty = true;
-                    w.e.int_step(w.time, &f.idx, &f.prev, &f.open[..f.nopen])?;
+                    w.e.timestamp(w.time)?;
+                    for &k in &f.open[..f.nopen] {
+                        w.e.value(f.idx[k as usize] as usize, ValueRef::Int(f.prev[k as usize]))?;
+                    }
                     w.last_written = Some(w.time);
                     f.nopen = 0;
                 }
@@ -1502,7 +1401,6 @@ fn position_error(f: &Frame, k: usize) -> WriteError {
     WriteError::FramePosition { position: k, len: f.idx.len() }
 }
 
-
 /// The error of a frame value `v` at position `k` wider than its variable.
 #[cold]
 #[inline(never)]
@@ -1534,8 +1432,6 @@ pub struct Writer<E: Emitter> {
     /// variable and a push never allocates)
     pending: Box<[u32]>,
     npending: usize,
-    /// the last variable pushed in this step (0 at its start)
-    pending_floor: u32,
     /// `pending[..npending]` is in increasing order (frames given in declaration order keep it
     /// so, and the step is then written without sorting)
     pending_sorted: bool,
@@ -1974,12 +1870,14 @@ impl<E: Emitter> Writer<E> {
                 if !self.pending_sorted {
                     pending.sort_unstable();
                 }
-                self.e.step(t, pending, Values(&self.cur))?;
+                self.e.timestamp(t)?;
+                for &i in pending.iter() {
+                    self.e.value(i as usize, self.cur[i as usize].as_ref())?;
+                }
                 self.last_written = Some(t);
             }
         }
         self.npending = 0;
-        self.pending_floor = 0;
         self.pending_sorted = true;
         Ok(())
     }
@@ -1998,8 +1896,7 @@ impl<E: Emitter> Writer<E> {
     #[inline]
     fn push_pending(&mut self, i: usize) {
         let i = i as u32;
-        self.pending_sorted &= i >= self.pending_floor;
-        self.pending_floor = i;
+        self.pending_sorted &= self.npending == 0 || self.pending[self.npending - 1] < i;
         self.pending[self.npending] = i;
         self.npending += 1;
     }
