@@ -404,11 +404,9 @@ fn traced_once(st: &Stim, dir: &Path, fst: bool, sink: Sink) -> Meas {
         w.finish().expect("FST written");
         h
     } else {
-        let file = match sink {
-            Sink::File => std::fs::File::create(&path),
-            Sink::Null => std::fs::OpenOptions::new().write(true).open(&path),
-        };
-        let mut w = b.start(file.expect("VCD file")).expect("VCD header");
+        // (create and truncate leave /dev/null as it is)
+        let file = std::fs::OpenOptions::new().write(true).create(true).truncate(true).open(&path).expect("VCD file");
+        let mut w = b.start(file).expect("VCD header");
         let f = w.frame(&ids).unwrap();
         let h = pass_traced(st, &mut w, f, unit_ns);
         w.finish().expect("VCD written");
