@@ -396,23 +396,26 @@ fn traced_once(st: &Stim, dir: &Path, fst: bool, sink: Sink) -> Meas {
         Sink::File => dir.join(format!("rust_{}.{}", st.name, if fst { "fst" } else { "vcd" })),
         Sink::Null => PathBuf::from("/dev/null"),
     };
-    let t0 = cpu_now();
-    let h = if fst {
+    // The clock starts after the file is opened (a file kept from the last round is truncated
+    // then) and the header written, and stops after the last byte is written, as in
+    // hdl/bench/bench.cpp (`tfp->open` before `t0`, `tfp->close` before `t1`).
+    let (h, cpu) = if fst {
         let mut w = start_fst(b, &path).expect("FST file");
         let f = w.frame(&ids).unwrap();
+        let t0 = cpu_now();
         let h = pass_traced(st, &mut w, f, unit_ns);
         w.finish().expect("FST written");
-        h
+        (h, cpu_now() - t0)
     } else {
         // (create and truncate leave /dev/null as it is)
         let file = std::fs::OpenOptions::new().write(true).create(true).truncate(true).open(&path).expect("VCD file");
         let mut w = b.start(file).expect("VCD header");
         let f = w.frame(&ids).unwrap();
+        let t0 = cpu_now();
         let h = pass_traced(st, &mut w, f, unit_ns);
         w.finish().expect("VCD written");
-        h
+        (h, cpu_now() - t0)
     };
-    let cpu = cpu_now() - t0;
     let note = match sink {
         Sink::File => {
             let bytes = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
