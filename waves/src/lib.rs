@@ -3,6 +3,8 @@
 //! * [`writer`] — a checked, deterministic VCD writer on top of the `vcd` crate
 //!   ([`writer::VcdBuilder`] declares the hierarchy, [`writer::VcdWriter`] dumps
 //!   value changes).
+//! * [`vcd_text`] — the text of a VCD body (change lines, time stamps) without a branch per
+//!   character, which the VCD writer emits with.
 //! * [`fst`] — the same checked writer with FST output (`fst-writer`), for long runs.
 //! * [`gtkw`] — GTKWave save files (`.gtkw`) that open a VCD with groups,
 //!   number formats and analog traces.
@@ -24,6 +26,7 @@ pub mod fuzzing;
 pub mod gtkw;
 pub mod reader;
 pub mod validate;
+pub mod vcd_text;
 pub mod writer;
 
 mod guard;

@@ -59,6 +59,7 @@ use thiserror::Error;
 use vcd::{IdCode, ReferenceIndex, VarType};
 
 use crate::time::Timescale;
+use crate::vcd_text::{stamp, ChangeLine, SLACK};
 
 static NEXT_BUILDER_ID: AtomicU32 = AtomicU32::new(1);
 
@@ -817,38 +818,6 @@ pub trait Emitter {
 /// Bytes of VCD text collected before one write to the output.
 const VCD_BUFFER: usize = 1 << 17;
 
-/// `b"00000000"` .. `b"11111111"`: the 8 VCD bits of each byte value, msb first.
-const BITS8: [[u8; 8]; 256] = {
-    let mut t = [[b'0'; 8]; 256];
-    let mut v = 0;
-    while v < 256 {
-        let mut k = 0;
-        while k < 8 {
-            if (v >> (7 - k)) & 1 == 1 {
-                t[v][k] = b'1';
-            }
-            k += 1;
-        }
-        v += 1;
-    }
-    t
-};
-
-/// Longest identifier code written from a [`Line`] ([`VcdOut`]): with the space before it and
-/// the newline after it, its [`Line::suffix`] is 16 bytes. Variables with longer codes, and
-/// vectors wider than 64 bits, take the general path.
-const CODE: usize = 14;
-
-/// Bytes one change line may touch past its start: `b`, 64 bits and the 16-byte suffix store
-/// (the 8-character chunks of the bits are written whole, 8 of them at most, and the suffix
-/// overwrites what the last chunk wrote beyond the width).
-const LINE: usize = 1 + 64 + 16;
-
-/// Bytes the buffer holds beyond [`VCD_BUFFER`]: one change line or one time stamp fits after
-/// any position below `VCD_BUFFER`.
-const SLACK: usize = 128;
-const _: () = assert!(SLACK >= LINE && SLACK >= 26);
-
 /// VCD text emitter: identifier codes and the text after every change's value precomputed at
 /// declaration; a change is its value's characters and one fixed-size copy of that text, into
 /// one buffer that goes to the output in large writes.
@@ -859,89 +828,14 @@ pub struct VcdOut<W: Write> {
     pos: usize,
     codes: Vec<Box<[u8]>>,
     widths: Vec<u32>,
-    /// Per variable, the fixed part of its two-state change line.
-    lines: Vec<Line>,
-}
-
-/// The change line of a variable of at most 64 bits, `b<bits> <code>\n` (vector) or
-/// `<bit><code>\n` (scalar), as the text after the value: `suffix` holds ` <code>\n` or
-/// `<code>\n` in its first `len` bytes. `width` 0: no line (vectors wider than 64 bits, codes
-/// longer than [`CODE`]). A real has one too (64 bits wide) that is never used: its values come
-/// as [`ValueRef::Real`].
-#[derive(Clone, Copy)]
-struct Line {
-    suffix: [u8; 16],
-    len: u8,
-    /// 1: a scalar's line (no `b`); 2..=64: a vector's
-    width: u8,
-}
-
-/// `00` .. `99`: the two decimal digits of each value below 100.
-const DIGITS2: [[u8; 2]; 100] = {
-    let mut t = [[b'0'; 2]; 100];
-    let mut v = 0;
-    while v < 100 {
-        t[v] = [b'0' + (v / 10) as u8, b'0' + (v % 10) as u8];
-        v += 1;
-    }
-    t
-};
-
-/// `b'0'` in every byte of a `u64`.
-const ASCII0: u64 = 0x3030_3030_3030_3030;
-
-/// The eight decimal digits of `x` (< 10^8, leading zeros included) as the bytes of a `u64`,
-/// most significant digit in the lowest byte (first in memory as `to_le_bytes`), each byte
-/// 0..=9: `x` split into two groups of four digits in 32-bit lanes, those into groups of two in
-/// 16-bit lanes, those into digits in bytes; each division by a constant is a multiply and a
-/// shift that is exact over the lane's range (`x / 100 = x * 10486 >> 20` for `x < 10^4`,
-/// `x / 10 = x * 103 >> 10` for `x < 100`).
-#[inline(always)]
-fn digits8(x: u32) -> u64 {
-    let x = u64::from(x);
-    let merged = (x / 10_000) | ((x % 10_000) << 32);
-    let top = ((merged * 10_486) >> 20) & 0x0000_007F_0000_007F;
-    let hundreds = ((merged - 100 * top) << 16) + top;
-    let tens = ((hundreds * 103) >> 10) & 0x000F_000F_000F_000F;
-    tens + ((hundreds - 10 * tens) << 8)
-}
-
-/// Write the change line of a variable with line `l` and two-state value `v` (which fits its
-/// width) at the start of `out`; returns its length.
-#[inline(always)]
-fn int_line(out: &mut [u8; SLACK], l: &Line, v: u64) -> usize {
-    if l.width == 1 {
-        out[0] = b'0' + (v & 1) as u8;
-        out[1..17].copy_from_slice(&l.suffix);
-        return 1 + usize::from(l.len);
-    }
-    // The bits msb first from `out[1]`, in whole chunks of 8 characters (the value fits the
-    // width, so the characters past it are the chunk's low bits, overwritten by the suffix).
-    let w = usize::from(l.width).min(64);
-    out[0] = b'b';
-    let u = v << (64 - w);
-    let mut j = 0;
-    while j < 8 && 8 * j < w {
-        out[1 + 8 * j..9 + 8 * j].copy_from_slice(&BITS8[(u >> (56 - 8 * j)) as usize & 0xFF]);
-        j += 1;
-    }
-    out[1 + w..17 + w].copy_from_slice(&l.suffix);
-    1 + w + usize::from(l.len)
+    /// Per variable, the fixed part of its two-state change line ([`ChangeLine::GENERAL`]: the
+    /// general path).
+    lines: Vec<ChangeLine>,
 }
 
 impl<W: Write> VcdOut<W> {
     fn new(out: W, codes: Vec<Box<[u8]>>, widths: Vec<u32>) -> VcdOut<W> {
-        let mut lines = Vec::with_capacity(codes.len());
-        for (code, &w) in codes.iter().zip(&widths) {
-            let mut l = Line { suffix: [0; 16], len: 0, width: 0 };
-            let text: Vec<u8> = if w == 1 { [&code[..], b"\n"].concat() } else { [&b" "[..], code, b"\n"].concat() };
-            if (1..=64).contains(&w) && code.len() <= CODE {
-                l.suffix[..text.len()].copy_from_slice(&text);
-                l.len = text.len() as u8;
-                l.width = w as u8;
-            }
-            lines.push(l);
-        }
+        let lines = codes.iter().zip(&widths).map(|(code, &w)| ChangeLine::new(code, w).unwrap_or(ChangeLine::GENERAL)).collect();
         VcdOut { out, buf: vec![0; VCD_BUFFER + SLACK].into_boxed_slice(), pos: 0, codes, widths, lines }
     }
 
@@ -956,54 +850,15 @@ impl<W: Write> VcdOut<W> {
         Ok(())
     }
 
-    /// `#t\n` from `buf[pos]` (at most 19 bytes up to 10^16, beyond that a loop; the output
-    /// has [`SLACK`] bytes free): the decimal digits eight at a time, computed in the lanes of a
-    /// `u64` ([`digits8`]), the leading zeros of the first group shifted out.
+    /// `#t\n` at `buf[pos]` ([`stamp`]; the buffer has [`SLACK`] bytes free).
     #[inline(always)]
     fn stamp(&mut self, t: u64) {
-        const E8: u64 = 100_000_000;
         let p = self.pos;
         let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("SLACK bytes free after room()");
-        out[0] = b'#';
-        let (first, rest) = if t < E8 { (t, None) } else if t < E8 * E8 { (t / E8, Some(t % E8)) } else { return self.stamp_long(t) };
-        let d = digits8(first as u32);
-        // leading zero digits of the first group (t = 0 keeps its last digit)
-        let lead = if first == 0 { 7 } else { (d.trailing_zeros() / 8) as usize };
-        out[1..9].copy_from_slice(&((d | ASCII0) >> (8 * lead)).to_le_bytes());
-        let mut n = 1 + 8 - lead;
-        if let Some(r) = rest {
-            out[n..n + 8].copy_from_slice(&(digits8(r as u32) | ASCII0).to_le_bytes());
-            n += 8;
-        }
-        out[n] = b'\n';
-        self.pos = p + n + 1;
+        self.pos = p + stamp(out, t);
     }
 
-    /// A time stamp of 10^16 or later: two digits per division.
-    #[cold]
-    #[inline(never)]
-    fn stamp_long(&mut self, mut t: u64) {
-        let mut d = [0u8; 24];
-        d[23] = b'\n';
-        let mut k = 23;
-        while t >= 100 {
-            k -= 2;
-            d[k..k + 2].copy_from_slice(&DIGITS2[(t % 100) as usize]);
-            t /= 100;
-        }
-        if t >= 10 {
-            k -= 2;
-            d[k..k + 2].copy_from_slice(&DIGITS2[t as usize]);
-        } else {
-            k -= 1;
-            d[k] = b'0' + t as u8;
-        }
-        let p = self.pos;
-        self.buf[p + 1..p + 25 - k].copy_from_slice(&d[k..]);
-        self.pos = p + 25 - k;
-    }
-
-    /// A change without a `Line`: four-state bits, reals, vectors wider than 64 bits, variables
+    /// A change without a [`ChangeLine`]: four-state bits, reals, vectors wider than 64 bits, variables
     /// whose identifier code is longer than [`CODE`].
     #[cold]
     #[inline(never)]
@@ -1069,15 +924,15 @@ impl<W: Write> Emitter for VcdOut<W> {
         Ok(())
     }
 
-    /// A two-state value from its `Line` (`int_line`), anything else by the general path.
+    /// A two-state value from its [`ChangeLine`], anything else by the general path.
     #[inline(always)]
     fn value(&mut self, i: usize, v: ValueRef<'_>) -> Result<()> {
         match v {
-            ValueRef::Int(v) if self.lines[i].width > 0 => {
+            ValueRef::Int(v) if self.lines[i].is_line() => {
                 self.room()?;
                 let p = self.pos;
                 let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("SLACK bytes free after room()");
-                self.pos = p + int_line(out, &self.lines[i], v);
+                self.pos = p + self.lines[i].write(out, v);
                 Ok(())
             }
             v => self.value_general(i, v),
@@ -1927,25 +1782,5 @@ impl Write for Slot {
 
     fn flush(&mut self) -> std::io::Result<()> {
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{digits8, ASCII0};
-
-    /// `digits8` is the zero-padded decimal of every group of eight digits: every value below
-    /// 10^5, every power of ten and its neighbours, and a stride through the rest.
-    #[test]
-    fn digits8_is_the_zero_padded_decimal() {
-        let pow = (0..8).flat_map(|e| {
-            let p = 10u32.pow(e);
-            [p - 1, p, p + 1, 2 * p - 1, 5 * p, 10 * p - 1]
-        });
-        let all = (0..100_000).chain((0..100_000_000).step_by(9_973)).chain(pow).chain([99_999_999]);
-        for x in all {
-            let got = (digits8(x) | ASCII0).to_le_bytes();
-            assert_eq!(std::str::from_utf8(&got).unwrap(), format!("{x:08}"), "{x}");
-        }
     }
 }
