@@ -16,6 +16,7 @@
 //! | Verilator -O3 --trace | `DIR/vlt_NAME/bench --trace`: VCD of the twin's counterparts of the Rust tracer's 65 signals (hdl/bench/trace.vlt); the note says how many `$var`s it dumps and names any of the 65 without a counterpart |
 //! | Rust tracer VCD / FST | `pmu50::tracer::CoreTracer` in one run (`CoreTracer::run`: the core's traced edge and the checked `pmu50_waves` writer lent to the tracer's frame, comparing only what the edge can have changed) of the model's signals: ports, registers, internals, as `pmu50 run` declares them (without the analog `env` reals, which the twin does not have). Before timing, the run checks that its VCD is byte for byte the one of `Writer::dump_frame` with every value of every tick |
 //! | ... to /dev/null | the same two VCD harnesses (Verilator --trace, Rust tracer VCD) writing to `/dev/null`: the same writes, which the kernel throws away, so the row is the tracer's own cost without the page cache's (both sides write the same 8 MB of keyoff_turns to a file, a large part of the Rust tracer's time) |
+//! | headroom experiment | not the project (as the hand-written kernel loop of issue 8's first table was not): the tracer's compares and the VCD text fused into one loop over the kernel (`fused` below), without the checked writer's checks and bookkeeping, to a file and to `/dev/null`; its VCD is checked byte for byte against `dump_frame`'s before it is timed. It says how fast a tracer of these signals on this kernel and this VCD text (`pmu50_waves::vcd_text`) could be |
 //! | Icarus | `vvp DIR/iv_NAME.vvp +vec=DIR/NAME.vec` (hdl/tb/tb_vectors.v, which compares every output with the file: for scale) |
 //!
 //! `--quick-traced` prints only the Rust tracer's rows, with two parts of its tick: the traced
@@ -654,16 +655,19 @@ fn main() {
         "Rust tracer FST (CoreTracer + pmu50_waves)",
         "Verilator -O3 --trace, VCD to /dev/null",
         "Rust tracer VCD to /dev/null",
+        "headroom experiment: fused tracer without checks, VCD to a file",
+        "headroom experiment: fused tracer without checks, VCD to /dev/null",
         "Icarus Verilog (vvp), for scale",
     ];
     // the row each ratio is taken against: Verilator -O3, Verilator --trace to a file, to /dev/null
-    let base = [2, 2, 2, 3, 3, 3, 6, 6, 2];
+    let base = [2, 2, 2, 3, 3, 3, 6, 6, 3, 6, 2];
     let mut table: Vec<Vec<Result<Meas, String>>> = vec![Vec::new(); labels.len()];
     for st in &stims {
         eprintln!("compare: {} ({} ticks)", st.name, st.inputs.len());
         check_frame_order(st);
         check_tracer(st);
-        let dir = &dir;
+        let header = check_fused(st);
+        let (dir, header) = (&dir, &header);
         let harnesses: Vec<Result<Round<'_>, String>> = vec![
             Ok(pass_rounds(st, seconds, pass_spec)),
             Ok(pass_rounds(st, seconds, pass_kernel)),
@@ -673,11 +677,13 @@ fn main() {
             Ok(Box::new(move || Ok(traced_once(st, dir, true, Sink::File)))),
             verilator(st, dir, seconds, Some(Sink::Null)),
             Ok(Box::new(move || Ok(traced_once(st, dir, false, Sink::Null)))),
+            Ok(Box::new(move || Ok(fused_once(st, header, dir, Sink::File)))),
+            Ok(Box::new(move || Ok(fused_once(st, header, dir, Sink::Null)))),
         ];
         for (row, m) in table.iter_mut().zip(interleaved(harnesses)) {
             row.push(m);
         }
-        table[8].push(if iv.contains(&st.name) { icarus(st, dir) } else { Err("not run (slow; see --icarus)".into()) });
+        table[10].push(if iv.contains(&st.name) { icarus(st, dir) } else { Err("not run (slow; see --icarus)".into()) });
     }
 
     // Checksums: every harness of a stimulus must agree.
@@ -751,4 +757,187 @@ fn main() {
         eprintln!("compare: FAIL: the harnesses do not agree (or Verilator did not run)");
         std::process::exit(1);
     }
+}
+
+/// The headroom experiment of `make bench` (not the project, as the hand-written kernel loop of
+/// issue 8 was): the tracer's compares and the VCD text fused into one loop over the core, with
+/// none of the checked writer's checks or bookkeeping and the time stamp written ahead and taken
+/// back when nothing changed. It writes the same file as `Writer::dump_frame` with every value
+/// (checked before it is timed), so its rows say how fast any tracer of these 65 signals built
+/// on this kernel and this text could be, next to Verilator --trace and `CoreTracer`.
+mod fused {
+    use super::*;
+    use pmu50_waves::vcd_text::{stamp, ChangeLine, SLACK};
+    use std::io::Write;
+
+    /// Bytes collected before one write (the checked writer's buffer size).
+    const BUF: usize = 1 << 17;
+
+    pub struct Out<W: Write> {
+        buf: Box<[u8]>,
+        pos: usize,
+        lines: [ChangeLine; NSIG],
+        w: W,
+    }
+
+    impl<W: Write> Out<W> {
+        /// The change lines of the 65 variables of `header` (a VCD header of `declare`).
+        pub fn new(header: &[u8], w: W) -> Out<W> {
+            let text = std::str::from_utf8(header).expect("a VCD header is text");
+            let lines: Vec<ChangeLine> = text
+                .lines()
+                .filter_map(|l| {
+                    let p: Vec<&str> = l.split_whitespace().collect();
+                    (p.first() == Some(&"$var")).then(|| ChangeLine::new(p[3].as_bytes(), p[2].parse().expect("a width")).expect("a variable of at most 64 bits"))
+                })
+                .collect();
+            Out { buf: vec![0; BUF + 8 * 1024].into_boxed_slice(), pos: 0, lines: lines.try_into().expect("65 variables"), w }
+        }
+
+        #[inline(always)]
+        fn line(&mut self, k: usize, v: u64) {
+            let p = self.pos;
+            let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("room for a step");
+            self.pos = p + self.lines[k].write(out, v);
+        }
+
+        #[inline(always)]
+        fn stamp(&mut self, t: u64) {
+            let p = self.pos;
+            let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("room for a step");
+            self.pos = p + stamp(out, t);
+        }
+
+        fn put(&mut self, s: &[u8]) {
+            self.buf[self.pos..self.pos + s.len()].copy_from_slice(s);
+            self.pos += s.len();
+        }
+
+        pub fn finish(mut self) -> W {
+            self.w.write_all(&self.buf[..self.pos]).expect("VCD written");
+            self.w.flush().expect("VCD written");
+            self.w
+        }
+    }
+
+    macro_rules! diff {
+        ($o:ident, $cur:expr, $held:expr, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
+            $( if $cur.$($f).+ != $held.$($f).+ {
+                $held.$($f).+ = $cur.$($f).+;
+                $o.line($base + $k, $cur.$($f).+ as u64);
+            } )*
+        };
+    }
+    macro_rules! all {
+        ($o:ident, $cur:expr, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
+            $( $o.line($base + $k, $cur.$($f).+ as u64); )*
+        };
+    }
+
+    #[inline(never)]
+    pub fn pass<W: Write>(st: &Stim, o: &mut Out<W>, dt: u64) -> u64 {
+        let mut m = Pmu50::new(st.params).expect("legal parameters");
+        let mut h = 0;
+        let mut li = Inputs::default();
+        let mut lo = m.peek();
+        let mut lr = *m.regs();
+        let mut lx = Internals::default();
+        let mut ob = lo;
+        let mut wide_prev = true;
+        for (k, i) in st.inputs.iter().enumerate() {
+            let t = k as u64 * dt;
+            if o.pos >= BUF {
+                o.w.write_all(&o.buf[..o.pos]).expect("VCD written");
+                o.pos = 0;
+            }
+            let mark = o.pos;
+            o.stamp(t);
+            let start = o.pos;
+            let r = m.regs();
+            if k == 0 {
+                o.put(b"$dumpvars\n");
+                li = *i;
+                lr = *r;
+                all!(o, i, 0, [0: ig, 1: vs2_ok, 2: cmp_s, 3: cmp_c, 4: bus_we, 5: bus_addr, 6: bus_wdata]);
+                all!(o, ob, 7, [0: sig, 1: vr_hi, 2: vm_en, 3: vs1_en, 4: vs2_en, 5: vp_en, 6: rail_hi, 7: st, 8: sr, 9: ps_win, 10: smp, 11: cs, 12: cc,
+                    13: cnt_s, 14: cnt_c, 15: cnt_r, 16: si, 17: hist_s, 18: hist_c, 19: diag, 20: quadrant_skip, 21: bus_rdata, 22: bus_err]);
+                all!(o, r, 30, [0: action_switching.sync,
+                    1: register_file.adaptive, 2: register_file.pw, 3: register_file.pi, 4: register_file.ps, 5: register_file.si_max,
+                    6: register_file.si_min, 7: register_file.t1, 8: register_file.t2, 9: register_file.cth, 10: register_file.smp_on,
+                    11: register_file.bus_err, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr,
+                    15: comparator_latch.cs, 16: comparator_latch.cc, 17: comparator_latch.vld,
+                    18: updown_counter.cnt_s, 19: updown_counter.cnt_c, 20: updown_counter.quadrant_skip,
+                    21: drive_interval.si, 22: drive_interval.hist_s, 23: drive_interval.hist_c, 24: drive_interval.cnt_r, 25: count_diagnosis.diag]);
+            } else {
+                if li != *i {
+                    diff!(o, i, li, 0, [0: ig, 1: vs2_ok, 2: cmp_s, 3: cmp_c, 4: bus_we, 5: bus_addr, 6: bus_wdata]);
+                }
+                if wide_prev {
+                    diff!(o, ob, lo, 7, [0: sig, 1: vr_hi, 2: vm_en, 3: vs1_en, 4: vs2_en, 5: vp_en, 6: rail_hi, 7: st, 8: sr, 9: ps_win, 10: smp, 11: cs, 12: cc,
+                        13: cnt_s, 14: cnt_c, 15: cnt_r, 16: si, 17: hist_s, 18: hist_c, 19: diag, 20: quadrant_skip, 21: bus_rdata, 22: bus_err]);
+                    diff!(o, r, lr, 30, [0: action_switching.sync,
+                        1: register_file.adaptive, 2: register_file.pw, 3: register_file.pi, 4: register_file.ps, 5: register_file.si_max,
+                        6: register_file.si_min, 7: register_file.t1, 8: register_file.t2, 9: register_file.cth, 10: register_file.smp_on,
+                        11: register_file.bus_err, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr,
+                        15: comparator_latch.cs, 16: comparator_latch.cc, 17: comparator_latch.vld,
+                        18: updown_counter.cnt_s, 19: updown_counter.cnt_c, 20: updown_counter.quadrant_skip,
+                        21: drive_interval.si, 22: drive_interval.hist_s, 23: drive_interval.hist_c, 24: drive_interval.cnt_r, 25: count_diagnosis.diag]);
+                } else {
+                    diff!(o, ob, lo, 7, [4: vs2_en, 7: st, 8: sr, 9: ps_win, 10: smp, 19: diag, 21: bus_rdata]);
+                    diff!(o, r, lr, 30, [0: action_switching.sync, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr, 25: count_diagnosis.diag]);
+                }
+            }
+            let (x, after, wide) = m.step_traced_wide(i);
+            if k == 0 {
+                lx = x;
+                all!(o, x, 56, [0: kon, 1: koff, 2: upd, 3: first, 4: chg_s, 5: chg_c, 6: skip_clr, 7: fig17, 8: fig18]);
+                o.put(b"$end\n");
+            } else if wide || wide_prev {
+                diff!(o, x, lx, 56, [0: kon, 1: koff, 2: upd, 3: first, 4: chg_s, 5: chg_c, 6: skip_clr, 7: fig17, 8: fig18]);
+            }
+            wide_prev = wide;
+            ob = after;
+            if o.pos == start {
+                o.pos = mark;
+            }
+            h = mix(h, &after);
+        }
+        o.stamp(st.inputs.len() as u64 * dt);
+        h
+    }
+}
+
+/// The headroom experiment writes the VCD of `Writer::dump_frame` with every value, byte for
+/// byte; returns the header it starts from.
+fn check_fused(st: &Stim) -> Vec<u8> {
+    let every = vcd_every_value(st);
+    let end = b"$enddefinitions $end\n";
+    let split = every.windows(end.len()).position(|w| w == end).expect("a VCD header") + end.len();
+    let header = every[..split].to_vec();
+    let mut o = fused::Out::new(&header, header.clone());
+    let (_, _, unit_ns) = declare(st);
+    fused::pass(st, &mut o, st.clock_ns / unit_ns);
+    assert!(o.finish() == every, "{}: the headroom experiment's VCD differs from dump_frame's with every value", st.name);
+    header
+}
+
+/// One round of the headroom experiment: the header written before the clock starts (as the
+/// other VCD harnesses do), the body and the final write timed.
+fn fused_once(st: &Stim, header: &[u8], dir: &Path, sink: Sink) -> Meas {
+    let (_, _, unit_ns) = declare(st);
+    let path = match sink {
+        Sink::File => dir.join(format!("fused_{}.vcd", st.name)),
+        Sink::Null => PathBuf::from("/dev/null"),
+    };
+    let mut file = std::fs::OpenOptions::new().write(true).create(true).truncate(true).open(&path).expect("VCD file");
+    std::io::Write::write_all(&mut file, header).expect("VCD header");
+    let mut o = fused::Out::new(header, file);
+    let t0 = cpu_now();
+    let h = fused::pass(st, &mut o, st.clock_ns / unit_ns);
+    o.finish();
+    let cpu = cpu_now() - t0;
+    if sink == Sink::File && std::env::var_os("PMU50_BENCH_KEEP").is_none() {
+        let _ = std::fs::remove_file(&path);
+    }
+    Meas { ticks: st.inputs.len() as u64, cpu, checksum: Some(h), note: String::new() }
 }
