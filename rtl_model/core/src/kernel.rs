@@ -567,13 +567,68 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
     let sig = sig_of(c, sync);
     let sync_n = ((sync << 1) | u8::from(i.ig)) & c.sync_mask;
     let sig_n = sig_of(c, sync_n);
-    if (sig != sig_n) | i.bus_we {
-        // Outputs from the registers inline, so that both paths give the outputs as values (an
-        // `Outputs` returned through memory by the out-of-line call costs a store-forwarding stall
-        // in the caller every tick).
+    // The outputs a narrow edge computes (the others are read from the registers after the
+    // edge on both paths below, so that only these eight are carried out of the branch: with
+    // all 23 carried, the loop around the step kept them in stack slots).
+    let (n, x, wide) = if (sig != sig_n) | i.bus_we {
+        // A bus write or a key edge: the full edge out of line, the outputs from its registers
+        // (an `Outputs` returned through memory by the out-of-line call costs a
+        // store-forwarding stall in the caller every tick).
         let x = edge_rare(c, r, sh, i);
-        return (ports(c, r), if TRACED { x } else { Internals::default() }, true);
-    }
+        let sig = sig_of(c, r.action_switching.sync);
+        let (st, vs2_en, ps_win, smp) = decode(r, sig);
+        let n = Narrow { sig, vs2_en, st, sr: r.sensor_power_determination.sr, ps_win, smp, diag: r.count_diagnosis.diag, bus_rdata: r.register_file.rdata };
+        (n, if TRACED { x } else { Internals::default() }, true)
+    } else {
+        let (n, x, smp) = edge_common::<TRACED>(c, r, sh, i, sig, sync_n);
+        (n, x, smp)
+    };
+    let u = &r.updown_counter;
+    let o = Outputs {
+        sig: n.sig,
+        vr_hi: n.sig,
+        vm_en: n.sig,
+        vs1_en: n.sig,
+        vs2_en: n.vs2_en,
+        vp_en: true,
+        rail_hi: n.sig,
+        st: n.st,
+        sr: n.sr,
+        ps_win: n.ps_win,
+        smp: n.smp,
+        cs: r.comparator_latch.cs,
+        cc: r.comparator_latch.cc,
+        cnt_s: u.cnt_s,
+        cnt_c: u.cnt_c,
+        cnt_r: r.drive_interval.cnt_r,
+        si: r.drive_interval.si,
+        hist_s: r.drive_interval.hist_s,
+        hist_c: r.drive_interval.hist_c,
+        diag: n.diag,
+        quadrant_skip: u.quadrant_skip,
+        bus_rdata: n.bus_rdata,
+        bus_err: r.register_file.bus_err,
+    };
+    (o, x, wide)
+}
+
+/// The outputs an edge computes rather than reads from the registers after it: `sig` and the
+/// outputs that are `sig`, the timer's decode, `sr`, `diag` and the read data.
+struct Narrow {
+    sig: bool,
+    vs2_en: bool,
+    st: bool,
+    sr: bool,
+    ps_win: bool,
+    smp: bool,
+    diag: bool,
+    bus_rdata: u16,
+}
+
+/// The common edge (no bus write, no key edge) inline: the registers it writes, the outputs it
+/// computes ([`Narrow`]), its internals and whether it sampled (`smp`, a wide edge).
+#[inline(always)]
+fn edge_common<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs, sig: bool, sync_n: u8) -> (Narrow, Internals, bool) {
     // 3. Timing generator decode of the pre-edge registers (parameters before the edge, from
     // the shadow).
     let t = u32::from(r.timing_generator.tmr);
@@ -607,7 +662,6 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
     }
     // 8. Count diagnosis from the counters after the edge (the shadow's, refreshed above when a
     // sample changed them).
-    let u = &r.updown_counter;
     let diag = sh.diag;
     // Commit.
     r.action_switching.sync = sync_n;
@@ -615,38 +669,13 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
     r.sensor_power_determination.sr = sr;
     r.count_diagnosis.diag = diag;
     r.register_file.rdata = rdata;
-    // Moore outputs after the edge: `sig` and the parameters are unchanged, the timer is `t_n`
-    // (the decode of the key mode, from the shadow).
+    // Moore outputs after the edge that are not registers: `sig` and the parameters are
+    // unchanged, the timer is `t_n` (the decode of the key mode, from the shadow).
     let st = t_n == sh.st_at;
     let vs2_en_n = t_n < sh.vs2_lt;
     let ps_win = t_n.wrapping_sub(sh.ps_lo) < sh.ps_len;
     let smp_n = t_n + 1 == sh.smp_at;
-    let o = Outputs {
-        sig,
-        vr_hi: sig,
-        vm_en: sig,
-        vs1_en: sig,
-        vs2_en: vs2_en_n,
-        vp_en: true,
-        rail_hi: sig,
-        st,
-        sr,
-        ps_win,
-        smp: smp_n,
-        cs: r.comparator_latch.cs,
-        cc: r.comparator_latch.cc,
-        cnt_s: u.cnt_s,
-        cnt_c: u.cnt_c,
-        cnt_r: r.drive_interval.cnt_r,
-        si: r.drive_interval.si,
-        hist_s: r.drive_interval.hist_s,
-        hist_c: r.drive_interval.hist_c,
-        diag,
-        quadrant_skip: u.quadrant_skip,
-        bus_rdata: rdata,
-        bus_err: r.register_file.bus_err,
-    };
-    (o, x, smp)
+    (Narrow { sig, vs2_en: vs2_en_n, st, sr, ps_win, smp: smp_n, diag, bus_rdata: rdata }, x, smp)
 }
 
 /// The edges [`step`] does not take inline: a bus write or a key edge (with the internals of
