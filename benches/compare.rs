@@ -16,7 +16,8 @@
 //! | Verilator -O3 --trace | `DIR/vlt_NAME/bench --trace`: VCD of the twin's counterparts of the Rust tracer's 65 signals (hdl/bench/trace.vlt); the note says how many `$var`s it dumps and names any of the 65 without a counterpart |
 //! | Rust tracer VCD / FST | `pmu50::tracer::CoreTracer` in one run (`CoreTracer::run`: the core's traced edge and the checked `pmu50_waves` writer lent to the tracer's frame, comparing only what the edge can have changed) of the model's signals: ports, registers, internals, as `pmu50 run` declares them (without the analog `env` reals, which the twin does not have). Before timing, the run checks that its VCD is byte for byte the one of `Writer::dump_frame` with every value of every tick |
 //! | ... to /dev/null | the same two VCD harnesses (Verilator --trace, Rust tracer VCD) writing to `/dev/null`: the same writes, which the kernel throws away, so the row is the tracer's own cost without the page cache's (both sides write the same 8 MB of keyoff_turns to a file, a large part of the Rust tracer's time) |
-//! | headroom experiment | not the project (as the hand-written kernel loop of issue 8's first table was not): the tracer's compares and the VCD text fused into one loop over the kernel (`fused` below), without the checked writer's checks and bookkeeping, to a file and to `/dev/null`; its VCD is checked byte for byte against `dump_frame`'s before it is timed. It says how fast a tracer of these signals on this kernel and this VCD text (`pmu50_waves::vcd_text`) could be |
+//! | headroom experiment | not the project (as the hand-written kernel loop of issue 8's first table was not): the tracer's compares and the VCD text fused into one loop over the kernel (`fused` below), without the checked writer's checks and bookkeeping, to a file and to `/dev/null`; its VCD is checked byte for byte against `dump_frame`'s before it is timed. It says how fast a tracer of this design (the tracer's compares, this text) could be without any check |
+//! | page cache | after the table: the CPU cost per byte of writing a new 8 MiB file in 128 KiB writes, and what it comes to per tick for each stimulus's VCD (the same bytes for every VCD harness) |
 //! | Icarus | `vvp DIR/iv_NAME.vvp +vec=DIR/NAME.vec` (hdl/tb/tb_vectors.v, which compares every output with the file: for scale) |
 //!
 //! `--quick-traced` prints only the Rust tracer's rows, with two parts of its tick: the traced
@@ -397,9 +398,9 @@ fn traced_once(st: &Stim, dir: &Path, fst: bool, sink: Sink) -> Meas {
         Sink::File => dir.join(format!("rust_{}.{}", st.name, if fst { "fst" } else { "vcd" })),
         Sink::Null => PathBuf::from("/dev/null"),
     };
-    // The clock starts after the file is opened (a file kept from the last round is truncated
-    // then) and the header written, and stops after the last byte is written, as in
-    // hdl/bench/bench.cpp (`tfp->open` before `t0`, `tfp->close` before `t1`).
+    // The clock starts after the file is created and the header written, and stops after the
+    // last byte is written, as in hdl/bench/bench.cpp (`tfp->open` before `t0`, `tfp->close`
+    // before `t1`).
     let (h, cpu) = if fst {
         let mut w = start_fst(b, &path).expect("FST file");
         let f = w.frame(&ids).unwrap();
@@ -662,11 +663,14 @@ fn main() {
     // the row each ratio is taken against: Verilator -O3, Verilator --trace to a file, to /dev/null
     let base = [2, 2, 2, 3, 3, 3, 6, 6, 3, 6, 2];
     let mut table: Vec<Vec<Result<Meas, String>>> = vec![Vec::new(); labels.len()];
+    // bytes of VCD body per tick of each stimulus (the tracer's, the experiment's, Verilator's)
+    let mut vcd_bytes = Vec::new();
     for st in &stims {
         eprintln!("compare: {} ({} ticks)", st.name, st.inputs.len());
         check_frame_order(st);
         check_tracer(st);
-        let header = check_fused(st);
+        let (header, body) = check_fused(st);
+        vcd_bytes.push(body as f64 / st.inputs.len() as f64);
         let (dir, header) = (&dir, &header);
         let harnesses: Vec<Result<Round<'_>, String>> = vec![
             Ok(pass_rounds(st, seconds, pass_spec)),
@@ -732,6 +736,15 @@ fn main() {
     }
     out += &format!("\noutput checksums: {}\n", sums.join("; "));
 
+    // The page cache's share of a VCD written to a file, the same for both sides.
+    match page_cache_ns_per_byte(&dir) {
+        Ok(ns) => {
+            let per_tick: Vec<String> = stims.iter().zip(&vcd_bytes).map(|(st, &b)| format!("{}: {:.1} bytes of VCD a tick, {:.0} ns", st.name, b, b * ns)).collect();
+            out += &format!("\npage cache: writing a new 8 MiB file costs {ns:.2} ns of CPU per byte (128 KiB writes, best of 15); {}\n", per_tick.join("; "));
+        }
+        Err(e) => out += &format!("\npage cache: not measured: {e}\n"),
+    }
+
     // Park figures.
     out += "\npark (key off; pmu50 simulator with fast-forward and period skip, no waveform, as `pmu50 run` with trace = none; one child process each, its CPU time and peak memory):\n";
     let park_30d = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/park_30d.toml").display().to_string();
@@ -763,8 +776,10 @@ fn main() {
 /// issue 8 was): the tracer's compares and the VCD text fused into one loop over the core, with
 /// none of the checked writer's checks or bookkeeping and the time stamp written ahead and taken
 /// back when nothing changed. It writes the same file as `Writer::dump_frame` with every value
-/// (checked before it is timed), so its rows say how fast any tracer of these 65 signals built
-/// on this kernel and this text could be, next to Verilator --trace and `CoreTracer`.
+/// (checked before it is timed), so its rows say how fast a tracer of this design (the same
+/// compares per field after narrow and wide edges, the same text) could be without any check,
+/// next to Verilator --trace and `CoreTracer`. Not a bound for every design: a finer activity
+/// mask from the kernel or compares of packed words would find the changes differently.
 mod fused {
     use super::*;
     use pmu50_waves::vcd_text::{stamp, ChangeLine, SLACK};
@@ -907,9 +922,31 @@ mod fused {
     }
 }
 
+/// CPU nanoseconds per byte of writing 8 MiB into a new file of `dir` in 128 KiB writes (the
+/// writers' buffer size), the best of fifteen: the page cache's cost, which every VCD harness
+/// pays for its bytes.
+fn page_cache_ns_per_byte(dir: &Path) -> std::io::Result<f64> {
+    use std::io::Write;
+    let path = dir.join("page_cache.bin");
+    let chunk = vec![b'0'; 1 << 17];
+    let mut best = f64::MAX;
+    for _ in 0..15 {
+        let mut f = std::fs::File::create(&path)?;
+        let t0 = cpu_now();
+        for _ in 0..64 {
+            f.write_all(&chunk)?;
+        }
+        f.flush()?;
+        drop(f);
+        best = best.min(cpu_now() - t0);
+        std::fs::remove_file(&path)?;
+    }
+    Ok(best * 1e9 / (64.0 * chunk.len() as f64))
+}
+
 /// The headroom experiment writes the VCD of `Writer::dump_frame` with every value, byte for
-/// byte; returns the header it starts from.
-fn check_fused(st: &Stim) -> Vec<u8> {
+/// byte; returns the header it starts from and the length of the body.
+fn check_fused(st: &Stim) -> (Vec<u8>, usize) {
     let every = vcd_every_value(st);
     let end = b"$enddefinitions $end\n";
     let split = every.windows(end.len()).position(|w| w == end).expect("a VCD header") + end.len();
@@ -918,7 +955,7 @@ fn check_fused(st: &Stim) -> Vec<u8> {
     let (_, _, unit_ns) = declare(st);
     fused::pass(st, &mut o, st.clock_ns / unit_ns);
     assert!(o.finish() == every, "{}: the headroom experiment's VCD differs from dump_frame's with every value", st.name);
-    header
+    (header, every.len() - split)
 }
 
 /// One round of the headroom experiment: the header written before the clock starts (as the

@@ -61,9 +61,11 @@ impl ChangeLine {
     }
 
     /// The line of a variable with identifier `code` and `width` bits; `None` for a width of 0
-    /// or over 64 bits, or a code longer than [`CODE`] (those take a general path).
+    /// or over 64 bits, a code longer than [`CODE`] (those take the writer's general path), and
+    /// a code that is not an identifier code of VCD (empty, or a byte outside the printable
+    /// ASCII characters `!` to `~`).
     pub fn new(code: &[u8], width: u32) -> Option<ChangeLine> {
-        if !(1..=64).contains(&width) || code.len() > CODE {
+        if !(1..=64).contains(&width) || code.is_empty() || code.len() > CODE || !code.iter().all(|b| (b'!'..=b'~').contains(b)) {
             return None;
         }
         let text: Vec<u8> = if width == 1 { [code, b"\n"].concat() } else { [&b" "[..], code, b"\n"].concat() };
@@ -228,5 +230,8 @@ mod tests {
         assert_eq!(ChangeLine::new(b"!", 65), None);
         assert_eq!(ChangeLine::new(b"!", 0), None);
         assert_eq!(ChangeLine::new(b"abcdefghijklmno", 8), None);
+        assert_eq!(ChangeLine::new(b"", 8), None);
+        assert_eq!(ChangeLine::new(b"a b", 8), None);
+        assert_eq!(ChangeLine::new(b"a\n", 1), None);
     }
 }

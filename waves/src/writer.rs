@@ -859,7 +859,7 @@ impl<W: Write> VcdOut<W> {
     }
 
     /// A change without a [`ChangeLine`]: four-state bits, reals, vectors wider than 64 bits, variables
-    /// whose identifier code is longer than [`CODE`].
+    /// whose identifier code is longer than [`crate::vcd_text::CODE`].
     #[cold]
     #[inline(never)]
     fn value_general(&mut self, i: usize, v: ValueRef<'_>) -> Result<()> {

@@ -525,9 +525,12 @@ pub fn edge(c: &Consts, r: &mut Regs, i: &Inputs) -> Internals {
 ///
 /// The common edge (no bus write, no key edge: so no W1C, no key-off reset of 56b and the
 /// parameters unchanged) is computed inline here, including the sampling strobe (`upd`, the
-/// comparator latches, the counters and the FIG. 17/18 pulse), and the outputs after it are decoded
-/// from the values just computed. A bus write or a key edge goes through [`edge`] out of line. Both give the same
-/// registers as [`crate::pmu50::eval`] (tested on every tick).
+/// comparator latches, the counters and the FIG. 17/18 pulse); the eight outputs it computes
+/// (`sig`, the timer's decode, `sr`, `diag`, the read data) come from the values just computed.
+/// A bus write or a key edge goes through [`edge`] out of line, and those eight are then decoded
+/// from its registers. On both paths the other fifteen outputs (ten registers, the four copies of
+/// `sig`, the constant `vp_en`) are built after the branch. Both give the same registers and
+/// outputs as [`crate::pmu50::eval`] (tested on every tick).
 #[inline(always)]
 pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
     step_with::<false>(c, r, sh, i).0
@@ -567,9 +570,10 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
     let sig = sig_of(c, sync);
     let sync_n = ((sync << 1) | u8::from(i.ig)) & c.sync_mask;
     let sig_n = sig_of(c, sync_n);
-    // The outputs a narrow edge computes (the others are read from the registers after the
-    // edge on both paths below, so that only these eight are carried out of the branch: with
-    // all 23 carried, the loop around the step kept them in stack slots).
+    // Only the eight outputs an edge computes are carried out of the branch (`Narrow`); the
+    // other fifteen (ten registers read after the edge, the four copies of `sig`, the constant
+    // `vp_en`) are built after it, on both paths. With all 23 carried, the harness loop around
+    // the step kept them in stack slots.
     let (n, x, wide) = if (sig != sig_n) | i.bus_we {
         // A bus write or a key edge: the full edge out of line, the outputs from its registers
         // (an `Outputs` returned through memory by the out-of-line call costs a
