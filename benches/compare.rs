@@ -848,19 +848,53 @@ mod fused {
             $( $o.line($base + $k, $cur.$($f).+ as u64); )*
         };
     }
+    /// `$m!(args, base, [position: field, ...])` over one group of the frame (the order of the
+    /// tracer's frame, src/tracer.rs), or over the fields a narrow edge can change.
+    macro_rules! fields {
+        (inputs, $m:ident!($($a:tt)*)) => { $m!($($a)*, 0, [0: ig, 1: vs2_ok, 2: cmp_s, 3: cmp_c, 4: bus_we, 5: bus_addr, 6: bus_wdata]) };
+        (outputs, $m:ident!($($a:tt)*)) => {
+            $m!($($a)*, 7, [0: sig, 1: vr_hi, 2: vm_en, 3: vs1_en, 4: vs2_en, 5: vp_en, 6: rail_hi, 7: st, 8: sr, 9: ps_win, 10: smp, 11: cs, 12: cc,
+                13: cnt_s, 14: cnt_c, 15: cnt_r, 16: si, 17: hist_s, 18: hist_c, 19: diag, 20: quadrant_skip, 21: bus_rdata, 22: bus_err])
+        };
+        (narrow_outputs, $m:ident!($($a:tt)*)) => { $m!($($a)*, 7, [4: vs2_en, 7: st, 8: sr, 9: ps_win, 10: smp, 19: diag, 21: bus_rdata]) };
+        (registers, $m:ident!($($a:tt)*)) => {
+            $m!($($a)*, 30, [0: action_switching.sync,
+                1: register_file.adaptive, 2: register_file.pw, 3: register_file.pi, 4: register_file.ps, 5: register_file.si_max,
+                6: register_file.si_min, 7: register_file.t1, 8: register_file.t2, 9: register_file.cth, 10: register_file.smp_on,
+                11: register_file.bus_err, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr,
+                15: comparator_latch.cs, 16: comparator_latch.cc, 17: comparator_latch.vld,
+                18: updown_counter.cnt_s, 19: updown_counter.cnt_c, 20: updown_counter.quadrant_skip,
+                21: drive_interval.si, 22: drive_interval.hist_s, 23: drive_interval.hist_c, 24: drive_interval.cnt_r, 25: count_diagnosis.diag])
+        };
+        (narrow_registers, $m:ident!($($a:tt)*)) => {
+            $m!($($a)*, 30, [0: action_switching.sync, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr, 25: count_diagnosis.diag])
+        };
+        (internals, $m:ident!($($a:tt)*)) => { $m!($($a)*, 56, [0: kon, 1: koff, 2: upd, 3: first, 4: chg_s, 5: chg_c, 6: skip_clr, 7: fig17, 8: fig18]) };
+    }
 
     #[inline(never)]
     pub fn pass<W: Write>(st: &Stim, o: &mut Out<W>, dt: u64) -> u64 {
         let mut m = Pmu50::new(st.params).expect("legal parameters");
-        let mut h = 0;
-        let mut li = Inputs::default();
+        let Some((i0, rest)) = st.inputs.split_first() else {
+            return 0;
+        };
+        // The first tick: every value, as the checked writer's first dump.
+        let mut li = *i0;
         let mut lo = m.peek();
         let mut lr = *m.regs();
-        let mut lx = Internals::default();
-        let mut ob = lo;
-        let mut wide_prev = true;
-        for (k, i) in st.inputs.iter().enumerate() {
-            let t = k as u64 * dt;
+        o.stamp(0);
+        o.put(b"$dumpvars\n");
+        fields!(inputs, all!(o, li));
+        fields!(outputs, all!(o, lo));
+        fields!(registers, all!(o, lr));
+        let (mut lx, mut ob, mut wide_prev) = m.step_traced_wide(i0);
+        fields!(internals, all!(o, lx));
+        o.put(b"$end\n");
+        let mut h = mix(0, &ob);
+        // Every later tick: the values the edge can have changed, the time stamp taken back
+        // when none did.
+        for (k, i) in rest.iter().enumerate() {
+            let t = (k as u64 + 1) * dt;
             if o.pos >= BUF {
                 o.w.write_all(&o.buf[..o.pos]).expect("VCD written");
                 o.pos = 0;
@@ -869,46 +903,19 @@ mod fused {
             o.stamp(t);
             let start = o.pos;
             let r = m.regs();
-            if k == 0 {
-                o.put(b"$dumpvars\n");
-                li = *i;
-                lr = *r;
-                all!(o, i, 0, [0: ig, 1: vs2_ok, 2: cmp_s, 3: cmp_c, 4: bus_we, 5: bus_addr, 6: bus_wdata]);
-                all!(o, ob, 7, [0: sig, 1: vr_hi, 2: vm_en, 3: vs1_en, 4: vs2_en, 5: vp_en, 6: rail_hi, 7: st, 8: sr, 9: ps_win, 10: smp, 11: cs, 12: cc,
-                    13: cnt_s, 14: cnt_c, 15: cnt_r, 16: si, 17: hist_s, 18: hist_c, 19: diag, 20: quadrant_skip, 21: bus_rdata, 22: bus_err]);
-                all!(o, r, 30, [0: action_switching.sync,
-                    1: register_file.adaptive, 2: register_file.pw, 3: register_file.pi, 4: register_file.ps, 5: register_file.si_max,
-                    6: register_file.si_min, 7: register_file.t1, 8: register_file.t2, 9: register_file.cth, 10: register_file.smp_on,
-                    11: register_file.bus_err, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr,
-                    15: comparator_latch.cs, 16: comparator_latch.cc, 17: comparator_latch.vld,
-                    18: updown_counter.cnt_s, 19: updown_counter.cnt_c, 20: updown_counter.quadrant_skip,
-                    21: drive_interval.si, 22: drive_interval.hist_s, 23: drive_interval.hist_c, 24: drive_interval.cnt_r, 25: count_diagnosis.diag]);
+            if li != *i {
+                fields!(inputs, diff!(o, i, li));
+            }
+            if wide_prev {
+                fields!(outputs, diff!(o, ob, lo));
+                fields!(registers, diff!(o, r, lr));
             } else {
-                if li != *i {
-                    diff!(o, i, li, 0, [0: ig, 1: vs2_ok, 2: cmp_s, 3: cmp_c, 4: bus_we, 5: bus_addr, 6: bus_wdata]);
-                }
-                if wide_prev {
-                    diff!(o, ob, lo, 7, [0: sig, 1: vr_hi, 2: vm_en, 3: vs1_en, 4: vs2_en, 5: vp_en, 6: rail_hi, 7: st, 8: sr, 9: ps_win, 10: smp, 11: cs, 12: cc,
-                        13: cnt_s, 14: cnt_c, 15: cnt_r, 16: si, 17: hist_s, 18: hist_c, 19: diag, 20: quadrant_skip, 21: bus_rdata, 22: bus_err]);
-                    diff!(o, r, lr, 30, [0: action_switching.sync,
-                        1: register_file.adaptive, 2: register_file.pw, 3: register_file.pi, 4: register_file.ps, 5: register_file.si_max,
-                        6: register_file.si_min, 7: register_file.t1, 8: register_file.t2, 9: register_file.cth, 10: register_file.smp_on,
-                        11: register_file.bus_err, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr,
-                        15: comparator_latch.cs, 16: comparator_latch.cc, 17: comparator_latch.vld,
-                        18: updown_counter.cnt_s, 19: updown_counter.cnt_c, 20: updown_counter.quadrant_skip,
-                        21: drive_interval.si, 22: drive_interval.hist_s, 23: drive_interval.hist_c, 24: drive_interval.cnt_r, 25: count_diagnosis.diag]);
-                } else {
-                    diff!(o, ob, lo, 7, [4: vs2_en, 7: st, 8: sr, 9: ps_win, 10: smp, 19: diag, 21: bus_rdata]);
-                    diff!(o, r, lr, 30, [0: action_switching.sync, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr, 25: count_diagnosis.diag]);
-                }
+                fields!(narrow_outputs, diff!(o, ob, lo));
+                fields!(narrow_registers, diff!(o, r, lr));
             }
             let (x, after, wide) = m.step_traced_wide(i);
-            if k == 0 {
-                lx = x;
-                all!(o, x, 56, [0: kon, 1: koff, 2: upd, 3: first, 4: chg_s, 5: chg_c, 6: skip_clr, 7: fig17, 8: fig18]);
-                o.put(b"$end\n");
-            } else if wide || wide_prev {
-                diff!(o, x, lx, 56, [0: kon, 1: koff, 2: upd, 3: first, 4: chg_s, 5: chg_c, 6: skip_clr, 7: fig17, 8: fig18]);
+            if wide || wide_prev {
+                fields!(internals, diff!(o, x, lx));
             }
             wide_prev = wide;
             ob = after;

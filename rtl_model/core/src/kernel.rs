@@ -213,31 +213,58 @@ fn decode(r: &Regs, sig: bool) -> (bool, bool, bool, bool) {
 /// The Moore outputs of the registers `r` (same as [`crate::pmu50::ports`]).
 #[inline(always)]
 pub fn ports(c: &Consts, r: &Regs) -> Outputs {
+    outputs(&narrow_of(c, r), r)
+}
+
+/// The outputs an edge computes rather than reads from a register: `sig` (and the outputs that
+/// are `sig`), the timer's decode, `sr`, `diag` and the read data. The common edge carries only
+/// these out of its branch ([`step`]); [`outputs`] adds the rest.
+struct Narrow {
+    sig: bool,
+    vs2_en: bool,
+    st: bool,
+    sr: bool,
+    ps_win: bool,
+    smp: bool,
+    diag: bool,
+    bus_rdata: u16,
+}
+
+/// [`Narrow`] decoded from the registers `r`.
+#[inline(always)]
+fn narrow_of(c: &Consts, r: &Regs) -> Narrow {
     let sig = sig_of(c, r.action_switching.sync);
     let (st, vs2_en, ps_win, smp) = decode(r, sig);
+    Narrow { sig, vs2_en, st, sr: r.sensor_power_determination.sr, ps_win, smp, diag: r.count_diagnosis.diag, bus_rdata: r.register_file.rdata }
+}
+
+/// The 23 outputs: `n`, and the ten that are registers of `r` (plus the constant `vp_en`).
+#[inline(always)]
+fn outputs(n: &Narrow, r: &Regs) -> Outputs {
+    let u = &r.updown_counter;
     Outputs {
-        sig,
-        vr_hi: sig,
-        vm_en: sig,
-        vs1_en: sig,
-        vs2_en,
+        sig: n.sig,
+        vr_hi: n.sig,
+        vm_en: n.sig,
+        vs1_en: n.sig,
+        vs2_en: n.vs2_en,
         vp_en: true,
-        rail_hi: sig,
-        st,
-        sr: r.sensor_power_determination.sr,
-        ps_win,
-        smp,
+        rail_hi: n.sig,
+        st: n.st,
+        sr: n.sr,
+        ps_win: n.ps_win,
+        smp: n.smp,
         cs: r.comparator_latch.cs,
         cc: r.comparator_latch.cc,
-        cnt_s: r.updown_counter.cnt_s,
-        cnt_c: r.updown_counter.cnt_c,
+        cnt_s: u.cnt_s,
+        cnt_c: u.cnt_c,
         cnt_r: r.drive_interval.cnt_r,
         si: r.drive_interval.si,
         hist_s: r.drive_interval.hist_s,
         hist_c: r.drive_interval.hist_c,
-        diag: r.count_diagnosis.diag,
-        quadrant_skip: r.updown_counter.quadrant_skip,
-        bus_rdata: r.register_file.rdata,
+        diag: n.diag,
+        quadrant_skip: u.quadrant_skip,
+        bus_rdata: n.bus_rdata,
         bus_err: r.register_file.bus_err,
     }
 }
@@ -579,54 +606,11 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
         // (an `Outputs` returned through memory by the out-of-line call costs a
         // store-forwarding stall in the caller every tick).
         let x = edge_rare(c, r, sh, i);
-        let sig = sig_of(c, r.action_switching.sync);
-        let (st, vs2_en, ps_win, smp) = decode(r, sig);
-        let n = Narrow { sig, vs2_en, st, sr: r.sensor_power_determination.sr, ps_win, smp, diag: r.count_diagnosis.diag, bus_rdata: r.register_file.rdata };
-        (n, if TRACED { x } else { Internals::default() }, true)
+        (narrow_of(c, r), if TRACED { x } else { Internals::default() }, true)
     } else {
-        let (n, x, smp) = edge_common::<TRACED>(c, r, sh, i, sig, sync_n);
-        (n, x, smp)
+        edge_common::<TRACED>(c, r, sh, i, sig, sync_n)
     };
-    let u = &r.updown_counter;
-    let o = Outputs {
-        sig: n.sig,
-        vr_hi: n.sig,
-        vm_en: n.sig,
-        vs1_en: n.sig,
-        vs2_en: n.vs2_en,
-        vp_en: true,
-        rail_hi: n.sig,
-        st: n.st,
-        sr: n.sr,
-        ps_win: n.ps_win,
-        smp: n.smp,
-        cs: r.comparator_latch.cs,
-        cc: r.comparator_latch.cc,
-        cnt_s: u.cnt_s,
-        cnt_c: u.cnt_c,
-        cnt_r: r.drive_interval.cnt_r,
-        si: r.drive_interval.si,
-        hist_s: r.drive_interval.hist_s,
-        hist_c: r.drive_interval.hist_c,
-        diag: n.diag,
-        quadrant_skip: u.quadrant_skip,
-        bus_rdata: n.bus_rdata,
-        bus_err: r.register_file.bus_err,
-    };
-    (o, x, wide)
-}
-
-/// The outputs an edge computes rather than reads from the registers after it: `sig` and the
-/// outputs that are `sig`, the timer's decode, `sr`, `diag` and the read data.
-struct Narrow {
-    sig: bool,
-    vs2_en: bool,
-    st: bool,
-    sr: bool,
-    ps_win: bool,
-    smp: bool,
-    diag: bool,
-    bus_rdata: u16,
+    (outputs(&n, r), x, wide)
 }
 
 /// The common edge (no bus write, no key edge) inline: the registers it writes, the outputs it
