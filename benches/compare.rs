@@ -17,7 +17,7 @@
 //! | Rust tracer VCD / FST | `pmu50::tracer::CoreTracer` in one run (`CoreTracer::run`: the core's traced edge and the checked `pmu50_waves` writer lent to the tracer's frame, comparing only what the edge can have changed) of the model's signals: ports, registers, internals, as `pmu50 run` declares them (without the analog `env` reals, which the twin does not have). Before timing, the run checks that its VCD is byte for byte the one of `Writer::dump_frame` with every value of every tick |
 //! | ... to /dev/null | the same two VCD harnesses (Verilator --trace, Rust tracer VCD) writing to `/dev/null`: the same writes, which the kernel throws away, so the row is the tracer's own cost without the page cache's (both sides write the same 8 MB of keyoff_turns to a file, a large part of the Rust tracer's time) |
 //! | headroom experiment | not the project (as the hand-written kernel loop of issue 8's first table was not): one loop over the kernel that finds the changes and writes their VCD text at once (`fused` below), comparing each register once (the outputs that are registers follow from them through a table), without the checked writer's checks and bookkeeping, to a file and to `/dev/null`; its VCD is checked byte for byte against `dump_frame`'s before it is timed. It says how fast a tracer of these signals could be on this kernel without any check |
-//! | page cache | after the table: the CPU cost per byte of writing a new 8 MiB file in 128 KiB writes, and what it comes to per tick for each stimulus's VCD (the same bytes for every VCD harness) |
+//! | page cache | after the table: the CPU cost per byte of writing a new 8 MiB file in 1 MiB writes, and what it comes to per tick for each stimulus's VCD (the same bytes for every VCD harness) |
 //! | Icarus | `vvp DIR/iv_NAME.vvp +vec=DIR/NAME.vec` (hdl/tb/tb_vectors.v, which compares every output with the file: for scale) |
 //!
 //! `--quick-traced` prints only the Rust tracer's rows, with two parts of its tick: the traced
@@ -751,7 +751,7 @@ fn main() {
     match page_cache_ns_per_byte(&dir) {
         Ok(ns) => {
             let per_tick: Vec<String> = stims.iter().zip(&vcd_bytes).map(|(st, &b)| format!("{}: {:.1} bytes of VCD a tick, {:.0} ns", st.name, b, b * ns)).collect();
-            out += &format!("\npage cache: writing a new 8 MiB file costs {ns:.2} ns of CPU per byte (128 KiB writes, best of 15); {}\n", per_tick.join("; "));
+            out += &format!("\npage cache: writing a new 8 MiB file costs {ns:.2} ns of CPU per byte (1 MiB writes, best of 15); {}\n", per_tick.join("; "));
         }
         Err(e) => out += &format!("\npage cache: not measured: {e}\n"),
     }
@@ -1090,18 +1090,18 @@ mod fused {
 
 }
 
-/// CPU nanoseconds per byte of writing 8 MiB into a new file of `dir` in 128 KiB writes (the
+/// CPU nanoseconds per byte of writing 8 MiB into a new file of `dir` in 1 MiB writes (the
 /// writers' buffer size), the best of fifteen: the page cache's cost, which every VCD harness
 /// pays for its bytes.
 fn page_cache_ns_per_byte(dir: &Path) -> std::io::Result<f64> {
     use std::io::Write;
     let path = dir.join("page_cache.bin");
-    let chunk = vec![b'0'; 1 << 17];
+    let chunk = vec![b'0'; 1 << 20];
     let mut best = f64::MAX;
     for _ in 0..15 {
         let mut f = std::fs::File::create(&path)?;
         let t0 = cpu_now();
-        for _ in 0..64 {
+        for _ in 0..8 {
             f.write_all(&chunk)?;
         }
         f.flush()?;
@@ -1109,7 +1109,7 @@ fn page_cache_ns_per_byte(dir: &Path) -> std::io::Result<f64> {
         best = best.min(cpu_now() - t0);
         std::fs::remove_file(&path)?;
     }
-    Ok(best * 1e9 / (64.0 * chunk.len() as f64))
+    Ok(best * 1e9 / (8.0 * chunk.len() as f64))
 }
 
 /// The headroom experiment writes the VCD of `Writer::dump_frame` with every value, byte for
