@@ -1271,6 +1271,211 @@ fn too_wide<E: Emitter>(w: &Writer<E>, f: &Frame, k: usize, v: u64) -> WriteErro
     }
 }
 
+/// A [`FrameRun`] for VCD whose direct steps write their text at once ([`VcdWriter::text_run`]):
+/// the writer's text buffer is lent to one frame for a run of steps, the way Verilator's tracer
+/// owns its file.
+///
+/// [`TextRun::step`] starts a step at a later time and writes its time stamp ahead; each
+/// [`TextStep::line`] writes one changed value's line straight into the buffer, in increasing
+/// positions; a step in which nothing changed takes its stamp back. The checks of a direct
+/// [`RunStep::set`] stay, per line: position in the frame and increasing within the step, the
+/// value's width; per step: time order. The rest moves to the start of a step: the frame is
+/// this writer's, in declaration order, of two-state variables each with a change line
+/// ([`crate::vcd_text::ChangeLine`]), the step is inside the window, the writer has dumped
+/// (its own step at its time, if any, is written first, as [`Writer::set_time`] does) and the
+/// frame holds the writer's values. When any of these does not hold, [`TextRun::step`]
+/// returns `None` and the caller takes that step through [`TextRun::frame_run`] (which ends the
+/// text steps first).
+///
+/// The last step stays open until the next step or the end of the run; when the run ends (it
+/// is dropped, or [`TextRun::frame_run`] is called) its text is taken back out of the buffer
+/// and its changes become the writer's pending step, exactly as a [`FrameRun`]'s last step does,
+/// so a single change at that time afterwards is merged or refused as after
+/// [`Writer::frame_step`]. The file is byte for byte the one `dump_frame` writes with every
+/// value (tests/writer.rs).
+pub struct TextRun<'a, W: Write> {
+    w: &'a mut VcdWriter<W>,
+    f: &'a mut Frame,
+    /// the frame's variables all have change lines and are in declaration order
+    eligible: bool,
+    /// bytes a step may write at most: its stamp and a line per variable
+    need: usize,
+    /// a text step is open: its stamp starts at `mark`, its lines at `start`
+    open: bool,
+    mark: usize,
+    start: usize,
+    /// the lowest position still allowed in the open step
+    next: usize,
+    /// a text step of this run changed a value (the writer's values are stale)
+    dirty: bool,
+}
+
+/// One step of a [`TextRun`] ([`TextRun::step`]).
+pub struct TextStep<'s, 'a, W: Write> {
+    r: &'s mut TextRun<'a, W>,
+}
+
+impl<W: Write> VcdWriter<W> {
+    /// Lend the writer's text buffer to `frame` for a run of steps written at once
+    /// ([`TextRun`]). Error: a frame of another writer.
+    pub fn text_run<'a>(&'a mut self, frame: &'a mut Frame) -> Result<TextRun<'a, W>> {
+        if frame.owner != self.owner || frame.id as usize >= self.frame_steps.len() {
+            return Err(WriteError::UnknownFrame);
+        }
+        let eligible = frame.sorted && frame.idx.iter().all(|&i| self.e.lines[i as usize].is_line());
+        let need = (frame.idx.len() + 1) * SLACK;
+        let e = &mut self.e;
+        if eligible && e.buf.len() < need + SLACK {
+            // a frame of thousands of variables: room for one whole step
+            let mut buf = vec![0; VCD_BUFFER + need + SLACK].into_boxed_slice();
+            buf[..e.pos].copy_from_slice(&e.buf[..e.pos]);
+            e.buf = buf;
+        }
+        frame.nopen = 0;
+        Ok(TextRun { w: self, f: frame, eligible, need, open: false, mark: 0, start: 0, next: 0, dirty: false })
+    }
+}
+
+impl<'a, W: Write> TextRun<'a, W> {
+    /// Start the frame's step at time `t`, after the writer's time: `None` when the step cannot
+    /// be written at once (see [`TextRun`]; nothing is changed then, take the step through
+    /// [`TextRun::frame_run`]). The first text step of a run (or the first after a
+    /// [`TextRun::frame_run`]) checks that the frame holds the writer's values. Errors: `t`
+    /// before the writer's time ([`WriteError::TimeBackwards`]), or at it after a text step
+    /// ([`WriteError::DoubleChange`]: that step gave the frame's values at `t`).
+    #[inline]
+    pub fn step(&mut self, t: u64) -> Result<Option<TextStep<'_, 'a, W>>> {
+        let w = &mut *self.w;
+        if t <= w.time {
+            if t < w.time {
+                return Err(WriteError::TimeBackwards { requested: t, current: w.time });
+            }
+            if self.open {
+                return Err(w.double_change(self.f.idx[0] as usize));
+            }
+            return Ok(None);
+        }
+        if self.open {
+            // the open step is final now: its text stays when it wrote a line
+            let e = &mut w.e;
+            if e.pos == self.start {
+                e.pos = self.mark;
+            } else {
+                w.last_written = Some(w.time);
+            }
+            self.f.nopen = 0;
+            // nothing of it is taken back any more
+            self.mark = e.pos;
+            if !w.in_window(t) {
+                self.close();
+                return Ok(None);
+            }
+        } else {
+            if !(self.eligible && w.in_window(t)) {
+                return Ok(None);
+            }
+            // the writer's step at its time (a frame run's last step, single changes; the
+            // first dump) is written first, as `set_time` does
+            w.flush_step()?;
+            // `frame_prologue`'s checks (this frame or an overlapping one already stepped at
+            // `t`, a single change at `t`) cannot fail: `t` is after the writer's time
+            if !(w.dumped && self.f.generation == w.generation) || self.f.idx.iter().any(|&i| !matches!(w.cur[i as usize], Stored::Int(_))) {
+                return Ok(None);
+            }
+        }
+        let e = &mut self.w.e;
+        if e.pos + self.need > e.buf.len() {
+            if let Err(err) = e.out.write_all(&e.buf[..e.pos]) {
+                self.close();
+                return Err(err.into());
+            }
+            e.pos = 0;
+        }
+        self.open = true;
+        let w = &mut *self.w;
+        w.time = t;
+        w.step += 1;
+        w.frame_steps[self.f.id as usize] = w.step;
+        let e = &mut w.e;
+        self.mark = e.pos;
+        e.stamp(t);
+        self.start = e.pos;
+        self.next = 0;
+        Ok(Some(TextStep { r: self }))
+    }
+
+    /// End the text steps and lend the writer to the frame as a [`FrameRun`] (for a step that
+    /// [`TextRun::step`] cannot write at once); the text steps resume at the next
+    /// [`TextRun::step`].
+    pub fn frame_run(&mut self) -> Result<FrameRun<'_, VcdOut<W>>> {
+        self.close();
+        self.w.frame_run(self.f)
+    }
+
+    /// The writer takes over the frame's values: every variable of the frame its value, and
+    /// the open step's changes (its text taken back out of the buffer) as its pending step.
+    fn close(&mut self) {
+        if !std::mem::replace(&mut self.open, false) {
+            return;
+        }
+        let (w, f) = (&mut *self.w, &mut *self.f);
+        w.e.pos = self.mark;
+        if !std::mem::replace(&mut self.dirty, false) && f.nopen == 0 {
+            return;
+        }
+        for (k, &i) in f.idx.iter().enumerate() {
+            w.cur[i as usize] = Stored::Int(f.prev[k]);
+        }
+        for &k in &f.open[..f.nopen] {
+            w.push_pending(f.idx[k as usize] as usize);
+        }
+        f.nopen = 0;
+        w.generation += 1;
+        f.generation = w.generation;
+    }
+}
+
+impl<W: Write> Drop for TextRun<'_, W> {
+    fn drop(&mut self) {
+        self.close();
+    }
+}
+
+impl<W: Write> TextStep<'_, '_, W> {
+    /// The value `v` at position `k` of the frame, written at once when it changed. Positions
+    /// increase within a step ([`WriteError::FrameOrder`]); a value too wide for its variable
+    /// assigns nothing ([`WriteError::ValueTooWide`]), and the values before it in the step are
+    /// assigned.
+    #[inline(always)]
+    pub fn line(&mut self, k: usize, v: u64) -> Result<()> {
+        let r = &mut *self.r;
+        if k < r.next {
+            return Err(order_error(k, r.next));
+        }
+        let f = &mut *r.f;
+        let Some(prev) = f.prev.get_mut(k) else {
+            return Err(position_error(f, k));
+        };
+        if v == *prev {
+            r.next = k + 1;
+            return Ok(());
+        }
+        if v > f.max[k] {
+            return Err(too_wide(r.w, f, k, v));
+        }
+        r.next = k + 1;
+        *prev = v;
+        f.open[f.nopen] = k as u32;
+        f.nopen += 1;
+        r.dirty = true;
+        let e = &mut r.w.e;
+        let p = e.pos;
+        let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
+        e.pos = p + e.lines[f.idx[k] as usize].write(out, v);
+        Ok(())
+    }
+}
+
 /// Dumps value changes with every check of the module documentation; created by
 /// [`VcdBuilder::start`] (VCD) or [`crate::fst::start_fst`] (FST). Call [`Writer::finish`] at
 /// the end or the last time step is lost.

@@ -907,6 +907,213 @@ proptest::proptest! {
     }
 }
 
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 300, failure_persistence: None, ..Default::default() })]
+
+    /// Text runs (the steps written at once where they can be, through `TextRun::frame_run`
+    /// elsewhere: at the writer's time, before the first dump, outside the window, after `x`
+    /// values, after single changes, for a frame out of declaration order) write exactly what
+    /// `dump_frame` writes with the same values, with single changes between runs, repeated
+    /// times refused on both sides, and refused too-wide values and positions out of order.
+    #[test]
+    fn text_runs_equal_dump_frame(
+        sorted in proptest::prelude::any::<bool>(),
+        window in proptest::option::of((0u64..30, 0u64..80)),
+        steps in proptest::collection::vec((0u64..3, proptest::array::uniform4(proptest::option::of(0u64..5)), proptest::prelude::any::<bool>(), after_step()), 0..80),
+    ) {
+        let order: [usize; 4] = if sorted { [0, 1, 2, 3] } else { [3, 1, 0, 2] };
+        // the frame position of each variable
+        let at: [usize; 4] = std::array::from_fn(|var| order.iter().position(|&v| v == var).unwrap());
+        let start = |ids: &[pmu50_waves::writer::SigId], b: VcdBuilder| {
+            let mut b = b;
+            if let Some((s, len)) = window {
+                b.window(s, s + len + 1).unwrap();
+            }
+            let mut w = b.start(Vec::new()).unwrap();
+            let f = w.frame(&order.map(|k| ids[k])).unwrap();
+            (w, f)
+        };
+        let (b1, ids1) = frame_builder();
+        let (b2, ids2) = frame_builder();
+        let (mut w1, mut f1) = start(&ids1, b1);
+        let (mut w2, mut f2) = start(&ids2, b2);
+        let value = |var: usize, v: u64| [v & 1, v * 1000, v * 7, v << 60][var];
+        // the frame's values by position
+        let mut cur = order.map(|var| [0, 0, 3, 0][var]);
+        let (mut t, mut zv, mut idx) = (0u64, false, 0);
+        // the time of the frame's last step
+        let mut frame_at = None;
+        // steps written at once
+        let mut texts = 0;
+        while idx < steps.len() {
+            let mut after = AfterStep::Nothing;
+            {
+                let mut run = w1.text_run(&mut f1).unwrap();
+                while idx < steps.len() {
+                    let (dt, set, too_wide, a) = steps[idx];
+                    idx += 1;
+                    t += dt;
+                    if frame_at == Some(t) {
+                        // the frame's variables are assigned at `t` already
+                        let e = match run.step(t) {
+                            Err(e) => Some(e),
+                            Ok(Some(_)) => None,
+                            Ok(None) => run.frame_run().unwrap().step(t).err(),
+                        };
+                        proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
+                        let e = w2.dump_frame(&mut f2, t, &cur).err();
+                        proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
+                        continue;
+                    }
+                    frame_at = Some(t);
+                    let mut step_body = |set_fn: &mut dyn FnMut(usize, u64) -> Result<(), WriteError>| -> Result<(), proptest::test_runner::TestCaseError> {
+                        for (k, v) in set.iter().enumerate() {
+                            let Some(v) = v else { continue };
+                            if too_wide && order[k] == 2 {
+                                // 5-bit `w`: refused, nothing assigned, the position may be given again
+                                let e = set_fn(k, 32 + v).unwrap_err();
+                                proptest::prop_assert!(matches!(e, WriteError::ValueTooWide { max: 31, .. }), "{}", e);
+                            }
+                            let v = value(order[k], *v);
+                            set_fn(k, v).unwrap();
+                            cur[k] = v;
+                        }
+                        if too_wide {
+                            // a position again, or one before the last, in the same step
+                            let e = set_fn(0, cur[0]).err();
+                            let given = set.iter().any(|v| v.is_some());
+                            proptest::prop_assert_eq!(given, matches!(e, Some(WriteError::FrameOrder { .. })), "{:?}", e);
+                        }
+                        Ok(())
+                    };
+                    match run.step(t).unwrap() {
+                        Some(mut s) => {
+                            texts += 1;
+                            step_body(&mut |k, v| s.line(k, v))?;
+                        }
+                        None => {
+                            let mut fr = run.frame_run().unwrap();
+                            let mut s = fr.step(t).unwrap();
+                            step_body(&mut |k, v| s.set(k, v))?;
+                        }
+                    }
+                    w2.dump_frame(&mut f2, t, &cur).unwrap();
+                    if !matches!(a, AfterStep::Nothing) {
+                        after = a;
+                        break;
+                    }
+                }
+            }
+            match after {
+                AfterStep::Nothing => {}
+                AfterStep::OutsideSameTime => {
+                    zv = !zv;
+                    w1.change_bool(ids1[4], zv).unwrap();
+                    w2.change_bool(ids2[4], zv).unwrap();
+                    // and a frame variable at that time is a double assignment
+                    let e = w1.change_vector(ids1[0], 1).err();
+                    proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
+                }
+                AfterStep::FrameIntLater(v) => {
+                    // the frame's copy is stale at the next run's first step
+                    t += 1;
+                    w1.set_time(t).unwrap();
+                    w2.set_time(t).unwrap();
+                    w1.change_vector(ids1[3], v).unwrap();
+                    w2.change_vector(ids2[3], v).unwrap();
+                    cur[at[3]] = v;
+                    // a frame variable is assigned at `t`: the frame's step there is refused
+                    frame_at = Some(t);
+                }
+                AfterStep::TimeOnly => {
+                    t += 1;
+                    w1.set_time(t).unwrap();
+                    w2.set_time(t).unwrap();
+                }
+                AfterStep::FrameVarLater => {
+                    // `w` (5 bits) becomes x0x0x (its frame position then holds no integer), and
+                    // the 64-bit variable 5
+                    t += 1;
+                    for (w, ids) in [(&mut w1, &ids1), (&mut w2, &ids2)] {
+                        w.set_time(t).unwrap();
+                        w.change_bits(ids[2], "x0x0x").unwrap();
+                        w.change_vector(ids[3], 5).unwrap();
+                    }
+                    cur[at[3]] = 5;
+                    // the next step sets every position, `w` back to 3 (a run's step is a
+                    // checked one while `w` holds x; dump_frame compares with x0x0x too)
+                    cur[at[2]] = 3;
+                    t += 1;
+                    let mut run = w1.frame_run(&mut f1).unwrap();
+                    let mut s = run.step(t).unwrap();
+                    for (k, v) in cur.iter().enumerate() {
+                        s.set(k, *v).unwrap();
+                    }
+                    drop(run);
+                    w2.dump_frame(&mut f2, t, &cur).unwrap();
+                    frame_at = Some(t);
+                }
+            }
+        }
+        proptest::prop_assert_eq!(text(w1), text(w2));
+        if sorted && window.is_none() && steps.len() > 40 {
+            proptest::prop_assert!(texts > 0, "no step was written at once");
+        }
+    }
+}
+
+/// A text run's steps are written at once and its last one is taken back when the run ends
+/// (it becomes the writer's pending step); the checks of a frame step stay (position, order,
+/// width, time, a step at a time the frame was assigned), and a frame of another writer is
+/// refused.
+#[test]
+fn text_runs_keep_every_check() {
+    let (b, ids) = frame_builder();
+    let mut w = b.start(Vec::new()).unwrap();
+    let mut f = w.frame(&ids[..3]).unwrap();
+    {
+        let mut run = w.text_run(&mut f).unwrap();
+        // t = 0: before the first dump, through a frame run
+        assert!(run.step(0).unwrap().is_none());
+        run.frame_run().unwrap().step(0).unwrap().set(1, 4).unwrap();
+        // t = 1: the writer's first step is written (the first dump), then this one at once
+        run.step(1).unwrap().expect("a step written at once").line(1, 5).unwrap();
+        for t in 2..5 {
+            let mut s = run.step(t).unwrap().expect("a step written at once");
+            s.line(1, 4 + t).unwrap();
+            let e = s.line(3, 1).unwrap_err();
+            assert!(matches!(e, WriteError::FramePosition { position: 3, len: 3 }), "{e}");
+            let e = s.line(0, 1).unwrap_err();
+            assert!(matches!(e, WriteError::FrameOrder { position: 0, previous: 1 }), "{e}");
+            let e = s.line(1, 9).unwrap_err();
+            assert!(matches!(e, WriteError::FrameOrder { position: 1, previous: 1 }), "{e}");
+            let e = s.line(2, 32).unwrap_err();
+            assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
+            assert!(e.to_string().contains("pmu50.w"), "{e}");
+            s.line(2, t).unwrap();
+        }
+        // a step without a change takes its stamp back
+        let mut s = run.step(5).unwrap().unwrap();
+        s.line(1, 8).unwrap();
+        assert!(matches!(run.step(5), Err(WriteError::DoubleChange { .. })));
+        assert!(matches!(run.step(4), Err(WriteError::TimeBackwards { requested: 4, current: 5 })));
+        let mut s = run.step(6).unwrap().unwrap();
+        s.line(0, 1).unwrap();
+    }
+    // the last step is the writer's pending one: a frame variable again is a double assignment,
+    // another variable joins the step
+    assert!(matches!(w.change_vector(ids[1], 1), Err(WriteError::DoubleChange { .. })));
+    w.change_vector(ids[3], 1).unwrap();
+    let (b2, ids2) = frame_builder();
+    let mut other = b2.start(Vec::new()).unwrap();
+    let mut f2 = other.frame(&ids2[..1]).unwrap();
+    assert!(matches!(w.text_run(&mut f2), Err(WriteError::UnknownFrame)));
+    let got = text(w);
+    assert!(got.contains("#1\nb0000000000000101 \"\n#2\nb0000000000000110 \"\nb00010 #\n#3\n"), "{got}");
+    assert!(got.contains("#4\nb0000000000001000 \"\nb00100 #\n#6\n1!\nb0000000000000000000000000000000000000000000000000000000000000001 $\n"), "{got}");
+    assert!(!got.contains("#5"), "{got}");
+}
+
 /// A run's direct steps are written when the next step begins and the last one when the run
 /// ends; the checks of a frame step stay (position, order, width, time, a step at a time the
 /// frame was assigned), and a frame of another writer is refused.
