@@ -32,7 +32,8 @@
 
 use pmu50_core::pmu50::{Inputs, Internals, Outputs, Regs};
 use pmu50_core::Pmu50;
-use pmu50_waves::writer::{Emitter, Frame, FrameRun, RunStep, WriteError, Writer};
+use pmu50_waves::writer::{Emitter, Frame, FrameRun, RunStep, TextRun, TextStep, VcdWriter, WriteError, Writer};
+use std::io::Write;
 
 /// Number of signals in a [`CoreTracer`]'s frame, and where each group starts.
 pub const N_SIGNALS: usize = 65;
@@ -108,6 +109,16 @@ impl CoreTracer {
         Ok(TracerRun { run: w.frame_run(&mut self.frame)?, h: &mut self.h, m: &mut self.m })
     }
 
+    /// Lend a VCD writer to the tracer for a run of edges written at once
+    /// ([`TracerTextRun::step`]): the fastest way to trace many. The writer is a
+    /// [`TextRun`] of the tracer's frame until the run is dropped; a step that cannot be
+    /// written at once (the first, one outside the writer's window, one after a failed step or
+    /// after other writes to the frame's variables) goes through a [`FrameRun`] as in
+    /// [`CoreTracer::run`]. The file is the same.
+    pub fn text_run<'a, W: Write>(&'a mut self, w: &'a mut VcdWriter<W>) -> Result<TracerTextRun<'a, W>, WriteError> {
+        Ok(TracerTextRun { run: w.text_run(&mut self.frame)?, h: &mut self.h, m: &mut self.m })
+    }
+
     /// One traced edge, as [`TracerRun::step`] in a run of its own (each call ends its run:
     /// when a value changed, the writer takes the frame's 65 values; [`CoreTracer::run`] for
     /// many edges).
@@ -140,12 +151,55 @@ impl<E: Emitter> TracerRun<'_, E> {
     #[inline]
     pub fn step(&mut self, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
         let mut s = self.run.step(t)?;
-        let (h, m) = (&mut *self.h, &mut *self.m);
         // Every value at the first step, after other writes to the frame's variables, and after
         // a failed step.
-        let full = !(h.valid && s.is_current());
+        let full = !(self.h.valid && s.is_current());
+        self.h.edge(&mut s, self.m, i, full)?;
+        Ok(&self.h.o)
+    }
+}
+
+/// A [`CoreTracer`] with a VCD writer's text buffer lent to it ([`CoreTracer::text_run`]).
+pub struct TracerTextRun<'a, W: Write> {
+    run: TextRun<'a, W>,
+    h: &'a mut Held,
+    m: &'a mut Pmu50,
+}
+
+impl<W: Write> TracerTextRun<'_, W> {
+    /// The core (its registers, tick count, read-out).
+    pub fn core(&self) -> &Pmu50 {
+        self.m
+    }
+
+    /// One rising edge of the core with inputs `i`, traced at time `t`, as [`TracerRun::step`]
+    /// (the same file, the same checks and errors); the changed values' lines are written at
+    /// once ([`TextStep::line`]) when the step allows it ([`TextRun::step`]).
+    #[inline]
+    pub fn step(&mut self, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
+        if self.h.valid {
+            if let Some(mut s) = self.run.step(t)? {
+                // the frame holds the tracer's values: only what changed
+                self.h.edge(&mut s, self.m, i, false)?;
+                return Ok(&self.h.o);
+            }
+        }
+        let mut fr = self.run.frame_run()?;
+        let mut s = fr.step(t)?;
+        let full = !(self.h.valid && s.is_current());
+        self.h.edge(&mut s, self.m, i, full)?;
+        Ok(&self.h.o)
+    }
+}
+
+impl Held {
+    /// One traced edge into a step `s` that has started: the inputs, outputs and registers
+    /// before the edge (every value when `full`), the edge, its internals.
+    #[inline(always)]
+    fn edge<S: StepSink>(&mut self, s: &mut S, m: &mut Pmu50, i: &Inputs, full: bool) -> Result<(), WriteError> {
+        let h = self;
         h.valid = false;
-        let before = h.before_edge(&mut s, m.regs(), i, full);
+        let before = h.before_edge(s, m.regs(), i, full);
         let (x, after, wide) = m.step_traced_wide(i);
         if wide {
             h.o = after;
@@ -156,19 +210,17 @@ impl<E: Emitter> TracerRun<'_, E> {
         before?;
         if full {
             h.last_x = x;
-            all_internals(&mut s, &x)?;
+            all_internals(s, &x)?;
         } else if wide || was_wide {
-            diff_internals(&mut s, &x, &mut h.last_x)?;
+            diff_internals(s, &x, &mut h.last_x)?;
         }
         h.valid = true;
-        Ok(&h.o)
+        Ok(())
     }
-}
 
-impl Held {
     /// The inputs, outputs and registers of the step (before the edge).
     #[inline(always)]
-    fn before_edge<E: Emitter>(&mut self, s: &mut RunStep<'_, E>, r: &Regs, i: &Inputs, full: bool) -> Result<(), WriteError> {
+    fn before_edge<S: StepSink>(&mut self, s: &mut S, r: &Regs, i: &Inputs, full: bool) -> Result<(), WriteError> {
         if full {
             self.last_i = *i;
             self.last_o = self.o;
@@ -188,6 +240,26 @@ impl Held {
             narrow_outputs(s, &self.o, &mut self.last_o)?;
             narrow_registers(s, r, &mut self.last_r)
         }
+    }
+}
+
+/// Where a step's values go: a frame run's step ([`RunStep::set`]) or a text run's
+/// ([`TextStep::line`], written at once).
+trait StepSink {
+    fn put(&mut self, k: usize, v: u64) -> Result<(), WriteError>;
+}
+
+impl<E: Emitter> StepSink for RunStep<'_, E> {
+    #[inline(always)]
+    fn put(&mut self, k: usize, v: u64) -> Result<(), WriteError> {
+        self.set(k, v)
+    }
+}
+
+impl<W: Write> StepSink for TextStep<'_, '_, W> {
+    #[inline(always)]
+    fn put(&mut self, k: usize, v: u64) -> Result<(), WriteError> {
+        self.line(k, v)
     }
 }
 
@@ -236,9 +308,9 @@ impl Value for pmu50_core::drive_interval_changing_56b::Fig18 {
 macro_rules! diff_fn {
     ($inline:meta, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
         #[$inline]
-        fn $diff<E: Emitter>(s: &mut RunStep<'_, E>, cur: &$t, held: &mut $t) -> Result<(), WriteError> {
+        fn $diff<S: StepSink>(s: &mut S, cur: &$t, held: &mut $t) -> Result<(), WriteError> {
             $( if cur.$($f).+ != held.$($f).+ {
-                s.set($base + $k, Value::value(cur.$($f).+))?;
+                s.put($base + $k, Value::value(cur.$($f).+))?;
                 held.$($f).+ = cur.$($f).+;
             } )*
             Ok(())
@@ -251,8 +323,8 @@ macro_rules! diff_fn {
 macro_rules! group {
     ($all:ident, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
         #[inline(never)]
-        fn $all<E: Emitter>(s: &mut RunStep<'_, E>, cur: &$t) -> Result<(), WriteError> {
-            $( s.set($base + $k, Value::value(cur.$($f).+))?; )*
+        fn $all<S: StepSink>(s: &mut S, cur: &$t) -> Result<(), WriteError> {
+            $( s.put($base + $k, Value::value(cur.$($f).+))?; )*
             Ok(())
         }
 

@@ -48,9 +48,10 @@ enum Between {
 }
 
 /// Both writers over one run: (the tracer's file, dump_frame's file with every value). With
-/// `runs` the tracer steps in a [`pmu50::tracer::TracerRun`] from one `SingleChanges` to the
-/// next (direct steps, written when the next begins), otherwise each step is a run of its own.
-fn both(p: Params, run: &[(Inputs, Between)], runs: bool) -> (String, String) {
+/// `mode` 1 the tracer steps in a [`pmu50::tracer::TracerRun`] from one `SingleChanges` to the
+/// next (direct steps, written when the next begins), with 2 in a
+/// [`pmu50::tracer::TracerTextRun`] (written at once), with 0 each step is a run of its own.
+fn both(p: Params, run: &[(Inputs, Between)], mode: usize) -> (String, String) {
     let (b1, ids1, extra1) = declare(&p, false);
     let (b2, ids2, extra2) = declare(&p, false);
     let mut w1 = b1.start(Vec::new()).unwrap();
@@ -79,8 +80,11 @@ fn both(p: Params, run: &[(Inputs, Between)], runs: bool) -> (String, String) {
                 }
                 Between::Nothing
             };
-            if runs {
+            if mode == 1 {
                 let mut r = tr.run(&mut w1).unwrap();
+                ticks(&mut |t, i| *r.step(t, i).unwrap())
+            } else if mode == 2 {
+                let mut r = tr.text_run(&mut w1).unwrap();
                 ticks(&mut |t, i| *r.step(t, i).unwrap())
             } else {
                 ticks(&mut |t, i| *tr.step(&mut w1, t, i).unwrap())
@@ -119,7 +123,7 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]
-    fn same_file_as_every_value(run in arb_run(), which in 0usize..3, runs in any::<bool>()) {
+    fn same_file_as_every_value(run in arb_run(), which in 0usize..3, mode in 0usize..3) {
         // the defaults, a deep synchronizer with 3-bit counters (as random_7), a fast park
         let p = [
             Params::default(),
@@ -127,7 +131,7 @@ proptest! {
             Params { pw: 1, pi: 1, ps: 1, si_max: 6, si_min: 4, smp_on: 3, ..Params::default() },
         ][which];
         prop_assume!(Pmu50::new(p).is_ok());
-        let (a, b) = both(p, &run, runs);
+        let (a, b) = both(p, &run, mode);
         prop_assert_eq!(a, b);
     }
 }
@@ -140,7 +144,7 @@ proptest! {
 #[test]
 fn a_failed_step_takes_its_edge_and_is_followed_by_a_full_one() {
     let p = Params::default();
-    let run = |fail_at: u64, write_at: Option<u64>, runs: bool| {
+    let run = |fail_at: u64, write_at: Option<u64>, mode: usize| {
         let (b, ids, _) = declare(&p, true);
         let mut w = b.start(Vec::new()).unwrap();
         let mut tr = CoreTracer::new(w.frame(&ids).unwrap(), Pmu50::new(p).unwrap()).unwrap();
@@ -170,8 +174,15 @@ fn a_failed_step_takes_its_edge_and_is_followed_by_a_full_one() {
             }
             assert_eq!(tick, t + 1, "the edge is taken");
         };
-        // the 40 ticks in one run of the tracer, or each in a run of its own
-        if runs {
+        // the 40 ticks in one run of the tracer, in one text run, or each in a run of its own
+        if mode == 2 {
+            let mut r = tr.text_run(&mut w).unwrap();
+            for t in 0..40u64 {
+                let i = input(t);
+                let res = r.step(t, &i).copied();
+                check(t, &i, res, r.core().tick());
+            }
+        } else if mode == 1 {
             let mut r = tr.run(&mut w).unwrap();
             for t in 0..40u64 {
                 let i = input(t);
@@ -190,8 +201,8 @@ fn a_failed_step_takes_its_edge_and_is_followed_by_a_full_one() {
         assert_eq!(tr.core().tick(), 40);
         (String::from_utf8(w.finish().unwrap()).unwrap(), String::from_utf8(w2.finish().unwrap()).unwrap())
     };
-    for (fail_at, write_at, runs) in [(10, None, false), (6, Some(5), false), (10, None, true), (6, Some(5), true)] {
-        let (vcd, every) = run(fail_at, write_at, runs);
+    for (fail_at, write_at, mode) in [(10, None, 0), (6, Some(5), 0), (10, None, 1), (6, Some(5), 1), (10, None, 2), (6, Some(5), 2)] {
+        let (vcd, every) = run(fail_at, write_at, mode);
         // From the tick after the failed one on, the tracer's file holds what every value gives
         // (before it, they differ by what the failed tick assigned, which `every` skipped).
         let step = |v: &str, t: u64| {
