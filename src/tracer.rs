@@ -175,7 +175,7 @@ impl<W: Write> TracerTextRun<'_, W> {
     /// One rising edge of the core with inputs `i`, traced at time `t`, as [`TracerRun::step`]
     /// (the same file, the same checks and errors); the changed values' lines are written at
     /// once ([`TextStep::line`]) when the step allows it ([`TextRun::step`]).
-    #[inline]
+    #[inline(always)]
     pub fn step(&mut self, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
         if self.h.valid {
             if let Some(mut s) = self.run.step(t)? {
