@@ -1298,6 +1298,8 @@ pub struct TextRun<'a, W: Write> {
     f: &'a mut Frame,
     /// the frame's variables all have change lines and are in declaration order
     eligible: bool,
+    /// the change line of each position of the frame
+    lines: Vec<ChangeLine>,
     /// bytes a step may write at most: its stamp and a line per variable
     need: usize,
     /// a text step is open: its stamp starts at `mark`, its lines at `start`
@@ -1306,7 +1308,7 @@ pub struct TextRun<'a, W: Write> {
     start: usize,
     /// the lowest position still allowed in the open step
     next: usize,
-    /// a text step of this run changed a value (the writer's values are stale)
+    /// a finished text step of this run changed a value (the writer's values are stale)
     dirty: bool,
 }
 
@@ -1332,7 +1334,8 @@ impl<W: Write> VcdWriter<W> {
             e.buf = buf;
         }
         frame.nopen = 0;
-        Ok(TextRun { w: self, f: frame, eligible, need, open: false, mark: 0, start: 0, next: 0, dirty: false })
+        let lines = frame.idx.iter().map(|&i| self.e.lines[i as usize]).collect();
+        Ok(TextRun { w: self, f: frame, eligible, lines, need, open: false, mark: 0, start: 0, next: 0, dirty: false })
     }
 }
 
@@ -1362,6 +1365,7 @@ impl<'a, W: Write> TextRun<'a, W> {
                 e.pos = self.mark;
             } else {
                 w.last_written = Some(w.time);
+                self.dirty = true;
             }
             self.f.nopen = 0;
             // nothing of it is taken back any more
@@ -1420,6 +1424,7 @@ impl<'a, W: Write> TextRun<'a, W> {
         }
         let (w, f) = (&mut *self.w, &mut *self.f);
         w.e.pos = self.mark;
+        // a value changed in an earlier step of the run or in the open one
         if !std::mem::replace(&mut self.dirty, false) && f.nopen == 0 {
             return;
         }
@@ -1467,11 +1472,10 @@ impl<W: Write> TextStep<'_, '_, W> {
         *prev = v;
         f.open[f.nopen] = k as u32;
         f.nopen += 1;
-        r.dirty = true;
         let e = &mut r.w.e;
         let p = e.pos;
         let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
-        e.pos = p + e.lines[f.idx[k] as usize].write(out, v);
+        e.pos = p + r.lines[k].write(out, v);
         Ok(())
     }
 }
