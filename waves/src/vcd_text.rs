@@ -74,6 +74,13 @@ impl ChangeLine {
         Some(ChangeLine { suffix, len: text.len() as u8, width: width as u8 })
     }
 
+    /// `line` (one line, its `\n` included) is a change line of this variable.
+    pub(crate) fn is_line_of(&self, line: &[u8]) -> bool {
+        let len = usize::from(self.len);
+        let value = if self.width == 1 { 1 } else { 1 + usize::from(self.width) };
+        line.len() == value + len && line.ends_with(&self.suffix[..len])
+    }
+
     /// Write the line with two-state value `v` at the start of `out`; returns its length. `v`
     /// must fit the width (the checked writer has compared it; a wider value's extra bits are
     /// dropped).

@@ -1367,9 +1367,9 @@ impl<'a, W: Write> TextRun<'a, W> {
                 w.last_written = Some(w.time);
                 self.dirty = true;
             }
-            self.f.nopen = 0;
             // nothing of it is taken back any more
             self.mark = e.pos;
+            self.start = e.pos;
             if !w.in_window(t) {
                 self.close();
                 return Ok(None);
@@ -1423,18 +1423,28 @@ impl<'a, W: Write> TextRun<'a, W> {
             return;
         }
         let (w, f) = (&mut *self.w, &mut *self.f);
+        // The open step's changes become the writer's pending step (its first text step
+        // wrote the writer's own). They are read back from its text, which a step keeps whole:
+        // its lines are in increasing positions, each ends with its variable's code.
+        let (start, end) = (self.start, w.e.pos);
+        let mut k = 0;
+        let mut changed = false;
+        for line in w.e.buf[start..end].to_vec().split_inclusive(|&b| b == b'\n') {
+            while !self.lines[k].is_line_of(line) {
+                k += 1;
+            }
+            w.push_pending(f.idx[k] as usize);
+            changed = true;
+            k += 1;
+        }
         w.e.pos = self.mark;
         // a value changed in an earlier step of the run or in the open one
-        if !std::mem::replace(&mut self.dirty, false) && f.nopen == 0 {
+        if !std::mem::replace(&mut self.dirty, false) && !changed {
             return;
         }
         for (k, &i) in f.idx.iter().enumerate() {
             w.cur[i as usize] = Stored::Int(f.prev[k]);
         }
-        for &k in &f.open[..f.nopen] {
-            w.push_pending(f.idx[k as usize] as usize);
-        }
-        f.nopen = 0;
         w.generation += 1;
         f.generation = w.generation;
     }
@@ -1470,8 +1480,6 @@ impl<W: Write> TextStep<'_, '_, W> {
         }
         r.next = k + 1;
         *prev = v;
-        f.open[f.nopen] = k as u32;
-        f.nopen += 1;
         let e = &mut r.w.e;
         let p = e.pos;
         let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
