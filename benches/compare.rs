@@ -811,7 +811,7 @@ fn main() {
 /// mask from the kernel or compares of packed words would find the changes differently.
 mod fused {
     use super::*;
-    use pmu50_waves::vcd_text::{stamp, ChangeLine, SLACK};
+    use pmu50_waves::vcd_text::{ChangeLine, Stamps, SLACK};
     use std::io::Write;
 
     /// Bytes collected before one write (the checked writer's buffer size).
@@ -821,6 +821,7 @@ mod fused {
         buf: Box<[u8]>,
         pos: usize,
         lines: [ChangeLine; NSIG],
+        stamps: Stamps,
         w: W,
     }
 
@@ -835,7 +836,7 @@ mod fused {
                     (p.first() == Some(&"$var")).then(|| ChangeLine::new(p[3].as_bytes(), p[2].parse().expect("a width")).expect("a variable of at most 64 bits"))
                 })
                 .collect();
-            Out { buf: vec![0; BUF + 8 * 1024].into_boxed_slice(), pos: 0, lines: lines.try_into().expect("65 variables"), w }
+            Out { buf: vec![0; BUF + 8 * 1024].into_boxed_slice(), pos: 0, lines: lines.try_into().expect("65 variables"), stamps: Stamps::new(), w }
         }
 
         #[inline(always)]
@@ -849,7 +850,7 @@ mod fused {
         fn stamp(&mut self, t: u64) {
             let p = self.pos;
             let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("room for a step");
-            self.pos = p + stamp(out, t);
+            self.pos = p + self.stamps.write(out, t);
         }
 
         fn put(&mut self, s: &[u8]) {

@@ -157,6 +157,76 @@ pub fn stamp(out: &mut [u8; SLACK], t: u64) -> usize {
     n + 1
 }
 
+/// Time stamps written one after the other, each from the last one when it is the same step
+/// later (a clock): `t`'s digits are the last stamp's plus the step's, added in the bytes of a
+/// `u64` (one decimal digit a byte, least significant first) with the carries done by the
+/// adder itself; any other stamp by [`stamp`]. The text is always [`stamp`]'s.
+#[derive(Clone, Copy, Debug)]
+pub struct Stamps {
+    /// the last stamp's time and its digits (when below 10^8)
+    last: u64,
+    digits: u64,
+    /// the last step (`u64::MAX`: none) and its digits
+    step: u64,
+    step_digits: u64,
+}
+
+impl Default for Stamps {
+    fn default() -> Stamps {
+        Stamps::new()
+    }
+}
+
+impl Stamps {
+    /// No stamp written yet.
+    pub const fn new() -> Stamps {
+        Stamps { last: 0, digits: 0, step: u64::MAX, step_digits: 0 }
+    }
+
+    /// Write `#t\n` at the start of `out` (as [`stamp`]); returns its length.
+    #[inline(always)]
+    pub fn write(&mut self, out: &mut [u8; SLACK], t: u64) -> usize {
+        const E8: u64 = 100_000_000;
+        if t.wrapping_sub(self.last) == self.step && t < E8 {
+            // Decimal addition of two numbers below 10^8 whose sum is below 10^8: each byte
+            // holds a digit sum 0..=18 plus a carry; with 246 added to every byte a sum of 10 or
+            // more carries into the next byte by itself and leaves its digit, and a smaller one
+            // is left at 246 or more (its top bit set), which takes the 246 back.
+            let x = self.digits + self.step_digits + 0xF6F6_F6F6_F6F6_F6F6;
+            let fix = ((x >> 7) & 0x0101_0101_0101_0101) * 0xF6;
+            let digits = x - fix;
+            self.last = t;
+            self.digits = digits;
+            out[0] = b'#';
+            // most significant digit first, its leading zeros shifted out (0 keeps one digit)
+            let d = digits.swap_bytes();
+            let lead = if digits == 0 { 7 } else { (digits.leading_zeros() / 8) as usize };
+            out[1..9].copy_from_slice(&((d | ASCII0) >> (8 * lead)).to_le_bytes());
+            let n = 9 - lead;
+            out[n] = b'\n';
+            return n + 1;
+        }
+        self.restart(t);
+        stamp(out, t)
+    }
+
+    /// The digits of `t` and of its step from the last stamp, for the next stamp.
+    #[cold]
+    #[inline(never)]
+    fn restart(&mut self, t: u64) {
+        const E8: u64 = 100_000_000;
+        let step = t.wrapping_sub(self.last);
+        if t < E8 && step < E8 {
+            self.step = step;
+            self.step_digits = digits8(step as u32).swap_bytes();
+            self.digits = digits8(t as u32).swap_bytes();
+            self.last = t;
+        } else {
+            *self = Stamps::new();
+        }
+    }
+}
+
 /// A time stamp of 10^16 or later: two digits per division.
 #[cold]
 #[inline(never)]
@@ -182,7 +252,48 @@ fn stamp_long(out: &mut [u8; SLACK], mut t: u64) -> usize {
 
 #[cfg(test)]
 mod tests {
-    use super::{digits8, stamp, ChangeLine, ASCII0, SLACK};
+    use super::{digits8, stamp, ChangeLine, Stamps, ASCII0, SLACK};
+
+    /// `Stamps` writes what `stamp` writes: clocks of many periods across every power of ten
+    /// below 10^9 (carries through every digit), from 0 and from just below each power, and
+    /// irregular steps, backwards steps and repeats between them.
+    #[test]
+    fn stamps_from_the_last_one_are_stamps() {
+        let check = |times: &mut dyn Iterator<Item = u64>| {
+            let mut s = Stamps::new();
+            for t in times {
+                let (mut a, mut b) = ([0u8; SLACK], [0u8; SLACK]);
+                let (na, nb) = (s.write(&mut a, t), stamp(&mut b, t));
+                assert_eq!(&a[..na], &b[..nb], "t = {t}");
+            }
+        };
+        for period in [1u64, 2, 3, 7, 10, 99, 100, 999, 1000, 12_345, 99_999_999] {
+            check(&mut (0..3000).map(|k| k * period));
+            for e in 1..=9 {
+                let p = 10u64.pow(e);
+                check(&mut (0..300).map(|k| p.saturating_sub(period * 150) + k * period));
+            }
+        }
+        let mut x = 1u64;
+        let mut irregular = Vec::new();
+        let mut t = 0u64;
+        for _ in 0..200_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            // mostly a clock of 10, now and then another step, a repeat, a step back or a jump
+            t = match x % 50 {
+                0 => t + x % 1000,
+                1 => t,
+                2 => t.saturating_sub(x % 100),
+                3 => x % 200_000_000,
+                4 => x,
+                _ => t + 10,
+            };
+            irregular.push(t);
+        }
+        check(&mut irregular.into_iter());
+    }
 
     /// `digits8` is the zero-padded decimal of every group of eight digits: every value below
     /// 10^5, every power of ten and its neighbours, and a stride through the rest.

@@ -59,7 +59,7 @@ use thiserror::Error;
 use vcd::{IdCode, ReferenceIndex, VarType};
 
 use crate::time::Timescale;
-use crate::vcd_text::{stamp, ChangeLine, SLACK};
+use crate::vcd_text::{ChangeLine, Stamps, SLACK};
 
 static NEXT_BUILDER_ID: AtomicU32 = AtomicU32::new(1);
 
@@ -834,12 +834,14 @@ pub struct VcdOut<W: Write> {
     /// Per variable, the fixed part of its two-state change line ([`ChangeLine::GENERAL`]: the
     /// general path).
     lines: Vec<ChangeLine>,
+    /// the time stamps, each from the last one when the clock's step repeats
+    stamps: Stamps,
 }
 
 impl<W: Write> VcdOut<W> {
     fn new(out: W, codes: Vec<Box<[u8]>>, widths: Vec<u32>) -> VcdOut<W> {
         let lines = codes.iter().zip(&widths).map(|(code, &w)| ChangeLine::new(code, w).unwrap_or(ChangeLine::GENERAL)).collect();
-        VcdOut { out, buf: vec![0; VCD_BUFFER + SLACK].into_boxed_slice(), pos: 0, codes, widths, lines }
+        VcdOut { out, buf: vec![0; VCD_BUFFER + SLACK].into_boxed_slice(), pos: 0, codes, widths, lines, stamps: Stamps::new() }
     }
 
     /// Write the buffer out once it holds [`VCD_BUFFER`] bytes; afterwards at least [`SLACK`]
@@ -853,12 +855,12 @@ impl<W: Write> VcdOut<W> {
         Ok(())
     }
 
-    /// `#t\n` at `buf[pos]` ([`stamp`]; the buffer has [`SLACK`] bytes free).
+    /// `#t\n` at `buf[pos]` ([`Stamps::write`]; the buffer has [`SLACK`] bytes free).
     #[inline(always)]
     fn stamp(&mut self, t: u64) {
         let p = self.pos;
         let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("SLACK bytes free after room()");
-        self.pos = p + stamp(out, t);
+        self.pos = p + self.stamps.write(out, t);
     }
 
     /// A change without a [`ChangeLine`]: four-state bits, reals, vectors wider than 64 bits, variables
