@@ -17,7 +17,10 @@
 //! its frame ([`pmu50_waves::writer::FrameRun`]) for as many edges as the caller likes, so a
 //! step inside the window writes its changed values straight from the frame's copy when the
 //! next one begins, without the writer's per-variable bookkeeping (the way Verilator's tracer
-//! owns its file). [`CoreTracer::step`] is one edge in a run of its own. The writer keeps every
+//! owns its file). For a VCD, [`CoreTracer::text_run`] goes further ([`TracerTextRun::step`]):
+//! the writer's text buffer is lent to the frame ([`pmu50_waves::writer::TextRun`]), so each
+//! changed value's line is written at once, with the same checks and the same file.
+//! [`CoreTracer::step`] is one edge in a run of its own. The writer keeps every
 //! check (time order, double assignment, the width of every value that changed, positions, and
 //! in a run increasing positions) and writes only the values that changed, so the file is byte
 //! for byte the one [`Writer::dump_frame`] writes from every value of every tick:
