@@ -70,8 +70,9 @@ pub struct CoreTracer {
 
 /// What a [`CoreTracer`] keeps between steps.
 struct Held {
-    /// The values the frame holds (when `valid`): inputs, outputs, registers, internals.
-    last_i: Inputs,
+    /// The values the frame holds (when `valid`): inputs ([`Inputs::packed`]), outputs,
+    /// registers, internals.
+    last_i: u64,
     last_o: Outputs,
     last_r: Regs,
     last_x: Internals,
@@ -92,7 +93,7 @@ impl CoreTracer {
             return Err(FrameSizeError { got: frame.len() });
         }
         let (r, o) = (*m.regs(), m.peek());
-        Ok(CoreTracer { m, frame, h: Held { last_i: Inputs::default(), last_o: o, last_r: r, last_x: Internals::default(), o, wide: true, valid: false } })
+        Ok(CoreTracer { m, frame, h: Held { last_i: 0, last_o: o, last_r: r, last_x: Internals::default(), o, wide: true, valid: false } })
     }
 
     /// The core (its registers, tick count, read-out).
@@ -224,16 +225,17 @@ impl Held {
     /// The inputs, outputs and registers of the step (before the edge).
     #[inline(always)]
     fn before_edge<S: StepSink>(&mut self, s: &mut S, r: &Regs, i: &Inputs, full: bool) -> Result<(), WriteError> {
+        let i = i.packed();
         if full {
-            self.last_i = *i;
+            self.last_i = i;
             self.last_o = self.o;
             self.last_r = *r;
             all_inputs(s, i)?;
             all_outputs(s, &self.o)?;
             return all_registers(s, r);
         }
-        if self.last_i != *i {
-            diff_inputs(s, i, &mut self.last_i)?;
+        if self.last_i != i {
+            diff_inputs(s, i, std::mem::replace(&mut self.last_i, i))?;
         }
         // the groups in the frame's order, so the writer's list of changes stays sorted
         if self.wide {
@@ -351,7 +353,35 @@ macro_rules! narrow {
     };
 }
 
-group!(all_inputs, diff_inputs, Inputs, INPUTS, [0: ig, 1: vs2_ok, 2: cmp_s, 3: cmp_c, 4: bus_we, 5: bus_addr, 6: bus_wdata]);
+// The inputs as one word ([`Inputs::packed`]): input k (the order of `Inputs::values`) is byte k,
+// `bus_wdata` bytes 6 and 7.
+const INPUT_SHIFT: [u32; 7] = [0, 8, 16, 24, 32, 40, 48];
+const INPUT_MASK: [u64; 7] = [0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFFFF];
+/// The input at each byte of the word.
+const INPUT_OF_BYTE: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 6];
+
+/// Every input of the packed word `cur`.
+#[inline(never)]
+fn all_inputs<S: StepSink>(s: &mut S, cur: u64) -> Result<(), WriteError> {
+    for k in 0..INPUT_SHIFT.len() {
+        s.put(INPUTS + k, cur >> INPUT_SHIFT[k] & INPUT_MASK[k])?;
+    }
+    Ok(())
+}
+
+/// The inputs of the packed word `cur` that differ from `held`'s, in increasing positions: one
+/// test a changed input, none for the others.
+#[inline(never)]
+fn diff_inputs<S: StepSink>(s: &mut S, cur: u64, held: u64) -> Result<(), WriteError> {
+    let mut x = cur ^ held;
+    while x != 0 {
+        let k = INPUT_OF_BYTE[(x.trailing_zeros() / 8) as usize];
+        let m = INPUT_MASK[k] << INPUT_SHIFT[k];
+        s.put(INPUTS + k, (cur & m) >> INPUT_SHIFT[k])?;
+        x &= !m;
+    }
+    Ok(())
+}
 
 group!(all_outputs, diff_outputs, Outputs, OUTPUTS, [
     0: sig, 1: vr_hi, 2: vm_en, 3: vs1_en, 4: vs2_en, 5: vp_en, 6: rail_hi, 7: st, 8: sr, 9: ps_win, 10: smp, 11: cs, 12: cc,

@@ -103,7 +103,11 @@ pub struct Structural {
 }
 
 /// Top-level inputs for one clock cycle.
+///
+/// `repr(C)`: the fields in this order are eight bytes without padding (asserted below), so
+/// comparing two inputs or packing them ([`Inputs::packed`]) is one 8-byte load, not seven.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Hash)]
+#[repr(C)]
 pub struct Inputs {
     pub ig: bool,
     pub vs2_ok: bool,
@@ -352,7 +356,19 @@ impl Outputs {
     }
 }
 
+const _: () = assert!(std::mem::size_of::<Inputs>() == 8, "Inputs: eight bytes, no padding");
+
 impl Inputs {
+    /// The inputs as one word, a byte each in the order of the fields (little-endian): `ig`,
+    /// `vs2_ok`, `cmp_s`, `cmp_c`, `bus_we` at bytes 0-4 (0 or 1), `bus_addr` at byte 5,
+    /// `bus_wdata` at bytes 6-7. Equal words, equal inputs. With the `repr(C)` layout this is
+    /// the struct's own bytes, one load.
+    #[inline(always)]
+    pub fn packed(&self) -> u64 {
+        let w = self.bus_wdata.to_le_bytes();
+        u64::from_le_bytes([u8::from(self.ig), u8::from(self.vs2_ok), u8::from(self.cmp_s), u8::from(self.cmp_c), u8::from(self.bus_we), self.bus_addr, w[0], w[1]])
+    }
+
     /// Every input port as (name, width, value), in the order of [`signals::INPUTS`].
     pub fn values(&self) -> [(&'static str, u8, u64); signals::N_INPUTS] {
         // Inputs have no structural width.

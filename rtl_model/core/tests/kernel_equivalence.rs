@@ -122,6 +122,21 @@ proptest! {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 4000, failure_persistence: None, ..ProptestConfig::default() })]
 
+    /// `Inputs::packed` (the tracer compares inputs as one word): input k of `Inputs::values`
+    /// at byte k, `bus_wdata` at bytes 6-7; equal words exactly for equal inputs.
+    #[test]
+    fn packed_inputs_are_the_inputs_a_byte_each(a in any_inputs(), b in any_inputs()) {
+        let (w, v) = (a.packed(), a.values());
+        for k in 0..6 {
+            prop_assert_eq!(w >> (8 * k) & 0xFF, v[k].2, "byte {} is {}", k, v[k].0);
+        }
+        prop_assert_eq!(w >> 48, v[6].2, "bytes 6-7 are {}", v[6].0);
+        prop_assert_eq!(a.packed() == b.packed(), a == b);
+        let mut c = a;
+        c.bus_wdata ^= 0x8000;
+        prop_assert_ne!(c.packed(), w);
+    }
+
     /// `kernel::step_traced_wide` from any state: the edge of the specification, and a narrow
     /// edge (`wide` false) writes only `kernel::NARROW_WRITES`, keeps `sig` and has all internals
     /// false, which is what a tracer that compares only those after a narrow edge relies on.
