@@ -19,7 +19,13 @@
 //! next one begins, without the writer's per-variable bookkeeping (the way Verilator's tracer
 //! owns its file). For a VCD, [`CoreTracer::text_run`] goes further ([`TracerTextRun::step`]):
 //! the writer's text buffer is lent to the frame ([`pmu50_waves::writer::TextRun`]), so each
-//! changed value's line is written at once, with the same checks and the same file.
+//! changed value's line is written at once, with the same checks and the same file. There the
+//! writer's three checks of a value (position order, changed, fits its width) are the tracer's
+//! own guarantees ([`pmu50_waves::writer::TextStep::change`], asserted in debug builds): its
+//! positions increase by construction, it gives a value only when its own compare found a
+//! change, and [`CoreTracer::new`] checks once that every variable of the frame is as wide as
+//! the core's signal (a narrower frame keeps the checked [`TextStep::line`], which reports a
+//! value that does not fit).
 //! [`CoreTracer::step`] is one edge in a run of its own. The writer keeps every
 //! check (time order, double assignment, the width of every value that changed, positions, and
 //! in a run increasing positions) and writes only the values that changed, so the file is byte
@@ -66,6 +72,9 @@ pub struct CoreTracer {
     m: Pmu50,
     frame: Frame,
     h: Held,
+    /// every variable of the frame is at least as wide as the core's signal at its position
+    /// (so every value the core gives fits: [`TextStep::change`])
+    fits: bool,
 }
 
 /// What a [`CoreTracer`] keeps between steps.
@@ -93,7 +102,14 @@ impl CoreTracer {
             return Err(FrameSizeError { got: frame.len() });
         }
         let (r, o) = (*m.regs(), m.peek());
-        Ok(CoreTracer { m, frame, h: Held { last_i: 0, last_o: o, last_r: r, last_x: Internals::default(), o, wide: true, valid: false } })
+        let s = m.structural();
+        let widths: Vec<u8> = (Inputs::default().values().into_iter().map(|v| v.1))
+            .chain(o.values(&s).into_iter().map(|v| v.1))
+            .chain(r.values(&s).into_iter().map(|v| v.width))
+            .chain(Internals::default().values().into_iter().map(|v| v.1))
+            .collect();
+        let fits = widths.into_iter().enumerate().all(|(k, w)| frame.max(k).is_some_and(|m| m >= u64::MAX >> (64 - u32::from(w).clamp(1, 64))));
+        Ok(CoreTracer { m, frame, fits, h: Held { last_i: 0, last_o: o, last_r: r, last_x: Internals::default(), o, wide: true, valid: false } })
     }
 
     /// The core (its registers, tick count, read-out).
@@ -120,7 +136,7 @@ impl CoreTracer {
     /// after other writes to the frame's variables) goes through a [`FrameRun`] as in
     /// [`CoreTracer::run`]. The file is the same.
     pub fn text_run<'a, W: Write>(&'a mut self, w: &'a mut VcdWriter<W>) -> Result<TracerTextRun<'a, W>, WriteError> {
-        Ok(TracerTextRun { run: w.text_run(&mut self.frame)?, h: &mut self.h, m: &mut self.m })
+        Ok(TracerTextRun { run: w.text_run(&mut self.frame)?, h: &mut self.h, m: &mut self.m, fits: self.fits })
     }
 
     /// One traced edge, as [`TracerRun::step`] in a run of its own (each call ends its run:
@@ -168,6 +184,7 @@ pub struct TracerTextRun<'a, W: Write> {
     run: TextRun<'a, W>,
     h: &'a mut Held,
     m: &'a mut Pmu50,
+    fits: bool,
 }
 
 impl<W: Write> TracerTextRun<'_, W> {
@@ -178,13 +195,21 @@ impl<W: Write> TracerTextRun<'_, W> {
 
     /// One rising edge of the core with inputs `i`, traced at time `t`, as [`TracerRun::step`]
     /// (the same file, the same checks and errors); the changed values' lines are written at
-    /// once ([`TextStep::line`]) when the step allows it ([`TextRun::step`]).
+    /// once when the step allows it ([`TextRun::step`]). When every variable of the frame is
+    /// as wide as the core's signal, they are written by [`TextStep::change`]: the tracer's
+    /// own compares say what changed, its frame order keeps the positions increasing, and the
+    /// widths were checked when it was created; otherwise by [`TextStep::line`], which checks
+    /// each value.
     #[inline(always)]
     pub fn step(&mut self, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
         if self.h.valid {
-            if let Some(mut s) = self.run.step(t)? {
+            if let Some(s) = self.run.step(t)? {
                 // the frame holds the tracer's values: only what changed
-                self.h.edge(&mut s, self.m, i, false)?;
+                if self.fits {
+                    self.h.edge(&mut Changes(s), self.m, i, false)?;
+                } else {
+                    self.h.edge(&mut { s }, self.m, i, false)?;
+                }
                 return Ok(&self.h.o);
             }
         }
@@ -265,6 +290,17 @@ impl<W: Write> StepSink for TextStep<'_, '_, W> {
     #[inline(always)]
     fn put(&mut self, k: usize, v: u64) -> Result<(), WriteError> {
         self.line(k, v)
+    }
+}
+
+/// A text step given only values that changed and fit ([`TextStep::change`]).
+struct Changes<'s, 'a, W: Write>(TextStep<'s, 'a, W>);
+
+impl<W: Write> StepSink for Changes<'_, '_, W> {
+    #[inline(always)]
+    fn put(&mut self, k: usize, v: u64) -> Result<(), WriteError> {
+        self.0.change(k, v);
+        Ok(())
     }
 }
 

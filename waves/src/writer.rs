@@ -993,6 +993,12 @@ impl Frame {
     pub fn is_empty(&self) -> bool {
         self.idx.is_empty()
     }
+
+    /// The largest value position `k` can take (`2^width - 1` of its variable); `None` past
+    /// the end. A caller of [`TextStep::change`] checks its values against these once.
+    pub fn max(&self, k: usize) -> Option<u64> {
+        self.max.get(k).copied()
+    }
 }
 
 /// One step of a [`Frame`] whose values are given one by one ([`Writer::frame_step`]).
@@ -1487,6 +1493,35 @@ impl<W: Write> TextStep<'_, '_, W> {
         let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
         e.pos = p + r.lines[k].write(out, v);
         Ok(())
+    }
+
+    /// The value `v` at position `k` of the frame, which the caller knows has changed and
+    /// fits: written at once, as [`TextStep::line`] writes a changed value, without its three
+    /// checks in release builds. The caller guarantees, and debug builds assert, that
+    /// - `k` is after the positions given before in the step (the text stays sorted),
+    /// - `v` differs from the frame's value at `k` (the caller keeps its own copy of the
+    ///   values, which equals the frame's while a run of its steps lasts),
+    /// - `v` fits the variable ([`Frame::max`]; checked once when the caller was declared,
+    ///   against the widths of the values it gives).
+    ///
+    /// A position past the frame's end panics, in every build. For a tracer whose values come
+    /// from typed registers (`pmu50::tracer::CoreTracer`, which checks the frame's widths when
+    /// it is created and is compared with [`Writer::dump_frame`] in its tests); any other
+    /// caller, [`TextStep::line`].
+    #[inline(always)]
+    pub fn change(&mut self, k: usize, v: u64) {
+        let r = &mut *self.r;
+        debug_assert!(k >= r.next, "change: position {k} after {} in one step", r.next);
+        let f = &mut *r.f;
+        let prev = &mut f.prev[k];
+        debug_assert!(*prev != v, "change: position {k} did not change");
+        debug_assert!(v <= f.max[k], "change: value {v:#x} too wide for position {k}");
+        *prev = v;
+        r.next = k + 1;
+        let e = &mut r.w.e;
+        let p = e.pos;
+        let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
+        e.pos = p + r.lines[k].write(out, v);
     }
 }
 

@@ -915,9 +915,12 @@ proptest::proptest! {
     /// values, after single changes, for a frame out of declaration order) write exactly what
     /// `dump_frame` writes with the same values, with single changes between runs, repeated
     /// times refused on both sides, and refused too-wide values and positions out of order.
+    /// With `change`, a text step's changed values go through `TextStep::change` (the unchecked
+    /// way, for callers that know what changed) where no error is being provoked.
     #[test]
     fn text_runs_equal_dump_frame(
         sorted in proptest::prelude::any::<bool>(),
+        change in proptest::prelude::any::<bool>(),
         window in proptest::option::of((0u64..30, 0u64..80)),
         steps in proptest::collection::vec((0u64..3, proptest::array::uniform4(proptest::option::of(0u64..5)), proptest::prelude::any::<bool>(), after_step()), 0..80),
     ) {
@@ -966,6 +969,8 @@ proptest::proptest! {
                         continue;
                     }
                     frame_at = Some(t);
+                    // the frame's values before the step (a position is given once in it)
+                    let before = cur;
                     let mut step_body = |set_fn: &mut dyn FnMut(usize, u64) -> Result<(), WriteError>| -> Result<(), proptest::test_runner::TestCaseError> {
                         for (k, v) in set.iter().enumerate() {
                             let Some(v) = v else { continue };
@@ -987,6 +992,15 @@ proptest::proptest! {
                         Ok(())
                     };
                     match run.step(t).unwrap() {
+                        Some(mut s) if change && !too_wide => {
+                            texts += 1;
+                            step_body(&mut |k, v| {
+                                if v != before[k] {
+                                    s.change(k, v);
+                                }
+                                Ok(())
+                            })?;
+                        }
                         Some(mut s) => {
                             texts += 1;
                             step_body(&mut |k, v| s.line(k, v))?;
@@ -1112,6 +1126,77 @@ fn text_runs_keep_every_check() {
     assert!(got.contains("#1\nb0000000000000101 \"\n#2\nb0000000000000110 \"\nb00010 #\n#3\n"), "{got}");
     assert!(got.contains("#4\nb0000000000001000 \"\nb00100 #\n#6\n1!\nb0000000000000000000000000000000000000000000000000000000000000001 $\n"), "{got}");
     assert!(!got.contains("#5"), "{got}");
+}
+
+/// `TextStep::change` writes what `line` writes for a changed value; its caller's guarantees
+/// (increasing positions, a changed value, a value that fits) are asserted in debug builds, the
+/// frame's end in every build.
+#[test]
+fn text_step_change_writes_a_changed_value() {
+    let (b, ids) = frame_builder();
+    let mut w = b.start(Vec::new()).unwrap();
+    let mut f = w.frame(&ids[..3]).unwrap();
+    assert_eq!((f.max(1), f.max(2), f.max(3)), (Some(0xFFFF), Some(31), None));
+    {
+        let mut run = w.text_run(&mut f).unwrap();
+        assert!(run.step(0).unwrap().is_none());
+        run.frame_run().unwrap().step(0).unwrap().set(1, 4).unwrap();
+        let mut s = run.step(1).unwrap().expect("a step written at once");
+        s.change(1, 5);
+        s.change(2, 7);
+    }
+    let got = text(w);
+    assert!(got.contains("#1\nb0000000000000101 \"\nb00111 #\n"), "{got}");
+}
+
+/// One of `TextStep::change`'s broken guarantees, in a text step at t = 1 of a 3-variable frame
+/// whose values are 0, 4, 3.
+#[cfg(debug_assertions)]
+fn broken_change(k: usize, v: u64, first: Option<(usize, u64)>) {
+    let (b, ids) = frame_builder();
+    let mut w = b.start(Vec::new()).unwrap();
+    let mut f = w.frame(&ids[..3]).unwrap();
+    let mut run = w.text_run(&mut f).unwrap();
+    assert!(run.step(0).unwrap().is_none());
+    run.frame_run().unwrap().step(0).unwrap().set(1, 4).unwrap();
+    let mut s = run.step(1).unwrap().expect("a step written at once");
+    if let Some((k, v)) = first {
+        s.change(k, v);
+    }
+    s.change(k, v);
+}
+
+#[cfg(debug_assertions)]
+#[test]
+#[should_panic(expected = "did not change")]
+fn text_step_change_of_an_unchanged_value_is_asserted() {
+    broken_change(1, 4, None);
+}
+
+#[cfg(debug_assertions)]
+#[test]
+#[should_panic(expected = "too wide for position 2")]
+fn text_step_change_of_a_too_wide_value_is_asserted() {
+    broken_change(2, 32, None);
+}
+
+#[cfg(debug_assertions)]
+#[test]
+#[should_panic(expected = "position 0 after 2")]
+fn text_step_change_out_of_order_is_asserted() {
+    broken_change(0, 1, Some((1, 9)));
+}
+
+#[test]
+#[should_panic(expected = "index out of bounds")]
+fn text_step_change_past_the_frame_panics() {
+    let (b, ids) = frame_builder();
+    let mut w = b.start(Vec::new()).unwrap();
+    let mut f = w.frame(&ids[..3]).unwrap();
+    let mut run = w.text_run(&mut f).unwrap();
+    assert!(run.step(0).unwrap().is_none());
+    run.frame_run().unwrap().step(0).unwrap().set(1, 4).unwrap();
+    run.step(1).unwrap().expect("a step written at once").change(3, 1);
 }
 
 /// A run's direct steps are written when the next step begins and the last one when the run
