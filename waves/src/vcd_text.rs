@@ -96,10 +96,16 @@ impl ChangeLine {
         let w = usize::from(self.width);
         out[0] = b'b';
         let u = v << (64 - w);
-        let mut j = 0;
-        while j < 8 && 8 * j < w {
-            out[1 + 8 * j..9 + 8 * j].copy_from_slice(&BITS8[(u >> (56 - 8 * j)) as usize & 0xFF]);
-            j += 1;
+        // Two chunks whatever the width (most variables have at most 16 bits; for 8 or fewer
+        // the second is overwritten by the suffix), the others only for wider variables.
+        out[1..9].copy_from_slice(&BITS8[(u >> 56) as usize]);
+        out[9..17].copy_from_slice(&BITS8[(u >> 48) as usize & 0xFF]);
+        if w > 16 {
+            let mut j = 2;
+            while j < 8 && 8 * j < w {
+                out[1 + 8 * j..9 + 8 * j].copy_from_slice(&BITS8[(u >> (56 - 8 * j)) as usize & 0xFF]);
+                j += 1;
+            }
         }
         out[1 + w..17 + w].copy_from_slice(&self.suffix);
         1 + w + usize::from(self.len)
