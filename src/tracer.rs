@@ -84,7 +84,8 @@ struct Held {
     last_i: u64,
     last_o: Outputs,
     last_r: Regs,
-    last_x: Internals,
+    /// ([`Internals::packed`])
+    last_x: u128,
     /// The outputs after the last edge, i.e. before the next one (the core's `peek`).
     o: Outputs,
     /// The last edge was wide: the next step compares every register and output, and the
@@ -109,7 +110,7 @@ impl CoreTracer {
             .chain(Internals::default().values().into_iter().map(|v| v.1))
             .collect();
         let fits = widths.into_iter().enumerate().all(|(k, w)| frame.max(k).is_some_and(|m| m >= u64::MAX >> (64 - u32::from(w).clamp(1, 64))));
-        Ok(CoreTracer { m, frame, fits, h: Held { last_i: 0, last_o: o, last_r: r, last_x: Internals::default(), o, wide: true, valid: false } })
+        Ok(CoreTracer { m, frame, fits, h: Held { last_i: 0, last_o: o, last_r: r, last_x: 0, o, wide: true, valid: false } })
     }
 
     /// The core (its registers, tick count, read-out).
@@ -238,10 +239,11 @@ impl Held {
         let was_wide = std::mem::replace(&mut h.wide, wide);
         before?;
         if full {
-            h.last_x = x;
+            h.last_x = x.packed();
             all_internals(s, &x)?;
         } else if wide || was_wide {
-            diff_internals(s, &x, &mut h.last_x)?;
+            let x = x.packed();
+            diff_internals(s, x, std::mem::replace(&mut h.last_x, x))?;
         }
         h.valid = true;
         Ok(())
@@ -407,7 +409,7 @@ fn all_inputs<S: StepSink>(s: &mut S, cur: u64) -> Result<(), WriteError> {
 
 /// The inputs of the packed word `cur` that differ from `held`'s, in increasing positions: one
 /// test a changed input, none for the others.
-#[inline(never)]
+#[inline(always)]
 fn diff_inputs<S: StepSink>(s: &mut S, cur: u64, held: u64) -> Result<(), WriteError> {
     let mut x = cur ^ held;
     while x != 0 {
@@ -445,5 +447,26 @@ group!(all_registers, diff_registers, Regs, REGISTERS, [
 // The registers a narrow edge writes (`kernel::NARROW_WRITES`), at `NARROW_REGISTERS`.
 narrow!(narrow_registers, Regs, REGISTERS, [0: action_switching.sync, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr, 25: count_diagnosis.diag]);
 
-group!(all_internals, diff_internals, Internals, INTERNALS, [0: kon, 1: koff, 2: upd, 3: first, 4: chg_s, 5: chg_c, 6: skip_clr, 7: fig17, 8: fig18]);
+/// Every internal.
+#[inline(never)]
+fn all_internals<S: StepSink>(s: &mut S, x: &Internals) -> Result<(), WriteError> {
+    let x = x.packed();
+    for k in 0..9 {
+        s.put(INTERNALS + k, (x >> (8 * k)) as u64 & 0xFF)?;
+    }
+    Ok(())
+}
+
+/// The internals of the packed word `cur` ([`Internals::packed`]: internal k of
+/// `Internals::values` at byte k) that differ from `held`'s, in increasing positions.
+#[inline(always)]
+fn diff_internals<S: StepSink>(s: &mut S, cur: u128, held: u128) -> Result<(), WriteError> {
+    let mut x = cur ^ held;
+    while x != 0 {
+        let k = (x.trailing_zeros() / 8) as usize;
+        s.put(INTERNALS + k, (cur >> (8 * k)) as u64 & 0xFF)?;
+        x &= !(0xFF << (8 * k));
+    }
+    Ok(())
+}
 

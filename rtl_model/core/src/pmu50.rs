@@ -148,7 +148,11 @@ pub struct Outputs {
 
 /// Internal combinational signals of one cycle (they depend on this cycle's inputs), for
 /// waveforms, change logs and coverage of the FIG. 17/18 branches.
+///
+/// `repr(C)`: the fields in this order are nine bytes without padding (asserted below), which
+/// [`Internals::packed`] gives as one word.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Hash)]
+#[repr(C)]
 pub struct Internals {
     pub kon: bool,
     pub koff: bool,
@@ -380,7 +384,34 @@ impl Inputs {
     }
 }
 
+const _: () = assert!(std::mem::size_of::<Internals>() == 9, "Internals: nine bytes, no padding");
+
 impl Internals {
+    /// The internals as one word, a byte each in the order of the fields (little-endian):
+    /// `kon`, `koff`, `upd`, `first`, `chg_s`, `chg_c`, `skip_clr` at bytes 0-6 (0 or 1), the
+    /// encodings of `fig17` and `fig18` at bytes 7 and 8. Equal words, equal internals.
+    #[inline(always)]
+    pub fn packed(&self) -> u128 {
+        u128::from_le_bytes([
+            u8::from(self.kon),
+            u8::from(self.koff),
+            u8::from(self.upd),
+            u8::from(self.first),
+            u8::from(self.chg_s),
+            u8::from(self.chg_c),
+            u8::from(self.skip_clr),
+            self.fig17 as u8,
+            self.fig18 as u8,
+            0,
+            0,
+            0,
+            0,
+            0,
+            0,
+            0,
+        ])
+    }
+
     /// Every internal signal as (name, width, value), in the order of [`signals::INTERNALS`].
     pub fn values(&self) -> [(&'static str, u8, u64); signals::N_INTERNALS] {
         let s = Structural { sync_depth: 1, cnt_width: 16 };

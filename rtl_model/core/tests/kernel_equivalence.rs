@@ -137,7 +137,8 @@ proptest! {
         prop_assert_ne!(c.packed(), w);
     }
 
-    /// `kernel::step_traced_wide` from any state: the edge of the specification, and a narrow
+    /// `kernel::step_traced_wide` from any state: the edge of the specification (its internals
+    /// a byte each in `Internals::packed`), and a narrow
     /// edge (`wide` false) writes only `kernel::NARROW_WRITES`, keeps `sig` and has all internals
     /// false, which is what a tracer that compares only those after a narrow edge relies on.
     #[test]
@@ -150,6 +151,13 @@ proptest! {
         let (_, want_x, want) = eval(&s, &r, &i);
         prop_assert_eq!(k, want);
         prop_assert_eq!(x, want_x);
+        // `Internals::packed` (the tracer compares internals as one word): internal k of
+        // `Internals::values` at byte k, nothing above
+        let (w, v) = (x.packed(), x.values());
+        for (k, v) in v.iter().enumerate() {
+            prop_assert_eq!((w >> (8 * k)) as u64 & 0xFF, v.2, "byte {} is {}", k, v.0);
+        }
+        prop_assert_eq!(w >> 72, 0);
         prop_assert_eq!(out, pmu50_core::pmu50::ports(&s, &want));
         if !wide {
             let mut only_narrow = r;
