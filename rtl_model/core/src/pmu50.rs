@@ -119,7 +119,14 @@ pub struct Inputs {
 }
 
 /// Top-level outputs (all Moore: functions of the registers only).
+///
+/// `repr(C)`: the thirteen one-bit outputs from `sig` to `cc` at bytes 0-12, `cnt_r` at 13, the
+/// four 16-bit outputs at 14-21, the other five one-bit outputs at 22-26, no padding between
+/// (asserted below), so [`Outputs::flags`] gathers the eighteen one-bit outputs from three
+/// loads. The order of the ports (`Outputs::values`, the waveforms, the C ABI) is
+/// [`signals::OUTPUTS`], not this one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Hash)]
+#[repr(C)]
 pub struct Outputs {
     pub sig: bool,
     pub vr_hi: bool,
@@ -134,15 +141,15 @@ pub struct Outputs {
     pub smp: bool,
     pub cs: bool,
     pub cc: bool,
+    pub cnt_r: u8,
     pub cnt_s: u16,
     pub cnt_c: u16,
-    pub cnt_r: u8,
     pub si: u16,
+    pub bus_rdata: u16,
     pub hist_s: bool,
     pub hist_c: bool,
     pub diag: bool,
     pub quadrant_skip: bool,
-    pub bus_rdata: u16,
     pub bus_err: bool,
 }
 
@@ -357,6 +364,35 @@ impl Outputs {
             let o = &signals::OUTPUTS[k];
             (o.name, o.bits(s), (o.get)(self))
         })
+    }
+}
+
+const _: () = {
+    use std::mem::{offset_of, size_of};
+    assert!(offset_of!(Outputs, cc) == 12 && offset_of!(Outputs, cnt_r) == 13 && offset_of!(Outputs, cnt_s) == 14);
+    assert!(offset_of!(Outputs, bus_rdata) == 20 && offset_of!(Outputs, hist_s) == 22 && offset_of!(Outputs, bus_err) == 26);
+    assert!(size_of::<Outputs>() == 28, "Outputs: 27 bytes of fields, one byte of padding at the end");
+};
+
+/// The bytes of `b` (each 0 or 1) as the bits of one byte: bit k is byte k. Multiplying by
+/// this constant moves byte k's bit to bit 56 + k; every other product of a byte and a term
+/// lands on a bit of its own below 56 or above 63, so no carry reaches bits 56-63.
+#[inline(always)]
+fn gather_bits(b: [u8; 8]) -> u32 {
+    (u64::from_le_bytes(b).wrapping_mul(0x0102_0408_1020_4080) >> 56) as u32
+}
+
+impl Outputs {
+    /// The eighteen one-bit outputs as bits, in the order of [`signals::OUTPUTS`] without the
+    /// vectors: bits 0-12 `sig` .. `cc`, 13 `hist_s`, 14 `hist_c`, 15 `diag`,
+    /// 16 `quadrant_skip`, 17 `bus_err`. Equal flags and equal vectors, equal outputs.
+    #[inline(always)]
+    pub fn flags(&self) -> u32 {
+        let b = u8::from;
+        let lo = gather_bits([b(self.sig), b(self.vr_hi), b(self.vm_en), b(self.vs1_en), b(self.vs2_en), b(self.vp_en), b(self.rail_hi), b(self.st)]);
+        let mid = gather_bits([b(self.sr), b(self.ps_win), b(self.smp), b(self.cs), b(self.cc), 0, 0, 0]);
+        let hi = gather_bits([b(self.hist_s), b(self.hist_c), b(self.diag), b(self.quadrant_skip), b(self.bus_err), 0, 0, 0]);
+        lo | mid << 8 | hi << 13
     }
 }
 

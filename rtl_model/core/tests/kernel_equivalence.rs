@@ -137,6 +137,30 @@ proptest! {
         prop_assert_ne!(c.packed(), w);
     }
 
+    /// `Outputs::flags` (the bench's checksum, the tracer's compare of the outputs): bit j is
+    /// the j-th one-bit output of `Outputs::values`, eighteen of them, nothing above; written
+    /// out as hdl/bench/bench.cpp's `mix` packs them.
+    #[test]
+    fn output_flags_are_the_one_bit_outputs_in_port_order(bits in 0u32..1 << 18, v in any::<[u16; 5]>()) {
+        let f = |j: u32| bits >> j & 1 == 1;
+        let o = pmu50_core::Outputs {
+            sig: f(0), vr_hi: f(1), vm_en: f(2), vs1_en: f(3), vs2_en: f(4), vp_en: f(5), rail_hi: f(6), st: f(7), sr: f(8),
+            ps_win: f(9), smp: f(10), cs: f(11), cc: f(12), hist_s: f(13), hist_c: f(14), diag: f(15), quadrant_skip: f(16), bus_err: f(17),
+            cnt_s: v[0], cnt_c: v[1], cnt_r: v[2] as u8, si: v[3], bus_rdata: v[4],
+        };
+        let s = Structural { sync_depth: 2, cnt_width: 16 };
+        let one_bit: Vec<_> = o.values(&s).into_iter().filter(|v| !["cnt_s", "cnt_c", "cnt_r", "si", "bus_rdata"].contains(&v.0)).collect();
+        prop_assert_eq!(one_bit.len(), 18);
+        for (j, v) in one_bit.iter().enumerate() {
+            prop_assert_eq!(u64::from(o.flags() >> j & 1), v.2, "bit {} is {}", j, v.0);
+        }
+        let b = |v: bool, k: u32| u32::from(v) << k;
+        let cpp = b(o.sig, 0) | b(o.vr_hi, 1) | b(o.vm_en, 2) | b(o.vs1_en, 3) | b(o.vs2_en, 4) | b(o.vp_en, 5) | b(o.rail_hi, 6) | b(o.st, 7) | b(o.sr, 8)
+            | b(o.ps_win, 9) | b(o.smp, 10) | b(o.cs, 11) | b(o.cc, 12) | b(o.hist_s, 13) | b(o.hist_c, 14) | b(o.diag, 15) | b(o.quadrant_skip, 16) | b(o.bus_err, 17);
+        prop_assert_eq!(o.flags(), cpp);
+        prop_assert_eq!(o.flags(), bits);
+    }
+
     /// `kernel::step_traced_wide` from any state: the edge of the specification (its internals
     /// a byte each in `Internals::packed`), and a narrow
     /// edge (`wide` false) writes only `kernel::NARROW_WRITES`, keeps `sig` and has all internals
