@@ -171,11 +171,11 @@ impl<E: Emitter> TracerRun<'_, E> {
     /// and the next step gives every value again).
     #[inline]
     pub fn step(&mut self, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
-        let mut s = self.run.step(t)?;
+        let s = self.run.step(t)?;
         // Every value at the first step, after other writes to the frame's variables, and after
         // a failed step.
         let full = !(self.h.valid && s.is_current());
-        self.h.edge(&mut s, self.m, i, full)?;
+        self.h.edge(s, self.m, i, full)?;
         Ok(&self.h.o)
     }
 }
@@ -207,26 +207,28 @@ impl<W: Write> TracerTextRun<'_, W> {
             if let Some(s) = self.run.step(t)? {
                 // the frame holds the tracer's values: only what changed
                 if self.fits {
-                    self.h.edge(&mut Changes(s), self.m, i, false)?;
+                    self.h.edge(Changes(s), self.m, i, false)?;
                 } else {
-                    self.h.edge(&mut { s }, self.m, i, false)?;
+                    self.h.edge(s, self.m, i, false)?;
                 }
                 return Ok(&self.h.o);
             }
         }
         let mut fr = self.run.frame_run()?;
-        let mut s = fr.step(t)?;
+        let s = fr.step(t)?;
         let full = !(self.h.valid && s.is_current());
-        self.h.edge(&mut s, self.m, i, full)?;
+        self.h.edge(s, self.m, i, full)?;
         Ok(&self.h.o)
     }
 }
 
 impl Held {
     /// One traced edge into a step `s` that has started: the inputs, outputs and registers
-    /// before the edge (every value when `full`), the edge, its internals.
+    /// before the edge (every value when `full`), the edge, its internals. The step is held
+    /// by value and lent to the out-of-line groups by value too (they give it back), so it
+    /// stays in registers on the common path (a [`TextStep`] keeps its end of text there).
     #[inline(always)]
-    fn edge<S: StepSink>(&mut self, s: &mut S, m: &mut Pmu50, i: &Inputs, full: bool) -> Result<(), WriteError> {
+    fn edge<S: StepSink>(&mut self, s: S, m: &mut Pmu50, i: &Inputs, full: bool) -> Result<(), WriteError> {
         let h = self;
         h.valid = false;
         let before = h.before_edge(s, m.regs(), i, full);
@@ -237,13 +239,13 @@ impl Held {
             copy_narrow_outputs(&mut h.o, &after);
         }
         let was_wide = std::mem::replace(&mut h.wide, wide);
-        before?;
+        let mut s = before?;
         if full {
             h.last_x = x.packed();
             all_internals(s, &x)?;
         } else if wide || was_wide {
             let x = x.packed();
-            diff_internals(s, x, std::mem::replace(&mut h.last_x, x))?;
+            diff_internals(&mut s, x, std::mem::replace(&mut h.last_x, x))?;
         }
         h.valid = true;
         Ok(())
@@ -251,26 +253,27 @@ impl Held {
 
     /// The inputs, outputs and registers of the step (before the edge).
     #[inline(always)]
-    fn before_edge<S: StepSink>(&mut self, s: &mut S, r: &Regs, i: &Inputs, full: bool) -> Result<(), WriteError> {
+    fn before_edge<S: StepSink>(&mut self, mut s: S, r: &Regs, i: &Inputs, full: bool) -> Result<S, WriteError> {
         let i = i.packed();
         if full {
             self.last_i = i;
             self.last_o = self.o;
             self.last_r = *r;
-            all_inputs(s, i)?;
-            all_outputs(s, &self.o)?;
+            let s = all_inputs(s, i)?;
+            let s = all_outputs(s, &self.o)?;
             return all_registers(s, r);
         }
         if self.last_i != i {
-            diff_inputs(s, i, std::mem::replace(&mut self.last_i, i))?;
+            diff_inputs(&mut s, i, std::mem::replace(&mut self.last_i, i))?;
         }
         // the groups in the frame's order, so the writer's list of changes stays sorted
         if self.wide {
-            diff_outputs(s, &self.o, &mut self.last_o)?;
+            let s = diff_outputs(s, &self.o, &mut self.last_o)?;
             diff_registers(s, r, &mut self.last_r)
         } else {
-            narrow_outputs(s, &self.o, &mut self.last_o)?;
-            narrow_registers(s, r, &mut self.last_r)
+            narrow_outputs(&mut s, &self.o, &mut self.last_o)?;
+            narrow_registers(&mut s, r, &mut self.last_r)?;
+            Ok(s)
         }
     }
 }
@@ -349,14 +352,25 @@ impl Value for pmu50_core::drive_interval_changing_56b::Fig18 {
 /// `diff`: compare each field of a group with the held value, give the writer the ones that
 /// differ (at positions `base + k`) and update the held value; the code written out per field.
 macro_rules! diff_fn {
-    ($inline:meta, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
-        #[$inline]
+    (inline, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
+        #[inline(always)]
         fn $diff<S: StepSink>(s: &mut S, cur: &$t, held: &mut $t) -> Result<(), WriteError> {
             $( if cur.$($f).+ != held.$($f).+ {
                 s.put($base + $k, Value::value(cur.$($f).+))?;
                 held.$($f).+ = cur.$($f).+;
             } )*
             Ok(())
+        }
+    };
+    // out of line: the step by value, given back
+    (outline, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
+        #[inline(never)]
+        fn $diff<S: StepSink>(mut s: S, cur: &$t, held: &mut $t) -> Result<S, WriteError> {
+            $( if cur.$($f).+ != held.$($f).+ {
+                s.put($base + $k, Value::value(cur.$($f).+))?;
+                held.$($f).+ = cur.$($f).+;
+            } )*
+            Ok(s)
         }
     };
 }
@@ -366,12 +380,12 @@ macro_rules! diff_fn {
 macro_rules! group {
     ($all:ident, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
         #[inline(never)]
-        fn $all<S: StepSink>(s: &mut S, cur: &$t) -> Result<(), WriteError> {
+        fn $all<S: StepSink>(mut s: S, cur: &$t) -> Result<S, WriteError> {
             $( s.put($base + $k, Value::value(cur.$($f).+))?; )*
-            Ok(())
+            Ok(s)
         }
 
-        diff_fn!(inline(never), $diff, $t, $base, [$($k : $($f).+),*]);
+        diff_fn!(outline, $diff, $t, $base, [$($k : $($f).+),*]);
     };
 }
 
@@ -379,10 +393,10 @@ macro_rules! group {
 /// just those fields from one struct into another.
 macro_rules! narrow {
     ($diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
-        diff_fn!(inline(always), $diff, $t, $base, [$($k : $($f).+),*]);
+        diff_fn!(inline, $diff, $t, $base, [$($k : $($f).+),*]);
     };
     ($diff:ident, $copy:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
-        diff_fn!(inline(always), $diff, $t, $base, [$($k : $($f).+),*]);
+        diff_fn!(inline, $diff, $t, $base, [$($k : $($f).+),*]);
 
         #[inline(always)]
         fn $copy(dst: &mut $t, src: &$t) {
@@ -400,11 +414,11 @@ const INPUT_OF_BYTE: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 6];
 
 /// Every input of the packed word `cur`.
 #[inline(never)]
-fn all_inputs<S: StepSink>(s: &mut S, cur: u64) -> Result<(), WriteError> {
+fn all_inputs<S: StepSink>(mut s: S, cur: u64) -> Result<S, WriteError> {
     for k in 0..INPUT_SHIFT.len() {
         s.put(INPUTS + k, cur >> INPUT_SHIFT[k] & INPUT_MASK[k])?;
     }
-    Ok(())
+    Ok(s)
 }
 
 /// The inputs of the packed word `cur` that differ from `held`'s, in increasing positions: one
@@ -449,12 +463,12 @@ narrow!(narrow_registers, Regs, REGISTERS, [0: action_switching.sync, 12: regist
 
 /// Every internal.
 #[inline(never)]
-fn all_internals<S: StepSink>(s: &mut S, x: &Internals) -> Result<(), WriteError> {
+fn all_internals<S: StepSink>(mut s: S, x: &Internals) -> Result<S, WriteError> {
     let x = x.packed();
     for k in 0..9 {
         s.put(INTERNALS + k, (x >> (8 * k)) as u64 & 0xFF)?;
     }
-    Ok(())
+    Ok(s)
 }
 
 /// The internals of the packed word `cur` ([`Internals::packed`]: internal k of

@@ -1320,9 +1320,21 @@ pub struct TextRun<'a, W: Write> {
     dirty: bool,
 }
 
-/// One step of a [`TextRun`] ([`TextRun::step`]).
+/// One step of a [`TextRun`] ([`TextRun::step`]). It keeps the end of the text it writes as
+/// its own field (two words: a caller that holds the step in a local variable keeps it in a
+/// register from one line to the next, instead of storing it in the writer and loading it
+/// again after every line) and gives it back to the writer when it is dropped.
 pub struct TextStep<'s, 'a, W: Write> {
     r: &'s mut TextRun<'a, W>,
+    /// the end of the text in the writer's buffer
+    pos: usize,
+}
+
+impl<W: Write> Drop for TextStep<'_, '_, W> {
+    #[inline(always)]
+    fn drop(&mut self) {
+        self.r.w.e.pos = self.pos;
+    }
 }
 
 impl<W: Write> VcdWriter<W> {
@@ -1411,9 +1423,10 @@ impl<'a, W: Write> TextRun<'a, W> {
         let e = &mut w.e;
         self.mark = e.pos;
         e.stamp(t);
-        self.start = e.pos;
+        let pos = e.pos;
+        self.start = pos;
         self.next = 0;
-        Ok(Some(TextStep { r: self }))
+        Ok(Some(TextStep { r: self, pos }))
     }
 
     /// End the text steps and lend the writer to the frame as a [`FrameRun`] (for a step that
@@ -1488,10 +1501,9 @@ impl<W: Write> TextStep<'_, '_, W> {
         }
         r.next = k + 1;
         *prev = v;
-        let e = &mut r.w.e;
-        let p = e.pos;
-        let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
-        e.pos = p + r.lines[k].write(out, v);
+        let p = self.pos;
+        let out: &mut [u8; SLACK] = (&mut r.w.e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
+        self.pos = p + r.lines[k].write(out, v);
         Ok(())
     }
 
@@ -1518,10 +1530,9 @@ impl<W: Write> TextStep<'_, '_, W> {
         debug_assert!(v <= f.max[k], "change: value {v:#x} too wide for position {k}");
         *prev = v;
         r.next = k + 1;
-        let e = &mut r.w.e;
-        let p = e.pos;
-        let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
-        e.pos = p + r.lines[k].write(out, v);
+        let p = self.pos;
+        let out: &mut [u8; SLACK] = (&mut r.w.e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
+        self.pos = p + r.lines[k].write(out, v);
     }
 }
 
