@@ -1415,11 +1415,18 @@ impl<'a, W: Write> TextRun<'a, W> {
             }
             e.pos = 0;
         }
-        self.open = true;
         let w = &mut *self.w;
+        if !self.open {
+            // The writer's step number, and this frame's, once for the run's text steps: while
+            // the run lasts nothing else assigns or steps, so every later step of it is this
+            // frame's step at the writer's (new) time as well, and when the run ends the last
+            // one is the frame's step at the writer's time, numbered after every earlier
+            // assignment and frame step (as if numbered one by one).
+            w.step += 1;
+            w.frame_steps[self.f.id as usize] = w.step;
+        }
+        self.open = true;
         w.time = t;
-        w.step += 1;
-        w.frame_steps[self.f.id as usize] = w.step;
         let e = &mut w.e;
         self.mark = e.pos;
         e.stamp(t);
