@@ -1306,8 +1306,10 @@ pub struct TextRun<'a, W: Write> {
     f: &'a mut Frame,
     /// the frame's variables all have change lines and are in declaration order
     eligible: bool,
-    /// the change line of each position of the frame
-    lines: Vec<ChangeLine>,
+    /// per position of the frame: its value and its change line (one bounds check and one
+    /// base for both in a line); while text steps are open the values are the frame's (its
+    /// `prev` is brought up to date when they end)
+    slots: Box<[TextSlot]>,
     /// bytes a step may write at most: its stamp and a line per variable
     need: usize,
     /// a text step is open: its stamp starts at `mark`, its lines at `start`
@@ -1318,6 +1320,13 @@ pub struct TextRun<'a, W: Write> {
     next: usize,
     /// a finished text step of this run changed a value (the writer's values are stale)
     dirty: bool,
+}
+
+/// A position of a [`TextRun`]'s frame: its value and its change line.
+#[derive(Clone, Copy)]
+struct TextSlot {
+    prev: u64,
+    line: ChangeLine,
 }
 
 /// One step of a [`TextRun`] ([`TextRun::step`]). It keeps the end of the text it writes as
@@ -1354,8 +1363,8 @@ impl<W: Write> VcdWriter<W> {
             e.buf = buf;
         }
         frame.nopen = 0;
-        let lines = frame.idx.iter().map(|&i| self.e.lines[i as usize]).collect();
-        Ok(TextRun { w: self, f: frame, eligible, lines, need, open: false, mark: 0, start: 0, next: 0, dirty: false })
+        let slots = frame.idx.iter().zip(&frame.prev).map(|(&i, &prev)| TextSlot { prev, line: self.e.lines[i as usize] }).collect();
+        Ok(TextRun { w: self, f: frame, eligible, slots, need, open: false, mark: 0, start: 0, next: 0, dirty: false })
     }
 }
 
@@ -1406,6 +1415,10 @@ impl<'a, W: Write> TextRun<'a, W> {
             if !(w.dumped && self.f.generation == w.generation) || self.f.idx.iter().any(|&i| !matches!(w.cur[i as usize], Stored::Int(_))) {
                 return Ok(None);
             }
+            // the text steps hold the frame's values from here until they end (`close`)
+            for (s, &p) in self.slots.iter_mut().zip(&self.f.prev) {
+                s.prev = p;
+            }
         }
         let e = &mut self.w.e;
         if e.pos + self.need > e.buf.len() {
@@ -1451,6 +1464,9 @@ impl<'a, W: Write> TextRun<'a, W> {
             return;
         }
         let (w, f) = (&mut *self.w, &mut *self.f);
+        for (p, s) in f.prev.iter_mut().zip(self.slots.iter()) {
+            *p = s.prev;
+        }
         // The open step's changes become the writer's pending step (its first text step
         // wrote the writer's own). They are read back from its text, which a step keeps whole:
         // its lines are in increasing positions, each ends with its variable's code.
@@ -1458,7 +1474,7 @@ impl<'a, W: Write> TextRun<'a, W> {
         let mut k = 0;
         let mut changed = false;
         for line in w.e.buf[start..end].to_vec().split_inclusive(|&b| b == b'\n') {
-            while !self.lines[k].is_line_of(line) {
+            while !self.slots[k].line.is_line_of(line) {
                 k += 1;
             }
             w.push_pending(f.idx[k] as usize);
@@ -1495,22 +1511,21 @@ impl<W: Write> TextStep<'_, '_, W> {
         if k < r.next {
             return Err(order_error(k, r.next));
         }
-        let f = &mut *r.f;
-        let Some(prev) = f.prev.get_mut(k) else {
-            return Err(position_error(f, k));
+        let Some(slot) = r.slots.get_mut(k) else {
+            return Err(position_error(r.f, k));
         };
-        if v == *prev {
+        if v == slot.prev {
             r.next = k + 1;
             return Ok(());
         }
-        if v > f.max[k] {
-            return Err(too_wide(r.w, f, k, v));
+        if v > r.f.max[k] {
+            return Err(too_wide(r.w, r.f, k, v));
         }
         r.next = k + 1;
-        *prev = v;
+        slot.prev = v;
         let p = self.pos;
         let out: &mut [u8; SLACK] = (&mut r.w.e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
-        self.pos = p + r.lines[k].write(out, v);
+        self.pos = p + slot.line.write(out, v);
         Ok(())
     }
 
@@ -1531,15 +1546,14 @@ impl<W: Write> TextStep<'_, '_, W> {
     pub fn change(&mut self, k: usize, v: u64) {
         let r = &mut *self.r;
         debug_assert!(k >= r.next, "change: position {k} after {} in one step", r.next);
-        let f = &mut *r.f;
-        let prev = &mut f.prev[k];
-        debug_assert!(*prev != v, "change: position {k} did not change");
-        debug_assert!(v <= f.max[k], "change: value {v:#x} too wide for position {k}");
-        *prev = v;
+        let slot = &mut r.slots[k];
+        debug_assert!(slot.prev != v, "change: position {k} did not change");
+        debug_assert!(v <= r.f.max[k], "change: value {v:#x} too wide for position {k}");
+        slot.prev = v;
         r.next = k + 1;
         let p = self.pos;
         let out: &mut [u8; SLACK] = (&mut r.w.e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
-        self.pos = p + r.lines[k].write(out, v);
+        self.pos = p + slot.line.write(out, v);
     }
 }
 
