@@ -1374,7 +1374,9 @@ impl<'a, W: Write> TextRun<'a, W> {
     /// [`TextRun::frame_run`]). The first text step of a run (or the first after a
     /// [`TextRun::frame_run`]) checks that the frame holds the writer's values. Errors: `t`
     /// before the writer's time ([`WriteError::TimeBackwards`]), or at it after a text step
-    /// ([`WriteError::DoubleChange`]: that step gave the frame's values at `t`).
+    /// ([`WriteError::DoubleChange`]: that step gave the frame's values at `t`). The step's
+    /// lines are the writer's text when the [`TextStep`] is dropped (it holds the end of the
+    /// text meanwhile), which the borrow of the run enforces before the next step.
     #[inline]
     pub fn step(&mut self, t: u64) -> Result<Option<TextStep<'_, 'a, W>>> {
         let w = &mut *self.w;
