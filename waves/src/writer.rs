@@ -1331,19 +1331,13 @@ struct TextSlot {
 
 /// One step of a [`TextRun`] ([`TextRun::step`]). It keeps the end of the text it writes as
 /// its own field (two words: a caller that holds the step in a local variable keeps it in a
-/// register from one line to the next, instead of storing it in the writer and loading it
-/// again after every line) and gives it back to the writer when it is dropped.
+/// register from one line to the next). Each line stores the new end in the writer too, but
+/// never loads it back: the next line starts from the step's own copy, not from a load that
+/// waits for the store (the writer is up to date after every line, however the step ends).
 pub struct TextStep<'s, 'a, W: Write> {
     r: &'s mut TextRun<'a, W>,
-    /// the end of the text in the writer's buffer
+    /// the end of the text in the writer's buffer (equal to the writer's)
     pos: usize,
-}
-
-impl<W: Write> Drop for TextStep<'_, '_, W> {
-    #[inline(always)]
-    fn drop(&mut self) {
-        self.r.w.e.pos = self.pos;
-    }
 }
 
 impl<W: Write> VcdWriter<W> {
@@ -1374,9 +1368,7 @@ impl<'a, W: Write> TextRun<'a, W> {
     /// [`TextRun::frame_run`]). The first text step of a run (or the first after a
     /// [`TextRun::frame_run`]) checks that the frame holds the writer's values. Errors: `t`
     /// before the writer's time ([`WriteError::TimeBackwards`]), or at it after a text step
-    /// ([`WriteError::DoubleChange`]: that step gave the frame's values at `t`). The step's
-    /// lines are the writer's text when the [`TextStep`] is dropped (it holds the end of the
-    /// text meanwhile), which the borrow of the run enforces before the next step.
+    /// ([`WriteError::DoubleChange`]: that step gave the frame's values at `t`).
     #[inline]
     pub fn step(&mut self, t: u64) -> Result<Option<TextStep<'_, 'a, W>>> {
         let w = &mut *self.w;
@@ -1526,8 +1518,10 @@ impl<W: Write> TextStep<'_, '_, W> {
         r.next = k + 1;
         slot.prev = v;
         let p = self.pos;
-        let out: &mut [u8; SLACK] = (&mut r.w.e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
+        let e = &mut r.w.e;
+        let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
         self.pos = p + slot.line.write(out, v);
+        e.pos = self.pos;
         Ok(())
     }
 
@@ -1554,8 +1548,10 @@ impl<W: Write> TextStep<'_, '_, W> {
         slot.prev = v;
         r.next = k + 1;
         let p = self.pos;
-        let out: &mut [u8; SLACK] = (&mut r.w.e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
+        let e = &mut r.w.e;
+        let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
         self.pos = p + slot.line.write(out, v);
+        e.pos = self.pos;
     }
 }
 

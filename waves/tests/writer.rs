@@ -958,11 +958,10 @@ proptest::proptest! {
                     t += dt;
                     if frame_at == Some(t) {
                         // the frame's variables are assigned at `t` already
-                        // (a text step ends when it is dropped: here at once)
-                        let e = match run.step(t).map(|s| s.is_some()) {
+                        let e = match run.step(t) {
                             Err(e) => Some(e),
-                            Ok(true) => None,
-                            Ok(false) => run.frame_run().unwrap().step(t).err(),
+                            Ok(Some(_)) => None,
+                            Ok(None) => run.frame_run().unwrap().step(t).err(),
                         };
                         proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
                         let e = w2.dump_frame(&mut f2, t, &cur).err();
@@ -992,29 +991,25 @@ proptest::proptest! {
                         }
                         Ok(())
                     };
-                    // a text step, ended (dropped) before a frame run can take the writer
-                    let texted = match run.step(t).unwrap() {
+                    match run.step(t).unwrap() {
                         Some(mut s) if change && !too_wide => {
+                            texts += 1;
                             step_body(&mut |k, v| {
                                 if v != before[k] {
                                     s.change(k, v);
                                 }
                                 Ok(())
                             })?;
-                            true
                         }
                         Some(mut s) => {
+                            texts += 1;
                             step_body(&mut |k, v| s.line(k, v))?;
-                            true
                         }
-                        None => false,
-                    };
-                    if texted {
-                        texts += 1;
-                    } else {
-                        let mut fr = run.frame_run().unwrap();
-                        let mut s = fr.step(t).unwrap();
-                        step_body(&mut |k, v| s.set(k, v))?;
+                        None => {
+                            let mut fr = run.frame_run().unwrap();
+                            let mut s = fr.step(t).unwrap();
+                            step_body(&mut |k, v| s.set(k, v))?;
+                        }
                     }
                     w2.dump_frame(&mut f2, t, &cur).unwrap();
                     if !matches!(a, AfterStep::Nothing) {
@@ -1114,8 +1109,6 @@ fn text_runs_keep_every_check() {
         // a step without a change takes its stamp back
         let mut s = run.step(5).unwrap().unwrap();
         s.line(1, 8).unwrap();
-        // the step ends when it is dropped
-        drop(s);
         assert!(matches!(run.step(5), Err(WriteError::DoubleChange { .. })));
         assert!(matches!(run.step(4), Err(WriteError::TimeBackwards { requested: 4, current: 5 })));
         let mut s = run.step(6).unwrap().unwrap();
@@ -1154,6 +1147,29 @@ fn text_step_change_writes_a_changed_value() {
     }
     let got = text(w);
     assert!(got.contains("#1\nb0000000000000101 \"\nb00111 #\n"), "{got}");
+}
+
+/// A text step's lines are the writer's as soon as they are written: a step that is leaked
+/// (`mem::forget`, safe code) loses nothing (the step keeps its end of text in a register, and
+/// each line stores it in the writer as well).
+#[test]
+fn a_leaked_text_step_keeps_its_lines() {
+    let (b, ids) = frame_builder();
+    let mut w = b.start(Vec::new()).unwrap();
+    let mut f = w.frame(&ids[..3]).unwrap();
+    {
+        let mut run = w.text_run(&mut f).unwrap();
+        assert!(run.step(0).unwrap().is_none());
+        run.frame_run().unwrap().step(0).unwrap().set(1, 4).unwrap();
+        let mut s = run.step(1).unwrap().expect("a step written at once");
+        s.line(1, 5).unwrap();
+        s.change(2, 7);
+        std::mem::forget(s);
+        let mut s = run.step(2).unwrap().expect("a step written at once");
+        s.line(1, 6).unwrap();
+    }
+    let got = text(w);
+    assert!(got.contains("#1\nb0000000000000101 \"\nb00111 #\n#2\nb0000000000000110 \"\n"), "{got}");
 }
 
 /// One of `TextStep::change`'s broken guarantees, in a text step at t = 1 of a 3-variable frame

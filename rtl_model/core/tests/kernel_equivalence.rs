@@ -137,7 +137,7 @@ proptest! {
         prop_assert_ne!(c.packed(), w);
     }
 
-    /// `Outputs::flags` (the bench's checksum, the tracer's compare of the outputs): bit j is
+    /// `Outputs::flags` (the bench's checksum): bit j is
     /// the j-th one-bit output of `Outputs::values`, eighteen of them, nothing above; written
     /// out as hdl/bench/bench.cpp's `mix` packs them.
     #[test]
