@@ -1300,7 +1300,9 @@ fn too_wide<E: Emitter>(w: &Writer<E>, f: &Frame, k: usize, v: u64) -> WriteErro
 /// and its changes become the writer's pending step, exactly as a [`FrameRun`]'s last step does,
 /// so a single change at that time afterwards is merged or refused as after
 /// [`Writer::frame_step`]. The file is byte for byte the one `dump_frame` writes with every
-/// value (tests/writer.rs).
+/// value (tests/writer.rs). As with a [`FrameRun`], the run must be dropped, not leaked
+/// (`std::mem::forget` loses its last step and leaves the writer's and the frame's values stale);
+/// a [`TextStep`] may be leaked: its lines are the writer's as soon as they are written.
 pub struct TextRun<'a, W: Write> {
     w: &'a mut VcdWriter<W>,
     f: &'a mut Frame,
