@@ -352,13 +352,11 @@ impl Value for pmu50_core::drive_interval_changing_56b::Fig18 {
 /// `diff`: compare each field of a group with the held value, give the writer the ones that
 /// differ (at positions `base + k`) and update the held value; the code written out per field.
 macro_rules! diff_fn {
+    // inline: the step lent
     (inline, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
         #[inline(always)]
         fn $diff<S: StepSink>(s: &mut S, cur: &$t, held: &mut $t) -> Result<(), WriteError> {
-            $( if cur.$($f).+ != held.$($f).+ {
-                s.put($base + $k, Value::value(cur.$($f).+))?;
-                held.$($f).+ = cur.$($f).+;
-            } )*
+            diff_fields!(s, cur, held, $base, [$($k : $($f).+),*]);
             Ok(())
         }
     };
@@ -366,12 +364,20 @@ macro_rules! diff_fn {
     (outline, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
         #[inline(never)]
         fn $diff<S: StepSink>(mut s: S, cur: &$t, held: &mut $t) -> Result<S, WriteError> {
-            $( if cur.$($f).+ != held.$($f).+ {
-                s.put($base + $k, Value::value(cur.$($f).+))?;
-                held.$($f).+ = cur.$($f).+;
-            } )*
+            diff_fields!(s, cur, held, $base, [$($k : $($f).+),*]);
             Ok(s)
         }
+    };
+}
+
+/// The body of [`diff_fn!`]: per field, when `cur`'s differs from `held`'s, the value to the
+/// step `s` and `held` updated.
+macro_rules! diff_fields {
+    ($s:ident, $cur:ident, $held:ident, $base:expr, [$($k:literal : $($f:ident).+),*]) => {
+        $( if $cur.$($f).+ != $held.$($f).+ {
+            $s.put($base + $k, Value::value($cur.$($f).+))?;
+            $held.$($f).+ = $cur.$($f).+;
+        } )*
     };
 }
 

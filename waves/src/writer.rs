@@ -1359,7 +1359,8 @@ impl<W: Write> VcdWriter<W> {
             e.buf = buf;
         }
         frame.nopen = 0;
-        let slots = frame.idx.iter().zip(&frame.prev).map(|(&i, &prev)| TextSlot { prev, line: self.e.lines[i as usize] }).collect();
+        // (the values are taken from the frame when text steps start: `TextRun::step`)
+        let slots = frame.idx.iter().map(|&i| TextSlot { prev: 0, line: self.e.lines[i as usize] }).collect();
         Ok(TextRun { w: self, f: frame, eligible, slots, need, open: false, mark: 0, start: 0, next: 0, dirty: false })
     }
 }
@@ -1517,13 +1518,7 @@ impl<W: Write> TextStep<'_, '_, W> {
         if v > r.f.max[k] {
             return Err(too_wide(r.w, r.f, k, v));
         }
-        r.next = k + 1;
-        slot.prev = v;
-        let p = self.pos;
-        let e = &mut r.w.e;
-        let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
-        self.pos = p + slot.line.write(out, v);
-        e.pos = self.pos;
+        self.write(k, v);
         Ok(())
     }
 
@@ -1542,11 +1537,20 @@ impl<W: Write> TextStep<'_, '_, W> {
     /// caller, [`TextStep::line`].
     #[inline(always)]
     pub fn change(&mut self, k: usize, v: u64) {
-        let r = &mut *self.r;
+        let r = &*self.r;
         debug_assert!(k >= r.next, "change: position {k} after {} in one step", r.next);
-        let slot = &mut r.slots[k];
-        debug_assert!(slot.prev != v, "change: position {k} did not change");
+        debug_assert!(r.slots[k].prev != v, "change: position {k} did not change");
         debug_assert!(v <= r.f.max[k], "change: value {v:#x} too wide for position {k}");
+        self.write(k, v);
+    }
+
+    /// The changed value `v` at position `k` (after the step's positions, fitting): the
+    /// frame's value, the step's order mark, the line after the step's text, and the writer's
+    /// end of text (stored, never loaded back: the next line starts from the step's copy).
+    #[inline(always)]
+    fn write(&mut self, k: usize, v: u64) {
+        let r = &mut *self.r;
+        let slot = &mut r.slots[k];
         slot.prev = v;
         r.next = k + 1;
         let p = self.pos;

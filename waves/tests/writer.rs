@@ -1133,6 +1133,18 @@ fn text_runs_keep_every_check() {
 /// frame's end in every build.
 #[test]
 fn text_step_change_writes_a_changed_value() {
+    let got = after_a_text_run(|run| {
+        let mut s = run.step(1).unwrap().expect("a step written at once");
+        s.change(1, 5);
+        s.change(2, 7);
+    });
+    assert!(got.contains("#1\nb0000000000000101 \"\nb00111 #\n"), "{got}");
+}
+
+/// The VCD after a text run of a 3-variable frame (a 16-bit and a 5-bit variable at positions 1
+/// and 2) whose first step, at t = 0, went through a frame run (values 0, 4, 3); `body` takes
+/// the run's later steps.
+fn after_a_text_run(body: impl FnOnce(&mut pmu50_waves::writer::TextRun<'_, Vec<u8>>)) -> String {
     let (b, ids) = frame_builder();
     let mut w = b.start(Vec::new()).unwrap();
     let mut f = w.frame(&ids[..3]).unwrap();
@@ -1141,12 +1153,9 @@ fn text_step_change_writes_a_changed_value() {
         let mut run = w.text_run(&mut f).unwrap();
         assert!(run.step(0).unwrap().is_none());
         run.frame_run().unwrap().step(0).unwrap().set(1, 4).unwrap();
-        let mut s = run.step(1).unwrap().expect("a step written at once");
-        s.change(1, 5);
-        s.change(2, 7);
+        body(&mut run);
     }
-    let got = text(w);
-    assert!(got.contains("#1\nb0000000000000101 \"\nb00111 #\n"), "{got}");
+    text(w)
 }
 
 /// A text step's lines are the writer's as soon as they are written: a step that is leaked
@@ -1154,21 +1163,14 @@ fn text_step_change_writes_a_changed_value() {
 /// each line stores it in the writer as well).
 #[test]
 fn a_leaked_text_step_keeps_its_lines() {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
-    {
-        let mut run = w.text_run(&mut f).unwrap();
-        assert!(run.step(0).unwrap().is_none());
-        run.frame_run().unwrap().step(0).unwrap().set(1, 4).unwrap();
+    let got = after_a_text_run(|run| {
         let mut s = run.step(1).unwrap().expect("a step written at once");
         s.line(1, 5).unwrap();
         s.change(2, 7);
         std::mem::forget(s);
         let mut s = run.step(2).unwrap().expect("a step written at once");
         s.line(1, 6).unwrap();
-    }
-    let got = text(w);
+    });
     assert!(got.contains("#1\nb0000000000000101 \"\nb00111 #\n#2\nb0000000000000110 \"\n"), "{got}");
 }
 
@@ -1176,17 +1178,13 @@ fn a_leaked_text_step_keeps_its_lines() {
 /// whose values are 0, 4, 3.
 #[cfg(debug_assertions)]
 fn broken_change(k: usize, v: u64, first: Option<(usize, u64)>) {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
-    let mut run = w.text_run(&mut f).unwrap();
-    assert!(run.step(0).unwrap().is_none());
-    run.frame_run().unwrap().step(0).unwrap().set(1, 4).unwrap();
-    let mut s = run.step(1).unwrap().expect("a step written at once");
-    if let Some((k, v)) = first {
+    after_a_text_run(|run| {
+        let mut s = run.step(1).unwrap().expect("a step written at once");
+        if let Some((k, v)) = first {
+            s.change(k, v);
+        }
         s.change(k, v);
-    }
-    s.change(k, v);
+    });
 }
 
 #[cfg(debug_assertions)]
