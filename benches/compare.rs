@@ -1086,7 +1086,8 @@ mod fused {
                 }
             }
             let (x, after, wide) = m.step_traced_wide(i);
-            if wide || wide_prev {
+            // every edge (a narrow one may set `upd`)
+            {
                 let mut xm = fields!(internals, mask!(x, lx));
                 if xm != 0 {
                     lx = x;

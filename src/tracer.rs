@@ -5,10 +5,11 @@
 //! internals of the edge (docs/signals.md; the frame order below). Comparing all 65 values with
 //! the last tick's costs as much as the edge itself, and most edges change almost nothing: the
 //! kernel says which. A *narrow* edge ([`pmu50_core::kernel::step_traced_wide`]: no bus write,
-//! no key edge, no sampling strobe) writes only `sync`, `tmr`, `sr`, `rdata` and `diag`, keeps
-//! `sig`, and has all internals false. So after a narrow edge [`CoreTracer`] compares only those
-//! registers, the outputs decoded from them (`vs2_en`, `st`, `sr`, `ps_win`, `smp`, `diag`,
-//! `bus_rdata`) and the inputs; after a wide edge, every value. This is how Verilator's tracer
+//! no key edge, no sampling strobe that moves the latches, the counters or the drive interval)
+//! writes only `sync`, `tmr`, `sr`, `rdata` and `diag`, keeps `sig`, and has all internals false
+//! but `upd`. So after a narrow edge [`CoreTracer`] compares only those registers, the outputs
+//! decoded from them (`vs2_en`, `st`, `sr`, `ps_win`, `smp`, `diag`, `bus_rdata`) and the inputs;
+//! after a wide edge, every value. The internals (one word) are compared after every edge. This is how Verilator's tracer
 //! skips the signals of logic that was not evaluated (its activity flags); here the flag comes
 //! from the kernel and its contract is tested on any register state
 //! (`rtl_model/core/tests/kernel_equivalence.rs`, `narrow_edges_write_only_their_registers`).
@@ -88,8 +89,7 @@ struct Held {
     last_x: u128,
     /// The outputs after the last edge, i.e. before the next one (the core's `peek`).
     o: Outputs,
-    /// The last edge was wide: the next step compares every register and output, and the
-    /// internals (a narrow edge's are all false, so after two narrow edges they are unchanged).
+    /// The last edge was wide: the next step compares every register and output.
     wide: bool,
     /// The last step was complete (a failed step leaves some values of its tick assigned).
     valid: bool,
@@ -238,14 +238,18 @@ impl Held {
         } else {
             copy_narrow_outputs(&mut h.o, &after);
         }
-        let was_wide = std::mem::replace(&mut h.wide, wide);
+        h.wide = wide;
         let mut s = before?;
         if full {
             h.last_x = x.packed();
             all_internals(s, &x)?;
-        } else if wide || was_wide {
-            let x = x.packed();
-            diff_internals(&mut s, x, std::mem::replace(&mut h.last_x, x))?;
+        } else {
+            // after every edge: a narrow one may set `upd` (a sample that moved nothing), and
+            // has every other internal false
+            let x = if wide { x.packed() } else { u128::from(x.upd) << (8 * UPD) };
+            if x != h.last_x {
+                diff_internals(&mut s, x, std::mem::replace(&mut h.last_x, x))?;
+            }
         }
         h.valid = true;
         Ok(())
@@ -466,6 +470,9 @@ group!(all_registers, diff_registers, Regs, REGISTERS, [
 
 // The registers a narrow edge writes (`kernel::NARROW_WRITES`), at `NARROW_REGISTERS`.
 narrow!(narrow_registers, Regs, REGISTERS, [0: action_switching.sync, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr, 25: count_diagnosis.diag]);
+
+/// The byte of `upd` in [`Internals::packed`] (its position among the internals).
+const UPD: usize = 2;
 
 /// Every internal.
 #[inline(never)]

@@ -578,9 +578,12 @@ pub fn step_traced(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> (Ou
 }
 
 /// [`step_traced`] that also says whether the edge was *wide*: a bus write or a key edge (the
-/// out-of-line [`edge`]) or a sampling strobe (`smp`), which may write any register. A narrow
-/// edge (false) writes only the registers of [`NARROW_WRITES`], leaves `sig` (and so every
-/// output that is `sig`) unchanged, and has all internals false (`Internals::default()`).
+/// out-of-line [`edge`]), or a sampling strobe (`smp`) that writes a register outside
+/// [`NARROW_WRITES`] (a sample that presets the counters or finds a sign changed, or the 56b
+/// pulse at key off). A narrow edge (false) writes only the registers of [`NARROW_WRITES`],
+/// leaves `sig` (and so every output that is `sig`) unchanged, and has all internals false but
+/// `upd` (a key-on sample, [0349], that found both signs as latched: the latches take the
+/// values they hold and no counter moves).
 /// Tested on any register state and inputs (`rtl_model/core/tests/kernel_equivalence.rs`). A
 /// tracer uses it to compare only what a narrow edge can change.
 #[inline(always)]
@@ -614,7 +617,8 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
 }
 
 /// The common edge (no bus write, no key edge) inline: the registers it writes, the outputs it
-/// computes ([`Narrow`]), its internals and whether it sampled (`smp`, a wide edge).
+/// computes ([`Narrow`]), its internals and whether it was wide (a strobe that wrote a
+/// register outside [`NARROW_WRITES`]).
 #[inline(always)]
 fn edge_common<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs, sig: bool, sync_n: u8) -> (Narrow, Internals, bool) {
     // 3. Timing generator decode of the pre-edge registers (parameters before the edge, from
@@ -632,11 +636,18 @@ fn edge_common<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i:
     // 5.-7. Sampling strobe: latches and counters when `upd`, the 56b pulse at key-off (the
     // parameters before the edge; no write this cycle).
     let mut x = Internals::default();
+    // A strobe is a wide edge when it writes a register outside `NARROW_WRITES`: a sample that
+    // presets or moves the latches and counters, or the 56b pulse (key off). A key-on sample
+    // that finds both signs as latched writes their values again (`vld` stays set) and is
+    // narrow; of its internals only `upd` is set.
+    let mut wide = false;
     if smp {
         let s = if sr_pre { sample(c, r, i) } else { Sample { first: false, chg_s: false, chg_c: false } };
-        if s.first | s.chg_s | s.chg_c {
+        let moved = s.first | s.chg_s | s.chg_c;
+        if moved {
             sh.refresh_sample(c, r);
         }
+        wide = moved | !sig;
         if !sig {
             let (f17, f18) = drive_interval_pulse(&mut r.drive_interval, &r.register_file, sr_pre, s.chg_s, s.chg_c);
             sh.refresh_pulse(c, r);
@@ -663,7 +674,7 @@ fn edge_common<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i:
     let vs2_en_n = t_n < sh.vs2_lt;
     let ps_win = t_n.wrapping_sub(sh.ps_lo) < sh.ps_len;
     let smp_n = t_n + 1 == sh.smp_at;
-    (Narrow { sig, vs2_en: vs2_en_n, st, sr, ps_win, smp: smp_n, diag, bus_rdata: rdata }, x, smp)
+    (Narrow { sig, vs2_en: vs2_en_n, st, sr, ps_win, smp: smp_n, diag, bus_rdata: rdata }, x, wide)
 }
 
 /// The edges [`step`] does not take inline: a bus write or a key edge (with the internals of

@@ -525,7 +525,7 @@ impl Pmu50 {
     /// One rising edge for a tracer; returns (internals of the cycle, outputs after the edge,
     /// wide). The outputs before the edge are those after the last one ([`Pmu50::peek`]). A
     /// narrow edge (`wide` false) writes only the registers of [`crate::kernel::NARROW_WRITES`]
-    /// and has all internals false ([`crate::kernel::step_traced_wide`]).
+    /// and has all internals false but `upd` ([`crate::kernel::step_traced_wide`]).
     #[inline]
     pub fn step_traced_wide(&mut self, i: &Inputs) -> (Internals, Outputs, bool) {
         let (after, internals, wide) = crate::kernel::step_traced_wide(&self.k, &mut self.regs, &mut self.sh, i);

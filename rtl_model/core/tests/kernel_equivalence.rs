@@ -164,7 +164,8 @@ proptest! {
     /// `kernel::step_traced_wide` from any state: the edge of the specification (its internals
     /// a byte each in `Internals::packed`, its registered outputs equal to their registers), and a narrow
     /// edge (`wide` false) writes only `kernel::NARROW_WRITES`, keeps `sig` and has all internals
-    /// false, which is what a tracer that compares only those after a narrow edge relies on.
+    /// false but `upd`, which is what a tracer that compares only those after a narrow edge relies
+    /// on.
     #[test]
     fn narrow_edges_write_only_their_registers(r in prop_oneof![any_regs(), small_regs()], i in any_inputs(), sd in 1u8..=4, w in 2u8..=16) {
         let s = Structural { sync_depth: sd, cnt_width: w };
@@ -197,13 +198,80 @@ proptest! {
             only_narrow.register_file.rdata = k.register_file.rdata;
             only_narrow.count_diagnosis.diag = k.count_diagnosis.diag;
             prop_assert_eq!(only_narrow, k, "a narrow edge wrote a register outside NARROW_WRITES");
-            prop_assert_eq!(x, Internals::default());
+            prop_assert_eq!(x, Internals { upd: x.upd, ..Internals::default() }, "a narrow edge set an internal other than upd");
             // and so only the outputs decoded from those registers change
             let mut only = pmu50_core::pmu50::ports(&s, &r);
             (only.vs2_en, only.st, only.sr, only.ps_win, only.smp, only.diag, only.bus_rdata) = (out.vs2_en, out.st, out.sr, out.ps_win, out.smp, out.diag, out.bus_rdata);
             prop_assert_eq!(only, out, "a narrow edge changed an output other than vs2_en, st, sr, ps_win, smp, diag, bus_rdata");
         }
     }
+}
+
+/// The key-on sampling strobes of the state `r` (every timer value below 64 is tried, so a small
+/// period meets its strobes), each checked as in [`key_on_strobes_that_move_nothing_are_narrow`]:
+/// with the inputs `i`, and with a powered, valid latch whose comparators give the latched signs
+/// (the quiet sample). Returns how many were narrow with `upd` set and how many were wide.
+fn key_on_strobes(r: &Regs, i: &Inputs, s: &Structural) -> Result<(u32, u32), TestCaseError> {
+    let c = kernel::Consts::new(s);
+    let i = Inputs { bus_we: false, ..*i };
+    let mut latched = *r;
+    latched.sensor_power_determination.sr = true;
+    latched.comparator_latch.vld = true;
+    let same = Inputs { cmp_s: latched.comparator_latch.cs, cmp_c: latched.comparator_latch.cc, ..i };
+    let (mut narrow_upd, mut wide_moved) = (0, 0);
+    for (tmr, (r, i)) in (0..64).flat_map(|t| [(t, (*r, i)), (t, (latched, same))]) {
+        let mut r = r;
+        r.timing_generator.tmr = tmr;
+        let before = pmu50_core::pmu50::ports(s, &r);
+        let (_, want_x, want) = eval(s, &r, &i);
+        if !(before.smp && before.sig && pmu50_core::pmu50::ports(s, &want).sig) {
+            continue;
+        }
+        let mut sh = kernel::Shadow::of(&c, &r);
+        let mut k = r;
+        let (_, x, wide) = kernel::step_traced_wide(&c, &mut k, &mut sh, &i);
+        prop_assert_eq!((k, x), (want, want_x));
+        let mut only_narrow = r;
+        only_narrow.action_switching.sync = k.action_switching.sync;
+        only_narrow.timing_generator.tmr = k.timing_generator.tmr;
+        only_narrow.sensor_power_determination.sr = k.sensor_power_determination.sr;
+        only_narrow.register_file.rdata = k.register_file.rdata;
+        only_narrow.count_diagnosis.diag = k.count_diagnosis.diag;
+        let quiet = only_narrow == k && x == Internals { upd: x.upd, ..Internals::default() };
+        prop_assert_eq!(wide, !quiet, "a key-on strobe at tmr {}: wide {}, internals {:?}", tmr, wide, x);
+        narrow_upd += u32::from(!wide && x.upd);
+        wide_moved += u32::from(wide);
+    }
+    Ok((narrow_upd, wide_moved))
+}
+
+proptest! {
+    #![proptest_config(common::cases(1000))]
+
+    /// The other direction of the contract, which the tracer's speed rests on: a key-on sampling
+    /// strobe (no bus write, no key edge) that writes no register outside
+    /// `kernel::NARROW_WRITES` and sets no internal but `upd` (both signs found as latched) is
+    /// narrow; one that presets or moves a latch or a counter is wide.
+    #[test]
+    fn key_on_strobes_that_move_nothing_are_narrow(r in small_regs(), i in any_inputs(), sd in 1u8..=4, w in 2u8..=16) {
+        key_on_strobes(&r, &i, &Structural { sync_depth: sd, cnt_width: w })?;
+    }
+}
+
+/// The strobe test is not vacuous: its states meet narrow strobes with `upd` and wide ones.
+#[test]
+fn key_on_strobe_cases_reach_both_kinds() {
+    use proptest::strategy::ValueTree;
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let (mut narrow_upd, mut wide) = (0, 0);
+    for _ in 0..300 {
+        let r = small_regs().new_tree(&mut runner).unwrap().current();
+        let i = any_inputs().new_tree(&mut runner).unwrap().current();
+        let (n, w) = key_on_strobes(&r, &i, &Structural { sync_depth: 2, cnt_width: 16 }).unwrap();
+        narrow_upd += n;
+        wide += w;
+    }
+    assert!(narrow_upd >= 20 && wide >= 20, "narrow strobes with upd {narrow_upd}, wide strobes {wide}");
 }
 
 /// Stimulus with memory, to reach deep states and every branch.
