@@ -2,7 +2,7 @@
 //! Verilog twin side by side, on the same stimulus held in memory, in one run, in one table.
 //!
 //!   cargo bench --bench compare -- --dir hdl/build/bench --stim keyoff_turns --stim random_7 \
-//!       [--icarus keyoff_turns] [--seconds 1.0] [--rounds 15] [--quick | --quick-traced | --quick-fused]
+//!       [--icarus keyoff_turns] [--seconds 1.0] [--rounds 15] [--quick | --quick-traced | --quick-vcd | --quick-fused]
 //!
 //! For each stimulus NAME, `DIR/NAME.vec` is a vector file (`pmu50 vectors`): its inputs are the
 //! stimulus, its `// param` lines the parameters. Harnesses, each replaying the stimulus from reset
@@ -22,6 +22,8 @@
 //!
 //! `--quick-traced` prints only the Rust tracer's rows, with two parts of its tick: the traced
 //! edge alone (`Pmu50::step_traced`, no writer) and the tracer writing to `std::io::sink`.
+//! `--quick-vcd` prints only the Rust tracer's VCD into a file (the table's row, for a profiler:
+//! `perf record` sees nothing else) and how many of the stimulus's edges are wide.
 //! `--quick-fused` prints only the headroom experiment's rows (after its byte-for-byte check).
 //!
 //! The harnesses of a stimulus are timed in [`rounds`] rounds each, interleaved (round 1 of
@@ -645,6 +647,23 @@ fn main() {
             std::process::exit(2);
         }
     };
+    if args.iter().any(|a| a == "--quick-vcd") {
+        // Only the Rust tracer's VCD into a file (for tuning it, under perf): how many of the
+        // stimulus's edges are wide, then the best of `--rounds` replays.
+        for st in &stims {
+            check_tracer(st);
+            let mut m = Pmu50::new(st.params).expect("legal parameters");
+            let (mut wide, mut narrow_upd) = (0, 0);
+            for i in &st.inputs {
+                let (x, _, w) = m.step_traced_wide(i);
+                wide += u32::from(w);
+                narrow_upd += u32::from(!w && x.upd);
+            }
+            let v = alone(Box::new(|| Ok(traced_once(st, &dir, false, Sink::File))));
+            println!("{}: tracer VCD {} ({:.1} ns a tick; {} ticks, {wide} wide edges, {narrow_upd} narrow with a sample; checksum {:016x})", st.name, fmt_rate(v.rate()), 1e9 / v.rate(), st.inputs.len(), v.checksum.unwrap_or(0));
+        }
+        return;
+    }
     if args.iter().any(|a| a == "--quick-traced") {
         // Only the Rust tracer (for tuning it): ticks per CPU-second, VCD and FST.
         for st in &stims {
