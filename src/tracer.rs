@@ -5,14 +5,15 @@
 //! internals of the edge (docs/signals.md; the frame order below). Comparing all 65 values with
 //! the last tick's costs as much as the edge itself, and most edges change almost nothing: the
 //! kernel says which. A *narrow* edge ([`pmu50_core::kernel::step_traced_wide`]: no bus write,
-//! no key edge, no sampling strobe that moves the latches, the counters or the drive interval)
-//! writes only `sync`, `tmr`, `sr`, `rdata` and `diag`, keeps `sig`, and has all internals false
-//! but `upd`. So after a narrow edge [`CoreTracer`] compares only those registers, the outputs
-//! decoded from them (`vs2_en`, `st`, `sr`, `ps_win`, `smp`, `diag`, `bus_rdata`) and the inputs;
-//! after a wide edge, every value. The internals (one word) are compared after every edge. This is how Verilator's tracer
+//! no key edge, no key-off sampling strobe, no key-on sample that presets or moves the latches
+//! or counters) changes only `sync`, `tmr`, `sr`, `rdata` and `diag`, keeps `sig`, and has all
+//! internals false but `upd`. So after a narrow edge [`CoreTracer`] compares only those
+//! registers, the outputs decoded from them (`vs2_en`, `st`, `sr`, `ps_win`, `smp`, `diag`,
+//! `bus_rdata`) and the inputs; after a wide edge, every value. This is how Verilator's tracer
 //! skips the signals of logic that was not evaluated (its activity flags); here the flag comes
 //! from the kernel and its contract is tested on any register state
 //! (`rtl_model/core/tests/kernel_equivalence.rs`, `narrow_edges_write_only_their_registers`).
+//! The internals (one word) are compared after every edge.
 //!
 //! The tracer steps in a run ([`CoreTracer::run`], [`TracerRun::step`]): the writer is lent to
 //! its frame ([`pmu50_waves::writer::FrameRun`]) for as many edges as the caller likes, so a
@@ -246,7 +247,9 @@ impl Held {
         } else {
             // after every edge: a narrow one may set `upd` (a sample that moved nothing), and
             // has every other internal false
-            let x = if wide { x.packed() } else { u128::from(x.upd) << (8 * UPD) };
+            let narrow = u128::from(x.upd) << (8 * UPD);
+            debug_assert!(wide || x.packed() == narrow, "a narrow edge set an internal other than upd: {x:?}");
+            let x = if wide { x.packed() } else { narrow };
             if x != h.last_x {
                 diff_internals(&mut s, x, std::mem::replace(&mut h.last_x, x))?;
             }

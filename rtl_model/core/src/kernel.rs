@@ -563,9 +563,10 @@ pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
     step_with::<false>(c, r, sh, i).0
 }
 
-/// The registers a narrow edge may write (see [`step_traced_wide`]): the synchronizer
+/// The registers a narrow edge may change (see [`step_traced_wide`]): the synchronizer
 /// `action_switching.sync`, the timer `timing_generator.tmr`, `sensor_power_determination.sr`,
-/// `register_file.rdata` and `count_diagnosis.diag`. Every other register keeps its value.
+/// `register_file.rdata` and `count_diagnosis.diag`. Every other register keeps its value (a
+/// narrow key-on sample writes the latches with the values they hold).
 pub const NARROW_WRITES: [&str; 5] = ["action_switching.sync", "timing_generator.tmr", "sensor_power_determination.sr", "register_file.rdata", "count_diagnosis.diag"];
 
 /// [`step`] that also returns the internals of the cycle (the traced path of
@@ -578,12 +579,13 @@ pub fn step_traced(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> (Ou
 }
 
 /// [`step_traced`] that also says whether the edge was *wide*: a bus write or a key edge (the
-/// out-of-line [`edge`]), or a sampling strobe (`smp`) that writes a register outside
-/// [`NARROW_WRITES`] (a sample that presets the counters or finds a sign changed, or the 56b
-/// pulse at key off). A narrow edge (false) writes only the registers of [`NARROW_WRITES`],
-/// leaves `sig` (and so every output that is `sig`) unchanged, and has all internals false but
-/// `upd` (a key-on sample, [0349], that found both signs as latched: the latches take the
-/// values they hold and no counter moves).
+/// out-of-line [`edge`]), a sampling strobe at key off (the 56b pulse, which sets `fig17` and
+/// `fig18`), or a key-on sample that presets the counters or finds a sign changed. A narrow edge
+/// (false) changes only the registers of [`NARROW_WRITES`], leaves `sig` (and so every output
+/// that is `sig`) unchanged, and has all internals false but `upd` (a key-on sample, [0349],
+/// that found both signs as latched: the latches are written with the values they hold and no
+/// counter moves). Simulator knowledge for a tracer, not a clock enable: such a sample does
+/// write the latches.
 /// Tested on any register state and inputs (`rtl_model/core/tests/kernel_equivalence.rs`). A
 /// tracer uses it to compare only what a narrow edge can change.
 #[inline(always)]
@@ -617,8 +619,8 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
 }
 
 /// The common edge (no bus write, no key edge) inline: the registers it writes, the outputs it
-/// computes ([`Narrow`]), its internals and whether it was wide (a strobe that wrote a
-/// register outside [`NARROW_WRITES`]).
+/// computes ([`Narrow`]), its internals and whether it was wide (a key-off strobe, or a key-on
+/// sample that preset or moved the latches or counters: [`step_traced_wide`]).
 #[inline(always)]
 fn edge_common<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs, sig: bool, sync_n: u8) -> (Narrow, Internals, bool) {
     // 3. Timing generator decode of the pre-edge registers (parameters before the edge, from
@@ -636,10 +638,11 @@ fn edge_common<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i:
     // 5.-7. Sampling strobe: latches and counters when `upd`, the 56b pulse at key-off (the
     // parameters before the edge; no write this cycle).
     let mut x = Internals::default();
-    // A strobe is a wide edge when it writes a register outside `NARROW_WRITES`: a sample that
-    // presets or moves the latches and counters, or the 56b pulse (key off). A key-on sample
-    // that finds both signs as latched writes their values again (`vld` stays set) and is
-    // narrow; of its internals only `upd` is set.
+    // A strobe is a wide edge when it may change a register outside `NARROW_WRITES` or set an
+    // internal other than `upd`: a sample that presets or moves the latches and counters, or
+    // the 56b pulse (key off: `fig17`, `fig18`, whatever it writes). A key-on sample that finds
+    // both signs as latched writes their values again (`vld` stays set) and is narrow; of its
+    // internals only `upd` is set.
     let mut wide = false;
     if smp {
         let s = if sr_pre { sample(c, r, i) } else { Sample { first: false, chg_s: false, chg_c: false } };

@@ -207,8 +207,9 @@ proptest! {
     }
 }
 
-/// The key-on sampling strobes of the state `r` (every timer value below 64 is tried, so a small
-/// period meets its strobes), each checked as in [`key_on_strobes_that_move_nothing_are_narrow`]:
+/// The key-on sampling strobes of the state `r` (with the key on the strobe is at one timer
+/// value, `smp_on - 1`; every value below 64 is tried, so the small `smp_on` of [`small_regs`]
+/// meets it, and with the key off no value is a key-on strobe), each checked as in [`key_on_strobes_that_move_nothing_are_narrow`]:
 /// with the inputs `i`, and with a powered, valid latch whose comparators give the latched signs
 /// (the quiet sample). Returns how many were narrow with `upd` set and how many were wide.
 fn key_on_strobes(r: &Regs, i: &Inputs, s: &Structural) -> Result<(u32, u32), TestCaseError> {
