@@ -1162,6 +1162,8 @@ fn after_a_text_run(body: impl FnOnce(&mut pmu50_waves::writer::TextRun<'_, Vec<
 /// (`mem::forget`, safe code) loses nothing (the step keeps its end of text in a register, and
 /// each line stores it in the writer as well).
 #[test]
+// `TextStep` has no `Drop` (the point of the test: a caller's `forget` must not lose its lines)
+#[allow(clippy::forget_non_drop)]
 fn a_leaked_text_step_keeps_its_lines() {
     let got = after_a_text_run(|run| {
         let mut s = run.step(1).unwrap().expect("a step written at once");

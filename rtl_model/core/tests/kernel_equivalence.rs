@@ -127,8 +127,8 @@ proptest! {
     #[test]
     fn packed_inputs_are_the_inputs_a_byte_each(a in any_inputs(), b in any_inputs()) {
         let (w, v) = (a.packed(), a.values());
-        for k in 0..6 {
-            prop_assert_eq!(w >> (8 * k) & 0xFF, v[k].2, "byte {} is {}", k, v[k].0);
+        for (k, v) in v.iter().enumerate().take(6) {
+            prop_assert_eq!(w >> (8 * k) & 0xFF, v.2, "byte {} is {}", k, v.0);
         }
         prop_assert_eq!(w >> 48, v[6].2, "bytes 6-7 are {}", v[6].0);
         prop_assert_eq!(a.packed() == b.packed(), a == b);
