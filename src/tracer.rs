@@ -25,9 +25,11 @@
 //! writer's three checks of a value (position order, changed, fits its width) are the tracer's
 //! own guarantees ([`pmu50_waves::writer::TextStep::change`], asserted in debug builds): its
 //! positions increase by construction, it gives a value only when its own compare found a
-//! change, and [`CoreTracer::new`] checks once that every variable of the frame is as wide as
-//! the core's signal (a narrower frame keeps the checked [`TextStep::line`], which reports a
-//! value that does not fit).
+//! change, and [`CoreTracer::new`] checks once that every variable of the frame is exactly as
+//! wide as the core's signal. The signals of a fixed width on the common path (the inputs, the
+//! narrow outputs and registers, the internals) are then written by
+//! [`pmu50_waves::writer::TextStep::change_w`], their widths known at compile time. A frame of
+//! other widths keeps the checked [`TextStep::line`] (which reports a value that does not fit).
 //! [`CoreTracer::step`] is one edge in a run of its own. The writer keeps every
 //! check (time order, double assignment, the width of every value that changed, positions, and
 //! in a run increasing positions) and writes only the values that changed, so the file is byte
@@ -74,9 +76,10 @@ pub struct CoreTracer {
     m: Pmu50,
     frame: Frame,
     h: Held,
-    /// every variable of the frame is at least as wide as the core's signal at its position
-    /// (so every value the core gives fits: [`TextStep::change`])
-    fits: bool,
+    /// every variable of the frame is exactly as wide as the core's signal at its position (so
+    /// every value the core gives fits, [`TextStep::change`], and a signal of a fixed width is
+    /// written by [`TextStep::change_w`])
+    exact: bool,
 }
 
 /// What a [`CoreTracer`] keeps between steps.
@@ -110,8 +113,8 @@ impl CoreTracer {
             .chain(r.values(&s).into_iter().map(|v| v.width))
             .chain(Internals::default().values().into_iter().map(|v| v.1))
             .collect();
-        let fits = widths.into_iter().enumerate().all(|(k, w)| frame.max(k).is_some_and(|m| m >= u64::MAX >> (64 - u32::from(w).clamp(1, 64))));
-        Ok(CoreTracer { m, frame, fits, h: Held { last_i: 0, last_o: o, last_r: r, last_x: 0, o, wide: true, valid: false } })
+        let exact = widths.into_iter().enumerate().all(|(k, w)| frame.max(k) == Some(u64::MAX >> (64 - u32::from(w).clamp(1, 64))));
+        Ok(CoreTracer { m, frame, exact, h: Held { last_i: 0, last_o: o, last_r: r, last_x: 0, o, wide: true, valid: false } })
     }
 
     /// The core (its registers, tick count, read-out).
@@ -138,7 +141,7 @@ impl CoreTracer {
     /// after other writes to the frame's variables) goes through a [`FrameRun`] as in
     /// [`CoreTracer::run`]. The file is the same.
     pub fn text_run<'a, W: Write>(&'a mut self, w: &'a mut VcdWriter<W>) -> Result<TracerTextRun<'a, W>, WriteError> {
-        Ok(TracerTextRun { run: w.text_run(&mut self.frame)?, h: &mut self.h, m: &mut self.m, fits: self.fits })
+        Ok(TracerTextRun { run: w.text_run(&mut self.frame)?, h: &mut self.h, m: &mut self.m, exact: self.exact })
     }
 
     /// One traced edge, as [`TracerRun::step`] in a run of its own (each call ends its run:
@@ -186,7 +189,7 @@ pub struct TracerTextRun<'a, W: Write> {
     run: TextRun<'a, W>,
     h: &'a mut Held,
     m: &'a mut Pmu50,
-    fits: bool,
+    exact: bool,
 }
 
 impl<W: Write> TracerTextRun<'_, W> {
@@ -198,8 +201,9 @@ impl<W: Write> TracerTextRun<'_, W> {
     /// One rising edge of the core with inputs `i`, traced at time `t`, as [`TracerRun::step`]
     /// (the same file, the same checks and errors); the changed values' lines are written at
     /// once when the step allows it ([`TextRun::step`]). When every variable of the frame is
-    /// as wide as the core's signal, they are written by [`TextStep::change`]: the tracer's
-    /// own compares say what changed, its frame order keeps the positions increasing, and the
+    /// exactly as wide as the core's signal, they are written by [`TextStep::change`] (and
+    /// [`TextStep::change_w`] for the fixed widths of the common path): the tracer's own
+    /// compares say what changed, its frame order keeps the positions increasing, and the
     /// widths were checked when it was created; otherwise by [`TextStep::line`], which checks
     /// each value.
     #[inline(always)]
@@ -207,7 +211,7 @@ impl<W: Write> TracerTextRun<'_, W> {
         if self.h.valid {
             if let Some(s) = self.run.step(t)? {
                 // the frame holds the tracer's values: only what changed
-                if self.fits {
+                if self.exact {
                     self.h.edge(Changes(s), self.m, i, false)?;
                 } else {
                     self.h.edge(s, self.m, i, false)?;
@@ -289,6 +293,13 @@ impl Held {
 /// ([`TextStep::line`], written at once).
 trait StepSink {
     fn put(&mut self, k: usize, v: u64) -> Result<(), WriteError>;
+
+    /// [`StepSink::put`] of a signal that is `N` bits wide in the core (0: a width known only
+    /// at run time, from the structural parameters).
+    #[inline(always)]
+    fn put_w<const N: usize>(&mut self, k: usize, v: u64) -> Result<(), WriteError> {
+        self.put(k, v)
+    }
 }
 
 impl<E: Emitter> StepSink for RunStep<'_, E> {
@@ -305,13 +316,24 @@ impl<W: Write> StepSink for TextStep<'_, '_, W> {
     }
 }
 
-/// A text step given only values that changed and fit ([`TextStep::change`]).
+/// A text step given only values that changed, of a frame whose widths are the core's
+/// ([`TextStep::change`]; [`TextStep::change_w`] where the width is known at compile time).
 struct Changes<'s, 'a, W: Write>(TextStep<'s, 'a, W>);
 
 impl<W: Write> StepSink for Changes<'_, '_, W> {
     #[inline(always)]
     fn put(&mut self, k: usize, v: u64) -> Result<(), WriteError> {
         self.0.change(k, v);
+        Ok(())
+    }
+
+    #[inline(always)]
+    fn put_w<const N: usize>(&mut self, k: usize, v: u64) -> Result<(), WriteError> {
+        if N == 0 {
+            self.0.change(k, v);
+        } else {
+            self.0.change_w::<N>(k, v);
+        }
         Ok(())
     }
 }
@@ -360,29 +382,30 @@ impl Value for pmu50_core::drive_interval_changing_56b::Fig18 {
 /// differ (at positions `base + k`) and update the held value; the code written out per field.
 macro_rules! diff_fn {
     // inline: the step lent
-    (inline, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
+    (inline, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+ $(/ $w:literal)?),* $(,)?]) => {
         #[inline(always)]
         fn $diff<S: StepSink>(s: &mut S, cur: &$t, held: &mut $t) -> Result<(), WriteError> {
-            diff_fields!(s, cur, held, $base, [$($k : $($f).+),*]);
+            diff_fields!(s, cur, held, $base, [$($k : $($f).+ $(/ $w)?),*]);
             Ok(())
         }
     };
     // out of line: the step by value, given back
-    (outline, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
+    (outline, $diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+ $(/ $w:literal)?),* $(,)?]) => {
         #[inline(never)]
         fn $diff<S: StepSink>(mut s: S, cur: &$t, held: &mut $t) -> Result<S, WriteError> {
-            diff_fields!(s, cur, held, $base, [$($k : $($f).+),*]);
+            diff_fields!(s, cur, held, $base, [$($k : $($f).+ $(/ $w)?),*]);
             Ok(s)
         }
     };
 }
 
 /// The body of [`diff_fn!`]: per field, when `cur`'s differs from `held`'s, the value to the
-/// step `s` and `held` updated.
+/// step `s` and `held` updated. A field written `field / N` is `N` bits wide in the core
+/// ([`StepSink::put_w`]); without a width, its width is known only at run time (0).
 macro_rules! diff_fields {
-    ($s:ident, $cur:ident, $held:ident, $base:expr, [$($k:literal : $($f:ident).+),*]) => {
+    ($s:ident, $cur:ident, $held:ident, $base:expr, [$($k:literal : $($f:ident).+ $(/ $w:literal)?),*]) => {
         $( if $cur.$($f).+ != $held.$($f).+ {
-            $s.put($base + $k, Value::value($cur.$($f).+))?;
+            $s.put_w::<{ 0 $(+ $w)? }>($base + $k, Value::value($cur.$($f).+))?;
             $held.$($f).+ = $cur.$($f).+;
         } )*
     };
@@ -402,14 +425,15 @@ macro_rules! group {
     };
 }
 
-/// The few fields a narrow edge can change: [`diff_fn!`] inlined, and (with `$copy`) a copy of
-/// just those fields from one struct into another.
+/// The few fields a narrow edge can change: [`diff_fn!`] inlined (each field with its width in
+/// the core, or none when it depends on the structural parameters), and (with `$copy`) a copy
+/// of just those fields from one struct into another.
 macro_rules! narrow {
-    ($diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
-        diff_fn!(inline, $diff, $t, $base, [$($k : $($f).+),*]);
+    ($diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+ $(/ $w:literal)?),* $(,)?]) => {
+        diff_fn!(inline, $diff, $t, $base, [$($k : $($f).+ $(/ $w)?),*]);
     };
-    ($diff:ident, $copy:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
-        diff_fn!(inline, $diff, $t, $base, [$($k : $($f).+),*]);
+    ($diff:ident, $copy:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+ $(/ $w:literal)?),* $(,)?]) => {
+        diff_fn!(inline, $diff, $t, $base, [$($k : $($f).+ $(/ $w)?),*]);
 
         #[inline(always)]
         fn $copy(dst: &mut $t, src: &$t) {
@@ -442,7 +466,13 @@ fn diff_inputs<S: StepSink>(s: &mut S, cur: u64, held: u64) -> Result<(), WriteE
     while x != 0 {
         let k = INPUT_OF_BYTE[(x.trailing_zeros() / 8) as usize];
         let m = INPUT_MASK[k] << INPUT_SHIFT[k];
-        s.put(INPUTS + k, (cur & m) >> INPUT_SHIFT[k])?;
+        let v = (cur & m) >> INPUT_SHIFT[k];
+        // the widths of `Inputs::values`: five flags, `bus_addr` 8 bits, `bus_wdata` 16
+        match k {
+            5 => s.put_w::<8>(INPUTS + k, v)?,
+            6 => s.put_w::<16>(INPUTS + k, v)?,
+            _ => s.put_w::<1>(INPUTS + k, v)?,
+        }
         x &= !m;
     }
     Ok(())
@@ -455,7 +485,7 @@ group!(all_outputs, diff_outputs, Outputs, OUTPUTS, [
 
 // The outputs a narrow edge can change: the timer's decode, `sr`, `diag`, the read data (the
 // others are `sig` or decoded from registers it does not write).
-narrow!(narrow_outputs, copy_narrow_outputs, Outputs, OUTPUTS, [4: vs2_en, 7: st, 8: sr, 9: ps_win, 10: smp, 19: diag, 21: bus_rdata]);
+narrow!(narrow_outputs, copy_narrow_outputs, Outputs, OUTPUTS, [4: vs2_en / 1, 7: st / 1, 8: sr / 1, 9: ps_win / 1, 10: smp / 1, 19: diag / 1, 21: bus_rdata / 16]);
 
 // Every register in the order of `Regs::values`.
 group!(all_registers, diff_registers, Regs, REGISTERS, [
@@ -472,7 +502,7 @@ group!(all_registers, diff_registers, Regs, REGISTERS, [
 ]);
 
 // The registers a narrow edge writes (`kernel::NARROW_WRITES`), at `NARROW_REGISTERS`.
-narrow!(narrow_registers, Regs, REGISTERS, [0: action_switching.sync, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr, 25: count_diagnosis.diag]);
+narrow!(narrow_registers, Regs, REGISTERS, [0: action_switching.sync, 12: register_file.rdata / 16, 13: timing_generator.tmr / 16, 14: sensor_power_determination.sr / 1, 25: count_diagnosis.diag / 1]);
 
 /// The byte of `upd` in [`Internals::packed`] (its position among the internals).
 const UPD: usize = 2;
@@ -494,7 +524,13 @@ fn diff_internals<S: StepSink>(s: &mut S, cur: u128, held: u128) -> Result<(), W
     let mut x = cur ^ held;
     while x != 0 {
         let k = (x.trailing_zeros() / 8) as usize;
-        s.put(INTERNALS + k, (cur >> (8 * k)) as u64 & 0xFF)?;
+        let v = (cur >> (8 * k)) as u64 & 0xFF;
+        // the widths of `Internals::values`: seven flags, then `fig17` and `fig18`, 3 bits
+        if k < 7 {
+            s.put_w::<1>(INTERNALS + k, v)?;
+        } else {
+            s.put_w::<3>(INTERNALS + k, v)?;
+        }
         x &= !(0xFF << (8 * k));
     }
     Ok(())

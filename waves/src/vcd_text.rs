@@ -110,6 +110,29 @@ impl ChangeLine {
         out[1 + w..17 + w].copy_from_slice(&self.suffix);
         1 + w + usize::from(self.len)
     }
+
+    /// [`ChangeLine::write`] for a variable the caller knows to be `W` bits wide (asserted in
+    /// debug builds): the same text, with the tests and shifts of the width resolved at compile
+    /// time (a scalar's line or a vector's, how many chunks of eight bits, where the suffix
+    /// goes).
+    #[inline(always)]
+    pub fn write_w<const W: usize>(&self, out: &mut [u8; SLACK], v: u64) -> usize {
+        debug_assert_eq!(usize::from(self.width), W, "write_w: a line of {} bits written as {W}", self.width);
+        if W == 1 {
+            out[0] = b'0' + (v & 1) as u8;
+            out[1..17].copy_from_slice(&self.suffix);
+            return 1 + usize::from(self.len);
+        }
+        out[0] = b'b';
+        let u = v.wrapping_shl((64 - W) as u32);
+        let mut j = 0;
+        while 8 * j < W {
+            out[1 + 8 * j..9 + 8 * j].copy_from_slice(&BITS8[(u >> (56 - 8 * j)) as usize & 0xFF]);
+            j += 1;
+        }
+        out[1 + W..17 + W].copy_from_slice(&self.suffix);
+        1 + W + usize::from(self.len)
+    }
 }
 
 /// `00` .. `99`: the two decimal digits of each value below 100.
@@ -357,5 +380,45 @@ mod tests {
         assert_eq!(ChangeLine::new(b"", 8), None);
         assert_eq!(ChangeLine::new(b"a b", 8), None);
         assert_eq!(ChangeLine::new(b"a\n", 1), None);
+    }
+
+    /// `write_w` (the width known at compile time) writes what `write` writes, for widths at
+    /// both sides of each chunk of eight bits, values at both ends of each width and a stride of
+    /// values between, two code lengths.
+    #[test]
+    fn change_lines_of_a_known_width_are_the_same_lines() {
+        fn check<const W: usize>() {
+            for code in [&b"!"[..], b"abcdefghijklmn"] {
+                let l = ChangeLine::new(code, W as u32).expect("a line up to 64 bits and 14 characters");
+                let max = u64::MAX >> (64 - W);
+                let mut x = 0x9E37_79B9_7F4A_7C15u64;
+                let stride = (0..200).map(|_| {
+                    x ^= x << 13;
+                    x ^= x >> 7;
+                    x ^= x << 17;
+                    x & max
+                });
+                for v in [0, 1, max, max / 3, max - 1].into_iter().chain(stride) {
+                    let (mut a, mut b) = ([b'?'; SLACK], [b'?'; SLACK]);
+                    let (na, nb) = (l.write(&mut a, v), l.write_w::<W>(&mut b, v));
+                    assert_eq!(&a[..na], &b[..nb], "width {W} value {v:#x}");
+                }
+            }
+        }
+        check::<1>();
+        check::<2>();
+        check::<3>();
+        check::<7>();
+        check::<8>();
+        check::<9>();
+        check::<15>();
+        check::<16>();
+        check::<17>();
+        check::<24>();
+        check::<31>();
+        check::<32>();
+        check::<33>();
+        check::<63>();
+        check::<64>();
     }
 }

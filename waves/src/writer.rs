@@ -1518,7 +1518,7 @@ impl<W: Write> TextStep<'_, '_, W> {
         if v > r.f.max[k] {
             return Err(too_wide(r.w, r.f, k, v));
         }
-        self.write(k, v);
+        self.write::<0>(k, v);
         Ok(())
     }
 
@@ -1541,14 +1541,29 @@ impl<W: Write> TextStep<'_, '_, W> {
         debug_assert!(k >= r.next, "change: position {k} after {} in one step", r.next);
         debug_assert!(r.slots[k].prev != v, "change: position {k} did not change");
         debug_assert!(v <= r.f.max[k], "change: value {v:#x} too wide for position {k}");
-        self.write(k, v);
+        self.write::<0>(k, v);
     }
 
-    /// The changed value `v` at position `k` (after the step's positions, fitting): the
-    /// frame's value, the step's order mark, the line after the step's text, and the writer's
-    /// end of text (stored, never loaded back: the next line starts from the step's copy).
+    /// [`TextStep::change`] for a variable the caller knows to be exactly `N` bits wide (its
+    /// three guarantees, and this one, asserted in debug builds): the line is written by
+    /// [`ChangeLine::write_w`], without the tests of a width known only at run time. For a
+    /// caller that checked the frame's widths against its own when it was declared.
     #[inline(always)]
-    fn write(&mut self, k: usize, v: u64) {
+    pub fn change_w<const N: usize>(&mut self, k: usize, v: u64) {
+        let r = &*self.r;
+        debug_assert!((1..=64).contains(&N), "change_w: a width of {N} bits");
+        debug_assert!(k >= r.next, "change_w: position {k} after {} in one step", r.next);
+        debug_assert!(r.slots[k].prev != v, "change_w: position {k} did not change");
+        debug_assert!(r.f.max[k] == u64::MAX >> (64 - N), "change_w: position {k} is not {N} bits wide");
+        self.write::<N>(k, v);
+    }
+
+    /// The changed value `v` at position `k` (after the step's positions, fitting; `N` bits
+    /// wide, or 0: the line's own width): the frame's value, the step's order mark, the line
+    /// after the step's text, and the writer's end of text (stored, never loaded back: the next
+    /// line starts from the step's copy).
+    #[inline(always)]
+    fn write<const N: usize>(&mut self, k: usize, v: u64) {
         let r = &mut *self.r;
         let slot = &mut r.slots[k];
         slot.prev = v;
@@ -1556,7 +1571,7 @@ impl<W: Write> TextStep<'_, '_, W> {
         let p = self.pos;
         let e = &mut r.w.e;
         let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
-        self.pos = p + slot.line.write(out, v);
+        self.pos = p + if N == 0 { slot.line.write(out, v) } else { slot.line.write_w::<N>(out, v) };
         e.pos = self.pos;
     }
 }
