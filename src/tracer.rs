@@ -44,6 +44,7 @@
 //! 9 internals (`Internals::values`).
 
 use pmu50_core::pmu50::{Inputs, Internals, Outputs, Regs};
+use pmu50_core::signals::{self, Width};
 use pmu50_core::Pmu50;
 use pmu50_waves::writer::{Emitter, Frame, FrameRun, RunStep, TextRun, TextStep, VcdWriter, WriteError, Writer};
 use std::io::Write;
@@ -120,6 +121,13 @@ impl CoreTracer {
     /// The core (its registers, tick count, read-out).
     pub fn core(&self) -> &Pmu50 {
         &self.m
+    }
+
+    /// Every variable of the frame is exactly as wide as the core's signal, so a text run writes
+    /// the tracer's lines without the writer's per-value checks ([`TracerTextRun::step`]);
+    /// otherwise it writes them through the checked [`TextStep::line`].
+    pub fn exact(&self) -> bool {
+        self.exact
     }
 
     /// The core back, at the end of the trace.
@@ -429,17 +437,25 @@ macro_rules! group {
 /// the core, or none when it depends on the structural parameters), and (with `$copy`) a copy
 /// of just those fields from one struct into another.
 macro_rules! narrow {
-    ($diff:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+ $(/ $w:literal)?),* $(,)?]) => {
+    ($diff:ident, $t:ty, $base:expr, $table:expr, [$($k:literal : $($f:ident).+ $(/ $w:literal)?),* $(,)?]) => {
         diff_fn!(inline, $diff, $t, $base, [$($k : $($f).+ $(/ $w)?),*]);
+        $($( const _: () = assert!(fixed_width($table[$k].width, $w), "a width in the tracer's list is not the signal table's"); )?)*
     };
-    ($diff:ident, $copy:ident, $t:ty, $base:expr, [$($k:literal : $($f:ident).+ $(/ $w:literal)?),* $(,)?]) => {
+    ($diff:ident, $copy:ident, $t:ty, $base:expr, $table:expr, [$($k:literal : $($f:ident).+ $(/ $w:literal)?),* $(,)?]) => {
         diff_fn!(inline, $diff, $t, $base, [$($k : $($f).+ $(/ $w)?),*]);
+        $($( const _: () = assert!(fixed_width($table[$k].width, $w), "a width in the tracer's list is not the signal table's"); )?)*
 
         #[inline(always)]
         fn $copy(dst: &mut $t, src: &$t) {
             $( dst.$($f).+ = src.$($f).+; )*
         }
     };
+}
+
+/// The signal table gives `w` as a fixed width of `n` bits (the widths the tracer passes to
+/// [`StepSink::put_w`] are checked against the table at compile time with it).
+const fn fixed_width(w: Width, n: usize) -> bool {
+    matches!(w, Width::Bits(b) if b as usize == n)
 }
 
 // The inputs as one word ([`Inputs::packed`]): input k (the order of `Inputs::values`) is byte k,
@@ -467,7 +483,7 @@ fn diff_inputs<S: StepSink>(s: &mut S, cur: u64, held: u64) -> Result<(), WriteE
         let k = INPUT_OF_BYTE[(x.trailing_zeros() / 8) as usize];
         let m = INPUT_MASK[k] << INPUT_SHIFT[k];
         let v = (cur & m) >> INPUT_SHIFT[k];
-        // the widths of `Inputs::values`: five flags, `bus_addr` 8 bits, `bus_wdata` 16
+        // the widths of the inputs (checked against the signal table below)
         match k {
             5 => s.put_w::<8>(INPUTS + k, v)?,
             6 => s.put_w::<16>(INPUTS + k, v)?,
@@ -485,7 +501,7 @@ group!(all_outputs, diff_outputs, Outputs, OUTPUTS, [
 
 // The outputs a narrow edge can change: the timer's decode, `sr`, `diag`, the read data (the
 // others are `sig` or decoded from registers it does not write).
-narrow!(narrow_outputs, copy_narrow_outputs, Outputs, OUTPUTS, [4: vs2_en / 1, 7: st / 1, 8: sr / 1, 9: ps_win / 1, 10: smp / 1, 19: diag / 1, 21: bus_rdata / 16]);
+narrow!(narrow_outputs, copy_narrow_outputs, Outputs, OUTPUTS, signals::OUTPUTS, [4: vs2_en / 1, 7: st / 1, 8: sr / 1, 9: ps_win / 1, 10: smp / 1, 19: diag / 1, 21: bus_rdata / 16]);
 
 // Every register in the order of `Regs::values`.
 group!(all_registers, diff_registers, Regs, REGISTERS, [
@@ -502,7 +518,7 @@ group!(all_registers, diff_registers, Regs, REGISTERS, [
 ]);
 
 // The registers a narrow edge writes (`kernel::NARROW_WRITES`), at `NARROW_REGISTERS`.
-narrow!(narrow_registers, Regs, REGISTERS, [0: action_switching.sync, 12: register_file.rdata / 16, 13: timing_generator.tmr / 16, 14: sensor_power_determination.sr / 1, 25: count_diagnosis.diag / 1]);
+narrow!(narrow_registers, Regs, REGISTERS, signals::REGISTERS, [0: action_switching.sync, 12: register_file.rdata / 16, 13: timing_generator.tmr / 16, 14: sensor_power_determination.sr / 1, 25: count_diagnosis.diag / 1]);
 
 /// The byte of `upd` in [`Internals::packed`] (its position among the internals).
 const UPD: usize = 2;
@@ -525,7 +541,7 @@ fn diff_internals<S: StepSink>(s: &mut S, cur: u128, held: u128) -> Result<(), W
     while x != 0 {
         let k = (x.trailing_zeros() / 8) as usize;
         let v = (cur >> (8 * k)) as u64 & 0xFF;
-        // the widths of `Internals::values`: seven flags, then `fig17` and `fig18`, 3 bits
+        // the widths of the internals (checked against the signal table below)
         if k < 7 {
             s.put_w::<1>(INTERNALS + k, v)?;
         } else {
@@ -536,3 +552,21 @@ fn diff_internals<S: StepSink>(s: &mut S, cur: u128, held: u128) -> Result<(), W
     Ok(())
 }
 
+// The widths `diff_inputs` and `diff_internals` give, as the signal table has them: five flag
+// inputs, `bus_addr` 8 bits, `bus_wdata` 16; seven flag internals, `fig17` and `fig18` 3 bits.
+const _: () = {
+    let (i, x) = (signals::INPUTS, signals::INTERNALS);
+    assert!(i.len() == 7 && x.len() == 9, "the tracer's input and internal widths assume 7 inputs and 9 internals");
+    let mut k = 0;
+    while k < 5 {
+        assert!(fixed_width(i[k].width, 1), "an input the tracer writes as a flag is not 1 bit wide");
+        k += 1;
+    }
+    assert!(fixed_width(i[5].width, 8) && fixed_width(i[6].width, 16), "bus_addr and bus_wdata are not 8 and 16 bits wide");
+    let mut k = 0;
+    while k < 7 {
+        assert!(fixed_width(x[k].width, 1), "an internal the tracer writes as a flag is not 1 bit wide");
+        k += 1;
+    }
+    assert!(fixed_width(x[7].width, 3) && fixed_width(x[8].width, 3), "fig17 and fig18 are not 3 bits wide");
+};

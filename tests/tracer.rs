@@ -10,9 +10,21 @@ use pmu50_waves::writer::{BitType, Logic, SigId, VcdBuilder, WriteError};
 use pmu50_waves::{TimeUnit, Timescale};
 use proptest::prelude::*;
 
+/// How the test frame declares the widths of the core's signals.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Decl {
+    /// each as wide as the core's signal (the tracer's unchecked lines, `CoreTracer::exact`)
+    Core,
+    /// `bus_wdata` with 4 bits only (a value may not fit: the checked lines)
+    NarrowWdata,
+    /// some wider than the core's: `bus_addr` 12 bits, the output `smp` 2, `tmr` 24, `fig17` 8
+    /// (the checked lines, in the frame's widths)
+    Wider,
+}
+
 /// The 65 signals in the tracer's frame order (inputs, outputs, registers, internals), plus a bit
-/// `extra` outside the frame; `narrow_wdata` declares `bus_wdata` with 4 bits only.
-fn declare(p: &Params, narrow_wdata: bool) -> (VcdBuilder, Vec<SigId>, SigId) {
+/// `extra` outside the frame, with the widths of `decl`.
+fn declare(p: &Params, decl: Decl) -> (VcdBuilder, Vec<SigId>, SigId) {
     let s = Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width };
     let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Us), "tracer test").unwrap();
     let mut names: Vec<(String, u8)> = Vec::new();
@@ -24,7 +36,14 @@ fn declare(p: &Params, narrow_wdata: bool) -> (VcdBuilder, Vec<SigId>, SigId) {
     let ids = names
         .iter()
         .map(|(n, w)| {
-            let w = if narrow_wdata && n == "i_bus_wdata" { 4 } else { *w };
+            let w = match (decl, n.as_str()) {
+                (Decl::NarrowWdata, "i_bus_wdata") => 4,
+                (Decl::Wider, "i_bus_addr") => 12,
+                (Decl::Wider, "o_smp") => 2,
+                (Decl::Wider, "r_timing_generator_tmr") => 24,
+                (Decl::Wider, "x_fig17") => 8,
+                _ => *w,
+            };
             if w == 1 { b.add_bit(BitType::Wire, n, Logic::Zero) } else { b.add_vector(BitType::Wire, n, u32::from(w) - 1, 0, 0) }.unwrap()
         })
         .collect();
@@ -51,13 +70,14 @@ enum Between {
 /// `mode` 1 the tracer steps in a [`pmu50::tracer::TracerRun`] from one `SingleChanges` to the
 /// next (direct steps, written when the next begins), with 2 in a
 /// [`pmu50::tracer::TracerTextRun`] (written at once), with 0 each step is a run of its own.
-fn both(p: Params, run: &[(Inputs, Between)], mode: usize) -> (String, String) {
-    let (b1, ids1, extra1) = declare(&p, false);
-    let (b2, ids2, extra2) = declare(&p, false);
+fn both(p: Params, run: &[(Inputs, Between)], mode: usize, decl: Decl) -> (String, String) {
+    let (b1, ids1, extra1) = declare(&p, decl);
+    let (b2, ids2, extra2) = declare(&p, decl);
     let mut w1 = b1.start(Vec::new()).unwrap();
     let mut w2 = b2.start(Vec::new()).unwrap();
     let mut m2 = Pmu50::new(p).unwrap();
     let mut tr = CoreTracer::new(w1.frame(&ids1).unwrap(), Pmu50::new(p).unwrap()).unwrap();
+    assert_eq!(tr.exact(), decl == Decl::Core, "the unchecked lines exactly when the frame's widths are the core's");
     let mut f2 = w2.frame(&ids2).unwrap();
     let mut flip = false;
     let mut t = 0;
@@ -123,15 +143,18 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]
-    fn same_file_as_every_value(run in arb_run(), which in 0usize..3, mode in 0usize..3) {
-        // the defaults, a deep synchronizer with 3-bit counters (as random_7), a fast park
+    fn same_file_as_every_value(run in arb_run(), which in 0usize..4, mode in 0usize..3, wider in prop::bool::weighted(0.25)) {
+        // the defaults, a deep synchronizer with 3-bit counters (as random_7), a fast park, a
+        // one-flop synchronizer (a 1-bit `sync`)
         let p = [
             Params::default(),
             Params { sync_depth: 4, cnt_width: 3, ..Params::default() },
             Params { pw: 1, pi: 1, ps: 1, si_max: 6, si_min: 4, smp_on: 3, ..Params::default() },
+            Params { sync_depth: 1, ..Params::default() },
         ][which];
         prop_assume!(Pmu50::new(p).is_ok());
-        let (a, b) = both(p, &run, mode);
+        // the frame's widths the core's (unchecked lines), or some wider (checked lines)
+        let (a, b) = both(p, &run, mode, if wider { Decl::Wider } else { Decl::Core });
         prop_assert_eq!(a, b);
     }
 }
@@ -145,10 +168,10 @@ proptest! {
 fn a_failed_step_takes_its_edge_and_is_followed_by_a_full_one() {
     let p = Params::default();
     let run = |fail_at: u64, write_at: Option<u64>, mode: usize| {
-        let (b, ids, _) = declare(&p, true);
+        let (b, ids, _) = declare(&p, Decl::NarrowWdata);
         let mut w = b.start(Vec::new()).unwrap();
         let mut tr = CoreTracer::new(w.frame(&ids).unwrap(), Pmu50::new(p).unwrap()).unwrap();
-        let (b2, ids2, _) = declare(&p, true);
+        let (b2, ids2, _) = declare(&p, Decl::NarrowWdata);
         let mut w2 = b2.start(Vec::new()).unwrap();
         let mut f2 = w2.frame(&ids2).unwrap();
         let mut m2 = Pmu50::new(p).unwrap();
@@ -221,7 +244,7 @@ fn a_failed_step_takes_its_edge_and_is_followed_by_a_full_one() {
 #[test]
 fn the_frame_must_hold_the_65_signals() {
     let p = Params::default();
-    let (b, ids, _) = declare(&p, false);
+    let (b, ids, _) = declare(&p, Decl::Core);
     let mut w = b.start(Vec::new()).unwrap();
     assert_eq!(ids.len(), N_SIGNALS);
     let e = CoreTracer::new(w.frame(&ids[..64]).unwrap(), Pmu50::new(p).unwrap()).err().expect("refused");

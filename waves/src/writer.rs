@@ -1555,6 +1555,7 @@ impl<W: Write> TextStep<'_, '_, W> {
         debug_assert!(k >= r.next, "change_w: position {k} after {} in one step", r.next);
         debug_assert!(r.slots[k].prev != v, "change_w: position {k} did not change");
         debug_assert!(r.f.max[k] == u64::MAX >> (64 - N), "change_w: position {k} is not {N} bits wide");
+        debug_assert!(v <= r.f.max[k], "change_w: value {v:#x} too wide for position {k}");
         self.write::<N>(k, v);
     }
 
