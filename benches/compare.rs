@@ -1106,16 +1106,14 @@ mod fused {
             }
             let (x, after, wide) = m.step_traced_wide(i);
             // every edge (a narrow one may set `upd`)
-            {
-                let mut xm = fields!(internals, mask!(x, lx));
-                if xm != 0 {
-                    lx = x;
-                    while xm != 0 {
-                        let p = xm.trailing_zeros();
-                        xm &= xm - 1;
-                        let v = match p { 0 => lx.kon.into(), 1 => lx.koff.into(), 2 => lx.upd.into(), 3 => lx.first.into(), 4 => lx.chg_s.into(), 5 => lx.chg_c.into(), 6 => lx.skip_clr.into(), 7 => lx.fig17 as u64, _ => lx.fig18 as u64 };
-                        o.line(56 + p as usize, v);
-                    }
+            let mut xm = fields!(internals, mask!(x, lx));
+            if xm != 0 {
+                lx = x;
+                while xm != 0 {
+                    let p = xm.trailing_zeros();
+                    xm &= xm - 1;
+                    let v = match p { 0 => lx.kon.into(), 1 => lx.koff.into(), 2 => lx.upd.into(), 3 => lx.first.into(), 4 => lx.chg_s.into(), 5 => lx.chg_c.into(), 6 => lx.skip_clr.into(), 7 => lx.fig17 as u64, _ => lx.fig18 as u64 };
+                    o.line(56 + p as usize, v);
                 }
             }
             wide_prev = wide;

@@ -259,7 +259,7 @@ impl Held {
         } else {
             // after every edge: a narrow one may set `upd` (a sample that moved nothing), and
             // has every other internal false
-            let narrow = u128::from(x.upd) << (8 * UPD);
+            let narrow = Internals { upd: x.upd, ..Internals::default() }.packed();
             debug_assert!(wide || x.packed() == narrow, "a narrow edge set an internal other than upd: {x:?}");
             let x = if wide { x.packed() } else { narrow };
             if x != h.last_x {
@@ -442,8 +442,7 @@ macro_rules! narrow {
         $($( const _: () = assert!(fixed_width($table[$k].width, $w), "a width in the tracer's list is not the signal table's"); )?)*
     };
     ($diff:ident, $copy:ident, $t:ty, $base:expr, $table:expr, [$($k:literal : $($f:ident).+ $(/ $w:literal)?),* $(,)?]) => {
-        diff_fn!(inline, $diff, $t, $base, [$($k : $($f).+ $(/ $w)?),*]);
-        $($( const _: () = assert!(fixed_width($table[$k].width, $w), "a width in the tracer's list is not the signal table's"); )?)*
+        narrow!($diff, $t, $base, $table, [$($k : $($f).+ $(/ $w)?),*]);
 
         #[inline(always)]
         fn $copy(dst: &mut $t, src: &$t) {
@@ -457,6 +456,21 @@ macro_rules! narrow {
 const fn fixed_width(w: Width, n: usize) -> bool {
     matches!(w, Width::Bits(b) if b as usize == n)
 }
+
+/// The fixed width `w` of the signal table, at compile time (a structural width does not
+/// compile).
+const fn bits(w: Width) -> usize {
+    match w {
+        Width::Bits(b) => b as usize,
+        _ => panic!("the tracer gives this signal a fixed width; the signal table's is structural"),
+    }
+}
+
+/// The widths of the inputs `bus_addr` and `bus_wdata` and of the internals `fig17`/`fig18`, from
+/// the signal table; the other inputs and internals are flags (checked below).
+const BUS_ADDR_BITS: usize = bits(signals::INPUTS[5].width);
+const BUS_WDATA_BITS: usize = bits(signals::INPUTS[6].width);
+const FIG_BITS: usize = bits(signals::INTERNALS[7].width);
 
 // The inputs as one word ([`Inputs::packed`]): input k (the order of `Inputs::values`) is byte k,
 // `bus_wdata` bytes 6 and 7.
@@ -483,10 +497,9 @@ fn diff_inputs<S: StepSink>(s: &mut S, cur: u64, held: u64) -> Result<(), WriteE
         let k = INPUT_OF_BYTE[(x.trailing_zeros() / 8) as usize];
         let m = INPUT_MASK[k] << INPUT_SHIFT[k];
         let v = (cur & m) >> INPUT_SHIFT[k];
-        // the widths of the inputs (checked against the signal table below)
         match k {
-            5 => s.put_w::<8>(INPUTS + k, v)?,
-            6 => s.put_w::<16>(INPUTS + k, v)?,
+            5 => s.put_w::<BUS_ADDR_BITS>(INPUTS + k, v)?,
+            6 => s.put_w::<BUS_WDATA_BITS>(INPUTS + k, v)?,
             _ => s.put_w::<1>(INPUTS + k, v)?,
         }
         x &= !m;
@@ -520,9 +533,6 @@ group!(all_registers, diff_registers, Regs, REGISTERS, [
 // The registers a narrow edge writes (`kernel::NARROW_WRITES`), at `NARROW_REGISTERS`.
 narrow!(narrow_registers, Regs, REGISTERS, signals::REGISTERS, [0: action_switching.sync, 12: register_file.rdata / 16, 13: timing_generator.tmr / 16, 14: sensor_power_determination.sr / 1, 25: count_diagnosis.diag / 1]);
 
-/// The byte of `upd` in [`Internals::packed`] (its position among the internals).
-const UPD: usize = 2;
-
 /// Every internal.
 #[inline(never)]
 fn all_internals<S: StepSink>(mut s: S, x: &Internals) -> Result<S, WriteError> {
@@ -541,19 +551,18 @@ fn diff_internals<S: StepSink>(s: &mut S, cur: u128, held: u128) -> Result<(), W
     while x != 0 {
         let k = (x.trailing_zeros() / 8) as usize;
         let v = (cur >> (8 * k)) as u64 & 0xFF;
-        // the widths of the internals (checked against the signal table below)
         if k < 7 {
             s.put_w::<1>(INTERNALS + k, v)?;
         } else {
-            s.put_w::<3>(INTERNALS + k, v)?;
+            s.put_w::<FIG_BITS>(INTERNALS + k, v)?;
         }
         x &= !(0xFF << (8 * k));
     }
     Ok(())
 }
 
-// The widths `diff_inputs` and `diff_internals` give, as the signal table has them: five flag
-// inputs, `bus_addr` 8 bits, `bus_wdata` 16; seven flag internals, `fig17` and `fig18` 3 bits.
+// The flags `diff_inputs` and `diff_internals` give as 1 bit wide are so in the signal table,
+// and `fig18` is as wide as `fig17`.
 const _: () = {
     let (i, x) = (signals::INPUTS, signals::INTERNALS);
     assert!(i.len() == 7 && x.len() == 9, "the tracer's input and internal widths assume 7 inputs and 9 internals");
@@ -562,11 +571,10 @@ const _: () = {
         assert!(fixed_width(i[k].width, 1), "an input the tracer writes as a flag is not 1 bit wide");
         k += 1;
     }
-    assert!(fixed_width(i[5].width, 8) && fixed_width(i[6].width, 16), "bus_addr and bus_wdata are not 8 and 16 bits wide");
     let mut k = 0;
     while k < 7 {
         assert!(fixed_width(x[k].width, 1), "an internal the tracer writes as a flag is not 1 bit wide");
         k += 1;
     }
-    assert!(fixed_width(x[7].width, 3) && fixed_width(x[8].width, 3), "fig17 and fig18 are not 3 bits wide");
+    assert!(fixed_width(x[8].width, FIG_BITS), "fig17 and fig18 differ in width");
 };

@@ -87,9 +87,7 @@ impl ChangeLine {
     #[inline(always)]
     pub fn write(&self, out: &mut [u8; SLACK], v: u64) -> usize {
         if self.width == 1 {
-            out[0] = b'0' + (v & 1) as u8;
-            out[1..17].copy_from_slice(&self.suffix);
-            return 1 + usize::from(self.len);
+            return self.scalar(out, v);
         }
         // The bits msb first from `out[1]`, in whole chunks of 8 characters (the value fits the
         // width, so the characters past it are the chunk's low bits, overwritten by the suffix).
@@ -98,17 +96,16 @@ impl ChangeLine {
         let u = v << (64 - w);
         // Two chunks whatever the width (most variables have at most 16 bits; for 8 or fewer
         // the second is overwritten by the suffix), the others only for wider variables.
-        out[1..9].copy_from_slice(&BITS8[(u >> 56) as usize]);
-        out[9..17].copy_from_slice(&BITS8[(u >> 48) as usize & 0xFF]);
+        chunk(out, u, 0);
+        chunk(out, u, 1);
         if w > 16 {
             let mut j = 2;
             while j < 8 && 8 * j < w {
-                out[1 + 8 * j..9 + 8 * j].copy_from_slice(&BITS8[(u >> (56 - 8 * j)) as usize & 0xFF]);
+                chunk(out, u, j);
                 j += 1;
             }
         }
-        out[1 + w..17 + w].copy_from_slice(&self.suffix);
-        1 + w + usize::from(self.len)
+        self.suffix_after(out, w)
     }
 
     /// [`ChangeLine::write`] for a variable the caller knows to be `W` bits wide (asserted in
@@ -119,20 +116,39 @@ impl ChangeLine {
     pub fn write_w<const W: usize>(&self, out: &mut [u8; SLACK], v: u64) -> usize {
         debug_assert_eq!(usize::from(self.width), W, "write_w: a line of {} bits written as {W}", self.width);
         if W == 1 {
-            out[0] = b'0' + (v & 1) as u8;
-            out[1..17].copy_from_slice(&self.suffix);
-            return 1 + usize::from(self.len);
+            return self.scalar(out, v);
         }
         out[0] = b'b';
         let u = v.wrapping_shl((64 - W) as u32);
         let mut j = 0;
         while 8 * j < W {
-            out[1 + 8 * j..9 + 8 * j].copy_from_slice(&BITS8[(u >> (56 - 8 * j)) as usize & 0xFF]);
+            chunk(out, u, j);
             j += 1;
         }
-        out[1 + W..17 + W].copy_from_slice(&self.suffix);
-        1 + W + usize::from(self.len)
+        self.suffix_after(out, W)
     }
+
+    /// A scalar's line: its bit, the code, the newline; returns the length.
+    #[inline(always)]
+    fn scalar(&self, out: &mut [u8; SLACK], v: u64) -> usize {
+        out[0] = b'0' + (v & 1) as u8;
+        out[1..17].copy_from_slice(&self.suffix);
+        1 + usize::from(self.len)
+    }
+
+    /// A vector's suffix after its `b` and `w` bits; returns the line's length.
+    #[inline(always)]
+    fn suffix_after(&self, out: &mut [u8; SLACK], w: usize) -> usize {
+        out[1 + w..17 + w].copy_from_slice(&self.suffix);
+        1 + w + usize::from(self.len)
+    }
+}
+
+/// Chunk `j` of the bits of `u` (the value shifted to the top of the word), eight characters
+/// from `out[1 + 8 * j]`.
+#[inline(always)]
+fn chunk(out: &mut [u8; SLACK], u: u64, j: usize) {
+    out[1 + 8 * j..9 + 8 * j].copy_from_slice(&BITS8[(u >> (56 - 8 * j)) as usize & 0xFF]);
 }
 
 /// `00` .. `99`: the two decimal digits of each value below 100.

@@ -1537,11 +1537,7 @@ impl<W: Write> TextStep<'_, '_, W> {
     /// caller, [`TextStep::line`].
     #[inline(always)]
     pub fn change(&mut self, k: usize, v: u64) {
-        let r = &*self.r;
-        debug_assert!(k >= r.next, "change: position {k} after {} in one step", r.next);
-        debug_assert!(r.slots[k].prev != v, "change: position {k} did not change");
-        debug_assert!(v <= r.f.max[k], "change: value {v:#x} too wide for position {k}");
-        self.write::<0>(k, v);
+        self.change_n::<0>(k, v);
     }
 
     /// [`TextStep::change`] for a variable the caller knows to be exactly `N` bits wide (its
@@ -1550,12 +1546,19 @@ impl<W: Write> TextStep<'_, '_, W> {
     /// caller that checked the frame's widths against its own when it was declared.
     #[inline(always)]
     pub fn change_w<const N: usize>(&mut self, k: usize, v: u64) {
-        let r = &*self.r;
         debug_assert!((1..=64).contains(&N), "change_w: a width of {N} bits");
-        debug_assert!(k >= r.next, "change_w: position {k} after {} in one step", r.next);
-        debug_assert!(r.slots[k].prev != v, "change_w: position {k} did not change");
-        debug_assert!(r.f.max[k] == u64::MAX >> (64 - N), "change_w: position {k} is not {N} bits wide");
-        debug_assert!(v <= r.f.max[k], "change_w: value {v:#x} too wide for position {k}");
+        self.change_n::<N>(k, v);
+    }
+
+    /// [`TextStep::change`] (`N` = 0) and [`TextStep::change_w`]: the caller's guarantees
+    /// asserted in debug builds, then the line.
+    #[inline(always)]
+    fn change_n<const N: usize>(&mut self, k: usize, v: u64) {
+        let r = &*self.r;
+        debug_assert!(k >= r.next, "change: position {k} after {} in one step", r.next);
+        debug_assert!(r.slots[k].prev != v, "change: position {k} did not change");
+        debug_assert!(v <= r.f.max[k], "change: value {v:#x} too wide for position {k}");
+        debug_assert!(N == 0 || r.f.max[k] == u64::MAX >> (64 - N), "change_w: position {k} is not {N} bits wide");
         self.write::<N>(k, v);
     }
 
