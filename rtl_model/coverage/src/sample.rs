@@ -1,0 +1,340 @@
+//! Sampling the coverage model from the core's state at each clock edge.
+//!
+//! [`Coverage::sample`] takes one edge: the registers before and after it, the ports during the
+//! cycle before it (the Moore outputs the environment saw), the inputs applied at it and the
+//! core's combinational internals. It costs a table lookup on an ordinary edge (a key-on cycle
+//! counts the MPU's read) and decodes the rest only on the rare edges that can hit a bin: a bus
+//! write, a key edge, a sampling strobe, a diag rise, a W1C strobe, or an ig edge inside the
+//! synchronizer.
+
+use crate::model::*;
+use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
+use pmu50_core::pmu50::Structural;
+use pmu50_core::register_file::{self as rf, WriteRefusal};
+use pmu50_core::{Inputs, Internals, Outputs, ParamError, Params, Regs};
+use std::sync::OnceLock;
+
+/// The flattened model, built once.
+pub fn layout() -> &'static Layout {
+    static L: OnceLock<Layout> = OnceLock::new();
+    L.get_or_init(Layout::new)
+}
+
+/// One clock edge, as the coverage model samples it.
+#[derive(Clone, Copy, Debug)]
+pub struct Edge<'a> {
+    /// Registers before the edge.
+    pub before: &'a Regs,
+    /// Registers after the edge.
+    pub after: &'a Regs,
+    /// Ports during the cycle before the edge (decoded from `before`).
+    pub out: &'a Outputs,
+    /// Inputs applied at the edge.
+    pub inputs: &'a Inputs,
+    /// Combinational internals of the cycle.
+    pub internals: &'a Internals,
+}
+
+const NONE: u8 = u8::MAX;
+const N_POINTS: usize = POINTS.len();
+
+/// `bus.read` bin of every address.
+static READ_BIN: [u8; 256] = {
+    let mut t = [READ_ADDRS.len() as u8; 256];
+    let mut i = 0;
+    while i < READ_ADDRS.len() {
+        t[READ_ADDRS[i] as usize] = i as u8;
+        i += 1;
+    }
+    t
+};
+
+/// The hit counters of one coverage run (or of many, merged).
+#[derive(Clone, Debug)]
+pub struct Coverage {
+    hits: Vec<u64>,
+    /// The bin of each configuration point for the parameters in force (NONE for edge points).
+    config: [u8; N_POINTS],
+    clock_ns: u64,
+    structural: Structural,
+    read_offset: usize,
+}
+
+impl Coverage {
+    /// Empty counters for a core of these parameters, at this clock period; samples the
+    /// configuration once.
+    pub fn new(p: &Params, clock_ns: u64) -> Coverage {
+        let l = layout();
+        let mut c = Coverage {
+            hits: vec![0; l.bins.len()],
+            config: [NONE; N_POINTS],
+            clock_ns,
+            structural: Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width },
+            read_offset: l.point_offset[READ],
+        };
+        c.sample_config(p);
+        c
+    }
+
+    /// Hit counts in the model's storage order ([`Layout::bins`]).
+    pub fn hits(&self) -> &[u64] {
+        &self.hits
+    }
+
+    /// Add another run's counts (the same model: always, it is one type).
+    pub fn add(&mut self, other: &[u64]) {
+        for (a, b) in self.hits.iter_mut().zip(other) {
+            *a = a.saturating_add(*b);
+        }
+    }
+
+    /// Add `times` copies of the counts between `earlier` and now (a repeated period that the
+    /// bench skipped, docs/spec.md 5.1).
+    pub fn repeat_since(&mut self, earlier: &[u64], times: u64) {
+        for (a, e) in self.hits.iter_mut().zip(earlier) {
+            *a = a.saturating_add((*a - e).saturating_mul(times));
+        }
+    }
+
+    /// Sample the configuration in force (at the start of a run and after a parameter write).
+    pub fn sample_config(&mut self, p: &Params) {
+        let span = p.si_max - p.si_min;
+        let step = |t: u16| if t >= span { 0 } else if u32::from(t) * 2 >= u32::from(span) { 1 } else { 2 };
+        let wt = p.wt();
+        let bins: [(usize, u8); 11] = [
+            (CFG_CTH, match p.cth { 0 | 1 => 0, 2..=4 => 1, 5..=8 => 2, _ => 3 }),
+            (CFG_T1, step(p.t1)),
+            (CFG_T2, step(p.t2)),
+            (CFG_X, if span == 0 { 0 } else if p.si_max <= 300 { 1 } else if p.si_max <= 700 { 2 } else { 3 }),
+            (CFG_MIN, if u32::from(p.si_min) == wt + 1 { 0 } else if u32::from(p.si_min) <= 2 * wt { 1 } else { 2 }),
+            (CFG_WINDOW, if p.pw == 0 { 0 } else if p.pi == 0 { 1 } else if p.ps == 1 { 2 } else { 3 }),
+            (CFG_SMP_ON, match p.smp_on { 0 | 1 => 0, 2..=9 => 1, _ => 2 }),
+            (CFG_CNT_W, match p.cnt_width { 0..=2 => 0, 3..=7 => 1, 8..=15 => 2, _ => 3 }),
+            (CFG_SYNC, p.sync_depth.clamp(1, 4) - 1),
+            (CFG_ADAPTIVE, u8::from(p.adaptive)),
+            (CFG_CLOCK, match self.clock_ns { 0..=9_999 => 0, 10_000 => 1, _ => 2 }),
+        ];
+        let off = &layout().point_offset;
+        for (point, bin) in bins {
+            self.config[point] = bin;
+            self.hits[off[point] + usize::from(bin)] += 1;
+        }
+    }
+
+    /// Sample one clock edge.
+    #[inline]
+    pub fn sample(&mut self, e: &Edge<'_>) {
+        let (i, n) = (e.inputs, e.internals);
+        if e.out.sig && !i.bus_we {
+            self.hits[self.read_offset + usize::from(READ_BIN[usize::from(i.bus_addr)])] += 1;
+        }
+        let sync = e.before.action_switching.sync;
+        let in_flight = sync != 0 && sync != (1u8 << self.structural.sync_depth) - 1;
+        let diag_rise = e.after.count_diagnosis.diag && !e.before.count_diagnosis.diag;
+        if i.bus_we || n.kon || n.koff || n.upd || n.fig17 != Fig17::Idle || n.skip_clr || e.out.smp || diag_rise || in_flight {
+            self.sample_rare(e, in_flight, diag_rise);
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn sample_rare(&mut self, e: &Edge<'_>, in_flight: bool, diag_rise: bool) {
+        let (b, a, out, i, n) = (e.before, e.after, e.out, e.inputs, e.internals);
+        let p = b.register_file.params(self.structural.sync_depth, self.structural.cnt_width);
+        let mut sel = self.config;
+        let mode = u8::from(out.sig);
+
+        // FIG. 17 / FIG. 18 at a key-off sampling strobe.
+        if n.fig17 != Fig17::Idle {
+            sel[FIG17] = n.fig17 as u8 - 1;
+            sel[SI_AT_EDGE] = thirds(b.drive_interval.si, p.si_min, p.si_max, true);
+            let di = (&b.drive_interval, &a.drive_interval);
+            match n.fig17 {
+                Fig17::S5AtMin | Fig17::S6Shorten | Fig17::S7AtMax | Fig17::S9Count | Fig17::S10Expand => {
+                    let r = di.0.cnt_r;
+                    sel[CNT_R_BEFORE] = if r == 255 { 3 } else if r == 0 { 0 } else if r < p.cth { 1 } else { 2 };
+                }
+                _ => {}
+            }
+            match n.fig17 {
+                Fig17::S6Shorten => {
+                    let raw = i32::from(di.0.si) - i32::from(p.t1);
+                    let min = i32::from(p.si_min);
+                    sel[SHORTEN_TO] = if raw < min { 0 } else if raw == min { 1 } else { 1 + thirds(di.1.si, p.si_min, p.si_max, false) };
+                    if raw < min {
+                        sel[CLAMP] = 0;
+                    }
+                }
+                Fig17::S10Expand => {
+                    let raw = u32::from(di.0.si) + u32::from(p.t2);
+                    let x = u32::from(p.si_max);
+                    sel[EXPAND_TO] = if raw > x { 4 } else if raw == x { 3 } else { thirds(di.1.si, p.si_min, p.si_max, false) - 1 };
+                    if raw > x {
+                        sel[CLAMP] = 1;
+                    }
+                }
+                _ => {}
+            }
+            if matches!(n.fig17, Fig17::S9Count | Fig17::S10Expand) {
+                let (r0, r1) = (di.0.cnt_r, di.1.cnt_r);
+                sel[CNT_R] = if r0 == 255 { 4 } else if r1 == 1 { 0 } else if r1 < p.cth { 1 } else if r1 == p.cth { 2 } else { 3 };
+            }
+        }
+        if n.fig18 != Fig18::Idle {
+            sel[FIG18] = n.fig18 as u8 - 1;
+            let d = &b.drive_interval;
+            sel[HIST] = u8::from(d.hist_s) | u8::from(d.hist_c) << 1;
+        }
+
+        // Samples of the comparator latches: presets, counting rules, skips, wraps.
+        if n.upd {
+            let (cs, cc) = (b.comparator_latch.cs, b.comparator_latch.cc);
+            if n.first {
+                sel[SAMPLE_MODE] = mode;
+                let l = &a.comparator_latch;
+                sel[PRESET] = match (l.cs, l.cc) {
+                    (true, true) => 0,
+                    (true, false) => 1,
+                    (false, false) => 2,
+                    (false, true) => 3,
+                };
+            } else if n.chg_s && n.chg_c {
+                sel[SAMPLE_MODE] = mode;
+                sel[SKIP] = mode;
+            } else if n.chg_s || n.chg_c {
+                sel[SAMPLE_MODE] = mode;
+                // (rule bin, counts up?)
+                let (rule, up) = if n.chg_s {
+                    match (cs, cc) {
+                        (false, true) => (0, true),
+                        (true, true) => (1, false),
+                        (true, false) => (2, true),
+                        (false, false) => (3, false),
+                    }
+                } else {
+                    match (cc, cs) {
+                        (false, false) => (4, true),
+                        (true, false) => (5, false),
+                        (true, true) => (6, true),
+                        (false, true) => (7, false),
+                    }
+                };
+                sel[RULE] = rule;
+                let w = self.structural.cnt_width.clamp(2, 16);
+                let top = (1u16 << (w - 1)) - 1;
+                let v = if n.chg_s { b.updown_counter.cnt_s } else { b.updown_counter.cnt_c };
+                let base = if n.chg_s { 0 } else { 2 };
+                if up && v == top {
+                    sel[WRAP] = base;
+                } else if !up && v == top + 1 {
+                    sel[WRAP] = base + 1;
+                }
+            }
+        }
+
+        // Key edges and where in the timer's cycle they fell.
+        if n.kon || n.koff {
+            sel[KEY_EDGE] = u8::from(n.koff);
+            let t = u32::from(b.timing_generator.tmr);
+            let (pw, pi, wt) = (u32::from(p.pw), u32::from(p.pw) + u32::from(p.pi), p.wt());
+            sel[KEY_PHASE] = if out.sig {
+                if t + 1 == u32::from(p.smp_on) { 5 } else { 6 }
+            } else if t < pw {
+                0
+            } else if t < pi {
+                1
+            } else if t + 1 < wt {
+                2
+            } else if t + 1 == wt {
+                3
+            } else {
+                4
+            };
+        }
+
+        // Faults.
+        if out.smp && !out.sr {
+            sel[VS2] = mode;
+        }
+        if in_flight && i.ig != (b.action_switching.sync & 1 == 1) {
+            sel[SYNC_GLITCH] = u8::from(!i.ig);
+        }
+        if diag_rise {
+            sel[DIAG] = if a.updown_counter.quadrant_skip { 0 } else { 1 };
+        }
+        if n.skip_clr && b.updown_counter.quadrant_skip {
+            sel[SKIP_CLEAR] = 0;
+        }
+
+        // Bus writes.
+        let mut params_changed = false;
+        if i.bus_we {
+            let a8 = i.bus_addr;
+            sel[WRITE_REG] = match a8 {
+                rf::addr::CTRL..=rf::addr::SMP_ON => a8 - rf::addr::CTRL,
+                rf::addr::STATUS => 10,
+                _ if READ_BIN[usize::from(a8)] < READ_ADDRS.len() as u8 => 11,
+                _ => 12,
+            };
+            let rfi = rf::Inputs { bus_we: true, bus_addr: a8, bus_wdata: i.bus_wdata, sig: out.sig, ..Default::default() };
+            let block = rf::RegisterFile::new(self.structural.sync_depth, self.structural.cnt_width);
+            sel[WRITE_OUTCOME] = match block.bus_write(&b.register_file, &rfi) {
+                Ok(_) => 0,
+                Err(WriteRefusal::KeyOff) => 1,
+                Err(WriteRefusal::NotWritable) => 2,
+                Err(WriteRefusal::Illegal(err)) => {
+                    sel[ILLEGAL] = match err {
+                        ParamError::Zero { .. } => 0,
+                        ParamError::MinAboveMax { .. } => 1,
+                        ParamError::NoSettlingTick => 2,
+                        ParamError::WindowTooLong { .. } => 3,
+                        ParamError::OutOfRange { .. } => 4,
+                    };
+                    3
+                }
+            };
+            if a8 == rf::addr::STATUS && out.sig {
+                let bit = |k: usize| (i.bus_wdata >> k) & 1 == 1;
+                sel[W1C] = u8::from(bit(rf::status::QUADRANT_SKIP)) | u8::from(bit(rf::status::BUS_ERR)) << 1;
+            }
+            params_changed = sel[WRITE_OUTCOME] == 0 && a.register_file.params(self.structural.sync_depth, self.structural.cnt_width) != p;
+        }
+
+        let l = layout();
+        for (point, &bin) in sel.iter().enumerate() {
+            if bin != NONE && POINTS[point].sampled == Sampled::Edge {
+                self.hits[l.point_offset[point] + usize::from(bin)] += 1;
+            }
+        }
+        for (c, &off) in crosses().zip(&l.cross_offset) {
+            let (x, y) = (sel[c.a], sel[c.b]);
+            if x != NONE && y != NONE && (POINTS[c.a].sampled == Sampled::Edge || POINTS[c.b].sampled == Sampled::Edge) {
+                self.hits[off + usize::from(x) * POINTS[c.b].bins.len() + usize::from(y)] += 1;
+            }
+        }
+        if params_changed {
+            let np = a.register_file.params(self.structural.sync_depth, self.structural.cnt_width);
+            self.sample_config(&np);
+        }
+    }
+}
+
+/// The class of `si` in [min, x]: with `ends`, 0 = min, 1-3 = thirds, 4 = x; without, the
+/// thirds as 1-3 (the caller has handled the ends).
+fn thirds(si: u16, min: u16, max: u16, ends: bool) -> u8 {
+    if ends && si <= min {
+        return 0;
+    }
+    if ends && si >= max {
+        return 4;
+    }
+    let span = u32::from(max.saturating_sub(min)).max(1);
+    let pos = u32::from(si.saturating_sub(min)) * 3;
+    if pos <= span {
+        1
+    } else if pos <= 2 * span {
+        2
+    } else {
+        3
+    }
+}
