@@ -13,6 +13,7 @@ pub mod output;
 pub mod plot;
 pub mod random;
 pub mod refusals;
+pub mod regress;
 pub mod scenario;
 pub mod sim;
 pub mod tracer;

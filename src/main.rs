@@ -139,6 +139,10 @@ enum Cmd {
     Random {
         #[arg(long)]
         seed: u64,
+        /// The scenario `pmu50 regress` runs for this seed (uniform random; a directed seed
+        /// also depends on the coverage before it: its repro is in failures/ of its run).
+        #[arg(long)]
+        regress: bool,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -169,6 +173,64 @@ enum Cmd {
         scenario: PathBuf,
         #[arg(long, default_value = "vcd_out")]
         out_dir: PathBuf,
+    },
+    /// Random regression: seeds of generated scenarios checked on the model (and an RTL),
+    /// measured by functional coverage, failures shrunk to a repro (docs/verification.md).
+    /// Exit 0 every seed passed, 1 a seed failed (or seeds are missing), 2 bad input.
+    Regress {
+        /// First seed.
+        #[arg(long, default_value_t = 1)]
+        start_seed: u64,
+        /// Number of seeds (the whole regression; a shard runs its part of it).
+        #[arg(long)]
+        iterations: Option<u64>,
+        /// Parallel jobs (default: every core).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Bias the generator towards coverage bins not hit yet (deterministic per seed range).
+        #[arg(long)]
+        directed: bool,
+        /// Also step the readable per-block model beside the kernel and compare every register
+        /// after every edge.
+        #[arg(long)]
+        check_spec: bool,
+        /// Design under test: the model alone, or an RTL on verilator (lockstep) or icarus
+        /// (vector replay), compared with the model on every seed.
+        #[arg(long, value_parser = ["model", "verilator", "icarus"], default_value = "model")]
+        dut: String,
+        /// The RTL's Verilog file list (paths relative to the list's folder; top `pmu50` with the
+        /// ports and parameters of docs/signals.md). Default: the twin, hdl/pmu50.f.
+        #[arg(long, value_name = "FILELIST")]
+        rtl: Option<PathBuf>,
+        /// Run part I of N of the seed range (job arrays). Inside a Slurm array or a Kubernetes
+        /// Indexed Job the part comes from SLURM_ARRAY_TASK_ID / JOB_COMPLETION_INDEX.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<String>,
+        /// The number of shards, where the scheduler gives only the index (JOB_COMPLETION_INDEX).
+        #[arg(long, value_name = "N")]
+        shard_count: Option<u64>,
+        /// Continue the regression in DIR: run only the seeds its results.jsonl does not have.
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["iterations", "shard", "shard_count", "directed", "check_spec", "rtl", "repro"])]
+        resume: Option<PathBuf>,
+        /// Output folder.
+        #[arg(long, default_value = "regress_out")]
+        out: PathBuf,
+        /// Per-seed time limit for the DUT, seconds.
+        #[arg(long, default_value_t = 120.0)]
+        timeout: f64,
+        /// Do not shrink failures into failures/<signature>/.
+        #[arg(long)]
+        no_triage: bool,
+        /// Check one scenario file (a shrunk repro) the way a seed is checked; prints the failure.
+        #[arg(long, value_name = "FILE.toml", conflicts_with_all = ["iterations", "shard", "shard_count", "directed"])]
+        repro: Option<PathBuf>,
+    },
+    /// Merge regression folders (shards, resumed parts) and coverage.json files into one folder.
+    /// Exit 0 complete and passing, 1 a seed failed or seeds are missing, 2 bad input.
+    Merge {
+        #[arg(long, default_value = "regress_out/merged")]
+        out: PathBuf,
+        inputs: Vec<PathBuf>,
     },
     /// Compare two VCD files; exit 0 equal, 1 different, 2 bad input.
     Diff {
@@ -354,8 +416,12 @@ fn main() -> ExitCode {
             0
         }
         Cmd::Vectors { scenario, output, vcd_dir } => cmd_vectors(&scenario, &output, vcd_dir.as_deref()),
-        Cmd::Random { seed, output } => {
-            let text = pmu50::random::random_scenario(seed);
+        Cmd::Random { seed, regress, output } => {
+            let text = if regress {
+                pmu50::regress::gen::Stimulus::generate(seed, &pmu50::regress::gen::Bias::uniform()).to_toml(&format!("regress_{seed}"))
+            } else {
+                pmu50::random::random_scenario(seed)
+            };
             let r = fsout::write_atomic(&output, text.as_bytes()).and_then(|f| {
                 let mut b = Batch::new();
                 b.add(f);
@@ -389,12 +455,143 @@ fn main() -> ExitCode {
                 2
             }
         },
+        Cmd::Regress { start_seed, iterations, jobs, directed, check_spec, dut, rtl, shard, shard_count, resume, out, timeout, no_triage, repro } => {
+            cmd_regress(RegressArgs { start_seed, iterations, jobs, directed, check_spec, dut, rtl, shard, shard_count, resume, out, timeout, no_triage, repro })
+        }
+        Cmd::Merge { out, inputs } => match pmu50::regress::merge::merge(&inputs, &out) {
+            Ok(m) => {
+                out!("merged {} regression folder(s) and {} coverage file(s) into {}", m.folders, m.coverage_files, out.display());
+                out!("{}", m.summary.text().trim_end());
+                u8::from(m.summary.failed() > 0 || !m.summary.missing.is_empty())
+            }
+            Err(e) => {
+                err!("error: {e}");
+                2
+            }
+        },
         Cmd::Diff { left, right, map, clock, every, x, max, allow_unmatched, real_tol, max_bytes } => cmd_diff(left, right, map, clock, every, x, max, allow_unmatched, real_tol, max_bytes),
     };
     with_streams(code)
 }
 
 /// Print an analysis' text (exit 0) or its error (exit 2).
+struct RegressArgs {
+    start_seed: u64,
+    iterations: Option<u64>,
+    jobs: Option<usize>,
+    directed: bool,
+    check_spec: bool,
+    dut: String,
+    rtl: Option<PathBuf>,
+    shard: Option<String>,
+    shard_count: Option<u64>,
+    resume: Option<PathBuf>,
+    out: PathBuf,
+    timeout: f64,
+    no_triage: bool,
+    repro: Option<PathBuf>,
+}
+
+/// `pmu50 regress`.
+fn cmd_regress(a: RegressArgs) -> u8 {
+    use pmu50::regress::{self, DutKind, RunSpec};
+    let fail = |m: String| {
+        err!("error: {m}");
+        2
+    };
+    if !(a.timeout.is_finite() && a.timeout > 0.0 && a.timeout <= 86_400.0) {
+        return fail(format!("--timeout {}: give the per-seed time limit in seconds, 0 < T <= 86400", a.timeout));
+    }
+    let jobs = match a.jobs {
+        Some(0) => return fail("--jobs 0: give at least 1 job".into()),
+        Some(j) => j,
+        None => std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1),
+    };
+    let dut = match a.dut.as_str() {
+        "verilator" => DutKind::Verilator,
+        "icarus" => DutKind::Icarus,
+        _ => DutKind::Model,
+    };
+    if a.rtl.is_some() && dut == DutKind::Model {
+        return fail("--rtl needs an RTL simulator: add --dut verilator (or --dut icarus)".into());
+    }
+    let rtl = match &a.rtl {
+        Some(r) => match regress::dut::check_filelist(r) {
+            Ok(_) => Some(r.canonicalize().unwrap_or_else(|_| r.clone()).display().to_string()),
+            Err(e) => return fail(e),
+        },
+        None => None,
+    };
+    let timeout = Duration::from_secs_f64(a.timeout);
+    let model = pmu50_coverage::model_id(pmu50_coverage::layout());
+    let tool = format!("pmu50 {}", env!("CARGO_PKG_VERSION"));
+
+    if let Some(file) = &a.repro {
+        let sc = match load(file) {
+            Ok(sc) => sc,
+            Err(_) => return 2,
+        };
+        let spec = RunSpec { tool, model, start_seed: 0, iterations: 0, directed: false, check_spec: a.check_spec, dut: dut.clone(), rtl, shard: None };
+        let d = if dut == DutKind::Model {
+            None
+        } else {
+            match regress::dut::Dut::prepare(&spec, 1) {
+                Ok(d) => Some(d),
+                Err(e) => return fail(e),
+            }
+        };
+        return match regress::check_scenario(&spec, &sc, d.as_ref(), timeout) {
+            Ok(None) => {
+                out!("PASS {}: the model's checks{} hold", file.display(), if dut == DutKind::Model { String::new() } else { format!(" and the {} DUT", a.dut) });
+                0
+            }
+            Ok(Some(f)) => {
+                out!("FAIL {}: tick {} {} expected {} got {} (block {}, FIG. path {})\n  {}", file.display(), f.tick, f.signal, f.expected, f.got, f.block, f.fig, f.detail);
+                1
+            }
+            Err(e) => fail(format!("{}: {e}", file.display())),
+        };
+    }
+
+    let (spec, resume) = match &a.resume {
+        Some(dir) => match regress::read_spec(dir) {
+            Ok(s) => (s, true),
+            Err(e) => return fail(e.to_string()),
+        },
+        None => {
+            let Some(iterations) = a.iterations else {
+                return fail("regress needs --iterations N (or --resume DIR, or --repro FILE)".into());
+            };
+            if iterations == 0 {
+                return fail("--iterations 0: give at least one seed".into());
+            }
+            if a.start_seed.checked_add(iterations).is_none() {
+                return fail(format!("--start-seed {} --iterations {iterations}: the seed range passes 2^64", a.start_seed));
+            }
+            let shard = match regress::shard::Shard::resolve(a.shard.as_deref(), a.shard_count, |k| std::env::var(k).ok()) {
+                Ok(s) => s,
+                Err(e) => return fail(e),
+            };
+            if a.directed && shard.is_some() {
+                return fail("--directed steers each batch by the coverage of the seeds before it, which another shard runs: run a directed regression in one process, or shard a random one".into());
+            }
+            (RunSpec { tool, model, start_seed: a.start_seed, iterations, directed: a.directed, check_spec: a.check_spec, dut, rtl, shard }, false)
+        }
+    };
+    let out_dir = a.resume.clone().unwrap_or(a.out.clone());
+    let o = regress::Options { spec, jobs, out: out_dir.clone(), timeout, triage: !a.no_triage, progress: std::io::stderr().is_terminal() };
+    let stop = AtomicBool::new(false);
+    let t0 = Instant::now();
+    match regress::run(&o, resume, &stop) {
+        Ok(s) => {
+            out!("{}", s.text().trim_end());
+            out!("wrote {}/results.jsonl, coverage.json, report.html ({:.1} s, {} jobs)", out_dir.display(), t0.elapsed().as_secs_f64(), jobs);
+            u8::from(s.failed() > 0 || !s.missing.is_empty())
+        }
+        Err(e) => fail(e.to_string()),
+    }
+}
+
 fn report(r: Result<String, pmu50::analysis::AnalysisError>) -> u8 {
     match r {
         Ok(text) => {

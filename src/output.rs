@@ -312,6 +312,22 @@ pub fn run_to_batch(sc: &Scenario, dir: &Path, fo: FileOptions, extra: &mut [&mu
 /// [`run_to_batch`] with the waveform in `format` (`<name>.vcd` or `<name>.fst`; the `.gtkw`
 /// points at it).
 pub fn run_to_batch_as(sc: &Scenario, dir: &Path, fo: FileOptions, format: WaveFormat, extra: &mut [&mut dyn Observer]) -> Result<(RunResult, Written, Batch), RunError> {
+    run_to_batch_focused(sc, dir, fo, format, extra, None)
+}
+
+/// A tick the save file zooms on, marked with a name (a regression's first divergence).
+#[derive(Clone, Debug)]
+pub struct Focus {
+    pub tick: u64,
+    pub name: String,
+    /// Ticks shown before and after the focus.
+    pub before: u64,
+    pub after: u64,
+}
+
+/// [`run_to_batch_as`] with the save file zoomed on `focus` and a named marker there (ahead of
+/// the scenario's own markers).
+pub fn run_to_batch_focused(sc: &Scenario, dir: &Path, fo: FileOptions, format: WaveFormat, extra: &mut [&mut dyn Observer], focus: Option<&Focus>) -> Result<(RunResult, Written, Batch), RunError> {
     fsout::create_dir(dir)?;
     let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
     let window = fo.window.or(sc.vcd_window);
@@ -367,9 +383,20 @@ pub fn run_to_batch_as(sc: &Scenario, dir: &Path, fo: FileOptions, format: WaveF
     let (_, unit_ns) = timescale_for(sc.clock_ns());
     let to_units = |tick: u64| tick * sc.clock_ns() / unit_ns;
     let (a, z) = window.unwrap_or((0, sc.ticks));
-    gtkw.fit(to_units(a), to_units(z.min(sc.ticks)));
-    let (markers, left_out) = marks.markers(Some((a, z)));
     let gerr = |source| RunError::Gtkw { path: gtkw_path.clone(), source };
+    match focus {
+        Some(f) => {
+            gtkw.fit(to_units(f.tick.saturating_sub(f.before).max(a)), to_units((f.tick + f.after).min(z).min(sc.ticks)));
+            gtkw.marker(to_units(f.tick), &f.name).map_err(gerr)?;
+        }
+        None => {
+            gtkw.fit(to_units(a), to_units(z.min(sc.ticks)));
+        }
+    }
+    let (mut markers, left_out) = marks.markers(Some((a, z)));
+    if focus.is_some() {
+        markers.truncate(markers.len().min(25));
+    }
     for m in &markers {
         gtkw.marker(to_units(m.tick), &m.name).map_err(gerr)?;
     }

@@ -13,12 +13,17 @@ ROOT="$(cd "$HDL/.." && pwd)"
 MUT="${1:-none}"
 SD="${2:-2}"
 W="${3:-16}"
-OUT="$HDL/build/lockstep/${MUT}_${SD}_${W}"
+BUILD="${PMU50_BUILD_DIR:-$HDL/build}"
+OUT="$BUILD/lockstep/${MUT}_${SD}_${W}"
 LIB="$ROOT/target/release/libpmu50_ffi.a"
 [ -f "$LIB" ] || { echo "build_lockstep: $LIB missing (cargo build -p pmu50-ffi --release)" >&2; exit 2; }
 
-mapfile -t RTL < <(sed "s|^|$HDL/|" "$HDL/pmu50.f")
-SRCS=("${BASH_SOURCE[0]}" "${RTL[@]}" "$HDL/tb/lockstep/lockstep.vlt" "$HDL/tb/lockstep/lockstep.cpp" "$HDL/ffi/include/pmu50.h" "$LIB")
+# The RTL: hdl/pmu50.f, or the file list in PMU50_FILELIST (paths relative to the list's folder;
+# blank lines and // or # comments skipped), as `pmu50 regress --rtl` passes it.
+FLIST="${PMU50_FILELIST:-$HDL/pmu50.f}"
+FDIR="$(cd "$(dirname "$FLIST")" && pwd)"
+mapfile -t RTL < <(sed -e 's|//.*||' -e 's|#.*||' -e 's|^[[:space:]]*||' -e 's|[[:space:]]*$||' "$FLIST" | grep -v '^$' | sed "s|^\([^/]\)|$FDIR/\1|")
+SRCS=("${BASH_SOURCE[0]}" "$FLIST" "${RTL[@]}" "$HDL/tb/lockstep/lockstep.vlt" "$HDL/tb/lockstep/lockstep.cpp" "$HDL/ffi/include/pmu50.h" "$LIB")
 if [ -x "$OUT/lockstep" ]; then
     newer=0
     for s in "${SRCS[@]}"; do [ "$s" -nt "$OUT/lockstep" ] && newer=1; done
@@ -29,7 +34,7 @@ DEFS=()
 [ "$MUT" != none ] && DEFS+=("+define+$MUT")
 
 VROOT="$(verilator --getenv VERILATOR_ROOT)"
-RT="$HDL/build/lockstep/_runtime"
+RT="$BUILD/lockstep/_runtime"
 CXXFLAGS=(-std=c++17 -O1 -I"$VROOT/include" -I"$VROOT/include/vltstd" -DVM_TRACE=0 -DVM_COVERAGE=0)
 # Verilator runtime, once.
 mkdir -p "$RT"

@@ -41,9 +41,13 @@ ARGS+=("-Ptb_vectors.CLOCK_NS=$CLOCK_NS")
 if [ $(( CLOCK_NS % 2000 )) -ne 0 ]; then ARGS+=("-DTB_TIMESCALE_NS"); fi
 [ "$MUT" != none ] && ARGS+=("-D$MUT")
 
-mapfile -t RTL < <(sed "s|^|$HDL/|" "$HDL/pmu50.f")
-KEY=$(printf '%s\n' "${ARGS[@]}" | md5sum | cut -c1-12)
-DIR="$HDL/build/iv/$MUT"
+# The RTL: hdl/pmu50.f, or the file list in PMU50_FILELIST (paths relative to the list's folder;
+# blank lines and // or # comments skipped), as `pmu50 regress --rtl` passes it.
+FLIST="${PMU50_FILELIST:-$HDL/pmu50.f}"
+FDIR="$(cd "$(dirname "$FLIST")" && pwd)"
+mapfile -t RTL < <(sed -e 's|//.*||' -e 's|#.*||' -e 's|^[[:space:]]*||' -e 's|[[:space:]]*$||' "$FLIST" | grep -v '^$' | sed "s|^\([^/]\)|$FDIR/\1|")
+KEY=$(printf '%s\n' "${ARGS[@]}" "${RTL[@]}" | md5sum | cut -c1-12)
+DIR="${PMU50_BUILD_DIR:-$HDL/build}/iv/$MUT"
 VVP="$DIR/$KEY.vvp"
 mkdir -p "$DIR"
 stale=0

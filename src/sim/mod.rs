@@ -107,6 +107,8 @@ pub struct TickView<'a> {
     pub time_ns: u64,
     /// Registers during this tick (after edge `tick`).
     pub regs: &'a Regs,
+    /// Registers after the edge at the end of this tick (at `begin` and `finish`: `regs`).
+    pub after: &'a Regs,
     pub ports: &'a Outputs,
     /// Inputs applied during this tick (they act at edge `tick + 1`).
     pub inputs: &'a Inputs,
@@ -415,7 +417,7 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
 
     let reset = *core.regs();
     for o in observers.iter_mut() {
-        o.begin(&TickView { tick: 0, time_ns: 0, regs: &reset, ports: &out, inputs: &Inputs::default(), internals: &Internals::default(), env: &env })?;
+        o.begin(&TickView { tick: 0, time_ns: 0, regs: &reset, after: &reset, ports: &out, inputs: &Inputs::default(), internals: &Internals::default(), env: &env })?;
     }
     // Observers that need every tick: if one of them cannot replay a skipped period, every tick
     // is evaluated; if all can, whole repeated periods are still skipped (and replayed to them),
@@ -505,8 +507,9 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
         let regs_before = *core.regs();
         let (_, internals, after) = core.step_traced(&inputs);
         evaluated += 1;
+        let regs_after = *core.regs();
         for o in observers.iter_mut() {
-            o.tick(&TickView { tick: k, time_ns: t_ns, regs: &regs_before, ports: &out, inputs: &inputs, internals: &internals, env: &env })?;
+            o.tick(&TickView { tick: k, time_ns: t_ns, regs: &regs_before, after: &regs_after, ports: &out, inputs: &inputs, internals: &internals, env: &env })?;
         }
 
         // Dark-current meter and recorder.
@@ -524,7 +527,7 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
     let idle = Internals::default();
     let last_in = Inputs { ig: timeline.ig, ..Inputs::default() };
     for o in observers.iter_mut() {
-        o.finish(&TickView { tick: sc.ticks, time_ns: sc.ticks * clk, regs: &final_regs, ports: &final_ports, inputs: &last_in, internals: &idle, env: &env })?;
+        o.finish(&TickView { tick: sc.ticks, time_ns: sc.ticks * clk, regs: &final_regs, after: &final_regs, ports: &final_ports, inputs: &last_in, internals: &idle, env: &env })?;
     }
 
     let mut res = RunResult {

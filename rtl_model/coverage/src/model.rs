@@ -623,6 +623,12 @@ pub static CROSSES: [Cross; 13] = [
 /// table above so the table reads as the plan).
 pub static FAULT_CROSSES: [Cross; 1] = [Cross { name: "vs2_x_interval", cite: "[0209] x [0216]-[0228]", meaning: "a dead Vs2 rail at a key-off sample of each interval class", a: VS2, b: SI_AT_EDGE, unreachable: vs2_x_interval }];
 
+/// Bins only port-level stimuli reach (cocotb, a DPI bench, the stress vectors): a scenario's
+/// MPU reads the register map's addresses only, and `pmu50 check` refuses a scenario that writes
+/// a read-only or unmapped address. They count in the coverage; `pmu50 regress` reports its
+/// closure over the other bins too, and closes these when port-level coverage is merged in.
+pub const PORT_ONLY: [&str; 4] = ["bus.read.unmapped", "bus.write_reg.read_only", "bus.write_reg.unmapped", "bus.write_outcome.refused_not_writable"];
+
 /// One bin of the flattened model.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct BinInfo {
@@ -634,6 +640,8 @@ pub struct BinInfo {
     pub meaning: String,
     /// Why the bin can never be hit, if it cannot.
     pub unreachable: Option<&'static str>,
+    /// Only port-level stimuli reach it ([`PORT_ONLY`]).
+    pub port_only: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -665,7 +673,9 @@ impl Layout {
             point_offset.push(bins.len());
             for b in p.bins {
                 let unreachable = p.unreachable.iter().find(|(n, _)| *n == b.name).map(|(_, r)| *r);
-                bins.push(BinInfo { name: format!("{}.{}.{}", p.group, p.name, b.name), kind: Kind::Point, group: p.group, cite: p.cite, meaning: b.meaning.to_string(), unreachable });
+                let name = format!("{}.{}.{}", p.group, p.name, b.name);
+                let port_only = PORT_ONLY.contains(&name.as_str());
+                bins.push(BinInfo { name, kind: Kind::Point, group: p.group, cite: p.cite, meaning: b.meaning.to_string(), unreachable, port_only });
             }
         }
         let mut cross_offset = Vec::new();
@@ -676,7 +686,9 @@ impl Layout {
                 for bb in pb.bins {
                     let own = |p: &Point, b: &str| p.unreachable.iter().find(|(n, _)| *n == b).map(|(_, r)| *r);
                     let unreachable = (c.unreachable)(ba.name, bb.name).or(own(pa, ba.name)).or(own(pb, bb.name));
+                    let port_only = [(pa, ba), (pb, bb)].iter().any(|(p, b)| PORT_ONLY.contains(&format!("{}.{}.{}", p.group, p.name, b.name).as_str()));
                     bins.push(BinInfo {
+                        port_only,
                         name: format!("cross.{}.{}*{}", c.name, ba.name, bb.name),
                         kind: Kind::Cross,
                         group: "cross",

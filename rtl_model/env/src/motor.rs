@@ -158,6 +158,21 @@ impl MotorProfile {
         Self::new(angle_deg, Vec::new())
     }
 
+    /// The largest shaft speed, in degrees per nanosecond, of the segments that overlap
+    /// `[from_ns, to_ns)` (0 when the shaft holds throughout).
+    pub fn max_speed_deg_per_ns(&self, from_ns: u64, to_ns: u64) -> f64 {
+        let mut worst: f64 = 0.0;
+        for (k, seg) in self.segments.iter().enumerate() {
+            let start = self.seg_start_ns[k];
+            if let Segment::Move { duration_ns, delta_deg } = *seg {
+                if start < to_ns && start + duration_ns > from_ns {
+                    worst = worst.max(delta_deg.abs() / duration_ns.max(1) as f64);
+                }
+            }
+        }
+        worst
+    }
+
     /// Shaft angle (degrees, multi-turn) at time `t_ns`.
     ///
     /// At a segment boundary the returned value is the cumulative start angle

@@ -1,0 +1,269 @@
+//! The design under test of `pmu50 regress --dut verilator|icarus [--rtl FILELIST]`: an RTL
+//! with the contract interface of docs/signals.md, run on each seed's stimulus against the model.
+//!
+//! - `verilator`: the lockstep bench (hdl/tb/lockstep, verification method 2), one build per
+//!   (SYNC_DEPTH, CNT_W), cached under `target/regress-dut/<hash of the RTL>/`; it compares
+//!   every output and register after every edge and reports the first divergence.
+//! - `icarus`: the vector replay (hdl/tb/tb_vectors.v, method 1), which compares the outputs.
+//!
+//! Each run has the per-seed time limit: a DUT that hangs or crashes fails its seed with the
+//! reason, and the regression goes on.
+
+use super::check::{fig_path, Failure};
+use super::{DutKind, RunSpec};
+use crate::scenario::Scenario;
+use crate::sim::{self, Observer, SimError, SimOptions, TickView};
+use crate::vectors::VectorWriter;
+use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
+use std::collections::HashMap;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// The repository's hdl/ folder (scripts, benches), found next to the sources this binary was
+/// built from, or in `PMU50_HDL_DIR`.
+pub fn hdl_dir() -> PathBuf {
+    std::env::var_os("PMU50_HDL_DIR").map(PathBuf::from).unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("hdl"))
+}
+
+pub struct Dut {
+    kind: DutKind,
+    filelist: PathBuf,
+    build_dir: PathBuf,
+    /// Lockstep binaries by (SYNC_DEPTH, CNT_W); a failed build is remembered with its reason.
+    builds: Mutex<HashMap<(u8, u8), Result<PathBuf, String>>>,
+    scratch: tempfile::TempDir,
+}
+
+/// Check a file list: every entry names a readable file (relative to the list's folder).
+pub fn check_filelist(list: &Path) -> Result<Vec<PathBuf>, String> {
+    let text = std::fs::read_to_string(list).map_err(|e| format!("--rtl {}: {e}", list.display()))?;
+    let dir = list.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let mut files = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let entry = line.split("//").next().unwrap_or("").split('#').next().unwrap_or("").trim();
+        if entry.is_empty() {
+            continue;
+        }
+        if entry.starts_with('+') || entry.starts_with('-') {
+            return Err(format!("--rtl {}:{}: `{entry}`: a file list here holds Verilog file paths only (relative to the list's folder), no tool options", list.display(), n + 1));
+        }
+        let p = dir.join(entry);
+        if !p.is_file() {
+            return Err(format!("--rtl {}:{}: `{entry}` is not a readable file ({} does not exist)", list.display(), n + 1, p.display()));
+        }
+        files.push(p);
+    }
+    if files.is_empty() {
+        return Err(format!("--rtl {}: the file list names no Verilog file", list.display()));
+    }
+    Ok(files)
+}
+
+impl Dut {
+    pub fn prepare(spec: &RunSpec, _jobs: usize) -> Result<Dut, String> {
+        let hdl = hdl_dir();
+        let filelist = match &spec.rtl {
+            Some(f) => PathBuf::from(f),
+            None => hdl.join("pmu50.f"),
+        };
+        let files = check_filelist(&filelist)?;
+        let filelist = filelist.canonicalize().map_err(|e| format!("--rtl {}: {e}", filelist.display()))?;
+        let tool = match spec.dut {
+            DutKind::Verilator => "verilator",
+            DutKind::Icarus => "iverilog",
+            DutKind::Model => return Err("the model is not an RTL DUT".into()),
+        };
+        if Command::new(tool).arg("--version").stdout(Stdio::null()).stderr(Stdio::null()).status().is_err() {
+            return Err(format!("--dut {}: `{tool}` is not installed (Debian package {}; `make deps` installs it)", tool_name(&spec.dut), if tool == "iverilog" { "iverilog" } else { "verilator" }));
+        }
+        if spec.dut == DutKind::Verilator {
+            let lib = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/release/libpmu50_ffi.a");
+            if !lib.is_file() {
+                return Err(format!("--dut verilator: the model's C library {} is missing; build it with `cargo build -p pmu50-ffi --release`", lib.display()));
+            }
+        }
+        // The cache key: the RTL's paths and contents.
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for f in &files {
+            let bytes = std::fs::read(f).map_err(|e| format!("{}: {e}", f.display()))?;
+            for b in f.to_string_lossy().bytes().chain(bytes) {
+                h = (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+            }
+        }
+        let build_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/regress-dut").join(format!("{h:016x}"));
+        std::fs::create_dir_all(&build_dir).map_err(|e| format!("{}: {e}", build_dir.display()))?;
+        let scratch = tempfile::tempdir().map_err(|e| format!("a scratch folder for vector files: {e}"))?;
+        Ok(Dut { kind: spec.dut.clone(), filelist, build_dir, builds: Mutex::new(HashMap::new()), scratch })
+    }
+
+    fn lockstep(&self, sd: u8, w: u8) -> Result<PathBuf, String> {
+        let mut builds = self.builds.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(r) = builds.get(&(sd, w)) {
+            return r.clone();
+        }
+        let out = Command::new("bash")
+            .arg(hdl_dir().join("scripts/build_lockstep.sh"))
+            .args(["none", &sd.to_string(), &w.to_string()])
+            .env("PMU50_FILELIST", &self.filelist)
+            .env("PMU50_BUILD_DIR", &self.build_dir)
+            .output()
+            .map_err(|e| format!("cannot run build_lockstep.sh: {e}"));
+        let r = out.and_then(|o| {
+            if o.status.success() {
+                Ok(self.build_dir.join(format!("lockstep/none_{sd}_{w}/lockstep")))
+            } else {
+                let log = String::from_utf8_lossy(&o.stderr);
+                Err(format!("Verilator build of {} (SYNC_DEPTH={sd}, CNT_W={w}) failed: {}", self.filelist.display(), log.lines().take(6).collect::<Vec<_>>().join(" | ")))
+            }
+        });
+        builds.insert((sd, w), r.clone());
+        r
+    }
+
+    /// Run the DUT on a scenario's stimulus: `Ok(None)` equal, `Ok(Some)` the first divergence
+    /// (or a hang or crash), `Err` a setup failure (the seed's verdict is then `error`).
+    pub fn check(&self, sc: &Scenario, timeout: Duration) -> Result<Option<Failure>, String> {
+        let vec = self.scratch.path().join(format!("{}.{:?}.vec", sc.name, std::thread::current().id()).replace(['(', ')', ' '], ""));
+        {
+            let f = std::fs::File::create(&vec).map_err(|e| format!("{}: {e}", vec.display()))?;
+            let mut w = VectorWriter::new(std::io::BufWriter::new(f), sc).map_err(|e| e.to_string())?;
+            sim::run(sc, SimOptions::default(), &mut [&mut w]).map_err(|e| e.to_string())?;
+            use std::io::Write;
+            w.into_inner().flush().map_err(|e| format!("{}: {e}", vec.display()))?;
+        }
+        let mut cmd = match self.kind {
+            DutKind::Verilator => {
+                let bin = self.lockstep(sc.params.sync_depth, sc.params.cnt_width)?;
+                let mut c = Command::new(bin);
+                c.arg(&vec);
+                c
+            }
+            _ => {
+                let mut c = Command::new("bash");
+                c.arg(hdl_dir().join("scripts/run_vectors.sh")).arg(&vec).env("PMU50_FILELIST", &self.filelist).env("PMU50_BUILD_DIR", &self.build_dir);
+                c
+            }
+        };
+        let res = run_limited(&mut cmd, timeout);
+        let _ = std::fs::remove_file(&vec);
+        let (code, text) = match res? {
+            Limited::Done(code, text) => (code, text),
+            Limited::TimedOut => return Ok(Some(dut_failure(sc, 0, "dut", format!("the DUT did not finish within the per-seed time limit of {} s", timeout.as_secs_f64())))),
+            Limited::Killed(sig) => return Ok(Some(dut_failure(sc, 0, "dut", format!("the DUT crashed (signal {sig})")))),
+        };
+        if code == 0 {
+            return Ok(None);
+        }
+        if let Some(line) = text.lines().find(|l| l.starts_with("MISMATCH")) {
+            return Ok(Some(parse_mismatch(sc, line, &text)));
+        }
+        if code == 1 {
+            return Ok(Some(dut_failure(sc, 0, "dut", format!("the DUT reported a failure without a MISMATCH line: {}", text.lines().take(3).collect::<Vec<_>>().join(" | ")))));
+        }
+        Err(format!("the DUT's bench failed (exit {code}): {}", text.lines().filter(|l| !l.trim().is_empty()).take(4).collect::<Vec<_>>().join(" | ")))
+    }
+}
+
+fn tool_name(k: &DutKind) -> &'static str {
+    match k {
+        DutKind::Model => "model",
+        DutKind::Verilator => "verilator",
+        DutKind::Icarus => "icarus",
+    }
+}
+
+enum Limited {
+    Done(i32, String),
+    TimedOut,
+    Killed(i32),
+}
+
+/// Run a command with a time limit, its stdout and stderr collected.
+fn run_limited(cmd: &mut Command, timeout: Duration) -> Result<Limited, String> {
+    let mut child = cmd.stdout(Stdio::piped()).stderr(Stdio::piped()).stdin(Stdio::null()).spawn().map_err(|e| format!("cannot start the DUT: {e}"))?;
+    let mut out = child.stdout.take();
+    let mut err = child.stderr.take();
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        if let Some(o) = out.as_mut() {
+            let _ = o.read_to_string(&mut s);
+        }
+        if let Some(e) = err.as_mut() {
+            let _ = e.read_to_string(&mut s);
+        }
+        s
+    });
+    let start = Instant::now();
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(s)) => break s,
+            Ok(None) if start.elapsed() > timeout => {
+                let _ = child.kill();
+                let _ = child.wait();
+                let _ = reader.join();
+                return Ok(Limited::TimedOut);
+            }
+            Ok(None) => std::thread::sleep(Duration::from_millis(2)),
+            Err(e) => return Err(format!("waiting for the DUT: {e}")),
+        }
+    };
+    let text = reader.join().unwrap_or_default();
+    use std::os::unix::process::ExitStatusExt;
+    match (status.code(), status.signal()) {
+        (Some(c), _) => Ok(Limited::Done(c, text)),
+        (None, Some(sig)) => Ok(Limited::Killed(sig)),
+        _ => Ok(Limited::Done(2, text)),
+    }
+}
+
+/// `MISMATCH tick=<k> signal=<path> expected=<hex> got=<hex>`.
+fn parse_mismatch(sc: &Scenario, line: &str, all: &str) -> Failure {
+    let field = |k: &str| line.split_whitespace().find_map(|w| w.strip_prefix(k)).unwrap_or("?").to_string();
+    let tick: u64 = field("tick=").parse().unwrap_or(0);
+    let signal = field("signal=");
+    let block = match signal.split_once('.') {
+        Some((b, _)) => b.to_string(),
+        None => "ports".into(),
+    };
+    let mut f = dut_failure(sc, tick, "dut", format!("the RTL diverges from the model: {line} ({} MISMATCH lines)", all.lines().filter(|l| l.starts_with("MISMATCH")).count()));
+    f.signal = format!("pmu50.{signal}");
+    f.expected = format!("0x{}", field("expected="));
+    f.got = format!("0x{}", field("got="));
+    f.block = block;
+    f
+}
+
+fn dut_failure(sc: &Scenario, tick: u64, kind: &str, detail: String) -> Failure {
+    Failure { kind: kind.into(), tick, signal: "dut".into(), expected: "-".into(), got: "-".into(), block: "-".into(), fig: fig_at(sc, tick), detail }
+}
+
+/// The FIG. 17/18 path of the edge numbered `tick` (that edge is taken at the end of bench
+/// tick `tick - 1`), from a run of the model.
+pub fn fig_at(sc: &Scenario, tick: u64) -> String {
+    struct At(u64, Fig17, Fig18);
+    impl Observer for At {
+        fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+            if v.tick + 1 == self.0 {
+                self.1 = v.internals.fig17;
+                self.2 = v.internals.fig18;
+            }
+            Ok(())
+        }
+        fn finish(&mut self, _: &TickView<'_>) -> Result<(), SimError> {
+            Ok(())
+        }
+    }
+    if tick == 0 {
+        return "-".into();
+    }
+    let mut at = At(tick, Fig17::Idle, Fig18::Idle);
+    let mut short = sc.clone();
+    short.ticks = short.ticks.min(tick);
+    match sim::run(&short, SimOptions::default(), &mut [&mut at]) {
+        Ok(_) => fig_path(at.1, at.2),
+        Err(_) => "-".into(),
+    }
+}

@@ -1,0 +1,508 @@
+//! `pmu50 regress`: random regressions measured by functional coverage, failures triaged to a
+//! repro (docs/verification.md).
+//!
+//! A regression is a seed range. Each seed is one generated scenario ([`gen`]) run on the full
+//! bench (environment, MPU, core) with the checks and coverage of [`check`]; with a DUT other
+//! than the model, the same stimulus also drives the RTL in lockstep ([`dut`]). A seed's result
+//! is one line of `results.jsonl`, carrying its sparse coverage, so results and coverage of any
+//! set of seeds merge exactly ([`merge`]): the files of a regression depend on its seed range
+//! and options only, never on `--jobs`, on sharding or on interruptions.
+//!
+//! Folder layout (`--out DIR`): `regress.json` (the run), `results.jsonl` (one line per seed,
+//! sorted by seed when the run completes), `coverage.json` (merge format), `report.html`,
+//! `failures/<signature>/` (shrunk repro, command, waveform).
+
+pub mod check;
+pub mod dut;
+pub mod gen;
+pub mod merge;
+pub mod report;
+pub mod shard;
+pub mod triage;
+pub mod wave;
+
+use crate::scenario::Scenario;
+use crate::sim::{self, SimOptions};
+use check::{Failure, SeedChecks};
+use gen::{Bias, Stimulus};
+use pmu50_coverage::{layout, CoverageFile, RunRecord};
+use serde::{Deserialize, Serialize};
+use shard::Shard;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// Seeds generated between two updates of the directed bias (and written to results.jsonl at once).
+pub const BATCH: u64 = 64;
+
+/// Where the regression's verdicts come from.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DutKind {
+    /// The model alone: its checks and invariants.
+    Model,
+    /// An RTL on Verilator, in lockstep with the model (the twin unless `--rtl`).
+    Verilator,
+    /// An RTL on Icarus Verilog, replaying the model's vectors.
+    Icarus,
+}
+
+/// The run as recorded in `regress.json`: everything its results depend on.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSpec {
+    pub tool: String,
+    pub model: String,
+    pub start_seed: u64,
+    pub iterations: u64,
+    pub directed: bool,
+    pub check_spec: bool,
+    pub dut: DutKind,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rtl: Option<String>,
+    /// This folder's part of the range (absent: the whole range).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<Shard>,
+}
+
+impl RunSpec {
+    /// The same regression (seed range and options), whatever the shard.
+    pub fn same_regression(&self, o: &RunSpec) -> bool {
+        RunSpec { shard: None, ..self.clone() } == RunSpec { shard: None, ..o.clone() }
+    }
+
+    /// The seeds of this folder.
+    pub fn seeds(&self) -> std::ops::Range<u64> {
+        match &self.shard {
+            Some(s) => s.seeds(self.start_seed, self.iterations),
+            None => self.start_seed..self.start_seed + self.iterations,
+        }
+    }
+
+    /// The id of a seed's run in coverage.json: the same seed of the same regression is the
+    /// same run, and is refused when merged twice.
+    pub fn run_id(&self, seed: u64) -> String {
+        if self.directed {
+            format!("directed:{}+{}/{seed}", self.start_seed, self.iterations)
+        } else {
+            format!("random/{seed}")
+        }
+    }
+}
+
+/// Where a seed ran.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Place {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<String>,
+    pub host: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slurm_job_id: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slurm_array_task_id: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k8s_job: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k8s_index: Option<String>,
+}
+
+impl Place {
+    pub fn here(shard: Option<&Shard>) -> Place {
+        let env = |k: &str| std::env::var(k).ok().filter(|v| !v.is_empty());
+        Place {
+            shard: shard.map(|s| format!("{}/{}", s.index, s.count)),
+            host: hostname(),
+            slurm_job_id: env("SLURM_ARRAY_JOB_ID").or_else(|| env("SLURM_JOB_ID")),
+            slurm_array_task_id: env("SLURM_ARRAY_TASK_ID"),
+            k8s_job: env("JOB_NAME").or_else(|| env("HOSTNAME").filter(|_| env("JOB_COMPLETION_INDEX").is_some())),
+            k8s_index: env("JOB_COMPLETION_INDEX"),
+        }
+    }
+}
+
+fn hostname() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname").map(|s| s.trim().to_string()).ok().filter(|s| !s.is_empty()).or_else(|| std::env::var("HOSTNAME").ok()).unwrap_or_else(|| "unknown".into())
+}
+
+/// One line of results.jsonl.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SeedResult {
+    pub seed: u64,
+    /// `pass`, `fail` or `error`.
+    pub verdict: String,
+    /// Simulated ticks, and those evaluated one by one.
+    pub ticks: u64,
+    pub evaluated: u64,
+    pub wall_ms: f64,
+    #[serde(default)]
+    pub failure: Option<Failure>,
+    #[serde(rename = "where")]
+    pub place: Place,
+    /// The seed's coverage, sparse: `bin:hits,bin:hits,...` (bin = index in the model).
+    pub cov: String,
+}
+
+impl SeedResult {
+    pub fn hits(&self, out: &mut [u64]) -> Result<(), String> {
+        if self.cov.is_empty() {
+            return Ok(());
+        }
+        for pair in self.cov.split(',') {
+            let (k, v) = pair.split_once(':').ok_or_else(|| format!("coverage entry `{pair}` is not bin:hits"))?;
+            let k: usize = k.parse().map_err(|_| format!("coverage bin `{k}` is not a number"))?;
+            let v: u64 = v.parse().map_err(|_| format!("coverage hits `{v}` are not a number"))?;
+            let slot = out.get_mut(k).ok_or_else(|| format!("coverage bin {k} is outside the model's {} bins", layout().bins.len()))?;
+            *slot = slot.checked_add(v).ok_or("coverage hits overflow 64 bits")?;
+        }
+        Ok(())
+    }
+}
+
+fn sparse(hits: &[u64]) -> String {
+    let mut s = String::new();
+    for (k, &h) in hits.iter().enumerate().filter(|(_, h)| **h > 0) {
+        if !s.is_empty() {
+            s.push(',');
+        }
+        s.push_str(&format!("{k}:{h}"));
+    }
+    s
+}
+
+/// Options of `pmu50 regress`.
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub spec: RunSpec,
+    pub jobs: usize,
+    pub out: PathBuf,
+    pub timeout: Duration,
+    /// Shrink failures and write their repro folders.
+    pub triage: bool,
+    /// Print a line per batch on stderr.
+    pub progress: bool,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum RegressError {
+    #[error("{0}")]
+    Usage(String),
+    #[error("{path}: {reason}")]
+    File { path: PathBuf, reason: String },
+    #[error(transparent)]
+    Output(#[from] crate::fsout::OutputError),
+    #[error("{0}")]
+    Dut(String),
+}
+
+fn file_err(path: &Path, reason: impl std::fmt::Display) -> RegressError {
+    RegressError::File { path: path.to_path_buf(), reason: reason.to_string() }
+}
+
+/// Run one seed on the model (and the DUT). Never panics on a generated scenario: a scenario the
+/// parser refuses or a bench error is the seed's `error` verdict.
+pub fn run_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, timeout: Duration) -> (SeedResult, Vec<u64>) {
+    let start = Instant::now();
+    let stim = Stimulus::generate(seed, bias);
+    let (verdict, failure, ticks, evaluated, hits) = match evaluate(spec, &stim, dut, timeout) {
+        Ok(e) => e,
+        Err(f) => ("error", Some(f), 0, 0, vec![0; layout().bins.len()]),
+    };
+    let r = SeedResult {
+        seed,
+        verdict: verdict.into(),
+        ticks,
+        evaluated,
+        wall_ms: (start.elapsed().as_secs_f64() * 1e4).round() / 10.0,
+        failure,
+        place: Place::here(spec.shard.as_ref()),
+        cov: sparse(&hits),
+    };
+    (r, hits)
+}
+
+type Evaluated = (&'static str, Option<Failure>, u64, u64, Vec<u64>);
+
+fn error_failure(tick: u64, detail: String) -> Failure {
+    Failure { kind: "error".into(), tick, signal: "-".into(), expected: "-".into(), got: "-".into(), block: "-".into(), fig: "-".into(), detail }
+}
+
+/// The verdict of one stimulus: the model's checks, then the DUT.
+pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout: Duration) -> Result<Evaluated, Failure> {
+    let name = format!("regress_{}", stim.seed);
+    let text = stim.to_toml(&name);
+    let path = PathBuf::from(format!("{name}.toml"));
+    let sc = Scenario::parse(&text, &path.display().to_string(), &name, &path).map_err(|e| error_failure(0, format!("the generator made a scenario the parser refuses: {e}")))?;
+    let (checks, res) = run_model(&sc, spec.check_spec).map_err(|e| error_failure(0, e.to_string()))?;
+    let hits = checks.coverage.hits().to_vec();
+    let mut failure = checks.failure.clone();
+    if failure.is_none() {
+        if let Some(c) = res.checks.iter().find(|c| !c.ok) {
+            failure = Some(Failure { kind: "expect".into(), tick: res.ticks, signal: c.name.clone(), expected: "-".into(), got: "-".into(), block: "-".into(), fig: "-".into(), detail: c.detail.clone() });
+        }
+    }
+    if failure.is_none() {
+        if let Some(d) = dut {
+            match d.check(&sc, timeout) {
+                Ok(None) => {}
+                Ok(Some(f)) => failure = Some(f),
+                Err(e) => return Ok(("error", Some(error_failure(0, e)), res.ticks, res.evaluated_ticks, hits)),
+            }
+        }
+    }
+    let verdict = if failure.is_some() { "fail" } else { "pass" };
+    Ok((verdict, failure, res.ticks, res.evaluated_ticks, hits))
+}
+
+/// Check one scenario (a repro) as a seed is checked: `Ok(None)` it passes.
+pub fn check_scenario(spec: &RunSpec, sc: &Scenario, dut: Option<&dut::Dut>, timeout: Duration) -> Result<Option<Failure>, String> {
+    let (checks, res) = run_model(sc, spec.check_spec).map_err(|e| e.to_string())?;
+    if let Some(f) = checks.failure {
+        return Ok(Some(f));
+    }
+    if let Some(c) = res.checks.iter().find(|c| !c.ok) {
+        return Ok(Some(Failure { kind: "expect".into(), tick: res.ticks, signal: c.name.clone(), expected: "-".into(), got: "-".into(), block: "-".into(), fig: "-".into(), detail: c.detail.clone() }));
+    }
+    match dut {
+        Some(d) => d.check(sc, timeout),
+        None => Ok(None),
+    }
+}
+
+/// The model's run of a scenario with the regression's checks and coverage.
+pub fn run_model(sc: &Scenario, check_spec: bool) -> Result<(SeedChecks, sim::RunResult), sim::SimError> {
+    let mut checks = SeedChecks::new(&sc.params, sc.clock_ns(), check_spec);
+    let res = sim::run(sc, SimOptions::default(), &mut [&mut checks])?;
+    checks.finish_checks(&res, sc);
+    Ok((checks, res))
+}
+
+/// Read a results.jsonl: every complete line (a last line cut by an interruption is dropped);
+/// a malformed complete line is an error naming its line.
+pub fn read_results(path: &Path) -> Result<Vec<SeedResult>, RegressError> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(file_err(path, e)),
+    };
+    let complete = match text.rfind('\n') {
+        Some(i) => &text[..=i],
+        None => "",
+    };
+    let mut out = Vec::new();
+    for (n, line) in complete.lines().enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let r: SeedResult = serde_json::from_str(line).map_err(|e| file_err(path, format!("line {}: not a seed result: {e}", n + 1)))?;
+        let mut scratch = vec![0u64; layout().bins.len()];
+        r.hits(&mut scratch).map_err(|e| file_err(path, format!("line {}: {e}", n + 1)))?;
+        out.push(r);
+    }
+    Ok(out)
+}
+
+/// Read regress.json.
+pub fn read_spec(dir: &Path) -> Result<RunSpec, RegressError> {
+    let p = dir.join("regress.json");
+    let text = std::fs::read_to_string(&p).map_err(|e| file_err(&p, format!("{e} (not a regression folder: it has no regress.json)")))?;
+    let spec: RunSpec = serde_json::from_str(&text).map_err(|e| file_err(&p, format!("line {}: {e}", e.line())))?;
+    if spec.model != pmu50_coverage::model_id(layout()) {
+        return Err(file_err(&p, format!("sampled with coverage model {}, this pmu50 has {}: merge and resume with the same version", spec.model, pmu50_coverage::model_id(layout()))));
+    }
+    Ok(spec)
+}
+
+/// What a finished regression folder holds, summed.
+#[derive(Clone, Debug)]
+pub struct Summary {
+    pub spec: RunSpec,
+    pub results: Vec<SeedResult>,
+    pub coverage: CoverageFile,
+    pub missing: Vec<u64>,
+}
+
+impl Summary {
+    pub fn build(spec: RunSpec, mut results: Vec<SeedResult>) -> Result<Summary, RegressError> {
+        results.sort_by_key(|r| r.seed);
+        let mut hits = vec![0u64; layout().bins.len()];
+        let mut runs = Vec::with_capacity(results.len());
+        for r in &results {
+            r.hits(&mut hits).map_err(RegressError::Usage)?;
+            runs.push(RunRecord { id: spec.run_id(r.seed), verdict: r.verdict.clone() });
+        }
+        let have: std::collections::BTreeSet<u64> = results.iter().map(|r| r.seed).collect();
+        let missing = spec.seeds().filter(|s| !have.contains(s)).collect();
+        Ok(Summary { coverage: CoverageFile::from_coverage(&hits, runs), spec, results, missing })
+    }
+
+    pub fn failed(&self) -> usize {
+        self.results.iter().filter(|r| r.verdict != "pass").count()
+    }
+
+    /// Write regress.json, results.jsonl (sorted), coverage.json, report.html (and
+    /// missing.txt when seeds are missing) into `dir`, each atomically.
+    pub fn write(&self, dir: &Path, extra: Option<&str>) -> Result<(), RegressError> {
+        let mut batch = crate::fsout::Batch::new();
+        let spec = serde_json::to_string_pretty(&self.spec).map_err(|e| RegressError::Usage(e.to_string()))? + "\n";
+        batch.add(crate::fsout::write_atomic(&dir.join("regress.json"), spec.as_bytes())?);
+        let mut lines = String::new();
+        for r in &self.results {
+            lines.push_str(&serde_json::to_string(r).map_err(|e| RegressError::Usage(e.to_string()))?);
+            lines.push('\n');
+        }
+        batch.add(crate::fsout::write_atomic(&dir.join("results.jsonl"), lines.as_bytes())?);
+        batch.add(crate::fsout::write_atomic(&dir.join("coverage.json"), self.coverage.to_text().as_bytes())?);
+        batch.add(crate::fsout::write_atomic(&dir.join("report.html"), report::html(self, extra).as_bytes())?);
+        let missing = dir.join("missing.txt");
+        if self.missing.is_empty() {
+            batch.remove_stale(missing);
+        } else {
+            let text: String = self.missing.iter().map(|s| format!("{s}\n")).collect();
+            batch.add(crate::fsout::write_atomic(&missing, text.as_bytes())?);
+        }
+        batch.commit()?;
+        Ok(())
+    }
+
+    /// The summary printed on stdout.
+    pub fn text(&self) -> String {
+        let (hit, reachable) = self.coverage.closure();
+        let scen = scenario_closure(&self.coverage);
+        let mut s = format!(
+            "regress: {} seeds, {} pass, {} fail, {} error; coverage {hit}/{reachable} bins ({:.1} %), {}/{} of those scenario stimuli can reach ({:.1} %)\n",
+            self.results.len(),
+            self.results.iter().filter(|r| r.verdict == "pass").count(),
+            self.results.iter().filter(|r| r.verdict == "fail").count(),
+            self.results.iter().filter(|r| r.verdict == "error").count(),
+            pct(hit, reachable),
+            scen.0,
+            scen.1,
+            pct(scen.0, scen.1),
+        );
+        if !self.missing.is_empty() {
+            s.push_str(&format!("missing seeds: {} (first {}); run them with --resume\n", self.missing.len(), self.missing[0]));
+        }
+        for (sig, seeds) in triage::groups(&self.results) {
+            s.push_str(&format!("  fail {sig}: {} seed(s), smallest {}\n", seeds.len(), seeds[0]));
+        }
+        s
+    }
+}
+
+pub fn pct(a: usize, b: usize) -> f64 {
+    if b == 0 {
+        100.0
+    } else {
+        100.0 * a as f64 / b as f64
+    }
+}
+
+/// Bins that scenario stimuli can reach (not unreachable, not port-level only): hit and total.
+pub fn scenario_closure(c: &CoverageFile) -> (usize, usize) {
+    let l = layout();
+    let mut hit = 0;
+    let mut total = 0;
+    for (b, info) in c.bins.iter().zip(&l.bins) {
+        if info.unreachable.is_none() && !info.port_only {
+            total += 1;
+            hit += usize::from(b.hits > 0);
+        }
+    }
+    (hit, total)
+}
+
+/// Run a regression into `o.out`: the seeds of the spec not yet in the folder (all of them
+/// unless resuming), in batches, on `o.jobs` threads.
+pub fn run(o: &Options, resume: bool, stop: &AtomicBool) -> Result<Summary, RegressError> {
+    let dir = &o.out;
+    crate::fsout::create_dir(dir)?;
+    let results_path = dir.join("results.jsonl");
+    let mut done = if resume { read_results(&results_path)? } else { Vec::new() };
+    if !resume {
+        // A new run: the folder's previous results are replaced when this run writes them.
+        let spec = serde_json::to_string_pretty(&o.spec).map_err(|e| RegressError::Usage(e.to_string()))? + "\n";
+        let mut b = crate::fsout::Batch::new();
+        b.add(crate::fsout::write_atomic(&dir.join("regress.json"), spec.as_bytes())?);
+        b.add(crate::fsout::write_atomic(&results_path, b"")?);
+        b.commit()?;
+    }
+    let dut = match o.spec.dut {
+        DutKind::Model => None,
+        _ => Some(dut::Dut::prepare(&o.spec, o.jobs).map_err(RegressError::Dut)?),
+    };
+    let seeds = o.spec.seeds();
+    let have: std::collections::BTreeSet<u64> = done.iter().map(|r| r.seed).collect();
+    let mut total = vec![0u64; layout().bins.len()];
+    for r in &done {
+        r.hits(&mut total).map_err(RegressError::Usage)?;
+    }
+    let mut appender = std::fs::OpenOptions::new().append(true).create(true).open(&results_path).map_err(|e| file_err(&results_path, e))?;
+    let mut lo = seeds.start;
+    while lo < seeds.end && !stop.load(Ordering::Relaxed) {
+        let hi = (lo + BATCH).min(seeds.end);
+        let bias = if o.spec.directed {
+            // The coverage of every seed before this batch (of this run's range).
+            let mut before = vec![0u64; total.len()];
+            for r in done.iter().filter(|r| r.seed < lo) {
+                r.hits(&mut before).map_err(RegressError::Usage)?;
+            }
+            let l = layout();
+            Bias::from_missing(l.bins.iter().zip(&before).filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only).map(|(b, _)| b.name.as_str()))
+        } else {
+            Bias::uniform()
+        };
+        let todo: Vec<u64> = (lo..hi).filter(|s| !have.contains(s)).collect();
+        let out = run_batch(&o.spec, &todo, &bias, dut.as_ref(), o.jobs, o.timeout, stop);
+        let mut text = String::new();
+        for (r, hits) in &out {
+            for (t, h) in total.iter_mut().zip(hits) {
+                *t = t.saturating_add(*h);
+            }
+            text.push_str(&serde_json::to_string(r).map_err(|e| RegressError::Usage(e.to_string()))?);
+            text.push('\n');
+        }
+        appender.write_all(text.as_bytes()).and_then(|_| appender.flush()).map_err(|e| file_err(&results_path, e))?;
+        done.extend(out.into_iter().map(|(r, _)| r));
+        if o.progress {
+            let fails = done.iter().filter(|r| r.verdict != "pass").count();
+            let (hit, all) = {
+                let l = layout();
+                (l.bins.iter().zip(&total).filter(|(b, h)| **h > 0 && b.unreachable.is_none()).count(), l.bins.iter().filter(|b| b.unreachable.is_none()).count())
+            };
+            eprintln!("regress: {}/{} seeds, {fails} failing, coverage {hit}/{all}", done.len(), seeds.end - seeds.start);
+        }
+        lo = hi;
+    }
+    let summary = Summary::build(o.spec.clone(), done)?;
+    if o.triage && !stop.load(Ordering::Relaxed) {
+        triage::write_repros(&summary, dir, dut.as_ref(), o.timeout)?;
+    }
+    summary.write(dir, None)?;
+    Ok(summary)
+}
+
+/// Run seeds on `jobs` threads; results in seed order.
+fn run_batch(spec: &RunSpec, seeds: &[u64], bias: &Bias, dut: Option<&dut::Dut>, jobs: usize, timeout: Duration, stop: &AtomicBool) -> Vec<(SeedResult, Vec<u64>)> {
+    let next = AtomicUsize::new(0);
+    let out: Mutex<Vec<(SeedResult, Vec<u64>)>> = Mutex::new(Vec::with_capacity(seeds.len()));
+    std::thread::scope(|s| {
+        for _ in 0..jobs.max(1).min(seeds.len().max(1)) {
+            s.spawn(|| loop {
+                if stop.load(Ordering::Relaxed) {
+                    break;
+                }
+                let k = next.fetch_add(1, Ordering::Relaxed);
+                let Some(&seed) = seeds.get(k) else { break };
+                let r = run_seed(spec, seed, bias, dut, timeout);
+                out.lock().unwrap_or_else(|e| e.into_inner()).push(r);
+            });
+        }
+    });
+    let mut v = out.into_inner().unwrap_or_else(|e| e.into_inner());
+    v.sort_by_key(|(r, _)| r.seed);
+    v
+}

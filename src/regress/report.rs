@@ -1,0 +1,216 @@
+//! `report.html`: one static page, no script and no external resource (it works offline):
+//! the regression's verdicts, the coverage of every group as a heat map (crosses as matrices),
+//! what was never hit, the failures by signature with their repro folders, and the closure
+//! curve (coverage against seeds) as an inline SVG.
+
+use super::{pct, scenario_closure, triage, Summary};
+use pmu50_coverage::{layout, model::crosses, model::POINTS};
+use std::fmt::Write;
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+/// Heat colour of a hit count (none: red; then from amber to green on a log scale); grey for
+/// an unreachable bin, blue-grey for a port-level bin not hit.
+fn colour(hits: u64, unreachable: bool, port_only: bool) -> &'static str {
+    if unreachable {
+        return "#d9d9d9";
+    }
+    match hits {
+        0 if port_only => "#c9d6e3",
+        0 => "#f4a6a6",
+        1..=2 => "#fbe3a0",
+        3..=9 => "#d9ef8b",
+        10..=99 => "#a6d96a",
+        100..=9999 => "#66bd63",
+        _ => "#1a9850",
+    }
+}
+
+/// The closure curve: for each seed (in seed order) the share of reachable bins hit so far.
+pub fn closure_curve(s: &Summary) -> Vec<(usize, f64)> {
+    let l = layout();
+    let reachable: Vec<bool> = l.bins.iter().map(|b| b.unreachable.is_none() && !b.port_only).collect();
+    let total = reachable.iter().filter(|r| **r).count();
+    let mut seen = vec![false; l.bins.len()];
+    let mut hit = 0usize;
+    let mut out = Vec::with_capacity(s.results.len());
+    let mut scratch = vec![0u64; l.bins.len()];
+    for (k, r) in s.results.iter().enumerate() {
+        scratch.iter_mut().for_each(|h| *h = 0);
+        let _ = r.hits(&mut scratch);
+        for (i, h) in scratch.iter().enumerate() {
+            if *h > 0 && reachable[i] && !seen[i] {
+                seen[i] = true;
+                hit += 1;
+            }
+        }
+        out.push((k + 1, pct(hit, total)));
+    }
+    out
+}
+
+/// An SVG of closure curves (label, points), seeds on a log axis.
+pub fn curve_svg(curves: &[(&str, &str, Vec<(usize, f64)>)], title: &str) -> String {
+    let (w, h, ml, mr, mt, mb) = (720.0, 360.0, 60.0, 20.0, 36.0, 48.0);
+    let maxn = curves.iter().flat_map(|c| c.2.last().map(|p| p.0)).max().unwrap_or(1).max(10) as f64;
+    let lo = curves.iter().flat_map(|c| c.2.first().map(|p| p.1)).fold(100.0f64, f64::min).min(90.0);
+    let y0 = (lo / 10.0).floor() * 10.0;
+    let x = |n: f64| ml + (n.max(1.0).ln() / maxn.ln()) * (w - ml - mr);
+    let y = |p: f64| mt + (100.0 - p) / (100.0 - y0) * (h - mt - mb);
+    let mut s = String::new();
+    let _ = write!(s, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\" font-size=\"12\">");
+    let _ = write!(s, "<rect width=\"{w}\" height=\"{h}\" fill=\"white\"/><text x=\"{}\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">{}</text>", w / 2.0, esc(title));
+    let mut p = y0;
+    while p <= 100.0 + 1e-9 {
+        let _ = write!(s, "<line x1=\"{ml}\" x2=\"{}\" y1=\"{:.1}\" y2=\"{:.1}\" stroke=\"#eee\"/><text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{p:.0} %</text>", w - mr, y(p), y(p), ml - 6.0, y(p) + 4.0);
+        p += if 100.0 - y0 > 40.0 { 20.0 } else { 10.0 };
+    }
+    let mut n = 1.0;
+    while n <= maxn * 1.0001 {
+        let _ = write!(s, "<line x1=\"{:.1}\" x2=\"{:.1}\" y1=\"{mt}\" y2=\"{}\" stroke=\"#eee\"/><text x=\"{:.1}\" y=\"{}\" text-anchor=\"middle\">{n}</text>", x(n), x(n), h - mb, x(n), h - mb + 16.0);
+        n *= 10.0;
+    }
+    let _ = write!(s, "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">seeds (log scale)</text>", (ml + w - mr) / 2.0, h - 10.0);
+    let _ = write!(s, "<text x=\"14\" y=\"{}\" transform=\"rotate(-90 14 {})\" text-anchor=\"middle\">bins hit of those scenarios reach</text>", (mt + h - mb) / 2.0, (mt + h - mb) / 2.0);
+    for (k, (label, col, pts)) in curves.iter().enumerate() {
+        let mut d = String::new();
+        for (i, (n, p)) in pts.iter().enumerate() {
+            let _ = write!(d, "{}{:.1},{:.1}", if i == 0 { "M" } else { "L" }, x(*n as f64), y(*p));
+        }
+        let _ = write!(s, "<path d=\"{d}\" fill=\"none\" stroke=\"{col}\" stroke-width=\"2\"/>");
+        let ly = mt + 16.0 + 18.0 * k as f64;
+        let _ = write!(s, "<line x1=\"{}\" x2=\"{}\" y1=\"{ly}\" y2=\"{ly}\" stroke=\"{col}\" stroke-width=\"3\"/><text x=\"{}\" y=\"{}\">{}</text>", w - mr - 230.0, w - mr - 205.0, w - mr - 200.0, ly + 4.0, esc(label));
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+/// The page.
+pub fn html(s: &Summary, extra: Option<&str>) -> String {
+    let l = layout();
+    let c = &s.coverage;
+    let (hit, reachable) = c.closure();
+    let (shit, sreach) = scenario_closure(c);
+    let mut h = String::new();
+    let spec = &s.spec;
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>pmu50 regress: seeds {}..{}</title>\n<style>\
+body{{font-family:sans-serif;margin:1.5em;color:#222}}table{{border-collapse:collapse;margin:.4em 0 1em}}td,th{{border:1px solid #bbb;padding:2px 6px;font-size:13px}}\
+th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padding:2px 4px;border:1px solid #999;font-size:12px}}\
+.mx td{{text-align:right;min-width:2.5em}}.ok{{color:#1a7f37}}.bad{{color:#b3261e}}code{{background:#f6f6f6;padding:0 3px}}\
+</style></head><body>\n<h1>pmu50 regress</h1>\n",
+        spec.start_seed,
+        spec.start_seed + spec.iterations.saturating_sub(1)
+    );
+    let pass = s.results.iter().filter(|r| r.verdict == "pass").count();
+    let _ = write!(
+        h,
+        "<table><tr><th>seeds</th><td>{} of {} (from {}){}</td></tr><tr><th>generator</th><td>{}</td></tr><tr><th>DUT</th><td>{}{}</td></tr>\
+<tr><th>verdicts</th><td><span class=\"ok\">{pass} pass</span>, <span class=\"bad\">{} fail, {} error</span></td></tr>\
+<tr><th>coverage</th><td>{hit} of {reachable} reachable bins ({:.1} %); {shit} of the {sreach} that scenario stimuli reach ({:.1} %); {} bins declared unreachable</td></tr></table>\n",
+        s.results.len(),
+        spec.iterations,
+        spec.start_seed,
+        if s.missing.is_empty() { String::new() } else { format!(", <b class=\"bad\">{} missing</b> (first {})", s.missing.len(), s.missing[0]) },
+        if spec.directed { "directed (biased towards empty bins)" } else { "uniform random" },
+        format!("{:?}", spec.dut).to_lowercase(),
+        spec.rtl.as_deref().map(|r| format!(", RTL {}", esc(r))).unwrap_or_default(),
+        s.results.iter().filter(|r| r.verdict == "fail").count(),
+        s.results.iter().filter(|r| r.verdict == "error").count(),
+        pct(hit, reachable),
+        pct(shit, sreach),
+        l.bins.iter().filter(|b| b.unreachable.is_some()).count(),
+    );
+
+    // Failures.
+    let groups = triage::groups(&s.results);
+    let _ = write!(h, "<h2>Failures by signature</h2>\n");
+    if groups.is_empty() {
+        h.push_str("<p class=\"ok\">No failure.</p>\n");
+    } else {
+        h.push_str("<table><tr><th>signature</th><th>seeds</th><th>smallest</th><th>first failure</th><th>repro</th></tr>\n");
+        for (sig, seeds) in &groups {
+            let f = s.results.iter().find(|r| r.seed == seeds[0]).and_then(|r| r.failure.as_ref());
+            let what = f.map(|f| format!("tick {}: {} expected {} got {} — {}", f.tick, esc(&f.signal), esc(&f.expected), esc(&f.got), esc(&f.detail))).unwrap_or_default();
+            let _ = write!(
+                h,
+                "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{what}</td><td><a href=\"failures/{0}/failure.txt\">failure</a> <a href=\"failures/{0}/repro.toml\">repro.toml</a> <a href=\"failures/{0}/repro.gtkw\">repro.gtkw</a></td></tr>\n",
+                esc(sig),
+                seeds.len(),
+                seeds[0]
+            );
+        }
+        h.push_str("</table>\n");
+    }
+
+    // Closure curve.
+    let curve = closure_curve(s);
+    if !curve.is_empty() {
+        h.push_str("<h2>Closure</h2>\n");
+        h.push_str(&curve_svg(&[(if spec.directed { "directed" } else { "uniform random" }, "#2166ac", curve)], "coverage against seeds"));
+    }
+    if let Some(x) = extra {
+        h.push_str(x);
+    }
+
+    // Never hit.
+    let never: Vec<&pmu50_coverage::BinInfo> = l.bins.iter().zip(&c.bins).filter(|(b, r)| r.hits == 0 && b.unreachable.is_none()).map(|(b, _)| b).collect();
+    let _ = write!(h, "<h2>Never hit ({})</h2>\n", never.len());
+    if never.is_empty() {
+        h.push_str("<p class=\"ok\">Every reachable bin was hit.</p>\n");
+    } else {
+        h.push_str("<table><tr><th>bin</th><th>cites</th><th>meaning</th></tr>\n");
+        for b in &never {
+            let _ = write!(h, "<tr><td><code>{}</code>{}</td><td>{}</td><td>{}</td></tr>\n", esc(&b.name), if b.port_only { " (port-level stimuli)" } else { "" }, esc(b.cite), esc(&b.meaning));
+        }
+        h.push_str("</table>\n");
+    }
+
+    // Heat map: points.
+    h.push_str("<h2>Coverage by group</h2>\n<p>Colours: red never hit, amber 1-2 hits, then greener with more; grey declared unreachable (the reason is the tooltip); blue-grey reached only by port-level stimuli (cocotb, DPI).</p>\n");
+    let mut group = "";
+    for (pi, p) in POINTS.iter().enumerate() {
+        if p.group != group {
+            group = p.group;
+            let _ = write!(h, "<h3>{}</h3>\n", esc(group));
+        }
+        let off = l.point_offset[pi];
+        let _ = write!(h, "<p><b>{}.{}</b> — {} <i>({})</i><br>", esc(p.group), esc(p.name), esc(p.meaning), esc(p.cite));
+        for (k, b) in p.bins.iter().enumerate() {
+            let info = &l.bins[off + k];
+            let hits = c.bins[off + k].hits;
+            let tip = info.unreachable.map(|r| format!("unreachable: {r}")).unwrap_or_else(|| info.meaning.clone());
+            let _ = write!(h, "<span class=\"bin\" style=\"background:{}\" title=\"{}\">{} <b>{hits}</b></span>", colour(hits, info.unreachable.is_some(), info.port_only), esc(&tip), esc(b.name));
+        }
+        h.push_str("</p>\n");
+    }
+    // Crosses as matrices.
+    h.push_str("<h3>crosses</h3>\n");
+    for (ci, x) in crosses().enumerate() {
+        let (pa, pb) = (&POINTS[x.a], &POINTS[x.b]);
+        let off = l.cross_offset[ci];
+        let _ = write!(h, "<p><b>cross.{}</b> — {} <i>({})</i></p><table class=\"mx\"><tr><th>{}.{} \\ {}.{}</th>", esc(x.name), esc(x.meaning), esc(x.cite), pa.group, pa.name, pb.group, pb.name);
+        for b in pb.bins {
+            let _ = write!(h, "<th>{}</th>", esc(b.name));
+        }
+        h.push_str("</tr>\n");
+        for (i, a) in pa.bins.iter().enumerate() {
+            let _ = write!(h, "<tr><th>{}</th>", esc(a.name));
+            for j in 0..pb.bins.len() {
+                let k = off + i * pb.bins.len() + j;
+                let info = &l.bins[k];
+                let hits = c.bins[k].hits;
+                let tip = info.unreachable.map(|r| format!("unreachable: {r}")).unwrap_or_else(|| info.name.clone());
+                let shown = if info.unreachable.is_some() { "—".to_string() } else { hits.to_string() };
+                let _ = write!(h, "<td style=\"background:{}\" title=\"{}\">{shown}</td>", colour(hits, info.unreachable.is_some(), info.port_only), esc(&tip));
+            }
+            h.push_str("</tr>\n");
+        }
+        h.push_str("</table>\n");
+    }
+    let _ = write!(h, "<p>Coverage model <code>{}</code>; {} bins. Generated by pmu50 {}.</p>\n</body></html>\n", esc(&c.model), l.bins.len(), env!("CARGO_PKG_VERSION"));
+    h
+}
