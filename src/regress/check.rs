@@ -8,7 +8,8 @@
 //! - at the end: every key-on read-out equals the true angle within [`READOUT_TOL_DEG`] whenever
 //!   the shaft stayed under the tracking bound of docs/analysis.md since the first sample (no Vs2
 //!   fault, no parameter write, speed below 0.8 x 90 deg per sampling period), modulo the
-//!   counters' range of 2^CNT_W quadrants;
+//!   counters' range of 2^CNT_W quadrants, where every sample sees a settled sensor (Wt and the
+//!   on-key period at least the 99 % settling time);
 //! - with `--check-spec`: the readable per-block model (`Pmu50Spec`) stepped beside the kernel,
 //!   every register and every output compared after every edge.
 
@@ -72,6 +73,8 @@ pub struct SeedChecks {
     pub first_sample: Option<u64>,
     /// Ticks where a bus write changed the parameters.
     pub param_writes: Vec<u64>,
+    /// Key-on read-outs the tracking invariant applied to.
+    pub readouts_checked: u64,
     cnt_width: u8,
     sync_depth: u8,
     // the last period, for replaying skipped copies of it (docs/spec.md 5.1)
@@ -89,6 +92,7 @@ impl SeedChecks {
             failure: None,
             first_sample: None,
             param_writes: Vec::new(),
+            readouts_checked: 0,
             cnt_width: p.cnt_width,
             sync_depth: p.sync_depth,
             snap: Vec::new(),
@@ -111,6 +115,13 @@ impl SeedChecks {
     pub fn finish_checks(&mut self, r: &RunResult, sc: &Scenario) {
         let Some(first) = self.first_sample else { return };
         let p = &sc.params;
+        // Every sample must see a settled sensor (99 %, tau ln 100): the key-off window Wt and
+        // the on-key period both at least that long ([0321]: Pw lets the sensor stabilise).
+        let settle_ns = sc.env.sensor2.tau_us * 1e3 * 100f64.ln();
+        let clk_f = sc.clock_ns() as f64;
+        if (f64::from(p.wt()) * clk_f) < settle_ns || (f64::from(p.smp_on) * clk_f) < settle_ns {
+            return;
+        }
         let period = u64::from(p.si_max.max(p.smp_on));
         let bound = 0.8 * 90.0 / period as f64;
         let clk = sc.clock_ns();
@@ -128,6 +139,7 @@ impl SeedChecks {
                 return;
             }
             let error = k.error_deg - (k.error_deg / modulus).round() * modulus;
+            self.readouts_checked += 1;
             if error.abs() > READOUT_TOL_DEG {
                 self.fail(Failure {
                     kind: "invariant".into(),

@@ -53,12 +53,13 @@ pub enum Knob {
     IllegalWrites,
     StatusWrites,
     EarlyWrites,
+    ExactStep,
 }
 
 use Knob::*;
 
 /// Every knob with its base probability in percent (uniform random).
-pub const KNOBS: [(Knob, u64); 34] = [
+pub const KNOBS: [(Knob, u64); 35] = [
     (NarrowCounter, 8),
     (Width3To7, 10),
     (Width8To15, 10),
@@ -93,93 +94,113 @@ pub const KNOBS: [(Knob, u64); 34] = [
     (IllegalWrites, 20),
     (StatusWrites, 20),
     (EarlyWrites, 5),
+    (ExactStep, 5),
 ];
 
-/// The knobs that make a coverage bin likely, by the bin's name.
+/// The knobs that make a coverpoint's bin likely (`group.point`, `bin`).
+fn knobs_for_point(point: &str, bin: &str) -> Vec<Knob> {
+    match (point, bin) {
+        ("config.cnt_w", "2") => vec![NarrowCounter],
+        ("config.cnt_w", "3_7") => vec![Width3To7],
+        ("config.cnt_w", "8_15") => vec![Width8To15],
+        ("config.sync_depth", "1") => vec![Sync1],
+        ("config.sync_depth", "3") => vec![Sync3],
+        ("config.sync_depth", "4") => vec![Sync4],
+        ("config.adaptive", "fixed") | ("fig17.path", "fixed") => vec![Fixed],
+        ("config.cth", "one") => vec![CthOne],
+        ("config.cth", "9_up") => vec![CthHigh],
+        ("config.t1", "one_step") => vec![T1OneStep],
+        ("config.t1", "half_or_more") => vec![T1Half],
+        ("config.t2", "one_step") => vec![T2OneStep],
+        ("config.t2", "half_or_more") => vec![T2Half],
+        ("config.x", "equal_min") => vec![XEqualMin],
+        ("config.x", "le_300") => vec![XShort],
+        ("config.x", "above_700") => vec![XLong],
+        ("config.min", "wt_plus_1") => vec![MinTight],
+        ("config.min", "above_2wt") => vec![MinFar],
+        ("config.window", "pw_zero") => vec![PwZero],
+        ("config.window", "pi_zero") => vec![PiZero],
+        ("config.window", "ps_one") => vec![PsOne],
+        ("config.smp_on", "one") => vec![SmpOnOne],
+        ("config.smp_on", "2_9") => vec![SmpOnShort],
+        ("config.clock", "below_10us") => vec![ClockFast],
+        ("config.clock", "above_10us") => vec![ClockSlow],
+        ("counter.wrap", _) => vec![Spin],
+        ("counter.quadrant_skip", _) | ("faults.diag", _) | ("fig18.path", _) | ("fig18.history", _) | ("interval.clamp", _) => vec![FastMoves],
+        ("interval.shorten_to", "min_exact") | ("interval.expand_to", "x_exact") => vec![ExactStep, FastMoves],
+        ("interval.shorten_to" | "interval.expand_to" | "interval.at_edge", _) => vec![FastMoves],
+        ("cnt_r.value", "saturated" | "above_cth") | ("cnt_r.before", "saturated") => vec![LongQuiet],
+        ("faults.vs2", _) | ("fig17.path", "s1_no_rise") => vec![Faults],
+        ("faults.sync_glitch", _) => vec![Glitches],
+        ("faults.skip_clear", _) => vec![StatusWrites, FastMoves],
+        ("key.edge" | "key.phase", _) => vec![KeyStorm],
+        ("bus.write_outcome", "refused_key_off") => vec![EarlyWrites],
+        ("bus.write_outcome", "refused_illegal") => vec![IllegalWrites],
+        ("bus.illegal_rule", "no_settling_tick") => vec![PiZero, IllegalWrites],
+        ("bus.illegal_rule", _) => vec![IllegalWrites],
+        ("bus.w1c", _) | ("bus.write_reg", "status") => vec![StatusWrites],
+        _ => vec![],
+    }
+}
+
+/// The knobs that make a coverage bin likely, by the bin's full name (a cross: the knobs of
+/// both of its bins).
 pub fn knobs_for(bin: &str) -> Vec<Knob> {
-    let has = |p: &str| bin.contains(p);
     let mut k = Vec::new();
-    let rules: &[(&str, &[Knob])] = &[
-        ("config.cnt_w.2", &[NarrowCounter]),
-        ("config.cnt_w.3_7", &[Width3To7]),
-        ("config.cnt_w.8_15", &[Width8To15]),
-        ("config.sync_depth.1", &[Sync1]),
-        ("config.sync_depth.3", &[Sync3]),
-        ("config.sync_depth.4", &[Sync4]),
-        ("config.adaptive.fixed", &[Fixed]),
-        ("fig17.path.fixed", &[Fixed]),
-        ("config.cth.one", &[CthOne]),
-        ("config.cth.9_up", &[CthHigh]),
-        ("t1.one_step", &[T1OneStep]),
-        ("t1.half_or_more", &[T1Half]),
-        ("t2.one_step", &[T2OneStep]),
-        ("t2.half_or_more", &[T2Half]),
-        ("config.x.equal_min", &[XEqualMin]),
-        ("config.x.le_300", &[XShort]),
-        ("config.x.above_700", &[XLong]),
-        ("config.min.wt_plus_1", &[MinTight]),
-        ("config.min.above_2wt", &[MinFar]),
-        ("config.window.pw_zero", &[PwZero]),
-        ("config.window.pi_zero", &[PiZero]),
-        ("config.window.ps_one", &[PsOne]),
-        ("config.smp_on.one", &[SmpOnOne]),
-        ("config.smp_on.2_9", &[SmpOnShort]),
-        ("config.clock.below_10us", &[ClockFast]),
-        ("config.clock.above_10us", &[ClockSlow]),
-        ("wrap", &[Spin, NarrowCounter]),
-        ("quadrant_skip", &[FastMoves]),
-        ("faults.diag", &[FastMoves, NarrowCounter]),
-        ("skip_x_interval", &[FastMoves]),
-        ("cnt_r.value.saturated", &[LongQuiet]),
-        ("cnt_r.before.saturated", &[LongQuiet]),
-        ("above_cth", &[LongQuiet, XEqualMin]),
-        ("faults.vs2", &[Faults]),
-        ("s1_no_rise", &[Faults]),
-        ("sync_glitch", &[Glitches]),
-        ("key.", &[KeyStorm]),
-        ("key_edge_x_phase", &[KeyStorm]),
-        ("illegal", &[IllegalWrites]),
-        ("bus.w1c", &[StatusWrites]),
-        ("skip_clear", &[StatusWrites, FastMoves]),
-        ("refused_key_off", &[EarlyWrites]),
-        ("bus.write_reg", &[IllegalWrites, StatusWrites]),
-        ("interval.", &[FastMoves, T1Half, T2Half]),
-        ("counter.rule", &[Spin]),
-        ("counter.preset", &[KeyStorm]),
-    ];
-    for (p, ks) in rules {
-        if has(p) {
-            k.extend_from_slice(ks);
+    if let Some(rest) = bin.strip_prefix("cross.") {
+        let Some((name, pair)) = rest.split_once('.') else { return k };
+        let Some(c) = pmu50_coverage::model::crosses().find(|c| c.name == name) else { return k };
+        let Some((a, b)) = pair.split_once('*') else { return k };
+        let (pa, pb) = (&pmu50_coverage::model::POINTS[c.a], &pmu50_coverage::model::POINTS[c.b]);
+        k.extend(knobs_for_point(&format!("{}.{}", pa.group, pa.name), a));
+        k.extend(knobs_for_point(&format!("{}.{}", pb.group, pb.name), b));
+        // FIG. 18 runs at x only when x = min (a detection at x shortens the interval)
+        if name == "fig17_x_fig18" && a == "s7_at_max" && b != "s25_no_change" {
+            k.push(XEqualMin);
         }
+        if name == "key_edge_x_phase" && b == "off_smp" {
+            k.push(PsOne);
+        }
+    } else if let Some((point, b)) = bin.rsplit_once('.') {
+        k.extend(knobs_for_point(point, b));
     }
     k.sort();
     k.dedup();
     k
 }
 
-/// The probability of each knob for the seeds of one batch.
+/// How the knobs of a batch's seeds are drawn.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Bias {
+    /// Every knob with its probability in percent.
     pub percent: Vec<(Knob, u64)>,
+    /// Directed: the knob sets of the bins still empty (distinct, sorted); seed `s` of the
+    /// batch forces set `s mod len` on top of its random draws.
+    pub targets: Vec<Vec<Knob>>,
 }
 
 impl Bias {
     /// Uniform random: every knob at its base probability.
     pub fn uniform() -> Bias {
-        Bias { percent: KNOBS.to_vec() }
+        Bias { percent: KNOBS.to_vec(), targets: Vec::new() }
     }
 
-    /// Directed: a knob that feeds a bin still empty is drawn with probability 60 %.
+    /// Directed: each seed aims at one hole (a set of knobs that makes an empty bin likely).
     pub fn from_missing<'a>(missing: impl IntoIterator<Item = &'a str>) -> Bias {
-        let mut want = std::collections::BTreeSet::new();
-        for b in missing {
-            want.extend(knobs_for(b));
-        }
-        Bias { percent: KNOBS.iter().map(|&(k, p)| (k, if want.contains(&k) { p.max(60) } else { p })).collect() }
+        let mut sets: Vec<Vec<Knob>> = missing.into_iter().map(knobs_for).filter(|k| !k.is_empty()).collect();
+        sets.sort();
+        sets.dedup();
+        Bias { percent: KNOBS.to_vec(), targets: sets }
     }
 
-    fn draw(&self, r: &mut Rng) -> Vec<Knob> {
-        self.percent.iter().filter(|&&(_, p)| r.chance(p)).map(|&(k, _)| k).collect()
+    fn draw(&self, r: &mut Rng, seed: u64) -> Vec<Knob> {
+        let mut k: Vec<Knob> = self.percent.iter().filter(|&&(_, p)| r.chance(p)).map(|&(k, _)| k).collect();
+        if !self.targets.is_empty() {
+            k.extend(self.targets[(seed % self.targets.len() as u64) as usize].iter().copied());
+            k.sort();
+            k.dedup();
+        }
+        k
     }
 }
 
@@ -258,7 +279,17 @@ fn params(r: &mut Rng, k: &[Knob]) -> Params {
                 r.range(1, (span / 2).saturating_sub(1).max(1))
             }
         };
-        let (t1, t2) = (step(r, on(T1OneStep), on(T1Half)), step(r, on(T2OneStep), on(T2Half)));
+        let (mut t1, mut t2) = (step(r, on(T1OneStep), on(T1Half)), step(r, on(T2OneStep), on(T2Half)));
+        let mut si_max = si_max;
+        if on(ExactStep) && !on(XEqualMin) {
+            // the span a whole number of T1 and of T2 steps, so S6 lands exactly on min and S10
+            // exactly on x: span = 12 u, T = span / k with k = 1 (one step), 2 (half) or 3, 4
+            let u = r.range(1, 60);
+            let k = |r: &mut Rng, one: bool, half: bool| if one { 1 } else if half { 2 } else { r.range(3, 4) };
+            si_max = si_min + 12 * u;
+            t1 = 12 * u / k(r, on(T1OneStep), on(T1Half));
+            t2 = 12 * u / k(r, on(T2OneStep), on(T2Half));
+        }
         let p = Params {
             sync_depth: if on(Sync1) { 1 } else if on(Sync4) { 4 } else if on(Sync3) { 3 } else { 2 },
             cnt_width: if on(NarrowCounter) { 2 } else if on(Width3To7) { r.range(3, 7) as u8 } else if on(Width8To15) { r.range(8, 15) as u8 } else { 16 },
@@ -283,46 +314,92 @@ impl Stimulus {
     /// The scenario of `seed` under `bias`.
     pub fn generate(seed: u64, bias: &Bias) -> Stimulus {
         let mut r = Rng::new(seed ^ 0x5245_4752_4553_5300);
-        let knobs = bias.draw(&mut r);
+        let knobs = bias.draw(&mut r, seed);
         let on = |x: Knob| knobs.contains(&x);
         let mut p = params(&mut r, &knobs);
         let clock_us = if on(ClockFast) { 5 } else if on(ClockSlow) { 20 } else { 10 };
         let mut ticks = r.range(20_000, 60_000);
+        // CNTr up to its saturation ([0248]): after a rotation, quiet pulses with the key off,
+        // either at the minimum interval with Cth = 255 (S9 holds si), or climbing to x in T2 = 1
+        // steps (S10 each pulse past Cth).
+        let saturate_at_min = on(LongQuiet) && r.chance(50);
         if on(LongQuiet) {
-            // Enough quiet pulses at a small T2 for CNTr to count past 255 ([0248]).
-            p.t2 = 1;
-            p.cth = p.cth.min(4);
-            ticks = ticks.max(300 * u64::from(p.si_max) + 10_000);
+            if saturate_at_min {
+                p.cth = 255;
+            } else {
+                p.t2 = 1;
+                p.cth = p.cth.min(4);
+                let span = u64::from(p.si_max - p.si_min);
+                ticks = 2 * u64::from(p.si_max) + (span + 2) * u64::from(p.si_max);
+            }
+            // one rotation takes si from x to min
+            p.t1 = p.si_max - p.si_min + 1;
+        }
+        // A counter wraps at its width ([0096]-[0099], docs/spec.md 2.5): the key on, sampling
+        // every tick (smp_on = 1), the shaft spinning one way at 20 deg a tick.
+        if on(Spin) {
+            p.smp_on = 1;
+            ticks = (1u64 << p.cnt_width) * 9 + 2_000;
         }
         let vr_err = (r.range(0, 200) as i64 - 100, r.range(0, 200) as i64 - 100);
         let start_decideg = r.range(0, 3599);
 
-        // Motor: holds and moves; fast moves skip quadrants, a spin turns one way for long.
+        // Motor: holds and moves; fast moves skip quadrants.
         let mut motion = Vec::new();
-        let mut t = 0;
-        while t < ticks {
-            let d = if on(LongQuiet) && t > 5_000 { ticks - t } else { r.range(100, 8_000).min(ticks - t) };
-            let m = if on(LongQuiet) && t > 5_000 {
-                Motion::Hold { ticks: d }
-            } else if on(Spin) && r.chance(70) {
-                // steady rotation below the tracking bound 90 deg per x ticks (docs/analysis.md)
-                let per_tick = 90_000 / i64::from(p.si_max.max(p.smp_on)) * 6 / 10;
-                Motion::Move { ticks: d, milli_deg: per_tick * d as i64 }
-            } else if r.chance(40) {
-                Motion::Hold { ticks: d }
-            } else {
-                let fast = on(FastMoves) && r.chance(60) || r.chance(5);
-                let max = if fast { 600 } else { 50 };
-                Motion::Move { ticks: d, milli_deg: (r.range(0, 2000) as i64 - 1000) * max * d as i64 / 1000 }
-            };
-            motion.push(m);
-            t += d;
+        if on(Spin) {
+            let dir = if r.chance(50) { 1 } else { -1 };
+            motion.push(Motion::Move { ticks, milli_deg: dir * 20_000 * ticks as i64 });
+        } else if on(LongQuiet) {
+            // From reset with the key off, samples are taken at the edges wt-1, x+wt-1, 2x+wt-1,
+            // ...: the shaft turns a quadrant (mid to mid) between the second and third, so the
+            // third detects it (S6 to min, cnt_r := 0) at edge p0; then samples follow every min
+            // ticks. With Cth = 255, S9 counts cnt_r to 255 at the 255th quiet sample, and a
+            // second quadrant between the 255th and 256th makes the 256th an S5 at min with cnt_r
+            // saturated; with T2 = 1 the interval climbs to x after saturation, then turns.
+            let dir = if r.chance(50) { 1 } else { -1 };
+            let (x, min, wt) = (u64::from(p.si_max), u64::from(p.si_min), u64::from(p.wt()));
+            let p0 = 2 * x + wt - 1;
+            let second = if saturate_at_min { p0 + 255 * min + min / 4 } else { ticks.max(p0 + 2 * x) };
+            let first_move = (x / 2).max(1);
+            let second_move = (min / 2).max(1);
+            motion.push(Motion::Hold { ticks: x + wt });
+            motion.push(Motion::Move { ticks: first_move, milli_deg: dir * 90_000 });
+            motion.push(Motion::Hold { ticks: second - (x + wt + first_move) });
+            motion.push(Motion::Move { ticks: second_move, milli_deg: dir * 90_000 });
+            motion.push(Motion::Hold { ticks: 2 * min.max(x) });
+            ticks = motion.iter().map(Motion::ticks).sum();
+        } else {
+            let mut t = 0;
+            while t < ticks {
+                let d = r.range(100, 8_000).min(ticks - t);
+                let m = if r.chance(40) {
+                    Motion::Hold { ticks: d }
+                } else {
+                    let fast = on(FastMoves) && r.chance(60) || r.chance(5);
+                    let max = if fast { 600 } else { 50 };
+                    Motion::Move { ticks: d, milli_deg: (r.range(0, 2000) as i64 - 1000) * max * d as i64 / 1000 }
+                };
+                motion.push(m);
+                t += d;
+            }
         }
 
         // Timeline.
         let mut events = Vec::new();
-        let mut ig = r.chance(50);
+        let mut ig = if on(Spin) {
+            true
+        } else if on(LongQuiet) {
+            false
+        } else {
+            r.chance(50)
+        };
         events.push((0, Action::Ig(ig)));
+        if on(Spin) || on(LongQuiet) {
+            // nothing else: the key and the parameters hold for the whole run
+            // the middle of a quadrant, so that each quarter turn crosses exactly one boundary
+            let start_decideg = if on(LongQuiet) { 450 + 900 * r.range(0, 3) } else { r.range(0, 3599) };
+            return Stimulus { seed, knobs, params: p, clock_us, vr_err: (0, 0), start_decideg, motion, events, ticks };
+        }
         let gap = if on(KeyStorm) { (20, 800) } else { (50, 15_000) };
         let mut at = 0u64;
         let mut fault = false;
@@ -345,7 +422,9 @@ impl Stimulus {
                     events.push((at, Action::Ig(ig)));
                     if ig && on(EarlyWrites) && r.chance(50) {
                         // a write in the tick the key turns on: sig is still 0 ([0205])
-                        events.push((at, Action::Write { reg: "T2", value: p.t2 }));
+                        let reg = WRITABLE[r.range(0, WRITABLE.len() as u64 - 1) as usize];
+                        let value = write_value(&mut r, reg, &p, false);
+                        events.push((at, Action::Write { reg, value }));
                     }
                 }
                 5 if on(Faults) || r.chance(30) => {
@@ -418,6 +497,9 @@ fn write_value(r: &mut Rng, reg: &str, p: &Params, illegal: bool) -> u16 {
         "SI_MIN" if bad => [0, u64::from(p.si_max) + 1 + r.range(0, 50), u64::from(p.pw) + u64::from(p.pi)][r.range(0, 2) as usize],
         "SI_MAX" if bad => u64::from(p.si_min).saturating_sub(1 + r.range(0, 20)),
         "SI_MIN" | "SI_MAX" => r.range(u64::from(p.si_min).saturating_sub(50), u64::from(p.si_max) + 50),
+        // Pw = Pi = 0 leaves no settling tick; a long one makes the window too long
+        "PW" if bad && p.pi == 0 => 0,
+        "PI" if bad && p.pw == 0 => 0,
         "PW" | "PI" if bad => u64::from(p.si_min) + r.range(0, 10),
         "PS" | "T1" | "T2" | "SMP_ON" if bad => 0,
         _ => r.range(0, 320),

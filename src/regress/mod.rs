@@ -35,7 +35,7 @@ use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 /// Seeds generated between two updates of the directed bias (and written to results.jsonl at once).
-pub const BATCH: u64 = 64;
+pub const BATCH: u64 = 32;
 
 /// Where the regression's verdicts come from.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -137,6 +137,8 @@ pub struct SeedResult {
     /// Simulated ticks, and those evaluated one by one.
     pub ticks: u64,
     pub evaluated: u64,
+    /// Key-on read-outs the tracking invariant checked.
+    pub readouts_checked: u64,
     pub wall_ms: f64,
     #[serde(default)]
     pub failure: Option<Failure>,
@@ -207,15 +209,16 @@ fn file_err(path: &Path, reason: impl std::fmt::Display) -> RegressError {
 pub fn run_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, timeout: Duration) -> (SeedResult, Vec<u64>) {
     let start = Instant::now();
     let stim = Stimulus::generate(seed, bias);
-    let (verdict, failure, ticks, evaluated, hits) = match evaluate(spec, &stim, dut, timeout) {
+    let (verdict, failure, ticks, evaluated, readouts_checked, hits) = match evaluate(spec, &stim, dut, timeout) {
         Ok(e) => e,
-        Err(f) => ("error", Some(f), 0, 0, vec![0; layout().bins.len()]),
+        Err(f) => ("error", Some(f), 0, 0, 0, vec![0; layout().bins.len()]),
     };
     let r = SeedResult {
         seed,
         verdict: verdict.into(),
         ticks,
         evaluated,
+        readouts_checked,
         wall_ms: (start.elapsed().as_secs_f64() * 1e4).round() / 10.0,
         failure,
         place: Place::here(spec.shard.as_ref()),
@@ -224,7 +227,7 @@ pub fn run_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, 
     (r, hits)
 }
 
-type Evaluated = (&'static str, Option<Failure>, u64, u64, Vec<u64>);
+type Evaluated = (&'static str, Option<Failure>, u64, u64, u64, Vec<u64>);
 
 fn error_failure(tick: u64, detail: String) -> Failure {
     Failure { kind: "error".into(), tick, signal: "-".into(), expected: "-".into(), got: "-".into(), block: "-".into(), fig: "-".into(), detail }
@@ -249,12 +252,12 @@ pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout
             match d.check(&sc, timeout) {
                 Ok(None) => {}
                 Ok(Some(f)) => failure = Some(f),
-                Err(e) => return Ok(("error", Some(error_failure(0, e)), res.ticks, res.evaluated_ticks, hits)),
+                Err(e) => return Ok(("error", Some(error_failure(0, e)), res.ticks, res.evaluated_ticks, checks.readouts_checked, hits)),
             }
         }
     }
     let verdict = if failure.is_some() { "fail" } else { "pass" };
-    Ok((verdict, failure, res.ticks, res.evaluated_ticks, hits))
+    Ok((verdict, failure, res.ticks, res.evaluated_ticks, checks.readouts_checked, hits))
 }
 
 /// Check one scenario (a repro) as a seed is checked: `Ok(None)` it passes.

@@ -335,7 +335,7 @@ pub static POINTS: [Point; 36] = [
         meaning: "the count diagnosis flag rising, by cause",
         sampled: Sampled::Edge,
         bins: bins!("skip": "a quadrant was skipped (counts equal but half a turn off)", "difference": "|cnt_s - cnt_c| >= 2 without a skip"),
-        unreachable: &[],
+        unreachable: &[("difference", "cnt_s - cnt_c is 0 in quadrants 0 and 2 and -1 in 1 and 3 after every preset, counting rule and skip (each rule of [0096]-[0099] moves the counter that keeps it so, and a skip keeps the quadrant's parity): the difference guards against a corrupted counter, which no input can cause")],
     },
     Point {
         group: "faults",
@@ -565,6 +565,7 @@ fn fig17_x_cnt_r(a: &str, b: &str) -> Option<&'static str> {
     match (a, b) {
         ("s10_expand", "zero" | "below_cth") => Some("S8: Y needs cnt_r >= Cth"),
         ("s9_count", "at_or_above_cth" | "saturated") => Some("S8: N needs cnt_r < Cth; S9 with cnt_r >= Cth is S10's path"),
+        ("s7_at_max", "below_cth") => Some("si reaches x only by the key-off reload, which clears cnt_r, or by an S10, which leaves cnt_r above Cth; Cth changes only while the key is on, and the next key-off clears cnt_r"),
         ("s1_no_rise" | "fixed", _) => Some("cnt_r.before is sampled only when the sensor answered with the adaptive interval"),
         _ => None,
     }
