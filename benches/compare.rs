@@ -33,7 +33,7 @@
 //! hdl/bench/bench.cpp); the run fails (exit 1) unless all checksums of a stimulus agree. Times are
 //! process CPU seconds (`clock_gettime(CLOCK_PROCESS_CPUTIME_ID)`, `getrusage` for children).
 //!
-//! Park figures (issue 8): a parked car, key off, motor still, for 1 h, 1 d and 30 d, and
+//! Park figures (docs/spec.md 5.1): a parked car, key off, motor still, for 1 h, 1 d and 30 d, and
 //! `scenarios/park_30d.toml` (30 days with a disturbance every 6 h), through the simulator with
 //! fast-forward and period skip (`pmu50::sim::run` as `pmu50 run` with trace = none), each in a
 //! child process for its CPU time and peak memory.

@@ -817,8 +817,8 @@ pub trait Emitter {
 
 /// Bytes of VCD text collected before one write to the output. 1 MiB rather than 128 KiB: with
 /// the tracer writing a new file, the page cache's share of a traced tick fell by a third (the
-/// Rust tracer into a file +3-5 % on both stimuli of `make bench`, the headroom experiment +7 %;
-/// docs/performance.md, "Sixth session"), for 1 MiB of memory per open VCD.
+/// Rust tracer into a file +3-5 % on both stimuli of `make bench`; 64 KiB and 256 KiB measured
+/// slower), for 1 MiB of memory per open VCD.
 const VCD_BUFFER: usize = 1 << 20;
 
 /// VCD text emitter: identifier codes and the text after every change's value precomputed at
