@@ -3,8 +3,7 @@
 //! [`SLACK`] bytes of an output buffer (the caller keeps that many bytes free past its position,
 //! so no write checks its length).
 //!
-//! [`crate::writer::VcdOut`] writes every change of the checked writer with these; `make bench`
-//! also uses them for its headroom experiment (benches/compare.rs, `fused`).
+//! [`crate::writer::VcdOut`] writes every change of the checked writer with these.
 
 /// `b"00000000"` .. `b"11111111"`: the 8 VCD bits of each byte value, msb first.
 const BITS8: [[u8; 8]; 256] = {
