@@ -2,7 +2,7 @@
 //! Verilog twin side by side, on the same stimulus held in memory, in one run, in one table.
 //!
 //!   cargo bench --bench compare -- --dir hdl/build/bench --stim keyoff_turns --stim random_7 \
-//!       [--icarus keyoff_turns] [--seconds 1.0] [--rounds 15] [--quick | --quick-traced | --quick-vcd | --quick-fused]
+//!       [--icarus keyoff_turns] [--seconds 1.0] [--rounds 15] [--quick | --quick-traced | --quick-vcd]
 //!
 //! For each stimulus NAME, `DIR/NAME.vec` is a vector file (`pmu50 vectors`): its inputs are the
 //! stimulus, its `// param` lines the parameters. Harnesses, each replaying the stimulus from reset
@@ -16,7 +16,6 @@
 //! | Verilator -O3 --trace | `DIR/vlt_NAME/bench --trace`: VCD of the twin's counterparts of the Rust tracer's 65 signals (hdl/bench/trace.vlt); the note says how many `$var`s it dumps and names any of the 65 without a counterpart |
 //! | Rust tracer VCD / FST | `pmu50::tracer::CoreTracer` in one run (VCD: `CoreTracer::text_run`, the checked `pmu50_waves` writer's text buffer lent to the tracer's frame, each changed value's line written at once; FST: `CoreTracer::run`, the writer lent to the frame; both comparing only what the edge can have changed) of the model's signals: ports, registers, internals, as `pmu50 run` declares them (without the analog `env` reals, which the twin does not have). Before timing, the run checks that its VCD is byte for byte the one of `Writer::dump_frame` with every value of every tick |
 //! | ... to /dev/null | the same two VCD harnesses (Verilator --trace, Rust tracer VCD) writing to `/dev/null`: the same writes, which the kernel throws away, so the row is the tracer's own cost without the page cache's (both sides write the same 8 MB of keyoff_turns to a file, a large part of the Rust tracer's time) |
-//! | headroom experiment | not the project (as the hand-written kernel loop of issue 8's first table was not): one loop over the kernel that finds the changes and writes their VCD text at once (`fused` below), comparing each register once (the outputs that are registers follow from them through a table), without the checked writer's checks and bookkeeping, to a file and to `/dev/null`; its VCD is checked byte for byte against `dump_frame`'s before it is timed. It says how fast a tracer of these signals could be on this kernel without any check |
 //! | page cache | after the table: the CPU cost per byte of writing a new 8 MiB file in 1 MiB writes, and what it comes to per tick for each stimulus's VCD (the same bytes for every VCD harness) |
 //! | Icarus | `vvp DIR/iv_NAME.vvp +vec=DIR/NAME.vec` (hdl/tb/tb_vectors.v, which compares every output with the file: for scale) |
 //!
@@ -24,7 +23,6 @@
 //! edge alone (`Pmu50::step_traced`, no writer) and the tracer writing to `std::io::sink`.
 //! `--quick-vcd` prints only the Rust tracer's VCD into a file (the table's row, for a profiler:
 //! `perf record` sees nothing else) and how many of the stimulus's edges are wide.
-//! `--quick-fused` prints only the headroom experiment's rows (after its byte-for-byte check).
 //!
 //! The harnesses of a stimulus are timed in [`rounds`] rounds each, interleaved (round 1 of
 //! every harness, then round 2, ...), and the fastest round of each counts.
@@ -33,7 +31,7 @@
 //! hdl/bench/bench.cpp); the run fails (exit 1) unless all checksums of a stimulus agree. Times are
 //! process CPU seconds (`clock_gettime(CLOCK_PROCESS_CPUTIME_ID)`, `getrusage` for children).
 //!
-//! Park figures (issue 8): a parked car, key off, motor still, for 1 h, 1 d and 30 d, and
+//! Park figures (docs/spec.md 5.1): a parked car, key off, motor still, for 1 h, 1 d and 30 d, and
 //! `scenarios/park_30d.toml` (30 days with a disturbance every 6 h), through the simulator with
 //! fast-forward and period skip (`pmu50::sim::run` as `pmu50 run` with trace = none), each in a
 //! child process for its CPU time and peak memory.
@@ -356,14 +354,18 @@ fn vcd_every_value(st: &Stim) -> Vec<u8> {
     w.finish().expect("VCD written")
 }
 
-/// The tracer's VCD is the one of every value through `dump_frame`.
-fn check_tracer(st: &Stim) {
+/// The tracer's VCD is the one of every value through `dump_frame`; returns the length of its
+/// body (the bytes after the header, which every VCD harness writes).
+fn check_tracer(st: &Stim) -> usize {
     let (b, ids, unit_ns) = declare(st);
     let mut w = b.start(Vec::new()).expect("VCD header");
     let f = w.frame(&ids).unwrap();
     pass_traced_vcd(st, &mut w, f, unit_ns);
     let vcd = w.finish().expect("VCD written");
     assert!(vcd == vcd_every_value(st), "{}: the CoreTracer VCD differs from dump_frame's with every value", st.name);
+    let end = b"$enddefinitions $end\n";
+    let header = vcd.windows(end.len()).position(|w| w == end).expect("a VCD header") + end.len();
+    vcd.len() - header
 }
 
 /// [`pass_traced`] into a VCD writer whose text is thrown away ([`std::io::sink`]).
@@ -678,16 +680,6 @@ fn main() {
         }
         return;
     }
-    if args.iter().any(|a| a == "--quick-fused") {
-        // Only the headroom experiment (for tuning it): checked against dump_frame, then timed.
-        for st in &stims {
-            let (header, _) = check_fused(st);
-            let f = alone(Box::new(|| Ok(fused_once(st, &header, &dir, Sink::File))));
-            let n = alone(Box::new(|| Ok(fused_once(st, &header, &dir, Sink::Null))));
-            println!("{}: headroom experiment to a file {} to /dev/null {} (checksum {:016x})", st.name, fmt_rate(f.rate()), fmt_rate(n.rate()), f.checksum.unwrap_or(0));
-        }
-        return;
-    }
     if quick {
         // Only the two Rust models (for tuning the kernel): ticks per CPU-second.
         for st in &stims {
@@ -706,22 +698,19 @@ fn main() {
         "Rust tracer FST (CoreTracer + pmu50_waves)",
         "Verilator -O3 --trace, VCD to /dev/null",
         "Rust tracer VCD to /dev/null",
-        "headroom experiment: fused tracer without checks, VCD to a file",
-        "headroom experiment: fused tracer without checks, VCD to /dev/null",
         "Icarus Verilog (vvp), for scale",
     ];
     // the row each ratio is taken against: Verilator -O3, Verilator --trace to a file, to /dev/null
-    let base = [2, 2, 2, 3, 3, 3, 6, 6, 3, 6, 2];
+    let base = [2, 2, 2, 3, 3, 3, 6, 6, 2];
     let mut table: Vec<Vec<Result<Meas, String>>> = vec![Vec::new(); labels.len()];
-    // bytes of VCD body per tick of each stimulus (the tracer's, the experiment's, Verilator's)
+    // bytes of VCD body per tick of each stimulus (the tracer's and Verilator's)
     let mut vcd_bytes = Vec::new();
     for st in &stims {
         eprintln!("compare: {} ({} ticks)", st.name, st.inputs.len());
         check_frame_order(st);
-        check_tracer(st);
-        let (header, body) = check_fused(st);
+        let body = check_tracer(st);
         vcd_bytes.push(body as f64 / st.inputs.len() as f64);
-        let (dir, header) = (&dir, &header);
+        let dir = &dir;
         let harnesses: Vec<Result<Round<'_>, String>> = vec![
             Ok(pass_rounds(st, seconds, pass_spec)),
             Ok(pass_rounds(st, seconds, pass_kernel)),
@@ -731,13 +720,11 @@ fn main() {
             Ok(Box::new(move || Ok(traced_once(st, dir, true, Sink::File)))),
             verilator(st, dir, seconds, Some(Sink::Null)),
             Ok(Box::new(move || Ok(traced_once(st, dir, false, Sink::Null)))),
-            Ok(Box::new(move || Ok(fused_once(st, header, dir, Sink::File)))),
-            Ok(Box::new(move || Ok(fused_once(st, header, dir, Sink::Null)))),
         ];
         for (row, m) in table.iter_mut().zip(interleaved(harnesses)) {
             row.push(m);
         }
-        table[10].push(if iv.contains(&st.name) { icarus(st, dir) } else { Err("not run (slow; see --icarus)".into()) });
+        table[8].push(if iv.contains(&st.name) { icarus(st, dir) } else { Err("not run (slow; see --icarus)".into()) });
     }
 
     // Checksums: every harness of a stimulus must agree.
@@ -822,313 +809,6 @@ fn main() {
     }
 }
 
-/// The headroom experiment of `make bench` (not the project, as the hand-written kernel loop of
-/// issue 8 was): the tracer's compares and the VCD text fused into one loop over the core, with
-/// none of the checked writer's checks or bookkeeping and the time stamp written ahead and taken
-/// back when nothing changed. It writes the same file as `Writer::dump_frame` with every value
-/// (checked before it is timed), so its rows say how fast a tracer of this design (the same
-/// compares per field after narrow and wide edges, the same text) could be without any check,
-/// next to Verilator --trace and `CoreTracer`. Not a bound for every design: a finer activity
-/// mask from the kernel or compares of packed words would find the changes differently.
-mod fused {
-    use super::*;
-    use pmu50_waves::vcd_text::{ChangeLine, Stamps, SLACK};
-    use std::io::Write;
-
-    /// Bytes collected before one write (the checked writer's buffer size).
-    const BUF: usize = 1 << 20;
-
-    pub struct Out<W: Write> {
-        buf: Box<[u8]>,
-        pos: usize,
-        lines: [ChangeLine; NSIG],
-        stamps: Stamps,
-        w: W,
-    }
-
-    impl<W: Write> Out<W> {
-        /// The change lines of the 65 variables of `header` (a VCD header of `declare`).
-        pub fn new(header: &[u8], w: W) -> Out<W> {
-            let text = std::str::from_utf8(header).expect("a VCD header is text");
-            let lines: Vec<ChangeLine> = text
-                .lines()
-                .filter_map(|l| {
-                    let p: Vec<&str> = l.split_whitespace().collect();
-                    (p.first() == Some(&"$var")).then(|| ChangeLine::new(p[3].as_bytes(), p[2].parse().expect("a width")).expect("a variable of at most 64 bits"))
-                })
-                .collect();
-            Out { buf: vec![0; BUF + 8 * 1024].into_boxed_slice(), pos: 0, lines: lines.try_into().expect("65 variables"), stamps: Stamps::new(), w }
-        }
-
-        #[inline(always)]
-        fn line(&mut self, k: usize, v: u64) {
-            let p = self.pos;
-            let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("room for a step");
-            self.pos = p + self.lines[k].write(out, v);
-        }
-
-        #[inline(always)]
-        fn stamp(&mut self, t: u64) {
-            let p = self.pos;
-            let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("room for a step");
-            self.pos = p + self.stamps.write(out, t);
-        }
-
-        fn put(&mut self, s: &[u8]) {
-            self.buf[self.pos..self.pos + s.len()].copy_from_slice(s);
-            self.pos += s.len();
-        }
-
-        pub fn finish(mut self) -> W {
-            self.w.write_all(&self.buf[..self.pos]).expect("VCD written");
-            self.w.flush().expect("VCD written");
-            self.w
-        }
-    }
-
-    macro_rules! all {
-        ($o:ident, $cur:expr, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
-            $( $o.line($base + $k, $cur.$($f).+ as u64); )*
-        };
-    }
-    /// `$m!(args, base, [position: field, ...])` over one group of the frame (the order of the
-    /// tracer's frame, src/tracer.rs), or over the fields a narrow edge can change.
-    macro_rules! fields {
-        (inputs, $m:ident!($($a:tt)*)) => { $m!($($a)*, 0, [0: ig, 1: vs2_ok, 2: cmp_s, 3: cmp_c, 4: bus_we, 5: bus_addr, 6: bus_wdata]) };
-        (outputs, $m:ident!($($a:tt)*)) => {
-            $m!($($a)*, 7, [0: sig, 1: vr_hi, 2: vm_en, 3: vs1_en, 4: vs2_en, 5: vp_en, 6: rail_hi, 7: st, 8: sr, 9: ps_win, 10: smp, 11: cs, 12: cc,
-                13: cnt_s, 14: cnt_c, 15: cnt_r, 16: si, 17: hist_s, 18: hist_c, 19: diag, 20: quadrant_skip, 21: bus_rdata, 22: bus_err])
-        };
-        (registers, $m:ident!($($a:tt)*)) => {
-            $m!($($a)*, 30, [0: action_switching.sync,
-                1: register_file.adaptive, 2: register_file.pw, 3: register_file.pi, 4: register_file.ps, 5: register_file.si_max,
-                6: register_file.si_min, 7: register_file.t1, 8: register_file.t2, 9: register_file.cth, 10: register_file.smp_on,
-                11: register_file.bus_err, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr,
-                15: comparator_latch.cs, 16: comparator_latch.cc, 17: comparator_latch.vld,
-                18: updown_counter.cnt_s, 19: updown_counter.cnt_c, 20: updown_counter.quadrant_skip,
-                21: drive_interval.si, 22: drive_interval.hist_s, 23: drive_interval.hist_c, 24: drive_interval.cnt_r, 25: count_diagnosis.diag])
-        };
-        (narrow_registers, $m:ident!($($a:tt)*)) => {
-            $m!($($a)*, 30, [0: action_switching.sync, 12: register_file.rdata, 13: timing_generator.tmr, 14: sensor_power_determination.sr, 25: count_diagnosis.diag])
-        };
-        (internals, $m:ident!($($a:tt)*)) => { $m!($($a)*, 56, [0: kon, 1: koff, 2: upd, 3: first, 4: chg_s, 5: chg_c, 6: skip_clr, 7: fig17, 8: fig18]) };
-    }
-
-    /// Bit k: output k (the order of `Outputs::values`) for each register p changed (the
-    /// outputs that are registers), one table per byte of the register mask.
-    const fn out_of_regs() -> [[u32; 256]; 4] {
-        // register position -> output position, for the outputs that are registers
-        let map: [(usize, usize); 13] = [(14, 8), (15, 11), (16, 12), (18, 13), (19, 14), (24, 15), (21, 16), (22, 17), (23, 18), (25, 19), (20, 20), (12, 21), (11, 22)];
-        let mut t = [[0u32; 256]; 4];
-        let mut b = 0;
-        while b < 4 {
-            let mut v = 0;
-            while v < 256 {
-                let mut k = 0;
-                while k < map.len() {
-                    let (p, o) = map[k];
-                    if p / 8 == b && (v >> (p % 8)) & 1 == 1 {
-                        t[b][v] |= 1 << o;
-                    }
-                    k += 1;
-                }
-                v += 1;
-            }
-            b += 1;
-        }
-        t
-    }
-    static OUT_OF_REGS: [[u32; 256]; 4] = out_of_regs();
-    /// The decode byte: sig, vs2_en, st, ps_win, smp (bits 0-4) -> the outputs they are.
-    const fn out_of_dec() -> [u32; 32] {
-        let mut t = [0u32; 32];
-        let mut v = 0;
-        while v < 32 {
-            if v & 1 != 0 { t[v] |= 1 << 0 | 1 << 1 | 1 << 2 | 1 << 3 | 1 << 6; }
-            if v & 2 != 0 { t[v] |= 1 << 4; }
-            if v & 4 != 0 { t[v] |= 1 << 7; }
-            if v & 8 != 0 { t[v] |= 1 << 9; }
-            if v & 16 != 0 { t[v] |= 1 << 10; }
-            v += 1;
-        }
-        t
-    }
-    static OUT_OF_DEC: [u32; 32] = out_of_dec();
-
-    #[inline(always)]
-    fn dec(o: &Outputs) -> u8 {
-        u8::from(o.sig) | u8::from(o.vs2_en) << 1 | u8::from(o.st) << 2 | u8::from(o.ps_win) << 3 | u8::from(o.smp) << 4
-    }
-
-    #[inline(always)]
-    fn reg_value(r: &Regs, p: u32) -> u64 {
-        let f = &r.register_file;
-        match p {
-            0 => r.action_switching.sync.into(),
-            1 => f.adaptive.into(),
-            2 => f.pw.into(),
-            3 => f.pi.into(),
-            4 => f.ps.into(),
-            5 => f.si_max.into(),
-            6 => f.si_min.into(),
-            7 => f.t1.into(),
-            8 => f.t2.into(),
-            9 => f.cth.into(),
-            10 => f.smp_on.into(),
-            11 => f.bus_err.into(),
-            12 => f.rdata.into(),
-            13 => r.timing_generator.tmr.into(),
-            14 => r.sensor_power_determination.sr.into(),
-            15 => r.comparator_latch.cs.into(),
-            16 => r.comparator_latch.cc.into(),
-            17 => r.comparator_latch.vld.into(),
-            18 => r.updown_counter.cnt_s.into(),
-            19 => r.updown_counter.cnt_c.into(),
-            20 => r.updown_counter.quadrant_skip.into(),
-            21 => r.drive_interval.si.into(),
-            22 => r.drive_interval.hist_s.into(),
-            23 => r.drive_interval.hist_c.into(),
-            24 => r.drive_interval.cnt_r.into(),
-            _ => r.count_diagnosis.diag.into(),
-        }
-    }
-
-    /// The value of output k from the registers and the decode byte.
-    #[inline(always)]
-    fn out_value(r: &Regs, d: u8, k: u32) -> u64 {
-        match k {
-            0 | 1 | 2 | 3 | 6 => u64::from(d & 1),
-            4 => u64::from(d >> 1 & 1),
-            5 => 1,
-            7 => u64::from(d >> 2 & 1),
-            9 => u64::from(d >> 3 & 1),
-            10 => u64::from(d >> 4 & 1),
-            8 => reg_value(r, 14),
-            11 => reg_value(r, 15),
-            12 => reg_value(r, 16),
-            13 => reg_value(r, 18),
-            14 => reg_value(r, 19),
-            15 => reg_value(r, 24),
-            16 => reg_value(r, 21),
-            17 => reg_value(r, 22),
-            18 => reg_value(r, 23),
-            19 => reg_value(r, 25),
-            20 => reg_value(r, 20),
-            21 => reg_value(r, 12),
-            _ => reg_value(r, 11),
-        }
-    }
-
-    /// Bit k set when field k of a group differs from the held value.
-    macro_rules! mask {
-        ($cur:expr, $held:expr, $base:expr, [$($k:literal : $($f:ident).+),* $(,)?]) => {
-            0u32 $( | (u32::from($cur.$($f).+ != $held.$($f).+) << $k) )*
-        };
-    }
-
-    /// One replay with every change written at once, comparing each flip-flop once: the
-    /// outputs before an edge are thirteen registers and the decode byte ([`dec`]: `sig`, the
-    /// timer's decode; `vp_en` is constant), so only the registers are compared (after a narrow
-    /// edge only the five it writes) into a mask, and the outputs' changes are the mask through
-    /// a table ([`OUT_OF_REGS`]) and the decode byte's ([`OUT_OF_DEC`]). The inputs and the
-    /// internals go through masks too; the time stamp is written ahead and taken back when
-    /// nothing changed. The VCD is checked against `dump_frame`'s before timing, which also
-    /// checks the output-to-register map on the stimulus.
-    #[inline(never)]
-    pub fn pass<W: Write>(st: &Stim, o: &mut Out<W>, dt: u64) -> u64 {
-        let mut m = Pmu50::new(st.params).expect("legal parameters");
-        let Some((i0, rest)) = st.inputs.split_first() else {
-            return 0;
-        };
-        let mut li = *i0;
-        let lo = m.peek();
-        let mut lr = *m.regs();
-        o.stamp(0);
-        o.put(b"$dumpvars\n");
-        fields!(inputs, all!(o, li));
-        fields!(outputs, all!(o, lo));
-        fields!(registers, all!(o, lr));
-        let mut ld = dec(&lo);
-        let (mut lx, after, mut wide_prev) = m.step_traced_wide(i0);
-        fields!(internals, all!(o, lx));
-        o.put(b"$end\n");
-        let mut d = dec(&after);
-        let mut h = mix(0, &after);
-        for (k, i) in rest.iter().enumerate() {
-            let t = (k as u64 + 1) * dt;
-            if o.pos >= BUF {
-                o.w.write_all(&o.buf[..o.pos]).expect("VCD written");
-                o.pos = 0;
-            }
-            let mark = o.pos;
-            o.stamp(t);
-            let start = o.pos;
-            let mut im = fields!(inputs, mask!(i, li));
-            if im != 0 {
-                li = *i;
-                while im != 0 {
-                    let p = im.trailing_zeros();
-                    im &= im - 1;
-                    let v = match p { 0 => li.ig.into(), 1 => li.vs2_ok.into(), 2 => li.cmp_s.into(), 3 => li.cmp_c.into(), 4 => li.bus_we.into(), 5 => li.bus_addr.into(), _ => li.bus_wdata.into() };
-                    o.line(p as usize, v);
-                }
-            }
-            let r = m.regs();
-            let mut rm = if wide_prev {
-                fields!(registers, mask!(r, lr))
-            } else {
-                fields!(narrow_registers, mask!(r, lr))
-            };
-            let dd = d ^ ld;
-            if rm != 0 || dd != 0 {
-                let mut om = OUT_OF_DEC[usize::from(dd)] | OUT_OF_REGS[0][(rm & 0xFF) as usize] | OUT_OF_REGS[1][(rm >> 8 & 0xFF) as usize] | OUT_OF_REGS[2][(rm >> 16 & 0xFF) as usize] | OUT_OF_REGS[3][(rm >> 24 & 0xFF) as usize];
-                while om != 0 {
-                    let k = om.trailing_zeros();
-                    om &= om - 1;
-                    o.line(7 + k as usize, out_value(r, d, k));
-                }
-                ld = d;
-                if wide_prev {
-                    lr = *r;
-                }
-                while rm != 0 {
-                    let p = rm.trailing_zeros();
-                    rm &= rm - 1;
-                    o.line(30 + p as usize, reg_value(r, p));
-                }
-                if !wide_prev {
-                    lr.action_switching.sync = r.action_switching.sync;
-                    lr.register_file.rdata = r.register_file.rdata;
-                    lr.timing_generator.tmr = r.timing_generator.tmr;
-                    lr.sensor_power_determination.sr = r.sensor_power_determination.sr;
-                    lr.count_diagnosis.diag = r.count_diagnosis.diag;
-                }
-            }
-            let (x, after, wide) = m.step_traced_wide(i);
-            // every edge (a narrow one may set `upd`)
-            let mut xm = fields!(internals, mask!(x, lx));
-            if xm != 0 {
-                lx = x;
-                while xm != 0 {
-                    let p = xm.trailing_zeros();
-                    xm &= xm - 1;
-                    let v = match p { 0 => lx.kon.into(), 1 => lx.koff.into(), 2 => lx.upd.into(), 3 => lx.first.into(), 4 => lx.chg_s.into(), 5 => lx.chg_c.into(), 6 => lx.skip_clr.into(), 7 => lx.fig17 as u64, _ => lx.fig18 as u64 };
-                    o.line(56 + p as usize, v);
-                }
-            }
-            wide_prev = wide;
-            d = dec(&after);
-            if o.pos == start {
-                o.pos = mark;
-            }
-            h = mix(h, &after);
-        }
-        o.stamp(st.inputs.len() as u64 * dt);
-        h
-    }
-
-}
-
 /// CPU nanoseconds per byte of writing 8 MiB into a new file of `dir` in 1 MiB writes (the
 /// writers' buffer size), the best of fifteen: the page cache's cost, which every VCD harness
 /// pays for its bytes.
@@ -1149,39 +829,4 @@ fn page_cache_ns_per_byte(dir: &Path) -> std::io::Result<f64> {
         std::fs::remove_file(&path)?;
     }
     Ok(best * 1e9 / (8.0 * chunk.len() as f64))
-}
-
-/// The headroom experiment writes the VCD of `Writer::dump_frame` with every value, byte for
-/// byte; returns the header it starts from and the length of the body.
-fn check_fused(st: &Stim) -> (Vec<u8>, usize) {
-    let every = vcd_every_value(st);
-    let end = b"$enddefinitions $end\n";
-    let split = every.windows(end.len()).position(|w| w == end).expect("a VCD header") + end.len();
-    let header = every[..split].to_vec();
-    let mut o = fused::Out::new(&header, header.clone());
-    let (_, _, unit_ns) = declare(st);
-    fused::pass(st, &mut o, st.clock_ns / unit_ns);
-    assert!(o.finish() == every, "{}: the headroom experiment's VCD differs from dump_frame's with every value", st.name);
-    (header, every.len() - split)
-}
-
-/// One round of the headroom experiment: the header written before the clock starts (as the
-/// other VCD harnesses do), the body and the final write timed.
-fn fused_once(st: &Stim, header: &[u8], dir: &Path, sink: Sink) -> Meas {
-    let (_, _, unit_ns) = declare(st);
-    let path = match sink {
-        Sink::File => dir.join(format!("fused_{}.vcd", st.name)),
-        Sink::Null => PathBuf::from("/dev/null"),
-    };
-    let mut file = std::fs::OpenOptions::new().write(true).create(true).truncate(true).open(&path).expect("VCD file");
-    std::io::Write::write_all(&mut file, header).expect("VCD header");
-    let mut o = fused::Out::new(header, file);
-    let t0 = cpu_now();
-    let h = fused::pass(st, &mut o, st.clock_ns / unit_ns);
-    o.finish();
-    let cpu = cpu_now() - t0;
-    if sink == Sink::File && std::env::var_os("PMU50_BENCH_KEEP").is_none() {
-        let _ = std::fs::remove_file(&path);
-    }
-    Meas { ticks: st.inputs.len() as u64, cpu, checksum: Some(h), note: String::new() }
 }

@@ -1,4 +1,5 @@
-//! Issue 7, sections 1, 2 and 5 at the command line: each case with its exit code and message.
+//! Bad input, refused writes and safe outputs at the command line (README "Exit codes"): each
+//! case with its exit code and message.
 //! (Interruptions and disk full: tests/interrupt.rs.)
 
 use std::path::Path;

@@ -198,7 +198,7 @@ fn gtkwave_loader_reads_every_shipped_vcd_without_a_warning() {
     for p in files {
         let sc = Scenario::load(&p).unwrap();
         if sc.ticks > 1_000_000_000 {
-            // Days of parking have no VCD of every tick (issue 8); tests/skip_ahead.rs checks them.
+            // Days of parking have no VCD of every tick (docs/spec.md 5.1); tests/skip_ahead.rs checks them.
             continue;
         }
         let half = sc.ticks / 2;

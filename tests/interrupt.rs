@@ -1,4 +1,4 @@
-//! Nothing is lost or half-written (issue 7, section 1): the real `pmu50` binary is interrupted
+//! Nothing is lost or half-written (README, "Outputs are never lost or half-written"): the real `pmu50` binary is interrupted
 //! mid-run by SIGINT, SIGTERM and SIGKILL at random moments, and runs out of disk space; the
 //! previous complete outputs must be byte-identical afterwards, and no temporary file may remain
 //! (SIGKILL cannot be caught: there a stray temporary file is allowed, a damaged final file is

@@ -1,4 +1,4 @@
-//! System-level properties (issue 2), each against a simple reference: the true motor angle.
+//! System-level properties, each against a simple reference: the true motor angle.
 //!
 //! - For any motion that crosses at most one quadrant boundary between two samples, across any
 //!   number of key-off/key-on cycles, the read-out's θm at key-on equals the true multi-turn angle

@@ -1,4 +1,4 @@
-//! The skipping bench against the per-tick bench (issue 7 section 4, issue 8 section 1).
+//! The skipping bench against the per-tick bench (docs/spec.md 5.1).
 //!
 //! - every shipped scenario, run both ways, gives the same summary (every figure: counters,
 //!   intervals, read-outs, key-off current), the same table rows, read-outs, final registers and

@@ -1,5 +1,5 @@
-//! Issue 8, section 3, trace levels: `pmu50 run --trace ports|registers|all|none` and
-//! `[vcd] trace`. Per level the waveform declares exactly its signals (same hierarchy, same
+//! Trace levels (docs/spec.md 6.1, "Trace levels"): `pmu50 run --trace ports|registers|all|none`
+//! and `[vcd] trace`. Per level the waveform declares exactly its signals (same hierarchy, same
 //! names), every shared signal has the values of the `all` file, the save file lists only
 //! signals of the file; the default is chosen from the run's length; bad values are refused with
 //! exit 2; the size estimate behind `--max-vcd-bytes` depends on the level and the format.

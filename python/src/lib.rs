@@ -1,4 +1,4 @@
-//! Python bindings of the PMU 50 reference model (issue 10), the native part of the package
+//! Python bindings of the PMU 50 reference model (docs/python.md), the native part of the package
 //! `pmu50` (`pmu50._native`; `python/pmu50/__init__.py` re-exports it, `_native.pyi` types it).
 //!
 //! - [`core::Core`]: the digital core of power management unit 50 (US 2022/0041215 A1, FIG. 14 /

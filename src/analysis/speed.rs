@@ -321,7 +321,7 @@ pub fn summary(r: &Report) -> String {
     s += &format!("   from rest (interval x):   tracked up to {}; bound 90 deg / x = {:.0} deg/s = {:.0} rpm\n", f(r.limit(Sweep::FromRest)), b.rest_dps, rpm(b.rest_dps));
     s += &format!("   steady state (interval min): tracked up to {}; bound 90 deg / min = {:.0} deg/s = {:.0} rpm\n", f(r.limit(Sweep::SteadyState)), b.steady_dps, rpm(b.steady_dps));
     s += &format!("   constant acceleration from rest: tracked up to {}\n", r.limit(Sweep::Acceleration).map_or("none".to_string(), |a| format!("{a:.0} deg/s^2")));
-    s += "   for comparison (the same one-quadrant-per-sample rule applied to its periods): TMAG6181-Q1 samples every 1.6 ms at rest and 0.2 ms on rotation: 9 375 / 75 000 rpm; iC-PV: 12 000 rpm as quoted in issue 9, not confirmed from its datasheet (docs/analysis.md)\n";
+    s += "   for comparison (the same one-quadrant-per-sample rule applied to its periods): TMAG6181-Q1 samples every 1.6 ms at rest and 0.2 ms on rotation: 9 375 / 75 000 rpm; iC-PV: 12 000 rpm as quoted, not confirmed from its datasheet (docs/analysis.md)\n";
     s
 }
 

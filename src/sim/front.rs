@@ -6,7 +6,7 @@
 //! Moore outputs `vs2_en`/`rail_hi`, the sensor settles towards the shaft angle at the end of the
 //! tick, and the comparators give the raw sign bits the core latches at the next edge.
 //!
-//! Quiet time ("no change before t", issue 8): the comparator pair is stateless, its bits change
+//! Quiet time ("no change before t", for the period skip-ahead of docs/spec.md 5.1): the comparator pair is stateless, its bits change
 //! only when its inputs do; the sensor is a first-order lag whose whole state is compared by
 //! value ([`FrontState`]) at key-off period boundaries, where it is unpowered (Vs2 off since the
 //! end of the previous window), so a period that starts in the same state with the same held

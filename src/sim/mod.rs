@@ -17,7 +17,7 @@
 //! Observers (VCD writer, change log) get [`Observer::begin`] with the reset state, then every
 //! tick, then [`Observer::finish`]. When no observer needs every tick the bench may skip what it
 //! can account exactly ([`Stepping`]): idle key-off gaps with [`Pmu50::fast_forward`], and whole
-//! repeated key-off periods ([`skip`], issue 8). Observers that need every tick but can replay a
+//! repeated key-off periods ([`skip`], docs/spec.md 5.1). Observers that need every tick but can replay a
 //! repeated period (the waveform writer, the change log, the markers: [`Observer::replay`],
 //! [`replay`]) still let the bench skip whole periods, and emit the skipped copies themselves.
 //! Results, and the files written, are identical to stepping every tick (tests/properties.rs,

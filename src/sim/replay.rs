@@ -1,5 +1,4 @@
-//! Replay of skipped key-off periods for observers that dump every tick (issue 8, docs/spec.md
-//! 5.1): the waveform writer records what it dumped during the last whole period, and when the
+//! Replay of skipped key-off periods for observers that dump every tick (docs/spec.md 5.1): the waveform writer records what it dumped during the last whole period, and when the
 //! bench skips `n` repeats of that period ([`super::skip`]) it emits `n` copies shifted by the
 //! period instead of the bench evaluating them.
 //!

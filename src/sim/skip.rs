@@ -1,4 +1,4 @@
-//! Period skip-ahead (issue 8, docs/spec.md 5.1): with the key off and nothing outside changing,
+//! Period skip-ahead (docs/spec.md 5.1): with the key off and nothing outside changing,
 //! the whole bench repeats from one key-off period to the next once the drive interval has
 //! settled ([0226]-[0231]: the intermittent Vs2 output every interval). This part detects the
 //! repeat and says how many whole periods may be skipped.

@@ -73,8 +73,8 @@ macro_rules! hdr {
     };
 }
 
-/// The malformed shapes of issue 7 (and the ones found while writing the
-/// validator). Line numbers count from 1; the header of `hdr!` with one `$var`
+/// The malformed shapes the reader must refuse as bad input (waves/tests/malformed.rs; and
+/// the ones found while writing the validator). Line numbers count from 1; the header of `hdr!` with one `$var`
 /// takes lines 1-5, so the body starts on line 6.
 pub const MALFORMED: &[Malformed] = &[
     Malformed {

@@ -3,8 +3,12 @@
 //! [`SLACK`] bytes of an output buffer (the caller keeps that many bytes free past its position,
 //! so no write checks its length).
 //!
-//! [`crate::writer::VcdOut`] writes every change of the checked writer with these; `make bench`
-//! also uses them for its headroom experiment (benches/compare.rs, `fused`).
+//! [`Stamps`] writes a time stamp from the last one when the clock's step repeats: the last
+//! stamp's digits plus the step's, one decimal digit a byte of a `u64` (with 246 added to every
+//! byte, a digit sum of 10 or more carries into the next byte by itself); any other time goes
+//! through [`stamp`].
+//!
+//! [`crate::writer::VcdOut`] writes every change of the checked writer with these.
 
 /// `b"00000000"` .. `b"11111111"`: the 8 VCD bits of each byte value, msb first.
 const BITS8: [[u8; 8]; 256] = {

@@ -30,6 +30,34 @@
 //! it lives, so a step inside the window skips the writer's per-variable bookkeeping and its
 //! changes are written straight from the frame's copy (the fast path of a tracer).
 //!
+//! A *direct* step of a frame run is one inside the window, after the first dump, later than
+//! the writer's current time, with the frame in declaration order and no `x`/`z` values; other
+//! steps are [`FrameStep`]s. The writer's own per-variable values are brought up to date when
+//! the run ends, and its last step becomes the writer's pending step, so a single change at
+//! that time afterwards is merged or refused as after a frame step.
+//!
+//! For a VCD, [`VcdWriter::text_run`] goes further ([`TextRun`]): each step ([`TextStep`],
+//! from [`TextRun::step`]) writes its text at once into the writer's buffer: the time stamp
+//! ahead (taken back when nothing changed), then each changed value's line
+//! ([`TextStep::line`], with the position, order and width checks of a direct step), with room
+//! for the whole step reserved when it begins. A step that cannot be written at once
+//! (`TextRun::step` gives `Ok(None)`) goes through [`TextRun::frame_run`]. When the run ends its
+//! last step is taken back out of the buffer and becomes the writer's pending step; its changed
+//! positions are read back from its text. Inside a run:
+//! - the frame's positions are *slots* (`TextSlot`): each position's value and change line side
+//!   by side, the frame's values while text steps last, given back when they end;
+//! - a text step holds the end of the text it writes, so a caller that keeps the step in a local
+//!   keeps it in a register; each line also stores it in the writer (never loading it back), so
+//!   a step leaked with `mem::forget` loses nothing (`a_leaked_text_step_keeps_its_lines`);
+//! - [`TextStep::change`] is a line for a value its caller guarantees changed, fits its variable
+//!   and comes in increasing positions: those three checks of `line` are asserted in debug
+//!   builds (where the tests run) and not made in release builds. [`TextStep::change_w`] is the
+//!   same for a variable the caller knows to be exactly `N` bits wide, written by
+//!   [`crate::vcd_text::ChangeLine::write_w`] with the width's tests resolved at compile time.
+//!
+//! Every run writes the file [`Writer::dump_frame`] would write from every value
+//! (`frame_runs_equal_dump_frame`, `text_runs_equal_dump_frame` in `waves/tests/writer.rs`).
+//!
 //! With a time window `[start, end)` ([`VcdBuilder::window`]) nothing before
 //! `start` or at/after `end` is written; the file begins with `#start $dumpvars`
 //! holding the values current at `start`, and time stamps stay absolute.
@@ -817,8 +845,8 @@ pub trait Emitter {
 
 /// Bytes of VCD text collected before one write to the output. 1 MiB rather than 128 KiB: with
 /// the tracer writing a new file, the page cache's share of a traced tick fell by a third (the
-/// Rust tracer into a file +3-5 % on both stimuli of `make bench`, the headroom experiment +7 %;
-/// docs/performance.md, "Sixth session"), for 1 MiB of memory per open VCD.
+/// Rust tracer into a file +3-5 % on both stimuli of `make bench`; 64 KiB and 256 KiB measured
+/// slower), for 1 MiB of memory per open VCD.
 const VCD_BUFFER: usize = 1 << 20;
 
 /// VCD text emitter: identifier codes and the text after every change's value precomputed at

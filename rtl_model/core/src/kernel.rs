@@ -15,6 +15,16 @@
 //! - the registered read mux reads a table of what each address reads, and the timer is decoded
 //!   with thresholds for the key mode of the registers ([`Shadow`]), both kept beside the
 //!   registers and rebuilt where what they depend on changes outside the common edge;
+//! - an edge is *narrow* or *wide* ([`step_traced_wide`]), which a tracer uses to compare only
+//!   what the edge can have changed (as Verilator's tracer uses its activity flags). A wide edge
+//!   is a bus write, a key edge, a key-off sampling strobe (the 56b pulse, FIG. 17/18) or a key-on
+//!   sample that presets the counters or finds a sign changed, and may write any register. A
+//!   narrow edge changes only [`NARROW_WRITES`] (`sync`, `tmr`, `sr`, `rdata`, `diag`), keeps
+//!   `sig`, and has all internals false but `upd` (a key-on sample that found both signs as
+//!   latched writes the latches with the values they hold). Simulator knowledge, not a hardware
+//!   signal or a clock enable. Tested from any register state
+//!   (`narrow_edges_write_only_their_registers`) and, for key-on strobes, in both directions
+//!   (`key_on_strobes_that_move_nothing_are_narrow`, `key_on_strobe_cases_reach_both_kinds`);
 //! - `sig` is a test of the synchronizer stage's mask ([`Consts`]), not a shift by a variable;
 //! - the counter rules of [0096]-[0099] are used in closed form (`cnt_s` counts up iff
 //!   `cs_new == cc`, `cnt_c` counts up iff `cc_new != cs`), and the diagnosis of [0119]

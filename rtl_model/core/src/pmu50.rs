@@ -54,6 +54,16 @@
 //! | `quadrant_skip` | 1 | out | sticky quadrant skip |
 //! | `bus_rdata` | 16    | out | registered read data |
 //! | `bus_err`   | 1     | out | sticky refused write |
+//!
+//! Packed words, for the fast paths of a tracer and a checksum: [`Inputs`], [`Outputs`] and
+//! [`Internals`] are `repr(C)` without padding between their fields (asserted at compile time).
+//! [`Inputs::packed`] (a `u64`) and [`Internals::packed`] (a `u128`) are the fields a byte each
+//! in declaration order, the struct's own bytes, so a compare of two ticks is one or two loads
+//! and a changed signal is found by its byte. [`Outputs::flags`] gathers the eighteen one-bit
+//! outputs as bits in port order from three loads (the thirteen flags from `sig` to `cc` come
+//! first in the struct); the port order itself ([`Outputs::values`], waveforms, the C ABI) is
+//! that of [`crate::signals`], not the field order. Tests: `packed_inputs_are_the_inputs_a_byte_each`
+//! and `output_flags_are_the_one_bit_outputs_in_port_order` (`tests/kernel_equivalence.rs`).
 
 use crate::action_switching_56a as sw;
 use crate::comparator_latch_58ab as cl;

@@ -123,7 +123,7 @@ pub struct Signal<T> {
     pub reset: Reset,
     /// Changes at every tick (the free-running timer): left out of the change log.
     pub free_running: bool,
-    /// One of the contract signals of issue 3 (docs/signals.md, first table).
+    /// One of the contract signals with the HDL team (docs/signals.md, first table).
     pub contract: bool,
     pub meaning: &'static str,
     /// Patent paragraphs, e.g. `[0096]-[0097]`.
@@ -352,7 +352,7 @@ fn port_row<T>(s: &Signal<T>, with_patent: bool) -> String {
 /// The generated tables of docs/signals.md (between the `<!-- signal table -->` markers).
 pub fn markdown_tables() -> String {
     let mut m = String::new();
-    m += "## Contract signals (issue 3)\n\n| name | width | direction | meaning | patent |\n|---|---|---|---|---|\n";
+    m += "## Contract signals\n\n| name | width | direction | meaning | patent |\n|---|---|---|---|---|\n";
     for s in INPUTS.iter().filter(|s| s.contract) {
         m += &port_row(s, true);
     }
