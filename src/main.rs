@@ -202,6 +202,12 @@ enum Cmd {
         /// ports and parameters of docs/signals.md). Default: the twin, hdl/pmu50.f.
         #[arg(long, value_name = "FILELIST")]
         rtl: Option<PathBuf>,
+        /// Hold SYNC_DEPTH (1-4) for every seed, e.g. for an RTL built for one configuration.
+        #[arg(long, value_parser = clap::value_parser!(u8).range(1..=4))]
+        sync_depth: Option<u8>,
+        /// Hold CNT_W (2-16) for every seed.
+        #[arg(long, value_parser = clap::value_parser!(u8).range(2..=16))]
+        cnt_width: Option<u8>,
         /// Run part I of N of the seed range (job arrays). Inside a Slurm array or a Kubernetes
         /// Indexed Job the part comes from SLURM_ARRAY_TASK_ID / JOB_COMPLETION_INDEX.
         #[arg(long, value_name = "I/N")]
@@ -210,7 +216,7 @@ enum Cmd {
         #[arg(long, value_name = "N")]
         shard_count: Option<u64>,
         /// Continue the regression in DIR: run only the seeds its results.jsonl does not have.
-        #[arg(long, value_name = "DIR", conflicts_with_all = ["iterations", "shard", "shard_count", "directed", "check_spec", "rtl", "repro"])]
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["iterations", "shard", "shard_count", "directed", "check_spec", "rtl", "repro", "sync_depth", "cnt_width"])]
         resume: Option<PathBuf>,
         /// Output folder.
         #[arg(long, default_value = "regress_out")]
@@ -455,8 +461,9 @@ fn main() -> ExitCode {
                 2
             }
         },
-        Cmd::Regress { start_seed, iterations, jobs, directed, check_spec, dut, rtl, shard, shard_count, resume, out, timeout, no_triage, repro } => {
-            cmd_regress(RegressArgs { start_seed, iterations, jobs, directed, check_spec, dut, rtl, shard, shard_count, resume, out, timeout, no_triage, repro })
+        Cmd::Regress { start_seed, iterations, jobs, directed, check_spec, dut, rtl, sync_depth, cnt_width, shard, shard_count, resume, out, timeout, no_triage, repro } => {
+            let pins = pmu50::regress::gen::Pins { sync_depth, cnt_width };
+            cmd_regress(RegressArgs { start_seed, iterations, jobs, directed, check_spec, dut, rtl, pins, shard, shard_count, resume, out, timeout, no_triage, repro })
         }
         Cmd::Merge { out, inputs } => match pmu50::regress::merge::merge(&inputs, &out) {
             Ok(m) => {
@@ -483,6 +490,7 @@ struct RegressArgs {
     check_spec: bool,
     dut: String,
     rtl: Option<PathBuf>,
+    pins: pmu50::regress::gen::Pins,
     shard: Option<String>,
     shard_count: Option<u64>,
     resume: Option<PathBuf>,
@@ -531,7 +539,7 @@ fn cmd_regress(a: RegressArgs) -> u8 {
             Ok(sc) => sc,
             Err(_) => return 2,
         };
-        let spec = RunSpec { tool, model, start_seed: 0, iterations: 0, directed: false, check_spec: a.check_spec, dut: dut.clone(), rtl, shard: None };
+        let spec = RunSpec { tool, model, start_seed: 0, iterations: 0, directed: false, check_spec: a.check_spec, dut: dut.clone(), rtl, pins: a.pins, shard: None };
         let d = if dut == DutKind::Model {
             None
         } else {
@@ -575,7 +583,7 @@ fn cmd_regress(a: RegressArgs) -> u8 {
             if a.directed && shard.is_some() {
                 return fail("--directed steers each batch by the coverage of the seeds before it, which another shard runs: run a directed regression in one process, or shard a random one".into());
             }
-            (RunSpec { tool, model, start_seed: a.start_seed, iterations, directed: a.directed, check_spec: a.check_spec, dut, rtl, shard }, false)
+            (RunSpec { tool, model, start_seed: a.start_seed, iterations, directed: a.directed, check_spec: a.check_spec, dut, rtl, pins: a.pins, shard }, false)
         }
     };
     let out_dir = a.resume.clone().unwrap_or(a.out.clone());

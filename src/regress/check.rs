@@ -51,16 +51,18 @@ impl Failure {
     }
 }
 
-/// FIG. 17/18 path names of an edge.
+/// FIG. 17/18 path of an edge, by the coverage bins' names (`s6_shorten/s23_detected_cs`, or
+/// `-` where FIG. 17 did not run).
 pub fn fig_path(f17: Fig17, f18: Fig18) -> String {
+    use pmu50_coverage::model::{FIG17, FIG18, POINTS};
     if f17 == Fig17::Idle {
         return "-".into();
     }
-    let a = format!("{f17:?}").to_lowercase();
+    let a = POINTS[FIG17].bins[f17 as usize - 1].name;
     if f18 == Fig18::Idle {
-        a
+        a.to_string()
     } else {
-        format!("{a}/{}", format!("{f18:?}").to_lowercase())
+        format!("{a}/{}", POINTS[FIG18].bins[f18 as usize - 1].name)
     }
 }
 

@@ -93,7 +93,8 @@ impl Dut {
                 h = (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
             }
         }
-        let build_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/regress-dut").join(format!("{h:016x}"));
+        // The twin shares hdl/build with hdl/cosim.sh; another RTL gets a folder of its own.
+        let build_dir = if spec.rtl.is_none() { hdl.join("build") } else { Path::new(env!("CARGO_MANIFEST_DIR")).join("target/regress-dut").join(format!("{h:016x}")) };
         std::fs::create_dir_all(&build_dir).map_err(|e| format!("{}: {e}", build_dir.display()))?;
         let scratch = tempfile::tempdir().map_err(|e| format!("a scratch folder for vector files: {e}"))?;
         Ok(Dut { kind: spec.dut.clone(), filelist, build_dir, builds: Mutex::new(HashMap::new()), scratch })
@@ -151,8 +152,8 @@ impl Dut {
         let _ = std::fs::remove_file(&vec);
         let (code, text) = match res? {
             Limited::Done(code, text) => (code, text),
-            Limited::TimedOut => return Ok(Some(dut_failure(sc, 0, "dut", format!("the DUT did not finish within the per-seed time limit of {} s", timeout.as_secs_f64())))),
-            Limited::Killed(sig) => return Ok(Some(dut_failure(sc, 0, "dut", format!("the DUT crashed (signal {sig})")))),
+            Limited::TimedOut => return Ok(Some(dut_failure(sc, None, "dut", format!("the DUT did not finish within the per-seed time limit of {} s", timeout.as_secs_f64())))),
+            Limited::Killed(sig) => return Ok(Some(dut_failure(sc, None, "dut", format!("the DUT crashed (signal {sig})")))),
         };
         if code == 0 {
             return Ok(None);
@@ -161,7 +162,7 @@ impl Dut {
             return Ok(Some(parse_mismatch(sc, line, &text)));
         }
         if code == 1 {
-            return Ok(Some(dut_failure(sc, 0, "dut", format!("the DUT reported a failure without a MISMATCH line: {}", text.lines().take(3).collect::<Vec<_>>().join(" | ")))));
+            return Ok(Some(dut_failure(sc, None, "dut", format!("the DUT reported a failure without a MISMATCH line: {}", text.lines().take(3).collect::<Vec<_>>().join(" | ")))));
         }
         Err(format!("the DUT's bench failed (exit {code}): {}", text.lines().filter(|l| !l.trim().is_empty()).take(4).collect::<Vec<_>>().join(" | ")))
     }
@@ -228,7 +229,11 @@ fn parse_mismatch(sc: &Scenario, line: &str, all: &str) -> Failure {
         Some((b, _)) => b.to_string(),
         None => "ports".into(),
     };
-    let mut f = dut_failure(sc, tick, "dut", format!("the RTL diverges from the model: {line} ({} MISMATCH lines)", all.lines().filter(|l| l.starts_with("MISMATCH")).count()));
+    // internals are compared during cycle `tick`, the rest after edge `tick` (the end of cycle
+    // `tick - 1`): the FIG. path of that cycle
+    let cycle = if signal.starts_with("internals.") { Some(tick) } else { tick.checked_sub(1) };
+    let mut f = dut_failure(sc, cycle, "dut", format!("the RTL diverges from the model: {line} ({} MISMATCH lines)", all.lines().filter(|l| l.starts_with("MISMATCH")).count()));
+    f.tick = tick;
     f.signal = format!("pmu50.{signal}");
     f.expected = format!("0x{}", field("expected="));
     f.got = format!("0x{}", field("got="));
@@ -236,17 +241,17 @@ fn parse_mismatch(sc: &Scenario, line: &str, all: &str) -> Failure {
     f
 }
 
-fn dut_failure(sc: &Scenario, tick: u64, kind: &str, detail: String) -> Failure {
-    Failure { kind: kind.into(), tick, signal: "dut".into(), expected: "-".into(), got: "-".into(), block: "-".into(), fig: fig_at(sc, tick), detail }
+fn dut_failure(sc: &Scenario, cycle: Option<u64>, kind: &str, detail: String) -> Failure {
+    let fig = cycle.map_or_else(|| "-".to_string(), |c| fig_at(sc, c));
+    Failure { kind: kind.into(), tick: cycle.map_or(0, |c| c + 1), signal: "dut".into(), expected: "-".into(), got: "-".into(), block: "-".into(), fig, detail }
 }
 
-/// The FIG. 17/18 path of the edge numbered `tick` (that edge is taken at the end of bench
-/// tick `tick - 1`), from a run of the model.
-pub fn fig_at(sc: &Scenario, tick: u64) -> String {
+/// The FIG. 17/18 path of bench cycle `cycle` (the edge at its end), from a run of the model.
+pub fn fig_at(sc: &Scenario, cycle: u64) -> String {
     struct At(u64, Fig17, Fig18);
     impl Observer for At {
         fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
-            if v.tick + 1 == self.0 {
+            if v.tick == self.0 {
                 self.1 = v.internals.fig17;
                 self.2 = v.internals.fig18;
             }
@@ -256,12 +261,9 @@ pub fn fig_at(sc: &Scenario, tick: u64) -> String {
             Ok(())
         }
     }
-    if tick == 0 {
-        return "-".into();
-    }
-    let mut at = At(tick, Fig17::Idle, Fig18::Idle);
+    let mut at = At(cycle, Fig17::Idle, Fig18::Idle);
     let mut short = sc.clone();
-    short.ticks = short.ticks.min(tick);
+    short.ticks = short.ticks.min(cycle + 1);
     match sim::run(&short, SimOptions::default(), &mut [&mut at]) {
         Ok(_) => fig_path(at.1, at.2),
         Err(_) => "-".into(),

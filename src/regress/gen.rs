@@ -177,12 +177,29 @@ pub struct Bias {
     /// Directed: the knob sets of the bins still empty (distinct, sorted); seed `s` of the
     /// batch forces set `s mod len` on top of its random draws.
     pub targets: Vec<Vec<Knob>>,
+    /// Structural parameters held fixed (`--sync-depth`, `--cnt-width`), for an RTL built for
+    /// one configuration.
+    pub pins: Pins,
+}
+
+/// Structural parameters a regression holds fixed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Pins {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sync_depth: Option<u8>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cnt_width: Option<u8>,
 }
 
 impl Bias {
     /// Uniform random: every knob at its base probability.
     pub fn uniform() -> Bias {
-        Bias { percent: KNOBS.to_vec(), targets: Vec::new() }
+        Bias { percent: KNOBS.to_vec(), targets: Vec::new(), pins: Pins::default() }
+    }
+
+    /// The same bias with these structural parameters held.
+    pub fn pinned(self, pins: Pins) -> Bias {
+        Bias { pins, ..self }
     }
 
     /// Directed: each seed aims at one hole (a set of knobs that makes an empty bin likely).
@@ -190,7 +207,7 @@ impl Bias {
         let mut sets: Vec<Vec<Knob>> = missing.into_iter().map(knobs_for).filter(|k| !k.is_empty()).collect();
         sets.sort();
         sets.dedup();
-        Bias { percent: KNOBS.to_vec(), targets: sets }
+        Bias { percent: KNOBS.to_vec(), targets: sets, pins: Pins::default() }
     }
 
     fn draw(&self, r: &mut Rng, seed: u64) -> Vec<Knob> {
@@ -317,6 +334,9 @@ impl Stimulus {
         let knobs = bias.draw(&mut r, seed);
         let on = |x: Knob| knobs.contains(&x);
         let mut p = params(&mut r, &knobs);
+        // held structural parameters (they do not take part in legality)
+        p.sync_depth = bias.pins.sync_depth.unwrap_or(p.sync_depth);
+        p.cnt_width = bias.pins.cnt_width.unwrap_or(p.cnt_width);
         let clock_us = if on(ClockFast) { 5 } else if on(ClockSlow) { 20 } else { 10 };
         let mut ticks = r.range(20_000, 60_000);
         // CNTr up to its saturation ([0248]): after a rotation, quiet pulses with the key off,

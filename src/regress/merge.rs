@@ -94,6 +94,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<Merged, RegressError> {
                 check_spec: false,
                 dut: super::DutKind::Model,
                 rtl: None,
+                pins: super::gen::Pins::default(),
                 shard: None,
             };
             let mut sum = Summary::build(spec, Vec::new())?;

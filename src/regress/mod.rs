@@ -62,6 +62,9 @@ pub struct RunSpec {
     pub dut: DutKind,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rtl: Option<String>,
+    /// Structural parameters held fixed (absent: drawn per seed).
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub pins: gen::Pins,
     /// This folder's part of the range (absent: the whole range).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shard: Option<Shard>,
@@ -90,6 +93,10 @@ impl RunSpec {
             format!("random/{seed}")
         }
     }
+}
+
+fn is_default(p: &gen::Pins) -> bool {
+    *p == gen::Pins::default()
 }
 
 /// Where a seed ran.
@@ -454,9 +461,9 @@ pub fn run(o: &Options, resume: bool, stop: &AtomicBool) -> Result<Summary, Regr
                 r.hits(&mut before).map_err(RegressError::Usage)?;
             }
             let l = layout();
-            Bias::from_missing(l.bins.iter().zip(&before).filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only).map(|(b, _)| b.name.as_str()))
+            Bias::from_missing(l.bins.iter().zip(&before).filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only).map(|(b, _)| b.name.as_str())).pinned(o.spec.pins)
         } else {
-            Bias::uniform()
+            Bias::uniform().pinned(o.spec.pins)
         };
         let todo: Vec<u64> = (lo..hi).filter(|s| !have.contains(s)).collect();
         let out = run_batch(&o.spec, &todo, &bias, dut.as_ref(), o.jobs, o.timeout, stop);

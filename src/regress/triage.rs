@@ -35,7 +35,7 @@ pub fn groups(results: &[SeedResult]) -> BTreeMap<String, Vec<u64>> {
 /// the seeds of earlier batches).
 pub fn bias_for(spec: &RunSpec, seed: u64, results: &[SeedResult]) -> Bias {
     if !spec.directed {
-        return Bias::uniform();
+        return Bias::uniform().pinned(spec.pins);
     }
     let lo = spec.seeds().start + (seed - spec.seeds().start) / BATCH * BATCH;
     let mut before = vec![0u64; layout().bins.len()];
@@ -43,7 +43,7 @@ pub fn bias_for(spec: &RunSpec, seed: u64, results: &[SeedResult]) -> Bias {
         let _ = r.hits(&mut before);
     }
     let l = layout();
-    Bias::from_missing(l.bins.iter().zip(&before).filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only).map(|(b, _)| b.name.as_str()))
+    Bias::from_missing(l.bins.iter().zip(&before).filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only).map(|(b, _)| b.name.as_str())).pinned(spec.pins)
 }
 
 /// Shrink a failing stimulus; returns the smallest one found that fails with `sig`, its
