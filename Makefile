@@ -7,7 +7,7 @@ SCENARIOS := $(sort $(wildcard scenarios/*.toml))
 SCENARIO  ?= fig15a
 
 # Debian packages the tests use, as "command:package".
-TOOLS := vcd2lxt2:gtkwave xvfb-run:xvfb xauth:xauth iverilog:iverilog verilator:verilator yosys:yosys
+TOOLS := vcd2lxt2:gtkwave xvfb-run:xvfb xauth:xauth iverilog:iverilog verilator:verilator yosys:yosys chromium:chromium
 
 # Python: a project-local virtual environment (nothing is installed outside the project folder);
 # the extension's cargo target folder is its own, so the workspace builds are not disturbed.
@@ -17,7 +17,7 @@ VPY       := $(VENV)/bin/python
 PY_TARGET := target/python
 PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
 
-.PHONY: run test deps view golden bench cosim lint clean fuzz python pytest cocotb
+.PHONY: run test deps view golden bench cosim lint clean fuzz python pytest cocotb regress regress-smoke
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -41,7 +41,24 @@ run: $(BIN)
 test: deps
 	$(CARGO) test --workspace
 	$(MAKE) cosim
+	$(MAKE) regress-smoke
 	$(MAKE) pytest cocotb
+
+## Random regression with functional coverage (docs/verification.md): SEEDS directed seeds of
+## the Verilog twin on Verilator in lockstep with the model, into regress_out/twin/
+## (results.jsonl, coverage.json, report.html, failures/). DUT=model for the model alone;
+## RTL=path/to/list.f for your own RTL.
+SEEDS ?= 2000
+DUT   ?= verilator
+regress: deps $(BIN)
+	$(CARGO) build --release -p pmu50-ffi
+	$(BIN) regress --directed --iterations $(SEEDS) --dut $(DUT) $(if $(RTL),--rtl $(RTL)) --out regress_out/$(if $(RTL),rtl,twin)
+
+## pmu50 regress against an RTL in a few seeds: the twin passes, a planted bug is found, shrunk
+## and reproduced, the report renders in headless Chromium (hdl/regress_smoke.sh).
+regress-smoke: deps $(BIN)
+	$(CARGO) build --release -p pmu50-ffi
+	bash hdl/regress_smoke.sh
 
 ## Open one scenario in GTKWave with its save file: make view SCENARIO=fig15a
 view: $(BIN) deps

@@ -225,10 +225,23 @@ fn parse_mismatch(sc: &Scenario, line: &str, all: &str) -> Failure {
     let field = |k: &str| line.split_whitespace().find_map(|w| w.strip_prefix(k)).unwrap_or("?").to_string();
     let tick: u64 = field("tick=").parse().unwrap_or(0);
     let signal = field("signal=");
-    let block = match signal.split_once('.') {
-        Some((b, _)) => b.to_string(),
-        None => "ports".into(),
-    };
+    // The block: of the first divergent register (the report lists a port before the register
+    // that drives it), or the producer of a divergent internal signal.
+    let block = all
+        .lines()
+        .filter(|l| l.starts_with("MISMATCH"))
+        .filter_map(|l| l.split_whitespace().find_map(|w| w.strip_prefix("signal=")))
+        .find_map(|sig| match sig.split_once('.') {
+            Some(("internals", "fig17" | "fig18")) => Some("drive_interval"),
+            Some(("internals", "kon" | "koff")) => Some("action_switching"),
+            Some(("internals", "upd" | "first" | "chg_s" | "chg_c")) => Some("comparator_latch"),
+            Some(("internals", "skip_clr")) => Some("register_file"),
+            Some(("internals", _)) => None,
+            Some((b, _)) => Some(b),
+            None => None,
+        })
+        .unwrap_or("ports")
+        .to_string();
     // internals are compared during cycle `tick`, the rest after edge `tick` (the end of cycle
     // `tick - 1`): the FIG. path of that cycle
     let cycle = if signal.starts_with("internals.") { Some(tick) } else { tick.checked_sub(1) };

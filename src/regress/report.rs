@@ -80,7 +80,7 @@ pub fn curve_svg(curves: &[(&str, &str, Vec<(usize, f64)>)], title: &str) -> Str
             let _ = write!(d, "{}{:.1},{:.1}", if i == 0 { "M" } else { "L" }, x(*n as f64), y(*p));
         }
         let _ = write!(s, "<path d=\"{d}\" fill=\"none\" stroke=\"{col}\" stroke-width=\"2\"/>");
-        let ly = mt + 16.0 + 18.0 * k as f64;
+        let ly = h - mb - 16.0 - 18.0 * (curves.len() - 1 - k) as f64;
         let _ = write!(s, "<line x1=\"{}\" x2=\"{}\" y1=\"{ly}\" y2=\"{ly}\" stroke=\"{col}\" stroke-width=\"3\"/><text x=\"{}\" y=\"{}\">{}</text>", w - mr - 230.0, w - mr - 205.0, w - mr - 200.0, ly + 4.0, esc(label));
     }
     s.push_str("</svg>\n");

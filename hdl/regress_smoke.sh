@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# `pmu50 regress` against an RTL, as an HDL team runs it (run by `make test`):
+#   1. a directed regression of the Verilog twin on Verilator: every seed passes;
+#   2. a copy of the twin with one bug planted (MUT_CNT_C_SIGN, hdl/mutants.txt) given with
+#      --rtl: the regression fails (exit 1), the failure is shrunk into failures/<signature>/,
+#      its command reproduces it, its save file marks the first divergence, and GTKWave-ready
+#      files are valid (pmu50 diff reads them);
+#   3. the report renders in headless Chromium (the DOM has the coverage, the failure and the
+#      curve; a screenshot is written to hdl/build/regress_smoke/report.png).
+# Exit 0 when all hold, 1 otherwise, 2 on a setup failure.
+set -uo pipefail
+HDL="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+ROOT="$(cd "$HDL/.." && pwd)"
+PMU50="$ROOT/target/release/pmu50"
+W="$HDL/build/regress_smoke"
+SEEDS=${SEEDS:-12}
+fail() { echo "regress_smoke: FAIL: $*" >&2; exit 1; }
+[ -x "$PMU50" ] || { echo "regress_smoke: $PMU50 missing (cargo build --release)" >&2; exit 2; }
+[ -f "$ROOT/target/release/libpmu50_ffi.a" ] || { echo "regress_smoke: libpmu50_ffi.a missing (cargo build -p pmu50-ffi --release)" >&2; exit 2; }
+rm -rf "$W"; mkdir -p "$W"
+PIN=(--sync-depth 2 --cnt-width 8)
+
+# 1. the twin
+"$PMU50" regress --directed --iterations "$SEEDS" --dut verilator "${PIN[@]}" --out "$W/twin" > "$W/twin.log" 2>&1
+rc=$?
+cat "$W/twin.log"
+[ $rc -eq 0 ] || fail "the twin does not pass its regression (exit $rc)"
+
+# 2. a planted bug
+mkdir -p "$W/mut/rtl"
+cp "$HDL"/rtl/*.v "$W/mut/rtl/"; cp "$HDL/pmu50.v" "$HDL/pmu50.f" "$W/mut/"
+sed -i '1i `define MUT_CNT_C_SIGN' "$W/mut/rtl/updown_counter_58cd.v"
+"$PMU50" regress --directed --iterations "$SEEDS" --dut verilator --rtl "$W/mut/pmu50.f" "${PIN[@]}" --out "$W/mut_run" > "$W/mut.log" 2>&1
+rc=$?
+cat "$W/mut.log"
+[ $rc -eq 1 ] || fail "the planted bug was not found (exit $rc, expected 1)"
+n=$(ls -d "$W"/mut_run/failures/*/ 2>/dev/null | wc -l)
+[ "$n" -ge 1 ] || fail "no failure folder"
+for d in "$W"/mut_run/failures/*/; do
+    for f in repro.toml command.txt failure.txt repro.vcd repro.gtkw; do [ -s "$d/$f" ] || fail "$d$f missing"; done
+    grep -q '^\[markername\].*first divergence' "$d/repro.gtkw" || grep -q 'first divergence' "$d/repro.gtkw" || fail "$d/repro.gtkw has no marker at the divergence"
+    cmd=$(cat "$d/command.txt")
+    out=$(cd "$ROOT" && PATH="$ROOT/target/release:$PATH" bash -c "$cmd" 2>&1); rc=$?
+    echo "$out" | head -2
+    [ $rc -eq 1 ] || fail "the repro command did not reproduce the failure (exit $rc): $cmd"
+    "$PMU50" diff "$d/repro.vcd" "$d/repro.vcd" > /dev/null || fail "$d/repro.vcd is not a valid waveform"
+    ticks=$(sed -n 's/^duration = "\([0-9]*\) us"/\1/p' "$d/repro.toml")
+    echo "shrunk repro: $(grep -c '^\[\[events\]\]' "$d/repro.toml") events, ${ticks} us"
+done
+
+# 3. the report in a browser
+if command -v chromium > /dev/null; then
+    timeout 120 chromium --headless --no-sandbox --disable-gpu --dump-dom "file://$W/mut_run/report.html" > "$W/dom.html" 2> /dev/null
+    grep -q 'Failures by signature' "$W/dom.html" && grep -q '<svg' "$W/dom.html" && grep -q 'cross.fig17_x_fig18' "$W/dom.html" \
+        && grep -q 'failures/dut-' "$W/dom.html" || fail "the report's DOM in Chromium lacks the failures, curve or crosses"
+    timeout 120 chromium --headless --no-sandbox --disable-gpu --window-size=1280,1600 --screenshot="$W/report.png" "file://$W/mut_run/report.html" > /dev/null 2>&1
+    [ -s "$W/report.png" ] || fail "no screenshot"
+else
+    echo "regress_smoke: chromium is not installed (make deps installs it)" >&2; exit 2
+fi
+echo "regress_smoke: ok (twin passes $SEEDS seeds; the planted MUT_CNT_C_SIGN is found, shrunk and reproduced; the report renders)"
