@@ -138,6 +138,7 @@ def test_scenario_vectors(scenario: Path, vectors: Path):
     sc = pmu50.Scenario.load(scenario)
     d = build(sc.hdl_parameters, PLANTED)
     cov = WORK / "results" / f"vec_{scenario.stem}.coverage.json"
+    cov.parent.mkdir(parents=True, exist_ok=True)
     cov.unlink(missing_ok=True)
     env = {
         "PMU50_CORE": json.dumps(sc.core),
@@ -158,6 +159,7 @@ def random_run(seed: int) -> tuple[bool, str, Path]:
     core = pmu50.Core(**cfg)
     d = build(core.hdl_parameters, PLANTED)
     cov = WORK / "results" / f"random_{seed}.coverage.json"
+    cov.parent.mkdir(parents=True, exist_ok=True)
     cov.unlink(missing_ok=True)
     env = {
         "PMU50_CORE": json.dumps(cfg),
@@ -219,6 +221,7 @@ def test_mutant_is_caught(mutant: str, seed: int, config: int):
     core = pmu50.Core(**cfg)
     d = build(core.hdl_parameters, mutant)
     cov = WORK / "results" / f"mutant_{mutant}.coverage.json"
+    cov.parent.mkdir(parents=True, exist_ok=True)
     cov.unlink(missing_ok=True)
     env = {
         "PMU50_CORE": json.dumps(cfg),
