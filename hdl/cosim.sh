@@ -12,7 +12,8 @@
 #   --mutants L    only these mutants (comma-separated names of hdl/mutants.txt)
 #   --keep         keep the waveforms of passing runs (hdl/build/cosim/iv/)
 #   --dpi          also run the SystemVerilog DPI-C lockstep (tb_lockstep_dpi.sv, Verilator
-#                  --binary) on the shipped scenarios with default parameters and on one mutant
+#                  --binary) on the shipped scenarios with default parameters and on one mutant;
+#                  each run writes its coverage.json to hdl/build/cosim/dpi_cov/
 #
 # Scenarios: scenarios/*.toml (shipped), hdl/scenarios/*.toml (HDL directed), the random ones,
 # plus core-level stress vectors (random port stimuli the scenario format cannot express: bus
@@ -168,7 +169,7 @@ while [ $# -gt 0 ]; do
         --mutants) ONLY="$2"; shift 2 ;;
         --keep) KEEP=1; shift ;;
         --dpi) DPI=1; shift ;;
-        -h|--help) sed -n '2,29p' "$SELF"; exit 0 ;;
+        -h|--help) sed -n '2,30p' "$SELF"; exit 0 ;;
         *) log "cosim: unknown option $1 (see --help)"; exit 2 ;;
     esac
 done
@@ -329,11 +330,14 @@ if [ $DPI = 1 ]; then
     stamp "SystemVerilog DPI-C lockstep (Verilator --binary)"
     {
         printf '\nSystemVerilog DPI-C lockstep (hdl/tb/lockstep/tb_lockstep_dpi.sv)\n'
+        mkdir -p "$B/dpi_cov"
         for n in $(cat "$B/default_structural.txt"); do
             case "$n" in random_*) continue ;; esac
             grep -q '^// param ADAPTIVE 1$' "$B/vec/$n.vec" || continue
-            "$HDL/scripts/run_lockstep_dpi.sh" "$B/vec/$n.vec" > "$B/clean/$n.dpi.log" 2>&1
+            "$HDL/scripts/run_lockstep_dpi.sh" "$B/vec/$n.vec" --coverage "$B/dpi_cov/$n.coverage.json" --run-id "dpi/$n" > "$B/clean/$n.dpi.log" 2>&1
             case $? in 0) r=PASS ;; 1) r="FAIL@$(sed -n 's/^MISMATCH tick=\([0-9]*\).*/\1/p' "$B/clean/$n.dpi.log" | head -1)" ;; *) r=ERROR ;; esac
+            # the bench samples the coverage model through the C ABI and writes coverage.json
+            [ -s "$B/dpi_cov/$n.coverage.json" ] || r="ERROR(no coverage.json)"
             printf '  %-22s %s\n' "$n" "$r"
             echo "$r" >> "$B/dpi.res"
         done
@@ -341,6 +345,7 @@ if [ $DPI = 1 ]; then
         rc=$?
         t=$(sed -n 's/^MISMATCH tick=\([0-9]*\).*/\1/p' "$B/mut/dpi.MUT_CTH_OFF_BY_ONE.log" | head -1)
         if [ $rc = 1 ]; then printf '  MUT_CTH_OFF_BY_ONE on fig15b: caught @%s\n' "$t"; else printf '  MUT_CTH_OFF_BY_ONE on fig15b: MISSED\n'; echo MISSED >> "$B/dpi.res"; fi
+        printf '  coverage.json of each run (sampled through the C ABI): %s/dpi_cov/\n' "$B"
     } | tee -a "$B/report.txt"
     grep -qv '^PASS$' "$B/dpi.res" 2>/dev/null && DPI_FAIL=1
 fi

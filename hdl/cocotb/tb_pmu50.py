@@ -9,7 +9,8 @@ Three concurrent parts:
   times, comparator bits, Vs2 rail faults (``vs2_ok`` low while ``vs2_en``), register writes
   (legal, illegal, read-only, unmapped, with the key off) and bus reads;
 - a scoreboard that samples the inputs the DUT sees at each rising edge, steps ``pmu50.Core``
-  with them, and compares all 23 top-level outputs after the edge. The first mismatching tick
+  with them through ``pmu50.Coverage`` (which samples the functional coverage model at every
+  edge), and compares all 23 top-level outputs after the edge. The first mismatching tick
   fails the test with one line per differing signal::
 
       MISMATCH tick=4202 signal=si expected=0x226 got=0x1b8
@@ -22,6 +23,8 @@ Configuration (environment variables, set by test_cocotb.py):
   PMU50_VEC    vector file to replay (inputs only; expected outputs come from the model), its
                first PMU50_MAX_TICKS lines when that is set and not 0
   PMU50_SEED   random seed, PMU50_CYCLES cycles
+  PMU50_COVERAGE  where to write the run's coverage.json (the merge format of `pmu50 merge`),
+               with run id PMU50_RUN_ID
 """
 
 from __future__ import annotations
@@ -132,7 +135,9 @@ async def drive(dut, names, stimulus, clk):
             h.value = inp[n]
 
 
-async def run(dut, stimulus_factory):
+async def run(dut, stimulus_factory, state: dict):
+    """Run the scoreboard; `state["cov"]` is the run's coverage from the first edge on (also
+    when a mismatch ends the run)."""
     cfg = json.loads(os.environ.get("PMU50_CORE", "{}"))
     model = pmu50.Core(**cfg)
     in_names = [s.name for s in model.signals("input")]
@@ -163,78 +168,54 @@ async def run(dut, stimulus_factory):
 
     stimulus = stimulus_factory(model)
     cocotb.start_soon(Clock(dut.clk, period_ns, unit="ns").start(start_high=False))
+    cov = state["cov"] = pmu50.Coverage(model)
     # first inputs before the first edge
     first = next(stimulus, None)
     if first is None:
-        return 0, Coverage()
+        return 0, cov
     for n, h in zip(in_names, in_h):
         h.value = first[n]
     driver = cocotb.start_soon(drive(dut, in_names, stimulus, dut.clk))
 
     tick = 0
     clk = dut.clk
-    cov = Coverage()
     while True:
         await RisingEdge(clk)
         seen = {n: read_value(h) for n, h in zip(in_names, in_h)}
-        trace = model.step_traced(**seen)
+        after = cov.step(model, **seen)
         tick += 1
         await ReadOnly()
-        check(tick, trace.after)
-        cov.add(trace)
+        check(tick, after)
         if driver.done():
             break
     return tick, cov
 
 
-class Coverage:
-    """What a run exercised, from the model's side of each edge: FIG. 17 branches and FIG. 18
-    paths at key-off strobes, key edges, register writes accepted and refused."""
-
-    def __init__(self) -> None:
-        self.fig17: dict[int, int] = {}
-        self.fig18: dict[int, int] = {}
-        self.counts = {"kon": 0, "koff": 0, "writes": 0, "refused": 0, "first": 0, "quadrant_skip": 0, "diag": 0}
-
-    def add(self, t: pmu50.Trace) -> None:
-        x = t.internals
-        if x.fig17:
-            self.fig17[x.fig17] = self.fig17.get(x.fig17, 0) + 1
-        if x.fig18:
-            self.fig18[x.fig18] = self.fig18.get(x.fig18, 0) + 1
-        c = self.counts
-        c["kon"] += x.kon
-        c["koff"] += x.koff
-        c["first"] += x.first
-        c["writes"] += t.inputs.bus_we
-        c["refused"] += int(t.after.bus_err and not t.before.bus_err)
-        c["quadrant_skip"] += int(t.after.quadrant_skip and not t.before.quadrant_skip)
-        c["diag"] += int(t.after.diag and not t.before.diag)
-
-    def to_dict(self) -> dict:
-        return {"fig17": self.fig17, "fig18": self.fig18, **self.counts}
-
-
-def save_coverage(cov: Coverage) -> None:
+def save_coverage(cov: pmu50.Coverage, verdict: str) -> None:
+    """Write the run's coverage.json (PMU50_COVERAGE, run id PMU50_RUN_ID), atomically."""
     path = os.environ.get("PMU50_COVERAGE")
     if path:
-        with open(path + ".tmp", "w", encoding="ascii") as f:
-            json.dump(cov.to_dict(), f, sort_keys=True)
-        os.replace(path + ".tmp", path)
+        cov.write(path, os.environ.get("PMU50_RUN_ID") or f"cocotb/{os.path.basename(path)}", verdict)
 
 
 @cocotb.test()
 async def twin_matches_model(dut):
     """The twin and pmu50.Core agree on every output, every tick."""
     vec = os.environ.get("PMU50_VEC")
-    if vec:
-        names = [s.name for s in pmu50.signal_table("input")]
-        limit = int(os.environ.get("PMU50_MAX_TICKS", "0"))
-        ticks, cov = await run(dut, lambda core: vector_inputs(vec, names, limit))
-        dut._log.info("PASS %s: %d ticks, 23 outputs each; coverage %s", os.path.basename(vec), ticks, cov.to_dict())
-    else:
-        seed = int(os.environ["PMU50_SEED"])
-        cycles = int(os.environ.get("PMU50_CYCLES", "2000"))
-        ticks, cov = await run(dut, lambda core: random_inputs(seed, cycles, core))
-        dut._log.info("PASS seed %d: %d ticks, 23 outputs each; coverage %s", seed, ticks, cov.to_dict())
-    save_coverage(cov)
+    state: dict = {}
+    verdict = "fail"
+    try:
+        if vec:
+            names = [s.name for s in pmu50.signal_table("input")]
+            limit = int(os.environ.get("PMU50_MAX_TICKS", "0"))
+            ticks, cov = await run(dut, lambda core: vector_inputs(vec, names, limit), state)
+            dut._log.info("PASS %s: %d ticks, 23 outputs each; %s", os.path.basename(vec), ticks, cov)
+        else:
+            seed = int(os.environ["PMU50_SEED"])
+            cycles = int(os.environ.get("PMU50_CYCLES", "2000"))
+            ticks, cov = await run(dut, lambda core: random_inputs(seed, cycles, core), state)
+            dut._log.info("PASS seed %d: %d ticks, 23 outputs each; %s", seed, ticks, cov)
+        verdict = "pass"
+    finally:
+        if "cov" in state:
+            save_coverage(state["cov"], verdict)

@@ -6,6 +6,9 @@ pmu50.Core (docs/python.md, "cocotb").
   model every tick;
 - seeded random stimulus on a few core configurations (short timing parameters, so that a few
   thousand cycles cover many key-off pulses, interval changes and register writes);
+- functional coverage: the scoreboard samples ``pmu50.Coverage`` at every edge and each run
+  writes its coverage.json (run id ``cocotb/vectors/<scenario>`` or ``cocotb/random/<seed>``);
+  the random seeds' files are merged into target/cocotb/coverage_random.json and checked;
 - mutants of hdl/mutants.txt (one-line bugs, `define): each must make the scoreboard fail, with a
   message naming the tick and the signal.
 
@@ -134,22 +137,39 @@ def test_shipped_scenarios_exist():
 def test_scenario_vectors(scenario: Path, vectors: Path):
     sc = pmu50.Scenario.load(scenario)
     d = build(sc.hdl_parameters, PLANTED)
-    env = {"PMU50_CORE": json.dumps(sc.core), "PMU50_VEC": str(vectors / f"{scenario.stem}.vec"), "PMU50_MAX_TICKS": str(MAX_TICKS)}
+    cov = WORK / "results" / f"vec_{scenario.stem}.coverage.json"
+    cov.parent.mkdir(parents=True, exist_ok=True)
+    cov.unlink(missing_ok=True)
+    env = {
+        "PMU50_CORE": json.dumps(sc.core),
+        "PMU50_VEC": str(vectors / f"{scenario.stem}.vec"),
+        "PMU50_MAX_TICKS": str(MAX_TICKS),
+        "PMU50_COVERAGE": str(cov),
+        "PMU50_RUN_ID": f"cocotb/vectors/{scenario.stem}",
+    }
     ok, msg = simulate(d, env, WORK / "results" / f"vec_{scenario.stem}.xml")
     assert ok, msg
+    assert json.loads(cov.read_text())["runs"] == [{"id": f"cocotb/vectors/{scenario.stem}", "verdict": "pass"}]
 
 
 @functools.cache
-def random_run(seed: int) -> tuple[bool, str, dict]:
-    """One seeded random run on the clean twin: (passed, failure message, coverage)."""
+def random_run(seed: int) -> tuple[bool, str, Path]:
+    """One seeded random run on the clean twin: (passed, failure message, its coverage.json)."""
     cfg = RANDOM_CONFIGS[seed % len(RANDOM_CONFIGS)]
     core = pmu50.Core(**cfg)
     d = build(core.hdl_parameters, PLANTED)
     cov = WORK / "results" / f"random_{seed}.coverage.json"
+    cov.parent.mkdir(parents=True, exist_ok=True)
     cov.unlink(missing_ok=True)
-    env = {"PMU50_CORE": json.dumps(cfg), "PMU50_SEED": str(seed), "PMU50_CYCLES": str(CYCLES), "PMU50_COVERAGE": str(cov)}
+    env = {
+        "PMU50_CORE": json.dumps(cfg),
+        "PMU50_SEED": str(seed),
+        "PMU50_CYCLES": str(CYCLES),
+        "PMU50_COVERAGE": str(cov),
+        "PMU50_RUN_ID": f"cocotb/random/{seed}",
+    }
     ok, msg = simulate(d, env, WORK / "results" / f"random_{seed}.xml")
-    return ok, msg, json.loads(cov.read_text()) if ok else {}
+    return ok, msg, cov
 
 
 @pytest.mark.parametrize("seed", range(1, SEEDS + 1))
@@ -159,22 +179,38 @@ def test_random(seed: int):
 
 
 def test_random_coverage():
-    """Over all seeds the stimulus takes every FIG. 17 branch and FIG. 18 path, turns the key
-    on and off, writes registers (some refused), and provokes a quadrant skip and a diagnosis."""
-    total: dict = {"fig17": set(), "fig18": set()}
+    """Over all seeds, by the coverage model sampled in the scoreboard (the seeds' coverage.json
+    merged as `pmu50 merge` does): the stimulus takes every FIG. 17 branch and FIG. 18 path,
+    turns the key on and off, presets the counters, writes registers (some refused), and provokes
+    a quadrant skip and a diagnosis."""
+    files = []
     for seed in range(1, SEEDS + 1):
         ok, msg, cov = random_run(seed)
         assert ok, msg
-        total["fig17"] |= {int(k) for k in cov["fig17"]}
-        total["fig18"] |= {int(k) for k in cov["fig18"]}
-        for k, v in cov.items():
-            if k not in ("fig17", "fig18"):
-                total[k] = total.get(k, 0) + v
-    print(f"random coverage over {SEEDS} seeds x {CYCLES} cycles: {total}")
-    assert total["fig17"] == set(range(1, 8)), f"FIG. 17 branches taken: {sorted(total['fig17'])} of 1..7"
-    assert total["fig18"] == set(range(1, 6)), f"FIG. 18 paths taken: {sorted(total['fig18'])} of 1..5"
-    for k in ("kon", "koff", "first", "writes", "refused", "quadrant_skip", "diag"):
-        assert total[k] > 0, f"random stimulus never produced {k}: {total}"
+        files.append(cov)
+    merged = WORK / "coverage_random.json"
+    hit, reachable, runs = pmu50.merge_coverage(files, merged)
+    assert runs == SEEDS
+    hits = {b["name"]: b["hits"] for b in json.loads(merged.read_text())["bins"]}
+
+    def total(prefix: str) -> int:
+        return sum(v for k, v in hits.items() if k.startswith(prefix))
+
+    print(f"random coverage over {SEEDS} seeds x {CYCLES} cycles: {hit} of {reachable} reachable bins hit ({merged})")
+    fig17 = {k for k, v in hits.items() if k.startswith("fig17.path.") and v}
+    fig18 = {k for k, v in hits.items() if k.startswith("fig18.path.") and v}
+    assert len(fig17) == 7, f"FIG. 17 branches taken: {sorted(fig17)} of 7"
+    assert len(fig18) == 5, f"FIG. 18 paths taken: {sorted(fig18)} of 5"
+    for what, prefix in (
+        ("a key-on edge", "key.edge.on"),
+        ("a key-off edge", "key.edge.off"),
+        ("a first sample (counter preset)", "counter.preset."),
+        ("a register write", "bus.write_reg."),
+        ("a refused write", "bus.write_outcome.refused_"),
+        ("a quadrant skip", "counter.quadrant_skip."),
+        ("a diagnosis", "faults.diag."),
+    ):
+        assert total(prefix) > 0, f"random stimulus never produced {what} ({prefix}*)"
 
 
 @pytest.mark.parametrize("mutant,seed,config", MUTANTS, ids=[m[0] for m in MUTANTS])
@@ -184,9 +220,20 @@ def test_mutant_is_caught(mutant: str, seed: int, config: int):
     cfg = RANDOM_CONFIGS[config]
     core = pmu50.Core(**cfg)
     d = build(core.hdl_parameters, mutant)
-    env = {"PMU50_CORE": json.dumps(cfg), "PMU50_SEED": str(seed), "PMU50_CYCLES": str(CYCLES)}
+    cov = WORK / "results" / f"mutant_{mutant}.coverage.json"
+    cov.parent.mkdir(parents=True, exist_ok=True)
+    cov.unlink(missing_ok=True)
+    env = {
+        "PMU50_CORE": json.dumps(cfg),
+        "PMU50_SEED": str(seed),
+        "PMU50_CYCLES": str(CYCLES),
+        "PMU50_COVERAGE": str(cov),
+        "PMU50_RUN_ID": f"cocotb/mutant/{mutant}/{seed}",
+    }
     ok, msg = simulate(d, env, WORK / "results" / f"mutant_{mutant}.xml")
     assert not ok, f"{mutant} escaped the scoreboard ({CYCLES} random cycles, seed {seed})"
+    # a failing run still writes its coverage, up to the failing edge, with verdict "fail"
+    assert json.loads(cov.read_text())["runs"] == [{"id": f"cocotb/mutant/{mutant}/{seed}", "verdict": "fail"}]
     m = MISMATCH.search(msg)
     assert m, f"{mutant}: the failure does not name tick and signal:\n{msg}"
     print(f"{mutant}: caught at tick {m.group(1)}, signal {m.group(2)} (expected {m.group(3)}, got {m.group(4)})")

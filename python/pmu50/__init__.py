@@ -8,12 +8,17 @@ Python package (docs/python.md):
   :meth:`Core.read`, :attr:`Core.tick`, :meth:`Core.signals`.
 - :class:`Scenario`: a scenario file (``Scenario.load(path)``, ``Scenario.from_str(text)``) and
   its run with the environment models (:meth:`Scenario.run`), the summary of ``pmu50 run``.
+- :class:`Coverage`: the functional coverage model sampled at every edge
+  (``cov.step(core, **inputs)``), written as ``coverage.json`` (:meth:`Coverage.write`);
+  :func:`merge_coverage` merges such files as ``pmu50 merge``, :func:`export_ucis` exports one
+  to UCIS XML.
 - :func:`signal_table`: names and widths of every port, register and internal signal;
   :data:`REGISTER_MAP`: the register map (name, address, width, access);
   :data:`CORE_PARAMETERS`: the ``[core]`` parameter names.
 
 Errors: :class:`ConfigError` and :class:`ScenarioError` (both ``ValueError``) carry the CLI's
-messages; :class:`SimulationError` a failed run; :class:`InternalError` a caught Rust panic.
+messages; :class:`CoverageError` (a ``ValueError``) a coverage file that cannot be read or
+merged; :class:`SimulationError` a failed run; :class:`InternalError` a caught Rust panic.
 """
 
 from ._native import (
@@ -22,6 +27,8 @@ from ._native import (
     Check,
     ConfigError,
     Core,
+    Coverage,
+    CoverageError,
     DarkCurrent,
     InputValues,
     InternalError,
@@ -39,6 +46,8 @@ from ._native import (
     SimulationError,
     Trace,
     __version__,
+    export_ucis,
+    merge_coverage,
     signal_table,
 )
 
@@ -48,6 +57,8 @@ __all__ = [
     "Check",
     "ConfigError",
     "Core",
+    "Coverage",
+    "CoverageError",
     "DarkCurrent",
     "InputValues",
     "InternalError",
@@ -65,5 +76,7 @@ __all__ = [
     "SimulationError",
     "Trace",
     "__version__",
+    "export_ucis",
+    "merge_coverage",
     "signal_table",
 ]

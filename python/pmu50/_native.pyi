@@ -26,6 +26,10 @@ class SimulationError(RuntimeError):
 class InternalError(RuntimeError):
     """A Rust panic caught at the boundary (a bug)."""
 
+class CoverageError(ValueError):
+    """A coverage file that cannot be read or merged (corrupt, of another model or format, a run
+    counted twice); the message names the file and the reason."""
+
 SignalKind = Literal["input", "output", "register", "internal"]
 
 class Signal:
@@ -200,6 +204,86 @@ class Core:
 
 def signal_table(kind: Optional[SignalKind] = None, *, sync_depth: int = 2, cnt_width: int = 16) -> list[Signal]:
     """The signal table for a structural configuration."""
+
+class Coverage:
+    """Functional coverage of one run (docs/verification.md), sampled at every edge of a core.
+
+    ``Coverage(core)`` samples the configuration in force in ``core``; ``Coverage(**config)``
+    takes the keyword arguments of :class:`Core` instead. ``cov.step(core, **inputs)`` is
+    ``core.step(**inputs)`` with the edge sampled.
+    """
+
+    def __init__(
+        self,
+        core: Optional[Core] = None,
+        *,
+        clock: str = "10 us",
+        sync_depth: int = 2,
+        cnt_width: int = 16,
+        adaptive: bool = True,
+        pw: str = "50 us",
+        pi: str = "120 us",
+        ps: str = "50 us",
+        x: str = "6.6 ms",
+        min: str = "2.2 ms",
+        t1: str = "2.2 ms",
+        t2: str = "1.1 ms",
+        cth: int = 4,
+        smp_on: str = "100 us",
+    ) -> None: ...
+    def step(
+        self,
+        core: Core,
+        *,
+        ig: _Bit = 0,
+        vs2_ok: _Bit = 0,
+        cmp_s: _Bit = 0,
+        cmp_c: _Bit = 0,
+        bus_we: _Bit = 0,
+        bus_addr: int = 0,
+        bus_wdata: int = 0,
+    ) -> Outputs:
+        """``core.step(**inputs)`` with the edge sampled; the outputs after the edge."""
+    def step_traced(
+        self,
+        core: Core,
+        *,
+        ig: _Bit = 0,
+        vs2_ok: _Bit = 0,
+        cmp_s: _Bit = 0,
+        cmp_c: _Bit = 0,
+        bus_we: _Bit = 0,
+        bus_addr: int = 0,
+        bus_wdata: int = 0,
+    ) -> Trace:
+        """``core.step_traced(**inputs)`` with the edge sampled."""
+    def hits(self) -> dict[str, int]:
+        """``{bin name: hits}`` for every bin, in the model's order."""
+    def closure(self) -> tuple[int, int]:
+        """(bins hit at least once, bins that can be hit)."""
+    @property
+    def edges(self) -> int:
+        """Edges sampled so far."""
+    @property
+    def clock_ns(self) -> int: ...
+    def to_json(self, run_id: str, verdict: str = "pass") -> str:
+        """The text of ``coverage.json`` for this run."""
+    def write(self, path: Union[str, PathLike[str]], run_id: str, verdict: str = "pass") -> None:
+        """Write ``coverage.json`` (a temporary file renamed into place)."""
+    @staticmethod
+    def bins() -> list[tuple[str, Literal["point", "cross"], str, Optional[str]]]:
+        """Every bin: (name, kind, cite, reason it can never be hit or None)."""
+    @staticmethod
+    def model() -> str:
+        """The model's identity, carried by every coverage file."""
+    def __copy__(self) -> "Coverage": ...
+
+def merge_coverage(paths: list[Union[str, PathLike[str]]], out: Union[str, PathLike[str]]) -> tuple[int, int, int]:
+    """Merge coverage files into ``out`` as ``pmu50 merge``; (bins hit, reachable bins, runs).
+    :class:`CoverageError` (file and reason) or ``OSError``, and nothing is written."""
+
+def export_ucis(path: Union[str, PathLike[str]], out: Union[str, PathLike[str]]) -> None:
+    """Export a ``coverage.json`` file to UCIS 1.0 XML."""
 
 class Pulse:
     """One row of the per-pulse event table (state after a key-off sampling edge)."""

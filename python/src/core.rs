@@ -194,11 +194,11 @@ pub fn signal_table(kind: Option<&str>, sync_depth: u8, cnt_width: u8) -> PyResu
 #[pyclass(module = "pmu50", name = "Trace", frozen, get_all)]
 #[derive(Clone)]
 pub struct Trace {
-    tick: u64,
-    before: Outputs,
-    internals: Internals,
-    after: Outputs,
-    inputs: InputValues,
+    pub(crate) tick: u64,
+    pub(crate) before: Outputs,
+    pub(crate) internals: Internals,
+    pub(crate) after: Outputs,
+    pub(crate) inputs: InputValues,
 }
 
 #[pymethods]
@@ -221,9 +221,9 @@ impl Trace {
 #[pyclass(module = "pmu50", name = "Core")]
 #[derive(Clone)]
 pub struct Core {
-    m: Pmu50,
-    cfg: CoreConfig,
-    params: Params,
+    pub(crate) m: Pmu50,
+    pub(crate) cfg: CoreConfig,
+    pub(crate) params: Params,
 }
 
 impl Core {
@@ -231,12 +231,12 @@ impl Core {
         self.m.structural()
     }
 
-    fn outputs(&self, o: &pmu50_core::Outputs) -> Outputs {
+    pub(crate) fn outputs(&self, o: &pmu50_core::Outputs) -> Outputs {
         Outputs { vals: signals::output_values(&self.s(), o) }
     }
 
     /// Inputs from keyword arguments, each checked against its width. Unset inputs are 0.
-    fn inputs(kw: Option<&Bound<'_, PyDict>>) -> PyResult<Inputs> {
+    pub(crate) fn inputs(kw: Option<&Bound<'_, PyDict>>) -> PyResult<Inputs> {
         let mut i = Inputs::default();
         let Some(kw) = kw else { return Ok(i) };
         let table = signals::input_values(&Inputs::default());

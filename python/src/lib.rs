@@ -7,6 +7,8 @@
 //! - [`scenario::Scenario`]: a scenario file, run with its environment to the same summary as
 //!   `pmu50 run` (pulses, drive intervals, key-on read-outs, checks, dark current), optionally
 //!   with the VCD;
+//! - [`coverage::Coverage`]: the functional coverage model (crate `pmu50-coverage`) sampled at
+//!   every edge of a `Core`, written as `coverage.json`; `merge_coverage` merges such files;
 //! - the signal table ([`signals`]), taken from the core.
 //!
 //! Errors are Python exceptions with the messages of the CLI; no Rust panic crosses into
@@ -18,6 +20,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 mod config;
 mod core;
+mod coverage;
 mod scenario;
 mod signals;
 
@@ -83,12 +86,16 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ScenarioError", py.get_type::<ScenarioError>())?;
     m.add("SimulationError", py.get_type::<SimulationError>())?;
     m.add("InternalError", py.get_type::<InternalError>())?;
+    m.add("CoverageError", py.get_type::<coverage::CoverageError>())?;
     m.add_class::<core::Core>()?;
     m.add_class::<core::Outputs>()?;
     m.add_class::<core::Internals>()?;
     m.add_class::<core::InputValues>()?;
     m.add_class::<core::Trace>()?;
     m.add_class::<core::Signal>()?;
+    m.add_class::<coverage::Coverage>()?;
+    m.add_function(wrap_pyfunction!(coverage::merge_coverage, m)?)?;
+    m.add_function(wrap_pyfunction!(coverage::export_ucis, m)?)?;
     m.add_class::<scenario::Scenario>()?;
     m.add_class::<scenario::RunResult>()?;
     m.add_class::<scenario::Pulse>()?;

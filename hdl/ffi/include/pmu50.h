@@ -35,7 +35,10 @@ extern "C" {
 #define PMU50_ERR_PARAM (-2) /* illegal parameter set (spec section 4) */
 #define PMU50_ERR_RANGE (-3) /* index out of range */
 #define PMU50_ERR_PANIC (-4) /* internal error caught at the boundary (a model bug) */
-#define PMU50_ERR_NAME  (-5) /* unknown or ambiguous register name */
+#define PMU50_ERR_NAME  (-5) /* unknown or ambiguous register or bin name */
+#define PMU50_ERR_IO    (-6) /* a file could not be read, written or renamed */
+#define PMU50_ERR_TEXT  (-7) /* a string argument is not UTF-8, or empty where a value is needed */
+#define PMU50_ERR_COVERAGE (-8) /* a coverage file is corrupt, foreign, or counts a run twice */
 
 /* Configuration: structural parameters and reset values of the programmable registers, in
  * clock ticks. Same names as the `// param` lines of a vector file and the Verilog parameters
@@ -217,6 +220,50 @@ int pmu50_check(pmu50_t *m, const pmu50_outputs *rtl_outputs, const uint64_t *rt
                 const pmu50_internals *rtl_internals);
 /* Report of the last pmu50_check on `m` ("" when equal); valid until the next check on `m`. */
 const char *pmu50_check_report(const pmu50_t *m);
+
+/* Functional coverage (docs/coverage-abi.md, docs/verification.md): the model's covergroups,
+ * sampled at every edge of a core, written as coverage.json (the merge format of `pmu50 merge`).
+ * Sampling is done by stepping the core through the coverage handle: pmu50_coverage_step is
+ * pmu50_step plus the sample, the same numbers as the Rust and Python samplers. */
+typedef struct pmu50_coverage_t pmu50_coverage_t; /* opaque */
+
+/* Empty coverage for a core of parameters `p` at clock period `clock_ns` (the configuration is
+ * sampled now); NULL if `p` is NULL or illegal (see pmu50_last_error()). */
+pmu50_coverage_t *pmu50_coverage_new(const pmu50_params *p, uint64_t clock_ns);
+/* Free a coverage handle; NULL is ignored. */
+void pmu50_coverage_free(pmu50_coverage_t *c);
+/* One rising edge of core `m` with inputs `i`, sampled into `c`: pmu50_step / pmu50_step_traced
+ * plus the sample (so pmu50_check of internals works after it). PMU50_ERR_PARAM if `m` has
+ * another SYNC_DEPTH or CNT_W than `c` was made for. */
+int pmu50_coverage_step(pmu50_coverage_t *c, pmu50_t *m, const pmu50_inputs *i, pmu50_outputs *after);
+int pmu50_coverage_step_traced(pmu50_coverage_t *c, pmu50_t *m, const pmu50_inputs *i,
+                               pmu50_internals *internals, pmu50_outputs *after);
+/* Edges sampled into `c` (0 for NULL). */
+uint64_t pmu50_coverage_edges(const pmu50_coverage_t *c);
+
+/* Bins of the model, by index (points first, then crosses; the order of coverage.json). */
+size_t pmu50_coverage_bin_count(void);
+/* The model's identity (static), carried by every coverage file. */
+const char *pmu50_coverage_model(void);
+/* name: static "group.point.bin" or "cross.<name>.<a>*<b>"; is_cross: 0 or 1; unreachable:
+ * static reason why the bin can never be hit, or NULL. Out pointers may be NULL. */
+int pmu50_coverage_bin_info(size_t index, const char **name, uint8_t *is_cross,
+                            const char **unreachable);
+/* Index (>= 0) of the bin `name`, or PMU50_ERR_NAME / PMU50_ERR_TEXT / PMU50_ERR_NULL. */
+int pmu50_coverage_find(const char *name);
+int pmu50_coverage_hits(const pmu50_coverage_t *c, size_t index, uint64_t *hits);
+/* Bins hit at least once and bins that can be hit (out pointers may be NULL). */
+int pmu50_coverage_closure(const pmu50_coverage_t *c, size_t *hit, size_t *reachable);
+
+/* Write coverage.json of this run to `path` (temporary file renamed into place): the hits of
+ * `c` and one run `run_id` (unique across everything merged, e.g. "dpi/fig15a/1") with
+ * `verdict` ("pass", "fail", ...). PMU50_ERR_IO, PMU50_ERR_TEXT (not UTF-8, empty). */
+int pmu50_coverage_write(const pmu50_coverage_t *c, const char *path, const char *run_id,
+                         const char *verdict);
+/* Merge `n` coverage files into `out`, as `pmu50 merge`: PMU50_ERR_COVERAGE (corrupt, foreign,
+ * a run counted twice) or PMU50_ERR_IO with the file in pmu50_last_error(); nothing is written
+ * then. */
+int pmu50_coverage_merge(const char *const *paths, size_t n, const char *out);
 
 #ifdef __cplusplus
 }

@@ -16,8 +16,10 @@
 
 #![allow(non_camel_case_types)]
 
+pub mod coverage;
 pub mod mirror;
 
+pub use coverage::{pmu50_coverage_t, PMU50_ERR_COVERAGE, PMU50_ERR_IO, PMU50_ERR_TEXT};
 pub use mirror::{pmu50_inputs, pmu50_internals, pmu50_outputs};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::signals;

@@ -9,7 +9,9 @@
 // signals (model vs RTL) and the inputs of the last HISTORY ticks, then $fatal.
 //
 // Parameters: as tb_vectors.v (the reset values of the DUT and of the model come from them; the
-// testbench checks them against the vector header). Plusargs: +vec=FILE.
+// testbench checks them against the vector header). Plusargs: +vec=FILE; +coverage=FILE samples
+// the functional coverage model at every step and writes FILE (coverage.json, verdict pass or
+// fail) at the end, with run id +run_id=ID (default dpi/<vector file>).
 // Run with Verilator: hdl/scripts/run_lockstep_dpi.sh FILE.vec (builds with --binary, one build per
 // parameter set). Other simulators: compile this file, pmu50_dpi.c (-I hdl/ffi/include) and the
 // design, link target/release/libpmu50_ffi.so (or .a), pass the parameters with -g/-G/-defparam.
@@ -53,6 +55,9 @@ module tb_lockstep_dpi;
         input longint regs[NREG], input int with_regs);
     import "DPI-C" function int pmu50_dpi_check_internals(input chandle h, input longint internals[NINT]);
     import "DPI-C" function string pmu50_dpi_check_report(input chandle h);
+    import "DPI-C" function int pmu50_dpi_coverage_on(input chandle h, input longint clock_ns);
+    import "DPI-C" function int pmu50_dpi_coverage_write(input chandle h, input string path, input string run_id,
+        input string verdict);
 
     // ---- DUT
     logic        clk, rst_n;
@@ -127,7 +132,7 @@ module tb_lockstep_dpi;
     chandle m;
     int fd, rc, k, nx, hval, c;
     longint rx [NINT];
-    string vecfile, line, hname;
+    string vecfile, line, hname, covfile, run_id;
     logic [15:0] f [30];
     logic [71:0] hist [$];   // {edge, ig, vs2_ok, cmp_s, cmp_c, bus_we, bus_addr, bus_wdata, 11'(0)}
 
@@ -162,7 +167,14 @@ module tb_lockstep_dpi;
         return rc == 30;
     endfunction
 
+    // the coverage file, when +coverage=FILE was given
+    task automatic write_coverage(string verdict);
+        if (covfile != "" && pmu50_dpi_coverage_write(m, covfile, run_id, verdict) != 0)
+            $fatal(1, "coverage: %s", pmu50_dpi_last_error());
+    endtask
+
     task automatic report_and_stop(int tick, string when);
+        write_coverage("fail");
         $write("%s", pmu50_dpi_check_report(m));
         $display("LOCKSTEP FAIL %s: first divergence at tick %0d (%s), time %0t", vecfile, tick, when, $time);
         $display("last %0d ticks: edge | ig vs2_ok cmp_s cmp_c bus_we bus_addr bus_wdata (inputs sampled at that edge)", hist.size());
@@ -210,6 +222,11 @@ module tb_lockstep_dpi;
         m = pmu50_dpi_new(SYNC_DEPTH, CNT_W, ADAPTIVE, PW, PI, PS, SI_MAX, SI_MIN, T1, T2, CTH, SMP_ON);
         if (m == null) $fatal(1, "model: %s", pmu50_dpi_last_error());
         if (pmu50_dpi_check_sizes(NOUT, NREG, NINT) != 0) $fatal(1, "NOUT/NREG/NINT differ from the C ABI's counts (pmu50.h)");
+        covfile = "";
+        if ($value$plusargs("coverage=%s", covfile)) begin
+            if (!$value$plusargs("run_id=%s", run_id)) run_id = {"dpi/", vecfile};
+            if (pmu50_dpi_coverage_on(m, CLOCK_NS) != 0) $fatal(1, "coverage: %s", pmu50_dpi_last_error());
+        end
 
         // power-on reset pulse before the first edge
         #1 rst_n = 1'b0;
@@ -239,6 +256,8 @@ module tb_lockstep_dpi;
             k++;
         end
         $display("PASS ticks=%0d outputs=%0d registers=%0d internals=%0d", k, NOUT, NREG, NINT);
+        write_coverage("pass");
+        if (covfile != "") $display("coverage: %s (run %s)", covfile, run_id);
         pmu50_dpi_free(m);
         $finish;
     end

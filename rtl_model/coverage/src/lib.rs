@@ -10,7 +10,9 @@
 pub mod db;
 pub mod model;
 pub mod sample;
+pub mod ucis;
 
 pub use db::{merge, CoverageFile, DbError, RunRecord};
 pub use model::{model_id, BinInfo, Kind, Layout};
 pub use sample::{layout, Coverage, Edge};
+pub use ucis::to_ucis_xml;

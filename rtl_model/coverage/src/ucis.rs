@@ -1,0 +1,143 @@
+//! Export of a coverage file to the UCIS 1.0 XML interchange format (Accellera Unified Coverage
+//! Interoperability Standard, the `UCIS` root of its `ucis.xsd`), so that UCIS tools can read and
+//! merge what `pmu50` sampled. python/tests/test_ucis.py validates the export against pyucis'
+//! copy of the schema, reads it back with pyucis' XML reader and merges two exports with pyucis'
+//! merger, and checks every bin's hits against `coverage.json` and `pmu50 merge`.
+//!
+//! Mapping:
+//! - one history node per run (`logicalName` = run id, `testStatus` true for a `pass` verdict);
+//!   a file without runs gets one node named `pmu50-coverage` (the schema needs at least one);
+//! - one instance `pmu50` holding one covergroup `pmu50` with one instance `pmu50`;
+//! - each coverpoint of the model is a `coverpoint` named `group.point` (`fig17.path`), each of
+//!   its bins a `coverpointBin` named as in the model, of type `bins`, or `ignore` for a bin
+//!   that can never be hit (with the reason in a `userAttr`);
+//! - each cross is a `cross` named after it (`fig17_x_fig18`) over its two coverpoints, each of
+//!   its bins a `crossBin` named `<a,b>` with the bins' indices, of type `default` or `ignore`.
+//!
+//! The text is deterministic: the same coverage file gives the same bytes (`writtenTime` and the
+//! nodes' `date` are fixed, as coverage.json records no time).
+
+use crate::db::CoverageFile;
+use crate::model::{crosses, POINTS};
+use std::fmt::Write;
+
+/// The fixed time stamp of the export (coverage.json records no time).
+const TIME: &str = "1970-01-01T00:00:00";
+
+/// Escape text for an XML attribute or element.
+fn esc(s: &str) -> String {
+    let mut o = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => o.push_str("&amp;"),
+            '<' => o.push_str("&lt;"),
+            '>' => o.push_str("&gt;"),
+            '"' => o.push_str("&quot;"),
+            '\'' => o.push_str("&apos;"),
+            // Characters XML 1.0 cannot carry at all become U+FFFD.
+            c if (c as u32) < 0x20 && !matches!(c, '\t' | '\n' | '\r') => o.push('\u{FFFD}'),
+            c => o.push(c),
+        }
+    }
+    o
+}
+
+/// The UCIS XML text of a coverage file (its bins must be this model's, as
+/// [`CoverageFile::check`] ensures for every file read or merged).
+pub fn to_ucis_xml(f: &CoverageFile) -> String {
+    let mut s = String::new();
+    let w = &mut s;
+    let _ = writeln!(w, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
+    let _ = writeln!(w, "<UCIS xmlns:ucis=\"http://www.w3.org/2001/XMLSchema-instance\" ucisVersion=\"1.0\" writtenBy=\"pmu50-coverage\" writtenTime=\"{TIME}\">");
+    let _ = writeln!(w, "  <sourceFiles fileName=\"docs/verification.md\" id=\"1\"/>");
+    let node = |w: &mut String, k: usize, name: &str, pass: bool, comment: &str| {
+        let _ = writeln!(
+            w,
+            "  <historyNodes historyNodeId=\"{k}\" logicalName=\"{}\" kind=\"1\" testStatus=\"{pass}\" date=\"{TIME}\" toolCategory=\"UCIS:simulator\" ucisVersion=\"1.0\" vendorId=\"pmu50\" vendorTool=\"pmu50-coverage\" vendorToolVersion=\"{}\" comment=\"{}\"/>",
+            esc(name),
+            esc(&f.model),
+            esc(comment)
+        );
+    };
+    if f.runs.is_empty() {
+        node(w, 0, "pmu50-coverage", true, "no run recorded in the coverage file");
+    }
+    for (k, r) in f.runs.iter().enumerate() {
+        node(w, k, &r.id, r.verdict == "pass", &format!("verdict {}", r.verdict));
+    }
+    let _ = writeln!(w, "  <instanceCoverages name=\"pmu50\" key=\"0\" instanceId=\"0\" moduleName=\"pmu50\">");
+    let _ = writeln!(w, "    <id file=\"1\" line=\"1\" inlineCount=\"1\"/>");
+    let _ = writeln!(w, "    <covergroupCoverage>");
+    let _ = writeln!(w, "      <cgInstance name=\"pmu50\" key=\"0\">");
+    let _ = writeln!(w, "        <options weight=\"1\" goal=\"100\" at_least=\"1\" per_instance=\"true\" merge_instances=\"true\"/>");
+    let _ = writeln!(w, "        <cgId cgName=\"pmu50\" moduleName=\"pmu50\">");
+    let _ = writeln!(w, "          <cginstSourceId file=\"1\" line=\"1\" inlineCount=\"1\"/>");
+    let _ = writeln!(w, "          <cgSourceId file=\"1\" line=\"1\" inlineCount=\"1\"/>");
+    let _ = writeln!(w, "        </cgId>");
+    let mut k = 0usize;
+    for p in POINTS.iter() {
+        let _ = writeln!(w, "        <coverpoint name=\"{}.{}\" key=\"0\">", esc(p.group), esc(p.name));
+        let _ = writeln!(w, "          <options weight=\"1\" goal=\"100\" at_least=\"1\"/>");
+        for (j, _) in p.bins.iter().enumerate() {
+            let b = &f.bins[k];
+            let local = b.name.rsplit('.').next().unwrap_or(&b.name);
+            let ty = if b.unreachable.is_some() { "ignore" } else { "bins" };
+            let _ = writeln!(w, "          <coverpointBin name=\"{}\" type=\"{ty}\" key=\"{j}\">", esc(local));
+            let _ = writeln!(w, "            <range from=\"{j}\" to=\"{j}\"><contents coverageCount=\"{}\"/></range>", b.hits);
+            if let Some(why) = &b.unreachable {
+                let _ = writeln!(w, "            <userAttr key=\"unreachable\" type=\"str\">{}</userAttr>", esc(why));
+            }
+            let _ = writeln!(w, "          </coverpointBin>");
+            k += 1;
+        }
+        let _ = writeln!(w, "        </coverpoint>");
+    }
+    for c in crosses() {
+        let (pa, pb) = (&POINTS[c.a], &POINTS[c.b]);
+        let _ = writeln!(w, "        <cross name=\"{}\" key=\"0\">", esc(c.name));
+        let _ = writeln!(w, "          <options weight=\"1\" goal=\"100\" at_least=\"1\"/>");
+        let _ = writeln!(w, "          <crossExpr>{}.{}</crossExpr>", esc(pa.group), esc(pa.name));
+        let _ = writeln!(w, "          <crossExpr>{}.{}</crossExpr>", esc(pb.group), esc(pb.name));
+        for (ia, ba) in pa.bins.iter().enumerate() {
+            for (ib, bb) in pb.bins.iter().enumerate() {
+                let b = &f.bins[k];
+                let ty = if b.unreachable.is_some() { "ignore" } else { "default" };
+                let _ = writeln!(w, "          <crossBin name=\"{}\" key=\"{}\" type=\"{ty}\">", esc(&format!("<{},{}>", ba.name, bb.name)), ia * pb.bins.len() + ib);
+                let _ = writeln!(w, "            <index>{ia}</index><index>{ib}</index><contents coverageCount=\"{}\"/>", b.hits);
+                if let Some(why) = &b.unreachable {
+                    let _ = writeln!(w, "            <userAttr key=\"unreachable\" type=\"str\">{}</userAttr>", esc(why));
+                }
+                let _ = writeln!(w, "          </crossBin>");
+                k += 1;
+            }
+        }
+        let _ = writeln!(w, "        </cross>");
+    }
+    let _ = writeln!(w, "      </cgInstance>");
+    let _ = writeln!(w, "    </covergroupCoverage>");
+    let _ = writeln!(w, "  </instanceCoverages>");
+    let _ = writeln!(w, "</UCIS>");
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::db::RunRecord;
+    use crate::sample::layout;
+
+    #[test]
+    fn every_bin_appears_once_with_its_hits_and_names_are_escaped() {
+        let n = layout().bins.len();
+        let hits: Vec<u64> = (0..n as u64).map(|k| k * 7 + 1).collect();
+        let f = CoverageFile::from_coverage(&hits, vec![RunRecord { id: "a<&\"b'>".into(), verdict: "fail".into() }]);
+        let x = to_ucis_xml(&f);
+        assert_eq!(x.matches("coverageCount=").count(), n);
+        let counts: Vec<u64> = x.split("coverageCount=\"").skip(1).map(|t| t[..t.find('"').unwrap()].parse().unwrap()).collect();
+        assert_eq!(counts, hits, "bins in the model's order");
+        assert!(x.contains("logicalName=\"a&lt;&amp;&quot;b&apos;&gt;\" kind=\"1\" testStatus=\"false\""));
+        assert_eq!(x, to_ucis_xml(&f), "deterministic");
+        let empty = to_ucis_xml(&CoverageFile::empty());
+        assert_eq!(empty.matches("<historyNodes ").count(), 1);
+    }
+}
