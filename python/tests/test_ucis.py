@@ -123,3 +123,20 @@ def test_export_is_deterministic_and_refuses_a_corrupt_file(runs, tmp_path: Path
     with pytest.raises(pmu50.CoverageError, match="bad.json"):
         pmu50.export_ucis(bad, tmp_path / "bad.xml")
     assert not (tmp_path / "bad.xml").exists()
+
+
+def test_regression_shards_merged_by_pyucis_equal_pmu50_merge(tmp_path: Path):
+    """`pmu50 regress` writes coverage.ucis.xml beside coverage.json: two shards' exports merged
+    by pyucis give the coverage of `pmu50 merge` of the two shard folders."""
+    from conftest import cli
+
+    for i in (0, 1):
+        cli("regress", "--iterations", "24", "--shard", f"{i}/2", "--no-triage", "--out", str(tmp_path / f"s{i}"))
+    cli("merge", "--out", str(tmp_path / "m"), str(tmp_path / "s0"), str(tmp_path / "s1"))
+    dbs = [XmlReader().read(open(tmp_path / f"s{i}" / "coverage.ucis.xml")) for i in (0, 1)]
+    out = MemFactory.create()
+    DbMerger().merge(out, dbs)
+    want = json_hits(tmp_path / "m" / "coverage.json")
+    assert ucis_hits(out) == want
+    assert ucis_hits(XmlReader().read(open(tmp_path / "m" / "coverage.ucis.xml"))) == want
+    assert validate_ucis_xml(str(tmp_path / "m" / "coverage.ucis.xml"))

@@ -9,7 +9,8 @@
 //! and options only, never on `--jobs`, on sharding or on interruptions.
 //!
 //! Folder layout (`--out DIR`): `regress.json` (the run), `results.jsonl` (one line per seed,
-//! sorted by seed when the run completes), `coverage.json` (merge format), `report.html`,
+//! sorted by seed when the run completes), `coverage.json` (merge format), `coverage.ucis.xml`
+//! (the same coverage as UCIS 1.0 XML, which pyucis reads and merges), `report.html`,
 //! `failures/<signature>/` (shrunk repro, command, waveform).
 
 pub mod check;
@@ -366,6 +367,7 @@ impl Summary {
         }
         batch.add(crate::fsout::write_atomic(&dir.join("results.jsonl"), lines.as_bytes())?);
         batch.add(crate::fsout::write_atomic(&dir.join("coverage.json"), self.coverage.to_text().as_bytes())?);
+        batch.add(crate::fsout::write_atomic(&dir.join("coverage.ucis.xml"), pmu50_coverage::to_ucis_xml(&self.coverage).as_bytes())?);
         batch.add(crate::fsout::write_atomic(&dir.join("report.html"), report::html(self, extra).as_bytes())?);
         let missing = dir.join("missing.txt");
         if self.missing.is_empty() {
