@@ -10,7 +10,9 @@
 #    (verilator -O3, g++ -O3; cached in hdl/build/bench/); iverilog compiles tb_vectors.v for the
 #    Icarus row (keyoff_turns only);
 # 3. cargo bench --bench compare runs every harness and prints the table; exit 1 when the output
-#    checksums of the harnesses differ.
+#    checksums of the harnesses differ;
+# 4. cargo bench --bench regress_speed: what a regression seed costs (coverage and checks against
+#    the bench and the kernel) and pmu50 regress's seeds per second on every core.
 # Needs verilator and iverilog (installed with apt-get when missing, as `make deps` does).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -47,3 +49,4 @@ done < "$B/keyoff_turns.vec"
 mapfile -t RTL < <(sed "s|^|$ROOT/hdl/|" "$ROOT/hdl/pmu50.f")
 iverilog -g2005 -Wall -Wno-timescale "${IV[@]}" -s tb_vectors -o "$B/iv_keyoff_turns.vvp" "$ROOT/hdl/tb/tb_vectors.v" "${RTL[@]}"
 cargo bench --bench compare -- --dir "$B" --stim keyoff_turns --stim "random_$SEED" --icarus keyoff_turns "${SECONDS_ARG[@]}"
+cargo bench --bench regress_speed

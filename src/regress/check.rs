@@ -79,10 +79,8 @@ pub struct SeedChecks {
     pub readouts_checked: u64,
     cnt_width: u8,
     sync_depth: u8,
-    // the last period, for replaying skipped copies of it (docs/spec.md 5.1)
-    snap: Vec<u64>,
-    snap_at: Option<u64>,
-    prev: Vec<u64>,
+    // the ticks of the last two period starts, for replaying skipped copies (docs/spec.md 5.1)
+    mark_at: Option<u64>,
     prev_at: Option<u64>,
 }
 
@@ -97,9 +95,7 @@ impl SeedChecks {
             readouts_checked: 0,
             cnt_width: p.cnt_width,
             sync_depth: p.sync_depth,
-            snap: Vec::new(),
-            snap_at: None,
-            prev: Vec::new(),
+            mark_at: None,
             prev_at: None,
         }
     }
@@ -232,22 +228,20 @@ impl Observer for SeedChecks {
     }
 
     fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
-        std::mem::swap(&mut self.prev, &mut self.snap);
-        self.prev_at = self.snap_at;
-        self.snap.clear();
-        self.snap.extend_from_slice(self.coverage.hits());
-        self.snap_at = Some(k);
+        self.coverage.mark();
+        self.prev_at = self.mark_at;
+        self.mark_at = Some(k);
         Ok(())
     }
 
     fn can_replay(&self, k: u64, len: u64) -> bool {
-        self.snap_at == Some(k) && self.prev_at == k.checked_sub(len)
+        self.mark_at == Some(k) && self.prev_at == k.checked_sub(len) && self.coverage.can_repeat()
     }
 
     fn replay(&mut self, _k: u64, periods: u64, _len: u64) -> Result<(), SimError> {
-        self.coverage.repeat_since(&self.prev, periods);
+        self.coverage.repeat_last_period(periods);
         // the counts at the next boundary start from here
-        self.snap_at = None;
+        self.mark_at = None;
         self.prev_at = None;
         Ok(())
     }

@@ -58,7 +58,17 @@ pub struct Coverage {
     clock_ns: u64,
     structural: Structural,
     read_offset: usize,
+    /// Bins counted by the rare path since the last [`Coverage::mark`] (a key-off period, for
+    /// replaying skipped copies of it), and the journal of the period before.
+    journal: Vec<u32>,
+    last_period: Vec<u32>,
+    /// The journal outgrew [`JOURNAL_MAX`]: that period cannot be replayed.
+    journal_full: bool,
+    last_full: bool,
 }
+
+/// Entries a period's journal keeps; a repeated key-off period hits a few dozen bins.
+const JOURNAL_MAX: usize = 4096;
 
 impl Coverage {
     /// Empty counters for a core of these parameters, at this clock period; samples the
@@ -71,6 +81,10 @@ impl Coverage {
             clock_ns,
             structural: Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width },
             read_offset: l.point_offset[READ],
+            journal: Vec::new(),
+            last_period: Vec::new(),
+            journal_full: false,
+            last_full: true,
         };
         c.sample_config(p);
         c
@@ -88,11 +102,39 @@ impl Coverage {
         }
     }
 
-    /// Add `times` copies of the counts between `earlier` and now (a repeated period that the
-    /// bench skipped, docs/spec.md 5.1).
-    pub fn repeat_since(&mut self, earlier: &[u64], times: u64) {
-        for (a, e) in self.hits.iter_mut().zip(earlier) {
-            *a = a.saturating_add((*a - e).saturating_mul(times));
+    /// A key-off period starts (docs/spec.md 5.1): what was counted since the previous mark is
+    /// the last period, which [`Coverage::repeat_last_period`] can replay. The MPU's reads,
+    /// counted outside the journal, happen only with the key on, never in a repeated period.
+    pub fn mark(&mut self) {
+        std::mem::swap(&mut self.journal, &mut self.last_period);
+        self.journal.clear();
+        self.last_full = self.journal_full;
+        self.journal_full = false;
+    }
+
+    /// Whether the last period can be replayed (its journal is complete).
+    pub fn can_repeat(&self) -> bool {
+        !self.last_full
+    }
+
+    /// Add `times` copies of the counts of the last period (a repeated period that the bench
+    /// skipped); the next period starts empty.
+    pub fn repeat_last_period(&mut self, times: u64) {
+        for &k in &self.last_period {
+            let h = &mut self.hits[k as usize];
+            *h = h.saturating_add(times);
+        }
+        self.journal.clear();
+        self.journal_full = false;
+        self.last_full = true;
+    }
+
+    fn count(&mut self, k: usize) {
+        self.hits[k] += 1;
+        if self.journal.len() < JOURNAL_MAX {
+            self.journal.push(k as u32);
+        } else {
+            self.journal_full = true;
         }
     }
 
@@ -117,7 +159,7 @@ impl Coverage {
         let off = &layout().point_offset;
         for (point, bin) in bins {
             self.config[point] = bin;
-            self.hits[off[point] + usize::from(bin)] += 1;
+            self.count(off[point] + usize::from(bin));
         }
     }
 
@@ -131,7 +173,11 @@ impl Coverage {
         let sync = e.before.action_switching.sync;
         let in_flight = sync != 0 && sync != (1u8 << self.structural.sync_depth) - 1;
         let diag_rise = e.after.count_diagnosis.diag && !e.before.count_diagnosis.diag;
-        if i.bus_we || n.kon || n.koff || n.upd || n.fig17 != Fig17::Idle || n.skip_clr || e.out.smp || diag_rise || in_flight {
+        // A sample that moves nothing (most on-key strobes) hits no bin: only a first sample, a
+        // sign change, or a strobe on a dead rail does.
+        let moved = n.upd && (n.first || n.chg_s || n.chg_c);
+        let dead = e.out.smp && !e.out.sr;
+        if i.bus_we || n.kon || n.koff || moved || n.fig17 != Fig17::Idle || n.skip_clr || dead || diag_rise || in_flight {
             self.sample_rare(e, in_flight, diag_rise);
         }
     }
@@ -303,13 +349,13 @@ impl Coverage {
         let l = layout();
         for (point, &bin) in sel.iter().enumerate() {
             if bin != NONE && POINTS[point].sampled == Sampled::Edge {
-                self.hits[l.point_offset[point] + usize::from(bin)] += 1;
+                self.count(l.point_offset[point] + usize::from(bin));
             }
         }
         for (c, &off) in crosses().zip(&l.cross_offset) {
             let (x, y) = (sel[c.a], sel[c.b]);
             if x != NONE && y != NONE && (POINTS[c.a].sampled == Sampled::Edge || POINTS[c.b].sampled == Sampled::Edge) {
-                self.hits[off + usize::from(x) * POINTS[c.b].bins.len() + usize::from(y)] += 1;
+                self.count(off + usize::from(x) * POINTS[c.b].bins.len() + usize::from(y));
             }
         }
         if params_changed {
