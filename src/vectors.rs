@@ -13,6 +13,7 @@ pub struct VectorWriter<W: Write> {
     out: W,
     s: Structural,
     pending: Option<Inputs>,
+    buf: Vec<u8>,
 }
 
 fn io(e: std::io::Error) -> SimError {
@@ -41,20 +42,31 @@ impl<W: Write> VectorWriter<W> {
         h += &format!("// fields {}\n", ins.len() + outs.len());
         h += &format!("// columns {} | {}\n", ins.join(" "), outs.join(" "));
         out.write_all(h.as_bytes()).map_err(io)?;
-        Ok(VectorWriter { out, s, pending: None })
+        Ok(VectorWriter { out, s, pending: None, buf: Vec::with_capacity(128) })
     }
 
     fn line(&mut self, i: &Inputs, v: &TickView<'_>) -> Result<(), SimError> {
-        let mut l = String::with_capacity(96);
+        // Fields as fixed-width lower-case hex, written into a reused buffer (one write a line).
+        fn hex(buf: &mut Vec<u8>, value: u64, digits: usize) {
+            const HEX: &[u8; 16] = b"0123456789abcdef";
+            for k in (0..digits).rev() {
+                buf.push(HEX[((value >> (4 * k)) & 0xF) as usize]);
+            }
+            buf.push(b' ');
+        }
+        let mut l = std::mem::take(&mut self.buf);
+        l.clear();
         for sig in signals::INPUTS {
-            l += &format!("{:0d$x} ", (sig.get)(i), d = digits(sig.bits(&self.s)));
+            hex(&mut l, (sig.get)(i), digits(sig.bits(&self.s)));
         }
         for sig in signals::OUTPUTS {
-            l += &format!("{:0d$x} ", (sig.get)(v.ports), d = digits(sig.bits(&self.s)));
+            hex(&mut l, (sig.get)(v.ports), digits(sig.bits(&self.s)));
         }
         l.pop();
-        l.push('\n');
-        self.out.write_all(l.as_bytes()).map_err(io)
+        l.push(b'\n');
+        let r = self.out.write_all(&l).map_err(io);
+        self.buf = l;
+        r
     }
 }
 

@@ -124,10 +124,15 @@ impl Dut {
         r
     }
 
+    /// A scratch path for the vector file of `sc` (one per thread).
+    pub fn vector_path(&self, sc: &Scenario) -> PathBuf {
+        self.scratch.path().join(format!("{}.{:?}.vec", sc.name, std::thread::current().id()).replace(['(', ')', ' '], ""))
+    }
+
     /// Run the DUT on a scenario's stimulus: `Ok(None)` equal, `Ok(Some)` the first divergence
     /// (or a hang or crash), `Err` a setup failure (the seed's verdict is then `error`).
     pub fn check(&self, sc: &Scenario, timeout: Duration) -> Result<Option<Failure>, String> {
-        let vec = self.scratch.path().join(format!("{}.{:?}.vec", sc.name, std::thread::current().id()).replace(['(', ')', ' '], ""));
+        let vec = self.vector_path(sc);
         {
             let f = std::fs::File::create(&vec).map_err(|e| format!("{}: {e}", vec.display()))?;
             let mut w = VectorWriter::new(std::io::BufWriter::new(f), sc).map_err(|e| e.to_string())?;
@@ -135,21 +140,26 @@ impl Dut {
             use std::io::Write;
             w.into_inner().flush().map_err(|e| format!("{}: {e}", vec.display()))?;
         }
+        self.check_vectors(sc, &vec, timeout)
+    }
+
+    /// [`Dut::check`] on a vector file of `sc` already written (it is removed).
+    pub fn check_vectors(&self, sc: &Scenario, vec: &Path, timeout: Duration) -> Result<Option<Failure>, String> {
         let mut cmd = match self.kind {
             DutKind::Verilator => {
                 let bin = self.lockstep(sc.params.sync_depth, sc.params.cnt_width)?;
                 let mut c = Command::new(bin);
-                c.arg(&vec);
+                c.arg(vec);
                 c
             }
             _ => {
                 let mut c = Command::new("bash");
-                c.arg(hdl_dir().join("scripts/run_vectors.sh")).arg(&vec).env("PMU50_FILELIST", &self.filelist).env("PMU50_BUILD_DIR", &self.build_dir);
+                c.arg(hdl_dir().join("scripts/run_vectors.sh")).arg(vec).env("PMU50_FILELIST", &self.filelist).env("PMU50_BUILD_DIR", &self.build_dir);
                 c
             }
         };
         let res = run_limited(&mut cmd, timeout);
-        let _ = std::fs::remove_file(&vec);
+        let _ = std::fs::remove_file(vec);
         let (code, text) = match res? {
             Limited::Done(code, text) => (code, text),
             Limited::TimedOut => return Ok(Some(dut_failure(sc, None, "dut", format!("the DUT did not finish within the per-seed time limit of {} s", timeout.as_secs_f64())))),

@@ -247,7 +247,24 @@ pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout
     let text = stim.to_toml(&name);
     let path = PathBuf::from(format!("{name}.toml"));
     let sc = Scenario::parse(&text, &path.display().to_string(), &name, &path).map_err(|e| error_failure(0, format!("the generator made a scenario the parser refuses: {e}")))?;
-    let (checks, res) = run_model(&sc, spec.check_spec).map_err(|e| error_failure(0, e.to_string()))?;
+    // One run of the model gives the checks, the coverage and, for an RTL DUT, its vectors.
+    let vec = dut.map(|d| d.vector_path(&sc));
+    let mut writer = match &vec {
+        Some(p) => {
+            let f = std::fs::File::create(p).map_err(|e| error_failure(0, format!("{}: {e}", p.display())))?;
+            Some(crate::vectors::VectorWriter::new(std::io::BufWriter::new(f), &sc).map_err(|e| error_failure(0, e.to_string()))?)
+        }
+        None => None,
+    };
+    let run = match writer.as_mut() {
+        Some(w) => run_model(&sc, spec.check_spec, &mut [w]),
+        None => run_model(&sc, spec.check_spec, &mut []),
+    };
+    let (checks, res) = run.map_err(|e| error_failure(0, e.to_string()))?;
+    if let Some(w) = writer {
+        use std::io::Write;
+        w.into_inner().flush().map_err(|e| error_failure(0, format!("vector file: {e}")))?;
+    }
     let hits = checks.coverage.hits().to_vec();
     let mut failure = checks.failure.clone();
     if failure.is_none() {
@@ -256,13 +273,16 @@ pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout
         }
     }
     if failure.is_none() {
-        if let Some(d) = dut {
-            match d.check(&sc, timeout) {
+        if let (Some(d), Some(v)) = (dut, &vec) {
+            match d.check_vectors(&sc, v, timeout) {
                 Ok(None) => {}
                 Ok(Some(f)) => failure = Some(f),
                 Err(e) => return Ok(("error", Some(error_failure(0, e)), res.ticks, res.evaluated_ticks, checks.readouts_checked, hits)),
             }
         }
+    }
+    if let Some(v) = &vec {
+        let _ = std::fs::remove_file(v);
     }
     let verdict = if failure.is_some() { "fail" } else { "pass" };
     Ok((verdict, failure, res.ticks, res.evaluated_ticks, checks.readouts_checked, hits))
@@ -270,7 +290,7 @@ pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout
 
 /// Check one scenario (a repro) as a seed is checked: `Ok(None)` it passes.
 pub fn check_scenario(spec: &RunSpec, sc: &Scenario, dut: Option<&dut::Dut>, timeout: Duration) -> Result<Option<Failure>, String> {
-    let (checks, res) = run_model(sc, spec.check_spec).map_err(|e| e.to_string())?;
+    let (checks, res) = run_model(sc, spec.check_spec, &mut []).map_err(|e| e.to_string())?;
     if let Some(f) = checks.failure {
         return Ok(Some(f));
     }
@@ -284,9 +304,14 @@ pub fn check_scenario(spec: &RunSpec, sc: &Scenario, dut: Option<&dut::Dut>, tim
 }
 
 /// The model's run of a scenario with the regression's checks and coverage.
-pub fn run_model(sc: &Scenario, check_spec: bool) -> Result<(SeedChecks, sim::RunResult), sim::SimError> {
+pub fn run_model(sc: &Scenario, check_spec: bool, extra: &mut [&mut dyn sim::Observer]) -> Result<(SeedChecks, sim::RunResult), sim::SimError> {
     let mut checks = SeedChecks::new(&sc.params, sc.clock_ns(), check_spec);
-    let res = sim::run(sc, SimOptions::default(), &mut [&mut checks])?;
+    let mut obs: Vec<&mut dyn sim::Observer> = vec![&mut checks];
+    for e in extra.iter_mut() {
+        obs.push(&mut **e);
+    }
+    let res = sim::run(sc, SimOptions::default(), &mut obs)?;
+    drop(obs);
     checks.finish_checks(&res, sc);
     Ok((checks, res))
 }
