@@ -238,6 +238,12 @@ enum Cmd {
         out: PathBuf,
         inputs: Vec<PathBuf>,
     },
+    /// Draw the closure curves (coverage against seeds) of regression folders into one SVG.
+    Closure {
+        #[arg(short, long)]
+        output: PathBuf,
+        dirs: Vec<PathBuf>,
+    },
     /// Compare two VCD files; exit 0 equal, 1 different, 2 bad input.
     Diff {
         left: PathBuf,
@@ -465,6 +471,16 @@ fn main() -> ExitCode {
             let pins = pmu50::regress::gen::Pins { sync_depth, cnt_width };
             cmd_regress(RegressArgs { start_seed, iterations, jobs, directed, check_spec, dut, rtl, pins, shard, shard_count, resume, out, timeout, no_triage, repro })
         }
+        Cmd::Closure { output, dirs } => match pmu50::regress::report::closure_cli(&dirs, &output) {
+            Ok(text) => {
+                out!("{}", text.trim_end());
+                0
+            }
+            Err(e) => {
+                err!("error: {e}");
+                2
+            }
+        },
         Cmd::Merge { out, inputs } => match pmu50::regress::merge::merge(&inputs, &out) {
             Ok(m) => {
                 out!("merged {} regression folder(s) and {} coverage file(s) into {}", m.folders, m.coverage_files, out.display());

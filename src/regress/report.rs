@@ -62,10 +62,10 @@ pub fn curve_svg(curves: &[(&str, &str, Vec<(usize, f64)>)], title: &str) -> Str
     let mut s = String::new();
     let _ = write!(s, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\" font-size=\"12\">");
     let _ = write!(s, "<rect width=\"{w}\" height=\"{h}\" fill=\"white\"/><text x=\"{}\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">{}</text>", w / 2.0, esc(title));
-    let mut p = y0;
-    while p <= 100.0 + 1e-9 {
+    let mut p = 100.0;
+    while p >= y0 - 1e-9 {
         let _ = write!(s, "<line x1=\"{ml}\" x2=\"{}\" y1=\"{:.1}\" y2=\"{:.1}\" stroke=\"#eee\"/><text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{p:.0} %</text>", w - mr, y(p), y(p), ml - 6.0, y(p) + 4.0);
-        p += if 100.0 - y0 > 40.0 { 20.0 } else { 10.0 };
+        p -= if 100.0 - y0 > 40.0 { 20.0 } else { 10.0 };
     }
     let mut n = 1.0;
     while n <= maxn * 1.0001 {
@@ -85,6 +85,36 @@ pub fn curve_svg(curves: &[(&str, &str, Vec<(usize, f64)>)], title: &str) -> Str
     }
     s.push_str("</svg>\n");
     s
+}
+
+/// `pmu50 closure -o FILE.svg DIR...`: the closure curves of regression folders in one SVG, and
+/// for each the seed at which every bin scenario stimuli reach was hit.
+pub fn closure_cli(dirs: &[std::path::PathBuf], out: &std::path::Path) -> Result<String, super::RegressError> {
+    if dirs.is_empty() {
+        return Err(super::RegressError::Usage("closure needs at least one regression folder".into()));
+    }
+    const COLOURS: [&str; 6] = ["#b2182b", "#2166ac", "#1b7837", "#762a83", "#e08214", "#4d4d4d"];
+    let mut curves = Vec::new();
+    let mut text = String::new();
+    for (k, d) in dirs.iter().enumerate() {
+        let spec = super::read_spec(d)?;
+        let results = super::read_results(&d.join("results.jsonl"))?;
+        let s = Summary::build(spec, results)?;
+        let c = closure_curve(&s);
+        let label = format!("{} ({} seeds)", if s.spec.directed { "directed" } else { "uniform random" }, s.results.len());
+        match c.iter().find(|(_, p)| *p >= 100.0 - 1e-9) {
+            Some((n, _)) => text.push_str(&format!("{}: {label}: every bin scenario stimuli reach hit at seed {n}\n", d.display())),
+            None => text.push_str(&format!("{}: {label}: {:.1} % of the bins scenario stimuli reach after {} seeds\n", d.display(), c.last().map_or(0.0, |p| p.1), c.len())),
+        }
+        curves.push((label, COLOURS[k % COLOURS.len()], c));
+    }
+    let refs: Vec<(&str, &str, Vec<(usize, f64)>)> = curves.iter().map(|(l, c, v)| (l.as_str(), *c, v.clone())).collect();
+    let svg = curve_svg(&refs, "coverage closure: bins hit against seeds");
+    let mut b = crate::fsout::Batch::new();
+    b.add(crate::fsout::write_atomic(out, svg.as_bytes())?);
+    b.commit()?;
+    text.push_str(&format!("wrote {}\n", out.display()));
+    Ok(text)
 }
 
 /// The page.
