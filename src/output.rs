@@ -394,7 +394,9 @@ pub fn run_to_batch_focused(sc: &Scenario, dir: &Path, fo: FileOptions, format: 
         }
     }
     let (mut markers, left_out) = marks.markers(Some((a, z)));
-    if focus.is_some() {
+    if let Some(f) = focus {
+        // the focus marker names that instant; the scenario's own markers fill the other 25
+        markers.retain(|m| m.tick != f.tick);
         markers.truncate(markers.len().min(25));
     }
     for m in &markers {

@@ -1,5 +1,5 @@
-//! The waveform of a shrunk failure: the model's VCD of every signal of the repro, with a
-//! GTKWave save file zoomed on the first divergence and a named marker there.
+//! The waveform of a shrunk failure: the model's VCD of every signal of the repro around the
+//! first divergence, with a GTKWave save file zoomed there and a named marker on it.
 
 use super::check::Failure;
 use super::RegressError;
@@ -13,9 +13,12 @@ pub fn write(folder: &Path, toml: &str, name: &str, f: &Failure) -> Result<(), R
     let path = folder.join("repro.toml");
     let mut sc = Scenario::parse(toml, &path.display().to_string(), name, &path).map_err(|e| RegressError::File { path: path.clone(), reason: e.to_string() })?;
     sc.name = "repro".into();
-    let fo = FileOptions { level: Level::All, ..FileOptions::default() };
-    // The marker sits on the edge that diverged (tick k: the end of bench tick k - 1).
-    let focus = Focus { tick: f.tick.min(sc.ticks), name: format!("first divergence: {}", f.signal.trim_start_matches("pmu50.")).to_lowercase(), before: 60, after: 20 };
+    // The marker sits on the edge that diverged (tick k: the end of bench tick k - 1). The file
+    // holds the 400 ticks before it and 40 after (GTKWave opens a file at its first time).
+    let tick = f.tick.min(sc.ticks);
+    let window = (tick.saturating_sub(400), (tick + 40).min(sc.ticks).max(tick.saturating_sub(400) + 1));
+    let fo = FileOptions { level: Level::All, window: Some(window), ..FileOptions::default() };
+    let focus = Focus { tick, name: format!("first divergence: {}", f.signal.trim_start_matches("pmu50.")).to_lowercase(), before: 400, after: 40 };
     let (_, _, batch) = run_to_batch_focused(&sc, folder, fo, WaveFormat::Vcd, &mut [], Some(&focus)).map_err(|e| RegressError::File { path: folder.join("repro.vcd"), reason: e.to_string() })?;
     batch.commit()?;
     Ok(())
