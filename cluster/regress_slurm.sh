@@ -43,6 +43,9 @@ isnum "$jobs" && [ "$jobs" -ge 1 ] || { echo "regress_slurm: --jobs must be a po
 command -v sbatch >/dev/null && timeout 20 sinfo -h >/dev/null 2>&1 \
   || { echo "regress_slurm: no Slurm cluster answers (run it under cluster/slurm/local_cluster.sh)" >&2; exit 1; }
 
+max=$(scontrol show config 2>/dev/null | awk '$1 == "MaxArraySize" { print $3 }')
+[ -z "$max" ] || [ "$shards" -lt "$max" ] \
+  || { echo "regress_slurm: $shards shards but the cluster's MaxArraySize is $max (task ids 0..$((max - 1)))" >&2; exit 2; }
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 bin=$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")

@@ -18,9 +18,10 @@ SEEDS=${PMU50_TEST_SEEDS:-60}
 if [ "${PMU50_TEST_SLURM_INSIDE:-}" != 1 ]; then
   [ -x "$bin" ] || { echo "test_slurm: FAIL: no pmu50 binary at $bin (cargo build --release --bin pmu50)"; exit 1; }
   start=$(date +%s)
-  PMU50_TEST_SLURM_INSIDE=1 "$here/slurm/local_cluster.sh" -- "$0" "$bin"; rc=$?
+  PMU50_TEST_SLURM_INSIDE=1 LOCAL_CLUSTER_SKIP_PREFIX="test_slurm: skipped: " \
+    "$here/slurm/local_cluster.sh" -- "$0" "$bin"; rc=$?
   # 77: local_cluster.sh has said in one line why no cluster can run here.
-  [ $rc = 77 ] && { echo "test_slurm: skipped"; exit 0; }
+  [ $rc = 77 ] && exit 0
   [ $rc = 0 ] && echo "test_slurm: ok ($(($(date +%s) - start)) s with the bring-up and shutdown)"
   [ $rc = 0 ] || echo "test_slurm: FAIL (exit $rc)"
   exit $rc

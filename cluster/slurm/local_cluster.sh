@@ -25,7 +25,8 @@ set -uo pipefail
 
 SKIP=77
 log() { printf 'local_cluster: %s\n' "$*" >&2; }
-skip() { log "cannot run a Slurm cluster here: $*"; exit $SKIP; }
+# The one line saying why; LOCAL_CLUSTER_SKIP_PREFIX replaces "local_cluster: " (test scripts).
+skip() { printf '%scannot run a Slurm cluster here: %s\n' "${LOCAL_CLUSTER_SKIP_PREFIX-local_cluster: }" "$*" >&2; exit $SKIP; }
 
 force_local=0 keep=0
 while [ $# -gt 0 ]; do

@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# Figures of docs/cluster.md, measured without a scheduler on this machine:
+#  - sharding overhead: the same N seeds as one process (--jobs 1) and as K shards
+#    (--shard I/K --jobs 1) run one after another, wall time of each;
+#  - merging M shard folders (pmu50 merge of M folders of a run of M*PER seeds).
+#   cluster/bench_shards.sh [--seeds N] [--shards K] [--merge-folders M] [--per-folder PER] [--bin PMU50]
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/.." && pwd)
+seeds=2000 shards=10 folders=1000 per=10 bin=$root/target/release/pmu50
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --seeds) seeds=$2; shift 2 ;;
+    --shards) shards=$2; shift 2 ;;
+    --merge-folders) folders=$2; shift 2 ;;
+    --per-folder) per=$2; shift 2 ;;
+    --bin) bin=$2; shift 2 ;;
+    *) echo "bench_shards: unknown argument '$1'" >&2; exit 2 ;;
+  esac
+done
+[ -x "$bin" ] || { echo "bench_shards: no pmu50 binary at $bin" >&2; exit 2; }
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/pmu50-bench.XXXXXX")
+trap 'rm -rf "$tmp"' EXIT
+now() { date +%s.%N; }
+secs() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", b - a }'; }
+quiet() { "$@" >/dev/null 2>&1; local rc=$?; [ $rc -le 1 ] || { echo "bench_shards: '$*' exit $rc" >&2; exit 1; }; }
+
+echo "machine: $(nproc) CPUs, $(uname -r), pmu50 $("$bin" --version 2>/dev/null | awk '{print $2}')"
+t0=$(now); quiet "$bin" regress --start-seed 0 --iterations "$seeds" --jobs 1 --out "$tmp/one"; t1=$(now)
+one=$(secs "$t0" "$t1")
+t0=$(now)
+for i in $(seq 0 $((shards - 1))); do
+  quiet env -u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX "$bin" regress --start-seed 0 --iterations "$seeds" --jobs 1 \
+    --shard "$i/$shards" --out "$tmp/s/shard-$i"
+done
+t1=$(now)
+seq_k=$(secs "$t0" "$t1")
+t0=$(now); quiet "$bin" merge --out "$tmp/merged" "$tmp"/s/shard-*; t1=$(now)
+python3 "$here/compare.py" runs "$tmp/merged" "$tmp/one" >/dev/null || { echo "bench_shards: the $shards shards merged differ from one process" >&2; exit 1; }
+awk -v n="$seeds" -v k="$shards" -v a="$one" -v b="$seq_k" -v m="$(secs "$t0" "$t1")" 'BEGIN {
+  printf "sharding overhead: %d seeds, one process %.2f s (%.2f ms/seed); %d shards one after another %.2f s (%+.1f %%, %.0f ms per shard); merge of the %d %.2f s; merged = one process\n",
+    n, a, 1000 * a / n, k, b, 100 * (b - a) / a, 1000 * (b - a) / k, k, m }'
+
+total=$((folders * per))
+t0=$(now)
+for i in $(seq 0 $((folders - 1))); do
+  quiet env -u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX "$bin" regress --start-seed 0 --iterations "$total" --jobs 1 \
+    --shard "$i/$folders" --out "$tmp/m/shard-$i"
+done
+t1=$(now)
+t2=$(now); quiet "$bin" merge --out "$tmp/m-merged" "$tmp"/m/shard-*; t3=$(now)
+[ -s "$tmp/m-merged/missing.txt" ] && { echo "bench_shards: the $folders folders miss seeds" >&2; exit 1; }
+echo "merge: $folders shard folders of $per seeds ($total seeds; written in $(secs "$t0" "$t1") s) merged in $(secs "$t2" "$t3") s"
