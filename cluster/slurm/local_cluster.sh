@@ -209,4 +209,11 @@ done
 [ "$state" = idle ] || fail_start "node $NODE is '${state:-unknown}', not idle, 30 s after slurmd started"
 log "local Slurm cluster up: node $NODE idle, partition local, SLURM_CONF=$CONF"
 
-SLURM_CONF=$CONF PMU50_SLURM=local PMU50_SLURM_PARTITION=local "$@"
+# In the background so that a signal to this script tears the cluster down at once (a trap
+# waits for a foreground command); the signal is passed on to the command.
+SLURM_CONF=$CONF PMU50_SLURM=local PMU50_SLURM_PARTITION=local "$@" &
+cmd_pid=$!
+stop() { kill -TERM "$cmd_pid" 2>/dev/null; wait "$cmd_pid" 2>/dev/null; exit "$1"; }
+trap 'stop 130' INT
+trap 'stop 143' TERM HUP
+wait "$cmd_pid"
