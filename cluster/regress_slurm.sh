@@ -68,7 +68,7 @@ submit() { # submit ARRAY_SPEC [EXTRA_EXPORTS] [sbatch options...]: prints the j
 queued() { squeue -h -j "$1" -o %i 2>/dev/null | grep -q .; }
 lines() { [ -f "$1" ] && wc -l <"$1" | tr -d ' ' || echo 0; }
 
-echo "regress-slurm: seeds $start..$((start + seeds - 1)) ($seeds), $shards shards, $(sinfo -h -o '%D node(s), %c CPUs/node, partition %P' | head -n 1)"
+echo "regress-slurm: seeds $start..$((start + seeds - 1)) ($seeds), $shards shards, $(sinfo -h -o '%D node(s), %c CPUs/node, partition %P' | head -n 1 | tr -d '*')"
 t0=$(now)
 if [ "$fault" = 0 ]; then
   job=$(submit "0-$((shards - 1))" "" --wait) ; rc=$?
@@ -97,15 +97,19 @@ mlog=$out/merge.log
 "$bin" merge --out "$merged" "$sh"/shard-* >"$mlog" 2>&1; mrc=$?
 t2=$(now)
 if [ "$fault" = 1 ]; then
+  [ "$mrc" != 2 ] || { cat "$mlog" >&2; die "merge refused the shards (exit 2)"; }
   [ "$(lines "$vres")" -ge "$kept" ] || die "the cancelled shard lost results ($kept before, $(lines "$vres") after)"
   [ -s "$merged/missing.txt" ] || { cat "$mlog" >&2; die "the merge after the cancel names no missing seeds (exit $mrc)"; }
   nmiss=$(grep -c . "$merged/missing.txt")
   echo "  merge with task $victim cancelled: exit $mrc, $nmiss missing seeds listed in slurm/missing.txt"
   # The missing seeds are exactly the cancelled shard's seeds without a result line.
   python3 "$here/compare.py" missing "$sh/shard-$victim" "$merged/missing.txt" || die "missing seeds do not match the cancelled shard"
+  r0=$(now)
   job2=$(submit "$victim" ",PMU50_RESUME=1,PMU50_SHARDS=$shards" --wait); rc=$?
-  echo "  resubmitted only task $victim with --resume (job ${job2%%;*}): exit $rc"
+  r1=$(now)
+  echo "  resubmitted only task $victim with PMU50_RESUME=1 (job ${job2%%;*}, exit $rc): $(secs "$r0" "$r1") s"
   rm -rf "$merged"
+  t1=$(now)
   "$bin" merge --out "$merged" "$sh"/shard-* >"$mlog" 2>&1; mrc=$?
   t2=$(now)
 fi
@@ -117,6 +121,10 @@ t3=$(now)
 t4=$(now)
 [ "$orc" = 0 ] || [ "$orc" = 1 ] || { cat "$out/one-process.log" >&2; die "one-process run failed (exit $orc)"; }
 
-echo "  slurm:       submit to last shard done $(secs "$t0" "$t1") s, merge $(secs "$t1" "$t2") s -> $merged"
+if [ "$fault" = 0 ]; then
+  echo "  slurm:       submit to last shard done $(secs "$t0" "$t1") s, merge $(secs "$t1" "$t2") s -> $merged"
+else
+  echo "  slurm:       submit to merged, with the cancel and the resubmission $(secs "$t0" "$t2") s (last merge $(secs "$t1" "$t2") s) -> $merged"
+fi
 echo "  one process: $(secs "$t3" "$t4") s (--jobs $jobs) -> $one"
 python3 "$here/compare.py" runs "$merged" "$one"
