@@ -79,13 +79,16 @@ else
   job=${job%%;*}
   victim=0
   vres=$sh/shard-$victim/results.jsonl
-  # Cancel the victim once it has finished a seed, while it still runs.
-  for _ in $(seq 600); do
-    st=$(squeue -h -j "${job}_$victim" -o %T 2>/dev/null)
-    [ "$st" = RUNNING ] && [ "$(lines "$vres")" -ge 1 ] && break
-    [ -z "$st" ] && die "task ${job}_$victim ended before it could be cancelled ($(lines "$vres") results): give it more seeds"
-    sleep 0.1
+  # Cancel the victim as soon as it has finished a seed (a result line), while it still runs;
+  # only the file is watched in this loop (squeue is slower than a shard of a few seeds).
+  for i in $(seq 3000); do
+    [ "$(lines "$vres")" -ge 1 ] && break
+    if [ $((i % 20)) = 0 ] && ! queued "${job}_$victim"; then
+      die "task ${job}_$victim ended without a result line: $(tail -n 3 "$sh/slurm-${job}_$victim.out" 2>&1)"
+    fi
+    sleep 0.02
   done
+  [ "$(lines "$vres")" -ge 1 ] || die "task ${job}_$victim wrote no result line in 60 s"
   scancel "${job}_$victim" || die "scancel ${job}_$victim failed"
   kept=$(lines "$vres")
   echo "  array job $job: task $victim cancelled (scancel ${job}_$victim) after $kept finished seeds"
@@ -99,7 +102,7 @@ t2=$(now)
 if [ "$fault" = 1 ]; then
   [ "$mrc" != 2 ] || { cat "$mlog" >&2; die "merge refused the shards (exit 2)"; }
   [ "$(lines "$vres")" -ge "$kept" ] || die "the cancelled shard lost results ($kept before, $(lines "$vres") after)"
-  [ -s "$merged/missing.txt" ] || { cat "$mlog" >&2; die "the merge after the cancel names no missing seeds (exit $mrc)"; }
+  [ -s "$merged/missing.txt" ] || { cat "$mlog" >&2; die "the merge after the cancel names no missing seeds (exit $mrc): did task $victim finish before the cancel? (give it more seeds)"; }
   nmiss=$(grep -c . "$merged/missing.txt")
   echo "  merge with task $victim cancelled: exit $mrc, $nmiss missing seeds listed in slurm/missing.txt"
   # The missing seeds are exactly the cancelled shard's seeds without a result line.

@@ -13,11 +13,21 @@ set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/.." && pwd)
 bin=${1:-$root/target/release/pmu50}
-SEEDS=${PMU50_TEST_SEEDS:-60}
 
 if [ "${PMU50_TEST_SLURM_INSIDE:-}" != 1 ]; then
   [ -x "$bin" ] || { echo "test_slurm: FAIL: no pmu50 binary at $bin (cargo build --release --bin pmu50)"; exit 1; }
   start=$(date +%s)
+  # Enough seeds that a shard runs about 1.5 s, so that a task can be cancelled mid-run:
+  # timed here on 16 seeds (3 shards, at least 30 seeds).
+  if [ -z "${PMU50_TEST_SEEDS:-}" ]; then
+    cal=$(mktemp -d "${TMPDIR:-/tmp}/pmu50-cal.XXXXXX")
+    t0=$(date +%s%N)
+    env -u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX "$bin" regress --start-seed 0 --iterations 16 --jobs 1 --out "$cal/r" >/dev/null 2>&1
+    t1=$(date +%s%N)
+    rm -rf "$cal"
+    PMU50_TEST_SEEDS=$(awk -v ns=$((t1 - t0)) 'BEGIN { ms = ns / 16e6; n = 3 * int(1500 / (ms > 0.01 ? ms : 0.01) + 1); print (n < 30 ? 30 : (n > 30000 ? 30000 : n)) }')
+  fi
+  export PMU50_TEST_SEEDS
   PMU50_TEST_SLURM_INSIDE=1 LOCAL_CLUSTER_SKIP_PREFIX="test_slurm: skipped: " \
     "$here/slurm/local_cluster.sh" -- "$0" "$bin"; rc=$?
   # 77: local_cluster.sh has said in one line why no cluster can run here.
@@ -52,5 +62,5 @@ grep -qx end "$tmp/a-1.out" && fail "task 1 ran to its end despite scancel"
 echo "test_slurm: array job $job: tasks 0 and 2 finished, task 1 cancelled while running (scancel ${job}_1)"
 
 # 2. A sharded regression with a task cancelled and resumed, against the one-process run.
-"$here/regress_slurm.sh" --seeds "$SEEDS" --shards 3 --jobs 2 --fault --bin "$bin" --out "$tmp/regress" "${part[@]}" \
+"$here/regress_slurm.sh" --seeds "$PMU50_TEST_SEEDS" --shards 3 --jobs 2 --fault --bin "$bin" --out "$tmp/regress" "${part[@]}" \
   || fail "sharded regression on Slurm (cluster/regress_slurm.sh --fault)"
