@@ -18,14 +18,15 @@ if [ "${PMU50_TEST_SLURM_INSIDE:-}" != 1 ]; then
   [ -x "$bin" ] || { echo "test_slurm: FAIL: no pmu50 binary at $bin (cargo build --release --bin pmu50)"; exit 1; }
   start=$(date +%s)
   # Enough seeds that a shard runs about 1.5 s, so that a task can be cancelled mid-run:
-  # timed here on 16 seeds (3 shards, at least 30 seeds).
+  # timed here on 16 seeds; at least 600 (3 shards of 200 seeds: pmu50 regress appends its
+  # results in batches of 64 seeds, and the cancel comes after the first batch).
   if [ -z "${PMU50_TEST_SEEDS:-}" ]; then
     cal=$(mktemp -d "${TMPDIR:-/tmp}/pmu50-cal.XXXXXX")
     t0=$(date +%s%N)
     env -u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX "$bin" regress --start-seed 0 --iterations 16 --jobs 1 --out "$cal/r" >/dev/null 2>&1
     t1=$(date +%s%N)
     rm -rf "$cal"
-    PMU50_TEST_SEEDS=$(awk -v ns=$((t1 - t0)) 'BEGIN { ms = ns / 16e6; n = 3 * int(1500 / (ms > 0.01 ? ms : 0.01) + 1); print (n < 30 ? 30 : (n > 30000 ? 30000 : n)) }')
+    PMU50_TEST_SEEDS=$(awk -v ns=$((t1 - t0)) 'BEGIN { ms = ns / 16e6; n = 3 * int(1500 / (ms > 0.01 ? ms : 0.01) + 1); print (n < 600 ? 600 : (n > 30000 ? 30000 : n)) }')
   fi
   export PMU50_TEST_SEEDS
   PMU50_TEST_SLURM_INSIDE=1 LOCAL_CLUSTER_SKIP_PREFIX="test_slurm: skipped: " \
