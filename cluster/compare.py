@@ -87,9 +87,13 @@ def missing(shard, listing):
 
 def shard_seeds(run):
     """The seeds of one shard, as regress.json states them."""
-    if "seeds" in run and isinstance(run["seeds"], list):
-        return run["seeds"]
-    raise SystemExit(f"regress.json: no seed list of the shard (fields: {sorted(run)})")
+    start, n = run["start_seed"], run["iterations"]
+    shard = run.get("shard")
+    if not shard:
+        return range(start, start + n)
+    i, k = shard["index"], shard["count"]
+    # Part i of k: [start + i*n/k, start + (i+1)*n/k) (docs/cluster.md, Shards).
+    return range(start + i * n // k, start + (i + 1) * n // k)
 
 
 def main(argv):

@@ -120,7 +120,7 @@ fi
 [ -s "$merged/missing.txt" ] && { cat "$mlog" >&2; die "the merged run misses $(grep -c . "$merged/missing.txt") seeds"; }
 
 t3=$(now)
-"$bin" regress --start-seed "$start" --iterations "$seeds" --jobs "$jobs" --out "$one" >"$out/one-process.log" 2>&1; orc=$?
+env -u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX "$bin" regress --start-seed "$start" --iterations "$seeds" --jobs "$jobs" --out "$one" >"$out/one-process.log" 2>&1; orc=$?
 t4=$(now)
 [ "$orc" = 0 ] || [ "$orc" = 1 ] || { cat "$out/one-process.log" >&2; die "one-process run failed (exit $orc)"; }
 

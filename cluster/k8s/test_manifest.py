@@ -120,7 +120,7 @@ def main():
                 fail(f"index {index}: exit {run.returncode}: {run.stderr.strip()}")
             for seed, rec in compare.results(os.path.join(results, f"shard-{index}")).items():
                 where = rec.get("where") or {}
-                if where.get("k8s_index") != index or where.get("shard") in (None, ""):
+                if where.get("k8s_index") != str(index) or where.get("shard") != f"{index}/{shards}":
                     fail(f"index {index}: seed {seed}'s line says where={where}")
         past = subprocess.run(command, env=dict(base, JOB_COMPLETION_INDEX=str(shards)), capture_output=True, text=True)
         if past.returncode != 2:
