@@ -4,6 +4,7 @@
 #    (--shard I/K --jobs 1) run one after another, wall time of each;
 #  - merging M shard folders (pmu50 merge of M folders of a run of M*PER seeds).
 #   cluster/bench_shards.sh [--seeds N] [--shards K] [--merge-folders M] [--per-folder PER] [--bin PMU50]
+# (--merge-folders 0 skips the merge figure; defaults: 2000 seeds, 10 shards, 1000 folders of 10)
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/.." && pwd)
@@ -41,6 +42,7 @@ awk -v n="$seeds" -v k="$shards" -v a="$one" -v b="$seq_k" -v m="$(secs "$t0" "$
   printf "sharding overhead: %d seeds, one process %.2f s (%.2f ms/seed); %d shards one after another %.2f s (%+.1f %%, %.0f ms per shard); merge of the %d %.2f s; merged = one process\n",
     n, a, 1000 * a / n, k, b, 100 * (b - a) / a, 1000 * (b - a) / k, k, m }'
 
+[ "$folders" -gt 0 ] || exit 0
 total=$((folders * per))
 t0=$(now)
 for i in $(seq 0 $((folders - 1))); do

@@ -65,7 +65,7 @@ def runs(a, b):
     wb = sum(r.get("wall_ms", 0) for r in rb.values())
     hosts = sorted({(r.get("where") or {}).get("host", "?") for r in ra.values()})
     shards = sorted({(r.get("where") or {}).get("shard") for r in ra.values()}, key=str)
-    print(f"  seeds' wall: {wa / 1000:.2f} s summed over {len(shards)} shards on {', '.join(map(str, hosts))}; one process {wb / 1000:.2f} s summed")
+    print(f"  seeds' wall_ms summed: {wa / 1000:.2f} s in {len(shards)} shards on {', '.join(map(str, hosts))}; {wb / 1000:.2f} s in one process")
     print("  => " + ("the merged run equals the one-process run" if ok else "the merged run DIFFERS from the one-process run"))
     return 0 if ok else 1
 

@@ -73,7 +73,8 @@ t0=$(now)
 if [ "$fault" = 0 ]; then
   job=$(submit "0-$((shards - 1))" "" --wait) ; rc=$?
   job=${job%%;*}
-  echo "  array job $job: sbatch --wait exit $rc"
+  case $rc in 0) what="every seed passed" ;; 1) what="a seed failed" ;; *) what="a task failed" ;; esac
+  echo "  array job $job: sbatch --wait exit $rc ($what)"
 else
   job=$(submit "0-$((shards - 1))" "") || die "sbatch failed"
   job=${job%%;*}
@@ -125,9 +126,9 @@ t4=$(now)
 [ "$orc" = 0 ] || [ "$orc" = 1 ] || { cat "$out/one-process.log" >&2; die "one-process run failed (exit $orc)"; }
 
 if [ "$fault" = 0 ]; then
-  echo "  slurm:       submit to last shard done $(secs "$t0" "$t1") s, merge $(secs "$t1" "$t2") s -> $merged"
+  echo "  slurm:       submit to last shard done $(secs "$t0" "$t1") s, merge $(secs "$t1" "$t2") s -> $merged ($(awk -v a="$(secs "$t0" "$t2")" -v b="$(secs "$t3" "$t4")" 'BEGIN { printf "%.2f", a / b }') x the one-process wall)"
 else
   echo "  slurm:       submit to merged, with the cancel and the resubmission $(secs "$t0" "$t2") s (last merge $(secs "$t1" "$t2") s) -> $merged"
 fi
-echo "  one process: $(secs "$t3" "$t4") s (--jobs $jobs) -> $one"
+echo "  one process: $(secs "$t3" "$t4") s (--jobs $jobs; shards --jobs 1 each) -> $one"
 python3 "$here/compare.py" runs "$merged" "$one"
