@@ -27,20 +27,24 @@ secs() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", b - a }'; }
 quiet() { "$@" >/dev/null 2>&1; local rc=$?; [ $rc -le 1 ] || { echo "bench_shards: '$*' exit $rc" >&2; exit 1; }; }
 
 echo "machine: $(nproc) CPUs, $(uname -r), pmu50 $("$bin" --version 2>/dev/null | awk '{print $2}')"
-t0=$(now); quiet "$bin" regress --start-seed 0 --iterations "$seeds" --jobs 1 --out "$tmp/one"; t1=$(now)
-one=$(secs "$t0" "$t1")
-t0=$(now)
-for i in $(seq 0 $((shards - 1))); do
-  quiet env -u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX "$bin" regress --start-seed 0 --iterations "$seeds" --jobs 1 \
-    --shard "$i/$shards" --out "$tmp/s/shard-$i"
-done
-t1=$(now)
-seq_k=$(secs "$t0" "$t1")
-t0=$(now); quiet "$bin" merge --out "$tmp/merged" "$tmp"/s/shard-*; t1=$(now)
+# Wall and CPU seconds (user + system) of a command: "WALL CPU". CPU time is the steadier figure
+# on a shared machine; both are printed.
+TIMEFORMAT='%R %U %S'
+timed() { local t; t=$( { time quiet "$@"; } 2>&1 ) || exit 1; awk '{ printf "%.2f %.2f", $1, $2 + $3 }' <<<"$t"; }
+read -r one_w one_c < <(timed "$bin" regress --start-seed 0 --iterations "$seeds" --jobs 1 --out "$tmp/one")
+shards_all() {
+  for i in $(seq 0 $((shards - 1))); do
+    quiet env -u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX "$bin" regress --start-seed 0 --iterations "$seeds" --jobs 1 \
+      --shard "$i/$shards" --out "$tmp/s/shard-$i"
+  done
+}
+read -r k_w k_c < <(timed shards_all)
+read -r m_w m_c < <(timed "$bin" merge --out "$tmp/merged" "$tmp"/s/shard-*)
+[ -n "$one_w" ] && [ -n "$k_w" ] && [ -n "$m_w" ] || { echo "bench_shards: a run failed" >&2; exit 1; }
 python3 "$here/compare.py" runs "$tmp/merged" "$tmp/one" >/dev/null || { echo "bench_shards: the $shards shards merged differ from one process" >&2; exit 1; }
-awk -v n="$seeds" -v k="$shards" -v a="$one" -v b="$seq_k" -v m="$(secs "$t0" "$t1")" 'BEGIN {
-  printf "sharding overhead: %d seeds, one process %.2f s (%.2f ms/seed); %d shards one after another %.2f s (%+.1f %%, %.0f ms per shard); merge of the %d %.2f s; merged = one process\n",
-    n, a, 1000 * a / n, k, b, 100 * (b - a) / a, 1000 * (b - a) / k, k, m }'
+awk -v n="$seeds" -v k="$shards" -v ow="$one_w" -v oc="$one_c" -v kw="$k_w" -v kc="$k_c" -v mw="$m_w" 'BEGIN {
+  printf "sharding overhead: %d seeds (--jobs 1): one process %.2f s wall, %.2f s CPU (%.2f ms CPU/seed); %d shards one after another %.2f s wall (%+.1f %%), %.2f s CPU (%+.1f %%, %.0f ms CPU per shard); merge of the %d %.2f s; merged = one process\n",
+    n, ow, oc, 1000 * oc / n, k, kw, 100 * (kw - ow) / ow, kc, 100 * (kc - oc) / oc, 1000 * (kc - oc) / k, k, mw }'
 
 [ "$folders" -gt 0 ] || exit 0
 total=$((folders * per))
@@ -50,6 +54,7 @@ for i in $(seq 0 $((folders - 1))); do
     --shard "$i/$folders" --out "$tmp/m/shard-$i"
 done
 t1=$(now)
-t2=$(now); quiet "$bin" merge --out "$tmp/m-merged" "$tmp"/m/shard-*; t3=$(now)
+read -r mm_w mm_c < <(timed "$bin" merge --out "$tmp/m-merged" "$tmp"/m/shard-*)
+[ -n "$mm_w" ] || { echo "bench_shards: the merge of $folders folders failed" >&2; exit 1; }
 [ -s "$tmp/m-merged/missing.txt" ] && { echo "bench_shards: the $folders folders miss seeds" >&2; exit 1; }
-echo "merge: $folders shard folders of $per seeds ($total seeds; written in $(secs "$t0" "$t1") s) merged in $(secs "$t2" "$t3") s"
+echo "merge: $folders shard folders of $per seeds ($total seeds; written in $(secs "$t0" "$t1") s) merged in $mm_w s wall, $mm_c s CPU"
