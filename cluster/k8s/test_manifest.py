@@ -6,7 +6,8 @@ equals spec.completions, then runs its container command the way Kubernetes woul
 index with JOB_COMPLETION_INDEX set, for a small run (3 indices, 30 seeds, pmu50 from PMU50_BIN
 on PATH, /results replaced by a temporary folder). The shards merged must equal the
 one-process run of the same seeds, and every result line must name its index.
-An index past the last one must be refused (exit 2).
+A pod run again for an index (after a failure) resumes that index's folder, and an index past
+the last one must be refused (exit 2).
 
   python3 cluster/k8s/test_manifest.py [PMU50_BIN]     exit 0 pass, 1 fail
 """
@@ -122,6 +123,14 @@ def main():
                 where = rec.get("where") or {}
                 if where.get("k8s_index") != str(index) or where.get("shard") != f"{index}/{shards}":
                     fail(f"index {index}: seed {seed}'s line says where={where}")
+        # A pod replacing a failed one for index 1: its folder has a shard of 4 seeds cut short.
+        retry = os.path.join(results, "shard-1", "results.jsonl")
+        kept = open(retry, encoding="utf-8").readlines()
+        with open(retry, "w", encoding="utf-8") as f:
+            f.writelines(kept[:4])
+        again = subprocess.run(command, env=dict(base, JOB_COMPLETION_INDEX="1"), capture_output=True, text=True)
+        if again.returncode not in (0, 1) or len(open(retry, encoding="utf-8").readlines()) != len(kept):
+            fail(f"index 1 run again after a failure: exit {again.returncode}, {len(open(retry, encoding='utf-8').readlines())} result lines, expected {len(kept)}: {again.stderr.strip()}")
         past = subprocess.run(command, env=dict(base, JOB_COMPLETION_INDEX=str(shards)), capture_output=True, text=True)
         if past.returncode != 2:
             fail(f"index {shards} of {shards} shards: exit {past.returncode}, expected 2 (bad input)")
@@ -137,7 +146,8 @@ def main():
         if compare.runs(merged, one) != 0:
             fail("the merged shards differ from the one-process run")
         print(f"test_manifest: ok: Indexed Job, JOB_COMPLETIONS = completions = {spec['completions']} ({how}); "
-              f"its command run for JOB_COMPLETION_INDEX 0..{shards - 1} of {shards}, merged = one process; index {shards} refused")
+              f"its command run for JOB_COMPLETION_INDEX 0..{shards - 1} of {shards}, merged = one process; "
+              f"index 1 again resumes its folder; index {shards} refused")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
 
