@@ -9,9 +9,11 @@
 # Writes DIR (default regress_out): slurm/ (the merged run), slurm-shards/ (one folder per array
 # task and its Slurm log), one-process/ (the same seeds in one pmu50 process). Shards get one CPU
 # each (--jobs 1); the one-process run gets --jobs J (default: the CPUs of this machine).
-# --fault cancels one array task (scancel) once it has finished some seeds and before it ends,
-# checks that its finished results stay and that the merge names exactly its missing seeds,
-# resubmits only that task with PMU50_RESUME=1 (pmu50 regress --resume), and merges again.
+# --fault cancels array task 0 (scancel) once it has finished some seeds and before it ends, and
+# requeues task 1 (scontrol requeue, as Slurm does after a node failure) the same way; checks
+# that task 1 resumed its folder by itself, that task 0's finished results stay and that the
+# merge names exactly its missing seeds, resubmits only task 0 with PMU50_RESUME=1 (pmu50
+# regress --resume), and merges again.
 # Exit status: 0 the merged run equals the one-process run; 1 it does not, or a step failed;
 # 2 bad usage.
 set -uo pipefail
@@ -76,23 +78,38 @@ if [ "$fault" = 0 ]; then
   case $rc in 0) what="every seed passed" ;; 1) what="a seed failed" ;; *) what="a task failed" ;; esac
   echo "  array job $job: sbatch --wait exit $rc ($what)"
 else
-  job=$(submit "0-$((shards - 1))" "") || die "sbatch failed"
+  job=$(submit "0-$((shards - 1))" "" --requeue --open-mode=append) || die "sbatch failed"
   job=${job%%;*}
+  # Wait for a task's first result lines (pmu50 appends them batch by batch) while it runs; only
+  # the file is watched here (squeue is slower than a shard of a few seeds).
+  first_lines() { # TASK
+    local f=$sh/shard-$1/results.jsonl i
+    for i in $(seq 3000); do
+      [ "$(lines "$f")" -ge 1 ] && return 0
+      if [ $((i % 20)) = 0 ] && ! queued "${job}_$1"; then
+        die "task ${job}_$1 ended without a result line: $(tail -n 3 "$sh/slurm-${job}_$1.out" 2>&1)"
+      fi
+      sleep 0.02
+    done
+    die "task ${job}_$1 wrote no result line in 60 s"
+  }
+  # Task 0 is cancelled for good; task 1 (when there is one) is requeued by Slurm, as after a
+  # node failure, and must resume its folder by itself.
   victim=0
   vres=$sh/shard-$victim/results.jsonl
-  # Cancel the victim as soon as it has finished a seed (a result line), while it still runs;
-  # only the file is watched in this loop (squeue is slower than a shard of a few seeds).
-  for i in $(seq 3000); do
-    [ "$(lines "$vres")" -ge 1 ] && break
-    if [ $((i % 20)) = 0 ] && ! queued "${job}_$victim"; then
-      die "task ${job}_$victim ended without a result line: $(tail -n 3 "$sh/slurm-${job}_$victim.out" 2>&1)"
-    fi
-    sleep 0.02
-  done
-  [ "$(lines "$vres")" -ge 1 ] || die "task ${job}_$victim wrote no result line in 60 s"
+  first_lines $victim
   scancel "${job}_$victim" || die "scancel ${job}_$victim failed"
   kept=$(lines "$vres")
   echo "  array job $job: task $victim cancelled (scancel ${job}_$victim) after $kept finished seeds"
+  if [ "$shards" -ge 2 ]; then
+    first_lines 1
+    scontrol requeue "${job}_1" || die "scontrol requeue ${job}_1 failed"
+    # Slurm holds a requeued job back for a while (Reason=BeginTime, 2-3 minutes here); it may
+    # start at once on this cluster.
+    for _ in $(seq 100); do [ "$(squeue -h -j "${job}_1" -o %T 2>/dev/null)" = PENDING ] && break; sleep 0.1; done
+    scontrol update JobId="${job}_1" StartTime=now >/dev/null 2>&1
+    echo "  array job $job: task 1 requeued (scontrol requeue ${job}_1) after $(lines "$sh/shard-1/results.jsonl") finished seeds"
+  fi
   while queued "$job"; do sleep 0.5; done
 fi
 t1=$(now)
@@ -103,6 +120,11 @@ t2=$(now)
 if [ "$fault" = 1 ]; then
   [ "$mrc" != 2 ] || { cat "$mlog" >&2; die "merge refused the shards (exit 2)"; }
   [ "$(lines "$vres")" -ge "$kept" ] || die "the cancelled shard lost results ($kept before, $(lines "$vres") after)"
+  if [ "$shards" -ge 2 ]; then
+    grep -q '^resuming .*restart [1-9]' "$sh/slurm-${job}_1.out" \
+      || die "requeued task 1 did not resume its folder: $(cat "$sh/slurm-${job}_1.out")"
+    echo "  task 1 after its requeue: $(grep '^resuming' "$sh/slurm-${job}_1.out" | head -n 1)"
+  fi
   [ -s "$merged/missing.txt" ] || { cat "$mlog" >&2; die "the merge after the cancel names no missing seeds (exit $mrc): did task $victim finish before the cancel? (give it more seeds)"; }
   nmiss=$(grep -c . "$merged/missing.txt")
   echo "  merge with task $victim cancelled: exit $mrc, $nmiss missing seeds listed in slurm/missing.txt"
