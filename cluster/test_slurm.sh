@@ -38,7 +38,10 @@ if [ "${PMU50_TEST_SLURM_INSIDE:-}" != 1 ]; then
   exit $rc
 fi
 
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/pmu50-test-slurm.XXXXXX")
+# In the repository's target/ folder: on a configured cluster the tasks may run on other nodes,
+# which see the repository (a shared home) more often than this node's /tmp.
+mkdir -p "$root/target"
+tmp=$(mktemp -d "$root/target/test-slurm.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "test_slurm: FAIL: $*"; exit 1; }
 part=()
