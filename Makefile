@@ -134,7 +134,6 @@ clean:
 ## A regression sharded over a Slurm job array: make regress-slurm SEEDS=N SHARDS=K. Merged into
 ## regress_out/slurm/ and compared with the one-process run of the same seeds (docs/cluster.md).
 ## Uses the configured Slurm cluster, else brings up a single-node one here (root) and stops it.
-SEEDS  ?= 1000
 SHARDS ?= 4
 .PHONY: regress-slurm test-slurm
 regress-slurm: $(BIN)

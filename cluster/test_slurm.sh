@@ -19,7 +19,7 @@ if [ "${PMU50_TEST_SLURM_INSIDE:-}" != 1 ]; then
   start=$(date +%s)
   # Enough seeds that a shard runs about 1.5 s, so that a task can be cancelled mid-run:
   # timed here on 16 seeds; at least 600 (3 shards of 200 seeds: pmu50 regress appends its
-  # results in batches of 64 seeds, and the cancel comes after the first batch).
+  # results in batches (32 seeds now), and the cancel comes after the first batch).
   if [ -z "${PMU50_TEST_SEEDS:-}" ]; then
     cal=$(mktemp -d "${TMPDIR:-/tmp}/pmu50-cal.XXXXXX")
     t0=$(date +%s%N)
