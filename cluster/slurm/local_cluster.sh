@@ -58,9 +58,20 @@ if [ -n "$missing" ]; then
   missing=$(printf '%s\n' $missing | sort -u | tr '\n' ' ')
   command -v apt-get >/dev/null 2>&1 || skip "missing commands from Debian packages: $missing(no apt-get)"
   log "installing Debian packages: $missing"
+  # The packages' own services (munge, slurmctld, slurmd) are not started by the installation:
+  # a policy-rc.d for its duration, unless the machine has one.
+  policy=""
+  if [ ! -e /usr/sbin/policy-rc.d ]; then
+    policy=/usr/sbin/policy-rc.d
+    printf '#!/bin/sh\nexit 101\n' >"$policy" && chmod 755 "$policy"
+  fi
   { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-      $missing slurm-wlm-basic-plugins >/dev/null; } 2>/dev/null \
-    || skip "apt-get install $missing failed"
+      $missing slurm-wlm-basic-plugins >/dev/null; } 2>/dev/null; apt_rc=$?
+  [ -n "$policy" ] && rm -f "$policy"
+  [ $apt_rc = 0 ] || skip "apt-get install $missing failed"
+  for t in $need; do
+    command -v "${t%%:*}" >/dev/null 2>&1 || skip "${t%%:*} not found on PATH after apt-get install ${t##*:}"
+  done
 fi
 
 # The folder must be searchable by all (munged refuses a socket below a 0700 folder) and short
