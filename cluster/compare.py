@@ -3,6 +3,7 @@
 
   compare.py runs A B        the verdict of every seed and the coverage of run A equal run B's
                              (exit 0), or say what differs (exit 1)
+  compare.py complete SHARD  every seed of SHARD has a result line (exit 0), or not (exit 1)
   compare.py missing SHARD MISSING_TXT
                              the seeds listed in MISSING_TXT are exactly SHARD's seeds that
                              have no result line (exit 0), or say which differ (exit 1)
@@ -96,7 +97,16 @@ def shard_seeds(run):
     return range(start + i * n // k, start + (i + 1) * n // k)
 
 
+def complete(shard):
+    """Every seed of the folder's run (or shard) has a result line."""
+    with open(os.path.join(shard, "regress.json"), encoding="utf-8") as f:
+        run = json.load(f)
+    return 0 if set(shard_seeds(run)) <= set(results(shard)) else 1
+
+
 def main(argv):
+    if len(argv) == 3 and argv[1] == "complete":
+        return complete(argv[2])
     if len(argv) == 4 and argv[1] == "runs":
         return runs(argv[2], argv[3])
     if len(argv) == 4 and argv[1] == "missing":

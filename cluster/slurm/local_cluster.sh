@@ -28,7 +28,7 @@ log() { printf 'local_cluster: %s\n' "$*" >&2; }
 # The one line saying why; LOCAL_CLUSTER_SKIP_PREFIX replaces "local_cluster: " (test scripts).
 skip() { printf '%scannot run a Slurm cluster here: %s\n' "${LOCAL_CLUSTER_SKIP_PREFIX-local_cluster: }" "$*" >&2; exit $SKIP; }
 
-force_local=0 keep=0
+force_local=0 keep=${LOCAL_CLUSTER_KEEP:-0}
 while [ $# -gt 0 ]; do
   case "$1" in
     --local) force_local=1; shift ;;
