@@ -16,6 +16,7 @@
 #
 # Options: --local  bring up the local cluster even if one is configured
 #          --keep   keep the temporary folder (logs, slurm.conf) after the shutdown
+#                   (also LOCAL_CLUSTER_KEEP=1, e.g. through cluster/test_slurm.sh)
 # Environment given to COMMAND: SLURM_CONF (local cluster only), PMU50_SLURM=local|configured,
 #          PMU50_SLURM_PARTITION (the local partition; empty for a configured cluster).
 #
