@@ -130,3 +130,17 @@ cocotb: deps python $(BIN)
 clean:
 	$(CARGO) clean
 	rm -rf vcd_out/*.vcd vcd_out/*.gtkw vcd_out/*.log hdl/build
+
+## A regression sharded over a Slurm job array: make regress-slurm SEEDS=N SHARDS=K. Merged into
+## regress_out/slurm/ and compared with the one-process run of the same seeds (docs/cluster.md).
+## Uses the configured Slurm cluster, else brings up a single-node one here (root) and stops it.
+SHARDS ?= 4
+.PHONY: regress-slurm test-slurm
+regress-slurm: $(BIN)
+	cluster/slurm/local_cluster.sh -- cluster/regress_slurm.sh --seeds $(SEEDS) --shards $(SHARDS)
+
+## The Slurm path on a real scheduler with a few seeds (a cancelled task resumed), and the
+## Kubernetes manifest's command per JOB_COMPLETION_INDEX; says in one line why it skips (not root).
+test-slurm: $(BIN)
+	cluster/test_slurm.sh $(BIN)
+	$(PYTHON3) cluster/k8s/test_manifest.py $(BIN)
