@@ -5,8 +5,9 @@
 //!
 //! The index comes from `--shard I/N`, or from the scheduler's environment:
 //! `SLURM_ARRAY_TASK_ID` with `SLURM_ARRAY_TASK_COUNT` (or `SLURM_ARRAY_TASK_MIN`/`MAX`: the
-//! index is then the task id less the minimum), or `JOB_COMPLETION_INDEX` with `--shard-count N`
-//! or `JOB_COMPLETIONS`.
+//! index is then the task id less the minimum), or with `--shard-count N` (the task id is the
+//! index, so `--array=3,17` reruns shards 3 and 17), or `JOB_COMPLETION_INDEX` with
+//! `--shard-count N` or `JOB_COMPLETIONS`.
 
 use serde::{Deserialize, Serialize};
 
@@ -57,7 +58,9 @@ impl Shard {
             }
         };
         if let Some(task) = num("SLURM_ARRAY_TASK_ID")? {
-            let min = num("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
+            // With --shard-count the task ids are the shard indices themselves (`--array=3,17`
+            // resubmits shards 3 and 17); without it, the array is 0..N or MIN..MAX.
+            let min = if count_flag.is_some() { 0 } else { num("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0) };
             let count = match (count_flag, num("SLURM_ARRAY_TASK_COUNT")?, num("SLURM_ARRAY_TASK_MAX")?) {
                 (Some(c), _, _) | (None, Some(c), _) => c,
                 (None, None, Some(max)) => max.checked_sub(min).map(|d| d + 1).ok_or("SLURM_ARRAY_TASK_MAX is below SLURM_ARRAY_TASK_MIN")?,
@@ -111,6 +114,9 @@ mod tests {
         // --array=1-8: ids 1..8, index = id - min
         assert_eq!(Shard::resolve(None, None, env(&[("SLURM_ARRAY_TASK_ID", "8"), ("SLURM_ARRAY_TASK_MIN", "1"), ("SLURM_ARRAY_TASK_MAX", "8")])), Ok(Some(Shard { index: 7, count: 8 })));
         assert_eq!(Shard::resolve(None, Some(10), env(&[("JOB_COMPLETION_INDEX", "9")])), Ok(Some(Shard { index: 9, count: 10 })));
+        // a resubmission of shards 3 and 17 of 100: the task id is the index
+        let resub = [("SLURM_ARRAY_TASK_ID", "17"), ("SLURM_ARRAY_TASK_MIN", "3"), ("SLURM_ARRAY_TASK_MAX", "17"), ("SLURM_ARRAY_TASK_COUNT", "2")];
+        assert_eq!(Shard::resolve(None, Some(100), env(&resub)), Ok(Some(Shard { index: 17, count: 100 })));
         assert_eq!(Shard::resolve(None, None, env(&[("JOB_COMPLETION_INDEX", "0"), ("JOB_COMPLETIONS", "3")])), Ok(Some(Shard { index: 0, count: 3 })));
         assert_eq!(Shard::resolve(None, None, env(&[])), Ok(None));
     }
