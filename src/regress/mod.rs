@@ -32,7 +32,7 @@ use shard::Shard;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::Mutex;
+
 use std::time::{Duration, Instant};
 
 /// Seeds generated between two updates of the directed bias (and written to results.jsonl at once).
@@ -229,7 +229,7 @@ pub fn run_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, 
         readouts_checked,
         wall_ms: (start.elapsed().as_secs_f64() * 1e4).round() / 10.0,
         failure,
-        place: Place::here(spec.shard.as_ref()),
+        place: Place::default(),
         cov: sparse(&hits),
     };
     (r, hits)
@@ -478,22 +478,8 @@ pub fn run(o: &Options, resume: bool, stop: &AtomicBool) -> Result<Summary, Regr
         r.hits(&mut total).map_err(RegressError::Usage)?;
     }
     let mut appender = std::fs::OpenOptions::new().append(true).create(true).open(&results_path).map_err(|e| file_err(&results_path, e))?;
-    let mut lo = seeds.start;
-    while lo < seeds.end && !stop.load(Ordering::Relaxed) {
-        let hi = (lo + BATCH).min(seeds.end);
-        let bias = if o.spec.directed {
-            // The coverage of every seed before this batch (of this run's range).
-            let mut before = vec![0u64; total.len()];
-            for r in done.iter().filter(|r| r.seed < lo) {
-                r.hits(&mut before).map_err(RegressError::Usage)?;
-            }
-            let l = layout();
-            Bias::from_missing(l.bins.iter().zip(&before).filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only).map(|(b, _)| b.name.as_str())).pinned(o.spec.pins)
-        } else {
-            Bias::uniform().pinned(o.spec.pins)
-        };
-        let todo: Vec<u64> = (lo..hi).filter(|s| !have.contains(s)).collect();
-        let out = run_batch(&o.spec, &todo, &bias, dut.as_ref(), o.jobs, o.timeout, stop);
+    let total_seeds = seeds.end - seeds.start;
+    let mut write = |out: Vec<(SeedResult, Vec<u64>)>, done: &mut Vec<SeedResult>, total: &mut Vec<u64>| -> Result<(), RegressError> {
         let mut text = String::new();
         for (r, hits) in &out {
             for (t, h) in total.iter_mut().zip(hits) {
@@ -506,13 +492,45 @@ pub fn run(o: &Options, resume: bool, stop: &AtomicBool) -> Result<Summary, Regr
         done.extend(out.into_iter().map(|(r, _)| r));
         if o.progress {
             let fails = done.iter().filter(|r| r.verdict != "pass").count();
-            let (hit, all) = {
-                let l = layout();
-                (l.bins.iter().zip(&total).filter(|(b, h)| **h > 0 && b.unreachable.is_none()).count(), l.bins.iter().filter(|b| b.unreachable.is_none()).count())
-            };
-            eprintln!("regress: {}/{} seeds, {fails} failing, coverage {hit}/{all}", done.len(), seeds.end - seeds.start);
+            let l = layout();
+            let hit = l.bins.iter().zip(total.iter()).filter(|(b, h)| **h > 0 && b.unreachable.is_none()).count();
+            let all = l.bins.iter().filter(|b| b.unreachable.is_none()).count();
+            eprintln!("regress: {}/{total_seeds} seeds, {fails} failing, coverage {hit}/{all}", done.len());
         }
-        lo = hi;
+        Ok(())
+    };
+    if o.spec.directed {
+        // Batch by batch: each batch's bias is the coverage of every seed before it.
+        let mut lo = seeds.start;
+        while lo < seeds.end && !stop.load(Ordering::Relaxed) {
+            let hi = (lo + BATCH).min(seeds.end);
+            let mut before = vec![0u64; total.len()];
+            for r in done.iter().filter(|r| r.seed < lo) {
+                r.hits(&mut before).map_err(RegressError::Usage)?;
+            }
+            let l = layout();
+            let bias = Bias::from_missing(l.bins.iter().zip(&before).filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only).map(|(b, _)| b.name.as_str())).pinned(o.spec.pins);
+            let todo: Vec<u64> = (lo..hi).filter(|s| !have.contains(s)).collect();
+            let out = run_pool(&o.spec, &todo, &bias, dut.as_ref(), o.jobs, o.timeout, stop, |_| Ok(()))?;
+            write(out, &mut done, &mut total)?;
+            lo = hi;
+        }
+    } else {
+        // One queue over the whole range: no core waits for the slowest seed of a batch; the
+        // results are written in seed order as soon as every seed before them has finished.
+        let bias = Bias::uniform().pinned(o.spec.pins);
+        let todo: Vec<u64> = seeds.clone().filter(|s| !have.contains(s)).collect();
+        let mut pending: Vec<(SeedResult, Vec<u64>)> = Vec::new();
+        let mut last = std::time::Instant::now();
+        run_pool(&o.spec, &todo, &bias, dut.as_ref(), o.jobs, o.timeout, stop, |ready| {
+            pending.extend(ready);
+            if pending.len() as u64 >= BATCH || last.elapsed() > Duration::from_secs(2) {
+                last = std::time::Instant::now();
+                write(std::mem::take(&mut pending), &mut done, &mut total)?;
+            }
+            Ok(())
+        })?;
+        write(pending, &mut done, &mut total)?;
     }
     let summary = Summary::build(o.spec.clone(), done)?;
     if o.triage && !stop.load(Ordering::Relaxed) {
@@ -522,24 +540,60 @@ pub fn run(o: &Options, resume: bool, stop: &AtomicBool) -> Result<Summary, Regr
     Ok(summary)
 }
 
-/// Run seeds on `jobs` threads; results in seed order.
-fn run_batch(spec: &RunSpec, seeds: &[u64], bias: &Bias, dut: Option<&dut::Dut>, jobs: usize, timeout: Duration, stop: &AtomicBool) -> Vec<(SeedResult, Vec<u64>)> {
+/// Run seeds on `jobs` threads. `ready` is given the results in seed order, each as soon as
+/// every seed before it has finished; all of them are also returned, in seed order.
+#[allow(clippy::too_many_arguments)]
+fn run_pool(
+    spec: &RunSpec,
+    seeds: &[u64],
+    bias: &Bias,
+    dut: Option<&dut::Dut>,
+    jobs: usize,
+    timeout: Duration,
+    stop: &AtomicBool,
+    mut ready: impl FnMut(Vec<(SeedResult, Vec<u64>)>) -> Result<(), RegressError>,
+) -> Result<Vec<(SeedResult, Vec<u64>)>, RegressError> {
     let next = AtomicUsize::new(0);
-    let out: Mutex<Vec<(SeedResult, Vec<u64>)>> = Mutex::new(Vec::with_capacity(seeds.len()));
+    let place = Place::here(spec.shard.as_ref());
+    let (tx, rx) = std::sync::mpsc::channel::<(usize, SeedResult, Vec<u64>)>();
+    let mut all: Vec<Option<(SeedResult, Vec<u64>)>> = vec![None; seeds.len()];
+    let mut err = None;
     std::thread::scope(|s| {
         for _ in 0..jobs.max(1).min(seeds.len().max(1)) {
-            s.spawn(|| loop {
+            let tx = tx.clone();
+            let (next, place) = (&next, &place);
+            s.spawn(move || loop {
                 if stop.load(Ordering::Relaxed) {
                     break;
                 }
                 let k = next.fetch_add(1, Ordering::Relaxed);
                 let Some(&seed) = seeds.get(k) else { break };
-                let r = run_seed(spec, seed, bias, dut, timeout);
-                out.lock().unwrap_or_else(|e| e.into_inner()).push(r);
+                let (mut r, hits) = run_seed(spec, seed, bias, dut, timeout);
+                r.place = place.clone();
+                if tx.send((k, r, hits)).is_err() {
+                    break;
+                }
             });
         }
+        drop(tx);
+        let mut flushed = 0;
+        for (k, r, hits) in rx {
+            all[k] = Some((r, hits));
+            let start = flushed;
+            while flushed < all.len() && all[flushed].is_some() {
+                flushed += 1;
+            }
+            if flushed > start && err.is_none() {
+                let out = all[start..flushed].iter().flatten().cloned().collect();
+                if let Err(e) = ready(out) {
+                    err = Some(e);
+                    stop.store(true, Ordering::Relaxed);
+                }
+            }
+        }
     });
-    let mut v = out.into_inner().unwrap_or_else(|e| e.into_inner());
-    v.sort_by_key(|(r, _)| r.seed);
-    v
+    if let Some(e) = err {
+        return Err(e);
+    }
+    Ok(all.into_iter().flatten().collect())
 }
