@@ -457,3 +457,44 @@ fn a_declined_replay_steps_on_and_every_tick_is_seen_once() {
         }
     }
 }
+
+/// With the key on and the shaft still, the bench repeats every on-key sampling period that
+/// starts a round of the MPU's polling: such periods are skipped too, with the same summary,
+/// read-outs, registers and waveform as stepping every tick. Two key-on stretches (one with
+/// smp_on and the poll round coprime, one with a turn at its end), key-off between them.
+#[test]
+fn key_on_periods_skip_exactly() {
+    let text = r#"
+duration = "3.2 s"
+[core]
+smp_on = "70 us"
+[motor]
+start_deg = 100.0
+segments = [
+  { kind = "hold", duration = "2.0 s" },
+  { kind = "move", duration = "50 ms", delta_deg = 95.0 },
+]
+[[events]]
+at = "0 ms"
+ig = true
+[[events]]
+at = "1.5 s"
+ig = false
+[[events]]
+at = "1.6 s"
+ig = true
+[[events]]
+at = "3.0 s"
+ig = false
+"#;
+    let sc = parse(text, "key_on_still");
+    let every = run_with(&sc, Stepping::EveryTick, &mut []).unwrap();
+    let skip = run_with(&sc, Stepping::Periods, &mut []).unwrap();
+    assert_same(&sc, &every, &skip, true);
+    assert_eq!(every.keyons.len(), 2);
+    assert!(skip.evaluated_ticks * 10 < sc.ticks, "key-on periods were skipped: {} of {} ticks evaluated", skip.evaluated_ticks, sc.ticks);
+    // and the waveform of every signal (the writer replays the skipped periods)
+    let short = parse(&text.replace("3.2 s", "0.9 s").replace("1.5 s", "0.5 s").replace("1.6 s", "0.6 s").replace("3.0 s", "0.8 s").replace("2.0 s", "0.7 s"), "key_on_still_short");
+    let skipped = same_waves(&short, WaveFormat::Vcd, None).unwrap_or_else(|e| panic!("{e}"));
+    assert!(skipped > 10_000, "skipped {skipped}");
+}

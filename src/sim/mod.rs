@@ -434,9 +434,14 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
         let t_ns = k * clk;
         mpu.key_edges(k, t_ns, &out, &sc.motor);
 
-        // Whole repeated key-off periods, checked at each period start (key off, timer at 0).
+        // Whole repeated periods, checked at each period start: with the key off, each drive
+        // interval (timer at 0, Vs2 off); with the key on, every on-key sampling period that
+        // also starts a round of the MPU's polling of the register map (the bench then repeats
+        // once the sensor has settled and the MPU's tracking holds still).
         if let Some(ps) = periods.as_mut() {
-            if !out.sig && core.regs().timing_generator.tmr == 0 && front.quiet_while_off() {
+            let tmr0 = core.regs().timing_generator.tmr == 0;
+            let boundary = if out.sig { tmr0 && k % mpu::POLL_CYCLE == 0 } else { tmr0 && front.quiet_while_off() };
+            if boundary {
                 let at = At {
                     k,
                     snap: Snapshot { regs: *core.regs(), front: front.state(), mpu: mpu.state().clone(), ig: timeline.ig },

@@ -24,6 +24,9 @@ pub struct MpuState {
     pub prev_sig: bool,
 }
 
+/// Ticks of one round of the MPU's polling of the register map (one address a tick).
+pub const POLL_CYCLE: u64 = MAP.len() as u64;
+
 #[derive(Clone, Debug)]
 pub struct Mpu {
     sensor1: Sensor1,
@@ -74,6 +77,7 @@ impl Mpu {
     }
 
     /// Bus polling: while powered and the timeline does not write, read the next map address.
+    /// The round of polls repeats every [`POLL_CYCLE`] ticks.
     pub fn poll_bus(&self, k: u64, out: &Outputs, inputs: &mut Inputs) {
         if out.sig && !inputs.bus_we {
             inputs.bus_addr = MAP[(k % MAP.len() as u64) as usize].1;

@@ -65,6 +65,9 @@ pub struct Coverage {
     /// The journal outgrew [`JOURNAL_MAX`]: that period cannot be replayed.
     journal_full: bool,
     last_full: bool,
+    /// The MPU read (a key-on cycle) since the last mark: reads are counted outside the
+    /// journal, so such a period is not replayed (the bench then steps it).
+    read_since_mark: bool,
 }
 
 /// Entries a period's journal keeps; a repeated key-off period hits a few dozen bins.
@@ -85,6 +88,7 @@ impl Coverage {
             last_period: Vec::new(),
             journal_full: false,
             last_full: true,
+            read_since_mark: false,
         };
         c.sample_config(p);
         c
@@ -102,14 +106,15 @@ impl Coverage {
         }
     }
 
-    /// A key-off period starts (docs/spec.md 5.1): what was counted since the previous mark is
-    /// the last period, which [`Coverage::repeat_last_period`] can replay. The MPU's reads,
-    /// counted outside the journal, happen only with the key on, never in a repeated period.
+    /// A period starts (docs/spec.md 5.1): what was counted since the previous mark is the last
+    /// period, which [`Coverage::repeat_last_period`] can replay. A period with the MPU's reads
+    /// (counted outside the journal, key on) cannot be replayed.
     pub fn mark(&mut self) {
         std::mem::swap(&mut self.journal, &mut self.last_period);
         self.journal.clear();
-        self.last_full = self.journal_full;
+        self.last_full = self.journal_full || self.read_since_mark;
         self.journal_full = false;
+        self.read_since_mark = false;
     }
 
     /// Whether the last period can be replayed (its journal is complete).
@@ -126,6 +131,7 @@ impl Coverage {
         }
         self.journal.clear();
         self.journal_full = false;
+        self.read_since_mark = false;
         self.last_full = true;
     }
 
@@ -169,6 +175,7 @@ impl Coverage {
         let (i, n) = (e.inputs, e.internals);
         if e.out.sig && !i.bus_we {
             self.hits[self.read_offset + usize::from(READ_BIN[usize::from(i.bus_addr)])] += 1;
+            self.read_since_mark = true;
         }
         let sync = e.before.action_switching.sync;
         let in_flight = sync != 0 && sync != (1u8 << self.structural.sync_depth) - 1;

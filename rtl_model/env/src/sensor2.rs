@@ -29,6 +29,10 @@ use serde::Deserialize;
 pub const DEFAULT_TAU_US: f64 = 21.714_724_095_162_59;
 
 /// Second-sensor error and settling parameters (scenario file).
+/// The time since the last rise of Vs2 is counted up to this (10 ms, some 460 time constants
+/// of the default settling: the outputs have reached their float fixed point long before).
+pub const ON_NS_MAX: u64 = 10_000_000;
+
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Sensor2Config {
@@ -219,7 +223,10 @@ impl Sensor2 {
             self.on_ns = Some(0);
         }
         self.last_vs2_v = vs2_volts;
-        self.on_ns = self.on_ns.map(|t| t.saturating_add(dt_ns));
+        // Counted up to ON_NS_MAX only: past it the outputs have long settled, and a powered
+        // sensor on a still shaft is then in the same state from tick to tick, which lets the
+        // bench skip repeated key-on periods (docs/spec.md 5.1).
+        self.on_ns = self.on_ns.map(|t| t.saturating_add(dt_ns).min(ON_NS_MAX));
         if dt_ns != self.alpha_dt_ns {
             self.alpha_dt_ns = dt_ns;
             self.alpha = self.compute_alpha(dt_ns);
@@ -235,7 +242,7 @@ impl Sensor2 {
         (self.sin2_v, self.cos2_v)
     }
 
-    /// Time since the last rise of Vs2 (None while unpowered).
+    /// Time since the last rise of Vs2, up to [`ON_NS_MAX`] (None while unpowered).
     pub fn time_since_rise_ns(&self) -> Option<u64> {
         self.on_ns
     }
