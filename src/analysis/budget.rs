@@ -172,6 +172,10 @@ fn row_from(sc: &Scenario, r: &RunResult, variant: Variant, run_time_s: f64) -> 
 }
 
 /// Run the budget of `base` three ways.
+/// Simulations [`budget`] makes of its scenario: adaptive, fixed cycle x, fixed cycle min (the
+/// always-on row reuses the adaptive run); what `pmu50 budget --max-ticks` counts.
+pub const RUNS: u64 = 3;
+
 pub fn budget(base: &Scenario) -> Result<Budget, AnalysisError> {
     let clk = base.clock_ns() as f64;
     let p = &base.params;
