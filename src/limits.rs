@@ -22,6 +22,8 @@ use std::fmt;
 /// takes 6.2 s in the release build, 86 ns a tick. `budget` of an hour of key-on (three
 /// simulations, 1.08e9 ticks, 170 s) is above it.
 pub const DEFAULT_MAX_TICKS: u64 = 1_000_000_000;
+/// Default of `run --max-vcd-bytes`: 2 GB (a waveform, [`crate::output::estimate_run_bytes`]).
+pub const DEFAULT_MAX_VCD_BYTES: u64 = 2_000_000_000;
 /// Default of `--max-vector-bytes`: 2 GB, as `--max-vcd-bytes`.
 pub const DEFAULT_MAX_VECTOR_BYTES: u64 = 2_000_000_000;
 /// Default of `speed-limit --max-points`: 2000 speeds (each one a simulation, from rest and steady).

@@ -44,8 +44,8 @@ macro_rules! err {
     }};
 }
 
-/// Default limit of one VCD (`--max-vcd-bytes`).
-const DEFAULT_MAX_VCD_BYTES: u64 = 2_000_000_000;
+/// Default limit of one VCD (`--max-vcd-bytes`; with the other limits in pmu50::limits).
+use pmu50::limits::DEFAULT_MAX_VCD_BYTES;
 
 /// Bad command-line values.
 #[derive(Debug, thiserror::Error)]
