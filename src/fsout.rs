@@ -10,15 +10,15 @@
 //! - SIGINT/SIGTERM ([`install_signal_cleanup`]): a thread removes every live temporary file and
 //!   exits 130/143; a batch being renamed into place finishes first (it holds the registry
 //!   lock), so the files of one run are either all old or all new;
+//! - SIGKILL cannot be caught: at most a stray `.*.tmp` file is left, never a damaged final file;
+//!   the next run writing the same output removes it (its process is gone).
+//!
 //! Paths that are not files: an output path that exists and is a character or block device, a
 //! FIFO or a socket (or a symlink to one, such as `/proc/self/fd/1`) is refused with
 //! [`OutputError::NotRegular`] and left as it was, checked when the output is staged and again
 //! just before the rename. A folder is refused ([`OutputError::IsDir`]); a symlink to a regular
 //! file or to a folder is replaced by the new file (its target is left alone). `-` is standard
 //! output where a command offers it ([`Sink`]).
-//!
-//! - SIGKILL cannot be caught: at most a stray `.*.tmp` file is left, never a damaged final file;
-//!   the next run writing the same output removes it (its process is gone).
 
 use std::fs::Permissions;
 use std::io::{self, Write};
