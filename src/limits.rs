@@ -127,3 +127,35 @@ pub fn progress_bar(total: u64, name: &str) -> indicatif::ProgressBar {
     }
     bar
 }
+
+/// An observer moving `bar` to `offset` plus the tick of the run, every 8192 evaluated ticks
+/// (a bar over several runs gives each its offset).
+pub struct TickBar {
+    bar: indicatif::ProgressBar,
+    offset: u64,
+    seen: u64,
+}
+
+impl TickBar {
+    pub fn new(bar: &indicatif::ProgressBar, offset: u64) -> TickBar {
+        TickBar { bar: bar.clone(), offset, seen: 0 }
+    }
+}
+
+impl crate::sim::Observer for TickBar {
+    fn tick(&mut self, v: &crate::sim::TickView<'_>) -> Result<(), crate::sim::SimError> {
+        self.seen += 1;
+        if self.seen.is_multiple_of(8192) {
+            self.bar.set_position(self.offset + v.tick);
+        }
+        Ok(())
+    }
+    /// A progress bar is content with the ticks the bench evaluates (the skip stays exact).
+    fn needs_every_tick(&self) -> bool {
+        false
+    }
+    fn finish(&mut self, v: &crate::sim::TickView<'_>) -> Result<(), crate::sim::SimError> {
+        self.bar.set_position(self.offset + v.tick);
+        Ok(())
+    }
+}
