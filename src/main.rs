@@ -44,7 +44,7 @@ macro_rules! err {
     }};
 }
 
-/// Default limit of one VCD (`--max-vcd-bytes`; with the other limits in pmu50::limits).
+// Default limit of one VCD (`--max-vcd-bytes`), with the other limits in pmu50::limits.
 use pmu50::limits::DEFAULT_MAX_VCD_BYTES;
 
 /// Bad command-line values.

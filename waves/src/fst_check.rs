@@ -97,6 +97,7 @@ pub fn check(b: &[u8], max_decoded: u64, max_width: u32) -> Result<FstLayout, Fs
     let mut geometry: Option<Vec<Option<u32>>> = None;
     let mut hierarchy_len: Option<u64> = None;
     let mut vc_blocks = 0u64;
+    let mut vc_at: Vec<(u64, u8, u64)> = Vec::new();
     let mut pos = 0u64;
     while pos < size {
         let tpe = b[pos as usize];
@@ -130,85 +131,11 @@ pub fn check(b: &[u8], max_decoded: u64, max_width: u32) -> Result<FstLayout, Fs
                 header_vars = be64(b, start + 48).unwrap_or(0);
                 header_handles = be64(b, start + 56).unwrap_or(0);
             }
-            // value-change blocks: FST_BL_VCDATA, _DYN_ALIAS, _DYN_ALIAS2
+            // value-change blocks: FST_BL_VCDATA, _DYN_ALIAS, _DYN_ALIAS2; checked after the
+            // walk, once the geometry (which GTKWave's writer puts after them) is known
             1 | 5 | 8 => {
                 need(32 + 3 + 1 + 8 + 24)?;
-                let (t0, t1) = (be64(b, start + 8).unwrap_or(0), be64(b, start + 16).unwrap_or(0));
-                if t1 < t0 {
-                    return bad(pos, format!("value-change block ends at time {t1}, before its start {t0}"));
-                }
-                // the time table: its three sizes are the block's last 24 bytes
-                let (tu, tc, items) = (be64(b, end - 24).unwrap_or(0), be64(b, end - 16).unwrap_or(0), be64(b, end - 8).unwrap_or(0));
-                if tc > len - 24 - 32 {
-                    return bad(end - 16, format!("time table of {tc} compressed bytes does not fit in its block of {len}"));
-                }
-                if tu != tc && tu > tc.saturating_mul(DEFLATE_RATIO) {
-                    return bad(end - 24, format!("time table declares {tu} bytes from {tc} compressed bytes (zlib gives at most {DEFLATE_RATIO}:1)"));
-                }
-                if items > tu {
-                    return bad(end - 8, format!("time table declares {items} entries in {tu} bytes (each takes at least one)"));
-                }
-                if items == 0 {
-                    return bad(end - 8, "value-change block without a time step (readers need at least one entry; wellen panics on none)".into());
-                }
-                add(end - 24, tu.saturating_add(items.saturating_mul(16)), "the time table")?;
-                layout.time_steps = layout.time_steps.saturating_add(items);
-                // the frame (initial values): three varints after the 32 bytes of fixed fields
-                let Some((fu, n1)) = varint(b, start + 32) else { return bad(start + 32, "frame sizes are not valid varints".into()) };
-                let Some((fc, n2)) = varint(b, start + 32 + n1) else { return bad(start + 32, "frame sizes are not valid varints".into()) };
-                let Some((fh, n3)) = varint(b, start + 32 + n1 + n2) else { return bad(start + 32, "frame sizes are not valid varints".into()) };
-                let frame = start + 32 + n1 + n2 + n3;
-                let time_at = end - 24 - tc;
-                if fc > time_at.saturating_sub(frame) {
-                    return bad(start + 32, format!("frame of {fc} compressed bytes does not fit in its block"));
-                }
-                if fu != fc && fu > fc.saturating_mul(DEFLATE_RATIO) {
-                    return bad(start + 32, format!("frame declares {fu} bytes from {fc} compressed bytes (zlib gives at most {DEFLATE_RATIO}:1)"));
-                }
-                add(start + 32, fu, "the frame")?;
-                let signals = geometry.as_ref().map(|g| g.len() as u64);
-                let Some(signals) = signals else { return bad(pos, "value-change block before the geometry block (the signals' widths)".into()) };
-                if fh != signals {
-                    return bad(start + 32, format!("frame has {fh} signals, the geometry {signals}"));
-                }
-                let vc = frame + fc;
-                let Some((vh, n4)) = varint(b, vc) else { return bad(vc, "value-change signal count is not a valid varint".into()) };
-                if vh != signals {
-                    return bad(vc, format!("value changes of {vh} signals, the geometry has {signals}"));
-                }
-                // per signal: three u32 pointers and a 12-byte location (fst-reader's tables)
-                add(vc, vh.saturating_mul(24), "the value-change tables")?;
-                // the chain of offsets: its length is the u64 just before the time table
-                let chain_len_at = time_at.checked_sub(8).filter(|&c| c > vc + n4);
-                let Some(chain_len_at) = chain_len_at else { return bad(vc, "no room for the chain of value-change offsets".into()) };
-                let chain = be64(b, chain_len_at).unwrap_or(u64::MAX);
-                let vc_start = vc + n4;
-                if chain > chain_len_at - (vc_start + 1) {
-                    return bad(chain_len_at, format!("chain of value-change offsets declares {chain} bytes, more than the block holds"));
-                }
-                let chain_start = chain_len_at - chain;
-                let data_len = chain_start - vc_start;
-                if data_len > u64::from(u32::MAX) {
-                    return bad(vc_start, format!("value changes of {data_len} bytes in one block (FST's offsets are 32 bits)"));
-                }
-                let locs = chain_offsets(&b[chain_start as usize..chain_len_at as usize], tpe == 8, signals, data_len as u32).map_err(|what| FstProblem { offset: chain_start, what })?;
-                // each signal's packed values: a varint length (0: stored as is), then the data
-                let ratio = match b[vc_start as usize] {
-                    b'4' | b'F' => LZ4_RATIO,
-                    _ => DEFLATE_RATIO,
-                };
-                for (off, n) in locs {
-                    let at = vc_start + u64::from(off);
-                    let Some((u, skip)) = varint(b, at).filter(|&(u, k)| k <= u64::from(n) && u <= u64::from(u32::MAX)) else {
-                        return bad(at, "a signal's packed value changes start with no valid length".into());
-                    };
-                    let c = u64::from(n) - skip;
-                    if u != 0 && u > c.saturating_mul(ratio) {
-                        return bad(at, format!("a signal's value changes declare {u} bytes from {c} compressed bytes (more than its compression can give)"));
-                    }
-                    add(at, u.max(c), "the value changes")?;
-                }
-                vc_blocks += 1;
+                vc_at.push((pos, tpe, len));
             }
             2 => {
                 // blackouts: a varint count, then a byte and a varint each
@@ -287,6 +214,85 @@ pub fn check(b: &[u8], max_decoded: u64, max_width: u32) -> Result<FstLayout, Fs
             t => return bad(pos, format!("unknown block type {t} (FST has 0-8, 254 and 255)")),
         }
         pos = end;
+    }
+    for (pos, tpe, len) in vc_at {
+        let (start, end) = (pos + 1, pos + 1 + len);
+        let (t0, t1) = (be64(b, start + 8).unwrap_or(0), be64(b, start + 16).unwrap_or(0));
+        if t1 < t0 {
+            return bad(pos, format!("value-change block ends at time {t1}, before its start {t0}"));
+        }
+        // the time table: its three sizes are the block's last 24 bytes
+        let (tu, tc, items) = (be64(b, end - 24).unwrap_or(0), be64(b, end - 16).unwrap_or(0), be64(b, end - 8).unwrap_or(0));
+        if tc > len - 24 - 32 {
+            return bad(end - 16, format!("time table of {tc} compressed bytes does not fit in its block of {len}"));
+        }
+        if tu != tc && tu > tc.saturating_mul(DEFLATE_RATIO) {
+            return bad(end - 24, format!("time table declares {tu} bytes from {tc} compressed bytes (zlib gives at most {DEFLATE_RATIO}:1)"));
+        }
+        if items > tu {
+            return bad(end - 8, format!("time table declares {items} entries in {tu} bytes (each takes at least one)"));
+        }
+        if items == 0 {
+            return bad(end - 8, "value-change block without a time step (readers need at least one entry; wellen panics on none)".into());
+        }
+        add(end - 24, tu.saturating_add(items.saturating_mul(16)), "the time table")?;
+        layout.time_steps = layout.time_steps.saturating_add(items);
+        // the frame (initial values): three varints after the 32 bytes of fixed fields
+        let Some((fu, n1)) = varint(b, start + 32) else { return bad(start + 32, "frame sizes are not valid varints".into()) };
+        let Some((fc, n2)) = varint(b, start + 32 + n1) else { return bad(start + 32, "frame sizes are not valid varints".into()) };
+        let Some((fh, n3)) = varint(b, start + 32 + n1 + n2) else { return bad(start + 32, "frame sizes are not valid varints".into()) };
+        let frame = start + 32 + n1 + n2 + n3;
+        let time_at = end - 24 - tc;
+        if fc > time_at.saturating_sub(frame) {
+            return bad(start + 32, format!("frame of {fc} compressed bytes does not fit in its block"));
+        }
+        if fu != fc && fu > fc.saturating_mul(DEFLATE_RATIO) {
+            return bad(start + 32, format!("frame declares {fu} bytes from {fc} compressed bytes (zlib gives at most {DEFLATE_RATIO}:1)"));
+        }
+        add(start + 32, fu, "the frame")?;
+        let signals = geometry.as_ref().map(|g| g.len() as u64);
+        let Some(signals) = signals else { return bad(pos, "the file has no geometry block (the signals' widths): damaged or not finished".into()) };
+        if fh != signals {
+            return bad(start + 32, format!("frame has {fh} signals, the geometry {signals}"));
+        }
+        let vc = frame + fc;
+        let Some((vh, n4)) = varint(b, vc) else { return bad(vc, "value-change signal count is not a valid varint".into()) };
+        if vh != signals {
+            return bad(vc, format!("value changes of {vh} signals, the geometry has {signals}"));
+        }
+        // per signal: three u32 pointers and a 12-byte location (fst-reader's tables)
+        add(vc, vh.saturating_mul(24), "the value-change tables")?;
+        // the chain of offsets: its length is the u64 just before the time table
+        let chain_len_at = time_at.checked_sub(8).filter(|&c| c > vc + n4);
+        let Some(chain_len_at) = chain_len_at else { return bad(vc, "no room for the chain of value-change offsets".into()) };
+        let chain = be64(b, chain_len_at).unwrap_or(u64::MAX);
+        let vc_start = vc + n4;
+        if chain > chain_len_at - (vc_start + 1) {
+            return bad(chain_len_at, format!("chain of value-change offsets declares {chain} bytes, more than the block holds"));
+        }
+        let chain_start = chain_len_at - chain;
+        let data_len = chain_start - vc_start;
+        if data_len > u64::from(u32::MAX) {
+            return bad(vc_start, format!("value changes of {data_len} bytes in one block (FST's offsets are 32 bits)"));
+        }
+        let locs = chain_offsets(&b[chain_start as usize..chain_len_at as usize], tpe == 8, signals, data_len as u32).map_err(|what| FstProblem { offset: chain_start, what })?;
+        // each signal's packed values: a varint length (0: stored as is), then the data
+        let ratio = match b[vc_start as usize] {
+            b'4' | b'F' => LZ4_RATIO,
+            _ => DEFLATE_RATIO,
+        };
+        for (off, n) in locs {
+            let at = vc_start + u64::from(off);
+            let Some((u, skip)) = varint(b, at).filter(|&(u, k)| k <= u64::from(n) && u <= u64::from(u32::MAX)) else {
+                return bad(at, "a signal's packed value changes start with no valid length".into());
+            };
+            let c = u64::from(n) - skip;
+            if u != 0 && u > c.saturating_mul(ratio) {
+                return bad(at, format!("a signal's value changes declare {u} bytes from {c} compressed bytes (more than its compression can give)"));
+            }
+            add(at, u.max(c), "the value changes")?;
+        }
+        vc_blocks += 1;
     }
     let Some(widths) = geometry else { return bad(size, "the file has no geometry block (the signals' widths): damaged or not finished".into()) };
     let Some(hier) = hierarchy_len else { return bad(size, "the file has no hierarchy block: damaged or not finished".into()) };
