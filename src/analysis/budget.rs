@@ -216,7 +216,6 @@ pub fn budget(base: &Scenario) -> Result<Budget, AnalysisError> {
         let r = run(&sc)?;
         rows.push(row_from(&sc, &r, Variant::FixedMin, t.elapsed().as_secs_f64()));
     }
-    drop(run);
     bar.finish_and_clear();
     let x_ns = u64::from(p.si_max) * base.clock_ns();
     if rows.iter().all(|r| r.key_off_ns < x_ns) {
