@@ -366,6 +366,27 @@ impl Waveform {
             if fst != Ok(true) {
                 return Err(ReadError::BadFst { origin, message: "it starts like an FST (block type 0, FST_BL_HDR) but its header block is not valid".into() });
             }
+            // wellen sizes a table by the largest signal handle of the hierarchy (an alias may
+            // name any handle): every handle must be one the geometry declares.
+            let handles = layout.widths.len();
+            let hier = quietly(|| -> Result<Option<String>, String> {
+                let mut r = fst_reader::FstReader::open(Cursor::new(bytes.as_slice())).map_err(|e| e.to_string())?;
+                let mut bad = None;
+                r.read_hierarchy(|e| {
+                    if let fst_reader::FstHierarchyEntry::Var { handle, name, .. } = e {
+                        if bad.is_none() && handle.get_index() >= handles {
+                            bad = Some(format!("variable {name} has signal handle {}, the geometry declares {handles}", handle.get_index() as u64 + 1));
+                        }
+                    }
+                })
+                .map_err(|e| e.to_string())?;
+                Ok(bad)
+            });
+            match hier {
+                Ok(Ok(None)) => {}
+                Ok(Ok(Some(message))) | Ok(Err(message)) => return Err(ReadError::BadFst { origin, message: message.split_whitespace().collect::<Vec<_>>().join(" ") }),
+                Err(message) => return Err(ReadError::FstReaderPanicked { origin, message: message.split_whitespace().collect::<Vec<_>>().join(" ") }),
+            }
             Self::parse(bytes, origin, Some(&layout))
         } else {
             Self::validate_vcd(&bytes, &origin, limits)?;
