@@ -12,6 +12,13 @@
 //!   lock), so the files of one run are either all old or all new;
 //! - SIGKILL cannot be caught: at most a stray `.*.tmp` file is left, never a damaged final file;
 //!   the next run writing the same output removes it (its process is gone).
+//!
+//! Paths that are not files: an output path that exists and is a character or block device, a
+//! FIFO or a socket (or a symlink to one, such as `/proc/self/fd/1`) is refused with
+//! [`OutputError::NotRegular`] and left as it was, checked when the output is staged and again
+//! just before the rename. A folder is refused ([`OutputError::IsDir`]); a symlink to a regular
+//! file or to a folder is replaced by the new file (its target is left alone). `-` is standard
+//! output where a command offers it ([`Sink`]).
 
 use std::fs::Permissions;
 use std::io::{self, Write};
@@ -39,6 +46,8 @@ pub enum OutputError {
     Rename { path: PathBuf, #[source] source: io::Error },
     #[error("{}: is a directory; an output file cannot replace it", path.display())]
     IsDir { path: PathBuf },
+    #[error("{}: is a {kind}, not a regular file; an output file never replaces it (give the path of a file{})", path.display(), if *stdout_ok { ", or - for standard output" } else { "" })]
+    NotRegular { path: PathBuf, kind: &'static str, stdout_ok: bool },
     #[error("{}: cannot remove the stale file: {source}", path.display())]
     Remove { path: PathBuf, #[source] source: io::Error },
 }
@@ -58,6 +67,7 @@ impl AtomicFile {
         if is_real_dir(dest) {
             return Err(OutputError::IsDir { path: dest.to_path_buf() });
         }
+        refuse_special(dest)?;
         let dir = match dest.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
@@ -103,6 +113,8 @@ impl AtomicFile {
         if is_real_dir(&dest) {
             return Err(OutputError::IsDir { path: dest });
         }
+        // The path may have become a device or a FIFO while the run wrote.
+        refuse_special(&dest)?;
         file.persist(&dest).map(|_| ()).map_err(|e| OutputError::Rename { path: dest, source: e.error })
     }
 
@@ -132,6 +144,94 @@ impl Drop for AtomicFile {
             // NamedTempFile removes the file when dropped.
             self.file = None;
             reg.retain(|p| p != &self.tmp);
+        }
+    }
+}
+
+/// What `p` is (following symlinks) when it exists and is a device, a FIFO or a socket.
+pub fn special_kind(p: &Path) -> Option<&'static str> {
+    use std::os::unix::fs::FileTypeExt;
+    let ft = std::fs::metadata(p).ok()?.file_type();
+    if ft.is_char_device() {
+        Some("character device")
+    } else if ft.is_block_device() {
+        Some("block device")
+    } else if ft.is_fifo() {
+        Some("FIFO")
+    } else if ft.is_socket() {
+        Some("socket")
+    } else {
+        None
+    }
+}
+
+/// [`OutputError::NotRegular`] when `dest` exists and is a device, a FIFO or a socket.
+fn refuse_special(dest: &Path) -> Result<(), OutputError> {
+    match special_kind(dest) {
+        Some(kind) => Err(OutputError::NotRegular { path: dest.to_path_buf(), kind, stdout_ok: false }),
+        None => Ok(()),
+    }
+}
+
+/// True when `a` and `b` exist and are the same file (device and inode; through symlinks and
+/// hard links).
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
+        _ => false,
+    }
+}
+
+/// Where a command with `-o FILE` writes: a staged [`AtomicFile`], or standard output for `-`
+/// (streamed as it is produced; nothing to rename).
+pub enum Sink {
+    File(AtomicFile),
+    Stdout(io::Stdout),
+}
+
+impl Sink {
+    /// `-` is standard output; any other path is staged (refused when it is a folder, a device,
+    /// a FIFO or a socket; the message then mentions `-`).
+    pub fn open(dest: &Path) -> Result<Sink, OutputError> {
+        if dest.as_os_str() == "-" {
+            return Ok(Sink::Stdout(io::stdout()));
+        }
+        AtomicFile::stage(dest).map(Sink::File).map_err(|e| match e {
+            OutputError::NotRegular { path, kind, .. } => OutputError::NotRegular { path, kind, stdout_ok: true },
+            e => e,
+        })
+    }
+
+    /// Add the file to `batch` (renamed into place when it commits); standard output is flushed.
+    pub fn finish(self, batch: &mut Batch) -> Result<(), OutputError> {
+        match self {
+            Sink::File(f) => {
+                batch.add(f);
+                Ok(())
+            }
+            Sink::Stdout(mut o) => o.flush().map_err(|source| OutputError::Write { path: PathBuf::from("-"), source }),
+        }
+    }
+}
+
+impl Write for Sink {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        match self {
+            Sink::File(f) => f.write(buf),
+            Sink::Stdout(o) => o.write(buf),
+        }
+    }
+    fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
+        match self {
+            Sink::File(f) => f.write_all(buf),
+            Sink::Stdout(o) => o.write_all(buf),
+        }
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        match self {
+            Sink::File(f) => f.flush(),
+            Sink::Stdout(o) => o.flush(),
         }
     }
 }

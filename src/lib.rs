@@ -8,6 +8,7 @@ pub mod analysis;
 pub mod changelog;
 pub mod fsout;
 pub mod fuzzing;
+pub mod limits;
 pub mod markers;
 pub mod output;
 pub mod plot;

@@ -4,7 +4,7 @@
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use pmu50::fsout::{self, AtomicFile, Batch};
+use pmu50::fsout::{self, Batch};
 use pmu50::output::{choose_trace, dumped_ticks, estimate_run_bytes, human_bytes as human, output_paths, run_to_batch, run_to_batch_as, summary, FileOptions, RunError, TraceChoice};
 use pmu50::waveform::{Level, WaveFormat};
 use pmu50::refusals::RefusalWatch;
@@ -44,8 +44,8 @@ macro_rules! err {
     }};
 }
 
-/// Default limit of one VCD (`--max-vcd-bytes`).
-const DEFAULT_MAX_VCD_BYTES: u64 = 2_000_000_000;
+// Default limit of one VCD (`--max-vcd-bytes`), with the other limits in pmu50::limits.
+use pmu50::limits::DEFAULT_MAX_VCD_BYTES;
 
 /// Bad command-line values.
 #[derive(Debug, thiserror::Error)]
@@ -103,6 +103,10 @@ enum Cmd {
         /// estimated for its trace level and format).
         #[arg(long, value_name = "BYTES")]
         max_vcd_bytes: Option<u64>,
+        /// Refuse a scenario with more than this many simulated key-on ticks (default 1e9;
+        /// parked ticks, which the exact skip removes, do not count).
+        #[arg(long, value_name = "TICKS")]
+        max_ticks: Option<u64>,
         /// Also write <name>.svg, a timing diagram in the style of FIG. 15/16 (and <name>_timing.csv).
         #[arg(long)]
         svg: bool,
@@ -129,11 +133,15 @@ enum Cmd {
     /// Export per-tick inputs and expected outputs for HDL testbenches (docs/spec.md 6.2).
     Vectors {
         scenario: PathBuf,
+        /// Vector file to write (`-`: standard output).
         #[arg(short, long)]
         output: PathBuf,
         /// Also write the model's VCD into this folder (same run).
         #[arg(long)]
         vcd_dir: Option<PathBuf>,
+        /// Refuse a vector file larger than this (bytes; default 2 GB; one line per tick).
+        #[arg(long, value_name = "BYTES")]
+        max_vector_bytes: Option<u64>,
     },
     /// Write a seeded random scenario (for co-simulation).
     Random {
@@ -143,6 +151,7 @@ enum Cmd {
         /// also depends on the coverage before it: its repro is in failures/ of its run).
         #[arg(long)]
         regress: bool,
+        /// Scenario file to write (`-`: standard output).
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -166,6 +175,12 @@ enum Cmd {
         /// Skip the grid of configurations (x, min, Cth).
         #[arg(long)]
         no_grid: bool,
+        /// Refuse a sweep of more speeds than this (default 2000).
+        #[arg(long, value_name = "N")]
+        max_points: Option<u64>,
+        /// Refuse a sweep that would simulate more ticks than this (default 1e9).
+        #[arg(long, value_name = "TICKS")]
+        max_ticks: Option<u64>,
     },
     /// Key-off battery budget of a park: adaptive, fixed cycle T = x, sensor always on.
     /// Writes budget.csv, budget_cumulative.csv and budget.svg (docs/power.md).
@@ -173,6 +188,10 @@ enum Cmd {
         scenario: PathBuf,
         #[arg(long, default_value = "vcd_out")]
         out_dir: PathBuf,
+        /// Refuse a scenario whose simulations (adaptive, fixed, fixed at min) would take more
+        /// than this many key-on ticks together (default 1e9; parked ticks do not count).
+        #[arg(long, value_name = "TICKS")]
+        max_ticks: Option<u64>,
     },
     /// Random regression: seeds of generated scenarios checked on the model (and an RTL),
     /// measured by functional coverage, failures shrunk to a repro (docs/verification.md).
@@ -387,10 +406,10 @@ fn main() -> ExitCode {
         return with_streams(2);
     }
     let code = match cli.cmd {
-        Cmd::Run { scenarios, out_dir, log, window, max_vcd_bytes, svg, trace, format } => {
+        Cmd::Run { scenarios, out_dir, log, window, max_vcd_bytes, max_ticks, svg, trace, format } => {
             let trace = trace.as_deref().and_then(Trace::parse);
             let format = WaveFormat::parse(&format).unwrap_or_default();
-            cmd_run(&scenarios, &out_dir, RunFlags { log, svg, trace, format }, &window, max_vcd_bytes)
+            cmd_run(&scenarios, &out_dir, RunFlags { log, svg, trace, format, max_ticks }, &window, max_vcd_bytes)
         }
         Cmd::Check { scenarios } => {
             let mut bad = false;
@@ -427,16 +446,18 @@ fn main() -> ExitCode {
             }
             0
         }
-        Cmd::Vectors { scenario, output, vcd_dir } => cmd_vectors(&scenario, &output, vcd_dir.as_deref()),
+        Cmd::Vectors { scenario, output, vcd_dir, max_vector_bytes } => cmd_vectors(&scenario, &output, vcd_dir.as_deref(), max_vector_bytes),
         Cmd::Random { seed, regress, output } => {
             let text = if regress {
                 pmu50::regress::gen::Stimulus::generate(seed, &pmu50::regress::gen::Bias::uniform()).to_toml(&format!("regress_{seed}"))
             } else {
                 pmu50::random::random_scenario(seed)
             };
-            let r = fsout::write_atomic(&output, text.as_bytes()).and_then(|f| {
+            // `-o -`: standard output (fsout::Sink); a device or a FIFO is refused.
+            let r = fsout::Sink::open(&output).and_then(|mut f| {
+                f.write_all(text.as_bytes()).map_err(|source| fsout::OutputError::Write { path: output.clone(), source })?;
                 let mut b = Batch::new();
-                b.add(f);
+                f.finish(&mut b)?;
                 b.commit()
             });
             match r {
@@ -447,21 +468,27 @@ fn main() -> ExitCode {
                 }
             }
         }
-        Cmd::SpeedLimit { scenario, out_dir, step, from, to, no_grid } => {
+        Cmd::SpeedLimit { scenario, out_dir, step, from, to, no_grid, max_points, max_ticks } => {
             let sc = match &scenario {
                 Some(p) => Scenario::load(p),
                 None => Scenario::parse("duration = \"1 ms\"\n", "<defaults>", "defaults", Path::new("")),
             };
             match sc {
-                Ok(sc) => report(pmu50::analysis::speed::run_cli(&sc, &out_dir, step, from, to, !no_grid)),
+                Ok(sc) => report(pmu50::analysis::speed::run_cli(&sc, &out_dir, step, from, to, !no_grid, max_points, max_ticks)),
                 Err(e) => {
                     err!("error: {e}");
                     2
                 }
             }
         }
-        Cmd::Budget { scenario, out_dir } => match Scenario::load(&scenario) {
-            Ok(sc) => report(pmu50::analysis::budget::run_cli(&sc, &out_dir)),
+        Cmd::Budget { scenario, out_dir, max_ticks } => match Scenario::load(&scenario) {
+            Ok(sc) => match pmu50::limits::check_ticks(&sc, pmu50::analysis::budget::RUNS, max_ticks) {
+                Ok(()) => report(pmu50::analysis::budget::run_cli(&sc, &out_dir)),
+                Err(e) => {
+                    err!("error: {e}");
+                    2
+                }
+            },
             Err(e) => {
                 err!("error: {e}");
                 2
@@ -640,6 +667,8 @@ struct RunFlags {
     trace: Option<Trace>,
     /// `--format`: the waveform file's format.
     format: WaveFormat,
+    /// `--max-ticks`: simulated key-on ticks (pmu50::limits).
+    max_ticks: Option<u64>,
 }
 
 /// A scenario `run` will run: its dump window of `--window` (in ticks) and its trace level.
@@ -674,6 +703,11 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
                 continue;
             }
         };
+        if let Err(e) = pmu50::limits::check_ticks(&sc, 1, flags.max_ticks) {
+            err!("error: {e}");
+            code = 2;
+            continue;
+        }
         let choice = choose_trace(&sc, flags.trace, window_flag, flags.format);
         let Some(level) = choice.trace.level() else {
             if window.is_some() {
@@ -758,11 +792,15 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
     code
 }
 
-fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>) -> u8 {
+fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>, max_vector_bytes: Option<u64>) -> u8 {
     let mut sc = match load(scenario) {
         Ok(s) => s,
         Err(_) => return 2,
     };
+    if let Err(e) = pmu50::limits::check_vector_bytes(&sc, max_vector_bytes) {
+        err!("error: {e}");
+        return 2;
+    }
     // The model VCD written beside the vectors is compared tick by tick with the RTL's:
     // it must cover the whole run, whatever window the scenario asks for.
     sc.vcd_window = None;
@@ -776,22 +814,32 @@ fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>) -> u8 {
             return 2;
         }
     }
+    if fsout::same_file(scenario, output) {
+        err!("error: -o {} is the scenario file itself; the vectors would overwrite it; choose another name", output.display());
+        return 2;
+    }
     let result = (|| -> Result<u64, RunError> {
-        let f = AtomicFile::stage(output)?;
+        // `-o -`: standard output (fsout::Sink); a device or a FIFO is refused.
+        let f = fsout::Sink::open(output)?;
         let mut vw = VectorWriter::new(BufWriter::new(f), &sc)?;
+        let mut prog = Progress::new(sc.ticks, &sc.name);
         let (ticks, mut batch) = match vcd_dir {
             Some(d) => {
-                let (r, _, b) = run_to_batch(&sc, d, FileOptions::default(), &mut [&mut vw])?;
+                let (r, _, b) = run_to_batch(&sc, d, FileOptions::default(), &mut [&mut vw, &mut prog])?;
                 (r.ticks, b)
             }
-            None => (sim::run(&sc, SimOptions { fast_forward: false }, &mut [&mut vw])?.ticks, Batch::new()),
+            None => (sim::run(&sc, SimOptions { fast_forward: false }, &mut [&mut vw, &mut prog])?.ticks, Batch::new()),
         };
         let f = vw.into_inner().into_inner().map_err(|e| fsout::OutputError::Write { path: output.to_path_buf(), source: e.into_error() })?;
-        batch.add(f);
+        f.finish(&mut batch)?;
         batch.commit()?;
         Ok(ticks)
     })();
     match result {
+        Ok(ticks) if output.as_os_str() == "-" => {
+            err!("wrote the vectors to standard output ({ticks} ticks)");
+            0
+        }
         Ok(ticks) => {
             out!("wrote {} ({} ticks)", output.display(), ticks);
             0

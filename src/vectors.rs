@@ -25,6 +25,15 @@ fn digits(width: u8) -> usize {
     usize::from(width).div_ceil(4).max(1)
 }
 
+/// Bytes of each vector line of `sc` (every field has a fixed number of hex digits, a separator
+/// or the newline after it): what [`VectorWriter`] writes per tick.
+pub fn line_bytes(sc: &Scenario) -> u64 {
+    let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
+    let ins = signals::INPUTS.iter().map(|sig| digits(sig.bits(&s)) as u64 + 1);
+    let outs = signals::OUTPUTS.iter().map(|sig| digits(sig.bits(&s)) as u64 + 1);
+    ins.chain(outs).sum()
+}
+
 impl<W: Write> VectorWriter<W> {
     pub fn new(mut out: W, sc: &Scenario) -> Result<Self, SimError> {
         let p = &sc.params;

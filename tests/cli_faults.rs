@@ -295,3 +295,141 @@ fn vectors_and_random_outputs_are_atomic_too() {
     expect(&pmu50(&["random", "--seed", "3", "-o", s(&d.join("no/such/r.toml"))]), 2, &["no/such/r.toml: cannot create a temporary file beside it"]);
     std::fs::remove_dir_all(&d).ok();
 }
+
+// ------------------------------------------- device nodes, FIFOs, `-o -`, own input ----
+
+/// An output path that exists and is a character device, a FIFO or a symlink to one
+/// (`/dev/null`, `/proc/self/fd/1`) is refused with exit 2 and left exactly as it was; as root,
+/// a character device made with mknod too. Before, `random` and `vectors` replaced the node by a
+/// regular file and said nothing.
+#[test]
+fn device_nodes_fifos_and_links_to_them_are_never_replaced() {
+    use std::os::unix::fs::FileTypeExt;
+    let d = tmp("nodes");
+    let fifo = d.join("fifo");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success(), "mkfifo");
+    let null_link = d.join("null");
+    std::os::unix::fs::symlink("/dev/null", &null_link).unwrap();
+    let fd1 = d.join("fd1");
+    std::os::unix::fs::symlink("/proc/self/fd/1", &fd1).unwrap();
+    let mut nodes = vec![(fifo.clone(), "is a FIFO"), (null_link.clone(), "is a character device"), (fd1.clone(), "not a regular file")];
+    let dev = d.join("dev");
+    // SAFETY: mknod with a valid C string and mode; it fails (and the case is left out) unless root.
+    let made = unsafe {
+        let c = std::ffi::CString::new(s(&dev)).unwrap();
+        libc::mknod(c.as_ptr(), libc::S_IFCHR | 0o666, libc::makedev(1, 3)) == 0
+    };
+    if made {
+        nodes.push((dev.clone(), "is a character device"));
+    }
+    for (node, says) in &nodes {
+        let kind = |p: &std::path::Path| {
+            let (l, m) = (std::fs::symlink_metadata(p).unwrap().file_type(), std::fs::metadata(p).map(|m| m.file_type()));
+            (l.is_symlink(), l.is_fifo(), l.is_char_device(), m.map(|t| (t.is_fifo(), t.is_char_device())).ok())
+        };
+        let before = kind(node);
+        // stdout a pipe: /proc/self/fd/1 of the child is a FIFO
+        let random = Command::new(BIN).args(["random", "--seed", "1", "-o", s(node)]).stdin(Stdio::null()).output().unwrap();
+        expect(&random, 2, &[says, "an output file never replaces it", "or - for standard output"]);
+        assert!(random.stdout.is_empty(), "nothing written to standard output");
+        let vectors = pmu50(&["vectors", "scenarios/fig15a.toml", "-o", s(node)]);
+        expect(&vectors, 2, &[says, "an output file never replaces it"]);
+        assert_eq!(kind(node), before, "{} was replaced", node.display());
+    }
+    assert_eq!(names(&d).len(), nodes.len(), "no temporary file left: {:?}", names(&d));
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// `-o -` is standard output: the same bytes as the file, streamed, and the vectors' "wrote"
+/// note goes to stderr so that stdout holds the vectors only.
+#[test]
+fn dash_is_standard_output() {
+    let d = tmp("dash");
+    let f = d.join("r.toml");
+    expect(&pmu50(&["random", "--seed", "3", "-o", s(&f)]), 0, &[]);
+    let o = pmu50(&["random", "--seed", "3", "-o", "-"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert_eq!(o.stdout, std::fs::read(&f).unwrap());
+    let v = d.join("v.txt");
+    expect(&pmu50(&["vectors", "scenarios/fig15a.toml", "-o", s(&v)]), 0, &["wrote"]);
+    let o = pmu50(&["vectors", "scenarios/fig15a.toml", "-o", "-"]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(o.stdout, std::fs::read(&v).unwrap(), "stdout holds exactly the vector file");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("wrote the vectors to standard output (4800 ticks)"));
+    assert!(!d.join("-").exists() && !std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("-").exists());
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// `vectors x.toml -o x.toml` (or through a link) is refused and the scenario is kept.
+#[test]
+fn vectors_never_overwrite_their_own_scenario() {
+    let d = tmp("self");
+    let x = d.join("x.toml");
+    std::fs::write(&x, SHORT).unwrap();
+    let link = d.join("y.toml");
+    std::os::unix::fs::symlink(&x, &link).unwrap();
+    for out in [&x, &link] {
+        expect(&pmu50(&["vectors", s(&x), "-o", s(out)]), 2, &["is the scenario file itself", "choose another name"]);
+        assert_eq!(std::fs::read_to_string(&x).unwrap(), SHORT);
+    }
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// `diff --allow-unmatched` of two files with no signal in common compares nothing: exit 2 with
+/// the reason, not EQUAL (0 compared).
+#[test]
+fn allow_unmatched_with_nothing_in_common_is_an_error() {
+    let d = tmp("nothing");
+    let vcd = |name: &str| format!("$timescale 1 us $end\n$scope module top $end\n$var wire 1 ! {name} $end\n$upscope $end\n$enddefinitions $end\n#0\n1!\n#5\n0!\n");
+    let (a, b) = (d.join("a.vcd"), d.join("b.vcd"));
+    std::fs::write(&a, vcd("alpha")).unwrap();
+    std::fs::write(&b, vcd("beta")).unwrap();
+    let o = pmu50(&["diff", s(&a), s(&b), "--allow-unmatched"]);
+    expect(&o, 2, &["no signal of", "a.vcd", "b.vcd", "nothing would be compared", "--map"]);
+    assert!(!text(&o).contains("EQUAL"));
+    // without the flag the files simply differ; with a common signal the flag still works
+    expect(&pmu50(&["diff", s(&a), s(&b)]), 1, &["DIFFER"]);
+    std::fs::write(&b, vcd("alpha").replace("$upscope", "$var wire 1 \" beta $end\n$upscope")).unwrap();
+    expect(&pmu50(&["diff", s(&a), s(&b), "--allow-unmatched"]), 0, &["EQUAL", "signals compared: 1"]);
+    std::fs::remove_dir_all(&d).ok();
+}
+
+// ------------------------------------------------------------------ bounded work ----
+
+/// Work above its default limit is refused before it starts, naming the option that raises it:
+/// simulated key-on ticks (`run`, `budget`: `--max-ticks`), the vector file (`--max-vector-bytes`),
+/// speed-limit points (`--max-points`; a step of 1e-300 or a `--to` of 1e308 panicked with
+/// "capacity overflow", 0.0003 grew to 1.6 GB before refusing). A month of parking with
+/// `--trace none` stays allowed: the exact skip makes it cheap.
+#[test]
+fn unbounded_work_is_refused_before_it_starts() {
+    let d = tmp("bounds");
+    let long_on = d.join("long_on.toml");
+    std::fs::write(&long_on, "duration = \"100000 d\"\n[[events]]\nat = \"1 ms\"\nig = true\n").unwrap();
+    let o = pmu50(&["run", s(&long_on), "--trace", "none"]);
+    expect(&o, 2, &["long_on.toml: the simulation of its key-on ticks would be about 863999999999950 ticks", "above the limit of 1000000000 ticks", "--max-ticks"]);
+    let hour = d.join("hour.toml");
+    std::fs::write(&hour, "duration = \"2 h\"\n[[events]]\nat = \"1 ms\"\nig = true\n[[events]]\nat = \"1 h\"\nig = false\n").unwrap();
+    expect(&pmu50(&["budget", s(&hour), "--out-dir", s(&d)]), 2, &["hour.toml: 3 simulations of its key-on ticks", "--max-ticks"]);
+    // the limit is the option's: a short key-on run above a small limit, below a large one
+    let short_on = d.join("short_on.toml");
+    std::fs::write(&short_on, "duration = \"10 ms\"\n[[events]]\nat = \"1 ms\"\nig = true\n").unwrap();
+    expect(&pmu50(&["run", s(&short_on), "--trace", "none", "--max-ticks", "100"]), 2, &["above the limit of 100 ticks"]);
+    expect(&pmu50(&["run", s(&short_on), "--trace", "none", "--max-ticks", "1000"]), 0, &["trace = none"]);
+    // parked: 259 200 000 000 ticks, a few hundred thousand evaluated
+    expect(&pmu50(&["run", "scenarios/park_30d.toml", "--trace", "none"]), 0, &["ticks evaluated, the rest skipped exactly"]);
+    let v = d.join("v.txt");
+    expect(&pmu50(&["vectors", "scenarios/park_30d.toml", "-o", s(&v)]), 2, &["park_30d.toml: the vector file (259200000000 lines) would be about", "above the limit of 2.0 GB", "--max-vector-bytes"]);
+    assert!(!v.exists());
+    expect(&pmu50(&["vectors", "scenarios/fig15a.toml", "-o", s(&v), "--max-vector-bytes", "1000"]), 2, &["--max-vector-bytes"]);
+    expect(&pmu50(&["vectors", "scenarios/fig15a.toml", "-o", s(&v), "--max-vector-bytes", "1000000"]), 0, &["wrote"]);
+    for args in [["--step", "1e-300"], ["--to", "1e308"], ["--step", "0.0003"]] {
+        let t = std::time::Instant::now();
+        let o = pmu50(&["speed-limit", args[0], args[1], "--out-dir", s(&d)]);
+        expect(&o, 2, &["speed sweep", "above the limit of 2000 points", "--max-points"]);
+        assert!(t.elapsed().as_secs() < 10, "{args:?} took {:?}", t.elapsed());
+    }
+    expect(&pmu50(&["speed-limit", "--step", "1", "--from", "1000", "--to", "2000", "--max-points", "5000", "--out-dir", s(&d)]), 2, &["--max-ticks", "each point runs 90 deg / step"]);
+    std::fs::remove_dir_all(&d).ok();
+}

@@ -14,10 +14,11 @@ use pmu50_waves::fuzzing::{MALFORMED, VALID_SAMPLE};
 type Body = fn(&[u8]);
 
 /// (target name, body, random-pass iterations)
-const TARGETS: [(&str, Body, u32); 3] = [
+const TARGETS: [(&str, Body, u32); 4] = [
     ("scenario", pmu50::fuzzing::scenario, 20_000),
     ("duration", pmu50::fuzzing::duration, 200_000),
     ("vcd_diff", pmu50_waves::fuzzing::vcd, 20_000),
+    ("fst_read", pmu50_waves::fuzzing::fst, 10_000),
 ];
 
 const VCD_TOKENS: &[&str] = &[
@@ -31,6 +32,11 @@ const TOML_TOKENS: &[&str] = &[
     "at = \"1 ms\"\n", "duration", "[core]\n", "[env]\n", "[motor]\n", "[expect]\n", "[vcd]\n", "window",
     "18446744073709551615", "0", "1.5", "true", "write = { reg = \"T2\", value = 110 }", "ig = true",
     "cnt_width = 256", "sync_depth = 0", "clock = \"0 ns\"", "nan", "inf", "\u{10ffff}", "é",
+];
+/// FST sizes and block types (big-endian u64s, varints, block type bytes).
+const FST_TOKENS: &[&str] = &[
+    "\0", "\u{1}", "\u{3}", "\u{4}", "\u{6}", "\u{7}", "\u{8}", "\u{7f}", "\0\0\0\0\0\0\0\0", "\0\0\0\0\0\0\u{1}\u{49}",
+    "\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}", "\0\0\0\0\u{7f}\u{7f}\u{7f}\u{7f}",
 ];
 const DUR_TOKENS: &[&str] = &["s", "ms", "us", "µs", "ns", ".", "-", "+", " ", "0", "9", "18446744073709551615", "000000000"];
 
@@ -173,6 +179,7 @@ fn bounded_random_pass_finds_no_crash() {
         let inputs = corpus(t);
         let tokens = match t {
             "vcd_diff" => VCD_TOKENS,
+            "fst_read" => FST_TOKENS,
             "scenario" => TOML_TOKENS,
             _ => DUR_TOKENS,
         };

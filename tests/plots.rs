@@ -151,7 +151,7 @@ fn svgs_parse_and_reruns_are_byte_identical() {
     let dirs = [tmp("rerun-a"), tmp("rerun-b")];
     for d in &dirs {
         run_to_files(&scenario("fig15b"), d, FileOptions { svg: true, ..FileOptions::default() }, &mut []).unwrap();
-        speed::run_cli(&defaults(), d, Some(4_000.0), Some(4_000.0), Some(48_000.0), false).unwrap();
+        speed::run_cli(&defaults(), d, Some(4_000.0), Some(4_000.0), Some(48_000.0), false, None, None).unwrap();
         budget::run_cli(&scenario("park_bumps"), d).unwrap();
     }
     let files = ["fig15b.svg", "fig15b_timing.csv", "speed_limit.svg", "speed_limit.csv", "budget.svg", "budget.csv", "budget_cumulative.csv"];

@@ -20,7 +20,7 @@
 //! time, so it needs no per-tick observer: the runs keep the testbench's fast-forward of idle
 //! key-off gaps, and the curve's last point equals the meter's total (checked).
 
-use super::{run, AnalysisError};
+use super::{run_observed, AnalysisError};
 use crate::plot::svg::{Anchor, Chart, Series, Style, Svg, PALETTE};
 use crate::scenario::{Action, Scenario};
 use crate::sim::RunResult;
@@ -172,11 +172,23 @@ fn row_from(sc: &Scenario, r: &RunResult, variant: Variant, run_time_s: f64) -> 
 }
 
 /// Run the budget of `base` three ways.
+/// Simulations [`budget`] makes of its scenario: adaptive, fixed cycle x, fixed cycle min (the
+/// always-on row reuses the adaptive run); what `pmu50 budget --max-ticks` counts.
+pub const RUNS: u64 = 3;
+
 pub fn budget(base: &Scenario) -> Result<Budget, AnalysisError> {
     let clk = base.clock_ns() as f64;
     let p = &base.params;
     let mut rows = Vec::new();
     let mut adaptive_run: Option<(RunResult, f64)> = None;
+    // on a terminal only, after a second (crate::limits::progress_bar)
+    let bar = crate::limits::progress_bar(RUNS * base.ticks, "budget");
+    let mut k = 0;
+    let mut run = |sc: &Scenario| {
+        let r = run_observed(sc, &mut crate::limits::TickBar::new(&bar, k * base.ticks));
+        k += 1;
+        r
+    };
     for v in [Variant::Adaptive, Variant::Fixed] {
         let mut sc = base.clone();
         sc.core.adaptive = v == Variant::Adaptive;
@@ -204,6 +216,7 @@ pub fn budget(base: &Scenario) -> Result<Budget, AnalysisError> {
         let r = run(&sc)?;
         rows.push(row_from(&sc, &r, Variant::FixedMin, t.elapsed().as_secs_f64()));
     }
+    bar.finish_and_clear();
     let x_ns = u64::from(p.si_max) * base.clock_ns();
     if rows.iter().all(|r| r.key_off_ns < x_ns) {
         let off = rows.first().map_or(0, |r| r.key_off_ns);

@@ -43,6 +43,11 @@ pub fn run(sc: &Scenario) -> Result<RunResult, AnalysisError> {
     Ok(sim::run(sc, SimOptions::default(), &mut [])?)
 }
 
+/// [`run`] with an observer (a progress bar).
+pub fn run_observed(sc: &Scenario, obs: &mut dyn sim::Observer) -> Result<RunResult, AnalysisError> {
+    Ok(sim::run(sc, SimOptions::default(), &mut [obs])?)
+}
+
 /// An ignition event (made by an analysis, so it has no line in a file).
 pub fn ig(tick: u64, on: bool) -> Event {
     Event { tick, action: Action::Ig(on), line: 0 }

@@ -92,6 +92,20 @@ impl SweepSpec {
         SweepSpec { from_dps: step, to_dps: to, step_dps: step, accel_from: 1e4, accel_ratio: 10f64.powf(0.125), accel_points: 25 }
     }
 
+    /// How many speeds [`SweepSpec::speeds`] lists, computed without listing them (a tiny step
+    /// or a huge `to` would ask for more memory than there is): `f64::INFINITY` when not finite.
+    pub fn point_count(&self) -> f64 {
+        let n = ((self.to_dps - self.from_dps) / self.step_dps + 1e-9).floor() + 1.0;
+        if n.is_finite() { n } else { f64::INFINITY }
+    }
+
+    /// Simulated ticks of the two speed sweeps, estimated: each point runs 90 deg / step (every
+    /// phase offset) plus ten intervals after its lead-in, from rest and at steady state.
+    pub fn estimated_ticks(&self, clock_ns: u64, min_ns: u64) -> f64 {
+        let run_ns = (90.0 / self.step_dps) * 1e9 + 10.0 * min_ns as f64;
+        2.0 * self.point_count() * run_ns / clock_ns.max(1) as f64
+    }
+
     pub fn speeds(&self) -> Vec<f64> {
         let n = ((self.to_dps - self.from_dps) / self.step_dps + 1e-9).floor() as usize;
         (0..=n).map(|k| self.from_dps + k as f64 * self.step_dps).collect()
@@ -254,12 +268,32 @@ pub fn accel(base: &Scenario, t_s: u64, a: f64, w_end: f64) -> Result<Point, Ana
 
 /// Run all three sweeps. `progress` is called after every point.
 pub fn sweep(base: &Scenario, spec: SweepSpec, progress: &mut dyn FnMut(&Point)) -> Result<Report, AnalysisError> {
+    sweep_within(base, spec, None, None, progress)
+}
+
+/// A number for a message: plain when it reads well, else in scientific notation.
+fn short(v: f64) -> String {
+    if v == 0.0 || (1e-3..1e9).contains(&v.abs()) {
+        format!("{}", (v * 1e6).round() / 1e6)
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// [`sweep`], refused before anything runs when it has more than `max_points` speeds
+/// (`--max-points`, default [`crate::limits::DEFAULT_MAX_POINTS`]) or would simulate more than
+/// `max_ticks` ticks (`--max-ticks`, default [`crate::limits::DEFAULT_MAX_TICKS`]).
+pub fn sweep_within(base: &Scenario, spec: SweepSpec, max_points: Option<u64>, max_ticks: Option<u64>, progress: &mut dyn FnMut(&Point)) -> Result<Report, AnalysisError> {
+    use crate::limits::{check, Unit, DEFAULT_MAX_POINTS, DEFAULT_MAX_TICKS};
     if !(spec.step_dps > 0.0 && spec.from_dps > 0.0 && spec.to_dps >= spec.from_dps && spec.to_dps.is_finite()) {
         return Err(AnalysisError::Input(format!("speed sweep {}..{} step {} deg/s: need 0 < from <= to and step > 0", spec.from_dps, spec.to_dps, spec.step_dps)));
     }
-    if spec.speeds().len() > 2000 {
-        return Err(AnalysisError::Input(format!("speed sweep {}..{} step {} deg/s has more than 2000 points; use a larger --step", spec.from_dps, spec.to_dps, spec.step_dps)));
-    }
+    let what = format!("speed sweep {}..{} step {} deg/s", short(spec.from_dps), short(spec.to_dps), short(spec.step_dps));
+    // saturating float-to-int casts: an infinite count is u64::MAX
+    let points = spec.point_count() as u64;
+    check(what.clone(), points, max_points, DEFAULT_MAX_POINTS, Unit::Points, "--max-points", "use a larger --step or a shorter --from..--to").map_err(|e| AnalysisError::Input(e.to_string()))?;
+    let ticks = spec.estimated_ticks(base.clock_ns(), u64::from(base.params.si_min) * base.clock_ns()) as u64;
+    check(what, ticks, max_ticks, DEFAULT_MAX_TICKS, Unit::Ticks, "--max-ticks", "use a larger --step (each point runs 90 deg / step)").map_err(|e| AnalysisError::Input(e.to_string()))?;
     let b = Bounds::of(base);
     let t_s = sample_before(base, REST_NS)?;
     let min_ns = u64::from(base.params.si_min) * base.clock_ns();
@@ -476,7 +510,8 @@ pub const GRID_CTH: [u8; 2] = [1, 4];
 
 /// `pmu50 speed-limit`: sweep, write speed_limit.csv/.svg (and the grid) into `dir`, return the
 /// summary.
-pub fn run_cli(sc: &Scenario, dir: &std::path::Path, step: Option<f64>, from: Option<f64>, to: Option<f64>, with_grid: bool) -> Result<String, AnalysisError> {
+#[allow(clippy::too_many_arguments)]
+pub fn run_cli(sc: &Scenario, dir: &std::path::Path, step: Option<f64>, from: Option<f64>, to: Option<f64>, with_grid: bool, max_points: Option<u64>, max_ticks: Option<u64>) -> Result<String, AnalysisError> {
     let b = Bounds::of(sc);
     let mut spec = SweepSpec::default_for(&b);
     if let Some(s) = step {
@@ -489,7 +524,12 @@ pub fn run_cli(sc: &Scenario, dir: &std::path::Path, step: Option<f64>, from: Op
     if let Some(t) = to {
         spec.to_dps = t;
     }
-    let r = sweep(sc, spec, &mut |_| {})?;
+    // A progress bar on a terminal only (stderr), for long sweeps.
+    let total = spec.point_count().min(1e9) as u64 * 2 + spec.accel_points as u64;
+    let bar = crate::limits::progress_bar(total, "speed-limit");
+    let r = sweep_within(sc, spec, max_points, max_ticks, &mut |_| bar.inc(1));
+    bar.finish_and_clear();
+    let r = r?;
     let w = |name: &str, text: String| crate::plot::write_atomic(&dir.join(name), text.as_bytes()).map_err(AnalysisError::Write);
     w("speed_limit.csv", csv(&r))?;
     w("speed_limit.svg", svg(&r))?;

@@ -203,6 +203,19 @@ pub enum DiffError {
         /// the common unit
         unit: String,
     },
+    /// `allow_unmatched` with no signal in common: nothing would be compared, and EQUAL would
+    /// say nothing about the files.
+    #[error("no signal of {left} matches one of {right} ({left_count} and {right_count} signals): nothing would be compared; check the names, or map the scopes with --map LEFT=RIGHT")]
+    NothingInCommon {
+        /// left origin
+        left: String,
+        /// right origin
+        right: String,
+        /// signals declared on the left
+        left_count: usize,
+        /// signals declared on the right
+        right_count: usize,
+    },
     /// A prefix of the map matches nothing.
     #[error("{side} prefix `{prefix}` matches no signal in {origin}; prefixes are dotted scope paths such as `pmu50` or `tb.dut`")]
     PrefixNotFound {
@@ -852,6 +865,14 @@ pub fn diff(
         .map(|&i| right.signals()[i].gtkwave_name())
         .collect();
     let unmatched = !only_in_left.is_empty() || !only_in_right.is_empty();
+    if opts.allow_unmatched && unmatched && compared == 0 && type_mismatches.is_empty() {
+        return Err(DiffError::NothingInCommon {
+            left: left.origin().to_string(),
+            right: right.origin().to_string(),
+            left_count: left.signals().len(),
+            right_count: right.signals().len(),
+        });
+    }
     let outcome =
         if count > 0 || !type_mismatches.is_empty() || (unmatched && !opts.allow_unmatched) {
             Outcome::Differ

@@ -49,6 +49,10 @@ pub struct FstOut {
     scale: u64,
     /// start time of the file: the full dump at this time is FST's initial frame
     start: u64,
+    /// end of the dump window (exclusive; `u64::MAX` without a window)
+    end: u64,
+    /// a time step after the initial frame was written
+    stepped: bool,
     /// the file, reopened at the end to set its start time ([`set_start_time`])
     path: PathBuf,
     scratch: Vec<u8>,
@@ -69,6 +73,7 @@ pub fn start_fst(b: VcdBuilder, path: &Path) -> Result<FstWriter> {
         _ => (ts.unit.exponent() + 2, 1),
     };
     let start = b.window_start();
+    let end = b.window_end();
     let info = FstInfo {
         // fst-writer writes this into the header's time-zero field (an offset viewers add to
         // every time), not its start time: 0, the file's times are absolute.
@@ -107,7 +112,7 @@ pub fn start_fst(b: VcdBuilder, path: &Path) -> Result<FstWriter> {
     }
     let ids = ids.into_iter().map(|i| i.ok_or_else(|| WriteError::Fst("a declared variable has no FST id".into()))).collect::<Result<Vec<_>>>()?;
     let body = h.finish().map_err(fst_err)?;
-    Ok(b.into_writer(FstOut { body, ids, widths, real, scale, start, path: path.to_path_buf(), scratch: Vec::with_capacity(64) }))
+    Ok(b.into_writer(FstOut { body, ids, widths, real, scale, start, end, stepped: false, path: path.to_path_buf(), scratch: Vec::with_capacity(64) }))
 }
 
 impl Emitter for FstOut {
@@ -119,6 +124,7 @@ impl Emitter for FstOut {
         if t == self.start {
             Ok(())
         } else {
+            self.stepped = true;
             self.body.time_change(t * self.scale).map_err(fst_err)
         }
     }
@@ -132,6 +138,7 @@ impl Emitter for FstOut {
         if self.body.size() >= FST_BLOCK {
             self.body.flush().map_err(fst_err)?;
         }
+        self.stepped = true;
         self.body.time_change(t * self.scale).map_err(fst_err)
     }
 
@@ -154,8 +161,19 @@ impl Emitter for FstOut {
     }
 
     fn finish(mut self, closing: Option<u64>) -> Result<()> {
-        if let Some(t) = closing {
-            self.body.time_change(t * self.scale).map_err(fst_err)?;
+        match closing {
+            Some(t) => self.body.time_change(t * self.scale).map_err(fst_err)?,
+            // A file of one time step (a one-tick window): fst-writer fills the initial frame and
+            // writes a time table only at a later time step; without one its frame stays all x
+            // (GTKWave's fst2vcd shows x and NaN) and its time table is empty (wellen 0.25
+            // panics on it). One entry after the start fixes both: the end of the window (the
+            // end of the one tick dumped), else one time unit after the start. An entry at the
+            // start itself would not do: fst-reader then skips the frame.
+            None if !self.stepped => {
+                let t = if self.end != u64::MAX { self.end } else { self.start + 1 };
+                self.body.time_change(t * self.scale).map_err(fst_err)?;
+            }
+            None => {}
         }
         let mut out = self.body.finish().map_err(fst_err)?;
         out.flush()?;

@@ -1,4 +1,4 @@
-//! Bodies of the VCD fuzz targets (`fuzz/fuzz_targets/vcd_diff.rs`).
+//! Bodies of the waveform fuzz targets (`fuzz/fuzz_targets/vcd_diff.rs`, `fst_read.rs`).
 //!
 //! They live here, in the library, so that the cargo-fuzz target (nightly,
 //! libFuzzer) and the stable replay test (`tests/fuzz_replay.rs`, part of
@@ -7,7 +7,15 @@
 //!
 //! * `wellen` panicked on a file [`crate::validate`] accepted (a validator gap);
 //! * a readable file is not EQUAL to itself (e.g. NaN, duplicate names);
-//! * the reader's last time differs from the validator's (a dropped time step).
+//! * the reader's last time differs from the validator's (a dropped time step);
+//! * an FST's error is not one line.
+//!
+//! For FST, [`crate::fst_check`] refuses what would make wellen allocate without bound, loop or
+//! panic on sizes and counts; damaged *contents* of the packed value changes (a bit character
+//! `4`, a value one bit short) still make wellen panic, which the reader's guard turns into
+//! [`ReadError::FstReaderPanicked`], one line, nothing printed: accepted here. An abort (an
+//! allocation of what a damaged size declares) or a hang fails libFuzzer's run and the stable
+//! replay by itself.
 
 use crate::diff::{diff, DiffOptions, Outcome, XPolicy};
 use crate::reader::{ReadError, ReadLimits, Waveform};
@@ -51,6 +59,31 @@ pub fn vcd(data: &[u8]) {
         };
         assert_eq!(r.outcome, Outcome::Equal, "a file differs from itself:\n{r}");
     }
+}
+
+/// Reads `data` as an FST (any bytes: the reader takes a file starting with a NUL byte for an
+/// FST) and diffs it with itself.
+///
+/// # Panics
+/// Only on a bug (see the module documentation), never on a damaged file.
+pub fn fst(data: &[u8]) {
+    let w = match Waveform::from_bytes_with(data.to_vec(), &FUZZ_LIMITS) {
+        Ok(w) => w,
+        Err(e) => {
+            let text = e.to_string();
+            assert!(!text.contains('\n'), "an error is one line: {text}");
+            return;
+        }
+    };
+    for i in 0..w.signals().len() {
+        let ch = w.changes_at(i);
+        assert!(ch.windows(2).all(|p| p[0].0 <= p[1].0), "changes of {} are not in time order", w.signals()[i].gtkwave_name());
+    }
+    let r = match diff(&w, &w, &DiffOptions::default()) {
+        Ok(r) => r,
+        Err(e) => panic!("diff of a readable FST with itself failed: {e}"),
+    };
+    assert_eq!(r.outcome, Outcome::Equal, "an FST differs from itself:\n{r}");
 }
 
 /// One malformed-VCD shape: `wellen` panics on (or silently misreads) each of

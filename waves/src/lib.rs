@@ -6,6 +6,8 @@
 //! * [`vcd_text`] — the text of a VCD body (change lines, time stamps) without a branch per
 //!   character, which the VCD writer emits with.
 //! * [`fst`] — the same checked writer with FST output (`fst-writer`), for long runs.
+//! * [`fst_check`] — structural check of an FST (block sizes, counts, widths) before wellen
+//!   reads it, the FST form of [`validate`].
 //! * [`gtkw`] — GTKWave save files (`.gtkw`) that open a VCD with groups,
 //!   number formats and analog traces.
 //! * [`reader`] — reads any VCD back with `wellen` (independent of the writer),
@@ -22,6 +24,7 @@
 
 pub mod diff;
 pub mod fst;
+pub mod fst_check;
 pub mod fuzzing;
 pub mod gtkw;
 pub mod reader;

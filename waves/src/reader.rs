@@ -190,6 +190,15 @@ pub enum ReadError {
         /// wellen's message, on one line
         message: String,
     },
+    /// wellen panicked on an FST that passed [`crate::fst_check`] (a gap in the checks: the
+    /// fuzz target `fst_read` treats this as a failure); the panic was caught and printed nothing.
+    #[error("cannot read FST {origin}: the FST reader failed ({message}); the file is damaged (please report this with the file)")]
+    FstReaderPanicked {
+        /// file path or `<memory>`
+        origin: String,
+        /// the panic message, on one line
+        message: String,
+    },
     /// wellen panicked on a file the validator accepted (a validator gap: the
     /// fuzz targets treat this as a failure).
     #[error("{origin}: the VCD parser failed on a file that passed validation ({message}); please report this with the file")]
@@ -215,6 +224,33 @@ pub enum ReadError {
         /// file path or `<memory>`
         origin: String,
     },
+}
+
+/// The FST's hierarchy against its checked geometry: every variable's handle exists, its width
+/// is the geometry's, within the limit the check applied.
+fn check_fst_hierarchy(h: &Hierarchy, layout: &crate::fst_check::FstLayout) -> Result<(), String> {
+    for vr in h.all_vars() {
+        let v = &h[vr];
+        let handle = v.signal_ref().index();
+        let name = v.full_name(h);
+        let Some(&geo) = layout.widths.get(handle) else {
+            return Err(format!("variable {name} has signal handle {}, the geometry declares {}", handle + 1, layout.widths.len()));
+        };
+        match (v.signal_encoding(h), geo) {
+            (SignalEncoding::BitVector(w), Some(g)) if w == g => {}
+            (SignalEncoding::Real, None) | (SignalEncoding::String, Some(0)) => {}
+            (enc, g) => {
+                let geo = g.map_or("a real".to_string(), |g| format!("{g} bits"));
+                let hier = match enc {
+                    SignalEncoding::BitVector(w) => format!("{w} bits"),
+                    SignalEncoding::Real => "a real".into(),
+                    SignalEncoding::String => "a string".into(),
+                };
+                return Err(format!("variable {name} is {hier} in the hierarchy but {geo} in the geometry (signal handle {})", handle + 1));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// A fully loaded waveform file.
@@ -323,14 +359,38 @@ impl Waveform {
         // starts with a NUL byte. FST goes to wellen directly (under the panic guard below), once
         // wellen's own detection agrees that it is an FST.
         if is_fst(&bytes) {
+            // Sizes and counts first: fst-reader allocates whatever a block declares, and its
+            // format detection alone loops for minutes on a damaged header length.
+            let layout = crate::fst_check::check(&bytes, limits.max_file_bytes, limits.max_var_width).map_err(|p| ReadError::BadFst { origin: origin.clone(), message: p.to_string() })?;
             let fst = quietly(|| wellen::viewers::detect_file_format(&mut Cursor::new(bytes.as_slice())) == wellen::FileFormat::Fst);
             if fst != Ok(true) {
                 return Err(ReadError::BadFst { origin, message: "it starts like an FST (block type 0, FST_BL_HDR) but its header block is not valid".into() });
             }
-            Self::parse(bytes, origin, true)
+            // wellen sizes a table by the largest signal handle of the hierarchy (an alias may
+            // name any handle): every handle must be one the geometry declares.
+            let handles = layout.widths.len();
+            let hier = quietly(|| -> Result<Option<String>, String> {
+                let mut r = fst_reader::FstReader::open(Cursor::new(bytes.as_slice())).map_err(|e| e.to_string())?;
+                let mut bad = None;
+                r.read_hierarchy(|e| {
+                    if let fst_reader::FstHierarchyEntry::Var { handle, name, .. } = e {
+                        if bad.is_none() && handle.get_index() >= handles {
+                            bad = Some(format!("variable {name} has signal handle {}, the geometry declares {handles}", handle.get_index() as u64 + 1));
+                        }
+                    }
+                })
+                .map_err(|e| e.to_string())?;
+                Ok(bad)
+            });
+            match hier {
+                Ok(Ok(None)) => {}
+                Ok(Ok(Some(message))) | Ok(Err(message)) => return Err(ReadError::BadFst { origin, message: message.split_whitespace().collect::<Vec<_>>().join(" ") }),
+                Err(message) => return Err(ReadError::FstReaderPanicked { origin, message: message.split_whitespace().collect::<Vec<_>>().join(" ") }),
+            }
+            Self::parse(bytes, origin, Some(&layout))
         } else {
             Self::validate_vcd(&bytes, &origin, limits)?;
-            Self::parse(bytes, origin, false)
+            Self::parse(bytes, origin, None)
         }
     }
 
@@ -343,21 +403,30 @@ impl Waveform {
         }
     }
 
-    fn parse(bytes: Vec<u8>, origin: String, fst: bool) -> Result<Self, ReadError> {
+    /// Reads `bytes` with wellen; `fst` is the checked layout of an FST (None for a VCD).
+    fn parse(bytes: Vec<u8>, origin: String, fst: Option<&crate::fst_check::FstLayout>) -> Result<Self, ReadError> {
+        let layout = fst;
+        let fst = fst.is_some();
         // wellen's FST messages span lines; an error is one line.
         let bad_fst = |message: String| ReadError::BadFst { origin: origin.clone(), message: message.split_whitespace().collect::<Vec<_>>().join(" ") };
         let parse_err = |message: String| if fst { bad_fst(message) } else { ReadError::Parse { origin: origin.clone(), message } };
-        let panicked = |message: String| if fst { bad_fst(message) } else { ReadError::ParserPanicked { origin: origin.clone(), message } };
+        let panicked = |message: String| if fst { ReadError::FstReaderPanicked { origin: origin.clone(), message: message.split_whitespace().collect::<Vec<_>>().join(" ") } } else { ReadError::ParserPanicked { origin: origin.clone(), message } };
         // One thread: a panic on a rayon worker would be printed by a hook we do not guard.
         let options = LoadOptions { multi_thread: false, remove_scopes_with_empty_name: false };
-        let read = quietly(move || -> Result<(Hierarchy, SignalSource, Vec<u64>), wellen::WellenError> {
-            let header = wellen::viewers::read_header(Cursor::new(bytes), &options)?;
-            let body = wellen::viewers::read_body(header.body, &header.hierarchy, None)?;
+        let read = quietly(move || -> Result<(Hierarchy, SignalSource, Vec<u64>), String> {
+            let header = wellen::viewers::read_header(Cursor::new(bytes), &options).map_err(|e| e.to_string())?;
+            // The hierarchy's widths are what wellen sizes its signals by, the geometry's what
+            // fst-reader decodes by: they must agree (a hierarchy width of 54 for a 1-bit
+            // signal panics in wellen's signal/mod.rs), and stay within the width limit.
+            if let Some(layout) = layout {
+                check_fst_hierarchy(&header.hierarchy, layout)?;
+            }
+            let body = wellen::viewers::read_body(header.body, &header.hierarchy, None).map_err(|e| e.to_string())?;
             Ok((header.hierarchy, body.source, body.time_table))
         });
         let (h, mut source, time_table) = match read {
             Ok(Ok(w)) => w,
-            Ok(Err(e)) => return Err(parse_err(e.to_string())),
+            Ok(Err(e)) => return Err(parse_err(e)),
             Err(p) => return Err(panicked(p)),
         };
         let timescale = match h.timescale() {
@@ -400,7 +469,25 @@ impl Waveform {
         unique.dedup();
         let loaded = quietly(|| source.load_signals(&unique, &h, false)).map_err(panicked)?;
         let data = loaded.into_iter().map(|s| (s.signal_ref(), s)).collect();
-        Ok(Waveform { origin, data, time_table, signals, refs, timescale })
+        let w = Waveform { origin: origin.clone(), data, time_table, signals, refs, timescale };
+        if fst {
+            // Every value once, under the guard: wellen decodes values lazily, and a damaged
+            // FST that slipped through would otherwise panic later, in changes_at.
+            // A real that is not a number cannot equal itself: refused, as in a VCD.
+            let nan = quietly(|| {
+                for i in 0..w.refs.len() {
+                    if let Some((t, v)) = w.changes_at(i).into_iter().find(|(_, v)| matches!(v, Value::Real(r) if !r.is_finite())) {
+                        return Some(format!("real value {v} of {} at time {t} is not a finite number", w.signals[i].path));
+                    }
+                }
+                None
+            })
+            .map_err(panicked)?;
+            if let Some(message) = nan {
+                return Err(bad_fst(message));
+            }
+        }
+        Ok(w)
     }
 
     /// The file's `$timescale`, or `None` if it declares none.

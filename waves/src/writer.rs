@@ -766,6 +766,10 @@ impl VcdBuilder {
         self.window.0
     }
 
+    pub(crate) fn window_end(&self) -> u64 {
+        self.window.1
+    }
+
     pub(crate) fn version(&self) -> &str {
         &self.version
     }
