@@ -77,7 +77,7 @@ formal: deps $(VENV)/.formal
 formal-quick: deps $(VENV)/.formal
 	$(FORMAL) --bmc 20
 formal-mutants: deps $(VENV)/.formal
-	$(VPY) hdl/formal/run.py --mutants --sets small --bmc 40
+	$(VPY) hdl/formal/run.py --mutants --sets small --timeout 300
 
 ## Fuzz each target for FUZZ_SECONDS (libFuzzer via cargo-fuzz, nightly toolchain; installs
 ## cargo-fuzz when missing): one process, no sanitizer (safe Rust), debug assertions on, a token

@@ -112,20 +112,24 @@ module pmu50_formal #(
             f_t1 <= c_t1; f_t2 <= c_t2; f_cth <= c_cth; f_smp_on <= c_smp_on;
         end
 
-    // Timer (spec 2.2): restarts when sig changes and at the end of each period.
-    reg        f_sig_q;
-    reg [15:0] f_base;
-    wire [15:0] f_tmr    = (sig != f_sig_q) ? 16'd0 : f_base;
+    // Timer (spec 2.2): restarts when sig changes (the key pipeline's next sig) and at the end
+    // of each period.
+    wire f_sig_nxt;
+    generate
+        if (SYNC_DEPTH == 1) begin : g_nxt1
+            assign f_sig_nxt = ig;
+        end else begin : g_nxtn
+            assign f_sig_nxt = f_pipe[SYNC_DEPTH-2];
+        end
+    endgenerate
+    reg  [15:0] f_tmr;
     wire [16:0] f_tinc   = {1'b0, f_tmr} + 17'd1;
     wire [15:0] f_period = sig ? f_smp_on : si;
     wire [17:0] f_ps_start = {2'b00, f_pw} + {2'b00, f_pi};
     wire [17:0] f_wt       = f_ps_start + {2'b00, f_ps};
     always @(posedge clk)
-        if (!rst_n) begin f_sig_q <= 1'b0; f_base <= 16'd0; end
-        else begin
-            f_sig_q <= sig;
-            f_base  <= (f_tinc >= {1'b0, f_period}) ? 16'd0 : f_tinc[15:0];
-        end
+        if (!rst_n) f_tmr <= 16'd0;
+        else        f_tmr <= (f_sig_nxt != sig || f_tinc >= {1'b0, f_period}) ? 16'd0 : f_tinc[15:0];
 
     // "A sample has been taken since reset" (spec 2.4).
     reg f_vld;

@@ -165,7 +165,7 @@ write_aiger -I -B -zinit -map model.aim model.aig
     rc = run(["yosys", "-q", "model.ys"], d, "model.log")
     if rc != 0:
         return ("error", time.time() - t0, None, "yosys failed: %s/model.log" % d)
-    engine = "bmc3 -F %d" % bmc if bmc else "pdr"
+    engine = "bmc3 -F %d" % bmc if bmc else "scorr; pdr"
     abc = "read_aiger model.aig; fold; strash; %s; write_cex -a trace.aiw" % engine
     rc = run(["yosys-abc", "-c", abc], d, "abc.log", timeout=timeout)
     log = open(os.path.join(d, "abc.log")).read()
@@ -176,6 +176,11 @@ write_aiger -I -B -zinit -map model.aim model.aig
     if m:
         depth = int(m.group(1))
         note = replay(d, prop, depth)
+        if not bmc and "fails: " not in note:
+            # the witness of scorr + pdr did not replay: a witness of the model from bmc3
+            abc = "read_aiger model.aig; fold; strash; bmc3 -F %d; write_cex -a trace.aiw" % (depth + 1)
+            run(["yosys-abc", "-c", abc], d, "abc_cex.log", timeout=timeout)
+            note = replay(d, prop, depth)
         return ("refuted", time.time() - t0, depth, note)
     if bmc and re.search(r"No output asserted in \d+ frames", log):
         return ("bounded", secs, bmc, "no failure to depth %d" % bmc)
@@ -241,6 +246,9 @@ def replay(d, prop, depth):
     vcd = os.path.join(d, "cex.vcd")
     if rc is None or not os.path.exists(vcd):
         return "no VCD (replay failed: %s/replay.log)" % d
+    failed = re.findall(r"Assert failed in pmu50_formal: (\w+)", open(os.path.join(d, "replay.log")).read())
+    if not failed:
+        return "witness did not replay (%s/replay.log)" % d
     sigs, tend = read_vcd(vcd)
     clk = sigs.get("pmu50_formal.clk")
     # cycle k of the trace: the value at the k-th rising edge of clk (smtbmc: step k at time 10k)
@@ -281,7 +289,10 @@ def replay(d, prop, depth):
     for s in shown:
         if s in sigs and s not in seen:
             seen.add(s); order.append(s)
-    fail_t = depth * step
+    # yosys checks an assertion of an `always @(posedge clk)` block one step after the values
+    # it reads: a failure reported at step N is about the values of cycle N - 1
+    fail_cycle = max(depth - 1, 0)
+    fail_t = fail_cycle * step
     # marker A at the failing cycle (time units of the VCD: smtbmc steps are 10 apart)
     g = ["[dumpfile] \"%s\"" % os.path.abspath(vcd), "[timestart] 0",
          "[markername] A", "*-4.000000 %d -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1" % fail_t]
@@ -290,8 +301,8 @@ def replay(d, prop, depth):
         g.append("@%s" % ("28" if w == 1 else "22"))
         g.append(s if w == 1 else "%s[%d:0]" % (s, w - 1))
     open(os.path.join(d, "cex.gtkw"), "w").write("\n".join(g) + "\n")
-    return "cex: %s/cex.{vcd,gtkw,vec}, failing cycle %d; fails: %s" % (
-        os.path.relpath(d, ROOT), depth, " ".join(sorted(set(failed))))
+    return "cex: %s/cex.{vcd,gtkw,vec}, failing cycle %d (vector tick %d); fails: %s" % (
+        os.path.relpath(d, ROOT), fail_cycle, fail_cycle - 1, " ".join(sorted(set(failed))))
 
 
 # ------------------------------------------------------------------ main
@@ -396,8 +407,8 @@ def mutants(a, sets, names, files, incs, defs):
         line = line.strip()
         if line and not line.startswith("#"):
             muts.append(line.split("|")[0].strip())
-    depth = a.bmc or 40
-    print("%-32s %-28s %-7s %-6s %s" % ("mutant", "property", "set", "depth", "time"), flush=True)
+    depth = a.bmc
+    print("%-32s %-28s %-7s %-6s %s" % ("mutant", "property", "set", "cycle", "time"), flush=True)
 
     def one(m):
         t0 = time.time()
@@ -410,7 +421,7 @@ def mutants(a, sets, names, files, incs, defs):
                 if st == "error":
                     raise SetupError("mutant %s, %s: %s" % (m, prop, note))
                 if st == "refuted":
-                    return m, (prop, s, dep, time.time() - t0)
+                    return m, (prop, s, dep - 1, time.time() - t0)
         return m, None
 
     missed = 0
@@ -421,7 +432,8 @@ def mutants(a, sets, names, files, incs, defs):
                 print("%-32s %-28s %-7s %-6s" % (m, "NOT REFUTED", ",".join(sets), "-"), flush=True)
             else:
                 print("%-32s %-28s %-7s %-6d %.0f s" % (m, hit[0], hit[1], hit[2], hit[3]), flush=True)
-    print("formal-mutants: %d/%d mutants refuted (bounded to depth %d)" % (len(muts) - missed, len(muts), depth))
+    print("formal-mutants: %d/%d mutants refuted (%s)" % (len(muts) - missed, len(muts),
+          "bmc3 to depth %d" % depth if depth else "scorr + pdr, counterexamples replayed by yosys-smtbmc"))
     return 0 if missed == 0 else 1
 
 
