@@ -313,7 +313,7 @@ def main():
     ap.add_argument("--sets", default="default,small", help="parameter sets: " + ", ".join(SETS))
     ap.add_argument("--props", default="", help="comma-separated property names (default all)")
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--timeout", type=int, default=600, help="seconds per check")
+    ap.add_argument("--timeout", type=int, default=300, help="seconds per check")
     ap.add_argument("--bmc", type=int, default=0, help="bounded check to this depth (no proof)")
     ap.add_argument("--out", default=os.path.join(HDL, "build", "formal"))
     ap.add_argument("--mutants", action="store_true", help="mutation table of hdl/mutants.txt")
