@@ -133,6 +133,24 @@ def elaborate(setname, params, files, incs, defs, mutant, out):
     if rc != 0:
         raise SetupError("yosys could not read the design for set %s (rc %s): see %s"
                          % (setname, rc, os.path.join(d, "design.log")))
+    # gate-level netlist with every assertion, mapped once; each check only cuts its cone
+    aig = """read_rtlil design.il
+setundef -undriven -anyseq
+opt -full
+techmap
+opt -fast
+memory_map
+opt -full
+dffunmap
+abc -g AND -fast
+opt_clean
+write_rtlil design_aig.il
+"""
+    open(os.path.join(d, "design_aig.ys"), "w").write(aig)
+    rc = run(["yosys", "-q", "design_aig.ys"], d, "design_aig.log")
+    if rc != 0:
+        raise SetupError("yosys could not map the design for set %s (rc %s): see %s"
+                         % (setname, rc, os.path.join(d, "design_aig.log")))
     return d
 
 
@@ -146,21 +164,14 @@ def check(setdir, prop, timeout, bmc):
             if prop != "all" else "")
     ys = """read_rtlil ../design.il
 %s
-design -save base
 dffunmap
 write_smt2 -wires model.smt2
-design -load base
-setundef -undriven -anyseq
-opt -full
-techmap
-opt -fast
-memory_map
-opt -full
-dffunmap
-abc -g AND -fast
+design -reset
+read_rtlil ../design_aig.il
+%s
 opt_clean
 write_aiger -I -B -zinit -map model.aim model.aig
-""" % keep
+""" % (keep, keep)
     open(os.path.join(d, "model.ys"), "w").write(ys)
     rc = run(["yosys", "-q", "model.ys"], d, "model.log")
     if rc != 0:
