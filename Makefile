@@ -67,7 +67,7 @@ cosim: deps $(BIN)
 ## Formal property kit (hdl/formal, docs/hdl-guide.md): every property of pmu50_formal.sv proven
 ## unbounded (ABC PDR) on the twin, parameter sets default and small; one line per property.
 ## MUTANT=MUT_x runs it on a mutant, RTL=path/to/list.f on any RTL with the contract ports.
-## formal-quick: set small, bounded to 10 cycles (no proof; for make test); formal-mutants: the table.
+## formal-quick: the unbounded proof of set small only (for make test); formal-mutants: the table.
 FORMAL := $(VPY) hdl/formal/run.py $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
 $(VENV)/.formal: hdl/formal/requirements.txt $(VENV)/.ready
 	$(PIP) install -q -r hdl/formal/requirements.txt
@@ -75,7 +75,7 @@ $(VENV)/.formal: hdl/formal/requirements.txt $(VENV)/.ready
 formal: deps $(VENV)/.formal
 	$(FORMAL)
 formal-quick: deps $(VENV)/.formal
-	$(FORMAL) --sets small --bmc 10
+	$(FORMAL) --sets small
 formal-mutants: deps $(VENV)/.formal
 	$(VPY) hdl/formal/run.py --mutants --sets small --timeout 300
 
