@@ -154,7 +154,7 @@ write_rtlil design_aig.il
     return d
 
 
-def check(setdir, prop, timeout, bmc):
+def check(setdir, prop, timeout, bmc, remap=False):
     """One property on its own model. Returns (status, seconds, depth or None, note)."""
     t0 = time.time()
     d = os.path.join(setdir, prop)
@@ -172,6 +172,13 @@ read_rtlil ../design_aig.il
 opt_clean
 write_aiger -I -B -zinit -map model.aim model.aig
 """ % (keep, keep)
+    if remap:
+        # the cone mapped on its own: slower to build, but PDR finds the deep counterexamples
+        # of the mutants much sooner in it (measured: > 300 s against 85 s for MUT_CTH_OFF_BY_ONE)
+        ys = ys.replace("write_smt2 -wires model.smt2\ndesign -reset\nread_rtlil ../design_aig.il\n%s\nopt_clean\n" % keep,
+                        "write_smt2 -wires model.smt2\ndesign -reset\nread_rtlil ../design.il\n%s\n"
+                        "setundef -undriven -anyseq\nopt -full\ntechmap\nopt -fast\nmemory_map\nopt -full\n"
+                        "dffunmap\nabc -g AND -fast\nopt_clean\n" % keep)
     open(os.path.join(d, "model.ys"), "w").write(ys)
     rc = run(["yosys", "-q", "model.ys"], d, "model.log")
     if rc != 0:
@@ -428,7 +435,7 @@ def mutants(a, sets, names, files, incs, defs):
         for s in sets:
             d = elaborate(s, SETS[s], files, incs, defs, m, os.path.join(a.out, "mutants", m))
             for prop in order:
-                st, secs, dep, note = check(d, prop, a.timeout, depth)
+                st, secs, dep, note = check(d, prop, a.timeout, depth, remap=True)
                 if st == "error":
                     raise SetupError("mutant %s, %s: %s" % (m, prop, note))
                 if st == "refuted":
