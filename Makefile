@@ -17,7 +17,7 @@ VPY       := $(VENV)/bin/python
 PY_TARGET := target/python
 PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
 
-.PHONY: run test deps view golden bench cosim lint clean fuzz python pytest cocotb regress regress-smoke
+.PHONY: run test deps view golden bench cosim lint clean fuzz python pytest cocotb regress regress-smoke formal formal-quick formal-mutants
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -80,6 +80,21 @@ bench: deps
 ## HDL twin against the model: vectors (Icarus), lockstep (Verilator DPI-C), VCD diff, mutants.
 cosim: deps $(BIN)
 	bash hdl/cosim.sh
+
+## Formal property kit (hdl/formal, docs/hdl-guide.md): every property of pmu50_formal.sv proven
+## unbounded (ABC PDR) on the twin, parameter sets default and small; one line per property.
+## MUTANT=MUT_x runs it on a mutant, RTL=path/to/list.f on any RTL with the contract ports.
+## formal-quick: the unbounded proof of set small only (for make test); formal-mutants: the table.
+FORMAL := $(VPY) hdl/formal/run.py $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
+$(VENV)/.formal: hdl/formal/requirements.txt $(VENV)/.ready
+	$(PIP) install -q -r hdl/formal/requirements.txt
+	@touch $@
+formal: deps $(VENV)/.formal
+	$(FORMAL)
+formal-quick: deps $(VENV)/.formal
+	$(FORMAL) --sets small
+formal-mutants: deps $(VENV)/.formal
+	$(VPY) hdl/formal/run.py --mutants --sets small --timeout 300
 
 ## Fuzz each target for FUZZ_SECONDS (libFuzzer via cargo-fuzz, nightly toolchain; installs
 ## cargo-fuzz when missing): one process, no sanitizer (safe Rust), debug assertions on, a token
