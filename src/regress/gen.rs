@@ -197,6 +197,13 @@ impl Bias {
         Bias { percent: KNOBS.to_vec(), targets: Vec::new(), pins: Pins::default() }
     }
 
+    /// Directed, from the coverage so far (hits in the model's order): every bin still empty
+    /// that can be hit and that scenario stimuli reach.
+    pub fn directed(hits: &[u64], pins: Pins) -> Bias {
+        let l = pmu50_coverage::layout();
+        Bias::from_missing(l.bins.iter().zip(hits).filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only).map(|(b, _)| b.name.as_str())).pinned(pins)
+    }
+
     /// The same bias with these structural parameters held.
     pub fn pinned(self, pins: Pins) -> Bias {
         Bias { pins, ..self }

@@ -508,8 +508,7 @@ pub fn run(o: &Options, resume: bool, stop: &AtomicBool) -> Result<Summary, Regr
             for r in done.iter().filter(|r| r.seed < lo) {
                 r.hits(&mut before).map_err(RegressError::Usage)?;
             }
-            let l = layout();
-            let bias = Bias::from_missing(l.bins.iter().zip(&before).filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only).map(|(b, _)| b.name.as_str())).pinned(o.spec.pins);
+            let bias = Bias::directed(&before, o.spec.pins);
             let todo: Vec<u64> = (lo..hi).filter(|s| !have.contains(s)).collect();
             let out = run_pool(&o.spec, &todo, &bias, dut.as_ref(), o.jobs, o.timeout, stop, |_| Ok(()))?;
             write(out, &mut done, &mut total)?;

@@ -42,8 +42,7 @@ pub fn bias_for(spec: &RunSpec, seed: u64, results: &[SeedResult]) -> Bias {
     for r in results.iter().filter(|r| r.seed < lo) {
         let _ = r.hits(&mut before);
     }
-    let l = layout();
-    Bias::from_missing(l.bins.iter().zip(&before).filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only).map(|(b, _)| b.name.as_str())).pinned(spec.pins)
+    Bias::directed(&before, spec.pins)
 }
 
 /// Shrink a failing stimulus; returns the smallest one found that fails with `sig`, its
