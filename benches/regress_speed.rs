@@ -6,8 +6,9 @@
 //! - the kernel alone (`Pmu50::step`) replaying the inputs the bench applied;
 //! - the bench stepping every tick (environment, MPU, core) with an observer that does nothing;
 //! - the same bench with a seed's observer: coverage sampled at every edge and the invariants
-//!   (what `pmu50 regress` runs), and the cost of that observer against the bench;
-//! then `pmu50 regress` on every core: seeds per second, wall time.
+//!   (what `pmu50 regress` runs), and the cost of that observer against the bench.
+//!
+//! Then `pmu50 regress` on every core: seeds per second, wall time.
 //!
 //!   cargo bench --bench regress_speed [-- --seeds N --rounds R --regress-seeds M]
 

@@ -219,7 +219,7 @@ pub fn run_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, 
     let stim = Stimulus::generate(seed, bias);
     let (verdict, failure, ticks, evaluated, readouts_checked, hits) = match evaluate(spec, &stim, dut, timeout) {
         Ok(e) => e,
-        Err(f) => ("error", Some(f), 0, 0, 0, vec![0; layout().bins.len()]),
+        Err(f) => ("error", Some(*f), 0, 0, 0, vec![0; layout().bins.len()]),
     };
     let r = SeedResult {
         seed,
@@ -237,12 +237,12 @@ pub fn run_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, 
 
 type Evaluated = (&'static str, Option<Failure>, u64, u64, u64, Vec<u64>);
 
-fn error_failure(tick: u64, detail: String) -> Failure {
-    Failure { kind: "error".into(), tick, signal: "-".into(), expected: "-".into(), got: "-".into(), block: "-".into(), fig: "-".into(), detail }
+fn error_failure(tick: u64, detail: String) -> Box<Failure> {
+    Box::new(Failure { kind: "error".into(), tick, signal: "-".into(), expected: "-".into(), got: "-".into(), block: "-".into(), fig: "-".into(), detail })
 }
 
 /// The verdict of one stimulus: the model's checks, then the DUT.
-pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout: Duration) -> Result<Evaluated, Failure> {
+pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout: Duration) -> Result<Evaluated, Box<Failure>> {
     let name = format!("regress_{}", stim.seed);
     let text = stim.to_toml(&name);
     let path = PathBuf::from(format!("{name}.toml"));
@@ -277,7 +277,7 @@ pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout
             match d.check_vectors(&sc, v, timeout) {
                 Ok(None) => {}
                 Ok(Some(f)) => failure = Some(f),
-                Err(e) => return Ok(("error", Some(error_failure(0, e)), res.ticks, res.evaluated_ticks, checks.readouts_checked, hits)),
+                Err(e) => return Ok(("error", Some(*error_failure(0, e)), res.ticks, res.evaluated_ticks, checks.readouts_checked, hits)),
             }
         }
     }

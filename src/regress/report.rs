@@ -51,8 +51,11 @@ pub fn closure_curve(s: &Summary) -> Vec<(usize, f64)> {
     out
 }
 
-/// An SVG of closure curves (label, points), seeds on a log axis.
-pub fn curve_svg(curves: &[(&str, &str, Vec<(usize, f64)>)], title: &str) -> String {
+/// A closure curve: label, colour, (seeds, % of the bins scenario stimuli reach).
+pub type Curve<'a> = (&'a str, &'a str, Vec<(usize, f64)>);
+
+/// An SVG of closure curves, seeds on a log axis.
+pub fn curve_svg(curves: &[Curve<'_>], title: &str) -> String {
     let (w, h, ml, mr, mt, mb) = (720.0, 360.0, 60.0, 20.0, 36.0, 48.0);
     let maxn = curves.iter().flat_map(|c| c.2.last().map(|p| p.0)).max().unwrap_or(1).max(10) as f64;
     let lo = curves.iter().flat_map(|c| c.2.first().map(|p| p.1)).fold(100.0f64, f64::min).min(90.0);
@@ -108,7 +111,7 @@ pub fn closure_cli(dirs: &[std::path::PathBuf], out: &std::path::Path) -> Result
         }
         curves.push((label, COLOURS[k % COLOURS.len()], c));
     }
-    let refs: Vec<(&str, &str, Vec<(usize, f64)>)> = curves.iter().map(|(l, c, v)| (l.as_str(), *c, v.clone())).collect();
+    let refs: Vec<Curve<'_>> = curves.iter().map(|(l, c, v)| (l.as_str(), *c, v.clone())).collect();
     let svg = curve_svg(&refs, "coverage closure: bins hit against seeds");
     let mut b = crate::fsout::Batch::new();
     b.add(crate::fsout::write_atomic(out, svg.as_bytes())?);
@@ -136,11 +139,11 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
         spec.start_seed + spec.iterations.saturating_sub(1)
     );
     let pass = s.results.iter().filter(|r| r.verdict == "pass").count();
-    let _ = write!(
+    let _ = writeln!(
         h,
         "<table><tr><th>seeds</th><td>{} of {} (from {}){}</td></tr><tr><th>generator</th><td>{}</td></tr><tr><th>DUT</th><td>{}{}</td></tr>\
 <tr><th>verdicts</th><td><span class=\"ok\">{pass} pass</span>, <span class=\"bad\">{} fail, {} error</span></td></tr>\
-<tr><th>coverage</th><td>{hit} of {reachable} reachable bins ({:.1} %); {shit} of the {sreach} that scenario stimuli reach ({:.1} %); {} bins declared unreachable</td></tr></table>\n",
+<tr><th>coverage</th><td>{hit} of {reachable} reachable bins ({:.1} %); {shit} of the {sreach} that scenario stimuli reach ({:.1} %); {} bins declared unreachable</td></tr></table>",
         s.results.len(),
         spec.iterations,
         spec.start_seed,
@@ -157,7 +160,7 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
 
     // Failures.
     let groups = triage::groups(&s.results);
-    let _ = write!(h, "<h2>Failures by signature</h2>\n");
+    let _ = writeln!(h, "<h2>Failures by signature</h2>");
     if groups.is_empty() {
         h.push_str("<p class=\"ok\">No failure.</p>\n");
     } else {
@@ -165,9 +168,9 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
         for (sig, seeds) in &groups {
             let f = s.results.iter().find(|r| r.seed == seeds[0]).and_then(|r| r.failure.as_ref());
             let what = f.map(|f| format!("tick {}: {} expected {} got {} — {}", f.tick, esc(&f.signal), esc(&f.expected), esc(&f.got), esc(&f.detail))).unwrap_or_default();
-            let _ = write!(
+            let _ = writeln!(
                 h,
-                "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{what}</td><td><a href=\"failures/{0}/failure.txt\">failure</a> <a href=\"failures/{0}/repro.toml\">repro.toml</a> <a href=\"failures/{0}/repro.gtkw\">repro.gtkw</a></td></tr>\n",
+                "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{what}</td><td><a href=\"failures/{0}/failure.txt\">failure</a> <a href=\"failures/{0}/repro.toml\">repro.toml</a> <a href=\"failures/{0}/repro.gtkw\">repro.gtkw</a></td></tr>",
                 esc(sig),
                 seeds.len(),
                 seeds[0]
@@ -188,13 +191,13 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
 
     // Never hit.
     let never: Vec<&pmu50_coverage::BinInfo> = l.bins.iter().zip(&c.bins).filter(|(b, r)| r.hits == 0 && b.unreachable.is_none()).map(|(b, _)| b).collect();
-    let _ = write!(h, "<h2>Never hit ({})</h2>\n", never.len());
+    let _ = writeln!(h, "<h2>Never hit ({})</h2>", never.len());
     if never.is_empty() {
         h.push_str("<p class=\"ok\">Every reachable bin was hit.</p>\n");
     } else {
         h.push_str("<table><tr><th>bin</th><th>cites</th><th>meaning</th></tr>\n");
         for b in &never {
-            let _ = write!(h, "<tr><td><code>{}</code>{}</td><td>{}</td><td>{}</td></tr>\n", esc(&b.name), if b.port_only { " (port-level stimuli)" } else { "" }, esc(b.cite), esc(&b.meaning));
+            let _ = writeln!(h, "<tr><td><code>{}</code>{}</td><td>{}</td><td>{}</td></tr>", esc(&b.name), if b.port_only { " (port-level stimuli)" } else { "" }, esc(b.cite), esc(&b.meaning));
         }
         h.push_str("</table>\n");
     }
@@ -205,7 +208,7 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
     for (pi, p) in POINTS.iter().enumerate() {
         if p.group != group {
             group = p.group;
-            let _ = write!(h, "<h3>{}</h3>\n", esc(group));
+            let _ = writeln!(h, "<h3>{}</h3>", esc(group));
         }
         let off = l.point_offset[pi];
         let _ = write!(h, "<p><b>{}.{}</b> — {} <i>({})</i><br>", esc(p.group), esc(p.name), esc(p.meaning), esc(p.cite));
@@ -241,6 +244,6 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
         }
         h.push_str("</table>\n");
     }
-    let _ = write!(h, "<p>Coverage model <code>{}</code>; {} bins. Generated by pmu50 {}.</p>\n</body></html>\n", esc(&c.model), l.bins.len(), env!("CARGO_PKG_VERSION"));
+    let _ = writeln!(h, "<p>Coverage model <code>{}</code>; {} bins. Generated by pmu50 {}.</p>\n</body></html>", esc(&c.model), l.bins.len(), env!("CARGO_PKG_VERSION"));
     h
 }
