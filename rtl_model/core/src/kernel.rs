@@ -184,15 +184,6 @@ impl std::fmt::Debug for Shadow {
     }
 }
 
-/// A cache of the registers compares equal whatever it holds: two cores are equal when their
-/// registers are.
-impl PartialEq for Shadow {
-    fn eq(&self, _: &Shadow) -> bool {
-        true
-    }
-}
-impl Eq for Shadow {}
-
 /// Count diagnosis 58e/[0119] of the counters: |cnt_s - cnt_c| >= 2 in the counters' two's
 /// complement, i.e. (d + 1) mod 2^W > 2, or a quadrant skip.
 #[inline(always)]

@@ -474,8 +474,10 @@ pub enum FastForwardError {
     NotQuiet { asked: u64, quiet: u64 },
 }
 
-/// The core: registers plus the structural parameters, with the lockstep API.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// The core: registers plus the structural parameters, with the lockstep API. Two cores are
+/// equal when their parameters, registers and tick are: the kernel's constants and read cache
+/// are derived from those and are not compared.
+#[derive(Clone, Debug)]
 pub struct Pmu50 {
     s: Structural,
     params: Params,
@@ -483,9 +485,16 @@ pub struct Pmu50 {
     tick: u64,
     /// Structural parameters pre-decoded for the fast kernel.
     k: crate::kernel::Consts,
-    /// The fast kernel's read-side cache of `regs` (compares equal whatever it holds).
+    /// The fast kernel's read-side cache of `regs`.
     sh: crate::kernel::Shadow,
 }
+
+impl PartialEq for Pmu50 {
+    fn eq(&self, o: &Pmu50) -> bool {
+        (self.s, self.params, self.regs, self.tick) == (o.s, o.params, o.regs, o.tick)
+    }
+}
+impl Eq for Pmu50 {}
 
 impl Pmu50 {
     /// A core at power-on reset with these parameters (which must be legal).
