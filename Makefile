@@ -9,15 +9,19 @@ SCENARIO  ?= fig15a
 # Debian packages the tests use, as "command:package".
 TOOLS := vcd2lxt2:gtkwave xvfb-run:xvfb xauth:xauth iverilog:iverilog verilator:verilator yosys:yosys chromium:chromium
 
-# Python: a project-local virtual environment (nothing is installed outside the project folder);
-# the extension's cargo target folder is its own, so the workspace builds are not disturbed.
+# Python: a project-local virtual environment (nothing is installed outside the project folder).
+# The extension builds in the workspace's target folder with the release profile, so it reuses
+# the model crates and dependencies `cargo build --release` compiled (python/Cargo.lock pins the
+# same versions as Cargo.lock; a differing version recompiles what depends on it). Its wheel goes
+# to target/python/wheels.
 PYTHON3   ?= python3
 VENV      := target/venv
 VPY       := $(VENV)/bin/python
-PY_TARGET := target/python
+PY_TARGET := target
+PY_WHEELS := target/python/wheels
 PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
 
-.PHONY: run test deps view golden bench cosim lint clean fuzz python pytest cocotb regress regress-smoke
+.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb regress regress-smoke
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -114,9 +118,9 @@ $(VENV)/.ready: python/requirements-dev.txt
 
 ## The Python package pmu50 (python/, PyO3 + maturin), installed into target/venv (docs/python.md).
 python: $(VENV)/.ready
-	rm -rf $(PY_TARGET)/wheels
-	$(VENV)/bin/maturin build --release -i $(VPY) -m python/Cargo.toml --target-dir $(PY_TARGET) --out $(PY_TARGET)/wheels
-	$(PIP) install -q --force-reinstall --no-deps $(PY_TARGET)/wheels/pmu50-*.whl
+	rm -rf $(PY_WHEELS)
+	$(VENV)/bin/maturin build --release -i $(VPY) -m python/Cargo.toml --target-dir $(PY_TARGET) --out $(PY_WHEELS)
+	$(PIP) install -q --force-reinstall --no-deps $(PY_WHEELS)/pmu50-*.whl
 	@echo "pmu50 is installed in $(VENV); use it with:  . $(VENV)/bin/activate   (or $(VPY) directly)"
 
 ## Tests of the Python package (python/tests): Core against the shipped vector files, Scenario against the CLI.
