@@ -40,13 +40,28 @@ FORCE:
 run: $(BIN)
 	$(BIN) run $(SCENARIOS) --out-dir vcd_out --log --svg
 
-## Everything: unit, property, golden and system tests of all crates, HDL co-simulation, then the
-## Python package's tests and the cocotb testbench (in target/venv).
+## Everything, sized for a fresh 2-core machine: unit, property, golden and system tests of all
+## crates, HDL co-simulation with every mutant, the regress smoke test, then the Python package's
+## tests and the cocotb testbench (in target/venv). The stochastic parts run smaller than in
+## `make test-long`: 40 random cosim scenarios instead of 200 (every mutant is still caught by
+## every method: the catching scenarios are directed, stress or random seeds 3, 25 and 31), and
+## cocotb's replays of the shipped scenarios' vector files cut to their first 20 000 ticks (the
+## whole files run in cosim's three methods; cocotb's mutants are caught by its random seeds).
 test: deps
 	$(CARGO) test --workspace
-	$(MAKE) cosim
+	$(MAKE) cosim COSIM_RANDOM=$(TEST_COSIM_RANDOM)
 	$(MAKE) regress-smoke
-	$(MAKE) pytest cocotb
+	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=$(TEST_COCOTB_MAX_TICKS)
+
+TEST_COSIM_RANDOM     ?= 40
+TEST_COCOTB_MAX_TICKS ?= 20000
+
+## The same suites at full size: 200 random cosim scenarios, whole vector files in cocotb.
+test-long: deps
+	$(CARGO) test --workspace
+	$(MAKE) cosim COSIM_RANDOM=200
+	$(MAKE) regress-smoke
+	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
 
 ## Random regression with functional coverage (docs/verification.md): SEEDS directed seeds of
 ## the Verilog twin on Verilator in lockstep with the model, into regress_out/twin/
@@ -82,8 +97,9 @@ bench: deps
 	bash benches/compare.sh
 
 ## HDL twin against the model: vectors (Icarus), lockstep (Verilator DPI-C), VCD diff, mutants.
+COSIM_RANDOM ?= 200
 cosim: deps $(BIN)
-	bash hdl/cosim.sh
+	bash hdl/cosim.sh --random $(COSIM_RANDOM)
 
 ## Fuzz each target for FUZZ_SECONDS (libFuzzer via cargo-fuzz, nightly toolchain; installs
 ## cargo-fuzz when missing): one process, no sanitizer (safe Rust), debug assertions on, a token
@@ -128,8 +144,9 @@ pytest: python $(BIN)
 	$(VPY) -m pytest python/tests -q
 
 ## cocotb testbench (hdl/cocotb): the Verilog twin on Icarus against pmu50.Core; vectors, random seeds, mutants.
+COCOTB_MAX_TICKS ?= 0
 cocotb: deps python $(BIN)
-	$(VPY) -m pytest hdl/cocotb -q
+	PMU50_COCOTB_MAX_TICKS=$(COCOTB_MAX_TICKS) $(VPY) -m pytest hdl/cocotb -q
 
 clean:
 	$(CARGO) clean
