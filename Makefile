@@ -9,15 +9,19 @@ SCENARIO  ?= fig15a
 # Debian packages the tests use, as "command:package".
 TOOLS := vcd2lxt2:gtkwave xvfb-run:xvfb xauth:xauth iverilog:iverilog verilator:verilator yosys:yosys chromium:chromium
 
-# Python: a project-local virtual environment (nothing is installed outside the project folder);
-# the extension's cargo target folder is its own, so the workspace builds are not disturbed.
+# Python: a project-local virtual environment (nothing is installed outside the project folder).
+# The extension builds in the workspace's target folder with the release profile, so it reuses
+# the model crates and dependencies `cargo build --release` compiled (python/Cargo.lock pins the
+# same versions as Cargo.lock; a differing version recompiles what depends on it). Its wheel goes
+# to target/python/wheels.
 PYTHON3   ?= python3
 VENV      := target/venv
 VPY       := $(VENV)/bin/python
-PY_TARGET := target/python
+PY_TARGET := target
+PY_WHEELS := target/python/wheels
 PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
 
-.PHONY: run test deps view golden bench cosim lint clean fuzz python pytest cocotb regress regress-smoke formal formal-quick formal-mutants
+.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb regress regress-smoke formal formal-quick formal-mutants regress-slurm test-slurm
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -36,13 +40,32 @@ FORCE:
 run: $(BIN)
 	$(BIN) run $(SCENARIOS) --out-dir vcd_out --log --svg
 
-## Everything: unit, property, golden and system tests of all crates, HDL co-simulation, then the
-## Python package's tests and the cocotb testbench (in target/venv).
+## Everything, sized for a fresh 2-core machine: unit, property, golden and system tests of all
+## crates, HDL co-simulation with every mutant, the regress smoke test, then the Python package's
+## tests and the cocotb testbench (in target/venv), the Slurm path on a local cluster, and the
+## formal kit's unbounded proof on the small parameter set. The stochastic parts run smaller than in
+## `make test-long`: 40 random cosim scenarios instead of 200 (every mutant is still caught by
+## every method: the catching scenarios are directed, stress or random seeds 3, 25 and 31), and
+## cocotb's replays of the shipped scenarios' vector files cut to their first 20 000 ticks (the
+## whole files run in cosim's three methods; cocotb's mutants are caught by its random seeds).
 test: deps
 	$(CARGO) test --workspace
-	$(MAKE) cosim
-	$(MAKE) regress-smoke
-	$(MAKE) pytest cocotb
+	$(MAKE) cosim COSIM_RANDOM=$(TEST_COSIM_RANDOM)
+	$(MAKE) regress-smoke test-slurm
+	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=$(TEST_COCOTB_MAX_TICKS)
+	$(MAKE) formal-quick
+
+TEST_COSIM_RANDOM     ?= 40
+TEST_COCOTB_MAX_TICKS ?= 20000
+
+## The same suites at full size: a parked day instead of half, 200 random cosim scenarios, whole
+## vector files in cocotb, the formal proof on both parameter sets and every mutant refuted.
+test-long: deps
+	PMU50_TEST_LONG=1 $(CARGO) test --workspace
+	$(MAKE) cosim COSIM_RANDOM=200
+	$(MAKE) regress-smoke test-slurm
+	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
+	$(MAKE) formal formal-mutants
 
 ## Random regression with functional coverage (docs/verification.md): SEEDS directed seeds of
 ## the Verilog twin on Verilator in lockstep with the model, into regress_out/twin/
@@ -78,8 +101,9 @@ bench: deps
 	bash benches/compare.sh
 
 ## HDL twin against the model: vectors (Icarus), lockstep (Verilator DPI-C), VCD diff, mutants.
+COSIM_RANDOM ?= 200
 cosim: deps $(BIN)
-	bash hdl/cosim.sh
+	bash hdl/cosim.sh --random $(COSIM_RANDOM)
 
 ## Formal property kit (hdl/formal, docs/hdl-guide.md): every property of pmu50_formal.sv proven
 ## unbounded (ABC PDR) on the twin, parameter sets default and small; one line per property.
@@ -129,9 +153,9 @@ $(VENV)/.ready: python/requirements-dev.txt
 
 ## The Python package pmu50 (python/, PyO3 + maturin), installed into target/venv (docs/python.md).
 python: $(VENV)/.ready
-	rm -rf $(PY_TARGET)/wheels
-	$(VENV)/bin/maturin build --release -i $(VPY) -m python/Cargo.toml --target-dir $(PY_TARGET) --out $(PY_TARGET)/wheels
-	$(PIP) install -q --force-reinstall --no-deps $(PY_TARGET)/wheels/pmu50-*.whl
+	rm -rf $(PY_WHEELS)
+	$(VENV)/bin/maturin build --release -i $(VPY) -m python/Cargo.toml --target-dir $(PY_TARGET) --out $(PY_WHEELS)
+	$(PIP) install -q --force-reinstall --no-deps $(PY_WHEELS)/pmu50-*.whl
 	@echo "pmu50 is installed in $(VENV); use it with:  . $(VENV)/bin/activate   (or $(VPY) directly)"
 
 ## Tests of the Python package (python/tests): Core against the shipped vector files, Scenario against the CLI.
@@ -139,8 +163,9 @@ pytest: python $(BIN)
 	$(VPY) -m pytest python/tests -q
 
 ## cocotb testbench (hdl/cocotb): the Verilog twin on Icarus against pmu50.Core; vectors, random seeds, mutants.
+COCOTB_MAX_TICKS ?= 0
 cocotb: deps python $(BIN)
-	$(VPY) -m pytest hdl/cocotb -q
+	PMU50_COCOTB_MAX_TICKS=$(COCOTB_MAX_TICKS) $(VPY) -m pytest hdl/cocotb -q
 
 clean:
 	$(CARGO) clean
