@@ -5,7 +5,8 @@
 #      --rtl: the regression fails (exit 1), the failure is shrunk into failures/<signature>/,
 #      its command reproduces it, its save file marks the first divergence, and GTKWave-ready
 #      files are valid (pmu50 diff reads them);
-#   3. the report renders in headless Chromium (the DOM has the coverage, the failure and the
+#   3. on Icarus the twin passes, and an RTL that hangs fails each seed at the time limit;
+#   4. the report renders in headless Chromium (the DOM has the coverage, the failure and the
 #      curve; a screenshot is written to hdl/build/regress_smoke/report.png).
 # Exit 0 when all hold, 1 otherwise, 2 on a setup failure.
 set -uo pipefail
@@ -48,7 +49,21 @@ for d in "$W"/mut_run/failures/*/; do
     echo "shrunk repro: $(grep -c '^\[\[events\]\]' "$d/repro.toml") events, ${ticks} us"
 done
 
-# 3. the report in a browser
+# 3. Icarus: the twin passes; an RTL that hangs fails its seeds at the time limit, and the
+#    regression goes on and ends (nothing of the hung simulator is left running)
+"$PMU50" regress --start-seed 3 --iterations 2 --dut icarus --out "$W/iv" > "$W/iv.log" 2>&1 \
+    || { cat "$W/iv.log"; fail "the twin on Icarus does not pass"; }
+mkdir -p "$W/hang/rtl"
+cp "$HDL"/rtl/*.v "$W/hang/rtl/"; cp "$HDL/pmu50.f" "$W/hang/"
+sed 's|^endmodule|    always @(posedge clk) if (ig) while (1) begin end  // planted hang\nendmodule|' "$HDL/pmu50.v" > "$W/hang/pmu50.v"
+"$PMU50" regress --start-seed 3 --iterations 2 --dut icarus --rtl "$W/hang/pmu50.f" --timeout 5 --no-triage --out "$W/hang_run" > "$W/hang.log" 2>&1
+rc=$?
+[ $rc -eq 1 ] || { cat "$W/hang.log"; fail "a hanging RTL: exit $rc, expected 1"; }
+[ "$(grep -c 'did not finish within the per-seed time limit of 5 s' "$W/hang_run/results.jsonl")" -eq 2 ] || fail "the hung seeds do not say why"
+pgrep -f "$W/hang" > /dev/null && fail "the hung simulator is still running"
+echo "icarus: the twin passes; a hanging RTL fails both seeds at the 5 s limit"
+
+# 4. the report in a browser
 if command -v chromium > /dev/null; then
     timeout 120 chromium --headless --no-sandbox --disable-gpu --dump-dom "file://$W/mut_run/report.html" > "$W/dom.html" 2> /dev/null
     grep -q 'Failures by signature' "$W/dom.html" && grep -q '<svg' "$W/dom.html" && grep -q 'cross.fig17_x_fig18' "$W/dom.html" \

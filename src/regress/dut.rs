@@ -192,9 +192,13 @@ enum Limited {
     Killed(i32),
 }
 
-/// Run a command with a time limit, its stdout and stderr collected.
+/// Run a command with a time limit, its stdout and stderr collected. The command runs in a
+/// process group of its own, so that a hang is ended with everything it started (a simulator
+/// under a script).
 fn run_limited(cmd: &mut Command, timeout: Duration) -> Result<Limited, String> {
-    let mut child = cmd.stdout(Stdio::piped()).stderr(Stdio::piped()).stdin(Stdio::null()).spawn().map_err(|e| format!("cannot start the DUT: {e}"))?;
+    use std::os::unix::process::CommandExt;
+    let mut child = cmd.stdout(Stdio::piped()).stderr(Stdio::piped()).stdin(Stdio::null()).process_group(0).spawn().map_err(|e| format!("cannot start the DUT: {e}"))?;
+    let group = child.id() as libc::pid_t;
     let mut out = child.stdout.take();
     let mut err = child.stderr.take();
     let reader = std::thread::spawn(move || {
@@ -212,7 +216,8 @@ fn run_limited(cmd: &mut Command, timeout: Duration) -> Result<Limited, String> 
         match child.try_wait() {
             Ok(Some(s)) => break s,
             Ok(None) if start.elapsed() > timeout => {
-                let _ = child.kill();
+                // SAFETY: kill(2) with the negated id of the group the child leads.
+                unsafe { libc::kill(-group, libc::SIGKILL) };
                 let _ = child.wait();
                 let _ = reader.join();
                 return Ok(Limited::TimedOut);
