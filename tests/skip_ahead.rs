@@ -504,3 +504,33 @@ ig = false
     let skipped = same_waves(&short, WaveFormat::Vcd, None).unwrap_or_else(|e| panic!("{e}"));
     assert!(skipped > 10_000, "skipped {skipped}");
 }
+
+/// A key-on stretch with the Vs2 rail dead: the powered-off sensor is in one state from the
+/// start, so key-on periods (here 18 ticks: smp_on = 2 ticks) repeat at once, but the MPU's read-out (due a fixed time after the
+/// key edge) must not be skipped over.
+#[test]
+fn a_key_on_period_skip_never_jumps_over_the_read_out() {
+    let text = r#"
+duration = "1.5 s"
+[core]
+smp_on = "20 us"
+[motor]
+start_deg = 10.0
+segments = [ { kind = "hold", duration = "1 ms" } ]
+[[events]]
+at = "0 ms"
+ig = false
+[[events]]
+at = "400 ms"
+vs2_fault = true
+[[events]]
+at = "1000 ms"
+ig = true
+"#;
+    let sc = parse(text, "key_on_dead_rail");
+    let every = run_with(&sc, Stepping::EveryTick, &mut []).unwrap();
+    let skip = run_with(&sc, Stepping::Periods, &mut []).unwrap();
+    assert_eq!(every.keyons.len(), 1);
+    assert_same(&sc, &every, &skip, true);
+    assert!(skip.skipped_ticks > 40_000, "skipped {}", skip.skipped_ticks);
+}

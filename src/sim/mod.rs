@@ -440,7 +440,9 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
         // once the sensor has settled and the MPU's tracking holds still).
         if let Some(ps) = periods.as_mut() {
             let tmr0 = core.regs().timing_generator.tmr == 0;
-            let boundary = if out.sig { tmr0 && k.is_multiple_of(mpu::POLL_CYCLE) } else { tmr0 && front.quiet_while_off() };
+            // (A pending MPU boot is due at a tick of its own, so no key-on period repeats
+            // before the read-out.)
+            let boundary = if out.sig { tmr0 && k.is_multiple_of(mpu::POLL_CYCLE) && mpu.idle() } else { tmr0 && front.quiet_while_off() };
             if boundary {
                 let at = At {
                     k,
