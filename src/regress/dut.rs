@@ -124,26 +124,23 @@ impl Dut {
         r
     }
 
-    /// A scratch path for the vector file of `sc` (one per thread).
-    pub fn vector_path(&self, sc: &Scenario) -> PathBuf {
-        self.scratch.path().join(format!("{}.{:?}.vec", sc.name, std::thread::current().id()).replace(['(', ')', ' '], ""))
+    /// A scratch vector file for `sc`, removed when dropped.
+    pub fn vector_file(&self, sc: &Scenario) -> Result<tempfile::NamedTempFile, String> {
+        tempfile::Builder::new().prefix(&format!("{}.", sc.name)).suffix(".vec").tempfile_in(self.scratch.path()).map_err(|e| format!("a scratch vector file in {}: {e}", self.scratch.path().display()))
     }
 
     /// Run the DUT on a scenario's stimulus: `Ok(None)` equal, `Ok(Some)` the first divergence
     /// (or a hang or crash), `Err` a setup failure (the seed's verdict is then `error`).
     pub fn check(&self, sc: &Scenario, timeout: Duration) -> Result<Option<Failure>, String> {
-        let vec = self.vector_path(sc);
-        {
-            let f = std::fs::File::create(&vec).map_err(|e| format!("{}: {e}", vec.display()))?;
-            let mut w = VectorWriter::new(std::io::BufWriter::new(f), sc).map_err(|e| e.to_string())?;
-            sim::run(sc, SimOptions::default(), &mut [&mut w]).map_err(|e| e.to_string())?;
-            use std::io::Write;
-            w.into_inner().flush().map_err(|e| format!("{}: {e}", vec.display()))?;
-        }
-        self.check_vectors(sc, &vec, timeout)
+        let vec = self.vector_file(sc)?;
+        let mut w = VectorWriter::new(std::io::BufWriter::new(vec.as_file()), sc).map_err(|e| e.to_string())?;
+        sim::run(sc, SimOptions::default(), &mut [&mut w]).map_err(|e| e.to_string())?;
+        use std::io::Write;
+        w.into_inner().flush().map_err(|e| format!("{}: {e}", vec.path().display()))?;
+        self.check_vectors(sc, vec.path(), timeout)
     }
 
-    /// [`Dut::check`] on a vector file of `sc` already written (it is removed).
+    /// [`Dut::check`] on a vector file of `sc` already written.
     pub fn check_vectors(&self, sc: &Scenario, vec: &Path, timeout: Duration) -> Result<Option<Failure>, String> {
         let mut cmd = match self.kind {
             DutKind::Verilator => {
@@ -159,7 +156,6 @@ impl Dut {
             }
         };
         let res = run_limited(&mut cmd, timeout);
-        let _ = std::fs::remove_file(vec);
         let (code, text) = match res? {
             Limited::Done(code, text) => (code, text),
             Limited::TimedOut => return Ok(Some(dut_failure(sc, None, "dut", format!("the DUT did not finish within the per-seed time limit of {} s", timeout.as_secs_f64())))),

@@ -248,12 +248,12 @@ pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout
     let path = PathBuf::from(format!("{name}.toml"));
     let sc = Scenario::parse(&text, &path.display().to_string(), &name, &path).map_err(|e| error_failure(0, format!("the generator made a scenario the parser refuses: {e}")))?;
     // One run of the model gives the checks, the coverage and, for an RTL DUT, its vectors.
-    let vec = dut.map(|d| d.vector_path(&sc));
+    let vec = match dut {
+        Some(d) => Some(d.vector_file(&sc).map_err(|e| error_failure(0, e))?),
+        None => None,
+    };
     let mut writer = match &vec {
-        Some(p) => {
-            let f = std::fs::File::create(p).map_err(|e| error_failure(0, format!("{}: {e}", p.display())))?;
-            Some(crate::vectors::VectorWriter::new(std::io::BufWriter::new(f), &sc).map_err(|e| error_failure(0, e.to_string()))?)
-        }
+        Some(f) => Some(crate::vectors::VectorWriter::new(std::io::BufWriter::new(f.as_file()), &sc).map_err(|e| error_failure(0, e.to_string()))?),
         None => None,
     };
     let run = match writer.as_mut() {
@@ -274,16 +274,14 @@ pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout
     }
     if failure.is_none() {
         if let (Some(d), Some(v)) = (dut, &vec) {
-            match d.check_vectors(&sc, v, timeout) {
+            match d.check_vectors(&sc, v.path(), timeout) {
                 Ok(None) => {}
                 Ok(Some(f)) => failure = Some(f),
                 Err(e) => return Ok(("error", Some(*error_failure(0, e)), res.ticks, res.evaluated_ticks, checks.readouts_checked, hits)),
             }
         }
     }
-    if let Some(v) = &vec {
-        let _ = std::fs::remove_file(v);
-    }
+    // (the scratch vector file is removed when `vec` goes out of scope)
     let verdict = if failure.is_some() { "fail" } else { "pass" };
     Ok((verdict, failure, res.ticks, res.evaluated_ticks, checks.readouts_checked, hits))
 }
