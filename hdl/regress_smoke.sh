@@ -17,7 +17,6 @@ W="$HDL/build/regress_smoke"
 SEEDS=${SEEDS:-12}
 fail() { echo "regress_smoke: FAIL: $*" >&2; exit 1; }
 [ -x "$PMU50" ] || { echo "regress_smoke: $PMU50 missing (cargo build --release)" >&2; exit 2; }
-[ -f "$ROOT/target/release/libpmu50_ffi.a" ] || { echo "regress_smoke: libpmu50_ffi.a missing (cargo build -p pmu50-ffi --release)" >&2; exit 2; }
 rm -rf "$W"; mkdir -p "$W"
 PIN=(--sync-depth 2 --cnt-width 8)
 
@@ -48,6 +47,18 @@ for d in "$W"/mut_run/failures/*/; do
     ticks=$(sed -n 's/^duration = "\([0-9]*\) us"/\1/p' "$d/repro.toml")
     echo "shrunk repro: $(grep -c '^\[\[events\]\]' "$d/repro.toml") events, ${ticks} us"
 done
+
+# 2b. an RTL that ends the simulation ($fatal at key on) takes its DUT worker down, not the
+#     regression: each seed fails with the reason and the next one gets a new worker
+mkdir -p "$W/fatal/rtl"
+cp "$HDL"/rtl/*.v "$W/fatal/rtl/"; cp "$HDL/pmu50.f" "$W/fatal/"
+sed 's|^endmodule|    always @(posedge clk) if (sig) $fatal(1, "planted fatal");\nendmodule|' "$HDL/pmu50.v" > "$W/fatal/pmu50.v"
+"$PMU50" regress --start-seed 3 --iterations 3 --dut verilator --rtl "$W/fatal/pmu50.f" "${PIN[@]}" --no-triage --out "$W/fatal_run" > "$W/fatal.log" 2>&1
+rc=$?
+[ $rc -eq 1 ] || { cat "$W/fatal.log"; fail "an RTL that calls \$fatal: exit $rc, expected 1"; }
+[ "$(grep -cE '"verdict":"fail".*the DUT (crashed|ended its process).*planted fatal' "$W/fatal_run/results.jsonl")" -eq 3 ] \
+    || { cat "$W/fatal_run/results.jsonl"; fail "the seeds of an RTL that calls \$fatal do not say why"; }
+echo "verilator: an RTL that calls \$fatal fails each of 3 seeds with its message"
 
 # 3. Icarus: the twin passes; an RTL that hangs fails its seeds at the time limit, and the
 #    regression goes on and ends (nothing of the hung simulator is left running)

@@ -250,6 +250,10 @@ enum Cmd {
         #[arg(long, value_name = "FILE.toml", conflicts_with_all = ["iterations", "shard", "shard_count", "directed"])]
         repro: Option<PathBuf>,
     },
+    /// The DUT worker of `regress --dut verilator` (started by the regression itself): steps a
+    /// Verilator library and the core in lockstep for each request on stdin.
+    #[command(hide = true)]
+    DutWorker,
     /// Merge regression folders (shards, resumed parts) and coverage.json files into one folder.
     /// Exit 0 complete and passing, 1 a seed failed or seeds are missing, 2 bad input.
     Merge {
@@ -508,6 +512,7 @@ fn main() -> ExitCode {
                 2
             }
         },
+        Cmd::DutWorker => pmu50::regress::lockstep::worker_main() as u8,
         Cmd::Merge { out, inputs } => match pmu50::regress::merge::merge(&inputs, &out) {
             Ok(m) => {
                 out!("merged {} regression folder(s) and {} coverage file(s) into {}", m.folders, m.coverage_files, out.display());

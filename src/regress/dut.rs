@@ -1,15 +1,18 @@
 //! The design under test of `pmu50 regress --dut verilator|icarus [--rtl FILELIST]`: an RTL
 //! with the contract interface of docs/signals.md, run on each seed's stimulus against the model.
 //!
-//! - `verilator`: the lockstep bench (hdl/tb/lockstep, verification method 2), one build per
-//!   (SYNC_DEPTH, CNT_W), cached under `target/regress-dut/<hash of the RTL>/`; it compares
-//!   every output and register after every edge and reports the first divergence.
+//! - `verilator`: the RTL as a Verilator library (hdl/tb/lockstep/dut_lib.cpp), one build per
+//!   (SYNC_DEPTH, CNT_W), cached under `target/regress-dut/<hash of the RTL>/` (the twin: under
+//!   hdl/build); a DUT worker steps it in lockstep with the core on the seed's stimulus held in
+//!   memory ([`super::lockstep`]), compares every output and register after every edge and the
+//!   internals before it, and reports the first divergence.
 //! - `icarus`: the vector replay (hdl/tb/tb_vectors.v, method 1), which compares the outputs.
 //!
 //! Each run has the per-seed time limit: a DUT that hangs or crashes fails its seed with the
 //! reason, and the regression goes on.
 
 use super::check::{fig_path, Failure};
+use super::lockstep::{Answer, InputRecorder, Worker};
 use super::{DutKind, RunSpec};
 use crate::scenario::Scenario;
 use crate::sim::{self, Observer, SimError, SimOptions, TickView};
@@ -32,8 +35,10 @@ pub struct Dut {
     kind: DutKind,
     filelist: PathBuf,
     build_dir: PathBuf,
-    /// Lockstep binaries by (SYNC_DEPTH, CNT_W); a failed build is remembered with its reason.
+    /// RTL libraries by (SYNC_DEPTH, CNT_W); a failed build is remembered with its reason.
     builds: Mutex<HashMap<(u8, u8), Result<PathBuf, String>>>,
+    /// Idle DUT workers (`--dut verilator`): a job takes one, or starts one.
+    workers: Mutex<Vec<Worker>>,
     scratch: tempfile::TempDir,
 }
 
@@ -79,12 +84,6 @@ impl Dut {
         if Command::new(tool).arg("--version").stdout(Stdio::null()).stderr(Stdio::null()).status().is_err() {
             return Err(format!("--dut {}: `{tool}` is not installed (Debian package {}; `make deps` installs it)", tool_name(&spec.dut), if tool == "iverilog" { "iverilog" } else { "verilator" }));
         }
-        if spec.dut == DutKind::Verilator {
-            let lib = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/release/libpmu50_ffi.a");
-            if !lib.is_file() {
-                return Err(format!("--dut verilator: the model's C library {} is missing; build it with `cargo build -p pmu50-ffi --release`", lib.display()));
-            }
-        }
         // The cache key: the RTL's paths and contents.
         let mut h: u64 = 0xcbf2_9ce4_8422_2325;
         for f in &files {
@@ -97,24 +96,26 @@ impl Dut {
         let build_dir = if spec.rtl.is_none() { hdl.join("build") } else { Path::new(env!("CARGO_MANIFEST_DIR")).join("target/regress-dut").join(format!("{h:016x}")) };
         std::fs::create_dir_all(&build_dir).map_err(|e| format!("{}: {e}", build_dir.display()))?;
         let scratch = tempfile::tempdir().map_err(|e| format!("a scratch folder for vector files: {e}"))?;
-        Ok(Dut { kind: spec.dut.clone(), filelist, build_dir, builds: Mutex::new(HashMap::new()), scratch })
+        Ok(Dut { kind: spec.dut.clone(), filelist, build_dir, builds: Mutex::new(HashMap::new()), workers: Mutex::new(Vec::new()), scratch })
     }
 
-    fn lockstep(&self, sd: u8, w: u8) -> Result<PathBuf, String> {
+    /// The RTL library for (SYNC_DEPTH, CNT_W), built on first use. The lock is held while it
+    /// builds, so jobs that need the same pair wait for one build.
+    fn library(&self, sd: u8, w: u8) -> Result<PathBuf, String> {
         let mut builds = self.builds.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(r) = builds.get(&(sd, w)) {
             return r.clone();
         }
         let out = Command::new("bash")
             .arg(hdl_dir().join("scripts/build_lockstep.sh"))
-            .args(["none", &sd.to_string(), &w.to_string()])
+            .args(["none", &sd.to_string(), &w.to_string(), "lib"])
             .env("PMU50_FILELIST", &self.filelist)
             .env("PMU50_BUILD_DIR", &self.build_dir)
             .output()
             .map_err(|e| format!("cannot run build_lockstep.sh: {e}"));
         let r = out.and_then(|o| {
             if o.status.success() {
-                Ok(self.build_dir.join(format!("lockstep/none_{sd}_{w}/lockstep")))
+                Ok(self.build_dir.join(format!("lockstep/lib_none_{sd}_{w}/libpmu50_dut.so")))
             } else {
                 let log = String::from_utf8_lossy(&o.stderr);
                 Err(format!("Verilator build of {} (SYNC_DEPTH={sd}, CNT_W={w}) failed: {}", self.filelist.display(), log.lines().take(6).collect::<Vec<_>>().join(" | ")))
@@ -129,9 +130,20 @@ impl Dut {
         tempfile::Builder::new().prefix(&format!("{}.", sc.name)).suffix(".vec").tempfile_in(self.scratch.path()).map_err(|e| format!("a scratch vector file in {}: {e}", self.scratch.path().display()))
     }
 
+    /// Whether this DUT runs in lockstep from the recorded inputs ([`Dut::lockstep`]) rather
+    /// than from a vector file ([`Dut::check_vectors`]).
+    pub fn in_memory(&self) -> bool {
+        self.kind == DutKind::Verilator
+    }
+
     /// Run the DUT on a scenario's stimulus: `Ok(None)` equal, `Ok(Some)` the first divergence
     /// (or a hang or crash), `Err` a setup failure (the seed's verdict is then `error`).
     pub fn check(&self, sc: &Scenario, timeout: Duration) -> Result<Option<Failure>, String> {
+        if self.in_memory() {
+            let mut rec = InputRecorder::default();
+            sim::run(sc, SimOptions::default(), &mut [&mut rec]).map_err(|e| e.to_string())?;
+            return self.lockstep(sc, &rec.inputs, timeout);
+        }
         let vec = self.vector_file(sc)?;
         let mut w = VectorWriter::new(std::io::BufWriter::new(vec.as_file()), sc).map_err(|e| e.to_string())?;
         sim::run(sc, SimOptions::default(), &mut [&mut w]).map_err(|e| e.to_string())?;
@@ -140,21 +152,36 @@ impl Dut {
         self.check_vectors(sc, vec.path(), timeout)
     }
 
-    /// [`Dut::check`] on a vector file of `sc` already written.
-    pub fn check_vectors(&self, sc: &Scenario, vec: &Path, timeout: Duration) -> Result<Option<Failure>, String> {
-        let mut cmd = match self.kind {
-            DutKind::Verilator => {
-                let bin = self.lockstep(sc.params.sync_depth, sc.params.cnt_width)?;
-                let mut c = Command::new(bin);
-                c.arg(vec);
-                c
-            }
-            _ => {
-                let mut c = Command::new("bash");
-                c.arg(hdl_dir().join("scripts/run_vectors.sh")).arg(vec).env("PMU50_FILELIST", &self.filelist).env("PMU50_BUILD_DIR", &self.build_dir);
-                c
-            }
+    /// [`Dut::check`] on the inputs of every tick of `sc` (recorded by
+    /// [`InputRecorder`]): the RTL library stepped by a DUT worker beside the core.
+    pub fn lockstep(&self, sc: &Scenario, inputs: &[u32], timeout: Duration) -> Result<Option<Failure>, String> {
+        let lib = self.library(sc.params.sync_depth, sc.params.cnt_width)?;
+        let idle = self.workers.lock().unwrap_or_else(|e| e.into_inner()).pop();
+        let mut worker = match idle {
+            Some(w) => w,
+            None => Worker::spawn(self.scratch.path())?,
         };
+        let text = match worker.run(&lib, &sc.params, inputs, timeout)? {
+            Answer::Reply(text) => {
+                self.workers.lock().unwrap_or_else(|e| e.into_inner()).push(worker);
+                text
+            }
+            Answer::TimedOut => return Ok(Some(dut_failure(sc, None, "dut", format!("the DUT did not finish within the per-seed time limit of {} s", timeout.as_secs_f64())))),
+            Answer::Died(how) => return Ok(Some(dut_failure(sc, None, "dut", how))),
+        };
+        if text.starts_with("PASS") {
+            return Ok(None);
+        }
+        if let Some(line) = text.lines().find(|l| l.starts_with("MISMATCH")) {
+            return Ok(Some(parse_mismatch(sc, line, &text)));
+        }
+        Err(format!("the DUT's lockstep failed: {}", text.lines().filter(|l| !l.trim().is_empty()).take(4).collect::<Vec<_>>().join(" | ")))
+    }
+
+    /// [`Dut::check`] on a vector file of `sc` already written (`--dut icarus`).
+    pub fn check_vectors(&self, sc: &Scenario, vec: &Path, timeout: Duration) -> Result<Option<Failure>, String> {
+        let mut cmd = Command::new("bash");
+        cmd.arg(hdl_dir().join("scripts/run_vectors.sh")).arg(vec).env("PMU50_FILELIST", &self.filelist).env("PMU50_BUILD_DIR", &self.build_dir);
         let res = run_limited(&mut cmd, timeout);
         let (code, text) = match res? {
             Limited::Done(code, text) => (code, text),

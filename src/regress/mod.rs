@@ -16,6 +16,7 @@
 pub mod check;
 pub mod dut;
 pub mod gen;
+pub mod lockstep;
 pub mod merge;
 pub mod report;
 pub mod shard;
@@ -247,18 +248,21 @@ pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout
     let text = stim.to_toml(&name);
     let path = PathBuf::from(format!("{name}.toml"));
     let sc = Scenario::parse(&text, &path.display().to_string(), &name, &path).map_err(|e| error_failure(0, format!("the generator made a scenario the parser refuses: {e}")))?;
-    // One run of the model gives the checks, the coverage and, for an RTL DUT, its vectors.
+    // One run of the model gives the checks, the coverage and, for an RTL DUT, its stimulus:
+    // the inputs of every tick in memory (verilator) or a vector file (icarus).
     let vec = match dut {
-        Some(d) => Some(d.vector_file(&sc).map_err(|e| error_failure(0, e))?),
-        None => None,
+        Some(d) if !d.in_memory() => Some(d.vector_file(&sc).map_err(|e| error_failure(0, e))?),
+        _ => None,
     };
     let mut writer = match &vec {
         Some(f) => Some(crate::vectors::VectorWriter::new(std::io::BufWriter::new(f.as_file()), &sc).map_err(|e| error_failure(0, e.to_string()))?),
         None => None,
     };
-    let run = match writer.as_mut() {
-        Some(w) => run_model(&sc, spec.check_spec, &mut [w]),
-        None => run_model(&sc, spec.check_spec, &mut []),
+    let mut recorder = dut.filter(|d| d.in_memory()).map(|_| lockstep::InputRecorder::default());
+    let run = match (writer.as_mut(), recorder.as_mut()) {
+        (Some(w), _) => run_model(&sc, spec.check_spec, &mut [w]),
+        (None, Some(r)) => run_model(&sc, spec.check_spec, &mut [r]),
+        (None, None) => run_model(&sc, spec.check_spec, &mut []),
     };
     let (checks, res) = run.map_err(|e| error_failure(0, e.to_string()))?;
     if let Some(w) = writer {
@@ -273,8 +277,13 @@ pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout
         }
     }
     if failure.is_none() {
-        if let (Some(d), Some(v)) = (dut, &vec) {
-            match d.check_vectors(&sc, v.path(), timeout) {
+        if let Some(d) = dut {
+            let verdict = match (&vec, &recorder) {
+                (Some(v), _) => d.check_vectors(&sc, v.path(), timeout),
+                (None, Some(r)) => d.lockstep(&sc, &r.inputs, timeout),
+                (None, None) => Ok(None),
+            };
+            match verdict {
                 Ok(None) => {}
                 Ok(Some(f)) => failure = Some(f),
                 Err(e) => return Ok(("error", Some(*error_failure(0, e)), res.ticks, res.evaluated_ticks, checks.readouts_checked, hits)),
