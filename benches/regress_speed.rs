@@ -10,7 +10,17 @@
 //!
 //! Then `pmu50 regress` on every core: seeds per second, wall time.
 //!
-//!   cargo bench --bench regress_speed [-- --seeds N --rounds R --regress-seeds M]
+//! Then `--dut verilator` against Verilator alone, side by side (docs/verification.md, "Speed"),
+//! on seeds 1..=DUT_SEEDS with SYNC_DEPTH 2 and CNT_W 16 held (one RTL library), one job, wall
+//! time, fastest of DUT_ROUNDS:
+//! - Verilator alone: the same RTL library stepped in this process on the same stimuli held in
+//!   memory, as a plain harness runs it (two evaluations a tick, outputs folded, nothing
+//!   compared: `regress::lockstep::replay_alone`), the stimuli recorded beforehand (not timed);
+//! - `pmu50 regress --dut model` on those seeds (the model with coverage and checks);
+//! - `pmu50 regress --dut verilator` on those seeds, as the user runs it (the whole process:
+//!   model, DUT worker, lockstep comparison of every register, report files).
+//!
+//!   cargo bench --bench regress_speed [-- --seeds N --rounds R --regress-seeds M --dut-seeds D --dut-rounds K]
 
 use pmu50::regress::check::SeedChecks;
 use pmu50::regress::gen::{Bias, Stimulus};
@@ -141,4 +151,67 @@ fn main() {
     } else {
         println!("pmu50 regress row skipped: build target/release/pmu50 first (make bench does)");
     }
+    dut_rows(&bin, arg("--dut-seeds", 200), arg("--dut-rounds", 3));
+}
+
+/// `regress --dut verilator` against Verilator alone on the same stimuli (module documentation).
+fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
+    use pmu50::regress::gen::Pins;
+    use pmu50::regress::lockstep::{replay_alone, InputRecorder};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let have = |tool: &str| std::process::Command::new(tool).arg("--version").output().is_ok_and(|o| o.status.success());
+    if !bin.is_file() || !have("verilator") {
+        println!("regress --dut verilator rows skipped: they need target/release/pmu50 and verilator (make deps)");
+        return;
+    }
+    let build = std::process::Command::new("bash").arg(root.join("hdl/scripts/build_lockstep.sh")).args(["none", "2", "16", "lib"]).status();
+    let lib = root.join("hdl/build/lockstep/lib_none_2_16/libpmu50_dut.so");
+    if !build.is_ok_and(|s| s.success()) || !lib.is_file() {
+        println!("regress --dut verilator rows skipped: the RTL library did not build");
+        return;
+    }
+    let pins = Pins { sync_depth: Some(2), cnt_width: Some(16) };
+    let stimuli: Vec<(pmu50_core::Params, Vec<u32>)> = (1..=seeds)
+        .map(|s| {
+            let text = Stimulus::generate(s, &Bias::uniform().pinned(pins)).to_toml(&format!("regress_{s}"));
+            let sc = Scenario::parse(&text, "bench", "bench", Path::new("bench.toml")).expect("a generated scenario parses");
+            let mut rec = InputRecorder::default();
+            sim::run(&sc, SimOptions::default(), &mut [&mut rec]).expect("bench runs");
+            (sc.params, rec.inputs)
+        })
+        .collect();
+    let ticks: usize = stimuli.iter().map(|(_, i)| i.len()).sum();
+    let regress = |dut: &str| -> (f64, Option<i32>) {
+        let out = tempfile::tempdir().expect("temp dir");
+        let t = Instant::now();
+        let o = std::process::Command::new(bin)
+            .args(["regress", "--iterations", &seeds.to_string(), "--jobs", "1", "--sync-depth", "2", "--cnt-width", "16", "--no-triage", "--dut", dut, "--out"])
+            .arg(out.path().join("r"))
+            .output()
+            .expect("pmu50 runs");
+        (t.elapsed().as_secs_f64(), o.status.code())
+    };
+    let (mut alone, mut model, mut lockstep) = (f64::MAX, f64::MAX, f64::MAX);
+    let mut exits = Vec::new();
+    for _ in 0..rounds {
+        let t = Instant::now();
+        for (p, inputs) in &stimuli {
+            std::hint::black_box(replay_alone(&lib, p, inputs).expect("the RTL library loads"));
+        }
+        alone = alone.min(t.elapsed().as_secs_f64());
+        let (w, c) = regress("model");
+        model = model.min(w);
+        exits.push(c);
+        let (w, c) = regress("verilator");
+        lockstep = lockstep.min(w);
+        exits.push(c);
+    }
+    println!("regress seeds 1..={seeds}, SYNC_DEPTH 2, CNT_W 16: {ticks} ticks on the RTL, one job, wall seconds (fastest of {rounds}; regress exits {exits:?})");
+    println!("| what | wall s | M ticks/s | against Verilator alone |");
+    println!("|---|---:|---:|---:|");
+    let row = |what: &str, w: f64| println!("| {what} | {w:.2} | {:.1} | {:.2}x |", ticks as f64 / w / 1e6, w / alone);
+    row("Verilator alone (the RTL library, stimuli in memory, outputs folded)", alone);
+    row("pmu50 regress --dut model (the model, coverage, checks)", model);
+    row("pmu50 regress --dut verilator (model + RTL in lockstep, every register compared)", lockstep);
+    println!("regress --dut verilator adds {:+.0} % to Verilator alone (goal: at most +10 %)", (lockstep / alone - 1.0) * 100.0);
 }

@@ -31,6 +31,9 @@ pub fn hdl_dir() -> PathBuf {
     std::env::var_os("PMU50_HDL_DIR").map(PathBuf::from).unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("hdl"))
 }
 
+/// A seed's stimulus in a DUT worker ([`Dut::send`]), its verdict to take ([`Dut::receive`]).
+pub struct InFlight(Worker);
+
 pub struct Dut {
     kind: DutKind,
     filelist: PathBuf,
@@ -155,13 +158,28 @@ impl Dut {
     /// [`Dut::check`] on the inputs of every tick of `sc` (recorded by
     /// [`InputRecorder`]): the RTL library stepped by a DUT worker beside the core.
     pub fn lockstep(&self, sc: &Scenario, inputs: &[u32], timeout: Duration) -> Result<Option<Failure>, String> {
+        let f = self.send(sc, inputs)?;
+        self.receive(sc, f, timeout)
+    }
+
+    /// The first half of [`Dut::lockstep`]: the stimulus handed to an idle DUT worker (or a new
+    /// one), which runs it while the caller goes on.
+    pub fn send(&self, sc: &Scenario, inputs: &[u32]) -> Result<InFlight, String> {
         let lib = self.library(sc.params.sync_depth, sc.params.cnt_width)?;
         let idle = self.workers.lock().unwrap_or_else(|e| e.into_inner()).pop();
         let mut worker = match idle {
             Some(w) => w,
             None => Worker::spawn(self.scratch.path())?,
         };
-        let text = match worker.run(&lib, &sc.params, inputs, timeout)? {
+        worker.send(&lib, &sc.params, inputs);
+        Ok(InFlight(worker))
+    }
+
+    /// The second half of [`Dut::lockstep`]: the worker's verdict, within the time limit
+    /// counted from [`Dut::send`].
+    pub fn receive(&self, sc: &Scenario, flight: InFlight, timeout: Duration) -> Result<Option<Failure>, String> {
+        let mut worker = flight.0;
+        let text = match worker.receive(timeout)? {
             Answer::Reply(text) => {
                 self.workers.lock().unwrap_or_else(|e| e.into_inner()).push(worker);
                 text

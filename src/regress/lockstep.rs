@@ -105,6 +105,7 @@ type DutNew = unsafe extern "C" fn(*const u64) -> *mut c_void;
 type DutFree = unsafe extern "C" fn(*mut c_void);
 type DutState = unsafe extern "C" fn(*mut c_void, *mut u64, *mut u64);
 type DutTick = unsafe extern "C" fn(*mut c_void, *const u64, *mut u64, *mut u64, *mut u64);
+type DutStep = unsafe extern "C" fn(*mut c_void, *const u64, u64) -> u64;
 
 /// A loaded RTL library and where each model signal is in its arrays.
 struct DutLib {
@@ -112,6 +113,7 @@ struct DutLib {
     free: DutFree,
     state: DutState,
     tick: DutTick,
+    step: DutStep,
     sync_depth: u8,
     cnt_width: u8,
     /// For each of the library's reset values, the index in [`Params::hdl_parameters`].
@@ -159,6 +161,7 @@ impl DutLib {
                 free: std::mem::transmute::<*const c_void, DutFree>(sym("pmu50_dut_free")?),
                 state: std::mem::transmute::<*const c_void, DutState>(sym("pmu50_dut_state")?),
                 tick: std::mem::transmute::<*const c_void, DutTick>(sym("pmu50_dut_tick")?),
+                step: std::mem::transmute::<*const c_void, DutStep>(sym("pmu50_dut_step")?),
                 sync_depth: sd() as u8,
                 cnt_width: w() as u8,
                 reset,
@@ -207,22 +210,64 @@ fn compare<T>(out: &mut String, tick: u64, table: &[Signal<T>], model: &T, rtl: 
     n
 }
 
-/// Positions in [`signals::REGISTERS`] of the registers a narrow edge writes
-/// ([`pmu50_core::kernel::NARROW_WRITES`]).
-fn narrow_registers() -> Vec<usize> {
-    pmu50_core::kernel::NARROW_WRITES.iter().filter_map(|n| signals::REGISTERS.iter().position(|s| s.path() == *n)).collect()
+/// The values of a group in the order of its signal table. Inlined with the table a constant,
+/// the compiler turns each `get` into a direct load (no call through the table's pointers).
+#[inline(always)]
+fn words<T, const N: usize>(table: &'static [Signal<T>], model: &T) -> [u64; N] {
+    std::array::from_fn(|j| (table[j].get)(model))
 }
 
-/// Step the core and the RTL on `inputs`; the reply's lines (without `END`).
-///
-/// Every value is compared at every tick, most of them by induction instead of one by one:
-/// a group of values (outputs, internals) that neither the model nor the RTL changed since the
-/// tick before, when they were equal, is still equal; after a narrow edge
-/// ([`Pmu50::step_traced_wide`]: it writes only the registers of
-/// [`pmu50_core::kernel::NARROW_WRITES`], a contract `rtl_model/core/tests/kernel_equivalence.rs`
-/// tests on any state) the model's other registers are those of the tick before, so the RTL's
-/// must be too. Wherever that does not settle it, the group is compared value by value, which
-/// also names the divergent signals.
+/// Whether two arrays are equal, without a call to `memcmp` (which is what `==` on arrays this
+/// long becomes, at a third of the lockstep's time): one vectorised pass.
+#[inline(always)]
+fn same(a: &[u64], b: &[u64]) -> bool {
+    a.iter().zip(b).fold(0, |acc, (x, y)| acc | (x ^ y)) == 0
+}
+
+/// The seven input values of a packed word, in the order of [`signals::INPUTS`].
+fn input_words(w: u32) -> (Inputs, [u64; signals::N_INPUTS]) {
+    let i = unpack(w);
+    (i, [u64::from(i.ig), u64::from(i.vs2_ok), u64::from(i.cmp_s), u64::from(i.cmp_c), u64::from(i.bus_we), u64::from(i.bus_addr), u64::from(i.bus_wdata)])
+}
+
+/// A DUT handle, freed when dropped.
+struct Handle<'a>(&'a DutLib, *mut c_void);
+
+impl<'a> Handle<'a> {
+    /// A DUT after reset with the reset values of `params`.
+    fn new(lib: &'a DutLib, params: &Params) -> Handle<'a> {
+        let hdl = params.hdl_parameters();
+        let reset: Vec<u64> = lib.reset.iter().map(|&k| hdl[k].1).collect();
+        // SAFETY: `reset` holds pmu50_dut_count(4) values.
+        Handle(lib, unsafe { (lib.new)(reset.as_ptr()) })
+    }
+}
+
+impl Drop for Handle<'_> {
+    fn drop(&mut self) {
+        // SAFETY: a handle of this library's pmu50_dut_new, freed once.
+        unsafe { (self.0.free)(self.1) }
+    }
+}
+
+/// Verilator alone on a stimulus (the peer of `make bench`'s lockstep row): the RTL library at
+/// `lib` stepped on `inputs` as a plain harness does (two evaluations a tick, the outputs
+/// folded, nothing compared). Returns the fold.
+pub fn replay_alone(lib: &Path, params: &Params, inputs: &[u32]) -> Result<u64, String> {
+    let lib = DutLib::load(lib)?;
+    let dut = Handle::new(&lib, params);
+    let words: Vec<[u64; signals::N_INPUTS]> = inputs.iter().map(|&w| input_words(w).1).collect();
+    let mut acc = 0xcbf2_9ce4_8422_2325u64;
+    for w in &words {
+        // SAFETY: an input array of the library's count (checked at load).
+        acc = unsafe { (lib.step)(dut.1, w.as_ptr(), acc) };
+    }
+    Ok(acc)
+}
+
+/// Step the core and the RTL on `inputs`; the reply's lines (without `END`). Every output,
+/// register and internal is compared at every tick, as whole arrays; a group that differs is
+/// compared value by value, which names the divergent signals.
 fn lockstep(lib: &DutLib, params: Params, inputs: &[u32]) -> String {
     if params.sync_depth != lib.sync_depth || params.cnt_width != lib.cnt_width {
         return format!("LOCKSTEP ERROR the library was built for SYNC_DEPTH={} CNT_W={}, the seed needs SYNC_DEPTH={} CNT_W={}\n", lib.sync_depth, lib.cnt_width, params.sync_depth, params.cnt_width);
@@ -231,63 +276,31 @@ fn lockstep(lib: &DutLib, params: Params, inputs: &[u32]) -> String {
         Ok(m) => m,
         Err(e) => return format!("LOCKSTEP ERROR illegal parameters: {e}\n"),
     };
-    let hdl = params.hdl_parameters();
-    let reset: Vec<u64> = lib.reset.iter().map(|&k| hdl[k].1).collect();
-    struct Handle<'a>(&'a DutLib, *mut c_void);
-    impl Drop for Handle<'_> {
-        fn drop(&mut self) {
-            // SAFETY: a handle of this library's pmu50_dut_new, freed once.
-            unsafe { (self.0.free)(self.1) }
-        }
-    }
-    // SAFETY: `reset` holds pmu50_dut_count(4) values.
-    let dut = Handle(lib, unsafe { (lib.new)(reset.as_ptr()) });
-    let narrow = narrow_registers();
-    let mut held = vec![true; signals::N_REGISTERS];
-    for &j in &narrow {
-        held[j] = false;
-    }
+    let dut = Handle::new(lib, &params);
     let mut out = [0u64; signals::N_OUTPUTS];
     let mut regs = [0u64; signals::N_REGISTERS];
     let mut x = [0u64; signals::N_INTERNALS];
     let mut report = String::new();
     // SAFETY: arrays of the library's counts (checked at load).
     unsafe { (lib.state)(dut.1, out.as_mut_ptr(), regs.as_mut_ptr()) };
-    let mut model_out = model.peek();
-    if compare(&mut report, 0, signals::OUTPUTS, &model_out, &out) + compare(&mut report, 0, signals::REGISTERS, model.regs(), &regs) > 0 {
+    if compare(&mut report, 0, signals::OUTPUTS, &model.peek(), &out) + compare(&mut report, 0, signals::REGISTERS, model.regs(), &regs) > 0 {
         return report + "LOCKSTEP FAIL first divergence at tick 0 (after reset)\n";
     }
-    // The values of the tick before, equal on both sides (compared, or equal by induction).
-    let (mut last_out, mut last_regs) = (out, regs);
-    let mut model_x = Internals::default();
-    let mut last_x: Option<[u64; signals::N_INTERNALS]> = None;
     for (k, &w) in inputs.iter().enumerate() {
         let k = k as u64;
-        let i = unpack(w);
-        let word = [u64::from(i.ig), u64::from(i.vs2_ok), u64::from(i.cmp_s), u64::from(i.cmp_c), u64::from(i.bus_we), u64::from(i.bus_addr), u64::from(i.bus_wdata)];
+        let (i, word) = input_words(w);
         // SAFETY: arrays of the library's counts (checked at load).
         unsafe { (lib.tick)(dut.1, word.as_ptr(), x.as_mut_ptr(), out.as_mut_ptr(), regs.as_mut_ptr()) };
-        let (internals, after, wide) = model.step_traced_wide(&i);
+        let (internals, after, _) = model.step_traced_wide(&i);
         // the internals of cycle k, before edge k+1
-        if last_x != Some(x) || internals != model_x {
-            if compare::<Internals>(&mut report, k, signals::INTERNALS, &internals, &x) > 0 {
-                return report + &format!("LOCKSTEP FAIL first divergence at tick {k} (combinational, before rising edge {})\n", k + 1);
-            }
-            last_x = Some(x);
-            model_x = internals;
+        if !same(&words::<Internals, { signals::N_INTERNALS }>(signals::INTERNALS, &internals), &x) && compare::<Internals>(&mut report, k, signals::INTERNALS, &internals, &x) > 0 {
+            return report + &format!("LOCKSTEP FAIL first divergence at tick {k} (combinational, before rising edge {})\n", k + 1);
         }
         // outputs and registers after edge k+1
-        let outputs_held = out == last_out && after == model_out;
-        let regs_held = !wide && narrow.iter().all(|&j| (signals::REGISTERS[j].get)(model.regs()) == regs[j]) && regs.iter().zip(&last_regs).zip(&held).all(|((r, l), h)| !h || r == l);
-        if !outputs_held || !regs_held {
-            let bad = compare::<Outputs>(&mut report, k + 1, signals::OUTPUTS, &after, &out) + compare::<Regs>(&mut report, k + 1, signals::REGISTERS, model.regs(), &regs);
-            if bad > 0 {
-                return report + &format!("LOCKSTEP FAIL first divergence at tick {} (after rising edge {})\n", k + 1, k + 1);
-            }
+        let equal = same(&words::<Outputs, { signals::N_OUTPUTS }>(signals::OUTPUTS, &after), &out) & same(&words::<Regs, { signals::N_REGISTERS }>(signals::REGISTERS, model.regs()), &regs);
+        if !equal && compare::<Outputs>(&mut report, k + 1, signals::OUTPUTS, &after, &out) + compare::<Regs>(&mut report, k + 1, signals::REGISTERS, model.regs(), &regs) > 0 {
+            return report + &format!("LOCKSTEP FAIL first divergence at tick {} (after rising edge {})\n", k + 1, k + 1);
         }
-        last_out = out;
-        last_regs = regs;
-        model_out = after;
     }
     format!("PASS ticks={}\n", inputs.len())
 }
@@ -384,6 +397,8 @@ pub struct Worker {
     stdout: ChildStdout,
     stderr: tempfile::NamedTempFile,
     buf: Vec<u8>,
+    /// When the last seed was sent.
+    sent: Instant,
 }
 
 /// The `pmu50` executable that runs workers: this one, or the release build of this checkout
@@ -426,11 +441,17 @@ impl Worker {
             let _ = child.kill();
             return Err("the DUT worker has no pipes".into());
         };
-        Ok(Worker { child, stdin, stdout, stderr, buf: Vec::with_capacity(4096) })
+        Ok(Worker { child, stdin, stdout, stderr, buf: Vec::with_capacity(4096), sent: Instant::now() })
     }
 
     /// Run one seed. After [`Answer::TimedOut`] or [`Answer::Died`] the worker is gone: drop it.
     pub fn run(&mut self, lib: &Path, params: &Params, inputs: &[u32], timeout: Duration) -> Result<Answer, String> {
+        self.send(lib, params, inputs);
+        self.receive(timeout)
+    }
+
+    /// Hand a seed to the worker; [`Worker::receive`] takes its answer.
+    pub fn send(&mut self, lib: &Path, params: &Params, inputs: &[u32]) {
         let path = lib.as_os_str().as_encoded_bytes();
         let mut req = Vec::with_capacity(4 + 4 + path.len() + 96 + 8 + 4 * inputs.len());
         req.extend_from_slice(MAGIC);
@@ -443,10 +464,15 @@ impl Worker {
         for w in inputs {
             req.extend_from_slice(&w.to_le_bytes());
         }
-        let start = Instant::now();
+        self.sent = Instant::now();
         // The worker reads a whole request before it works on it, so this write ends unless it
-        // died (EPIPE), which the read below reports.
+        // died (EPIPE), which `receive` reports.
         let _ = self.stdin.write_all(&req).and_then(|()| self.stdin.flush());
+    }
+
+    /// The answer to the seed [`Worker::send`] gave, within `timeout` from the send (an answer
+    /// already written is taken even when the caller comes late).
+    pub fn receive(&mut self, timeout: Duration) -> Result<Answer, String> {
         self.buf.clear();
         let fd = self.stdout.as_raw_fd();
         loop {
@@ -454,13 +480,9 @@ impl Worker {
                 let text = String::from_utf8_lossy(&self.buf[..self.buf.len() - END.len()]).into_owned();
                 return Ok(Answer::Reply(text));
             }
-            let left = timeout.saturating_sub(start.elapsed());
-            if left.is_zero() {
-                self.kill();
-                return Ok(Answer::TimedOut);
-            }
+            let left = timeout.saturating_sub(self.sent.elapsed());
             let mut pfd = libc::pollfd { fd, events: libc::POLLIN, revents: 0 };
-            let ms = left.as_millis().clamp(1, i32::MAX as u128) as i32;
+            let ms = if left.is_zero() { 0 } else { left.as_millis().clamp(1, i32::MAX as u128) as i32 };
             // SAFETY: one valid pollfd.
             let r = unsafe { libc::poll(&mut pfd, 1, ms) };
             if r < 0 {
@@ -472,6 +494,10 @@ impl Worker {
                 return Err(format!("waiting for the DUT worker: {e}"));
             }
             if r == 0 {
+                if left.is_zero() {
+                    self.kill();
+                    return Ok(Answer::TimedOut);
+                }
                 continue;
             }
             let mut chunk = [0u8; 4096];

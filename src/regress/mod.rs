@@ -216,12 +216,58 @@ fn file_err(path: &Path, reason: impl std::fmt::Display) -> RegressError {
 /// Run one seed on the model (and the DUT). Never panics on a generated scenario: a scenario the
 /// parser refuses or a bench error is the seed's `error` verdict.
 pub fn run_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, timeout: Duration) -> (SeedResult, Vec<u64>) {
-    let start = Instant::now();
-    let stim = Stimulus::generate(seed, bias);
-    let (verdict, failure, ticks, evaluated, readouts_checked, hits) = match evaluate(spec, &stim, dut, timeout) {
-        Ok(e) => e,
-        Err(f) => ("error", Some(*f), 0, 0, 0, vec![0; layout().bins.len()]),
-    };
+    match start_seed(spec, seed, bias, dut, timeout) {
+        Stage::Done(r, hits) => (r, hits),
+        Stage::Lockstep(p) => p.finish(dut, timeout),
+    }
+}
+
+/// A seed after its model run: its result, or its stimulus for the RTL's lockstep
+/// (`--dut verilator`), which [`InLockstep::send`] hands to a DUT worker.
+enum Stage {
+    Done(SeedResult, Vec<u64>),
+    Lockstep(InLockstep),
+}
+
+/// A seed whose model run passed and whose RTL lockstep is to run or running.
+struct InLockstep {
+    seed: u64,
+    start: Instant,
+    sc: Scenario,
+    inputs: Vec<u32>,
+    flight: Option<dut::InFlight>,
+    ticks: u64,
+    evaluated: u64,
+    readouts_checked: u64,
+    hits: Vec<u64>,
+}
+
+impl InLockstep {
+    /// Hand the stimulus to a DUT worker; the seed's verdict waits in [`InLockstep::finish`].
+    fn send(&mut self, d: &dut::Dut) -> Result<(), String> {
+        self.flight = Some(d.send(&self.sc, &self.inputs)?);
+        Ok(())
+    }
+
+    /// The verdict of the lockstep (sent or not yet).
+    fn finish(mut self, dut: Option<&dut::Dut>, timeout: Duration) -> (SeedResult, Vec<u64>) {
+        let verdict = match (dut, self.flight.take()) {
+            (Some(d), Some(f)) => d.receive(&self.sc, f, timeout),
+            (Some(d), None) => d.lockstep(&self.sc, &self.inputs, timeout),
+            (None, _) => Ok(None),
+        };
+        let (verdict, failure) = match verdict {
+            Ok(None) => ("pass", None),
+            Ok(Some(f)) => ("fail", Some(f)),
+            Err(e) => ("error", Some(*error_failure(0, e))),
+        };
+        let e = (verdict, failure, self.ticks, self.evaluated, self.readouts_checked, self.hits);
+        seed_result(self.seed, self.start, e)
+    }
+}
+
+fn seed_result(seed: u64, start: Instant, e: Evaluated) -> (SeedResult, Vec<u64>) {
+    let (verdict, failure, ticks, evaluated, readouts_checked, hits) = e;
     let r = SeedResult {
         seed,
         verdict: verdict.into(),
@@ -236,14 +282,51 @@ pub fn run_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, 
     (r, hits)
 }
 
+/// The model's part of a seed (and an Icarus DUT's, which replays a vector file).
+fn start_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, timeout: Duration) -> Stage {
+    let start = Instant::now();
+    let stim = Stimulus::generate(seed, bias);
+    match evaluate_model(spec, &stim, dut, timeout) {
+        Ok(Phase::Final(e)) => {
+            let (r, hits) = seed_result(seed, start, e);
+            Stage::Done(r, hits)
+        }
+        Ok(Phase::Lockstep { sc, inputs, ticks, evaluated, readouts_checked, hits }) => Stage::Lockstep(InLockstep { seed, start, sc, inputs, flight: None, ticks, evaluated, readouts_checked, hits }),
+        Err(f) => {
+            let (r, hits) = seed_result(seed, start, ("error", Some(*f), 0, 0, 0, vec![0; layout().bins.len()]));
+            Stage::Done(r, hits)
+        }
+    }
+}
+
 type Evaluated = (&'static str, Option<Failure>, u64, u64, u64, Vec<u64>);
 
 fn error_failure(tick: u64, detail: String) -> Box<Failure> {
     Box::new(Failure { kind: "error".into(), tick, signal: "-".into(), expected: "-".into(), got: "-".into(), block: "-".into(), fig: "-".into(), detail })
 }
 
+/// What the model's run of a seed leaves to do.
+enum Phase {
+    /// The verdict (the model failed, or there is no DUT, or the DUT has run).
+    Final(Evaluated),
+    /// The model passed; the RTL is to run in lockstep on these inputs.
+    Lockstep { sc: Scenario, inputs: Vec<u32>, ticks: u64, evaluated: u64, readouts_checked: u64, hits: Vec<u64> },
+}
+
 /// The verdict of one stimulus: the model's checks, then the DUT.
 pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout: Duration) -> Result<Evaluated, Box<Failure>> {
+    match evaluate_model(spec, stim, dut, timeout)? {
+        Phase::Final(e) => Ok(e),
+        Phase::Lockstep { sc, inputs, ticks, evaluated, readouts_checked, hits } => {
+            let p = InLockstep { seed: stim.seed, start: Instant::now(), sc, inputs, flight: None, ticks, evaluated, readouts_checked, hits };
+            let (r, hits) = p.finish(dut, timeout);
+            Ok((if r.verdict == "pass" { "pass" } else if r.verdict == "fail" { "fail" } else { "error" }, r.failure, r.ticks, r.evaluated, r.readouts_checked, hits))
+        }
+    }
+}
+
+/// The model's run of a stimulus with its checks; an Icarus DUT replays its vector file here.
+fn evaluate_model(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout: Duration) -> Result<Phase, Box<Failure>> {
     let name = format!("regress_{}", stim.seed);
     let text = stim.to_toml(&name);
     let path = PathBuf::from(format!("{name}.toml"));
@@ -277,22 +360,20 @@ pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout
         }
     }
     if failure.is_none() {
-        if let Some(d) = dut {
-            let verdict = match (&vec, &recorder) {
-                (Some(v), _) => d.check_vectors(&sc, v.path(), timeout),
-                (None, Some(r)) => d.lockstep(&sc, &r.inputs, timeout),
-                (None, None) => Ok(None),
-            };
-            match verdict {
+        if let Some(r) = recorder {
+            return Ok(Phase::Lockstep { sc, inputs: r.inputs, ticks: res.ticks, evaluated: res.evaluated_ticks, readouts_checked: checks.readouts_checked, hits });
+        }
+        if let (Some(d), Some(v)) = (dut, &vec) {
+            match d.check_vectors(&sc, v.path(), timeout) {
                 Ok(None) => {}
                 Ok(Some(f)) => failure = Some(f),
-                Err(e) => return Ok(("error", Some(*error_failure(0, e)), res.ticks, res.evaluated_ticks, checks.readouts_checked, hits)),
+                Err(e) => return Ok(Phase::Final(("error", Some(*error_failure(0, e)), res.ticks, res.evaluated_ticks, checks.readouts_checked, hits))),
             }
         }
     }
     // (the scratch vector file is removed when `vec` goes out of scope)
     let verdict = if failure.is_some() { "fail" } else { "pass" };
-    Ok((verdict, failure, res.ticks, res.evaluated_ticks, checks.readouts_checked, hits))
+    Ok(Phase::Final((verdict, failure, res.ticks, res.evaluated_ticks, checks.readouts_checked, hits)))
 }
 
 /// Check one scenario (a repro) as a seed is checked: `Ok(None)` it passes.
@@ -568,16 +649,40 @@ fn run_pool(
         for _ in 0..jobs.max(1).min(seeds.len().max(1)) {
             let tx = tx.clone();
             let (next, place) = (&next, &place);
-            s.spawn(move || loop {
-                if stop.load(Ordering::Relaxed) {
-                    break;
-                }
-                let k = next.fetch_add(1, Ordering::Relaxed);
-                let Some(&seed) = seeds.get(k) else { break };
-                let (mut r, hits) = run_seed(spec, seed, bias, dut, timeout);
-                r.place = place.clone();
-                if tx.send((k, r, hits)).is_err() {
-                    break;
+            // A job pipelines its seeds: while the RTL of seed n runs in this job's DUT worker,
+            // the model runs seed n+1 here; then n's verdict is taken and n+1 is sent. So the
+            // regression waits for the model only where it is slower than the RTL.
+            s.spawn(move || {
+                let mut running: Option<(usize, InLockstep)> = None;
+                let emit = |k: usize, (mut r, hits): (SeedResult, Vec<u64>)| {
+                    r.place = place.clone();
+                    tx.send((k, r, hits)).is_ok()
+                };
+                loop {
+                    let k = if stop.load(Ordering::Relaxed) { None } else { Some(next.fetch_add(1, Ordering::Relaxed)) };
+                    let stage = k.and_then(|k| seeds.get(k).map(|&seed| (k, start_seed(spec, seed, bias, dut, timeout))));
+                    if let Some((j, p)) = running.take() {
+                        if !emit(j, p.finish(dut, timeout)) {
+                            break;
+                        }
+                    }
+                    match stage {
+                        None => break,
+                        Some((k, Stage::Done(r, hits))) => {
+                            if !emit(k, (r, hits)) {
+                                break;
+                            }
+                        }
+                        Some((k, Stage::Lockstep(mut p))) => match dut.map(|d| p.send(d)) {
+                            Some(Err(e)) => {
+                                let (r, hits) = seed_result(p.seed, p.start, ("error", Some(*error_failure(0, e)), p.ticks, p.evaluated, p.readouts_checked, p.hits));
+                                if !emit(k, (r, hits)) {
+                                    break;
+                                }
+                            }
+                            _ => running = Some((k, p)),
+                        },
+                    }
                 }
             });
         }

@@ -186,6 +186,22 @@ PMU50_DUT_API void pmu50_dut_state(void *d, uint64_t *out, uint64_t *regs) {
     registers(t.rootp, regs);
 }
 
+/// One tick as a plain Verilator harness runs it, for the speed comparison of `make bench`
+/// (benches/regress_speed.rs): the same two evaluations as pmu50_dut_tick, nothing read back
+/// but the 23 outputs folded into `acc` (returned), so the work cannot be optimised away.
+PMU50_DUT_API uint64_t pmu50_dut_step(void *d, const uint64_t *in, uint64_t acc) {
+    Vpmu50 &t = *static_cast<Dut *>(d)->top;
+    t.clk = 0;
+    set_inputs(t, in);
+    t.eval();
+    t.clk = 1;
+    t.eval();
+    uint64_t o[23];
+    outputs(t, o);
+    for (uint64_t v : o) acc = (acc ^ v) * 0x100000001b3ull;
+    return acc;
+}
+
 /// One tick: the inputs of cycle k with clk low (`internals` of the cycle), then rising edge
 /// k+1 (`out` and `regs` after it).
 PMU50_DUT_API void pmu50_dut_tick(void *d, const uint64_t *in, uint64_t *internals_out, uint64_t *out, uint64_t *regs) {
