@@ -16,6 +16,9 @@
 //! - Verilator alone: the same RTL library stepped in this process on the same stimuli held in
 //!   memory, as a plain harness runs it (two evaluations a tick, outputs folded, nothing
 //!   compared: `regress::lockstep::replay_alone`), the stimuli recorded beforehand (not timed);
+//! - Verilator alone as a testbench of its own replays stimulus files: the same library driven by
+//!   hdl/tb/lockstep/replay_main.cpp, one process per seed reading the seed's vector file
+//!   (written beforehand, not timed);
 //! - `pmu50 regress --dut model` on those seeds (the model with coverage and checks);
 //! - `pmu50 regress --dut verilator` on those seeds, as the user runs it (the whole process:
 //!   model, DUT worker, lockstep comparison of every register, report files).
@@ -181,6 +184,21 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
         })
         .collect();
     let ticks: usize = stimuli.iter().map(|(_, i)| i.len()).sum();
+    // The vector files and the file-replaying testbench.
+    let files = tempfile::tempdir().expect("temp dir");
+    let replay = root.join("hdl/build/lockstep/replay");
+    let built = std::process::Command::new("g++").args(["-O2", "-o"]).arg(&replay).arg(root.join("hdl/tb/lockstep/replay_main.cpp")).arg("-ldl").status().is_ok_and(|s| s.success());
+    let vecs: Vec<std::path::PathBuf> = (1..=seeds)
+        .map(|s| {
+            let text = Stimulus::generate(s, &Bias::uniform().pinned(pins)).to_toml(&format!("regress_{s}"));
+            let sc = Scenario::parse(&text, "bench", "bench", Path::new("bench.toml")).expect("a generated scenario parses");
+            let path = files.path().join(format!("regress_{s}.vec"));
+            let f = std::io::BufWriter::new(std::fs::File::create(&path).expect("a vector file"));
+            let mut w = pmu50::vectors::VectorWriter::new(f, &sc).expect("vector header");
+            sim::run(&sc, SimOptions::default(), &mut [&mut w]).expect("bench runs");
+            path
+        })
+        .collect();
     // CPU seconds of the waited-for children (the regress process and its DUT workers).
     let children_cpu = || {
         // SAFETY: getrusage writes one rusage through a valid pointer.
@@ -201,7 +219,7 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
         (t.elapsed().as_secs_f64(), children_cpu() - cpu, o.status.code())
     };
     // (wall, CPU) of each, fastest wall of the rounds
-    let (mut alone, mut model, mut lockstep) = ((f64::MAX, 0.0), (f64::MAX, 0.0), (f64::MAX, 0.0));
+    let (mut alone, mut files_alone, mut model, mut lockstep) = ((f64::MAX, 0.0), (f64::MAX, 0.0), (f64::MAX, 0.0), (f64::MAX, 0.0));
     let mut exits = Vec::new();
     for _ in 0..rounds {
         let (t, cpu) = (Instant::now(), cpu_now());
@@ -211,6 +229,17 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
         let w = t.elapsed().as_secs_f64();
         if w < alone.0 {
             alone = (w, cpu_now() - cpu);
+        }
+        if built {
+            let (t, cpu) = (Instant::now(), children_cpu());
+            for v in &vecs {
+                let o = std::process::Command::new(&replay).arg(&lib).arg(v).output().expect("replay runs");
+                assert!(o.status.success(), "replay {}: {}", v.display(), String::from_utf8_lossy(&o.stderr));
+            }
+            let w = t.elapsed().as_secs_f64();
+            if w < files_alone.0 {
+                files_alone = (w, children_cpu() - cpu);
+            }
         }
         for (dut, best) in [("model", &mut model), ("verilator", &mut lockstep)] {
             let (w, cpu, c) = regress(dut);
@@ -225,7 +254,13 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
     println!("|---|---:|---:|---:|---:|");
     let row = |what: &str, (w, c): (f64, f64)| println!("| {what} | {w:.2} | {:.2}x | {c:.2} | {:.2}x |", w / alone.0, c / alone.1);
     row("Verilator alone (the RTL library, stimuli in memory, outputs folded)", alone);
+    if built {
+        row("Verilator alone as its own testbench (the same library, a process a seed reading its vector file)", files_alone);
+    }
     row("pmu50 regress --dut model (the model, coverage, checks)", model);
     row("pmu50 regress --dut verilator (model + RTL in lockstep, every register compared)", lockstep);
-    println!("regress --dut verilator adds {:+.0} % wall, {:+.0} % CPU to Verilator alone (goal: at most +10 %)", (lockstep.0 / alone.0 - 1.0) * 100.0, (lockstep.1 / alone.1 - 1.0) * 100.0);
+    println!("regress --dut verilator adds {:+.0} % wall, {:+.0} % CPU to Verilator alone in memory (goal: at most +10 %)", (lockstep.0 / alone.0 - 1.0) * 100.0, (lockstep.1 / alone.1 - 1.0) * 100.0);
+    if built {
+        println!("regress --dut verilator adds {:+.0} % wall, {:+.0} % CPU to Verilator replaying vector files", (lockstep.0 / files_alone.0 - 1.0) * 100.0, (lockstep.1 / files_alone.1 - 1.0) * 100.0);
+    }
 }
