@@ -199,26 +199,36 @@ fn a_repro_runs_the_seed_checks_on_any_scenario() {
     assert!(text(&o).starts_with("PASS"), "{}", text(&o));
 }
 
+/// The scenarios of seeds 1-12 (uniform) and 1-4 (biased towards long parking), each given to
+/// `check` with its seed; returns the ticks the bench skipped over all of them (at the default
+/// stepping, `check`'s first run).
+fn skip_scenarios(mut check: impl FnMut(u64, &pmu50::scenario::Scenario) -> u64) -> u64 {
+    use pmu50::regress::gen::{Bias, Stimulus};
+    let parked = Bias::from_missing(["cnt_r.value.saturated"]);
+    let mut skipped = 0;
+    for (seed, bias) in (1..=12).map(|s| (s, Bias::uniform())).chain((1..=4).map(|s| (s, parked.clone()))) {
+        let text = Stimulus::generate(seed, &bias).to_toml("t");
+        let sc = pmu50::scenario::Scenario::parse(&text, "t", "t", Path::new("t.toml")).unwrap();
+        skipped += check(seed, &sc);
+    }
+    skipped
+}
+
 /// A seed's coverage with repeated key-off periods skipped and replayed (what `regress` runs)
 /// equals the coverage of stepping every tick, bin by bin; the skip is taken.
 #[test]
 fn coverage_of_skipped_periods_equals_every_tick() {
     use pmu50::regress::check::SeedChecks;
-    use pmu50::regress::gen::{Bias, Stimulus};
     use pmu50::sim::{self, Stepping};
-    let mut skipped = 0;
-    let parked = Bias::from_missing(["cnt_r.value.saturated"]);
-    for (seed, bias) in (1..=12).map(|s| (s, Bias::uniform())).chain((1..=4).map(|s| (s, parked.clone()))) {
-        let text = Stimulus::generate(seed, &bias).to_toml("t");
-        let sc = pmu50::scenario::Scenario::parse(&text, "t", "t", Path::new("t.toml")).unwrap();
+    let skipped = skip_scenarios(|seed, sc| {
         let mut fast = SeedChecks::new(&sc.params, sc.clock_ns(), false);
         let mut slow = SeedChecks::new(&sc.params, sc.clock_ns(), false);
-        let rf = sim::run_with(&sc, Stepping::Periods, &mut [&mut fast]).unwrap();
-        let rs = sim::run_with(&sc, Stepping::EveryTick, &mut [&mut slow]).unwrap();
+        let rf = sim::run_with(sc, Stepping::Periods, &mut [&mut fast]).unwrap();
+        let rs = sim::run_with(sc, Stepping::EveryTick, &mut [&mut slow]).unwrap();
         assert_eq!(rs.skipped_ticks, 0);
-        skipped += rf.skipped_ticks;
         assert_eq!(fast.coverage.hits(), slow.coverage.hits(), "seed {seed}");
-    }
+        rf.skipped_ticks
+    });
     assert!(skipped > 50_000, "periods were skipped ({skipped} ticks)");
 }
 
@@ -227,20 +237,15 @@ fn coverage_of_skipped_periods_equals_every_tick() {
 /// tick, tick by tick; the skip is taken.
 #[test]
 fn the_lockstep_stimulus_of_skipped_periods_equals_every_tick() {
-    use pmu50::regress::gen::{Bias, Stimulus};
     use pmu50::regress::lockstep::InputRecorder;
     use pmu50::sim::{self, Stepping};
-    let mut skipped = 0;
-    let parked = Bias::from_missing(["cnt_r.value.saturated"]);
-    for (seed, bias) in (1..=12).map(|s| (s, Bias::uniform())).chain((1..=4).map(|s| (s, parked.clone()))) {
-        let text = Stimulus::generate(seed, &bias).to_toml("t");
-        let sc = pmu50::scenario::Scenario::parse(&text, "t", "t", Path::new("t.toml")).unwrap();
+    let skipped = skip_scenarios(|seed, sc| {
         let (mut fast, mut slow) = (InputRecorder::default(), InputRecorder::default());
-        let rf = sim::run_with(&sc, Stepping::Periods, &mut [&mut fast]).unwrap();
-        sim::run_with(&sc, Stepping::EveryTick, &mut [&mut slow]).unwrap();
-        skipped += rf.skipped_ticks;
+        let rf = sim::run_with(sc, Stepping::Periods, &mut [&mut fast]).unwrap();
+        sim::run_with(sc, Stepping::EveryTick, &mut [&mut slow]).unwrap();
         assert_eq!(slow.inputs.len() as u64, sc.ticks, "seed {seed}");
         assert!(fast.inputs == slow.inputs, "seed {seed}: the recorded stimulus differs");
-    }
+        rf.skipped_ticks
+    });
     assert!(skipped > 50_000, "periods were skipped ({skipped} ticks)");
 }

@@ -24,11 +24,8 @@
 
 #define PMU50_DUT_API extern "C" __attribute__((visibility("default")))
 
-#ifndef PMU50_SYNC_DEPTH
-#define PMU50_SYNC_DEPTH 2
-#endif
-#ifndef PMU50_CNT_W
-#define PMU50_CNT_W 16
+#if !defined(PMU50_SYNC_DEPTH) || !defined(PMU50_CNT_W)
+#error "build with -DPMU50_SYNC_DEPTH=.. -DPMU50_CNT_W=.. (the Verilog parameters of this build)"
 #endif
 
 namespace {
