@@ -30,6 +30,23 @@ int fail(const char *what, const char *detail) {
 
 template <typename F> F sym(void *lib, const char *name) { return reinterpret_cast<F>(dlsym(lib, name)); }
 
+// The first `n` whitespace-separated hex fields of a line; false when there are fewer.
+bool hex_fields(const char *s, unsigned *f, int n) {
+    for (int k = 0; k < n; ++k) {
+        while (*s == ' ' || *s == '\t') ++s;
+        unsigned v = 0;
+        const char *start = s;
+        for (;; ++s) {
+            unsigned d = *s >= '0' && *s <= '9' ? *s - '0' : *s >= 'a' && *s <= 'f' ? *s - 'a' + 10 : *s >= 'A' && *s <= 'F' ? *s - 'A' + 10 : 16;
+            if (d == 16) break;
+            v = v << 4 | d;
+        }
+        if (s == start) return false;
+        f[k] = v;
+    }
+    return true;
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -52,6 +69,7 @@ int main(int argc, char **argv) {
     if (!fp) return fail(argv[2], std::strerror(errno));
     std::map<std::string, uint64_t> param;
     std::vector<uint64_t> in;  // 7 values a tick
+    in.reserve(1 << 20);
     char line[512];
     long n = 0;
     while (std::fgets(line, sizeof line, fp)) {
@@ -63,7 +81,7 @@ int main(int argc, char **argv) {
             continue;
         }
         unsigned f[7];
-        if (std::sscanf(line, "%x %x %x %x %x %x %x", &f[0], &f[1], &f[2], &f[3], &f[4], &f[5], &f[6]) != 7) {
+        if (!hex_fields(line, f, 7)) {
             std::fprintf(stderr, "replay: %s:%ld: not a vector line\n", argv[2], n);
             return 2;
         }
