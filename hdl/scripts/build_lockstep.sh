@@ -41,7 +41,7 @@ esac
 FLIST="${PMU50_FILELIST:-$HDL/pmu50.f}"
 FDIR="$(cd "$(dirname "$FLIST")" && pwd)"
 mapfile -t RTL < <(sed -e 's|//.*||' -e 's|#.*||' -e 's|^[[:space:]]*||' -e 's|[[:space:]]*$||' "$FLIST" | grep -v '^$' | sed "s|^\([^/]\)|$FDIR/\1|")
-SRCS=("${BASH_SOURCE[0]}" "$FLIST" "${RTL[@]}" "$HDL/tb/lockstep/lockstep.vlt" "$TB" "$HDL/ffi/include/pmu50.h" ${LIB:+"$LIB"})
+SRCS=("${BASH_SOURCE[0]}" "$FLIST" "${RTL[@]}" "$HDL/tb/lockstep/lockstep.vlt" "$TB" "$HDL/tb/lockstep/twin_access.h" "$HDL/ffi/include/pmu50.h" ${LIB:+"$LIB"})
 if [ -f "$TARGET" ]; then
     newer=0
     for s in "${SRCS[@]}"; do [ "$s" -nt "$TARGET" ] && newer=1; done

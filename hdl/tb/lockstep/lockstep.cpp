@@ -13,8 +13,7 @@
 // (mutant, SYNC_DEPTH, CNT_W), compiled with -DPMU50_SYNC_DEPTH=.. -DPMU50_CNT_W=..; the reset
 // values of the programmable registers come from the vector header at run time: they are
 // deposited into the twin's registers right after reset (lockstep.vlt makes them writable).
-#include "Vpmu50.h"
-#include "Vpmu50___024root.h"
+#include "twin_access.h"
 #include "verilated.h"
 
 #include "pmu50.h"
@@ -24,7 +23,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <deque>
-#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -167,80 +165,34 @@ int main(int argc, char **argv) {
     auto top = std::make_unique<Vpmu50>(ctx.get(), "pmu50");
     Vpmu50___024root *R = top->rootp;
 
-    // Registers of the twin under the model's names (order of pmu50_reg_info).
-    struct TwinReg {
-        const char *name;
-        std::function<uint64_t()> get;
-    };
-    const std::vector<TwinReg> twin_regs = {
-        {"action_switching.sync", [R] { return u(R->pmu50__DOT__action_switching__DOT__sync); }},
-        {"register_file.adaptive", [R] { return u(R->pmu50__DOT__register_file__DOT__adaptive); }},
-        {"register_file.pw", [R] { return u(R->pmu50__DOT__register_file__DOT__pw); }},
-        {"register_file.pi", [R] { return u(R->pmu50__DOT__register_file__DOT__pi); }},
-        {"register_file.ps", [R] { return u(R->pmu50__DOT__register_file__DOT__ps); }},
-        {"register_file.si_max", [R] { return u(R->pmu50__DOT__register_file__DOT__si_max); }},
-        {"register_file.si_min", [R] { return u(R->pmu50__DOT__register_file__DOT__si_min); }},
-        {"register_file.t1", [R] { return u(R->pmu50__DOT__register_file__DOT__t1); }},
-        {"register_file.t2", [R] { return u(R->pmu50__DOT__register_file__DOT__t2); }},
-        {"register_file.cth", [R] { return u(R->pmu50__DOT__register_file__DOT__cth); }},
-        {"register_file.smp_on", [R] { return u(R->pmu50__DOT__register_file__DOT__smp_on); }},
-        {"register_file.bus_err", [R] { return u(R->pmu50__DOT__register_file__DOT__bus_err); }},
-        {"register_file.rdata", [R] { return u(R->pmu50__DOT__register_file__DOT__rdata); }},
-        {"timing_generator.tmr", [R] { return u(R->pmu50__DOT__timing_generator__DOT__tmr); }},
-        {"sensor_power_determination.sr", [R] { return u(R->pmu50__DOT__sensor_power_determination__DOT__sr); }},
-        {"comparator_latch.cs", [R] { return u(R->pmu50__DOT__comparator_latch__DOT__cs); }},
-        {"comparator_latch.cc", [R] { return u(R->pmu50__DOT__comparator_latch__DOT__cc); }},
-        {"comparator_latch.vld", [R] { return u(R->pmu50__DOT__comparator_latch__DOT__vld); }},
-        {"updown_counter.cnt_s", [R] { return u(R->pmu50__DOT__updown_counter__DOT__cnt_s); }},
-        {"updown_counter.cnt_c", [R] { return u(R->pmu50__DOT__updown_counter__DOT__cnt_c); }},
-        {"updown_counter.quadrant_skip", [R] { return u(R->pmu50__DOT__updown_counter__DOT__quadrant_skip); }},
-        {"drive_interval.si", [R] { return u(R->pmu50__DOT__drive_interval__DOT__si); }},
-        {"drive_interval.hist_s", [R] { return u(R->pmu50__DOT__drive_interval__DOT__hist_s); }},
-        {"drive_interval.hist_c", [R] { return u(R->pmu50__DOT__drive_interval__DOT__hist_c); }},
-        {"drive_interval.cnt_r", [R] { return u(R->pmu50__DOT__drive_interval__DOT__cnt_r); }},
-        {"count_diagnosis.diag", [R] { return u(R->pmu50__DOT__count_diagnosis__DOT__diag); }},
-    };
-    // Place every twin register at the model's index (pmu50_check takes them in that order).
-    std::vector<int> reg_index;
-    std::vector<bool> covered(pmu50_reg_count(), false);
-    for (const auto &t : twin_regs) {
-        int idx = pmu50_reg_find(t.name);
-        if (idx < 0) die(2, "model has no register `%s`: %s", t.name, pmu50_last_error());
-        if (covered[static_cast<size_t>(idx)]) die(2, "twin register `%s` listed twice", t.name);
-        covered[static_cast<size_t>(idx)] = true;
-        reg_index.push_back(idx);
+    // The twin's values in the order of the model's tables (twin_access.h), checked by name.
+    for (int k = 0; k < twin::kRegisters; ++k) {
+        if (pmu50_reg_find(twin::kRegisterNames[k]) != k) die(2, "the model's register %s is not at the twin's index", twin::kRegisterNames[k]);
     }
-    if (twin_regs.size() != pmu50_reg_count()) {
-        std::printf("LOCKSTEP ERROR: the model has %zu registers, the twin table %zu\n", pmu50_reg_count(), twin_regs.size());
-        return 2;
+    for (int k = 0; k < twin::kOutputs; ++k) {
+        const char *name = nullptr;
+        uint8_t width = 0;
+        if (pmu50_output_info(model, k, &name, &width) != PMU50_OK || std::strcmp(name, twin::kOutputNames[k]) != 0)
+            die(2, "the model's output %s is not at the twin's index", twin::kOutputNames[k]);
     }
-    uint64_t rtl_regs[PMU50_REG_COUNT];
-    auto twin_registers = [&] {
-        for (size_t k = 0; k < twin_regs.size(); ++k) rtl_regs[reg_index[k]] = twin_regs[k].get();
-    };
-
+    if (static_cast<size_t>(twin::kRegisters) != pmu50_reg_count() || static_cast<size_t>(twin::kOutputs) != pmu50_output_count() ||
+        static_cast<size_t>(twin::kInternals) != pmu50_internal_count())
+        die(2, "the model's signal table and twin_access.h differ in length");
+    uint64_t rtl_regs[twin::kRegisters];
+    auto twin_registers = [&] { twin::registers(R, rtl_regs); };
     auto twin_outputs = [&](pmu50_outputs &o) {
-        o.sig = top->sig; o.vr_hi = top->vr_hi; o.vm_en = top->vm_en; o.vs1_en = top->vs1_en;
-        o.vs2_en = top->vs2_en; o.vp_en = top->vp_en; o.rail_hi = top->rail_hi; o.st = top->st;
-        o.sr = top->sr; o.ps_win = top->ps_win; o.smp = top->smp; o.cs = top->cs; o.cc = top->cc;
-        o.cnt_s = top->cnt_s; o.cnt_c = top->cnt_c; o.cnt_r = top->cnt_r; o.si = top->si;
-        o.hist_s = top->hist_s; o.hist_c = top->hist_c; o.diag = top->diag;
-        o.quadrant_skip = top->quadrant_skip; o.bus_rdata = top->bus_rdata; o.bus_err = top->bus_err;
+        uint64_t v[twin::kOutputs];
+        twin::outputs(*top, v);
+        for (int k = 0; k < twin::kOutputs; ++k) pmu50_output_set(&o, k, v[k]);
     };
     auto twin_internals = [&](pmu50_internals &x) {
-        x.kon = R->pmu50__DOT__internals__DOT__kon;
-        x.koff = R->pmu50__DOT__internals__DOT__koff;
-        x.upd = R->pmu50__DOT__internals__DOT__upd;
-        x.first = R->pmu50__DOT__internals__DOT__first;
-        x.chg_s = R->pmu50__DOT__internals__DOT__chg_s;
-        x.chg_c = R->pmu50__DOT__internals__DOT__chg_c;
-        x.skip_clr = R->pmu50__DOT__internals__DOT__skip_clr;
-        x.fig17 = R->pmu50__DOT__internals__DOT__fig17;
-        x.fig18 = R->pmu50__DOT__internals__DOT__fig18;
+        uint64_t v[twin::kInternals];
+        twin::internals(R, v);
+        for (int k = 0; k < twin::kInternals; ++k) pmu50_internal_set(&x, k, v[k]);
     };
     auto set_inputs = [&](const pmu50_inputs &in) {
-        top->ig = in.ig; top->vs2_ok = in.vs2_ok; top->cmp_s = in.cmp_s; top->cmp_c = in.cmp_c;
-        top->bus_we = in.bus_we; top->bus_addr = in.bus_addr; top->bus_wdata = in.bus_wdata;
+        const uint64_t v[twin::kInputs] = {in.ig, in.vs2_ok, in.cmp_s, in.cmp_c, in.bus_we, in.bus_addr, in.bus_wdata};
+        twin::set_inputs(*top, v);
     };
 
     // The comparison itself is the model's: pmu50_check. >0 mismatches, <0 error.
@@ -282,25 +234,11 @@ int main(int argc, char **argv) {
     };
 
     // ------------------------------------------------------------------ reset
-    top->clk = 0;
-    top->rst_n = 0;
-    set_inputs(pmu50_inputs{});
-    top->eval();
-    // Deposit the scenario's reset values (the build's parameters are the defaults).
-    R->pmu50__DOT__register_file__DOT__adaptive = p.adaptive ? 1 : 0;
-    R->pmu50__DOT__register_file__DOT__pw = p.pw;
-    R->pmu50__DOT__register_file__DOT__pi = p.pi;
-    R->pmu50__DOT__register_file__DOT__ps = p.ps;
-    R->pmu50__DOT__register_file__DOT__si_max = p.si_max;
-    R->pmu50__DOT__register_file__DOT__si_min = p.si_min;
-    R->pmu50__DOT__register_file__DOT__t1 = p.t1;
-    R->pmu50__DOT__register_file__DOT__t2 = p.t2;
-    R->pmu50__DOT__register_file__DOT__cth = p.cth;
-    R->pmu50__DOT__register_file__DOT__smp_on = p.smp_on;
-    R->pmu50__DOT__drive_interval__DOT__si = p.si_max;
-    top->eval();
-    top->rst_n = 1;
-    top->eval();
+    {
+        // The scenario's reset values (the build's parameters are the defaults).
+        const uint64_t v[twin::kResetValues] = {p.adaptive ? 1u : 0u, p.pw, p.pi, p.ps, p.si_max, p.si_min, p.t1, p.t2, p.cth, p.smp_on};
+        twin::reset(*top, v);
+    }
 
     // Tick 0: reset state.
     {
