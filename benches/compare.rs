@@ -346,7 +346,7 @@ fn vcd_every_value(st: &Stim) -> Vec<u8> {
     let dt = st.clock_ns / unit_ns;
     for (k, i) in st.inputs.iter().enumerate() {
         let regs = *m.regs();
-        let (before, x, _) = m.step_traced(i);
+        let pmu50_core::TracedStep { before, internals: x, .. } = m.step_traced(i);
         frame_values(&mut vals, i, &before, &regs, &x);
         w.dump_frame(&mut f, k as u64 * dt, &vals).expect("traced values fit their declarations");
     }
@@ -386,7 +386,7 @@ fn pass_edge_only(st: &Stim) -> u64 {
     let mut h = 0;
     for i in &st.inputs {
         let regs = *m.regs();
-        let (before, x, after) = m.step_traced(i);
+        let pmu50_core::TracedStep { before, internals: x, after, .. } = m.step_traced(i);
         black_box((&regs, &before, &x));
         h = mix(h, &after);
     }
@@ -399,7 +399,7 @@ fn check_frame_order(st: &Stim) {
     let mut m = Pmu50::new(st.params).unwrap();
     for i in st.inputs.iter().take(5000) {
         let regs = *m.regs();
-        let (before, x, _) = m.step_traced(i);
+        let pmu50_core::TracedStep { before, internals: x, .. } = m.step_traced(i);
         let mut v = [0u64; NSIG];
         frame_values(&mut v, i, &before, &regs, &x);
         let want: Vec<u64> = i.values().iter().map(|t| t.2).chain(before.values(&s).iter().map(|t| t.2)).chain(regs.values(&s).iter().map(|r| r.value)).chain(x.values().iter().map(|t| t.2)).collect();
@@ -657,7 +657,7 @@ fn main() {
             let mut m = Pmu50::new(st.params).expect("legal parameters");
             let (mut wide, mut narrow_upd) = (0, 0);
             for i in &st.inputs {
-                let (x, _, w) = m.step_traced_wide(i);
+                let pmu50_core::TracedStep { internals: x, wide: w, .. } = m.step_traced(i);
                 wide += u32::from(w);
                 narrow_upd += u32::from(!w && x.upd);
             }

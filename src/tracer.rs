@@ -245,7 +245,7 @@ impl Held {
         let h = self;
         h.valid = false;
         let before = h.before_edge(s, m.regs(), i, full);
-        let (x, after, wide) = m.step_traced_wide(i);
+        let pmu50_core::TracedStep { internals: x, after, wide, .. } = m.step_traced(i);
         if wide {
             h.o = after;
         } else {

@@ -294,7 +294,7 @@ impl Core {
     fn step_traced(&mut self, inputs: Option<&Bound<'_, PyDict>>) -> PyResult<Trace> {
         guard("Core.step_traced()", || {
             let i = Core::inputs(inputs)?;
-            let (b, x, a) = self.m.step_traced(&i);
+            let pmu50_core::TracedStep { before: b, internals: x, after: a, .. } = self.m.step_traced(&i);
             Ok(Trace {
                 tick: self.m.tick(),
                 before: self.outputs(&b),

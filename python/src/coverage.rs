@@ -79,7 +79,7 @@ impl Coverage {
             )));
         }
         let before = *core.m.regs();
-        let (out, n, after_out) = core.m.step_traced(inputs);
+        let pmu50_core::TracedStep { before: out, internals: n, after: after_out, .. } = core.m.step_traced(inputs);
         let after = *core.m.regs();
         self.cov.sample(&Edge { before: &before, after: &after, out: &out, inputs, internals: &n });
         self.edges += 1;

@@ -354,7 +354,7 @@ fn run(seed: u64, ticks: u64, out: &str, vcd_path: Option<&str>) -> Result<(), S
         let before = core.peek();
         let regs_before = *core.regs();
         let i = stim.next(before.sig, &regs_before);
-        let (_, internals, after) = core.step_traced(&i);
+        let pmu50_core::TracedStep { internals, after, .. } = core.step_traced(&i);
         let mut l = String::with_capacity(96);
         for (_, w, v) in i.values() {
             let _ = write!(l, "{:0d$x} ", v, d = usize::from(w).div_ceil(4));

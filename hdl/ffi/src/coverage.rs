@@ -165,7 +165,7 @@ pub unsafe extern "C" fn pmu50_coverage_step_traced(c: *mut pmu50_coverage_t, m:
         // SAFETY: checked non-null.
         let inputs: Inputs = unsafe { i.read() }.into();
         let before = *m.core.regs();
-        let (out, n, after_out) = m.core.step_traced(&inputs);
+        let pmu50_core::TracedStep { before: out, internals: n, after: after_out, .. } = m.core.step_traced(&inputs);
         m.last = Some(n);
         c.cov.sample(&Edge { before: &before, after: m.core.regs(), out: &out, inputs: &inputs, internals: &n });
         c.edges += 1;

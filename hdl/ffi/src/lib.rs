@@ -401,7 +401,7 @@ pub unsafe extern "C" fn pmu50_step_traced(
         }
         // SAFETY: checked non-null.
         let inputs: Inputs = unsafe { i.read() }.into();
-        let (_, int, out) = m.core.step_traced(&inputs);
+        let pmu50_core::TracedStep { internals: int, after: out, .. } = m.core.step_traced(&inputs);
         m.last = Some(int);
         if !internals.is_null() {
             // SAFETY: checked non-null.
@@ -875,7 +875,7 @@ mod tests {
                 };
                 let i = pmu50_inputs::from(core_in);
                 assert_eq!(pmu50_step_traced(m, &i, &mut x, &mut o), PMU50_OK);
-                let (_, int, out) = core.step_traced(&i.into());
+                let pmu50_core::TracedStep { internals: int, after: out, .. } = core.step_traced(&i.into());
                 assert_eq!(o, out.into());
                 assert_eq!(x, int.into());
             }

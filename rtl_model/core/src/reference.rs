@@ -5,7 +5,7 @@
 //! `tests/kernel_scenarios.rs`); `make bench` measures both.
 
 use crate::params::{ParamError, Params};
-use crate::pmu50::{eval, ports, reset, Inputs, Internals, Outputs, Regs, Structural};
+use crate::pmu50::{eval, ports, reset, Inputs, Outputs, Regs, Structural, TracedStep};
 
 /// The per-block specification model with the stepping API of [`crate::Pmu50`].
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -40,15 +40,16 @@ impl Pmu50Spec {
 
     /// One rising edge with these inputs; returns the outputs after the edge.
     pub fn step(&mut self, i: &Inputs) -> Outputs {
-        self.step_traced(i).2
+        self.step_traced(i).after
     }
 
-    /// One rising edge; returns (outputs before the edge, internals of the cycle, outputs after).
-    pub fn step_traced(&mut self, i: &Inputs) -> (Outputs, Internals, Outputs) {
+    /// One rising edge, traced (`wide` is always true: the specification does not classify
+    /// edges).
+    pub fn step_traced(&mut self, i: &Inputs) -> TracedStep {
         let (before, internals, next) = eval(&self.s, &self.regs, i);
         self.regs = next;
         self.tick += 1;
-        (before, internals, self.peek())
+        TracedStep { before, internals, after: self.peek(), wide: true }
     }
 
     /// All registers.

@@ -17,7 +17,7 @@ use pmu50_core::count_diagnosis as cd;
 use pmu50_core::pmu50::Structural;
 use pmu50_core::register_file::addr;
 use pmu50_core::updown_counter_58cd as uc;
-use pmu50_core::{Inputs, Params, Pmu50};
+use pmu50_core::{Inputs, Params, Pmu50, TracedStep};
 use proptest::prelude::*;
 
 /// Quadrant reference of the two counters.
@@ -309,7 +309,7 @@ fn run_top(p: Params, seed: u64, samples: u32) {
             i.bus_wdata = (1 << 5) | (rng.next() as u16 & !(1 << 5));
         }
         let before = *m.regs();
-        let (_, int, o2) = m.step_traced(&i);
+        let TracedStep { internals: int, after: o2, .. } = m.step_traced(&i);
         assert_eq!(int.upd, sampling, "a sample is taken exactly when smp & sr");
         let mv = rf.edge(sampling.then(|| signs(target)), clr);
         if sampling {

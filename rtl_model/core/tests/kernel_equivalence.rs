@@ -19,7 +19,7 @@ use pmu50_core::pmu50::{eval, Regs, Structural};
 use pmu50_core::register_file::{addr, status};
 use pmu50_core::{action_switching_56a as sw, comparator_latch_58ab as cl, count_diagnosis as cd, drive_interval_changing_56b as di};
 use pmu50_core::{kernel, register_file as rf, sensor_power_determination_57 as spd, timing_generator_56 as tg, updown_counter_58cd as uc};
-use pmu50_core::{Inputs, Internals, Params, Pmu50, Pmu50Spec};
+use pmu50_core::{Inputs, Internals, Params, Pmu50, Pmu50Spec, TracedStep};
 use proptest::prelude::*;
 use std::collections::HashSet;
 
@@ -172,7 +172,7 @@ proptest! {
         let c = kernel::Consts::new(&s);
         let mut sh = kernel::Shadow::of(&c, &r);
         let mut k = r;
-        let (out, x, wide) = kernel::step_traced_wide(&c, &mut k, &mut sh, &i);
+        let TracedStep { internals: x, after: out, wide, .. } = kernel::step_traced(&c, &mut k, &mut sh, &i);
         let (_, want_x, want) = eval(&s, &r, &i);
         prop_assert_eq!(k, want);
         prop_assert_eq!(x, want_x);
@@ -236,7 +236,7 @@ fn key_on_strobes(r: &Regs, i: &Inputs, s: &Structural) -> Result<(u32, u32), Te
         }
         let mut sh = kernel::Shadow::of(&c, &r);
         let mut k = r;
-        let (_, x, wide) = kernel::step_traced_wide(&c, &mut k, &mut sh, &i);
+        let TracedStep { internals: x, wide, .. } = kernel::step_traced(&c, &mut k, &mut sh, &i);
         prop_assert_eq!((k, x), (want, want_x));
         let quiet = narrow_writes_of(&r, &k) == k && x == Internals { upd: x.upd, ..Internals::default() };
         prop_assert_eq!(wide, !quiet, "a key-on strobe at tmr {}: wide {}, internals {:?}", tmr, wide, x);
@@ -358,8 +358,8 @@ fn lockstep(p: Params, seed: u64, len: u64, cov: &mut Coverage) -> Result<(), Te
         let err_before = spec.regs().register_file.bus_err;
         let sig_before = spec.peek().sig;
         let regs_before = *spec.regs();
-        let (b1, x1, a1): (_, Internals, _) = fast.step_traced(&i);
-        let (b2, x2, a2) = spec.step_traced(&i);
+        let TracedStep { before: b1, internals: x1, after: a1, .. } = fast.step_traced(&i);
+        let TracedStep { before: b2, internals: x2, after: a2, .. } = spec.step_traced(&i);
         prop_assert_eq!(b1, b2, "outputs before edge {} (seed {}, {:?})", k + 1, seed, p);
         prop_assert_eq!(x1, x2, "internals of cycle {} (seed {})", k, seed);
         prop_assert_eq!(a1, a2, "outputs after edge {} (seed {})", k + 1, seed);

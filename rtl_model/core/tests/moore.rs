@@ -8,7 +8,7 @@ mod common;
 use common::Rng;
 use pmu50_core::pmu50::{eval, ports};
 use pmu50_core::register_file::addr;
-use pmu50_core::{Inputs, Params, Pmu50};
+use pmu50_core::{Inputs, Params, Pmu50, TracedStep};
 use proptest::prelude::*;
 
 /// Any input vector at all (bus fields included).
@@ -88,15 +88,15 @@ proptest! {
         check_moore(&m, &mut rng);
         for _ in 0..len {
             let i = d.next(&m);
-            let (_, _, after) = m.step_traced(&i);
+            let TracedStep { after, .. } = m.step_traced(&i);
             prop_assert_eq!(after, m.peek());
             check_moore(&m, &mut rng);
         }
         // The read port too: `bus_rdata` of this cycle does not depend on this cycle's address.
         let mut a = m.clone();
         let mut b = m.clone();
-        let x = a.step_traced(&Inputs { bus_addr: addr::ID, ..Default::default() }).0;
-        let y = b.step_traced(&Inputs { bus_addr: addr::STATUS, bus_we: true, bus_wdata: 0xFFFF, ig: true, ..Default::default() }).0;
+        let x = a.step_traced(&Inputs { bus_addr: addr::ID, ..Default::default() }).before;
+        let y = b.step_traced(&Inputs { bus_addr: addr::STATUS, bus_we: true, bus_wdata: 0xFFFF, ig: true, ..Default::default() }).before;
         prop_assert_eq!(x, y);
     }
 }

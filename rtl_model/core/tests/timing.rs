@@ -10,7 +10,7 @@ mod common;
 
 use common::{legal_set, Rng};
 use pmu50_core::register_file::addr;
-use pmu50_core::{Inputs, Outputs, Params, Pmu50};
+use pmu50_core::{Inputs, Outputs, Params, Pmu50, TracedStep};
 use proptest::prelude::*;
 
 fn wt(p: &Params) -> u64 {
@@ -42,7 +42,7 @@ fn check_key_off_table(p: Params, cmp: (bool, bool)) {
             assert_eq!((o.cs, o.cc), if k >= wt { cmp } else { (false, false) }, "{ctx}");
         }
         prev_vs2_en = o.vs2_en;
-        let (_, int, _) = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
+        let TracedStep { internals: int, .. } = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
         assert_eq!(int.upd, o.smp && o.sr, "{ctx}");
         assert!(!int.kon && !int.koff && !int.chg_s && !int.chg_c, "{ctx}");
     }
@@ -93,7 +93,7 @@ proptest! {
             let o = m.peek();
             let ok = rng.bit();
             let cmp = (rng.bit(), rng.bit());
-            let (_, int, o2) = m.step_traced(&Inputs { ig, vs2_ok: ok, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
+            let TracedStep { internals: int, after: o2, .. } = m.step_traced(&Inputs { ig, vs2_ok: ok, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
             prop_assert_eq!(o2.sr, o.vs2_en && ok, "sr after edge {}", k + 1);
             // I2: without a good rail no sample; FIG. 17 ends at S1 (interval unchanged).
             let sampled = o.smp && o.sr;
@@ -120,7 +120,7 @@ fn every_key_off_pulse_takes_a_sample_with_the_shortest_legal_window() {
     let (mut pulses, mut samples) = (0, 0);
     for _ in 0..5 * u64::from(p.si_max) {
         let o = m.peek();
-        let (_, int, _) = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: true, ..Default::default() });
+        let TracedStep { internals: int, .. } = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: true, ..Default::default() });
         pulses += u32::from(o.smp);
         samples += u32::from(int.upd);
     }
@@ -160,7 +160,7 @@ proptest! {
             if !o.vs2_en && rng.chance(1, 200) {
                 cmp = (rng.bit(), rng.bit());
             }
-            let (_, _, o2) = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
+            let TracedStep { after: o2, .. } = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
             if o2.si != o.si {
                 prop_assert!(o.smp && !o.sig, "si changed at tick {} without a key-off sample", k);
             }
@@ -221,7 +221,7 @@ proptest! {
                 (i.bus_we, i.bus_wdata) = (true, v);
                 i.bus_addr = addr::SI_MAX;
             }
-            let (_, int, o2) = m.step_traced(&i);
+            let TracedStep { internals: int, after: o2, .. } = m.step_traced(&i);
             if let Some(v) = x_write {
                 prop_assert!(o.sig, "the key-off edge still has sig = 1: the write is not refused for the key");
                 rf.write(addr::SI_MAX, v, true);
@@ -390,7 +390,7 @@ proptest! {
         for (a, d) in writes {
             let o = m.peek();
             prop_assert!(!o.sig);
-            let (_, int, o2) = m.step_traced(&Inputs { vs2_ok: o.vs2_en, bus_we: true, bus_addr: a, bus_wdata: d, ..Default::default() });
+            let TracedStep { internals: int, after: o2, .. } = m.step_traced(&Inputs { vs2_ok: o.vs2_en, bus_we: true, bus_addr: a, bus_wdata: d, ..Default::default() });
             prop_assert!(o2.bus_err, "write {:#04x} <- {:#06x} while key off not flagged", a, d);
             prop_assert!(!int.skip_clr);
             prop_assert_eq!(RefRf { bus_err: false, ..RefRf::of(&m) }, rf0, "write {:#04x} <- {:#06x} taken while key off", a, d);
@@ -439,7 +439,7 @@ proptest! {
             let expect_read = rf.read(a, &p, &o, m.regs().comparator_latch.vld);
             prop_assert_eq!(m.read(a), expect_read, "read mux at {:#04x}", a);
             let cmp = (rng.bit(), rng.bit());
-            let (_, int, o2) = m.step_traced(&Inputs { ig: true, vs2_ok: o.vs2_en, bus_we: we, bus_addr: a, bus_wdata: d, cmp_s: cmp.0, cmp_c: cmp.1 });
+            let TracedStep { internals: int, after: o2, .. } = m.step_traced(&Inputs { ig: true, vs2_ok: o.vs2_en, bus_we: we, bus_addr: a, bus_wdata: d, cmp_s: cmp.0, cmp_c: cmp.1 });
             if we {
                 rf.write(a, d, true);
             }
@@ -536,7 +536,7 @@ fn si_within_min_and_max_in_key_off_even_with_a_write_at_the_key_off_edge() {
         if k == d {
             (i.bus_we, i.bus_addr, i.bus_wdata) = (true, addr::SI_MAX, 440);
         }
-        let (_, int, _) = m.step_traced(&i);
+        let TracedStep { internals: int, .. } = m.step_traced(&i);
         assert_eq!(int.koff, k == d);
     }
     let o = m.peek();
