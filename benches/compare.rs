@@ -83,21 +83,7 @@ fn load(dir: &Path, name: &str) -> Result<Stim, String> {
         if let Some(rest) = line.strip_prefix("// param ") {
             let mut it = rest.split_whitespace();
             let (k, v) = (it.next().ok_or_else(bad)?, it.next().ok_or_else(bad)?.parse::<u64>().map_err(|_| bad())?);
-            match k {
-                "SYNC_DEPTH" => p.sync_depth = v as u8,
-                "CNT_W" => p.cnt_width = v as u8,
-                "ADAPTIVE" => p.adaptive = v != 0,
-                "PW" => p.pw = v as u16,
-                "PI" => p.pi = v as u16,
-                "PS" => p.ps = v as u16,
-                "SI_MAX" => p.si_max = v as u16,
-                "SI_MIN" => p.si_min = v as u16,
-                "T1" => p.t1 = v as u16,
-                "T2" => p.t2 = v as u16,
-                "CTH" => p.cth = v as u8,
-                "SMP_ON" => p.smp_on = v as u16,
-                _ => return Err(bad()),
-            }
+            p.set_hdl_parameter(k, v).map_err(|e| format!("{}:{}: {e}", vec.display(), n + 1))?;
         } else if let Some(rest) = line.strip_prefix("// clock_ns ") {
             clock_ns = rest.trim().parse().map_err(|_| bad())?;
         } else if !line.starts_with("//") && !line.trim().is_empty() {

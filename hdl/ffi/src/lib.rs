@@ -68,43 +68,43 @@ pub struct pmu50_t {
 // ------------------------------------------------------------------------------------------
 // conversions
 
-impl From<Params> for pmu50_params {
-    fn from(p: Params) -> Self {
-        pmu50_params {
-            sync_depth: p.sync_depth,
-            cnt_width: p.cnt_width,
-            adaptive: u8::from(p.adaptive),
-            cth: p.cth,
-            pw: p.pw,
-            pi: p.pi,
-            ps: p.ps,
-            si_max: p.si_max,
-            si_min: p.si_min,
-            t1: p.t1,
-            t2: p.t2,
-            smp_on: p.smp_on,
-        }
+/// A C field of `pmu50_params` read as the parameter's type (a C boolean: any non-zero is true).
+trait FromC<C> {
+    fn from_c(c: C) -> Self;
+}
+
+impl FromC<u8> for bool {
+    fn from_c(c: u8) -> bool {
+        c != 0
     }
 }
 
-impl From<pmu50_params> for Params {
-    fn from(p: pmu50_params) -> Self {
-        Params {
-            sync_depth: p.sync_depth,
-            cnt_width: p.cnt_width,
-            adaptive: p.adaptive != 0,
-            pw: p.pw,
-            pi: p.pi,
-            ps: p.ps,
-            si_max: p.si_max,
-            si_min: p.si_min,
-            t1: p.t1,
-            t2: p.t2,
-            cth: p.cth,
-            smp_on: p.smp_on,
-        }
+impl<T> FromC<T> for T {
+    fn from_c(c: T) -> T {
+        c
     }
 }
+
+/// The conversions of `pmu50_params`, generated from the parameter table (the struct itself is
+/// the header's, whose field order is the ABI).
+macro_rules! params_conversions {
+    (structural: [$(($sf:ident, $st:ty, $sh:literal, $sd:literal, $sdoc:literal),)*],
+     programmable: [$(($f:ident, $t:ty, $h:literal, $d:literal, $a:ident, $doc:literal),)*]) => {
+        impl From<Params> for pmu50_params {
+            fn from(p: Params) -> Self {
+                pmu50_params { $($sf: p.$sf.into(),)* $($f: p.$f.into(),)* }
+            }
+        }
+
+        impl From<pmu50_params> for Params {
+            fn from(p: pmu50_params) -> Self {
+                Params { $($sf: FromC::from_c(p.$sf),)* $($f: FromC::from_c(p.$f),)* }
+            }
+        }
+    };
+}
+
+pmu50_core::param_table!(params_conversions);
 
 /// NUL-terminated copies of the table's names (static for the life of the library).
 struct Names {
@@ -621,46 +621,6 @@ pub unsafe extern "C" fn pmu50_output_info(
     })
 }
 
-/// Value of output `index` of an outputs struct.
-///
-/// # Safety
-/// `o` NULL or readable; `value` NULL or writable.
-#[no_mangle]
-pub unsafe extern "C" fn pmu50_output_get(
-    o: *const pmu50_outputs,
-    index: usize,
-    value: *mut u64,
-) -> c_int {
-    guard("pmu50_output_get", || {
-        // SAFETY: the caller passes NULL or a readable struct.
-        let Some(o) = (unsafe { o.as_ref() }) else {
-            return null("pmu50_output_get", "o");
-        };
-        // SAFETY: the caller passes NULL or a writable pointer.
-        unsafe { write_value("pmu50_output_get", o.get(index), signals::N_OUTPUTS, index, value) }
-    })
-}
-
-/// Set output `index` of an outputs struct (low bits of `value`), e.g. to fill it from an RTL
-/// simulator by index.
-///
-/// # Safety
-/// `o` NULL or writable.
-#[no_mangle]
-pub unsafe extern "C" fn pmu50_output_set(o: *mut pmu50_outputs, index: usize, value: u64) -> c_int {
-    guard("pmu50_output_set", || {
-        // SAFETY: the caller passes NULL or a writable struct.
-        let Some(o) = (unsafe { o.as_mut() }) else {
-            return null("pmu50_output_set", "o");
-        };
-        if !o.set(index, value) {
-            set_error(format!("pmu50_output_set: index {index} out of range 0..{}", signals::N_OUTPUTS));
-            return PMU50_ERR_RANGE;
-        }
-        PMU50_OK
-    })
-}
-
 /// Number of internal signals (`PMU50_INTERNAL_COUNT`).
 #[no_mangle]
 pub extern "C" fn pmu50_internal_count() -> usize {
@@ -690,44 +650,68 @@ pub unsafe extern "C" fn pmu50_internal_info(
     })
 }
 
-/// Value of internal signal `index` of an internals struct.
-///
-/// # Safety
-/// `x` NULL or readable; `value` NULL or writable.
-#[no_mangle]
-pub unsafe extern "C" fn pmu50_internal_get(
-    x: *const pmu50_internals,
-    index: usize,
-    value: *mut u64,
-) -> c_int {
-    guard("pmu50_internal_get", || {
-        // SAFETY: the caller passes NULL or a readable struct.
-        let Some(x) = (unsafe { x.as_ref() }) else {
-            return null("pmu50_internal_get", "x");
-        };
-        // SAFETY: the caller passes NULL or a writable pointer.
-        unsafe { write_value("pmu50_internal_get", x.get(index), signals::N_INTERNALS, index, value) }
-    })
+/// The value getter and setter by index of a C mirror struct (`pmu50_outputs`,
+/// `pmu50_internals`): `$get(s, index, value)` and `$set(s, index, value)`; `$arg` is the
+/// struct's argument name in the header, for the NULL message.
+macro_rules! indexed_accessors {
+    ($(#[$get_doc:meta])* $get:ident, $(#[$set_doc:meta])* $set:ident, $c:ty, $arg:literal, $len:expr) => {
+        $(#[$get_doc])*
+        ///
+        /// # Safety
+        /// `s` NULL or readable; `value` NULL or writable.
+        #[no_mangle]
+        pub unsafe extern "C" fn $get(s: *const $c, index: usize, value: *mut u64) -> c_int {
+            guard(stringify!($get), || {
+                // SAFETY: the caller passes NULL or a readable struct.
+                let Some(s) = (unsafe { s.as_ref() }) else {
+                    return null(stringify!($get), $arg);
+                };
+                // SAFETY: the caller passes NULL or a writable pointer.
+                unsafe { write_value(stringify!($get), s.get(index), $len, index, value) }
+            })
+        }
+
+        $(#[$set_doc])*
+        ///
+        /// # Safety
+        /// `s` NULL or writable.
+        #[no_mangle]
+        pub unsafe extern "C" fn $set(s: *mut $c, index: usize, value: u64) -> c_int {
+            guard(stringify!($set), || {
+                // SAFETY: the caller passes NULL or a writable struct.
+                let Some(s) = (unsafe { s.as_mut() }) else {
+                    return null(stringify!($set), $arg);
+                };
+                if !s.set(index, value) {
+                    set_error(format!("{}: index {index} out of range 0..{}", stringify!($set), $len));
+                    return PMU50_ERR_RANGE;
+                }
+                PMU50_OK
+            })
+        }
+    };
 }
 
-/// Set internal signal `index` of an internals struct.
-///
-/// # Safety
-/// `x` NULL or writable.
-#[no_mangle]
-pub unsafe extern "C" fn pmu50_internal_set(x: *mut pmu50_internals, index: usize, value: u64) -> c_int {
-    guard("pmu50_internal_set", || {
-        // SAFETY: the caller passes NULL or a writable struct.
-        let Some(x) = (unsafe { x.as_mut() }) else {
-            return null("pmu50_internal_set", "x");
-        };
-        if !x.set(index, value) {
-            set_error(format!("pmu50_internal_set: index {index} out of range 0..{}", signals::N_INTERNALS));
-            return PMU50_ERR_RANGE;
-        }
-        PMU50_OK
-    })
-}
+indexed_accessors!(
+    /// Value of output `index` of an outputs struct.
+    pmu50_output_get,
+    /// Set output `index` of an outputs struct (low bits of `value`), e.g. to fill it from an RTL
+    /// simulator by index.
+    pmu50_output_set,
+    pmu50_outputs,
+    "o",
+    signals::N_OUTPUTS
+);
+
+indexed_accessors!(
+    /// Value of internal signal `index` of an internals struct.
+    pmu50_internal_get,
+    /// Set internal signal `index` of an internals struct.
+    pmu50_internal_set,
+    pmu50_internals,
+    "x",
+    signals::N_INTERNALS
+);
 
 /// Lockstep compare (verification method 2): the RTL's values against the model's. Each set is
 /// optional (NULL: not compared): `rtl_outputs` and `rtl_regs` (`PMU50_REG_COUNT` values in
