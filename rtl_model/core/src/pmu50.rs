@@ -510,19 +510,19 @@ pub enum FastForwardError {
 /// are derived from those and are not compared.
 #[derive(Clone, Debug)]
 pub struct Pmu50 {
-    s: Structural,
+    structural: Structural,
     params: Params,
     regs: Regs,
     tick: u64,
     /// Structural parameters pre-decoded for the fast kernel.
-    k: crate::kernel::Consts,
+    consts: crate::kernel::Consts,
     /// The fast kernel's read-side cache of `regs`.
-    sh: crate::kernel::Shadow,
+    shadow: crate::kernel::Shadow,
 }
 
 impl PartialEq for Pmu50 {
     fn eq(&self, o: &Pmu50) -> bool {
-        (self.s, self.params, self.regs, self.tick) == (o.s, o.params, o.regs, o.tick)
+        (self.structural, self.params, self.regs, self.tick) == (o.structural, o.params, o.regs, o.tick)
     }
 }
 impl Eq for Pmu50 {}
@@ -534,23 +534,23 @@ impl Pmu50 {
         let s = Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width };
         let k = crate::kernel::Consts::new(&s);
         let regs = reset(&p);
-        Ok(Pmu50 { s, params: p, regs, tick: 0, k, sh: crate::kernel::Shadow::of(&k, &regs) })
+        Ok(Pmu50 { structural: s, params: p, regs, tick: 0, consts: k, shadow: crate::kernel::Shadow::of(&k, &regs) })
     }
 
     /// Back to power-on reset (the parameters given to [`Pmu50::new`]); tick count restarts at 0.
     pub fn reset(&mut self) {
         self.regs = reset(&self.params);
-        self.sh = crate::kernel::Shadow::of(&self.k, &self.regs);
+        self.shadow = crate::kernel::Shadow::of(&self.consts, &self.regs);
         self.tick = 0;
     }
 
     pub fn structural(&self) -> Structural {
-        self.s
+        self.structural
     }
 
     /// Outputs of the current cycle (Moore: registers only).
     pub fn peek(&self) -> Outputs {
-        ports(&self.s, &self.regs)
+        ports(&self.structural, &self.regs)
     }
 
     /// One rising edge with these inputs; returns the outputs after the edge. Runs the fast
@@ -559,7 +559,7 @@ impl Pmu50 {
     #[inline]
     pub fn step(&mut self, i: &Inputs) -> Outputs {
         self.tick += 1;
-        crate::kernel::step(&self.k, &mut self.regs, &mut self.sh, i)
+        crate::kernel::step(&self.consts, &mut self.regs, &mut self.shadow, i)
     }
 
     /// One rising edge, traced: the outputs before and after it, the internals of the cycle and
@@ -569,7 +569,7 @@ impl Pmu50 {
     #[inline]
     pub fn step_traced(&mut self, i: &Inputs) -> TracedStep {
         self.tick += 1;
-        crate::kernel::step_traced(&self.k, &mut self.regs, &mut self.sh, i)
+        crate::kernel::step_traced(&self.consts, &mut self.regs, &mut self.shadow, i)
     }
 
     /// All registers (read access for lockstep comparison and waveforms).
@@ -584,7 +584,7 @@ impl Pmu50 {
 
     /// The register file's read mux at `addr`, as the MPU would read it this cycle.
     pub fn read(&self, addr: u8) -> u16 {
-        read(&self.s, &self.regs, self.peek().sig, addr)
+        read(&self.structural, &self.regs, self.peek().sig, addr)
     }
 
     /// With the inputs held constant, the number of upcoming edges at which no register other
@@ -592,7 +592,7 @@ impl Pmu50 {
     /// the edge after that many changes some other register. Used to fast-forward idle key-off
     /// gaps without evaluating every tick.
     pub fn quiet_ticks(&self, i: &Inputs) -> u64 {
-        let (_, _, next) = eval(&self.s, &self.regs, i);
+        let (_, _, next) = eval(&self.structural, &self.regs, i);
         let only_tmr = Regs { timing_generator: self.regs.timing_generator, ..next } == self.regs;
         if !only_tmr {
             return 0;
@@ -604,7 +604,7 @@ impl Pmu50 {
         // on [0, smp_on-1), {smp_on-1} (key on). So the first event is at t+1 or at the start of
         // one of those intervals; each candidate is checked with the real next-state function.
         let a = self.peek();
-        let p = self.regs.register_file.params(self.s.sync_depth, self.s.cnt_width);
+        let p = self.regs.register_file.params(self.structural.sync_depth, self.structural.cnt_width);
         let ti = tg_inputs(a.sig, false, false, &p, self.regs.drive_interval.si);
         let period = u64::from(tg::period(&ti));
         let t = u64::from(self.regs.timing_generator.tmr);
@@ -620,7 +620,7 @@ impl Pmu50 {
         let event_at = |c: u64| {
             let mut at = self.regs;
             at.timing_generator.tmr = c as u16;
-            let (_, _, n) = eval(&self.s, &at, i);
+            let (_, _, n) = eval(&self.structural, &at, i);
             Regs { timing_generator: at.timing_generator, ..n } != at
         };
         let wt = u64::from(p.pw) + u64::from(p.pi) + u64::from(p.ps);
@@ -644,7 +644,7 @@ impl Pmu50 {
             return Ok(());
         }
         let a = self.peek();
-        let p = self.regs.register_file.params(self.s.sync_depth, self.s.cnt_width);
+        let p = self.regs.register_file.params(self.structural.sync_depth, self.structural.cnt_width);
         let ti = tg_inputs(a.sig, false, false, &p, self.regs.drive_interval.si);
         let period = u64::from(tg::period(&ti)).max(1);
         let t = u64::from(self.regs.timing_generator.tmr);

@@ -187,15 +187,15 @@ fn next_shadow(s: &Sh, o: &Outputs, i: &Inputs, w: &W, p: &Params) -> Sh {
     n
 }
 
-/// One cycle of the trace as the kit sees it: this cycle (`o`, `i`, shadow `s`, wires `w`) and,
+/// One cycle of the trace as the kit sees it: this cycle (`out`, `shadow`, `wires`) and,
 /// from the second cycle out of reset on (`live`), the cycle before (`po`, `pi`, `ps`, `pw`).
 struct Cyc {
     after_reset: bool,
     live: bool,
-    p: Params,
-    o: Outputs,
-    s: Sh,
-    w: W,
+    params: Params,
+    out: Outputs,
+    shadow: Sh,
+    wires: W,
     po: Outputs,
     pi: Inputs,
     pw: W,
@@ -205,13 +205,13 @@ struct Cyc {
 
 impl Cyc {
     fn ones(&self) -> u16 {
-        ((1u32 << self.p.cnt_width) - 1) as u16
+        ((1u32 << self.params.cnt_width) - 1) as u16
     }
     fn add(&self, a: u16, b: i32) -> u16 {
-        (i32::from(a) + b).rem_euclid(1 << self.p.cnt_width) as u16
+        (i32::from(a) + b).rem_euclid(1 << self.params.cnt_width) as u16
     }
     fn held_56b(&self) -> bool {
-        self.o.si == self.po.si && self.o.hist_s == self.po.hist_s && self.o.hist_c == self.po.hist_c && self.o.cnt_r == self.po.cnt_r
+        self.out.si == self.po.si && self.out.hist_s == self.po.hist_s && self.out.hist_c == self.po.hist_c && self.out.cnt_r == self.po.cnt_r
     }
 }
 
@@ -252,7 +252,7 @@ fn check_rule(p: Params, seed: u64, ticks: usize, name: &str, rule: &dyn Fn(&Cyc
         let i = stimulus(&mut rng, &o, &s, &mut ig, &mut run, &mut cmp);
         let w = wires(&s, &o, &i, &p);
         let (po, pi, pw, psh) = prev.unwrap_or((o, i, w, s));
-        let c = Cyc { after_reset: t == 0, live: t > 0, p, o, s, w, po, pi, pw, prev_shadow: Some(psh), koff: t > 0 && po.sig && !o.sig };
+        let c = Cyc { after_reset: t == 0, live: t > 0, params: p, out: o, shadow: s, wires: w, po, pi, pw, prev_shadow: Some(psh), koff: t > 0 && po.sig && !o.sig };
         prop_assert!(rule(&c), "{} fails at tick {} (parameters {:?}, seed {})", name, t, p, seed);
         prev = Some((o, i, w, s));
         s = next_shadow(&s, &o, &i, &w, &p);
@@ -279,77 +279,77 @@ macro_rules! twins {
 
 twins! {
     prop_reset_values => |c: &Cyc| !c.after_reset || {
-        let o = &c.o;
-        !o.sig && !o.sr && !o.cs && !o.cc && o.cnt_s == 0 && o.cnt_c == 0 && o.cnt_r == 0 && o.si == c.p.si_max
+        let o = &c.out;
+        !o.sig && !o.sr && !o.cs && !o.cc && o.cnt_s == 0 && o.cnt_c == 0 && o.cnt_r == 0 && o.si == c.params.si_max
             && !o.hist_s && !o.hist_c && !o.diag && !o.quadrant_skip && o.bus_rdata == 0 && !o.bus_err
     };
-    prop_reset_window => |c: &Cyc| !c.after_reset || (c.o.st && c.o.vs2_en && !c.o.smp);
-    prop_sig_sync => |c: &Cyc| c.o.sig == (c.s.pipe >> (c.p.sync_depth - 1) & 1 == 1);
+    prop_reset_window => |c: &Cyc| !c.after_reset || (c.out.st && c.out.vs2_en && !c.out.smp);
+    prop_sig_sync => |c: &Cyc| c.out.sig == (c.shadow.pipe >> (c.params.sync_depth - 1) & 1 == 1);
     prop_rails_follow_sig => |c: &Cyc| {
-        let o = &c.o;
+        let o = &c.out;
         o.vr_hi == o.sig && o.vm_en == o.sig && o.vs1_en == o.sig && o.rail_hi == o.sig && o.vp_en
     };
-    prop_st_pulse => |c: &Cyc| c.o.st == (!c.o.sig && c.w.tmr == 0);
-    prop_vs2_en_window => |c: &Cyc| c.o.vs2_en == (c.o.sig || u32::from(c.w.tmr) < c.w.wt);
-    prop_ps_window => |c: &Cyc| c.o.ps_win == (!c.o.sig && u32::from(c.w.tmr) >= c.w.ps_start && u32::from(c.w.tmr) < c.w.wt);
-    prop_smp_key_off => |c: &Cyc| c.o.sig || c.o.smp == (u32::from(c.w.tmr) + 1 == c.w.wt);
-    prop_smp_key_on => |c: &Cyc| !c.o.sig || c.o.smp == (u32::from(c.w.tmr) + 1 == u32::from(c.s.smp_on));
+    prop_st_pulse => |c: &Cyc| c.out.st == (!c.out.sig && c.wires.tmr == 0);
+    prop_vs2_en_window => |c: &Cyc| c.out.vs2_en == (c.out.sig || u32::from(c.wires.tmr) < c.wires.wt);
+    prop_ps_window => |c: &Cyc| c.out.ps_win == (!c.out.sig && u32::from(c.wires.tmr) >= c.wires.ps_start && u32::from(c.wires.tmr) < c.wires.wt);
+    prop_smp_key_off => |c: &Cyc| c.out.sig || c.out.smp == (u32::from(c.wires.tmr) + 1 == c.wires.wt);
+    prop_smp_key_on => |c: &Cyc| !c.out.sig || c.out.smp == (u32::from(c.wires.tmr) + 1 == u32::from(c.shadow.smp_on));
     prop_diag => |c: &Cyc| {
-        let d = c.add(c.o.cnt_s, -i32::from(c.o.cnt_c));
-        c.o.diag == (!(d == 0 || d == 1 || d == c.ones()) || c.o.quadrant_skip)
+        let d = c.add(c.out.cnt_s, -i32::from(c.out.cnt_c));
+        c.out.diag == (!(d == 0 || d == 1 || d == c.ones()) || c.out.quadrant_skip)
     };
-    prop_key_off_starts_output => |c: &Cyc| !c.koff || c.o.st;
-    prop_sr_power_good => |c: &Cyc| !c.live || c.o.sr == (c.po.vs2_en && c.pi.vs2_ok);
-    prop_latch_hold => |c: &Cyc| !c.live || c.pw.upd || (c.o.cs == c.po.cs && c.o.cc == c.po.cc);
-    prop_latch_sample => |c: &Cyc| !c.live || !c.pw.upd || (c.o.cs == c.pi.cmp_s && c.o.cc == c.pi.cmp_c);
+    prop_key_off_starts_output => |c: &Cyc| !c.koff || c.out.st;
+    prop_sr_power_good => |c: &Cyc| !c.live || c.out.sr == (c.po.vs2_en && c.pi.vs2_ok);
+    prop_latch_hold => |c: &Cyc| !c.live || c.pw.upd || (c.out.cs == c.po.cs && c.out.cc == c.po.cc);
+    prop_latch_sample => |c: &Cyc| !c.live || !c.pw.upd || (c.out.cs == c.pi.cmp_s && c.out.cc == c.pi.cmp_c);
     prop_first_preset => |c: &Cyc| !c.live || !c.pw.first || matches!(
-        (c.o.cs, c.o.cc, c.o.cnt_s, c.o.cnt_c), (true, true, 0, 0) | (true, false, 0, 1) | (false, false, 1, 1) | (false, true, 1, 2));
+        (c.out.cs, c.out.cc, c.out.cnt_s, c.out.cnt_c), (true, true, 0, 0) | (true, false, 0, 1) | (false, false, 1, 1) | (false, true, 1, 2));
     prop_cnt_s_0096 => |c: &Cyc| !c.live || !(c.pw.chg_s && !c.pw.chg_c && c.po.cc)
-        || (c.o.cnt_s == c.add(c.po.cnt_s, if c.o.cs { 1 } else { -1 }) && c.o.cnt_c == c.po.cnt_c);
+        || (c.out.cnt_s == c.add(c.po.cnt_s, if c.out.cs { 1 } else { -1 }) && c.out.cnt_c == c.po.cnt_c);
     prop_cnt_s_0097 => |c: &Cyc| !c.live || !(c.pw.chg_s && !c.pw.chg_c && !c.po.cc)
-        || (c.o.cnt_s == c.add(c.po.cnt_s, if c.o.cs { -1 } else { 1 }) && c.o.cnt_c == c.po.cnt_c);
+        || (c.out.cnt_s == c.add(c.po.cnt_s, if c.out.cs { -1 } else { 1 }) && c.out.cnt_c == c.po.cnt_c);
     prop_cnt_c_0098 => |c: &Cyc| !c.live || !(c.pw.chg_c && !c.pw.chg_s && !c.po.cs)
-        || (c.o.cnt_c == c.add(c.po.cnt_c, if c.o.cc { 1 } else { -1 }) && c.o.cnt_s == c.po.cnt_s);
+        || (c.out.cnt_c == c.add(c.po.cnt_c, if c.out.cc { 1 } else { -1 }) && c.out.cnt_s == c.po.cnt_s);
     prop_cnt_c_0099 => |c: &Cyc| !c.live || !(c.pw.chg_c && !c.pw.chg_s && c.po.cs)
-        || (c.o.cnt_c == c.add(c.po.cnt_c, if c.o.cc { -1 } else { 1 }) && c.o.cnt_s == c.po.cnt_s);
+        || (c.out.cnt_c == c.add(c.po.cnt_c, if c.out.cc { -1 } else { 1 }) && c.out.cnt_s == c.po.cnt_s);
     prop_cnt_wrap => |c: &Cyc| {
         let step = |a: u16, b: u16| { let d = c.add(a, -i32::from(b)); d == 1 || d == c.ones() };
         !c.live || !(c.pw.chg_s ^ c.pw.chg_c) || c.pw.first
-            || (step(c.o.cnt_s, c.po.cnt_s) != step(c.o.cnt_c, c.po.cnt_c))
+            || (step(c.out.cnt_s, c.po.cnt_s) != step(c.out.cnt_c, c.po.cnt_c))
     };
     prop_cnt_hold => |c: &Cyc| !c.live || c.pw.first || (c.pw.chg_s ^ c.pw.chg_c)
-        || (c.o.cnt_s == c.po.cnt_s && c.o.cnt_c == c.po.cnt_c);
+        || (c.out.cnt_s == c.po.cnt_s && c.out.cnt_c == c.po.cnt_c);
     prop_quadrant_skip => |c: &Cyc| !c.live
-        || c.o.quadrant_skip == ((c.pw.chg_s && c.pw.chg_c) || (c.po.quadrant_skip && !c.pw.skip_clr));
-    prop_si_moves_at_pulse => |c: &Cyc| !c.live || c.o.si == c.po.si || c.koff || c.pw.pulse;
-    prop_key_on_holds => |c: &Cyc| !c.live || !(c.o.sig && c.po.sig) || c.held_56b();
-    prop_koff_reload => |c: &Cyc| !c.koff || (c.o.si == c.s.si_max && !c.o.hist_s && !c.o.hist_c && c.o.cnt_r == 0);
-    prop_fixed_interval => |c: &Cyc| !c.live || !(c.pw.pulse && !c.ps_adaptive()) || (c.o.si == c.ps_si_max()
-        && c.o.hist_s == c.po.hist_s && c.o.hist_c == c.po.hist_c && c.o.cnt_r == c.po.cnt_r);
+        || c.out.quadrant_skip == ((c.pw.chg_s && c.pw.chg_c) || (c.po.quadrant_skip && !c.pw.skip_clr));
+    prop_si_moves_at_pulse => |c: &Cyc| !c.live || c.out.si == c.po.si || c.koff || c.pw.pulse;
+    prop_key_on_holds => |c: &Cyc| !c.live || !(c.out.sig && c.po.sig) || c.held_56b();
+    prop_koff_reload => |c: &Cyc| !c.koff || (c.out.si == c.shadow.si_max && !c.out.hist_s && !c.out.hist_c && c.out.cnt_r == 0);
+    prop_fixed_interval => |c: &Cyc| !c.live || !(c.pw.pulse && !c.ps_adaptive()) || (c.out.si == c.ps_si_max()
+        && c.out.hist_s == c.po.hist_s && c.out.hist_c == c.po.hist_c && c.out.cnt_r == c.po.cnt_r);
     prop_s1_no_rise => |c: &Cyc| !c.live || !(c.pw.pulse && c.ps_adaptive() && !c.po.sr) || c.held_56b();
     prop_si_shorten => |c: &Cyc| !c.live || !(c.pw.adp && c.pw.det)
-        || (c.o.cnt_r == 0 && c.o.si == if c.po.si <= c.ps_si_min() { c.po.si } else { c.pw.short });
+        || (c.out.cnt_r == 0 && c.out.si == if c.po.si <= c.ps_si_min() { c.po.si } else { c.pw.short });
     prop_si_hold_at_max => |c: &Cyc| !c.live || !(c.pw.adp && !c.pw.det && c.po.si >= c.ps_si_max())
-        || (c.o.si == c.po.si && c.o.cnt_r == c.po.cnt_r);
-    prop_si_expand => |c: &Cyc| !c.live || !c.pw.expand || (c.o.si == c.pw.long && c.o.cnt_r == c.pw.inc);
-    prop_s11_clear => |c: &Cyc| !c.live || !c.pw.expand || (!c.o.hist_s && !c.o.hist_c);
-    prop_cnt_r_count => |c: &Cyc| !c.live || !c.pw.count || (c.o.cnt_r == c.po.cnt_r + 1 && c.o.si == c.po.si
-        && c.o.hist_s == c.po.hist_s && c.o.hist_c == c.po.hist_c);
-    prop_cnt_r_saturates => |c: &Cyc| !c.live || c.o.cnt_r == c.po.cnt_r || c.o.cnt_r == 0
-        || (c.po.cnt_r != 255 && c.o.cnt_r == c.po.cnt_r + 1);
+        || (c.out.si == c.po.si && c.out.cnt_r == c.po.cnt_r);
+    prop_si_expand => |c: &Cyc| !c.live || !c.pw.expand || (c.out.si == c.pw.long && c.out.cnt_r == c.pw.inc);
+    prop_s11_clear => |c: &Cyc| !c.live || !c.pw.expand || (!c.out.hist_s && !c.out.hist_c);
+    prop_cnt_r_count => |c: &Cyc| !c.live || !c.pw.count || (c.out.cnt_r == c.po.cnt_r + 1 && c.out.si == c.po.si
+        && c.out.hist_s == c.po.hist_s && c.out.hist_c == c.po.hist_c);
+    prop_cnt_r_saturates => |c: &Cyc| !c.live || c.out.cnt_r == c.po.cnt_r || c.out.cnt_r == 0
+        || (c.po.cnt_r != 255 && c.out.cnt_r == c.po.cnt_r + 1);
     prop_hist_detect => |c: &Cyc| !c.live || !(c.pw.adp && c.pw.det)
-        || ((c.o.hist_s, c.o.hist_c) == if c.pw.chg_s { (true, false) } else { (false, true) });
-    prop_hist_moves => |c: &Cyc| !c.live || (c.o.hist_s == c.po.hist_s && c.o.hist_c == c.po.hist_c) || c.koff || c.pw.adp;
-    prop_read_fixed => |c: &Cyc| !c.live || !c.pw.rd_fixed || c.o.bus_rdata == c.pw.rd;
-    prop_read_params => |c: &Cyc| !c.live || !c.pw.is_param || c.o.bus_rdata == c.pw.rd;
-    prop_read_counters => |c: &Cyc| !c.live || !c.pw.rd_cnt || c.o.bus_rdata == c.pw.rd;
-    prop_read_status => |c: &Cyc| !c.live || c.pi.bus_addr != 0x14 || c.o.bus_rdata == c.pw.rd;
-    prop_write_key_off_refused => |c: &Cyc| !c.live || !(c.pi.bus_we && !c.po.sig) || c.o.bus_err;
-    prop_write_illegal_refused => |c: &Cyc| !c.live || !(c.pi.bus_we && c.po.sig && c.pw.is_param && !c.pw.legal) || c.o.bus_err;
-    prop_write_ro_refused => |c: &Cyc| !c.live || !(c.pi.bus_we && c.po.sig && !c.pw.is_param && c.pi.bus_addr != 0x14) || c.o.bus_err;
-    prop_write_accepted => |c: &Cyc| !c.live || ((!c.pw.param_wr || c.o.bus_err == c.po.bus_err)
-        && (!(c.ps_wr_v() && c.pi.bus_addr == c.ps_wr_addr()) || c.o.bus_rdata == c.ps_wr_data()));
-    prop_bus_err_w1c => |c: &Cyc| !c.live || c.o.bus_err == (c.pw.refused || (c.po.bus_err && !c.pw.err_clr));
+        || ((c.out.hist_s, c.out.hist_c) == if c.pw.chg_s { (true, false) } else { (false, true) });
+    prop_hist_moves => |c: &Cyc| !c.live || (c.out.hist_s == c.po.hist_s && c.out.hist_c == c.po.hist_c) || c.koff || c.pw.adp;
+    prop_read_fixed => |c: &Cyc| !c.live || !c.pw.rd_fixed || c.out.bus_rdata == c.pw.rd;
+    prop_read_params => |c: &Cyc| !c.live || !c.pw.is_param || c.out.bus_rdata == c.pw.rd;
+    prop_read_counters => |c: &Cyc| !c.live || !c.pw.rd_cnt || c.out.bus_rdata == c.pw.rd;
+    prop_read_status => |c: &Cyc| !c.live || c.pi.bus_addr != 0x14 || c.out.bus_rdata == c.pw.rd;
+    prop_write_key_off_refused => |c: &Cyc| !c.live || !(c.pi.bus_we && !c.po.sig) || c.out.bus_err;
+    prop_write_illegal_refused => |c: &Cyc| !c.live || !(c.pi.bus_we && c.po.sig && c.pw.is_param && !c.pw.legal) || c.out.bus_err;
+    prop_write_ro_refused => |c: &Cyc| !c.live || !(c.pi.bus_we && c.po.sig && !c.pw.is_param && c.pi.bus_addr != 0x14) || c.out.bus_err;
+    prop_write_accepted => |c: &Cyc| !c.live || ((!c.pw.param_wr || c.out.bus_err == c.po.bus_err)
+        && (!(c.ps_wr_v() && c.pi.bus_addr == c.ps_wr_addr()) || c.out.bus_rdata == c.ps_wr_data()));
+    prop_bus_err_w1c => |c: &Cyc| !c.live || c.out.bus_err == (c.pw.refused || (c.po.bus_err && !c.pw.err_clr));
 }
 
 /// The shadow of the cycle before, for the rules that use `$past(f_...)` registers.
