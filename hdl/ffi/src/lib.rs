@@ -292,25 +292,8 @@ pub unsafe extern "C" fn pmu50_params_validate(p: *const pmu50_params) -> c_int 
 /// `p` must be NULL or point to a readable `pmu50_params`.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_new(p: *const pmu50_params) -> *mut pmu50_t {
-    let r = catch_unwind(AssertUnwindSafe(|| {
-        if p.is_null() {
-            set_error("pmu50_new: `p` is NULL");
-            return std::ptr::null_mut();
-        }
-        // SAFETY: checked non-null.
-        let params: Params = unsafe { p.read() }.into();
-        match Pmu50::new(params) {
-            Ok(core) => Box::into_raw(Box::new(pmu50_t { core, params, last: None, report: CString::default() })),
-            Err(e) => {
-                set_error(format!("pmu50_new: {e}"));
-                std::ptr::null_mut()
-            }
-        }
-    }));
-    r.unwrap_or_else(|e| {
-        set_error(format!("pmu50_new: internal panic: {}", panic_message(&*e)));
-        std::ptr::null_mut()
-    })
+    // SAFETY: forwarded contract.
+    unsafe { new_handle("pmu50_new", p, |params| Pmu50::new(params).map(|core| pmu50_t { core, params, last: None, report: CString::default() }).map_err(|e| e.to_string())) }
 }
 
 /// Free a core (NULL is ignored).
@@ -319,13 +302,8 @@ pub unsafe extern "C" fn pmu50_new(p: *const pmu50_params) -> *mut pmu50_t {
 /// `m` must be NULL or a handle from `pmu50_new` not freed yet.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_free(m: *mut pmu50_t) {
-    if m.is_null() {
-        return;
-    }
-    let _ = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: the caller passes a live handle from pmu50_new.
-        drop(unsafe { Box::from_raw(m) });
-    }));
+    // SAFETY: forwarded contract.
+    unsafe { free_handle(m) }
 }
 
 /// Back to power-on reset (same parameters); tick count 0.
@@ -351,18 +329,8 @@ pub unsafe extern "C" fn pmu50_reset(m: *mut pmu50_t) -> c_int {
 /// `m` NULL or live; `out` NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_get_params(m: *const pmu50_t, out: *mut pmu50_params) -> c_int {
-    guard("pmu50_get_params", || {
-        // SAFETY: the caller passes NULL or a live handle.
-        let Some(m) = (unsafe { m.as_ref() }) else {
-            return null("pmu50_get_params", "m");
-        };
-        if out.is_null() {
-            return null("pmu50_get_params", "out");
-        }
-        // SAFETY: checked non-null.
-        unsafe { out.write(m.params.into()) };
-        PMU50_OK
-    })
+    // SAFETY: forwarded contract.
+    unsafe { get_into("pmu50_get_params", m, out, |m| m.params.into()) }
 }
 
 /// One rising edge with inputs `i`. `after` (may be NULL): outputs after the edge.
@@ -421,18 +389,8 @@ pub unsafe extern "C" fn pmu50_step_traced(
 /// `m` NULL or live; `out` NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_peek(m: *const pmu50_t, out: *mut pmu50_outputs) -> c_int {
-    guard("pmu50_peek", || {
-        // SAFETY: the caller passes NULL or a live handle.
-        let Some(m) = (unsafe { m.as_ref() }) else {
-            return null("pmu50_peek", "m");
-        };
-        if out.is_null() {
-            return null("pmu50_peek", "out");
-        }
-        // SAFETY: checked non-null.
-        unsafe { out.write(m.core.peek().into()) };
-        PMU50_OK
-    })
+    // SAFETY: forwarded contract.
+    unsafe { get_into("pmu50_peek", m, out, |m| m.core.peek().into()) }
 }
 
 /// Edges taken since reset (0 for NULL).
@@ -454,18 +412,8 @@ pub unsafe extern "C" fn pmu50_tick(m: *const pmu50_t) -> u64 {
 /// `m` NULL or live; `out` NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_bus_read(m: *const pmu50_t, addr: u8, out: *mut u16) -> c_int {
-    guard("pmu50_bus_read", || {
-        // SAFETY: the caller passes NULL or a live handle.
-        let Some(m) = (unsafe { m.as_ref() }) else {
-            return null("pmu50_bus_read", "m");
-        };
-        if out.is_null() {
-            return null("pmu50_bus_read", "out");
-        }
-        // SAFETY: checked non-null.
-        unsafe { out.write(m.core.read(addr)) };
-        PMU50_OK
-    })
+    // SAFETY: forwarded contract.
+    unsafe { get_into("pmu50_bus_read", m, out, |m| m.core.read(addr)) }
 }
 
 /// Number of registers (`PMU50_REG_COUNT`).
@@ -760,6 +708,65 @@ pub unsafe extern "C" fn pmu50_check(
 pub unsafe extern "C" fn pmu50_check_report(m: *const pmu50_t) -> *const c_char {
     // SAFETY: the caller passes NULL or a live handle.
     unsafe { m.as_ref() }.map_or(c"".as_ptr(), |m| m.report.as_ptr())
+}
+
+/// Shared body of the getters that write one value of a live core to `out`.
+///
+/// # Safety
+/// `m` NULL or live; `out` NULL or writable.
+unsafe fn get_into<T>(what: &str, m: *const pmu50_t, out: *mut T, f: impl FnOnce(&pmu50_t) -> T) -> c_int {
+    guard(what, || {
+        // SAFETY: the caller passes NULL or a live handle.
+        let Some(m) = (unsafe { m.as_ref() }) else {
+            return null(what, "m");
+        };
+        if out.is_null() {
+            return null(what, "out");
+        }
+        // SAFETY: checked non-null; the caller guarantees writable.
+        unsafe { out.write(f(m)) };
+        PMU50_OK
+    })
+}
+
+/// Shared body of the constructors: a new handle from the parameters `p` (NULL, with the
+/// message in `pmu50_last_error()`, when `p` is NULL, `make` refuses them or panics).
+///
+/// # Safety
+/// `p` NULL or a readable `pmu50_params`.
+pub(crate) unsafe fn new_handle<T>(what: &str, p: *const pmu50_params, make: impl FnOnce(Params) -> Result<T, String>) -> *mut T {
+    let r = catch_unwind(AssertUnwindSafe(|| {
+        if p.is_null() {
+            set_error(format!("{what}: `p` is NULL"));
+            return std::ptr::null_mut();
+        }
+        // SAFETY: checked non-null.
+        match make(unsafe { p.read() }.into()) {
+            Ok(h) => Box::into_raw(Box::new(h)),
+            Err(e) => {
+                set_error(format!("{what}: {e}"));
+                std::ptr::null_mut()
+            }
+        }
+    }));
+    r.unwrap_or_else(|e| {
+        set_error(format!("{what}: internal panic: {}", panic_message(&*e)));
+        std::ptr::null_mut()
+    })
+}
+
+/// Shared body of the destructors (NULL is ignored).
+///
+/// # Safety
+/// `h` NULL or a handle from `new_handle` not freed yet.
+pub(crate) unsafe fn free_handle<T>(h: *mut T) {
+    if h.is_null() {
+        return;
+    }
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: a live handle from new_handle, by contract.
+        drop(unsafe { Box::from_raw(h) });
+    }));
 }
 
 /// Shared body of the indexed value getters.

@@ -119,10 +119,10 @@ impl Shadow {
     #[cold]
     #[inline(never)]
     fn rebuild(&mut self, c: &Consts, r: &Regs) {
-        for a in 0..=addr::STATUS {
+        for a in 0..addr::STATUS {
             self.rd[usize::from(a)] = crate::pmu50::read(&c.structural, r, false, a);
         }
-        self.rd[usize::from(addr::STATUS)] &= !STATUS_LIVE;
+        self.refresh_reads(c, r, []);
         let f = &r.register_file;
         let ps_start = u32::from(f.pw) + u32::from(f.pi);
         let wt = ps_start + u32::from(f.ps);
@@ -140,10 +140,7 @@ impl Shadow {
     /// counters, their diagnosis and STATUS.
     #[inline(always)]
     fn refresh_sample(&mut self, c: &Consts, r: &Regs) {
-        for a in [addr::CNT_S, addr::CNT_C, addr::STATUS] {
-            self.rd[usize::from(a)] = crate::pmu50::read(&c.structural, r, false, a);
-        }
-        self.rd[usize::from(addr::STATUS)] &= !STATUS_LIVE;
+        self.refresh_reads(c, r, [addr::CNT_S, addr::CNT_C]);
         self.diag = diag_of(c, &r.updown_counter);
     }
 
@@ -151,11 +148,18 @@ impl Shadow {
     /// (history) and the timer's period, which is `si` with the key off.
     #[inline(always)]
     fn refresh_pulse(&mut self, c: &Consts, r: &Regs) {
-        for a in [addr::CNT_R, addr::SI, addr::STATUS] {
+        self.refresh_reads(c, r, [addr::CNT_R, addr::SI]);
+        self.period = u32::from(r.drive_interval.si);
+    }
+
+    /// The read values of the addresses `a` and of STATUS (without its live bits), from the
+    /// register file's read mux.
+    #[inline(always)]
+    fn refresh_reads<const N: usize>(&mut self, c: &Consts, r: &Regs, a: [u8; N]) {
+        for a in a {
             self.rd[usize::from(a)] = crate::pmu50::read(&c.structural, r, false, a);
         }
-        self.rd[usize::from(addr::STATUS)] &= !STATUS_LIVE;
-        self.period = u32::from(r.drive_interval.si);
+        self.rd[usize::from(addr::STATUS)] = crate::pmu50::read(&c.structural, r, false, addr::STATUS) & !STATUS_LIVE;
     }
 
     /// The read mux at `a` for the registers before the edge (`sig`, `sr` and `diag` of `r`).
