@@ -330,7 +330,7 @@ pub unsafe extern "C" fn pmu50_reset(m: *mut pmu50_t) -> c_int {
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_get_params(m: *const pmu50_t, out: *mut pmu50_params) -> c_int {
     // SAFETY: forwarded contract.
-    unsafe { get_into("pmu50_get_params", m, out, |m| m.params.into()) }
+    unsafe { get_into("pmu50_get_params", m, "out", out, |m| Ok(m.params.into())) }
 }
 
 /// One rising edge with inputs `i`. `after` (may be NULL): outputs after the edge.
@@ -390,7 +390,7 @@ pub unsafe extern "C" fn pmu50_step_traced(
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_peek(m: *const pmu50_t, out: *mut pmu50_outputs) -> c_int {
     // SAFETY: forwarded contract.
-    unsafe { get_into("pmu50_peek", m, out, |m| m.core.peek().into()) }
+    unsafe { get_into("pmu50_peek", m, "out", out, |m| Ok(m.core.peek().into())) }
 }
 
 /// Edges taken since reset (0 for NULL).
@@ -413,7 +413,7 @@ pub unsafe extern "C" fn pmu50_tick(m: *const pmu50_t) -> u64 {
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_bus_read(m: *const pmu50_t, addr: u8, out: *mut u16) -> c_int {
     // SAFETY: forwarded contract.
-    unsafe { get_into("pmu50_bus_read", m, out, |m| m.core.read(addr)) }
+    unsafe { get_into("pmu50_bus_read", m, "out", out, |m| Ok(m.core.read(addr))) }
 }
 
 /// Number of registers (`PMU50_REG_COUNT`).
@@ -476,22 +476,16 @@ pub unsafe extern "C" fn pmu50_reg_info(
 /// `m` NULL or live; `value` NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_reg_get(m: *const pmu50_t, index: usize, value: *mut u64) -> c_int {
-    guard("pmu50_reg_get", || {
-        // SAFETY: the caller passes NULL or a live handle.
-        let Some(m) = (unsafe { m.as_ref() }) else {
-            return null("pmu50_reg_get", "m");
-        };
-        if value.is_null() {
-            return null("pmu50_reg_get", "value");
-        }
-        let Some(r) = signals::REGISTERS.get(index) else {
-            set_error(format!("pmu50_reg_get: index {index} out of range 0..{}", signals::N_REGISTERS));
-            return PMU50_ERR_RANGE;
-        };
-        // SAFETY: checked non-null.
-        unsafe { value.write((r.get)(m.core.regs())) };
-        PMU50_OK
-    })
+    // SAFETY: forwarded contract.
+    unsafe {
+        get_into("pmu50_reg_get", m, "value", value, |m| match signals::REGISTERS.get(index) {
+            Some(r) => Ok((r.get)(m.core.regs())),
+            None => {
+                set_error(format!("pmu50_reg_get: index {index} out of range 0..{}", signals::N_REGISTERS));
+                Err(PMU50_ERR_RANGE)
+            }
+        })
+    }
 }
 
 /// Index of a register by name: "cnt_s", "updown_counter.cnt_s" or "pmu50.updown_counter.cnt_s".
@@ -710,22 +704,28 @@ pub unsafe extern "C" fn pmu50_check_report(m: *const pmu50_t) -> *const c_char 
     unsafe { m.as_ref() }.map_or(c"".as_ptr(), |m| m.report.as_ptr())
 }
 
-/// Shared body of the getters that write one value of a live core to `out`.
+/// Shared body of the getters that write one value of a live core to `out` (named `arg` in
+/// the header); `f` gives the value or an error code (its message set).
 ///
 /// # Safety
 /// `m` NULL or live; `out` NULL or writable.
-unsafe fn get_into<T>(what: &str, m: *const pmu50_t, out: *mut T, f: impl FnOnce(&pmu50_t) -> T) -> c_int {
+unsafe fn get_into<T>(what: &str, m: *const pmu50_t, arg: &str, out: *mut T, f: impl FnOnce(&pmu50_t) -> Result<T, c_int>) -> c_int {
     guard(what, || {
         // SAFETY: the caller passes NULL or a live handle.
         let Some(m) = (unsafe { m.as_ref() }) else {
             return null(what, "m");
         };
         if out.is_null() {
-            return null(what, "out");
+            return null(what, arg);
         }
-        // SAFETY: checked non-null; the caller guarantees writable.
-        unsafe { out.write(f(m)) };
-        PMU50_OK
+        match f(m) {
+            Ok(v) => {
+                // SAFETY: checked non-null; the caller guarantees writable.
+                unsafe { out.write(v) };
+                PMU50_OK
+            }
+            Err(rc) => rc,
+        }
     })
 }
 

@@ -11,27 +11,13 @@ use pmu50_core::register_file::addr;
 use pmu50_core::{Inputs, Params, Pmu50, TracedStep};
 use proptest::prelude::*;
 
-/// Any input vector at all (bus fields included).
-fn random_inputs(rng: &mut Rng) -> Inputs {
-    let a = rng.next();
-    Inputs {
-        ig: a & 1 == 1,
-        vs2_ok: a & 2 == 2,
-        cmp_s: a & 4 == 4,
-        cmp_c: a & 8 == 8,
-        bus_we: a & 16 == 16,
-        bus_addr: if a & 32 == 32 { (a >> 8) as u8 } else { (a >> 8) as u8 % 0x15 },
-        bus_wdata: (a >> 16) as u16,
-    }
-}
-
 fn check_moore(m: &Pmu50, rng: &mut Rng) {
     let s = m.structural();
     let r = m.regs();
     let want = ports(&s, r);
     assert_eq!(m.peek(), want);
-    let i1 = random_inputs(rng);
-    let i2 = random_inputs(rng);
+    let i1 = common::random_inputs(rng);
+    let i2 = common::random_inputs(rng);
     let o1 = eval(&s, r, &i1).0;
     let o2 = eval(&s, r, &i2).0;
     assert_eq!(o1, want, "outputs under {i1:?} differ from the registers' decode");

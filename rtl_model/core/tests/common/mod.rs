@@ -33,6 +33,20 @@ impl Rng {
     }
 }
 
+/// Any input vector at all (bus fields included; most addresses in the register map).
+pub fn random_inputs(rng: &mut Rng) -> Inputs {
+    let a = rng.next();
+    Inputs {
+        ig: a & 1 == 1,
+        vs2_ok: a & 2 == 2,
+        cmp_s: a & 4 == 4,
+        cmp_c: a & 8 == 8,
+        bus_we: a & 16 == 16,
+        bus_addr: if a & 32 == 32 { (a >> 8) as u8 } else { (a >> 8) as u8 % 0x15 },
+        bus_wdata: (a >> 16) as u16,
+    }
+}
+
 /// The legal-parameter rules of docs/spec.md section 4, written from the spec (not by calling
 /// `Params::validate`): no zero `ps`, `si_max`, `si_min`, `t1`, `t2`, `smp_on`; `cth` in 1..=255;
 /// `si_min <= si_max`; `pw + pi >= 1` (the sample comes after the registered `sr` rose);
