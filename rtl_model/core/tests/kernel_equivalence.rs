@@ -161,7 +161,7 @@ proptest! {
         prop_assert_eq!(o.flags(), bits);
     }
 
-    /// `kernel::step_traced_wide` from any state: the edge of the specification (its internals
+    /// `kernel::step_traced` from any state: the edge of the specification (its internals
     /// a byte each in `Internals::packed`, its registered outputs equal to their registers), and a narrow
     /// edge (`wide` false) writes only `kernel::NARROW_WRITES`, keeps `sig` and has all internals
     /// false but `upd`, which is what a tracer that compares only those after a narrow edge relies
