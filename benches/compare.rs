@@ -83,21 +83,7 @@ fn load(dir: &Path, name: &str) -> Result<Stim, String> {
         if let Some(rest) = line.strip_prefix("// param ") {
             let mut it = rest.split_whitespace();
             let (k, v) = (it.next().ok_or_else(bad)?, it.next().ok_or_else(bad)?.parse::<u64>().map_err(|_| bad())?);
-            match k {
-                "SYNC_DEPTH" => p.sync_depth = v as u8,
-                "CNT_W" => p.cnt_width = v as u8,
-                "ADAPTIVE" => p.adaptive = v != 0,
-                "PW" => p.pw = v as u16,
-                "PI" => p.pi = v as u16,
-                "PS" => p.ps = v as u16,
-                "SI_MAX" => p.si_max = v as u16,
-                "SI_MIN" => p.si_min = v as u16,
-                "T1" => p.t1 = v as u16,
-                "T2" => p.t2 = v as u16,
-                "CTH" => p.cth = v as u8,
-                "SMP_ON" => p.smp_on = v as u16,
-                _ => return Err(bad()),
-            }
+            p.set_hdl_parameter(k, v).map_err(|e| format!("{}:{}: {e}", vec.display(), n + 1))?;
         } else if let Some(rest) = line.strip_prefix("// clock_ns ") {
             clock_ns = rest.trim().parse().map_err(|_| bad())?;
         } else if !line.starts_with("//") && !line.trim().is_empty() {
@@ -346,7 +332,7 @@ fn vcd_every_value(st: &Stim) -> Vec<u8> {
     let dt = st.clock_ns / unit_ns;
     for (k, i) in st.inputs.iter().enumerate() {
         let regs = *m.regs();
-        let (before, x, _) = m.step_traced(i);
+        let pmu50_core::TracedStep { before, internals: x, .. } = m.step_traced(i);
         frame_values(&mut vals, i, &before, &regs, &x);
         w.dump_frame(&mut f, k as u64 * dt, &vals).expect("traced values fit their declarations");
     }
@@ -386,7 +372,7 @@ fn pass_edge_only(st: &Stim) -> u64 {
     let mut h = 0;
     for i in &st.inputs {
         let regs = *m.regs();
-        let (before, x, after) = m.step_traced(i);
+        let pmu50_core::TracedStep { before, internals: x, after, .. } = m.step_traced(i);
         black_box((&regs, &before, &x));
         h = mix(h, &after);
     }
@@ -399,7 +385,7 @@ fn check_frame_order(st: &Stim) {
     let mut m = Pmu50::new(st.params).unwrap();
     for i in st.inputs.iter().take(5000) {
         let regs = *m.regs();
-        let (before, x, _) = m.step_traced(i);
+        let pmu50_core::TracedStep { before, internals: x, .. } = m.step_traced(i);
         let mut v = [0u64; NSIG];
         frame_values(&mut v, i, &before, &regs, &x);
         let want: Vec<u64> = i.values().iter().map(|t| t.2).chain(before.values(&s).iter().map(|t| t.2)).chain(regs.values(&s).iter().map(|r| r.value)).chain(x.values().iter().map(|t| t.2)).collect();
@@ -657,7 +643,7 @@ fn main() {
             let mut m = Pmu50::new(st.params).expect("legal parameters");
             let (mut wide, mut narrow_upd) = (0, 0);
             for i in &st.inputs {
-                let (x, _, w) = m.step_traced_wide(i);
+                let pmu50_core::TracedStep { internals: x, wide: w, .. } = m.step_traced(i);
                 wide += u32::from(w);
                 narrow_upd += u32::from(!w && x.upd);
             }

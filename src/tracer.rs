@@ -4,7 +4,7 @@
 //! A traced tick of the core is its inputs, its outputs and registers before the edge, and the
 //! internals of the edge (docs/signals.md; the frame order below). Comparing all 65 values with
 //! the last tick's costs as much as the edge itself, and most edges change almost nothing: the
-//! kernel says which. A *narrow* edge ([`pmu50_core::kernel::step_traced_wide`]: no bus write,
+//! kernel says which. A *narrow* edge ([`pmu50_core::kernel::step_traced`]: no bus write,
 //! no key edge, no key-off sampling strobe, no key-on sample that presets or moves the latches
 //! or counters) changes only `sync`, `tmr`, `sr`, `rdata` and `diag`, keeps `sig`, and has all
 //! internals false but `upd`. So after a narrow edge [`CoreTracer`] compares only those
@@ -245,7 +245,7 @@ impl Held {
         let h = self;
         h.valid = false;
         let before = h.before_edge(s, m.regs(), i, full);
-        let (x, after, wide) = m.step_traced_wide(i);
+        let pmu50_core::TracedStep { internals: x, after, wide, .. } = m.step_traced(i);
         if wide {
             h.o = after;
         } else {

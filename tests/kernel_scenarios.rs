@@ -38,7 +38,7 @@ impl SpecLockstep {
 impl Observer for SpecLockstep {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
         self.check(v, "before the edge")?;
-        let (_, internals, _) = self.spec.step_traced(v.inputs);
+        let pmu50_core::TracedStep { internals, .. } = self.spec.step_traced(v.inputs);
         if internals != *v.internals {
             return Err(SimError::observer("kernel against the specification model", format!("{}: internals differ in cycle {}:\nkernel {:?}\nspec   {:?}", self.name, v.tick, v.internals, internals)));
         }

@@ -90,7 +90,7 @@ fn both(p: Params, run: &[(Inputs, Between)], mode: usize, decl: Decl) -> (Strin
                     let (i, b) = &run[k];
                     k += 1;
                     let regs = *m2.regs();
-                    let (before, x, after2) = m2.step_traced(i);
+                    let pmu50_core::TracedStep { before, internals: x, after: after2, .. } = m2.step_traced(i);
                     w2.dump_frame(&mut f2, t, &values(&m2, i, &x, &before, &regs)).unwrap();
                     assert_eq!(step(t, i), after2);
                     t += 2;
@@ -188,7 +188,7 @@ fn a_failed_step_takes_its_edge_and_is_followed_by_a_full_one() {
         };
         let mut check = |t: u64, i: &Inputs, res: Result<Outputs, WriteError>, tick: u64| {
             let r = *m2.regs();
-            let (before, x, after) = m2.step_traced(i);
+            let pmu50_core::TracedStep { before, internals: x, after, .. } = m2.step_traced(i);
             if t == fail_at {
                 assert!(matches!(res, Err(WriteError::ValueTooWide { value: 0x30, .. })), "{res:?}");
             } else {

@@ -221,14 +221,14 @@ impl Trace {
 #[pyclass(module = "pmu50", name = "Core")]
 #[derive(Clone)]
 pub struct Core {
-    pub(crate) m: Pmu50,
+    pub(crate) model: Pmu50,
     pub(crate) cfg: CoreConfig,
     pub(crate) params: Params,
 }
 
 impl Core {
     fn s(&self) -> Structural {
-        self.m.structural()
+        self.model.structural()
     }
 
     pub(crate) fn outputs(&self, o: &pmu50_core::Outputs) -> Outputs {
@@ -273,7 +273,7 @@ impl Core {
         guard("Core()", || {
             let (cfg, p) = config::from_kwargs(params)?;
             let m = Pmu50::new(p).map_err(|e| crate::ConfigError::new_err(e.to_string()))?;
-            Ok(Core { m, cfg, params: p })
+            Ok(Core { model: m, cfg, params: p })
         })
     }
 
@@ -284,7 +284,7 @@ impl Core {
     fn step(&mut self, inputs: Option<&Bound<'_, PyDict>>) -> PyResult<Outputs> {
         guard("Core.step()", || {
             let i = Core::inputs(inputs)?;
-            let o = self.m.step(&i);
+            let o = self.model.step(&i);
             Ok(self.outputs(&o))
         })
     }
@@ -294,9 +294,9 @@ impl Core {
     fn step_traced(&mut self, inputs: Option<&Bound<'_, PyDict>>) -> PyResult<Trace> {
         guard("Core.step_traced()", || {
             let i = Core::inputs(inputs)?;
-            let (b, x, a) = self.m.step_traced(&i);
+            let pmu50_core::TracedStep { before: b, internals: x, after: a, .. } = self.model.step_traced(&i);
             Ok(Trace {
-                tick: self.m.tick(),
+                tick: self.model.tick(),
                 before: self.outputs(&b),
                 internals: Internals { vals: signals::internal_values(&x) },
                 after: self.outputs(&a),
@@ -307,12 +307,12 @@ impl Core {
 
     /// The outputs of the current tick (Moore: registers only; no edge is taken).
     fn peek(&self) -> PyResult<Outputs> {
-        guard("Core.peek()", || Ok(self.outputs(&self.m.peek())))
+        guard("Core.peek()", || Ok(self.outputs(&self.model.peek())))
     }
 
     /// Every register: `{block: {register: value}}` (the VCD scopes `pmu50.<block>`).
     fn regs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let vals = guard("Core.regs()", || Ok(signals::register_values(&self.s(), self.m.regs())))?;
+        let vals = guard("Core.regs()", || Ok(signals::register_values(&self.s(), self.model.regs())))?;
         let d = PyDict::new(py);
         for (b, n, _, v) in vals {
             let blk = match d.get_item(b)? {
@@ -335,13 +335,13 @@ impl Core {
             Ok(a) if a <= 255 && addr.is_instance_of::<PyInt>() => a as u8,
             _ => return Err(PyValueError::new_err(format!("read(): address {} is not 0..=255", addr.repr()?))),
         };
-        guard("Core.read()", || Ok(self.m.read(a)))
+        guard("Core.read()", || Ok(self.model.read(a)))
     }
 
     /// Back to power-on reset with the same parameters; `tick` restarts at 0.
     fn reset(&mut self) -> PyResult<()> {
         guard("Core.reset()", || {
-            self.m.reset();
+            self.model.reset();
             Ok(())
         })
     }
@@ -349,7 +349,7 @@ impl Core {
     /// Number of edges taken since reset.
     #[getter]
     fn tick(&self) -> u64 {
-        self.m.tick()
+        self.model.tick()
     }
 
     /// The `[core]` configuration as keyword arguments of `Core()`.
@@ -397,6 +397,6 @@ impl Core {
         for (k, v) in cfg.iter() {
             parts.push(format!("{}={}", k, v.repr()?));
         }
-        Ok(format!("Core(tick={}, {})", self.m.tick(), parts.join(", ")))
+        Ok(format!("Core(tick={}, {})", self.model.tick(), parts.join(", ")))
     }
 }

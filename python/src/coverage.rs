@@ -71,16 +71,16 @@ impl Coverage {
 
     /// One edge of `core` with `inputs`, sampled: (outputs before, internals, outputs after).
     fn edge(&mut self, core: &mut Core, inputs: &pmu50_core::Inputs) -> PyResult<(pmu50_core::Outputs, pmu50_core::Internals, pmu50_core::Outputs)> {
-        let s = core.m.structural();
+        let s = core.model.structural();
         if (s.sync_depth, s.cnt_width) != (self.structural.sync_depth, self.structural.cnt_width) {
             return Err(PyValueError::new_err(format!(
                 "Coverage.step(): this coverage was made for sync_depth={} cnt_width={}, the core has sync_depth={} cnt_width={}",
                 self.structural.sync_depth, self.structural.cnt_width, s.sync_depth, s.cnt_width
             )));
         }
-        let before = *core.m.regs();
-        let (out, n, after_out) = core.m.step_traced(inputs);
-        let after = *core.m.regs();
+        let before = *core.model.regs();
+        let pmu50_core::TracedStep { before: out, internals: n, after: after_out, .. } = core.model.step_traced(inputs);
+        let after = *core.model.regs();
         self.cov.sample(&Edge { before: &before, after: &after, out: &out, inputs, internals: &n });
         self.edges += 1;
         Ok((out, n, after_out))
@@ -104,8 +104,8 @@ impl Coverage {
                 if config.is_some_and(|d| !d.is_empty()) {
                     return Err(PyValueError::new_err("Coverage(core) takes its configuration from the core: give either a core or keyword arguments, not both"));
                 }
-                let s = c.m.structural();
-                let p = c.m.regs().register_file.params(s.sync_depth, s.cnt_width);
+                let s = c.model.structural();
+                let p = c.model.regs().register_file.params(s.sync_depth, s.cnt_width);
                 Ok(Coverage::of(&p, c.cfg.clock.0))
             }
             None => {
@@ -133,7 +133,7 @@ impl Coverage {
             let i = Core::inputs(inputs)?;
             let (b, x, a) = self.edge(&mut core, &i)?;
             Ok(Trace {
-                tick: core.m.tick(),
+                tick: core.model.tick(),
                 before: core.outputs(&b),
                 internals: Internals { vals: signals::internal_values(&x) },
                 after: core.outputs(&a),

@@ -87,24 +87,17 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SimulationError", py.get_type::<SimulationError>())?;
     m.add("InternalError", py.get_type::<InternalError>())?;
     m.add("CoverageError", py.get_type::<coverage::CoverageError>())?;
-    m.add_class::<core::Core>()?;
-    m.add_class::<core::Outputs>()?;
-    m.add_class::<core::Internals>()?;
-    m.add_class::<core::InputValues>()?;
-    m.add_class::<core::Trace>()?;
-    m.add_class::<core::Signal>()?;
-    m.add_class::<coverage::Coverage>()?;
-    m.add_function(wrap_pyfunction!(coverage::merge_coverage, m)?)?;
-    m.add_function(wrap_pyfunction!(coverage::export_ucis, m)?)?;
-    m.add_class::<scenario::Scenario>()?;
-    m.add_class::<scenario::RunResult>()?;
-    m.add_class::<scenario::Pulse>()?;
-    m.add_class::<scenario::PulseRun>()?;
-    m.add_class::<scenario::PulseTable>()?;
-    m.add_class::<scenario::Readout>()?;
-    m.add_class::<scenario::KeyOff>()?;
-    m.add_class::<scenario::Check>()?;
-    m.add_class::<scenario::DarkCurrent>()?;
+    macro_rules! add_classes {
+        ($($class:ty),* $(,)?) => {
+            $(m.add_class::<$class>()?;)*
+        };
+    }
+    add_classes!(core::Core, core::Outputs, core::Internals, core::InputValues, core::Trace, core::Signal, coverage::Coverage);
+    add_classes!(scenario::Scenario, scenario::RunResult, scenario::Pulse, scenario::PulseRun, scenario::PulseTable);
+    add_classes!(scenario::Readout, scenario::KeyOff, scenario::Check, scenario::DarkCurrent);
+    for f in [wrap_pyfunction!(coverage::merge_coverage, m)?, wrap_pyfunction!(coverage::export_ucis, m)?] {
+        m.add_function(f)?;
+    }
     m.add_function(wrap_pyfunction!(core::signal_table, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     m.add("CORE_PARAMETERS", config::FIELDS.to_vec())?;

@@ -512,7 +512,7 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
 
         // One clock edge.
         let regs_before = *core.regs();
-        let (_, internals, after) = core.step_traced(&inputs);
+        let pmu50_core::TracedStep { internals, after, .. } = core.step_traced(&inputs);
         evaluated += 1;
         let regs_after = *core.regs();
         for o in observers.iter_mut() {

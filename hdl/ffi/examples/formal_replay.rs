@@ -53,24 +53,12 @@ fn main() -> ExitCode {
             header.push(line.to_string());
             let f: Vec<&str> = h.split_whitespace().collect();
             if f.len() == 3 && f[0] == "param" {
-                let v: u32 = match f[2].parse() {
+                let v: u64 = match f[2].parse() {
                     Ok(v) => v,
                     Err(_) => return fail(format!("{path}:{}: parameter {} is not a number: {}", n + 1, f[1], f[2])),
                 };
-                match f[1] {
-                    "SYNC_DEPTH" => p.sync_depth = v as u8,
-                    "CNT_W" => p.cnt_width = v as u8,
-                    "ADAPTIVE" => p.adaptive = v != 0,
-                    "PW" => p.pw = v as u16,
-                    "PI" => p.pi = v as u16,
-                    "PS" => p.ps = v as u16,
-                    "SI_MAX" => p.si_max = v as u16,
-                    "SI_MIN" => p.si_min = v as u16,
-                    "T1" => p.t1 = v as u16,
-                    "T2" => p.t2 = v as u16,
-                    "CTH" => p.cth = v as u8,
-                    "SMP_ON" => p.smp_on = v as u16,
-                    other => return fail(format!("{path}:{}: unknown parameter {other}", n + 1)),
+                if let Err(e) = p.set_hdl_parameter(f[1], v) {
+                    return fail(format!("{path}:{}: {e}", n + 1));
                 }
             }
             continue;

@@ -75,7 +75,7 @@ fn random_params(r: &mut Rng) -> Params {
 
 /// Stimulus generator state.
 struct Stim {
-    r: Rng,
+    rng: Rng,
     ig: bool,
     seg_left: u64,
     pos: i64, // shaft angle in milli-quadrants
@@ -86,7 +86,7 @@ struct Stim {
 
 impl Stim {
     fn next(&mut self, sig: bool, regs: &pmu50_core::Regs) -> Inputs {
-        let r = &mut self.r;
+        let r = &mut self.rng;
         // Ignition: long key-off periods (several intervals), shorter key-on periods, glitches.
         if self.seg_left == 0 {
             self.ig = !self.ig;
@@ -271,7 +271,7 @@ fn run(seed: u64, ticks: u64, out: &str, vcd_path: Option<&str>) -> Result<(), S
     };
     let name = format!("stress_{seed}");
     let mut stim = Stim {
-        r,
+        rng: r,
         ig: false,
         seg_left: 0,
         pos: 0,
@@ -279,8 +279,8 @@ fn run(seed: u64, ticks: u64, out: &str, vcd_path: Option<&str>) -> Result<(), S
         vel_left: 0,
         fault_left: 0,
     };
-    stim.pos = stim.r.range(0, 3999) as i64;
-    stim.ig = stim.r.chance(500);
+    stim.pos = stim.rng.range(0, 3999) as i64;
+    stim.ig = stim.rng.chance(500);
 
     let io = |e: std::io::Error| format!("{out}: {e}");
     let mut f = BufWriter::new(std::fs::File::create(out).map_err(io)?);
@@ -354,7 +354,7 @@ fn run(seed: u64, ticks: u64, out: &str, vcd_path: Option<&str>) -> Result<(), S
         let before = core.peek();
         let regs_before = *core.regs();
         let i = stim.next(before.sig, &regs_before);
-        let (_, internals, after) = core.step_traced(&i);
+        let pmu50_core::TracedStep { internals, after, .. } = core.step_traced(&i);
         let mut l = String::with_capacity(96);
         for (_, w, v) in i.values() {
             let _ = write!(l, "{:0d$x} ", v, d = usize::from(w).div_ceil(4));

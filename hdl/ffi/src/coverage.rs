@@ -5,11 +5,11 @@
 
 use crate::{guard, null, pmu50_inputs, pmu50_internals, pmu50_outputs, pmu50_params, pmu50_t, set_error, PMU50_ERR_NAME, PMU50_ERR_PARAM, PMU50_ERR_RANGE, PMU50_OK};
 use pmu50_core::pmu50::Structural;
-use pmu50_core::{Inputs, Params};
+use pmu50_core::Inputs;
 use pmu50_coverage::db::{self, CoverageFile, DbError};
 use pmu50_coverage::{layout, Coverage, Edge, Kind};
 use std::ffi::{c_char, c_int, CStr, CString};
-use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::panic::catch_unwind;
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -94,24 +94,14 @@ fn db_error(what: &str, e: DbError) -> c_int {
 /// `p` NULL or a readable `pmu50_params`.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_coverage_new(p: *const pmu50_params, clock_ns: u64) -> *mut pmu50_coverage_t {
-    let r = catch_unwind(AssertUnwindSafe(|| {
-        if p.is_null() {
-            set_error("pmu50_coverage_new: `p` is NULL");
-            return std::ptr::null_mut();
-        }
-        // SAFETY: checked non-null.
-        let params: Params = unsafe { p.read() }.into();
-        if let Err(e) = params.validate() {
-            set_error(format!("pmu50_coverage_new: {e}"));
-            return std::ptr::null_mut();
-        }
-        let structural = Structural { sync_depth: params.sync_depth, cnt_width: params.cnt_width };
-        Box::into_raw(Box::new(pmu50_coverage_t { cov: Coverage::new(&params, clock_ns), structural, edges: 0 }))
-    }));
-    r.unwrap_or_else(|_| {
-        set_error("pmu50_coverage_new: internal panic");
-        std::ptr::null_mut()
-    })
+    // SAFETY: forwarded contract.
+    unsafe {
+        crate::new_handle("pmu50_coverage_new", p, |params| {
+            params.validate().map_err(|e| e.to_string())?;
+            let structural = Structural { sync_depth: params.sync_depth, cnt_width: params.cnt_width };
+            Ok(pmu50_coverage_t { cov: Coverage::new(&params, clock_ns), structural, edges: 0 })
+        })
+    }
 }
 
 /// Free a coverage handle (NULL is ignored).
@@ -120,13 +110,8 @@ pub unsafe extern "C" fn pmu50_coverage_new(p: *const pmu50_params, clock_ns: u6
 /// `c` NULL or a handle from `pmu50_coverage_new` not freed yet.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_coverage_free(c: *mut pmu50_coverage_t) {
-    if c.is_null() {
-        return;
-    }
-    let _ = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: a live handle from pmu50_coverage_new, by contract.
-        drop(unsafe { Box::from_raw(c) });
-    }));
+    // SAFETY: forwarded contract.
+    unsafe { crate::free_handle(c) }
 }
 
 /// One rising edge of core `m` with inputs `i`, sampled into `c` (`pmu50_step` plus sampling).
@@ -165,7 +150,7 @@ pub unsafe extern "C" fn pmu50_coverage_step_traced(c: *mut pmu50_coverage_t, m:
         // SAFETY: checked non-null.
         let inputs: Inputs = unsafe { i.read() }.into();
         let before = *m.core.regs();
-        let (out, n, after_out) = m.core.step_traced(&inputs);
+        let pmu50_core::TracedStep { before: out, internals: n, after: after_out, .. } = m.core.step_traced(&inputs);
         m.last = Some(n);
         c.cov.sample(&Edge { before: &before, after: m.core.regs(), out: &out, inputs: &inputs, internals: &n });
         c.edges += 1;

@@ -68,43 +68,43 @@ pub struct pmu50_t {
 // ------------------------------------------------------------------------------------------
 // conversions
 
-impl From<Params> for pmu50_params {
-    fn from(p: Params) -> Self {
-        pmu50_params {
-            sync_depth: p.sync_depth,
-            cnt_width: p.cnt_width,
-            adaptive: u8::from(p.adaptive),
-            cth: p.cth,
-            pw: p.pw,
-            pi: p.pi,
-            ps: p.ps,
-            si_max: p.si_max,
-            si_min: p.si_min,
-            t1: p.t1,
-            t2: p.t2,
-            smp_on: p.smp_on,
-        }
+/// A C field of `pmu50_params` read as the parameter's type (a C boolean: any non-zero is true).
+trait FromC<C> {
+    fn from_c(c: C) -> Self;
+}
+
+impl FromC<u8> for bool {
+    fn from_c(c: u8) -> bool {
+        c != 0
     }
 }
 
-impl From<pmu50_params> for Params {
-    fn from(p: pmu50_params) -> Self {
-        Params {
-            sync_depth: p.sync_depth,
-            cnt_width: p.cnt_width,
-            adaptive: p.adaptive != 0,
-            pw: p.pw,
-            pi: p.pi,
-            ps: p.ps,
-            si_max: p.si_max,
-            si_min: p.si_min,
-            t1: p.t1,
-            t2: p.t2,
-            cth: p.cth,
-            smp_on: p.smp_on,
-        }
+impl<T> FromC<T> for T {
+    fn from_c(c: T) -> T {
+        c
     }
 }
+
+/// The conversions of `pmu50_params`, generated from the parameter table (the struct itself is
+/// the header's, whose field order is the ABI).
+macro_rules! params_conversions {
+    (structural: [$(($sf:ident, $st:ty, $sh:literal, $sd:literal, $sdoc:literal),)*],
+     programmable: [$(($f:ident, $t:ty, $h:literal, $d:literal, $a:ident, $doc:literal),)*]) => {
+        impl From<Params> for pmu50_params {
+            fn from(p: Params) -> Self {
+                pmu50_params { $($sf: p.$sf.into(),)* $($f: p.$f.into(),)* }
+            }
+        }
+
+        impl From<pmu50_params> for Params {
+            fn from(p: pmu50_params) -> Self {
+                Params { $($sf: FromC::from_c(p.$sf),)* $($f: FromC::from_c(p.$f),)* }
+            }
+        }
+    };
+}
+
+pmu50_core::param_table!(params_conversions);
 
 /// NUL-terminated copies of the table's names (static for the life of the library).
 struct Names {
@@ -292,25 +292,8 @@ pub unsafe extern "C" fn pmu50_params_validate(p: *const pmu50_params) -> c_int 
 /// `p` must be NULL or point to a readable `pmu50_params`.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_new(p: *const pmu50_params) -> *mut pmu50_t {
-    let r = catch_unwind(AssertUnwindSafe(|| {
-        if p.is_null() {
-            set_error("pmu50_new: `p` is NULL");
-            return std::ptr::null_mut();
-        }
-        // SAFETY: checked non-null.
-        let params: Params = unsafe { p.read() }.into();
-        match Pmu50::new(params) {
-            Ok(core) => Box::into_raw(Box::new(pmu50_t { core, params, last: None, report: CString::default() })),
-            Err(e) => {
-                set_error(format!("pmu50_new: {e}"));
-                std::ptr::null_mut()
-            }
-        }
-    }));
-    r.unwrap_or_else(|e| {
-        set_error(format!("pmu50_new: internal panic: {}", panic_message(&*e)));
-        std::ptr::null_mut()
-    })
+    // SAFETY: forwarded contract.
+    unsafe { new_handle("pmu50_new", p, |params| Pmu50::new(params).map(|core| pmu50_t { core, params, last: None, report: CString::default() }).map_err(|e| e.to_string())) }
 }
 
 /// Free a core (NULL is ignored).
@@ -319,13 +302,8 @@ pub unsafe extern "C" fn pmu50_new(p: *const pmu50_params) -> *mut pmu50_t {
 /// `m` must be NULL or a handle from `pmu50_new` not freed yet.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_free(m: *mut pmu50_t) {
-    if m.is_null() {
-        return;
-    }
-    let _ = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: the caller passes a live handle from pmu50_new.
-        drop(unsafe { Box::from_raw(m) });
-    }));
+    // SAFETY: forwarded contract.
+    unsafe { free_handle(m) }
 }
 
 /// Back to power-on reset (same parameters); tick count 0.
@@ -351,18 +329,8 @@ pub unsafe extern "C" fn pmu50_reset(m: *mut pmu50_t) -> c_int {
 /// `m` NULL or live; `out` NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_get_params(m: *const pmu50_t, out: *mut pmu50_params) -> c_int {
-    guard("pmu50_get_params", || {
-        // SAFETY: the caller passes NULL or a live handle.
-        let Some(m) = (unsafe { m.as_ref() }) else {
-            return null("pmu50_get_params", "m");
-        };
-        if out.is_null() {
-            return null("pmu50_get_params", "out");
-        }
-        // SAFETY: checked non-null.
-        unsafe { out.write(m.params.into()) };
-        PMU50_OK
-    })
+    // SAFETY: forwarded contract.
+    unsafe { get_into("pmu50_get_params", m, "out", out, |m| Ok(m.params.into())) }
 }
 
 /// One rising edge with inputs `i`. `after` (may be NULL): outputs after the edge.
@@ -401,7 +369,7 @@ pub unsafe extern "C" fn pmu50_step_traced(
         }
         // SAFETY: checked non-null.
         let inputs: Inputs = unsafe { i.read() }.into();
-        let (_, int, out) = m.core.step_traced(&inputs);
+        let pmu50_core::TracedStep { internals: int, after: out, .. } = m.core.step_traced(&inputs);
         m.last = Some(int);
         if !internals.is_null() {
             // SAFETY: checked non-null.
@@ -421,18 +389,8 @@ pub unsafe extern "C" fn pmu50_step_traced(
 /// `m` NULL or live; `out` NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_peek(m: *const pmu50_t, out: *mut pmu50_outputs) -> c_int {
-    guard("pmu50_peek", || {
-        // SAFETY: the caller passes NULL or a live handle.
-        let Some(m) = (unsafe { m.as_ref() }) else {
-            return null("pmu50_peek", "m");
-        };
-        if out.is_null() {
-            return null("pmu50_peek", "out");
-        }
-        // SAFETY: checked non-null.
-        unsafe { out.write(m.core.peek().into()) };
-        PMU50_OK
-    })
+    // SAFETY: forwarded contract.
+    unsafe { get_into("pmu50_peek", m, "out", out, |m| Ok(m.core.peek().into())) }
 }
 
 /// Edges taken since reset (0 for NULL).
@@ -454,18 +412,8 @@ pub unsafe extern "C" fn pmu50_tick(m: *const pmu50_t) -> u64 {
 /// `m` NULL or live; `out` NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_bus_read(m: *const pmu50_t, addr: u8, out: *mut u16) -> c_int {
-    guard("pmu50_bus_read", || {
-        // SAFETY: the caller passes NULL or a live handle.
-        let Some(m) = (unsafe { m.as_ref() }) else {
-            return null("pmu50_bus_read", "m");
-        };
-        if out.is_null() {
-            return null("pmu50_bus_read", "out");
-        }
-        // SAFETY: checked non-null.
-        unsafe { out.write(m.core.read(addr)) };
-        PMU50_OK
-    })
+    // SAFETY: forwarded contract.
+    unsafe { get_into("pmu50_bus_read", m, "out", out, |m| Ok(m.core.read(addr))) }
 }
 
 /// Number of registers (`PMU50_REG_COUNT`).
@@ -528,22 +476,16 @@ pub unsafe extern "C" fn pmu50_reg_info(
 /// `m` NULL or live; `value` NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_reg_get(m: *const pmu50_t, index: usize, value: *mut u64) -> c_int {
-    guard("pmu50_reg_get", || {
-        // SAFETY: the caller passes NULL or a live handle.
-        let Some(m) = (unsafe { m.as_ref() }) else {
-            return null("pmu50_reg_get", "m");
-        };
-        if value.is_null() {
-            return null("pmu50_reg_get", "value");
-        }
-        let Some(r) = signals::REGISTERS.get(index) else {
-            set_error(format!("pmu50_reg_get: index {index} out of range 0..{}", signals::N_REGISTERS));
-            return PMU50_ERR_RANGE;
-        };
-        // SAFETY: checked non-null.
-        unsafe { value.write((r.get)(m.core.regs())) };
-        PMU50_OK
-    })
+    // SAFETY: forwarded contract.
+    unsafe {
+        get_into("pmu50_reg_get", m, "value", value, |m| match signals::REGISTERS.get(index) {
+            Some(r) => Ok((r.get)(m.core.regs())),
+            None => {
+                set_error(format!("pmu50_reg_get: index {index} out of range 0..{}", signals::N_REGISTERS));
+                Err(PMU50_ERR_RANGE)
+            }
+        })
+    }
 }
 
 /// Index of a register by name: "cnt_s", "updown_counter.cnt_s" or "pmu50.updown_counter.cnt_s".
@@ -621,46 +563,6 @@ pub unsafe extern "C" fn pmu50_output_info(
     })
 }
 
-/// Value of output `index` of an outputs struct.
-///
-/// # Safety
-/// `o` NULL or readable; `value` NULL or writable.
-#[no_mangle]
-pub unsafe extern "C" fn pmu50_output_get(
-    o: *const pmu50_outputs,
-    index: usize,
-    value: *mut u64,
-) -> c_int {
-    guard("pmu50_output_get", || {
-        // SAFETY: the caller passes NULL or a readable struct.
-        let Some(o) = (unsafe { o.as_ref() }) else {
-            return null("pmu50_output_get", "o");
-        };
-        // SAFETY: the caller passes NULL or a writable pointer.
-        unsafe { write_value("pmu50_output_get", o.get(index), signals::N_OUTPUTS, index, value) }
-    })
-}
-
-/// Set output `index` of an outputs struct (low bits of `value`), e.g. to fill it from an RTL
-/// simulator by index.
-///
-/// # Safety
-/// `o` NULL or writable.
-#[no_mangle]
-pub unsafe extern "C" fn pmu50_output_set(o: *mut pmu50_outputs, index: usize, value: u64) -> c_int {
-    guard("pmu50_output_set", || {
-        // SAFETY: the caller passes NULL or a writable struct.
-        let Some(o) = (unsafe { o.as_mut() }) else {
-            return null("pmu50_output_set", "o");
-        };
-        if !o.set(index, value) {
-            set_error(format!("pmu50_output_set: index {index} out of range 0..{}", signals::N_OUTPUTS));
-            return PMU50_ERR_RANGE;
-        }
-        PMU50_OK
-    })
-}
-
 /// Number of internal signals (`PMU50_INTERNAL_COUNT`).
 #[no_mangle]
 pub extern "C" fn pmu50_internal_count() -> usize {
@@ -690,44 +592,68 @@ pub unsafe extern "C" fn pmu50_internal_info(
     })
 }
 
-/// Value of internal signal `index` of an internals struct.
-///
-/// # Safety
-/// `x` NULL or readable; `value` NULL or writable.
-#[no_mangle]
-pub unsafe extern "C" fn pmu50_internal_get(
-    x: *const pmu50_internals,
-    index: usize,
-    value: *mut u64,
-) -> c_int {
-    guard("pmu50_internal_get", || {
-        // SAFETY: the caller passes NULL or a readable struct.
-        let Some(x) = (unsafe { x.as_ref() }) else {
-            return null("pmu50_internal_get", "x");
-        };
-        // SAFETY: the caller passes NULL or a writable pointer.
-        unsafe { write_value("pmu50_internal_get", x.get(index), signals::N_INTERNALS, index, value) }
-    })
+/// The value getter and setter by index of a C mirror struct (`pmu50_outputs`,
+/// `pmu50_internals`): `$get(s, index, value)` and `$set(s, index, value)`; `$arg` is the
+/// struct's argument name in the header, for the NULL message.
+macro_rules! indexed_accessors {
+    ($(#[$get_doc:meta])* $get:ident, $(#[$set_doc:meta])* $set:ident, $c:ty, $arg:literal, $len:expr) => {
+        $(#[$get_doc])*
+        ///
+        /// # Safety
+        /// `s` NULL or readable; `value` NULL or writable.
+        #[no_mangle]
+        pub unsafe extern "C" fn $get(s: *const $c, index: usize, value: *mut u64) -> c_int {
+            guard(stringify!($get), || {
+                // SAFETY: the caller passes NULL or a readable struct.
+                let Some(s) = (unsafe { s.as_ref() }) else {
+                    return null(stringify!($get), $arg);
+                };
+                // SAFETY: the caller passes NULL or a writable pointer.
+                unsafe { write_value(stringify!($get), s.get(index), $len, index, value) }
+            })
+        }
+
+        $(#[$set_doc])*
+        ///
+        /// # Safety
+        /// `s` NULL or writable.
+        #[no_mangle]
+        pub unsafe extern "C" fn $set(s: *mut $c, index: usize, value: u64) -> c_int {
+            guard(stringify!($set), || {
+                // SAFETY: the caller passes NULL or a writable struct.
+                let Some(s) = (unsafe { s.as_mut() }) else {
+                    return null(stringify!($set), $arg);
+                };
+                if !s.set(index, value) {
+                    set_error(format!("{}: index {index} out of range 0..{}", stringify!($set), $len));
+                    return PMU50_ERR_RANGE;
+                }
+                PMU50_OK
+            })
+        }
+    };
 }
 
-/// Set internal signal `index` of an internals struct.
-///
-/// # Safety
-/// `x` NULL or writable.
-#[no_mangle]
-pub unsafe extern "C" fn pmu50_internal_set(x: *mut pmu50_internals, index: usize, value: u64) -> c_int {
-    guard("pmu50_internal_set", || {
-        // SAFETY: the caller passes NULL or a writable struct.
-        let Some(x) = (unsafe { x.as_mut() }) else {
-            return null("pmu50_internal_set", "x");
-        };
-        if !x.set(index, value) {
-            set_error(format!("pmu50_internal_set: index {index} out of range 0..{}", signals::N_INTERNALS));
-            return PMU50_ERR_RANGE;
-        }
-        PMU50_OK
-    })
-}
+indexed_accessors!(
+    /// Value of output `index` of an outputs struct.
+    pmu50_output_get,
+    /// Set output `index` of an outputs struct (low bits of `value`), e.g. to fill it from an RTL
+    /// simulator by index.
+    pmu50_output_set,
+    pmu50_outputs,
+    "o",
+    signals::N_OUTPUTS
+);
+
+indexed_accessors!(
+    /// Value of internal signal `index` of an internals struct.
+    pmu50_internal_get,
+    /// Set internal signal `index` of an internals struct.
+    pmu50_internal_set,
+    pmu50_internals,
+    "x",
+    signals::N_INTERNALS
+);
 
 /// Lockstep compare (verification method 2): the RTL's values against the model's. Each set is
 /// optional (NULL: not compared): `rtl_outputs` and `rtl_regs` (`PMU50_REG_COUNT` values in
@@ -776,6 +702,71 @@ pub unsafe extern "C" fn pmu50_check(
 pub unsafe extern "C" fn pmu50_check_report(m: *const pmu50_t) -> *const c_char {
     // SAFETY: the caller passes NULL or a live handle.
     unsafe { m.as_ref() }.map_or(c"".as_ptr(), |m| m.report.as_ptr())
+}
+
+/// Shared body of the getters that write one value of a live core to `out` (named `arg` in
+/// the header); `f` gives the value or an error code (its message set).
+///
+/// # Safety
+/// `m` NULL or live; `out` NULL or writable.
+unsafe fn get_into<T>(what: &str, m: *const pmu50_t, arg: &str, out: *mut T, f: impl FnOnce(&pmu50_t) -> Result<T, c_int>) -> c_int {
+    guard(what, || {
+        // SAFETY: the caller passes NULL or a live handle.
+        let Some(m) = (unsafe { m.as_ref() }) else {
+            return null(what, "m");
+        };
+        if out.is_null() {
+            return null(what, arg);
+        }
+        match f(m) {
+            Ok(v) => {
+                // SAFETY: checked non-null; the caller guarantees writable.
+                unsafe { out.write(v) };
+                PMU50_OK
+            }
+            Err(rc) => rc,
+        }
+    })
+}
+
+/// Shared body of the constructors: a new handle from the parameters `p` (NULL, with the
+/// message in `pmu50_last_error()`, when `p` is NULL, `make` refuses them or panics).
+///
+/// # Safety
+/// `p` NULL or a readable `pmu50_params`.
+pub(crate) unsafe fn new_handle<T>(what: &str, p: *const pmu50_params, make: impl FnOnce(Params) -> Result<T, String>) -> *mut T {
+    let r = catch_unwind(AssertUnwindSafe(|| {
+        if p.is_null() {
+            set_error(format!("{what}: `p` is NULL"));
+            return std::ptr::null_mut();
+        }
+        // SAFETY: checked non-null.
+        match make(unsafe { p.read() }.into()) {
+            Ok(h) => Box::into_raw(Box::new(h)),
+            Err(e) => {
+                set_error(format!("{what}: {e}"));
+                std::ptr::null_mut()
+            }
+        }
+    }));
+    r.unwrap_or_else(|e| {
+        set_error(format!("{what}: internal panic: {}", panic_message(&*e)));
+        std::ptr::null_mut()
+    })
+}
+
+/// Shared body of the destructors (NULL is ignored).
+///
+/// # Safety
+/// `h` NULL or a handle from `new_handle` not freed yet.
+pub(crate) unsafe fn free_handle<T>(h: *mut T) {
+    if h.is_null() {
+        return;
+    }
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: a live handle from new_handle, by contract.
+        drop(unsafe { Box::from_raw(h) });
+    }));
 }
 
 /// Shared body of the indexed value getters.
@@ -875,7 +866,7 @@ mod tests {
                 };
                 let i = pmu50_inputs::from(core_in);
                 assert_eq!(pmu50_step_traced(m, &i, &mut x, &mut o), PMU50_OK);
-                let (_, int, out) = core.step_traced(&i.into());
+                let pmu50_core::TracedStep { internals: int, after: out, .. } = core.step_traced(&i.into());
                 assert_eq!(o, out.into());
                 assert_eq!(x, int.into());
             }

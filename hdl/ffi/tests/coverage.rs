@@ -66,7 +66,7 @@ fn rust_hits() -> Vec<u64> {
     let mut cov = Coverage::new(&p, 10_000);
     for i in stimulus(EDGES) {
         let before = *core.regs();
-        let (out, n, _) = core.step_traced(&i);
+        let pmu50_core::TracedStep { before: out, internals: n, .. } = core.step_traced(&i);
         cov.sample(&Edge { before: &before, after: core.regs(), out: &out, inputs: &i, internals: &n });
     }
     cov.hits().to_vec()

@@ -11,11 +11,14 @@
 //!   parameters are read straight from the register file instead of being copied into a
 //!   [`crate::Params`] every tick;
 //! - the common edge (no bus write, no sample, no key edge) touches only the synchronizer, the
-//!   timer, `sr`, `rdata` and `diag`; the rare events (bus write, key edge) are out of line;
-//! - the registered read mux reads a table of what each address reads, and the timer is decoded
+//!   timer, `sr`, `rdata` and `diag`; the rare events (bus write, key edge) are out of line and
+//!   run the specification itself ([`crate::pmu50::next`]: the register file's read mux and
+//!   write map, every block's next-state function), after which the caches are rebuilt;
+//! - the registered read mux reads a table of what each address reads (filled from the
+//!   register file's own read mux, [`crate::pmu50::read`]), and the timer is decoded
 //!   with thresholds for the key mode of the registers ([`Shadow`]), both kept beside the
 //!   registers and rebuilt where what they depend on changes outside the common edge;
-//! - an edge is *narrow* or *wide* ([`step_traced_wide`]), which a tracer uses to compare only
+//! - an edge is *narrow* or *wide* ([`step_traced`]), which a tracer uses to compare only
 //!   what the edge can have changed (as Verilator's tracer uses its activity flags). A wide edge
 //!   is a bus write, a key edge, a key-off sampling strobe (the 56b pulse, FIG. 17/18) or a key-on
 //!   sample that presets the counters or finds a sign changed, and may write any register. A
@@ -43,42 +46,28 @@
 //! it stands for.
 
 use crate::drive_interval_changing_56b::{Fig17, Fig18};
-use crate::params::Params;
-use crate::pmu50::{Inputs, Internals, Outputs, Regs, Structural};
-use crate::register_file::{addr, status, ID_VALUE, VERSION_VALUE};
+use crate::pmu50::{Inputs, Internals, Outputs, Regs, Structural, TracedStep};
+use crate::register_file::{addr, status};
 
 /// The structural parameters, pre-decoded into the masks the kernel uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Consts {
-    /// As given (for the legality check of bus writes and the CFG register).
-    sync_depth: u8,
-    cnt_width: u8,
+    /// As given: the rare edge and the read mux run the specification's blocks with them.
+    structural: Structural,
     /// The stage of `sync` that is `sig`, as a mask: bit `sync_depth - 1` (depth clamped to
     /// 1..=4 as in 56a), tested instead of shifted by a variable.
     sig_bit: u8,
     /// Mask of the synchronizer stages.
     sync_mask: u8,
-    /// Mask and sign bit of a `cnt_width`-bit counter (width clamped to 2..=16 as in 58c/58d).
+    /// Mask of a `cnt_width`-bit counter (width clamped to 2..=16 as in 58c/58d).
     cnt_mask: u16,
-    cnt_sign: u16,
-    /// Read value of CFG (0x0C).
-    cfg: u16,
 }
 
 impl Consts {
     pub fn new(s: &Structural) -> Consts {
         let depth = s.sync_depth.clamp(1, 4);
-        let w = s.cnt_width.clamp(2, 16);
-        let cnt_mask = ((1u32 << w) - 1) as u16;
-        Consts {
-            sync_depth: s.sync_depth,
-            cnt_width: s.cnt_width,
-            sig_bit: 1u8 << (depth - 1),
-            sync_mask: (1u8 << depth) - 1,
-            cnt_mask,
-            cnt_sign: 1u16 << (w - 1),
-            cfg: u16::from(s.sync_depth & 0x7) | (u16::from(s.cnt_width & 0x1F) << 8),
-        }
+        let width = s.cnt_width.clamp(2, 16);
+        Consts { structural: *s, sig_bit: 1u8 << (depth - 1), sync_mask: (1u8 << depth) - 1, cnt_mask: ((1u32 << width) - 1) as u16 }
     }
 }
 
@@ -89,7 +78,7 @@ impl Consts {
 ///
 /// A cache, not state: it is a function of the registers ([`Shadow::of`]) and is rebuilt whenever
 /// that function's inputs change outside the common edge (a bus write or a key edge, which go
-/// through [`edge`]; a reset). In the common edge, the only readable values
+/// through [`edge_rare`]; a reset). In the common edge, the only readable values
 /// that change are the counters and the STATUS bits of a sample (refreshed there) and
 /// STATUS.`sig`/`sr`/`diag`, which the read adds from the registers at each edge. With it, the
 /// registered read mux of every edge is one table load instead of a jump over 21 addresses
@@ -130,10 +119,10 @@ impl Shadow {
     #[cold]
     #[inline(never)]
     fn rebuild(&mut self, c: &Consts, r: &Regs) {
-        for a in 0..=addr::STATUS {
-            self.rd[usize::from(a)] = read(c, r, false, a);
+        for a in 0..addr::STATUS {
+            self.rd[usize::from(a)] = crate::pmu50::read(&c.structural, r, false, a);
         }
-        self.rd[usize::from(addr::STATUS)] &= !STATUS_LIVE;
+        self.refresh_reads(c, r, []);
         let f = &r.register_file;
         let ps_start = u32::from(f.pw) + u32::from(f.pi);
         let wt = ps_start + u32::from(f.ps);
@@ -151,10 +140,7 @@ impl Shadow {
     /// counters, their diagnosis and STATUS.
     #[inline(always)]
     fn refresh_sample(&mut self, c: &Consts, r: &Regs) {
-        for a in [addr::CNT_S, addr::CNT_C, addr::STATUS] {
-            self.rd[usize::from(a)] = read(c, r, false, a);
-        }
-        self.rd[usize::from(addr::STATUS)] &= !STATUS_LIVE;
+        self.refresh_reads(c, r, [addr::CNT_S, addr::CNT_C]);
         self.diag = diag_of(c, &r.updown_counter);
     }
 
@@ -162,11 +148,18 @@ impl Shadow {
     /// (history) and the timer's period, which is `si` with the key off.
     #[inline(always)]
     fn refresh_pulse(&mut self, c: &Consts, r: &Regs) {
-        for a in [addr::CNT_R, addr::SI, addr::STATUS] {
-            self.rd[usize::from(a)] = read(c, r, false, a);
-        }
-        self.rd[usize::from(addr::STATUS)] &= !STATUS_LIVE;
+        self.refresh_reads(c, r, [addr::CNT_R, addr::SI]);
         self.period = u32::from(r.drive_interval.si);
+    }
+
+    /// The read values of the addresses `a` and of STATUS (without its live bits), from the
+    /// register file's read mux.
+    #[inline(always)]
+    fn refresh_reads<const N: usize>(&mut self, c: &Consts, r: &Regs, a: [u8; N]) {
+        for a in a {
+            self.rd[usize::from(a)] = crate::pmu50::read(&c.structural, r, false, a);
+        }
+        self.rd[usize::from(addr::STATUS)] = crate::pmu50::read(&c.structural, r, false, addr::STATUS) & !STATUS_LIVE;
     }
 
     /// The read mux at `a` for the registers before the edge (`sig`, `sr` and `diag` of `r`).
@@ -270,128 +263,6 @@ fn outputs(n: &Narrow, r: &Regs) -> Outputs {
     }
 }
 
-/// Register file read mux (same as [`crate::register_file::read`] with the status view of `r`).
-#[inline(always)]
-fn read(c: &Consts, r: &Regs, sig: bool, a: u8) -> u16 {
-    let f = &r.register_file;
-    let sx = |v: u16| {
-        let v = v & c.cnt_mask;
-        if v & c.cnt_sign != 0 { v | !c.cnt_mask } else { v }
-    };
-    match a {
-        addr::ID => ID_VALUE,
-        addr::VERSION => VERSION_VALUE,
-        addr::CTRL => u16::from(f.adaptive),
-        addr::PW => f.pw,
-        addr::PI => f.pi,
-        addr::PS => f.ps,
-        addr::SI_MAX => f.si_max,
-        addr::SI_MIN => f.si_min,
-        addr::T1 => f.t1,
-        addr::T2 => f.t2,
-        addr::CTH => u16::from(f.cth),
-        addr::SMP_ON => f.smp_on,
-        addr::CFG => c.cfg,
-        addr::CNT_S => sx(r.updown_counter.cnt_s),
-        addr::CNT_C => sx(r.updown_counter.cnt_c),
-        addr::CNT_R => u16::from(r.drive_interval.cnt_r),
-        addr::SI => r.drive_interval.si,
-        addr::STATUS => {
-            let b = |v: bool, bit: usize| u16::from(v) << bit;
-            b(r.comparator_latch.cs, status::CS)
-                | b(r.comparator_latch.cc, status::CC)
-                | b(r.drive_interval.hist_s, status::HIST_S)
-                | b(r.drive_interval.hist_c, status::HIST_C)
-                | b(r.count_diagnosis.diag, status::DIAG)
-                | b(r.updown_counter.quadrant_skip, status::QUADRANT_SKIP)
-                | b(sig, status::SIG)
-                | b(r.comparator_latch.vld, status::VLD)
-                | b(r.sensor_power_determination.sr, status::SR)
-                | b(f.bus_err, status::BUS_ERR)
-        }
-        _ => 0,
-    }
-}
-
-/// Register file write port (the rare path): returns (parameter registers after the edge,
-/// `bus_err` after the edge, `skip_clr`). `rdata` is set by the caller.
-#[cold]
-#[inline(never)]
-fn bus_write(c: &Consts, f: &crate::register_file::Regs, sig: bool, a: u8, d: u16) -> (crate::register_file::Regs, bool, bool) {
-    if sig && a == addr::STATUS {
-        // W1C; set wins over clear (a refused write cannot happen in the same cycle).
-        let clr_err = (d >> status::BUS_ERR) & 1 == 1;
-        return (*f, f.bus_err && !clr_err, (d >> status::QUADRANT_SKIP) & 1 == 1);
-    }
-    let mut n = *f;
-    let mapped = match a {
-        addr::CTRL => {
-            n.adaptive = d & 1 == 1;
-            true
-        }
-        addr::PW => {
-            n.pw = d;
-            true
-        }
-        addr::PI => {
-            n.pi = d;
-            true
-        }
-        addr::PS => {
-            n.ps = d;
-            true
-        }
-        addr::SI_MAX => {
-            n.si_max = d;
-            true
-        }
-        addr::SI_MIN => {
-            n.si_min = d;
-            true
-        }
-        addr::T1 => {
-            n.t1 = d;
-            true
-        }
-        addr::T2 => {
-            n.t2 = d;
-            true
-        }
-        addr::CTH => {
-            n.cth = (d & 0xFF) as u8;
-            true
-        }
-        addr::SMP_ON => {
-            n.smp_on = d;
-            true
-        }
-        _ => false,
-    };
-    let legal = mapped
-        && sig
-        && Params {
-            sync_depth: c.sync_depth,
-            cnt_width: c.cnt_width,
-            adaptive: n.adaptive,
-            pw: n.pw,
-            pi: n.pi,
-            ps: n.ps,
-            si_max: n.si_max,
-            si_min: n.si_min,
-            t1: n.t1,
-            t2: n.t2,
-            cth: n.cth,
-            smp_on: n.smp_on,
-        }
-        .validate()
-        .is_ok();
-    if legal {
-        (n, f.bus_err, false)
-    } else {
-        (*f, true, false)
-    }
-}
-
 /// Result of a sample edge for the comparator latch, the counters and FIG. 17/18.
 struct Sample {
     first: bool,
@@ -492,70 +363,13 @@ fn drive_interval_pulse(d: &mut crate::drive_interval_changing_56b::Regs, f: &cr
     (f17, f18)
 }
 
-/// One rising clock edge: updates `r` in place to the registers after the edge and returns the
-/// internals of the cycle. Identical to [`crate::pmu50::eval`] (tested on every tick).
-#[inline(always)]
-pub fn edge(c: &Consts, r: &mut Regs, i: &Inputs) -> Internals {
-    // 1. Action switching unit 56a: synchronizer.
-    let sync = r.action_switching.sync;
-    let sig = sig_of(c, sync);
-    let sync_n = ((sync << 1) | u8::from(i.ig)) & c.sync_mask;
-    let sig_n = sig_of(c, sync_n);
-    let kon = !sig && sig_n;
-    let koff = sig && !sig_n;
-    // 3./4. Timing generator 56 and sensor power determination 57 (pre-edge registers).
-    let (_, vs2_en, _, smp) = decode(r, sig);
-    let tmr = r.timing_generator.tmr;
-    let period = if sig { r.register_file.smp_on } else { r.drive_interval.si };
-    let end_of_cycle = u32::from(tmr) + 1 >= u32::from(period);
-    let sr = r.sensor_power_determination.sr;
-    // 2. Register file: the read mux sees every register before the edge; a write (rare) is
-    // computed here and committed last, so steps 3-8 see the parameters before the edge.
-    let rdata = read(c, r, sig, i.bus_addr);
-    let write = if i.bus_we { Some(bus_write(c, &r.register_file, sig, i.bus_addr, i.bus_wdata)) } else { None };
-    let skip_clr = matches!(write, Some((_, _, true)));
-
-    // Commit (non-blocking: every value above was computed from the registers before the edge).
-    r.action_switching.sync = sync_n;
-    r.timing_generator.tmr = if kon || koff || end_of_cycle { 0 } else { tmr.wrapping_add(1) };
-    r.sensor_power_determination.sr = vs2_en && i.vs2_ok;
-    // 5./6. Comparator latches and counters.
-    let upd = smp && sr;
-    let s = if upd { sample(c, r, i) } else { Sample { first: false, chg_s: false, chg_c: false } };
-    if skip_clr && !(s.chg_s && s.chg_c) {
-        r.updown_counter.quadrant_skip = false;
-    }
-    // 7. Drive interval changing unit 56b (parameters before the edge; x after it at key-off).
-    let (fig17, fig18) = if koff {
-        let si_max_n = match &write {
-            Some((f_n, _, _)) => f_n.si_max,
-            None => r.register_file.si_max,
-        };
-        r.drive_interval = crate::drive_interval_changing_56b::reset(si_max_n);
-        (Fig17::Idle, Fig18::Idle)
-    } else if smp && !sig {
-        drive_interval_pulse(&mut r.drive_interval, &r.register_file, sr, s.chg_s, s.chg_c)
-    } else {
-        (Fig17::Idle, Fig18::Idle)
-    };
-    // 8. Count diagnosis from the counters' next values: |d| >= 2 iff (d + 1) mod 2^W > 2.
-    r.count_diagnosis.diag = diag_of(c, &r.updown_counter);
-    // 2. Register file commit.
-    if let Some((f_n, bus_err_n, _)) = write {
-        r.register_file = f_n;
-        r.register_file.bus_err = bus_err_n;
-    }
-    r.register_file.rdata = rdata;
-    Internals { kon, koff, upd, first: s.first, chg_s: s.chg_s, chg_c: s.chg_c, skip_clr, fig17, fig18 }
-}
-
 /// One edge, returning the outputs after it (the untraced path of [`crate::Pmu50::step`]).
 ///
 /// The common edge (no bus write, no key edge: so no W1C, no key-off reset of 56b and the
 /// parameters unchanged) is computed inline here, including the sampling strobe (`upd`, the
 /// comparator latches, the counters and the FIG. 17/18 pulse); the eight outputs it computes
 /// (`sig`, the timer's decode, `sr`, `diag`, the read data) come from the values just computed.
-/// A bus write or a key edge goes through [`edge`] out of line, and those eight are then decoded
+/// A bus write or a key edge goes through [`edge_rare`] out of line, and those eight are then decoded
 /// from its registers. On both paths the other fifteen outputs (ten registers, the four copies of
 /// `sig`, the constant `vp_en`) are built after the branch. Both give the same registers and
 /// outputs as [`crate::pmu50::eval`] (tested on every tick).
@@ -564,34 +378,31 @@ pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
     step_with::<false>(c, r, sh, i).0
 }
 
-/// The registers a narrow edge may change (see [`step_traced_wide`]): the synchronizer
+/// The registers a narrow edge may change (see [`step_traced`]): the synchronizer
 /// `action_switching.sync`, the timer `timing_generator.tmr`, `sensor_power_determination.sr`,
 /// `register_file.rdata` and `count_diagnosis.diag`. Every other register keeps its value (a
 /// narrow key-on sample writes the latches with the values they hold).
 pub const NARROW_WRITES: [&str; 5] = ["action_switching.sync", "timing_generator.tmr", "sensor_power_determination.sr", "register_file.rdata", "count_diagnosis.diag"];
 
-/// [`step`] that also returns the internals of the cycle (the traced path of
-/// [`crate::Pmu50::step_traced`]: waveforms, the C ABI's lockstep): (outputs after the edge,
-/// internals). The same inline common edge; a bus write or key edge goes through [`edge`].
-#[inline(always)]
-pub fn step_traced(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> (Outputs, Internals) {
-    let (o, x, _) = step_with::<true>(c, r, sh, i);
-    (o, x)
-}
-
-/// [`step_traced`] that also says whether the edge was *wide*: a bus write or a key edge (the
-/// out-of-line [`edge`]), a sampling strobe at key off (the 56b pulse, which sets `fig17` and
-/// `fig18`), or a key-on sample that presets the counters or finds a sign changed. A narrow edge
-/// (false) changes only the registers of [`NARROW_WRITES`], leaves `sig` (and so every output
-/// that is `sig`) unchanged, and has all internals false but `upd` (a key-on sample, [0349],
-/// that found both signs as latched: the latches are written with the values they hold and no
-/// counter moves). Simulator knowledge for a tracer, not a clock enable: such a sample does
-/// write the latches.
+/// [`step`], traced (the path of [`crate::Pmu50::step_traced`]: waveforms, the C ABI's
+/// lockstep): the outputs before and after the edge, the internals of the cycle, and whether the
+/// edge was *wide*. The same inline common edge; a bus write or key edge goes through
+/// [`edge_rare`].
+///
+/// A wide edge is a bus write or a key edge (the out-of-line [`edge_rare`]), a sampling strobe
+/// at key off (the 56b pulse, which sets `fig17` and `fig18`), or a key-on sample that presets
+/// the counters or finds a sign changed. A narrow edge (`wide` false) changes only the registers
+/// of [`NARROW_WRITES`], leaves `sig` (and so every output that is `sig`) unchanged, and has all
+/// internals false but `upd` (a key-on sample, [0349], that found both signs as latched: the
+/// latches are written with the values they hold and no counter moves). Simulator knowledge for
+/// a tracer, not a clock enable: such a sample does write the latches.
 /// Tested on any register state and inputs (`rtl_model/core/tests/kernel_equivalence.rs`). A
 /// tracer uses it to compare only what a narrow edge can change.
 #[inline(always)]
-pub fn step_traced_wide(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> (Outputs, Internals, bool) {
-    step_with::<true>(c, r, sh, i)
+pub fn step_traced(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> TracedStep {
+    let before = ports(c, r);
+    let (after, internals, wide) = step_with::<true>(c, r, sh, i);
+    TracedStep { before, internals, after, wide }
 }
 
 /// The edge of [`step`] and [`step_traced`]; with `TRACED` false the internals are not built
@@ -621,7 +432,7 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
 
 /// The common edge (no bus write, no key edge) inline: the registers it writes, the outputs it
 /// computes ([`Narrow`]), its internals and whether it was wide (a key-off strobe, or a key-on
-/// sample that preset or moved the latches or counters: [`step_traced_wide`]).
+/// sample that preset or moved the latches or counters: [`step_traced`]).
 #[inline(always)]
 fn edge_common<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs, sig: bool, sync_n: u8) -> (Narrow, Internals, bool) {
     // 3. Timing generator decode of the pre-edge registers (parameters before the edge, from
@@ -681,22 +492,26 @@ fn edge_common<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i:
     (Narrow { sig, vs2_en: vs2_en_n, st, sr, ps_win, smp: smp_n, diag, bus_rdata: rdata }, x, wide)
 }
 
-/// The edges [`step`] does not take inline: a bus write or a key edge (with the internals of
-/// the cycle, which only the traced edge keeps).
+/// The edges [`step`] does not take inline: a bus write or a key edge. They run the
+/// specification itself ([`crate::pmu50::next`], every block's next-state function), then the
+/// shadow is rebuilt from the registers after the edge. Returns the internals of the cycle
+/// (which only the traced edge keeps).
 #[cold]
 #[inline(never)]
 fn edge_rare(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Internals {
-    let x = edge(c, r, i);
+    let (x, next) = crate::pmu50::next(&c.structural, r, i);
+    *r = next;
     sh.rebuild(c, r);
     x
 }
 
-/// The same signature as [`crate::pmu50::eval`]: (outputs before the edge, internals of the
-/// cycle, registers after the edge). For the equivalence tests.
+/// The kernel's edge with the signature of [`crate::pmu50::eval`]: (outputs before the edge,
+/// internals of the cycle, registers after the edge), through a shadow built from `r`. For the
+/// equivalence tests.
 pub fn eval(s: &Structural, r: &Regs, i: &Inputs) -> (Outputs, Internals, Regs) {
     let c = Consts::new(s);
-    let before = ports(&c, r);
-    let mut n = *r;
-    let x = edge(&c, &mut n, i);
-    (before, x, n)
+    let mut after = *r;
+    let mut sh = Shadow::of(&c, r);
+    let step = step_traced(&c, &mut after, &mut sh, i);
+    (step.before, step.internals, after)
 }

@@ -35,5 +35,5 @@ pub mod updown_counter_58cd;
 
 pub use config::{ConfigError, CoreConfig, Dur};
 pub use params::{ParamError, Params};
-pub use pmu50::{Inputs, Internals, Outputs, Pmu50, Regs};
+pub use pmu50::{Inputs, Internals, Outputs, Pmu50, Regs, TracedStep};
 pub use reference::Pmu50Spec;

@@ -2,52 +2,146 @@
 //! the register file (docs/spec.md, register map) plus two structural parameters (`sync_depth`,
 //! `cnt_width`) that the HDL implements as Verilog `parameter`s.
 
-/// Programmable parameters, all durations in clock ticks.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Params {
-    /// Synchronizer depth of `ig` (structural, 1..=4).
-    pub sync_depth: u8,
-    /// Counter width in bits (structural, 2..=16).
-    pub cnt_width: u8,
-    /// Adaptive drive interval on (FIG. 17/18) or fixed cycle T = `si_max` (first embodiment).
-    pub adaptive: bool,
-    /// Waiting period Pw [0321], 16 bit.
-    pub pw: u16,
-    /// Idle period Pi [0322], 16 bit.
-    pub pi: u16,
-    /// Sampling period Ps [0322], 16 bit.
-    pub ps: u16,
-    /// Maximum interval x [0216], 16 bit.
-    pub si_max: u16,
-    /// Minimum interval [0228], 16 bit.
-    pub si_min: u16,
-    /// Shortening step T1 [0224], 16 bit.
-    pub t1: u16,
-    /// Expanding step T2 [0250], 16 bit.
-    pub t2: u16,
-    /// Count threshold Cth [0250], 8 bit.
-    pub cth: u8,
-    /// On-key sampling period [0349], 16 bit.
-    pub smp_on: u16,
+/// The parameter table, declared once: every parameter of the core as (field, type, Verilog
+/// parameter name of the twin, default, meaning), the two structural ones first, then the
+/// programmable registers with their register file address ([`crate::register_file::addr`]).
+/// The order is that of the `// param` lines of a vector file (docs/spec.md 6.2).
+///
+/// Everything that lists the parameters is generated from it by a macro that receives the table
+/// (`param_table!(my_macro)` expands `my_macro! { structural: [...], programmable: [...] }`):
+/// [`Params`] and its HDL names here, the register file's parameter registers, their reset,
+/// write map and read mux (`register_file.rs`), and the C ABI's conversions (`hdl/ffi`).
+#[macro_export]
+macro_rules! param_table {
+    ($then:ident) => {
+        $then! {
+            structural: [
+                (sync_depth, u8, "SYNC_DEPTH", 2, "Synchronizer depth of `ig` (structural, 1..=4)."),
+                (cnt_width, u8, "CNT_W", 16, "Counter width in bits (structural, 2..=16)."),
+            ],
+            programmable: [
+                (adaptive, bool, "ADAPTIVE", true, CTRL, "Adaptive drive interval on (FIG. 17/18) or fixed cycle T = `si_max` (first embodiment); CTRL bit 0."),
+                (pw, u16, "PW", 5, PW, "Waiting period Pw [0321], 16 bit."),
+                (pi, u16, "PI", 12, PI, "Idle period Pi [0322], 16 bit."),
+                (ps, u16, "PS", 5, PS, "Sampling period Ps [0322], 16 bit."),
+                (si_max, u16, "SI_MAX", 660, SI_MAX, "Maximum interval x [0216], 16 bit."),
+                (si_min, u16, "SI_MIN", 220, SI_MIN, "Minimum interval [0228], 16 bit."),
+                (t1, u16, "T1", 220, T1, "Shortening step T1 [0224], 16 bit."),
+                (t2, u16, "T2", 110, T2, "Expanding step T2 [0250], 16 bit."),
+                (cth, u8, "CTH", 4, CTH, "Count threshold Cth [0250], 8 bit."),
+                (smp_on, u16, "SMP_ON", 10, SMP_ON, "On-key sampling period [0349], 16 bit."),
+            ]
+        }
+    };
+}
+
+/// A parameter's value type: its width and its conversions to and from a register or a
+/// Verilog parameter value.
+pub trait ParamValue: Copy {
+    /// Bits of the register (1, 8 or 16).
+    const BITS: u32;
+    /// The value written to the register by a bus write of `d` (its low `BITS` bits).
+    fn from_bus(d: u16) -> Self;
+    /// As read on the bus.
+    fn to_bus(self) -> u16;
+    /// As a Verilog parameter value.
+    fn to_u64(self) -> u64 {
+        u64::from(self.to_bus())
+    }
+    /// From a Verilog parameter value, `None` when it does not fit in `BITS` bits.
+    fn from_u64(v: u64) -> Option<Self> {
+        (v >> Self::BITS == 0).then(|| Self::from_bus(v as u16))
+    }
+}
+
+impl ParamValue for bool {
+    const BITS: u32 = 1;
+    fn from_bus(d: u16) -> bool {
+        d & 1 == 1
+    }
+    fn to_bus(self) -> u16 {
+        u16::from(self)
+    }
+}
+
+impl ParamValue for u8 {
+    const BITS: u32 = 8;
+    fn from_bus(d: u16) -> u8 {
+        (d & 0xFF) as u8
+    }
+    fn to_bus(self) -> u16 {
+        u16::from(self)
+    }
+}
+
+impl ParamValue for u16 {
+    const BITS: u32 = 16;
+    fn from_bus(d: u16) -> u16 {
+        d
+    }
+    fn to_bus(self) -> u16 {
+        self
+    }
+}
+
+macro_rules! params_struct {
+    (structural: [$(($sf:ident, $st:ty, $sh:literal, $sd:literal, $sdoc:literal),)*],
+     programmable: [$(($f:ident, $t:ty, $h:literal, $d:literal, $a:ident, $doc:literal),)*]) => {
+        /// Parameters of the core, all durations in clock ticks: the structural parameters and
+        /// the reset values of the programmable registers (the table of [`param_table!`]).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub struct Params {
+            $(#[doc = $sdoc] pub $sf: $st,)*
+            $(#[doc = $doc] pub $f: $t,)*
+        }
+
+        impl Params {
+            /// The patent's defaults at a 10 us clock (see
+            /// [`crate::config::CoreConfig::default`]).
+            pub const DEFAULT: Params = Params { $($sf: $sd,)* $($f: $d,)* };
+
+            /// The Verilog parameters of the twin with their values, in the order of the
+            /// `// param` lines of a vector file (docs/spec.md 6.2).
+            pub fn hdl_parameters(&self) -> [(&'static str, u64); PARAM_COUNT] {
+                [$(($sh, ParamValue::to_u64(self.$sf)),)* $(($h, ParamValue::to_u64(self.$f)),)*]
+            }
+
+            /// Set the parameter whose Verilog name is `name` (`SI_MAX`, as in a `// param`
+            /// line of a vector file) to `value`. The set is not validated
+            /// ([`Params::validate`]).
+            pub fn set_hdl_parameter(&mut self, name: &str, value: u64) -> Result<(), HdlParamError> {
+                match name {
+                    $($sh => self.$sf = ParamValue::from_u64(value).ok_or(HdlParamError::TooWide { name: $sh, value, bits: <$st as ParamValue>::BITS })?,)*
+                    $($h => self.$f = ParamValue::from_u64(value).ok_or(HdlParamError::TooWide { name: $h, value, bits: <$t as ParamValue>::BITS })?,)*
+                    _ => return Err(HdlParamError::Unknown { name: name.to_string() }),
+                }
+                Ok(())
+            }
+        }
+
+        /// The Verilog parameter names, in table order.
+        pub const HDL_NAMES: &[&str] = &[$($sh,)* $($h,)*];
+    };
+}
+
+param_table!(params_struct);
+
+/// Number of parameters (structural and programmable).
+pub const PARAM_COUNT: usize = HDL_NAMES.len();
+
+/// A Verilog parameter that [`Params::set_hdl_parameter`] cannot take.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum HdlParamError {
+    #[error("unknown parameter `{name}`; valid are {}", HDL_NAMES.join(", "))]
+    Unknown { name: String },
+    #[error("parameter {name} = {value} does not fit in its {bits} bits")]
+    TooWide { name: &'static str, value: u64, bits: u32 },
 }
 
 impl Default for Params {
-    /// The patent's defaults at a 10 us clock (see [`crate::config::CoreConfig::default`]).
+    /// [`Params::DEFAULT`].
     fn default() -> Self {
-        Params {
-            sync_depth: 2,
-            cnt_width: 16,
-            adaptive: true,
-            pw: 5,
-            pi: 12,
-            ps: 5,
-            si_max: 660,
-            si_min: 220,
-            t1: 220,
-            t2: 110,
-            cth: 4,
-            smp_on: 10,
-        }
+        Params::DEFAULT
     }
 }
 
@@ -74,25 +168,6 @@ impl Params {
     /// The shortest interval the drive interval register can hold in this configuration.
     pub fn shortest_interval(&self) -> u16 {
         if self.adaptive { self.si_min } else { self.si_max }
-    }
-
-    /// The Verilog parameters of the twin with their values, in the order of the `// param`
-    /// lines of a vector file (docs/spec.md 6.2).
-    pub fn hdl_parameters(&self) -> [(&'static str, u64); 12] {
-        [
-            ("SYNC_DEPTH", u64::from(self.sync_depth)),
-            ("CNT_W", u64::from(self.cnt_width)),
-            ("ADAPTIVE", u64::from(self.adaptive)),
-            ("PW", u64::from(self.pw)),
-            ("PI", u64::from(self.pi)),
-            ("PS", u64::from(self.ps)),
-            ("SI_MAX", u64::from(self.si_max)),
-            ("SI_MIN", u64::from(self.si_min)),
-            ("T1", u64::from(self.t1)),
-            ("T2", u64::from(self.t2)),
-            ("CTH", u64::from(self.cth)),
-            ("SMP_ON", u64::from(self.smp_on)),
-        ]
     }
 
     /// Every rule a legal configuration obeys (docs/spec.md, "Legal parameter values").
@@ -163,6 +238,22 @@ mod tests {
             let e = p.validate().unwrap_err();
             assert!(e.to_string().contains(word), "{word}: {e}");
         }
+    }
+
+    #[test]
+    fn hdl_parameters_set_back_by_name() {
+        let p = Params { sync_depth: 3, cnt_width: 5, adaptive: false, pw: 1, pi: 2, ps: 3, si_max: 400, si_min: 300, t1: 7, t2: 8, cth: 9, smp_on: 11 };
+        let mut q = Params::default();
+        for (name, v) in p.hdl_parameters() {
+            q.set_hdl_parameter(name, v).unwrap();
+        }
+        assert_eq!(q, p);
+        assert_eq!(p.hdl_parameters().map(|(n, _)| n), ["SYNC_DEPTH", "CNT_W", "ADAPTIVE", "PW", "PI", "PS", "SI_MAX", "SI_MIN", "T1", "T2", "CTH", "SMP_ON"]);
+        let e = q.set_hdl_parameter("SI_MAXX", 1).unwrap_err().to_string();
+        assert!(e.contains("`SI_MAXX`") && e.contains("SMP_ON"), "{e}");
+        assert_eq!(q.set_hdl_parameter("CTH", 256), Err(HdlParamError::TooWide { name: "CTH", value: 256, bits: 8 }));
+        assert_eq!(q.set_hdl_parameter("ADAPTIVE", 2), Err(HdlParamError::TooWide { name: "ADAPTIVE", value: 2, bits: 1 }));
+        assert_eq!(q, p, "a refused value changes nothing");
     }
 
     #[test]

@@ -264,10 +264,24 @@ fn status_view(r: &Regs, sig: bool) -> rf::StatusView {
     }
 }
 
+/// The register file's read mux at `addr` for the registers `r` with the key mode `sig` (what
+/// `bus_rdata` shows one edge later).
+pub fn read(s: &Structural, r: &Regs, sig: bool, addr: u8) -> u16 {
+    let i = rf::Inputs { view: status_view(r, sig), sig, ..Default::default() };
+    s.blocks().register_file.read(&r.register_file, &i, addr)
+}
+
 /// One clock edge: (outputs before the edge, internals of this cycle, registers after the edge).
 /// Each block's registered outputs are decoded from the registers before the edge; its `eval`
 /// gives the combinational outputs of the cycle and its next state.
 pub fn eval(s: &Structural, r: &Regs, i: &Inputs) -> (Outputs, Internals, Regs) {
+    let (internals, next) = next(s, r, i);
+    (ports(s, r), internals, next)
+}
+
+/// The edge of [`eval`] without the outputs before it: (internals of this cycle, registers
+/// after the edge).
+pub fn next(s: &Structural, r: &Regs, i: &Inputs) -> (Internals, Regs) {
     let b = s.blocks();
     // 1. Action switching unit 56a and regulator 51.
     let a = b.action_switching.outputs(&r.action_switching);
@@ -343,7 +357,7 @@ pub fn eval(s: &Structural, r: &Regs, i: &Inputs) -> (Outputs, Internals, Regs) 
         fig17: vc.fig17,
         fig18: vc.fig18,
     };
-    (ports(s, r), internals, next)
+    (internals, next)
 }
 
 /// One register of the core, for waveforms, change logs and lockstep read-back.
@@ -468,6 +482,23 @@ impl Internals {
     }
 }
 
+/// One traced clock edge ([`Pmu50::step_traced`], [`crate::Pmu50Spec::step_traced`],
+/// [`crate::kernel::step_traced`]): what a waveform, a change log or a lockstep needs of it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Hash)]
+pub struct TracedStep {
+    /// Outputs before the edge: those of the cycle that ends at it ([`Pmu50::peek`] before).
+    pub before: Outputs,
+    /// Internal combinational signals of that cycle.
+    pub internals: Internals,
+    /// Outputs after the edge.
+    pub after: Outputs,
+    /// Whether the edge was *wide*: it may have written any register and set any internal. A
+    /// narrow edge (false) writes only the registers of [`crate::kernel::NARROW_WRITES`], keeps
+    /// `sig` and has all internals false but `upd` (see [`crate::kernel::step_traced`]); the
+    /// specification does not tell them apart and says true.
+    pub wide: bool,
+}
+
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum FastForwardError {
     #[error("cannot fast-forward {asked} ticks: only {quiet} ticks are free of register changes other than the timer")]
@@ -479,19 +510,19 @@ pub enum FastForwardError {
 /// are derived from those and are not compared.
 #[derive(Clone, Debug)]
 pub struct Pmu50 {
-    s: Structural,
+    structural: Structural,
     params: Params,
     regs: Regs,
     tick: u64,
     /// Structural parameters pre-decoded for the fast kernel.
-    k: crate::kernel::Consts,
+    consts: crate::kernel::Consts,
     /// The fast kernel's read-side cache of `regs`.
-    sh: crate::kernel::Shadow,
+    shadow: crate::kernel::Shadow,
 }
 
 impl PartialEq for Pmu50 {
     fn eq(&self, o: &Pmu50) -> bool {
-        (self.s, self.params, self.regs, self.tick) == (o.s, o.params, o.regs, o.tick)
+        (self.structural, self.params, self.regs, self.tick) == (o.structural, o.params, o.regs, o.tick)
     }
 }
 impl Eq for Pmu50 {}
@@ -503,23 +534,23 @@ impl Pmu50 {
         let s = Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width };
         let k = crate::kernel::Consts::new(&s);
         let regs = reset(&p);
-        Ok(Pmu50 { s, params: p, regs, tick: 0, k, sh: crate::kernel::Shadow::of(&k, &regs) })
+        Ok(Pmu50 { structural: s, params: p, regs, tick: 0, consts: k, shadow: crate::kernel::Shadow::of(&k, &regs) })
     }
 
     /// Back to power-on reset (the parameters given to [`Pmu50::new`]); tick count restarts at 0.
     pub fn reset(&mut self) {
         self.regs = reset(&self.params);
-        self.sh = crate::kernel::Shadow::of(&self.k, &self.regs);
+        self.shadow = crate::kernel::Shadow::of(&self.consts, &self.regs);
         self.tick = 0;
     }
 
     pub fn structural(&self) -> Structural {
-        self.s
+        self.structural
     }
 
     /// Outputs of the current cycle (Moore: registers only).
     pub fn peek(&self) -> Outputs {
-        ports(&self.s, &self.regs)
+        ports(&self.structural, &self.regs)
     }
 
     /// One rising edge with these inputs; returns the outputs after the edge. Runs the fast
@@ -528,28 +559,17 @@ impl Pmu50 {
     #[inline]
     pub fn step(&mut self, i: &Inputs) -> Outputs {
         self.tick += 1;
-        crate::kernel::step(&self.k, &mut self.regs, &mut self.sh, i)
+        crate::kernel::step(&self.consts, &mut self.regs, &mut self.shadow, i)
     }
 
-    /// One rising edge; returns (outputs before the edge, internals of the cycle, outputs after).
-    /// Runs the fast kernel's traced edge ([`crate::kernel::step_traced`]).
+    /// One rising edge, traced: the outputs before and after it, the internals of the cycle and
+    /// whether the edge was wide. Runs the fast kernel's traced edge
+    /// ([`crate::kernel::step_traced`]); a caller that does not read `before` does not pay for
+    /// it (the step is inlined and its decode dropped).
     #[inline]
-    pub fn step_traced(&mut self, i: &Inputs) -> (Outputs, Internals, Outputs) {
-        let before = crate::kernel::ports(&self.k, &self.regs);
-        let (after, internals) = crate::kernel::step_traced(&self.k, &mut self.regs, &mut self.sh, i);
+    pub fn step_traced(&mut self, i: &Inputs) -> TracedStep {
         self.tick += 1;
-        (before, internals, after)
-    }
-
-    /// One rising edge for a tracer; returns (internals of the cycle, outputs after the edge,
-    /// wide). The outputs before the edge are those after the last one ([`Pmu50::peek`]). A
-    /// narrow edge (`wide` false) writes only the registers of [`crate::kernel::NARROW_WRITES`]
-    /// and has all internals false but `upd` ([`crate::kernel::step_traced_wide`]).
-    #[inline]
-    pub fn step_traced_wide(&mut self, i: &Inputs) -> (Internals, Outputs, bool) {
-        let (after, internals, wide) = crate::kernel::step_traced_wide(&self.k, &mut self.regs, &mut self.sh, i);
-        self.tick += 1;
-        (internals, after, wide)
+        crate::kernel::step_traced(&self.consts, &mut self.regs, &mut self.shadow, i)
     }
 
     /// All registers (read access for lockstep comparison and waveforms).
@@ -564,10 +584,7 @@ impl Pmu50 {
 
     /// The register file's read mux at `addr`, as the MPU would read it this cycle.
     pub fn read(&self, addr: u8) -> u16 {
-        let a = self.peek();
-        let view = status_view(&self.regs, a.sig);
-        let i = rf::Inputs { view, sig: a.sig, ..Default::default() };
-        self.s.blocks().register_file.read(&self.regs.register_file, &i, addr)
+        read(&self.structural, &self.regs, self.peek().sig, addr)
     }
 
     /// With the inputs held constant, the number of upcoming edges at which no register other
@@ -575,7 +592,7 @@ impl Pmu50 {
     /// the edge after that many changes some other register. Used to fast-forward idle key-off
     /// gaps without evaluating every tick.
     pub fn quiet_ticks(&self, i: &Inputs) -> u64 {
-        let (_, _, next) = eval(&self.s, &self.regs, i);
+        let (_, _, next) = eval(&self.structural, &self.regs, i);
         let only_tmr = Regs { timing_generator: self.regs.timing_generator, ..next } == self.regs;
         if !only_tmr {
             return 0;
@@ -587,7 +604,7 @@ impl Pmu50 {
         // on [0, smp_on-1), {smp_on-1} (key on). So the first event is at t+1 or at the start of
         // one of those intervals; each candidate is checked with the real next-state function.
         let a = self.peek();
-        let p = self.regs.register_file.params(self.s.sync_depth, self.s.cnt_width);
+        let p = self.regs.register_file.params(self.structural.sync_depth, self.structural.cnt_width);
         let ti = tg_inputs(a.sig, false, false, &p, self.regs.drive_interval.si);
         let period = u64::from(tg::period(&ti));
         let t = u64::from(self.regs.timing_generator.tmr);
@@ -603,7 +620,7 @@ impl Pmu50 {
         let event_at = |c: u64| {
             let mut at = self.regs;
             at.timing_generator.tmr = c as u16;
-            let (_, _, n) = eval(&self.s, &at, i);
+            let (_, _, n) = eval(&self.structural, &at, i);
             Regs { timing_generator: at.timing_generator, ..n } != at
         };
         let wt = u64::from(p.pw) + u64::from(p.pi) + u64::from(p.ps);
@@ -627,7 +644,7 @@ impl Pmu50 {
             return Ok(());
         }
         let a = self.peek();
-        let p = self.regs.register_file.params(self.s.sync_depth, self.s.cnt_width);
+        let p = self.regs.register_file.params(self.structural.sync_depth, self.structural.cnt_width);
         let ti = tg_inputs(a.sig, false, false, &p, self.regs.drive_interval.si);
         let period = u64::from(tg::period(&ti)).max(1);
         let t = u64::from(self.regs.timing_generator.tmr);

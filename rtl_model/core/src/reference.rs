@@ -5,12 +5,12 @@
 //! `tests/kernel_scenarios.rs`); `make bench` measures both.
 
 use crate::params::{ParamError, Params};
-use crate::pmu50::{eval, ports, reset, Inputs, Internals, Outputs, Regs, Structural};
+use crate::pmu50::{eval, ports, reset, Inputs, Outputs, Regs, Structural, TracedStep};
 
 /// The per-block specification model with the stepping API of [`crate::Pmu50`].
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Pmu50Spec {
-    s: Structural,
+    structural: Structural,
     params: Params,
     regs: Regs,
     tick: u64,
@@ -20,7 +20,7 @@ impl Pmu50Spec {
     /// A core at power-on reset with these parameters (which must be legal).
     pub fn new(p: Params) -> Result<Pmu50Spec, ParamError> {
         p.validate()?;
-        Ok(Pmu50Spec { s: Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width }, params: p, regs: reset(&p), tick: 0 })
+        Ok(Pmu50Spec { structural: Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width }, params: p, regs: reset(&p), tick: 0 })
     }
 
     /// Back to power-on reset; tick count restarts at 0.
@@ -30,25 +30,26 @@ impl Pmu50Spec {
     }
 
     pub fn structural(&self) -> Structural {
-        self.s
+        self.structural
     }
 
     /// Outputs of the current cycle (Moore: registers only).
     pub fn peek(&self) -> Outputs {
-        ports(&self.s, &self.regs)
+        ports(&self.structural, &self.regs)
     }
 
     /// One rising edge with these inputs; returns the outputs after the edge.
     pub fn step(&mut self, i: &Inputs) -> Outputs {
-        self.step_traced(i).2
+        self.step_traced(i).after
     }
 
-    /// One rising edge; returns (outputs before the edge, internals of the cycle, outputs after).
-    pub fn step_traced(&mut self, i: &Inputs) -> (Outputs, Internals, Outputs) {
-        let (before, internals, next) = eval(&self.s, &self.regs, i);
+    /// One rising edge, traced (`wide` is always true: the specification does not classify
+    /// edges).
+    pub fn step_traced(&mut self, i: &Inputs) -> TracedStep {
+        let (before, internals, next) = eval(&self.structural, &self.regs, i);
         self.regs = next;
         self.tick += 1;
-        (before, internals, self.peek())
+        TracedStep { before, internals, after: self.peek(), wide: true }
     }
 
     /// All registers.

@@ -63,7 +63,7 @@
 //! | `bus_err` | 1     | 0     | sticky: a write was refused |
 //! | `rdata`   | 16    | 0     | registered read data |
 
-use crate::params::Params;
+use crate::params::{ParamValue, Params};
 use bitvec::prelude::*;
 
 pub mod addr {
@@ -133,54 +133,56 @@ pub fn address_of(name: &str) -> Option<u8> {
     MAP.iter().find(|(n, ..)| n.eq_ignore_ascii_case(name)).map(|&(_, a, ..)| a)
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Regs {
-    pub adaptive: bool,
-    pub pw: u16,
-    pub pi: u16,
-    pub ps: u16,
-    pub si_max: u16,
-    pub si_min: u16,
-    pub t1: u16,
-    pub t2: u16,
-    pub cth: u8,
-    pub smp_on: u16,
-    pub bus_err: bool,
-    pub rdata: u16,
+macro_rules! parameter_registers {
+    (structural: [$(($sf:ident, $st:ty, $sh:literal, $sd:literal, $sdoc:literal),)*],
+     programmable: [$(($f:ident, $t:ty, $h:literal, $d:literal, $a:ident, $doc:literal),)*]) => {
+        /// The registers of the block: one per programmable parameter (the table of
+        /// [`crate::param_table!`]), the sticky `bus_err` and the registered read data.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub struct Regs {
+            $(#[doc = $doc] pub $f: $t,)*
+            /// Sticky: a write was refused.
+            pub bus_err: bool,
+            /// Registered read data.
+            pub rdata: u16,
+        }
+
+        /// Reset with the configured parameter values.
+        pub const fn reset(p: &Params) -> Regs {
+            Regs { $($f: p.$f,)* bus_err: false, rdata: 0 }
+        }
+
+        impl Regs {
+            pub fn params(&self, sync_depth: u8, cnt_width: u8) -> Params {
+                Params { sync_depth, cnt_width, $($f: self.$f,)* }
+            }
+
+            /// The value of the parameter register at `a`, `None` when `a` is not one.
+            fn read_parameter(&self, a: u8) -> Option<u16> {
+                match a {
+                    $(addr::$a => Some(ParamValue::to_bus(self.$f)),)*
+                    _ => None,
+                }
+            }
+        }
+
+        /// The register set after a parameter write, or `None` when the address is not a
+        /// parameter.
+        fn with_write(r: &Regs, a: u8, d: u16) -> Option<Regs> {
+            let mut n = *r;
+            match a {
+                $(addr::$a => n.$f = ParamValue::from_bus(d),)*
+                _ => return None,
+            }
+            Some(n)
+        }
+    };
 }
+
+crate::param_table!(parameter_registers);
 
 /// Reset with the patent's defaults; the top level uses [`reset`] with the configured values.
-pub const RESET: Regs = Regs {
-    adaptive: true,
-    pw: 5,
-    pi: 12,
-    ps: 5,
-    si_max: 660,
-    si_min: 220,
-    t1: 220,
-    t2: 110,
-    cth: 4,
-    smp_on: 10,
-    bus_err: false,
-    rdata: 0,
-};
-
-pub const fn reset(p: &Params) -> Regs {
-    Regs {
-        adaptive: p.adaptive,
-        pw: p.pw,
-        pi: p.pi,
-        ps: p.ps,
-        si_max: p.si_max,
-        si_min: p.si_min,
-        t1: p.t1,
-        t2: p.t2,
-        cth: p.cth,
-        smp_on: p.smp_on,
-        bus_err: false,
-        rdata: 0,
-    }
-}
+pub const RESET: Regs = reset(&Params::DEFAULT);
 
 /// Read-only state of the other blocks, as seen by the read mux (register values before the edge).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -233,25 +235,6 @@ pub struct RegisterFile {
     cnt_width: u8,
 }
 
-impl Regs {
-    pub fn params(&self, sync_depth: u8, cnt_width: u8) -> Params {
-        Params {
-            sync_depth,
-            cnt_width,
-            adaptive: self.adaptive,
-            pw: self.pw,
-            pi: self.pi,
-            ps: self.ps,
-            si_max: self.si_max,
-            si_min: self.si_min,
-            t1: self.t1,
-            t2: self.t2,
-            cth: self.cth,
-            smp_on: self.smp_on,
-        }
-    }
-}
-
 /// STATUS as a 16-bit word.
 pub fn status_word(v: &StatusView, bus_err: bool) -> u16 {
     let mut w = bitarr![u16, Lsb0; 0; 16];
@@ -266,25 +249,6 @@ pub fn status_word(v: &StatusView, bus_err: bool) -> u16 {
     w.set(status::SR, v.sr);
     w.set(status::BUS_ERR, bus_err);
     w.load_le::<u16>()
-}
-
-/// The register set after a parameter write, or `None` when the address is not a parameter.
-fn with_write(r: &Regs, a: u8, d: u16) -> Option<Regs> {
-    let mut n = *r;
-    match a {
-        addr::CTRL => n.adaptive = d & 1 == 1,
-        addr::PW => n.pw = d,
-        addr::PI => n.pi = d,
-        addr::PS => n.ps = d,
-        addr::SI_MAX => n.si_max = d,
-        addr::SI_MIN => n.si_min = d,
-        addr::T1 => n.t1 = d,
-        addr::T2 => n.t2 = d,
-        addr::CTH => n.cth = (d & 0xFF) as u8,
-        addr::SMP_ON => n.smp_on = d,
-        _ => return None,
-    }
-    Some(n)
 }
 
 /// Why the chip refuses a bus write (sets `bus_err`, registers unchanged).
@@ -316,19 +280,12 @@ impl RegisterFile {
     /// Combinational read mux.
     pub fn read(&self, r: &Regs, i: &Inputs, a: u8) -> u16 {
         let sx = |v: u16| crate::updown_counter_58cd::sext(v, self.cnt_width) as i16 as u16;
+        if let Some(v) = r.read_parameter(a) {
+            return v;
+        }
         match a {
             addr::ID => ID_VALUE,
             addr::VERSION => VERSION_VALUE,
-            addr::CTRL => u16::from(r.adaptive),
-            addr::PW => r.pw,
-            addr::PI => r.pi,
-            addr::PS => r.ps,
-            addr::SI_MAX => r.si_max,
-            addr::SI_MIN => r.si_min,
-            addr::T1 => r.t1,
-            addr::T2 => r.t2,
-            addr::CTH => u16::from(r.cth),
-            addr::SMP_ON => r.smp_on,
             addr::CFG => u16::from(self.sync_depth & 0x7) | (u16::from(self.cnt_width & 0x1F) << 8),
             addr::CNT_S => sx(i.view.cnt_s),
             addr::CNT_C => sx(i.view.cnt_c),

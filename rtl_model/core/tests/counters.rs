@@ -17,17 +17,17 @@ use pmu50_core::count_diagnosis as cd;
 use pmu50_core::pmu50::Structural;
 use pmu50_core::register_file::addr;
 use pmu50_core::updown_counter_58cd as uc;
-use pmu50_core::{Inputs, Params, Pmu50};
+use pmu50_core::{Inputs, Params, Pmu50, TracedStep};
 use proptest::prelude::*;
 
 /// Quadrant reference of the two counters.
 #[derive(Clone, Debug)]
 struct RefCounters {
-    s: i64,
-    c: i64,
+    cnt_s: i64,
+    cnt_c: i64,
     skip: bool,
     /// Quadrant of the last sample, None before the first sample.
-    q: Option<u8>,
+    quadrant: Option<u8>,
     /// Number of 2-steps seen.
     skips: u32,
 }
@@ -45,13 +45,13 @@ enum Move {
 
 impl RefCounters {
     fn reset() -> Self {
-        RefCounters { s: 0, c: 0, skip: false, q: None, skips: 0 }
+        RefCounters { cnt_s: 0, cnt_c: 0, skip: false, quadrant: None, skips: 0 }
     }
 
     /// The state reached from reset by a first sample in quadrant 0 and then `n` forward steps
     /// (negative: backward steps); its quadrant is n mod 4.
     fn at_position(n: i64) -> Self {
-        RefCounters { s: n.div_euclid(2), c: n.div_euclid(2) + n.rem_euclid(2), skip: false, q: Some(n.rem_euclid(4) as u8), skips: 0 }
+        RefCounters { cnt_s: n.div_euclid(2), cnt_c: n.div_euclid(2) + n.rem_euclid(2), skip: false, quadrant: Some(n.rem_euclid(4) as u8), skips: 0 }
     }
 
     /// One edge. `sample` = Some((cs, cc)) when a sample is taken at this edge.
@@ -61,20 +61,20 @@ impl RefCounters {
             None => Move::None,
             Some((cs, cc)) => {
                 let qn = quadrant(cs, cc);
-                match self.q {
+                match self.quadrant {
                     None => {
-                        self.s = i64::from(qn / 2);
-                        self.c = i64::from(qn.div_ceil(2));
-                        self.q = Some(qn);
+                        self.cnt_s = i64::from(qn / 2);
+                        self.cnt_c = i64::from(qn.div_ceil(2));
+                        self.quadrant = Some(qn);
                         Move::Preset
                     }
                     Some(q) => {
                         let (old_cs, _) = signs(q);
                         let mut bump = |d: i64| {
                             if old_cs != cs {
-                                self.s += d
+                                self.cnt_s += d
                             } else {
-                                self.c += d
+                                self.cnt_c += d
                             }
                         };
                         let mv = match (qn + 4 - q) % 4 {
@@ -93,7 +93,7 @@ impl RefCounters {
                                 Move::Skip
                             }
                         };
-                        self.q = Some(qn);
+                        self.quadrant = Some(qn);
                         mv
                     }
                 }
@@ -145,8 +145,8 @@ fn ops() -> impl Strategy<Value = Vec<(bool, u8, bool)>> {
 /// Checks of one block edge against the reference and the invariants.
 fn check_edge(w: u8, before: &uc::Regs, after: &uc::Regs, i: &uc::Inputs, rf: &RefCounters, mv: Move, q: u8) {
     let m = (1u32 << w) as i64;
-    assert_eq!(after.cnt_s, wrap(rf.s, w), "cnt_s vs reference ({mv:?})");
-    assert_eq!(after.cnt_c, wrap(rf.c, w), "cnt_c vs reference ({mv:?})");
+    assert_eq!(after.cnt_s, wrap(rf.cnt_s, w), "cnt_s vs reference ({mv:?})");
+    assert_eq!(after.cnt_c, wrap(rf.cnt_c, w), "cnt_c vs reference ({mv:?})");
     assert_eq!(after.quadrant_skip, rf.skip, "quadrant_skip vs reference ({mv:?})");
     let sum = |r: &uc::Regs| i64::from(r.cnt_s) + i64::from(r.cnt_c);
     let dsum = (sum(after) - sum(before)).rem_euclid(m);
@@ -168,7 +168,7 @@ fn check_edge(w: u8, before: &uc::Regs, after: &uc::Regs, i: &uc::Inputs, rf: &R
             assert!(i.upd && i.cc != i.cc_new, "cosine counter moved without a change of Cc");
         }
     }
-    if rf.q.is_some() {
+    if rf.quadrant.is_some() {
         let total = (i64::from(after.cnt_s) + i64::from(after.cnt_c)).rem_euclid(4);
         let diff = signed(after.cnt_s.wrapping_sub(after.cnt_c), w);
         if rf.skips == 0 {
@@ -226,8 +226,8 @@ proptest! {
         let m = 1i64 << w;
         let n = [0, m, 2 * m, -m][base] + off; // counts ~ n/2: around 0, 2^(W-1), 2^W, -2^(W-1)
         let rf = RefCounters::at_position(n);
-        let (cs, cc) = signs(rf.q.unwrap());
-        let regs = uc::Regs { cnt_s: wrap(rf.s, w), cnt_c: wrap(rf.c, w), quadrant_skip: false };
+        let (cs, cc) = signs(rf.quadrant.unwrap());
+        let regs = uc::Regs { cnt_s: wrap(rf.cnt_s, w), cnt_c: wrap(rf.cnt_c, w), quadrant_skip: false };
         run_block(w, Latch { cs, cc, vld: true }, regs, rf, 0, &seq);
     }
 
@@ -247,10 +247,10 @@ proptest! {
         let latch = Latch { cs, cc, vld };
         let i = latch.inputs(sample, clr);
         let n = uc::UpdownCounter::new(w).eval(&regs, &i);
-        let mut rf = RefCounters { s: i64::from(regs.cnt_s), c: i64::from(regs.cnt_c), skip, q: vld.then(|| quadrant(cs, cc)), skips: 0 };
+        let mut rf = RefCounters { cnt_s: i64::from(regs.cnt_s), cnt_c: i64::from(regs.cnt_c), skip, quadrant: vld.then(|| quadrant(cs, cc)), skips: 0 };
         rf.edge(sample, clr);
-        prop_assert_eq!(n.cnt_s, wrap(rf.s, w));
-        prop_assert_eq!(n.cnt_c, wrap(rf.c, w));
+        prop_assert_eq!(n.cnt_s, wrap(rf.cnt_s, w));
+        prop_assert_eq!(n.cnt_c, wrap(rf.cnt_c, w));
         prop_assert_eq!(n.quadrant_skip, rf.skip);
     }
 
@@ -291,7 +291,7 @@ fn run_top(p: Params, seed: u64, samples: u32) {
         let sampling = o.smp && o.sr;
         let mut i = Inputs { ig: true, vs2_ok: true, cmp_s: rng.bit(), cmp_c: rng.bit(), ..Default::default() };
         if sampling {
-            if rf.q.is_some() {
+            if rf.quadrant.is_some() {
                 let step = match rng.range(0, 9 + drift) {
                     0..=2 => 0,
                     3..=5 => 3,
@@ -309,7 +309,7 @@ fn run_top(p: Params, seed: u64, samples: u32) {
             i.bus_wdata = (1 << 5) | (rng.next() as u16 & !(1 << 5));
         }
         let before = *m.regs();
-        let (_, int, o2) = m.step_traced(&i);
+        let TracedStep { internals: int, after: o2, .. } = m.step_traced(&i);
         assert_eq!(int.upd, sampling, "a sample is taken exactly when smp & sr");
         let mv = rf.edge(sampling.then(|| signs(target)), clr);
         if sampling {
@@ -327,7 +327,7 @@ fn run_top(p: Params, seed: u64, samples: u32) {
         };
         check_edge(w, &before.updown_counter, &m.regs().updown_counter, &ui, &rf, mv, target);
         // Outputs and register file views of the counters.
-        assert_eq!((o2.cnt_s, o2.cnt_c, o2.quadrant_skip), (wrap(rf.s, w), wrap(rf.c, w), rf.skip));
+        assert_eq!((o2.cnt_s, o2.cnt_c, o2.quadrant_skip), (wrap(rf.cnt_s, w), wrap(rf.cnt_c, w), rf.skip));
         assert_eq!(m.read(addr::CNT_S), signed(o2.cnt_s, w) as i16 as u16, "CNT_S sign-extended");
         assert_eq!(m.read(addr::CNT_C), signed(o2.cnt_c, w) as i16 as u16, "CNT_C sign-extended");
         // 2.7: diag registered, aligned with the counters visible in the same cycle.

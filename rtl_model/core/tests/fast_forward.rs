@@ -71,18 +71,15 @@ fn constant_inputs(m: &Pmu50, rng: &mut Rng, kind: u8) -> Inputs {
         2 => Inputs { ig: true, vs2_ok: true, cmp_s: o.cs, cmp_c: o.cc, ..Default::default() },
         // Key on, healthy rail, comparators away from the latched values: the next sample counts.
         4 => Inputs { ig: true, vs2_ok: true, cmp_s: !o.cs, cmp_c: o.cc ^ rng.bit(), ..Default::default() },
-        // Anything, including a constant bus write (refused or not).
+        // Anything, including a constant bus write (refused or not; half of them writing the
+        // value the register holds).
         _ => {
-            let a = rng.next();
-            Inputs {
-                ig: a & 1 == 1,
-                vs2_ok: a & 2 == 2,
-                cmp_s: a & 4 == 4,
-                cmp_c: a & 8 == 8,
-                bus_we: a & 16 == 16,
-                bus_addr: (a >> 8) as u8 % 0x18,
-                bus_wdata: if a & 32 == 32 { (a >> 16) as u16 } else { m.read((a >> 8) as u8 % 0x18) },
+            let mut i = common::random_inputs(rng);
+            i.bus_addr %= 0x18;
+            if rng.bit() {
+                i.bus_wdata = m.read(i.bus_addr);
             }
+            i
         }
     }
 }

@@ -18,16 +18,8 @@ use proptest::prelude::*;
 #[derive(Clone, Copy, Debug)]
 struct Sh {
     pipe: u8,
-    adaptive: bool,
-    pw: u16,
-    pi: u16,
-    ps: u16,
-    si_max: u16,
-    si_min: u16,
-    t1: u16,
-    t2: u16,
-    cth: u8,
-    smp_on: u16,
+    /// The parameter registers `f_pw` ... `f_smp_on`.
+    regs: common::RefParams,
     sig_q: bool,
     base: u16,
     vld: bool,
@@ -68,16 +60,7 @@ struct W {
 fn reset_shadow(p: &Params) -> Sh {
     Sh {
         pipe: 0,
-        adaptive: p.adaptive,
-        pw: p.pw,
-        pi: p.pi,
-        ps: p.ps,
-        si_max: p.si_max,
-        si_min: p.si_min,
-        t1: p.t1,
-        t2: p.t2,
-        cth: p.cth,
-        smp_on: p.smp_on,
+        regs: common::RefParams::new(p),
         sig_q: false,
         base: 0,
         vld: false,
@@ -93,50 +76,33 @@ fn sext(v: u16, w: u8) -> u16 {
 
 fn wires(s: &Sh, o: &Outputs, i: &Inputs, p: &Params) -> W {
     let mut w = W { tmr: if o.sig != s.sig_q { 0 } else { s.base }, ..Default::default() };
-    w.ps_start = u32::from(s.pw) + u32::from(s.pi);
-    w.wt = w.ps_start + u32::from(s.ps);
+    w.ps_start = u32::from(s.regs.pw) + u32::from(s.regs.pi);
+    w.wt = w.ps_start + u32::from(s.regs.ps);
     w.upd = o.smp && o.sr;
     w.first = w.upd && !s.vld;
     w.chg_s = w.upd && s.vld && i.cmp_s != o.cs;
     w.chg_c = w.upd && s.vld && i.cmp_c != o.cc;
     w.pulse = o.smp && !o.sig;
-    w.adp = w.pulse && s.adaptive && o.sr;
+    w.adp = w.pulse && s.regs.adaptive && o.sr;
     w.det = if w.chg_s { !o.hist_s } else { w.chg_c && !o.hist_c };
-    w.short = o.si.saturating_sub(s.t1).max(s.si_min);
-    w.long = (u32::from(o.si) + u32::from(s.t2)).min(u32::from(s.si_max)) as u16;
+    w.short = o.si.saturating_sub(s.regs.t1).max(s.regs.si_min);
+    w.long = (u32::from(o.si) + u32::from(s.regs.t2)).min(u32::from(s.regs.si_max)) as u16;
     w.inc = o.cnt_r.saturating_add(1);
-    w.expand = w.adp && !w.det && o.si < s.si_max && o.cnt_r >= s.cth;
-    w.count = w.adp && !w.det && o.si < s.si_max && o.cnt_r < s.cth;
+    w.expand = w.adp && !w.det && o.si < s.regs.si_max && u16::from(o.cnt_r) >= s.regs.cth;
+    w.count = w.adp && !w.det && o.si < s.regs.si_max && u16::from(o.cnt_r) < s.regs.cth;
     let a = i.bus_addr;
     let status_w = i.bus_we && o.sig && a == 0x14;
     w.is_param = (0x02..=0x0B).contains(&a);
     let d = i.bus_wdata;
-    let c = |addr: u8, cur: u16| if a == addr { d } else { cur };
-    let adaptive = if a == 0x02 { d & 1 == 1 } else { s.adaptive };
-    let (pw, pi, ps) = (c(0x03, s.pw), c(0x04, s.pi), c(0x05, s.ps));
-    let (si_max, si_min) = (c(0x06, s.si_max), c(0x07, s.si_min));
-    let (t1, t2) = (c(0x08, s.t1), c(0x09, s.t2));
-    let cth = if a == 0x0A { d & 0xFF } else { u16::from(s.cth) };
-    let smp_on = c(0x0B, s.smp_on);
-    w.legal = common::legal_set(adaptive, pw, pi, ps, si_max, si_min, t1, t2, cth, smp_on);
+    w.legal = s.regs.with_write(a, d).unwrap_or(s.regs).legal();
     w.param_wr = i.bus_we && o.sig && w.is_param && w.legal;
     w.refused = i.bus_we && !status_w && !w.param_wr;
     w.skip_clr = status_w && d & (1 << 5) != 0;
     w.err_clr = status_w && d & (1 << 9) != 0;
     let cw = p.cnt_width;
-    w.rd = match a {
+    w.rd = s.regs.read(a).unwrap_or(match a {
         0x00 => 0x5050,
         0x01 => 0x0001,
-        0x02 => u16::from(s.adaptive),
-        0x03 => s.pw,
-        0x04 => s.pi,
-        0x05 => s.ps,
-        0x06 => s.si_max,
-        0x07 => s.si_min,
-        0x08 => s.t1,
-        0x09 => s.t2,
-        0x0A => u16::from(s.cth),
-        0x0B => s.smp_on,
         0x0C => (u16::from(cw) << 8) | u16::from(p.sync_depth),
         0x10 => sext(o.cnt_s, cw),
         0x11 => sext(o.cnt_c, cw),
@@ -147,7 +113,7 @@ fn wires(s: &Sh, o: &Outputs, i: &Inputs, p: &Params) -> W {
             .enumerate()
             .fold(0, |acc, (k, &b)| acc | (u16::from(b) << k)),
         _ => 0,
-    };
+    });
     w.rd_fixed = a <= 0x01 || a == 0x0C || (a > 0x0C && a < 0x10) || a > 0x14;
     w.rd_cnt = (0x10..=0x13).contains(&a);
     w
@@ -158,22 +124,10 @@ fn next_shadow(s: &Sh, o: &Outputs, i: &Inputs, w: &W, p: &Params) -> Sh {
     let mask = (1u16 << p.sync_depth) - 1;
     n.pipe = (((u16::from(s.pipe) << 1) | u16::from(i.ig)) & mask) as u8;
     if w.param_wr {
-        let d = i.bus_wdata;
-        match i.bus_addr {
-            0x02 => n.adaptive = d & 1 == 1,
-            0x03 => n.pw = d,
-            0x04 => n.pi = d,
-            0x05 => n.ps = d,
-            0x06 => n.si_max = d,
-            0x07 => n.si_min = d,
-            0x08 => n.t1 = d,
-            0x09 => n.t2 = d,
-            0x0A => n.cth = d as u8,
-            _ => n.smp_on = d,
-        }
+        n.regs = s.regs.with_write(i.bus_addr, i.bus_wdata).expect("a parameter write");
     }
     n.sig_q = o.sig;
-    let period = if o.sig { s.smp_on } else { o.si };
+    let period = if o.sig { s.regs.smp_on } else { o.si };
     let tinc = u32::from(w.tmr) + 1;
     n.base = if tinc >= u32::from(period) { 0 } else { tinc as u16 };
     n.vld = s.vld || w.upd;
@@ -187,15 +141,15 @@ fn next_shadow(s: &Sh, o: &Outputs, i: &Inputs, w: &W, p: &Params) -> Sh {
     n
 }
 
-/// One cycle of the trace as the kit sees it: this cycle (`o`, `i`, shadow `s`, wires `w`) and,
+/// One cycle of the trace as the kit sees it: this cycle (`out`, `shadow`, `wires`) and,
 /// from the second cycle out of reset on (`live`), the cycle before (`po`, `pi`, `ps`, `pw`).
 struct Cyc {
     after_reset: bool,
     live: bool,
-    p: Params,
-    o: Outputs,
-    s: Sh,
-    w: W,
+    params: Params,
+    out: Outputs,
+    shadow: Sh,
+    wires: W,
     po: Outputs,
     pi: Inputs,
     pw: W,
@@ -205,13 +159,13 @@ struct Cyc {
 
 impl Cyc {
     fn ones(&self) -> u16 {
-        ((1u32 << self.p.cnt_width) - 1) as u16
+        ((1u32 << self.params.cnt_width) - 1) as u16
     }
     fn add(&self, a: u16, b: i32) -> u16 {
-        (i32::from(a) + b).rem_euclid(1 << self.p.cnt_width) as u16
+        (i32::from(a) + b).rem_euclid(1 << self.params.cnt_width) as u16
     }
     fn held_56b(&self) -> bool {
-        self.o.si == self.po.si && self.o.hist_s == self.po.hist_s && self.o.hist_c == self.po.hist_c && self.o.cnt_r == self.po.cnt_r
+        self.out.si == self.po.si && self.out.hist_s == self.po.hist_s && self.out.hist_c == self.po.hist_c && self.out.cnt_r == self.po.cnt_r
     }
 }
 
@@ -232,7 +186,7 @@ fn stimulus(rng: &mut Rng, o: &Outputs, s: &Sh, ig: &mut bool, run: &mut u64, cm
         i.bus_wdata = match rng.range(0, 4) {
             0 => rng.next() as u16,
             1 => rng.range(0, 12) as u16,
-            2 => (u32::from(s.pw) + u32::from(s.pi) + u32::from(s.ps)).saturating_sub(1) as u16 + rng.range(0, 3) as u16,
+            2 => (u32::from(s.regs.pw) + u32::from(s.regs.pi) + u32::from(s.regs.ps)).saturating_sub(1) as u16 + rng.range(0, 3) as u16,
             3 => if rng.bit() { 0x20 } else { 0x200 },
             _ => o.si.wrapping_add(rng.range(0, 40) as u16),
         };
@@ -252,7 +206,7 @@ fn check_rule(p: Params, seed: u64, ticks: usize, name: &str, rule: &dyn Fn(&Cyc
         let i = stimulus(&mut rng, &o, &s, &mut ig, &mut run, &mut cmp);
         let w = wires(&s, &o, &i, &p);
         let (po, pi, pw, psh) = prev.unwrap_or((o, i, w, s));
-        let c = Cyc { after_reset: t == 0, live: t > 0, p, o, s, w, po, pi, pw, prev_shadow: Some(psh), koff: t > 0 && po.sig && !o.sig };
+        let c = Cyc { after_reset: t == 0, live: t > 0, params: p, out: o, shadow: s, wires: w, po, pi, pw, prev_shadow: Some(psh), koff: t > 0 && po.sig && !o.sig };
         prop_assert!(rule(&c), "{} fails at tick {} (parameters {:?}, seed {})", name, t, p, seed);
         prev = Some((o, i, w, s));
         s = next_shadow(&s, &o, &i, &w, &p);
@@ -279,89 +233,89 @@ macro_rules! twins {
 
 twins! {
     prop_reset_values => |c: &Cyc| !c.after_reset || {
-        let o = &c.o;
-        !o.sig && !o.sr && !o.cs && !o.cc && o.cnt_s == 0 && o.cnt_c == 0 && o.cnt_r == 0 && o.si == c.p.si_max
+        let o = &c.out;
+        !o.sig && !o.sr && !o.cs && !o.cc && o.cnt_s == 0 && o.cnt_c == 0 && o.cnt_r == 0 && o.si == c.params.si_max
             && !o.hist_s && !o.hist_c && !o.diag && !o.quadrant_skip && o.bus_rdata == 0 && !o.bus_err
     };
-    prop_reset_window => |c: &Cyc| !c.after_reset || (c.o.st && c.o.vs2_en && !c.o.smp);
-    prop_sig_sync => |c: &Cyc| c.o.sig == (c.s.pipe >> (c.p.sync_depth - 1) & 1 == 1);
+    prop_reset_window => |c: &Cyc| !c.after_reset || (c.out.st && c.out.vs2_en && !c.out.smp);
+    prop_sig_sync => |c: &Cyc| c.out.sig == (c.shadow.pipe >> (c.params.sync_depth - 1) & 1 == 1);
     prop_rails_follow_sig => |c: &Cyc| {
-        let o = &c.o;
+        let o = &c.out;
         o.vr_hi == o.sig && o.vm_en == o.sig && o.vs1_en == o.sig && o.rail_hi == o.sig && o.vp_en
     };
-    prop_st_pulse => |c: &Cyc| c.o.st == (!c.o.sig && c.w.tmr == 0);
-    prop_vs2_en_window => |c: &Cyc| c.o.vs2_en == (c.o.sig || u32::from(c.w.tmr) < c.w.wt);
-    prop_ps_window => |c: &Cyc| c.o.ps_win == (!c.o.sig && u32::from(c.w.tmr) >= c.w.ps_start && u32::from(c.w.tmr) < c.w.wt);
-    prop_smp_key_off => |c: &Cyc| c.o.sig || c.o.smp == (u32::from(c.w.tmr) + 1 == c.w.wt);
-    prop_smp_key_on => |c: &Cyc| !c.o.sig || c.o.smp == (u32::from(c.w.tmr) + 1 == u32::from(c.s.smp_on));
+    prop_st_pulse => |c: &Cyc| c.out.st == (!c.out.sig && c.wires.tmr == 0);
+    prop_vs2_en_window => |c: &Cyc| c.out.vs2_en == (c.out.sig || u32::from(c.wires.tmr) < c.wires.wt);
+    prop_ps_window => |c: &Cyc| c.out.ps_win == (!c.out.sig && u32::from(c.wires.tmr) >= c.wires.ps_start && u32::from(c.wires.tmr) < c.wires.wt);
+    prop_smp_key_off => |c: &Cyc| c.out.sig || c.out.smp == (u32::from(c.wires.tmr) + 1 == c.wires.wt);
+    prop_smp_key_on => |c: &Cyc| !c.out.sig || c.out.smp == (u32::from(c.wires.tmr) + 1 == u32::from(c.shadow.regs.smp_on));
     prop_diag => |c: &Cyc| {
-        let d = c.add(c.o.cnt_s, -i32::from(c.o.cnt_c));
-        c.o.diag == (!(d == 0 || d == 1 || d == c.ones()) || c.o.quadrant_skip)
+        let d = c.add(c.out.cnt_s, -i32::from(c.out.cnt_c));
+        c.out.diag == (!(d == 0 || d == 1 || d == c.ones()) || c.out.quadrant_skip)
     };
-    prop_key_off_starts_output => |c: &Cyc| !c.koff || c.o.st;
-    prop_sr_power_good => |c: &Cyc| !c.live || c.o.sr == (c.po.vs2_en && c.pi.vs2_ok);
-    prop_latch_hold => |c: &Cyc| !c.live || c.pw.upd || (c.o.cs == c.po.cs && c.o.cc == c.po.cc);
-    prop_latch_sample => |c: &Cyc| !c.live || !c.pw.upd || (c.o.cs == c.pi.cmp_s && c.o.cc == c.pi.cmp_c);
+    prop_key_off_starts_output => |c: &Cyc| !c.koff || c.out.st;
+    prop_sr_power_good => |c: &Cyc| !c.live || c.out.sr == (c.po.vs2_en && c.pi.vs2_ok);
+    prop_latch_hold => |c: &Cyc| !c.live || c.pw.upd || (c.out.cs == c.po.cs && c.out.cc == c.po.cc);
+    prop_latch_sample => |c: &Cyc| !c.live || !c.pw.upd || (c.out.cs == c.pi.cmp_s && c.out.cc == c.pi.cmp_c);
     prop_first_preset => |c: &Cyc| !c.live || !c.pw.first || matches!(
-        (c.o.cs, c.o.cc, c.o.cnt_s, c.o.cnt_c), (true, true, 0, 0) | (true, false, 0, 1) | (false, false, 1, 1) | (false, true, 1, 2));
+        (c.out.cs, c.out.cc, c.out.cnt_s, c.out.cnt_c), (true, true, 0, 0) | (true, false, 0, 1) | (false, false, 1, 1) | (false, true, 1, 2));
     prop_cnt_s_0096 => |c: &Cyc| !c.live || !(c.pw.chg_s && !c.pw.chg_c && c.po.cc)
-        || (c.o.cnt_s == c.add(c.po.cnt_s, if c.o.cs { 1 } else { -1 }) && c.o.cnt_c == c.po.cnt_c);
+        || (c.out.cnt_s == c.add(c.po.cnt_s, if c.out.cs { 1 } else { -1 }) && c.out.cnt_c == c.po.cnt_c);
     prop_cnt_s_0097 => |c: &Cyc| !c.live || !(c.pw.chg_s && !c.pw.chg_c && !c.po.cc)
-        || (c.o.cnt_s == c.add(c.po.cnt_s, if c.o.cs { -1 } else { 1 }) && c.o.cnt_c == c.po.cnt_c);
+        || (c.out.cnt_s == c.add(c.po.cnt_s, if c.out.cs { -1 } else { 1 }) && c.out.cnt_c == c.po.cnt_c);
     prop_cnt_c_0098 => |c: &Cyc| !c.live || !(c.pw.chg_c && !c.pw.chg_s && !c.po.cs)
-        || (c.o.cnt_c == c.add(c.po.cnt_c, if c.o.cc { 1 } else { -1 }) && c.o.cnt_s == c.po.cnt_s);
+        || (c.out.cnt_c == c.add(c.po.cnt_c, if c.out.cc { 1 } else { -1 }) && c.out.cnt_s == c.po.cnt_s);
     prop_cnt_c_0099 => |c: &Cyc| !c.live || !(c.pw.chg_c && !c.pw.chg_s && c.po.cs)
-        || (c.o.cnt_c == c.add(c.po.cnt_c, if c.o.cc { -1 } else { 1 }) && c.o.cnt_s == c.po.cnt_s);
+        || (c.out.cnt_c == c.add(c.po.cnt_c, if c.out.cc { -1 } else { 1 }) && c.out.cnt_s == c.po.cnt_s);
     prop_cnt_wrap => |c: &Cyc| {
         let step = |a: u16, b: u16| { let d = c.add(a, -i32::from(b)); d == 1 || d == c.ones() };
         !c.live || !(c.pw.chg_s ^ c.pw.chg_c) || c.pw.first
-            || (step(c.o.cnt_s, c.po.cnt_s) != step(c.o.cnt_c, c.po.cnt_c))
+            || (step(c.out.cnt_s, c.po.cnt_s) != step(c.out.cnt_c, c.po.cnt_c))
     };
     prop_cnt_hold => |c: &Cyc| !c.live || c.pw.first || (c.pw.chg_s ^ c.pw.chg_c)
-        || (c.o.cnt_s == c.po.cnt_s && c.o.cnt_c == c.po.cnt_c);
+        || (c.out.cnt_s == c.po.cnt_s && c.out.cnt_c == c.po.cnt_c);
     prop_quadrant_skip => |c: &Cyc| !c.live
-        || c.o.quadrant_skip == ((c.pw.chg_s && c.pw.chg_c) || (c.po.quadrant_skip && !c.pw.skip_clr));
-    prop_si_moves_at_pulse => |c: &Cyc| !c.live || c.o.si == c.po.si || c.koff || c.pw.pulse;
-    prop_key_on_holds => |c: &Cyc| !c.live || !(c.o.sig && c.po.sig) || c.held_56b();
-    prop_koff_reload => |c: &Cyc| !c.koff || (c.o.si == c.s.si_max && !c.o.hist_s && !c.o.hist_c && c.o.cnt_r == 0);
-    prop_fixed_interval => |c: &Cyc| !c.live || !(c.pw.pulse && !c.ps_adaptive()) || (c.o.si == c.ps_si_max()
-        && c.o.hist_s == c.po.hist_s && c.o.hist_c == c.po.hist_c && c.o.cnt_r == c.po.cnt_r);
+        || c.out.quadrant_skip == ((c.pw.chg_s && c.pw.chg_c) || (c.po.quadrant_skip && !c.pw.skip_clr));
+    prop_si_moves_at_pulse => |c: &Cyc| !c.live || c.out.si == c.po.si || c.koff || c.pw.pulse;
+    prop_key_on_holds => |c: &Cyc| !c.live || !(c.out.sig && c.po.sig) || c.held_56b();
+    prop_koff_reload => |c: &Cyc| !c.koff || (c.out.si == c.shadow.regs.si_max && !c.out.hist_s && !c.out.hist_c && c.out.cnt_r == 0);
+    prop_fixed_interval => |c: &Cyc| !c.live || !(c.pw.pulse && !c.ps_adaptive()) || (c.out.si == c.ps_si_max()
+        && c.out.hist_s == c.po.hist_s && c.out.hist_c == c.po.hist_c && c.out.cnt_r == c.po.cnt_r);
     prop_s1_no_rise => |c: &Cyc| !c.live || !(c.pw.pulse && c.ps_adaptive() && !c.po.sr) || c.held_56b();
     prop_si_shorten => |c: &Cyc| !c.live || !(c.pw.adp && c.pw.det)
-        || (c.o.cnt_r == 0 && c.o.si == if c.po.si <= c.ps_si_min() { c.po.si } else { c.pw.short });
+        || (c.out.cnt_r == 0 && c.out.si == if c.po.si <= c.ps_si_min() { c.po.si } else { c.pw.short });
     prop_si_hold_at_max => |c: &Cyc| !c.live || !(c.pw.adp && !c.pw.det && c.po.si >= c.ps_si_max())
-        || (c.o.si == c.po.si && c.o.cnt_r == c.po.cnt_r);
-    prop_si_expand => |c: &Cyc| !c.live || !c.pw.expand || (c.o.si == c.pw.long && c.o.cnt_r == c.pw.inc);
-    prop_s11_clear => |c: &Cyc| !c.live || !c.pw.expand || (!c.o.hist_s && !c.o.hist_c);
-    prop_cnt_r_count => |c: &Cyc| !c.live || !c.pw.count || (c.o.cnt_r == c.po.cnt_r + 1 && c.o.si == c.po.si
-        && c.o.hist_s == c.po.hist_s && c.o.hist_c == c.po.hist_c);
-    prop_cnt_r_saturates => |c: &Cyc| !c.live || c.o.cnt_r == c.po.cnt_r || c.o.cnt_r == 0
-        || (c.po.cnt_r != 255 && c.o.cnt_r == c.po.cnt_r + 1);
+        || (c.out.si == c.po.si && c.out.cnt_r == c.po.cnt_r);
+    prop_si_expand => |c: &Cyc| !c.live || !c.pw.expand || (c.out.si == c.pw.long && c.out.cnt_r == c.pw.inc);
+    prop_s11_clear => |c: &Cyc| !c.live || !c.pw.expand || (!c.out.hist_s && !c.out.hist_c);
+    prop_cnt_r_count => |c: &Cyc| !c.live || !c.pw.count || (c.out.cnt_r == c.po.cnt_r + 1 && c.out.si == c.po.si
+        && c.out.hist_s == c.po.hist_s && c.out.hist_c == c.po.hist_c);
+    prop_cnt_r_saturates => |c: &Cyc| !c.live || c.out.cnt_r == c.po.cnt_r || c.out.cnt_r == 0
+        || (c.po.cnt_r != 255 && c.out.cnt_r == c.po.cnt_r + 1);
     prop_hist_detect => |c: &Cyc| !c.live || !(c.pw.adp && c.pw.det)
-        || ((c.o.hist_s, c.o.hist_c) == if c.pw.chg_s { (true, false) } else { (false, true) });
-    prop_hist_moves => |c: &Cyc| !c.live || (c.o.hist_s == c.po.hist_s && c.o.hist_c == c.po.hist_c) || c.koff || c.pw.adp;
-    prop_read_fixed => |c: &Cyc| !c.live || !c.pw.rd_fixed || c.o.bus_rdata == c.pw.rd;
-    prop_read_params => |c: &Cyc| !c.live || !c.pw.is_param || c.o.bus_rdata == c.pw.rd;
-    prop_read_counters => |c: &Cyc| !c.live || !c.pw.rd_cnt || c.o.bus_rdata == c.pw.rd;
-    prop_read_status => |c: &Cyc| !c.live || c.pi.bus_addr != 0x14 || c.o.bus_rdata == c.pw.rd;
-    prop_write_key_off_refused => |c: &Cyc| !c.live || !(c.pi.bus_we && !c.po.sig) || c.o.bus_err;
-    prop_write_illegal_refused => |c: &Cyc| !c.live || !(c.pi.bus_we && c.po.sig && c.pw.is_param && !c.pw.legal) || c.o.bus_err;
-    prop_write_ro_refused => |c: &Cyc| !c.live || !(c.pi.bus_we && c.po.sig && !c.pw.is_param && c.pi.bus_addr != 0x14) || c.o.bus_err;
-    prop_write_accepted => |c: &Cyc| !c.live || ((!c.pw.param_wr || c.o.bus_err == c.po.bus_err)
-        && (!(c.ps_wr_v() && c.pi.bus_addr == c.ps_wr_addr()) || c.o.bus_rdata == c.ps_wr_data()));
-    prop_bus_err_w1c => |c: &Cyc| !c.live || c.o.bus_err == (c.pw.refused || (c.po.bus_err && !c.pw.err_clr));
+        || ((c.out.hist_s, c.out.hist_c) == if c.pw.chg_s { (true, false) } else { (false, true) });
+    prop_hist_moves => |c: &Cyc| !c.live || (c.out.hist_s == c.po.hist_s && c.out.hist_c == c.po.hist_c) || c.koff || c.pw.adp;
+    prop_read_fixed => |c: &Cyc| !c.live || !c.pw.rd_fixed || c.out.bus_rdata == c.pw.rd;
+    prop_read_params => |c: &Cyc| !c.live || !c.pw.is_param || c.out.bus_rdata == c.pw.rd;
+    prop_read_counters => |c: &Cyc| !c.live || !c.pw.rd_cnt || c.out.bus_rdata == c.pw.rd;
+    prop_read_status => |c: &Cyc| !c.live || c.pi.bus_addr != 0x14 || c.out.bus_rdata == c.pw.rd;
+    prop_write_key_off_refused => |c: &Cyc| !c.live || !(c.pi.bus_we && !c.po.sig) || c.out.bus_err;
+    prop_write_illegal_refused => |c: &Cyc| !c.live || !(c.pi.bus_we && c.po.sig && c.pw.is_param && !c.pw.legal) || c.out.bus_err;
+    prop_write_ro_refused => |c: &Cyc| !c.live || !(c.pi.bus_we && c.po.sig && !c.pw.is_param && c.pi.bus_addr != 0x14) || c.out.bus_err;
+    prop_write_accepted => |c: &Cyc| !c.live || ((!c.pw.param_wr || c.out.bus_err == c.po.bus_err)
+        && (!(c.ps_wr_v() && c.pi.bus_addr == c.ps_wr_addr()) || c.out.bus_rdata == c.ps_wr_data()));
+    prop_bus_err_w1c => |c: &Cyc| !c.live || c.out.bus_err == (c.pw.refused || (c.po.bus_err && !c.pw.err_clr));
 }
 
 /// The shadow of the cycle before, for the rules that use `$past(f_...)` registers.
 impl Cyc {
     fn ps_adaptive(&self) -> bool {
-        self.pshadow().adaptive
+        self.pshadow().regs.adaptive
     }
     fn ps_si_max(&self) -> u16 {
-        self.pshadow().si_max
+        self.pshadow().regs.si_max
     }
     fn ps_si_min(&self) -> u16 {
-        self.pshadow().si_min
+        self.pshadow().regs.si_min
     }
     fn ps_wr_v(&self) -> bool {
         self.pshadow().wr_v

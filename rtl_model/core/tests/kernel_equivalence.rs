@@ -13,13 +13,13 @@
 
 mod common;
 
-use common::Rng;
+use common::{Driver, Rng};
 use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
 use pmu50_core::pmu50::{eval, Regs, Structural};
-use pmu50_core::register_file::{addr, status};
+use pmu50_core::register_file::addr;
 use pmu50_core::{action_switching_56a as sw, comparator_latch_58ab as cl, count_diagnosis as cd, drive_interval_changing_56b as di};
 use pmu50_core::{kernel, register_file as rf, sensor_power_determination_57 as spd, timing_generator_56 as tg, updown_counter_58cd as uc};
-use pmu50_core::{Inputs, Internals, Params, Pmu50, Pmu50Spec};
+use pmu50_core::{Inputs, Internals, Params, Pmu50, Pmu50Spec, TracedStep};
 use proptest::prelude::*;
 use std::collections::HashSet;
 
@@ -161,7 +161,7 @@ proptest! {
         prop_assert_eq!(o.flags(), bits);
     }
 
-    /// `kernel::step_traced_wide` from any state: the edge of the specification (its internals
+    /// `kernel::step_traced` from any state: the edge of the specification (its internals
     /// a byte each in `Internals::packed`, its registered outputs equal to their registers), and a narrow
     /// edge (`wide` false) writes only `kernel::NARROW_WRITES`, keeps `sig` and has all internals
     /// false but `upd`, which is what a tracer that compares only those after a narrow edge relies
@@ -172,7 +172,7 @@ proptest! {
         let c = kernel::Consts::new(&s);
         let mut sh = kernel::Shadow::of(&c, &r);
         let mut k = r;
-        let (out, x, wide) = kernel::step_traced_wide(&c, &mut k, &mut sh, &i);
+        let TracedStep { internals: x, after: out, wide, .. } = kernel::step_traced(&c, &mut k, &mut sh, &i);
         let (_, want_x, want) = eval(&s, &r, &i);
         prop_assert_eq!(k, want);
         prop_assert_eq!(x, want_x);
@@ -236,7 +236,7 @@ fn key_on_strobes(r: &Regs, i: &Inputs, s: &Structural) -> Result<(u32, u32), Te
         }
         let mut sh = kernel::Shadow::of(&c, &r);
         let mut k = r;
-        let (_, x, wide) = kernel::step_traced_wide(&c, &mut k, &mut sh, &i);
+        let TracedStep { internals: x, wide, .. } = kernel::step_traced(&c, &mut k, &mut sh, &i);
         prop_assert_eq!((k, x), (want, want_x));
         let quiet = narrow_writes_of(&r, &k) == k && x == Internals { upd: x.upd, ..Internals::default() };
         prop_assert_eq!(wide, !quiet, "a key-on strobe at tmr {}: wide {}, internals {:?}", tmr, wide, x);
@@ -275,61 +275,6 @@ fn key_on_strobe_cases_reach_both_kinds() {
     assert!(narrow_upd >= 20 && wide >= 20, "narrow strobes with upd {narrow_upd}, wide strobes {wide}");
 }
 
-/// Stimulus with memory, to reach deep states and every branch.
-struct Driver {
-    rng: Rng,
-    ig: bool,
-    run: u64,
-    cmp: (bool, bool),
-}
-
-impl Driver {
-    fn new(seed: u64) -> Driver {
-        let mut rng = Rng(seed);
-        let ig = rng.bit();
-        let run = rng.range(0, 3000);
-        Driver { rng, ig, run, cmp: (true, true) }
-    }
-
-    fn next(&mut self, m: &Pmu50Spec) -> Inputs {
-        let rng = &mut self.rng;
-        if self.run == 0 {
-            self.ig = !self.ig;
-            // Mostly long phases; sometimes a glitch shorter than the synchronizer.
-            self.run = if rng.chance(1, 8) { rng.range(1, 3) } else { rng.range(50, 4000) };
-        }
-        self.run -= 1;
-        match rng.range(0, 99) {
-            0..=3 => self.cmp = (rng.bit(), rng.bit()),          // anything, also both signs
-            4..=11 => self.cmp.0 = !self.cmp.0,                  // one quadrant step through Cs
-            12..=19 => self.cmp.1 = !self.cmp.1,                 // one quadrant step through Cc
-            _ => {}
-        }
-        let o = m.peek();
-        let mut i = Inputs { ig: self.ig, vs2_ok: o.vs2_en != rng.chance(1, 40), cmp_s: self.cmp.0, cmp_c: self.cmp.1, ..Default::default() };
-        if rng.chance(1, 60) {
-            i.bus_we = true;
-            i.bus_addr = match rng.range(0, 9) {
-                0 => rng.next() as u8,
-                1 => addr::STATUS,
-                _ => rng.range(0, 0x15) as u8,
-            };
-            let cur = m.peek();
-            i.bus_wdata = match rng.range(0, 5) {
-                0 => rng.next() as u16,
-                1 => rng.range(0, 12) as u16,
-                2 => cur.si.wrapping_add(rng.range(0, 40) as u16).wrapping_sub(20),
-                3 => rng.range(0, 700) as u16,
-                4 => (1 << status::QUADRANT_SKIP) | (1 << status::BUS_ERR),
-                _ => 0x3FF,
-            };
-        } else if rng.chance(1, 4) {
-            i.bus_addr = rng.range(0, 0x20) as u8;
-        }
-        i
-    }
-}
-
 #[derive(Default)]
 struct Coverage {
     fig17: HashSet<Fig17>,
@@ -354,12 +299,12 @@ fn lockstep(p: Params, seed: u64, len: u64, cov: &mut Coverage) -> Result<(), Te
     prop_assert_eq!(fast.regs(), spec.regs());
     prop_assert_eq!(fast.peek(), spec.peek());
     for k in 0..len {
-        let i = d.next(&spec);
+        let i = d.next(&spec.peek());
         let err_before = spec.regs().register_file.bus_err;
         let sig_before = spec.peek().sig;
         let regs_before = *spec.regs();
-        let (b1, x1, a1): (_, Internals, _) = fast.step_traced(&i);
-        let (b2, x2, a2) = spec.step_traced(&i);
+        let TracedStep { before: b1, internals: x1, after: a1, .. } = fast.step_traced(&i);
+        let TracedStep { before: b2, internals: x2, after: a2, .. } = spec.step_traced(&i);
         prop_assert_eq!(b1, b2, "outputs before edge {} (seed {}, {:?})", k + 1, seed, p);
         prop_assert_eq!(x1, x2, "internals of cycle {} (seed {})", k, seed);
         prop_assert_eq!(a1, a2, "outputs after edge {} (seed {})", k + 1, seed);
@@ -407,7 +352,7 @@ fn untraced_step_equals_the_spec() {
     let mut spec = Pmu50Spec::new(p).unwrap();
     let mut d = Driver::new(42);
     for _ in 0..300_000 {
-        let i = d.next(&spec);
+        let i = d.next(&spec.peek());
         assert_eq!(fast.step(&i), spec.step(&i));
         assert_eq!(fast.regs(), spec.regs());
     }

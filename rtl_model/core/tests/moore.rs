@@ -5,72 +5,19 @@
 
 mod common;
 
-use common::Rng;
+use common::{Driver, Rng};
 use pmu50_core::pmu50::{eval, ports};
 use pmu50_core::register_file::addr;
-use pmu50_core::{Inputs, Params, Pmu50};
+use pmu50_core::{Inputs, Params, Pmu50, TracedStep};
 use proptest::prelude::*;
-
-/// Any input vector at all (bus fields included).
-fn random_inputs(rng: &mut Rng) -> Inputs {
-    let a = rng.next();
-    Inputs {
-        ig: a & 1 == 1,
-        vs2_ok: a & 2 == 2,
-        cmp_s: a & 4 == 4,
-        cmp_c: a & 8 == 8,
-        bus_we: a & 16 == 16,
-        bus_addr: if a & 32 == 32 { (a >> 8) as u8 } else { (a >> 8) as u8 % 0x15 },
-        bus_wdata: (a >> 16) as u16,
-    }
-}
-
-/// Stimulus generator with some memory, to reach deep states: `ig` in runs (key on and key off
-/// periods of many ticks), `vs2_ok` mostly following `vs2_en`, comparator values mostly held,
-/// occasional bus writes (mapped addresses, plausible values) and W1C clears.
-struct Driver {
-    rng: Rng,
-    ig: bool,
-    run: u64,
-    cmp: (bool, bool),
-}
-
-impl Driver {
-    fn next(&mut self, m: &Pmu50) -> Inputs {
-        let rng = &mut self.rng;
-        if self.run == 0 {
-            self.ig = !self.ig;
-            self.run = rng.range(1, 1500);
-        }
-        self.run -= 1;
-        if rng.chance(1, 30) {
-            self.cmp = (rng.bit(), rng.bit());
-        }
-        let o = m.peek();
-        let mut i = Inputs { ig: self.ig, vs2_ok: o.vs2_en && !rng.chance(1, 50), cmp_s: self.cmp.0, cmp_c: self.cmp.1, ..Default::default() };
-        if rng.chance(1, 25) {
-            i.bus_we = true;
-            i.bus_addr = rng.range(0, 0x16) as u8;
-            i.bus_wdata = match rng.range(0, 3) {
-                0 => rng.next() as u16,
-                1 => rng.range(0, 40) as u16,
-                2 => m.read(i.bus_addr).wrapping_add(rng.range(0, 20) as u16).wrapping_sub(10),
-                _ => 0x3FF,
-            };
-        } else if rng.chance(1, 10) {
-            i.bus_addr = rng.range(0, 0x20) as u8;
-        }
-        i
-    }
-}
 
 fn check_moore(m: &Pmu50, rng: &mut Rng) {
     let s = m.structural();
     let r = m.regs();
     let want = ports(&s, r);
     assert_eq!(m.peek(), want);
-    let i1 = random_inputs(rng);
-    let i2 = random_inputs(rng);
+    let i1 = common::random_inputs(rng);
+    let i2 = common::random_inputs(rng);
     let o1 = eval(&s, r, &i1).0;
     let o2 = eval(&s, r, &i2).0;
     assert_eq!(o1, want, "outputs under {i1:?} differ from the registers' decode");
@@ -84,19 +31,19 @@ proptest! {
     fn no_input_reaches_an_output_combinationally(p in common::params(300, 700), seed in any::<u64>(), len in 0u64..6000) {
         let mut m = Pmu50::new(p).unwrap();
         let mut rng = Rng(seed ^ 0x5555);
-        let mut d = Driver { rng: Rng(seed), ig: rng.bit(), run: rng.range(0, 800), cmp: (rng.bit(), rng.bit()) };
+        let mut d = Driver::new(seed);
         check_moore(&m, &mut rng);
         for _ in 0..len {
-            let i = d.next(&m);
-            let (_, _, after) = m.step_traced(&i);
+            let i = d.next(&m.peek());
+            let TracedStep { after, .. } = m.step_traced(&i);
             prop_assert_eq!(after, m.peek());
             check_moore(&m, &mut rng);
         }
         // The read port too: `bus_rdata` of this cycle does not depend on this cycle's address.
         let mut a = m.clone();
         let mut b = m.clone();
-        let x = a.step_traced(&Inputs { bus_addr: addr::ID, ..Default::default() }).0;
-        let y = b.step_traced(&Inputs { bus_addr: addr::STATUS, bus_we: true, bus_wdata: 0xFFFF, ig: true, ..Default::default() }).0;
+        let x = a.step_traced(&Inputs { bus_addr: addr::ID, ..Default::default() }).before;
+        let y = b.step_traced(&Inputs { bus_addr: addr::STATUS, bus_we: true, bus_wdata: 0xFFFF, ig: true, ..Default::default() }).before;
         prop_assert_eq!(x, y);
     }
 }
@@ -106,9 +53,9 @@ proptest! {
 fn defaults_are_moore_across_key_cycles() {
     let mut m = Pmu50::new(Params::default()).unwrap();
     let mut rng = Rng(7);
-    let mut d = Driver { rng: Rng(8), ig: false, run: 700, cmp: (true, false) };
+    let mut d = Driver::new(8);
     for _ in 0..20_000 {
-        let i = d.next(&m);
+        let i = d.next(&m.peek());
         m.step(&i);
         check_moore(&m, &mut rng);
     }

@@ -8,9 +8,9 @@
 
 mod common;
 
-use common::{legal_set, Rng};
+use common::{RefParams, Rng};
 use pmu50_core::register_file::addr;
-use pmu50_core::{Inputs, Outputs, Params, Pmu50};
+use pmu50_core::{Inputs, Outputs, Params, Pmu50, TracedStep};
 use proptest::prelude::*;
 
 fn wt(p: &Params) -> u64 {
@@ -42,7 +42,7 @@ fn check_key_off_table(p: Params, cmp: (bool, bool)) {
             assert_eq!((o.cs, o.cc), if k >= wt { cmp } else { (false, false) }, "{ctx}");
         }
         prev_vs2_en = o.vs2_en;
-        let (_, int, _) = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
+        let TracedStep { internals: int, .. } = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
         assert_eq!(int.upd, o.smp && o.sr, "{ctx}");
         assert!(!int.kon && !int.koff && !int.chg_s && !int.chg_c, "{ctx}");
     }
@@ -93,7 +93,7 @@ proptest! {
             let o = m.peek();
             let ok = rng.bit();
             let cmp = (rng.bit(), rng.bit());
-            let (_, int, o2) = m.step_traced(&Inputs { ig, vs2_ok: ok, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
+            let TracedStep { internals: int, after: o2, .. } = m.step_traced(&Inputs { ig, vs2_ok: ok, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
             prop_assert_eq!(o2.sr, o.vs2_en && ok, "sr after edge {}", k + 1);
             // I2: without a good rail no sample; FIG. 17 ends at S1 (interval unchanged).
             let sampled = o.smp && o.sr;
@@ -120,7 +120,7 @@ fn every_key_off_pulse_takes_a_sample_with_the_shortest_legal_window() {
     let (mut pulses, mut samples) = (0, 0);
     for _ in 0..5 * u64::from(p.si_max) {
         let o = m.peek();
-        let (_, int, _) = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: true, ..Default::default() });
+        let TracedStep { internals: int, .. } = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: true, ..Default::default() });
         pulses += u32::from(o.smp);
         samples += u32::from(int.upd);
     }
@@ -160,7 +160,7 @@ proptest! {
             if !o.vs2_en && rng.chance(1, 200) {
                 cmp = (rng.bit(), rng.bit());
             }
-            let (_, _, o2) = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
+            let TracedStep { after: o2, .. } = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
             if o2.si != o.si {
                 prop_assert!(o.smp && !o.sig, "si changed at tick {} without a key-off sample", k);
             }
@@ -221,12 +221,12 @@ proptest! {
                 (i.bus_we, i.bus_wdata) = (true, v);
                 i.bus_addr = addr::SI_MAX;
             }
-            let (_, int, o2) = m.step_traced(&i);
+            let TracedStep { internals: int, after: o2, .. } = m.step_traced(&i);
             if let Some(v) = x_write {
                 prop_assert!(o.sig, "the key-off edge still has sig = 1: the write is not refused for the key");
                 rf.write(addr::SI_MAX, v, true);
                 prop_assert_eq!(RefRf::of(&m), rf, "write SI_MAX <- {} at the key-off edge", v);
-                x_now = rf.si_max;
+                x_now = rf.regs.si_max;
             } else {
                 prop_assert_eq!(o2.bus_rdata, want_rdata, "bus_rdata after edge {} (address {:#04x})", k + 1, a);
             }
@@ -246,72 +246,29 @@ proptest! {
 /// Reference register file: the programmable registers and `bus_err` (spec 2.8).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct RefRf {
-    adaptive: bool,
-    pw: u16,
-    pi: u16,
-    ps: u16,
-    si_max: u16,
-    si_min: u16,
-    t1: u16,
-    t2: u16,
-    cth: u16,
-    smp_on: u16,
+    regs: RefParams,
     bus_err: bool,
 }
 
 impl RefRf {
     fn new(p: &Params) -> Self {
-        RefRf {
-            adaptive: p.adaptive,
-            pw: p.pw,
-            pi: p.pi,
-            ps: p.ps,
-            si_max: p.si_max,
-            si_min: p.si_min,
-            t1: p.t1,
-            t2: p.t2,
-            cth: u16::from(p.cth),
-            smp_on: p.smp_on,
-            bus_err: false,
-        }
+        RefRf { regs: RefParams::new(p), bus_err: false }
     }
     fn of(m: &Pmu50) -> Self {
         let r = m.regs().register_file;
-        RefRf {
-            adaptive: r.adaptive,
-            pw: r.pw,
-            pi: r.pi,
-            ps: r.ps,
-            si_max: r.si_max,
-            si_min: r.si_min,
-            t1: r.t1,
-            t2: r.t2,
-            cth: u16::from(r.cth),
-            smp_on: r.smp_on,
-            bus_err: r.bus_err,
-        }
-    }
-    fn legal(&self) -> bool {
-        legal_set(self.adaptive, self.pw, self.pi, self.ps, self.si_max, self.si_min, self.t1, self.t2, self.cth, self.smp_on)
+        RefRf { regs: RefParams::of(&r), bus_err: r.bus_err }
     }
     /// The read mux at `a`, with the status and count registers taken from the cycle's outputs
     /// (and the latch's `vld`).
     fn read(&self, a: u8, p: &Params, o: &Outputs, vld: bool) -> u16 {
         let sx = |v: u16| common::signed(v, p.cnt_width) as i16 as u16;
         let b = |x: bool, n: u32| u16::from(x) << n;
+        if let Some(v) = self.regs.read(a) {
+            return v;
+        }
         match a {
             0x00 => 0x5050,
             0x01 => 0x0001,
-            0x02 => u16::from(self.adaptive),
-            0x03 => self.pw,
-            0x04 => self.pi,
-            0x05 => self.ps,
-            0x06 => self.si_max,
-            0x07 => self.si_min,
-            0x08 => self.t1,
-            0x09 => self.t2,
-            0x0A => self.cth,
-            0x0B => self.smp_on,
             0x0C => u16::from(p.sync_depth) | (u16::from(p.cnt_width) << 8),
             0x10 => sx(o.cnt_s),
             0x11 => sx(o.cnt_c),
@@ -341,26 +298,9 @@ impl RefRf {
         } else if !sig {
             refused = true;
         } else {
-            let mut c = *self;
-            match a {
-                0x02 => c.adaptive = d & 1 == 1,
-                0x03 => c.pw = d,
-                0x04 => c.pi = d,
-                0x05 => c.ps = d,
-                0x06 => c.si_max = d,
-                0x07 => c.si_min = d,
-                0x08 => c.t1 = d,
-                0x09 => c.t2 = d,
-                0x0A => c.cth = d & 0xFF,
-                0x0B => c.smp_on = d,
+            match self.regs.with_write(a, d) {
+                Some(c) if c.legal() => self.regs = c,
                 _ => refused = true,
-            }
-            if !refused {
-                if c.legal() {
-                    *self = c;
-                } else {
-                    refused = true;
-                }
             }
         }
         self.bus_err = refused || (self.bus_err && !clear);
@@ -390,7 +330,7 @@ proptest! {
         for (a, d) in writes {
             let o = m.peek();
             prop_assert!(!o.sig);
-            let (_, int, o2) = m.step_traced(&Inputs { vs2_ok: o.vs2_en, bus_we: true, bus_addr: a, bus_wdata: d, ..Default::default() });
+            let TracedStep { internals: int, after: o2, .. } = m.step_traced(&Inputs { vs2_ok: o.vs2_en, bus_we: true, bus_addr: a, bus_wdata: d, ..Default::default() });
             prop_assert!(o2.bus_err, "write {:#04x} <- {:#06x} while key off not flagged", a, d);
             prop_assert!(!int.skip_clr);
             prop_assert_eq!(RefRf { bus_err: false, ..RefRf::of(&m) }, rf0, "write {:#04x} <- {:#06x} taken while key off", a, d);
@@ -421,15 +361,15 @@ proptest! {
             let mut d = d;
             if we && rng.bit() {
                 let delta = rng.range(0, 2) as i64 - 1;
-                let wt = i64::from(rf.pw) + i64::from(rf.pi) + i64::from(rf.ps);
-                let shortest = i64::from(if rf.adaptive { rf.si_min } else { rf.si_max });
+                let wt = i64::from(rf.regs.pw) + i64::from(rf.regs.pi) + i64::from(rf.regs.ps);
+                let shortest = i64::from(if rf.regs.adaptive { rf.regs.si_min } else { rf.regs.si_max });
                 let cur = |a: u8| i64::from(rf.read(a, &p, &o, false));
                 let target = match a {
                     // Wt at the shortest interval, or pw + pi = 0 (section 4: pw + pi >= 1).
-                    0x03 | 0x04 if rng.chance(1, 3) => Some(-(i64::from(rf.pw) + i64::from(rf.pi) - cur(a))),
+                    0x03 | 0x04 if rng.chance(1, 3) => Some(-(i64::from(rf.regs.pw) + i64::from(rf.regs.pi) - cur(a))),
                     0x03..=0x05 => Some(shortest - (wt - cur(a))),
-                    0x06 => Some(if rng.bit() { i64::from(rf.si_min) } else { wt }),
-                    0x07 => Some(if rng.bit() { i64::from(rf.si_max) } else { wt }),
+                    0x06 => Some(if rng.bit() { i64::from(rf.regs.si_min) } else { wt }),
+                    0x07 => Some(if rng.bit() { i64::from(rf.regs.si_max) } else { wt }),
                     _ => None,
                 };
                 if let Some(t) = target {
@@ -439,7 +379,7 @@ proptest! {
             let expect_read = rf.read(a, &p, &o, m.regs().comparator_latch.vld);
             prop_assert_eq!(m.read(a), expect_read, "read mux at {:#04x}", a);
             let cmp = (rng.bit(), rng.bit());
-            let (_, int, o2) = m.step_traced(&Inputs { ig: true, vs2_ok: o.vs2_en, bus_we: we, bus_addr: a, bus_wdata: d, cmp_s: cmp.0, cmp_c: cmp.1 });
+            let TracedStep { internals: int, after: o2, .. } = m.step_traced(&Inputs { ig: true, vs2_ok: o.vs2_en, bus_we: we, bus_addr: a, bus_wdata: d, cmp_s: cmp.0, cmp_c: cmp.1 });
             if we {
                 rf.write(a, d, true);
             }
@@ -536,7 +476,7 @@ fn si_within_min_and_max_in_key_off_even_with_a_write_at_the_key_off_edge() {
         if k == d {
             (i.bus_we, i.bus_addr, i.bus_wdata) = (true, addr::SI_MAX, 440);
         }
-        let (_, int, _) = m.step_traced(&i);
+        let TracedStep { internals: int, .. } = m.step_traced(&i);
         assert_eq!(int.koff, k == d);
     }
     let o = m.peek();

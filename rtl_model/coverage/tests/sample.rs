@@ -4,7 +4,7 @@
 
 use pmu50_core::drive_interval_changing_56b::Fig17;
 use pmu50_core::updown_counter_58cd::sext;
-use pmu50_core::{Inputs, Params, Pmu50};
+use pmu50_core::{Inputs, Params, Pmu50, TracedStep};
 use pmu50_coverage::{layout, Coverage, Edge};
 use std::collections::BTreeMap;
 
@@ -48,7 +48,7 @@ fn run(seed: u64, p: Params, ticks: u64) -> (Coverage, BTreeMap<String, u64>) {
         let i = Inputs { ig, vs2_ok: !r.pct(5), cmp_s: cs, cmp_c: cc, bus_we: we, bus_addr: (r.next() % 0x16) as u8, bus_wdata: (r.next() % 700) as u16 };
         let before = *core.regs();
         let out = core.peek();
-        let (_, n, after_out) = core.step_traced(&i);
+        let TracedStep { internals: n, after: after_out, .. } = core.step_traced(&i);
         let after = *core.regs();
         cov.sample(&Edge { before: &before, after: &after, out: &out, inputs: &i, internals: &n });
 
