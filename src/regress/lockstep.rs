@@ -173,27 +173,11 @@ impl DutLib {
 
 /// The parameters from their HDL values (the order of [`Params::hdl_parameters`]).
 fn params_of(v: &[u64; 12]) -> Result<Params, String> {
-    let n = |k: usize, max: u64| -> Result<u64, String> {
-        if v[k] > max {
-            Err(format!("parameter {} = {} is over {max}", Params::default().hdl_parameters()[k].0, v[k]))
-        } else {
-            Ok(v[k])
-        }
-    };
-    Ok(Params {
-        sync_depth: n(0, 255)? as u8,
-        cnt_width: n(1, 255)? as u8,
-        adaptive: n(2, 1)? == 1,
-        pw: n(3, 0xFFFF)? as u16,
-        pi: n(4, 0xFFFF)? as u16,
-        ps: n(5, 0xFFFF)? as u16,
-        si_max: n(6, 0xFFFF)? as u16,
-        si_min: n(7, 0xFFFF)? as u16,
-        t1: n(8, 0xFFFF)? as u16,
-        t2: n(9, 0xFFFF)? as u16,
-        cth: n(10, 255)? as u8,
-        smp_on: n(11, 0xFFFF)? as u16,
-    })
+    let mut p = Params::default();
+    for ((name, _), &value) in Params::default().hdl_parameters().iter().zip(v) {
+        p.set_hdl_parameter(name, value).map_err(|e| e.to_string())?;
+    }
+    Ok(p)
 }
 
 /// The differences between the model and the RTL in one group, as `MISMATCH` lines (the
@@ -291,7 +275,8 @@ fn lockstep(lib: &DutLib, params: Params, inputs: &[u32]) -> String {
         let (i, word) = input_words(w);
         // SAFETY: arrays of the library's counts (checked at load).
         unsafe { (lib.tick)(dut.1, word.as_ptr(), x.as_mut_ptr(), out.as_mut_ptr(), regs.as_mut_ptr()) };
-        let (internals, after, _) = model.step_traced_wide(&i);
+        let step = model.step_traced(&i);
+        let (internals, after) = (step.internals, step.after);
         // the internals of cycle k, before edge k+1
         if !same(&words::<Internals, { signals::N_INTERNALS }>(signals::INTERNALS, &internals), &x) && compare::<Internals>(&mut report, k, signals::INTERNALS, &internals, &x) > 0 {
             return report + &format!("LOCKSTEP FAIL first divergence at tick {k} (combinational, before rising edge {})\n", k + 1);
