@@ -151,7 +151,7 @@ pub fn knobs_for(bin: &str) -> Vec<Knob> {
         let Some((name, pair)) = rest.split_once('.') else { return k };
         let Some(c) = pmu50_coverage::model::crosses().find(|c| c.name == name) else { return k };
         let Some((a, b)) = pair.split_once('*') else { return k };
-        let (pa, pb) = (&pmu50_coverage::model::POINTS[c.a], &pmu50_coverage::model::POINTS[c.b]);
+        let (pa, pb) = (&pmu50_coverage::model::POINTS[c.rows], &pmu50_coverage::model::POINTS[c.columns]);
         k.extend(knobs_for_point(&format!("{}.{}", pa.group, pa.name), a));
         k.extend(knobs_for_point(&format!("{}.{}", pb.group, pb.name), b));
         // FIG. 18 runs at x only when x = min (a detection at x shortens the interval)

@@ -223,7 +223,7 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
     // Crosses as matrices.
     h.push_str("<h3>crosses</h3>\n");
     for (ci, x) in crosses().enumerate() {
-        let (pa, pb) = (&POINTS[x.a], &POINTS[x.b]);
+        let (pa, pb) = (&POINTS[x.rows], &POINTS[x.columns]);
         let off = l.cross_offset[ci];
         let _ = write!(h, "<p><b>cross.{}</b> — {} <i>({})</i></p><table class=\"mx\"><tr><th>{}.{} \\ {}.{}</th>", esc(x.name), esc(x.meaning), esc(x.cite), pa.group, pa.name, pb.group, pb.name);
         for b in pb.bins {

@@ -42,9 +42,11 @@ pub struct Cross {
     pub name: &'static str,
     pub cite: &'static str,
     pub meaning: &'static str,
-    pub a: usize,
-    pub b: usize,
-    /// Why the pair (bin of `a`, bin of `b`) can never be hit, if it cannot.
+    /// The crossed points (indices in [`POINTS`]): a cross bin is (bin of `rows`, bin of `columns`),
+    /// shown as a matrix in the report.
+    pub rows: usize,
+    pub columns: usize,
+    /// Why the pair (bin of `rows`, bin of `columns`) can never be hit, if it cannot.
     pub unreachable: fn(&str, &str) -> Option<&'static str>,
 }
 
@@ -605,24 +607,24 @@ fn expand_x_t2(a: &str, b: &str) -> Option<&'static str> {
 
 /// Every cross.
 pub static CROSSES: [Cross; 13] = [
-    Cross { name: "fig17_x_fig18", cite: "FIG. 17 x FIG. 18", meaning: "each FIG. 17 path with each FIG. 18 path that leads to it", a: FIG17, b: FIG18, unreachable: fig17_x_fig18 },
-    Cross { name: "rule_x_interval", cite: "[0096]-[0099] x [0216]-[0228]", meaning: "each counting rule at each interval class of the key-off sample that applied it", a: RULE, b: SI_AT_EDGE, unreachable: rule_x_interval },
-    Cross { name: "rule_x_mode", cite: "[0096]-[0099] x [0349]", meaning: "each counting rule with the key off and on", a: RULE, b: SAMPLE_MODE, unreachable: none },
-    Cross { name: "key_edge_x_phase", cite: "[0213] x [0319]-[0323], [0349]", meaning: "key edges in each phase of the output pulse window and of the on-key cycle", a: KEY_EDGE, b: KEY_PHASE, unreachable: key_edge_x_phase },
-    Cross { name: "wrap_x_cnt_w", cite: "docs/spec.md 2.5", meaning: "counter wraps at each class of CNT_W", a: WRAP, b: CFG_CNT_W, unreachable: none },
-    Cross { name: "rule_x_cnt_w", cite: "[0096]-[0099] x CNT_W", meaning: "each counting rule at each class of CNT_W", a: RULE, b: CFG_CNT_W, unreachable: rule_x_cnt_w },
-    Cross { name: "fig18_x_history", cite: "[0237]-[0241] x FIG. 18", meaning: "each FIG. 18 path from each state of the change history", a: HIST, b: FIG18, unreachable: hist_x_fig18 },
-    Cross { name: "fig17_x_cnt_r", cite: "FIG. 17 x [0248]", meaning: "each FIG. 17 path from each class of CNTr", a: FIG17, b: CNT_R_BEFORE, unreachable: fig17_x_cnt_r },
-    Cross { name: "preset_x_mode", cite: "[0092]-[0093] x [0349]", meaning: "the first-sample preset of each quadrant, key off and key on", a: PRESET, b: SAMPLE_MODE, unreachable: preset_x_mode },
-    Cross { name: "skip_x_interval", cite: "docs/spec.md 2.5 x [0216]-[0228]", meaning: "quadrant skips at each interval class (too fast for the interval in force)", a: SKIP, b: SI_AT_EDGE, unreachable: skip_x_interval },
-    Cross { name: "shorten_x_t1", cite: "[0224] x [0260]-[0262]", meaning: "where S6 lands for each class of T1", a: SHORTEN_TO, b: CFG_T1, unreachable: shorten_x_t1 },
-    Cross { name: "expand_x_t2", cite: "[0250] x [0260]", meaning: "where S10 lands for each class of T2", a: EXPAND_TO, b: CFG_T2, unreachable: expand_x_t2 },
-    Cross { name: "write_reg_x_outcome", cite: "docs/spec.md 2.8 and 4", meaning: "each register with each outcome of a write", a: WRITE_REG, b: WRITE_OUTCOME, unreachable: write_reg_x_outcome },
+    Cross { name: "fig17_x_fig18", cite: "FIG. 17 x FIG. 18", meaning: "each FIG. 17 path with each FIG. 18 path that leads to it", rows: FIG17, columns: FIG18, unreachable: fig17_x_fig18 },
+    Cross { name: "rule_x_interval", cite: "[0096]-[0099] x [0216]-[0228]", meaning: "each counting rule at each interval class of the key-off sample that applied it", rows: RULE, columns: SI_AT_EDGE, unreachable: rule_x_interval },
+    Cross { name: "rule_x_mode", cite: "[0096]-[0099] x [0349]", meaning: "each counting rule with the key off and on", rows: RULE, columns: SAMPLE_MODE, unreachable: none },
+    Cross { name: "key_edge_x_phase", cite: "[0213] x [0319]-[0323], [0349]", meaning: "key edges in each phase of the output pulse window and of the on-key cycle", rows: KEY_EDGE, columns: KEY_PHASE, unreachable: key_edge_x_phase },
+    Cross { name: "wrap_x_cnt_w", cite: "docs/spec.md 2.5", meaning: "counter wraps at each class of CNT_W", rows: WRAP, columns: CFG_CNT_W, unreachable: none },
+    Cross { name: "rule_x_cnt_w", cite: "[0096]-[0099] x CNT_W", meaning: "each counting rule at each class of CNT_W", rows: RULE, columns: CFG_CNT_W, unreachable: rule_x_cnt_w },
+    Cross { name: "fig18_x_history", cite: "[0237]-[0241] x FIG. 18", meaning: "each FIG. 18 path from each state of the change history", rows: HIST, columns: FIG18, unreachable: hist_x_fig18 },
+    Cross { name: "fig17_x_cnt_r", cite: "FIG. 17 x [0248]", meaning: "each FIG. 17 path from each class of CNTr", rows: FIG17, columns: CNT_R_BEFORE, unreachable: fig17_x_cnt_r },
+    Cross { name: "preset_x_mode", cite: "[0092]-[0093] x [0349]", meaning: "the first-sample preset of each quadrant, key off and key on", rows: PRESET, columns: SAMPLE_MODE, unreachable: preset_x_mode },
+    Cross { name: "skip_x_interval", cite: "docs/spec.md 2.5 x [0216]-[0228]", meaning: "quadrant skips at each interval class (too fast for the interval in force)", rows: SKIP, columns: SI_AT_EDGE, unreachable: skip_x_interval },
+    Cross { name: "shorten_x_t1", cite: "[0224] x [0260]-[0262]", meaning: "where S6 lands for each class of T1", rows: SHORTEN_TO, columns: CFG_T1, unreachable: shorten_x_t1 },
+    Cross { name: "expand_x_t2", cite: "[0250] x [0260]", meaning: "where S10 lands for each class of T2", rows: EXPAND_TO, columns: CFG_T2, unreachable: expand_x_t2 },
+    Cross { name: "write_reg_x_outcome", cite: "docs/spec.md 2.8 and 4", meaning: "each register with each outcome of a write", rows: WRITE_REG, columns: WRITE_OUTCOME, unreachable: write_reg_x_outcome },
 ];
 
 /// Fold the vs2 cross in as an extra declared cross of the fault group (kept separate from the
 /// table above so the table reads as the plan).
-pub static FAULT_CROSSES: [Cross; 1] = [Cross { name: "vs2_x_interval", cite: "[0209] x [0216]-[0228]", meaning: "a dead Vs2 rail at a key-off sample of each interval class", a: VS2, b: SI_AT_EDGE, unreachable: vs2_x_interval }];
+pub static FAULT_CROSSES: [Cross; 1] = [Cross { name: "vs2_x_interval", cite: "[0209] x [0216]-[0228]", meaning: "a dead Vs2 rail at a key-off sample of each interval class", rows: VS2, columns: SI_AT_EDGE, unreachable: vs2_x_interval }];
 
 /// Bins only port-level stimuli reach (cocotb, a DPI bench, the stress vectors): a scenario's
 /// MPU reads the register map's addresses only, and `pmu50 check` refuses a scenario that writes
@@ -682,7 +684,7 @@ impl Layout {
         let mut cross_offset = Vec::new();
         for c in crosses() {
             cross_offset.push(bins.len());
-            let (pa, pb) = (&POINTS[c.a], &POINTS[c.b]);
+            let (pa, pb) = (&POINTS[c.rows], &POINTS[c.columns]);
             for ba in pa.bins {
                 for bb in pb.bins {
                     let own = |p: &Point, b: &str| p.unreachable.iter().find(|(n, _)| *n == b).map(|(_, r)| *r);

@@ -360,9 +360,9 @@ impl Coverage {
             }
         }
         for (c, &off) in crosses().zip(&l.cross_offset) {
-            let (x, y) = (sel[c.a], sel[c.b]);
-            if x != NONE && y != NONE && (POINTS[c.a].sampled == Sampled::Edge || POINTS[c.b].sampled == Sampled::Edge) {
-                self.count(off + usize::from(x) * POINTS[c.b].bins.len() + usize::from(y));
+            let (x, y) = (sel[c.rows], sel[c.columns]);
+            if x != NONE && y != NONE && (POINTS[c.rows].sampled == Sampled::Edge || POINTS[c.columns].sampled == Sampled::Edge) {
+                self.count(off + usize::from(x) * POINTS[c.columns].bins.len() + usize::from(y));
             }
         }
         if params_changed {

@@ -93,7 +93,7 @@ pub fn to_ucis_xml(f: &CoverageFile) -> String {
         let _ = writeln!(w, "        </coverpoint>");
     }
     for c in crosses() {
-        let (pa, pb) = (&POINTS[c.a], &POINTS[c.b]);
+        let (pa, pb) = (&POINTS[c.rows], &POINTS[c.columns]);
         let _ = writeln!(w, "        <cross name=\"{}\" key=\"0\">", esc(c.name));
         let _ = writeln!(w, "          <options weight=\"1\" goal=\"100\" at_least=\"1\"/>");
         let _ = writeln!(w, "          <crossExpr>{}.{}</crossExpr>", esc(pa.group), esc(pa.name));
