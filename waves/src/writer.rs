@@ -434,15 +434,29 @@ fn max_for_width(width: u32) -> u64 {
 
 /// Deterministic text for a finite real: shortest round-trip digits, plain
 /// notation for moderate magnitudes, exponent notation otherwise; `-0` is `0`.
+#[cfg(test)]
 pub(crate) fn format_real(v: f64) -> String {
+    let mut b = ryu::Buffer::new();
+    real_text(v, &mut b).to_string()
+}
+
+/// [`format_real`] without allocating: the text in `b` (a `ryu` buffer: shortest round-trip
+/// digits), or a static `0`. `ryu` writes plain notation for 1e-5 <= |v| < 1e16 with a `.0`
+/// after an integer, and exponent notation (`1e30`, `1.5e-7`) otherwise, as Rust's `{:e}`; the
+/// `.0` is dropped, and the rare 1e-5 <= |v| < 1e-4 (plain in `ryu`, exponent here) takes
+/// Rust's `{:e}` (tests/writer.rs compares with `format!` on random values).
+pub(crate) fn real_text(v: f64, b: &mut ryu::Buffer) -> std::borrow::Cow<'_, str> {
     if v == 0.0 {
-        return "0".to_string();
+        return "0".into();
     }
     let a = v.abs();
     if (1e-4..1e16).contains(&a) {
-        format!("{v}")
+        let s = b.format_finite(v);
+        s.strip_suffix(".0").unwrap_or(s).into()
+    } else if (1e-5..1e-4).contains(&a) {
+        format!("{v:e}").into()
     } else {
-        format!("{v:e}")
+        b.format_finite(v).into()
     }
 }
 
@@ -917,13 +931,34 @@ impl<W: Write> VcdOut<W> {
             }
             ValueRef::Real(r) => {
                 line.push(b'r');
-                line.extend_from_slice(format_real(r).as_bytes());
+                line.extend_from_slice(real_text(r, &mut ryu::Buffer::new()).as_bytes());
                 line.push(b' ');
             }
         }
         line.extend_from_slice(&self.codes[i]);
         line.push(b'\n');
         self.put(&line)
+    }
+
+    /// A real's change line, `r<text> <code>`, straight into the buffer ([`real_text`]).
+    #[inline]
+    fn value_real(&mut self, i: usize, r: f64) -> Result<()> {
+        let mut b = ryu::Buffer::new();
+        let text = real_text(r, &mut b);
+        let n = text.len() + self.codes[i].len() + 3;
+        if n > SLACK {
+            return self.value_general(i, ValueRef::Real(r));
+        }
+        self.room()?;
+        let code = &self.codes[i];
+        let out = &mut self.buf[self.pos..self.pos + n];
+        out[0] = b'r';
+        out[1..=text.len()].copy_from_slice(text.as_bytes());
+        out[text.len() + 1] = b' ';
+        out[text.len() + 2..n - 1].copy_from_slice(code);
+        out[n - 1] = b'\n';
+        self.pos += n;
+        Ok(())
     }
 
     /// Append text of any length (the general path).
@@ -972,6 +1007,7 @@ impl<W: Write> Emitter for VcdOut<W> {
                 self.pos = p + self.lines[i].write(out, v);
                 Ok(())
             }
+            ValueRef::Real(r) => self.value_real(i, r),
             v => self.value_general(i, v),
         }
     }
@@ -2126,5 +2162,45 @@ impl Write for Slot {
 
     fn flush(&mut self) -> std::io::Result<()> {
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod real_text_tests {
+    use super::format_real;
+
+    /// The text of a real as `std::fmt` writes it: plain for 1e-4 <= |v| < 1e16, `{:e}`
+    /// otherwise, `0` for zero (the simpler reference of [`super::real_text`]).
+    fn by_fmt(v: f64) -> String {
+        if v == 0.0 {
+            "0".to_string()
+        } else if (1e-4..1e16).contains(&v.abs()) {
+            format!("{v}")
+        } else {
+            format!("{v:e}")
+        }
+    }
+
+    #[test]
+    fn edges_of_the_notations() {
+        for v in [1e-4, 9.99e-5, 1e-5, 1.5e-5, 9.9e-6, 1e16, 9.999999999999998e15, 1e15, 37.0, -37.0, 0.001, -0.0001, 1e300, 5e-324, -1.25e-7, 123456.789, f64::MAX, f64::MIN_POSITIVE] {
+            assert_eq!(format_real(v), by_fmt(v), "{v:e}");
+        }
+        assert_eq!(format_real(-0.0), "0");
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn any_finite_real_as_std_fmt(bits in proptest::prelude::any::<u64>()) {
+            let v = f64::from_bits(bits);
+            proptest::prop_assume!(v.is_finite());
+            proptest::prop_assert_eq!(format_real(v), by_fmt(v));
+        }
+
+        #[test]
+        fn rounded_analog_values_as_std_fmt(n in -10_000_000i64..10_000_000, q in 0usize..2) {
+            let v = ((n as f64 * [1e-3, 1e-4][q]) / [1e-3, 1e-4][q]).round() * [1e-3, 1e-4][q];
+            proptest::prop_assert_eq!(format_real(v), by_fmt(v));
+        }
     }
 }
