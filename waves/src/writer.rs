@@ -1390,6 +1390,22 @@ pub struct TextRun<'a, W: Write> {
     next: usize,
     /// a finished text step of this run changed a value (the writer's values are stale)
     dirty: bool,
+    /// the `real` variables given in text steps ([`TextRun::real`]): their values as written
+    /// (the writer's are brought up to date when the run ends) and, in the open step, whether
+    /// given and changed
+    reals: Vec<RealSlot>,
+    /// the declaration index of the last real given in the open step (reals in increasing order)
+    next_real: Option<u32>,
+}
+
+/// A `real` variable of a [`TextRun`] ([`TextRun::real`]).
+#[derive(Clone, Copy)]
+struct RealSlot {
+    i: u32,
+    value: f64,
+    /// given in the open step, and changed in it
+    given: bool,
+    changed: bool,
 }
 
 /// A position of a [`TextRun`]'s frame: its value and its change line.
@@ -1429,7 +1445,7 @@ impl<W: Write> VcdWriter<W> {
         frame.nopen = 0;
         // (the values are taken from the frame when text steps start: `TextRun::step`)
         let slots = frame.idx.iter().map(|&i| TextSlot { prev: 0, line: self.e.lines[i as usize] }).collect();
-        Ok(TextRun { w: self, f: frame, eligible, slots, need, open: false, mark: 0, start: 0, next: 0, dirty: false })
+        Ok(TextRun { w: self, f: frame, eligible, slots, need, open: false, mark: 0, start: 0, next: 0, dirty: false, reals: Vec::new(), next_real: None })
     }
 }
 
@@ -1454,6 +1470,10 @@ impl<'a, W: Write> TextRun<'a, W> {
         }
         if self.open {
             // the open step is final now: its text stays when it wrote a line
+            for r in &mut self.reals {
+                (r.given, r.changed) = (false, false);
+            }
+            self.next_real = None;
             let e = &mut w.e;
             if e.pos == self.start {
                 e.pos = self.mark;
@@ -1514,6 +1534,74 @@ impl<'a, W: Write> TextRun<'a, W> {
         Ok(Some(TextStep { r: self, pos }))
     }
 
+    /// The `real` variable `id` (declared after every variable of the frame) at the time of the
+    /// last step, in the same step: written at once after the frame's lines when that step was
+    /// a text step, through [`Writer::change_real`] otherwise (a step that went through
+    /// [`TextRun::frame_run`], or none in this run). The same checks as `change_real`: a
+    /// `real` variable, finite, given once per step; here in addition the reals of a step come
+    /// in increasing declaration order ([`WriteError::FrameOrder`]). The file is the one of
+    /// `dump_frame` and `change_real` at each step (tests/writer.rs).
+    pub fn real(&mut self, id: SigId, v: f64) -> Result<()> {
+        let i = self.w.index(id)?;
+        if !matches!(self.w.vars[i].kind, Kind::Real) {
+            return Err(self.w.type_mismatch(i, "real"));
+        }
+        if !self.open {
+            return self.w.change_real(id, v);
+        }
+        if self.f.idx.last().is_some_and(|&last| i as u32 <= last) {
+            return Err(order_error(i, self.f.idx[self.f.idx.len() - 1] as usize + 1));
+        }
+        if let Some(last) = self.next_real.filter(|&last| i as u32 <= last) {
+            return Err(if last == i as u32 { self.w.double_change(i) } else { order_error(i, last as usize + 1) });
+        }
+        if !v.is_finite() {
+            return Err(WriteError::NotFinite { name: self.w.vars[i].path.clone(), value: v });
+        }
+        let v = v + 0.0;
+        let k = match self.reals.iter().position(|r| r.i == i as u32) {
+            Some(k) => k,
+            None => {
+                let Stored::Real(value) = self.w.cur[i] else {
+                    return Err(self.w.type_mismatch(i, "real"));
+                };
+                // room for its line in every later step
+                self.need += SLACK;
+                self.reals.push(RealSlot { i: i as u32, value, given: false, changed: false });
+                self.reals.len() - 1
+            }
+        };
+        self.next_real = Some(i as u32);
+        self.next = self.slots.len();
+        self.reals[k].given = true;
+        if self.reals[k].value.to_bits() == v.to_bits() {
+            return Ok(());
+        }
+        let e = &mut self.w.e;
+        let mut b = ryu::Buffer::new();
+        let text = real_text(v, &mut b);
+        let code = &e.codes[i];
+        let n = text.len() + code.len() + 3;
+        if e.pos + n > e.buf.len() {
+            // (only before the step reserved room for this real: take it through the writer)
+            self.reals[k].given = false;
+            self.next_real = None;
+            self.close();
+            return self.w.change_real(id, v);
+        }
+        let out = &mut e.buf[e.pos..e.pos + n];
+        out[0] = b'r';
+        out[1..=text.len()].copy_from_slice(text.as_bytes());
+        out[text.len() + 1] = b' ';
+        out[text.len() + 2..n - 1].copy_from_slice(code);
+        out[n - 1] = b'\n';
+        e.pos += n;
+        self.reals[k].value = v;
+        self.reals[k].changed = true;
+        self.dirty = true;
+        Ok(())
+    }
+
     /// End the text steps and lend the writer to the frame as a [`FrameRun`] (for a step that
     /// [`TextRun::step`] cannot write at once); the text steps resume at the next
     /// [`TextRun::step`].
@@ -1538,7 +1626,8 @@ impl<'a, W: Write> TextRun<'a, W> {
         let (start, end) = (self.start, w.e.pos);
         let mut k = 0;
         let mut changed = false;
-        for line in w.e.buf[start..end].to_vec().split_inclusive(|&b| b == b'\n') {
+        // (the reals' lines, `r...`, follow the frame's: `TextRun::real`)
+        for line in w.e.buf[start..end].to_vec().split_inclusive(|&b| b == b'\n').take_while(|l| l.first() != Some(&b'r')) {
             while !self.slots[k].line.is_line_of(line) {
                 k += 1;
             }
@@ -1547,6 +1636,21 @@ impl<'a, W: Write> TextRun<'a, W> {
             k += 1;
         }
         w.e.pos = self.mark;
+        // The reals: the writer's values; those given in the open step are assigned in it.
+        for r in self.reals.iter_mut() {
+            w.cur[r.i as usize] = Stored::Real(r.value);
+            if r.given {
+                w.assigned[r.i as usize] = w.step;
+                w.single_step = w.step;
+            }
+            if r.changed {
+                w.push_pending(r.i as usize);
+                changed = true;
+            }
+            (r.given, r.changed) = (false, false);
+        }
+        self.reals.clear();
+        self.next_real = None;
         // a value changed in an earlier step of the run or in the open one
         if !std::mem::replace(&mut self.dirty, false) && !changed {
             return;
