@@ -10,6 +10,7 @@ use crate::scenario::{Scenario, Trace};
 use crate::sim::{self, Observer, RunResult, SimError, SimOptions, TickView};
 use crate::waveform::{timescale_for, Level, VcdObserver, WaveFormat};
 use pmu50_core::pmu50::Structural;
+use pmu50_core::Pmu50;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
@@ -332,7 +333,8 @@ pub fn run_to_batch_focused(sc: &Scenario, dir: &Path, fo: FileOptions, format: 
     let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
     let window = fo.window.or(sc.vcd_window);
     // The VCD declares every signal with its reset value: built when the bench begins.
-    let mut vcd = sim::OnBegin::new(|init: &TickView<'_>| VcdObserver::create_level(dir, &sc.name, s, sc.clock_ns(), window, format, fo.level, init));
+    let core = Pmu50::new(sc.params).map_err(|source| SimError::Core { scenario: sc.name.clone(), source })?;
+    let mut vcd = sim::OnBegin::new(|init: &TickView<'_>| VcdObserver::create(dir, &sc.name, &core, sc.clock_ns(), window, format, fo.level, init));
     let log_path = dir.join(format!("{}.log", sc.name));
     let mut log = if fo.log {
         let f = AtomicFile::stage(&log_path)?;

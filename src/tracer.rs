@@ -46,7 +46,7 @@
 use pmu50_core::pmu50::{Inputs, Internals, Outputs, Regs};
 use pmu50_core::signals::{self, Width};
 use pmu50_core::Pmu50;
-use pmu50_waves::writer::{Emitter, Frame, FrameRun, RunStep, TextRun, TextStep, VcdWriter, WriteError, Writer};
+use pmu50_waves::writer::{Emitter, Frame, FrameRun, RunStep, SigId, TextRun, TextStep, VcdWriter, WriteError, Writer};
 use std::io::Write;
 
 /// Number of signals in a [`CoreTracer`]'s frame, and where each group starts.
@@ -204,6 +204,15 @@ impl<W: Write> TracerTextRun<'_, W> {
     /// The core (its registers, tick count, read-out).
     pub fn core(&self) -> &Pmu50 {
         self.m
+    }
+
+    /// The `real` variable `id` (declared after the frame's signals: the analog values of a
+    /// run) at the time of the last step, written in the same step ([`TextRun::real`]: at once
+    /// after the step's lines when it was written at once, through the writer's checked
+    /// `change_real` otherwise).
+    #[inline]
+    pub fn real(&mut self, id: SigId, v: f64) -> Result<(), WriteError> {
+        self.run.real(id, v)
     }
 
     /// One rising edge of the core with inputs `i`, traced at time `t`, as [`TracerRun::step`]

@@ -281,7 +281,8 @@ fn traced(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: Option<
 fn traced_level(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: Option<(u64, u64)>, level: Level) -> (RunResult, Vec<u8>, Vec<Marker>, Vec<u8>) {
     let dir = tempfile::tempdir().unwrap();
     let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
-    let mut vcd = OnBegin::new(|init: &TickView<'_>| VcdObserver::create_level(dir.path(), &sc.name, s, sc.clock_ns(), window, format, level, init));
+    let core = pmu50_core::Pmu50::new(sc.params).unwrap();
+    let mut vcd = OnBegin::new(|init: &TickView<'_>| VcdObserver::create(dir.path(), &sc.name, &core, sc.clock_ns(), window, format, level, init));
     let mut marks = MarkerObserver::new(sc.clock_ns());
     let mut log = ChangeLog::new(Vec::new(), s, sc.clock_ns()).unwrap();
     let mut timing = TimingRecorder::new(sc.clock_ns(), window);

@@ -1547,7 +1547,7 @@ impl<'a, W: Write> TextRun<'a, W> {
             return Err(self.w.type_mismatch(i, "real"));
         }
         if !self.open {
-            return self.w.change_real(id, v);
+            return self.change_real(id, v);
         }
         if self.f.idx.last().is_some_and(|&last| i as u32 <= last) {
             return Err(order_error(i, self.f.idx[self.f.idx.len() - 1] as usize + 1));
@@ -1587,7 +1587,7 @@ impl<'a, W: Write> TextRun<'a, W> {
             self.reals[k].given = false;
             self.next_real = None;
             self.close();
-            return self.w.change_real(id, v);
+            return self.change_real(id, v);
         }
         let out = &mut e.buf[e.pos..e.pos + n];
         out[0] = b'r';
@@ -1599,6 +1599,17 @@ impl<'a, W: Write> TextRun<'a, W> {
         self.reals[k].value = v;
         self.reals[k].changed = true;
         self.dirty = true;
+        Ok(())
+    }
+
+    /// [`Writer::change_real`] of a real outside the frame: a frame that held the writer's
+    /// values still does (so the next step may be a text step again).
+    fn change_real(&mut self, id: SigId, v: f64) -> Result<()> {
+        let current = self.f.generation == self.w.generation;
+        self.w.change_real(id, v)?;
+        if current {
+            self.f.generation = self.w.generation;
+        }
         Ok(())
     }
 
