@@ -16,13 +16,13 @@
 //! ([`Stepping::IdleGaps`]), itself proven equal to stepping every tick in tests/properties.rs
 //! and below: stepping every one of its 8.6e9 ticks would take CI an hour.
 
-use pmu50::changelog::ChangeLog;
-use pmu50::markers::{Marker, MarkerObserver};
+use pmu50::observers::changelog::ChangeLog;
+use pmu50::observers::markers::{Marker, MarkerObserver};
 use pmu50::output::summary;
-use pmu50::plot::timing::TimingRecorder;
+use pmu50::observers::timing::TimingRecorder;
 use pmu50::scenario::Scenario;
 use pmu50::sim::{run_with, OnBegin, RunResult, Stepping, TickView};
-use pmu50::waveform::{Level, VcdObserver, WaveFormat};
+use pmu50::observers::waveform::{Level, VcdObserver, WaveFormat};
 use pmu50_core::pmu50::Structural;
 use proptest::prelude::*;
 use std::fmt::Write;

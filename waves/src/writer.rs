@@ -1715,7 +1715,7 @@ impl<W: Write> TextStep<'_, '_, W> {
     ///   against the widths of the values it gives).
     ///
     /// A position past the frame's end panics, in every build. For a tracer whose values come
-    /// from typed registers (`pmu50::tracer::CoreTracer`, which checks the frame's widths when
+    /// from typed registers (`pmu50::observers::tracer::CoreTracer`, which checks the frame's widths when
     /// it is created and is compared with [`Writer::dump_frame`] in its tests); any other
     /// caller, [`TextStep::line`].
     #[inline(always)]

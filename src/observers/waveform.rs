@@ -16,7 +16,7 @@
 
 use crate::sim::replay::PeriodRecorder;
 use crate::sim::{Observer, SimError, TickView};
-use crate::tracer::{CoreTracer, TracerTextRun};
+use crate::observers::tracer::{CoreTracer, TracerTextRun};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::Pmu50;
 use pmu50_core::signals::{self, Dir, Radix, Signal};
@@ -24,7 +24,7 @@ use pmu50_waves::gtkw::{Analog, Color, Format, GtkwSave, Trace};
 use pmu50_waves::fst::{start_fst, FstWriter};
 use pmu50_waves::writer::{BitType, Emitter, Frame, SigId, VcdBuilder, VcdWriter, WriteError, Writer};
 use pmu50_waves::{TimeUnit, Timescale};
-use crate::fsout::AtomicFile;
+use crate::atomic_file::AtomicFile;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
@@ -160,7 +160,7 @@ pub struct VcdObserver {
     /// The tracer while its writer is lent out of it (a replay: [`VcdObserver::untraced`]).
     tracer: Option<CoreTracer>,
     /// The complete VCD (temporary file) after `finish`, and the save file, for the caller to
-    /// rename into place (crate::fsout).
+    /// rename into place (crate::atomic_file).
     file: Option<AtomicFile>,
     gtkw: Option<GtkwSave>,
     ids: Ids,
