@@ -277,8 +277,8 @@ enum Cmd {
         #[arg(long)]
         every: Option<u64>,
         /// x handling: strict, left (x on the left matches anything), either.
-        #[arg(long, default_value = "strict")]
-        x: String,
+        #[arg(long = "x", value_name = "X", default_value = "strict")]
+        x_policy: String,
         /// Report at most this many mismatches.
         #[arg(long, default_value_t = 20)]
         max: usize,
@@ -519,7 +519,7 @@ fn main() -> ExitCode {
                 2
             }
         },
-        Cmd::Diff { left, right, map, clock, every, x, max, allow_unmatched, real_tol, max_bytes } => cmd_diff(left, right, map, clock, every, x, max, allow_unmatched, real_tol, max_bytes),
+        Cmd::Diff { left, right, map, clock, every, x_policy, max, allow_unmatched, real_tol, max_bytes } => cmd_diff(left, right, map, clock, every, x_policy, max, allow_unmatched, real_tol, max_bytes),
     };
     with_streams(code)
 }

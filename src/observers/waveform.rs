@@ -156,7 +156,7 @@ enum Out {
 
 /// Observer writing the waveform (VCD or FST) of a run and its GTKWave save file.
 pub struct VcdObserver {
-    w: Option<Out>,
+    out: Option<Out>,
     /// The tracer while its writer is lent out of it (a replay: [`VcdObserver::untraced`]).
     tracer: Option<CoreTracer>,
     /// The complete VCD (temporary file) after `finish`, and the save file, for the caller to
@@ -360,7 +360,7 @@ impl VcdObserver {
             }
         };
         let ids = Ids { all, state, env, values: Vec::with_capacity(all_ids.len()), level, all_ids };
-        Ok(VcdObserver { w: Some(w), tracer: None, file: None, gtkw: Some(gt), ids, unit_ns, path, rec: PeriodRecorder::new(), rec_values: Vec::new(), clock_ns, window })
+        Ok(VcdObserver { out: Some(w), tracer: None, file: None, gtkw: Some(gt), ids, unit_ns, path, rec: PeriodRecorder::new(), rec_values: Vec::new(), clock_ns, window })
     }
 
     /// The complete VCD (after `finish`, still a temporary file) and its save file.
@@ -370,7 +370,7 @@ impl VcdObserver {
 
     /// The tracer's writer back (its run ended), for a replay or the final dump.
     fn untraced(&mut self) {
-        self.w = match self.w.take() {
+        self.out = match self.out.take() {
             Some(Out::Traced(tv)) => {
                 let heads = tv.into_heads();
                 self.tracer = Some(heads.tracer);
@@ -383,7 +383,7 @@ impl VcdObserver {
     /// The writer lent to the tracer again after [`VcdObserver::untraced`].
     fn retraced(&mut self) -> Result<(), SimError> {
         let Some(tracer) = self.tracer.take() else { return Ok(()) };
-        self.w = match self.w.take() {
+        self.out = match self.out.take() {
             Some(Out::Vcd(w)) => Some(Out::Traced(Box::new(TracedVcd::start(w, tracer).map_err(|e| err(&self.path, e))?))),
             w => w,
         };
@@ -393,7 +393,7 @@ impl VcdObserver {
     fn dump(&mut self, v: &TickView<'_>, with_inputs: bool) -> Result<(), SimError> {
         let path = &self.path;
         let t = v.time_ns / self.unit_ns;
-        let r = match self.w.as_mut() {
+        let r = match self.out.as_mut() {
             Some(Out::Traced(tv)) => {
                 let env = &self.ids.env;
                 let r = tv.with_run_mut(|run| -> Result<bool, WriteError> {
@@ -495,7 +495,7 @@ impl VcdObserver {
     fn replay_untraced(&mut self, k: u64, periods: u64, len: u64) -> Result<(), SimError> {
         let (clk, unit) = (self.clock_ns, self.unit_ns);
         let (all, env) = (&self.ids.all_ids, &self.ids.env);
-        let r = match self.w.as_mut() {
+        let r = match self.out.as_mut() {
             Some(Out::Vcd(w)) => self.rec.replay(k, periods, len, self.window, |tick, c| replay_into(w, all, env, tick * clk / unit, c)),
             Some(Out::Fst(w, _)) => self.rec.replay(k, periods, len, self.window, |tick, c| replay_into(w, all, env, tick * clk / unit, c)),
             Some(Out::Traced(_)) | None => return Err(err(&self.path, "writer already closed")),
@@ -506,7 +506,7 @@ impl VcdObserver {
     fn finish_untraced(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
         self.dump(v, false)?;
         let path = self.path.clone();
-        let w = self.w.take().ok_or_else(|| err(&path, "writer already closed"))?;
+        let w = self.out.take().ok_or_else(|| err(&path, "writer already closed"))?;
         self.file = Some(match w {
             Out::Traced(_) => return Err(err(&path, "the tracer still holds the writer")),
             Out::Vcd(w) => (*w).finish().map_err(|e| err(&path, e))?.into_inner().map_err(|e| err(&path, e.into_error()))?,

@@ -717,7 +717,7 @@ impl VcdBuilder {
     pub(crate) fn into_writer<E: Emitter>(self, e: E) -> Writer<E> {
         let n = self.vars.len();
         Writer {
-            e,
+            emitter: e,
             owner: self.owner,
             vars: self.vars,
             cur: self.init,
@@ -1071,8 +1071,8 @@ impl Frame {
 
 /// One step of a [`Frame`] whose values are given one by one ([`Writer::frame_step`]).
 pub struct FrameStep<'a, E: Emitter> {
-    w: &'a mut Writer<E>,
-    f: &'a mut Frame,
+    writer: &'a mut Writer<E>,
+    frame: &'a mut Frame,
     /// A variable of the frame holds a four-state value (a single change), which the frame's
     /// integer copy cannot hold: compare with the writer's values in this step.
     slow: bool,
@@ -1098,19 +1098,19 @@ impl<E: Emitter> FrameStep<'_, E> {
     /// value in this step).
     #[inline(always)]
     pub fn set(&mut self, k: usize, v: u64) -> Result<()> {
-        let f = &mut *self.f;
+        let f = &mut *self.frame;
         let (Some(&prev), Some(seen)) = (f.prev.get(k), f.seen.get_mut(k / 64)) else {
             return Err(position_error(f, k));
         };
         let bit = 1u64 << (k % 64);
         if *seen & bit != 0 {
-            return Err(self.w.double_change(f.idx[k] as usize));
+            return Err(self.writer.double_change(f.idx[k] as usize));
         }
-        let same = if self.slow { self.w.cur[f.idx[k] as usize] == Stored::Int(v) } else { v == prev };
+        let same = if self.slow { self.writer.cur[f.idx[k] as usize] == Stored::Int(v) } else { v == prev };
         if !same && !self.changed(k, v) {
-            return Err(too_wide(self.w, self.f, k, v));
+            return Err(too_wide(self.writer, self.frame, k, v));
         }
-        self.f.seen[k / 64] |= bit;
+        self.frame.seen[k / 64] |= bit;
         Ok(())
     }
 
@@ -1118,7 +1118,7 @@ impl<E: Emitter> FrameStep<'_, E> {
     /// when it is wider than its variable.
     #[inline(always)]
     fn changed(&mut self, k: usize, v: u64) -> bool {
-        let (f, w) = (&mut *self.f, &mut *self.w);
+        let (f, w) = (&mut *self.frame, &mut *self.writer);
         let i = f.idx[k] as usize;
         if v > f.max[k] {
             return false;
@@ -1159,9 +1159,9 @@ impl<E: Emitter> FrameStep<'_, E> {
 /// must be dropped, not leaked (`std::mem::forget` loses its last step). Ending a run in which
 /// no value changed costs nothing; otherwise it copies the frame's values into the writer once.
 pub struct FrameRun<'a, E: Emitter> {
-    w: &'a mut Writer<E>,
+    writer: &'a mut Writer<E>,
     /// the frame; its `open[..nopen]` are the positions changed in the open direct step
-    f: &'a mut Frame,
+    frame: &'a mut Frame,
     /// the open step (at the writer's time) is direct
     direct: bool,
     /// a direct step of this run changed a value (the writer's values are stale)
@@ -1176,7 +1176,7 @@ impl<E: Emitter> Writer<E> {
             return Err(WriteError::UnknownFrame);
         }
         frame.nopen = 0;
-        Ok(FrameRun { w: self, f: frame, direct: false, dirty: false })
+        Ok(FrameRun { writer: self, frame, direct: false, dirty: false })
     }
 }
 
@@ -1187,33 +1187,33 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
     #[inline]
     pub fn step(&mut self, t: u64) -> Result<RunStep<'_, E>> {
         if self.direct {
-            let w = &mut *self.w;
+            let w = &mut *self.writer;
             if t < w.time {
                 return Err(WriteError::TimeBackwards { requested: t, current: w.time });
             }
             if t == w.time {
                 // the open step assigned every variable of the frame at `t`
-                return Err(w.double_change(self.f.idx[0] as usize));
+                return Err(w.double_change(self.frame.idx[0] as usize));
             }
             if w.in_window(t) {
-                let f = &mut *self.f;
+                let f = &mut *self.frame;
                 if f.nopen > 0 {
                     self.dirty = true;
-                    w.e.timestamp(w.time)?;
+                    w.emitter.timestamp(w.time)?;
                     for &k in &f.open[..f.nopen] {
-                        w.e.value(f.idx[k as usize] as usize, ValueRef::Int(f.prev[k as usize]))?;
+                        w.emitter.value(f.idx[k as usize] as usize, ValueRef::Int(f.prev[k as usize]))?;
                     }
                     w.last_written = Some(w.time);
                     f.nopen = 0;
                 }
                 w.time = t;
                 w.step += 1;
-                w.frame_steps[self.f.id as usize] = w.step;
-                return Ok(RunStep { inner: Inner::Direct { w: &*self.w, f: &mut *self.f }, next: 0, current: true });
+                w.frame_steps[self.frame.id as usize] = w.step;
+                return Ok(RunStep { inner: Inner::Direct { writer: &*self.writer, frame: &mut *self.frame }, next: 0, current: true });
             }
             self.close();
         }
-        let (w, f) = (&mut *self.w, &mut *self.f);
+        let (w, f) = (&mut *self.writer, &mut *self.frame);
         if t > w.time && f.sorted {
             w.frame_prologue(f, t)?;
             if w.dumped && w.in_window(t) {
@@ -1230,11 +1230,11 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
                     w.frame_steps[f.id as usize] = w.step;
                     self.direct = true;
                     f.nopen = 0;
-                    return Ok(RunStep { inner: Inner::Direct { w: &*self.w, f: &mut *self.f }, next: 0, current });
+                    return Ok(RunStep { inner: Inner::Direct { writer: &*self.writer, frame: &mut *self.frame }, next: 0, current });
                 }
             }
         }
-        let s = self.w.frame_step(self.f, t)?;
+        let s = self.writer.frame_step(self.frame, t)?;
         let current = s.is_current();
         Ok(RunStep { inner: Inner::Checked(s), next: 0, current })
     }
@@ -1245,7 +1245,7 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
         if !std::mem::replace(&mut self.direct, false) {
             return;
         }
-        let (w, f) = (&mut *self.w, &mut *self.f);
+        let (w, f) = (&mut *self.writer, &mut *self.frame);
         if !std::mem::replace(&mut self.dirty, false) && f.nopen == 0 {
             // nothing changed: the writer's values are the frame's copy (refreshed when the
             // first direct step began)
@@ -1279,7 +1279,7 @@ pub struct RunStep<'r, E: Emitter> {
 }
 
 enum Inner<'r, E: Emitter> {
-    Direct { w: &'r Writer<E>, f: &'r mut Frame },
+    Direct { writer: &'r Writer<E>, frame: &'r mut Frame },
     Checked(FrameStep<'r, E>),
 }
 
@@ -1301,7 +1301,7 @@ impl<E: Emitter> RunStep<'_, E> {
             return Err(order_error(k, self.next));
         }
         match &mut self.inner {
-            Inner::Direct { w, f } => {
+            Inner::Direct { writer: w, frame: f } => {
                 let Some(prev) = f.prev.get_mut(k) else {
                     return Err(position_error(f, k));
                 };
@@ -1372,8 +1372,8 @@ fn too_wide<E: Emitter>(w: &Writer<E>, f: &Frame, k: usize, v: u64) -> WriteErro
 /// (`std::mem::forget` loses its last step and leaves the writer's and the frame's values stale);
 /// a [`TextStep`] may be leaked: its lines are the writer's as soon as they are written.
 pub struct TextRun<'a, W: Write> {
-    w: &'a mut VcdWriter<W>,
-    f: &'a mut Frame,
+    writer: &'a mut VcdWriter<W>,
+    frame: &'a mut Frame,
     /// the frame's variables all have change lines and are in declaration order
     eligible: bool,
     /// per position of the frame: its value and its change line (one bounds check and one
@@ -1401,7 +1401,7 @@ pub struct TextRun<'a, W: Write> {
 /// A `real` variable of a [`TextRun`] ([`TextRun::real`]).
 #[derive(Clone, Copy)]
 struct RealSlot {
-    i: u32,
+    var: u32,
     value: f64,
     /// given in the open step, and changed in it
     given: bool,
@@ -1421,7 +1421,7 @@ struct TextSlot {
 /// never loads it back: the next line starts from the step's own copy, not from a load that
 /// waits for the store (the writer is up to date after every line, however the step ends).
 pub struct TextStep<'s, 'a, W: Write> {
-    r: &'s mut TextRun<'a, W>,
+    run: &'s mut TextRun<'a, W>,
     /// the end of the text in the writer's buffer (equal to the writer's)
     pos: usize,
 }
@@ -1433,9 +1433,9 @@ impl<W: Write> VcdWriter<W> {
         if frame.owner != self.owner || frame.id as usize >= self.frame_steps.len() {
             return Err(WriteError::UnknownFrame);
         }
-        let eligible = frame.sorted && frame.idx.iter().all(|&i| self.e.lines[i as usize].is_line());
+        let eligible = frame.sorted && frame.idx.iter().all(|&i| self.emitter.lines[i as usize].is_line());
         let need = (frame.idx.len() + 1) * SLACK;
-        let e = &mut self.e;
+        let e = &mut self.emitter;
         if eligible && e.buf.len() < need + SLACK {
             // a frame of thousands of variables: room for one whole step
             let mut buf = vec![0; VCD_BUFFER + need + SLACK].into_boxed_slice();
@@ -1444,8 +1444,8 @@ impl<W: Write> VcdWriter<W> {
         }
         frame.nopen = 0;
         // (the values are taken from the frame when text steps start: `TextRun::step`)
-        let slots = frame.idx.iter().map(|&i| TextSlot { prev: 0, line: self.e.lines[i as usize] }).collect();
-        Ok(TextRun { w: self, f: frame, eligible, slots, need, open: false, mark: 0, start: 0, next: 0, dirty: false, reals: Vec::new(), next_real: None })
+        let slots = frame.idx.iter().map(|&i| TextSlot { prev: 0, line: self.emitter.lines[i as usize] }).collect();
+        Ok(TextRun { writer: self, frame, eligible, slots, need, open: false, mark: 0, start: 0, next: 0, dirty: false, reals: Vec::new(), next_real: None })
     }
 }
 
@@ -1458,13 +1458,13 @@ impl<'a, W: Write> TextRun<'a, W> {
     /// ([`WriteError::DoubleChange`]: that step gave the frame's values at `t`).
     #[inline]
     pub fn step(&mut self, t: u64) -> Result<Option<TextStep<'_, 'a, W>>> {
-        let w = &mut *self.w;
+        let w = &mut *self.writer;
         if t <= w.time {
             if t < w.time {
                 return Err(WriteError::TimeBackwards { requested: t, current: w.time });
             }
             if self.open {
-                return Err(w.double_change(self.f.idx[0] as usize));
+                return Err(w.double_change(self.frame.idx[0] as usize));
             }
             return Ok(None);
         }
@@ -1474,7 +1474,7 @@ impl<'a, W: Write> TextRun<'a, W> {
                 (r.given, r.changed) = (false, false);
             }
             self.next_real = None;
-            let e = &mut w.e;
+            let e = &mut w.emitter;
             if e.pos == self.start {
                 e.pos = self.mark;
             } else {
@@ -1497,15 +1497,15 @@ impl<'a, W: Write> TextRun<'a, W> {
             w.flush_step()?;
             // `frame_prologue`'s checks (this frame or an overlapping one already stepped at
             // `t`, a single change at `t`) cannot fail: `t` is after the writer's time
-            if !(w.dumped && self.f.generation == w.generation) || self.f.idx.iter().any(|&i| !matches!(w.cur[i as usize], Stored::Int(_))) {
+            if !(w.dumped && self.frame.generation == w.generation) || self.frame.idx.iter().any(|&i| !matches!(w.cur[i as usize], Stored::Int(_))) {
                 return Ok(None);
             }
             // the text steps hold the frame's values from here until they end (`close`)
-            for (s, &p) in self.slots.iter_mut().zip(&self.f.prev) {
+            for (s, &p) in self.slots.iter_mut().zip(&self.frame.prev) {
                 s.prev = p;
             }
         }
-        let e = &mut self.w.e;
+        let e = &mut self.writer.emitter;
         if e.pos + self.need > e.buf.len() {
             if let Err(err) = e.out.write_all(&e.buf[..e.pos]) {
                 self.close();
@@ -1513,7 +1513,7 @@ impl<'a, W: Write> TextRun<'a, W> {
             }
             e.pos = 0;
         }
-        let w = &mut *self.w;
+        let w = &mut *self.writer;
         if !self.open {
             // The writer's step number, and this frame's, once for the run's text steps: while
             // the run lasts nothing else assigns or steps, so every later step of it is this
@@ -1521,17 +1521,17 @@ impl<'a, W: Write> TextRun<'a, W> {
             // one is the frame's step at the writer's time, numbered after every earlier
             // assignment and frame step (as if numbered one by one).
             w.step += 1;
-            w.frame_steps[self.f.id as usize] = w.step;
+            w.frame_steps[self.frame.id as usize] = w.step;
         }
         self.open = true;
         w.time = t;
-        let e = &mut w.e;
+        let e = &mut w.emitter;
         self.mark = e.pos;
         e.stamp(t);
         let pos = e.pos;
         self.start = pos;
         self.next = 0;
-        Ok(Some(TextStep { r: self, pos }))
+        Ok(Some(TextStep { run: self, pos }))
     }
 
     /// The `real` variable `id` (declared after every variable of the frame) at the time of the
@@ -1542,32 +1542,32 @@ impl<'a, W: Write> TextRun<'a, W> {
     /// in increasing declaration order ([`WriteError::FrameOrder`]). The file is the one of
     /// `dump_frame` and `change_real` at each step (tests/writer.rs).
     pub fn real(&mut self, id: SigId, v: f64) -> Result<()> {
-        let i = self.w.index(id)?;
-        if !matches!(self.w.vars[i].kind, Kind::Real) {
-            return Err(self.w.type_mismatch(i, "real"));
+        let i = self.writer.index(id)?;
+        if !matches!(self.writer.vars[i].kind, Kind::Real) {
+            return Err(self.writer.type_mismatch(i, "real"));
         }
         if !self.open {
             return self.change_real(id, v);
         }
-        if self.f.idx.last().is_some_and(|&last| i as u32 <= last) {
-            return Err(order_error(i, self.f.idx[self.f.idx.len() - 1] as usize + 1));
+        if self.frame.idx.last().is_some_and(|&last| i as u32 <= last) {
+            return Err(order_error(i, self.frame.idx[self.frame.idx.len() - 1] as usize + 1));
         }
         if let Some(last) = self.next_real.filter(|&last| i as u32 <= last) {
-            return Err(if last == i as u32 { self.w.double_change(i) } else { order_error(i, last as usize + 1) });
+            return Err(if last == i as u32 { self.writer.double_change(i) } else { order_error(i, last as usize + 1) });
         }
         if !v.is_finite() {
-            return Err(WriteError::NotFinite { name: self.w.vars[i].path.clone(), value: v });
+            return Err(WriteError::NotFinite { name: self.writer.vars[i].path.clone(), value: v });
         }
         let v = v + 0.0;
-        let k = match self.reals.iter().position(|r| r.i == i as u32) {
+        let k = match self.reals.iter().position(|r| r.var == i as u32) {
             Some(k) => k,
             None => {
-                let Stored::Real(value) = self.w.cur[i] else {
-                    return Err(self.w.type_mismatch(i, "real"));
+                let Stored::Real(value) = self.writer.cur[i] else {
+                    return Err(self.writer.type_mismatch(i, "real"));
                 };
                 // room for its line in every later step
                 self.need += SLACK;
-                self.reals.push(RealSlot { i: i as u32, value, given: false, changed: false });
+                self.reals.push(RealSlot { var: i as u32, value, given: false, changed: false });
                 self.reals.len() - 1
             }
         };
@@ -1577,7 +1577,7 @@ impl<'a, W: Write> TextRun<'a, W> {
         if self.reals[k].value.to_bits() == v.to_bits() {
             return Ok(());
         }
-        let e = &mut self.w.e;
+        let e = &mut self.writer.emitter;
         let mut b = ryu::Buffer::new();
         let text = real_text(v, &mut b);
         let code = &e.codes[i];
@@ -1605,10 +1605,10 @@ impl<'a, W: Write> TextRun<'a, W> {
     /// [`Writer::change_real`] of a real outside the frame: a frame that held the writer's
     /// values still does (so the next step may be a text step again).
     fn change_real(&mut self, id: SigId, v: f64) -> Result<()> {
-        let current = self.f.generation == self.w.generation;
-        self.w.change_real(id, v)?;
+        let current = self.frame.generation == self.writer.generation;
+        self.writer.change_real(id, v)?;
         if current {
-            self.f.generation = self.w.generation;
+            self.frame.generation = self.writer.generation;
         }
         Ok(())
     }
@@ -1618,7 +1618,7 @@ impl<'a, W: Write> TextRun<'a, W> {
     /// [`TextRun::step`].
     pub fn frame_run(&mut self) -> Result<FrameRun<'_, VcdOut<W>>> {
         self.close();
-        self.w.frame_run(self.f)
+        self.writer.frame_run(self.frame)
     }
 
     /// The writer takes over the frame's values: every variable of the frame its value, and
@@ -1627,18 +1627,18 @@ impl<'a, W: Write> TextRun<'a, W> {
         if !std::mem::replace(&mut self.open, false) {
             return;
         }
-        let (w, f) = (&mut *self.w, &mut *self.f);
+        let (w, f) = (&mut *self.writer, &mut *self.frame);
         for (p, s) in f.prev.iter_mut().zip(self.slots.iter()) {
             *p = s.prev;
         }
         // The open step's changes become the writer's pending step (its first text step
         // wrote the writer's own). They are read back from its text, which a step keeps whole:
         // its lines are in increasing positions, each ends with its variable's code.
-        let (start, end) = (self.start, w.e.pos);
+        let (start, end) = (self.start, w.emitter.pos);
         let mut k = 0;
         let mut changed = false;
         // (the reals' lines, `r...`, follow the frame's: `TextRun::real`)
-        for line in w.e.buf[start..end].to_vec().split_inclusive(|&b| b == b'\n').take_while(|l| l.first() != Some(&b'r')) {
+        for line in w.emitter.buf[start..end].to_vec().split_inclusive(|&b| b == b'\n').take_while(|l| l.first() != Some(&b'r')) {
             while !self.slots[k].line.is_line_of(line) {
                 k += 1;
             }
@@ -1646,16 +1646,16 @@ impl<'a, W: Write> TextRun<'a, W> {
             changed = true;
             k += 1;
         }
-        w.e.pos = self.mark;
+        w.emitter.pos = self.mark;
         // The reals: the writer's values; those given in the open step are assigned in it.
         for r in self.reals.iter_mut() {
-            w.cur[r.i as usize] = Stored::Real(r.value);
+            w.cur[r.var as usize] = Stored::Real(r.value);
             if r.given {
-                w.assigned[r.i as usize] = w.step;
+                w.assigned[r.var as usize] = w.step;
                 w.single_step = w.step;
             }
             if r.changed {
-                w.push_pending(r.i as usize);
+                w.push_pending(r.var as usize);
                 changed = true;
             }
             (r.given, r.changed) = (false, false);
@@ -1687,19 +1687,19 @@ impl<W: Write> TextStep<'_, '_, W> {
     /// assigned.
     #[inline(always)]
     pub fn line(&mut self, k: usize, v: u64) -> Result<()> {
-        let r = &mut *self.r;
+        let r = &mut *self.run;
         if k < r.next {
             return Err(order_error(k, r.next));
         }
         let Some(slot) = r.slots.get_mut(k) else {
-            return Err(position_error(r.f, k));
+            return Err(position_error(r.frame, k));
         };
         if v == slot.prev {
             r.next = k + 1;
             return Ok(());
         }
-        if v > r.f.max[k] {
-            return Err(too_wide(r.w, r.f, k, v));
+        if v > r.frame.max[k] {
+            return Err(too_wide(r.writer, r.frame, k, v));
         }
         self.write::<0>(k, v);
         Ok(())
@@ -1737,11 +1737,11 @@ impl<W: Write> TextStep<'_, '_, W> {
     /// asserted in debug builds, then the line.
     #[inline(always)]
     fn change_n<const N: usize>(&mut self, k: usize, v: u64) {
-        let r = &*self.r;
+        let r = &*self.run;
         debug_assert!(k >= r.next, "change: position {k} after {} in one step", r.next);
         debug_assert!(r.slots[k].prev != v, "change: position {k} did not change");
-        debug_assert!(v <= r.f.max[k], "change: value {v:#x} too wide for position {k}");
-        debug_assert!(N == 0 || r.f.max[k] == u64::MAX >> (64 - N), "change_w: position {k} is not {N} bits wide");
+        debug_assert!(v <= r.frame.max[k], "change: value {v:#x} too wide for position {k}");
+        debug_assert!(N == 0 || r.frame.max[k] == u64::MAX >> (64 - N), "change_w: position {k} is not {N} bits wide");
         self.write::<N>(k, v);
     }
 
@@ -1751,12 +1751,12 @@ impl<W: Write> TextStep<'_, '_, W> {
     /// line starts from the step's copy).
     #[inline(always)]
     fn write<const N: usize>(&mut self, k: usize, v: u64) {
-        let r = &mut *self.r;
+        let r = &mut *self.run;
         let slot = &mut r.slots[k];
         slot.prev = v;
         r.next = k + 1;
         let p = self.pos;
-        let e = &mut r.w.e;
+        let e = &mut r.writer.emitter;
         let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
         self.pos = p + if N == 0 { slot.line.write(out, v) } else { slot.line.write_w::<N>(out, v) };
         e.pos = self.pos;
@@ -1767,7 +1767,7 @@ impl<W: Write> TextStep<'_, '_, W> {
 /// [`VcdBuilder::start`] (VCD) or [`crate::fst::start_fst`] (FST). Call [`Writer::finish`] at
 /// the end or the last time step is lost.
 pub struct Writer<E: Emitter> {
-    e: E,
+    emitter: E,
     owner: u32,
     vars: Vec<VarDecl>,
     cur: Vec<Stored>,
@@ -2165,7 +2165,7 @@ impl<E: Emitter> Writer<E> {
             [a, b] => (*a, *b) = (0, 0),
             seen => seen.fill(0),
         }
-        Ok(FrameStep { w: self, f: frame, slow, current })
+        Ok(FrameStep { writer: self, frame, slow, current })
     }
 
     /// Flush the last step, write a closing time stamp at the current time
@@ -2178,7 +2178,7 @@ impl<E: Emitter> Writer<E> {
         } else {
             None
         };
-        self.e.finish(closing)
+        self.emitter.finish(closing)
     }
 
     fn type_mismatch(&self, i: usize, given: &'static str) -> WriteError {
@@ -2220,9 +2220,9 @@ impl<E: Emitter> Writer<E> {
                 if !self.pending_sorted {
                     pending.sort_unstable();
                 }
-                self.e.timestamp(t)?;
+                self.emitter.timestamp(t)?;
                 for &i in pending.iter() {
-                    self.e.value(i as usize, self.cur[i as usize].as_ref())?;
+                    self.emitter.value(i as usize, self.cur[i as usize].as_ref())?;
                 }
                 self.last_written = Some(t);
             }
@@ -2252,11 +2252,11 @@ impl<E: Emitter> Writer<E> {
     }
 
     fn write_dump(&mut self, t: u64) -> Result<()> {
-        self.e.dump_begin(t)?;
+        self.emitter.dump_begin(t)?;
         for i in 0..self.vars.len() {
-            self.e.value(i, self.cur[i].as_ref())?;
+            self.emitter.value(i, self.cur[i].as_ref())?;
         }
-        self.e.dump_end()?;
+        self.emitter.dump_end()?;
         self.dumped = true;
         self.last_written = Some(t);
         Ok(())
