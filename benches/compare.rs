@@ -305,17 +305,11 @@ fn declare(st: &Stim) -> (VcdBuilder, Vec<SigId>, u64) {
 /// One traced replay into `w` through [`CoreTracer`]; returns the checksum.
 #[inline(never)]
 fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: Frame, unit_ns: u64) -> u64 {
-    let m = Pmu50::new(st.params).expect("legal parameters");
-    let mut tr = CoreTracer::new(frame, m).expect("a frame of the 65 signals");
-    let mut h = 0;
-    let dt = st.clock_ns / unit_ns;
+    let mut tr = CoreTracer::new(frame, Pmu50::new(st.params).expect("legal parameters")).expect("a frame of the 65 signals");
     let mut run = tr.run(w).expect("the tracer's frame is this writer's");
-    for (k, i) in st.inputs.iter().enumerate() {
-        let after = run.step(k as u64 * dt, i).expect("traced values fit their declarations");
-        h = mix(h, after);
-    }
+    let h = traced_steps(st, unit_ns, |t, i| *run.step(t, i).expect("traced values fit their declarations"));
     drop(run);
-    w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
+    w.set_time(st.inputs.len() as u64 * (st.clock_ns / unit_ns)).expect("time moves forward");
     h
 }
 
@@ -323,18 +317,20 @@ fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: Frame, unit_ns: 
 /// changed values written at once.
 #[inline(never)]
 fn pass_traced_vcd<W: std::io::Write>(st: &Stim, w: &mut VcdWriter<W>, frame: Frame, unit_ns: u64) -> u64 {
-    let m = Pmu50::new(st.params).expect("legal parameters");
-    let mut tr = CoreTracer::new(frame, m).expect("a frame of the 65 signals");
-    let mut h = 0;
-    let dt = st.clock_ns / unit_ns;
+    let mut tr = CoreTracer::new(frame, Pmu50::new(st.params).expect("legal parameters")).expect("a frame of the 65 signals");
     let mut run = tr.text_run(w).expect("the tracer's frame is this writer's");
-    for (k, i) in st.inputs.iter().enumerate() {
-        let after = run.step(k as u64 * dt, i).expect("traced values fit their declarations");
-        h = mix(h, after);
-    }
+    let h = traced_steps(st, unit_ns, |t, i| *run.step(t, i).expect("traced values fit their declarations"));
     drop(run);
-    w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
+    w.set_time(st.inputs.len() as u64 * (st.clock_ns / unit_ns)).expect("time moves forward");
     h
+}
+
+/// Every input of the stimulus through `step` (time in the VCD's units, inputs; the outputs
+/// after the edge); the checksum of the outputs.
+#[inline(always)]
+fn traced_steps(st: &Stim, unit_ns: u64, mut step: impl FnMut(u64, &Inputs) -> Outputs) -> u64 {
+    let dt = st.clock_ns / unit_ns;
+    st.inputs.iter().enumerate().fold(0, |h, (k, i)| mix(h, &step(k as u64 * dt, i)))
 }
 
 /// The VCD of every value of every tick through `Writer::dump_frame`, which [`CoreTracer`] must

@@ -461,6 +461,17 @@ pub(crate) fn real_text(v: f64, b: &mut ryu::Buffer) -> std::borrow::Cow<'_, str
     }
 }
 
+/// A real's change line `r<text> <code>\n` into `out`, exactly as long.
+#[inline]
+fn real_line(out: &mut [u8], text: &str, code: &[u8]) {
+    let n = text.len();
+    out[0] = b'r';
+    out[1..=n].copy_from_slice(text.as_bytes());
+    out[n + 1] = b' ';
+    out[n + 2..n + 2 + code.len()].copy_from_slice(code);
+    out[n + 2 + code.len()] = b'\n';
+}
+
 /// FST's encoding of a real value: the IEEE 754 bits, little endian.
 pub(crate) fn format_real_bits(v: f64) -> [u8; 8] {
     v.to_le_bytes()
@@ -951,13 +962,7 @@ impl<W: Write> VcdOut<W> {
             return self.value_general(i, ValueRef::Real(r));
         }
         self.room()?;
-        let code = &self.codes[i];
-        let out = &mut self.buf[self.pos..self.pos + n];
-        out[0] = b'r';
-        out[1..=text.len()].copy_from_slice(text.as_bytes());
-        out[text.len() + 1] = b' ';
-        out[text.len() + 2..n - 1].copy_from_slice(code);
-        out[n - 1] = b'\n';
+        real_line(&mut self.buf[self.pos..self.pos + n], &text, &self.codes[i]);
         self.pos += n;
         Ok(())
     }
@@ -1590,12 +1595,7 @@ impl<'a, W: Write> TextRun<'a, W> {
             self.close();
             return self.change_real(id, v);
         }
-        let out = &mut e.buf[e.pos..e.pos + n];
-        out[0] = b'r';
-        out[1..=text.len()].copy_from_slice(text.as_bytes());
-        out[text.len() + 1] = b' ';
-        out[text.len() + 2..n - 1].copy_from_slice(code);
-        out[n - 1] = b'\n';
+        real_line(&mut e.buf[e.pos..e.pos + n], &text, code);
         e.pos += n;
         self.reals[k].value = v;
         self.reals[k].changed = true;
@@ -1859,23 +1859,21 @@ impl<E: Emitter> Writer<E> {
 
     /// Change a one-bit variable (scalar or one-bit vector).
     pub fn change_bit(&mut self, id: SigId, v: Logic) -> Result<()> {
-        let i = self.index(id)?;
-        match self.vars[i].kind {
-            Kind::Bits { width: 1, .. } => self.assign(i, canon_bits(vec![v.as_byte()])),
-            Kind::Bits { width, .. } => Err(WriteError::WrongWidth {
-                name: self.vars[i].path.clone(),
-                expected: width,
-                got: 1,
-            }),
-            Kind::Real => Err(self.type_mismatch(i, "bit")),
-        }
+        let i = self.one_bit(id)?;
+        self.assign(i, canon_bits(vec![v.as_byte()]))
     }
 
     /// Change a one-bit variable from a `bool`.
     pub fn change_bool(&mut self, id: SigId, v: bool) -> Result<()> {
+        let i = self.one_bit(id)?;
+        self.assign(i, Stored::Int(u64::from(v)))
+    }
+
+    /// The index of `id`, a one-bit variable (else a wrong width or type).
+    fn one_bit(&self, id: SigId) -> Result<usize> {
         let i = self.index(id)?;
         match self.vars[i].kind {
-            Kind::Bits { width: 1, .. } => self.assign(i, Stored::Int(u64::from(v))),
+            Kind::Bits { width: 1, .. } => Ok(i),
             Kind::Bits { width, .. } => Err(WriteError::WrongWidth {
                 name: self.vars[i].path.clone(),
                 expected: width,
@@ -2343,13 +2341,13 @@ mod frame_step_tests {
         String::from_utf8(w.finish().unwrap()).unwrap()
     }
 
+    /// `pmu50.a` (a bit), `tmr` (16 bits), `w` (5 bits, 3), `wide` (64 bits), `z` (a bit, `x`).
     fn frame_builder() -> (VcdBuilder, Vec<super::SigId>) {
         let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Us), "pmu50-waves test").unwrap();
         b.push_scope("pmu50").unwrap();
+        let vectors = [(BitType::Reg, "tmr", 15, 0), (BitType::Reg, "w", 4, 3), (BitType::Wire, "wide", 63, 0)];
         let mut ids = vec![b.add_bit(BitType::Wire, "a", Logic::Zero).unwrap()];
-        ids.push(b.add_vector(BitType::Reg, "tmr", 15, 0, 0).unwrap());
-        ids.push(b.add_vector(BitType::Reg, "w", 4, 0, 3).unwrap());
-        ids.push(b.add_vector(BitType::Wire, "wide", 63, 0, 0).unwrap());
+        ids.extend(vectors.map(|(ty, name, msb, init)| b.add_vector(ty, name, msb, 0, init).unwrap()));
         ids.push(b.add_bit(BitType::Reg, "z", Logic::X).unwrap());
         b.pop_scope().unwrap();
         (b, ids)
