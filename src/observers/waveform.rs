@@ -170,6 +170,8 @@ pub struct VcdObserver {
     /// then the bits of the analog values.
     rec: PeriodRecorder,
     rec_values: Vec<u64>,
+    /// the analog values of the last tick
+    env: EnvCache,
     clock_ns: u64,
     window: Option<(u64, u64)>,
 }
@@ -198,17 +200,51 @@ fn round(v: f64, q: f64) -> f64 {
 }
 
 fn env_values(v: &TickView<'_>) -> [f64; 8] {
-    let e = v.env;
-    [
-        round(e.theta_deg, 1e-3),
-        round(e.sin2_v, 1e-4),
-        round(e.cos2_v, 1e-4),
-        round(e.vs2_v, 1e-4),
-        round(e.vp_v, 1e-4),
-        round(e.vr_v, 1e-4),
-        round(e.theta1_deg.unwrap_or(0.0), 1e-3),
-        round(e.theta_m_deg.unwrap_or(0.0), 1e-3),
-    ]
+    let raw = EnvCache::raw(v);
+    std::array::from_fn(|j| round(f64::from_bits(raw[j]), ENV_STEPS[j]))
+}
+
+/// The analog values of the last tick, as given and rounded ([`env_values`]): a value given
+/// with the same bits as the tick before is not rounded again, nor given to the writer again
+/// (a real keeps its value until changed).
+struct EnvCache {
+    raw: [u64; 8],
+    rounded: [f64; 8],
+    /// the values whose bits changed at the last [`EnvCache::update`], one bit each
+    changed: u8,
+}
+
+/// The rounding step of each analog value, in the order of [`ENV_NAMES`]: angles to 0.001
+/// deg, volts to 0.1 mV.
+const ENV_STEPS: [f64; 8] = [1e-3, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-3, 1e-3];
+
+impl EnvCache {
+    fn raw(v: &TickView<'_>) -> [u64; 8] {
+        let e = v.env;
+        [e.theta_deg, e.sin2_v, e.cos2_v, e.vs2_v, e.vp_v, e.vr_v, e.theta1_deg.unwrap_or(0.0), e.theta_m_deg.unwrap_or(0.0)].map(f64::to_bits)
+    }
+
+    fn new(v: &TickView<'_>) -> EnvCache {
+        EnvCache { raw: Self::raw(v), rounded: env_values(v), changed: 0 }
+    }
+
+    #[inline]
+    fn update(&mut self, v: &TickView<'_>) {
+        let raw = Self::raw(v);
+        self.changed = 0;
+        for (j, r) in raw.into_iter().enumerate() {
+            if r != self.raw[j] {
+                self.raw[j] = r;
+                self.rounded[j] = round(f64::from_bits(r), ENV_STEPS[j]);
+                self.changed |= 1 << j;
+            }
+        }
+    }
+
+    /// `(index, rounded value)` of the values that changed at the last update.
+    fn changes(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        (0..8).filter(|j| self.changed & 1 << j != 0).map(|j| (j, self.rounded[j]))
+    }
 }
 
 /// Register groups shown collapsed in the save file (the parameter registers rarely change).
@@ -360,7 +396,7 @@ impl VcdObserver {
             }
         };
         let ids = Ids { all, state, env, values: Vec::with_capacity(all_ids.len()), level, all_ids };
-        Ok(VcdObserver { out: Some(w), tracer: None, file: None, gtkw: Some(gt), ids, unit_ns, path, rec: PeriodRecorder::new(), rec_values: Vec::new(), clock_ns, window })
+        Ok(VcdObserver { out: Some(w), tracer: None, file: None, gtkw: Some(gt), ids, unit_ns, path, rec: PeriodRecorder::new(), rec_values: Vec::new(), env: EnvCache::new(first), clock_ns, window })
     }
 
     /// The complete VCD (after `finish`, still a temporary file) and its save file.
@@ -395,11 +431,12 @@ impl VcdObserver {
         let t = v.time_ns / self.unit_ns;
         let r = match self.out.as_mut() {
             Some(Out::Traced(tv)) => {
-                let env = &self.ids.env;
+                let (env, cache) = (&self.ids.env, &mut self.env);
+                cache.update(v);
                 let r = tv.with_run_mut(|run| -> Result<bool, WriteError> {
                     run.step(t, v.inputs)?;
-                    for (id, val) in env.iter().zip(env_values(v)) {
-                        run.real(*id, val)?;
+                    for (j, val) in cache.changes() {
+                        run.real(env[j], val)?;
                     }
                     Ok(run.core().regs() == v.after)
                 });
@@ -409,8 +446,8 @@ impl VcdObserver {
                     Err(e) => Err(e),
                 }
             }
-            Some(Out::Vcd(w)) => dump_into(w, &mut self.ids, v, t, with_inputs),
-            Some(Out::Fst(w, _)) => dump_into(w, &mut self.ids, v, t, with_inputs),
+            Some(Out::Vcd(w)) => dump_into(w, &mut self.ids, &mut self.env, v, t, with_inputs),
+            Some(Out::Fst(w, _)) => dump_into(w, &mut self.ids, &mut self.env, v, t, with_inputs),
             None => return Err(err(path, "writer already closed")),
         };
         r.map_err(|e| err(path, e))
@@ -418,7 +455,7 @@ impl VcdObserver {
 }
 
 /// One tick into either writer: the frame of this dump, then the analog values.
-fn dump_into<E: Emitter>(w: &mut Writer<E>, ids: &mut Ids, v: &TickView<'_>, t: u64, with_inputs: bool) -> Result<(), WriteError> {
+fn dump_into<E: Emitter>(w: &mut Writer<E>, ids: &mut Ids, env: &mut EnvCache, v: &TickView<'_>, t: u64, with_inputs: bool) -> Result<(), WriteError> {
     frame_values(&mut ids.values, v, with_inputs, ids.level);
     let frame = match (with_inputs, ids.all.as_mut()) {
         (true, Some(all)) => all,
@@ -427,8 +464,9 @@ fn dump_into<E: Emitter>(w: &mut Writer<E>, ids: &mut Ids, v: &TickView<'_>, t: 
     };
     w.dump_frame(frame, t, &ids.values)?;
     if with_inputs {
-        for (id, val) in ids.env.iter().zip(env_values(v)) {
-            w.change_real(*id, val)?;
+        env.update(v);
+        for (j, val) in env.changes() {
+            w.change_real(ids.env[j], val)?;
         }
     }
     Ok(())
@@ -458,7 +496,7 @@ impl Observer for VcdObserver {
             }
             self.rec_values.clear();
             self.rec_values.extend_from_slice(&self.ids.values);
-            self.rec_values.extend(env_values(v).map(f64::to_bits));
+            self.rec_values.extend(self.env.rounded.map(f64::to_bits));
             self.rec.record(v.tick, &self.rec_values);
         }
         Ok(())
