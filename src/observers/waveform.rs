@@ -492,12 +492,13 @@ impl Observer for VcdObserver {
         if self.rec.active() {
             if self.ids.all.is_none() {
                 // the tracer dumped the tick: its values for the recorder
-                frame_values(&mut self.ids.values, v, true, self.ids.level);
+                frame_values(&mut self.rec_values, v, true, self.ids.level);
+            } else {
+                self.rec_values.clear();
+                self.rec_values.extend_from_slice(&self.ids.values);
             }
-            self.rec_values.clear();
-            self.rec_values.extend_from_slice(&self.ids.values);
             self.rec_values.extend(self.env.rounded.map(f64::to_bits));
-            self.rec.record(v.tick, &self.rec_values);
+            self.rec.record_taking(v.tick, &mut self.rec_values);
         }
         Ok(())
     }
