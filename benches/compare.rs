@@ -14,8 +14,10 @@
 //! | fast kernel | `Pmu50::step`: `rtl_model/core/src/kernel.rs` |
 //! | Verilator -O3 | `DIR/vl_NAME/bench` (hdl/bench/bench.cpp), untraced |
 //! | Verilator -O3 --trace | `DIR/vlt_NAME/bench --trace`: VCD of the twin's counterparts of the Rust tracer's 65 signals (hdl/bench/trace.vlt); the note says how many `$var`s it dumps and names any of the 65 without a counterpart |
-//! | Rust tracer VCD / FST | `pmu50::tracer::CoreTracer` in one run (VCD: `CoreTracer::text_run`, the checked `pmu50_waves` writer's text buffer lent to the tracer's frame, each changed value's line written at once; FST: `CoreTracer::run`, the writer lent to the frame; both comparing only what the edge can have changed) of the model's signals: ports, registers, internals, as `pmu50 run` declares them (without the analog `env` reals, which the twin does not have). Before timing, the run checks that its VCD is byte for byte the one of `Writer::dump_frame` with every value of every tick |
+//! | Rust tracer VCD / FST | `pmu50::observers::tracer::CoreTracer` in one run (VCD: `CoreTracer::text_run`, the checked `pmu50_waves` writer's text buffer lent to the tracer's frame, each changed value's line written at once; FST: `CoreTracer::run`, the writer lent to the frame; both comparing only what the edge can have changed) of the model's signals: ports, registers, internals, as `pmu50 run` declares them (without the analog `env` reals, which the twin does not have). Before timing, the run checks that its VCD is byte for byte the one of `Writer::dump_frame` with every value of every tick |
 //! | ... to /dev/null | the same two VCD harnesses (Verilator --trace, Rust tracer VCD) writing to `/dev/null`: the same writes, which the kernel throws away, so the row is the tracer's own cost without the page cache's (both sides write the same 8 MB of keyoff_turns to a file, a large part of the Rust tracer's time) |
+//! | Verilator -O3 --trace, every variable | `DIR/vla_NAME/bench --trace` (build.sh --trace-all): the VCD of all 371 `$var`s of the twin, as `verilator --trace` dumps without a configuration file |
+//! | pmu50 run --trace all | `target/release/pmu50 run SCENARIO --trace all` as a user runs it (SCENARIO: `DIR/NAME.toml`, else `scenarios/NAME.toml`): the child process's whole CPU time (start, scenario, environment models, the VCD of every signal with the analog `env` reals, the save file); its ratio to both Verilator --trace rows is printed after the table |
 //! | page cache | after the table: the CPU cost per byte of writing a new 8 MiB file in 1 MiB writes, and what it comes to per tick for each stimulus's VCD (the same bytes for every VCD harness) |
 //! | Icarus | `vvp DIR/iv_NAME.vvp +vec=DIR/NAME.vec` (hdl/tb/tb_vectors.v, which compares every output with the file: for scale) |
 //!
@@ -37,7 +39,7 @@
 //! child process for its CPU time and peak memory.
 
 use pmu50::scenario::Scenario;
-use pmu50::tracer::CoreTracer;
+use pmu50::observers::tracer::CoreTracer;
 use pmu50::sim::{run, SimOptions};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::{Inputs, Internals, Outputs, Params, Pmu50, Pmu50Spec, Regs};
@@ -246,7 +248,7 @@ fn frame_values(v: &mut [u64; NSIG], i: &Inputs, o: &Outputs, r: &Regs, x: &Inte
     ];
 }
 
-/// Declarations of the model's VCD (src/waveform.rs) without the `env` reals.
+/// Declarations of the model's VCD (src/observers/waveform.rs) without the `env` reals.
 fn declare(st: &Stim) -> (VcdBuilder, Vec<SigId>, u64) {
     let s = Structural { sync_depth: st.params.sync_depth, cnt_width: st.params.cnt_width };
     let (ts, unit_ns) = if st.clock_ns.is_multiple_of(1000) { (Timescale::new(1, TimeUnit::Us), 1000) } else { (Timescale::new(1, TimeUnit::Ns), 1) };
@@ -289,17 +291,11 @@ fn declare(st: &Stim) -> (VcdBuilder, Vec<SigId>, u64) {
 /// One traced replay into `w` through [`CoreTracer`]; returns the checksum.
 #[inline(never)]
 fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: Frame, unit_ns: u64) -> u64 {
-    let m = Pmu50::new(st.params).expect("legal parameters");
-    let mut tr = CoreTracer::new(frame, m).expect("a frame of the 65 signals");
-    let mut h = 0;
-    let dt = st.clock_ns / unit_ns;
+    let mut tr = CoreTracer::new(frame, Pmu50::new(st.params).expect("legal parameters")).expect("a frame of the 65 signals");
     let mut run = tr.run(w).expect("the tracer's frame is this writer's");
-    for (k, i) in st.inputs.iter().enumerate() {
-        let after = run.step(k as u64 * dt, i).expect("traced values fit their declarations");
-        h = mix(h, after);
-    }
+    let h = traced_steps(st, unit_ns, |t, i| *run.step(t, i).expect("traced values fit their declarations"));
     drop(run);
-    w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
+    w.set_time(st.inputs.len() as u64 * (st.clock_ns / unit_ns)).expect("time moves forward");
     h
 }
 
@@ -307,18 +303,20 @@ fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: Frame, unit_ns: 
 /// changed values written at once.
 #[inline(never)]
 fn pass_traced_vcd<W: std::io::Write>(st: &Stim, w: &mut VcdWriter<W>, frame: Frame, unit_ns: u64) -> u64 {
-    let m = Pmu50::new(st.params).expect("legal parameters");
-    let mut tr = CoreTracer::new(frame, m).expect("a frame of the 65 signals");
-    let mut h = 0;
-    let dt = st.clock_ns / unit_ns;
+    let mut tr = CoreTracer::new(frame, Pmu50::new(st.params).expect("legal parameters")).expect("a frame of the 65 signals");
     let mut run = tr.text_run(w).expect("the tracer's frame is this writer's");
-    for (k, i) in st.inputs.iter().enumerate() {
-        let after = run.step(k as u64 * dt, i).expect("traced values fit their declarations");
-        h = mix(h, after);
-    }
+    let h = traced_steps(st, unit_ns, |t, i| *run.step(t, i).expect("traced values fit their declarations"));
     drop(run);
-    w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
+    w.set_time(st.inputs.len() as u64 * (st.clock_ns / unit_ns)).expect("time moves forward");
     h
+}
+
+/// Every input of the stimulus through `step` (time in the VCD's units, inputs; the outputs
+/// after the edge); the checksum of the outputs.
+#[inline(always)]
+fn traced_steps(st: &Stim, unit_ns: u64, mut step: impl FnMut(u64, &Inputs) -> Outputs) -> u64 {
+    let dt = st.clock_ns / unit_ns;
+    st.inputs.iter().enumerate().fold(0, |h, (k, i)| mix(h, &step(k as u64 * dt, i)))
 }
 
 /// The VCD of every value of every tick through `Writer::dump_frame`, which [`CoreTracer`] must
@@ -489,6 +487,67 @@ fn verilator<'a>(st: &'a Stim, dir: &Path, seconds: f64, trace: Option<Sink>) ->
     let one = external(&bin, &[vec.clone(), "1".into()])?;
     let reps = ((seconds / f64::from(rounds()) / one.cpu.max(1e-6)).ceil() as u64).clamp(1, 100_000);
     Ok(Box::new(move || external(&bin, &[vec.clone(), reps.to_string()])))
+}
+
+/// Rounds of the Verilator harness built with every variable traced (`DIR/vla_NAME/bench`,
+/// `hdl/bench/build.sh --trace-all`: the 371 `$var`s of `verilator --trace` without a
+/// configuration file), one replay per round into a VCD.
+fn verilator_all<'a>(st: &'a Stim, dir: &Path) -> Result<Round<'a>, String> {
+    let bin = dir.join(format!("vla_{}/bench", st.name));
+    let vec = st.vec.display().to_string();
+    let vcd = dir.join(format!("verilator_all_{}.vcd", st.name));
+    let mut left = rounds();
+    let mut note: Option<String> = None;
+    Ok(Box::new(move || {
+        let mut m = external(&bin, &[vec.clone(), "1".into(), "--trace".into(), vcd.display().to_string()])?;
+        let n = note.get_or_insert_with(|| {
+            let bytes = std::fs::metadata(&vcd).map(|m| m.len()).unwrap_or(0);
+            let vars = std::fs::read(&vcd).map(|b| var_paths(&b).len()).unwrap_or(0);
+            format!("{vars} $var lines, {}", fmt_bytes(bytes))
+        });
+        m.note = n.clone();
+        left -= 1;
+        if left == 0 {
+            let _ = std::fs::remove_file(&vcd);
+        }
+        Ok(m)
+    }))
+}
+
+/// The scenario of a stimulus: `DIR/NAME.toml` (a seeded random one, written by
+/// benches/compare.sh), else `scenarios/NAME.toml`.
+fn scenario_of(st: &Stim, dir: &Path) -> PathBuf {
+    let own = dir.join(format!("{}.toml", st.name));
+    if own.exists() {
+        own
+    } else {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios").join(format!("{}.toml", st.name))
+    }
+}
+
+/// Rounds of `pmu50 run SCENARIO --trace all` as a user runs it (`target/release/pmu50`, built
+/// by benches/compare.sh): the whole child process's CPU time (start, scenario, environment
+/// models, the VCD of every signal with the analog reals, its .gtkw), for the stimulus's ticks.
+fn pmu50_run<'a>(st: &'a Stim, dir: &Path) -> Result<Round<'a>, String> {
+    let bin = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/release/pmu50");
+    let sc = scenario_of(st, dir);
+    let out = dir.join("pmu50_run");
+    let vcd = out.join(format!("{}.vcd", st.name));
+    let mut note: Option<String> = None;
+    Ok(Box::new(move || {
+        let (c0, _) = rusage(libc::RUSAGE_CHILDREN);
+        let o = Command::new(&bin).arg("run").arg(&sc).arg("--out-dir").arg(&out).args(["--trace", "all"]).output().map_err(|e| format!("{}: {e}", bin.display()))?;
+        let (c1, _) = rusage(libc::RUSAGE_CHILDREN);
+        if !o.status.success() {
+            return Err(format!("pmu50 run {} failed: {}", sc.display(), String::from_utf8_lossy(&o.stderr)));
+        }
+        let n = note.get_or_insert_with(|| {
+            let bytes = std::fs::metadata(&vcd).map(|m| m.len()).unwrap_or(0);
+            let vars = std::fs::read(&vcd).map(|b| var_paths(&b).len()).unwrap_or(0);
+            format!("whole process; {vars} $var lines with the env reals, {}", fmt_bytes(bytes))
+        });
+        Ok(Meas { ticks: st.inputs.len() as u64, cpu: c1 - c0, checksum: None, note: n.clone() })
+    }))
 }
 
 /// Full dotted paths of the `$var`s of a VCD header, one per `$var` line, in file order.
@@ -684,10 +743,14 @@ fn main() {
         "Rust tracer FST (CoreTracer + pmu50_waves)",
         "Verilator -O3 --trace, VCD to /dev/null",
         "Rust tracer VCD to /dev/null",
+        "Verilator -O3 --trace, every variable (VCD)",
+        "pmu50 run --trace all (VCD)",
         "Icarus Verilog (vvp), for scale",
     ];
-    // the row each ratio is taken against: Verilator -O3, Verilator --trace to a file, to /dev/null
-    let base = [2, 2, 2, 3, 3, 3, 6, 6, 2];
+    // the row each ratio is taken against: Verilator -O3, Verilator --trace to a file, to
+    // /dev/null, every variable (pmu50 run: the same signals' ratio follows the table)
+    let base = [2, 2, 2, 3, 3, 3, 6, 6, 8, 8, 2];
+    let (row_all, row_run, row_icarus) = (8, 9, 10);
     let mut table: Vec<Vec<Result<Meas, String>>> = vec![Vec::new(); labels.len()];
     // bytes of VCD body per tick of each stimulus (the tracer's and Verilator's)
     let mut vcd_bytes = Vec::new();
@@ -706,11 +769,13 @@ fn main() {
             Ok(Box::new(move || Ok(traced_once(st, dir, true, Sink::File)))),
             verilator(st, dir, seconds, Some(Sink::Null)),
             Ok(Box::new(move || Ok(traced_once(st, dir, false, Sink::Null)))),
+            verilator_all(st, dir),
+            pmu50_run(st, dir),
         ];
         for (row, m) in table.iter_mut().zip(interleaved(harnesses)) {
             row.push(m);
         }
-        table[8].push(if iv.contains(&st.name) { icarus(st, dir) } else { Err("not run (slow; see --icarus)".into()) });
+        table[row_icarus].push(if iv.contains(&st.name) { icarus(st, dir) } else { Err("not run (slow; see --icarus)".into()) });
     }
 
     // Checksums: every harness of a stimulus must agree.
@@ -758,6 +823,16 @@ fn main() {
         out += &format!(" {} |\n", notes.join("; "));
     }
     out += &format!("\noutput checksums: {}\n", sums.join("; "));
+    // pmu50 run as a user runs it, against both Verilator --trace builds
+    let ratios: Vec<String> = stims
+        .iter()
+        .enumerate()
+        .map(|(j, st)| match (&table[row_run][j], &table[row_all][j], &table[3][j]) {
+            (Ok(r), Ok(a), Ok(t)) => format!("{}: {:.2}x Verilator --trace of every variable, {:.2}x Verilator --trace of the same signals", st.name, r.rate() / a.rate(), r.rate() / t.rate()),
+            _ => format!("{}: not measured", st.name),
+        })
+        .collect();
+    out += &format!("\npmu50 run --trace all, whole process, against the Verilator --trace harnesses' replay loop: {}\n", ratios.join("; "));
 
     // The page cache's share of a VCD written to a file, the same for both sides.
     match page_cache_ns_per_byte(&dir) {

@@ -6,8 +6,9 @@
 #
 # 1. target/release/pmu50 writes the stimuli as vector files: scenarios/keyoff_turns.toml and the
 #    seeded random scenario PMU50_BENCH_SEED (default 7, as `pmu50 random --seed 7`);
-# 2. hdl/bench/build.sh builds the Verilator harness per stimulus, without and with --trace
-#    (verilator -O3, g++ -O3; cached in hdl/build/bench/); iverilog compiles tb_vectors.v for the
+# 2. hdl/bench/build.sh builds the Verilator harness per stimulus, without and with --trace (the
+#    model's signals, and every variable: --trace-all) (verilator -O3, g++ -O3; cached in
+#    hdl/build/bench/); iverilog compiles tb_vectors.v for the
 #    Icarus row (keyoff_turns only);
 # 3. cargo bench --bench compare runs every harness and prints the table; exit 1 when the output
 #    checksums of the harnesses differ;
@@ -36,6 +37,7 @@ for s in keyoff_turns "random_$SEED"; do
     echo "compare: Verilator harnesses for $s (cached)" >&2
     "$ROOT/hdl/bench/build.sh" "$B/$s.vec" "$B/vl_$s"
     "$ROOT/hdl/bench/build.sh" "$B/$s.vec" "$B/vlt_$s" --trace
+    "$ROOT/hdl/bench/build.sh" "$B/$s.vec" "$B/vla_$s" --trace-all
 done
 # Icarus: the vector-replay testbench of method 1, compiled with the file's parameters.
 IV=(-Ptb_vectors.CLOCK_NS=10000)

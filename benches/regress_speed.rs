@@ -194,7 +194,7 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
             let sc = Scenario::parse(&text, "bench", "bench", Path::new("bench.toml")).expect("a generated scenario parses");
             let path = files.path().join(format!("regress_{s}.vec"));
             let f = std::io::BufWriter::new(std::fs::File::create(&path).expect("a vector file"));
-            let mut w = pmu50::vectors::VectorWriter::new(f, &sc).expect("vector header");
+            let mut w = pmu50::observers::vectors::VectorWriter::new(f, &sc).expect("vector header");
             sim::run(&sc, SimOptions::default(), &mut [&mut w]).expect("bench runs");
             path
         })

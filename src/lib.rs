@@ -5,18 +5,13 @@
 //! `pmu50-env` (rtl_model/env), waveform tooling is `pmu50-waves` (waves/).
 
 pub mod analysis;
-pub mod changelog;
-pub mod fsout;
+pub mod atomic_file;
 pub mod fuzzing;
 pub mod limits;
-pub mod markers;
+pub mod observers;
 pub mod output;
 pub mod plot;
 pub mod random;
-pub mod refusals;
 pub mod regress;
 pub mod scenario;
 pub mod sim;
-pub mod tracer;
-pub mod vectors;
-pub mod waveform;

@@ -93,9 +93,9 @@ pub fn check_ticks(sc: &Scenario, runs: u64, max: Option<u64>) -> Result<(), Too
 }
 
 /// Size of the vector file of `sc`: its header (at most 4 kB) and one line of
-/// [`crate::vectors::line_bytes`] per tick (the vectors skip nothing).
+/// [`crate::observers::vectors::line_bytes`] per tick (the vectors skip nothing).
 pub fn estimate_vector_bytes(sc: &Scenario) -> u64 {
-    4096 + sc.ticks.saturating_mul(crate::vectors::line_bytes(sc))
+    4096 + sc.ticks.saturating_mul(crate::observers::vectors::line_bytes(sc))
 }
 
 /// Refuse the vector file of `sc` above `max` (`--max-vector-bytes`).

@@ -4,13 +4,13 @@
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use pmu50::fsout::{self, Batch};
+use pmu50::atomic_file::{self, Batch};
 use pmu50::output::{choose_trace, dumped_ticks, estimate_run_bytes, human_bytes as human, output_paths, run_to_batch, run_to_batch_as, summary, FileOptions, RunError, TraceChoice};
-use pmu50::waveform::{Level, WaveFormat};
-use pmu50::refusals::RefusalWatch;
+use pmu50::observers::waveform::{Level, WaveFormat};
+use pmu50::observers::refusals::RefusalWatch;
 use pmu50::scenario::{Scenario, Trace};
 use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
-use pmu50::vectors::VectorWriter;
+use pmu50::observers::vectors::VectorWriter;
 use pmu50_core::Dur;
 use pmu50_waves::diff::{diff_files, DiffOptions, Sample, XPolicy};
 use pmu50_waves::reader::{ReadLimits, DEFAULT_MAX_FILE_BYTES};
@@ -281,8 +281,8 @@ enum Cmd {
         #[arg(long)]
         every: Option<u64>,
         /// x handling: strict, left (x on the left matches anything), either.
-        #[arg(long, default_value = "strict")]
-        x: String,
+        #[arg(long = "x", value_name = "X", default_value = "strict")]
+        x_policy: String,
         /// Report at most this many mismatches.
         #[arg(long, default_value_t = 20)]
         max: usize,
@@ -405,7 +405,7 @@ fn main() -> ExitCode {
             };
         }
     };
-    if let Err(e) = fsout::install_signal_cleanup() {
+    if let Err(e) = atomic_file::install_signal_cleanup() {
         err!("error: cannot install the SIGINT/SIGTERM handler that removes temporary files: {e}");
         return with_streams(2);
     }
@@ -457,9 +457,9 @@ fn main() -> ExitCode {
             } else {
                 pmu50::random::random_scenario(seed)
             };
-            // `-o -`: standard output (fsout::Sink); a device or a FIFO is refused.
-            let r = fsout::Sink::open(&output).and_then(|mut f| {
-                f.write_all(text.as_bytes()).map_err(|source| fsout::OutputError::Write { path: output.clone(), source })?;
+            // `-o -`: standard output (atomic_file::Sink); a device or a FIFO is refused.
+            let r = atomic_file::Sink::open(&output).and_then(|mut f| {
+                f.write_all(text.as_bytes()).map_err(|source| atomic_file::OutputError::Write { path: output.clone(), source })?;
                 let mut b = Batch::new();
                 f.finish(&mut b)?;
                 b.commit()
@@ -524,7 +524,7 @@ fn main() -> ExitCode {
                 2
             }
         },
-        Cmd::Diff { left, right, map, clock, every, x, max, allow_unmatched, real_tol, max_bytes } => cmd_diff(left, right, map, clock, every, x, max, allow_unmatched, real_tol, max_bytes),
+        Cmd::Diff { left, right, map, clock, every, x_policy, max, allow_unmatched, real_tol, max_bytes } => cmd_diff(left, right, map, clock, every, x_policy, max, allow_unmatched, real_tol, max_bytes),
     };
     with_streams(code)
 }
@@ -819,13 +819,13 @@ fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>, max_vecto
             return 2;
         }
     }
-    if fsout::same_file(scenario, output) {
+    if atomic_file::same_file(scenario, output) {
         err!("error: -o {} is the scenario file itself; the vectors would overwrite it; choose another name", output.display());
         return 2;
     }
     let result = (|| -> Result<u64, RunError> {
-        // `-o -`: standard output (fsout::Sink); a device or a FIFO is refused.
-        let f = fsout::Sink::open(output)?;
+        // `-o -`: standard output (atomic_file::Sink); a device or a FIFO is refused.
+        let f = atomic_file::Sink::open(output)?;
         let mut vw = VectorWriter::new(BufWriter::new(f), &sc)?;
         let mut prog = Progress::new(sc.ticks, &sc.name);
         let (ticks, mut batch) = match vcd_dir {
@@ -835,7 +835,7 @@ fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>, max_vecto
             }
             None => (sim::run(&sc, SimOptions { fast_forward: false }, &mut [&mut vw, &mut prog])?.ticks, Batch::new()),
         };
-        let f = vw.into_inner().into_inner().map_err(|e| fsout::OutputError::Write { path: output.to_path_buf(), source: e.into_error() })?;
+        let f = vw.into_inner().into_inner().map_err(|e| atomic_file::OutputError::Write { path: output.to_path_buf(), source: e.into_error() })?;
         f.finish(&mut batch)?;
         batch.commit()?;
         Ok(ticks)

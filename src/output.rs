@@ -1,15 +1,16 @@
 //! Running a scenario to files (VCD, GTKWave save file, change log) and the text summary.
 //!
-//! Every file goes through [`crate::fsout`]: written beside its final path, renamed into place
+//! Every file goes through [`crate::atomic_file`]: written beside its final path, renamed into place
 //! when the run is complete, the `.gtkw` last.
 
-use crate::changelog::ChangeLog;
-use crate::fsout::{self, AtomicFile, Batch, OutputError};
-use crate::markers::MarkerObserver;
+use crate::observers::changelog::ChangeLog;
+use crate::atomic_file::{self, AtomicFile, Batch, OutputError};
+use crate::observers::markers::MarkerObserver;
 use crate::scenario::{Scenario, Trace};
 use crate::sim::{self, Observer, RunResult, SimError, SimOptions, TickView};
-use crate::waveform::{timescale_for, Level, VcdObserver, WaveFormat};
+use crate::observers::waveform::{timescale_for, Level, VcdObserver, WaveFormat};
 use pmu50_core::pmu50::Structural;
+use pmu50_core::Pmu50;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
@@ -24,7 +25,7 @@ pub struct FileOptions {
     /// Dump window in ticks (overrides the scenario's `[vcd] window`).
     pub window: Option<(u64, u64)>,
     /// Also write `<name>.svg`, a timing diagram in the style of the patent's FIG. 15/16 of the
-    /// whole run or of the window, with its numbers in `<name>_timing.csv` (src/plot/timing.rs).
+    /// whole run or of the window, with its numbers in `<name>_timing.csv` (src/observers/timing.rs).
     pub svg: bool,
     /// The signals of the waveform (`--trace`, `[vcd] trace`; default `all`).
     pub level: Level,
@@ -328,11 +329,12 @@ pub struct Focus {
 /// [`run_to_batch_as`] with the save file zoomed on `focus` and a named marker there (ahead of
 /// the scenario's own markers).
 pub fn run_to_batch_focused(sc: &Scenario, dir: &Path, fo: FileOptions, format: WaveFormat, extra: &mut [&mut dyn Observer], focus: Option<&Focus>) -> Result<(RunResult, Written, Batch), RunError> {
-    fsout::create_dir(dir)?;
+    atomic_file::create_dir(dir)?;
     let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
     let window = fo.window.or(sc.vcd_window);
     // The VCD declares every signal with its reset value: built when the bench begins.
-    let mut vcd = sim::OnBegin::new(|init: &TickView<'_>| VcdObserver::create_level(dir, &sc.name, s, sc.clock_ns(), window, format, fo.level, init));
+    let core = Pmu50::new(sc.params).map_err(|source| SimError::Core { scenario: sc.name.clone(), source })?;
+    let mut vcd = sim::OnBegin::new(|init: &TickView<'_>| VcdObserver::create(dir, &sc.name, &core, sc.clock_ns(), window, format, fo.level, init));
     let log_path = dir.join(format!("{}.log", sc.name));
     let mut log = if fo.log {
         let f = AtomicFile::stage(&log_path)?;
@@ -341,7 +343,7 @@ pub fn run_to_batch_focused(sc: &Scenario, dir: &Path, fo: FileOptions, format: 
         None
     };
     let mut marks = MarkerObserver::new(sc.clock_ns());
-    let mut timing = crate::plot::timing::TimingRecorder::new(sc.clock_ns(), window);
+    let mut timing = crate::observers::timing::TimingRecorder::new(sc.clock_ns(), window);
     let res = {
         let mut obs: Vec<&mut dyn Observer> = vec![&mut vcd, &mut marks];
         if fo.svg {
@@ -373,8 +375,8 @@ pub fn run_to_batch_focused(sc: &Scenario, dir: &Path, fo: FileOptions, format: 
     let svg = if fo.svg {
         let title = if sc.description.is_empty() { sc.name.clone() } else { format!("{}: {}", sc.name, sc.description) };
         let ws = svg_paths(dir, &sc.name);
-        batch.add(fsout::write_atomic(&ws.svg, timing.svg(&title).as_bytes())?);
-        batch.add(fsout::write_atomic(&ws.csv, timing.csv().as_bytes())?);
+        batch.add(atomic_file::write_atomic(&ws.svg, timing.svg(&title).as_bytes())?);
+        batch.add(atomic_file::write_atomic(&ws.csv, timing.csv().as_bytes())?);
         Some(ws)
     } else {
         None
@@ -406,7 +408,7 @@ pub fn run_to_batch_focused(sc: &Scenario, dir: &Path, fo: FileOptions, format: 
         gtkw.note(&format!("{left_out} more key events than GTKWave's 26 named markers are not marked")).map_err(gerr)?;
     }
     let text = gtkw.render().map_err(gerr)?;
-    batch.set_last(fsout::write_atomic(&gtkw_path, text.as_bytes())?);
+    batch.set_last(atomic_file::write_atomic(&gtkw_path, text.as_bytes())?);
     Ok((res, Written { vcd: vcd_path, gtkw: gtkw_path, log: fo.log.then_some(log_path), svg }, batch))
 }
 

@@ -47,7 +47,7 @@
 //!
 //! Every error names the file, the line and the field, and says what is valid.
 
-use crate::waveform::Level;
+use crate::observers::waveform::Level;
 use pmu50_core::register_file::MAP;
 use pmu50_core::{CoreConfig, Dur, Params};
 use pmu50_env::{

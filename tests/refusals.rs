@@ -1,8 +1,8 @@
-//! The refused-write report (src/refusals.rs) against the chip itself: over seeded random
+//! The refused-write report (src/observers/refusals.rs) against the chip itself: over seeded random
 //! scenarios (legal and refused writes, key edges, rail faults), a timeline write is reported as
 //! refused exactly when the register file raises `bus_err` at the edge that takes it.
 
-use pmu50::refusals::RefusalWatch;
+use pmu50::observers::refusals::RefusalWatch;
 use pmu50::scenario::{Action, Scenario};
 use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
 use std::path::Path;

@@ -16,13 +16,13 @@
 //! ([`Stepping::IdleGaps`]), itself proven equal to stepping every tick in tests/properties.rs
 //! and below: stepping every one of its 8.6e9 ticks would take CI an hour.
 
-use pmu50::changelog::ChangeLog;
-use pmu50::markers::{Marker, MarkerObserver};
+use pmu50::observers::changelog::ChangeLog;
+use pmu50::observers::markers::{Marker, MarkerObserver};
 use pmu50::output::summary;
-use pmu50::plot::timing::TimingRecorder;
+use pmu50::observers::timing::TimingRecorder;
 use pmu50::scenario::Scenario;
 use pmu50::sim::{run_with, OnBegin, RunResult, Stepping, TickView};
-use pmu50::waveform::{Level, VcdObserver, WaveFormat};
+use pmu50::observers::waveform::{Level, VcdObserver, WaveFormat};
 use pmu50_core::pmu50::Structural;
 use proptest::prelude::*;
 use std::fmt::Write;
@@ -281,7 +281,8 @@ fn traced(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: Option<
 fn traced_level(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: Option<(u64, u64)>, level: Level) -> (RunResult, Vec<u8>, Vec<Marker>, Vec<u8>) {
     let dir = tempfile::tempdir().unwrap();
     let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
-    let mut vcd = OnBegin::new(|init: &TickView<'_>| VcdObserver::create_level(dir.path(), &sc.name, s, sc.clock_ns(), window, format, level, init));
+    let core = pmu50_core::Pmu50::new(sc.params).unwrap();
+    let mut vcd = OnBegin::new(|init: &TickView<'_>| VcdObserver::create(dir.path(), &sc.name, &core, sc.clock_ns(), window, format, level, init));
     let mut marks = MarkerObserver::new(sc.clock_ns());
     let mut log = ChangeLog::new(Vec::new(), s, sc.clock_ns()).unwrap();
     let mut timing = TimingRecorder::new(sc.clock_ns(), window);

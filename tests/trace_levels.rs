@@ -6,7 +6,7 @@
 
 use pmu50::output::{choose_trace, estimate_run_bytes, estimate_wave_bytes, parked_ticks, TraceFrom, DEFAULT_ALL_MAX_BYTES};
 use pmu50::scenario::{Scenario, Trace};
-use pmu50::waveform::{Level, WaveFormat};
+use pmu50::observers::waveform::{Level, WaveFormat};
 use pmu50_core::signals;
 use pmu50_waves::reader::Waveform;
 use std::collections::BTreeSet;

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Build the Verilator speed harness (hdl/bench/bench.cpp) for the parameters of one vector file.
 #
-#   hdl/bench/build.sh FILE.vec OUTDIR [--trace]
+#   hdl/bench/build.sh FILE.vec OUTDIR [--trace | --trace-all]
 #
 # verilator --cc -O3 (with --trace when asked) and g++ -O3 -march=native of the generated model,
 # the harness and the Verilator runtime; the `// param` lines of FILE.vec become -G values. With
 # --trace, hdl/bench/trace.vlt limits the dump to the twin's counterparts of the Rust tracer's 65
-# signals (inputs, outputs, registers, internals; not the twin's other nets). Output:
+# signals (inputs, outputs, registers, internals; not the twin's other nets); with --trace-all
+# Verilator dumps every variable of the twin (371, as `verilator --trace` does by default). Output:
 # OUTDIR/bench (skipped when newer than its sources). Exit 2 on a tool failure.
 set -euo pipefail
 HDL="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -34,8 +35,11 @@ VROOT="$(verilator --getenv VERILATOR_ROOT)"
 VFLAGS=(--cc -O3 --x-assign fast --x-initial fast --top-module pmu50 -Mdir "$OUT/obj" "${GS[@]}")
 RT=(verilated.cpp verilated_threads.cpp)
 TRACE_DEF=0
-if [ "$TRACE" = "--trace" ]; then
-    VFLAGS+=(--trace "$HDL/bench/trace.vlt")
+case "$TRACE" in
+    --trace) VFLAGS+=(--trace "$HDL/bench/trace.vlt") ;;
+    --trace-all) VFLAGS+=(--trace) ;;
+esac
+if [ -n "$TRACE" ]; then
     RT+=(verilated_vcd_c.cpp)
     TRACE_DEF=1
 fi

@@ -454,7 +454,7 @@ impl Scenario {
             guard("Scenario.run()", || {
                 // A scenario with `[vcd] trace = "none"` (days of parking) writes no files, as
                 // with `pmu50 run`; otherwise the level is chosen as `pmu50 run` chooses it.
-                let level = pmu50::output::choose_trace(&sc, None, None, pmu50::waveform::WaveFormat::Vcd).trace.level();
+                let level = pmu50::output::choose_trace(&sc, None, None, pmu50::observers::waveform::WaveFormat::Vcd).trace.level();
                 let r = match (&out_dir, level) {
                     (Some(d), Some(level)) => {
                         run_to_files(&sc, d, FileOptions { log, level, ..FileOptions::default() }, &mut []).map(|(r, w)| (r, Some(w))).map_err(|e| e.to_string())

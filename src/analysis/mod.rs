@@ -22,7 +22,7 @@ pub enum AnalysisError {
     #[error(transparent)]
     Sim(#[from] SimError),
     #[error(transparent)]
-    Write(#[from] crate::fsout::OutputError),
+    Write(#[from] crate::atomic_file::OutputError),
 }
 
 /// A copy of `base` with another motor profile, timeline and length, no checks and no window.

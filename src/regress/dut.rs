@@ -16,7 +16,7 @@ use super::lockstep::{Answer, InputRecorder, Worker};
 use super::{DutKind, RunSpec};
 use crate::scenario::Scenario;
 use crate::sim::{self, Observer, SimError, SimOptions, TickView};
-use crate::vectors::VectorWriter;
+use crate::observers::vectors::VectorWriter;
 use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
 use std::collections::HashMap;
 use std::io::Read;

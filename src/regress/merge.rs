@@ -102,7 +102,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<Merged, RegressError> {
             sum
         }
     };
-    crate::fsout::create_dir(out)?;
+    crate::atomic_file::create_dir(out)?;
     summary.write(out, None)?;
     Ok(Merged { summary, folders, coverage_files: extra.len() })
 }

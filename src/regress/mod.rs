@@ -204,7 +204,7 @@ pub enum RegressError {
     #[error("{path}: {reason}")]
     File { path: PathBuf, reason: String },
     #[error(transparent)]
-    Output(#[from] crate::fsout::OutputError),
+    Output(#[from] crate::atomic_file::OutputError),
     #[error("{0}")]
     Dut(String),
 }
@@ -338,7 +338,7 @@ fn evaluate_model(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeo
         _ => None,
     };
     let mut writer = match &vec {
-        Some(f) => Some(crate::vectors::VectorWriter::new(std::io::BufWriter::new(f.as_file()), &sc).map_err(|e| error_failure(0, e.to_string()))?),
+        Some(f) => Some(crate::observers::vectors::VectorWriter::new(std::io::BufWriter::new(f.as_file()), &sc).map_err(|e| error_failure(0, e.to_string()))?),
         None => None,
     };
     let mut recorder = dut.filter(|d| d.in_memory()).map(|_| lockstep::InputRecorder::default());
@@ -470,24 +470,24 @@ impl Summary {
     /// Write regress.json, results.jsonl (sorted), coverage.json, report.html (and
     /// missing.txt when seeds are missing) into `dir`, each atomically.
     pub fn write(&self, dir: &Path, extra: Option<&str>) -> Result<(), RegressError> {
-        let mut batch = crate::fsout::Batch::new();
+        let mut batch = crate::atomic_file::Batch::new();
         let spec = serde_json::to_string_pretty(&self.spec).map_err(|e| RegressError::Usage(e.to_string()))? + "\n";
-        batch.add(crate::fsout::write_atomic(&dir.join("regress.json"), spec.as_bytes())?);
+        batch.add(crate::atomic_file::write_atomic(&dir.join("regress.json"), spec.as_bytes())?);
         let mut lines = String::new();
         for r in &self.results {
             lines.push_str(&serde_json::to_string(r).map_err(|e| RegressError::Usage(e.to_string()))?);
             lines.push('\n');
         }
-        batch.add(crate::fsout::write_atomic(&dir.join("results.jsonl"), lines.as_bytes())?);
-        batch.add(crate::fsout::write_atomic(&dir.join("coverage.json"), self.coverage.to_text().as_bytes())?);
-        batch.add(crate::fsout::write_atomic(&dir.join("coverage.ucis.xml"), pmu50_coverage::to_ucis_xml(&self.coverage).as_bytes())?);
-        batch.add(crate::fsout::write_atomic(&dir.join("report.html"), report::html(self, extra).as_bytes())?);
+        batch.add(crate::atomic_file::write_atomic(&dir.join("results.jsonl"), lines.as_bytes())?);
+        batch.add(crate::atomic_file::write_atomic(&dir.join("coverage.json"), self.coverage.to_text().as_bytes())?);
+        batch.add(crate::atomic_file::write_atomic(&dir.join("coverage.ucis.xml"), pmu50_coverage::to_ucis_xml(&self.coverage).as_bytes())?);
+        batch.add(crate::atomic_file::write_atomic(&dir.join("report.html"), report::html(self, extra).as_bytes())?);
         let missing = dir.join("missing.txt");
         if self.missing.is_empty() {
             batch.remove_stale(missing);
         } else {
             let text: String = self.missing.iter().map(|s| format!("{s}\n")).collect();
-            batch.add(crate::fsout::write_atomic(&missing, text.as_bytes())?);
+            batch.add(crate::atomic_file::write_atomic(&missing, text.as_bytes())?);
         }
         batch.commit()?;
         Ok(())
@@ -544,15 +544,15 @@ pub fn scenario_closure(c: &CoverageFile) -> (usize, usize) {
 /// unless resuming), in batches, on `o.jobs` threads.
 pub fn run(o: &Options, resume: bool, stop: &AtomicBool) -> Result<Summary, RegressError> {
     let dir = &o.out;
-    crate::fsout::create_dir(dir)?;
+    crate::atomic_file::create_dir(dir)?;
     let results_path = dir.join("results.jsonl");
     let mut done = if resume { read_results(&results_path)? } else { Vec::new() };
     if !resume {
         // A new run: the folder's previous results are replaced when this run writes them.
         let spec = serde_json::to_string_pretty(&o.spec).map_err(|e| RegressError::Usage(e.to_string()))? + "\n";
-        let mut b = crate::fsout::Batch::new();
-        b.add(crate::fsout::write_atomic(&dir.join("regress.json"), spec.as_bytes())?);
-        b.add(crate::fsout::write_atomic(&results_path, b"")?);
+        let mut b = crate::atomic_file::Batch::new();
+        b.add(crate::atomic_file::write_atomic(&dir.join("regress.json"), spec.as_bytes())?);
+        b.add(crate::atomic_file::write_atomic(&results_path, b"")?);
         b.commit()?;
     }
     let dut = match o.spec.dut {

@@ -113,8 +113,8 @@ pub fn closure_cli(dirs: &[std::path::PathBuf], out: &std::path::Path) -> Result
     }
     let refs: Vec<Curve<'_>> = curves.iter().map(|(l, c, v)| (l.as_str(), *c, v.clone())).collect();
     let svg = curve_svg(&refs, "coverage closure: bins hit against seeds");
-    let mut b = crate::fsout::Batch::new();
-    b.add(crate::fsout::write_atomic(out, svg.as_bytes())?);
+    let mut b = crate::atomic_file::Batch::new();
+    b.add(crate::atomic_file::write_atomic(out, svg.as_bytes())?);
     b.commit()?;
     text.push_str(&format!("wrote {}\n", out.display()));
     Ok(text)

@@ -148,7 +148,7 @@ pub fn write_repros(s: &Summary, dir: &Path, dut: Option<&Dut>, timeout: Duratio
         let stim = Stimulus::generate(seed, &bias_for(&s.spec, seed, &s.results));
         let (small, f, tries) = shrink(&s.spec, &stim, &first, dut, timeout);
         let folder = dir.join("failures").join(&sig);
-        crate::fsout::create_dir(&folder)?;
+        crate::atomic_file::create_dir(&folder)?;
         let name = format!("repro_{seed}");
         let toml = small.to_toml(&name);
         let repro = folder.join("repro.toml");
@@ -173,10 +173,10 @@ pub fn write_repros(s: &Summary, dir: &Path, dut: Option<&Dut>, timeout: Duratio
             f.fig,
             f.detail,
         );
-        let mut b = crate::fsout::Batch::new();
-        b.add(crate::fsout::write_atomic(&repro, toml.as_bytes())?);
-        b.add(crate::fsout::write_atomic(&folder.join("command.txt"), format!("{cmd}\n").as_bytes())?);
-        b.add(crate::fsout::write_atomic(&folder.join("failure.txt"), text.as_bytes())?);
+        let mut b = crate::atomic_file::Batch::new();
+        b.add(crate::atomic_file::write_atomic(&repro, toml.as_bytes())?);
+        b.add(crate::atomic_file::write_atomic(&folder.join("command.txt"), format!("{cmd}\n").as_bytes())?);
+        b.add(crate::atomic_file::write_atomic(&folder.join("failure.txt"), text.as_bytes())?);
         b.commit()?;
         super::wave::write(&folder, &toml, &name, &f)?;
     }

@@ -5,7 +5,7 @@ use super::check::Failure;
 use super::RegressError;
 use crate::output::{run_to_batch_focused, FileOptions, Focus};
 use crate::scenario::Scenario;
-use crate::waveform::{Level, WaveFormat};
+use crate::observers::waveform::{Level, WaveFormat};
 use std::path::Path;
 
 /// Write `repro.vcd` and `repro.gtkw` into `folder` from the repro's TOML text.

@@ -445,7 +445,7 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
             let boundary = if out.sig { tmr0 && k.is_multiple_of(mpu::POLL_CYCLE) && mpu.idle() } else { tmr0 && front.quiet_while_off() };
             if boundary {
                 let at = At {
-                    k,
+                    tick: k,
                     snap: Snapshot { regs: *core.regs(), front: front.state(), mpu: mpu.state().clone(), ig: timeline.ig },
                     next_event: timeline.next,
                     next_event_tick: timeline.next_tick(),

@@ -84,9 +84,24 @@ impl PeriodRecorder {
 
     /// The values dumped at tick `k` (same length every tick).
     pub fn record(&mut self, k: u64, values: &[u64]) {
-        if !self.active {
-            return;
+        if self.active {
+            self.add(k, values);
+            self.last.clear();
+            self.last.extend_from_slice(values);
         }
+    }
+
+    /// [`PeriodRecorder::record`] taking the values over: `values` is left with the recorder's
+    /// spare buffer (of any content), for the caller to fill for the next tick.
+    pub fn record_taking(&mut self, k: u64, values: &mut Vec<u64>) {
+        if self.active {
+            self.add(k, values);
+            std::mem::swap(&mut self.last, values);
+        }
+    }
+
+    /// The changes of tick `k` against the last recorded values, into the current stretch.
+    fn add(&mut self, k: u64, values: &[u64]) {
         let c = &mut self.cur;
         if c.ok {
             if c.next != k || k - c.start >= MAX_TICKS {
@@ -111,8 +126,6 @@ impl PeriodRecorder {
             }
             c.next = k + 1;
         }
-        self.last.clear();
-        self.last.extend_from_slice(values);
         self.last_tick = Some(k);
     }
 

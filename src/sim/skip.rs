@@ -30,7 +30,7 @@ pub struct Snapshot {
 }
 
 struct Boundary {
-    k: u64,
+    tick: u64,
     snap: Snapshot,
     /// Index of the next timeline event not yet applied.
     next_event: usize,
@@ -52,7 +52,7 @@ pub struct Skip {
 
 /// What the bench knows at a boundary.
 pub struct At<'a> {
-    pub k: u64,
+    pub tick: u64,
     pub snap: Snapshot,
     pub next_event: usize,
     pub next_event_tick: Option<u64>,
@@ -78,25 +78,25 @@ impl PeriodSkip {
     /// tick; returns the skip to take, if the last period repeats and at least one whole period
     /// fits before the next event, motion or the end of the run.
     pub fn at_boundary(&mut self, a: At<'_>) -> Option<Skip> {
-        let cur = Boundary { k: a.k, snap: a.snap, next_event: a.next_event, meter: a.meter };
+        let cur = Boundary { tick: a.tick, snap: a.snap, next_event: a.next_event, meter: a.meter };
         let p = self.prev.replace(cur)?;
         let cur = self.prev.as_ref()?;
         // A period with more than one table row cannot happen with the key off (one sampling
         // strobe per period); not skipping keeps the table exact if it ever did.
-        if a.rows > 1 || cur.next_event != p.next_event || cur.snap != p.snap || cur.k <= p.k {
+        if a.rows > 1 || cur.next_event != p.next_event || cur.snap != p.snap || cur.tick <= p.tick {
             return None;
         }
-        let len = cur.k - p.k;
-        let mut n = a.end_tick.saturating_sub(a.k) / len;
+        let len = cur.tick - p.tick;
+        let mut n = a.end_tick.saturating_sub(a.tick) / len;
         if let Some(te) = a.next_event_tick {
-            n = n.min(te.saturating_sub(a.k) / len);
+            n = n.min(te.saturating_sub(a.tick) / len);
         }
-        // Angle queries of the previous period start at (p.k + 1)·T; the last skipped tick
+        // Angle queries of the previous period start at (p.tick + 1)·T; the last skipped tick
         // queries (k + n·len)·T.
-        let until = a.motor.constant_until_ns((p.k + 1) * a.clock_ns);
+        let until = a.motor.constant_until_ns((p.tick + 1) * a.clock_ns);
         if until != u64::MAX {
             let last = until / a.clock_ns;
-            n = n.min(last.saturating_sub(a.k) / len);
+            n = n.min(last.saturating_sub(a.tick) / len);
         }
         if n == 0 {
             return None;

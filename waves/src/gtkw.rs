@@ -49,31 +49,19 @@ use thiserror::Error;
 
 use crate::reader::Waveform;
 
-/// `TR_HEX`
+// GTKWave's trace flags (the TR_* bits of its analyzer.h), by their GTKWave names.
 const TR_HEX: u64 = 1 << 1;
-/// `TR_DEC`
 const TR_DEC: u64 = 1 << 2;
-/// `TR_BIN`
 const TR_BIN: u64 = 1 << 3;
-/// `TR_RJUSTIFY`
 const TR_RJUSTIFY: u64 = 1 << 5;
-/// `TR_BLANK`
 const TR_BLANK: u64 = 1 << 9;
-/// `TR_SIGNED`
 const TR_SIGNED: u64 = 1 << 10;
-/// `TR_COLLAPSED`
 const TR_COLLAPSED: u64 = 1 << 12;
-/// `TR_ANALOG_STEP`
 const TR_ANALOG_STEP: u64 = 1 << 15;
-/// `TR_ANALOG_INTERPOLATED`
 const TR_ANALOG_INTERPOLATED: u64 = 1 << 16;
-/// `TR_ANALOG_BLANK_STRETCH`
 const TR_ANALOG_BLANK_STRETCH: u64 = 1 << 17;
-/// `TR_CLOSED`
 const TR_CLOSED: u64 = 1 << 22;
-/// `TR_GRP_BEGIN`
 const TR_GRP_BEGIN: u64 = 1 << 23;
-/// `TR_GRP_END`
 const TR_GRP_END: u64 = 1 << 24;
 
 /// Number of named markers (a..z) GTKWave 3.3 writes on the `*` zoom line.
@@ -527,7 +515,7 @@ impl GtkwSave {
     /// Render and write to `path`: to a temporary file beside it, renamed into place when
     /// complete (an interrupted write never leaves a cut save file; a symlink at `path` is
     /// replaced, not followed). The `pmu50` CLI stages its save files with its own output batch
-    /// instead (src/fsout.rs), so that the `.gtkw` lands after the VCD.
+    /// instead (src/atomic_file.rs), so that the `.gtkw` lands after the VCD.
     pub fn write(&self, path: impl AsRef<Path>) -> Result<(), GtkwError> {
         let text = self.render()?;
         let path = path.as_ref();

@@ -153,7 +153,7 @@ fn show(bytes: &[u8]) -> String {
 
 /// Byte source with a 64 KiB buffer and line counting.
 struct Src<R> {
-    r: R,
+    reader: R,
     buf: Box<[u8]>,
     pos: usize,
     len: usize,
@@ -162,14 +162,14 @@ struct Src<R> {
 
 impl<R: Read> Src<R> {
     fn new(r: R) -> Self {
-        Src { r, buf: vec![0u8; 1 << 16].into_boxed_slice(), pos: 0, len: 0, line: 1 }
+        Src { reader: r, buf: vec![0u8; 1 << 16].into_boxed_slice(), pos: 0, len: 0, line: 1 }
     }
 
     #[inline]
     fn next(&mut self) -> std::io::Result<Option<u8>> {
         if self.pos == self.len {
             loop {
-                match self.r.read(&mut self.buf) {
+                match self.reader.read(&mut self.buf) {
                     Ok(n) => {
                         self.pos = 0;
                         self.len = n;

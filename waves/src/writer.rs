@@ -434,16 +434,42 @@ fn max_for_width(width: u32) -> u64 {
 
 /// Deterministic text for a finite real: shortest round-trip digits, plain
 /// notation for moderate magnitudes, exponent notation otherwise; `-0` is `0`.
+#[cfg(test)]
 pub(crate) fn format_real(v: f64) -> String {
+    let mut b = ryu::Buffer::new();
+    real_text(v, &mut b).to_string()
+}
+
+/// [`format_real`] without allocating: the text in `b` (a `ryu` buffer: shortest round-trip
+/// digits, the same as `std::fmt`'s but where a double lies halfway between two 17-digit texts,
+/// a tie the two break differently), or a static `0`. `ryu` writes plain notation for 1e-5 <= |v| < 1e16 with a `.0`
+/// after an integer, and exponent notation (`1e30`, `1.5e-7`) otherwise, as Rust's `{:e}`; the
+/// `.0` is dropped, and the rare 1e-5 <= |v| < 1e-4 (plain in `ryu`, exponent here) takes
+/// Rust's `{:e}` (tests/writer.rs compares with `format!` on random values).
+pub(crate) fn real_text(v: f64, b: &mut ryu::Buffer) -> std::borrow::Cow<'_, str> {
     if v == 0.0 {
-        return "0".to_string();
+        return "0".into();
     }
     let a = v.abs();
     if (1e-4..1e16).contains(&a) {
-        format!("{v}")
+        let s = b.format_finite(v);
+        s.strip_suffix(".0").unwrap_or(s).into()
+    } else if (1e-5..1e-4).contains(&a) {
+        format!("{v:e}").into()
     } else {
-        format!("{v:e}")
+        b.format_finite(v).into()
     }
+}
+
+/// A real's change line `r<text> <code>\n` into `out`, exactly as long.
+#[inline]
+fn real_line(out: &mut [u8], text: &str, code: &[u8]) {
+    let n = text.len();
+    out[0] = b'r';
+    out[1..=n].copy_from_slice(text.as_bytes());
+    out[n + 1] = b' ';
+    out[n + 2..n + 2 + code.len()].copy_from_slice(code);
+    out[n + 2 + code.len()] = b'\n';
 }
 
 /// FST's encoding of a real value: the IEEE 754 bits, little endian.
@@ -703,7 +729,7 @@ impl VcdBuilder {
     pub(crate) fn into_writer<E: Emitter>(self, e: E) -> Writer<E> {
         let n = self.vars.len();
         Writer {
-            e,
+            emitter: e,
             owner: self.owner,
             vars: self.vars,
             cur: self.init,
@@ -917,13 +943,28 @@ impl<W: Write> VcdOut<W> {
             }
             ValueRef::Real(r) => {
                 line.push(b'r');
-                line.extend_from_slice(format_real(r).as_bytes());
+                line.extend_from_slice(real_text(r, &mut ryu::Buffer::new()).as_bytes());
                 line.push(b' ');
             }
         }
         line.extend_from_slice(&self.codes[i]);
         line.push(b'\n');
         self.put(&line)
+    }
+
+    /// A real's change line, `r<text> <code>`, straight into the buffer ([`real_text`]).
+    #[inline]
+    fn value_real(&mut self, i: usize, r: f64) -> Result<()> {
+        let mut b = ryu::Buffer::new();
+        let text = real_text(r, &mut b);
+        let n = text.len() + self.codes[i].len() + 3;
+        if n > SLACK {
+            return self.value_general(i, ValueRef::Real(r));
+        }
+        self.room()?;
+        real_line(&mut self.buf[self.pos..self.pos + n], &text, &self.codes[i]);
+        self.pos += n;
+        Ok(())
     }
 
     /// Append text of any length (the general path).
@@ -972,6 +1013,7 @@ impl<W: Write> Emitter for VcdOut<W> {
                 self.pos = p + self.lines[i].write(out, v);
                 Ok(())
             }
+            ValueRef::Real(r) => self.value_real(i, r),
             v => self.value_general(i, v),
         }
     }
@@ -1034,9 +1076,9 @@ impl Frame {
 }
 
 /// One step of a [`Frame`] whose values are given one by one ([`Writer::frame_step`]).
-pub struct FrameStep<'a, E: Emitter> {
-    w: &'a mut Writer<E>,
-    f: &'a mut Frame,
+struct FrameStep<'a, E: Emitter> {
+    writer: &'a mut Writer<E>,
+    frame: &'a mut Frame,
     /// A variable of the frame holds a four-state value (a single change), which the frame's
     /// integer copy cannot hold: compare with the writer's values in this step.
     slow: bool,
@@ -1062,19 +1104,19 @@ impl<E: Emitter> FrameStep<'_, E> {
     /// value in this step).
     #[inline(always)]
     pub fn set(&mut self, k: usize, v: u64) -> Result<()> {
-        let f = &mut *self.f;
+        let f = &mut *self.frame;
         let (Some(&prev), Some(seen)) = (f.prev.get(k), f.seen.get_mut(k / 64)) else {
             return Err(position_error(f, k));
         };
         let bit = 1u64 << (k % 64);
         if *seen & bit != 0 {
-            return Err(self.w.double_change(f.idx[k] as usize));
+            return Err(self.writer.double_change(f.idx[k] as usize));
         }
-        let same = if self.slow { self.w.cur[f.idx[k] as usize] == Stored::Int(v) } else { v == prev };
+        let same = if self.slow { self.writer.cur[f.idx[k] as usize] == Stored::Int(v) } else { v == prev };
         if !same && !self.changed(k, v) {
-            return Err(too_wide(self.w, self.f, k, v));
+            return Err(too_wide(self.writer, self.frame, k, v));
         }
-        self.f.seen[k / 64] |= bit;
+        self.frame.seen[k / 64] |= bit;
         Ok(())
     }
 
@@ -1082,7 +1124,7 @@ impl<E: Emitter> FrameStep<'_, E> {
     /// when it is wider than its variable.
     #[inline(always)]
     fn changed(&mut self, k: usize, v: u64) -> bool {
-        let (f, w) = (&mut *self.f, &mut *self.w);
+        let (f, w) = (&mut *self.frame, &mut *self.writer);
         let i = f.idx[k] as usize;
         if v > f.max[k] {
             return false;
@@ -1123,9 +1165,9 @@ impl<E: Emitter> FrameStep<'_, E> {
 /// must be dropped, not leaked (`std::mem::forget` loses its last step). Ending a run in which
 /// no value changed costs nothing; otherwise it copies the frame's values into the writer once.
 pub struct FrameRun<'a, E: Emitter> {
-    w: &'a mut Writer<E>,
+    writer: &'a mut Writer<E>,
     /// the frame; its `open[..nopen]` are the positions changed in the open direct step
-    f: &'a mut Frame,
+    frame: &'a mut Frame,
     /// the open step (at the writer's time) is direct
     direct: bool,
     /// a direct step of this run changed a value (the writer's values are stale)
@@ -1140,7 +1182,7 @@ impl<E: Emitter> Writer<E> {
             return Err(WriteError::UnknownFrame);
         }
         frame.nopen = 0;
-        Ok(FrameRun { w: self, f: frame, direct: false, dirty: false })
+        Ok(FrameRun { writer: self, frame, direct: false, dirty: false })
     }
 }
 
@@ -1151,33 +1193,33 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
     #[inline]
     pub fn step(&mut self, t: u64) -> Result<RunStep<'_, E>> {
         if self.direct {
-            let w = &mut *self.w;
+            let w = &mut *self.writer;
             if t < w.time {
                 return Err(WriteError::TimeBackwards { requested: t, current: w.time });
             }
             if t == w.time {
                 // the open step assigned every variable of the frame at `t`
-                return Err(w.double_change(self.f.idx[0] as usize));
+                return Err(w.double_change(self.frame.idx[0] as usize));
             }
             if w.in_window(t) {
-                let f = &mut *self.f;
+                let f = &mut *self.frame;
                 if f.nopen > 0 {
                     self.dirty = true;
-                    w.e.timestamp(w.time)?;
+                    w.emitter.timestamp(w.time)?;
                     for &k in &f.open[..f.nopen] {
-                        w.e.value(f.idx[k as usize] as usize, ValueRef::Int(f.prev[k as usize]))?;
+                        w.emitter.value(f.idx[k as usize] as usize, ValueRef::Int(f.prev[k as usize]))?;
                     }
                     w.last_written = Some(w.time);
                     f.nopen = 0;
                 }
                 w.time = t;
                 w.step += 1;
-                w.frame_steps[self.f.id as usize] = w.step;
-                return Ok(RunStep { inner: Inner::Direct { w: &*self.w, f: &mut *self.f }, next: 0, current: true });
+                w.frame_steps[self.frame.id as usize] = w.step;
+                return Ok(RunStep { inner: Inner::Direct { writer: &*self.writer, frame: &mut *self.frame }, next: 0, current: true });
             }
             self.close();
         }
-        let (w, f) = (&mut *self.w, &mut *self.f);
+        let (w, f) = (&mut *self.writer, &mut *self.frame);
         if t > w.time && f.sorted {
             w.frame_prologue(f, t)?;
             if w.dumped && w.in_window(t) {
@@ -1194,11 +1236,11 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
                     w.frame_steps[f.id as usize] = w.step;
                     self.direct = true;
                     f.nopen = 0;
-                    return Ok(RunStep { inner: Inner::Direct { w: &*self.w, f: &mut *self.f }, next: 0, current });
+                    return Ok(RunStep { inner: Inner::Direct { writer: &*self.writer, frame: &mut *self.frame }, next: 0, current });
                 }
             }
         }
-        let s = self.w.frame_step(self.f, t)?;
+        let s = self.writer.frame_step(self.frame, t)?;
         let current = s.is_current();
         Ok(RunStep { inner: Inner::Checked(s), next: 0, current })
     }
@@ -1209,7 +1251,7 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
         if !std::mem::replace(&mut self.direct, false) {
             return;
         }
-        let (w, f) = (&mut *self.w, &mut *self.f);
+        let (w, f) = (&mut *self.writer, &mut *self.frame);
         if !std::mem::replace(&mut self.dirty, false) && f.nopen == 0 {
             // nothing changed: the writer's values are the frame's copy (refreshed when the
             // first direct step began)
@@ -1243,7 +1285,7 @@ pub struct RunStep<'r, E: Emitter> {
 }
 
 enum Inner<'r, E: Emitter> {
-    Direct { w: &'r Writer<E>, f: &'r mut Frame },
+    Direct { writer: &'r Writer<E>, frame: &'r mut Frame },
     Checked(FrameStep<'r, E>),
 }
 
@@ -1265,7 +1307,7 @@ impl<E: Emitter> RunStep<'_, E> {
             return Err(order_error(k, self.next));
         }
         match &mut self.inner {
-            Inner::Direct { w, f } => {
+            Inner::Direct { writer: w, frame: f } => {
                 let Some(prev) = f.prev.get_mut(k) else {
                     return Err(position_error(f, k));
                 };
@@ -1336,8 +1378,8 @@ fn too_wide<E: Emitter>(w: &Writer<E>, f: &Frame, k: usize, v: u64) -> WriteErro
 /// (`std::mem::forget` loses its last step and leaves the writer's and the frame's values stale);
 /// a [`TextStep`] may be leaked: its lines are the writer's as soon as they are written.
 pub struct TextRun<'a, W: Write> {
-    w: &'a mut VcdWriter<W>,
-    f: &'a mut Frame,
+    writer: &'a mut VcdWriter<W>,
+    frame: &'a mut Frame,
     /// the frame's variables all have change lines and are in declaration order
     eligible: bool,
     /// per position of the frame: its value and its change line (one bounds check and one
@@ -1354,6 +1396,22 @@ pub struct TextRun<'a, W: Write> {
     next: usize,
     /// a finished text step of this run changed a value (the writer's values are stale)
     dirty: bool,
+    /// the `real` variables given in text steps ([`TextRun::real`]): their values as written
+    /// (the writer's are brought up to date when the run ends) and, in the open step, whether
+    /// given and changed
+    reals: Vec<RealSlot>,
+    /// the declaration index of the last real given in the open step (reals in increasing order)
+    next_real: Option<u32>,
+}
+
+/// A `real` variable of a [`TextRun`] ([`TextRun::real`]).
+#[derive(Clone, Copy)]
+struct RealSlot {
+    var: u32,
+    value: f64,
+    /// given in the open step, and changed in it
+    given: bool,
+    changed: bool,
 }
 
 /// A position of a [`TextRun`]'s frame: its value and its change line.
@@ -1369,7 +1427,7 @@ struct TextSlot {
 /// never loads it back: the next line starts from the step's own copy, not from a load that
 /// waits for the store (the writer is up to date after every line, however the step ends).
 pub struct TextStep<'s, 'a, W: Write> {
-    r: &'s mut TextRun<'a, W>,
+    run: &'s mut TextRun<'a, W>,
     /// the end of the text in the writer's buffer (equal to the writer's)
     pos: usize,
 }
@@ -1381,9 +1439,9 @@ impl<W: Write> VcdWriter<W> {
         if frame.owner != self.owner || frame.id as usize >= self.frame_steps.len() {
             return Err(WriteError::UnknownFrame);
         }
-        let eligible = frame.sorted && frame.idx.iter().all(|&i| self.e.lines[i as usize].is_line());
+        let eligible = frame.sorted && frame.idx.iter().all(|&i| self.emitter.lines[i as usize].is_line());
         let need = (frame.idx.len() + 1) * SLACK;
-        let e = &mut self.e;
+        let e = &mut self.emitter;
         if eligible && e.buf.len() < need + SLACK {
             // a frame of thousands of variables: room for one whole step
             let mut buf = vec![0; VCD_BUFFER + need + SLACK].into_boxed_slice();
@@ -1392,8 +1450,8 @@ impl<W: Write> VcdWriter<W> {
         }
         frame.nopen = 0;
         // (the values are taken from the frame when text steps start: `TextRun::step`)
-        let slots = frame.idx.iter().map(|&i| TextSlot { prev: 0, line: self.e.lines[i as usize] }).collect();
-        Ok(TextRun { w: self, f: frame, eligible, slots, need, open: false, mark: 0, start: 0, next: 0, dirty: false })
+        let slots = frame.idx.iter().map(|&i| TextSlot { prev: 0, line: self.emitter.lines[i as usize] }).collect();
+        Ok(TextRun { writer: self, frame, eligible, slots, need, open: false, mark: 0, start: 0, next: 0, dirty: false, reals: Vec::new(), next_real: None })
     }
 }
 
@@ -1406,19 +1464,23 @@ impl<'a, W: Write> TextRun<'a, W> {
     /// ([`WriteError::DoubleChange`]: that step gave the frame's values at `t`).
     #[inline]
     pub fn step(&mut self, t: u64) -> Result<Option<TextStep<'_, 'a, W>>> {
-        let w = &mut *self.w;
+        let w = &mut *self.writer;
         if t <= w.time {
             if t < w.time {
                 return Err(WriteError::TimeBackwards { requested: t, current: w.time });
             }
             if self.open {
-                return Err(w.double_change(self.f.idx[0] as usize));
+                return Err(w.double_change(self.frame.idx[0] as usize));
             }
             return Ok(None);
         }
         if self.open {
             // the open step is final now: its text stays when it wrote a line
-            let e = &mut w.e;
+            for r in &mut self.reals {
+                (r.given, r.changed) = (false, false);
+            }
+            self.next_real = None;
+            let e = &mut w.emitter;
             if e.pos == self.start {
                 e.pos = self.mark;
             } else {
@@ -1441,15 +1503,15 @@ impl<'a, W: Write> TextRun<'a, W> {
             w.flush_step()?;
             // `frame_prologue`'s checks (this frame or an overlapping one already stepped at
             // `t`, a single change at `t`) cannot fail: `t` is after the writer's time
-            if !(w.dumped && self.f.generation == w.generation) || self.f.idx.iter().any(|&i| !matches!(w.cur[i as usize], Stored::Int(_))) {
+            if !(w.dumped && self.frame.generation == w.generation) || self.frame.idx.iter().any(|&i| !matches!(w.cur[i as usize], Stored::Int(_))) {
                 return Ok(None);
             }
             // the text steps hold the frame's values from here until they end (`close`)
-            for (s, &p) in self.slots.iter_mut().zip(&self.f.prev) {
+            for (s, &p) in self.slots.iter_mut().zip(&self.frame.prev) {
                 s.prev = p;
             }
         }
-        let e = &mut self.w.e;
+        let e = &mut self.writer.emitter;
         if e.pos + self.need > e.buf.len() {
             if let Err(err) = e.out.write_all(&e.buf[..e.pos]) {
                 self.close();
@@ -1457,7 +1519,7 @@ impl<'a, W: Write> TextRun<'a, W> {
             }
             e.pos = 0;
         }
-        let w = &mut *self.w;
+        let w = &mut *self.writer;
         if !self.open {
             // The writer's step number, and this frame's, once for the run's text steps: while
             // the run lasts nothing else assigns or steps, so every later step of it is this
@@ -1465,17 +1527,91 @@ impl<'a, W: Write> TextRun<'a, W> {
             // one is the frame's step at the writer's time, numbered after every earlier
             // assignment and frame step (as if numbered one by one).
             w.step += 1;
-            w.frame_steps[self.f.id as usize] = w.step;
+            w.frame_steps[self.frame.id as usize] = w.step;
         }
         self.open = true;
         w.time = t;
-        let e = &mut w.e;
+        let e = &mut w.emitter;
         self.mark = e.pos;
         e.stamp(t);
         let pos = e.pos;
         self.start = pos;
         self.next = 0;
-        Ok(Some(TextStep { r: self, pos }))
+        Ok(Some(TextStep { run: self, pos }))
+    }
+
+    /// The `real` variable `id` (declared after every variable of the frame) at the time of the
+    /// last step, in the same step: written at once after the frame's lines when that step was
+    /// a text step, through [`Writer::change_real`] otherwise (a step that went through
+    /// [`TextRun::frame_run`], or none in this run). The same checks as `change_real`: a
+    /// `real` variable, finite, given once per step; here in addition the reals of a step come
+    /// in increasing declaration order ([`WriteError::FrameOrder`]). The file is the one of
+    /// `dump_frame` and `change_real` at each step (tests/writer.rs).
+    pub fn real(&mut self, id: SigId, v: f64) -> Result<()> {
+        let i = self.writer.index(id)?;
+        if !matches!(self.writer.vars[i].kind, Kind::Real) {
+            return Err(self.writer.type_mismatch(i, "real"));
+        }
+        if !self.open {
+            return self.change_real(id, v);
+        }
+        if self.frame.idx.last().is_some_and(|&last| i as u32 <= last) {
+            return Err(order_error(i, self.frame.idx[self.frame.idx.len() - 1] as usize + 1));
+        }
+        if let Some(last) = self.next_real.filter(|&last| i as u32 <= last) {
+            return Err(if last == i as u32 { self.writer.double_change(i) } else { order_error(i, last as usize + 1) });
+        }
+        if !v.is_finite() {
+            return Err(WriteError::NotFinite { name: self.writer.vars[i].path.clone(), value: v });
+        }
+        let v = v + 0.0;
+        let k = match self.reals.iter().position(|r| r.var == i as u32) {
+            Some(k) => k,
+            None => {
+                let Stored::Real(value) = self.writer.cur[i] else {
+                    return Err(self.writer.type_mismatch(i, "real"));
+                };
+                // room for its line in every later step
+                self.need += SLACK;
+                self.reals.push(RealSlot { var: i as u32, value, given: false, changed: false });
+                self.reals.len() - 1
+            }
+        };
+        self.next_real = Some(i as u32);
+        self.next = self.slots.len();
+        self.reals[k].given = true;
+        if self.reals[k].value.to_bits() == v.to_bits() {
+            return Ok(());
+        }
+        let e = &mut self.writer.emitter;
+        let mut b = ryu::Buffer::new();
+        let text = real_text(v, &mut b);
+        let code = &e.codes[i];
+        let n = text.len() + code.len() + 3;
+        if e.pos + n > e.buf.len() {
+            // (only before the step reserved room for this real: take it through the writer)
+            self.reals[k].given = false;
+            self.next_real = None;
+            self.close();
+            return self.change_real(id, v);
+        }
+        real_line(&mut e.buf[e.pos..e.pos + n], &text, code);
+        e.pos += n;
+        self.reals[k].value = v;
+        self.reals[k].changed = true;
+        self.dirty = true;
+        Ok(())
+    }
+
+    /// [`Writer::change_real`] of a real outside the frame: a frame that held the writer's
+    /// values still does (so the next step may be a text step again).
+    fn change_real(&mut self, id: SigId, v: f64) -> Result<()> {
+        let current = self.frame.generation == self.writer.generation;
+        self.writer.change_real(id, v)?;
+        if current {
+            self.frame.generation = self.writer.generation;
+        }
+        Ok(())
     }
 
     /// End the text steps and lend the writer to the frame as a [`FrameRun`] (for a step that
@@ -1483,7 +1619,7 @@ impl<'a, W: Write> TextRun<'a, W> {
     /// [`TextRun::step`].
     pub fn frame_run(&mut self) -> Result<FrameRun<'_, VcdOut<W>>> {
         self.close();
-        self.w.frame_run(self.f)
+        self.writer.frame_run(self.frame)
     }
 
     /// The writer takes over the frame's values: every variable of the frame its value, and
@@ -1492,17 +1628,18 @@ impl<'a, W: Write> TextRun<'a, W> {
         if !std::mem::replace(&mut self.open, false) {
             return;
         }
-        let (w, f) = (&mut *self.w, &mut *self.f);
+        let (w, f) = (&mut *self.writer, &mut *self.frame);
         for (p, s) in f.prev.iter_mut().zip(self.slots.iter()) {
             *p = s.prev;
         }
         // The open step's changes become the writer's pending step (its first text step
         // wrote the writer's own). They are read back from its text, which a step keeps whole:
         // its lines are in increasing positions, each ends with its variable's code.
-        let (start, end) = (self.start, w.e.pos);
+        let (start, end) = (self.start, w.emitter.pos);
         let mut k = 0;
         let mut changed = false;
-        for line in w.e.buf[start..end].to_vec().split_inclusive(|&b| b == b'\n') {
+        // (the reals' lines, `r...`, follow the frame's: `TextRun::real`)
+        for line in w.emitter.buf[start..end].to_vec().split_inclusive(|&b| b == b'\n').take_while(|l| l.first() != Some(&b'r')) {
             while !self.slots[k].line.is_line_of(line) {
                 k += 1;
             }
@@ -1510,7 +1647,22 @@ impl<'a, W: Write> TextRun<'a, W> {
             changed = true;
             k += 1;
         }
-        w.e.pos = self.mark;
+        w.emitter.pos = self.mark;
+        // The reals: the writer's values; those given in the open step are assigned in it.
+        for r in self.reals.iter_mut() {
+            w.cur[r.var as usize] = Stored::Real(r.value);
+            if r.given {
+                w.assigned[r.var as usize] = w.step;
+                w.single_step = w.step;
+            }
+            if r.changed {
+                w.push_pending(r.var as usize);
+                changed = true;
+            }
+            (r.given, r.changed) = (false, false);
+        }
+        self.reals.clear();
+        self.next_real = None;
         // a value changed in an earlier step of the run or in the open one
         if !std::mem::replace(&mut self.dirty, false) && !changed {
             return;
@@ -1536,19 +1688,19 @@ impl<W: Write> TextStep<'_, '_, W> {
     /// assigned.
     #[inline(always)]
     pub fn line(&mut self, k: usize, v: u64) -> Result<()> {
-        let r = &mut *self.r;
+        let r = &mut *self.run;
         if k < r.next {
             return Err(order_error(k, r.next));
         }
         let Some(slot) = r.slots.get_mut(k) else {
-            return Err(position_error(r.f, k));
+            return Err(position_error(r.frame, k));
         };
         if v == slot.prev {
             r.next = k + 1;
             return Ok(());
         }
-        if v > r.f.max[k] {
-            return Err(too_wide(r.w, r.f, k, v));
+        if v > r.frame.max[k] {
+            return Err(too_wide(r.writer, r.frame, k, v));
         }
         self.write::<0>(k, v);
         Ok(())
@@ -1564,7 +1716,7 @@ impl<W: Write> TextStep<'_, '_, W> {
     ///   against the widths of the values it gives).
     ///
     /// A position past the frame's end panics, in every build. For a tracer whose values come
-    /// from typed registers (`pmu50::tracer::CoreTracer`, which checks the frame's widths when
+    /// from typed registers (`pmu50::observers::tracer::CoreTracer`, which checks the frame's widths when
     /// it is created and is compared with [`Writer::dump_frame`] in its tests); any other
     /// caller, [`TextStep::line`].
     #[inline(always)]
@@ -1586,11 +1738,11 @@ impl<W: Write> TextStep<'_, '_, W> {
     /// asserted in debug builds, then the line.
     #[inline(always)]
     fn change_n<const N: usize>(&mut self, k: usize, v: u64) {
-        let r = &*self.r;
+        let r = &*self.run;
         debug_assert!(k >= r.next, "change: position {k} after {} in one step", r.next);
         debug_assert!(r.slots[k].prev != v, "change: position {k} did not change");
-        debug_assert!(v <= r.f.max[k], "change: value {v:#x} too wide for position {k}");
-        debug_assert!(N == 0 || r.f.max[k] == u64::MAX >> (64 - N), "change_w: position {k} is not {N} bits wide");
+        debug_assert!(v <= r.frame.max[k], "change: value {v:#x} too wide for position {k}");
+        debug_assert!(N == 0 || r.frame.max[k] == u64::MAX >> (64 - N), "change_w: position {k} is not {N} bits wide");
         self.write::<N>(k, v);
     }
 
@@ -1600,12 +1752,12 @@ impl<W: Write> TextStep<'_, '_, W> {
     /// line starts from the step's copy).
     #[inline(always)]
     fn write<const N: usize>(&mut self, k: usize, v: u64) {
-        let r = &mut *self.r;
+        let r = &mut *self.run;
         let slot = &mut r.slots[k];
         slot.prev = v;
         r.next = k + 1;
         let p = self.pos;
-        let e = &mut r.w.e;
+        let e = &mut r.writer.emitter;
         let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
         self.pos = p + if N == 0 { slot.line.write(out, v) } else { slot.line.write_w::<N>(out, v) };
         e.pos = self.pos;
@@ -1616,7 +1768,7 @@ impl<W: Write> TextStep<'_, '_, W> {
 /// [`VcdBuilder::start`] (VCD) or [`crate::fst::start_fst`] (FST). Call [`Writer::finish`] at
 /// the end or the last time step is lost.
 pub struct Writer<E: Emitter> {
-    e: E,
+    emitter: E,
     owner: u32,
     vars: Vec<VarDecl>,
     cur: Vec<Stored>,
@@ -1707,23 +1859,21 @@ impl<E: Emitter> Writer<E> {
 
     /// Change a one-bit variable (scalar or one-bit vector).
     pub fn change_bit(&mut self, id: SigId, v: Logic) -> Result<()> {
-        let i = self.index(id)?;
-        match self.vars[i].kind {
-            Kind::Bits { width: 1, .. } => self.assign(i, canon_bits(vec![v.as_byte()])),
-            Kind::Bits { width, .. } => Err(WriteError::WrongWidth {
-                name: self.vars[i].path.clone(),
-                expected: width,
-                got: 1,
-            }),
-            Kind::Real => Err(self.type_mismatch(i, "bit")),
-        }
+        let i = self.one_bit(id)?;
+        self.assign(i, canon_bits(vec![v.as_byte()]))
     }
 
     /// Change a one-bit variable from a `bool`.
     pub fn change_bool(&mut self, id: SigId, v: bool) -> Result<()> {
+        let i = self.one_bit(id)?;
+        self.assign(i, Stored::Int(u64::from(v)))
+    }
+
+    /// The index of `id`, a one-bit variable (else a wrong width or type).
+    fn one_bit(&self, id: SigId) -> Result<usize> {
         let i = self.index(id)?;
         match self.vars[i].kind {
-            Kind::Bits { width: 1, .. } => self.assign(i, Stored::Int(u64::from(v))),
+            Kind::Bits { width: 1, .. } => Ok(i),
             Kind::Bits { width, .. } => Err(WriteError::WrongWidth {
                 name: self.vars[i].path.clone(),
                 expected: width,
@@ -1992,7 +2142,7 @@ impl<E: Emitter> Writer<E> {
     /// position set twice in the step, and the width of a value that changed. A single change of
     /// one of the frame's variables later in the same step is a double assignment.
     #[inline]
-    pub fn frame_step<'a>(&'a mut self, frame: &'a mut Frame, t: u64) -> Result<FrameStep<'a, E>> {
+    fn frame_step<'a>(&'a mut self, frame: &'a mut Frame, t: u64) -> Result<FrameStep<'a, E>> {
         self.frame_prologue(frame, t)?;
         let current = frame.generation == self.generation;
         let mut slow = false;
@@ -2014,7 +2164,7 @@ impl<E: Emitter> Writer<E> {
             [a, b] => (*a, *b) = (0, 0),
             seen => seen.fill(0),
         }
-        Ok(FrameStep { w: self, f: frame, slow, current })
+        Ok(FrameStep { writer: self, frame, slow, current })
     }
 
     /// Flush the last step, write a closing time stamp at the current time
@@ -2027,7 +2177,7 @@ impl<E: Emitter> Writer<E> {
         } else {
             None
         };
-        self.e.finish(closing)
+        self.emitter.finish(closing)
     }
 
     fn type_mismatch(&self, i: usize, given: &'static str) -> WriteError {
@@ -2069,9 +2219,9 @@ impl<E: Emitter> Writer<E> {
                 if !self.pending_sorted {
                     pending.sort_unstable();
                 }
-                self.e.timestamp(t)?;
+                self.emitter.timestamp(t)?;
                 for &i in pending.iter() {
-                    self.e.value(i as usize, self.cur[i as usize].as_ref())?;
+                    self.emitter.value(i as usize, self.cur[i as usize].as_ref())?;
                 }
                 self.last_written = Some(t);
             }
@@ -2101,11 +2251,11 @@ impl<E: Emitter> Writer<E> {
     }
 
     fn write_dump(&mut self, t: u64) -> Result<()> {
-        self.e.dump_begin(t)?;
+        self.emitter.dump_begin(t)?;
         for i in 0..self.vars.len() {
-            self.e.value(i, self.cur[i].as_ref())?;
+            self.emitter.value(i, self.cur[i].as_ref())?;
         }
-        self.e.dump_end()?;
+        self.emitter.dump_end()?;
         self.dumped = true;
         self.last_written = Some(t);
         Ok(())
@@ -2126,5 +2276,200 @@ impl Write for Slot {
 
     fn flush(&mut self) -> std::io::Result<()> {
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod real_text_tests {
+    use super::format_real;
+
+    /// The text of a real as `std::fmt` writes it: plain for 1e-4 <= |v| < 1e16, `{:e}`
+    /// otherwise, `0` for zero (the simpler reference of [`super::real_text`]).
+    fn by_fmt(v: f64) -> String {
+        if v == 0.0 {
+            "0".to_string()
+        } else if (1e-4..1e16).contains(&v.abs()) {
+            format!("{v}")
+        } else {
+            format!("{v:e}")
+        }
+    }
+
+    #[test]
+    fn edges_of_the_notations() {
+        // a short dyadic fraction: its exact value needs 18 digits
+        assert_eq!(format_real(1234.0 + 1.0 / 16384.0).parse::<f64>(), Ok(1234.0 + 1.0 / 16384.0));
+        for v in [1e-4, 9.99e-5, 1e-5, 1.5e-5, 9.9e-6, 1e16, 1e15, 37.0, -37.0, 0.001, -0.0001, 1e300, 5e-324, -1.25e-7, 123456.789, f64::MAX, f64::MIN_POSITIVE] {
+            assert_eq!(format_real(v), by_fmt(v), "{v:e}");
+        }
+        assert_eq!(format_real(-0.0), "0");
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig { cases: 20_000, failure_persistence: None, ..Default::default() })]
+
+        /// Any finite real reads back as itself, as short as `std::fmt`'s text and in the same
+        /// notation; the texts differ only where the double's exact value lies halfway between
+        /// two 17-digit texts (`ryu` and `std::fmt` break that tie differently).
+        #[test]
+        fn any_finite_real_as_std_fmt(bits in proptest::prelude::any::<u64>()) {
+            let v = f64::from_bits(bits);
+            if v.is_finite() {
+                let (a, b) = (format_real(v), by_fmt(v));
+                proptest::prop_assert_eq!(a.parse::<f64>().ok(), Some(v + 0.0), "{} for {:e}", a, v);
+                proptest::prop_assert!(a == b || (a.len() == b.len() && a.contains('e') == b.contains('e')), "{} against {}", a, b);
+            }
+        }
+
+        #[test]
+        fn rounded_analog_values_as_std_fmt(n in -10_000_000i64..10_000_000, q in 0usize..2) {
+            let v = ((n as f64 * [1e-3, 1e-4][q]) / [1e-3, 1e-4][q]).round() * [1e-3, 1e-4][q];
+            proptest::prop_assert_eq!(format_real(v), by_fmt(v));
+        }
+    }
+}
+
+/// The frame steps that a frame run takes where it cannot be direct ([`Writer::frame_step`],
+/// private: the library's callers step frames through `dump_frame`, `frame_run` and
+/// `text_run`).
+#[cfg(test)]
+mod frame_step_tests {
+    use super::{BitType, Logic, VcdBuilder, VcdWriter, WriteError};
+    use crate::{TimeUnit, Timescale};
+
+    fn text(w: VcdWriter<Vec<u8>>) -> String {
+        String::from_utf8(w.finish().unwrap()).unwrap()
+    }
+
+    /// `pmu50.a` (a bit), `tmr` (16 bits), `w` (5 bits, 3), `wide` (64 bits), `z` (a bit, `x`).
+    fn frame_builder() -> (VcdBuilder, Vec<super::SigId>) {
+        let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Us), "pmu50-waves test").unwrap();
+        b.push_scope("pmu50").unwrap();
+        let vectors = [(BitType::Reg, "tmr", 15, 0), (BitType::Reg, "w", 4, 3), (BitType::Wire, "wide", 63, 0)];
+        let mut ids = vec![b.add_bit(BitType::Wire, "a", Logic::Zero).unwrap()];
+        ids.extend(vectors.map(|(ty, name, msb, init)| b.add_vector(ty, name, msb, 0, init).unwrap()));
+        ids.push(b.add_bit(BitType::Reg, "z", Logic::X).unwrap());
+        b.pop_scope().unwrap();
+        (b, ids)
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig { cases: 200, failure_persistence: None, ..Default::default() })]
+
+        /// A frame step that sets some positions writes exactly what `dump_frame` writes with those
+        /// values and the current value at every other position; a single change of a variable
+        /// outside the frame in between makes the step not current.
+        #[test]
+        fn frame_steps_equal_dump_frame(steps in proptest::collection::vec((1u64..3, proptest::array::uniform4(proptest::option::of(0u64..4)), proptest::prelude::any::<bool>()), 0..60)) {
+            let (b1, ids1) = frame_builder();
+            let (b2, ids2) = frame_builder();
+            let mut w1 = b1.start(Vec::new()).unwrap();
+            let mut w2 = b2.start(Vec::new()).unwrap();
+            let mut f1 = w1.frame(&ids1[..4]).unwrap();
+            let mut f2 = w2.frame(&ids2[..4]).unwrap();
+            let mut cur = [0u64, 0, 3, 0];
+            let mut t = 0;
+            let mut changed_outside = true;
+            let mut zv = false;
+            for (dt, set, z) in steps {
+                t += dt;
+                let mut s = w2.frame_step(&mut f2, t).unwrap();
+                proptest::prop_assert_eq!(s.is_current(), !changed_outside);
+                for (k, v) in set.iter().enumerate() {
+                    if let Some(v) = v {
+                        let v = [v & 1, v * 1000, v * 7, v << 60][k];
+                        s.set(k, v).unwrap();
+                        cur[k] = v;
+                    }
+                }
+                w1.dump_frame(&mut f1, t, &cur).unwrap();
+                // a change (the value alternates) of the variable outside the frame
+                changed_outside = z;
+                if z {
+                    zv = !zv;
+                    w1.change_bool(ids1[4], zv).unwrap();
+                    w2.change_bool(ids2[4], zv).unwrap();
+                }
+            }
+            proptest::prop_assert_eq!(text(w1), text(w2));
+        }
+    }
+
+    #[test]
+    fn frame_steps_keep_every_check() {
+        let (b, ids) = frame_builder();
+        let mut w = b.start(Vec::new()).unwrap();
+        let mut f = w.frame(&ids[..3]).unwrap();
+        let mut g = w.frame(&ids[2..4]).unwrap();
+        {
+            let mut s = w.frame_step(&mut f, 1).unwrap();
+            assert!(!s.is_current(), "a frame's first step is not current");
+            s.set(1, 7).unwrap();
+            // a position outside the frame, named with the frame's length
+            let e = s.set(3, 1).unwrap_err();
+            assert!(matches!(e, WriteError::FramePosition { position: 3, len: 3 }), "{e}");
+            assert!(e.to_string().contains("0..3"), "{e}");
+            // the same position twice in one step
+            let e = s.set(1, 8).unwrap_err();
+            assert!(matches!(&e, WriteError::DoubleChange { name, .. } if name == "pmu50.tmr"), "{e}");
+            // a changed value wider than the variable: 5-bit `w` takes at most 31, nothing assigned
+            let e = s.set(2, 32).unwrap_err();
+            assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
+            // the refused position may still be given a value in the step (here its current one)
+            s.set(2, 3).unwrap();
+        }
+        // a single change of a frame variable in the frame's step is a double assignment
+        assert!(matches!(w.change_vector(ids[0], 1), Err(WriteError::DoubleChange { .. })));
+        // an overlapping frame in the same step
+        assert!(matches!(w.frame_step(&mut g, 1), Err(WriteError::DoubleChange { .. })));
+        // time backwards
+        assert!(matches!(w.frame_step(&mut f, 0), Err(WriteError::TimeBackwards { .. })));
+        // a single change first, then the frame, in one step
+        w.set_time(2).unwrap();
+        w.change_vector(ids[1], 9).unwrap();
+        assert!(matches!(w.frame_step(&mut f, 2), Err(WriteError::DoubleChange { .. })));
+        // a frame of another writer
+        let (b2, ids2) = frame_builder();
+        let mut other = b2.start(Vec::new()).unwrap();
+        let mut f2 = other.frame(&ids2[..1]).unwrap();
+        assert!(matches!(w.frame_step(&mut f2, 3), Err(WriteError::UnknownFrame)));
+        // later steps: a step with nothing set keeps every value (and writes nothing)
+        w.frame_step(&mut f, 3).unwrap();
+        let mut s = w.frame_step(&mut f, 4).unwrap();
+        assert!(s.is_current());
+        s.set(0, 1).unwrap();
+        let got = text(w);
+
+        let (b, ids) = frame_builder();
+        let mut r = b.start(Vec::new()).unwrap();
+        for (t, ch) in [(1, vec![(1, 7)]), (2, vec![(1, 9)]), (4, vec![(0, 1)])] {
+            r.set_time(t).unwrap();
+            for (k, v) in ch {
+                r.change_vector(ids[k], v).unwrap();
+            }
+        }
+        let want = text(r);
+        assert_eq!(got, want);
+    }
+
+    /// A frame variable that holds `x` from a single change: the next frame step compares with the
+    /// writer's value, so setting the integer it had before is a change, not a repeat.
+    #[test]
+    fn frame_steps_after_four_state_values() {
+        let (b, ids) = frame_builder();
+        let mut w = b.start(Vec::new()).unwrap();
+        let mut f = w.frame(&ids[..3]).unwrap();
+        w.frame_step(&mut f, 1).unwrap().set(2, 5).unwrap();
+        w.set_time(2).unwrap();
+        w.change_bits(ids[2], "x0x0x").unwrap();
+        let mut s = w.frame_step(&mut f, 3).unwrap();
+        assert!(!s.is_current());
+        s.set(2, 5).unwrap();
+        // and a step that leaves it out keeps `x`
+        w.set_time(4).unwrap();
+        w.change_bits(ids[2], "xxxxx").unwrap();
+        w.frame_step(&mut f, 5).unwrap().set(0, 1).unwrap();
+        let vcd = text(w);
+        assert!(vcd.contains("#2\nbx0x0x #\n#3\nb00101 #\n#4\nbxxxxx #\n#5\n1!\n"), "{vcd}");
     }
 }

@@ -649,105 +649,6 @@ fn frames_refuse_reals_wide_vectors_foreign_writers_and_duplicates() {
 
 // ---- frame steps: a frame's values given one by one, only where they may have changed ----
 
-proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 200, failure_persistence: None, ..Default::default() })]
-
-    /// A frame step that sets some positions writes exactly what `dump_frame` writes with those
-    /// values and the current value at every other position; a single change of a variable
-    /// outside the frame in between makes the step not current.
-    #[test]
-    fn frame_steps_equal_dump_frame(steps in proptest::collection::vec((1u64..3, proptest::array::uniform4(proptest::option::of(0u64..4)), proptest::prelude::any::<bool>()), 0..60)) {
-        let (b1, ids1) = frame_builder();
-        let (b2, ids2) = frame_builder();
-        let mut w1 = b1.start(Vec::new()).unwrap();
-        let mut w2 = b2.start(Vec::new()).unwrap();
-        let mut f1 = w1.frame(&ids1[..4]).unwrap();
-        let mut f2 = w2.frame(&ids2[..4]).unwrap();
-        let mut cur = [0u64, 0, 3, 0];
-        let mut t = 0;
-        let mut changed_outside = true;
-        let mut zv = false;
-        for (dt, set, z) in steps {
-            t += dt;
-            let mut s = w2.frame_step(&mut f2, t).unwrap();
-            proptest::prop_assert_eq!(s.is_current(), !changed_outside);
-            for (k, v) in set.iter().enumerate() {
-                if let Some(v) = v {
-                    let v = [v & 1, v * 1000, v * 7, v << 60][k];
-                    s.set(k, v).unwrap();
-                    cur[k] = v;
-                }
-            }
-            w1.dump_frame(&mut f1, t, &cur).unwrap();
-            // a change (the value alternates) of the variable outside the frame
-            changed_outside = z;
-            if z {
-                zv = !zv;
-                w1.change_bool(ids1[4], zv).unwrap();
-                w2.change_bool(ids2[4], zv).unwrap();
-            }
-        }
-        proptest::prop_assert_eq!(text(w1), text(w2));
-    }
-}
-
-#[test]
-fn frame_steps_keep_every_check() {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
-    let mut g = w.frame(&ids[2..4]).unwrap();
-    {
-        let mut s = w.frame_step(&mut f, 1).unwrap();
-        assert!(!s.is_current(), "a frame's first step is not current");
-        s.set(1, 7).unwrap();
-        // a position outside the frame, named with the frame's length
-        let e = s.set(3, 1).unwrap_err();
-        assert!(matches!(e, WriteError::FramePosition { position: 3, len: 3 }), "{e}");
-        assert!(e.to_string().contains("0..3"), "{e}");
-        // the same position twice in one step
-        let e = s.set(1, 8).unwrap_err();
-        assert!(matches!(&e, WriteError::DoubleChange { name, .. } if name == "pmu50.tmr"), "{e}");
-        // a changed value wider than the variable: 5-bit `w` takes at most 31, nothing assigned
-        let e = s.set(2, 32).unwrap_err();
-        assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
-        // the refused position may still be given a value in the step (here its current one)
-        s.set(2, 3).unwrap();
-    }
-    // a single change of a frame variable in the frame's step is a double assignment
-    assert!(matches!(w.change_vector(ids[0], 1), Err(WriteError::DoubleChange { .. })));
-    // an overlapping frame in the same step
-    assert!(matches!(w.frame_step(&mut g, 1), Err(WriteError::DoubleChange { .. })));
-    // time backwards
-    assert!(matches!(w.frame_step(&mut f, 0), Err(WriteError::TimeBackwards { .. })));
-    // a single change first, then the frame, in one step
-    w.set_time(2).unwrap();
-    w.change_vector(ids[1], 9).unwrap();
-    assert!(matches!(w.frame_step(&mut f, 2), Err(WriteError::DoubleChange { .. })));
-    // a frame of another writer
-    let (b2, ids2) = frame_builder();
-    let mut other = b2.start(Vec::new()).unwrap();
-    let mut f2 = other.frame(&ids2[..1]).unwrap();
-    assert!(matches!(w.frame_step(&mut f2, 3), Err(WriteError::UnknownFrame)));
-    // later steps: a step with nothing set keeps every value (and writes nothing)
-    w.frame_step(&mut f, 3).unwrap();
-    let mut s = w.frame_step(&mut f, 4).unwrap();
-    assert!(s.is_current());
-    s.set(0, 1).unwrap();
-    let got = text(w);
-
-    let (b, ids) = frame_builder();
-    let mut r = b.start(Vec::new()).unwrap();
-    for (t, ch) in [(1, vec![(1, 7)]), (2, vec![(1, 9)]), (4, vec![(0, 1)])] {
-        r.set_time(t).unwrap();
-        for (k, v) in ch {
-            r.change_vector(ids[k], v).unwrap();
-        }
-    }
-    let want = text(r);
-    assert_eq!(got, want);
-}
-
 // ---- frame runs: the writer lent to one frame, direct steps ----
 
 /// What happens after a step of a frame run (the run is ended for everything but `Nothing`).
@@ -1266,27 +1167,6 @@ fn frame_runs_keep_every_check() {
     assert!(got.ends_with("#3\nb0000000000000111 \"\nb00011 #\nb0000000000000000000000000000000000000000000000000000000000000001 $\n"), "{got}");
 }
 
-/// A frame variable that holds `x` from a single change: the next frame step compares with the
-/// writer's value, so setting the integer it had before is a change, not a repeat.
-#[test]
-fn frame_steps_after_four_state_values() {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
-    w.frame_step(&mut f, 1).unwrap().set(2, 5).unwrap();
-    w.set_time(2).unwrap();
-    w.change_bits(ids[2], "x0x0x").unwrap();
-    let mut s = w.frame_step(&mut f, 3).unwrap();
-    assert!(!s.is_current());
-    s.set(2, 5).unwrap();
-    // and a step that leaves it out keeps `x`
-    w.set_time(4).unwrap();
-    w.change_bits(ids[2], "xxxxx").unwrap();
-    w.frame_step(&mut f, 5).unwrap().set(0, 1).unwrap();
-    let vcd = text(w);
-    assert!(vcd.contains("#2\nbx0x0x #\n#3\nb00101 #\n#4\nbxxxxx #\n#5\n1!\n"), "{vcd}");
-}
-
 /// Time stamps (two digits per division into a reused line): across digit boundaries, large
 /// jumps and the largest times they are the decimal of the time (`u64::MAX` itself is outside
 /// every window, which ends before it).
@@ -1339,7 +1219,8 @@ proptest::proptest! {
 }
 
 /// A single change that keeps a frame variable's value is still an assignment: the frame cannot
-/// be dumped in the same step (neither whole nor by a frame step), and an empty frame is refused.
+/// be dumped in the same step (neither whole nor by a frame run's step), and an empty frame is
+/// refused.
 #[test]
 fn a_single_change_to_the_same_value_blocks_the_frame_in_its_step() {
     let (b, ids) = frame_builder();
@@ -1349,7 +1230,113 @@ fn a_single_change_to_the_same_value_blocks_the_frame_in_its_step() {
     w.set_time(2).unwrap();
     w.change_vector(ids[1], 2).unwrap();
     assert!(matches!(w.dump_frame(&mut f, 2, &[1, 2, 3]), Err(WriteError::DoubleChange { .. })));
-    assert!(matches!(w.frame_step(&mut f, 2), Err(WriteError::DoubleChange { .. })));
+    assert!(matches!(w.frame_run(&mut f).unwrap().step(2).err(), Some(WriteError::DoubleChange { .. })));
     w.dump_frame(&mut f, 3, &[1, 2, 3]).unwrap();
     assert!(matches!(w.frame(&[]), Err(WriteError::EmptyFrame)));
+}
+
+/// [`frame_builder`]'s variables and two reals after them.
+fn frame_builder_with_reals() -> (VcdBuilder, Vec<pmu50_waves::writer::SigId>) {
+    let (mut b, mut ids) = frame_builder();
+    b.push_scope("env").unwrap();
+    ids.push(b.add_real("theta", 0.0).unwrap());
+    ids.push(b.add_real("vs2", 1.5).unwrap());
+    b.pop_scope().unwrap();
+    (b, ids)
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 300, failure_persistence: None, ..Default::default() })]
+
+    /// Reals given in text runs (`TextRun::real`, after each step's frame values) write exactly
+    /// what `dump_frame` and `change_real` write at each step, with runs ended at random (and
+    /// a single change between them), inside or outside a window.
+    #[test]
+    fn text_run_reals_equal_change_real(
+        window in proptest::option::of((0u64..30, 0u64..80)),
+        steps in proptest::collection::vec((1u64..3, proptest::array::uniform4(0u64..4), proptest::array::uniform2(proptest::option::of(0usize..5)), 0u8..8), 0..80),
+    ) {
+        let reals = [0.0, -0.0, 37.001, 1.25e-7, 3e20];
+        let start = |b: VcdBuilder, ids: &[pmu50_waves::writer::SigId]| {
+            let mut b = b;
+            if let Some((s, len)) = window {
+                b.window(s, s + len + 1).unwrap();
+            }
+            let mut w = b.start(Vec::new()).unwrap();
+            let f = w.frame(&ids[..4]).unwrap();
+            (w, f)
+        };
+        let (b1, ids1) = frame_builder_with_reals();
+        let (b2, ids2) = frame_builder_with_reals();
+        let (mut w1, mut f1) = start(b1, &ids1);
+        let (mut w2, mut f2) = start(b2, &ids2);
+        let value = |var: usize, v: u64| [v & 1, v * 1000, v * 7, v << 60][var];
+        let (mut t, mut idx, mut zv) = (0u64, 0, false);
+        while idx < steps.len() {
+            {
+                let mut run = w1.text_run(&mut f1).unwrap();
+                while idx < steps.len() {
+                    let (dt, set, given, end) = steps[idx];
+                    idx += 1;
+                    t += dt;
+                    let vals: [u64; 4] = std::array::from_fn(|k| value(k, set[k]));
+                    match run.step(t).unwrap() {
+                        Some(mut s) => {
+                            for (k, v) in vals.iter().enumerate() {
+                                s.line(k, *v).unwrap();
+                            }
+                        }
+                        None => {
+                            let mut fr = run.frame_run().unwrap();
+                            let mut s = fr.step(t).unwrap();
+                            for (k, v) in vals.iter().enumerate() {
+                                s.set(k, *v).unwrap();
+                            }
+                        }
+                    }
+                    w2.dump_frame(&mut f2, t, &vals).unwrap();
+                    for (j, g) in given.iter().enumerate() {
+                        if let Some(g) = g {
+                            run.real(ids1[5 + j], reals[*g]).unwrap();
+                            w2.change_real(ids2[5 + j], reals[*g]).unwrap();
+                        }
+                    }
+                    if given.iter().all(Option::is_some) {
+                        // each real once a step, in declaration order
+                        let (e5, e6) = (run.real(ids1[5], 1.0).err(), run.real(ids1[6], 1.0).err());
+                        proptest::prop_assert!(matches!(e5, Some(WriteError::FrameOrder { .. }) | Some(WriteError::DoubleChange { .. })), "{:?}", e5);
+                        proptest::prop_assert!(matches!(e6, Some(WriteError::DoubleChange { .. })), "{:?}", e6);
+                    }
+                    if end == 0 {
+                        break;
+                    }
+                }
+            }
+            // between runs: a change of the frame's `z` (outside the frame) at the same time
+            zv = !zv;
+            w1.change_bool(ids1[4], zv).unwrap();
+            w2.change_bool(ids2[4], zv).unwrap();
+        }
+        proptest::prop_assert_eq!(text(w1), text(w2));
+    }
+}
+
+#[test]
+fn text_run_reals_keep_the_checks() {
+    let (b, ids) = frame_builder_with_reals();
+    let mut w = b.start(Vec::new()).unwrap();
+    let mut f = w.frame(&ids[..4]).unwrap();
+    let mut run = w.text_run(&mut f).unwrap();
+    run.frame_run().unwrap().step(1).unwrap();
+    // the first step of a run goes through the writer; the next one is a text step
+    let mut s = run.step(2).unwrap().expect("a text step");
+    s.line(1, 5).unwrap();
+    assert!(matches!(run.real(ids[0], 1.0), Err(WriteError::TypeMismatch { .. })), "a bit is not a real");
+    assert!(matches!(run.real(ids[5], f64::NAN), Err(WriteError::NotFinite { .. })));
+    run.real(ids[5], 2.5).unwrap();
+    drop(run);
+    // the real was assigned in the step at 2
+    assert!(matches!(w.change_real(ids[5], 3.0), Err(WriteError::DoubleChange { .. })));
+    let vcd = text(w);
+    assert!(vcd.contains("#2\nb0000000000000101 \"\nr2.5 &\n"), "{vcd}");
 }

@@ -19,7 +19,7 @@ use std::io::Write;
 
 pub struct ChangeLog<W: Write> {
     out: W,
-    s: Structural,
+    structural: Structural,
     clock_ns: u64,
     prev: Option<[u64; N_REGISTERS]>,
     /// Replay of skipped key-off periods (crate::sim::replay): the registers of every tick.
@@ -29,7 +29,7 @@ pub struct ChangeLog<W: Write> {
 impl<W: Write> ChangeLog<W> {
     pub fn new(mut out: W, s: Structural, clock_ns: u64) -> Result<Self, SimError> {
         writeln!(out, "# tick      time_us  register                                      old -> new").map_err(|e| SimError::observer("change log", e))?;
-        Ok(ChangeLog { out, s, clock_ns, prev: None, rec: PeriodRecorder::new() })
+        Ok(ChangeLog { out, structural: s, clock_ns, prev: None, rec: PeriodRecorder::new() })
     }
 
     fn record(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
@@ -57,7 +57,7 @@ impl<W: Write> ChangeLog<W> {
         if !r.free_running {
             let time_us = (tick * self.clock_ns) as f64 / 1e3;
             let path = format!("pmu50.{}", r.path());
-            *lines += &format!("{:>6} {:>12.1}  {:<44} {} -> {}\n", tick, time_us, path, r.show(a, &self.s), r.show(b, &self.s));
+            *lines += &format!("{:>6} {:>12.1}  {:<44} {} -> {}\n", tick, time_us, path, r.show(a, &self.structural), r.show(b, &self.structural));
         }
     }
 }

@@ -46,7 +46,7 @@
 use pmu50_core::pmu50::{Inputs, Internals, Outputs, Regs};
 use pmu50_core::signals::{self, Width};
 use pmu50_core::Pmu50;
-use pmu50_waves::writer::{Emitter, Frame, FrameRun, RunStep, TextRun, TextStep, VcdWriter, WriteError, Writer};
+use pmu50_waves::writer::{Emitter, Frame, FrameRun, RunStep, SigId, TextRun, TextStep, VcdWriter, WriteError, Writer};
 use std::io::Write;
 
 /// Number of signals in a [`CoreTracer`]'s frame, and where each group starts.
@@ -74,9 +74,9 @@ pub struct FrameSizeError {
 /// its back ([`CoreTracer::core`] reads it, [`CoreTracer::into_core`] gives it back), and it
 /// owns the frame so that no other dump of the frame can go unnoticed.
 pub struct CoreTracer {
-    m: Pmu50,
+    core: Pmu50,
     frame: Frame,
-    h: Held,
+    held: Held,
     /// every variable of the frame is exactly as wide as the core's signal at its position (so
     /// every value the core gives fits, [`TextStep::change`], and a signal of a fixed width is
     /// written by [`TextStep::change_w`])
@@ -93,7 +93,7 @@ struct Held {
     /// ([`Internals::packed`])
     last_x: u128,
     /// The outputs after the last edge, i.e. before the next one (the core's `peek`).
-    o: Outputs,
+    outputs: Outputs,
     /// The last edge was wide: the next step compares every register and output.
     wide: bool,
     /// The last step was complete (a failed step leaves some values of its tick assigned).
@@ -115,12 +115,12 @@ impl CoreTracer {
             .chain(Internals::default().values().into_iter().map(|v| v.1))
             .collect();
         let exact = widths.into_iter().enumerate().all(|(k, w)| frame.max(k) == Some(u64::MAX >> (64 - u32::from(w).clamp(1, 64))));
-        Ok(CoreTracer { m, frame, exact, h: Held { last_i: 0, last_o: o, last_r: r, last_x: 0, o, wide: true, valid: false } })
+        Ok(CoreTracer { core: m, frame, exact, held: Held { last_i: 0, last_o: o, last_r: r, last_x: 0, outputs: o, wide: true, valid: false } })
     }
 
     /// The core (its registers, tick count, read-out).
     pub fn core(&self) -> &Pmu50 {
-        &self.m
+        &self.core
     }
 
     /// Every variable of the frame is exactly as wide as the core's signal, so a text run writes
@@ -132,14 +132,14 @@ impl CoreTracer {
 
     /// The core back, at the end of the trace.
     pub fn into_core(self) -> Pmu50 {
-        self.m
+        self.core
     }
 
     /// Lend the writer to the tracer for a run of edges ([`TracerRun::step`]), the fast way
     /// to trace many: the writer is a [`FrameRun`] of the tracer's frame until the run is
     /// dropped (then the last edge's values become the writer's pending step).
     pub fn run<'a, E: Emitter>(&'a mut self, w: &'a mut Writer<E>) -> Result<TracerRun<'a, E>, WriteError> {
-        Ok(TracerRun { run: w.frame_run(&mut self.frame)?, h: &mut self.h, m: &mut self.m })
+        Ok(TracerRun { run: w.frame_run(&mut self.frame)?, held: &mut self.held, core: &mut self.core })
     }
 
     /// Lend a VCD writer to the tracer for a run of edges written at once
@@ -149,7 +149,7 @@ impl CoreTracer {
     /// after other writes to the frame's variables) goes through a [`FrameRun`] as in
     /// [`CoreTracer::run`]. The file is the same.
     pub fn text_run<'a, W: Write>(&'a mut self, w: &'a mut VcdWriter<W>) -> Result<TracerTextRun<'a, W>, WriteError> {
-        Ok(TracerTextRun { run: w.text_run(&mut self.frame)?, h: &mut self.h, m: &mut self.m, exact: self.exact })
+        Ok(TracerTextRun { run: w.text_run(&mut self.frame)?, held: &mut self.held, core: &mut self.core, exact: self.exact })
     }
 
     /// One traced edge, as [`TracerRun::step`] in a run of its own (each call ends its run:
@@ -157,21 +157,21 @@ impl CoreTracer {
     /// many edges).
     pub fn step<E: Emitter>(&mut self, w: &mut Writer<E>, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
         self.run(w)?.step(t, i)?;
-        Ok(&self.h.o)
+        Ok(&self.held.outputs)
     }
 }
 
 /// A [`CoreTracer`] with the writer lent to it ([`CoreTracer::run`]).
 pub struct TracerRun<'a, E: Emitter> {
     run: FrameRun<'a, E>,
-    h: &'a mut Held,
-    m: &'a mut Pmu50,
+    held: &'a mut Held,
+    core: &'a mut Pmu50,
 }
 
 impl<E: Emitter> TracerRun<'_, E> {
     /// The core (its registers, tick count, read-out).
     pub fn core(&self) -> &Pmu50 {
-        self.m
+        self.core
     }
 
     /// One rising edge of the core with inputs `i`, traced at time `t` (the inputs, the outputs
@@ -186,24 +186,33 @@ impl<E: Emitter> TracerRun<'_, E> {
         let s = self.run.step(t)?;
         // Every value at the first step, after other writes to the frame's variables, and after
         // a failed step.
-        let full = !(self.h.valid && s.is_current());
-        self.h.edge(s, self.m, i, full)?;
-        Ok(&self.h.o)
+        let full = !(self.held.valid && s.is_current());
+        self.held.edge(s, self.core, i, full)?;
+        Ok(&self.held.outputs)
     }
 }
 
 /// A [`CoreTracer`] with a VCD writer's text buffer lent to it ([`CoreTracer::text_run`]).
 pub struct TracerTextRun<'a, W: Write> {
     run: TextRun<'a, W>,
-    h: &'a mut Held,
-    m: &'a mut Pmu50,
+    held: &'a mut Held,
+    core: &'a mut Pmu50,
     exact: bool,
 }
 
 impl<W: Write> TracerTextRun<'_, W> {
     /// The core (its registers, tick count, read-out).
     pub fn core(&self) -> &Pmu50 {
-        self.m
+        self.core
+    }
+
+    /// The `real` variable `id` (declared after the frame's signals: the analog values of a
+    /// run) at the time of the last step, written in the same step ([`TextRun::real`]: at once
+    /// after the step's lines when it was written at once, through the writer's checked
+    /// `change_real` otherwise).
+    #[inline]
+    pub fn real(&mut self, id: SigId, v: f64) -> Result<(), WriteError> {
+        self.run.real(id, v)
     }
 
     /// One rising edge of the core with inputs `i`, traced at time `t`, as [`TracerRun::step`]
@@ -216,22 +225,22 @@ impl<W: Write> TracerTextRun<'_, W> {
     /// each value.
     #[inline(always)]
     pub fn step(&mut self, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
-        if self.h.valid {
+        if self.held.valid {
             if let Some(s) = self.run.step(t)? {
                 // the frame holds the tracer's values: only what changed
                 if self.exact {
-                    self.h.edge(Changes(s), self.m, i, false)?;
+                    self.held.edge(Changes(s), self.core, i, false)?;
                 } else {
-                    self.h.edge(s, self.m, i, false)?;
+                    self.held.edge(s, self.core, i, false)?;
                 }
-                return Ok(&self.h.o);
+                return Ok(&self.held.outputs);
             }
         }
         let mut fr = self.run.frame_run()?;
         let s = fr.step(t)?;
-        let full = !(self.h.valid && s.is_current());
-        self.h.edge(s, self.m, i, full)?;
-        Ok(&self.h.o)
+        let full = !(self.held.valid && s.is_current());
+        self.held.edge(s, self.core, i, full)?;
+        Ok(&self.held.outputs)
     }
 }
 
@@ -247,9 +256,9 @@ impl Held {
         let before = h.before_edge(s, m.regs(), i, full);
         let pmu50_core::TracedStep { internals: x, after, wide, .. } = m.step_traced(i);
         if wide {
-            h.o = after;
+            h.outputs = after;
         } else {
-            copy_narrow_outputs(&mut h.o, &after);
+            copy_narrow_outputs(&mut h.outputs, &after);
         }
         h.wide = wide;
         let mut s = before?;
@@ -276,10 +285,10 @@ impl Held {
         let i = i.packed();
         if full {
             self.last_i = i;
-            self.last_o = self.o;
+            self.last_o = self.outputs;
             self.last_r = *r;
             let s = all_inputs(s, i)?;
-            let s = all_outputs(s, &self.o)?;
+            let s = all_outputs(s, &self.outputs)?;
             return all_registers(s, r);
         }
         if self.last_i != i {
@@ -287,10 +296,10 @@ impl Held {
         }
         // the groups in the frame's order, so the writer's list of changes stays sorted
         if self.wide {
-            let s = diff_outputs(s, &self.o, &mut self.last_o)?;
+            let s = diff_outputs(s, &self.outputs, &mut self.last_o)?;
             diff_registers(s, r, &mut self.last_r)
         } else {
-            narrow_outputs(&mut s, &self.o, &mut self.last_o)?;
+            narrow_outputs(&mut s, &self.outputs, &mut self.last_o)?;
             narrow_registers(&mut s, r, &mut self.last_r)?;
             Ok(s)
         }

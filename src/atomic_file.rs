@@ -354,7 +354,7 @@ mod tests {
     use super::*;
 
     fn dir(tag: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("pmu50-fsout-{tag}-{}", std::process::id()));
+        let d = std::env::temp_dir().join(format!("pmu50-atomic-{tag}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&d);
         std::fs::create_dir_all(&d).unwrap();
         d

@@ -16,13 +16,15 @@
 
 use crate::sim::replay::PeriodRecorder;
 use crate::sim::{Observer, SimError, TickView};
+use crate::observers::tracer::{CoreTracer, TracerTextRun};
 use pmu50_core::pmu50::Structural;
+use pmu50_core::Pmu50;
 use pmu50_core::signals::{self, Dir, Radix, Signal};
 use pmu50_waves::gtkw::{Analog, Color, Format, GtkwSave, Trace};
 use pmu50_waves::fst::{start_fst, FstWriter};
 use pmu50_waves::writer::{BitType, Emitter, Frame, SigId, VcdBuilder, VcdWriter, WriteError, Writer};
 use pmu50_waves::{TimeUnit, Timescale};
-use crate::fsout::AtomicFile;
+use crate::atomic_file::AtomicFile;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
@@ -31,8 +33,9 @@ const VERSION: &str = concat!("pmu50 reference model ", env!("CARGO_PKG_VERSION"
 /// The per-tick dump: every signal of the table is declared once, in two frames
 /// (`pmu50_waves::writer::Frame`), so a tick compares plain integers and formats only changes.
 struct Ids {
-    /// ports, registers, inputs and internals: dumped every tick
-    all: Frame,
+    /// ports, registers, inputs and internals: dumped every tick (`None` when the tracer
+    /// dumps them: [`Out::Traced`])
+    all: Option<Frame>,
     /// ports and registers: the final dump (`finish`), which has no inputs of its own
     state: Frame,
     env: Vec<SigId>,
@@ -121,18 +124,43 @@ impl WaveFormat {
     }
 }
 
+/// The VCD text of a run, staged in a temporary file.
+type VcdFile = BufWriter<AtomicFile>;
+
+/// A VCD of every signal: the writer lent to the tracer ([`CoreTracer::text_run`]) from one
+/// tick to the next (a run ends only for a replay and at the end). The tracer steps a core of
+/// its own with the bench's inputs, the same edges as the bench's core (checked every tick).
+#[ouroboros::self_referencing]
+struct TracedVcd {
+    writer: Box<VcdWriter<VcdFile>>,
+    tracer: CoreTracer,
+    #[borrows(mut writer, mut tracer)]
+    #[not_covariant]
+    run: TracerTextRun<'this, VcdFile>,
+}
+
+impl TracedVcd {
+    fn start(writer: Box<VcdWriter<VcdFile>>, tracer: CoreTracer) -> Result<TracedVcd, WriteError> {
+        TracedVcdTryBuilder { writer, tracer, run_builder: |w, t| t.text_run(w) }.try_build()
+    }
+}
+
 /// The checked writer of either format (the same declarations, frames and checks).
 enum Out {
-    Vcd(Box<VcdWriter<BufWriter<AtomicFile>>>),
+    /// `Level::All` in a VCD: the tracer writes the ticks.
+    Traced(Box<TracedVcd>),
+    Vcd(Box<VcdWriter<VcdFile>>),
     /// The FST writer writes the temporary file of the `AtomicFile` by its own path.
     Fst(Box<FstWriter>, AtomicFile),
 }
 
 /// Observer writing the waveform (VCD or FST) of a run and its GTKWave save file.
 pub struct VcdObserver {
-    w: Option<Out>,
+    out: Option<Out>,
+    /// The tracer while its writer is lent out of it (a replay: [`VcdObserver::untraced`]).
+    tracer: Option<CoreTracer>,
     /// The complete VCD (temporary file) after `finish`, and the save file, for the caller to
-    /// rename into place (crate::fsout).
+    /// rename into place (crate::atomic_file).
     file: Option<AtomicFile>,
     gtkw: Option<GtkwSave>,
     ids: Ids,
@@ -142,6 +170,8 @@ pub struct VcdObserver {
     /// then the bits of the analog values.
     rec: PeriodRecorder,
     rec_values: Vec<u64>,
+    /// the analog values of the last tick
+    env: EnvCache,
     clock_ns: u64,
     window: Option<(u64, u64)>,
 }
@@ -170,17 +200,51 @@ fn round(v: f64, q: f64) -> f64 {
 }
 
 fn env_values(v: &TickView<'_>) -> [f64; 8] {
-    let e = v.env;
-    [
-        round(e.theta_deg, 1e-3),
-        round(e.sin2_v, 1e-4),
-        round(e.cos2_v, 1e-4),
-        round(e.vs2_v, 1e-4),
-        round(e.vp_v, 1e-4),
-        round(e.vr_v, 1e-4),
-        round(e.theta1_deg.unwrap_or(0.0), 1e-3),
-        round(e.theta_m_deg.unwrap_or(0.0), 1e-3),
-    ]
+    let raw = EnvCache::raw(v);
+    std::array::from_fn(|j| round(f64::from_bits(raw[j]), ENV_STEPS[j]))
+}
+
+/// The analog values of the last tick, as given and rounded ([`env_values`]): a value given
+/// with the same bits as the tick before is not rounded again, nor given to the writer again
+/// (a real keeps its value until changed).
+struct EnvCache {
+    raw: [u64; 8],
+    rounded: [f64; 8],
+    /// the values whose bits changed at the last [`EnvCache::update`], one bit each
+    changed: u8,
+}
+
+/// The rounding step of each analog value, in the order of [`ENV_NAMES`]: angles to 0.001
+/// deg, volts to 0.1 mV.
+const ENV_STEPS: [f64; 8] = [1e-3, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-3, 1e-3];
+
+impl EnvCache {
+    fn raw(v: &TickView<'_>) -> [u64; 8] {
+        let e = v.env;
+        [e.theta_deg, e.sin2_v, e.cos2_v, e.vs2_v, e.vp_v, e.vr_v, e.theta1_deg.unwrap_or(0.0), e.theta_m_deg.unwrap_or(0.0)].map(f64::to_bits)
+    }
+
+    fn new(v: &TickView<'_>) -> EnvCache {
+        EnvCache { raw: Self::raw(v), rounded: env_values(v), changed: 0 }
+    }
+
+    #[inline]
+    fn update(&mut self, v: &TickView<'_>) {
+        let raw = Self::raw(v);
+        self.changed = 0;
+        for (j, r) in raw.into_iter().enumerate() {
+            if r != self.raw[j] {
+                self.raw[j] = r;
+                self.rounded[j] = round(f64::from_bits(r), ENV_STEPS[j]);
+                self.changed |= 1 << j;
+            }
+        }
+    }
+
+    /// `(index, rounded value)` of the values that changed at the last update.
+    fn changes(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        (0..8).filter(|j| self.changed & 1 << j != 0).map(|j| (j, self.rounded[j]))
+    }
 }
 
 /// Register groups shown collapsed in the save file (the parameter registers rarely change).
@@ -226,19 +290,13 @@ fn declare<T>(b: &mut VcdBuilder, list: &[Signal<T>], v: &T, s: &Structural) -> 
 const ENV_NAMES: [&str; 8] = ["theta_deg", "sin2_v", "cos2_v", "vs2_v", "vp_v", "vr_v", "theta1_deg", "theta_m_deg"];
 
 impl VcdObserver {
-    /// Create `<dir>/<name>.vcd` and `<dir>/<name>.gtkw`. `window` is in ticks.
-    pub fn create(dir: &Path, name: &str, s: Structural, clock_ns: u64, window: Option<(u64, u64)>, first: &TickView<'_>) -> Result<VcdObserver, SimError> {
-        Self::create_as(dir, name, s, clock_ns, window, WaveFormat::Vcd, first)
-    }
-
-    /// Create `<dir>/<name>.<vcd|fst>` and `<dir>/<name>.gtkw` (pointing at the waveform file).
-    pub fn create_as(dir: &Path, name: &str, s: Structural, clock_ns: u64, window: Option<(u64, u64)>, format: WaveFormat, first: &TickView<'_>) -> Result<VcdObserver, SimError> {
-        Self::create_level(dir, name, s, clock_ns, window, format, Level::All, first)
-    }
-
-    /// [`VcdObserver::create_as`] with the signals of `level` only (the save file lists only them).
+    /// Create `<dir>/<name>.<vcd|fst>` and `<dir>/<name>.gtkw` (pointing at the waveform file)
+    /// with the signals of `level` (the save file lists only them). `core` is the bench's core
+    /// at reset (a VCD of every signal is written by a tracer stepping a copy of it); `window`
+    /// is in ticks.
     #[allow(clippy::too_many_arguments)]
-    pub fn create_level(dir: &Path, name: &str, s: Structural, clock_ns: u64, window: Option<(u64, u64)>, format: WaveFormat, level: Level, first: &TickView<'_>) -> Result<VcdObserver, SimError> {
+    pub fn create(dir: &Path, name: &str, core: &Pmu50, clock_ns: u64, window: Option<(u64, u64)>, format: WaveFormat, level: Level, first: &TickView<'_>) -> Result<VcdObserver, SimError> {
+        let s = core.structural();
         let file_name = format!("{name}.{}", format.ext());
         let path = dir.join(&file_name);
         let (ts, unit_ns) = timescale_for(clock_ns);
@@ -315,21 +373,30 @@ impl VcdObserver {
         let state_ids: Vec<SigId> = ports.iter().chain(&regs).copied().collect();
         let all_ids: Vec<SigId> = state_ids.iter().chain(&inputs).chain(&internals).copied().collect();
         let (w, all, state) = match format {
+            WaveFormat::Vcd if level == Level::All => {
+                // the tracer's frame: every signal in declaration order
+                let mut w = Box::new(b.start(BufWriter::new(file)).map_err(|e| err(&path, e))?);
+                let traced: Vec<SigId> = inputs.iter().chain(&ports).chain(&regs).chain(&internals).copied().collect();
+                let frame = w.frame(&traced).map_err(|e| err(&path, e))?;
+                let state = w.frame(&state_ids).map_err(|e| err(&path, e))?;
+                let tracer = CoreTracer::new(frame, core.clone()).map_err(|e| err(&path, e))?;
+                (Out::Traced(Box::new(TracedVcd::start(w, tracer).map_err(|e| err(&path, e))?)), None, state)
+            }
             WaveFormat::Vcd => {
                 let mut w = b.start(BufWriter::new(file)).map_err(|e| err(&path, e))?;
                 let all = w.frame(&all_ids).map_err(|e| err(&path, e))?;
                 let state = w.frame(&state_ids).map_err(|e| err(&path, e))?;
-                (Out::Vcd(Box::new(w)), all, state)
+                (Out::Vcd(Box::new(w)), Some(all), state)
             }
             WaveFormat::Fst => {
                 let mut w = start_fst(b, file.temp_path()).map_err(|e| err(&path, e))?;
                 let all = w.frame(&all_ids).map_err(|e| err(&path, e))?;
                 let state = w.frame(&state_ids).map_err(|e| err(&path, e))?;
-                (Out::Fst(Box::new(w), file), all, state)
+                (Out::Fst(Box::new(w), file), Some(all), state)
             }
         };
         let ids = Ids { all, state, env, values: Vec::with_capacity(all_ids.len()), level, all_ids };
-        Ok(VcdObserver { w: Some(w), file: None, gtkw: Some(gt), ids, unit_ns, path, rec: PeriodRecorder::new(), rec_values: Vec::new(), clock_ns, window })
+        Ok(VcdObserver { out: Some(w), tracer: None, file: None, gtkw: Some(gt), ids, unit_ns, path, rec: PeriodRecorder::new(), rec_values: Vec::new(), env: EnvCache::new(first), clock_ns, window })
     }
 
     /// The complete VCD (after `finish`, still a temporary file) and its save file.
@@ -337,12 +404,50 @@ impl VcdObserver {
         (self.file, self.gtkw)
     }
 
+    /// The tracer's writer back (its run ended), for a replay or the final dump.
+    fn untraced(&mut self) {
+        self.out = match self.out.take() {
+            Some(Out::Traced(tv)) => {
+                let heads = tv.into_heads();
+                self.tracer = Some(heads.tracer);
+                Some(Out::Vcd(heads.writer))
+            }
+            w => w,
+        };
+    }
+
+    /// The writer lent to the tracer again after [`VcdObserver::untraced`].
+    fn retraced(&mut self) -> Result<(), SimError> {
+        let Some(tracer) = self.tracer.take() else { return Ok(()) };
+        self.out = match self.out.take() {
+            Some(Out::Vcd(w)) => Some(Out::Traced(Box::new(TracedVcd::start(w, tracer).map_err(|e| err(&self.path, e))?))),
+            w => w,
+        };
+        Ok(())
+    }
+
     fn dump(&mut self, v: &TickView<'_>, with_inputs: bool) -> Result<(), SimError> {
         let path = &self.path;
         let t = v.time_ns / self.unit_ns;
-        let r = match self.w.as_mut() {
-            Some(Out::Vcd(w)) => dump_into(w, &mut self.ids, v, t, with_inputs),
-            Some(Out::Fst(w, _)) => dump_into(w, &mut self.ids, v, t, with_inputs),
+        let r = match self.out.as_mut() {
+            Some(Out::Traced(tv)) => {
+                let (env, cache) = (&self.ids.env, &mut self.env);
+                cache.update(v);
+                let r = tv.with_run_mut(|run| -> Result<bool, WriteError> {
+                    run.step(t, v.inputs)?;
+                    for (j, val) in cache.changes() {
+                        run.real(env[j], val)?;
+                    }
+                    Ok(run.core().regs() == v.after)
+                });
+                match r {
+                    Ok(true) => Ok(()),
+                    Ok(false) => return Err(err(path, format!("the traced core left the bench's at tick {}: its registers after the edge differ", v.tick))),
+                    Err(e) => Err(e),
+                }
+            }
+            Some(Out::Vcd(w)) => dump_into(w, &mut self.ids, &mut self.env, v, t, with_inputs),
+            Some(Out::Fst(w, _)) => dump_into(w, &mut self.ids, &mut self.env, v, t, with_inputs),
             None => return Err(err(path, "writer already closed")),
         };
         r.map_err(|e| err(path, e))
@@ -350,13 +455,18 @@ impl VcdObserver {
 }
 
 /// One tick into either writer: the frame of this dump, then the analog values.
-fn dump_into<E: Emitter>(w: &mut Writer<E>, ids: &mut Ids, v: &TickView<'_>, t: u64, with_inputs: bool) -> Result<(), WriteError> {
+fn dump_into<E: Emitter>(w: &mut Writer<E>, ids: &mut Ids, env: &mut EnvCache, v: &TickView<'_>, t: u64, with_inputs: bool) -> Result<(), WriteError> {
     frame_values(&mut ids.values, v, with_inputs, ids.level);
-    let frame = if with_inputs { &mut ids.all } else { &mut ids.state };
+    let frame = match (with_inputs, ids.all.as_mut()) {
+        (true, Some(all)) => all,
+        (true, None) => return Err(WriteError::UnknownFrame),
+        (false, _) => &mut ids.state,
+    };
     w.dump_frame(frame, t, &ids.values)?;
     if with_inputs {
-        for (id, val) in ids.env.iter().zip(env_values(v)) {
-            w.change_real(*id, val)?;
+        env.update(v);
+        for (j, val) in env.changes() {
+            w.change_real(ids.env[j], val)?;
         }
     }
     Ok(())
@@ -380,10 +490,15 @@ impl Observer for VcdObserver {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
         self.dump(v, true)?;
         if self.rec.active() {
-            self.rec_values.clear();
-            self.rec_values.extend_from_slice(&self.ids.values);
-            self.rec_values.extend(env_values(v).map(f64::to_bits));
-            self.rec.record(v.tick, &self.rec_values);
+            if self.ids.all.is_none() {
+                // the tracer dumped the tick: its values for the recorder
+                frame_values(&mut self.rec_values, v, true, self.ids.level);
+            } else {
+                self.rec_values.clear();
+                self.rec_values.extend_from_slice(&self.ids.values);
+            }
+            self.rec_values.extend(self.env.rounded.map(f64::to_bits));
+            self.rec.record_taking(v.tick, &mut self.rec_values);
         }
         Ok(())
     }
@@ -403,21 +518,36 @@ impl Observer for VcdObserver {
     }
 
     fn replay(&mut self, k: u64, periods: u64, len: u64) -> Result<(), SimError> {
+        self.untraced();
+        self.replay_untraced(k, periods, len)?;
+        self.retraced()
+    }
+
+    fn finish(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+        self.untraced();
+        self.tracer = None;
+        self.finish_untraced(v)
+    }
+}
+
+impl VcdObserver {
+    fn replay_untraced(&mut self, k: u64, periods: u64, len: u64) -> Result<(), SimError> {
         let (clk, unit) = (self.clock_ns, self.unit_ns);
         let (all, env) = (&self.ids.all_ids, &self.ids.env);
-        let r = match self.w.as_mut() {
+        let r = match self.out.as_mut() {
             Some(Out::Vcd(w)) => self.rec.replay(k, periods, len, self.window, |tick, c| replay_into(w, all, env, tick * clk / unit, c)),
             Some(Out::Fst(w, _)) => self.rec.replay(k, periods, len, self.window, |tick, c| replay_into(w, all, env, tick * clk / unit, c)),
-            None => return Err(err(&self.path, "writer already closed")),
+            Some(Out::Traced(_)) | None => return Err(err(&self.path, "writer already closed")),
         };
         r.map_err(|e| err(&self.path, e))
     }
 
-    fn finish(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+    fn finish_untraced(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
         self.dump(v, false)?;
         let path = self.path.clone();
-        let w = self.w.take().ok_or_else(|| err(&path, "writer already closed"))?;
+        let w = self.out.take().ok_or_else(|| err(&path, "writer already closed"))?;
         self.file = Some(match w {
+            Out::Traced(_) => return Err(err(&path, "the tracer still holds the writer")),
             Out::Vcd(w) => (*w).finish().map_err(|e| err(&path, e))?.into_inner().map_err(|e| err(&path, e.into_error()))?,
             Out::Fst(w, file) => {
                 w.finish().map_err(|e| err(&path, e))?;

@@ -11,7 +11,7 @@
 //! The recorder is an [`Observer`]: it keeps only the ticks where a drawn signal changes, so a
 //! long run costs little memory. Time is the absolute run time in ms.
 
-use super::svg::{ticks, tick_label, Anchor, Svg};
+use crate::plot::svg::{ticks, tick_label, Anchor, Svg};
 use crate::sim::{Observer, SimError, TickView};
 use pmu50_core::drive_interval_changing_56b::Fig18;
 use std::collections::BTreeMap;
@@ -166,7 +166,7 @@ impl TimingRecorder {
             let x = sx(self.ms(m.tick));
             let color = if m.is_reference_sign() { "#C00000" } else { "#707070" };
             svg.line(x, marks_top + 4.0, x, axis_y, color, 1.0, Some("4 3"));
-            let w = super::svg::text_width(m.label, 12.0) + 8.0;
+            let w = crate::plot::svg::text_width(m.label, 12.0) + 8.0;
             level = if x - last_x < w { 1 - level } else { 0 };
             last_x = x;
             let y = marks_top + 12.0 + 16.0 * level as f64;
@@ -224,7 +224,7 @@ impl TimingRecorder {
                 let e = 2.5f64.min((b - a) / 2.0);
                 svg.polyline(&[(a, mid), (a + e, top), (b - e, top), (b, mid), (b - e, bot), (a + e, bot), (a, mid)], "#000", 1.2, None);
                 let s = v.to_string();
-                if b - a > super::svg::text_width(&s, 11.0) + 6.0 {
+                if b - a > crate::plot::svg::text_width(&s, 11.0) + 6.0 {
                     svg.text((a + b) / 2.0, mid + 4.0, 11.0, Anchor::Middle, "#000", &s);
                 }
             }
@@ -278,7 +278,7 @@ impl TimingRecorder {
             for (a, b, v) in segs {
                 let ms = self.ms(u64::from(v));
                 let s = format!("{ms:.1}");
-                if b - a >= super::svg::text_width(&s, 11.0) + 6.0 {
+                if b - a >= crate::plot::svg::text_width(&s, 11.0) + 6.0 {
                     svg.text(a + 3.0, sy(ms) - 5.0, 11.0, Anchor::Start, "#0072B2", &s);
                 }
             }

@@ -11,7 +11,7 @@ use std::io::Write;
 
 pub struct VectorWriter<W: Write> {
     out: W,
-    s: Structural,
+    structural: Structural,
     pending: Option<Inputs>,
     buf: Vec<u8>,
 }
@@ -51,7 +51,7 @@ impl<W: Write> VectorWriter<W> {
         h += &format!("// fields {}\n", ins.len() + outs.len());
         h += &format!("// columns {} | {}\n", ins.join(" "), outs.join(" "));
         out.write_all(h.as_bytes()).map_err(io)?;
-        Ok(VectorWriter { out, s, pending: None, buf: Vec::with_capacity(128) })
+        Ok(VectorWriter { out, structural: s, pending: None, buf: Vec::with_capacity(128) })
     }
 
     fn line(&mut self, i: &Inputs, v: &TickView<'_>) -> Result<(), SimError> {
@@ -66,10 +66,10 @@ impl<W: Write> VectorWriter<W> {
         let mut l = std::mem::take(&mut self.buf);
         l.clear();
         for sig in signals::INPUTS {
-            hex(&mut l, (sig.get)(i), digits(sig.bits(&self.s)));
+            hex(&mut l, (sig.get)(i), digits(sig.bits(&self.structural)));
         }
         for sig in signals::OUTPUTS {
-            hex(&mut l, (sig.get)(v.ports), digits(sig.bits(&self.s)));
+            hex(&mut l, (sig.get)(v.ports), digits(sig.bits(&self.structural)));
         }
         l.pop();
         l.push(b'\n');
