@@ -39,6 +39,9 @@ const NONE: u8 = u8::MAX;
 const N_POINTS: usize = POINTS.len();
 
 /// `bus.read` bin of every address.
+/// Bins of `bus.read`: one a readable address, and one for the others.
+const N_READ_BINS: usize = READ_ADDRS.len() + 1;
+
 static READ_BIN: [u8; 256] = {
     let mut t = [READ_ADDRS.len() as u8; 256];
     let mut i = 0;
@@ -58,19 +61,22 @@ pub struct Coverage {
     clock_ns: u64,
     structural: Structural,
     read_offset: usize,
-    /// Bins counted by the rare path since the last [`Coverage::mark`] (a key-off period, for
+    /// Bins counted since the last [`Coverage::mark`] (a repeated period, key off or key on, for
     /// replaying skipped copies of it), and the journal of the period before.
     journal: Vec<u32>,
     last_period: Vec<u32>,
     /// The journal outgrew [`JOURNAL_MAX`]: that period cannot be replayed.
     journal_full: bool,
     last_full: bool,
-    /// The MPU read (a key-on cycle) since the last mark: reads are counted outside the
-    /// journal, so such a period is not replayed (the bench then steps it).
-    read_since_mark: bool,
+    /// The MPU's reads (key on, one a tick) are counted straight into `hits`, outside the
+    /// journal: their counts at the last mark, and the reads of the period before it.
+    reads_at_mark: [u64; N_READ_BINS],
+    last_reads: [u64; N_READ_BINS],
+    /// The synchronizer with every stage set (a key held on).
+    sync_full: u8,
 }
 
-/// Entries a period's journal keeps; a repeated key-off period hits a few dozen bins.
+/// Entries a period's journal keeps; a repeated period hits a few dozen bins.
 const JOURNAL_MAX: usize = 4096;
 
 impl Coverage {
@@ -88,7 +94,9 @@ impl Coverage {
             last_period: Vec::new(),
             journal_full: false,
             last_full: true,
-            read_since_mark: false,
+            reads_at_mark: [0; N_READ_BINS],
+            last_reads: [0; N_READ_BINS],
+            sync_full: ((1u16 << p.sync_depth) - 1) as u8,
         };
         c.sample_config(p);
         c
@@ -107,14 +115,18 @@ impl Coverage {
     }
 
     /// A period starts (docs/spec.md 5.1): what was counted since the previous mark is the last
-    /// period, which [`Coverage::repeat_last_period`] can replay. A period with the MPU's reads
-    /// (counted outside the journal, key on) cannot be replayed.
+    /// period, which [`Coverage::repeat_last_period`] can replay (the MPU's reads with the key on
+    /// included).
     pub fn mark(&mut self) {
         std::mem::swap(&mut self.journal, &mut self.last_period);
         self.journal.clear();
-        self.last_full = self.journal_full || self.read_since_mark;
+        self.last_full = self.journal_full;
         self.journal_full = false;
-        self.read_since_mark = false;
+        let reads = &self.hits[self.read_offset..self.read_offset + N_READ_BINS];
+        for ((last, at_mark), &now) in self.last_reads.iter_mut().zip(self.reads_at_mark.iter_mut()).zip(reads) {
+            *last = now.saturating_sub(*at_mark);
+            *at_mark = now;
+        }
     }
 
     /// Whether the last period can be replayed (its journal is complete).
@@ -129,9 +141,13 @@ impl Coverage {
             let h = &mut self.hits[k as usize];
             *h = h.saturating_add(times);
         }
+        let reads = &mut self.hits[self.read_offset..self.read_offset + N_READ_BINS];
+        for ((h, &n), at_mark) in reads.iter_mut().zip(&self.last_reads).zip(self.reads_at_mark.iter_mut()) {
+            *h = h.saturating_add(n.saturating_mul(times));
+            *at_mark = *h;
+        }
         self.journal.clear();
         self.journal_full = false;
-        self.read_since_mark = false;
         self.last_full = true;
     }
 
@@ -175,10 +191,9 @@ impl Coverage {
         let (i, n) = (e.inputs, e.internals);
         if e.out.sig && !i.bus_we {
             self.hits[self.read_offset + usize::from(READ_BIN[usize::from(i.bus_addr)])] += 1;
-            self.read_since_mark = true;
         }
         let sync = e.before.action_switching.sync;
-        let in_flight = sync != 0 && sync != (1u8 << self.structural.sync_depth) - 1;
+        let in_flight = sync != 0 && sync != self.sync_full;
         let diag_rise = e.after.count_diagnosis.diag && !e.before.count_diagnosis.diag;
         // A sample that moves nothing (most on-key strobes) hits no bin: only a first sample, a
         // sign change, or a strobe on a dead rail does.
