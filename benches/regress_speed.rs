@@ -64,8 +64,6 @@ impl Observer for Idle {
 /// does it (`regress::check::SeedChecks` without the invariants).
 struct CoverageOnly {
     coverage: pmu50_coverage::Coverage,
-    mark_at: Option<u64>,
-    prev_at: Option<u64>,
 }
 impl Observer for CoverageOnly {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
@@ -79,18 +77,14 @@ impl Observer for CoverageOnly {
         true
     }
     fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
-        self.coverage.mark();
-        self.prev_at = self.mark_at;
-        self.mark_at = Some(k);
+        self.coverage.period_boundary(k);
         Ok(())
     }
     fn can_replay(&self, k: u64, len: u64) -> bool {
-        self.mark_at == Some(k) && self.prev_at == k.checked_sub(len) && self.coverage.can_repeat()
+        self.coverage.can_replay(k, len)
     }
     fn replay(&mut self, _k: u64, periods: u64, _len: u64) -> Result<(), SimError> {
-        self.coverage.repeat_last_period(periods);
-        self.mark_at = None;
-        self.prev_at = None;
+        self.coverage.replay(periods);
         Ok(())
     }
 }
@@ -155,7 +149,7 @@ fn main() {
 
         let t = cpu_now();
         for sc in &scenarios {
-            let mut c = CoverageOnly { coverage: pmu50_coverage::Coverage::new(&sc.params, sc.clock_ns()), mark_at: None, prev_at: None };
+            let mut c = CoverageOnly { coverage: pmu50_coverage::Coverage::new(&sc.params, sc.clock_ns()) };
             sim::run(sc, SimOptions::default(), &mut [&mut c]).expect("bench runs");
             std::hint::black_box(c.coverage.hits().len());
         }

@@ -79,9 +79,6 @@ pub struct SeedChecks {
     pub readouts_checked: u64,
     cnt_width: u8,
     sync_depth: u8,
-    // the ticks of the last two period starts, for replaying skipped copies (docs/spec.md 5.1)
-    mark_at: Option<u64>,
-    prev_at: Option<u64>,
 }
 
 impl SeedChecks {
@@ -95,8 +92,6 @@ impl SeedChecks {
             readouts_checked: 0,
             cnt_width: p.cnt_width,
             sync_depth: p.sync_depth,
-            mark_at: None,
-            prev_at: None,
         }
     }
 
@@ -228,21 +223,16 @@ impl Observer for SeedChecks {
     }
 
     fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
-        self.coverage.mark();
-        self.prev_at = self.mark_at;
-        self.mark_at = Some(k);
+        self.coverage.period_boundary(k);
         Ok(())
     }
 
     fn can_replay(&self, k: u64, len: u64) -> bool {
-        self.mark_at == Some(k) && self.prev_at == k.checked_sub(len) && self.coverage.can_repeat()
+        self.coverage.can_replay(k, len)
     }
 
     fn replay(&mut self, _k: u64, periods: u64, _len: u64) -> Result<(), SimError> {
-        self.coverage.repeat_last_period(periods);
-        // the counts at the next boundary start from here
-        self.mark_at = None;
-        self.prev_at = None;
+        self.coverage.replay(periods);
         Ok(())
     }
 }

@@ -74,6 +74,9 @@ pub struct Coverage {
     last_reads: [u64; N_READ_BINS],
     /// The synchronizer with every stage set (a key held on).
     sync_full: u8,
+    /// The ticks of the last two period boundaries.
+    mark_at: Option<u64>,
+    prev_at: Option<u64>,
 }
 
 /// Entries a period's journal keeps; a repeated period hits a few dozen bins.
@@ -97,6 +100,8 @@ impl Coverage {
             reads_at_mark: [0; N_READ_BINS],
             last_reads: [0; N_READ_BINS],
             sync_full: ((1u16 << p.sync_depth) - 1) as u8,
+            mark_at: None,
+            prev_at: None,
         };
         c.sample_config(p);
         c
@@ -114,10 +119,30 @@ impl Coverage {
         }
     }
 
-    /// A period starts (docs/spec.md 5.1): what was counted since the previous mark is the last
-    /// period, which [`Coverage::repeat_last_period`] can replay (the MPU's reads with the key on
-    /// included).
-    pub fn mark(&mut self) {
+    /// A period starts at tick `k` (docs/spec.md 5.1, the bench's `period_boundary`): what was
+    /// counted since the previous boundary is the last period, which [`Coverage::replay`] can
+    /// add again (the MPU's reads with the key on included).
+    pub fn period_boundary(&mut self, k: u64) {
+        self.prev_at = self.mark_at;
+        self.mark_at = Some(k);
+        self.mark();
+    }
+
+    /// Whether the period `[k - len, k)` is the last one counted whole, so that the bench may
+    /// skip copies of it ([`Coverage::replay`]).
+    pub fn can_replay(&self, k: u64, len: u64) -> bool {
+        self.mark_at == Some(k) && self.prev_at == k.checked_sub(len) && self.can_repeat()
+    }
+
+    /// The bench skipped `periods` copies of the last period: count them; the next boundary
+    /// starts afresh.
+    pub fn replay(&mut self, periods: u64) {
+        self.repeat_last_period(periods);
+        self.mark_at = None;
+        self.prev_at = None;
+    }
+
+    fn mark(&mut self) {
         std::mem::swap(&mut self.journal, &mut self.last_period);
         self.journal.clear();
         self.last_full = self.journal_full;
@@ -130,13 +155,13 @@ impl Coverage {
     }
 
     /// Whether the last period can be replayed (its journal is complete).
-    pub fn can_repeat(&self) -> bool {
+    fn can_repeat(&self) -> bool {
         !self.last_full
     }
 
     /// Add `times` copies of the counts of the last period (a repeated period that the bench
     /// skipped); the next period starts empty.
-    pub fn repeat_last_period(&mut self, times: u64) {
+    fn repeat_last_period(&mut self, times: u64) {
         for &k in &self.last_period {
             let h = &mut self.hits[k as usize];
             *h = h.saturating_add(times);
