@@ -551,7 +551,9 @@ mod tests {
     fn fake_worker(dir: &Path, body: &str) -> PathBuf {
         use std::os::unix::fs::PermissionsExt;
         let p = dir.join("fake");
-        std::fs::write(&p, format!("#!/bin/sh\n{body}\n")).unwrap();
+        let mut f = tempfile::NamedTempFile::new_in(dir).unwrap();
+        f.write_all(format!("#!/bin/sh\n{body}\n").as_bytes()).unwrap();
+        f.persist(&p).unwrap();
         std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o755)).unwrap();
         p
     }
