@@ -249,8 +249,14 @@ impl InLockstep {
         Ok(())
     }
 
+    /// The seed's result, with the verdict of the lockstep (sent or not yet).
+    fn finish(self, dut: Option<&dut::Dut>, timeout: Duration) -> (SeedResult, Vec<u64>) {
+        let (seed, start) = (self.seed, self.start);
+        seed_result(seed, start, self.verdict(dut, timeout))
+    }
+
     /// The verdict of the lockstep (sent or not yet).
-    fn finish(mut self, dut: Option<&dut::Dut>, timeout: Duration) -> (SeedResult, Vec<u64>) {
+    fn verdict(mut self, dut: Option<&dut::Dut>, timeout: Duration) -> Evaluated {
         let verdict = match (dut, self.flight.take()) {
             (Some(d), Some(f)) => d.receive(&self.sc, f, timeout),
             (Some(d), None) => d.lockstep(&self.sc, &self.inputs, timeout),
@@ -261,8 +267,7 @@ impl InLockstep {
             Ok(Some(f)) => ("fail", Some(f)),
             Err(e) => ("error", Some(*error_failure(0, e))),
         };
-        let e = (verdict, failure, self.ticks, self.evaluated, self.readouts_checked, self.hits);
-        seed_result(self.seed, self.start, e)
+        (verdict, failure, self.ticks, self.evaluated, self.readouts_checked, self.hits)
     }
 }
 
@@ -319,8 +324,7 @@ pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout
         Phase::Final(e) => Ok(e),
         Phase::Lockstep { sc, inputs, ticks, evaluated, readouts_checked, hits } => {
             let p = InLockstep { seed: stim.seed, start: Instant::now(), sc, inputs, flight: None, ticks, evaluated, readouts_checked, hits };
-            let (r, hits) = p.finish(dut, timeout);
-            Ok((if r.verdict == "pass" { "pass" } else if r.verdict == "fail" { "fail" } else { "error" }, r.failure, r.ticks, r.evaluated, r.readouts_checked, hits))
+            Ok(p.verdict(dut, timeout))
         }
     }
 }
