@@ -96,7 +96,7 @@ golden:
 
 ## Speed, side by side in one table: readable model, fast kernel, Verilator (-O3, --trace), the
 ## Rust tracer (VCD, FST), Icarus; park figures (docs/performance.md). Criterion micro-benchmarks
-## of the simulator: cargo bench --bench sim_speed.
+## of the simulator: cargo bench --features criterion --bench sim_speed.
 bench: deps
 	bash benches/compare.sh
 
