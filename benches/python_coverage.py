@@ -23,35 +23,29 @@ def main() -> None:
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 100_000
     rows = list(stimulus(n))
 
-    def core_step():
-        c = pmu50.Core(**CONFIG)
-        for r in rows:
-            c.step(**r)
+    def steps(method: str, sampled: bool):
+        """Step a fresh core through the stimulus with `method` of the core, or of a coverage
+        sampling it (which takes the core first); the same call shape either way."""
 
-    def cov_step():
-        c = pmu50.Core(**CONFIG)
-        cov = pmu50.Coverage(c)
-        for r in rows:
-            cov.step(c, **r)
+        def run():
+            c = pmu50.Core(**CONFIG)
+            obj, args = (pmu50.Coverage(c), (c,)) if sampled else (c, ())
+            step = getattr(obj, method)
+            for r in rows:
+                step(*args, **r)
 
-    def core_traced():
-        c = pmu50.Core(**CONFIG)
-        for r in rows:
-            c.step_traced(**r)
+        return run
 
-    def cov_traced():
-        c = pmu50.Core(**CONFIG)
-        cov = pmu50.Coverage(c)
-        for r in rows:
-            cov.step_traced(c, **r)
-
-    for name, f in (("Core.step", core_step), ("Coverage.step", cov_step), ("Core.step_traced", core_traced), ("Coverage.step_traced", cov_traced)):
-        best = float("inf")
-        for _ in range(5):
-            t0 = time.perf_counter()
-            f()
-            best = min(best, time.perf_counter() - t0)
-        print(f"{name:22s} {best / n * 1e9:7.0f} ns/edge")
+    for method in ("step", "step_traced"):
+        for sampled in (False, True):
+            name = f"{'Coverage' if sampled else 'Core'}.{method}"
+            f = steps(method, sampled)
+            best = float("inf")
+            for _ in range(5):
+                t0 = time.perf_counter()
+                f()
+                best = min(best, time.perf_counter() - t0)
+            print(f"{name:22s} {best / n * 1e9:7.0f} ns/edge")
 
 
 if __name__ == "__main__":

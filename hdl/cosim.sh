@@ -29,10 +29,8 @@
 # Exit 0: every clean run passes and every mutant is caught by every method; 1 otherwise;
 # 2: tool or setup failure. Work files: hdl/build/cosim/.
 set -uo pipefail
-HDL="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-ROOT="$(cd "$HDL/.." && pwd)"
+. "$(dirname "${BASH_SOURCE[0]}")/scripts/common.sh"
 B="$HDL/build/cosim"
-PMU50="$ROOT/target/release/pmu50"
 MAX_COSIM_TICKS=${MAX_COSIM_TICKS:-10000000}
 SELF="$HDL/cosim.sh"
 
@@ -200,7 +198,7 @@ if ! cc -std=c99 -Wall -Wextra -pedantic -Werror -I "$HDL/ffi/include" "$HDL/ffi
 fi
 
 stamp "lint: verilator --lint-only -Wall"
-mapfile -t RTL < <(sed "s|^|$HDL/|" "$HDL/pmu50.f")
+rtl_files "$HDL/pmu50.f"
 if ! verilator --lint-only -Wall --default-language 1364-2005 --top-module pmu50 "${RTL[@]}" > "$HDL/build/lint.log" 2>&1 \
         || [ -s "$HDL/build/lint.log" ]; then
     cat "$HDL/build/lint.log"; log "cosim: lint failed"; exit 1

@@ -10,9 +10,7 @@
 #      curve; a screenshot is written to hdl/build/regress_smoke/report.png).
 # Exit 0 when all hold, 1 otherwise, 2 on a setup failure.
 set -uo pipefail
-HDL="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-ROOT="$(cd "$HDL/.." && pwd)"
-PMU50="$ROOT/target/release/pmu50"
+. "$(dirname "${BASH_SOURCE[0]}")/scripts/common.sh"
 W="$HDL/build/regress_smoke"
 SEEDS=${SEEDS:-12}
 fail() { echo "regress_smoke: FAIL: $*" >&2; exit 1; }

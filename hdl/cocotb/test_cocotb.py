@@ -118,6 +118,19 @@ def simulate(build_dir: Path, env: dict, results: Path) -> tuple[bool, str]:
     return passed, "" if fail is None else (fail.get("message") or "") + (fail.text or "")
 
 
+def run_twin(hdl_parameters: dict, mutant: str, name: str, core: dict, run_id: str, **stimulus: str) -> tuple[bool, str, Path]:
+    """Build the twin (or `mutant`) for `hdl_parameters` and run tb_pmu50 on it against the model
+    configured with `core`, the stimulus given by the PMU50_* variables `stimulus`, the coverage
+    sampled into results/NAME.coverage.json under `run_id`: (passed, failure message, that file)."""
+    d = build(hdl_parameters, mutant)
+    cov = WORK / "results" / f"{name}.coverage.json"
+    cov.parent.mkdir(parents=True, exist_ok=True)
+    cov.unlink(missing_ok=True)
+    env = {"PMU50_CORE": json.dumps(core), **stimulus, "PMU50_COVERAGE": str(cov), "PMU50_RUN_ID": run_id}
+    ok, msg = simulate(d, env, WORK / "results" / f"{name}.xml")
+    return ok, msg, cov
+
+
 @pytest.fixture(scope="session")
 def vectors() -> Path:
     """Vector files of the shipped scenarios, written by the CLI."""
@@ -136,18 +149,10 @@ def test_shipped_scenarios_exist():
 @pytest.mark.parametrize("scenario", SHIPPED, ids=[p.stem for p in SHIPPED])
 def test_scenario_vectors(scenario: Path, vectors: Path):
     sc = pmu50.Scenario.load(scenario)
-    d = build(sc.hdl_parameters, PLANTED)
-    cov = WORK / "results" / f"vec_{scenario.stem}.coverage.json"
-    cov.parent.mkdir(parents=True, exist_ok=True)
-    cov.unlink(missing_ok=True)
-    env = {
-        "PMU50_CORE": json.dumps(sc.core),
-        "PMU50_VEC": str(vectors / f"{scenario.stem}.vec"),
-        "PMU50_MAX_TICKS": str(MAX_TICKS),
-        "PMU50_COVERAGE": str(cov),
-        "PMU50_RUN_ID": f"cocotb/vectors/{scenario.stem}",
-    }
-    ok, msg = simulate(d, env, WORK / "results" / f"vec_{scenario.stem}.xml")
+    ok, msg, cov = run_twin(
+        sc.hdl_parameters, PLANTED, f"vec_{scenario.stem}", sc.core, f"cocotb/vectors/{scenario.stem}",
+        PMU50_VEC=str(vectors / f"{scenario.stem}.vec"), PMU50_MAX_TICKS=str(MAX_TICKS),
+    )
     assert ok, msg
     assert json.loads(cov.read_text())["runs"] == [{"id": f"cocotb/vectors/{scenario.stem}", "verdict": "pass"}]
 
@@ -156,20 +161,10 @@ def test_scenario_vectors(scenario: Path, vectors: Path):
 def random_run(seed: int) -> tuple[bool, str, Path]:
     """One seeded random run on the clean twin: (passed, failure message, its coverage.json)."""
     cfg = RANDOM_CONFIGS[seed % len(RANDOM_CONFIGS)]
-    core = pmu50.Core(**cfg)
-    d = build(core.hdl_parameters, PLANTED)
-    cov = WORK / "results" / f"random_{seed}.coverage.json"
-    cov.parent.mkdir(parents=True, exist_ok=True)
-    cov.unlink(missing_ok=True)
-    env = {
-        "PMU50_CORE": json.dumps(cfg),
-        "PMU50_SEED": str(seed),
-        "PMU50_CYCLES": str(CYCLES),
-        "PMU50_COVERAGE": str(cov),
-        "PMU50_RUN_ID": f"cocotb/random/{seed}",
-    }
-    ok, msg = simulate(d, env, WORK / "results" / f"random_{seed}.xml")
-    return ok, msg, cov
+    return run_twin(
+        pmu50.Core(**cfg).hdl_parameters, PLANTED, f"random_{seed}", cfg, f"cocotb/random/{seed}",
+        PMU50_SEED=str(seed), PMU50_CYCLES=str(CYCLES),
+    )
 
 
 @pytest.mark.parametrize("seed", range(1, SEEDS + 1))
@@ -218,19 +213,10 @@ def test_mutant_is_caught(mutant: str, seed: int, config: int):
     listed = (HDL / "mutants.txt").read_text()
     assert re.search(rf"^{mutant}\s*\|", listed, re.M), f"{mutant} is not in hdl/mutants.txt"
     cfg = RANDOM_CONFIGS[config]
-    core = pmu50.Core(**cfg)
-    d = build(core.hdl_parameters, mutant)
-    cov = WORK / "results" / f"mutant_{mutant}.coverage.json"
-    cov.parent.mkdir(parents=True, exist_ok=True)
-    cov.unlink(missing_ok=True)
-    env = {
-        "PMU50_CORE": json.dumps(cfg),
-        "PMU50_SEED": str(seed),
-        "PMU50_CYCLES": str(CYCLES),
-        "PMU50_COVERAGE": str(cov),
-        "PMU50_RUN_ID": f"cocotb/mutant/{mutant}/{seed}",
-    }
-    ok, msg = simulate(d, env, WORK / "results" / f"mutant_{mutant}.xml")
+    ok, msg, cov = run_twin(
+        pmu50.Core(**cfg).hdl_parameters, mutant, f"mutant_{mutant}", cfg, f"cocotb/mutant/{mutant}/{seed}",
+        PMU50_SEED=str(seed), PMU50_CYCLES=str(CYCLES),
+    )
     assert not ok, f"{mutant} escaped the scoreboard ({CYCLES} random cycles, seed {seed})"
     # a failing run still writes its coverage, up to the failing edge, with verdict "fail"
     assert json.loads(cov.read_text())["runs"] == [{"id": f"cocotb/mutant/{mutant}/{seed}", "verdict": "fail"}]

@@ -58,16 +58,7 @@ module pmu50_formal #(
     pmu50 #(
         .SYNC_DEPTH(SYNC_DEPTH), .CNT_W(CNT_W), .ADAPTIVE(ADAPTIVE), .PW(PW), .PI(PI), .PS(PS),
         .SI_MAX(SI_MAX), .SI_MIN(SI_MIN), .T1(T1), .T2(T2), .CTH(CTH), .SMP_ON(SMP_ON)
-    ) dut (
-        .clk(clk), .rst_n(rst_n),
-        .ig(ig), .vs2_ok(vs2_ok), .cmp_s(cmp_s), .cmp_c(cmp_c),
-        .bus_we(bus_we), .bus_addr(bus_addr), .bus_wdata(bus_wdata),
-        .sig(sig), .vr_hi(vr_hi), .vm_en(vm_en), .vs1_en(vs1_en), .vs2_en(vs2_en),
-        .vp_en(vp_en), .rail_hi(rail_hi), .st(st), .sr(sr), .ps_win(ps_win), .smp(smp),
-        .cs(cs), .cc(cc), .cnt_s(cnt_s), .cnt_c(cnt_c), .cnt_r(cnt_r), .si(si),
-        .hist_s(hist_s), .hist_c(hist_c), .diag(diag), .quadrant_skip(quadrant_skip),
-        .bus_rdata(bus_rdata), .bus_err(bus_err)
-    );
+    ) dut (.*);  // every port to the net of its name: the inputs, rst_n and the wires above
 
     // ------------------------------------------------------------------ shadows from the ports
     // The key through SYNC_DEPTH flops (spec 2.1).

@@ -12,8 +12,7 @@
 # Either is skipped when up to date. The Verilator runtime (verilated.cpp ...) is compiled once
 # per kind into hdl/build/lockstep/_runtime (_runtime_pic for lib) and shared by every build.
 set -euo pipefail
-HDL="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-ROOT="$(cd "$HDL/.." && pwd)"
+. "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 MUT="${1:-none}"
 SD="${2:-2}"
 W="${3:-16}"
@@ -36,12 +35,8 @@ lib)
 *) echo "build_lockstep: kind \`$KIND\` is not exe or lib" >&2; exit 2 ;;
 esac
 
-# The RTL: hdl/pmu50.f, or the file list in PMU50_FILELIST (paths relative to the list's folder;
-# blank lines and // or # comments skipped), as `pmu50 regress --rtl` passes it.
-FLIST="${PMU50_FILELIST:-$HDL/pmu50.f}"
-FDIR="$(cd "$(dirname "$FLIST")" && pwd)"
-mapfile -t RTL < <(sed -e 's|//.*||' -e 's|#.*||' -e 's|^[[:space:]]*||' -e 's|[[:space:]]*$||' "$FLIST" | grep -v '^$' | sed "s|^\([^/]\)|$FDIR/\1|")
-SRCS=("${BASH_SOURCE[0]}" "$FLIST" "${RTL[@]}" "$HDL/tb/lockstep/lockstep.vlt" "$TB" "$HDL/tb/lockstep/twin_access.h" "$HDL/ffi/include/pmu50.h" ${LIB:+"$LIB"})
+rtl_files
+SRCS=("${BASH_SOURCE[0]}" "$HDL/scripts/common.sh" "$FLIST" "${RTL[@]}" "$HDL/tb/lockstep/lockstep.vlt" "$TB" "$HDL/tb/lockstep/twin_access.h" "$HDL/ffi/include/pmu50.h" ${LIB:+"$LIB"})
 if [ -f "$TARGET" ]; then
     newer=0
     for s in "${SRCS[@]}"; do [ "$s" -nt "$TARGET" ] && newer=1; done

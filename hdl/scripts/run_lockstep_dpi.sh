@@ -10,8 +10,7 @@
 # dpi/<vector file name>), verdict pass or fail.
 # Exit 0 `PASS ...`, 1 divergence (`MISMATCH tick=...` lines), 2 bad input / build error.
 set -uo pipefail
-HDL="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-ROOT="$(cd "$HDL/.." && pwd)"
+. "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 VEC="${1:?usage: run_lockstep_dpi.sh FILE.vec [--mutant MUT] [--coverage OUT.json [--run-id ID]]}"
 shift
 MUT=none
@@ -30,20 +29,10 @@ done
 LIB="$ROOT/target/release/libpmu50_ffi.a"
 [ -f "$LIB" ] || { echo "run_lockstep_dpi: $LIB missing (cargo build -p pmu50-ffi --release)" >&2; exit 2; }
 ARGS=()
-CLOCK_NS=10000
-while IFS= read -r line; do
-    case "$line" in
-        "// param CLOCK_US "*) CLOCK_NS=$(( ${line##* } * 1000 )) ;;
-        "// param "*) set -- $line; ARGS+=("-G$3=$4") ;;
-        "// clock_ns "*) CLOCK_NS="${line##* }" ;;
-        //*) ;;
-        *) break ;;
-    esac
-done < "$VEC"
-ARGS+=("-GCLOCK_NS=$CLOCK_NS")
+vec_params "$VEC" -G
 
 [ "$MUT" != none ] && ARGS+=("+define+$MUT")
-mapfile -t RTL < <(sed "s|^|$HDL/|" "$HDL/pmu50.f")
+rtl_files "$HDL/pmu50.f"
 # one build per parameter set, mutant and content of the sources and the model library
 KEY=$( (printf '%s\n' "${ARGS[@]}"; cat "$HDL/tb/lockstep/tb_lockstep_dpi.sv" "$HDL/tb/lockstep/pmu50_dpi.c" "$HDL/ffi/include/pmu50.h" "${RTL[@]}" "$LIB") | md5sum | cut -c1-12)
 OUT="$HDL/build/dpi/$MUT/$KEY"

@@ -8,7 +8,7 @@
 # vvp. Exit 0 and `PASS ticks=<n>` on success; exit 1 with `MISMATCH tick=...` lines otherwise;
 # exit 2 on bad input or a compile error.
 set -uo pipefail
-HDL="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+. "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 VEC=""
 MUT=none
 VCD=""
@@ -24,28 +24,14 @@ while [ $# -gt 0 ]; do
 done
 [ -n "$VEC" ] && [ -r "$VEC" ] || { echo "run_vectors: cannot read vector file '$VEC'" >&2; exit 2; }
 
-# Parameters from the header (the header ends at the first data line).
+# Parameters from the header.
 ARGS=()
-CLOCK_NS=10000
-while IFS= read -r line; do
-    case "$line" in
-        "// param CLOCK_US "*) CLOCK_NS=$(( ${line##* } * 1000 )) ;;
-        "// param "*) set -- $line; ARGS+=("-Ptb_vectors.$3=$4") ;;
-        "// clock_ns "*) CLOCK_NS="${line##* }" ;;
-        //*) ;;
-        *) break ;;
-    esac
-done < "$VEC"
-ARGS+=("-Ptb_vectors.CLOCK_NS=$CLOCK_NS")
+vec_params "$VEC" -Ptb_vectors.
 # 1 us timescale (as the model's VCD) when the half period is a whole number of microseconds.
 if [ $(( CLOCK_NS % 2000 )) -ne 0 ]; then ARGS+=("-DTB_TIMESCALE_NS"); fi
 [ "$MUT" != none ] && ARGS+=("-D$MUT")
 
-# The RTL: hdl/pmu50.f, or the file list in PMU50_FILELIST (paths relative to the list's folder;
-# blank lines and // or # comments skipped), as `pmu50 regress --rtl` passes it.
-FLIST="${PMU50_FILELIST:-$HDL/pmu50.f}"
-FDIR="$(cd "$(dirname "$FLIST")" && pwd)"
-mapfile -t RTL < <(sed -e 's|//.*||' -e 's|#.*||' -e 's|^[[:space:]]*||' -e 's|[[:space:]]*$||' "$FLIST" | grep -v '^$' | sed "s|^\([^/]\)|$FDIR/\1|")
+rtl_files
 KEY=$(printf '%s\n' "${ARGS[@]}" "${RTL[@]}" | md5sum | cut -c1-12)
 DIR="${PMU50_BUILD_DIR:-$HDL/build}/iv/$MUT"
 VVP="$DIR/$KEY.vvp"

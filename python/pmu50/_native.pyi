@@ -3,7 +3,9 @@
 from collections.abc import Iterator, Mapping
 from os import PathLike
 from pathlib import Path
-from typing import Literal, Optional, Union, overload
+from typing import Literal, Optional, TypedDict, Union, overload
+
+from typing_extensions import Unpack
 
 __version__: str
 
@@ -128,6 +130,48 @@ class Trace:
 
 _Bit = Union[bool, int]
 
+class _Config(TypedDict, total=False):
+    """The keyword arguments of :class:`Core` (the scenario ``[core]`` table); each one left out
+    takes the patent's value (the default named in its docstring)."""
+
+    clock: str
+    """Clock period. Default ``"10 us"``."""
+    sync_depth: int
+    """Flip-flops of the key synchronizer (structural), 1 to 4. Default ``2``."""
+    cnt_width: int
+    """Width of cnt_s and cnt_c (structural), 2 to 16. Default ``16``."""
+    adaptive: bool
+    """Adaptive interval (``False``: the fixed cycle ``x`` of the first embodiment). Default ``True``."""
+    pw: str
+    """Waiting period Pw of one intermittent output. Default ``"50 us"``."""
+    pi: str
+    """Idle period Pi of one intermittent output. Default ``"120 us"``."""
+    ps: str
+    """Sampling period Ps of one intermittent output. Default ``"50 us"``."""
+    x: str
+    """Maximum interval, the first time interval (register si_max). Default ``"6.6 ms"``."""
+    min: str
+    """Minimum interval (register si_min). Default ``"2.2 ms"``."""
+    t1: str
+    """Shortening step T1. Default ``"2.2 ms"``."""
+    t2: str
+    """Expanding step T2. Default ``"1.1 ms"``."""
+    cth: int
+    """Count threshold Cth. Default ``4``."""
+    smp_on: str
+    """Sampling period while the key is on. Default ``"100 us"``."""
+
+class _Inputs(TypedDict, total=False):
+    """The inputs of one clock edge, by their port names; each one left out is 0."""
+
+    ig: _Bit
+    vs2_ok: _Bit
+    cmp_s: _Bit
+    cmp_c: _Bit
+    bus_we: _Bit
+    bus_addr: int
+    bus_wdata: int
+
 class Core:
     """The digital core of PMU 50 at power-on reset (rtl_model/core/src/pmu50.rs).
 
@@ -136,46 +180,10 @@ class Core:
     :class:`ConfigError` with the CLI's message; an unknown name or a wrong type ``TypeError``.
     """
 
-    def __init__(
-        self,
-        *,
-        clock: str = "10 us",
-        sync_depth: int = 2,
-        cnt_width: int = 16,
-        adaptive: bool = True,
-        pw: str = "50 us",
-        pi: str = "120 us",
-        ps: str = "50 us",
-        x: str = "6.6 ms",
-        min: str = "2.2 ms",
-        t1: str = "2.2 ms",
-        t2: str = "1.1 ms",
-        cth: int = 4,
-        smp_on: str = "100 us",
-    ) -> None: ...
-    def step(
-        self,
-        *,
-        ig: _Bit = 0,
-        vs2_ok: _Bit = 0,
-        cmp_s: _Bit = 0,
-        cmp_c: _Bit = 0,
-        bus_we: _Bit = 0,
-        bus_addr: int = 0,
-        bus_wdata: int = 0,
-    ) -> Outputs:
+    def __init__(self, **config: Unpack[_Config]) -> None: ...
+    def step(self, **inputs: Unpack[_Inputs]) -> Outputs:
         """One rising clock edge with these inputs; the outputs after it."""
-    def step_traced(
-        self,
-        *,
-        ig: _Bit = 0,
-        vs2_ok: _Bit = 0,
-        cmp_s: _Bit = 0,
-        cmp_c: _Bit = 0,
-        bus_we: _Bit = 0,
-        bus_addr: int = 0,
-        bus_wdata: int = 0,
-    ) -> Trace:
+    def step_traced(self, **inputs: Unpack[_Inputs]) -> Trace:
         """Like :meth:`step`, with outputs before and after, internals and inputs."""
     def peek(self) -> Outputs:
         """The outputs of the current tick (no edge)."""
@@ -213,49 +221,10 @@ class Coverage:
     ``core.step(**inputs)`` with the edge sampled.
     """
 
-    def __init__(
-        self,
-        core: Optional[Core] = None,
-        *,
-        clock: str = "10 us",
-        sync_depth: int = 2,
-        cnt_width: int = 16,
-        adaptive: bool = True,
-        pw: str = "50 us",
-        pi: str = "120 us",
-        ps: str = "50 us",
-        x: str = "6.6 ms",
-        min: str = "2.2 ms",
-        t1: str = "2.2 ms",
-        t2: str = "1.1 ms",
-        cth: int = 4,
-        smp_on: str = "100 us",
-    ) -> None: ...
-    def step(
-        self,
-        core: Core,
-        *,
-        ig: _Bit = 0,
-        vs2_ok: _Bit = 0,
-        cmp_s: _Bit = 0,
-        cmp_c: _Bit = 0,
-        bus_we: _Bit = 0,
-        bus_addr: int = 0,
-        bus_wdata: int = 0,
-    ) -> Outputs:
+    def __init__(self, core: Optional[Core] = None, **config: Unpack[_Config]) -> None: ...
+    def step(self, core: Core, **inputs: Unpack[_Inputs]) -> Outputs:
         """``core.step(**inputs)`` with the edge sampled; the outputs after the edge."""
-    def step_traced(
-        self,
-        core: Core,
-        *,
-        ig: _Bit = 0,
-        vs2_ok: _Bit = 0,
-        cmp_s: _Bit = 0,
-        cmp_c: _Bit = 0,
-        bus_we: _Bit = 0,
-        bus_addr: int = 0,
-        bus_wdata: int = 0,
-    ) -> Trace:
+    def step_traced(self, core: Core, **inputs: Unpack[_Inputs]) -> Trace:
         """``core.step_traced(**inputs)`` with the edge sampled."""
     def hits(self) -> dict[str, int]:
         """``{bin name: hits}`` for every bin, in the model's order."""

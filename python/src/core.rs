@@ -235,6 +235,17 @@ impl Core {
         Outputs { vals: signals::output_values(&self.s(), o) }
     }
 
+    /// The Python view of the edge `t` this core has just taken with inputs `i`.
+    pub(crate) fn trace(&self, i: &Inputs, t: &pmu50_core::TracedStep) -> Trace {
+        Trace {
+            tick: self.model.tick(),
+            before: self.outputs(&t.before),
+            internals: Internals { vals: signals::internal_values(&t.internals) },
+            after: self.outputs(&t.after),
+            inputs: InputValues { vals: signals::input_values(i) },
+        }
+    }
+
     /// Inputs from keyword arguments, each checked against its width. Unset inputs are 0.
     pub(crate) fn inputs(kw: Option<&Bound<'_, PyDict>>) -> PyResult<Inputs> {
         let mut i = Inputs::default();
@@ -263,6 +274,23 @@ impl Core {
         }
         Ok(i)
     }
+}
+
+/// `{block: {register: value}}` of the rows of `signals::register_values`.
+pub(crate) fn register_dict<'py>(py: Python<'py>, vals: Vec<(&str, &str, u8, u64)>) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (b, n, _, v) in vals {
+        let blk = match d.get_item(b)? {
+            Some(x) => x.cast_into::<PyDict>()?,
+            None => {
+                let x = PyDict::new(py);
+                d.set_item(b, &x)?;
+                x
+            }
+        };
+        blk.set_item(n, v)?;
+    }
+    Ok(d)
 }
 
 #[pymethods]
@@ -294,14 +322,8 @@ impl Core {
     fn step_traced(&mut self, inputs: Option<&Bound<'_, PyDict>>) -> PyResult<Trace> {
         guard("Core.step_traced()", || {
             let i = Core::inputs(inputs)?;
-            let pmu50_core::TracedStep { before: b, internals: x, after: a, .. } = self.model.step_traced(&i);
-            Ok(Trace {
-                tick: self.model.tick(),
-                before: self.outputs(&b),
-                internals: Internals { vals: signals::internal_values(&x) },
-                after: self.outputs(&a),
-                inputs: InputValues { vals: signals::input_values(&i) },
-            })
+            let t = self.model.step_traced(&i);
+            Ok(self.trace(&i, &t))
         })
     }
 
@@ -313,19 +335,7 @@ impl Core {
     /// Every register: `{block: {register: value}}` (the VCD scopes `pmu50.<block>`).
     fn regs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let vals = guard("Core.regs()", || Ok(signals::register_values(&self.s(), self.model.regs())))?;
-        let d = PyDict::new(py);
-        for (b, n, _, v) in vals {
-            let blk = match d.get_item(b)? {
-                Some(x) => x.cast_into::<PyDict>()?,
-                None => {
-                    let x = PyDict::new(py);
-                    d.set_item(b, &x)?;
-                    x
-                }
-            };
-            blk.set_item(n, v)?;
-        }
-        Ok(d)
+        register_dict(py, vals)
     }
 
     /// The register file's read mux at `addr` (0..=255) this tick, as the MPU reads it: what

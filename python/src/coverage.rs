@@ -8,8 +8,8 @@
 //! (python/tests/test_coverage.py, hdl/ffi/tests/coverage.rs). Files are written as
 //! `pmu50_coverage::db::of_run(..).to_text()`, to a temporary file renamed into place.
 
-use crate::core::{Core, InputValues, Internals, Outputs, Trace};
-use crate::{guard, signals};
+use crate::core::{Core, Outputs, Trace};
+use crate::guard;
 use pmu50_core::pmu50::Structural;
 use pmu50_core::Params;
 use pmu50_coverage::db::{self, CoverageFile, DbError};
@@ -69,8 +69,8 @@ impl Coverage {
         Coverage { cov: pmu50_coverage::Coverage::new(p, clock_ns), structural: Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width }, clock_ns, edges: 0 }
     }
 
-    /// One edge of `core` with `inputs`, sampled: (outputs before, internals, outputs after).
-    fn edge(&mut self, core: &mut Core, inputs: &pmu50_core::Inputs) -> PyResult<(pmu50_core::Outputs, pmu50_core::Internals, pmu50_core::Outputs)> {
+    /// One edge of `core` with `inputs`, sampled.
+    fn edge(&mut self, core: &mut Core, inputs: &pmu50_core::Inputs) -> PyResult<pmu50_core::TracedStep> {
         let s = core.model.structural();
         if (s.sync_depth, s.cnt_width) != (self.structural.sync_depth, self.structural.cnt_width) {
             return Err(PyValueError::new_err(format!(
@@ -79,11 +79,11 @@ impl Coverage {
             )));
         }
         let before = *core.model.regs();
-        let pmu50_core::TracedStep { before: out, internals: n, after: after_out, .. } = core.model.step_traced(inputs);
+        let t = core.model.step_traced(inputs);
         let after = *core.model.regs();
-        self.cov.sample(&Edge { before: &before, after: &after, out: &out, inputs, internals: &n });
+        self.cov.sample(&Edge { before: &before, after: &after, out: &t.before, inputs, internals: &t.internals });
         self.edges += 1;
-        Ok((out, n, after_out))
+        Ok(t)
     }
 
     fn file(&self, run_id: &str, verdict: &str) -> PyResult<CoverageFile> {
@@ -121,8 +121,8 @@ impl Coverage {
     fn step(&mut self, mut core: PyRefMut<'_, Core>, inputs: Option<&Bound<'_, PyDict>>) -> PyResult<Outputs> {
         guard("Coverage.step()", || {
             let i = Core::inputs(inputs)?;
-            let (_, _, after) = self.edge(&mut core, &i)?;
-            Ok(core.outputs(&after))
+            let t = self.edge(&mut core, &i)?;
+            Ok(core.outputs(&t.after))
         })
     }
 
@@ -131,14 +131,8 @@ impl Coverage {
     fn step_traced(&mut self, mut core: PyRefMut<'_, Core>, inputs: Option<&Bound<'_, PyDict>>) -> PyResult<Trace> {
         guard("Coverage.step_traced()", || {
             let i = Core::inputs(inputs)?;
-            let (b, x, a) = self.edge(&mut core, &i)?;
-            Ok(Trace {
-                tick: core.model.tick(),
-                before: core.outputs(&b),
-                internals: Internals { vals: signals::internal_values(&x) },
-                after: core.outputs(&a),
-                inputs: InputValues { vals: signals::input_values(&i) },
-            })
+            let t = self.edge(&mut core, &i)?;
+            Ok(core.trace(&i, &t))
         })
     }
 

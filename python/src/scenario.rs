@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
 
-use crate::core::Outputs;
+use crate::core::{register_dict, Outputs};
 use crate::signals;
 
 fn scenario_err(e: RsScenarioError) -> PyErr {
@@ -475,18 +475,7 @@ impl Scenario {
 }
 
 fn result(py: Python<'_>, s: Structural, summary: String, r: &RsRunResult, w: Option<pmu50::output::Written>) -> PyResult<RunResult> {
-    let regs = PyDict::new(py);
-    for (b, n, _, v) in signals::register_values(&s, &r.final_regs) {
-        let blk = match regs.get_item(b)? {
-            Some(x) => x.cast_into::<PyDict>()?,
-            None => {
-                let x = PyDict::new(py);
-                regs.set_item(b, &x)?;
-                x
-            }
-        };
-        blk.set_item(n, v)?;
-    }
+    let regs = register_dict(py, signals::register_values(&s, &r.final_regs))?;
     Ok(RunResult {
         name: r.name.clone(),
         ticks: r.ticks,

@@ -4,13 +4,15 @@ from __future__ import annotations
 
 import ast
 import inspect
+import re
 from pathlib import Path
+from typing import Optional
 
 import pmu50
 from pmu50 import _native
 
 STUB = Path(pmu50.__file__).with_name("_native.pyi")
-PRIVATE_STUB = {"_Values", "_Bit", "SignalKind"}  # typing helpers of the stub only
+PRIVATE_STUB = {"_Values", "_Bit", "_Config", "_Inputs", "SignalKind"}  # typing helpers of the stub only
 PRIVATE_RUNTIME = {"_panic_for_test"}  # test hook (tests/test_errors.py)
 
 
@@ -76,17 +78,45 @@ def test_signal_attributes_in_the_stub_are_the_table():
         assert attrs == values.names(), cls
 
 
+def typed_dict_fields(cls: ast.ClassDef) -> dict[str, Optional[str]]:
+    """{field: its docstring or None} of a TypedDict of the stub, in order."""
+    out: dict[str, Optional[str]] = {}
+    for i, n in enumerate(cls.body):
+        if isinstance(n, ast.AnnAssign) and isinstance(n.target, ast.Name):
+            nxt = cls.body[i + 1] if i + 1 < len(cls.body) else None
+            doc = nxt.value.value if isinstance(nxt, ast.Expr) and isinstance(nxt.value, ast.Constant) else None
+            out[n.target.id] = doc
+    return out
+
+
+def kwargs_type(fn: ast.FunctionDef) -> str:
+    """The ``Unpack[...]`` type of a function's ``**kwargs``, as source text."""
+    assert fn.args.kwarg is not None and not fn.args.kwonlyargs, f"{fn.name}: expected **kwargs only"
+    return ast.unparse(fn.args.kwarg.annotation)
+
+
 def test_keyword_arguments_in_the_stub():
     tree = top_level(stub_tree())
     core = {n.name: n for n in tree["Core"].body if isinstance(n, ast.FunctionDef)}
-    init = [a.arg for a in core["__init__"].args.kwonlyargs]
-    assert init == pmu50.CORE_PARAMETERS
-    # the stub's defaults are the model's
-    defaults = dict(zip(init, (ast.literal_eval(d) for d in core["__init__"].args.kw_defaults)))
+    cov = {n.name: n for n in tree["Coverage"].body if isinstance(n, ast.FunctionDef)}
+    # Core() and Coverage() take the [core] table, every step the inputs, typed once each
+    for fn in (core["__init__"], cov["__init__"]):
+        assert kwargs_type(fn) == "Unpack[_Config]"
+    for fn in (core["step"], core["step_traced"], cov["step"], cov["step_traced"]):
+        assert kwargs_type(fn) == "Unpack[_Inputs]"
+    config = typed_dict_fields(tree["_Config"])
+    assert list(config) == pmu50.CORE_PARAMETERS
+    # the defaults the stub names are the model's
+    defaults = {}
+    for name, doc in config.items():
+        m = re.search(r"Default ``(.+?)``\.", doc or "")
+        assert m, f"_Config.{name}: no 'Default ``VALUE``.' in its docstring"
+        defaults[name] = ast.literal_eval(m.group(1))
     assert defaults == pmu50.Core().config
     inputs = [s.name for s in pmu50.signal_table("input")]
-    assert [a.arg for a in core["step"].args.kwonlyargs] == inputs
-    assert [a.arg for a in core["step_traced"].args.kwonlyargs] == inputs
+    assert list(typed_dict_fields(tree["_Inputs"])) == inputs
+    # an input left out is 0, as the stub says
+    assert pmu50.Core().step() == pmu50.Core().step(**dict.fromkeys(inputs, 0))
 
 
 def test_everything_public_has_a_docstring():

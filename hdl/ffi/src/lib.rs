@@ -230,6 +230,20 @@ fn null(what: &str, arg: &str) -> c_int {
     PMU50_ERR_NULL
 }
 
+/// `guard` around `f` on the live core behind `m`; a NULL `m` is refused (`PMU50_ERR_NULL`).
+///
+/// # Safety
+/// `m` NULL or live.
+unsafe fn with_live(what: &str, m: *mut pmu50_t, f: impl FnOnce(&mut pmu50_t) -> c_int) -> c_int {
+    guard(what, || {
+        // SAFETY: the caller passes NULL or a live handle.
+        match unsafe { m.as_mut() } {
+            Some(m) => f(m),
+            None => null(what, "m"),
+        }
+    })
+}
+
 // ------------------------------------------------------------------------------------------
 // API
 
@@ -312,15 +326,14 @@ pub unsafe extern "C" fn pmu50_free(m: *mut pmu50_t) {
 /// `m` must be NULL or a live handle.
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_reset(m: *mut pmu50_t) -> c_int {
-    guard("pmu50_reset", || {
-        // SAFETY: the caller passes NULL or a live handle.
-        let Some(m) = (unsafe { m.as_mut() }) else {
-            return null("pmu50_reset", "m");
-        };
-        m.core.reset();
-        m.last = None;
-        PMU50_OK
-    })
+    // SAFETY: forwarded contract.
+    unsafe {
+        with_live("pmu50_reset", m, |m| {
+            m.core.reset();
+            m.last = None;
+            PMU50_OK
+        })
+    }
 }
 
 /// Parameters the core was created with.
@@ -359,11 +372,7 @@ pub unsafe extern "C" fn pmu50_step_traced(
     internals: *mut pmu50_internals,
     after: *mut pmu50_outputs,
 ) -> c_int {
-    guard("pmu50_step", || {
-        // SAFETY: the caller passes NULL or a live handle.
-        let Some(m) = (unsafe { m.as_mut() }) else {
-            return null("pmu50_step", "m");
-        };
+    let step = |m: &mut pmu50_t| {
         if i.is_null() {
             return null("pmu50_step", "i");
         }
@@ -380,7 +389,9 @@ pub unsafe extern "C" fn pmu50_step_traced(
             unsafe { after.write(out.into()) };
         }
         PMU50_OK
-    })
+    };
+    // SAFETY: forwarded contract.
+    unsafe { with_live("pmu50_step", m, step) }
 }
 
 /// Outputs of the current cycle (after the last edge; reset values before the first).
@@ -671,11 +682,7 @@ pub unsafe extern "C" fn pmu50_check(
     rtl_regs: *const u64,
     rtl_internals: *const pmu50_internals,
 ) -> c_int {
-    guard("pmu50_check", || {
-        // SAFETY: the caller passes NULL or a live handle.
-        let Some(m) = (unsafe { m.as_mut() }) else {
-            return null("pmu50_check", "m");
-        };
+    let compare = |m: &mut pmu50_t| {
         // SAFETY: NULL or readable, by contract (`rtl_regs`: PMU50_REG_COUNT values).
         let (o, r, x) = unsafe { (rtl_outputs.as_ref(), rtl_regs.cast::<[u64; signals::N_REGISTERS]>().as_ref(), rtl_internals.as_ref()) };
         match check(m, o, r, x) {
@@ -689,7 +696,9 @@ pub unsafe extern "C" fn pmu50_check(
                 PMU50_ERR_RANGE
             }
         }
-    })
+    };
+    // SAFETY: forwarded contract.
+    unsafe { with_live("pmu50_check", m, compare) }
 }
 
 /// Report of the last `pmu50_check` on `m`: one line per difference,
