@@ -4,7 +4,7 @@ mod common;
 
 use common::{sample, sample_builder, text, wave};
 use pmu50_waves::reader::Value;
-use pmu50_waves::writer::{BitType, Logic, VcdBuilder, WriteError};
+use pmu50_waves::writer::{BitType, Frame, Logic, SigId, VcdBuilder, VcdWriter, WriteError};
 use pmu50_waves::{TimeUnit, Timescale};
 
 const HEADER: &str = "$version
@@ -670,6 +670,151 @@ fn after_step() -> impl proptest::strategy::Strategy<Value = AfterStep> {
     prop_oneof![12 => Just(AfterStep::Nothing), 1 => Just(AfterStep::OutsideSameTime), 1 => Just(AfterStep::FrameVarLater), 1 => Just(AfterStep::TimeOnly), 2 => (0u64..5).prop_map(|v| AfterStep::FrameIntLater(v << 60))]
 }
 
+/// A frame variable's value in [`frame_builder`]'s frame, from a small drawn number.
+fn frame_value(var: usize, v: u64) -> u64 {
+    [v & 1, v * 1000, v * 7, v << 60][var]
+}
+
+/// The two writers of a run property: `w1` written by the runs under test, `w2` by
+/// `dump_frame` (and single changes) with the same values; the frame's values by position,
+/// the time, the outside variable's value and the time of the frame's last step.
+struct RunPair {
+    w1: VcdWriter<Vec<u8>>,
+    f1: Frame,
+    ids1: Vec<SigId>,
+    w2: VcdWriter<Vec<u8>>,
+    f2: Frame,
+    ids2: Vec<SigId>,
+    /// the variable at each frame position
+    order: [usize; 4],
+    /// the frame position of each variable
+    at: [usize; 4],
+    /// the frame's values by position
+    cur: [u64; 4],
+    t: u64,
+    zv: bool,
+    /// the time of the frame's last step
+    frame_at: Option<u64>,
+}
+
+impl RunPair {
+    /// Two writers of [`frame_builder`] (both with `window`), each with a frame in declaration
+    /// order (`sorted`) or out of it.
+    fn new(sorted: bool, window: Option<(u64, u64)>) -> RunPair {
+        let order: [usize; 4] = if sorted { [0, 1, 2, 3] } else { [3, 1, 0, 2] };
+        let start = || {
+            let (mut b, ids) = frame_builder();
+            if let Some((s, len)) = window {
+                b.window(s, s + len + 1).unwrap();
+            }
+            let mut w = b.start(Vec::new()).unwrap();
+            let f = w.frame(&order.map(|k| ids[k])).unwrap();
+            (w, f, ids)
+        };
+        let (w1, f1, ids1) = start();
+        let (w2, f2, ids2) = start();
+        RunPair {
+            w1,
+            f1,
+            ids1,
+            w2,
+            f2,
+            ids2,
+            order,
+            at: std::array::from_fn(|var| order.iter().position(|&v| v == var).unwrap()),
+            cur: order.map(|var| [0, 0, 3, 0][var]),
+            t: 0,
+            zv: false,
+            frame_at: None,
+        }
+    }
+
+    /// What happens between two runs, on both writers.
+    fn after(&mut self, after: AfterStep) -> Result<(), proptest::test_runner::TestCaseError> {
+        match after {
+            AfterStep::Nothing => {}
+            AfterStep::OutsideSameTime => {
+                self.zv = !self.zv;
+                self.w1.change_bool(self.ids1[4], self.zv).unwrap();
+                self.w2.change_bool(self.ids2[4], self.zv).unwrap();
+                // and a frame variable at that time is a double assignment
+                let e = self.w1.change_vector(self.ids1[0], 1).err();
+                proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
+            }
+            AfterStep::FrameIntLater(v) => {
+                // the frame's copy is stale at the next run's first step
+                self.t += 1;
+                self.w1.set_time(self.t).unwrap();
+                self.w2.set_time(self.t).unwrap();
+                self.w1.change_vector(self.ids1[3], v).unwrap();
+                self.w2.change_vector(self.ids2[3], v).unwrap();
+                self.cur[self.at[3]] = v;
+                // a frame variable is assigned at `t`: the frame's step there is refused
+                self.frame_at = Some(self.t);
+            }
+            AfterStep::TimeOnly => {
+                self.t += 1;
+                self.w1.set_time(self.t).unwrap();
+                self.w2.set_time(self.t).unwrap();
+            }
+            AfterStep::FrameVarLater => {
+                // `w` (5 bits) becomes x0x0x (its frame position then holds no integer), and
+                // the 64-bit variable 5
+                self.t += 1;
+                for (w, ids) in [(&mut self.w1, &self.ids1), (&mut self.w2, &self.ids2)] {
+                    w.set_time(self.t).unwrap();
+                    w.change_bits(ids[2], "x0x0x").unwrap();
+                    w.change_vector(ids[3], 5).unwrap();
+                }
+                self.cur[self.at[3]] = 5;
+                // the next step sets every position, `w` back to 3 (a run's step is a
+                // checked one while `w` holds x; dump_frame compares with x0x0x too)
+                self.cur[self.at[2]] = 3;
+                self.t += 1;
+                let mut run = self.w1.frame_run(&mut self.f1).unwrap();
+                let mut s = run.step(self.t).unwrap();
+                for (k, v) in self.cur.iter().enumerate() {
+                    s.set(k, *v).unwrap();
+                }
+                drop(run);
+                self.w2.dump_frame(&mut self.f2, self.t, &self.cur).unwrap();
+                self.frame_at = Some(self.t);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Gives a step's drawn values through `set_fn` (a frame run's or a text run's step) and keeps
+/// them in `cur`; with `too_wide`, a too-wide value of `w` is refused first, and after the
+/// values, a position again (or one before the last) is refused where any was given.
+fn give_step(
+    set: &[Option<u64>; 4],
+    too_wide: bool,
+    order: &[usize; 4],
+    cur: &mut [u64; 4],
+    set_fn: &mut dyn FnMut(usize, u64) -> Result<(), WriteError>,
+) -> Result<(), proptest::test_runner::TestCaseError> {
+    for (k, v) in set.iter().enumerate() {
+        let Some(v) = v else { continue };
+        if too_wide && order[k] == 2 {
+            // 5-bit `w`: refused, nothing assigned, the position may be given again
+            let e = set_fn(k, 32 + v).unwrap_err();
+            proptest::prop_assert!(matches!(e, WriteError::ValueTooWide { max: 31, .. }), "{}", e);
+        }
+        let v = frame_value(order[k], *v);
+        set_fn(k, v).unwrap();
+        cur[k] = v;
+    }
+    if too_wide {
+        // a position again, or one before the last, in the same step
+        let e = set_fn(0, cur[0]).err();
+        let given = set.iter().any(|v| v.is_some());
+        proptest::prop_assert_eq!(given, matches!(e, Some(WriteError::FrameOrder { .. })), "{:?}", e);
+    }
+    Ok(())
+}
+
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig { cases: 300, failure_persistence: None, ..Default::default() })]
 
@@ -684,127 +829,42 @@ proptest::proptest! {
         window in proptest::option::of((0u64..30, 0u64..80)),
         steps in proptest::collection::vec((0u64..3, proptest::array::uniform4(proptest::option::of(0u64..5)), proptest::prelude::any::<bool>(), after_step()), 0..80),
     ) {
-        let order: [usize; 4] = if sorted { [0, 1, 2, 3] } else { [3, 1, 0, 2] };
-        // the frame position of each variable
-        let at: [usize; 4] = std::array::from_fn(|var| order.iter().position(|&v| v == var).unwrap());
-        let start = |ids: &[pmu50_waves::writer::SigId], b: VcdBuilder| {
-            let mut b = b;
-            if let Some((s, len)) = window {
-                b.window(s, s + len + 1).unwrap();
-            }
-            let mut w = b.start(Vec::new()).unwrap();
-            let f = w.frame(&order.map(|k| ids[k])).unwrap();
-            (w, f)
-        };
-        let (b1, ids1) = frame_builder();
-        let (b2, ids2) = frame_builder();
-        let (mut w1, mut f1) = start(&ids1, b1);
-        let (mut w2, mut f2) = start(&ids2, b2);
-        let value = |var: usize, v: u64| [v & 1, v * 1000, v * 7, v << 60][var];
-        // the frame's values by position
-        let mut cur = order.map(|var| [0, 0, 3, 0][var]);
-        let (mut t, mut zv, mut idx) = (0u64, false, 0);
-        // the time of the frame's last step
-        let mut frame_at = None;
+        let mut p = RunPair::new(sorted, window);
+        let mut idx = 0;
         while idx < steps.len() {
             let mut after = AfterStep::Nothing;
             {
-                let mut run = w1.frame_run(&mut f1).unwrap();
+                let mut run = p.w1.frame_run(&mut p.f1).unwrap();
                 let mut steps_in_run = 0;
                 while idx < steps.len() {
                     let (dt, set, too_wide, a) = steps[idx];
                     idx += 1;
-                    t += dt;
-                    if frame_at == Some(t) {
+                    p.t += dt;
+                    if p.frame_at == Some(p.t) {
                         // the frame's variables are assigned at `t` already
-                        let e = run.step(t).err();
+                        let e = run.step(p.t).err();
                         proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
-                        let e = w2.dump_frame(&mut f2, t, &cur).err();
+                        let e = p.w2.dump_frame(&mut p.f2, p.t, &p.cur).err();
                         proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
                         continue;
                     }
-                    frame_at = Some(t);
-                    let mut s = run.step(t).unwrap();
+                    p.frame_at = Some(p.t);
+                    let mut s = run.step(p.t).unwrap();
                     if steps_in_run > 0 {
                         proptest::prop_assert!(s.is_current());
                     }
                     steps_in_run += 1;
-                    for (k, v) in set.iter().enumerate() {
-                        let Some(v) = v else { continue };
-                        if too_wide && order[k] == 2 {
-                            // 5-bit `w`: refused, nothing assigned, the position may be given again
-                            let e = s.set(k, 32 + v).unwrap_err();
-                            proptest::prop_assert!(matches!(e, WriteError::ValueTooWide { max: 31, .. }), "{}", e);
-                        }
-                        let v = value(order[k], *v);
-                        s.set(k, v).unwrap();
-                        cur[k] = v;
-                    }
-                    if too_wide {
-                        // a position again, or one before the last, in the same step
-                        let e = s.set(0, cur[0]).err();
-                        let given = set.iter().any(|v| v.is_some());
-                        proptest::prop_assert_eq!(given, matches!(e, Some(WriteError::FrameOrder { .. })), "{:?}", e);
-                    }
-                    w2.dump_frame(&mut f2, t, &cur).unwrap();
+                    give_step(&set, too_wide, &p.order, &mut p.cur, &mut |k, v| s.set(k, v))?;
+                    p.w2.dump_frame(&mut p.f2, p.t, &p.cur).unwrap();
                     if !matches!(a, AfterStep::Nothing) {
                         after = a;
                         break;
                     }
                 }
             }
-            match after {
-                AfterStep::Nothing => {}
-                AfterStep::OutsideSameTime => {
-                    zv = !zv;
-                    w1.change_bool(ids1[4], zv).unwrap();
-                    w2.change_bool(ids2[4], zv).unwrap();
-                    // and a frame variable at that time is a double assignment
-                    let e = w1.change_vector(ids1[0], 1).err();
-                    proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
-                }
-                AfterStep::FrameIntLater(v) => {
-                    // the frame's copy is stale at the next run's first step
-                    t += 1;
-                    w1.set_time(t).unwrap();
-                    w2.set_time(t).unwrap();
-                    w1.change_vector(ids1[3], v).unwrap();
-                    w2.change_vector(ids2[3], v).unwrap();
-                    cur[at[3]] = v;
-                    // a frame variable is assigned at `t`: the frame's step there is refused
-                    frame_at = Some(t);
-                }
-                AfterStep::TimeOnly => {
-                    t += 1;
-                    w1.set_time(t).unwrap();
-                    w2.set_time(t).unwrap();
-                }
-                AfterStep::FrameVarLater => {
-                    // `w` (5 bits) becomes x0x0x (its frame position then holds no integer), and
-                    // the 64-bit variable 5
-                    t += 1;
-                    for (w, ids) in [(&mut w1, &ids1), (&mut w2, &ids2)] {
-                        w.set_time(t).unwrap();
-                        w.change_bits(ids[2], "x0x0x").unwrap();
-                        w.change_vector(ids[3], 5).unwrap();
-                    }
-                    cur[at[3]] = 5;
-                    // the next step sets every position, `w` back to 3 (a run's step is a
-                    // checked one while `w` holds x; dump_frame compares with x0x0x too)
-                    cur[at[2]] = 3;
-                    t += 1;
-                    let mut run = w1.frame_run(&mut f1).unwrap();
-                    let mut s = run.step(t).unwrap();
-                    for (k, v) in cur.iter().enumerate() {
-                        s.set(k, *v).unwrap();
-                    }
-                    drop(run);
-                    w2.dump_frame(&mut f2, t, &cur).unwrap();
-                    frame_at = Some(t);
-                }
-            }
+            p.after(after)?;
         }
-        proptest::prop_assert_eq!(text(w1), text(w2));
+        proptest::prop_assert_eq!(text(p.w1), text(p.w2));
     }
 }
 
@@ -825,39 +885,20 @@ proptest::proptest! {
         window in proptest::option::of((0u64..30, 0u64..80)),
         steps in proptest::collection::vec((0u64..3, proptest::array::uniform4(proptest::option::of(0u64..5)), proptest::prelude::any::<bool>(), after_step()), 0..80),
     ) {
-        let order: [usize; 4] = if sorted { [0, 1, 2, 3] } else { [3, 1, 0, 2] };
-        // the frame position of each variable
-        let at: [usize; 4] = std::array::from_fn(|var| order.iter().position(|&v| v == var).unwrap());
-        let start = |ids: &[pmu50_waves::writer::SigId], b: VcdBuilder| {
-            let mut b = b;
-            if let Some((s, len)) = window {
-                b.window(s, s + len + 1).unwrap();
-            }
-            let mut w = b.start(Vec::new()).unwrap();
-            let f = w.frame(&order.map(|k| ids[k])).unwrap();
-            (w, f)
-        };
-        let (b1, ids1) = frame_builder();
-        let (b2, ids2) = frame_builder();
-        let (mut w1, mut f1) = start(&ids1, b1);
-        let (mut w2, mut f2) = start(&ids2, b2);
-        let value = |var: usize, v: u64| [v & 1, v * 1000, v * 7, v << 60][var];
-        // the frame's values by position
-        let mut cur = order.map(|var| [0, 0, 3, 0][var]);
-        let (mut t, mut zv, mut idx) = (0u64, false, 0);
-        // the time of the frame's last step
-        let mut frame_at = None;
+        let mut p = RunPair::new(sorted, window);
+        let mut idx = 0;
         // steps written at once
         let mut texts = 0;
         while idx < steps.len() {
             let mut after = AfterStep::Nothing;
             {
-                let mut run = w1.text_run(&mut f1).unwrap();
+                let mut run = p.w1.text_run(&mut p.f1).unwrap();
                 while idx < steps.len() {
                     let (dt, set, too_wide, a) = steps[idx];
                     idx += 1;
-                    t += dt;
-                    if frame_at == Some(t) {
+                    p.t += dt;
+                    let t = p.t;
+                    if p.frame_at == Some(t) {
                         // the frame's variables are assigned at `t` already
                         let e = match run.step(t) {
                             Err(e) => Some(e),
@@ -865,37 +906,17 @@ proptest::proptest! {
                             Ok(None) => run.frame_run().unwrap().step(t).err(),
                         };
                         proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
-                        let e = w2.dump_frame(&mut f2, t, &cur).err();
+                        let e = p.w2.dump_frame(&mut p.f2, t, &p.cur).err();
                         proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
                         continue;
                     }
-                    frame_at = Some(t);
+                    p.frame_at = Some(t);
                     // the frame's values before the step (a position is given once in it)
-                    let before = cur;
-                    let mut step_body = |set_fn: &mut dyn FnMut(usize, u64) -> Result<(), WriteError>| -> Result<(), proptest::test_runner::TestCaseError> {
-                        for (k, v) in set.iter().enumerate() {
-                            let Some(v) = v else { continue };
-                            if too_wide && order[k] == 2 {
-                                // 5-bit `w`: refused, nothing assigned, the position may be given again
-                                let e = set_fn(k, 32 + v).unwrap_err();
-                                proptest::prop_assert!(matches!(e, WriteError::ValueTooWide { max: 31, .. }), "{}", e);
-                            }
-                            let v = value(order[k], *v);
-                            set_fn(k, v).unwrap();
-                            cur[k] = v;
-                        }
-                        if too_wide {
-                            // a position again, or one before the last, in the same step
-                            let e = set_fn(0, cur[0]).err();
-                            let given = set.iter().any(|v| v.is_some());
-                            proptest::prop_assert_eq!(given, matches!(e, Some(WriteError::FrameOrder { .. })), "{:?}", e);
-                        }
-                        Ok(())
-                    };
+                    let before = p.cur;
                     match run.step(t).unwrap() {
                         Some(mut s) if change && !too_wide => {
                             texts += 1;
-                            step_body(&mut |k, v| {
+                            give_step(&set, too_wide, &p.order, &mut p.cur, &mut |k, v| {
                                 if v != before[k] {
                                     s.change(k, v);
                                 }
@@ -904,73 +925,24 @@ proptest::proptest! {
                         }
                         Some(mut s) => {
                             texts += 1;
-                            step_body(&mut |k, v| s.line(k, v))?;
+                            give_step(&set, too_wide, &p.order, &mut p.cur, &mut |k, v| s.line(k, v))?;
                         }
                         None => {
                             let mut fr = run.frame_run().unwrap();
                             let mut s = fr.step(t).unwrap();
-                            step_body(&mut |k, v| s.set(k, v))?;
+                            give_step(&set, too_wide, &p.order, &mut p.cur, &mut |k, v| s.set(k, v))?;
                         }
                     }
-                    w2.dump_frame(&mut f2, t, &cur).unwrap();
+                    p.w2.dump_frame(&mut p.f2, t, &p.cur).unwrap();
                     if !matches!(a, AfterStep::Nothing) {
                         after = a;
                         break;
                     }
                 }
             }
-            match after {
-                AfterStep::Nothing => {}
-                AfterStep::OutsideSameTime => {
-                    zv = !zv;
-                    w1.change_bool(ids1[4], zv).unwrap();
-                    w2.change_bool(ids2[4], zv).unwrap();
-                    // and a frame variable at that time is a double assignment
-                    let e = w1.change_vector(ids1[0], 1).err();
-                    proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
-                }
-                AfterStep::FrameIntLater(v) => {
-                    // the frame's copy is stale at the next run's first step
-                    t += 1;
-                    w1.set_time(t).unwrap();
-                    w2.set_time(t).unwrap();
-                    w1.change_vector(ids1[3], v).unwrap();
-                    w2.change_vector(ids2[3], v).unwrap();
-                    cur[at[3]] = v;
-                    // a frame variable is assigned at `t`: the frame's step there is refused
-                    frame_at = Some(t);
-                }
-                AfterStep::TimeOnly => {
-                    t += 1;
-                    w1.set_time(t).unwrap();
-                    w2.set_time(t).unwrap();
-                }
-                AfterStep::FrameVarLater => {
-                    // `w` (5 bits) becomes x0x0x (its frame position then holds no integer), and
-                    // the 64-bit variable 5
-                    t += 1;
-                    for (w, ids) in [(&mut w1, &ids1), (&mut w2, &ids2)] {
-                        w.set_time(t).unwrap();
-                        w.change_bits(ids[2], "x0x0x").unwrap();
-                        w.change_vector(ids[3], 5).unwrap();
-                    }
-                    cur[at[3]] = 5;
-                    // the next step sets every position, `w` back to 3 (a run's step is a
-                    // checked one while `w` holds x; dump_frame compares with x0x0x too)
-                    cur[at[2]] = 3;
-                    t += 1;
-                    let mut run = w1.frame_run(&mut f1).unwrap();
-                    let mut s = run.step(t).unwrap();
-                    for (k, v) in cur.iter().enumerate() {
-                        s.set(k, *v).unwrap();
-                    }
-                    drop(run);
-                    w2.dump_frame(&mut f2, t, &cur).unwrap();
-                    frame_at = Some(t);
-                }
-            }
+            p.after(after)?;
         }
-        proptest::prop_assert_eq!(text(w1), text(w2));
+        proptest::prop_assert_eq!(text(p.w1), text(p.w2));
         if sorted && window.is_none() && steps.len() > 40 {
             proptest::prop_assert!(texts > 0, "no step was written at once");
         }
@@ -1270,7 +1242,7 @@ proptest::proptest! {
         let (b2, ids2) = frame_builder_with_reals();
         let (mut w1, mut f1) = start(b1, &ids1);
         let (mut w2, mut f2) = start(b2, &ids2);
-        let value = |var: usize, v: u64| [v & 1, v * 1000, v * 7, v << 60][var];
+        let value = frame_value;
         let (mut t, mut idx, mut zv) = (0u64, 0, false);
         while idx < steps.len() {
             {
