@@ -12,6 +12,7 @@
 //!
 //! python/tests/test_coverage.py checks `pmu50.Coverage` against the same stored file.
 
+use pmu50_core::signals::regenerate;
 use pmu50_core::{Inputs, Params, Pmu50};
 use pmu50_coverage::db::CoverageFile;
 use pmu50_coverage::{layout, model_id, Coverage, Edge};
@@ -88,10 +89,7 @@ fn rust_sampling_of_the_stimulus_is_the_stored_file() {
     let hits = rust_hits();
     let want = golden_text(&hits);
     let path = golden_path();
-    if std::env::var_os("PMU50_REGENERATE").is_some() {
-        let tmp = path.with_extension("json.tmp");
-        std::fs::write(&tmp, &want).unwrap();
-        std::fs::rename(&tmp, &path).unwrap();
+    if regenerate(&path, &want) {
         return;
     }
     let have = std::fs::read_to_string(&path).unwrap_or_default();

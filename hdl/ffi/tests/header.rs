@@ -5,7 +5,7 @@
 //! instead (atomically: temporary file in the same folder, then rename):
 //! `PMU50_REGENERATE=1 cargo test -p pmu50-ffi --test header`.
 
-use pmu50_core::signals::splice;
+use pmu50_core::signals::{regenerate, splice};
 use pmu50_ffi::mirror::c_structs;
 use std::path::Path;
 
@@ -17,10 +17,7 @@ fn header_structs_are_generated_from_the_signal_table() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("include/pmu50.h");
     let text = std::fs::read_to_string(&path).unwrap();
     let want = splice(&text, BEGIN, END, &c_structs()).expect("include/pmu50.h lost its BEGIN/END GENERATED markers");
-    if std::env::var_os("PMU50_REGENERATE").is_some() {
-        let tmp = path.with_extension("h.tmp");
-        std::fs::write(&tmp, &want).unwrap();
-        std::fs::rename(&tmp, &path).unwrap();
+    if regenerate(&path, &want) {
         return;
     }
     assert!(

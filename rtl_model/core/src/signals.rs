@@ -397,6 +397,21 @@ pub fn splice(doc: &str, begin: &str, end: &str, body: &str) -> Option<String> {
     Some(format!("{}{}{}", &doc[..a], body, &doc[z..]))
 }
 
+/// For the tests that keep a file in step with the code (docs/signals.md, the C header, a stored
+/// stimulus): with `PMU50_REGENERATE` set, writes `want` to `path` (a temporary file beside it,
+/// then a rename) and returns true, the check then being done; otherwise returns false and
+/// leaves the comparison to the caller.
+pub fn regenerate(path: &std::path::Path, want: &str) -> bool {
+    if std::env::var_os("PMU50_REGENERATE").is_none() {
+        return false;
+    }
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    std::fs::write(&tmp, want).unwrap_or_else(|e| panic!("{}: {e}", std::path::Path::new(&tmp).display()));
+    std::fs::rename(&tmp, path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    true
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
