@@ -24,8 +24,10 @@ use std::fmt::Write;
 /// The fixed time stamp of the export (coverage.json records no time).
 const TIME: &str = "1970-01-01T00:00:00";
 
-/// Escape text for an XML attribute or element.
-fn esc(s: &str) -> String {
+/// Escape text for an XML attribute or element: `&`, `<`, `>` and `"` always; with `full`, also
+/// `'` and the control characters XML 1.0 cannot carry at all (as U+FFFD). The UCIS export
+/// escapes fully; the SVG pictures and the HTML report of the CLI escape the four.
+pub fn xml_escape(s: &str, full: bool) -> String {
     let mut o = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
@@ -33,13 +35,16 @@ fn esc(s: &str) -> String {
             '<' => o.push_str("&lt;"),
             '>' => o.push_str("&gt;"),
             '"' => o.push_str("&quot;"),
-            '\'' => o.push_str("&apos;"),
-            // Characters XML 1.0 cannot carry at all become U+FFFD.
-            c if (c as u32) < 0x20 && !matches!(c, '\t' | '\n' | '\r') => o.push('\u{FFFD}'),
+            '\'' if full => o.push_str("&apos;"),
+            c if full && (c as u32) < 0x20 && !matches!(c, '\t' | '\n' | '\r') => o.push('\u{FFFD}'),
             c => o.push(c),
         }
     }
     o
+}
+
+fn esc(s: &str) -> String {
+    xml_escape(s, true)
 }
 
 /// The UCIS XML text of a coverage file (its bins must be this model's, as
