@@ -29,18 +29,24 @@ fn run(ts: Timescale, scale: u64, flip: Option<u64>) -> Waveform {
     Waveform::from_bytes(w.finish().unwrap()).unwrap()
 }
 
+/// A VCD with timescale `ts`, one scope `t`, the variables `vars` (as [`vcd`] takes them) and
+/// the value changes `body`.
+fn t_wave(ts: &str, vars: &[(&str, &str)], body: &str) -> Waveform {
+    wave(&vcd(ts, &["t"], vars, body))
+}
+
+/// [`t_wave`] in 1 ns.
+fn t_ns(vars: &[(&str, &str)], body: &str) -> Waveform {
+    t_wave("1 ns", vars, body)
+}
+
 fn us() -> Timescale {
     Timescale::new(1, TimeUnit::Us)
 }
 
 #[test]
 fn identical_files_are_equal() {
-    let r = diff(
-        &run(us(), 1, None),
-        &run(us(), 1, None),
-        &DiffOptions::default(),
-    )
-    .unwrap();
+    let r = diff(&run(us(), 1, None), &run(us(), 1, None), &DiffOptions::default()).unwrap();
     assert_eq!(r.outcome, Outcome::Equal, "{r}");
     assert_eq!(r.exit_code(), 0);
     assert_eq!(r.signals_compared, 4);
@@ -53,12 +59,7 @@ fn identical_files_are_equal() {
 
 #[test]
 fn one_flipped_bit_is_the_first_mismatch_at_its_time() {
-    let r = diff(
-        &run(us(), 1, None),
-        &run(us(), 1, Some(37)),
-        &DiffOptions::default(),
-    )
-    .unwrap();
+    let r = diff(&run(us(), 1, None), &run(us(), 1, Some(37)), &DiffOptions::default()).unwrap();
     assert_eq!(r.outcome, Outcome::Differ, "{r}");
     assert_eq!(r.exit_code(), 1);
     assert_eq!(r.mismatch_count, 1);
@@ -209,34 +210,14 @@ fn timescales_1us_and_1000ns_compare_equal() {
     // 1 us and 100 ns ticks: the common unit is 100 ns
     assert_eq!(r.time_unit, Some(Timescale::new(100, TimeUnit::Ns)));
     // `1000 ns` (not an IEEE factor, but readers accept it) vs `1 us`: compared in 1 us
-    let l = wave(&vcd(
-        "1 us",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#2\n1!\n#5\n0!\n",
-    ));
-    let k = wave(&vcd(
-        "1000 ns",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#2\n1!\n#5\n0!\n",
-    ));
+    let l = t_wave("1 us", &[("!", "wire 1 a")], "#0\n0!\n#2\n1!\n#5\n0!\n");
+    let k = t_wave("1000 ns", &[("!", "wire 1 a")], "#0\n0!\n#2\n1!\n#5\n0!\n");
     let r = diff(&l, &k, &DiffOptions::default()).unwrap();
     assert_eq!(r.outcome, Outcome::Equal, "{r}");
     assert_eq!(r.time_unit, Some(us()));
     // 1 us vs 1 ns ticks with a difference: reported in ns
-    let same = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#2000\n1!\n#5000\n0!\n",
-    ));
-    let other = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#2000\n1!\n#5001\n0!\n",
-    ));
+    let same = t_ns(&[("!", "wire 1 a")], "#0\n0!\n#2000\n1!\n#5000\n0!\n");
+    let other = t_ns(&[("!", "wire 1 a")], "#0\n0!\n#2000\n1!\n#5001\n0!\n");
     let r = diff(&l, &same, &DiffOptions::default()).unwrap();
     assert_eq!(r.outcome, Outcome::Equal, "{r}");
     assert_eq!(r.time_unit, Some(Timescale::new(1, TimeUnit::Ns)));
@@ -244,18 +225,8 @@ fn timescales_1us_and_1000ns_compare_equal() {
     assert_eq!(r.first_mismatch_time, Some(5000), "{r}");
     assert_eq!(r.mismatch_count, 1);
     // 10 us vs 100 ns compare in 100 ns
-    let l = wave(&vcd(
-        "10 us",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#3\n1!\n",
-    ));
-    let rr = wave(&vcd(
-        "100 ns",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#300\n1!\n",
-    ));
+    let l = t_wave("10 us", &[("!", "wire 1 a")], "#0\n0!\n#3\n1!\n");
+    let rr = t_wave("100 ns", &[("!", "wire 1 a")], "#0\n0!\n#300\n1!\n");
     let r = diff(&l, &rr, &DiffOptions::default()).unwrap();
     assert_eq!(r.outcome, Outcome::Equal, "{r}");
     assert_eq!(r.time_unit, Some(Timescale::new(100, TimeUnit::Ns)));
@@ -263,7 +234,7 @@ fn timescales_1us_and_1000ns_compare_equal() {
 
 #[test]
 fn missing_timescale_on_one_side_is_bad_input() {
-    let l = wave(&vcd("1 us", &["t"], &[("!", "wire 1 a")], "#0\n0!\n"));
+    let l = t_wave("1 us", &[("!", "wire 1 a")], "#0\n0!\n");
     let r = wave(
         "$scope module t $end\n$var wire 1 ! a $end\n$upscope $end\n$enddefinitions $end\n#0\n0!\n",
     );
@@ -274,13 +245,8 @@ fn missing_timescale_on_one_side_is_bad_input() {
     );
     assert!(err.to_string().contains("$timescale"), "{err}");
     // timescales too far apart for 64-bit ticks are bad input, not a panic
-    let huge = wave(&vcd(
-        "4000000000 s",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n",
-    ));
-    let tiny = wave(&vcd("1 fs", &["t"], &[("!", "wire 1 a")], "#0\n0!\n"));
+    let huge = t_wave("4000000000 s", &[("!", "wire 1 a")], "#0\n0!\n");
+    let tiny = t_wave("1 fs", &[("!", "wire 1 a")], "#0\n0!\n");
     let err = diff(&huge, &tiny, &DiffOptions::default()).unwrap_err();
     assert!(
         matches!(err, DiffError::IncompatibleTimescales { .. }),
@@ -290,37 +256,17 @@ fn missing_timescale_on_one_side_is_bad_input() {
 
 #[test]
 fn widths_8_and_16_are_zero_extended_and_real_vs_vector_is_a_type_mismatch() {
-    let l = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 8 v [7:0]"), ("\"", "real 64 r")],
-        "#0\nb10100101 !\nr1.5 \"\n#4\nb11111111 !\n",
-    ));
-    let r = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")],
-        "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000011111111 !\n",
-    ));
+    let l = t_ns(&[("!", "wire 8 v [7:0]"), ("\"", "real 64 r")], "#0\nb10100101 !\nr1.5 \"\n#4\nb11111111 !\n");
+    let r = t_ns(&[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")], "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000011111111 !\n");
     let res = diff(&l, &r, &DiffOptions::default()).unwrap();
     assert_eq!(res.outcome, Outcome::Equal, "{res}");
     assert_eq!(res.signals_compared, 2);
     // a set upper bit on the wide side is a difference
-    let r2 = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")],
-        "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000111111111 !\n",
-    ));
+    let r2 = t_ns(&[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")], "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000111111111 !\n");
     let res = diff(&l, &r2, &DiffOptions::default()).unwrap();
     assert_eq!(res.first_mismatch_time, Some(4));
     // real on one side, vector on the other
-    let r3 = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 8 v [7:0]"), ("\"", "wire 64 r [63:0]")],
-        "#0\nb10100101 !\nb1 \"\n#4\nb11111111 !\n",
-    ));
+    let r3 = t_ns(&[("!", "wire 8 v [7:0]"), ("\"", "wire 64 r [63:0]")], "#0\nb10100101 !\nb1 \"\n#4\nb11111111 !\n");
     let res = diff(&l, &r3, &DiffOptions::default()).unwrap();
     assert_eq!(res.outcome, Outcome::Differ);
     assert_eq!(res.signals_compared, 1);
@@ -336,18 +282,8 @@ fn widths_8_and_16_are_zero_extended_and_real_vs_vector_is_a_type_mismatch() {
 
 #[test]
 fn real_tolerance() {
-    let l = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "real 64 r")],
-        "#0\nr1.5 !\n#2\nr2.0 !\n",
-    ));
-    let r = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "real 64 r")],
-        "#0\nr1.5 !\n#2\nr2.0000001 !\n",
-    ));
+    let l = t_ns(&[("!", "real 64 r")], "#0\nr1.5 !\n#2\nr2.0 !\n");
+    let r = t_ns(&[("!", "real 64 r")], "#0\nr1.5 !\n#2\nr2.0000001 !\n");
     assert_eq!(
         diff(&l, &r, &DiffOptions::default()).unwrap().outcome,
         Outcome::Differ
@@ -369,30 +305,10 @@ fn real_tolerance() {
 
 #[test]
 fn x_handling_strict_and_wildcard() {
-    let with_x = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 4 v [3:0]")],
-        "#0\nb0000 !\n#5\nb01x1 !\n#9\nb0000 !\n",
-    ));
-    let plain = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 4 v [3:0]")],
-        "#0\nb0000 !\n#5\nb0111 !\n#9\nb0000 !\n",
-    ));
-    let other = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 4 v [3:0]")],
-        "#0\nb0000 !\n#5\nb1101 !\n#9\nb0000 !\n",
-    ));
-    let with_z = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 4 v [3:0]")],
-        "#0\nb0000 !\n#5\nb01z1 !\n#9\nb0000 !\n",
-    ));
+    let with_x = t_ns(&[("!", "wire 4 v [3:0]")], "#0\nb0000 !\n#5\nb01x1 !\n#9\nb0000 !\n");
+    let plain = t_ns(&[("!", "wire 4 v [3:0]")], "#0\nb0000 !\n#5\nb0111 !\n#9\nb0000 !\n");
+    let other = t_ns(&[("!", "wire 4 v [3:0]")], "#0\nb0000 !\n#5\nb1101 !\n#9\nb0000 !\n");
+    let with_z = t_ns(&[("!", "wire 4 v [3:0]")], "#0\nb0000 !\n#5\nb01z1 !\n#9\nb0000 !\n");
     let strict = DiffOptions::default();
     let left_x = DiffOptions {
         x_policy: XPolicy::LeftXIsWildcard,
@@ -445,12 +361,7 @@ fn x_handling_strict_and_wildcard() {
         Outcome::Equal
     );
     // a missing value (signal starts later) counts as x
-    let late = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 4 v [3:0]")],
-        "#0\n#5\nb0111 !\n#9\nb0000 !\n",
-    ));
+    let late = t_ns(&[("!", "wire 4 v [3:0]")], "#0\n#5\nb0111 !\n#9\nb0000 !\n");
     let r = diff(&late, &plain, &strict).unwrap();
     assert_eq!(r.first_mismatch_time, Some(0), "{r}");
     assert_eq!(r.mismatches[0].left, "(none)");
@@ -547,13 +458,8 @@ fn bad_sampling_options_are_bad_input() {
 
 #[test]
 fn signals_on_one_side_only() {
-    let l = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 1 a"), ("\"", "wire 1 extra")],
-        "#0\n0!\n0\"\n",
-    ));
-    let r = wave(&vcd("1 ns", &["t"], &[("!", "wire 1 a")], "#0\n0!\n"));
+    let l = t_ns(&[("!", "wire 1 a"), ("\"", "wire 1 extra")], "#0\n0!\n0\"\n");
+    let r = t_ns(&[("!", "wire 1 a")], "#0\n0!\n");
     let res = diff(&l, &r, &DiffOptions::default()).unwrap();
     assert_eq!(res.outcome, Outcome::Differ);
     assert_eq!(res.only_in_left, ["t.extra"]);
@@ -568,25 +474,15 @@ fn signals_on_one_side_only() {
 #[test]
 fn bit_selects_merge_into_one_vector_and_repeated_paths_use_gtkwave_names() {
     // wellen merges `b [0]` + `b [1]` into `b[1:0]`, whatever the declaration order
-    let l = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 1 b [0]"), ("\"", "wire 1 b [1]")],
-        "#0\n0!\n1\"\n",
-    ));
-    let r = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("\"", "wire 1 b [1]"), ("!", "wire 1 b [0]")],
-        "#0\n0!\n1\"\n",
-    ));
+    let l = t_ns(&[("!", "wire 1 b [0]"), ("\"", "wire 1 b [1]")], "#0\n0!\n1\"\n");
+    let r = t_ns(&[("\"", "wire 1 b [1]"), ("!", "wire 1 b [0]")], "#0\n0!\n1\"\n");
     let res = diff(&l, &r, &DiffOptions::default()).unwrap();
     assert_eq!(res.outcome, Outcome::Equal, "{res}");
     assert_eq!(res.signals_compared, 1);
     // a path declared twice (scalar `a` and vector `a [3:0]`) is keyed by GTKWave name
     let decls = [("!", "wire 1 a"), ("\"", "wire 4 a [3:0]")];
-    let l = wave(&vcd("1 ns", &["t"], &decls, "#0\n0!\nb0101 \"\n"));
-    let r = wave(&vcd("1 ns", &["t"], &decls, "#0\n0!\nb0111 \"\n"));
+    let l = t_ns(&decls, "#0\n0!\nb0101 \"\n");
+    let r = t_ns(&decls, "#0\n0!\nb0111 \"\n");
     let res = diff(&l, &r, &DiffOptions::default()).unwrap();
     assert_eq!(res.signals_compared, 2, "{res}");
     assert_eq!(res.mismatch_count, 1, "{res}");
