@@ -528,7 +528,7 @@ fn error_messages_say_what_where_and_what_is_valid() {
 
 // ---- frames: declared once, dumped every step, identical output to single changes ----
 
-fn frame_builder() -> (VcdBuilder, Vec<pmu50_waves::writer::SigId>) {
+fn frame_builder() -> (VcdBuilder, Vec<SigId>) {
     let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Us), "pmu50-waves test").unwrap();
     b.push_scope("pmu50").unwrap();
     let mut ids = vec![b.add_bit(BitType::Wire, "a", Logic::Zero).unwrap()];
@@ -538,6 +538,14 @@ fn frame_builder() -> (VcdBuilder, Vec<pmu50_waves::writer::SigId>) {
     ids.push(b.add_bit(BitType::Reg, "z", Logic::X).unwrap());
     b.pop_scope().unwrap();
     (b, ids)
+}
+
+/// A writer started from a builder and its ids (as [`frame_builder`] gives them), with a frame
+/// of the first `n` variables.
+fn framed((b, ids): (VcdBuilder, Vec<SigId>), n: usize) -> (VcdWriter<Vec<u8>>, Frame, Vec<SigId>) {
+    let mut w = b.start(Vec::new()).unwrap();
+    let f = w.frame(&ids[..n]).unwrap();
+    (w, f, ids)
 }
 
 proptest::proptest! {
@@ -580,9 +588,7 @@ proptest::proptest! {
 
 #[test]
 fn frames_keep_every_check() {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
+    let (mut w, mut f, ids) = framed(frame_builder(), 3);
     let mut g = w.frame(&ids[2..4]).unwrap();
     w.set_time(1).unwrap();
     // value wider than the variable: 5-bit `w` takes at most 31 (the values before it are taken)
@@ -955,9 +961,7 @@ proptest::proptest! {
 /// refused.
 #[test]
 fn text_runs_keep_every_check() {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
+    let (mut w, mut f, ids) = framed(frame_builder(), 3);
     {
         let mut run = w.text_run(&mut f).unwrap();
         // t = 0: before the first dump, through a frame run
@@ -991,9 +995,7 @@ fn text_runs_keep_every_check() {
     // another variable joins the step
     assert!(matches!(w.change_vector(ids[1], 1), Err(WriteError::DoubleChange { .. })));
     w.change_vector(ids[3], 1).unwrap();
-    let (b2, ids2) = frame_builder();
-    let mut other = b2.start(Vec::new()).unwrap();
-    let mut f2 = other.frame(&ids2[..1]).unwrap();
+    let (_other, mut f2, _ids2) = framed(frame_builder(), 1);
     assert!(matches!(w.text_run(&mut f2), Err(WriteError::UnknownFrame)));
     let got = text(w);
     assert!(got.contains("#1\nb0000000000000101 \"\n#2\nb0000000000000110 \"\nb00010 #\n#3\n"), "{got}");
@@ -1018,9 +1020,7 @@ fn text_step_change_writes_a_changed_value() {
 /// and 2) whose first step, at t = 0, went through a frame run (values 0, 4, 3); `body` takes
 /// the run's later steps.
 fn after_a_text_run(body: impl FnOnce(&mut pmu50_waves::writer::TextRun<'_, Vec<u8>>)) -> String {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
+    let (mut w, mut f, _ids) = framed(frame_builder(), 3);
     assert_eq!((f.max(1), f.max(2), f.max(3)), (Some(0xFFFF), Some(31), None));
     {
         let mut run = w.text_run(&mut f).unwrap();
@@ -1086,9 +1086,7 @@ fn text_step_change_out_of_order_is_asserted() {
 #[test]
 #[should_panic(expected = "index out of bounds")]
 fn text_step_change_past_the_frame_panics() {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
+    let (mut w, mut f, _ids) = framed(frame_builder(), 3);
     let mut run = w.text_run(&mut f).unwrap();
     assert!(run.step(0).unwrap().is_none());
     run.frame_run().unwrap().step(0).unwrap().set(1, 4).unwrap();
@@ -1100,9 +1098,7 @@ fn text_step_change_past_the_frame_panics() {
 /// frame was assigned), and a frame of another writer is refused.
 #[test]
 fn frame_runs_keep_every_check() {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
+    let (mut w, mut f, ids) = framed(frame_builder(), 3);
     {
         let mut run = w.frame_run(&mut f).unwrap();
         // t = 0 is the writer's time: a checked step (the first dump)
@@ -1130,9 +1126,7 @@ fn frame_runs_keep_every_check() {
     // another variable joins the step
     assert!(matches!(w.change_vector(ids[1], 1), Err(WriteError::DoubleChange { .. })));
     w.change_vector(ids[3], 1).unwrap();
-    let (b2, ids2) = frame_builder();
-    let mut other = b2.start(Vec::new()).unwrap();
-    let mut f2 = other.frame(&ids2[..1]).unwrap();
+    let (_other, mut f2, _ids2) = framed(frame_builder(), 1);
     assert!(matches!(w.frame_run(&mut f2), Err(WriteError::UnknownFrame)));
     let got = text(w);
     assert!(got.contains("#1\nb0000000000000101 \"\nb00001 #\n#2\n"), "{got}");
@@ -1195,9 +1189,7 @@ proptest::proptest! {
 /// refused.
 #[test]
 fn a_single_change_to_the_same_value_blocks_the_frame_in_its_step() {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
+    let (mut w, mut f, ids) = framed(frame_builder(), 3);
     w.dump_frame(&mut f, 1, &[1, 2, 3]).unwrap();
     w.set_time(2).unwrap();
     w.change_vector(ids[1], 2).unwrap();
@@ -1208,7 +1200,7 @@ fn a_single_change_to_the_same_value_blocks_the_frame_in_its_step() {
 }
 
 /// [`frame_builder`]'s variables and two reals after them.
-fn frame_builder_with_reals() -> (VcdBuilder, Vec<pmu50_waves::writer::SigId>) {
+fn frame_builder_with_reals() -> (VcdBuilder, Vec<SigId>) {
     let (mut b, mut ids) = frame_builder();
     b.push_scope("env").unwrap();
     ids.push(b.add_real("theta", 0.0).unwrap());
@@ -1295,9 +1287,7 @@ proptest::proptest! {
 
 #[test]
 fn text_run_reals_keep_the_checks() {
-    let (b, ids) = frame_builder_with_reals();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..4]).unwrap();
+    let (mut w, mut f, ids) = framed(frame_builder_with_reals(), 4);
     let mut run = w.text_run(&mut f).unwrap();
     run.frame_run().unwrap().step(1).unwrap();
     // the first step of a run goes through the writer; the next one is a text step
