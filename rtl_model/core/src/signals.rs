@@ -412,6 +412,19 @@ pub fn regenerate(path: &std::path::Path, want: &str) -> bool {
     true
 }
 
+/// The check of a file whose part between the lines `begin` and `end` is generated (`body`):
+/// with `PMU50_REGENERATE` set the part is rewritten ([`regenerate`]); otherwise the file must
+/// hold it already. `name` is the file as the message names it, `source` what it is generated
+/// from, `command` the command that regenerates it.
+pub fn check_generated(path: &std::path::Path, name: &str, begin: &str, end: &str, body: &str, source: &str, command: &str) -> Result<(), String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: {e}"))?;
+    let want = splice(&text, begin, end, body).ok_or_else(|| format!("{name} lost its BEGIN/END GENERATED markers"))?;
+    if regenerate(path, &want) || text == want {
+        return Ok(());
+    }
+    Err(format!("{name} differs from {source}; regenerate with PMU50_REGENERATE=1 {command} and review the diff"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
