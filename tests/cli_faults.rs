@@ -6,7 +6,7 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
 mod common;
-use common::{pmu50, s, text, tmp, BIN};
+use common::{pmu50, s, text, tmp, write, BIN};
 
 fn names(d: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
@@ -30,15 +30,13 @@ const SHORT: &str = "duration = \"5 ms\"\n";
 #[test]
 fn a_symlink_at_the_output_path_is_replaced_not_followed() {
     let d = tmp("link");
-    let precious = d.join("precious.txt");
-    std::fs::write(&precious, "not a waveform").unwrap();
+    let precious = write(&d, "precious.txt", "not a waveform");
     let out = d.join("out");
     std::fs::create_dir_all(&out).unwrap();
     for ext in ["vcd", "gtkw", "log"] {
         std::os::unix::fs::symlink(&precious, out.join(format!("v.{ext}"))).unwrap();
     }
-    let sc = d.join("v.toml");
-    std::fs::write(&sc, SHORT).unwrap();
+    let sc = write(&d, "v.toml", SHORT);
     expect(&pmu50(&["run", s(&sc), "--log", "--out-dir", s(&out)]), 0, &["wrote"]);
     assert_eq!(std::fs::read_to_string(&precious).unwrap(), "not a waveform");
     for ext in ["vcd", "gtkw", "log"] {
@@ -82,8 +80,7 @@ fn bad_files_are_all_reported_the_good_ones_run_and_the_worst_code_wins() {
 #[test]
 fn a_stale_log_is_removed_when_the_new_run_writes_none() {
     let d = tmp("stale");
-    let sc = d.join("v.toml");
-    std::fs::write(&sc, SHORT).unwrap();
+    let sc = write(&d, "v.toml", SHORT);
     let out = d.join("out");
     expect(&pmu50(&["run", s(&sc), "--log", "--out-dir", s(&out)]), 0, &["v.log"]);
     assert_eq!(names(&out), ["v.gtkw", "v.log", "v.vcd"]);
@@ -150,8 +147,7 @@ fn refused_writes_are_reported_with_file_line_and_reason_and_exit_1() {
 fn the_model_refuses_exactly_the_writes_reported() {
     // Cross-check with the waveform: bus_err rises right after the first refused write.
     let d = tmp("buserr");
-    let sc = d.join("w.toml");
-    std::fs::write(&sc, "duration = \"2 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"1 ms\"\nwrite = { reg = \"CTH\", value = 0 }\n").unwrap();
+    let sc = write(&d, "w.toml", "duration = \"2 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"1 ms\"\nwrite = { reg = \"CTH\", value = 0 }\n");
     let o = pmu50(&["run", s(&sc), "--log", "--out-dir", s(&d)]);
     expect(&o, 1, &["w.toml:7: write CTH = 0 at 1.000 ms refused", "core.cth = 0 is out of range"]);
     let log = std::fs::read_to_string(d.join("w.log")).unwrap();
@@ -165,8 +161,7 @@ fn a_window_outside_the_run_exits_2() {
     let d = tmp("window");
     let o = pmu50(&["run", "scenarios/fig15a.toml", "--window", "40 ms", "50 ms", "--out-dir", s(&d)]);
     expect(&o, 2, &["--window 40 ms 50 ms is outside the run of scenarios/fig15a.toml (0 to 48 ms)"]);
-    let sc = d.join("w.toml");
-    std::fs::write(&sc, "duration = \"10 ms\"\n[vcd]\nwindow = [\"12 ms\", \"20 ms\"]\n").unwrap();
+    let sc = write(&d, "w.toml", "duration = \"10 ms\"\n[vcd]\nwindow = [\"12 ms\", \"20 ms\"]\n");
     expect(&pmu50(&["check", s(&sc)]), 2, &["w.toml:3: `vcd.window[1]`", "after the end of the run (duration = 10 ms)"]);
     assert_eq!(names(&d), ["w.toml"], "nothing written");
     std::fs::remove_dir_all(&d).ok();
@@ -175,8 +170,7 @@ fn a_window_outside_the_run_exits_2() {
 #[test]
 fn a_vcd_over_the_limit_is_refused_unless_windowed_or_allowed() {
     let d = tmp("big");
-    let sc = d.join("long.toml");
-    std::fs::write(&sc, "duration = \"1000 s\"\n").unwrap();
+    let sc = write(&d, "long.toml", "duration = \"1000 s\"\n");
     let o = pmu50(&["run", s(&sc), "--out-dir", s(&d)]);
     expect(&o, 2, &["long.toml: the VCD at trace = ports would be about 2.5 GB (100000000 dumped ticks), above the limit of 2.0 GB", "--window", "--max-vcd-bytes"]);
     let o = pmu50(&["run", s(&sc), "--out-dir", s(&d), "--max-vcd-bytes", "1000000000"]);
@@ -192,8 +186,7 @@ fn a_vcd_over_the_limit_is_refused_unless_windowed_or_allowed() {
 fn vcd_size_estimate_is_an_upper_bound() {
     // The estimate (160 bytes per tick) against real runs: key off (shipped) and key on all the time.
     let d = tmp("est");
-    let on = d.join("on.toml");
-    std::fs::write(&on, "duration = \"50 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"50 ms\", delta_deg = 2000.0 } ]\n[[events]]\nat = \"0 ms\"\nig = true\n").unwrap();
+    let on = write(&d, "on.toml", "duration = \"50 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"50 ms\", delta_deg = 2000.0 } ]\n[[events]]\nat = \"0 ms\"\nig = true\n");
     let fig = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/too_fast.toml");
     for (sc, name, ticks) in [(on.as_path(), "on", 5_000u64), (fig.as_path(), "too_fast", 20_000)] {
         expect(&pmu50(&["run", s(sc), "--out-dir", s(&d)]), 0, &[]);
@@ -225,8 +218,7 @@ fn list_never_blocks_on_a_fifo_and_check_refuses_non_regular_and_huge_files() {
     expect(&o, 0, &["pipe.toml: is a FIFO (named pipe), not a regular file", "dir.toml: is a folder", "ok "]);
     expect(&pmu50(&["check", s(&fifo)]), 2, &["pipe.toml: is a FIFO (named pipe), not a regular file; a scenario is a TOML file"]);
     expect(&pmu50(&["check", "/dev/null"]), 2, &["/dev/null: is a device, not a regular file"]);
-    let huge = d.join("huge.toml");
-    std::fs::write(&huge, format!("{SHORT}{}", "# padding\n".repeat(120_000))).unwrap();
+    let huge = write(&d, "huge.toml", format!("{SHORT}{}", "# padding\n".repeat(120_000)));
     expect(&pmu50(&["check", s(&huge)]), 2, &["huge.toml: 1200018 bytes is larger than a scenario can be (1048576 bytes at most)"]);
     std::fs::remove_dir_all(&d).ok();
 }
@@ -269,12 +261,10 @@ fn a_windowed_save_file_opens_on_the_window_with_its_markers_only() {
 #[test]
 fn vectors_and_random_outputs_are_atomic_too() {
     let d = tmp("vecatomic");
-    let vec = d.join("f.vec");
-    std::fs::write(&vec, "previous vectors\n").unwrap();
+    let vec = write(&d, "f.vec", "previous vectors\n");
     // The VCD folder is a file: the run fails after the vectors were written to their temporary
     // file; the previous vector file stays and no temporary file is left.
-    let blocker = d.join("not_a_dir");
-    std::fs::write(&blocker, "x").unwrap();
+    let blocker = write(&d, "not_a_dir", "x");
     let o = pmu50(&["vectors", "scenarios/fig15a.toml", "-o", s(&vec), "--vcd-dir", s(&blocker)]);
     expect(&o, 2, &["not_a_dir: cannot create the output folder"]);
     assert_eq!(std::fs::read_to_string(&vec).unwrap(), "previous vectors\n");
@@ -284,8 +274,7 @@ fn vectors_and_random_outputs_are_atomic_too() {
     expect(&o, 2, &["fig15a.vcd is also the model's", "written into --vcd-dir"]);
     assert_eq!(names(&d), ["f.vec", "not_a_dir"]);
     // A symlink at the output of `random` is replaced, its target untouched.
-    let target = d.join("target.txt");
-    std::fs::write(&target, "keep").unwrap();
+    let target = write(&d, "target.txt", "keep");
     let link = d.join("r.toml");
     std::os::unix::fs::symlink(&target, &link).unwrap();
     expect(&pmu50(&["random", "--seed", "3", "-o", s(&link)]), 0, &[]);
@@ -364,8 +353,7 @@ fn dash_is_standard_output() {
 #[test]
 fn vectors_never_overwrite_their_own_scenario() {
     let d = tmp("self");
-    let x = d.join("x.toml");
-    std::fs::write(&x, SHORT).unwrap();
+    let x = write(&d, "x.toml", SHORT);
     let link = d.join("y.toml");
     std::os::unix::fs::symlink(&x, &link).unwrap();
     for out in [&x, &link] {
@@ -405,16 +393,13 @@ fn allow_unmatched_with_nothing_in_common_is_an_error() {
 #[test]
 fn unbounded_work_is_refused_before_it_starts() {
     let d = tmp("bounds");
-    let long_on = d.join("long_on.toml");
-    std::fs::write(&long_on, "duration = \"100000 d\"\n[[events]]\nat = \"1 ms\"\nig = true\n").unwrap();
+    let long_on = write(&d, "long_on.toml", "duration = \"100000 d\"\n[[events]]\nat = \"1 ms\"\nig = true\n");
     let o = pmu50(&["run", s(&long_on), "--trace", "none"]);
     expect(&o, 2, &["long_on.toml: the simulation of its key-on ticks would be about 863999999999950 ticks", "above the limit of 1000000000 ticks", "--max-ticks"]);
-    let hour = d.join("hour.toml");
-    std::fs::write(&hour, "duration = \"2 h\"\n[[events]]\nat = \"1 ms\"\nig = true\n[[events]]\nat = \"1 h\"\nig = false\n").unwrap();
+    let hour = write(&d, "hour.toml", "duration = \"2 h\"\n[[events]]\nat = \"1 ms\"\nig = true\n[[events]]\nat = \"1 h\"\nig = false\n");
     expect(&pmu50(&["budget", s(&hour), "--out-dir", s(&d)]), 2, &["hour.toml: 3 simulations of its key-on ticks", "--max-ticks"]);
     // the limit is the option's: a short key-on run above a small limit, below a large one
-    let short_on = d.join("short_on.toml");
-    std::fs::write(&short_on, "duration = \"10 ms\"\n[[events]]\nat = \"1 ms\"\nig = true\n").unwrap();
+    let short_on = write(&d, "short_on.toml", "duration = \"10 ms\"\n[[events]]\nat = \"1 ms\"\nig = true\n");
     expect(&pmu50(&["run", s(&short_on), "--trace", "none", "--max-ticks", "100"]), 2, &["above the limit of 100 ticks"]);
     expect(&pmu50(&["run", s(&short_on), "--trace", "none", "--max-ticks", "1000"]), 0, &["trace = none"]);
     // parked: 259 200 000 000 ticks, a few hundred thousand evaluated

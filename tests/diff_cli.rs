@@ -8,6 +8,9 @@ use std::time::{Duration, Instant};
 
 use pmu50_waves::fuzzing::{MALFORMED, VALID_SAMPLE};
 
+mod common;
+use common::{exited, tmp, write};
+
 /// Runs `pmu50 args`, killing it after 20 s (a FIFO must never block it).
 fn pmu50(args: &[&Path]) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_pmu50"))
@@ -34,18 +37,6 @@ fn pmu50_args(args: &[&str]) -> Output {
     let paths: Vec<PathBuf> = args.iter().map(PathBuf::from).collect();
     let refs: Vec<&Path> = paths.iter().map(PathBuf::as_path).collect();
     pmu50(&refs)
-}
-
-fn tmp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pmu50-diff-cli-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, bytes).unwrap();
-    p
 }
 
 /// Exit 2, nothing on stdout, exactly one line on stderr containing `want`, no panic text.
@@ -92,8 +83,7 @@ fn rnan_against_itself_is_equal_exit_0() {
     let v = b"$timescale 1 ns $end\n$scope module t $end\n$var real 64 ! v $end\n$upscope $end\n$enddefinitions $end\n#0\nrnan !\n#5\nr1 !\n#9\nrnan !\n";
     let f = write(&d, "nan.vcd", v);
     let o = pmu50(&[&f, &f]);
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(o.status.code(), Some(0), "{out}");
+    let out = exited(&o, 0);
     assert!(out.starts_with("waveform diff: EQUAL"), "{out}");
     std::fs::remove_dir_all(&d).unwrap();
 }
@@ -152,8 +142,7 @@ fn equal_is_0_and_differ_is_1() {
     let b = write(&d, "b.vcd", &changed);
     assert_eq!(pmu50(&[&a, &a]).status.code(), Some(0));
     let o = pmu50(&[&a, &b]);
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(o.status.code(), Some(1), "{out}");
+    let out = exited(&o, 1);
     assert!(out.contains("t=1 (x 10 ns)  top.cnt[7:0]: left=00000101 right=00000100"), "{out}");
     std::fs::remove_dir_all(&d).unwrap();
 }

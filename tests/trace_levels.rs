@@ -14,7 +14,7 @@ use std::path::Path;
 use std::process::Output;
 
 mod common;
-use common::{pmu50, s, text, tmp};
+use common::{pmu50, s, text, tmp, write};
 
 fn expect(o: &Output, code: i32, want: &[&str]) -> String {
     let t = text(o);
@@ -247,8 +247,7 @@ fn a_long_run_defaults_to_ports_and_its_refusal_says_level_and_format() {
 #[test]
 fn bad_levels_are_refused_with_the_valid_words() {
     let d = tmp("bad");
-    let sc = d.join("bad.toml");
-    std::fs::write(&sc, "duration = \"5 ms\"\n[vcd]\ntrace = \"everything\"\n").unwrap();
+    let sc = write(&d, "bad.toml", "duration = \"5 ms\"\n[vcd]\ntrace = \"everything\"\n");
     for cmd in ["check", "run"] {
         expect(
             &pmu50(&[cmd, s(&sc), "--out-dir", s(&d)][..if cmd == "check" { 2 } else { 4 }]),
@@ -268,8 +267,7 @@ fn size_estimates_are_upper_bounds() {
     // The bounds (bytes per tick) against real runs: key on all the time with the shaft turning
     // fast (the worst case the bounds are set from) and a shipped key-off run turning fast.
     let d = tmp("est");
-    let on = d.join("on.toml");
-    std::fs::write(&on, "duration = \"50 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"50 ms\", delta_deg = 2000.0 } ]\n[[events]]\nat = \"0 ms\"\nig = true\n").unwrap();
+    let on = write(&d, "on.toml", "duration = \"50 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"50 ms\", delta_deg = 2000.0 } ]\n[[events]]\nat = \"0 ms\"\nig = true\n");
     let fig = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/too_fast.toml");
     // Two random scenarios of `pmu50 random` (the co-simulation's), the largest per tick of seeds 1-6.
     let mut runs = vec![(on.clone(), 5_000u64), (fig, 20_000)];

@@ -1,6 +1,6 @@
-//! Helpers shared by the command-line tests (`tests/cli.rs`, `tests/cli_faults.rs`,
-//! `tests/trace_levels.rs`): run the `pmu50` binary from the project folder, its output as
-//! text, a fresh temporary folder per test.
+//! Helpers shared by the command-line tests (`tests/cli_faults.rs`, `tests/trace_levels.rs`,
+//! `tests/diff_cli.rs`, `tests/fst_cli.rs`): run the `pmu50` binary from the project folder, its
+//! output as text, its exit code, a fresh temporary folder per test, a file written in it.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -29,4 +29,19 @@ pub fn tmp(tag: &str) -> PathBuf {
 /// A path as the `&str` argument of a command line.
 pub fn s(p: &Path) -> &str {
     p.to_str().unwrap()
+}
+
+/// Standard output of `o`, after checking that it exited with `code` (the message shows both
+/// streams).
+pub fn exited(o: &Output, code: i32) -> String {
+    let out = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert_eq!(o.status.code(), Some(code), "{out}{}", String::from_utf8_lossy(&o.stderr));
+    out
+}
+
+/// `bytes` written to `dir/name`; its path.
+pub fn write(dir: &Path, name: &str, bytes: impl AsRef<[u8]>) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, bytes).unwrap();
+    p
 }
