@@ -7,34 +7,11 @@ use std::fmt::Write;
 
 /// The seeded generator of every random stimulus (see [`pmu50_core::rng`]).
 pub use pmu50_core::rng::SplitMix64 as Rng;
+use pmu50_core::rng::ParamRanges;
 
 /// Legal random parameters (ticks), clock 10 us.
 pub fn random_params(r: &mut Rng) -> Params {
-    loop {
-        let pw = r.range(0, 8) as u16;
-        let pi = r.range(0, 15) as u16;
-        let ps = r.range(1, 8) as u16;
-        let wt = pw + pi + ps;
-        let si_min = r.range(u64::from(wt) + 1, u64::from(wt) + 300) as u16;
-        let si_max = r.range(u64::from(si_min), u64::from(si_min) + 700) as u16;
-        let p = Params {
-            sync_depth: r.range(1, 4) as u8,
-            cnt_width: if r.percent(30) { r.range(2, 8) as u8 } else { 16 },
-            adaptive: r.percent(85),
-            pw,
-            pi,
-            ps,
-            si_max,
-            si_min,
-            t1: r.range(1, 300) as u16,
-            t2: r.range(1, 200) as u16,
-            cth: r.range(1, 8) as u8,
-            smp_on: r.range(2, 30) as u16,
-        };
-        if p.validate().is_ok() {
-            return p;
-        }
-    }
+    r.legal_params(&ParamRanges { pw: 8, pi: 15, ps: 8, si_min_over_wt: 300, si_max_over_min: 700, narrow_cnt: (30, 100), narrow_cnt_max: 8, adaptive: (85, 100), t1: 300, t2: 200, cth: 8, smp_on: 30 })
 }
 
 /// A random scenario as TOML text (clock 10 us, 0.2 to 0.8 s of simulated time).

@@ -23,38 +23,11 @@ use std::process::ExitCode;
 
 const CLOCK_NS: u64 = 10_000;
 
-use pmu50_core::rng::SplitMix64 as Rng;
+use pmu50_core::rng::{ParamRanges, SplitMix64 as Rng};
 
+/// Legal random parameters (ticks), narrow counters half the time.
 fn random_params(r: &mut Rng) -> Params {
-    loop {
-        let pw = r.range(0, 6) as u16;
-        let pi = r.range(0, 12) as u16;
-        let ps = r.range(1, 6) as u16;
-        let wt = u64::from(pw + pi + ps);
-        let si_min = r.range(wt + 1, wt + 150) as u16;
-        let si_max = r.range(u64::from(si_min), u64::from(si_min) + 300) as u16;
-        let p = Params {
-            sync_depth: r.range(1, 4) as u8,
-            cnt_width: if r.chance(500, 1000) {
-                r.range(2, 15) as u8
-            } else {
-                16
-            },
-            adaptive: r.chance(850, 1000),
-            pw,
-            pi,
-            ps,
-            si_max,
-            si_min,
-            t1: r.range(1, 200) as u16,
-            t2: r.range(1, 150) as u16,
-            cth: r.range(1, 6) as u8,
-            smp_on: r.range(2, 20) as u16,
-        };
-        if p.validate().is_ok() {
-            return p;
-        }
-    }
+    r.legal_params(&ParamRanges { pw: 6, pi: 12, ps: 6, si_min_over_wt: 150, si_max_over_min: 300, narrow_cnt: (500, 1000), narrow_cnt_max: 15, adaptive: (850, 1000), t1: 200, t2: 150, cth: 6, smp_on: 20 })
 }
 
 /// Stimulus generator state.

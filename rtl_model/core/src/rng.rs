@@ -1,7 +1,9 @@
 //! SplitMix64, the one seeded generator of stimuli: `pmu50 random`, the regression generator,
 //! the stress vectors of the HDL co-simulation and the randomised tests all draw from it, so that
-//! a seed means the same draws everywhere. It drives the core's ports from outside; no block
-//! uses it.
+//! a seed means the same draws everywhere; and the random legal parameter sets of `pmu50 random`
+//! and the stress vectors. It drives the core from outside; no block uses it.
+
+use crate::Params;
 
 /// SplitMix64 (Steele, Lea and Flood): tiny, deterministic, good enough to spread stimuli.
 /// The field is the state; [`SplitMix64::new`] mixes a seed into it.
@@ -42,6 +44,59 @@ impl SplitMix64 {
     /// True with probability `p` percent.
     pub fn percent(&mut self, p: u64) -> bool {
         self.chance(p, 100)
+    }
+}
+
+/// The ranges of [`SplitMix64::legal_params`], in clock ticks: the highest value drawn for
+/// `pw` and `pi` (from 0), `ps`, `t1`, `t2` and `cth` (from 1) and `smp_on` (from 2); `si_min`
+/// at most `si_min_over_wt` above Wt (`pw + pi + ps`), `si_max` at most `si_max_over_min` above
+/// `si_min`; the chance (num, den) of a counter narrower than 16 bits (then 2 to
+/// `narrow_cnt_max` bits) and of the adaptive interval.
+#[derive(Clone, Copy, Debug)]
+pub struct ParamRanges {
+    pub pw: u64,
+    pub pi: u64,
+    pub ps: u64,
+    pub si_min_over_wt: u64,
+    pub si_max_over_min: u64,
+    pub narrow_cnt: (u64, u64),
+    pub narrow_cnt_max: u64,
+    pub adaptive: (u64, u64),
+    pub t1: u64,
+    pub t2: u64,
+    pub cth: u64,
+    pub smp_on: u64,
+}
+
+impl SplitMix64 {
+    /// A legal parameter set within `r` (drawn again until [`Params::validate`] accepts it),
+    /// SYNC_DEPTH 1 to 4.
+    pub fn legal_params(&mut self, r: &ParamRanges) -> Params {
+        loop {
+            let pw = self.range(0, r.pw) as u16;
+            let pi = self.range(0, r.pi) as u16;
+            let ps = self.range(1, r.ps) as u16;
+            let wt = u64::from(pw + pi + ps);
+            let si_min = self.range(wt + 1, wt + r.si_min_over_wt) as u16;
+            let si_max = self.range(u64::from(si_min), u64::from(si_min) + r.si_max_over_min) as u16;
+            let p = Params {
+                sync_depth: self.range(1, 4) as u8,
+                cnt_width: if self.chance(r.narrow_cnt.0, r.narrow_cnt.1) { self.range(2, r.narrow_cnt_max) as u8 } else { 16 },
+                adaptive: self.chance(r.adaptive.0, r.adaptive.1),
+                pw,
+                pi,
+                ps,
+                si_max,
+                si_min,
+                t1: self.range(1, r.t1) as u16,
+                t2: self.range(1, r.t2) as u16,
+                cth: self.range(1, r.cth) as u8,
+                smp_on: self.range(2, r.smp_on) as u16,
+            };
+            if p.validate().is_ok() {
+                return p;
+            }
+        }
     }
 }
 
