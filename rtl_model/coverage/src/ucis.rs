@@ -47,6 +47,17 @@ fn esc(s: &str) -> String {
     xml_escape(s, true)
 }
 
+/// One bin element (`coverpointBin` or `crossBin`): its attributes, its count line and, for a bin
+/// that cannot be hit, the reason.
+fn bin_element(w: &mut String, tag: &str, attrs: &str, count: &str, unreachable: Option<&str>) {
+    let _ = writeln!(w, "          <{tag} {attrs}>");
+    let _ = writeln!(w, "            {count}");
+    if let Some(why) = unreachable {
+        let _ = writeln!(w, "            <userAttr key=\"unreachable\" type=\"str\">{}</userAttr>", esc(why));
+    }
+    let _ = writeln!(w, "          </{tag}>");
+}
+
 /// The UCIS XML text of a coverage file (its bins must be this model's, as
 /// [`CoverageFile::check`] ensures for every file read or merged).
 pub fn to_ucis_xml(f: &CoverageFile) -> String {
@@ -87,12 +98,9 @@ pub fn to_ucis_xml(f: &CoverageFile) -> String {
             let b = &f.bins[k];
             let local = b.name.rsplit('.').next().unwrap_or(&b.name);
             let ty = if b.unreachable.is_some() { "ignore" } else { "bins" };
-            let _ = writeln!(w, "          <coverpointBin name=\"{}\" type=\"{ty}\" key=\"{j}\">", esc(local));
-            let _ = writeln!(w, "            <range from=\"{j}\" to=\"{j}\"><contents coverageCount=\"{}\"/></range>", b.hits);
-            if let Some(why) = &b.unreachable {
-                let _ = writeln!(w, "            <userAttr key=\"unreachable\" type=\"str\">{}</userAttr>", esc(why));
-            }
-            let _ = writeln!(w, "          </coverpointBin>");
+            let attrs = format!("name=\"{}\" type=\"{ty}\" key=\"{j}\"", esc(local));
+            let count = format!("<range from=\"{j}\" to=\"{j}\"><contents coverageCount=\"{}\"/></range>", b.hits);
+            bin_element(w, "coverpointBin", &attrs, &count, b.unreachable.as_deref());
             k += 1;
         }
         let _ = writeln!(w, "        </coverpoint>");
@@ -107,12 +115,9 @@ pub fn to_ucis_xml(f: &CoverageFile) -> String {
             for (ib, bb) in pb.bins.iter().enumerate() {
                 let b = &f.bins[k];
                 let ty = if b.unreachable.is_some() { "ignore" } else { "default" };
-                let _ = writeln!(w, "          <crossBin name=\"{}\" key=\"{}\" type=\"{ty}\">", esc(&format!("<{},{}>", ba.name, bb.name)), ia * pb.bins.len() + ib);
-                let _ = writeln!(w, "            <index>{ia}</index><index>{ib}</index><contents coverageCount=\"{}\"/>", b.hits);
-                if let Some(why) = &b.unreachable {
-                    let _ = writeln!(w, "            <userAttr key=\"unreachable\" type=\"str\">{}</userAttr>", esc(why));
-                }
-                let _ = writeln!(w, "          </crossBin>");
+                let attrs = format!("name=\"{}\" key=\"{}\" type=\"{ty}\"", esc(&format!("<{},{}>", ba.name, bb.name)), ia * pb.bins.len() + ib);
+                let count = format!("<index>{ia}</index><index>{ib}</index><contents coverageCount=\"{}\"/>", b.hits);
+                bin_element(w, "crossBin", &attrs, &count, b.unreachable.as_deref());
                 k += 1;
             }
         }
