@@ -2,21 +2,8 @@
 //! input), the summary, the change log, vectors, random scenarios and the waveform diff.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn pmu50(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pmu50")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
-}
-
-fn text(o: &Output) -> String {
-    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
-}
-
-fn tmp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pmu50-cli-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+mod common;
+use common::{expect_code, pmu50, text, tmp, write};
 
 #[test]
 fn run_prints_the_summary_and_writes_vcd_gtkw_log() {
@@ -45,10 +32,9 @@ fn run_prints_the_summary_and_writes_vcd_gtkw_log() {
 #[test]
 fn failing_check_exits_1() {
     let d = tmp("fail");
-    let sc = d.join("wrong.toml");
-    std::fs::write(&sc, "duration = \"30 ms\"\n[expect]\nsi_sequence_ms = [2.2]\n").unwrap();
+    let sc = write(&d, "wrong.toml", "duration = \"30 ms\"\n[expect]\nsi_sequence_ms = [2.2]\n");
     let o = pmu50(&["run", sc.to_str().unwrap(), "--out-dir", d.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    expect_code(&o, 1);
     assert!(text(&o).contains("check si_sequence_ms       FAIL"));
     std::fs::remove_dir_all(&d).ok();
 }
@@ -56,8 +42,7 @@ fn failing_check_exits_1() {
 #[test]
 fn bad_input_exits_2_with_file_line_field() {
     let d = tmp("bad");
-    let sc = d.join("bad.toml");
-    std::fs::write(&sc, "duration = \"30 ms\"\n[core]\nt2 = \"1.105 ms\"\n").unwrap();
+    let sc = write(&d, "bad.toml", "duration = \"30 ms\"\n[core]\nt2 = \"1.105 ms\"\n");
     let (sc, dir) = (sc.to_str().unwrap(), d.to_str().unwrap());
     for args in [vec!["run", sc, "--out-dir", dir], vec!["check", sc]] {
         let o = pmu50(&args);
@@ -86,7 +71,7 @@ fn vectors_have_the_documented_header_and_one_line_per_tick() {
     let d = tmp("vec");
     let f = d.join("fig15a.vec");
     let o = pmu50(&["vectors", "scenarios/fig15a.toml", "-o", f.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    expect_code(&o, 0);
     let v = std::fs::read_to_string(&f).unwrap();
     assert!(v.starts_with("// pmu50 vectors v1\n// scenario fig15a\n// clock_ns 10000\n"));
     assert!(v.contains("// param SI_MAX 660\n") && v.contains("// fields 30\n"));
@@ -125,13 +110,12 @@ fn diff_equal_differ_and_bad_input() {
     let va = run_vcd(&a, &fig);
     let vb = run_vcd(&b, &fig);
     let o = pmu50(&["diff", va.to_str().unwrap(), vb.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    expect_code(&o, 0);
     // Same scenario with T1 = 1.1 ms: the interval differs after the first change.
     let src = std::fs::read_to_string(&fig).unwrap().replace("[motor]", "[core]\nt1 = \"1.1 ms\"\n\n[motor]").replace("si_sequence_ms = [6.6, 4.4, 2.2]", "");
     let c = d.join("c");
     std::fs::create_dir_all(&c).unwrap();
-    let fc = c.join("fig15a.toml");
-    std::fs::write(&fc, src).unwrap();
+    let fc = write(&c, "fig15a.toml", src);
     let vc = run_vcd(&c, &fc);
     let o = pmu50(&["diff", va.to_str().unwrap(), vc.to_str().unwrap(), "--max", "3"]);
     let t = text(&o);

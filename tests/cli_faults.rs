@@ -6,7 +6,7 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
 mod common;
-use common::{pmu50, s, text, tmp, write, BIN};
+use common::{expect_code, pmu50, s, text, tmp, write, BIN};
 
 fn names(d: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
@@ -337,7 +337,7 @@ fn dash_is_standard_output() {
     let f = d.join("r.toml");
     expect(&pmu50(&["random", "--seed", "3", "-o", s(&f)]), 0, &[]);
     let o = pmu50(&["random", "--seed", "3", "-o", "-"]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    expect_code(&o, 0);
     assert_eq!(o.stdout, std::fs::read(&f).unwrap());
     let v = d.join("v.txt");
     expect(&pmu50(&["vectors", "scenarios/fig15a.toml", "-o", s(&v)]), 0, &["wrote"]);

@@ -1,6 +1,7 @@
-//! Helpers shared by the command-line tests (`tests/cli_faults.rs`, `tests/trace_levels.rs`,
-//! `tests/diff_cli.rs`, `tests/fst_cli.rs`): run the `pmu50` binary from the project folder, its
-//! output as text, its exit code, a fresh temporary folder per test, a file written in it.
+//! Helpers shared by the command-line tests (`tests/cli.rs`, `tests/cli_faults.rs`,
+//! `tests/trace_levels.rs`, `tests/diff_cli.rs`, `tests/fst_cli.rs`, `tests/regress.rs`): run the
+//! `pmu50` binary from the project folder, its output as text, its exit code, a fresh temporary
+//! folder per test, a file written in it.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -29,6 +30,11 @@ pub fn tmp(tag: &str) -> PathBuf {
 /// A path as the `&str` argument of a command line.
 pub fn s(p: &Path) -> &str {
     p.to_str().unwrap()
+}
+
+/// Checks that `o` exited with `code` (the message shows its output).
+pub fn expect_code(o: &Output, code: i32) {
+    assert_eq!(o.status.code(), Some(code), "{}", text(o));
 }
 
 /// Standard output of `o`, after checking that it exited with `code` (the message shows both
