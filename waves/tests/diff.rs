@@ -328,38 +328,23 @@ fn x_handling_strict_and_wildcard() {
         ),
         ("01x1", "0111")
     );
-    assert_eq!(
-        diff(&with_x, &with_x, &strict).unwrap().outcome,
-        Outcome::Equal
-    );
-    // left x is a don't-care ...
-    assert_eq!(
-        diff(&with_x, &plain, &left_x).unwrap().outcome,
-        Outcome::Equal
-    );
-    // ... for that bit only
-    assert_eq!(
-        diff(&with_x, &other, &left_x).unwrap().first_mismatch_time,
-        Some(5)
-    );
-    // right x is not a don't-care under LeftXIsWildcard, but is under EitherXIsWildcard
-    assert_eq!(
-        diff(&plain, &with_x, &left_x).unwrap().outcome,
-        Outcome::Differ
-    );
-    assert_eq!(
-        diff(&plain, &with_x, &either).unwrap().outcome,
-        Outcome::Equal
-    );
-    // z is never a wildcard
-    assert_eq!(
-        diff(&with_z, &plain, &either).unwrap().outcome,
-        Outcome::Differ
-    );
-    assert_eq!(
-        diff(&with_z, &with_z, &strict).unwrap().outcome,
-        Outcome::Equal
-    );
+    // (left, right, options, outcome)
+    let cases = [
+        (&with_x, &with_x, &strict, Outcome::Equal),
+        // left x is a don't-care ...
+        (&with_x, &plain, &left_x, Outcome::Equal),
+        // right x is not a don't-care under LeftXIsWildcard, but is under EitherXIsWildcard
+        (&plain, &with_x, &left_x, Outcome::Differ),
+        (&plain, &with_x, &either, Outcome::Equal),
+        // z is never a wildcard
+        (&with_z, &plain, &either, Outcome::Differ),
+        (&with_z, &with_z, &strict, Outcome::Equal),
+    ];
+    for (k, (l, r, opts, want)) in cases.into_iter().enumerate() {
+        assert_eq!(diff(l, r, opts).unwrap().outcome, want, "case {k}");
+    }
+    // a left x is a don't-care for that bit only
+    assert_eq!(diff(&with_x, &other, &left_x).unwrap().first_mismatch_time, Some(5));
     // a missing value (signal starts later) counts as x
     let late = t_ns(&[("!", "wire 4 v [3:0]")], "#0\n#5\nb0111 !\n#9\nb0000 !\n");
     let r = diff(&late, &plain, &strict).unwrap();
