@@ -3,24 +3,15 @@
 //! (Interruptions and disk full: tests/interrupt.rs.)
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 
 mod common;
-use common::{expect_code, pmu50, s, text, tmp, write, BIN};
+use common::{expect, expect_code, pmu50, s, text, tmp, write, BIN, KEY_ON_FAST};
 
 fn names(d: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     v.sort();
     v
-}
-
-fn expect(o: &Output, code: i32, want: &[&str]) {
-    let t = text(o);
-    assert_eq!(o.status.code(), Some(code), "{t}");
-    for w in want {
-        assert!(t.contains(w), "output lacks `{w}`:\n{t}");
-    }
-    assert!(!t.contains("panicked"), "{t}");
 }
 
 const SHORT: &str = "duration = \"5 ms\"\n";
@@ -186,7 +177,7 @@ fn a_vcd_over_the_limit_is_refused_unless_windowed_or_allowed() {
 fn vcd_size_estimate_is_an_upper_bound() {
     // The estimate (160 bytes per tick) against real runs: key off (shipped) and key on all the time.
     let d = tmp("est");
-    let on = write(&d, "on.toml", "duration = \"50 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"50 ms\", delta_deg = 2000.0 } ]\n[[events]]\nat = \"0 ms\"\nig = true\n");
+    let on = write(&d, "on.toml", KEY_ON_FAST);
     let fig = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/too_fast.toml");
     for (sc, name, ticks) in [(on.as_path(), "on", 5_000u64), (fig.as_path(), "too_fast", 20_000)] {
         expect(&pmu50(&["run", s(sc), "--out-dir", s(&d)]), 0, &[]);

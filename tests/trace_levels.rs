@@ -11,20 +11,9 @@ use pmu50_core::signals;
 use pmu50_waves::reader::Waveform;
 use std::collections::BTreeSet;
 use std::path::Path;
-use std::process::Output;
 
 mod common;
-use common::{pmu50, s, text, tmp, write};
-
-fn expect(o: &Output, code: i32, want: &[&str]) -> String {
-    let t = text(o);
-    assert_eq!(o.status.code(), Some(code), "{t}");
-    for w in want {
-        assert!(t.contains(w), "output lacks `{w}`:\n{t}");
-    }
-    assert!(!t.contains("panicked"), "{t}");
-    t
-}
+use common::{expect, pmu50, s, text, tmp, write, KEY_ON_FAST};
 
 /// The signal paths a waveform of `level` declares, from the signal table.
 fn expected(level: Level) -> BTreeSet<String> {
@@ -267,7 +256,7 @@ fn size_estimates_are_upper_bounds() {
     // The bounds (bytes per tick) against real runs: key on all the time with the shaft turning
     // fast (the worst case the bounds are set from) and a shipped key-off run turning fast.
     let d = tmp("est");
-    let on = write(&d, "on.toml", "duration = \"50 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"50 ms\", delta_deg = 2000.0 } ]\n[[events]]\nat = \"0 ms\"\nig = true\n");
+    let on = write(&d, "on.toml", KEY_ON_FAST);
     let fig = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/too_fast.toml");
     // Two random scenarios of `pmu50 random` (the co-simulation's), the largest per tick of seeds 1-6.
     let mut runs = vec![(on.clone(), 5_000u64), (fig, 20_000)];

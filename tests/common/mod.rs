@@ -32,6 +32,22 @@ pub fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
+/// Checks that `o` exited with `code`, that its output holds every string of `want` and no
+/// panic message; its output.
+pub fn expect(o: &Output, code: i32, want: &[&str]) -> String {
+    let t = text(o);
+    assert_eq!(o.status.code(), Some(code), "{t}");
+    for w in want {
+        assert!(t.contains(w), "output lacks `{w}`:\n{t}");
+    }
+    assert!(!t.contains("panicked"), "{t}");
+    t
+}
+
+/// 50 ms with the key on all the time and the shaft turning fast: the most waveform a tick
+/// writes (what the size estimates are bounded against).
+pub const KEY_ON_FAST: &str = "duration = \"50 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"50 ms\", delta_deg = 2000.0 } ]\n[[events]]\nat = \"0 ms\"\nig = true\n";
+
 /// Checks that `o` exited with `code` (the message shows its output).
 pub fn expect_code(o: &Output, code: i32) {
     assert_eq!(o.status.code(), Some(code), "{}", text(o));
