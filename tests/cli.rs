@@ -26,7 +26,6 @@ fn run_prints_the_summary_and_writes_vcd_gtkw_log() {
     let time_us: f64 = f[1].parse().unwrap();
     assert_eq!(tick * 10, time_us as u64, "time = tick * 10 us");
     assert!(!log.contains("timing_generator.tmr"), "the free-running timer is not logged");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -36,7 +35,6 @@ fn failing_check_exits_1() {
     let o = pmu50(&["run", sc.to_str().unwrap(), "--out-dir", d.to_str().unwrap()]);
     expect_code(&o, 1);
     assert!(text(&o).contains("check si_sequence_ms       FAIL"));
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -53,7 +51,6 @@ fn bad_input_exits_2_with_file_line_field() {
     assert_eq!(o.status.code(), Some(2));
     assert_eq!(pmu50(&["run"]).status.code(), Some(2));
     assert_eq!(pmu50(&["check", "no/such.toml"]).status.code(), Some(2));
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -81,7 +78,6 @@ fn vectors_have_the_documented_header_and_one_line_per_tick() {
     // Line 0: inputs of edge 1 (key off, Vs2 on at reset) and the outputs after it.
     let f0: Vec<&str> = data[0].split(' ').collect();
     assert_eq!(&f0[..2], ["0", "1"], "ig = 0, vs2_ok = 1 during the first window");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -93,7 +89,6 @@ fn random_is_deterministic_and_loadable() {
     }
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
     assert_eq!(pmu50(&["check", a.to_str().unwrap()]).status.code(), Some(0));
-    std::fs::remove_dir_all(&d).ok();
 }
 
 fn run_vcd(d: &Path, sc: &Path) -> PathBuf {
@@ -127,7 +122,6 @@ fn diff_equal_differ_and_bad_input() {
     assert!(t.contains("26620") && t.contains("pmu50.drive_interval.si"), "si first differs at the first shortening, 26.62 ms: {t}");
     assert_eq!(pmu50(&["diff", va.to_str().unwrap(), "missing.vcd"]).status.code(), Some(2));
     assert_eq!(pmu50(&["diff", va.to_str().unwrap(), vb.to_str().unwrap(), "--map", "nonsense"]).status.code(), Some(2));
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -148,5 +142,4 @@ fn key_on_polling_exercises_the_registered_read_path() {
     assert!(seen[&0x06].iter().all(|&r| r == 660), "SI_MAX");
     assert!(seen[&0x02].iter().all(|&r| r == 0), "CTRL: adaptive off");
     assert!(seen.contains_key(&0x10) && seen.contains_key(&0x14), "counts and STATUS are polled");
-    std::fs::remove_dir_all(&d).ok();
 }

@@ -35,7 +35,6 @@ fn a_symlink_at_the_output_path_is_replaced_not_followed() {
         assert!(m.file_type().is_file(), "v.{ext} is a regular file now");
     }
     assert_eq!(names(&out), ["v.gtkw", "v.log", "v.vcd"], "no temporary file left");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -48,7 +47,6 @@ fn two_scenarios_writing_the_same_file_exit_2_before_simulating() {
     let o = pmu50(&["run", s(&a), s(&b), "--out-dir", s(&out)]);
     expect(&o, 2, &["twin.vcd would be written by two scenarios", "a.toml", "b.toml", "nothing was run"]);
     assert!(!out.exists() || names(&out).is_empty(), "nothing was simulated or written");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -65,7 +63,6 @@ fn bad_files_are_all_reported_the_good_ones_run_and_the_worst_code_wins() {
     assert_eq!(names(&out), ["a.gtkw", "a.vcd", "c.gtkw", "c.vcd"]);
     // Without the bad files the worst is the failed check: 1.
     expect(&pmu50(&["run", s(&a), s(&c), "--out-dir", s(&out)]), 1, &["== a:", "== c:"]);
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -81,7 +78,6 @@ fn a_stale_log_is_removed_when_the_new_run_writes_none() {
     std::fs::write(out.join("v.log"), "my notes\n").unwrap();
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&out)]), 0, &["wrote"]);
     assert_eq!(std::fs::read_to_string(out.join("v.log")).unwrap(), "my notes\n");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -101,7 +97,8 @@ fn closed_or_full_streams_exit_2_without_panic_text() {
     let o = Command::new(BIN).args(["run", "--bogus"]).output().unwrap();
     expect(&o, 2, &["unexpected argument '--bogus'"]);
     // stdout a closed pipe: the reader went away before the summary
-    let mut child = Command::new(BIN).args(["run", "scenarios/fig15a.toml", "--out-dir", s(&tmp("pipe"))]).current_dir(env!("CARGO_MANIFEST_DIR")).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let d = tmp("pipe");
+    let mut child = Command::new(BIN).args(["run", "scenarios/fig15a.toml", "--out-dir", s(&d)]).current_dir(env!("CARGO_MANIFEST_DIR")).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
     drop(child.stdout.take());
     let o = child.wait_with_output().unwrap();
     expect(&o, 2, &[]);
@@ -131,7 +128,6 @@ fn refused_writes_are_reported_with_file_line_and_reason_and_exit_1() {
     assert!(!text(&o).contains("w.toml:13"), "the legal T1 write is not reported:\n{}", text(&o));
     // `check` validates statically; it cannot know the chip's state, and says the file is ok.
     expect(&pmu50(&["check", s(&sc)]), 0, &["ok"]);
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -144,7 +140,6 @@ fn the_model_refuses_exactly_the_writes_reported() {
     let log = std::fs::read_to_string(d.join("w.log")).unwrap();
     let line = log.lines().find(|l| l.contains("register_file.bus_err")).expect("bus_err changes in the log");
     assert!(line.trim_start().starts_with("101 "), "bus_err rises at edge 101 (write at tick 100): {line}");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -155,7 +150,6 @@ fn a_window_outside_the_run_exits_2() {
     let sc = write(&d, "w.toml", "duration = \"10 ms\"\n[vcd]\nwindow = [\"12 ms\", \"20 ms\"]\n");
     expect(&pmu50(&["check", s(&sc)]), 2, &["w.toml:3: `vcd.window[1]`", "after the end of the run (duration = 10 ms)"]);
     assert_eq!(names(&d), ["w.toml"], "nothing written");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -170,7 +164,6 @@ fn a_vcd_over_the_limit_is_refused_unless_windowed_or_allowed() {
     std::fs::write(&sc, "duration = \"50 ms\"\n").unwrap();
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--max-vcd-bytes", "100000"]), 2, &["about 428 kB (5000 dumped ticks)"]);
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--max-vcd-bytes", "100000", "--window", "0 ms", "0.5 ms"]), 0, &["wrote"]);
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -185,7 +178,6 @@ fn vcd_size_estimate_is_an_upper_bound() {
         let est = pmu50::output::estimate_vcd_bytes(ticks);
         assert!(size <= est && est <= 4 * size, "{name}: {size} bytes, estimate {est}");
     }
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -211,7 +203,6 @@ fn list_never_blocks_on_a_fifo_and_check_refuses_non_regular_and_huge_files() {
     expect(&pmu50(&["check", "/dev/null"]), 2, &["/dev/null: is a device, not a regular file"]);
     let huge = write(&d, "huge.toml", format!("{SHORT}{}", "# padding\n".repeat(120_000)));
     expect(&pmu50(&["check", s(&huge)]), 2, &["huge.toml: 1200018 bytes is larger than a scenario can be (1048576 bytes at most)"]);
-    std::fs::remove_dir_all(&d).ok();
 }
 
 // ------------------------------------------------------------------ section 5 ----
@@ -235,7 +226,6 @@ fn the_save_file_opens_on_the_whole_run_with_named_markers() {
     assert_eq!(names, ["Arotation cs, si 4.4 ms", "Brotation cc, si 2.2 ms", "Csi 3.3 ms", "Dsi 4.4 ms", "Esi 5.5 ms", "Fsi 6.6 ms"]);
     assert_eq!(&f[2..4], ["26620", "39820"], "the FIG. 15A edges of the README walk-through");
     assert!(f[8..].iter().all(|m| *m == "-1"));
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -246,7 +236,6 @@ fn a_windowed_save_file_opens_on_the_window_with_its_markers_only() {
     assert!(g.contains("[timestart] 30000\n"), "{g}");
     let names: Vec<&str> = g.lines().filter_map(|l| l.strip_prefix("[markername] ")).collect();
     assert_eq!(names, ["Arotation cc, si 2.2 ms"], "{g}");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -273,7 +262,6 @@ fn vectors_and_random_outputs_are_atomic_too() {
     assert!(std::fs::read_to_string(&link).unwrap().contains("random_3"));
     // An output folder that does not exist is an error naming it, exit 2.
     expect(&pmu50(&["random", "--seed", "3", "-o", s(&d.join("no/such/r.toml"))]), 2, &["no/such/r.toml: cannot create a temporary file beside it"]);
-    std::fs::remove_dir_all(&d).ok();
 }
 
 // ------------------------------------------- device nodes, FIFOs, `-o -`, own input ----
@@ -317,7 +305,6 @@ fn device_nodes_fifos_and_links_to_them_are_never_replaced() {
         assert_eq!(kind(node), before, "{} was replaced", node.display());
     }
     assert_eq!(names(&d).len(), nodes.len(), "no temporary file left: {:?}", names(&d));
-    std::fs::remove_dir_all(&d).ok();
 }
 
 /// `-o -` is standard output: the same bytes as the file, streamed, and the vectors' "wrote"
@@ -337,7 +324,6 @@ fn dash_is_standard_output() {
     assert_eq!(o.stdout, std::fs::read(&v).unwrap(), "stdout holds exactly the vector file");
     assert!(String::from_utf8_lossy(&o.stderr).contains("wrote the vectors to standard output (4800 ticks)"));
     assert!(!d.join("-").exists() && !std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("-").exists());
-    std::fs::remove_dir_all(&d).ok();
 }
 
 /// `vectors x.toml -o x.toml` (or through a link) is refused and the scenario is kept.
@@ -352,7 +338,6 @@ fn vectors_never_overwrite_their_own_scenario() {
         assert_eq!(std::fs::read_to_string(&x).unwrap(), SHORT);
     }
     assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
-    std::fs::remove_dir_all(&d).ok();
 }
 
 /// `diff --allow-unmatched` of two files with no signal in common compares nothing: exit 2 with
@@ -371,7 +356,6 @@ fn allow_unmatched_with_nothing_in_common_is_an_error() {
     expect(&pmu50(&["diff", s(&a), s(&b)]), 1, &["DIFFER"]);
     std::fs::write(&b, vcd("alpha").replace("$upscope", "$var wire 1 \" beta $end\n$upscope")).unwrap();
     expect(&pmu50(&["diff", s(&a), s(&b), "--allow-unmatched"]), 0, &["EQUAL", "signals compared: 1"]);
-    std::fs::remove_dir_all(&d).ok();
 }
 
 // ------------------------------------------------------------------ bounded work ----
@@ -407,5 +391,4 @@ fn unbounded_work_is_refused_before_it_starts() {
         assert!(t.elapsed().as_secs() < 10, "{args:?} took {:?}", t.elapsed());
     }
     expect(&pmu50(&["speed-limit", "--step", "1", "--from", "1000", "--to", "2000", "--max-points", "5000", "--out-dir", s(&d)]), 2, &["--max-ticks", "each point runs 90 deg / step"]);
-    std::fs::remove_dir_all(&d).ok();
 }

@@ -67,7 +67,6 @@ fn fst_run_equals_vcd_run_and_gtkw_points_at_it() {
     let other = f.join("fig15a.fst").display().to_string();
     let o = pmu50(&["diff", &vcd, &other]);
     assert_eq!(o.status.code(), Some(1), "{}", String::from_utf8_lossy(&o.stdout));
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 /// Regression: the windowed FST had its window-start values at time 0 (and the window start in
@@ -92,7 +91,6 @@ fn windowed_fst_run_equals_windowed_vcd_run() {
     let o = pmu50(&["diff", &vcd, &later]);
     let out = exited(&o, 1);
     assert!(out.contains("(first at 10000 us)"), "{out}");
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
@@ -114,7 +112,6 @@ fn damaged_fst_exits_2_with_one_line() {
         assert!(err.contains("bad") && err.contains("FST"), "cut {cut}: {err}");
         assert!(!err.contains("panick") && !err.contains("backtrace") && !err.contains("RUST_BACKTRACE"), "cut {cut}: {err}");
     }
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 /// GTKWave's `fst2vcd` of `fst`, when it is installed (Debian package gtkwave, `make deps`).
@@ -156,7 +153,6 @@ fn every_window_writes_an_fst_every_reader_reads() {
         }
         fst2vcd_reads_it_clean(&fst);
     }
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 /// Damaged FSTs of every shape the FST checks refuse (fuzz/regressions/fst_read: a hierarchy

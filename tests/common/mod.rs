@@ -19,12 +19,35 @@ pub fn text(o: &Output) -> String {
     format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
 }
 
-/// An empty folder of this test binary and `tag` (whatever a previous run left is removed).
-pub fn tmp(tag: &str) -> PathBuf {
+/// An empty folder of this test binary and `tag` (whatever a previous run left is removed),
+/// removed with what it holds when the test is done with it (dropped).
+pub fn tmp(tag: &str) -> TmpDir {
     let d = std::env::temp_dir().join(format!("pmu50-{}-{tag}-{}", env!("CARGO_CRATE_NAME"), std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
-    d
+    TmpDir(d)
+}
+
+/// A folder of [`tmp`]: a path (through `Deref`), removed when dropped.
+pub struct TmpDir(PathBuf);
+
+impl std::ops::Deref for TmpDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for TmpDir {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TmpDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
 }
 
 /// A path as the `&str` argument of a command line.
