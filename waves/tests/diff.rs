@@ -35,9 +35,14 @@ fn t_wave(ts: &str, vars: &[(&str, &str)], body: &str) -> Waveform {
     wave(&vcd(ts, &["t"], vars, body))
 }
 
+/// A VCD in 1 ns with the scope path `scopes`, the variables `vars` and the value changes `body`.
+fn ns_wave(scopes: &[&str], vars: &[(&str, &str)], body: &str) -> Waveform {
+    wave(&vcd("1 ns", scopes, vars, body))
+}
+
 /// [`t_wave`] in 1 ns.
 fn t_ns(vars: &[(&str, &str)], body: &str) -> Waveform {
-    t_wave("1 ns", vars, body)
+    ns_wave(&["t"], vars, body)
 }
 
 fn us() -> Timescale {
@@ -82,18 +87,8 @@ fn one_flipped_bit_is_the_first_mismatch_at_its_time() {
 
 #[test]
 fn reports_first_n_mismatches_in_time_order_and_counts_all() {
-    let left = wave(&vcd(
-        "1 ns",
-        &["top"],
-        &[("!", "wire 4 a [3:0]"), ("\"", "wire 4 b [3:0]")],
-        "#0\nb0 !\nb0 \"\n#10\nb1 !\nb1 \"\n#20\nb10 !\nb10 \"\n#30\nb11 !\nb11 \"\n",
-    ));
-    let right = wave(&vcd(
-        "1 ns",
-        &["top"],
-        &[("!", "wire 4 a [3:0]"), ("\"", "wire 4 b [3:0]")],
-        "#0\nb0 !\nb1111 \"\n#10\nb1111 !\n#20\nb1110 !\n#30\nb1101 !\n",
-    ));
+    let left = ns_wave(&["top"], &[("!", "wire 4 a [3:0]"), ("\"", "wire 4 b [3:0]")], "#0\nb0 !\nb0 \"\n#10\nb1 !\nb1 \"\n#20\nb10 !\nb10 \"\n#30\nb11 !\nb11 \"\n");
+    let right = ns_wave(&["top"], &[("!", "wire 4 a [3:0]"), ("\"", "wire 4 b [3:0]")], "#0\nb0 !\nb1111 \"\n#10\nb1111 !\n#20\nb1110 !\n#30\nb1101 !\n");
     let opts = DiffOptions {
         max_reported: 3,
         ..DiffOptions::default()
@@ -125,12 +120,7 @@ fn reports_first_n_mismatches_in_time_order_and_counts_all() {
 
 #[test]
 fn prefix_mapping_pairs_pmu50_with_tb_dut() {
-    let left = wave(&vcd(
-        "1 ns",
-        &["pmu50"],
-        &[("!", "wire 1 clk"), ("\"", "reg 8 cnt [7:0]")],
-        "#0\n0!\nb0 \"\n#5\n1!\nb101 \"\n",
-    ));
+    let left = ns_wave(&["pmu50"], &[("!", "wire 1 clk"), ("\"", "reg 8 cnt [7:0]")], "#0\n0!\nb0 \"\n#5\n1!\nb101 \"\n");
     let right = wave(
         "$timescale 1 ns $end\n$scope module tb $end\n$var wire 1 % stim $end\n\
          $scope module dut $end\n$var wire 1 ! clk $end\n$var reg 8 \" cnt [7:0] $end\n\
@@ -183,18 +173,8 @@ fn right_text_with_cnt(cnt_at_5: &str) -> String {
 
 #[test]
 fn default_matching_falls_back_to_stripping_the_top_scope() {
-    let left = wave(&vcd(
-        "1 ns",
-        &["pmu50", "core"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#3\n1!\n",
-    ));
-    let right = wave(&vcd(
-        "1 ns",
-        &["top", "core"],
-        &[("#", "wire 1 a")],
-        "#0\n0#\n#3\n1#\n",
-    ));
+    let left = ns_wave(&["pmu50", "core"], &[("!", "wire 1 a")], "#0\n0!\n#3\n1!\n");
+    let right = ns_wave(&["top", "core"], &[("#", "wire 1 a")], "#0\n0#\n#3\n1#\n");
     let r = diff(&left, &right, &DiffOptions::default()).unwrap();
     assert_eq!(r.outcome, Outcome::Equal, "{r}");
     assert_eq!(r.signals_compared, 1);
@@ -371,12 +351,7 @@ fn clocked(glitch: bool, at_edge: bool) -> Waveform {
         "#30\n1!\nb10 \"\n"
     };
     body += "#40\n0!\n#50\n1!\nb00 \"\n#60\n0!\n";
-    wave(&vcd(
-        "1 ns",
-        &["top"],
-        &[("!", "wire 1 clk"), ("\"", "reg 2 q [1:0]")],
-        &body,
-    ))
+    ns_wave(&["top"], &[("!", "wire 1 clk"), ("\"", "reg 2 q [1:0]")], &body)
 }
 
 #[test]
