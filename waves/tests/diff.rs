@@ -3,7 +3,7 @@
 mod common;
 
 use common::{sample_builder, vcd, wave};
-use pmu50_waves::diff::{diff, exit_code, DiffError, DiffOptions, Outcome, Sample, XPolicy};
+use pmu50_waves::diff::{diff, exit_code, DiffError, DiffOptions, DiffReport, Outcome, Sample, XPolicy};
 use pmu50_waves::reader::{SignalKind, Waveform};
 use pmu50_waves::writer::Logic;
 use pmu50_waves::{TimeUnit, Timescale};
@@ -45,14 +45,20 @@ fn t_ns(vars: &[(&str, &str)], body: &str) -> Waveform {
     ns_wave(&["t"], vars, body)
 }
 
+/// The diff of `l` and `r` with `opts`, checked EQUAL.
+fn equal(l: &Waveform, r: &Waveform, opts: &DiffOptions) -> DiffReport {
+    let report = diff(l, r, opts).unwrap();
+    assert_eq!(report.outcome, Outcome::Equal, "{report}");
+    report
+}
+
 fn us() -> Timescale {
     Timescale::new(1, TimeUnit::Us)
 }
 
 #[test]
 fn identical_files_are_equal() {
-    let r = diff(&run(us(), 1, None), &run(us(), 1, None), &DiffOptions::default()).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let r = equal(&run(us(), 1, None), &run(us(), 1, None), &DiffOptions::default());
     assert_eq!(r.exit_code(), 0);
     assert_eq!(r.signals_compared, 4);
     assert_eq!(r.mismatch_count, 0);
@@ -137,8 +143,7 @@ fn prefix_mapping_pairs_pmu50_with_tb_dut() {
         prefix_map: vec![("pmu50".into(), "tb.dut".into())],
         ..DiffOptions::default()
     };
-    let r = diff(&left, &right, &opts).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let r = equal(&left, &right, &opts);
     assert_eq!(r.signals_compared, 2);
     assert!(
         r.mapping.contains("`pmu50` <-> right `tb.dut`"),
@@ -175,8 +180,7 @@ fn right_text_with_cnt(cnt_at_5: &str) -> String {
 fn default_matching_falls_back_to_stripping_the_top_scope() {
     let left = ns_wave(&["pmu50", "core"], &[("!", "wire 1 a")], "#0\n0!\n#3\n1!\n");
     let right = ns_wave(&["top", "core"], &[("#", "wire 1 a")], "#0\n0#\n#3\n1#\n");
-    let r = diff(&left, &right, &DiffOptions::default()).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let r = equal(&left, &right, &DiffOptions::default());
     assert_eq!(r.signals_compared, 1);
     assert!(r.mapping.contains("top scope stripped"), "{}", r.mapping);
 }
@@ -185,21 +189,18 @@ fn default_matching_falls_back_to_stripping_the_top_scope() {
 fn timescales_1us_and_1000ns_compare_equal() {
     let a = run(us(), 1, None);
     let b = run(Timescale::new(100, TimeUnit::Ns), 10, None);
-    let r = diff(&a, &b, &DiffOptions::default()).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let r = equal(&a, &b, &DiffOptions::default());
     // 1 us and 100 ns ticks: the common unit is 100 ns
     assert_eq!(r.time_unit, Some(Timescale::new(100, TimeUnit::Ns)));
     // `1000 ns` (not an IEEE factor, but readers accept it) vs `1 us`: compared in 1 us
     let l = t_wave("1 us", &[("!", "wire 1 a")], "#0\n0!\n#2\n1!\n#5\n0!\n");
     let k = t_wave("1000 ns", &[("!", "wire 1 a")], "#0\n0!\n#2\n1!\n#5\n0!\n");
-    let r = diff(&l, &k, &DiffOptions::default()).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let r = equal(&l, &k, &DiffOptions::default());
     assert_eq!(r.time_unit, Some(us()));
     // 1 us vs 1 ns ticks with a difference: reported in ns
     let same = t_ns(&[("!", "wire 1 a")], "#0\n0!\n#2000\n1!\n#5000\n0!\n");
     let other = t_ns(&[("!", "wire 1 a")], "#0\n0!\n#2000\n1!\n#5001\n0!\n");
-    let r = diff(&l, &same, &DiffOptions::default()).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let r = equal(&l, &same, &DiffOptions::default());
     assert_eq!(r.time_unit, Some(Timescale::new(1, TimeUnit::Ns)));
     let r = diff(&l, &other, &DiffOptions::default()).unwrap();
     assert_eq!(r.first_mismatch_time, Some(5000), "{r}");
@@ -207,8 +208,7 @@ fn timescales_1us_and_1000ns_compare_equal() {
     // 10 us vs 100 ns compare in 100 ns
     let l = t_wave("10 us", &[("!", "wire 1 a")], "#0\n0!\n#3\n1!\n");
     let rr = t_wave("100 ns", &[("!", "wire 1 a")], "#0\n0!\n#300\n1!\n");
-    let r = diff(&l, &rr, &DiffOptions::default()).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let r = equal(&l, &rr, &DiffOptions::default());
     assert_eq!(r.time_unit, Some(Timescale::new(100, TimeUnit::Ns)));
 }
 
@@ -238,8 +238,7 @@ fn missing_timescale_on_one_side_is_bad_input() {
 fn widths_8_and_16_are_zero_extended_and_real_vs_vector_is_a_type_mismatch() {
     let l = t_ns(&[("!", "wire 8 v [7:0]"), ("\"", "real 64 r")], "#0\nb10100101 !\nr1.5 \"\n#4\nb11111111 !\n");
     let r = t_ns(&[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")], "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000011111111 !\n");
-    let res = diff(&l, &r, &DiffOptions::default()).unwrap();
-    assert_eq!(res.outcome, Outcome::Equal, "{res}");
+    let res = equal(&l, &r, &DiffOptions::default());
     assert_eq!(res.signals_compared, 2);
     // a set upper bit on the wide side is a difference
     let r2 = t_ns(&[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")], "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000111111111 !\n");
@@ -365,8 +364,7 @@ fn clock_sampling_ignores_glitches_between_edges() {
         sample: Sample::RisingEdge("top.clk".into()),
         ..DiffOptions::default()
     };
-    let r = diff(&clean, &glitchy, &opts).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let r = equal(&clean, &glitchy, &opts);
     assert!(r.sampling.contains("3 rising edges"), "{}", r.sampling);
     // a difference at an edge is still found
     let wrong = clocked(false, true);
@@ -436,8 +434,7 @@ fn bit_selects_merge_into_one_vector_and_repeated_paths_use_gtkwave_names() {
     // wellen merges `b [0]` + `b [1]` into `b[1:0]`, whatever the declaration order
     let l = t_ns(&[("!", "wire 1 b [0]"), ("\"", "wire 1 b [1]")], "#0\n0!\n1\"\n");
     let r = t_ns(&[("\"", "wire 1 b [1]"), ("!", "wire 1 b [0]")], "#0\n0!\n1\"\n");
-    let res = diff(&l, &r, &DiffOptions::default()).unwrap();
-    assert_eq!(res.outcome, Outcome::Equal, "{res}");
+    let res = equal(&l, &r, &DiffOptions::default());
     assert_eq!(res.signals_compared, 1);
     // a path declared twice (scalar `a` and vector `a [3:0]`) is keyed by GTKWave name
     let decls = [("!", "wire 1 a"), ("\"", "wire 4 a [3:0]")];
