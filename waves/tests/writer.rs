@@ -955,6 +955,17 @@ proptest::proptest! {
     }
 }
 
+/// The checks after a run of `w` (a frame of the first three of [`frame_builder`]'s variables):
+/// the last step is the writer's pending one, so a frame variable again is a double assignment
+/// and another variable joins the step. Returns another writer (kept for as long as its frame is
+/// used) and a frame of it, which `w` must refuse.
+fn after_a_run(w: &mut VcdWriter<Vec<u8>>, ids: &[SigId]) -> (VcdWriter<Vec<u8>>, Frame) {
+    assert!(matches!(w.change_vector(ids[1], 1), Err(WriteError::DoubleChange { .. })));
+    w.change_vector(ids[3], 1).unwrap();
+    let (other, f2, _) = framed(frame_builder(), 1);
+    (other, f2)
+}
+
 /// A text run's steps are written at once and its last one is taken back when the run ends
 /// (it becomes the writer's pending step); the checks of a frame step stay (position, order,
 /// width, time, a step at a time the frame was assigned), and a frame of another writer is
@@ -991,11 +1002,7 @@ fn text_runs_keep_every_check() {
         let mut s = run.step(6).unwrap().unwrap();
         s.line(0, 1).unwrap();
     }
-    // the last step is the writer's pending one: a frame variable again is a double assignment,
-    // another variable joins the step
-    assert!(matches!(w.change_vector(ids[1], 1), Err(WriteError::DoubleChange { .. })));
-    w.change_vector(ids[3], 1).unwrap();
-    let (_other, mut f2, _ids2) = framed(frame_builder(), 1);
+    let (_other, mut f2) = after_a_run(&mut w, &ids);
     assert!(matches!(w.text_run(&mut f2), Err(WriteError::UnknownFrame)));
     let got = text(w);
     assert!(got.contains("#1\nb0000000000000101 \"\n#2\nb0000000000000110 \"\nb00010 #\n#3\n"), "{got}");
@@ -1122,11 +1129,7 @@ fn frame_runs_keep_every_check() {
         assert!(matches!(run.step(3), Err(WriteError::DoubleChange { .. })));
         assert!(matches!(run.step(2), Err(WriteError::TimeBackwards { requested: 2, current: 3 })));
     }
-    // the last step is the writer's pending one: a frame variable again is a double assignment,
-    // another variable joins the step
-    assert!(matches!(w.change_vector(ids[1], 1), Err(WriteError::DoubleChange { .. })));
-    w.change_vector(ids[3], 1).unwrap();
-    let (_other, mut f2, _ids2) = framed(frame_builder(), 1);
+    let (_other, mut f2) = after_a_run(&mut w, &ids);
     assert!(matches!(w.frame_run(&mut f2), Err(WriteError::UnknownFrame)));
     let got = text(w);
     assert!(got.contains("#1\nb0000000000000101 \"\nb00001 #\n#2\n"), "{got}");
