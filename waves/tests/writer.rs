@@ -955,6 +955,25 @@ proptest::proptest! {
     }
 }
 
+/// The checks of one step at `t` of a frame of [`frame_builder`]'s first three variables, its
+/// values given through `give` (a text step's `line`, a run step's `set`): position 1 takes
+/// 4 + t; a position past the frame, one before the last given, the last given again and a
+/// too-wide value of `w` are refused, each with its error; position 2 then takes t.
+fn step_checks(t: u64, give: &mut dyn FnMut(usize, u64) -> Result<(), WriteError>) {
+    give(1, 4 + t).unwrap();
+    let e = give(3, 1).unwrap_err();
+    assert!(matches!(e, WriteError::FramePosition { position: 3, len: 3 }), "{e}");
+    let e = give(0, 1).unwrap_err();
+    assert!(matches!(e, WriteError::FrameOrder { position: 0, previous: 1 }), "{e}");
+    assert!(e.to_string().contains("increasing order"), "{e}");
+    let e = give(1, 9).unwrap_err();
+    assert!(matches!(e, WriteError::FrameOrder { position: 1, previous: 1 }), "{e}");
+    let e = give(2, 32).unwrap_err();
+    assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
+    assert!(e.to_string().contains("pmu50.w"), "{e}");
+    give(2, t).unwrap();
+}
+
 /// The checks after a run of `w` (a frame of the first three of [`frame_builder`]'s variables):
 /// the last step is the writer's pending one, so a frame variable again is a double assignment
 /// and another variable joins the step. Returns another writer (kept for as long as its frame is
@@ -982,17 +1001,7 @@ fn text_runs_keep_every_check() {
         run.step(1).unwrap().expect("a step written at once").line(1, 5).unwrap();
         for t in 2..5 {
             let mut s = run.step(t).unwrap().expect("a step written at once");
-            s.line(1, 4 + t).unwrap();
-            let e = s.line(3, 1).unwrap_err();
-            assert!(matches!(e, WriteError::FramePosition { position: 3, len: 3 }), "{e}");
-            let e = s.line(0, 1).unwrap_err();
-            assert!(matches!(e, WriteError::FrameOrder { position: 0, previous: 1 }), "{e}");
-            let e = s.line(1, 9).unwrap_err();
-            assert!(matches!(e, WriteError::FrameOrder { position: 1, previous: 1 }), "{e}");
-            let e = s.line(2, 32).unwrap_err();
-            assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
-            assert!(e.to_string().contains("pmu50.w"), "{e}");
-            s.line(2, t).unwrap();
+            step_checks(t, &mut |k, v| s.line(k, v));
         }
         // a step without a change takes its stamp back
         let mut s = run.step(5).unwrap().unwrap();
@@ -1113,18 +1122,7 @@ fn frame_runs_keep_every_check() {
         for t in 1..4 {
             let mut s = run.step(t).unwrap();
             assert!(s.is_current());
-            s.set(1, 4 + t).unwrap();
-            let e = s.set(3, 1).unwrap_err();
-            assert!(matches!(e, WriteError::FramePosition { position: 3, len: 3 }), "{e}");
-            let e = s.set(0, 1).unwrap_err();
-            assert!(matches!(e, WriteError::FrameOrder { position: 0, previous: 1 }), "{e}");
-            assert!(e.to_string().contains("increasing order"), "{e}");
-            let e = s.set(1, 9).unwrap_err();
-            assert!(matches!(e, WriteError::FrameOrder { position: 1, previous: 1 }), "{e}");
-            let e = s.set(2, 32).unwrap_err();
-            assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
-            assert!(e.to_string().contains("pmu50.w"), "{e}");
-            s.set(2, t).unwrap();
+            step_checks(t, &mut |k, v| s.set(k, v));
         }
         assert!(matches!(run.step(3), Err(WriteError::DoubleChange { .. })));
         assert!(matches!(run.step(2), Err(WriteError::TimeBackwards { requested: 2, current: 3 })));
