@@ -29,6 +29,18 @@ fn verdicts(dir: &Path) -> Vec<String> {
         .collect()
 }
 
+/// The regression folders `a` and `b` hold the same coverage and the same verdicts.
+fn assert_same_results(a: &Path, b: &Path) {
+    assert_eq!(read(a.join("coverage.json")), read(b.join("coverage.json")));
+    assert_eq!(verdicts(a), verdicts(b));
+}
+
+/// `pmu50 regress --resume dir` passes and leaves what the uninterrupted run `whole` left.
+fn resume_to(dir: &Path, whole: &Path) {
+    expect_code(&pmu50(&["regress", "--resume", s(dir)]), 0);
+    assert_same_results(dir, whole);
+}
+
 fn read(p: PathBuf) -> String {
     std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
@@ -41,8 +53,7 @@ fn results_do_not_depend_on_jobs() {
     let ob = pmu50(&["regress", "--start-seed", "100", "--iterations", "40", "--jobs", "3", "--out", s(&b)]);
     expect_code(&oa, 0);
     expect_code(&ob, 0);
-    assert_eq!(read(a.join("coverage.json")), read(b.join("coverage.json")));
-    assert_eq!(verdicts(&a), verdicts(&b));
+    assert_same_results(&a, &b);
     assert_eq!(verdicts(&a).len(), 40);
     // every seed ran its checks: the read-out invariant applied somewhere, coverage grew
     let checked: u64 = read(a.join("results.jsonl")).lines().map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap()["readouts_checked"].as_u64().unwrap()).sum();
@@ -70,8 +81,7 @@ fn shards_merge_into_the_one_process_run_and_missing_seeds_resume() {
     let merged = t.path().join("merged");
     let o = pmu50(&["merge", "--out", s(&merged), s(&shard(2)), s(&shard(0)), s(&shard(1))]);
     expect_code(&o, 0);
-    assert_eq!(read(merged.join("coverage.json")), read(one.join("coverage.json")));
-    assert_eq!(verdicts(&merged), verdicts(&one));
+    assert_same_results(&merged, &one);
 
     // a shard given twice is refused, and nothing is written
     let twice = t.path().join("twice");
@@ -87,11 +97,8 @@ fn shards_merge_into_the_one_process_run_and_missing_seeds_resume() {
     assert!(text(&o).contains("missing seeds: 15 (first 22)"), "{}", text(&o));
     let missing: Vec<u64> = read(part.join("missing.txt")).lines().map(|l| l.parse().unwrap()).collect();
     assert_eq!(missing, (22..37).collect::<Vec<_>>());
-    let o = pmu50(&["regress", "--resume", s(&part)]);
-    expect_code(&o, 0);
+    resume_to(&part, &one);
     assert!(!part.join("missing.txt").exists());
-    assert_eq!(read(part.join("coverage.json")), read(one.join("coverage.json")));
-    assert_eq!(verdicts(&part), verdicts(&one));
 }
 
 #[test]
@@ -110,10 +117,7 @@ fn an_interrupted_regression_resumes_to_the_same_files() {
     partial.push('\n');
     partial.push_str(&lines[13][..lines[13].len() / 2]);
     std::fs::write(cut.join("results.jsonl"), partial).unwrap();
-    let o = pmu50(&["regress", "--resume", s(&cut)]);
-    expect_code(&o, 0);
-    assert_eq!(read(cut.join("coverage.json")), read(full.join("coverage.json")));
-    assert_eq!(verdicts(&cut), verdicts(&full));
+    resume_to(&cut, &full);
 }
 
 #[test]
