@@ -52,6 +52,13 @@ fn equal(l: &Waveform, r: &Waveform, opts: &DiffOptions) -> DiffReport {
     report
 }
 
+/// [`equal`], with `n` signals compared.
+fn equal_over(l: &Waveform, r: &Waveform, opts: &DiffOptions, n: usize) -> DiffReport {
+    let report = equal(l, r, opts);
+    assert_eq!(report.signals_compared, n);
+    report
+}
+
 fn us() -> Timescale {
     Timescale::new(1, TimeUnit::Us)
 }
@@ -143,8 +150,7 @@ fn prefix_mapping_pairs_pmu50_with_tb_dut() {
         prefix_map: vec![("pmu50".into(), "tb.dut".into())],
         ..DiffOptions::default()
     };
-    let r = equal(&left, &right, &opts);
-    assert_eq!(r.signals_compared, 2);
+    let r = equal_over(&left, &right, &opts, 2);
     assert!(
         r.mapping.contains("`pmu50` <-> right `tb.dut`"),
         "{}",
@@ -180,8 +186,7 @@ fn right_text_with_cnt(cnt_at_5: &str) -> String {
 fn default_matching_falls_back_to_stripping_the_top_scope() {
     let left = ns_wave(&["pmu50", "core"], &[("!", "wire 1 a")], "#0\n0!\n#3\n1!\n");
     let right = ns_wave(&["top", "core"], &[("#", "wire 1 a")], "#0\n0#\n#3\n1#\n");
-    let r = equal(&left, &right, &DiffOptions::default());
-    assert_eq!(r.signals_compared, 1);
+    let r = equal_over(&left, &right, &DiffOptions::default(), 1);
     assert!(r.mapping.contains("top scope stripped"), "{}", r.mapping);
 }
 
@@ -238,8 +243,7 @@ fn missing_timescale_on_one_side_is_bad_input() {
 fn widths_8_and_16_are_zero_extended_and_real_vs_vector_is_a_type_mismatch() {
     let l = t_ns(&[("!", "wire 8 v [7:0]"), ("\"", "real 64 r")], "#0\nb10100101 !\nr1.5 \"\n#4\nb11111111 !\n");
     let r = t_ns(&[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")], "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000011111111 !\n");
-    let res = equal(&l, &r, &DiffOptions::default());
-    assert_eq!(res.signals_compared, 2);
+    equal_over(&l, &r, &DiffOptions::default(), 2);
     // a set upper bit on the wide side is a difference
     let r2 = t_ns(&[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")], "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000111111111 !\n");
     let res = diff(&l, &r2, &DiffOptions::default()).unwrap();
@@ -434,8 +438,7 @@ fn bit_selects_merge_into_one_vector_and_repeated_paths_use_gtkwave_names() {
     // wellen merges `b [0]` + `b [1]` into `b[1:0]`, whatever the declaration order
     let l = t_ns(&[("!", "wire 1 b [0]"), ("\"", "wire 1 b [1]")], "#0\n0!\n1\"\n");
     let r = t_ns(&[("\"", "wire 1 b [1]"), ("!", "wire 1 b [0]")], "#0\n0!\n1\"\n");
-    let res = equal(&l, &r, &DiffOptions::default());
-    assert_eq!(res.signals_compared, 1);
+    equal_over(&l, &r, &DiffOptions::default(), 1);
     // a path declared twice (scalar `a` and vector `a [3:0]`) is keyed by GTKWave name
     let decls = [("!", "wire 1 a"), ("\"", "wire 4 a [3:0]")];
     let l = t_ns(&decls, "#0\n0!\nb0101 \"\n");
