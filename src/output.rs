@@ -166,36 +166,33 @@ pub fn parked_ticks(sc: &Scenario, a: u64, z: u64) -> u64 {
     let after_off = u64::from(p.sync_depth) + 2 + u64::from(p.pw) + u64::from(p.pi) + u64::from(p.ps) + settle;
     // Active intervals [from, to) in ticks.
     let mut active: Vec<(u64, u64)> = Vec::new();
-    let (mut ig, mut ig_since) = (false, 0u64);
-    let (mut fault, mut fault_since) = (false, 0u64);
     // Before the first event the key is off since power-on; the reset itself is a key-off edge.
     active.push((0, after_off));
+    // (on, since) of the key and of the Vs2 fault: a stretch of either is active from its start
+    // to `after_off` past its end.
+    let (mut ig, mut fault) = ((false, 0u64), (false, 0u64));
+    let mut switch = |state: &mut (bool, u64), on: bool, tick: u64| {
+        if on == state.0 {
+            return;
+        }
+        if on {
+            state.1 = tick;
+        } else {
+            active.push((state.1, tick.saturating_add(after_off)));
+        }
+        state.0 = on;
+    };
     for e in &sc.events {
         match e.action {
-            Action::Ig(on) if on != ig => {
-                if on {
-                    ig_since = e.tick;
-                } else {
-                    active.push((ig_since, e.tick.saturating_add(after_off)));
-                }
-                ig = on;
-            }
-            Action::Vs2Fault(on) if on != fault => {
-                if on {
-                    fault_since = e.tick;
-                } else {
-                    active.push((fault_since, e.tick.saturating_add(after_off)));
-                }
-                fault = on;
-            }
+            Action::Ig(on) => switch(&mut ig, on, e.tick),
+            Action::Vs2Fault(on) => switch(&mut fault, on, e.tick),
             _ => {}
         }
     }
-    if ig {
-        active.push((ig_since, u64::MAX));
-    }
-    if fault {
-        active.push((fault_since, u64::MAX));
+    for (on, since) in [ig, fault] {
+        if on {
+            active.push((since, u64::MAX));
+        }
     }
     let mut t_ns = 0u64;
     for seg in sc.motor.segments() {

@@ -5,56 +5,13 @@
 use pmu50_core::Params;
 use std::fmt::Write;
 
-/// SplitMix64: tiny, deterministic, good enough to spread test stimuli.
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Rng {
-        Rng(seed ^ 0x9E37_79B9_7F4A_7C15)
-    }
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [lo, hi] (inclusive).
-    pub fn range(&mut self, lo: u64, hi: u64) -> u64 {
-        lo + self.next_u64() % (hi - lo + 1)
-    }
-    pub fn chance(&mut self, percent: u64) -> bool {
-        self.range(0, 99) < percent
-    }
-}
+/// The seeded generator of every random stimulus (see [`pmu50_core::rng`]).
+pub use pmu50_core::rng::SplitMix64 as Rng;
+use pmu50_core::rng::ParamRanges;
 
 /// Legal random parameters (ticks), clock 10 us.
 pub fn random_params(r: &mut Rng) -> Params {
-    loop {
-        let pw = r.range(0, 8) as u16;
-        let pi = r.range(0, 15) as u16;
-        let ps = r.range(1, 8) as u16;
-        let wt = pw + pi + ps;
-        let si_min = r.range(u64::from(wt) + 1, u64::from(wt) + 300) as u16;
-        let si_max = r.range(u64::from(si_min), u64::from(si_min) + 700) as u16;
-        let p = Params {
-            sync_depth: r.range(1, 4) as u8,
-            cnt_width: if r.chance(30) { r.range(2, 8) as u8 } else { 16 },
-            adaptive: r.chance(85),
-            pw,
-            pi,
-            ps,
-            si_max,
-            si_min,
-            t1: r.range(1, 300) as u16,
-            t2: r.range(1, 200) as u16,
-            cth: r.range(1, 8) as u8,
-            smp_on: r.range(2, 30) as u16,
-        };
-        if p.validate().is_ok() {
-            return p;
-        }
-    }
+    r.legal_params(&ParamRanges { pw: 8, pi: 15, ps: 8, si_min_over_wt: 300, si_max_over_min: 700, narrow_cnt: (30, 100), narrow_cnt_max: 8, adaptive: (85, 100), t1: 300, t2: 200, cth: 8, smp_on: 30 })
 }
 
 /// A random scenario as TOML text (clock 10 us, 0.2 to 0.8 s of simulated time).
@@ -87,10 +44,10 @@ pub fn random_scenario(seed: u64) -> String {
     let mut t = 0u64;
     while t < ticks {
         let d = r.range(100, 8_000);
-        if r.chance(40) {
+        if r.percent(40) {
             let _ = writeln!(s, "  {{ kind = \"hold\", duration = {} }},", us(d));
         } else {
-            let fast = r.chance(10);
+            let fast = r.percent(10);
             let max_deg_per_tick = if fast { 0.6 } else { 0.05 };
             let deg = (r.range(0, 2000) as f64 / 1000.0 - 1.0) * max_deg_per_tick * d as f64;
             let _ = writeln!(s, "  {{ kind = \"move\", duration = {}, delta_deg = {:.3} }},", us(d), deg);
@@ -101,7 +58,7 @@ pub fn random_scenario(seed: u64) -> String {
 
     // Timeline: ignition toggles, faults, register writes while on.
     let mut at = 0u64;
-    let mut ig = r.chance(50);
+    let mut ig = r.percent(50);
     let _ = writeln!(s, "[[events]]\nat = \"0 us\"\nig = {ig}\n");
     let writable = ["T1", "T2", "CTH", "SMP_ON", "PW", "PI", "PS", "SI_MIN", "SI_MAX", "CTRL", "STATUS"];
     loop {
@@ -115,7 +72,7 @@ pub fn random_scenario(seed: u64) -> String {
                 let _ = writeln!(s, "[[events]]\nat = {}\nig = {ig}\n", us(at));
             }
             5 => {
-                let _ = writeln!(s, "[[events]]\nat = {}\nvs2_fault = {}\n", us(at), r.chance(50));
+                let _ = writeln!(s, "[[events]]\nat = {}\nvs2_fault = {}\n", us(at), r.percent(50));
             }
             _ if ig => {
                 let reg = writable[r.range(0, writable.len() as u64 - 1) as usize];

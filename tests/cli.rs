@@ -2,21 +2,8 @@
 //! input), the summary, the change log, vectors, random scenarios and the waveform diff.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn pmu50(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pmu50")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
-}
-
-fn text(o: &Output) -> String {
-    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
-}
-
-fn tmp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pmu50-cli-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+mod common;
+use common::{expect_code, pmu50, text, tmp, write};
 
 #[test]
 fn run_prints_the_summary_and_writes_vcd_gtkw_log() {
@@ -39,25 +26,21 @@ fn run_prints_the_summary_and_writes_vcd_gtkw_log() {
     let time_us: f64 = f[1].parse().unwrap();
     assert_eq!(tick * 10, time_us as u64, "time = tick * 10 us");
     assert!(!log.contains("timing_generator.tmr"), "the free-running timer is not logged");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
 fn failing_check_exits_1() {
     let d = tmp("fail");
-    let sc = d.join("wrong.toml");
-    std::fs::write(&sc, "duration = \"30 ms\"\n[expect]\nsi_sequence_ms = [2.2]\n").unwrap();
+    let sc = write(&d, "wrong.toml", "duration = \"30 ms\"\n[expect]\nsi_sequence_ms = [2.2]\n");
     let o = pmu50(&["run", sc.to_str().unwrap(), "--out-dir", d.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    expect_code(&o, 1);
     assert!(text(&o).contains("check si_sequence_ms       FAIL"));
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
 fn bad_input_exits_2_with_file_line_field() {
     let d = tmp("bad");
-    let sc = d.join("bad.toml");
-    std::fs::write(&sc, "duration = \"30 ms\"\n[core]\nt2 = \"1.105 ms\"\n").unwrap();
+    let sc = write(&d, "bad.toml", "duration = \"30 ms\"\n[core]\nt2 = \"1.105 ms\"\n");
     let (sc, dir) = (sc.to_str().unwrap(), d.to_str().unwrap());
     for args in [vec!["run", sc, "--out-dir", dir], vec!["check", sc]] {
         let o = pmu50(&args);
@@ -68,7 +51,6 @@ fn bad_input_exits_2_with_file_line_field() {
     assert_eq!(o.status.code(), Some(2));
     assert_eq!(pmu50(&["run"]).status.code(), Some(2));
     assert_eq!(pmu50(&["check", "no/such.toml"]).status.code(), Some(2));
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -86,7 +68,7 @@ fn vectors_have_the_documented_header_and_one_line_per_tick() {
     let d = tmp("vec");
     let f = d.join("fig15a.vec");
     let o = pmu50(&["vectors", "scenarios/fig15a.toml", "-o", f.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    expect_code(&o, 0);
     let v = std::fs::read_to_string(&f).unwrap();
     assert!(v.starts_with("// pmu50 vectors v1\n// scenario fig15a\n// clock_ns 10000\n"));
     assert!(v.contains("// param SI_MAX 660\n") && v.contains("// fields 30\n"));
@@ -96,7 +78,6 @@ fn vectors_have_the_documented_header_and_one_line_per_tick() {
     // Line 0: inputs of edge 1 (key off, Vs2 on at reset) and the outputs after it.
     let f0: Vec<&str> = data[0].split(' ').collect();
     assert_eq!(&f0[..2], ["0", "1"], "ig = 0, vs2_ok = 1 during the first window");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -108,7 +89,6 @@ fn random_is_deterministic_and_loadable() {
     }
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
     assert_eq!(pmu50(&["check", a.to_str().unwrap()]).status.code(), Some(0));
-    std::fs::remove_dir_all(&d).ok();
 }
 
 fn run_vcd(d: &Path, sc: &Path) -> PathBuf {
@@ -125,13 +105,12 @@ fn diff_equal_differ_and_bad_input() {
     let va = run_vcd(&a, &fig);
     let vb = run_vcd(&b, &fig);
     let o = pmu50(&["diff", va.to_str().unwrap(), vb.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    expect_code(&o, 0);
     // Same scenario with T1 = 1.1 ms: the interval differs after the first change.
     let src = std::fs::read_to_string(&fig).unwrap().replace("[motor]", "[core]\nt1 = \"1.1 ms\"\n\n[motor]").replace("si_sequence_ms = [6.6, 4.4, 2.2]", "");
     let c = d.join("c");
     std::fs::create_dir_all(&c).unwrap();
-    let fc = c.join("fig15a.toml");
-    std::fs::write(&fc, src).unwrap();
+    let fc = write(&c, "fig15a.toml", src);
     let vc = run_vcd(&c, &fc);
     let o = pmu50(&["diff", va.to_str().unwrap(), vc.to_str().unwrap(), "--max", "3"]);
     let t = text(&o);
@@ -143,7 +122,6 @@ fn diff_equal_differ_and_bad_input() {
     assert!(t.contains("26620") && t.contains("pmu50.drive_interval.si"), "si first differs at the first shortening, 26.62 ms: {t}");
     assert_eq!(pmu50(&["diff", va.to_str().unwrap(), "missing.vcd"]).status.code(), Some(2));
     assert_eq!(pmu50(&["diff", va.to_str().unwrap(), vb.to_str().unwrap(), "--map", "nonsense"]).status.code(), Some(2));
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -164,5 +142,4 @@ fn key_on_polling_exercises_the_registered_read_path() {
     assert!(seen[&0x06].iter().all(|&r| r == 660), "SI_MAX");
     assert!(seen[&0x02].iter().all(|&r| r == 0), "CTRL: adaptive off");
     assert!(seen.contains_key(&0x10) && seen.contains_key(&0x14), "counts and STATUS are polled");
-    std::fs::remove_dir_all(&d).ok();
 }

@@ -3,24 +3,15 @@
 //! (Interruptions and disk full: tests/interrupt.rs.)
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 
 mod common;
-use common::{pmu50, s, text, tmp, BIN};
+use common::{expect, expect_code, pmu50, s, text, tmp, write, BIN, KEY_ON_FAST};
 
 fn names(d: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     v.sort();
     v
-}
-
-fn expect(o: &Output, code: i32, want: &[&str]) {
-    let t = text(o);
-    assert_eq!(o.status.code(), Some(code), "{t}");
-    for w in want {
-        assert!(t.contains(w), "output lacks `{w}`:\n{t}");
-    }
-    assert!(!t.contains("panicked"), "{t}");
 }
 
 const SHORT: &str = "duration = \"5 ms\"\n";
@@ -30,15 +21,13 @@ const SHORT: &str = "duration = \"5 ms\"\n";
 #[test]
 fn a_symlink_at_the_output_path_is_replaced_not_followed() {
     let d = tmp("link");
-    let precious = d.join("precious.txt");
-    std::fs::write(&precious, "not a waveform").unwrap();
+    let precious = write(&d, "precious.txt", "not a waveform");
     let out = d.join("out");
     std::fs::create_dir_all(&out).unwrap();
     for ext in ["vcd", "gtkw", "log"] {
         std::os::unix::fs::symlink(&precious, out.join(format!("v.{ext}"))).unwrap();
     }
-    let sc = d.join("v.toml");
-    std::fs::write(&sc, SHORT).unwrap();
+    let sc = write(&d, "v.toml", SHORT);
     expect(&pmu50(&["run", s(&sc), "--log", "--out-dir", s(&out)]), 0, &["wrote"]);
     assert_eq!(std::fs::read_to_string(&precious).unwrap(), "not a waveform");
     for ext in ["vcd", "gtkw", "log"] {
@@ -46,7 +35,6 @@ fn a_symlink_at_the_output_path_is_replaced_not_followed() {
         assert!(m.file_type().is_file(), "v.{ext} is a regular file now");
     }
     assert_eq!(names(&out), ["v.gtkw", "v.log", "v.vcd"], "no temporary file left");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -59,7 +47,6 @@ fn two_scenarios_writing_the_same_file_exit_2_before_simulating() {
     let o = pmu50(&["run", s(&a), s(&b), "--out-dir", s(&out)]);
     expect(&o, 2, &["twin.vcd would be written by two scenarios", "a.toml", "b.toml", "nothing was run"]);
     assert!(!out.exists() || names(&out).is_empty(), "nothing was simulated or written");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -76,14 +63,12 @@ fn bad_files_are_all_reported_the_good_ones_run_and_the_worst_code_wins() {
     assert_eq!(names(&out), ["a.gtkw", "a.vcd", "c.gtkw", "c.vcd"]);
     // Without the bad files the worst is the failed check: 1.
     expect(&pmu50(&["run", s(&a), s(&c), "--out-dir", s(&out)]), 1, &["== a:", "== c:"]);
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
 fn a_stale_log_is_removed_when_the_new_run_writes_none() {
     let d = tmp("stale");
-    let sc = d.join("v.toml");
-    std::fs::write(&sc, SHORT).unwrap();
+    let sc = write(&d, "v.toml", SHORT);
     let out = d.join("out");
     expect(&pmu50(&["run", s(&sc), "--log", "--out-dir", s(&out)]), 0, &["v.log"]);
     assert_eq!(names(&out), ["v.gtkw", "v.log", "v.vcd"]);
@@ -93,7 +78,6 @@ fn a_stale_log_is_removed_when_the_new_run_writes_none() {
     std::fs::write(out.join("v.log"), "my notes\n").unwrap();
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&out)]), 0, &["wrote"]);
     assert_eq!(std::fs::read_to_string(out.join("v.log")).unwrap(), "my notes\n");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -113,7 +97,8 @@ fn closed_or_full_streams_exit_2_without_panic_text() {
     let o = Command::new(BIN).args(["run", "--bogus"]).output().unwrap();
     expect(&o, 2, &["unexpected argument '--bogus'"]);
     // stdout a closed pipe: the reader went away before the summary
-    let mut child = Command::new(BIN).args(["run", "scenarios/fig15a.toml", "--out-dir", s(&tmp("pipe"))]).current_dir(env!("CARGO_MANIFEST_DIR")).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let d = tmp("pipe");
+    let mut child = Command::new(BIN).args(["run", "scenarios/fig15a.toml", "--out-dir", s(&d)]).current_dir(env!("CARGO_MANIFEST_DIR")).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
     drop(child.stdout.take());
     let o = child.wait_with_output().unwrap();
     expect(&o, 2, &[]);
@@ -143,21 +128,18 @@ fn refused_writes_are_reported_with_file_line_and_reason_and_exit_1() {
     assert!(!text(&o).contains("w.toml:13"), "the legal T1 write is not reported:\n{}", text(&o));
     // `check` validates statically; it cannot know the chip's state, and says the file is ok.
     expect(&pmu50(&["check", s(&sc)]), 0, &["ok"]);
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
 fn the_model_refuses_exactly_the_writes_reported() {
     // Cross-check with the waveform: bus_err rises right after the first refused write.
     let d = tmp("buserr");
-    let sc = d.join("w.toml");
-    std::fs::write(&sc, "duration = \"2 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"1 ms\"\nwrite = { reg = \"CTH\", value = 0 }\n").unwrap();
+    let sc = write(&d, "w.toml", "duration = \"2 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"1 ms\"\nwrite = { reg = \"CTH\", value = 0 }\n");
     let o = pmu50(&["run", s(&sc), "--log", "--out-dir", s(&d)]);
     expect(&o, 1, &["w.toml:7: write CTH = 0 at 1.000 ms refused", "core.cth = 0 is out of range"]);
     let log = std::fs::read_to_string(d.join("w.log")).unwrap();
     let line = log.lines().find(|l| l.contains("register_file.bus_err")).expect("bus_err changes in the log");
     assert!(line.trim_start().starts_with("101 "), "bus_err rises at edge 101 (write at tick 100): {line}");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -165,18 +147,15 @@ fn a_window_outside_the_run_exits_2() {
     let d = tmp("window");
     let o = pmu50(&["run", "scenarios/fig15a.toml", "--window", "40 ms", "50 ms", "--out-dir", s(&d)]);
     expect(&o, 2, &["--window 40 ms 50 ms is outside the run of scenarios/fig15a.toml (0 to 48 ms)"]);
-    let sc = d.join("w.toml");
-    std::fs::write(&sc, "duration = \"10 ms\"\n[vcd]\nwindow = [\"12 ms\", \"20 ms\"]\n").unwrap();
+    let sc = write(&d, "w.toml", "duration = \"10 ms\"\n[vcd]\nwindow = [\"12 ms\", \"20 ms\"]\n");
     expect(&pmu50(&["check", s(&sc)]), 2, &["w.toml:3: `vcd.window[1]`", "after the end of the run (duration = 10 ms)"]);
     assert_eq!(names(&d), ["w.toml"], "nothing written");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
 fn a_vcd_over_the_limit_is_refused_unless_windowed_or_allowed() {
     let d = tmp("big");
-    let sc = d.join("long.toml");
-    std::fs::write(&sc, "duration = \"1000 s\"\n").unwrap();
+    let sc = write(&d, "long.toml", "duration = \"1000 s\"\n");
     let o = pmu50(&["run", s(&sc), "--out-dir", s(&d)]);
     expect(&o, 2, &["long.toml: the VCD at trace = ports would be about 2.5 GB (100000000 dumped ticks), above the limit of 2.0 GB", "--window", "--max-vcd-bytes"]);
     let o = pmu50(&["run", s(&sc), "--out-dir", s(&d), "--max-vcd-bytes", "1000000000"]);
@@ -185,15 +164,13 @@ fn a_vcd_over_the_limit_is_refused_unless_windowed_or_allowed() {
     std::fs::write(&sc, "duration = \"50 ms\"\n").unwrap();
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--max-vcd-bytes", "100000"]), 2, &["about 428 kB (5000 dumped ticks)"]);
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--max-vcd-bytes", "100000", "--window", "0 ms", "0.5 ms"]), 0, &["wrote"]);
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
 fn vcd_size_estimate_is_an_upper_bound() {
     // The estimate (160 bytes per tick) against real runs: key off (shipped) and key on all the time.
     let d = tmp("est");
-    let on = d.join("on.toml");
-    std::fs::write(&on, "duration = \"50 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"50 ms\", delta_deg = 2000.0 } ]\n[[events]]\nat = \"0 ms\"\nig = true\n").unwrap();
+    let on = write(&d, "on.toml", KEY_ON_FAST);
     let fig = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/too_fast.toml");
     for (sc, name, ticks) in [(on.as_path(), "on", 5_000u64), (fig.as_path(), "too_fast", 20_000)] {
         expect(&pmu50(&["run", s(sc), "--out-dir", s(&d)]), 0, &[]);
@@ -201,7 +178,6 @@ fn vcd_size_estimate_is_an_upper_bound() {
         let est = pmu50::output::estimate_vcd_bytes(ticks);
         assert!(size <= est && est <= 4 * size, "{name}: {size} bytes, estimate {est}");
     }
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -225,10 +201,8 @@ fn list_never_blocks_on_a_fifo_and_check_refuses_non_regular_and_huge_files() {
     expect(&o, 0, &["pipe.toml: is a FIFO (named pipe), not a regular file", "dir.toml: is a folder", "ok "]);
     expect(&pmu50(&["check", s(&fifo)]), 2, &["pipe.toml: is a FIFO (named pipe), not a regular file; a scenario is a TOML file"]);
     expect(&pmu50(&["check", "/dev/null"]), 2, &["/dev/null: is a device, not a regular file"]);
-    let huge = d.join("huge.toml");
-    std::fs::write(&huge, format!("{SHORT}{}", "# padding\n".repeat(120_000))).unwrap();
+    let huge = write(&d, "huge.toml", format!("{SHORT}{}", "# padding\n".repeat(120_000)));
     expect(&pmu50(&["check", s(&huge)]), 2, &["huge.toml: 1200018 bytes is larger than a scenario can be (1048576 bytes at most)"]);
-    std::fs::remove_dir_all(&d).ok();
 }
 
 // ------------------------------------------------------------------ section 5 ----
@@ -252,7 +226,6 @@ fn the_save_file_opens_on_the_whole_run_with_named_markers() {
     assert_eq!(names, ["Arotation cs, si 4.4 ms", "Brotation cc, si 2.2 ms", "Csi 3.3 ms", "Dsi 4.4 ms", "Esi 5.5 ms", "Fsi 6.6 ms"]);
     assert_eq!(&f[2..4], ["26620", "39820"], "the FIG. 15A edges of the README walk-through");
     assert!(f[8..].iter().all(|m| *m == "-1"));
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -263,18 +236,15 @@ fn a_windowed_save_file_opens_on_the_window_with_its_markers_only() {
     assert!(g.contains("[timestart] 30000\n"), "{g}");
     let names: Vec<&str> = g.lines().filter_map(|l| l.strip_prefix("[markername] ")).collect();
     assert_eq!(names, ["Arotation cc, si 2.2 ms"], "{g}");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
 fn vectors_and_random_outputs_are_atomic_too() {
     let d = tmp("vecatomic");
-    let vec = d.join("f.vec");
-    std::fs::write(&vec, "previous vectors\n").unwrap();
+    let vec = write(&d, "f.vec", "previous vectors\n");
     // The VCD folder is a file: the run fails after the vectors were written to their temporary
     // file; the previous vector file stays and no temporary file is left.
-    let blocker = d.join("not_a_dir");
-    std::fs::write(&blocker, "x").unwrap();
+    let blocker = write(&d, "not_a_dir", "x");
     let o = pmu50(&["vectors", "scenarios/fig15a.toml", "-o", s(&vec), "--vcd-dir", s(&blocker)]);
     expect(&o, 2, &["not_a_dir: cannot create the output folder"]);
     assert_eq!(std::fs::read_to_string(&vec).unwrap(), "previous vectors\n");
@@ -284,8 +254,7 @@ fn vectors_and_random_outputs_are_atomic_too() {
     expect(&o, 2, &["fig15a.vcd is also the model's", "written into --vcd-dir"]);
     assert_eq!(names(&d), ["f.vec", "not_a_dir"]);
     // A symlink at the output of `random` is replaced, its target untouched.
-    let target = d.join("target.txt");
-    std::fs::write(&target, "keep").unwrap();
+    let target = write(&d, "target.txt", "keep");
     let link = d.join("r.toml");
     std::os::unix::fs::symlink(&target, &link).unwrap();
     expect(&pmu50(&["random", "--seed", "3", "-o", s(&link)]), 0, &[]);
@@ -293,7 +262,6 @@ fn vectors_and_random_outputs_are_atomic_too() {
     assert!(std::fs::read_to_string(&link).unwrap().contains("random_3"));
     // An output folder that does not exist is an error naming it, exit 2.
     expect(&pmu50(&["random", "--seed", "3", "-o", s(&d.join("no/such/r.toml"))]), 2, &["no/such/r.toml: cannot create a temporary file beside it"]);
-    std::fs::remove_dir_all(&d).ok();
 }
 
 // ------------------------------------------- device nodes, FIFOs, `-o -`, own input ----
@@ -337,7 +305,6 @@ fn device_nodes_fifos_and_links_to_them_are_never_replaced() {
         assert_eq!(kind(node), before, "{} was replaced", node.display());
     }
     assert_eq!(names(&d).len(), nodes.len(), "no temporary file left: {:?}", names(&d));
-    std::fs::remove_dir_all(&d).ok();
 }
 
 /// `-o -` is standard output: the same bytes as the file, streamed, and the vectors' "wrote"
@@ -348,7 +315,7 @@ fn dash_is_standard_output() {
     let f = d.join("r.toml");
     expect(&pmu50(&["random", "--seed", "3", "-o", s(&f)]), 0, &[]);
     let o = pmu50(&["random", "--seed", "3", "-o", "-"]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    expect_code(&o, 0);
     assert_eq!(o.stdout, std::fs::read(&f).unwrap());
     let v = d.join("v.txt");
     expect(&pmu50(&["vectors", "scenarios/fig15a.toml", "-o", s(&v)]), 0, &["wrote"]);
@@ -357,15 +324,13 @@ fn dash_is_standard_output() {
     assert_eq!(o.stdout, std::fs::read(&v).unwrap(), "stdout holds exactly the vector file");
     assert!(String::from_utf8_lossy(&o.stderr).contains("wrote the vectors to standard output (4800 ticks)"));
     assert!(!d.join("-").exists() && !std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("-").exists());
-    std::fs::remove_dir_all(&d).ok();
 }
 
 /// `vectors x.toml -o x.toml` (or through a link) is refused and the scenario is kept.
 #[test]
 fn vectors_never_overwrite_their_own_scenario() {
     let d = tmp("self");
-    let x = d.join("x.toml");
-    std::fs::write(&x, SHORT).unwrap();
+    let x = write(&d, "x.toml", SHORT);
     let link = d.join("y.toml");
     std::os::unix::fs::symlink(&x, &link).unwrap();
     for out in [&x, &link] {
@@ -373,7 +338,6 @@ fn vectors_never_overwrite_their_own_scenario() {
         assert_eq!(std::fs::read_to_string(&x).unwrap(), SHORT);
     }
     assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
-    std::fs::remove_dir_all(&d).ok();
 }
 
 /// `diff --allow-unmatched` of two files with no signal in common compares nothing: exit 2 with
@@ -392,7 +356,6 @@ fn allow_unmatched_with_nothing_in_common_is_an_error() {
     expect(&pmu50(&["diff", s(&a), s(&b)]), 1, &["DIFFER"]);
     std::fs::write(&b, vcd("alpha").replace("$upscope", "$var wire 1 \" beta $end\n$upscope")).unwrap();
     expect(&pmu50(&["diff", s(&a), s(&b), "--allow-unmatched"]), 0, &["EQUAL", "signals compared: 1"]);
-    std::fs::remove_dir_all(&d).ok();
 }
 
 // ------------------------------------------------------------------ bounded work ----
@@ -405,16 +368,13 @@ fn allow_unmatched_with_nothing_in_common_is_an_error() {
 #[test]
 fn unbounded_work_is_refused_before_it_starts() {
     let d = tmp("bounds");
-    let long_on = d.join("long_on.toml");
-    std::fs::write(&long_on, "duration = \"100000 d\"\n[[events]]\nat = \"1 ms\"\nig = true\n").unwrap();
+    let long_on = write(&d, "long_on.toml", "duration = \"100000 d\"\n[[events]]\nat = \"1 ms\"\nig = true\n");
     let o = pmu50(&["run", s(&long_on), "--trace", "none"]);
     expect(&o, 2, &["long_on.toml: the simulation of its key-on ticks would be about 863999999999950 ticks", "above the limit of 1000000000 ticks", "--max-ticks"]);
-    let hour = d.join("hour.toml");
-    std::fs::write(&hour, "duration = \"2 h\"\n[[events]]\nat = \"1 ms\"\nig = true\n[[events]]\nat = \"1 h\"\nig = false\n").unwrap();
+    let hour = write(&d, "hour.toml", "duration = \"2 h\"\n[[events]]\nat = \"1 ms\"\nig = true\n[[events]]\nat = \"1 h\"\nig = false\n");
     expect(&pmu50(&["budget", s(&hour), "--out-dir", s(&d)]), 2, &["hour.toml: 3 simulations of its key-on ticks", "--max-ticks"]);
     // the limit is the option's: a short key-on run above a small limit, below a large one
-    let short_on = d.join("short_on.toml");
-    std::fs::write(&short_on, "duration = \"10 ms\"\n[[events]]\nat = \"1 ms\"\nig = true\n").unwrap();
+    let short_on = write(&d, "short_on.toml", "duration = \"10 ms\"\n[[events]]\nat = \"1 ms\"\nig = true\n");
     expect(&pmu50(&["run", s(&short_on), "--trace", "none", "--max-ticks", "100"]), 2, &["above the limit of 100 ticks"]);
     expect(&pmu50(&["run", s(&short_on), "--trace", "none", "--max-ticks", "1000"]), 0, &["trace = none"]);
     // parked: 259 200 000 000 ticks, a few hundred thousand evaluated
@@ -431,5 +391,4 @@ fn unbounded_work_is_refused_before_it_starts() {
         assert!(t.elapsed().as_secs() < 10, "{args:?} took {:?}", t.elapsed());
     }
     expect(&pmu50(&["speed-limit", "--step", "1", "--from", "1000", "--to", "2000", "--max-points", "5000", "--out-dir", s(&d)]), 2, &["--max-ticks", "each point runs 90 deg / step"]);
-    std::fs::remove_dir_all(&d).ok();
 }

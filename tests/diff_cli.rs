@@ -8,6 +8,9 @@ use std::time::{Duration, Instant};
 
 use pmu50_waves::fuzzing::{MALFORMED, VALID_SAMPLE};
 
+mod common;
+use common::{exited, tmp, write};
+
 /// Runs `pmu50 args`, killing it after 20 s (a FIFO must never block it).
 fn pmu50(args: &[&Path]) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_pmu50"))
@@ -36,18 +39,6 @@ fn pmu50_args(args: &[&str]) -> Output {
     pmu50(&refs)
 }
 
-fn tmp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pmu50-diff-cli-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, bytes).unwrap();
-    p
-}
-
 /// Exit 2, nothing on stdout, exactly one line on stderr containing `want`, no panic text.
 fn bad_input(o: &Output, want: &str) {
     let out = String::from_utf8_lossy(&o.stdout);
@@ -71,7 +62,6 @@ fn every_malformed_shape_exits_2_with_file_and_line_and_no_panic_text() {
         let o = pmu50(&[&good, &bad]);
         bad_input(&o, &format!("cannot read right waveform: {}:{}: ", bad.display(), m.line));
     }
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
@@ -83,7 +73,6 @@ fn width_4294967295_is_refused_before_allocating() {
     let o = pmu50(&[&f, &f]);
     bad_input(&o, &format!("{}:3: malformed VCD: variable `a` is declared with 4294967295 bits; the limit is 65536 bits", f.display()));
     assert!(t.elapsed() < Duration::from_secs(10));
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
@@ -92,10 +81,8 @@ fn rnan_against_itself_is_equal_exit_0() {
     let v = b"$timescale 1 ns $end\n$scope module t $end\n$var real 64 ! v $end\n$upscope $end\n$enddefinitions $end\n#0\nrnan !\n#5\nr1 !\n#9\nrnan !\n";
     let f = write(&d, "nan.vcd", v);
     let o = pmu50(&[&f, &f]);
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(o.status.code(), Some(0), "{out}");
+    let out = exited(&o, 0);
     assert!(out.starts_with("waveform diff: EQUAL"), "{out}");
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
@@ -106,7 +93,6 @@ fn time_going_backwards_exits_2_not_equal() {
     let plain = write(&d, "plain.vcd", head.as_bytes());
     let o = pmu50(&[&back, &plain]);
     bad_input(&o, &format!("{}:10: malformed VCD: time goes backwards: #5 after #10 (line 8)", back.display()));
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
@@ -115,11 +101,10 @@ fn fifo_directory_and_device_exit_2_without_blocking() {
     let good = write(&d, "good.vcd", VALID_SAMPLE);
     let fifo = d.join("fifo.vcd");
     assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
-    for (p, kind) in [(fifo.as_path(), "FIFO"), (d.as_path(), "directory"), (Path::new("/dev/zero"), "character device")] {
+    for (p, kind) in [(fifo.as_path(), "FIFO"), (&*d, "directory"), (Path::new("/dev/zero"), "character device")] {
         bad_input(&pmu50(&[p, &good]), &format!("cannot read left waveform: {} is a {kind}, not a regular file", p.display()));
         bad_input(&pmu50(&[&good, p]), &format!("cannot read right waveform: {} is a {kind}, not a regular file", p.display()));
     }
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
@@ -133,7 +118,6 @@ fn files_over_max_bytes_exit_2_and_the_limit_is_an_option() {
     bad_input(&o, &format!("{fs} is {n} bytes, more than the limit of {} bytes; raise the limit (`pmu50 diff --max-bytes N`)", n - 1));
     let exact = n.to_string();
     assert_eq!(pmu50_args(&[fs, fs, "--max-bytes", &exact]).status.code(), Some(0));
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
@@ -152,8 +136,6 @@ fn equal_is_0_and_differ_is_1() {
     let b = write(&d, "b.vcd", &changed);
     assert_eq!(pmu50(&[&a, &a]).status.code(), Some(0));
     let o = pmu50(&[&a, &b]);
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(o.status.code(), Some(1), "{out}");
+    let out = exited(&o, 1);
     assert!(out.contains("t=1 (x 10 ns)  top.cnt[7:0]: left=00000101 right=00000100"), "{out}");
-    std::fs::remove_dir_all(&d).unwrap();
 }

@@ -4,8 +4,11 @@
 //! panic text. With `--window A B` the FST and the VCD of the same run are EQUAL too (the FST
 //! starts at the window start), and a different window is not.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
+
+mod common;
+use common::{exited, tmp};
 
 fn pmu50(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_pmu50"))
@@ -14,13 +17,6 @@ fn pmu50(args: &[&str]) -> Output {
         .stdin(Stdio::null())
         .output()
         .unwrap()
-}
-
-fn tmp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pmu50-fst-cli-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }
 
 fn scenario(name: &str) -> String {
@@ -64,15 +60,13 @@ fn fst_run_equals_vcd_run_and_gtkw_points_at_it() {
     let vcd = v.join("fig15b.vcd").display().to_string();
     let fst = fst.display().to_string();
     let o = pmu50(&["diff", &vcd, &fst]);
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(o.status.code(), Some(0), "{out}{}", String::from_utf8_lossy(&o.stderr));
+    let out = exited(&o, 0);
     assert!(out.contains("EQUAL") && out.contains("value mismatches: 0"), "{out}");
     // and a different scenario's FST is not equal: the comparison can fail
     run("fig15a", &f, Some("fst"));
     let other = f.join("fig15a.fst").display().to_string();
     let o = pmu50(&["diff", &vcd, &other]);
     assert_eq!(o.status.code(), Some(1), "{}", String::from_utf8_lossy(&o.stdout));
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 /// Regression: the windowed FST had its window-start values at time 0 (and the window start in
@@ -88,18 +82,15 @@ fn windowed_fst_run_equals_windowed_vcd_run() {
     let fst = f.join("fig15a.fst").display().to_string();
     for (l, r) in [(&vcd, &fst), (&fst, &vcd)] {
         let o = pmu50(&["diff", l, r]);
-        let out = String::from_utf8_lossy(&o.stdout);
-        assert_eq!(o.status.code(), Some(0), "{out}{}", String::from_utf8_lossy(&o.stderr));
+        let out = exited(&o, 0);
         assert!(out.contains("EQUAL") && out.contains("value mismatches: 0"), "{out}");
     }
     fst2vcd_reads_it_clean(&f.join("fig15a.fst"));
     fst2vcd_reads_it_clean(&g.join("fig15a.fst"));
     let later = g.join("fig15a.fst").display().to_string();
     let o = pmu50(&["diff", &vcd, &later]);
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(o.status.code(), Some(1), "{out}");
+    let out = exited(&o, 1);
     assert!(out.contains("(first at 10000 us)"), "{out}");
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
@@ -121,7 +112,6 @@ fn damaged_fst_exits_2_with_one_line() {
         assert!(err.contains("bad") && err.contains("FST"), "cut {cut}: {err}");
         assert!(!err.contains("panick") && !err.contains("backtrace") && !err.contains("RUST_BACKTRACE"), "cut {cut}: {err}");
     }
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 /// GTKWave's `fst2vcd` of `fst`, when it is installed (Debian package gtkwave, `make deps`).
@@ -163,7 +153,6 @@ fn every_window_writes_an_fst_every_reader_reads() {
         }
         fst2vcd_reads_it_clean(&fst);
     }
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 /// Damaged FSTs of every shape the FST checks refuse (fuzz/regressions/fst_read: a hierarchy
@@ -197,7 +186,6 @@ fn hostile_fsts_exit_2_with_one_line() {
 fn an_fst_of_gtkwaves_writer_reads() {
     let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/seeds/fst_read/icarus-gzip-hierarchy-last.fst").display().to_string();
     let o = pmu50(&["diff", &f, &f]);
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(o.status.code(), Some(0), "{out}{}", String::from_utf8_lossy(&o.stderr));
+    let out = exited(&o, 0);
     assert!(out.contains("EQUAL") && out.contains("signals compared: 4"), "{out}");
 }

@@ -5,22 +5,13 @@
 //! hdl/regress_smoke.sh, run by `make test`.)
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
-fn pmu50(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pmu50")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().expect("pmu50 runs")
-}
+mod common;
+use common::{expect_code, pmu50, s, text};
 
 fn tmp() -> tempfile::TempDir {
     tempfile::tempdir().expect("temp dir")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().expect("utf-8 path")
-}
-
-fn text(o: &Output) -> String {
-    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
 }
 
 /// Each result line without what depends on where and how fast it ran.
@@ -38,6 +29,18 @@ fn verdicts(dir: &Path) -> Vec<String> {
         .collect()
 }
 
+/// The regression folders `a` and `b` hold the same coverage and the same verdicts.
+fn assert_same_results(a: &Path, b: &Path) {
+    assert_eq!(read(a.join("coverage.json")), read(b.join("coverage.json")));
+    assert_eq!(verdicts(a), verdicts(b));
+}
+
+/// `pmu50 regress --resume dir` passes and leaves what the uninterrupted run `whole` left.
+fn resume_to(dir: &Path, whole: &Path) {
+    expect_code(&pmu50(&["regress", "--resume", s(dir)]), 0);
+    assert_same_results(dir, whole);
+}
+
 fn read(p: PathBuf) -> String {
     std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
@@ -48,10 +51,9 @@ fn results_do_not_depend_on_jobs() {
     let (a, b) = (t.path().join("a"), t.path().join("b"));
     let oa = pmu50(&["regress", "--start-seed", "100", "--iterations", "40", "--jobs", "1", "--out", s(&a)]);
     let ob = pmu50(&["regress", "--start-seed", "100", "--iterations", "40", "--jobs", "3", "--out", s(&b)]);
-    assert_eq!(oa.status.code(), Some(0), "{}", text(&oa));
-    assert_eq!(ob.status.code(), Some(0), "{}", text(&ob));
-    assert_eq!(read(a.join("coverage.json")), read(b.join("coverage.json")));
-    assert_eq!(verdicts(&a), verdicts(&b));
+    expect_code(&oa, 0);
+    expect_code(&ob, 0);
+    assert_same_results(&a, &b);
     assert_eq!(verdicts(&a).len(), 40);
     // every seed ran its checks: the read-out invariant applied somewhere, coverage grew
     let checked: u64 = read(a.join("results.jsonl")).lines().map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap()["readouts_checked"].as_u64().unwrap()).sum();
@@ -68,39 +70,35 @@ fn shards_merge_into_the_one_process_run_and_missing_seeds_resume() {
     let t = tmp();
     let one = t.path().join("one");
     let o = pmu50(&["regress", "--start-seed", "7", "--iterations", "45", "--out", s(&one), "--no-triage"]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    expect_code(&o, 0);
     let shard = |i: usize| t.path().join(format!("shard{i}"));
     for i in 0..3 {
         let o = pmu50(&["regress", "--start-seed", "7", "--iterations", "45", "--shard", &format!("{i}/3"), "--out", s(&shard(i)), "--no-triage"]);
-        assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+        expect_code(&o, 0);
         assert!(read(shard(i).join("results.jsonl")).contains(&format!("\"shard\":\"{i}/3\"")), "where it ran");
     }
     // any order gives the one-process coverage and verdicts
     let merged = t.path().join("merged");
     let o = pmu50(&["merge", "--out", s(&merged), s(&shard(2)), s(&shard(0)), s(&shard(1))]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
-    assert_eq!(read(merged.join("coverage.json")), read(one.join("coverage.json")));
-    assert_eq!(verdicts(&merged), verdicts(&one));
+    expect_code(&o, 0);
+    assert_same_results(&merged, &one);
 
     // a shard given twice is refused, and nothing is written
     let twice = t.path().join("twice");
     let o = pmu50(&["merge", "--out", s(&twice), s(&shard(0)), s(&shard(1)), s(&shard(0))]);
-    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    expect_code(&o, 2);
     assert!(text(&o).contains("shard 0/3 is given twice"), "{}", text(&o));
     assert!(!twice.join("coverage.json").exists());
 
     // a missing shard: its seeds are named, and --resume runs only those
     let part = t.path().join("part");
     let o = pmu50(&["merge", "--out", s(&part), s(&shard(0)), s(&shard(2))]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    expect_code(&o, 1);
     assert!(text(&o).contains("missing seeds: 15 (first 22)"), "{}", text(&o));
     let missing: Vec<u64> = read(part.join("missing.txt")).lines().map(|l| l.parse().unwrap()).collect();
     assert_eq!(missing, (22..37).collect::<Vec<_>>());
-    let o = pmu50(&["regress", "--resume", s(&part)]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    resume_to(&part, &one);
     assert!(!part.join("missing.txt").exists());
-    assert_eq!(read(part.join("coverage.json")), read(one.join("coverage.json")));
-    assert_eq!(verdicts(&part), verdicts(&one));
 }
 
 #[test]
@@ -108,7 +106,7 @@ fn an_interrupted_regression_resumes_to_the_same_files() {
     let t = tmp();
     let full = t.path().join("full");
     let o = pmu50(&["regress", "--iterations", "40", "--directed", "--out", s(&full), "--no-triage"]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    expect_code(&o, 0);
     // the same run, cut after 13 seeds and half a line
     let cut = t.path().join("cut");
     std::fs::create_dir(&cut).unwrap();
@@ -119,10 +117,7 @@ fn an_interrupted_regression_resumes_to_the_same_files() {
     partial.push('\n');
     partial.push_str(&lines[13][..lines[13].len() / 2]);
     std::fs::write(cut.join("results.jsonl"), partial).unwrap();
-    let o = pmu50(&["regress", "--resume", s(&cut)]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
-    assert_eq!(read(cut.join("coverage.json")), read(full.join("coverage.json")));
-    assert_eq!(verdicts(&cut), verdicts(&full));
+    resume_to(&cut, &full);
 }
 
 #[test]
@@ -192,10 +187,10 @@ fn a_repro_runs_the_seed_checks_on_any_scenario() {
     let sc = t.path().join("x.toml");
     std::fs::write(&sc, "duration = \"40 ms\"\n[expect]\ndiag = true\n").unwrap();
     let o = pmu50(&["regress", "--repro", s(&sc), "--check-spec"]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    expect_code(&o, 1);
     assert!(text(&o).contains("FAIL") && text(&o).contains("diag"), "{}", text(&o));
     let o = pmu50(&["regress", "--repro", "scenarios/fig15a.toml", "--check-spec"]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    expect_code(&o, 0);
     assert!(text(&o).starts_with("PASS"), "{}", text(&o));
 }
 

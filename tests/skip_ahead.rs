@@ -62,6 +62,15 @@ fn assert_same(sc: &Scenario, a: &RunResult, b: &RunResult, rows: bool) {
     }
 }
 
+/// `sc` stepped every tick and with period skips, the two runs checked equal ([`assert_same`],
+/// rows included): (every tick, skipping).
+fn tick_and_skip(sc: &Scenario) -> (RunResult, RunResult) {
+    let tick = run_with(sc, Stepping::EveryTick, &mut []).unwrap();
+    let skip = run_with(sc, Stepping::Periods, &mut []).unwrap();
+    assert_same(sc, &tick, &skip, true);
+    (tick, skip)
+}
+
 #[test]
 fn every_shipped_scenario_gives_the_same_summary_skipping_and_per_tick() {
     let mut files: Vec<PathBuf> = std::fs::read_dir(scenarios_dir()).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|x| x == "toml")).collect();
@@ -215,9 +224,7 @@ proptest! {
 fn a_still_park_skips_almost_everything() {
     let p = Park { adaptive: true, x_ms: 3, cth: 4, start: 100.0, moves: vec![], fault: None, keyoff_ticks: 600_000 };
     let sc = parse(&park_toml(&p), "still");
-    let skip = run_with(&sc, Stepping::Periods, &mut []).unwrap();
-    let tick = run_with(&sc, Stepping::EveryTick, &mut []).unwrap();
-    assert_same(&sc, &tick, &skip, true);
+    let (_, skip) = tick_and_skip(&sc);
     assert!(skip.skipped_ticks * 10 > 9 * 600_000, "skipped {}", skip.skipped_ticks);
 }
 
@@ -495,9 +502,7 @@ at = "3.0 s"
 ig = false
 "#;
     let sc = parse(text, "key_on_still");
-    let every = run_with(&sc, Stepping::EveryTick, &mut []).unwrap();
-    let skip = run_with(&sc, Stepping::Periods, &mut []).unwrap();
-    assert_same(&sc, &every, &skip, true);
+    let (every, skip) = tick_and_skip(&sc);
     assert_eq!(every.keyons.len(), 2);
     assert!(skip.evaluated_ticks * 10 < sc.ticks, "key-on periods were skipped: {} of {} ticks evaluated", skip.evaluated_ticks, sc.ticks);
     // and the waveform of every signal (the writer replays the skipped periods)
@@ -529,9 +534,7 @@ at = "1000 ms"
 ig = true
 "#;
     let sc = parse(text, "key_on_dead_rail");
-    let every = run_with(&sc, Stepping::EveryTick, &mut []).unwrap();
-    let skip = run_with(&sc, Stepping::Periods, &mut []).unwrap();
+    let (every, skip) = tick_and_skip(&sc);
     assert_eq!(every.keyons.len(), 1);
-    assert_same(&sc, &every, &skip, true);
     assert!(skip.skipped_ticks > 40_000, "skipped {}", skip.skipped_ticks);
 }

@@ -11,20 +11,9 @@ use pmu50_core::signals;
 use pmu50_waves::reader::Waveform;
 use std::collections::BTreeSet;
 use std::path::Path;
-use std::process::Output;
 
 mod common;
-use common::{pmu50, s, text, tmp};
-
-fn expect(o: &Output, code: i32, want: &[&str]) -> String {
-    let t = text(o);
-    assert_eq!(o.status.code(), Some(code), "{t}");
-    for w in want {
-        assert!(t.contains(w), "output lacks `{w}`:\n{t}");
-    }
-    assert!(!t.contains("panicked"), "{t}");
-    t
-}
+use common::{expect, pmu50, s, text, tmp, write, KEY_ON_FAST};
 
 /// The signal paths a waveform of `level` declares, from the signal table.
 fn expected(level: Level) -> BTreeSet<String> {
@@ -93,7 +82,6 @@ fn levels_against_all(format: &str, window: Option<[&str; 2]>) {
         let file = |l: &str| d.join(l).join(format!("fig15a.{format}"));
         expect(&pmu50(&["diff", s(&file("all")), s(&file(word)), "--allow-unmatched"]), 0, &["waveform diff: EQUAL", "value mismatches: 0", "only in left: pmu50.internals.fig17[2:0]"]);
     }
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -123,7 +111,6 @@ fn the_scenario_key_takes_every_level_and_the_flag_overrides_it() {
         assert_eq!(w.signals().len(), expected(Trace::parse(level).unwrap().level().unwrap()).len(), "{level}");
         expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--trace", "none"]), 0, &["trace = none: no waveform"]);
     }
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -132,7 +119,6 @@ fn a_short_run_defaults_to_all_and_says_why() {
     let t = expect(&pmu50(&["run", "scenarios/fig15a.toml", "--out-dir", s(&d)]), 0, &["trace = all (chosen for this run: the VCD of every signal is at most about 553 kB, within the default's limit of 256 MiB; ask for less with --trace registers, ports or none"]);
     assert!(t.contains("wrote"), "{t}");
     assert_eq!(Waveform::open(d.join("fig15a.vcd")).unwrap().signals().len(), expected(Level::All).len());
-    std::fs::remove_dir_all(&d).ok();
 }
 
 fn parse(src: &str) -> Scenario {
@@ -223,7 +209,6 @@ fn parked_estimates_are_upper_bounds() {
             }
         }
     }
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -241,14 +226,12 @@ fn a_long_run_defaults_to_ports_and_its_refusal_says_level_and_format() {
     std::fs::write(&sc, format!("duration = \"50 ms\"\n{ON}")).unwrap();
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--format", "fst", "--max-vcd-bytes", "50000"]), 2, &["the FST at trace = all would be about 106 kB (5000 dumped ticks), above the limit of 50 kB"]);
     expect(&pmu50(&["run", s(&sc), "--out-dir", s(&d), "--format", "fst", "--max-vcd-bytes", "110000"]), 0, &["wrote"]);
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
 fn bad_levels_are_refused_with_the_valid_words() {
     let d = tmp("bad");
-    let sc = d.join("bad.toml");
-    std::fs::write(&sc, "duration = \"5 ms\"\n[vcd]\ntrace = \"everything\"\n").unwrap();
+    let sc = write(&d, "bad.toml", "duration = \"5 ms\"\n[vcd]\ntrace = \"everything\"\n");
     for cmd in ["check", "run"] {
         expect(
             &pmu50(&[cmd, s(&sc), "--out-dir", s(&d)][..if cmd == "check" { 2 } else { 4 }]),
@@ -260,7 +243,6 @@ fn bad_levels_are_refused_with_the_valid_words() {
     expect(&pmu50(&["run", "scenarios/fig15a.toml", "--out-dir", s(&d), "--trace", "none", "--window", "1 ms", "2 ms"]), 2, &["is run with trace = none, which writes no waveform; drop --window or run it with --trace ports, registers or all"]);
     let names: Vec<_> = std::fs::read_dir(&d).unwrap().map(|e| e.unwrap().file_name()).collect();
     assert_eq!(names, ["bad.toml"], "nothing written");
-    std::fs::remove_dir_all(&d).ok();
 }
 
 #[test]
@@ -268,8 +250,7 @@ fn size_estimates_are_upper_bounds() {
     // The bounds (bytes per tick) against real runs: key on all the time with the shaft turning
     // fast (the worst case the bounds are set from) and a shipped key-off run turning fast.
     let d = tmp("est");
-    let on = d.join("on.toml");
-    std::fs::write(&on, "duration = \"50 ms\"\n[motor]\nsegments = [ { kind = \"move\", duration = \"50 ms\", delta_deg = 2000.0 } ]\n[[events]]\nat = \"0 ms\"\nig = true\n").unwrap();
+    let on = write(&d, "on.toml", KEY_ON_FAST);
     let fig = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/too_fast.toml");
     // Two random scenarios of `pmu50 random` (the co-simulation's), the largest per tick of seeds 1-6.
     let mut runs = vec![(on.clone(), 5_000u64), (fig, 20_000)];
@@ -298,5 +279,4 @@ fn size_estimates_are_upper_bounds() {
             }
         }
     }
-    std::fs::remove_dir_all(&d).ok();
 }

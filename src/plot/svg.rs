@@ -12,19 +12,9 @@ pub const FONT: &str = "DejaVu Sans, Verdana, Arial, sans-serif";
 /// Colours of the series, in order (colour-blind friendly, Okabe-Ito).
 pub const PALETTE: [&str; 8] = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000", "#F0E442"];
 
-/// Escape text for XML.
+/// Escape text for XML (`&`, `<`, `>`, `"`).
 pub fn esc(s: &str) -> String {
-    let mut o = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => o.push_str("&amp;"),
-            '<' => o.push_str("&lt;"),
-            '>' => o.push_str("&gt;"),
-            '"' => o.push_str("&quot;"),
-            _ => o.push(c),
-        }
-    }
-    o
+    pmu50_coverage::ucis::xml_escape(s, false)
 }
 
 /// A coordinate with two decimals; `-0.00` is printed as `0.00`.

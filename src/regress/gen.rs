@@ -218,7 +218,7 @@ impl Bias {
     }
 
     fn draw(&self, r: &mut Rng, seed: u64) -> Vec<Knob> {
-        let mut k: Vec<Knob> = self.percent.iter().filter(|&&(_, p)| r.chance(p)).map(|&(k, _)| k).collect();
+        let mut k: Vec<Knob> = self.percent.iter().filter(|&&(_, p)| r.percent(p)).map(|&(k, _)| k).collect();
         if !self.targets.is_empty() {
             k.extend(self.targets[(seed % self.targets.len() as u64) as usize].iter().copied());
             k.sort();
@@ -349,7 +349,7 @@ impl Stimulus {
         // CNTr up to its saturation ([0248]): after a rotation, quiet pulses with the key off,
         // either at the minimum interval with Cth = 255 (S9 holds si), or climbing to x in T2 = 1
         // steps (S10 each pulse past Cth).
-        let saturate_at_min = on(LongQuiet) && r.chance(50);
+        let saturate_at_min = on(LongQuiet) && r.percent(50);
         if on(LongQuiet) {
             if saturate_at_min {
                 p.cth = 255;
@@ -374,7 +374,7 @@ impl Stimulus {
         // Motor: holds and moves; fast moves skip quadrants.
         let mut motion = Vec::new();
         if on(Spin) {
-            let dir = if r.chance(50) { 1 } else { -1 };
+            let dir = if r.percent(50) { 1 } else { -1 };
             motion.push(Motion::Move { ticks, milli_deg: dir * 20_000 * ticks as i64 });
         } else if on(LongQuiet) {
             // From reset with the key off, samples are taken at the edges wt-1, x+wt-1, 2x+wt-1,
@@ -383,7 +383,7 @@ impl Stimulus {
             // ticks. With Cth = 255, S9 counts cnt_r to 255 at the 255th quiet sample, and a
             // second quadrant between the 255th and 256th makes the 256th an S5 at min with cnt_r
             // saturated; with T2 = 1 the interval climbs to x after saturation, then turns.
-            let dir = if r.chance(50) { 1 } else { -1 };
+            let dir = if r.percent(50) { 1 } else { -1 };
             let (x, min, wt) = (u64::from(p.si_max), u64::from(p.si_min), u64::from(p.wt()));
             let p0 = 2 * x + wt - 1;
             let second = if saturate_at_min { p0 + 255 * min + min / 4 } else { ticks.max(p0 + 2 * x) };
@@ -399,10 +399,10 @@ impl Stimulus {
             let mut t = 0;
             while t < ticks {
                 let d = r.range(100, 8_000).min(ticks - t);
-                let m = if r.chance(40) {
+                let m = if r.percent(40) {
                     Motion::Hold { ticks: d }
                 } else {
-                    let fast = on(FastMoves) && r.chance(60) || r.chance(5);
+                    let fast = on(FastMoves) && r.percent(60) || r.percent(5);
                     let max = if fast { 600 } else { 50 };
                     Motion::Move { ticks: d, milli_deg: (r.range(0, 2000) as i64 - 1000) * max * d as i64 / 1000 }
                 };
@@ -418,7 +418,7 @@ impl Stimulus {
         } else if on(LongQuiet) {
             false
         } else {
-            r.chance(50)
+            r.percent(50)
         };
         events.push((0, Action::Ig(ig)));
         if on(Spin) || on(LongQuiet) {
@@ -436,7 +436,7 @@ impl Stimulus {
                 break;
             }
             let roll = r.range(0, 9);
-            if on(Glitches) && r.chance(30) {
+            if on(Glitches) && r.percent(30) {
                 // a pulse of ig shorter than the synchronizer
                 events.push((at, Action::Ig(!ig)));
                 events.push((at + r.range(1, 2), Action::Ig(ig)));
@@ -447,19 +447,19 @@ impl Stimulus {
                 0..=4 => {
                     ig = !ig;
                     events.push((at, Action::Ig(ig)));
-                    if ig && on(EarlyWrites) && r.chance(50) {
+                    if ig && on(EarlyWrites) && r.percent(50) {
                         // a write in the tick the key turns on: sig is still 0 ([0205])
                         let reg = WRITABLE[r.range(0, WRITABLE.len() as u64 - 1) as usize];
                         let value = write_value(&mut r, reg, &p, false);
                         events.push((at, Action::Write { reg, value }));
                     }
                 }
-                5 if on(Faults) || r.chance(30) => {
+                5 if on(Faults) || r.percent(30) => {
                     fault = !fault;
                     events.push((at, Action::Fault(fault)));
                 }
                 _ if ig => {
-                    let reg = if on(StatusWrites) && r.chance(40) { "STATUS" } else { WRITABLE[r.range(0, WRITABLE.len() as u64 - 2) as usize] };
+                    let reg = if on(StatusWrites) && r.percent(40) { "STATUS" } else { WRITABLE[r.range(0, WRITABLE.len() as u64 - 2) as usize] };
                     let value = write_value(&mut r, reg, &p, on(IllegalWrites));
                     events.push((at, Action::Write { reg, value }));
                 }
@@ -515,7 +515,7 @@ impl Stimulus {
 
 /// A value to write to `reg`: mostly legal for the parameters drawn, illegal on request.
 fn write_value(r: &mut Rng, reg: &str, p: &Params, illegal: bool) -> u16 {
-    let bad = illegal && r.chance(50);
+    let bad = illegal && r.percent(50);
     let v = match reg {
         "CTRL" => r.range(0, 1),
         "STATUS" => [1 << 5, 1 << 9, (1 << 5) | (1 << 9), 0, r.range(0, 0x3FF)][r.range(0, 4) as usize],

@@ -7,9 +7,7 @@ use super::{pct, scenario_closure, triage, Summary};
 use pmu50_coverage::{layout, model::crosses, model::POINTS};
 use std::fmt::Write;
 
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
-}
+use crate::plot::svg::esc;
 
 /// Heat colour of a hit count (none: red; then from amber to green on a log scale); grey for
 /// an unreachable bin, blue-grey for a port-level bin not hit.

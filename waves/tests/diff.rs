@@ -3,7 +3,7 @@
 mod common;
 
 use common::{sample_builder, vcd, wave};
-use pmu50_waves::diff::{diff, exit_code, DiffError, DiffOptions, Outcome, Sample, XPolicy};
+use pmu50_waves::diff::{diff, exit_code, DiffError, DiffOptions, DiffReport, Outcome, Sample, XPolicy};
 use pmu50_waves::reader::{SignalKind, Waveform};
 use pmu50_waves::writer::Logic;
 use pmu50_waves::{TimeUnit, Timescale};
@@ -29,19 +29,43 @@ fn run(ts: Timescale, scale: u64, flip: Option<u64>) -> Waveform {
     Waveform::from_bytes(w.finish().unwrap()).unwrap()
 }
 
+/// A VCD with timescale `ts`, one scope `t`, the variables `vars` (as [`vcd`] takes them) and
+/// the value changes `body`.
+fn t_wave(ts: &str, vars: &[(&str, &str)], body: &str) -> Waveform {
+    wave(&vcd(ts, &["t"], vars, body))
+}
+
+/// A VCD in 1 ns with the scope path `scopes`, the variables `vars` and the value changes `body`.
+fn ns_wave(scopes: &[&str], vars: &[(&str, &str)], body: &str) -> Waveform {
+    wave(&vcd("1 ns", scopes, vars, body))
+}
+
+/// [`t_wave`] in 1 ns.
+fn t_ns(vars: &[(&str, &str)], body: &str) -> Waveform {
+    ns_wave(&["t"], vars, body)
+}
+
+/// The diff of `l` and `r` with `opts`, checked EQUAL.
+fn equal(l: &Waveform, r: &Waveform, opts: &DiffOptions) -> DiffReport {
+    let report = diff(l, r, opts).unwrap();
+    assert_eq!(report.outcome, Outcome::Equal, "{report}");
+    report
+}
+
+/// [`equal`], with `n` signals compared.
+fn equal_over(l: &Waveform, r: &Waveform, opts: &DiffOptions, n: usize) -> DiffReport {
+    let report = equal(l, r, opts);
+    assert_eq!(report.signals_compared, n);
+    report
+}
+
 fn us() -> Timescale {
     Timescale::new(1, TimeUnit::Us)
 }
 
 #[test]
 fn identical_files_are_equal() {
-    let r = diff(
-        &run(us(), 1, None),
-        &run(us(), 1, None),
-        &DiffOptions::default(),
-    )
-    .unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let r = equal(&run(us(), 1, None), &run(us(), 1, None), &DiffOptions::default());
     assert_eq!(r.exit_code(), 0);
     assert_eq!(r.signals_compared, 4);
     assert_eq!(r.mismatch_count, 0);
@@ -53,12 +77,7 @@ fn identical_files_are_equal() {
 
 #[test]
 fn one_flipped_bit_is_the_first_mismatch_at_its_time() {
-    let r = diff(
-        &run(us(), 1, None),
-        &run(us(), 1, Some(37)),
-        &DiffOptions::default(),
-    )
-    .unwrap();
+    let r = diff(&run(us(), 1, None), &run(us(), 1, Some(37)), &DiffOptions::default()).unwrap();
     assert_eq!(r.outcome, Outcome::Differ, "{r}");
     assert_eq!(r.exit_code(), 1);
     assert_eq!(r.mismatch_count, 1);
@@ -81,18 +100,8 @@ fn one_flipped_bit_is_the_first_mismatch_at_its_time() {
 
 #[test]
 fn reports_first_n_mismatches_in_time_order_and_counts_all() {
-    let left = wave(&vcd(
-        "1 ns",
-        &["top"],
-        &[("!", "wire 4 a [3:0]"), ("\"", "wire 4 b [3:0]")],
-        "#0\nb0 !\nb0 \"\n#10\nb1 !\nb1 \"\n#20\nb10 !\nb10 \"\n#30\nb11 !\nb11 \"\n",
-    ));
-    let right = wave(&vcd(
-        "1 ns",
-        &["top"],
-        &[("!", "wire 4 a [3:0]"), ("\"", "wire 4 b [3:0]")],
-        "#0\nb0 !\nb1111 \"\n#10\nb1111 !\n#20\nb1110 !\n#30\nb1101 !\n",
-    ));
+    let left = ns_wave(&["top"], &[("!", "wire 4 a [3:0]"), ("\"", "wire 4 b [3:0]")], "#0\nb0 !\nb0 \"\n#10\nb1 !\nb1 \"\n#20\nb10 !\nb10 \"\n#30\nb11 !\nb11 \"\n");
+    let right = ns_wave(&["top"], &[("!", "wire 4 a [3:0]"), ("\"", "wire 4 b [3:0]")], "#0\nb0 !\nb1111 \"\n#10\nb1111 !\n#20\nb1110 !\n#30\nb1101 !\n");
     let opts = DiffOptions {
         max_reported: 3,
         ..DiffOptions::default()
@@ -124,12 +133,7 @@ fn reports_first_n_mismatches_in_time_order_and_counts_all() {
 
 #[test]
 fn prefix_mapping_pairs_pmu50_with_tb_dut() {
-    let left = wave(&vcd(
-        "1 ns",
-        &["pmu50"],
-        &[("!", "wire 1 clk"), ("\"", "reg 8 cnt [7:0]")],
-        "#0\n0!\nb0 \"\n#5\n1!\nb101 \"\n",
-    ));
+    let left = ns_wave(&["pmu50"], &[("!", "wire 1 clk"), ("\"", "reg 8 cnt [7:0]")], "#0\n0!\nb0 \"\n#5\n1!\nb101 \"\n");
     let right = wave(
         "$timescale 1 ns $end\n$scope module tb $end\n$var wire 1 % stim $end\n\
          $scope module dut $end\n$var wire 1 ! clk $end\n$var reg 8 \" cnt [7:0] $end\n\
@@ -146,9 +150,7 @@ fn prefix_mapping_pairs_pmu50_with_tb_dut() {
         prefix_map: vec![("pmu50".into(), "tb.dut".into())],
         ..DiffOptions::default()
     };
-    let r = diff(&left, &right, &opts).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
-    assert_eq!(r.signals_compared, 2);
+    let r = equal_over(&left, &right, &opts, 2);
     assert!(
         r.mapping.contains("`pmu50` <-> right `tb.dut`"),
         "{}",
@@ -182,21 +184,9 @@ fn right_text_with_cnt(cnt_at_5: &str) -> String {
 
 #[test]
 fn default_matching_falls_back_to_stripping_the_top_scope() {
-    let left = wave(&vcd(
-        "1 ns",
-        &["pmu50", "core"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#3\n1!\n",
-    ));
-    let right = wave(&vcd(
-        "1 ns",
-        &["top", "core"],
-        &[("#", "wire 1 a")],
-        "#0\n0#\n#3\n1#\n",
-    ));
-    let r = diff(&left, &right, &DiffOptions::default()).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
-    assert_eq!(r.signals_compared, 1);
+    let left = ns_wave(&["pmu50", "core"], &[("!", "wire 1 a")], "#0\n0!\n#3\n1!\n");
+    let right = ns_wave(&["top", "core"], &[("#", "wire 1 a")], "#0\n0#\n#3\n1#\n");
+    let r = equal_over(&left, &right, &DiffOptions::default(), 1);
     assert!(r.mapping.contains("top scope stripped"), "{}", r.mapping);
 }
 
@@ -204,66 +194,32 @@ fn default_matching_falls_back_to_stripping_the_top_scope() {
 fn timescales_1us_and_1000ns_compare_equal() {
     let a = run(us(), 1, None);
     let b = run(Timescale::new(100, TimeUnit::Ns), 10, None);
-    let r = diff(&a, &b, &DiffOptions::default()).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let r = equal(&a, &b, &DiffOptions::default());
     // 1 us and 100 ns ticks: the common unit is 100 ns
     assert_eq!(r.time_unit, Some(Timescale::new(100, TimeUnit::Ns)));
     // `1000 ns` (not an IEEE factor, but readers accept it) vs `1 us`: compared in 1 us
-    let l = wave(&vcd(
-        "1 us",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#2\n1!\n#5\n0!\n",
-    ));
-    let k = wave(&vcd(
-        "1000 ns",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#2\n1!\n#5\n0!\n",
-    ));
-    let r = diff(&l, &k, &DiffOptions::default()).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let l = t_wave("1 us", &[("!", "wire 1 a")], "#0\n0!\n#2\n1!\n#5\n0!\n");
+    let k = t_wave("1000 ns", &[("!", "wire 1 a")], "#0\n0!\n#2\n1!\n#5\n0!\n");
+    let r = equal(&l, &k, &DiffOptions::default());
     assert_eq!(r.time_unit, Some(us()));
     // 1 us vs 1 ns ticks with a difference: reported in ns
-    let same = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#2000\n1!\n#5000\n0!\n",
-    ));
-    let other = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#2000\n1!\n#5001\n0!\n",
-    ));
-    let r = diff(&l, &same, &DiffOptions::default()).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let same = t_ns(&[("!", "wire 1 a")], "#0\n0!\n#2000\n1!\n#5000\n0!\n");
+    let other = t_ns(&[("!", "wire 1 a")], "#0\n0!\n#2000\n1!\n#5001\n0!\n");
+    let r = equal(&l, &same, &DiffOptions::default());
     assert_eq!(r.time_unit, Some(Timescale::new(1, TimeUnit::Ns)));
     let r = diff(&l, &other, &DiffOptions::default()).unwrap();
     assert_eq!(r.first_mismatch_time, Some(5000), "{r}");
     assert_eq!(r.mismatch_count, 1);
     // 10 us vs 100 ns compare in 100 ns
-    let l = wave(&vcd(
-        "10 us",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#3\n1!\n",
-    ));
-    let rr = wave(&vcd(
-        "100 ns",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n#300\n1!\n",
-    ));
-    let r = diff(&l, &rr, &DiffOptions::default()).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let l = t_wave("10 us", &[("!", "wire 1 a")], "#0\n0!\n#3\n1!\n");
+    let rr = t_wave("100 ns", &[("!", "wire 1 a")], "#0\n0!\n#300\n1!\n");
+    let r = equal(&l, &rr, &DiffOptions::default());
     assert_eq!(r.time_unit, Some(Timescale::new(100, TimeUnit::Ns)));
 }
 
 #[test]
 fn missing_timescale_on_one_side_is_bad_input() {
-    let l = wave(&vcd("1 us", &["t"], &[("!", "wire 1 a")], "#0\n0!\n"));
+    let l = t_wave("1 us", &[("!", "wire 1 a")], "#0\n0!\n");
     let r = wave(
         "$scope module t $end\n$var wire 1 ! a $end\n$upscope $end\n$enddefinitions $end\n#0\n0!\n",
     );
@@ -274,13 +230,8 @@ fn missing_timescale_on_one_side_is_bad_input() {
     );
     assert!(err.to_string().contains("$timescale"), "{err}");
     // timescales too far apart for 64-bit ticks are bad input, not a panic
-    let huge = wave(&vcd(
-        "4000000000 s",
-        &["t"],
-        &[("!", "wire 1 a")],
-        "#0\n0!\n",
-    ));
-    let tiny = wave(&vcd("1 fs", &["t"], &[("!", "wire 1 a")], "#0\n0!\n"));
+    let huge = t_wave("4000000000 s", &[("!", "wire 1 a")], "#0\n0!\n");
+    let tiny = t_wave("1 fs", &[("!", "wire 1 a")], "#0\n0!\n");
     let err = diff(&huge, &tiny, &DiffOptions::default()).unwrap_err();
     assert!(
         matches!(err, DiffError::IncompatibleTimescales { .. }),
@@ -290,37 +241,15 @@ fn missing_timescale_on_one_side_is_bad_input() {
 
 #[test]
 fn widths_8_and_16_are_zero_extended_and_real_vs_vector_is_a_type_mismatch() {
-    let l = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 8 v [7:0]"), ("\"", "real 64 r")],
-        "#0\nb10100101 !\nr1.5 \"\n#4\nb11111111 !\n",
-    ));
-    let r = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")],
-        "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000011111111 !\n",
-    ));
-    let res = diff(&l, &r, &DiffOptions::default()).unwrap();
-    assert_eq!(res.outcome, Outcome::Equal, "{res}");
-    assert_eq!(res.signals_compared, 2);
+    let l = t_ns(&[("!", "wire 8 v [7:0]"), ("\"", "real 64 r")], "#0\nb10100101 !\nr1.5 \"\n#4\nb11111111 !\n");
+    let r = t_ns(&[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")], "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000011111111 !\n");
+    equal_over(&l, &r, &DiffOptions::default(), 2);
     // a set upper bit on the wide side is a difference
-    let r2 = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")],
-        "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000111111111 !\n",
-    ));
+    let r2 = t_ns(&[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")], "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000111111111 !\n");
     let res = diff(&l, &r2, &DiffOptions::default()).unwrap();
     assert_eq!(res.first_mismatch_time, Some(4));
     // real on one side, vector on the other
-    let r3 = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 8 v [7:0]"), ("\"", "wire 64 r [63:0]")],
-        "#0\nb10100101 !\nb1 \"\n#4\nb11111111 !\n",
-    ));
+    let r3 = t_ns(&[("!", "wire 8 v [7:0]"), ("\"", "wire 64 r [63:0]")], "#0\nb10100101 !\nb1 \"\n#4\nb11111111 !\n");
     let res = diff(&l, &r3, &DiffOptions::default()).unwrap();
     assert_eq!(res.outcome, Outcome::Differ);
     assert_eq!(res.signals_compared, 1);
@@ -336,18 +265,8 @@ fn widths_8_and_16_are_zero_extended_and_real_vs_vector_is_a_type_mismatch() {
 
 #[test]
 fn real_tolerance() {
-    let l = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "real 64 r")],
-        "#0\nr1.5 !\n#2\nr2.0 !\n",
-    ));
-    let r = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "real 64 r")],
-        "#0\nr1.5 !\n#2\nr2.0000001 !\n",
-    ));
+    let l = t_ns(&[("!", "real 64 r")], "#0\nr1.5 !\n#2\nr2.0 !\n");
+    let r = t_ns(&[("!", "real 64 r")], "#0\nr1.5 !\n#2\nr2.0000001 !\n");
     assert_eq!(
         diff(&l, &r, &DiffOptions::default()).unwrap().outcome,
         Outcome::Differ
@@ -369,30 +288,10 @@ fn real_tolerance() {
 
 #[test]
 fn x_handling_strict_and_wildcard() {
-    let with_x = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 4 v [3:0]")],
-        "#0\nb0000 !\n#5\nb01x1 !\n#9\nb0000 !\n",
-    ));
-    let plain = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 4 v [3:0]")],
-        "#0\nb0000 !\n#5\nb0111 !\n#9\nb0000 !\n",
-    ));
-    let other = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 4 v [3:0]")],
-        "#0\nb0000 !\n#5\nb1101 !\n#9\nb0000 !\n",
-    ));
-    let with_z = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 4 v [3:0]")],
-        "#0\nb0000 !\n#5\nb01z1 !\n#9\nb0000 !\n",
-    ));
+    let with_x = t_ns(&[("!", "wire 4 v [3:0]")], "#0\nb0000 !\n#5\nb01x1 !\n#9\nb0000 !\n");
+    let plain = t_ns(&[("!", "wire 4 v [3:0]")], "#0\nb0000 !\n#5\nb0111 !\n#9\nb0000 !\n");
+    let other = t_ns(&[("!", "wire 4 v [3:0]")], "#0\nb0000 !\n#5\nb1101 !\n#9\nb0000 !\n");
+    let with_z = t_ns(&[("!", "wire 4 v [3:0]")], "#0\nb0000 !\n#5\nb01z1 !\n#9\nb0000 !\n");
     let strict = DiffOptions::default();
     let left_x = DiffOptions {
         x_policy: XPolicy::LeftXIsWildcard,
@@ -412,45 +311,25 @@ fn x_handling_strict_and_wildcard() {
         ),
         ("01x1", "0111")
     );
-    assert_eq!(
-        diff(&with_x, &with_x, &strict).unwrap().outcome,
-        Outcome::Equal
-    );
-    // left x is a don't-care ...
-    assert_eq!(
-        diff(&with_x, &plain, &left_x).unwrap().outcome,
-        Outcome::Equal
-    );
-    // ... for that bit only
-    assert_eq!(
-        diff(&with_x, &other, &left_x).unwrap().first_mismatch_time,
-        Some(5)
-    );
-    // right x is not a don't-care under LeftXIsWildcard, but is under EitherXIsWildcard
-    assert_eq!(
-        diff(&plain, &with_x, &left_x).unwrap().outcome,
-        Outcome::Differ
-    );
-    assert_eq!(
-        diff(&plain, &with_x, &either).unwrap().outcome,
-        Outcome::Equal
-    );
-    // z is never a wildcard
-    assert_eq!(
-        diff(&with_z, &plain, &either).unwrap().outcome,
-        Outcome::Differ
-    );
-    assert_eq!(
-        diff(&with_z, &with_z, &strict).unwrap().outcome,
-        Outcome::Equal
-    );
+    // (left, right, options, outcome)
+    let cases = [
+        (&with_x, &with_x, &strict, Outcome::Equal),
+        // left x is a don't-care ...
+        (&with_x, &plain, &left_x, Outcome::Equal),
+        // right x is not a don't-care under LeftXIsWildcard, but is under EitherXIsWildcard
+        (&plain, &with_x, &left_x, Outcome::Differ),
+        (&plain, &with_x, &either, Outcome::Equal),
+        // z is never a wildcard
+        (&with_z, &plain, &either, Outcome::Differ),
+        (&with_z, &with_z, &strict, Outcome::Equal),
+    ];
+    for (k, (l, r, opts, want)) in cases.into_iter().enumerate() {
+        assert_eq!(diff(l, r, opts).unwrap().outcome, want, "case {k}");
+    }
+    // a left x is a don't-care for that bit only
+    assert_eq!(diff(&with_x, &other, &left_x).unwrap().first_mismatch_time, Some(5));
     // a missing value (signal starts later) counts as x
-    let late = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 4 v [3:0]")],
-        "#0\n#5\nb0111 !\n#9\nb0000 !\n",
-    ));
+    let late = t_ns(&[("!", "wire 4 v [3:0]")], "#0\n#5\nb0111 !\n#9\nb0000 !\n");
     let r = diff(&late, &plain, &strict).unwrap();
     assert_eq!(r.first_mismatch_time, Some(0), "{r}");
     assert_eq!(r.mismatches[0].left, "(none)");
@@ -475,12 +354,7 @@ fn clocked(glitch: bool, at_edge: bool) -> Waveform {
         "#30\n1!\nb10 \"\n"
     };
     body += "#40\n0!\n#50\n1!\nb00 \"\n#60\n0!\n";
-    wave(&vcd(
-        "1 ns",
-        &["top"],
-        &[("!", "wire 1 clk"), ("\"", "reg 2 q [1:0]")],
-        &body,
-    ))
+    ns_wave(&["top"], &[("!", "wire 1 clk"), ("\"", "reg 2 q [1:0]")], &body)
 }
 
 #[test]
@@ -494,8 +368,7 @@ fn clock_sampling_ignores_glitches_between_edges() {
         sample: Sample::RisingEdge("top.clk".into()),
         ..DiffOptions::default()
     };
-    let r = diff(&clean, &glitchy, &opts).unwrap();
-    assert_eq!(r.outcome, Outcome::Equal, "{r}");
+    let r = equal(&clean, &glitchy, &opts);
     assert!(r.sampling.contains("3 rising edges"), "{}", r.sampling);
     // a difference at an edge is still found
     let wrong = clocked(false, true);
@@ -547,13 +420,8 @@ fn bad_sampling_options_are_bad_input() {
 
 #[test]
 fn signals_on_one_side_only() {
-    let l = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 1 a"), ("\"", "wire 1 extra")],
-        "#0\n0!\n0\"\n",
-    ));
-    let r = wave(&vcd("1 ns", &["t"], &[("!", "wire 1 a")], "#0\n0!\n"));
+    let l = t_ns(&[("!", "wire 1 a"), ("\"", "wire 1 extra")], "#0\n0!\n0\"\n");
+    let r = t_ns(&[("!", "wire 1 a")], "#0\n0!\n");
     let res = diff(&l, &r, &DiffOptions::default()).unwrap();
     assert_eq!(res.outcome, Outcome::Differ);
     assert_eq!(res.only_in_left, ["t.extra"]);
@@ -568,25 +436,13 @@ fn signals_on_one_side_only() {
 #[test]
 fn bit_selects_merge_into_one_vector_and_repeated_paths_use_gtkwave_names() {
     // wellen merges `b [0]` + `b [1]` into `b[1:0]`, whatever the declaration order
-    let l = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("!", "wire 1 b [0]"), ("\"", "wire 1 b [1]")],
-        "#0\n0!\n1\"\n",
-    ));
-    let r = wave(&vcd(
-        "1 ns",
-        &["t"],
-        &[("\"", "wire 1 b [1]"), ("!", "wire 1 b [0]")],
-        "#0\n0!\n1\"\n",
-    ));
-    let res = diff(&l, &r, &DiffOptions::default()).unwrap();
-    assert_eq!(res.outcome, Outcome::Equal, "{res}");
-    assert_eq!(res.signals_compared, 1);
+    let l = t_ns(&[("!", "wire 1 b [0]"), ("\"", "wire 1 b [1]")], "#0\n0!\n1\"\n");
+    let r = t_ns(&[("\"", "wire 1 b [1]"), ("!", "wire 1 b [0]")], "#0\n0!\n1\"\n");
+    equal_over(&l, &r, &DiffOptions::default(), 1);
     // a path declared twice (scalar `a` and vector `a [3:0]`) is keyed by GTKWave name
     let decls = [("!", "wire 1 a"), ("\"", "wire 4 a [3:0]")];
-    let l = wave(&vcd("1 ns", &["t"], &decls, "#0\n0!\nb0101 \"\n"));
-    let r = wave(&vcd("1 ns", &["t"], &decls, "#0\n0!\nb0111 \"\n"));
+    let l = t_ns(&decls, "#0\n0!\nb0101 \"\n");
+    let r = t_ns(&decls, "#0\n0!\nb0111 \"\n");
     let res = diff(&l, &r, &DiffOptions::default()).unwrap();
     assert_eq!(res.signals_compared, 2, "{res}");
     assert_eq!(res.mismatch_count, 1, "{res}");

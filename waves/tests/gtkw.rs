@@ -4,11 +4,10 @@
 
 mod common;
 
-use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{sample, text, wave};
+use common::{sample, text, tools_or_skip, wave};
 use pmu50_waves::gtkw::{Analog, Color, Format, GtkwError, GtkwSave, Trace};
 
 fn sample_save(dumpfile: &str) -> GtkwSave {
@@ -226,27 +225,16 @@ fn trace_names_are_checked_against_the_vcd() {
     }
 }
 
-fn tool(name: &str) -> Option<PathBuf> {
-    std::env::var_os("PATH").and_then(|p| {
-        std::env::split_paths(&p)
-            .map(|d| d.join(name))
-            .find(|f| f.is_file())
-    })
-}
-
 /// GTKWave loads the VCD and our save file, then writes its own save file;
 /// the trace section it writes must equal ours line for line and it must not
 /// print warnings.
 #[test]
 fn gtkwave_reads_and_rewrites_the_save_file_identically() {
-    let (Some(gtkwave), Some(xvfb)) = (tool("gtkwave"), tool("xvfb-run")) else {
-        assert!(
-            std::env::var_os("PMU50_ALLOW_MISSING_TOOLS").is_some(),
-            "missing tool for gtkwave_reads_and_rewrites_the_save_file_identically: `gtkwave` and/or `xvfb-run` not on PATH (apt-get install gtkwave xvfb xauth); `make test` installs it (set PMU50_ALLOW_MISSING_TOOLS=1 to skip knowingly)"
-        );
-        println!("SKIPPED gtkwave_reads_and_rewrites_the_save_file_identically: `gtkwave` and/or `xvfb-run` not on PATH (apt-get install gtkwave xvfb xauth)");
+    let missing = "`gtkwave` and/or `xvfb-run` not on PATH (apt-get install gtkwave xvfb xauth)";
+    let Some(tools) = tools_or_skip("gtkwave_reads_and_rewrites_the_save_file_identically", &["gtkwave", "xvfb-run"], missing) else {
         return;
     };
+    let (gtkwave, xvfb) = (&tools[0], &tools[1]);
     let dir = std::env::temp_dir().join(format!("pmu50-waves-gtkw-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let mut smp = sample();

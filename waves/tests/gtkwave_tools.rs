@@ -5,20 +5,14 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use common::{tool, tools_or_skip};
+
+use std::path::Path;
 use std::process::Command;
 
 use pmu50_waves::diff::{diff_files, DiffOptions, Outcome};
 use pmu50_waves::writer::{BitType, Logic, VcdBuilder};
 use pmu50_waves::{TimeUnit, Timescale};
-
-fn tool(name: &str) -> Option<PathBuf> {
-    std::env::var_os("PATH").and_then(|p| {
-        std::env::split_paths(&p)
-            .map(|d| d.join(name))
-            .find(|f| f.is_file())
-    })
-}
 
 /// A VCD exercising every declaration kind, x/z, wide vectors, reals and,
 /// optionally, a window that starts after 0.
@@ -105,12 +99,7 @@ fn check_tool_output(vcd: &Path) {
 
 #[test]
 fn gtkwave_loader_reads_written_vcds_without_warnings() {
-    if tool("vcd2lxt2").is_none() {
-        assert!(
-            std::env::var_os("PMU50_ALLOW_MISSING_TOOLS").is_some(),
-            "missing tool for gtkwave_loader_reads_written_vcds_without_warnings: `vcd2lxt2` not on PATH (Debian package `gtkwave`); `make test` installs it (set PMU50_ALLOW_MISSING_TOOLS=1 to skip knowingly)"
-        );
-        println!("SKIPPED gtkwave_loader_reads_written_vcds_without_warnings: `vcd2lxt2` not on PATH (Debian package `gtkwave`)");
+    if tools_or_skip("gtkwave_loader_reads_written_vcds_without_warnings", &["vcd2lxt2"], "`vcd2lxt2` not on PATH (Debian package `gtkwave`)").is_none() {
         return;
     }
     let dir = std::env::temp_dir().join(format!("pmu50-waves-tools-{}", std::process::id()));

@@ -9,10 +9,9 @@ use pmu50_waves::fuzzing::{self, Malformed, MALFORMED, VALID_SAMPLE};
 use pmu50_waves::reader::{ReadError, ReadLimits, Waveform, DEFAULT_MAX_VAR_WIDTH};
 use pmu50_waves::validate::{validate, Problem, ValidateError};
 
-fn tmp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pmu50-waves-malformed-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh temporary folder named after `tag`, removed with what it holds when dropped.
+fn tmp(tag: &str) -> tempfile::TempDir {
+    tempfile::Builder::new().prefix(&format!("pmu50-waves-malformed-{tag}-")).tempdir().unwrap()
 }
 
 fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
@@ -38,9 +37,10 @@ fn refused(m: Malformed) {
     assert!(matches!(e, ReadError::Malformed { line, .. } if line == m.line), "{}: {e:?}", m.name);
     assert!(e.to_string().starts_with(&format!("<memory>:{}: malformed VCD: ", m.line)), "{e}");
 
-    let d = tmp(m.name);
-    let bad = write(&d, "bad.vcd", m.vcd);
-    let good = write(&d, "good.vcd", VALID_SAMPLE);
+    let t = tmp(m.name);
+    let d = t.path();
+    let bad = write(d, "bad.vcd", m.vcd);
+    let good = write(d, "good.vcd", VALID_SAMPLE);
     for (l, r, side) in [(&bad, &good, "left"), (&good, &bad, "right")] {
         let res = diff_files(l, r, &DiffOptions::default());
         assert_eq!(exit_code(&res), 2, "{}", m.name);
@@ -54,7 +54,6 @@ fn refused(m: Malformed) {
     }
     // the fuzz body treats a refused file as a normal outcome
     fuzzing::vcd(m.vcd);
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 macro_rules! shapes {
@@ -144,10 +143,11 @@ const NAN_VCD: &str = "$timescale 1 ns $end\n$scope module t $end\n$var real 64 
 
 #[test]
 fn nan_equals_nan_for_a_diff() {
-    let d = tmp("nan");
-    let a = write(&d, "a.vcd", NAN_VCD.as_bytes());
-    let b = write(&d, "b.vcd", NAN_VCD.replace("rnan", "rNaN").as_bytes());
-    let c = write(&d, "c.vcd", NAN_VCD.replace("rnan", "r1").as_bytes());
+    let t = tmp("nan");
+    let d = t.path();
+    let a = write(d, "a.vcd", NAN_VCD.as_bytes());
+    let b = write(d, "b.vcd", NAN_VCD.replace("rnan", "rNaN").as_bytes());
+    let c = write(d, "c.vcd", NAN_VCD.replace("rnan", "r1").as_bytes());
     for (l, r) in [(&a, &a), (&a, &b)] {
         let rep = diff_files(l, r, &DiffOptions::default()).unwrap();
         assert_eq!(rep.outcome, Outcome::Equal, "{rep}");
@@ -160,21 +160,20 @@ fn nan_equals_nan_for_a_diff() {
     // with a tolerance, NaN still equals only NaN
     let tol = DiffOptions { real_tolerance: 1e9, ..DiffOptions::default() };
     assert_eq!(diff_files(&a, &c, &tol).unwrap().outcome, Outcome::Differ);
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
 fn time_going_backwards_is_bad_input_not_an_equal() {
     // wellen would print a WARN, drop the change at #5 and call the two files EQUAL
-    let d = tmp("backwards");
+    let t = tmp("backwards");
+    let d = t.path();
     let body = "$timescale 1 ns $end\n$scope module t $end\n$var wire 1 ! a $end\n$upscope $end\n$enddefinitions $end\n#0\n0!\n#10\n1!\n";
-    let back = write(&d, "back.vcd", format!("{body}#5\n0!\n").as_bytes());
-    let plain = write(&d, "plain.vcd", body.as_bytes());
+    let back = write(d, "back.vcd", format!("{body}#5\n0!\n").as_bytes());
+    let plain = write(d, "plain.vcd", body.as_bytes());
     let res = diff_files(&back, &plain, &DiffOptions::default());
     assert_eq!(exit_code(&res), 2);
     let msg = res.unwrap_err().to_string();
     assert!(msg.contains(&format!("{}:10: malformed VCD: time goes backwards: #5 after #10 (line 8)", back.display())), "{msg}");
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
@@ -188,23 +187,24 @@ fn declared_width_bound_is_checked_before_reading_and_configurable() {
     let e = Waveform::from_bytes_with(at(17).into_bytes(), &small).unwrap_err();
     assert!(matches!(e, ReadError::Malformed { line: 3, .. }), "{e:?}");
     // through diff_files, with the limit in the options
-    let d = tmp("width");
-    let f = write(&d, "w.vcd", at(17).as_bytes());
+    let t = tmp("width");
+    let d = t.path();
+    let f = write(d, "w.vcd", at(17).as_bytes());
     let opts = DiffOptions { read_limits: small, ..DiffOptions::default() };
     assert_eq!(exit_code(&diff_files(&f, &f, &opts)), 2);
     assert_eq!(exit_code(&diff_files(&f, &f, &DiffOptions::default())), 0);
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
 fn non_regular_files_are_refused_without_opening_them() {
-    let d = tmp("special");
-    let good = write(&d, "good.vcd", VALID_SAMPLE);
+    let t = tmp("special");
+    let d = t.path();
+    let good = write(d, "good.vcd", VALID_SAMPLE);
     let fifo = d.join("fifo.vcd");
     let st = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
     assert!(st.success());
     // a FIFO without a writer would block an open(); it must be refused before that
-    for (p, kind) in [(fifo.as_path(), "FIFO"), (d.as_path(), "directory"), (Path::new("/dev/null"), "character device")] {
+    for (p, kind) in [(fifo.as_path(), "FIFO"), (d, "directory"), (Path::new("/dev/null"), "character device")] {
         let e = Waveform::open(p).unwrap_err();
         assert!(matches!(e, ReadError::NotRegular { kind: k, .. } if k == kind), "{e:?}");
         let res = diff_files(p, &good, &DiffOptions::default());
@@ -217,13 +217,13 @@ fn non_regular_files_are_refused_without_opening_them() {
     let link = d.join("link.vcd");
     std::os::unix::fs::symlink(&good, &link).unwrap();
     assert_eq!(exit_code(&diff_files(&link, &good, &DiffOptions::default())), 0);
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
 fn files_over_the_size_limit_are_refused() {
-    let d = tmp("size");
-    let f = write(&d, "f.vcd", VALID_SAMPLE);
+    let t = tmp("size");
+    let d = t.path();
+    let f = write(d, "f.vcd", VALID_SAMPLE);
     let n = VALID_SAMPLE.len() as u64;
     let exact = DiffOptions { read_limits: ReadLimits { max_file_bytes: n, ..ReadLimits::default() }, ..DiffOptions::default() };
     assert_eq!(exit_code(&diff_files(&f, &f, &exact)), 0);
@@ -235,7 +235,6 @@ fn files_over_the_size_limit_are_refused() {
     let e = Waveform::from_bytes_with(VALID_SAMPLE.to_vec(), &under.read_limits).unwrap_err();
     assert!(matches!(e, ReadError::TooLarge { .. }), "{e:?}");
     assert_eq!(ReadLimits::default().max_file_bytes, 2 << 30, "the documented default is 2 GiB");
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]

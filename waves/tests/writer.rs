@@ -4,7 +4,7 @@ mod common;
 
 use common::{sample, sample_builder, text, wave};
 use pmu50_waves::reader::Value;
-use pmu50_waves::writer::{BitType, Logic, VcdBuilder, WriteError};
+use pmu50_waves::writer::{BitType, Frame, Logic, SigId, VcdBuilder, VcdWriter, WriteError};
 use pmu50_waves::{TimeUnit, Timescale};
 
 const HEADER: &str = "$version
@@ -528,7 +528,7 @@ fn error_messages_say_what_where_and_what_is_valid() {
 
 // ---- frames: declared once, dumped every step, identical output to single changes ----
 
-fn frame_builder() -> (VcdBuilder, Vec<pmu50_waves::writer::SigId>) {
+fn frame_builder() -> (VcdBuilder, Vec<SigId>) {
     let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Us), "pmu50-waves test").unwrap();
     b.push_scope("pmu50").unwrap();
     let mut ids = vec![b.add_bit(BitType::Wire, "a", Logic::Zero).unwrap()];
@@ -538,6 +538,14 @@ fn frame_builder() -> (VcdBuilder, Vec<pmu50_waves::writer::SigId>) {
     ids.push(b.add_bit(BitType::Reg, "z", Logic::X).unwrap());
     b.pop_scope().unwrap();
     (b, ids)
+}
+
+/// A writer started from a builder and its ids (as [`frame_builder`] gives them), with a frame
+/// of the first `n` variables.
+fn framed((b, ids): (VcdBuilder, Vec<SigId>), n: usize) -> (VcdWriter<Vec<u8>>, Frame, Vec<SigId>) {
+    let mut w = b.start(Vec::new()).unwrap();
+    let f = w.frame(&ids[..n]).unwrap();
+    (w, f, ids)
 }
 
 proptest::proptest! {
@@ -580,9 +588,7 @@ proptest::proptest! {
 
 #[test]
 fn frames_keep_every_check() {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
+    let (mut w, mut f, ids) = framed(frame_builder(), 3);
     let mut g = w.frame(&ids[2..4]).unwrap();
     w.set_time(1).unwrap();
     // value wider than the variable: 5-bit `w` takes at most 31 (the values before it are taken)
@@ -670,6 +676,151 @@ fn after_step() -> impl proptest::strategy::Strategy<Value = AfterStep> {
     prop_oneof![12 => Just(AfterStep::Nothing), 1 => Just(AfterStep::OutsideSameTime), 1 => Just(AfterStep::FrameVarLater), 1 => Just(AfterStep::TimeOnly), 2 => (0u64..5).prop_map(|v| AfterStep::FrameIntLater(v << 60))]
 }
 
+/// A frame variable's value in [`frame_builder`]'s frame, from a small drawn number.
+fn frame_value(var: usize, v: u64) -> u64 {
+    [v & 1, v * 1000, v * 7, v << 60][var]
+}
+
+/// The two writers of a run property: `w1` written by the runs under test, `w2` by
+/// `dump_frame` (and single changes) with the same values; the frame's values by position,
+/// the time, the outside variable's value and the time of the frame's last step.
+struct RunPair {
+    w1: VcdWriter<Vec<u8>>,
+    f1: Frame,
+    ids1: Vec<SigId>,
+    w2: VcdWriter<Vec<u8>>,
+    f2: Frame,
+    ids2: Vec<SigId>,
+    /// the variable at each frame position
+    order: [usize; 4],
+    /// the frame position of each variable
+    at: [usize; 4],
+    /// the frame's values by position
+    cur: [u64; 4],
+    t: u64,
+    zv: bool,
+    /// the time of the frame's last step
+    frame_at: Option<u64>,
+}
+
+impl RunPair {
+    /// Two writers of [`frame_builder`] (both with `window`), each with a frame in declaration
+    /// order (`sorted`) or out of it.
+    fn new(sorted: bool, window: Option<(u64, u64)>) -> RunPair {
+        let order: [usize; 4] = if sorted { [0, 1, 2, 3] } else { [3, 1, 0, 2] };
+        let start = || {
+            let (mut b, ids) = frame_builder();
+            if let Some((s, len)) = window {
+                b.window(s, s + len + 1).unwrap();
+            }
+            let mut w = b.start(Vec::new()).unwrap();
+            let f = w.frame(&order.map(|k| ids[k])).unwrap();
+            (w, f, ids)
+        };
+        let (w1, f1, ids1) = start();
+        let (w2, f2, ids2) = start();
+        RunPair {
+            w1,
+            f1,
+            ids1,
+            w2,
+            f2,
+            ids2,
+            order,
+            at: std::array::from_fn(|var| order.iter().position(|&v| v == var).unwrap()),
+            cur: order.map(|var| [0, 0, 3, 0][var]),
+            t: 0,
+            zv: false,
+            frame_at: None,
+        }
+    }
+
+    /// What happens between two runs, on both writers.
+    fn after(&mut self, after: AfterStep) -> Result<(), proptest::test_runner::TestCaseError> {
+        match after {
+            AfterStep::Nothing => {}
+            AfterStep::OutsideSameTime => {
+                self.zv = !self.zv;
+                self.w1.change_bool(self.ids1[4], self.zv).unwrap();
+                self.w2.change_bool(self.ids2[4], self.zv).unwrap();
+                // and a frame variable at that time is a double assignment
+                let e = self.w1.change_vector(self.ids1[0], 1).err();
+                proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
+            }
+            AfterStep::FrameIntLater(v) => {
+                // the frame's copy is stale at the next run's first step
+                self.t += 1;
+                self.w1.set_time(self.t).unwrap();
+                self.w2.set_time(self.t).unwrap();
+                self.w1.change_vector(self.ids1[3], v).unwrap();
+                self.w2.change_vector(self.ids2[3], v).unwrap();
+                self.cur[self.at[3]] = v;
+                // a frame variable is assigned at `t`: the frame's step there is refused
+                self.frame_at = Some(self.t);
+            }
+            AfterStep::TimeOnly => {
+                self.t += 1;
+                self.w1.set_time(self.t).unwrap();
+                self.w2.set_time(self.t).unwrap();
+            }
+            AfterStep::FrameVarLater => {
+                // `w` (5 bits) becomes x0x0x (its frame position then holds no integer), and
+                // the 64-bit variable 5
+                self.t += 1;
+                for (w, ids) in [(&mut self.w1, &self.ids1), (&mut self.w2, &self.ids2)] {
+                    w.set_time(self.t).unwrap();
+                    w.change_bits(ids[2], "x0x0x").unwrap();
+                    w.change_vector(ids[3], 5).unwrap();
+                }
+                self.cur[self.at[3]] = 5;
+                // the next step sets every position, `w` back to 3 (a run's step is a
+                // checked one while `w` holds x; dump_frame compares with x0x0x too)
+                self.cur[self.at[2]] = 3;
+                self.t += 1;
+                let mut run = self.w1.frame_run(&mut self.f1).unwrap();
+                let mut s = run.step(self.t).unwrap();
+                for (k, v) in self.cur.iter().enumerate() {
+                    s.set(k, *v).unwrap();
+                }
+                drop(run);
+                self.w2.dump_frame(&mut self.f2, self.t, &self.cur).unwrap();
+                self.frame_at = Some(self.t);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Gives a step's drawn values through `set_fn` (a frame run's or a text run's step) and keeps
+/// them in `cur`; with `too_wide`, a too-wide value of `w` is refused first, and after the
+/// values, a position again (or one before the last) is refused where any was given.
+fn give_step(
+    set: &[Option<u64>; 4],
+    too_wide: bool,
+    order: &[usize; 4],
+    cur: &mut [u64; 4],
+    set_fn: &mut dyn FnMut(usize, u64) -> Result<(), WriteError>,
+) -> Result<(), proptest::test_runner::TestCaseError> {
+    for (k, v) in set.iter().enumerate() {
+        let Some(v) = v else { continue };
+        if too_wide && order[k] == 2 {
+            // 5-bit `w`: refused, nothing assigned, the position may be given again
+            let e = set_fn(k, 32 + v).unwrap_err();
+            proptest::prop_assert!(matches!(e, WriteError::ValueTooWide { max: 31, .. }), "{}", e);
+        }
+        let v = frame_value(order[k], *v);
+        set_fn(k, v).unwrap();
+        cur[k] = v;
+    }
+    if too_wide {
+        // a position again, or one before the last, in the same step
+        let e = set_fn(0, cur[0]).err();
+        let given = set.iter().any(|v| v.is_some());
+        proptest::prop_assert_eq!(given, matches!(e, Some(WriteError::FrameOrder { .. })), "{:?}", e);
+    }
+    Ok(())
+}
+
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig { cases: 300, failure_persistence: None, ..Default::default() })]
 
@@ -684,127 +835,42 @@ proptest::proptest! {
         window in proptest::option::of((0u64..30, 0u64..80)),
         steps in proptest::collection::vec((0u64..3, proptest::array::uniform4(proptest::option::of(0u64..5)), proptest::prelude::any::<bool>(), after_step()), 0..80),
     ) {
-        let order: [usize; 4] = if sorted { [0, 1, 2, 3] } else { [3, 1, 0, 2] };
-        // the frame position of each variable
-        let at: [usize; 4] = std::array::from_fn(|var| order.iter().position(|&v| v == var).unwrap());
-        let start = |ids: &[pmu50_waves::writer::SigId], b: VcdBuilder| {
-            let mut b = b;
-            if let Some((s, len)) = window {
-                b.window(s, s + len + 1).unwrap();
-            }
-            let mut w = b.start(Vec::new()).unwrap();
-            let f = w.frame(&order.map(|k| ids[k])).unwrap();
-            (w, f)
-        };
-        let (b1, ids1) = frame_builder();
-        let (b2, ids2) = frame_builder();
-        let (mut w1, mut f1) = start(&ids1, b1);
-        let (mut w2, mut f2) = start(&ids2, b2);
-        let value = |var: usize, v: u64| [v & 1, v * 1000, v * 7, v << 60][var];
-        // the frame's values by position
-        let mut cur = order.map(|var| [0, 0, 3, 0][var]);
-        let (mut t, mut zv, mut idx) = (0u64, false, 0);
-        // the time of the frame's last step
-        let mut frame_at = None;
+        let mut p = RunPair::new(sorted, window);
+        let mut idx = 0;
         while idx < steps.len() {
             let mut after = AfterStep::Nothing;
             {
-                let mut run = w1.frame_run(&mut f1).unwrap();
+                let mut run = p.w1.frame_run(&mut p.f1).unwrap();
                 let mut steps_in_run = 0;
                 while idx < steps.len() {
                     let (dt, set, too_wide, a) = steps[idx];
                     idx += 1;
-                    t += dt;
-                    if frame_at == Some(t) {
+                    p.t += dt;
+                    if p.frame_at == Some(p.t) {
                         // the frame's variables are assigned at `t` already
-                        let e = run.step(t).err();
+                        let e = run.step(p.t).err();
                         proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
-                        let e = w2.dump_frame(&mut f2, t, &cur).err();
+                        let e = p.w2.dump_frame(&mut p.f2, p.t, &p.cur).err();
                         proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
                         continue;
                     }
-                    frame_at = Some(t);
-                    let mut s = run.step(t).unwrap();
+                    p.frame_at = Some(p.t);
+                    let mut s = run.step(p.t).unwrap();
                     if steps_in_run > 0 {
                         proptest::prop_assert!(s.is_current());
                     }
                     steps_in_run += 1;
-                    for (k, v) in set.iter().enumerate() {
-                        let Some(v) = v else { continue };
-                        if too_wide && order[k] == 2 {
-                            // 5-bit `w`: refused, nothing assigned, the position may be given again
-                            let e = s.set(k, 32 + v).unwrap_err();
-                            proptest::prop_assert!(matches!(e, WriteError::ValueTooWide { max: 31, .. }), "{}", e);
-                        }
-                        let v = value(order[k], *v);
-                        s.set(k, v).unwrap();
-                        cur[k] = v;
-                    }
-                    if too_wide {
-                        // a position again, or one before the last, in the same step
-                        let e = s.set(0, cur[0]).err();
-                        let given = set.iter().any(|v| v.is_some());
-                        proptest::prop_assert_eq!(given, matches!(e, Some(WriteError::FrameOrder { .. })), "{:?}", e);
-                    }
-                    w2.dump_frame(&mut f2, t, &cur).unwrap();
+                    give_step(&set, too_wide, &p.order, &mut p.cur, &mut |k, v| s.set(k, v))?;
+                    p.w2.dump_frame(&mut p.f2, p.t, &p.cur).unwrap();
                     if !matches!(a, AfterStep::Nothing) {
                         after = a;
                         break;
                     }
                 }
             }
-            match after {
-                AfterStep::Nothing => {}
-                AfterStep::OutsideSameTime => {
-                    zv = !zv;
-                    w1.change_bool(ids1[4], zv).unwrap();
-                    w2.change_bool(ids2[4], zv).unwrap();
-                    // and a frame variable at that time is a double assignment
-                    let e = w1.change_vector(ids1[0], 1).err();
-                    proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
-                }
-                AfterStep::FrameIntLater(v) => {
-                    // the frame's copy is stale at the next run's first step
-                    t += 1;
-                    w1.set_time(t).unwrap();
-                    w2.set_time(t).unwrap();
-                    w1.change_vector(ids1[3], v).unwrap();
-                    w2.change_vector(ids2[3], v).unwrap();
-                    cur[at[3]] = v;
-                    // a frame variable is assigned at `t`: the frame's step there is refused
-                    frame_at = Some(t);
-                }
-                AfterStep::TimeOnly => {
-                    t += 1;
-                    w1.set_time(t).unwrap();
-                    w2.set_time(t).unwrap();
-                }
-                AfterStep::FrameVarLater => {
-                    // `w` (5 bits) becomes x0x0x (its frame position then holds no integer), and
-                    // the 64-bit variable 5
-                    t += 1;
-                    for (w, ids) in [(&mut w1, &ids1), (&mut w2, &ids2)] {
-                        w.set_time(t).unwrap();
-                        w.change_bits(ids[2], "x0x0x").unwrap();
-                        w.change_vector(ids[3], 5).unwrap();
-                    }
-                    cur[at[3]] = 5;
-                    // the next step sets every position, `w` back to 3 (a run's step is a
-                    // checked one while `w` holds x; dump_frame compares with x0x0x too)
-                    cur[at[2]] = 3;
-                    t += 1;
-                    let mut run = w1.frame_run(&mut f1).unwrap();
-                    let mut s = run.step(t).unwrap();
-                    for (k, v) in cur.iter().enumerate() {
-                        s.set(k, *v).unwrap();
-                    }
-                    drop(run);
-                    w2.dump_frame(&mut f2, t, &cur).unwrap();
-                    frame_at = Some(t);
-                }
-            }
+            p.after(after)?;
         }
-        proptest::prop_assert_eq!(text(w1), text(w2));
+        proptest::prop_assert_eq!(text(p.w1), text(p.w2));
     }
 }
 
@@ -825,39 +891,20 @@ proptest::proptest! {
         window in proptest::option::of((0u64..30, 0u64..80)),
         steps in proptest::collection::vec((0u64..3, proptest::array::uniform4(proptest::option::of(0u64..5)), proptest::prelude::any::<bool>(), after_step()), 0..80),
     ) {
-        let order: [usize; 4] = if sorted { [0, 1, 2, 3] } else { [3, 1, 0, 2] };
-        // the frame position of each variable
-        let at: [usize; 4] = std::array::from_fn(|var| order.iter().position(|&v| v == var).unwrap());
-        let start = |ids: &[pmu50_waves::writer::SigId], b: VcdBuilder| {
-            let mut b = b;
-            if let Some((s, len)) = window {
-                b.window(s, s + len + 1).unwrap();
-            }
-            let mut w = b.start(Vec::new()).unwrap();
-            let f = w.frame(&order.map(|k| ids[k])).unwrap();
-            (w, f)
-        };
-        let (b1, ids1) = frame_builder();
-        let (b2, ids2) = frame_builder();
-        let (mut w1, mut f1) = start(&ids1, b1);
-        let (mut w2, mut f2) = start(&ids2, b2);
-        let value = |var: usize, v: u64| [v & 1, v * 1000, v * 7, v << 60][var];
-        // the frame's values by position
-        let mut cur = order.map(|var| [0, 0, 3, 0][var]);
-        let (mut t, mut zv, mut idx) = (0u64, false, 0);
-        // the time of the frame's last step
-        let mut frame_at = None;
+        let mut p = RunPair::new(sorted, window);
+        let mut idx = 0;
         // steps written at once
         let mut texts = 0;
         while idx < steps.len() {
             let mut after = AfterStep::Nothing;
             {
-                let mut run = w1.text_run(&mut f1).unwrap();
+                let mut run = p.w1.text_run(&mut p.f1).unwrap();
                 while idx < steps.len() {
                     let (dt, set, too_wide, a) = steps[idx];
                     idx += 1;
-                    t += dt;
-                    if frame_at == Some(t) {
+                    p.t += dt;
+                    let t = p.t;
+                    if p.frame_at == Some(t) {
                         // the frame's variables are assigned at `t` already
                         let e = match run.step(t) {
                             Err(e) => Some(e),
@@ -865,37 +912,17 @@ proptest::proptest! {
                             Ok(None) => run.frame_run().unwrap().step(t).err(),
                         };
                         proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
-                        let e = w2.dump_frame(&mut f2, t, &cur).err();
+                        let e = p.w2.dump_frame(&mut p.f2, t, &p.cur).err();
                         proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
                         continue;
                     }
-                    frame_at = Some(t);
+                    p.frame_at = Some(t);
                     // the frame's values before the step (a position is given once in it)
-                    let before = cur;
-                    let mut step_body = |set_fn: &mut dyn FnMut(usize, u64) -> Result<(), WriteError>| -> Result<(), proptest::test_runner::TestCaseError> {
-                        for (k, v) in set.iter().enumerate() {
-                            let Some(v) = v else { continue };
-                            if too_wide && order[k] == 2 {
-                                // 5-bit `w`: refused, nothing assigned, the position may be given again
-                                let e = set_fn(k, 32 + v).unwrap_err();
-                                proptest::prop_assert!(matches!(e, WriteError::ValueTooWide { max: 31, .. }), "{}", e);
-                            }
-                            let v = value(order[k], *v);
-                            set_fn(k, v).unwrap();
-                            cur[k] = v;
-                        }
-                        if too_wide {
-                            // a position again, or one before the last, in the same step
-                            let e = set_fn(0, cur[0]).err();
-                            let given = set.iter().any(|v| v.is_some());
-                            proptest::prop_assert_eq!(given, matches!(e, Some(WriteError::FrameOrder { .. })), "{:?}", e);
-                        }
-                        Ok(())
-                    };
+                    let before = p.cur;
                     match run.step(t).unwrap() {
                         Some(mut s) if change && !too_wide => {
                             texts += 1;
-                            step_body(&mut |k, v| {
+                            give_step(&set, too_wide, &p.order, &mut p.cur, &mut |k, v| {
                                 if v != before[k] {
                                     s.change(k, v);
                                 }
@@ -904,77 +931,58 @@ proptest::proptest! {
                         }
                         Some(mut s) => {
                             texts += 1;
-                            step_body(&mut |k, v| s.line(k, v))?;
+                            give_step(&set, too_wide, &p.order, &mut p.cur, &mut |k, v| s.line(k, v))?;
                         }
                         None => {
                             let mut fr = run.frame_run().unwrap();
                             let mut s = fr.step(t).unwrap();
-                            step_body(&mut |k, v| s.set(k, v))?;
+                            give_step(&set, too_wide, &p.order, &mut p.cur, &mut |k, v| s.set(k, v))?;
                         }
                     }
-                    w2.dump_frame(&mut f2, t, &cur).unwrap();
+                    p.w2.dump_frame(&mut p.f2, t, &p.cur).unwrap();
                     if !matches!(a, AfterStep::Nothing) {
                         after = a;
                         break;
                     }
                 }
             }
-            match after {
-                AfterStep::Nothing => {}
-                AfterStep::OutsideSameTime => {
-                    zv = !zv;
-                    w1.change_bool(ids1[4], zv).unwrap();
-                    w2.change_bool(ids2[4], zv).unwrap();
-                    // and a frame variable at that time is a double assignment
-                    let e = w1.change_vector(ids1[0], 1).err();
-                    proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
-                }
-                AfterStep::FrameIntLater(v) => {
-                    // the frame's copy is stale at the next run's first step
-                    t += 1;
-                    w1.set_time(t).unwrap();
-                    w2.set_time(t).unwrap();
-                    w1.change_vector(ids1[3], v).unwrap();
-                    w2.change_vector(ids2[3], v).unwrap();
-                    cur[at[3]] = v;
-                    // a frame variable is assigned at `t`: the frame's step there is refused
-                    frame_at = Some(t);
-                }
-                AfterStep::TimeOnly => {
-                    t += 1;
-                    w1.set_time(t).unwrap();
-                    w2.set_time(t).unwrap();
-                }
-                AfterStep::FrameVarLater => {
-                    // `w` (5 bits) becomes x0x0x (its frame position then holds no integer), and
-                    // the 64-bit variable 5
-                    t += 1;
-                    for (w, ids) in [(&mut w1, &ids1), (&mut w2, &ids2)] {
-                        w.set_time(t).unwrap();
-                        w.change_bits(ids[2], "x0x0x").unwrap();
-                        w.change_vector(ids[3], 5).unwrap();
-                    }
-                    cur[at[3]] = 5;
-                    // the next step sets every position, `w` back to 3 (a run's step is a
-                    // checked one while `w` holds x; dump_frame compares with x0x0x too)
-                    cur[at[2]] = 3;
-                    t += 1;
-                    let mut run = w1.frame_run(&mut f1).unwrap();
-                    let mut s = run.step(t).unwrap();
-                    for (k, v) in cur.iter().enumerate() {
-                        s.set(k, *v).unwrap();
-                    }
-                    drop(run);
-                    w2.dump_frame(&mut f2, t, &cur).unwrap();
-                    frame_at = Some(t);
-                }
-            }
+            p.after(after)?;
         }
-        proptest::prop_assert_eq!(text(w1), text(w2));
+        proptest::prop_assert_eq!(text(p.w1), text(p.w2));
         if sorted && window.is_none() && steps.len() > 40 {
             proptest::prop_assert!(texts > 0, "no step was written at once");
         }
     }
+}
+
+/// The checks of one step at `t` of a frame of [`frame_builder`]'s first three variables, its
+/// values given through `give` (a text step's `line`, a run step's `set`): position 1 takes
+/// 4 + t; a position past the frame, one before the last given, the last given again and a
+/// too-wide value of `w` are refused, each with its error; position 2 then takes t.
+fn step_checks(t: u64, give: &mut dyn FnMut(usize, u64) -> Result<(), WriteError>) {
+    give(1, 4 + t).unwrap();
+    let e = give(3, 1).unwrap_err();
+    assert!(matches!(e, WriteError::FramePosition { position: 3, len: 3 }), "{e}");
+    let e = give(0, 1).unwrap_err();
+    assert!(matches!(e, WriteError::FrameOrder { position: 0, previous: 1 }), "{e}");
+    assert!(e.to_string().contains("increasing order"), "{e}");
+    let e = give(1, 9).unwrap_err();
+    assert!(matches!(e, WriteError::FrameOrder { position: 1, previous: 1 }), "{e}");
+    let e = give(2, 32).unwrap_err();
+    assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
+    assert!(e.to_string().contains("pmu50.w"), "{e}");
+    give(2, t).unwrap();
+}
+
+/// The checks after a run of `w` (a frame of the first three of [`frame_builder`]'s variables):
+/// the last step is the writer's pending one, so a frame variable again is a double assignment
+/// and another variable joins the step. Returns another writer (kept for as long as its frame is
+/// used) and a frame of it, which `w` must refuse.
+fn after_a_run(w: &mut VcdWriter<Vec<u8>>, ids: &[SigId]) -> (VcdWriter<Vec<u8>>, Frame) {
+    assert!(matches!(w.change_vector(ids[1], 1), Err(WriteError::DoubleChange { .. })));
+    w.change_vector(ids[3], 1).unwrap();
+    let (other, f2, _) = framed(frame_builder(), 1);
+    (other, f2)
 }
 
 /// A text run's steps are written at once and its last one is taken back when the run ends
@@ -983,9 +991,7 @@ proptest::proptest! {
 /// refused.
 #[test]
 fn text_runs_keep_every_check() {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
+    let (mut w, mut f, ids) = framed(frame_builder(), 3);
     {
         let mut run = w.text_run(&mut f).unwrap();
         // t = 0: before the first dump, through a frame run
@@ -995,17 +1001,7 @@ fn text_runs_keep_every_check() {
         run.step(1).unwrap().expect("a step written at once").line(1, 5).unwrap();
         for t in 2..5 {
             let mut s = run.step(t).unwrap().expect("a step written at once");
-            s.line(1, 4 + t).unwrap();
-            let e = s.line(3, 1).unwrap_err();
-            assert!(matches!(e, WriteError::FramePosition { position: 3, len: 3 }), "{e}");
-            let e = s.line(0, 1).unwrap_err();
-            assert!(matches!(e, WriteError::FrameOrder { position: 0, previous: 1 }), "{e}");
-            let e = s.line(1, 9).unwrap_err();
-            assert!(matches!(e, WriteError::FrameOrder { position: 1, previous: 1 }), "{e}");
-            let e = s.line(2, 32).unwrap_err();
-            assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
-            assert!(e.to_string().contains("pmu50.w"), "{e}");
-            s.line(2, t).unwrap();
+            step_checks(t, &mut |k, v| s.line(k, v));
         }
         // a step without a change takes its stamp back
         let mut s = run.step(5).unwrap().unwrap();
@@ -1015,13 +1011,7 @@ fn text_runs_keep_every_check() {
         let mut s = run.step(6).unwrap().unwrap();
         s.line(0, 1).unwrap();
     }
-    // the last step is the writer's pending one: a frame variable again is a double assignment,
-    // another variable joins the step
-    assert!(matches!(w.change_vector(ids[1], 1), Err(WriteError::DoubleChange { .. })));
-    w.change_vector(ids[3], 1).unwrap();
-    let (b2, ids2) = frame_builder();
-    let mut other = b2.start(Vec::new()).unwrap();
-    let mut f2 = other.frame(&ids2[..1]).unwrap();
+    let (_other, mut f2) = after_a_run(&mut w, &ids);
     assert!(matches!(w.text_run(&mut f2), Err(WriteError::UnknownFrame)));
     let got = text(w);
     assert!(got.contains("#1\nb0000000000000101 \"\n#2\nb0000000000000110 \"\nb00010 #\n#3\n"), "{got}");
@@ -1046,9 +1036,7 @@ fn text_step_change_writes_a_changed_value() {
 /// and 2) whose first step, at t = 0, went through a frame run (values 0, 4, 3); `body` takes
 /// the run's later steps.
 fn after_a_text_run(body: impl FnOnce(&mut pmu50_waves::writer::TextRun<'_, Vec<u8>>)) -> String {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
+    let (mut w, mut f, _ids) = framed(frame_builder(), 3);
     assert_eq!((f.max(1), f.max(2), f.max(3)), (Some(0xFFFF), Some(31), None));
     {
         let mut run = w.text_run(&mut f).unwrap();
@@ -1114,9 +1102,7 @@ fn text_step_change_out_of_order_is_asserted() {
 #[test]
 #[should_panic(expected = "index out of bounds")]
 fn text_step_change_past_the_frame_panics() {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
+    let (mut w, mut f, _ids) = framed(frame_builder(), 3);
     let mut run = w.text_run(&mut f).unwrap();
     assert!(run.step(0).unwrap().is_none());
     run.frame_run().unwrap().step(0).unwrap().set(1, 4).unwrap();
@@ -1128,9 +1114,7 @@ fn text_step_change_past_the_frame_panics() {
 /// frame was assigned), and a frame of another writer is refused.
 #[test]
 fn frame_runs_keep_every_check() {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
+    let (mut w, mut f, ids) = framed(frame_builder(), 3);
     {
         let mut run = w.frame_run(&mut f).unwrap();
         // t = 0 is the writer's time: a checked step (the first dump)
@@ -1138,29 +1122,12 @@ fn frame_runs_keep_every_check() {
         for t in 1..4 {
             let mut s = run.step(t).unwrap();
             assert!(s.is_current());
-            s.set(1, 4 + t).unwrap();
-            let e = s.set(3, 1).unwrap_err();
-            assert!(matches!(e, WriteError::FramePosition { position: 3, len: 3 }), "{e}");
-            let e = s.set(0, 1).unwrap_err();
-            assert!(matches!(e, WriteError::FrameOrder { position: 0, previous: 1 }), "{e}");
-            assert!(e.to_string().contains("increasing order"), "{e}");
-            let e = s.set(1, 9).unwrap_err();
-            assert!(matches!(e, WriteError::FrameOrder { position: 1, previous: 1 }), "{e}");
-            let e = s.set(2, 32).unwrap_err();
-            assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
-            assert!(e.to_string().contains("pmu50.w"), "{e}");
-            s.set(2, t).unwrap();
+            step_checks(t, &mut |k, v| s.set(k, v));
         }
         assert!(matches!(run.step(3), Err(WriteError::DoubleChange { .. })));
         assert!(matches!(run.step(2), Err(WriteError::TimeBackwards { requested: 2, current: 3 })));
     }
-    // the last step is the writer's pending one: a frame variable again is a double assignment,
-    // another variable joins the step
-    assert!(matches!(w.change_vector(ids[1], 1), Err(WriteError::DoubleChange { .. })));
-    w.change_vector(ids[3], 1).unwrap();
-    let (b2, ids2) = frame_builder();
-    let mut other = b2.start(Vec::new()).unwrap();
-    let mut f2 = other.frame(&ids2[..1]).unwrap();
+    let (_other, mut f2) = after_a_run(&mut w, &ids);
     assert!(matches!(w.frame_run(&mut f2), Err(WriteError::UnknownFrame)));
     let got = text(w);
     assert!(got.contains("#1\nb0000000000000101 \"\nb00001 #\n#2\n"), "{got}");
@@ -1223,9 +1190,7 @@ proptest::proptest! {
 /// refused.
 #[test]
 fn a_single_change_to_the_same_value_blocks_the_frame_in_its_step() {
-    let (b, ids) = frame_builder();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..3]).unwrap();
+    let (mut w, mut f, ids) = framed(frame_builder(), 3);
     w.dump_frame(&mut f, 1, &[1, 2, 3]).unwrap();
     w.set_time(2).unwrap();
     w.change_vector(ids[1], 2).unwrap();
@@ -1236,7 +1201,7 @@ fn a_single_change_to_the_same_value_blocks_the_frame_in_its_step() {
 }
 
 /// [`frame_builder`]'s variables and two reals after them.
-fn frame_builder_with_reals() -> (VcdBuilder, Vec<pmu50_waves::writer::SigId>) {
+fn frame_builder_with_reals() -> (VcdBuilder, Vec<SigId>) {
     let (mut b, mut ids) = frame_builder();
     b.push_scope("env").unwrap();
     ids.push(b.add_real("theta", 0.0).unwrap());
@@ -1270,7 +1235,7 @@ proptest::proptest! {
         let (b2, ids2) = frame_builder_with_reals();
         let (mut w1, mut f1) = start(b1, &ids1);
         let (mut w2, mut f2) = start(b2, &ids2);
-        let value = |var: usize, v: u64| [v & 1, v * 1000, v * 7, v << 60][var];
+        let value = frame_value;
         let (mut t, mut idx, mut zv) = (0u64, 0, false);
         while idx < steps.len() {
             {
@@ -1323,9 +1288,7 @@ proptest::proptest! {
 
 #[test]
 fn text_run_reals_keep_the_checks() {
-    let (b, ids) = frame_builder_with_reals();
-    let mut w = b.start(Vec::new()).unwrap();
-    let mut f = w.frame(&ids[..4]).unwrap();
+    let (mut w, mut f, ids) = framed(frame_builder_with_reals(), 4);
     let mut run = w.text_run(&mut f).unwrap();
     run.frame_run().unwrap().step(1).unwrap();
     // the first step of a run goes through the writer; the next one is a text step

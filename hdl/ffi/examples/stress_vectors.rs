@@ -23,54 +23,11 @@ use std::process::ExitCode;
 
 const CLOCK_NS: u64 = 10_000;
 
-/// SplitMix64.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn range(&mut self, lo: u64, hi: u64) -> u64 {
-        lo + self.next() % (hi - lo + 1)
-    }
-    fn chance(&mut self, per_mille: u64) -> bool {
-        self.range(0, 999) < per_mille
-    }
-}
+use pmu50_core::rng::{ParamRanges, SplitMix64 as Rng};
 
+/// Legal random parameters (ticks), narrow counters half the time.
 fn random_params(r: &mut Rng) -> Params {
-    loop {
-        let pw = r.range(0, 6) as u16;
-        let pi = r.range(0, 12) as u16;
-        let ps = r.range(1, 6) as u16;
-        let wt = u64::from(pw + pi + ps);
-        let si_min = r.range(wt + 1, wt + 150) as u16;
-        let si_max = r.range(u64::from(si_min), u64::from(si_min) + 300) as u16;
-        let p = Params {
-            sync_depth: r.range(1, 4) as u8,
-            cnt_width: if r.chance(500) {
-                r.range(2, 15) as u8
-            } else {
-                16
-            },
-            adaptive: r.chance(850),
-            pw,
-            pi,
-            ps,
-            si_max,
-            si_min,
-            t1: r.range(1, 200) as u16,
-            t2: r.range(1, 150) as u16,
-            cth: r.range(1, 6) as u8,
-            smp_on: r.range(2, 20) as u16,
-        };
-        if p.validate().is_ok() {
-            return p;
-        }
-    }
+    r.legal_params(&ParamRanges { pw: 6, pi: 12, ps: 6, si_min_over_wt: 150, si_max_over_min: 300, narrow_cnt: (500, 1000), narrow_cnt_max: 15, adaptive: (850, 1000), t1: 200, t2: 150, cth: 6, smp_on: 20 })
 }
 
 /// Stimulus generator state.
@@ -98,7 +55,7 @@ impl Stim {
             };
         }
         self.seg_left -= 1;
-        let ig = if r.chance(3) { !self.ig } else { self.ig };
+        let ig = if r.chance(3, 1000) { !self.ig } else { self.ig };
         // Motion: standstill, slow, fast, quadrant-skipping; both directions.
         if self.vel_left == 0 {
             self.vel = match r.range(0, 24) {
@@ -106,7 +63,7 @@ impl Stim {
                 10..=17 => r.range(1, 40) as i64,
                 18..=23 => r.range(40, 400) as i64,
                 _ => r.range(400, 2500) as i64,
-            } * if r.chance(500) { 1 } else { -1 };
+            } * if r.chance(500, 1000) { 1 } else { -1 };
             self.vel_left = r.range(50, 4000);
         }
         self.vel_left -= 1;
@@ -114,21 +71,21 @@ impl Stim {
         let q = self.pos.div_euclid(1000).rem_euclid(4);
         let mut cmp_s = q == 0 || q == 1;
         let mut cmp_c = q == 0 || q == 3;
-        if r.chance(5) {
+        if r.chance(5, 1000) {
             cmp_s = !cmp_s;
         }
-        if r.chance(5) {
+        if r.chance(5, 1000) {
             cmp_c = !cmp_c;
         }
         // Vs2 power-good: drop-outs and single-tick glitches.
-        if self.fault_left == 0 && r.chance(1) {
+        if self.fault_left == 0 && r.chance(1, 1000) {
             self.fault_left = r.range(1, 3000);
         }
         let vs2_ok = if self.fault_left > 0 {
             self.fault_left -= 1;
             false
         } else {
-            !r.chance(2)
+            !r.chance(2, 1000)
         };
         // Bus: reads of every address every tick, writes (mostly while the key is on).
         let mut i = Inputs {
@@ -154,18 +111,18 @@ impl Stim {
             2
         };
         let sticky = regs.register_file.bus_err || regs.updown_counter.quadrant_skip;
-        if sig && sticky && r.chance(4) {
+        if sig && sticky && r.chance(4, 1000) {
             // the MPU clears the sticky bits now and then (STATUS W1C: bit 5 quadrant_skip, bit 9 bus_err)
             i.bus_we = true;
             i.bus_addr = 0x14;
             i.bus_wdata = [0x220, 0x200, 0x020, 0xFFFF][r.range(0, 3) as usize];
-        } else if r.chance(p_write) {
+        } else if r.chance(p_write, 1000) {
             i.bus_we = true;
-            i.bus_addr = if sig != self.ig && r.chance(500) {
+            i.bus_addr = if sig != self.ig && r.chance(500, 1000) {
                 0x06
-            } else if r.chance(900) {
+            } else if r.chance(900, 1000) {
                 r.range(0x02, 0x0B) as u8
-            } else if r.chance(500) {
+            } else if r.chance(500, 1000) {
                 0x14
             } else {
                 r.range(0, 255) as u8
@@ -280,7 +237,7 @@ fn run(seed: u64, ticks: u64, out: &str, vcd_path: Option<&str>) -> Result<(), S
         fault_left: 0,
     };
     stim.pos = stim.rng.range(0, 3999) as i64;
-    stim.ig = stim.rng.chance(500);
+    stim.ig = stim.rng.chance(500, 1000);
 
     let io = |e: std::io::Error| format!("{out}: {e}");
     let mut f = BufWriter::new(std::fs::File::create(out).map_err(io)?);

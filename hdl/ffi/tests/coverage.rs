@@ -12,6 +12,7 @@
 //!
 //! python/tests/test_coverage.py checks `pmu50.Coverage` against the same stored file.
 
+use pmu50_core::signals::regenerate;
 use pmu50_core::{Inputs, Params, Pmu50};
 use pmu50_coverage::db::CoverageFile;
 use pmu50_coverage::{layout, model_id, Coverage, Edge};
@@ -31,18 +32,11 @@ fn params() -> Params {
 
 /// The shared stimulus: `n` inputs from splitmix64 draws starting at state 1.
 fn stimulus(n: usize) -> Vec<Inputs> {
-    let mut state: u64 = 1;
-    let mut next = || {
-        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    };
+    let mut rng = pmu50_core::rng::SplitMix64(1);
     let (mut ig, mut fault, mut cs, mut cc) = (false, false, false, false);
     (0..n)
         .map(|_| {
-            let r = next();
+            let r = rng.next();
             ig ^= (r & 0xFF) < 3;
             fault ^= (r >> 8) & 0x3F == 0;
             cs ^= (r >> 14) & 0x1F == 0;
@@ -95,10 +89,7 @@ fn rust_sampling_of_the_stimulus_is_the_stored_file() {
     let hits = rust_hits();
     let want = golden_text(&hits);
     let path = golden_path();
-    if std::env::var_os("PMU50_REGENERATE").is_some() {
-        let tmp = path.with_extension("json.tmp");
-        std::fs::write(&tmp, &want).unwrap();
-        std::fs::rename(&tmp, &path).unwrap();
+    if regenerate(&path, &want) {
         return;
     }
     let have = std::fs::read_to_string(&path).unwrap_or_default();

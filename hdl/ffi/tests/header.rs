@@ -5,7 +5,7 @@
 //! instead (atomically: temporary file in the same folder, then rename):
 //! `PMU50_REGENERATE=1 cargo test -p pmu50-ffi --test header`.
 
-use pmu50_core::signals::splice;
+use pmu50_core::signals::check_generated;
 use pmu50_ffi::mirror::c_structs;
 use std::path::Path;
 
@@ -15,17 +15,6 @@ const END: &str = "/* END GENERATED */";
 #[test]
 fn header_structs_are_generated_from_the_signal_table() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("include/pmu50.h");
-    let text = std::fs::read_to_string(&path).unwrap();
-    let want = splice(&text, BEGIN, END, &c_structs()).expect("include/pmu50.h lost its BEGIN/END GENERATED markers");
-    if std::env::var_os("PMU50_REGENERATE").is_some() {
-        let tmp = path.with_extension("h.tmp");
-        std::fs::write(&tmp, &want).unwrap();
-        std::fs::rename(&tmp, &path).unwrap();
-        return;
-    }
-    assert!(
-        text == want,
-        "hdl/ffi/include/pmu50.h differs from the signal table (rtl_model/core/src/signals.rs); \
-         regenerate with PMU50_REGENERATE=1 cargo test -p pmu50-ffi --test header and review the diff"
-    );
+    let source = "the signal table (rtl_model/core/src/signals.rs)";
+    check_generated(&path, "hdl/ffi/include/pmu50.h", BEGIN, END, &c_structs(), source, "cargo test -p pmu50-ffi --test header").unwrap_or_else(|e| panic!("{e}"));
 }

@@ -28,6 +28,7 @@ pub mod params;
 pub mod pmu50;
 pub mod reference;
 pub mod register_file;
+pub mod rng;
 pub mod sensor_power_determination_57;
 pub mod signals;
 pub mod timing_generator_56;

@@ -340,10 +340,15 @@ mod tests {
         RF.eval(r, &Inputs { bus_we: true, bus_addr: a, bus_wdata: d, sig, ..Default::default() })
     }
 
+    /// (`t2`, `bus_err`) after a write of 220 to T2 from reset, with `sig` (key on) as given.
+    fn t2_after_write(sig: bool) -> (u16, bool) {
+        let (_, n) = wr(&RESET, addr::T2, 220, sig);
+        (n.t2, n.bus_err)
+    }
+
     #[test]
     fn legal_write_is_taken() {
-        let (_, n) = wr(&RESET, addr::T2, 220, true);
-        assert_eq!((n.t2, n.bus_err), (220, false));
+        assert_eq!(t2_after_write(true), (220, false));
     }
 
     #[test]
@@ -365,8 +370,7 @@ mod tests {
 
     #[test]
     fn writes_while_key_off_are_refused() {
-        let (_, n) = wr(&RESET, addr::T2, 220, false);
-        assert_eq!((n.t2, n.bus_err), (110, true));
+        assert_eq!(t2_after_write(false), (110, true));
     }
 
     #[test]

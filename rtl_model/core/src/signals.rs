@@ -397,6 +397,34 @@ pub fn splice(doc: &str, begin: &str, end: &str, body: &str) -> Option<String> {
     Some(format!("{}{}{}", &doc[..a], body, &doc[z..]))
 }
 
+/// For the tests that keep a file in step with the code (docs/signals.md, the C header, a stored
+/// stimulus): with `PMU50_REGENERATE` set, writes `want` to `path` (a temporary file beside it,
+/// then a rename) and returns true, the check then being done; otherwise returns false and
+/// leaves the comparison to the caller.
+pub fn regenerate(path: &std::path::Path, want: &str) -> bool {
+    if std::env::var_os("PMU50_REGENERATE").is_none() {
+        return false;
+    }
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    std::fs::write(&tmp, want).unwrap_or_else(|e| panic!("{}: {e}", std::path::Path::new(&tmp).display()));
+    std::fs::rename(&tmp, path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    true
+}
+
+/// The check of a file whose part between the lines `begin` and `end` is generated (`body`):
+/// with `PMU50_REGENERATE` set the part is rewritten ([`regenerate`]); otherwise the file must
+/// hold it already. `name` is the file as the message names it, `source` what it is generated
+/// from, `command` the command that regenerates it.
+pub fn check_generated(path: &std::path::Path, name: &str, begin: &str, end: &str, body: &str, source: &str, command: &str) -> Result<(), String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: {e}"))?;
+    let want = splice(&text, begin, end, body).ok_or_else(|| format!("{name} lost its BEGIN/END GENERATED markers"))?;
+    if regenerate(path, &want) || text == want {
+        return Ok(());
+    }
+    Err(format!("{name} differs from {source}; regenerate with PMU50_REGENERATE=1 {command} and review the diff"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -9,7 +9,7 @@
 //! structural parameters, and the reset values match `pmu50::reset`.
 
 use pmu50_core::pmu50::{self, Structural};
-use pmu50_core::signals::{self, markdown_tables, splice, Reset, Width};
+use pmu50_core::signals::{self, check_generated, markdown_tables, Reset, Width};
 use pmu50_core::{Params, Pmu50};
 use std::path::Path;
 
@@ -19,19 +19,8 @@ const END: &str = "<!-- END GENERATED -->";
 #[test]
 fn signals_md_tables_are_generated_from_the_signal_table() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/signals.md");
-    let text = std::fs::read_to_string(&path).unwrap();
-    let want = splice(&text, BEGIN, END, &markdown_tables()).expect("docs/signals.md lost its BEGIN/END GENERATED markers");
-    if std::env::var_os("PMU50_REGENERATE").is_some() {
-        let tmp = path.with_extension("md.tmp");
-        std::fs::write(&tmp, &want).unwrap();
-        std::fs::rename(&tmp, &path).unwrap();
-        return;
-    }
-    assert!(
-        text == want,
-        "docs/signals.md differs from the signal table (rtl_model/core/src/signals.rs); \
-         regenerate with PMU50_REGENERATE=1 cargo test -p pmu50-core --test signal_table and review the diff"
-    );
+    let source = "the signal table (rtl_model/core/src/signals.rs)";
+    check_generated(&path, "docs/signals.md", BEGIN, END, &markdown_tables(), source, "cargo test -p pmu50-core --test signal_table").unwrap_or_else(|e| panic!("{e}"));
 }
 
 #[test]

@@ -24,8 +24,10 @@ use std::fmt::Write;
 /// The fixed time stamp of the export (coverage.json records no time).
 const TIME: &str = "1970-01-01T00:00:00";
 
-/// Escape text for an XML attribute or element.
-fn esc(s: &str) -> String {
+/// Escape text for an XML attribute or element: `&`, `<`, `>` and `"` always; with `full`, also
+/// `'` and the control characters XML 1.0 cannot carry at all (as U+FFFD). The UCIS export
+/// escapes fully; the SVG pictures and the HTML report of the CLI escape the four.
+pub fn xml_escape(s: &str, full: bool) -> String {
     let mut o = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
@@ -33,13 +35,27 @@ fn esc(s: &str) -> String {
             '<' => o.push_str("&lt;"),
             '>' => o.push_str("&gt;"),
             '"' => o.push_str("&quot;"),
-            '\'' => o.push_str("&apos;"),
-            // Characters XML 1.0 cannot carry at all become U+FFFD.
-            c if (c as u32) < 0x20 && !matches!(c, '\t' | '\n' | '\r') => o.push('\u{FFFD}'),
+            '\'' if full => o.push_str("&apos;"),
+            c if full && (c as u32) < 0x20 && !matches!(c, '\t' | '\n' | '\r') => o.push('\u{FFFD}'),
             c => o.push(c),
         }
     }
     o
+}
+
+fn esc(s: &str) -> String {
+    xml_escape(s, true)
+}
+
+/// One bin element (`coverpointBin` or `crossBin`): its attributes, its count line and, for a bin
+/// that cannot be hit, the reason.
+fn bin_element(w: &mut String, tag: &str, attrs: &str, count: &str, unreachable: Option<&str>) {
+    let _ = writeln!(w, "          <{tag} {attrs}>");
+    let _ = writeln!(w, "            {count}");
+    if let Some(why) = unreachable {
+        let _ = writeln!(w, "            <userAttr key=\"unreachable\" type=\"str\">{}</userAttr>", esc(why));
+    }
+    let _ = writeln!(w, "          </{tag}>");
 }
 
 /// The UCIS XML text of a coverage file (its bins must be this model's, as
@@ -82,12 +98,9 @@ pub fn to_ucis_xml(f: &CoverageFile) -> String {
             let b = &f.bins[k];
             let local = b.name.rsplit('.').next().unwrap_or(&b.name);
             let ty = if b.unreachable.is_some() { "ignore" } else { "bins" };
-            let _ = writeln!(w, "          <coverpointBin name=\"{}\" type=\"{ty}\" key=\"{j}\">", esc(local));
-            let _ = writeln!(w, "            <range from=\"{j}\" to=\"{j}\"><contents coverageCount=\"{}\"/></range>", b.hits);
-            if let Some(why) = &b.unreachable {
-                let _ = writeln!(w, "            <userAttr key=\"unreachable\" type=\"str\">{}</userAttr>", esc(why));
-            }
-            let _ = writeln!(w, "          </coverpointBin>");
+            let attrs = format!("name=\"{}\" type=\"{ty}\" key=\"{j}\"", esc(local));
+            let count = format!("<range from=\"{j}\" to=\"{j}\"><contents coverageCount=\"{}\"/></range>", b.hits);
+            bin_element(w, "coverpointBin", &attrs, &count, b.unreachable.as_deref());
             k += 1;
         }
         let _ = writeln!(w, "        </coverpoint>");
@@ -102,12 +115,9 @@ pub fn to_ucis_xml(f: &CoverageFile) -> String {
             for (ib, bb) in pb.bins.iter().enumerate() {
                 let b = &f.bins[k];
                 let ty = if b.unreachable.is_some() { "ignore" } else { "default" };
-                let _ = writeln!(w, "          <crossBin name=\"{}\" key=\"{}\" type=\"{ty}\">", esc(&format!("<{},{}>", ba.name, bb.name)), ia * pb.bins.len() + ib);
-                let _ = writeln!(w, "            <index>{ia}</index><index>{ib}</index><contents coverageCount=\"{}\"/>", b.hits);
-                if let Some(why) = &b.unreachable {
-                    let _ = writeln!(w, "            <userAttr key=\"unreachable\" type=\"str\">{}</userAttr>", esc(why));
-                }
-                let _ = writeln!(w, "          </crossBin>");
+                let attrs = format!("name=\"{}\" key=\"{}\" type=\"{ty}\"", esc(&format!("<{},{}>", ba.name, bb.name)), ia * pb.bins.len() + ib);
+                let count = format!("<index>{ia}</index><index>{ib}</index><contents coverageCount=\"{}\"/>", b.hits);
+                bin_element(w, "crossBin", &attrs, &count, b.unreachable.as_deref());
                 k += 1;
             }
         }

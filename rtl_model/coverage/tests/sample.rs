@@ -8,19 +8,7 @@ use pmu50_core::{Inputs, Params, Pmu50, TracedStep};
 use pmu50_coverage::{layout, Coverage, Edge};
 use std::collections::BTreeMap;
 
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn pct(&mut self, p: u64) -> bool {
-        self.next() % 100 < p
-    }
-}
+use pmu50_core::rng::SplitMix64 as Rng;
 
 fn hits_of(c: &Coverage) -> BTreeMap<String, u64> {
     layout().bins.iter().zip(c.hits()).map(|(b, &h)| (b.name.clone(), h)).collect()
@@ -35,17 +23,17 @@ fn run(seed: u64, p: Params, ticks: u64) -> (Coverage, BTreeMap<String, u64>) {
     let mut ig = false;
     let (mut cs, mut cc) = (false, false);
     for _ in 0..ticks {
-        if r.pct(1) {
+        if r.percent(1) {
             ig = !ig;
         }
-        if r.pct(3) {
+        if r.percent(3) {
             cs = !cs;
         }
-        if r.pct(3) {
+        if r.percent(3) {
             cc = !cc;
         }
-        let we = r.pct(2);
-        let i = Inputs { ig, vs2_ok: !r.pct(5), cmp_s: cs, cmp_c: cc, bus_we: we, bus_addr: (r.next() % 0x16) as u8, bus_wdata: (r.next() % 700) as u16 };
+        let we = r.percent(2);
+        let i = Inputs { ig, vs2_ok: !r.percent(5), cmp_s: cs, cmp_c: cc, bus_we: we, bus_addr: (r.next() % 0x16) as u8, bus_wdata: (r.next() % 700) as u16 };
         let before = *core.regs();
         let out = core.peek();
         let TracedStep { internals: n, after: after_out, .. } = core.step_traced(&i);

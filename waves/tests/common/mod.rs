@@ -67,3 +67,23 @@ pub fn vcd(ts: &str, scopes: &[&str], vars: &[(&str, &str)], body: &str) -> Stri
     s += body;
     s
 }
+
+/// The path of the program `name` on PATH.
+pub fn tool(name: &str) -> Option<std::path::PathBuf> {
+    std::env::var_os("PATH").and_then(|p| std::env::split_paths(&p).map(|d| d.join(name)).find(|f| f.is_file()))
+}
+
+/// The paths of the programs `names` for the test `test`; when one is missing, `None` after
+/// saying so (`missing`: which programs and where they come from), which is allowed only with
+/// PMU50_ALLOW_MISSING_TOOLS set (`make test` installs them).
+pub fn tools_or_skip(test: &str, names: &[&str], missing: &str) -> Option<Vec<std::path::PathBuf>> {
+    let found: Option<Vec<_>> = names.iter().map(|n| tool(n)).collect();
+    if found.is_none() {
+        assert!(
+            std::env::var_os("PMU50_ALLOW_MISSING_TOOLS").is_some(),
+            "missing tool for {test}: {missing}; `make test` installs it (set PMU50_ALLOW_MISSING_TOOLS=1 to skip knowingly)"
+        );
+        println!("SKIPPED {test}: {missing}");
+    }
+    found
+}

@@ -8,30 +8,8 @@ use pmu50_core::register_file::{addr, status};
 use pmu50_core::{Inputs, Outputs, Params};
 use proptest::prelude::*;
 
-/// SplitMix64: small, fast, good enough to draw stimuli.
-#[derive(Clone, Debug)]
-pub struct Rng(pub u64);
-
-impl Rng {
-    pub fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in lo..=hi.
-    pub fn range(&mut self, lo: u64, hi: u64) -> u64 {
-        lo + self.next() % (hi - lo + 1)
-    }
-    pub fn bit(&mut self) -> bool {
-        self.next() & 1 == 1
-    }
-    /// True with probability num/den.
-    pub fn chance(&mut self, num: u64, den: u64) -> bool {
-        self.next() % den < num
-    }
-}
+/// The seeded generator of the stimuli (SplitMix64).
+pub use pmu50_core::rng::SplitMix64 as Rng;
 
 /// Any input vector at all (bus fields included; most addresses in the register map).
 pub fn random_inputs(rng: &mut Rng) -> Inputs {
