@@ -205,12 +205,13 @@ fn env_values(v: &TickView<'_>) -> [f64; 8] {
 }
 
 /// The analog values of the last tick, as given and rounded ([`env_values`]): a value given
-/// with the same bits as the tick before is not rounded again, nor given to the writer again
-/// (a real keeps its value until changed).
+/// with the same bits as the tick before is not rounded again, and a value whose rounded bits
+/// did not change is not given to the writer again (a real keeps its value until changed, and
+/// the writer writes a real only when its bits change).
 struct EnvCache {
     raw: [u64; 8],
     rounded: [f64; 8],
-    /// the values whose bits changed at the last [`EnvCache::update`], one bit each
+    /// the values whose rounded bits changed at the last [`EnvCache::update`], one bit each
     changed: u8,
 }
 
@@ -235,8 +236,11 @@ impl EnvCache {
         for (j, r) in raw.into_iter().enumerate() {
             if r != self.raw[j] {
                 self.raw[j] = r;
-                self.rounded[j] = round(f64::from_bits(r), ENV_STEPS[j]);
-                self.changed |= 1 << j;
+                let x = round(f64::from_bits(r), ENV_STEPS[j]);
+                if x.to_bits() != self.rounded[j].to_bits() {
+                    self.rounded[j] = x;
+                    self.changed |= 1 << j;
+                }
             }
         }
     }
@@ -510,6 +514,11 @@ impl Observer for VcdObserver {
 
     fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
         self.rec.boundary(k);
+        Ok(())
+    }
+
+    fn moving_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        self.rec.moving_boundary(k);
         Ok(())
     }
 

@@ -436,37 +436,115 @@ fn max_for_width(width: u32) -> u64 {
 /// notation for moderate magnitudes, exponent notation otherwise; `-0` is `0`.
 #[cfg(test)]
 pub(crate) fn format_real(v: f64) -> String {
-    let mut b = ryu::Buffer::new();
-    real_text(v, &mut b).to_string()
+    let mut b = RealBuf::new();
+    String::from_utf8_lossy(&real_text(v, &mut b)).into_owned()
 }
 
-/// [`format_real`] without allocating: the text in `b` (a `ryu` buffer: shortest round-trip
-/// digits, the same as `std::fmt`'s but where a double lies halfway between two 17-digit texts,
-/// a tie the two break differently), or a static `0`. `ryu` writes plain notation for 1e-5 <= |v| < 1e16 with a `.0`
-/// after an integer, and exponent notation (`1e30`, `1.5e-7`) otherwise, as Rust's `{:e}`; the
-/// `.0` is dropped, and the rare 1e-5 <= |v| < 1e-4 (plain in `ryu`, exponent here) takes
-/// Rust's `{:e}` (tests/writer.rs compares with `format!` on random values).
-pub(crate) fn real_text(v: f64, b: &mut ryu::Buffer) -> std::borrow::Cow<'_, str> {
+/// Room for the text of a real ([`real_text`]): the digits of a value on the grid of 1e-6, or
+/// `ryu`'s buffer.
+pub(crate) struct RealBuf {
+    grid: [u8; 24],
+    ryu: ryu::Buffer,
+}
+
+impl RealBuf {
+    #[inline]
+    pub(crate) fn new() -> RealBuf {
+        RealBuf { grid: [0; 24], ryu: ryu::Buffer::new() }
+    }
+}
+
+/// [`format_real`] without allocating: the text in `b`, or a static `0`. The text is `ryu`'s
+/// (shortest round-trip digits, the same as `std::fmt`'s but where a double lies halfway between
+/// two 17-digit texts, a tie the two break differently). `ryu` writes plain notation for
+/// 1e-5 <= |v| < 1e16 with a `.0` after an integer, and exponent notation (`1e30`, `1.5e-7`)
+/// otherwise, as Rust's `{:e}`; the `.0` is dropped, and the rare 1e-5 <= |v| < 1e-4 (plain in
+/// `ryu`, exponent here) takes Rust's `{:e}` (tests/writer.rs compares with `format!` on random
+/// values).
+///
+/// A value of 1e-4 <= |v| < 1e9 that is the double nearest to a decimal `n`·1e-6 (the rounded
+/// analog values of a waveform mostly are) is written from `n` without `ryu`, the same text:
+/// that decimal has at most 15 significant digits and lies within the double's rounding
+/// interval, narrower than 2^-52·|v|; two decimals of at most 15 significant digits differ by
+/// more than that, so it is the only one of its length or shorter there, the shortest
+/// round-trip text, which `ryu` writes in plain notation in this range
+/// (`real_text_tests::grid_values_as_ryu` compares the two).
+#[inline]
+pub(crate) fn real_text(v: f64, b: &mut RealBuf) -> std::borrow::Cow<'_, [u8]> {
     if v == 0.0 {
-        return "0".into();
+        return b"0"[..].into();
     }
     let a = v.abs();
-    if (1e-4..1e16).contains(&a) {
-        let s = b.format_finite(v);
-        s.strip_suffix(".0").unwrap_or(s).into()
-    } else if (1e-5..1e-4).contains(&a) {
-        format!("{v:e}").into()
-    } else {
-        b.format_finite(v).into()
+    if (1e-4..1e9).contains(&a) {
+        let x = v * 1e6;
+        // the integer nearest to x (|x| < 1e15, exact in an f64; a double nearest to n·1e-6
+        // is within 0.2 of n·1e6 here), and the correctly rounded division: equality means `v`
+        // is the double nearest to n·1e-6
+        let n = (x + 0.5f64.copysign(x)) as i64;
+        if n as f64 / 1e6 == v {
+            return grid_text(n, &mut b.grid).into();
+        }
     }
+    if (1e-4..1e16).contains(&a) {
+        let s = b.ryu.format_finite(v);
+        s.strip_suffix(".0").unwrap_or(s).as_bytes().into()
+    } else if (1e-5..1e-4).contains(&a) {
+        format!("{v:e}").into_bytes().into()
+    } else {
+        b.ryu.format_finite(v).as_bytes().into()
+    }
+}
+
+/// Two decimal digits of each number below 100.
+const DIGIT_00010203040506070809101112131415161718192021222324252627282930313233343536373839404142434445464748495051525354555657585960616263646566676869707172737475767778798081828384858687888990919293949596979899: &[u8; 200] = b"00010203040506070809101112131415161718192021222324252627282930313233343536373839404142434445464748495051525354555657585960616263646566676869707172737475767778798081828384858687888990919293949596979899";
+
+/// The decimal `n`·1e-6 (`n` not zero, |n| < 1e15) in plain notation, without trailing zeros
+/// after the point nor a point after an integer: its integer part ends at byte 17 of `out`, the
+/// point, then six places, of which the trailing zeros are cut.
+#[inline]
+fn grid_text(n: i64, out: &mut [u8; 24]) -> &[u8] {
+    let u = n.unsigned_abs();
+    let (mut int, frac) = (u / 1_000_000, (u % 1_000_000) as usize);
+    let pair = |k: usize| [DIGIT_00010203040506070809101112131415161718192021222324252627282930313233343536373839404142434445464748495051525354555657585960616263646566676869707172737475767778798081828384858687888990919293949596979899[2 * k], DIGIT_00010203040506070809101112131415161718192021222324252627282930313233343536373839404142434445464748495051525354555657585960616263646566676869707172737475767778798081828384858687888990919293949596979899[2 * k + 1]];
+    let end = if frac == 0 {
+        17
+    } else {
+        out[17] = b'.';
+        out[18..20].copy_from_slice(&pair(frac / 10_000));
+        out[20..22].copy_from_slice(&pair(frac / 100 % 100));
+        out[22..24].copy_from_slice(&pair(frac % 100));
+        let mut end = 24;
+        while out[end - 1] == b'0' {
+            end -= 1;
+        }
+        end
+    };
+    let mut i = 17;
+    while int >= 100 {
+        i -= 2;
+        out[i..i + 2].copy_from_slice(&pair((int % 100) as usize));
+        int /= 100;
+    }
+    if int >= 10 {
+        i -= 2;
+        out[i..i + 2].copy_from_slice(&pair(int as usize));
+    } else {
+        i -= 1;
+        out[i] = b'0' + int as u8;
+    }
+    if n < 0 {
+        i -= 1;
+        out[i] = b'-';
+    }
+    &out[i..end]
 }
 
 /// A real's change line `r<text> <code>\n` into `out`, exactly as long.
 #[inline]
-fn real_line(out: &mut [u8], text: &str, code: &[u8]) {
+fn real_line(out: &mut [u8], text: &[u8], code: &[u8]) {
     let n = text.len();
     out[0] = b'r';
-    out[1..=n].copy_from_slice(text.as_bytes());
+    out[1..=n].copy_from_slice(text);
     out[n + 1] = b' ';
     out[n + 2..n + 2 + code.len()].copy_from_slice(code);
     out[n + 2 + code.len()] = b'\n';
@@ -943,7 +1021,7 @@ impl<W: Write> VcdOut<W> {
             }
             ValueRef::Real(r) => {
                 line.push(b'r');
-                line.extend_from_slice(real_text(r, &mut ryu::Buffer::new()).as_bytes());
+                line.extend_from_slice(&real_text(r, &mut RealBuf::new()));
                 line.push(b' ');
             }
         }
@@ -955,7 +1033,7 @@ impl<W: Write> VcdOut<W> {
     /// A real's change line, `r<text> <code>`, straight into the buffer ([`real_text`]).
     #[inline]
     fn value_real(&mut self, i: usize, r: f64) -> Result<()> {
-        let mut b = ryu::Buffer::new();
+        let mut b = RealBuf::new();
         let text = real_text(r, &mut b);
         let n = text.len() + self.codes[i].len() + 3;
         if n > SLACK {
@@ -1584,7 +1662,7 @@ impl<'a, W: Write> TextRun<'a, W> {
             return Ok(());
         }
         let e = &mut self.writer.emitter;
-        let mut b = ryu::Buffer::new();
+        let mut b = RealBuf::new();
         let text = real_text(v, &mut b);
         let code = &e.codes[i];
         let n = text.len() + code.len() + 3;
@@ -2295,6 +2373,36 @@ mod real_text_tests {
         }
     }
 
+    /// The text of a real by `ryu` alone, as the writer wrote it before its grid path.
+    fn by_ryu(v: f64) -> String {
+        let a = v.abs();
+        if v == 0.0 {
+            "0".to_string()
+        } else if (1e-4..1e16).contains(&a) {
+            let mut b = ryu::Buffer::new();
+            let s = b.format_finite(v);
+            s.strip_suffix(".0").unwrap_or(s).to_string()
+        } else if (1e-5..1e-4).contains(&a) {
+            format!("{v:e}")
+        } else {
+            ryu::Buffer::new().format_finite(v).to_string()
+        }
+    }
+
+    #[test]
+    fn grid_edges_as_ryu() {
+        for v in [1e-4, -1e-4, 0.000_1 + 1e-6, 1e9 - 1e-6, 999_999_999.999_999, 1e9, 0.5, 1.0, -1.0, 10.0, 100.001, 0.1 * 3.0, 123_456.000_001, 0.000_123, 7.0e-4, 1e-6, 1234.0 + 1.0 / 16384.0] {
+            assert_eq!(format_real(v), by_ryu(v), "{v:e}");
+        }
+        for m in 1..200_000i64 {
+            for q in [1e-3, 1e-4] {
+                let v = m as f64 * q;
+                assert_eq!(format_real(v), by_ryu(v), "{v:e}");
+                assert_eq!(format_real(-v), by_ryu(-v), "{v:e}");
+            }
+        }
+    }
+
     #[test]
     fn edges_of_the_notations() {
         // a short dyadic fraction: its exact value needs 18 digits
@@ -2318,6 +2426,21 @@ mod real_text_tests {
                 let (a, b) = (format_real(v), by_fmt(v));
                 proptest::prop_assert_eq!(a.parse::<f64>().ok(), Some(v + 0.0), "{} for {:e}", a, v);
                 proptest::prop_assert!(a == b || (a.len() == b.len() && a.contains('e') == b.contains('e')), "{} against {}", a, b);
+            }
+        }
+
+        /// Values on and near the grid of 1e-6 that the writer formats without `ryu`: the
+        /// same text as `ryu`'s (doubles nearest to n·10^-d, products n·q as the analog values
+        /// are rounded, their neighbours one unit in the last place away, random doubles).
+        #[test]
+        fn grid_values_as_ryu(n in -999_999_999_999_999i64..999_999_999_999_999, d in 0u32..=9, q in 0usize..4, ulps in -2i64..=2, bits in proptest::prelude::any::<u64>()) {
+            let p = 10f64.powi(d as i32);
+            let on = n as f64 / p;
+            let product = (n % 10_000_000_000) as f64 * [1e-3, 1e-4, 1e-6, 0.1][q];
+            for v in [on, product, f64::from_bits((on.to_bits() as i64 + ulps) as u64), f64::from_bits((product.to_bits() as i64 + ulps) as u64), f64::from_bits(bits)] {
+                if v.is_finite() {
+                    proptest::prop_assert_eq!(format_real(v), by_ryu(v), "{:e}", v);
+                }
             }
         }
 
