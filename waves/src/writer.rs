@@ -1250,6 +1250,9 @@ pub struct FrameRun<'a, E: Emitter> {
     direct: bool,
     /// a direct step of this run changed a value (the writer's values are stale)
     dirty: bool,
+    /// the `real` variables given in the open direct step ([`FrameRun::real`]), in increasing
+    /// declaration order: index, value, changed (the writer holds their values already)
+    reals: Vec<(u32, f64, bool)>,
 }
 
 impl<E: Emitter> Writer<E> {
@@ -1260,7 +1263,7 @@ impl<E: Emitter> Writer<E> {
             return Err(WriteError::UnknownFrame);
         }
         frame.nopen = 0;
-        Ok(FrameRun { writer: self, frame, direct: false, dirty: false })
+        Ok(FrameRun { writer: self, frame, direct: false, dirty: false, reals: Vec::new() })
     }
 }
 
@@ -1281,15 +1284,20 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
             }
             if w.in_window(t) {
                 let f = &mut *self.frame;
-                if f.nopen > 0 {
-                    self.dirty = true;
+                let reals = self.reals.iter().any(|r| r.2);
+                if f.nopen > 0 || reals {
+                    self.dirty |= f.nopen > 0;
                     w.emitter.timestamp(w.time)?;
                     for &k in &f.open[..f.nopen] {
                         w.emitter.value(f.idx[k as usize] as usize, ValueRef::Int(f.prev[k as usize]))?;
                     }
+                    for &(i, v, _) in self.reals.iter().filter(|r| r.2) {
+                        w.emitter.value(i as usize, ValueRef::Real(v))?;
+                    }
                     w.last_written = Some(w.time);
                     f.nopen = 0;
                 }
+                self.reals.clear();
                 w.time = t;
                 w.step += 1;
                 w.frame_steps[self.frame.id as usize] = w.step;
@@ -1323,6 +1331,45 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
         Ok(RunStep { inner: Inner::Checked(s), next: 0, current })
     }
 
+    /// The `real` variable `id` (declared after every variable of the frame) at the time of
+    /// the open step: in a direct step it is written after the frame's changes of that step,
+    /// otherwise (no step yet, or a step that was not direct) through
+    /// [`Writer::change_real`]. The same checks as `change_real` (a `real` variable, finite,
+    /// given once per step); in a direct step the reals come in increasing declaration order
+    /// ([`WriteError::FrameOrder`]). The file is the one of `dump_frame` and `change_real` at
+    /// each step (tests/writer.rs).
+    pub fn real(&mut self, id: SigId, v: f64) -> Result<()> {
+        if !self.direct {
+            let current = self.frame.generation == self.writer.generation;
+            self.writer.change_real(id, v)?;
+            if current {
+                self.frame.generation = self.writer.generation;
+            }
+            return Ok(());
+        }
+        let w = &mut *self.writer;
+        let i = w.index(id)?;
+        let Stored::Real(old) = w.cur[i] else {
+            return Err(w.type_mismatch(i, "real"));
+        };
+        if let Some(&last) = self.frame.idx.last().filter(|&&last| i as u32 <= last) {
+            return Err(order_error(i, last as usize + 1));
+        }
+        if let Some(&(last, ..)) = self.reals.last().filter(|r| i as u32 <= r.0) {
+            return Err(if last == i as u32 { w.double_change(i) } else { order_error(i, last as usize + 1) });
+        }
+        if !v.is_finite() {
+            return Err(WriteError::NotFinite { name: w.vars[i].path.clone(), value: v });
+        }
+        let v = v + 0.0;
+        let changed = old != v;
+        if changed {
+            w.cur[i] = Stored::Real(v);
+        }
+        self.reals.push((i as u32, v, changed));
+        Ok(())
+    }
+
     /// The writer takes over the frame's values after direct steps: every variable of the frame
     /// its value, and the open step's changes as its pending step.
     fn close(&mut self) {
@@ -1330,21 +1377,28 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
             return;
         }
         let (w, f) = (&mut *self.writer, &mut *self.frame);
-        if !std::mem::replace(&mut self.dirty, false) && f.nopen == 0 {
-            // nothing changed: the writer's values are the frame's copy (refreshed when the
-            // first direct step began)
-            f.generation = w.generation;
-            return;
+        if std::mem::replace(&mut self.dirty, false) || f.nopen > 0 {
+            for (k, &i) in f.idx.iter().enumerate() {
+                w.cur[i as usize] = Stored::Int(f.prev[k]);
+            }
+            for &k in &f.open[..f.nopen] {
+                w.push_pending(f.idx[k as usize] as usize);
+            }
+            f.nopen = 0;
+            w.generation += 1;
         }
-        for (k, &i) in f.idx.iter().enumerate() {
-            w.cur[i as usize] = Stored::Int(f.prev[k]);
-        }
-        for &k in &f.open[..f.nopen] {
-            w.push_pending(f.idx[k as usize] as usize);
-        }
-        f.nopen = 0;
-        w.generation += 1;
+        // (when nothing changed, the writer's values are the frame's copy, refreshed when the
+        // first direct step began)
         f.generation = w.generation;
+        // the reals of the open step: assigned in it, the changed ones pending
+        for &(i, _, changed) in &self.reals {
+            w.assigned[i as usize] = w.step;
+            w.single_step = w.step;
+            if changed {
+                w.push_pending(i as usize);
+            }
+        }
+        self.reals.clear();
     }
 }
 
