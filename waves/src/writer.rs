@@ -1923,7 +1923,8 @@ pub struct Writer<E: Emitter> {
     window: (u64, u64),
     dumped: bool,
     last_written: Option<u64>,
-    /// incremented whenever a value changes (frames use it to know their copy is current)
+    /// incremented whenever a value of a frame's variable changes (frames use it to know their
+    /// copy is current)
     generation: u64,
     /// per frame: step of its last dump (0 = never)
     frame_steps: Vec<u64>,
@@ -2336,7 +2337,11 @@ impl<E: Emitter> Writer<E> {
         if self.cur[i] != v {
             self.cur[i] = v;
             self.push_pending(i);
-            self.generation += 1;
+            // A variable of no frame (a real, say) leaves every frame holding the writer's
+            // values, so the next dump of a frame keeps its fast path.
+            if self.var_frames[i] != 0 {
+                self.generation += 1;
+            }
         }
         Ok(())
     }
@@ -2535,7 +2540,7 @@ mod frame_step_tests {
 
         /// A frame step that sets some positions writes exactly what `dump_frame` writes with those
         /// values and the current value at every other position; a single change of a variable
-        /// outside the frame in between makes the step not current.
+        /// of no frame in between leaves the step current (only the first step is not).
         #[test]
         fn frame_steps_equal_dump_frame(steps in proptest::collection::vec((1u64..3, proptest::array::uniform4(proptest::option::of(0u64..4)), proptest::prelude::any::<bool>()), 0..60)) {
             let (b1, ids1) = frame_builder();
@@ -2560,8 +2565,8 @@ mod frame_step_tests {
                     }
                 }
                 w1.dump_frame(&mut f1, t, &cur).unwrap();
-                // a change (the value alternates) of the variable outside the frame
-                changed_outside = z;
+                // a change (the value alternates) of the variable of no frame
+                changed_outside = false;
                 if z {
                     zv = !zv;
                     w1.change_bool(ids1[4], zv).unwrap();
