@@ -440,17 +440,18 @@ pub(crate) fn format_real(v: f64) -> String {
     String::from_utf8_lossy(&real_text(v, &mut b)).into_owned()
 }
 
-/// Room for the text of a real ([`real_text`]): the digits of a value on the grid of 1e-6, or
-/// `ryu`'s buffer.
+/// Room for the text of a real ([`real_text`]): the digits of a value on the grid of 1e-6,
+/// `zmij`'s buffer (plain notation) or `ryu`'s (exponent notation).
 pub(crate) struct RealBuf {
     grid: [u8; 24],
+    zmij: zmij::Buffer,
     ryu: ryu::Buffer,
 }
 
 impl RealBuf {
     #[inline]
     pub(crate) fn new() -> RealBuf {
-        RealBuf { grid: [0; 24], ryu: ryu::Buffer::new() }
+        RealBuf { grid: [0; 24], zmij: zmij::Buffer::new(), ryu: ryu::Buffer::new() }
     }
 }
 
@@ -462,8 +463,12 @@ impl RealBuf {
 /// `ryu`, exponent here) takes Rust's `{:e}` (tests/writer.rs compares with `format!` on random
 /// values).
 ///
+/// In plain notation (1e-4 <= |v| < 1e16) the text is `zmij`'s, which writes the same text as
+/// `ryu` there, ties between two 17-digit texts included, about a third faster
+/// (`real_text_tests::zmij_as_ryu_in_plain_notation`).
+///
 /// A value of 1e-4 <= |v| < 1e9 that is the double nearest to a decimal `n`·1e-6 (the rounded
-/// analog values of a waveform mostly are) is written from `n` without `ryu`, the same text:
+/// analog values of a waveform mostly are) is written from `n` without either, the same text:
 /// that decimal has at most 15 significant digits and lies within the double's rounding
 /// interval, narrower than 2^-52·|v|; two decimals of at most 15 significant digits differ by
 /// more than that, so it is the only one of its length or shorter there, the shortest
@@ -486,7 +491,7 @@ pub(crate) fn real_text(v: f64, b: &mut RealBuf) -> std::borrow::Cow<'_, [u8]> {
         }
     }
     if (1e-4..1e16).contains(&a) {
-        let s = b.ryu.format_finite(v);
+        let s = b.zmij.format_finite(v);
         s.strip_suffix(".0").unwrap_or(s).as_bytes().into()
     } else if (1e-5..1e-4).contains(&a) {
         format!("{v:e}").into_bytes().into()
@@ -2445,6 +2450,43 @@ mod real_text_tests {
             format!("{v:e}")
         } else {
             ryu::Buffer::new().format_finite(v).to_string()
+        }
+    }
+
+    /// `zmij` against `ryu` in plain notation: doubles whose exact value lies halfway between
+    /// two 17-digit texts (m·2^-k with an 18-digit expansion ending in 5), and a spread of
+    /// dyadic and random values.
+    #[test]
+    fn zmij_as_ryu_in_plain_notation() {
+        let (mut r, mut z) = (ryu::Buffer::new(), zmij::Buffer::new());
+        let mut s: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        let mut ties = 0;
+        for k in 1..=25u32 {
+            let p5 = 5u128.pow(k);
+            let (lo, hi) = (10u128.pow(17).div_ceil(p5), (10u128.pow(18) / p5).min(1 << 53));
+            for _ in 0..4_000 {
+                let m = if lo < hi { (lo + u128::from(next()) % (hi - lo)) | 1 } else { 1 };
+                let v = m as f64 * 2f64.powi(-(k as i32));
+                if m < hi && (m * p5) % 10 == 5 && (1e-4..1e16).contains(&v) {
+                    ties += 1;
+                    assert_eq!(z.format_finite(v), r.format_finite(v), "k {k} m {m}");
+                }
+            }
+        }
+        assert!(ties > 10_000, "{ties} halfway cases");
+        for _ in 0..200_000 {
+            let b = next();
+            for v in [f64::from_bits(b), (b >> 11) as f64 * 2f64.powi(-((b % 61) as i32)), ((b % 20_000_000) as f64 - 1e7) * [1e-3, 1e-4][(b >> 63) as usize]] {
+                if (1e-4..1e16).contains(&v.abs()) {
+                    assert_eq!(z.format_finite(v), r.format_finite(v), "{v:e}");
+                }
+            }
         }
     }
 
