@@ -2,7 +2,7 @@
 //! Verilog twin side by side, on the same stimulus held in memory, in one run, in one table.
 //!
 //!   cargo bench --bench compare -- --dir hdl/build/bench --stim keyoff_turns --stim random_7 \
-//!       [--icarus keyoff_turns] [--seconds 1.0] [--rounds 15] [--quick | --quick-traced | --quick-vcd]
+//!       [--icarus keyoff_turns] [--seconds 1.0] [--rounds 15] [--quick | --quick-traced | --quick-vcd | --quick-run]
 //!
 //! For each stimulus NAME, `DIR/NAME.vec` is a vector file (`pmu50 vectors`): its inputs are the
 //! stimulus, its `// param` lines the parameters. Harnesses, each replaying the stimulus from reset
@@ -25,6 +25,8 @@
 //! edge alone (`Pmu50::step_traced`, no writer) and the tracer writing to `std::io::sink`.
 //! `--quick-vcd` prints only the Rust tracer's VCD into a file (the table's row, for a profiler:
 //! `perf record` sees nothing else) and how many of the stimulus's edges are wide.
+//! `--quick-run` prints only the `pmu50 run --trace all` row against both Verilator --trace
+//! rows (interleaved rounds, as in the table; needs only `DIR/vlt_NAME` and `DIR/vla_NAME`).
 //!
 //! The harnesses of a stimulus are timed in [`rounds`] rounds each, interleaved (round 1 of
 //! every harness, then round 2, ...), and the fastest round of each counts.
@@ -708,6 +710,32 @@ fn main() {
             }
             let v = alone(Box::new(|| Ok(traced_once(st, &dir, false, Sink::File))));
             println!("{}: tracer VCD {} ({:.1} ns a tick; {} ticks, {wide} wide edges, {narrow_upd} narrow with a sample; checksum {:016x})", st.name, fmt_rate(v.rate()), 1e9 / v.rate(), st.inputs.len(), v.checksum.unwrap_or(0));
+        }
+        return;
+    }
+    if args.iter().any(|a| a == "--quick-run") {
+        // Only pmu50 run --trace all and the two Verilator --trace harnesses it is quoted against.
+        for st in &stims {
+            let dir = &dir;
+            let m = interleaved(vec![pmu50_run(st, dir), verilator_all(st, dir), verilator(st, dir, seconds, Some(Sink::File))]);
+            match (&m[0], &m[1], &m[2]) {
+                (Ok(r), Ok(a), Ok(t)) => println!(
+                    "{}: pmu50 run --trace all {:.1} ns a tick ({:.2} ms), Verilator --trace of every variable {:.1} ns ({:.2}x), of the same signals {:.1} ns ({:.2}x)",
+                    st.name,
+                    1e9 / r.rate(),
+                    r.cpu * 1e3,
+                    1e9 / a.rate(),
+                    r.rate() / a.rate(),
+                    1e9 / t.rate(),
+                    r.rate() / t.rate()
+                ),
+                _ => {
+                    for e in m.iter().filter_map(|x| x.as_ref().err()) {
+                        eprintln!("compare: {e}");
+                    }
+                    std::process::exit(1);
+                }
+            }
         }
         return;
     }

@@ -89,6 +89,11 @@ impl<W: Write> Observer for ChangeLog<W> {
         Ok(())
     }
 
+    fn moving_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        self.rec.moving_boundary(k);
+        Ok(())
+    }
+
     fn can_replay(&self, k: u64, len: u64) -> bool {
         self.prev.is_some() && self.rec.can_replay(k, len)
     }

@@ -359,6 +359,13 @@ impl Observer for TimingRecorder {
         Ok(())
     }
 
+    fn moving_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        self.period_boundary(k)?;
+        // the period starting here is never replayed: nothing to keep of it
+        self.cur = None;
+        Ok(())
+    }
+
     fn can_replay(&self, k: u64, len: u64) -> bool {
         self.done.as_ref().is_some_and(|(a, per)| a + len == k && per.len() as u64 == len)
     }

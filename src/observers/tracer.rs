@@ -174,6 +174,13 @@ impl<E: Emitter> TracerRun<'_, E> {
         self.core
     }
 
+    /// The `real` variable `id` (declared after the frame's signals: the analog values of a
+    /// run) at the time of the last step, in the same step ([`FrameRun::real`]).
+    #[inline]
+    pub fn real(&mut self, id: SigId, v: f64) -> Result<(), WriteError> {
+        self.run.real(id, v)
+    }
+
     /// One rising edge of the core with inputs `i`, traced at time `t` (the inputs, the outputs
     /// and registers before the edge, its internals); returns the outputs after the edge. The
     /// file is the one [`Writer::dump_frame`] writes with every value, with the same checks.

@@ -16,12 +16,12 @@
 
 use crate::sim::replay::PeriodRecorder;
 use crate::sim::{Observer, SimError, TickView};
-use crate::observers::tracer::{CoreTracer, TracerTextRun};
+use crate::observers::tracer::{CoreTracer, TracerRun, TracerTextRun};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::Pmu50;
 use pmu50_core::signals::{self, Dir, Radix, Signal};
 use pmu50_waves::gtkw::{Analog, Color, Format, GtkwSave, Trace};
-use pmu50_waves::fst::{start_fst, FstWriter};
+use pmu50_waves::fst::{start_fst, FstOut, FstWriter};
 use pmu50_waves::writer::{BitType, Emitter, Frame, SigId, VcdBuilder, VcdWriter, WriteError, Writer};
 use pmu50_waves::{TimeUnit, Timescale};
 use crate::atomic_file::AtomicFile;
@@ -145,10 +145,29 @@ impl TracedVcd {
     }
 }
 
+/// An FST of every signal: the writer lent to the tracer ([`CoreTracer::run`]) from one tick to
+/// the next, as [`TracedVcd`].
+#[ouroboros::self_referencing]
+struct TracedFst {
+    writer: Box<FstWriter>,
+    tracer: CoreTracer,
+    #[borrows(mut writer, mut tracer)]
+    #[not_covariant]
+    run: TracerRun<'this, FstOut>,
+}
+
+impl TracedFst {
+    fn start(writer: Box<FstWriter>, tracer: CoreTracer) -> Result<TracedFst, WriteError> {
+        TracedFstTryBuilder { writer, tracer, run_builder: |w, t| t.run(w) }.try_build()
+    }
+}
+
 /// The checked writer of either format (the same declarations, frames and checks).
 enum Out {
     /// `Level::All` in a VCD: the tracer writes the ticks.
     Traced(Box<TracedVcd>),
+    /// `Level::All` in an FST: the tracer steps the frame (the temporary file as in `Fst`).
+    TracedFst(Box<TracedFst>, AtomicFile),
     Vcd(Box<VcdWriter<VcdFile>>),
     /// The FST writer writes the temporary file of the `AtomicFile` by its own path.
     Fst(Box<FstWriter>, AtomicFile),
@@ -205,12 +224,13 @@ fn env_values(v: &TickView<'_>) -> [f64; 8] {
 }
 
 /// The analog values of the last tick, as given and rounded ([`env_values`]): a value given
-/// with the same bits as the tick before is not rounded again, nor given to the writer again
-/// (a real keeps its value until changed).
+/// with the same bits as the tick before is not rounded again, and a value whose rounded bits
+/// did not change is not given to the writer again (a real keeps its value until changed, and
+/// the writer writes a real only when its bits change).
 struct EnvCache {
     raw: [u64; 8],
     rounded: [f64; 8],
-    /// the values whose bits changed at the last [`EnvCache::update`], one bit each
+    /// the values whose rounded bits changed at the last [`EnvCache::update`], one bit each
     changed: u8,
 }
 
@@ -235,8 +255,11 @@ impl EnvCache {
         for (j, r) in raw.into_iter().enumerate() {
             if r != self.raw[j] {
                 self.raw[j] = r;
-                self.rounded[j] = round(f64::from_bits(r), ENV_STEPS[j]);
-                self.changed |= 1 << j;
+                let x = round(f64::from_bits(r), ENV_STEPS[j]);
+                if x.to_bits() != self.rounded[j].to_bits() {
+                    self.rounded[j] = x;
+                    self.changed |= 1 << j;
+                }
             }
         }
     }
@@ -388,6 +411,15 @@ impl VcdObserver {
                 let state = w.frame(&state_ids).map_err(|e| err(&path, e))?;
                 (Out::Vcd(Box::new(w)), Some(all), state)
             }
+            WaveFormat::Fst if level == Level::All => {
+                // the tracer's frame, as for a VCD
+                let mut w = Box::new(start_fst(b, file.temp_path()).map_err(|e| err(&path, e))?);
+                let traced: Vec<SigId> = inputs.iter().chain(&ports).chain(&regs).chain(&internals).copied().collect();
+                let frame = w.frame(&traced).map_err(|e| err(&path, e))?;
+                let state = w.frame(&state_ids).map_err(|e| err(&path, e))?;
+                let tracer = CoreTracer::new(frame, core.clone()).map_err(|e| err(&path, e))?;
+                (Out::TracedFst(Box::new(TracedFst::start(w, tracer).map_err(|e| err(&path, e))?), file), None, state)
+            }
             WaveFormat::Fst => {
                 let mut w = start_fst(b, file.temp_path()).map_err(|e| err(&path, e))?;
                 let all = w.frame(&all_ids).map_err(|e| err(&path, e))?;
@@ -412,6 +444,11 @@ impl VcdObserver {
                 self.tracer = Some(heads.tracer);
                 Some(Out::Vcd(heads.writer))
             }
+            Some(Out::TracedFst(tf, file)) => {
+                let heads = tf.into_heads();
+                self.tracer = Some(heads.tracer);
+                Some(Out::Fst(heads.writer, file))
+            }
             w => w,
         };
     }
@@ -421,6 +458,7 @@ impl VcdObserver {
         let Some(tracer) = self.tracer.take() else { return Ok(()) };
         self.out = match self.out.take() {
             Some(Out::Vcd(w)) => Some(Out::Traced(Box::new(TracedVcd::start(w, tracer).map_err(|e| err(&self.path, e))?))),
+            Some(Out::Fst(w, file)) => Some(Out::TracedFst(Box::new(TracedFst::start(w, tracer).map_err(|e| err(&self.path, e))?), file)),
             w => w,
         };
         Ok(())
@@ -434,6 +472,22 @@ impl VcdObserver {
                 let (env, cache) = (&self.ids.env, &mut self.env);
                 cache.update(v);
                 let r = tv.with_run_mut(|run| -> Result<bool, WriteError> {
+                    run.step(t, v.inputs)?;
+                    for (j, val) in cache.changes() {
+                        run.real(env[j], val)?;
+                    }
+                    Ok(run.core().regs() == v.after)
+                });
+                match r {
+                    Ok(true) => Ok(()),
+                    Ok(false) => return Err(err(path, format!("the traced core left the bench's at tick {}: its registers after the edge differ", v.tick))),
+                    Err(e) => Err(e),
+                }
+            }
+            Some(Out::TracedFst(tf, _)) => {
+                let (env, cache) = (&self.ids.env, &mut self.env);
+                cache.update(v);
+                let r = tf.with_run_mut(|run| -> Result<bool, WriteError> {
                     run.step(t, v.inputs)?;
                     for (j, val) in cache.changes() {
                         run.real(env[j], val)?;
@@ -513,6 +567,11 @@ impl Observer for VcdObserver {
         Ok(())
     }
 
+    fn moving_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        self.rec.moving_boundary(k);
+        Ok(())
+    }
+
     fn can_replay(&self, k: u64, len: u64) -> bool {
         self.rec.can_replay(k, len)
     }
@@ -537,7 +596,7 @@ impl VcdObserver {
         let r = match self.out.as_mut() {
             Some(Out::Vcd(w)) => self.rec.replay(k, periods, len, self.window, |tick, c| replay_into(w, all, env, tick * clk / unit, c)),
             Some(Out::Fst(w, _)) => self.rec.replay(k, periods, len, self.window, |tick, c| replay_into(w, all, env, tick * clk / unit, c)),
-            Some(Out::Traced(_)) | None => return Err(err(&self.path, "writer already closed")),
+            Some(Out::Traced(_) | Out::TracedFst(..)) | None => return Err(err(&self.path, "writer already closed")),
         };
         r.map_err(|e| err(&self.path, e))
     }
@@ -547,7 +606,7 @@ impl VcdObserver {
         let path = self.path.clone();
         let w = self.out.take().ok_or_else(|| err(&path, "writer already closed"))?;
         self.file = Some(match w {
-            Out::Traced(_) => return Err(err(&path, "the tracer still holds the writer")),
+            Out::Traced(_) | Out::TracedFst(..) => return Err(err(&path, "the tracer still holds the writer")),
             Out::Vcd(w) => (*w).finish().map_err(|e| err(&path, e))?.into_inner().map_err(|e| err(&path, e.into_error()))?,
             Out::Fst(w, file) => {
                 w.finish().map_err(|e| err(&path, e))?;

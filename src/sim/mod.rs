@@ -144,6 +144,14 @@ pub trait Observer {
     fn period_boundary(&mut self, _k: u64) -> Result<(), SimError> {
         Ok(())
     }
+    /// A key-off or key-on period boundary at tick `k` after which the shaft moves before the
+    /// period could be seen twice: the period that starts here is never replayed (the bench
+    /// skips a period only while the angle stays constant from its start through one more copy,
+    /// [`skip::PeriodSkip::at_boundary`]), so an observer need not record it. The period that
+    /// ends here may still be replayed at `k`. Default: [`Observer::period_boundary`].
+    fn moving_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        self.period_boundary(k)
+    }
     /// Whether the observer can now replay the period `[k - len, k)` it has seen.
     fn can_replay(&self, _k: u64, _len: u64) -> bool {
         false
@@ -210,6 +218,9 @@ where
     }
     fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
         self.inner.as_mut().ok_or(SimError::NotBegun)?.period_boundary(k)
+    }
+    fn moving_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        self.inner.as_mut().ok_or(SimError::NotBegun)?.moving_boundary(k)
     }
     fn can_replay(&self, k: u64, len: u64) -> bool {
         self.inner.as_ref().is_some_and(|o| o.can_replay(k, len))
@@ -456,8 +467,17 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
                     end_tick: sc.ticks,
                 };
                 if replaying {
+                    // The period starting here can be replayed at the next boundary only if the
+                    // angle stays constant from tick k + 1 through at least one more tick
+                    // (`PeriodSkip::at_boundary` asks for a whole period and its copy).
+                    let until = sc.motor.constant_until_ns((k + 1) * clk);
+                    let still = until == u64::MAX || until / clk >= k + 2;
                     for o in observers.iter_mut() {
-                        o.period_boundary(k)?;
+                        if still {
+                            o.period_boundary(k)?;
+                        } else {
+                            o.moving_boundary(k)?;
+                        }
                     }
                 }
                 let skip = ps.at_boundary(at).filter(|s| observers.iter().all(|o| !o.needs_every_tick() || o.can_replay(k, s.len)));

@@ -55,7 +55,8 @@ pub struct PeriodRecorder {
     /// Values of the last recorded tick.
     last: Vec<u64>,
     last_tick: Option<u64>,
-    /// Recording since the first boundary the bench announced.
+    /// Recording: since the first boundary the bench announced, except after a
+    /// [`PeriodRecorder::moving_boundary`] until the next boundary.
     active: bool,
     cur: Stretch,
     /// The last complete stretch from one boundary to the next.
@@ -67,8 +68,9 @@ impl PeriodRecorder {
         PeriodRecorder::default()
     }
 
-    /// Whether the bench has announced a boundary (before that nothing is recorded: a bench
-    /// that steps every tick never does).
+    /// Whether the recorder records the ticks it is given: after a boundary the bench
+    /// announced (before that nothing is recorded: a bench that steps every tick never does),
+    /// unless it was a [`PeriodRecorder::moving_boundary`].
     pub fn active(&self) -> bool {
         self.active
     }
@@ -76,10 +78,24 @@ impl PeriodRecorder {
     /// A period boundary at tick `k` (before tick `k` is evaluated): the stretch since the
     /// previous boundary is complete if it saw every tick up to `k - 1`.
     pub fn boundary(&mut self, k: u64) {
+        self.end_stretch(k);
         self.active = true;
+        self.cur = Stretch { start: k, next: k, ok: true, ..Stretch::default() };
+    }
+
+    /// A boundary at tick `k` whose period is never replayed (the shaft moves in it,
+    /// [`crate::sim::Observer::moving_boundary`]): the stretch since the previous boundary is
+    /// complete as at [`PeriodRecorder::boundary`], and nothing is recorded until the next
+    /// boundary (the ticks given meanwhile are ignored: the stretch that starts at the next
+    /// boundary needs no tick before it, and a replay needs the tick just before it recorded).
+    pub fn moving_boundary(&mut self, k: u64) {
+        self.end_stretch(k);
+        self.active = false;
+    }
+
+    fn end_stretch(&mut self, k: u64) {
         let cur = std::mem::take(&mut self.cur);
         self.done = (cur.ok && cur.next == k && cur.next > cur.start).then_some(cur);
-        self.cur = Stretch { start: k, next: k, ok: true, ..Stretch::default() };
     }
 
     /// The values dumped at tick `k` (same length every tick).
@@ -235,6 +251,39 @@ mod tests {
         })
         .unwrap();
         assert!(ticks.iter().all(|&t| (22..27).contains(&t)) && ticks.contains(&23) && ticks.contains(&25), "{ticks:?}");
+    }
+
+    /// After a moving boundary nothing is recorded; the period that ended there still replays,
+    /// the one that started there does not, and recording resumes at the next boundary.
+    #[test]
+    fn a_moving_boundary_ends_the_stretch_and_records_nothing_until_the_next() {
+        let val = |k: u64| vec![k % 3, 7];
+        let mut r = PeriodRecorder::new();
+        r.boundary(0);
+        for k in 0..3 {
+            r.record(k, &val(k));
+        }
+        r.moving_boundary(3);
+        assert!(r.can_replay(3, 3));
+        assert!(!r.active());
+        for k in 3..6 {
+            r.record(k, &val(k));
+        }
+        assert!(r.cur.first.is_empty() && r.cur.slots.is_empty());
+        r.boundary(6);
+        assert!(!r.can_replay(6, 3), "the moving period was not recorded");
+        for k in 6..9 {
+            r.record(k, &val(k));
+        }
+        r.boundary(9);
+        assert!(r.can_replay(9, 3));
+        let mut got = Vec::new();
+        r.replay::<()>(9, 1, 3, None, |t, c| {
+            got.push((t, c.to_vec()));
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(got, vec![(9, vec![(0, 0)]), (10, vec![(0, 1)]), (11, vec![(0, 2)])]);
     }
 
     #[test]

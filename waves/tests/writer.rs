@@ -1286,6 +1286,92 @@ proptest::proptest! {
     }
 }
 
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 300, failure_persistence: None, ..Default::default() })]
+
+    /// Reals given in frame runs (`FrameRun::real`, after each step's frame values) write
+    /// exactly what `dump_frame` and `change_real` write at each step, with runs ended at
+    /// random (and a single change between them), inside or outside a window.
+    #[test]
+    fn frame_run_reals_equal_change_real(
+        window in proptest::option::of((0u64..30, 0u64..80)),
+        steps in proptest::collection::vec((1u64..3, proptest::array::uniform4(0u64..4), proptest::array::uniform2(proptest::option::of(0usize..5)), 0u8..8), 0..80),
+    ) {
+        let reals = [0.0, -0.0, 37.001, 1.25e-7, 3e20];
+        let start = |b: VcdBuilder, ids: &[pmu50_waves::writer::SigId]| {
+            let mut b = b;
+            if let Some((s, len)) = window {
+                b.window(s, s + len + 1).unwrap();
+            }
+            let mut w = b.start(Vec::new()).unwrap();
+            let f = w.frame(&ids[..4]).unwrap();
+            (w, f)
+        };
+        let (b1, ids1) = frame_builder_with_reals();
+        let (b2, ids2) = frame_builder_with_reals();
+        let (mut w1, mut f1) = start(b1, &ids1);
+        let (mut w2, mut f2) = start(b2, &ids2);
+        let value = |var: usize, v: u64| [v & 1, v * 1000, v * 7, v << 60][var];
+        let (mut t, mut idx, mut zv) = (0u64, 0, false);
+        while idx < steps.len() {
+            {
+                let mut run = w1.frame_run(&mut f1).unwrap();
+                while idx < steps.len() {
+                    let (dt, set, given, end) = steps[idx];
+                    idx += 1;
+                    t += dt;
+                    let vals: [u64; 4] = std::array::from_fn(|k| value(k, set[k]));
+                    let mut s = run.step(t).unwrap();
+                    for (k, v) in vals.iter().enumerate() {
+                        s.set(k, *v).unwrap();
+                    }
+                    w2.dump_frame(&mut f2, t, &vals).unwrap();
+                    for (j, g) in given.iter().enumerate() {
+                        if let Some(g) = g {
+                            run.real(ids1[5 + j], reals[*g]).unwrap();
+                            w2.change_real(ids2[5 + j], reals[*g]).unwrap();
+                        }
+                    }
+                    if given.iter().all(Option::is_some) {
+                        // each real once a step, in declaration order
+                        let (e5, e6) = (run.real(ids1[5], 1.0).err(), run.real(ids1[6], 1.0).err());
+                        proptest::prop_assert!(matches!(e5, Some(WriteError::FrameOrder { .. }) | Some(WriteError::DoubleChange { .. })), "{:?}", e5);
+                        proptest::prop_assert!(matches!(e6, Some(WriteError::DoubleChange { .. })), "{:?}", e6);
+                    }
+                    if end == 0 {
+                        break;
+                    }
+                }
+            }
+            // between runs: a change of the frame's `z` (outside the frame) at the same time
+            zv = !zv;
+            w1.change_bool(ids1[4], zv).unwrap();
+            w2.change_bool(ids2[4], zv).unwrap();
+        }
+        proptest::prop_assert_eq!(text(w1), text(w2));
+    }
+}
+
+#[test]
+fn frame_run_reals_keep_the_checks() {
+    let (b, ids) = frame_builder_with_reals();
+    let mut w = b.start(Vec::new()).unwrap();
+    let mut f = w.frame(&ids[..4]).unwrap();
+    let mut run = w.frame_run(&mut f).unwrap();
+    run.step(1).unwrap();
+    // the first step of a run goes through the writer; the next one is direct
+    let mut s = run.step(2).unwrap();
+    s.set(1, 5).unwrap();
+    assert!(matches!(run.real(ids[0], 1.0), Err(WriteError::TypeMismatch { .. })), "a bit is not a real");
+    assert!(matches!(run.real(ids[5], f64::NAN), Err(WriteError::NotFinite { .. })));
+    run.real(ids[5], 2.5).unwrap();
+    drop(run);
+    // the real was assigned in the step at 2
+    assert!(matches!(w.change_real(ids[5], 3.0), Err(WriteError::DoubleChange { .. })));
+    let vcd = text(w);
+    assert!(vcd.contains("#2\nb0000000000000101 \"\nr2.5 &\n"), "{vcd}");
+}
+
 #[test]
 fn text_run_reals_keep_the_checks() {
     let (mut w, mut f, ids) = framed(frame_builder_with_reals(), 4);
