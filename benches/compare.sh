@@ -16,11 +16,14 @@
 #    the bench and the kernel) and pmu50 regress's seeds per second on every core.
 # Needs verilator and iverilog (installed with apt-get when missing, as `make deps` does).
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+. "$(dirname "${BASH_SOURCE[0]}")/../hdl/scripts/common.sh"
 B="$ROOT/hdl/build/bench"
 SEED="${PMU50_BENCH_SEED:-7}"
 SECONDS_ARG=()
-[ "${1:-}" = "--seconds" ] && SECONDS_ARG=(--seconds "$2")
+case "${1:-}" in
+    --seconds) SECONDS_ARG=(--seconds "$2") ;;
+    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+esac
 mkdir -p "$B"
 for t in verilator iverilog vvp g++; do
     command -v "$t" > /dev/null || { echo "compare: $t missing; installing verilator iverilog g++" >&2;
@@ -29,7 +32,6 @@ for t in verilator iverilog vvp g++; do
 done
 cd "$ROOT"
 cargo build --release --bin pmu50 >&2
-PMU50="$ROOT/target/release/pmu50"
 "$PMU50" vectors scenarios/keyoff_turns.toml -o "$B/keyoff_turns.vec" >&2
 "$PMU50" random --seed "$SEED" -o "$B/random_$SEED.toml"
 "$PMU50" vectors "$B/random_$SEED.toml" -o "$B/random_$SEED.vec" >&2
@@ -39,16 +41,11 @@ for s in keyoff_turns "random_$SEED"; do
     "$ROOT/hdl/bench/build.sh" "$B/$s.vec" "$B/vlt_$s" --trace
     "$ROOT/hdl/bench/build.sh" "$B/$s.vec" "$B/vla_$s" --trace-all
 done
-# Icarus: the vector-replay testbench of method 1, compiled with the file's parameters.
-IV=(-Ptb_vectors.CLOCK_NS=10000)
-while IFS= read -r line; do
-    case "$line" in
-        "// param "*) set -- $line; IV+=("-Ptb_vectors.$3=$4") ;;
-        //*) ;;
-        *) break ;;
-    esac
-done < "$B/keyoff_turns.vec"
-mapfile -t RTL < <(sed "s|^|$ROOT/hdl/|" "$ROOT/hdl/pmu50.f")
-iverilog -g2005 -Wall -Wno-timescale "${IV[@]}" -s tb_vectors -o "$B/iv_keyoff_turns.vvp" "$ROOT/hdl/tb/tb_vectors.v" "${RTL[@]}"
+# Icarus: the vector-replay testbench of method 1, compiled with the file's parameters (as
+# hdl/scripts/run_vectors.sh does).
+ARGS=()
+vec_params "$B/keyoff_turns.vec" -Ptb_vectors.
+rtl_files "$HDL/pmu50.f"
+iverilog -g2005 -Wall -Wno-timescale "${ARGS[@]}" -s tb_vectors -o "$B/iv_keyoff_turns.vvp" "$HDL/tb/tb_vectors.v" "${RTL[@]}"
 cargo bench --bench compare -- --dir "$B" --stim keyoff_turns --stim "random_$SEED" --icarus keyoff_turns "${SECONDS_ARG[@]}"
 cargo bench --bench regress_speed

@@ -10,23 +10,19 @@
 # Verilator dumps every variable of the twin (371, as `verilator --trace` does by default). Output:
 # OUTDIR/bench (skipped when newer than its sources). Exit 2 on a tool failure.
 set -euo pipefail
-HDL="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+. "$(dirname "${BASH_SOURCE[0]}")/../scripts/common.sh"
 VEC="$1"
 mkdir -p "$2"
 OUT="$(cd "$2" && pwd)"
 TRACE="${3:-}"
-mapfile -t RTL < <(sed "s|^|$HDL/|" "$HDL/pmu50.f")
-GS=()
-while IFS= read -r line; do
-    case "$line" in
-        "// param "*) set -- $line; GS+=("-G$3=$4") ;;
-        //*) ;;
-        *) break ;;
-    esac
-done < "$VEC"
+rtl_files "$HDL/pmu50.f"
+ARGS=()
+vec_params "$VEC" -G
+unset 'ARGS[-1]'   # -GCLOCK_NS: the harness, not the design, has the clock
+GS=("${ARGS[@]}")
 if [ -x "$OUT/bench" ] && [ -f "$OUT/params" ] && [ "$(cat "$OUT/params")" = "${GS[*]} $TRACE" ]; then
     newer=0
-    for s in "${BASH_SOURCE[0]}" "$HDL/bench/bench.cpp" "$HDL/bench/trace.vlt" "${RTL[@]}"; do [ "$s" -nt "$OUT/bench" ] && newer=1; done
+    for s in "${BASH_SOURCE[0]}" "$HDL/scripts/common.sh" "$HDL/bench/bench.cpp" "$HDL/bench/trace.vlt" "${RTL[@]}"; do [ "$s" -nt "$OUT/bench" ] && newer=1; done
     [ $newer = 0 ] && exit 0
 fi
 rm -rf "$OUT"
