@@ -138,16 +138,9 @@ int main(int argc, char **argv) {
     };
     take("SYNC_DEPTH", p.sync_depth);
     take("CNT_W", p.cnt_width);
-    take("ADAPTIVE", p.adaptive);
-    take("PW", p.pw);
-    take("PI", p.pi);
-    take("PS", p.ps);
-    take("SI_MAX", p.si_max);
-    take("SI_MIN", p.si_min);
-    take("T1", p.t1);
-    take("T2", p.t2);
-    take("CTH", p.cth);
-    take("SMP_ON", p.smp_on);
+#define TAKE(P, n) take(#P, p.n);
+    TWIN_RESET_VALUES(TAKE)
+#undef TAKE
     if (p.sync_depth != PMU50_SYNC_DEPTH || p.cnt_width != PMU50_CNT_W) {
         std::printf("LOCKSTEP ERROR: `%s` needs SYNC_DEPTH=%d CNT_W=%d, this binary was built for SYNC_DEPTH=%d CNT_W=%d "
                     "(rebuild: hdl/scripts/build_lockstep.sh <mutant> %d %d)\n",
@@ -191,7 +184,9 @@ int main(int argc, char **argv) {
         for (int k = 0; k < twin::kInternals; ++k) pmu50_internal_set(&x, k, v[k]);
     };
     auto set_inputs = [&](const pmu50_inputs &in) {
-        const uint64_t v[twin::kInputs] = {in.ig, in.vs2_ok, in.cmp_s, in.cmp_c, in.bus_we, in.bus_addr, in.bus_wdata};
+#define VALUE(n) uint64_t{in.n},
+        const uint64_t v[twin::kInputs] = {TWIN_INPUTS(VALUE)};
+#undef VALUE
         twin::set_inputs(*top, v);
     };
 
@@ -236,7 +231,9 @@ int main(int argc, char **argv) {
     // ------------------------------------------------------------------ reset
     {
         // The scenario's reset values (the build's parameters are the defaults).
-        const uint64_t v[twin::kResetValues] = {p.adaptive ? 1u : 0u, p.pw, p.pi, p.ps, p.si_max, p.si_min, p.t1, p.t2, p.cth, p.smp_on};
+#define VALUE(P, n) uint64_t{p.n},
+        const uint64_t v[twin::kResetValues] = {TWIN_RESET_VALUES(VALUE)};
+#undef VALUE
         twin::reset(*top, v);
     }
 
