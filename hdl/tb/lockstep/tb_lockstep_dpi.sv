@@ -77,44 +77,30 @@ module tb_lockstep_dpi;
         .SI_MAX(SI_MAX), .SI_MIN(SI_MIN), .T1(T1), .T2(T2), .CTH(CTH), .SMP_ON(SMP_ON)
     ) dut (.*);
 
-    function automatic longint rtl_output(int i);
-        case (i)
-            0: return sig;      1: return vr_hi;   2: return vm_en;   3: return vs1_en;
-            4: return vs2_en;   5: return vp_en;   6: return rail_hi; 7: return st;
-            8: return sr;       9: return ps_win;  10: return smp;    11: return cs;
-            12: return cc;      13: return cnt_s;  14: return cnt_c;  15: return cnt_r;
-            16: return si;      17: return hist_s; 18: return hist_c; 19: return diag;
-            20: return quadrant_skip; 21: return bus_rdata; default: return bus_err;
-        endcase
-    endfunction
+    // the DUT's values in the C ABI's index order (hdl/ffi/include/pmu50.h): outputs, registers,
+    // combinational internals
+    task automatic rtl_outputs(output longint o [NOUT]);
+        o = '{sig, vr_hi, vm_en, vs1_en, vs2_en, vp_en, rail_hi, st, sr, ps_win, smp, cs, cc, cnt_s, cnt_c,
+              cnt_r, si, hist_s, hist_c, diag, quadrant_skip, bus_rdata, bus_err};
+    endtask
 
 `ifndef PORTS_ONLY
-    // register index order of hdl/ffi/include/pmu50.h
-    function automatic longint rtl_reg(int i);
-        case (i)
-            0: return dut.action_switching.sync;          1: return dut.register_file.adaptive;
-            2: return dut.register_file.pw;               3: return dut.register_file.pi;
-            4: return dut.register_file.ps;               5: return dut.register_file.si_max;
-            6: return dut.register_file.si_min;           7: return dut.register_file.t1;
-            8: return dut.register_file.t2;               9: return dut.register_file.cth;
-            10: return dut.register_file.smp_on;          11: return dut.register_file.bus_err;
-            12: return dut.register_file.rdata;           13: return dut.timing_generator.tmr;
-            14: return dut.sensor_power_determination.sr; 15: return dut.comparator_latch.cs;
-            16: return dut.comparator_latch.cc;           17: return dut.comparator_latch.vld;
-            18: return dut.updown_counter.cnt_s;          19: return dut.updown_counter.cnt_c;
-            20: return dut.updown_counter.quadrant_skip;  21: return dut.drive_interval.si;
-            22: return dut.drive_interval.hist_s;         23: return dut.drive_interval.hist_c;
-            24: return dut.drive_interval.cnt_r;          default: return dut.count_diagnosis.diag;
-        endcase
-    endfunction
+    task automatic rtl_regs(output longint r [NREG]);
+        r = '{dut.action_switching.sync,
+              dut.register_file.adaptive, dut.register_file.pw, dut.register_file.pi, dut.register_file.ps,
+              dut.register_file.si_max, dut.register_file.si_min, dut.register_file.t1, dut.register_file.t2,
+              dut.register_file.cth, dut.register_file.smp_on, dut.register_file.bus_err, dut.register_file.rdata,
+              dut.timing_generator.tmr, dut.sensor_power_determination.sr,
+              dut.comparator_latch.cs, dut.comparator_latch.cc, dut.comparator_latch.vld,
+              dut.updown_counter.cnt_s, dut.updown_counter.cnt_c, dut.updown_counter.quadrant_skip,
+              dut.drive_interval.si, dut.drive_interval.hist_s, dut.drive_interval.hist_c, dut.drive_interval.cnt_r,
+              dut.count_diagnosis.diag};
+    endtask
 
-    function automatic longint rtl_internal(int i);
-        case (i)
-            0: return dut.internals.kon;    1: return dut.internals.koff;  2: return dut.internals.upd;
-            3: return dut.internals.first;  4: return dut.internals.chg_s; 5: return dut.internals.chg_c;
-            6: return dut.internals.skip_clr; 7: return dut.internals.fig17; default: return dut.internals.fig18;
-        endcase
-    endfunction
+    task automatic rtl_internals(output longint x [NINT]);
+        x = '{dut.internals.kon, dut.internals.koff, dut.internals.upd, dut.internals.first, dut.internals.chg_s,
+              dut.internals.chg_c, dut.internals.skip_clr, dut.internals.fig17, dut.internals.fig18};
+    endtask
 `endif
 
     // ---- clock: rising edges at T, 2T, ...
@@ -141,22 +127,16 @@ module tb_lockstep_dpi;
         $fatal(1, "parameter mismatch");
     endtask
 
+    // the parameters a vector header may name, and the values this build has
+    localparam int NPARAM = 12;
+    localparam string PARAM_NAMES [NPARAM] = '{"SYNC_DEPTH", "CNT_W", "ADAPTIVE", "PW", "PI", "PS", "SI_MAX",
+                                                "SI_MIN", "T1", "T2", "CTH", "SMP_ON"};
+    localparam int PARAM_VALUES [NPARAM] = '{SYNC_DEPTH, CNT_W, ADAPTIVE, PW, PI, PS, SI_MAX, SI_MIN, T1, T2,
+                                              CTH, SMP_ON};
+
     task automatic check_param(string n, int v);
-        case (n)
-            "SYNC_DEPTH": if (v != SYNC_DEPTH) fail_param(n, v, SYNC_DEPTH);
-            "CNT_W":      if (v != CNT_W)      fail_param(n, v, CNT_W);
-            "ADAPTIVE":   if (v != ADAPTIVE)   fail_param(n, v, ADAPTIVE);
-            "PW":         if (v != PW)         fail_param(n, v, PW);
-            "PI":         if (v != PI)         fail_param(n, v, PI);
-            "PS":         if (v != PS)         fail_param(n, v, PS);
-            "SI_MAX":     if (v != SI_MAX)     fail_param(n, v, SI_MAX);
-            "SI_MIN":     if (v != SI_MIN)     fail_param(n, v, SI_MIN);
-            "T1":         if (v != T1)         fail_param(n, v, T1);
-            "T2":         if (v != T2)         fail_param(n, v, T2);
-            "CTH":        if (v != CTH)        fail_param(n, v, CTH);
-            "SMP_ON":     if (v != SMP_ON)     fail_param(n, v, SMP_ON);
-            default: ;
-        endcase
+        for (int i = 0; i < NPARAM; i++)
+            if (n == PARAM_NAMES[i] && v != PARAM_VALUES[i]) fail_param(n, v, PARAM_VALUES[i]);
     endtask
 
     function automatic bit read_line();
@@ -189,10 +169,10 @@ module tb_lockstep_dpi;
         longint ro [NOUT];
         longint rr [NREG];
         int n;
-        for (int i = 0; i < NOUT; i++) ro[i] = rtl_output(i);
+        rtl_outputs(ro);
         for (int i = 0; i < NREG; i++) rr[i] = 0;
 `ifndef PORTS_ONLY
-        for (int i = 0; i < NREG; i++) rr[i] = rtl_reg(i);
+        rtl_regs(rr);
         n = pmu50_dpi_check_state(m, ro, rr, 1);
 `else
         n = pmu50_dpi_check_state(m, ro, rr, 0);
@@ -247,7 +227,7 @@ module tb_lockstep_dpi;
             if (pmu50_dpi_step(m, ig, vs2_ok, cmp_s, cmp_c, bus_we, bus_addr, bus_wdata) != 0)
                 $fatal(1, "model: %s", pmu50_dpi_last_error());
 `ifndef PORTS_ONLY
-            for (int i = 0; i < NINT; i++) rx[i] = rtl_internal(i);
+            rtl_internals(rx);
             nx = pmu50_dpi_check_internals(m, rx);
             if (nx < 0) $fatal(1, "model: %s", pmu50_dpi_last_error());
             if (nx > 0) report_and_stop(k, "combinational, before the next rising edge");
