@@ -204,14 +204,8 @@ fn set_error(msg: impl Into<String>) {
     LAST_ERROR.with(|e| *e.borrow_mut() = c);
 }
 
-fn panic_message(e: &(dyn std::any::Any + Send)) -> String {
-    if let Some(s) = e.downcast_ref::<&str>() {
-        (*s).to_string()
-    } else if let Some(s) = e.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "unknown panic".to_string()
-    }
+fn panic_message(e: &(dyn std::any::Any + Send)) -> &str {
+    pmu50_core::panic_payload_text(e).unwrap_or("unknown panic")
 }
 
 /// Run `f` and turn a panic into `PMU50_ERR_PANIC`.
