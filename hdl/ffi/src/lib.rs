@@ -452,10 +452,7 @@ pub unsafe extern "C" fn pmu50_reg_info(
     width: *mut u8,
 ) -> c_int {
     guard("pmu50_reg_info", || {
-        let Some(r) = signals::REGISTERS.get(index) else {
-            set_error(format!("pmu50_reg_info: index {index} out of range 0..{}", signals::N_REGISTERS));
-            return PMU50_ERR_RANGE;
-        };
+        let Some(r) = entry("pmu50_reg_info", &signals::REGISTERS, index) else { return PMU50_ERR_RANGE };
         // SAFETY: forwarded contract.
         let w = r.bits(&unsafe { structural_of(m) });
         let n = names();
@@ -483,12 +480,8 @@ pub unsafe extern "C" fn pmu50_reg_info(
 pub unsafe extern "C" fn pmu50_reg_get(m: *const pmu50_t, index: usize, value: *mut u64) -> c_int {
     // SAFETY: forwarded contract.
     unsafe {
-        get_into("pmu50_reg_get", m, "value", value, |m| match signals::REGISTERS.get(index) {
-            Some(r) => Ok((r.get)(m.core.regs())),
-            None => {
-                set_error(format!("pmu50_reg_get: index {index} out of range 0..{}", signals::N_REGISTERS));
-                Err(PMU50_ERR_RANGE)
-            }
+        get_into("pmu50_reg_get", m, "value", value, |m| {
+            entry("pmu50_reg_get", &signals::REGISTERS, index).map(|r| (r.get)(m.core.regs())).ok_or(PMU50_ERR_RANGE)
         })
     }
 }
@@ -559,10 +552,7 @@ pub unsafe extern "C" fn pmu50_output_info(
     guard("pmu50_output_info", || {
         // SAFETY: forwarded contract.
         let s = unsafe { structural_of(m) };
-        let Some(sig) = signals::OUTPUTS.get(index) else {
-            set_error(format!("pmu50_output_info: index {index} out of range 0..{}", signals::N_OUTPUTS));
-            return PMU50_ERR_RANGE;
-        };
+        let Some(sig) = entry("pmu50_output_info", &signals::OUTPUTS, index) else { return PMU50_ERR_RANGE };
         // SAFETY: the caller passes NULL or writable out pointers.
         unsafe { write_info(&names().outputs[index], sig.bits(&s), name, width) }
     })
@@ -585,10 +575,7 @@ pub unsafe extern "C" fn pmu50_internal_info(
     width: *mut u8,
 ) -> c_int {
     guard("pmu50_internal_info", || {
-        let Some(sig) = signals::INTERNALS.get(index) else {
-            set_error(format!("pmu50_internal_info: index {index} out of range 0..{}", signals::N_INTERNALS));
-            return PMU50_ERR_RANGE;
-        };
+        let Some(sig) = entry("pmu50_internal_info", &signals::INTERNALS, index) else { return PMU50_ERR_RANGE };
         // Internals have fixed widths.
         // SAFETY: forwarded contract (NULL core: default configuration).
         let w = sig.bits(&unsafe { structural_of(std::ptr::null()) });
@@ -770,6 +757,16 @@ pub(crate) unsafe fn free_handle<T>(h: *mut T) {
         // SAFETY: a live handle from new_handle, by contract.
         drop(unsafe { Box::from_raw(h) });
     }));
+}
+
+/// Entry `index` of a signal table; out of range: `None`, with the error "`what`: index ... out
+/// of range 0..len" set (the caller returns `PMU50_ERR_RANGE`).
+fn entry<'t, T>(what: &str, table: &'t [T], index: usize) -> Option<&'t T> {
+    let e = table.get(index);
+    if e.is_none() {
+        set_error(format!("{what}: index {index} out of range 0..{}", table.len()));
+    }
+    e
 }
 
 /// Shared body of the indexed value getters.
