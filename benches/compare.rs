@@ -208,21 +208,13 @@ fn alone(round: Round<'_>) -> Meas {
 #[inline(never)]
 fn pass_spec(st: &Stim) -> u64 {
     let mut m = Pmu50Spec::new(st.params).expect("legal parameters");
-    let mut h = 0;
-    for i in &st.inputs {
-        h = mix(h, &m.step(i));
-    }
-    h
+    st.inputs.iter().fold(0, |h, i| mix(h, &m.step(i)))
 }
 
 #[inline(never)]
 fn pass_kernel(st: &Stim) -> u64 {
     let mut m = Pmu50::new(st.params).expect("legal parameters");
-    let mut h = 0;
-    for i in &st.inputs {
-        h = mix(h, &m.step(i));
-    }
-    h
+    st.inputs.iter().fold(0, |h, i| mix(h, &m.step(i)))
 }
 
 /// Number of signals the Rust tracer writes per tick.
