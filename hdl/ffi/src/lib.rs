@@ -808,6 +808,19 @@ mod tests {
     use super::*;
     use std::ptr;
 
+    /// The default parameters as the C ABI gives them and a handle made from them (the test
+    /// frees it with `pmu50_free`).
+    fn default_handle() -> (pmu50_params, *mut pmu50_t) {
+        let mut p = pmu50_params::default();
+        // SAFETY: valid pointers.
+        unsafe {
+            assert_eq!(pmu50_params_default(&mut p), PMU50_OK);
+            let m = pmu50_new(&p);
+            assert!(!m.is_null());
+            (p, m)
+        }
+    }
+
     fn last_error() -> String {
         // SAFETY: pmu50_last_error returns a valid NUL-terminated string.
         unsafe { CStr::from_ptr(pmu50_last_error()) }
@@ -847,12 +860,9 @@ mod tests {
 
     #[test]
     fn step_matches_the_core_and_registers_resolve_by_name() {
-        let mut p = pmu50_params::default();
+        let (p, m) = default_handle();
         // SAFETY: valid pointers; the handle is freed at the end.
         unsafe {
-            pmu50_params_default(&mut p);
-            let m = pmu50_new(&p);
-            assert!(!m.is_null());
             let mut core = Pmu50::new(Params::default()).unwrap();
             let mut o = pmu50_outputs::default();
             let mut x = pmu50_internals::default();
@@ -898,11 +908,9 @@ mod tests {
 
     #[test]
     fn check_names_tick_signal_expected_and_got() {
-        let mut p = pmu50_params::default();
+        let (_, m) = default_handle();
         // SAFETY: valid pointers; the handle is freed at the end.
         unsafe {
-            pmu50_params_default(&mut p);
-            let m = pmu50_new(&p);
             let on = pmu50_inputs::from(Inputs { ig: true, vs2_ok: true, ..Default::default() });
             let mut after = pmu50_outputs::default();
             let mut x = pmu50_internals::default();
