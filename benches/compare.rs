@@ -208,21 +208,13 @@ fn alone(round: Round<'_>) -> Meas {
 #[inline(never)]
 fn pass_spec(st: &Stim) -> u64 {
     let mut m = Pmu50Spec::new(st.params).expect("legal parameters");
-    let mut h = 0;
-    for i in &st.inputs {
-        h = mix(h, &m.step(i));
-    }
-    h
+    st.inputs.iter().fold(0, |h, i| mix(h, &m.step(i)))
 }
 
 #[inline(never)]
 fn pass_kernel(st: &Stim) -> u64 {
     let mut m = Pmu50::new(st.params).expect("legal parameters");
-    let mut h = 0;
-    for i in &st.inputs {
-        h = mix(h, &m.step(i));
-    }
-    h
+    st.inputs.iter().fold(0, |h, i| mix(h, &m.step(i)))
 }
 
 /// Number of signals the Rust tracer writes per tick.
@@ -290,27 +282,32 @@ fn declare(st: &Stim) -> (VcdBuilder, Vec<SigId>, u64) {
     (b, ids, unit_ns)
 }
 
+/// The body of [`pass_traced`] and [`pass_traced_vcd`]: a tracer on `$frame` opens its run on
+/// `$w` with `$open` (`run` or `text_run`, whose run types differ), steps every input, then
+/// moves the writer to the end of the stimulus; the checksum of the outputs.
+macro_rules! traced_pass {
+    ($st:expr, $w:expr, $frame:expr, $unit_ns:expr, $open:ident) => {{
+        let (st, w, unit_ns): (&Stim, _, u64) = ($st, $w, $unit_ns);
+        let mut tr = CoreTracer::new($frame, Pmu50::new(st.params).expect("legal parameters")).expect("a frame of the 65 signals");
+        let mut run = tr.$open(w).expect("the tracer's frame is this writer's");
+        let h = traced_steps(st, unit_ns, |t, i| *run.step(t, i).expect("traced values fit their declarations"));
+        drop(run);
+        w.set_time(st.inputs.len() as u64 * (st.clock_ns / unit_ns)).expect("time moves forward");
+        h
+    }};
+}
+
 /// One traced replay into `w` through [`CoreTracer`]; returns the checksum.
 #[inline(never)]
 fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: Frame, unit_ns: u64) -> u64 {
-    let mut tr = CoreTracer::new(frame, Pmu50::new(st.params).expect("legal parameters")).expect("a frame of the 65 signals");
-    let mut run = tr.run(w).expect("the tracer's frame is this writer's");
-    let h = traced_steps(st, unit_ns, |t, i| *run.step(t, i).expect("traced values fit their declarations"));
-    drop(run);
-    w.set_time(st.inputs.len() as u64 * (st.clock_ns / unit_ns)).expect("time moves forward");
-    h
+    traced_pass!(st, w, frame, unit_ns, run)
 }
 
 /// [`pass_traced`] for a VCD: the tracer's text run ([`CoreTracer::text_run`]), each step's
 /// changed values written at once.
 #[inline(never)]
 fn pass_traced_vcd<W: std::io::Write>(st: &Stim, w: &mut VcdWriter<W>, frame: Frame, unit_ns: u64) -> u64 {
-    let mut tr = CoreTracer::new(frame, Pmu50::new(st.params).expect("legal parameters")).expect("a frame of the 65 signals");
-    let mut run = tr.text_run(w).expect("the tracer's frame is this writer's");
-    let h = traced_steps(st, unit_ns, |t, i| *run.step(t, i).expect("traced values fit their declarations"));
-    drop(run);
-    w.set_time(st.inputs.len() as u64 * (st.clock_ns / unit_ns)).expect("time moves forward");
-    h
+    traced_pass!(st, w, frame, unit_ns, text_run)
 }
 
 /// Every input of the stimulus through `step` (time in the VCD's units, inputs; the outputs

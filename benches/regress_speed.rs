@@ -49,9 +49,6 @@ impl Observer for Idle {
         std::hint::black_box(v.tick);
         Ok(())
     }
-    fn finish(&mut self, _: &TickView<'_>) -> Result<(), SimError> {
-        Ok(())
-    }
     fn replays_periods(&self) -> bool {
         true
     }
@@ -65,9 +62,6 @@ struct Record(Vec<Inputs>);
 impl Observer for Record {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
         self.0.push(*v.inputs);
-        Ok(())
-    }
-    fn finish(&mut self, _: &TickView<'_>) -> Result<(), SimError> {
         Ok(())
     }
 }

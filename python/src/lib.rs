@@ -50,14 +50,8 @@ pyo3::create_exception!(
 );
 
 /// The text of a panic payload.
-fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
-    if let Some(s) = p.downcast_ref::<&str>() {
-        (*s).to_string()
-    } else if let Some(s) = p.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "(no message)".to_string()
-    }
+fn panic_text(p: &(dyn std::any::Any + Send)) -> &str {
+    pmu50_core::panic_payload_text(p).unwrap_or("(no message)")
 }
 
 /// Run `f`; a panic becomes `pmu50.InternalError` instead of unwinding into Python.

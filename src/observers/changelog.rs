@@ -84,15 +84,7 @@ impl<W: Write> Observer for ChangeLog<W> {
         true
     }
 
-    fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
-        self.rec.boundary(k);
-        Ok(())
-    }
-
-    fn moving_boundary(&mut self, k: u64) -> Result<(), SimError> {
-        self.rec.moving_boundary(k);
-        Ok(())
-    }
+    crate::sim::replay::recorder_boundaries!(rec);
 
     fn can_replay(&self, k: u64, len: u64) -> bool {
         self.prev.is_some() && self.rec.can_replay(k, len)

@@ -86,7 +86,4 @@ impl Observer for RefusalWatch {
     fn needs_every_tick(&self) -> bool {
         false
     }
-    fn finish(&mut self, _: &TickView<'_>) -> Result<(), SimError> {
-        Ok(())
-    }
 }

@@ -75,6 +75,25 @@ impl TimingRecorder {
         self.window.is_none_or(|(a, b)| tick >= a && tick < b)
     }
 
+    /// The stretches of equal `value` as (left x, right x, value), the last one ending at
+    /// `right`: where a bus is drawn with its value, or a staircase step labelled.
+    fn segments<T: PartialEq>(&self, value: impl Fn(&State) -> T, sx: impl Fn(f64) -> f64, right: f64) -> Vec<(f64, f64, T)> {
+        let mut segs: Vec<(f64, f64, T)> = Vec::new();
+        for (t, st) in &self.rows {
+            let x = sx(self.ms(*t));
+            let v = value(st);
+            match segs.last_mut() {
+                Some(l) if l.2 == v => {}
+                Some(l) => {
+                    l.1 = x;
+                    segs.push((x, right, v));
+                }
+                None => segs.push((x, right, v)),
+            }
+        }
+        segs
+    }
+
     fn ms(&self, tick: u64) -> f64 {
         tick as f64 * self.clock_ns as f64 / 1e6
     }
@@ -208,18 +227,7 @@ impl TimingRecorder {
             let bot = bus_top + row_h - 6.0;
             let mid = (top + bot) / 2.0;
             svg.text(label_w - 10.0, bot - 4.0, 12.0, Anchor::End, "#000", "CNTr");
-            let mut segs: Vec<(f64, f64, u8)> = Vec::new();
-            for (t, st) in &self.rows {
-                let x = sx(self.ms(*t));
-                match segs.last_mut() {
-                    Some(l) if l.2 == st.cnt_r => {}
-                    Some(l) => {
-                        l.1 = x;
-                        segs.push((x, right, st.cnt_r));
-                    }
-                    None => segs.push((x, right, st.cnt_r)),
-                }
-            }
+            let segs = self.segments(|st| st.cnt_r, sx, right);
             for (a, b, v) in segs {
                 let e = 2.5f64.min((b - a) / 2.0);
                 svg.polyline(&[(a, mid), (a + e, top), (b - e, top), (b, mid), (b - e, bot), (a + e, bot), (a, mid)], "#000", 1.2, None);
@@ -263,18 +271,7 @@ impl TimingRecorder {
             }
             svg.polyline(&pts, "#0072B2", 2.0, None);
             // value labels: one per step, where the step is wide enough to hold it
-            let mut segs: Vec<(f64, f64, u16)> = Vec::new();
-            for (t, st) in &self.rows {
-                let x = sx(self.ms(*t));
-                match segs.last_mut() {
-                    Some(l) if l.2 == st.si => {}
-                    Some(l) => {
-                        l.1 = x;
-                        segs.push((x, right, st.si));
-                    }
-                    None => segs.push((x, right, st.si)),
-                }
-            }
+            let segs = self.segments(|st| st.si, sx, right);
             for (a, b, v) in segs {
                 let ms = self.ms(u64::from(v));
                 let s = format!("{ms:.1}");

@@ -467,39 +467,29 @@ impl VcdObserver {
     fn dump(&mut self, v: &TickView<'_>, with_inputs: bool) -> Result<(), SimError> {
         let path = &self.path;
         let t = v.time_ns / self.unit_ns;
+        // One tick through the tracer's run (the VCD's or the FST's): the bench's inputs and the
+        // changed analog values; the tracer's core must then hold the bench's registers.
+        macro_rules! traced_tick {
+            ($traced:expr, $env:expr, $cache:expr) => {{
+                let (env, cache) = ($env, $cache);
+                cache.update(v);
+                let same = $traced.with_run_mut(|run| -> Result<bool, WriteError> {
+                    run.step(t, v.inputs)?;
+                    for (j, val) in cache.changes() {
+                        run.real(env[j], val)?;
+                    }
+                    Ok(run.core().regs() == v.after)
+                });
+                match same {
+                    Ok(true) => Ok(()),
+                    Ok(false) => return Err(err(path, format!("the traced core left the bench's at tick {}: its registers after the edge differ", v.tick))),
+                    Err(e) => Err(e),
+                }
+            }};
+        }
         let r = match self.out.as_mut() {
-            Some(Out::Traced(tv)) => {
-                let (env, cache) = (&self.ids.env, &mut self.env);
-                cache.update(v);
-                let r = tv.with_run_mut(|run| -> Result<bool, WriteError> {
-                    run.step(t, v.inputs)?;
-                    for (j, val) in cache.changes() {
-                        run.real(env[j], val)?;
-                    }
-                    Ok(run.core().regs() == v.after)
-                });
-                match r {
-                    Ok(true) => Ok(()),
-                    Ok(false) => return Err(err(path, format!("the traced core left the bench's at tick {}: its registers after the edge differ", v.tick))),
-                    Err(e) => Err(e),
-                }
-            }
-            Some(Out::TracedFst(tf, _)) => {
-                let (env, cache) = (&self.ids.env, &mut self.env);
-                cache.update(v);
-                let r = tf.with_run_mut(|run| -> Result<bool, WriteError> {
-                    run.step(t, v.inputs)?;
-                    for (j, val) in cache.changes() {
-                        run.real(env[j], val)?;
-                    }
-                    Ok(run.core().regs() == v.after)
-                });
-                match r {
-                    Ok(true) => Ok(()),
-                    Ok(false) => return Err(err(path, format!("the traced core left the bench's at tick {}: its registers after the edge differ", v.tick))),
-                    Err(e) => Err(e),
-                }
-            }
+            Some(Out::Traced(tv)) => traced_tick!(tv, &self.ids.env, &mut self.env),
+            Some(Out::TracedFst(tf, _)) => traced_tick!(tf, &self.ids.env, &mut self.env),
             Some(Out::Vcd(w)) => dump_into(w, &mut self.ids, &mut self.env, v, t, with_inputs),
             Some(Out::Fst(w, _)) => dump_into(w, &mut self.ids, &mut self.env, v, t, with_inputs),
             None => return Err(err(path, "writer already closed")),
@@ -562,15 +552,7 @@ impl Observer for VcdObserver {
         true
     }
 
-    fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
-        self.rec.boundary(k);
-        Ok(())
-    }
-
-    fn moving_boundary(&mut self, k: u64) -> Result<(), SimError> {
-        self.rec.moving_boundary(k);
-        Ok(())
-    }
+    crate::sim::replay::recorder_boundaries!(rec);
 
     fn can_replay(&self, k: u64, len: u64) -> bool {
         self.rec.can_replay(k, len)

@@ -162,10 +162,6 @@ impl Observer for Coverage {
         Ok(())
     }
 
-    fn finish(&mut self, _: &TickView<'_>) -> Result<(), SimError> {
-        Ok(())
-    }
-
     fn replays_periods(&self) -> bool {
         true
     }
@@ -237,10 +233,6 @@ impl Observer for SeedChecks {
                 self.fail(f);
             }
         }
-        Ok(())
-    }
-
-    fn finish(&mut self, _: &TickView<'_>) -> Result<(), SimError> {
         Ok(())
     }
 

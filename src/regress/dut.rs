@@ -326,9 +326,6 @@ pub fn fig_at(sc: &Scenario, cycle: u64) -> String {
             }
             Ok(())
         }
-        fn finish(&mut self, _: &TickView<'_>) -> Result<(), SimError> {
-            Ok(())
-        }
     }
     let mut at = At(cycle, Fig17::Idle, Fig18::Idle);
     let mut short = sc.clone();

@@ -78,9 +78,6 @@ impl Observer for InputRecorder {
         self.inputs.push(pack(v.inputs));
         Ok(())
     }
-    fn finish(&mut self, _v: &TickView<'_>) -> Result<(), SimError> {
-        Ok(())
-    }
     fn replays_periods(&self) -> bool {
         true
     }

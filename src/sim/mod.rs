@@ -123,8 +123,11 @@ pub trait Observer {
         Ok(())
     }
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError>;
-    /// Called once after the last tick with the final state at time `ticks`·T.
-    fn finish(&mut self, v: &TickView<'_>) -> Result<(), SimError>;
+    /// Called once after the last tick with the final state at time `ticks`·T. Default:
+    /// nothing to flush.
+    fn finish(&mut self, _v: &TickView<'_>) -> Result<(), SimError> {
+        Ok(())
+    }
     /// Whether this observer must see every tick (a waveform must). While one does, the bench
     /// evaluates every tick, except whole repeated periods when it can replay them
     /// ([`Observer::replays_periods`]); otherwise it may skip stretches it accounts exactly.

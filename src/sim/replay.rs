@@ -48,6 +48,24 @@ impl Stretch {
     }
 }
 
+/// The boundary hooks of an [`crate::sim::Observer`] that keeps its periods in a
+/// [`PeriodRecorder`] field `$rec`: `period_boundary` and `moving_boundary` pass the boundary
+/// to it (used inside the observer's `impl Observer`).
+macro_rules! recorder_boundaries {
+    ($rec:ident) => {
+        fn period_boundary(&mut self, k: u64) -> Result<(), crate::sim::SimError> {
+            self.$rec.boundary(k);
+            Ok(())
+        }
+
+        fn moving_boundary(&mut self, k: u64) -> Result<(), crate::sim::SimError> {
+            self.$rec.moving_boundary(k);
+            Ok(())
+        }
+    };
+}
+pub(crate) use recorder_boundaries;
+
 /// Records the per-tick values of one observer between period boundaries (see the module
 /// documentation).
 #[derive(Debug, Default)]
@@ -209,14 +227,19 @@ mod tests {
                 vec![i, if i == 0 { 1 } else { 2 }, 9]
             }
         };
-        let mut r = PeriodRecorder::new();
-        for k in 0..17 {
-            if k == 7 || k == 12 {
-                r.boundary(k);
+        // Ticks 0..17 recorded with boundaries at 7, 12 and 17: two whole periods seen.
+        let recorded = || {
+            let mut r = PeriodRecorder::new();
+            for k in 0..17 {
+                if k == 7 || k == 12 {
+                    r.boundary(k);
+                }
+                r.record(k, &val(k));
             }
-            r.record(k, &val(k));
-        }
-        r.boundary(17);
+            r.boundary(17);
+            r
+        };
+        let mut r = recorded();
         assert!(r.can_replay(17, 5));
         assert!(!r.can_replay(17, 4) && !r.can_replay(16, 5));
         let mut got: Vec<(u64, Vec<(u32, u64)>)> = Vec::new();
@@ -236,14 +259,7 @@ mod tests {
         }
         assert_eq!(got, want);
         // A windowed replay leaves out the copies outside the window only.
-        let mut r2 = PeriodRecorder::new();
-        for k in 0..17 {
-            if k == 7 || k == 12 {
-                r2.boundary(k);
-            }
-            r2.record(k, &val(k));
-        }
-        r2.boundary(17);
+        let mut r2 = recorded();
         let mut ticks = Vec::new();
         r2.replay::<()>(17, 3, 5, Some((23, 26)), |t, _| {
             ticks.push(t);

@@ -676,23 +676,15 @@ pub fn diff(
     let m = match_signals(left, right, &lkeys, &rkeys, &opts.prefix_map)?;
 
     let end = {
-        let el = left
-            .end_time()
-            .checked_mul(ml)
-            .ok_or(DiffError::TimeOverflow {
-                side: "left",
-                time: left.end_time(),
+        // a side's end time in the common unit
+        let end_of = |w: &Waveform, m: u64, side: &'static str| {
+            w.end_time().checked_mul(m).ok_or(DiffError::TimeOverflow {
+                side,
+                time: w.end_time(),
                 unit: unit_s.clone(),
-            })?;
-        let er = right
-            .end_time()
-            .checked_mul(mr)
-            .ok_or(DiffError::TimeOverflow {
-                side: "right",
-                time: right.end_time(),
-                unit: unit_s.clone(),
-            })?;
-        el.max(er)
+            })
+        };
+        end_of(left, ml, "left")?.max(end_of(right, mr, "right")?)
     };
 
     // Sample instants shared by all pairs.

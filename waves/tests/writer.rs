@@ -1210,6 +1210,68 @@ fn frame_builder_with_reals() -> (VcdBuilder, Vec<SigId>) {
     (b, ids)
 }
 
+/// The body of the two proptests below. Reals given in runs (`real`, after each step's frame
+/// values) write exactly what `dump_frame` and `change_real` write at each step, with runs ended
+/// at random (and a single change between them), inside or outside a window. `$open` opens a run
+/// on the writer `$w` and frame `$f`; `$set` writes the step's frame values `$vals` at `$t`.
+macro_rules! runs_with_reals_equal_change_real {
+    ($window:expr, $steps:expr, |$w:ident, $f:ident| $open:expr, |$run:ident, $t:ident, $vals:ident| $set:block) => {{
+        let (window, steps): (Option<(u64, u64)>, Vec<(u64, [u64; 4], [Option<usize>; 2], u8)>) = ($window, $steps);
+        let reals = [0.0, -0.0, 37.001, 1.25e-7, 3e20];
+        let start = |b: VcdBuilder, ids: &[SigId]| {
+            let mut b = b;
+            if let Some((s, len)) = window {
+                b.window(s, s + len + 1).unwrap();
+            }
+            let mut w = b.start(Vec::new()).unwrap();
+            let f = w.frame(&ids[..4]).unwrap();
+            (w, f)
+        };
+        let (b1, ids1) = frame_builder_with_reals();
+        let (b2, ids2) = frame_builder_with_reals();
+        let (mut w1, mut f1) = start(b1, &ids1);
+        let (mut w2, mut f2) = start(b2, &ids2);
+        let (mut t, mut idx, mut zv) = (0u64, 0, false);
+        while idx < steps.len() {
+            {
+                let mut $run = {
+                    let ($w, $f) = (&mut w1, &mut f1);
+                    $open
+                };
+                while idx < steps.len() {
+                    let (dt, set, given, end) = steps[idx];
+                    idx += 1;
+                    t += dt;
+                    let $vals: [u64; 4] = std::array::from_fn(|k| frame_value(k, set[k]));
+                    let $t = t;
+                    $set
+                    w2.dump_frame(&mut f2, t, &$vals).unwrap();
+                    for (j, g) in given.iter().enumerate() {
+                        if let Some(g) = g {
+                            $run.real(ids1[5 + j], reals[*g]).unwrap();
+                            w2.change_real(ids2[5 + j], reals[*g]).unwrap();
+                        }
+                    }
+                    if given.iter().all(Option::is_some) {
+                        // each real once a step, in declaration order
+                        let (e5, e6) = ($run.real(ids1[5], 1.0).err(), $run.real(ids1[6], 1.0).err());
+                        proptest::prop_assert!(matches!(e5, Some(WriteError::FrameOrder { .. }) | Some(WriteError::DoubleChange { .. })), "{:?}", e5);
+                        proptest::prop_assert!(matches!(e6, Some(WriteError::DoubleChange { .. })), "{:?}", e6);
+                    }
+                    if end == 0 {
+                        break;
+                    }
+                }
+            }
+            // between runs: a change of the frame's `z` (outside the frame) at the same time
+            zv = !zv;
+            w1.change_bool(ids1[4], zv).unwrap();
+            w2.change_bool(ids2[4], zv).unwrap();
+        }
+        proptest::prop_assert_eq!(text(w1), text(w2));
+    }};
+}
+
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig { cases: 300, failure_persistence: None, ..Default::default() })]
 
@@ -1221,73 +1283,23 @@ proptest::proptest! {
         window in proptest::option::of((0u64..30, 0u64..80)),
         steps in proptest::collection::vec((1u64..3, proptest::array::uniform4(0u64..4), proptest::array::uniform2(proptest::option::of(0usize..5)), 0u8..8), 0..80),
     ) {
-        let reals = [0.0, -0.0, 37.001, 1.25e-7, 3e20];
-        let start = |b: VcdBuilder, ids: &[pmu50_waves::writer::SigId]| {
-            let mut b = b;
-            if let Some((s, len)) = window {
-                b.window(s, s + len + 1).unwrap();
-            }
-            let mut w = b.start(Vec::new()).unwrap();
-            let f = w.frame(&ids[..4]).unwrap();
-            (w, f)
-        };
-        let (b1, ids1) = frame_builder_with_reals();
-        let (b2, ids2) = frame_builder_with_reals();
-        let (mut w1, mut f1) = start(b1, &ids1);
-        let (mut w2, mut f2) = start(b2, &ids2);
-        let value = frame_value;
-        let (mut t, mut idx, mut zv) = (0u64, 0, false);
-        while idx < steps.len() {
-            {
-                let mut run = w1.text_run(&mut f1).unwrap();
-                while idx < steps.len() {
-                    let (dt, set, given, end) = steps[idx];
-                    idx += 1;
-                    t += dt;
-                    let vals: [u64; 4] = std::array::from_fn(|k| value(k, set[k]));
-                    match run.step(t).unwrap() {
-                        Some(mut s) => {
-                            for (k, v) in vals.iter().enumerate() {
-                                s.line(k, *v).unwrap();
-                            }
-                        }
-                        None => {
-                            let mut fr = run.frame_run().unwrap();
-                            let mut s = fr.step(t).unwrap();
-                            for (k, v) in vals.iter().enumerate() {
-                                s.set(k, *v).unwrap();
-                            }
-                        }
+        runs_with_reals_equal_change_real!(window, steps, |w, f| w.text_run(f).unwrap(), |run, t, vals| {
+            match run.step(t).unwrap() {
+                Some(mut s) => {
+                    for (k, v) in vals.iter().enumerate() {
+                        s.line(k, *v).unwrap();
                     }
-                    w2.dump_frame(&mut f2, t, &vals).unwrap();
-                    for (j, g) in given.iter().enumerate() {
-                        if let Some(g) = g {
-                            run.real(ids1[5 + j], reals[*g]).unwrap();
-                            w2.change_real(ids2[5 + j], reals[*g]).unwrap();
-                        }
-                    }
-                    if given.iter().all(Option::is_some) {
-                        // each real once a step, in declaration order
-                        let (e5, e6) = (run.real(ids1[5], 1.0).err(), run.real(ids1[6], 1.0).err());
-                        proptest::prop_assert!(matches!(e5, Some(WriteError::FrameOrder { .. }) | Some(WriteError::DoubleChange { .. })), "{:?}", e5);
-                        proptest::prop_assert!(matches!(e6, Some(WriteError::DoubleChange { .. })), "{:?}", e6);
-                    }
-                    if end == 0 {
-                        break;
+                }
+                None => {
+                    let mut fr = run.frame_run().unwrap();
+                    let mut s = fr.step(t).unwrap();
+                    for (k, v) in vals.iter().enumerate() {
+                        s.set(k, *v).unwrap();
                     }
                 }
             }
-            // between runs: a change of the frame's `z` (outside the frame) at the same time
-            zv = !zv;
-            w1.change_bool(ids1[4], zv).unwrap();
-            w2.change_bool(ids2[4], zv).unwrap();
-        }
-        proptest::prop_assert_eq!(text(w1), text(w2));
+        });
     }
-}
-
-proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 300, failure_persistence: None, ..Default::default() })]
 
     /// Reals given in frame runs (`FrameRun::real`, after each step's frame values) write
     /// exactly what `dump_frame` and `change_real` write at each step, with runs ended at
@@ -1297,59 +1309,28 @@ proptest::proptest! {
         window in proptest::option::of((0u64..30, 0u64..80)),
         steps in proptest::collection::vec((1u64..3, proptest::array::uniform4(0u64..4), proptest::array::uniform2(proptest::option::of(0usize..5)), 0u8..8), 0..80),
     ) {
-        let reals = [0.0, -0.0, 37.001, 1.25e-7, 3e20];
-        let start = |b: VcdBuilder, ids: &[pmu50_waves::writer::SigId]| {
-            let mut b = b;
-            if let Some((s, len)) = window {
-                b.window(s, s + len + 1).unwrap();
+        runs_with_reals_equal_change_real!(window, steps, |w, f| w.frame_run(f).unwrap(), |run, t, vals| {
+            let mut s = run.step(t).unwrap();
+            for (k, v) in vals.iter().enumerate() {
+                s.set(k, *v).unwrap();
             }
-            let mut w = b.start(Vec::new()).unwrap();
-            let f = w.frame(&ids[..4]).unwrap();
-            (w, f)
-        };
-        let (b1, ids1) = frame_builder_with_reals();
-        let (b2, ids2) = frame_builder_with_reals();
-        let (mut w1, mut f1) = start(b1, &ids1);
-        let (mut w2, mut f2) = start(b2, &ids2);
-        let value = |var: usize, v: u64| [v & 1, v * 1000, v * 7, v << 60][var];
-        let (mut t, mut idx, mut zv) = (0u64, 0, false);
-        while idx < steps.len() {
-            {
-                let mut run = w1.frame_run(&mut f1).unwrap();
-                while idx < steps.len() {
-                    let (dt, set, given, end) = steps[idx];
-                    idx += 1;
-                    t += dt;
-                    let vals: [u64; 4] = std::array::from_fn(|k| value(k, set[k]));
-                    let mut s = run.step(t).unwrap();
-                    for (k, v) in vals.iter().enumerate() {
-                        s.set(k, *v).unwrap();
-                    }
-                    w2.dump_frame(&mut f2, t, &vals).unwrap();
-                    for (j, g) in given.iter().enumerate() {
-                        if let Some(g) = g {
-                            run.real(ids1[5 + j], reals[*g]).unwrap();
-                            w2.change_real(ids2[5 + j], reals[*g]).unwrap();
-                        }
-                    }
-                    if given.iter().all(Option::is_some) {
-                        // each real once a step, in declaration order
-                        let (e5, e6) = (run.real(ids1[5], 1.0).err(), run.real(ids1[6], 1.0).err());
-                        proptest::prop_assert!(matches!(e5, Some(WriteError::FrameOrder { .. }) | Some(WriteError::DoubleChange { .. })), "{:?}", e5);
-                        proptest::prop_assert!(matches!(e6, Some(WriteError::DoubleChange { .. })), "{:?}", e6);
-                    }
-                    if end == 0 {
-                        break;
-                    }
-                }
-            }
-            // between runs: a change of the frame's `z` (outside the frame) at the same time
-            zv = !zv;
-            w1.change_bool(ids1[4], zv).unwrap();
-            w2.change_bool(ids2[4], zv).unwrap();
-        }
-        proptest::prop_assert_eq!(text(w1), text(w2));
+        });
     }
+}
+
+/// A run's `real` refuses a bit and a NaN and writes 2.5 into the real `ids[5]`.
+fn real_keeps_the_checks(mut real: impl FnMut(SigId, f64) -> Result<(), WriteError>, ids: &[SigId]) {
+    assert!(matches!(real(ids[0], 1.0), Err(WriteError::TypeMismatch { .. })), "a bit is not a real");
+    assert!(matches!(real(ids[5], f64::NAN), Err(WriteError::NotFinite { .. })));
+    real(ids[5], 2.5).unwrap();
+}
+
+/// After [`real_keeps_the_checks`] in a run whose step at 2 set position 1 to 5: the real was
+/// assigned in that step, once.
+fn real_was_written_at_2(mut w: VcdWriter<Vec<u8>>, ids: &[SigId]) {
+    assert!(matches!(w.change_real(ids[5], 3.0), Err(WriteError::DoubleChange { .. })));
+    let vcd = text(w);
+    assert!(vcd.contains("#2\nb0000000000000101 \"\nr2.5 &\n"), "{vcd}");
 }
 
 #[test]
@@ -1362,14 +1343,9 @@ fn frame_run_reals_keep_the_checks() {
     // the first step of a run goes through the writer; the next one is direct
     let mut s = run.step(2).unwrap();
     s.set(1, 5).unwrap();
-    assert!(matches!(run.real(ids[0], 1.0), Err(WriteError::TypeMismatch { .. })), "a bit is not a real");
-    assert!(matches!(run.real(ids[5], f64::NAN), Err(WriteError::NotFinite { .. })));
-    run.real(ids[5], 2.5).unwrap();
+    real_keeps_the_checks(|id, v| run.real(id, v), &ids);
     drop(run);
-    // the real was assigned in the step at 2
-    assert!(matches!(w.change_real(ids[5], 3.0), Err(WriteError::DoubleChange { .. })));
-    let vcd = text(w);
-    assert!(vcd.contains("#2\nb0000000000000101 \"\nr2.5 &\n"), "{vcd}");
+    real_was_written_at_2(w, &ids);
 }
 
 #[test]
@@ -1380,12 +1356,7 @@ fn text_run_reals_keep_the_checks() {
     // the first step of a run goes through the writer; the next one is a text step
     let mut s = run.step(2).unwrap().expect("a text step");
     s.line(1, 5).unwrap();
-    assert!(matches!(run.real(ids[0], 1.0), Err(WriteError::TypeMismatch { .. })), "a bit is not a real");
-    assert!(matches!(run.real(ids[5], f64::NAN), Err(WriteError::NotFinite { .. })));
-    run.real(ids[5], 2.5).unwrap();
+    real_keeps_the_checks(|id, v| run.real(id, v), &ids);
     drop(run);
-    // the real was assigned in the step at 2
-    assert!(matches!(w.change_real(ids[5], 3.0), Err(WriteError::DoubleChange { .. })));
-    let vcd = text(w);
-    assert!(vcd.contains("#2\nb0000000000000101 \"\nr2.5 &\n"), "{vcd}");
+    real_was_written_at_2(w, &ids);
 }

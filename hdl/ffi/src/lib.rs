@@ -204,14 +204,8 @@ fn set_error(msg: impl Into<String>) {
     LAST_ERROR.with(|e| *e.borrow_mut() = c);
 }
 
-fn panic_message(e: &(dyn std::any::Any + Send)) -> String {
-    if let Some(s) = e.downcast_ref::<&str>() {
-        (*s).to_string()
-    } else if let Some(s) = e.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "unknown panic".to_string()
-    }
+fn panic_message(e: &(dyn std::any::Any + Send)) -> &str {
+    pmu50_core::panic_payload_text(e).unwrap_or("unknown panic")
 }
 
 /// Run `f` and turn a panic into `PMU50_ERR_PANIC`.
@@ -458,10 +452,7 @@ pub unsafe extern "C" fn pmu50_reg_info(
     width: *mut u8,
 ) -> c_int {
     guard("pmu50_reg_info", || {
-        let Some(r) = signals::REGISTERS.get(index) else {
-            set_error(format!("pmu50_reg_info: index {index} out of range 0..{}", signals::N_REGISTERS));
-            return PMU50_ERR_RANGE;
-        };
+        let Some(r) = entry("pmu50_reg_info", &signals::REGISTERS, index) else { return PMU50_ERR_RANGE };
         // SAFETY: forwarded contract.
         let w = r.bits(&unsafe { structural_of(m) });
         let n = names();
@@ -489,12 +480,8 @@ pub unsafe extern "C" fn pmu50_reg_info(
 pub unsafe extern "C" fn pmu50_reg_get(m: *const pmu50_t, index: usize, value: *mut u64) -> c_int {
     // SAFETY: forwarded contract.
     unsafe {
-        get_into("pmu50_reg_get", m, "value", value, |m| match signals::REGISTERS.get(index) {
-            Some(r) => Ok((r.get)(m.core.regs())),
-            None => {
-                set_error(format!("pmu50_reg_get: index {index} out of range 0..{}", signals::N_REGISTERS));
-                Err(PMU50_ERR_RANGE)
-            }
+        get_into("pmu50_reg_get", m, "value", value, |m| {
+            entry("pmu50_reg_get", &signals::REGISTERS, index).map(|r| (r.get)(m.core.regs())).ok_or(PMU50_ERR_RANGE)
         })
     }
 }
@@ -565,10 +552,7 @@ pub unsafe extern "C" fn pmu50_output_info(
     guard("pmu50_output_info", || {
         // SAFETY: forwarded contract.
         let s = unsafe { structural_of(m) };
-        let Some(sig) = signals::OUTPUTS.get(index) else {
-            set_error(format!("pmu50_output_info: index {index} out of range 0..{}", signals::N_OUTPUTS));
-            return PMU50_ERR_RANGE;
-        };
+        let Some(sig) = entry("pmu50_output_info", &signals::OUTPUTS, index) else { return PMU50_ERR_RANGE };
         // SAFETY: the caller passes NULL or writable out pointers.
         unsafe { write_info(&names().outputs[index], sig.bits(&s), name, width) }
     })
@@ -591,10 +575,7 @@ pub unsafe extern "C" fn pmu50_internal_info(
     width: *mut u8,
 ) -> c_int {
     guard("pmu50_internal_info", || {
-        let Some(sig) = signals::INTERNALS.get(index) else {
-            set_error(format!("pmu50_internal_info: index {index} out of range 0..{}", signals::N_INTERNALS));
-            return PMU50_ERR_RANGE;
-        };
+        let Some(sig) = entry("pmu50_internal_info", &signals::INTERNALS, index) else { return PMU50_ERR_RANGE };
         // Internals have fixed widths.
         // SAFETY: forwarded contract (NULL core: default configuration).
         let w = sig.bits(&unsafe { structural_of(std::ptr::null()) });
@@ -778,6 +759,16 @@ pub(crate) unsafe fn free_handle<T>(h: *mut T) {
     }));
 }
 
+/// Entry `index` of a signal table; out of range: `None`, with the error "`what`: index ... out
+/// of range 0..len" set (the caller returns `PMU50_ERR_RANGE`).
+fn entry<'t, T>(what: &str, table: &'t [T], index: usize) -> Option<&'t T> {
+    let e = table.get(index);
+    if e.is_none() {
+        set_error(format!("{what}: index {index} out of range 0..{}", table.len()));
+    }
+    e
+}
+
 /// Shared body of the indexed value getters.
 ///
 /// # Safety
@@ -816,6 +807,19 @@ unsafe fn write_info(n: &'static CStr, w: u8, name: *mut *const c_char, width: *
 mod tests {
     use super::*;
     use std::ptr;
+
+    /// The default parameters as the C ABI gives them and a handle made from them (the test
+    /// frees it with `pmu50_free`).
+    fn default_handle() -> (pmu50_params, *mut pmu50_t) {
+        let mut p = pmu50_params::default();
+        // SAFETY: valid pointers.
+        unsafe {
+            assert_eq!(pmu50_params_default(&mut p), PMU50_OK);
+            let m = pmu50_new(&p);
+            assert!(!m.is_null());
+            (p, m)
+        }
+    }
 
     fn last_error() -> String {
         // SAFETY: pmu50_last_error returns a valid NUL-terminated string.
@@ -856,12 +860,9 @@ mod tests {
 
     #[test]
     fn step_matches_the_core_and_registers_resolve_by_name() {
-        let mut p = pmu50_params::default();
+        let (p, m) = default_handle();
         // SAFETY: valid pointers; the handle is freed at the end.
         unsafe {
-            pmu50_params_default(&mut p);
-            let m = pmu50_new(&p);
-            assert!(!m.is_null());
             let mut core = Pmu50::new(Params::default()).unwrap();
             let mut o = pmu50_outputs::default();
             let mut x = pmu50_internals::default();
@@ -907,11 +908,9 @@ mod tests {
 
     #[test]
     fn check_names_tick_signal_expected_and_got() {
-        let mut p = pmu50_params::default();
+        let (_, m) = default_handle();
         // SAFETY: valid pointers; the handle is freed at the end.
         unsafe {
-            pmu50_params_default(&mut p);
-            let m = pmu50_new(&p);
             let on = pmu50_inputs::from(Inputs { ig: true, vs2_ok: true, ..Default::default() });
             let mut after = pmu50_outputs::default();
             let mut x = pmu50_internals::default();

@@ -7,14 +7,9 @@
 
 use pmu50_core::signals::check_generated;
 use pmu50_ffi::mirror::c_structs;
-use std::path::Path;
-
-const BEGIN: &str = "/* BEGIN GENERATED";
-const END: &str = "/* END GENERATED */";
 
 #[test]
 fn header_structs_are_generated_from_the_signal_table() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("include/pmu50.h");
-    let source = "the signal table (rtl_model/core/src/signals.rs)";
-    check_generated(&path, "hdl/ffi/include/pmu50.h", BEGIN, END, &c_structs(), source, "cargo test -p pmu50-ffi --test header").unwrap_or_else(|e| panic!("{e}"));
+    let markers = ("/* BEGIN GENERATED", "/* END GENERATED */");
+    check_generated("hdl/ffi/include/pmu50.h", markers, &c_structs(), "cargo test -p pmu50-ffi --test header").unwrap_or_else(|e| panic!("{e}"));
 }

@@ -38,3 +38,14 @@ pub use config::{ConfigError, CoreConfig, Dur};
 pub use params::{ParamError, Params};
 pub use pmu50::{Inputs, Internals, Outputs, Pmu50, Regs, TracedStep};
 pub use reference::Pmu50Spec;
+
+/// The message of a caught panic (`catch_unwind`'s payload): the text of `panic!`, or `None`
+/// for a payload that is not a string. The C ABI and the Python module both turn a panic at
+/// their boundary into an error with this text.
+pub fn panic_payload_text(payload: &(dyn std::any::Any + Send)) -> Option<&str> {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        Some(s)
+    } else {
+        payload.downcast_ref::<String>().map(String::as_str)
+    }
+}

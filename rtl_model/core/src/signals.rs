@@ -412,17 +412,18 @@ pub fn regenerate(path: &std::path::Path, want: &str) -> bool {
     true
 }
 
-/// The check of a file whose part between the lines `begin` and `end` is generated (`body`):
-/// with `PMU50_REGENERATE` set the part is rewritten ([`regenerate`]); otherwise the file must
-/// hold it already. `name` is the file as the message names it, `source` what it is generated
-/// from, `command` the command that regenerates it.
-pub fn check_generated(path: &std::path::Path, name: &str, begin: &str, end: &str, body: &str, source: &str, command: &str) -> Result<(), String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: {e}"))?;
-    let want = splice(&text, begin, end, body).ok_or_else(|| format!("{name} lost its BEGIN/END GENERATED markers"))?;
-    if regenerate(path, &want) || text == want {
+/// The check of a file of the workspace whose part between the lines `begin` and `end` is
+/// generated from the signal table (`body`): with `PMU50_REGENERATE` set the part is rewritten
+/// ([`regenerate`]); otherwise the file must hold it already. `file` is the file's path from the
+/// workspace root (as the message names it), `command` the command that regenerates it.
+pub fn check_generated(file: &str, (begin, end): (&str, &str), body: &str, command: &str) -> Result<(), String> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(file);
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{file}: {e}"))?;
+    let want = splice(&text, begin, end, body).ok_or_else(|| format!("{file} lost its BEGIN/END GENERATED markers"))?;
+    if regenerate(&path, &want) || text == want {
         return Ok(());
     }
-    Err(format!("{name} differs from {source}; regenerate with PMU50_REGENERATE=1 {command} and review the diff"))
+    Err(format!("{file} differs from the signal table (rtl_model/core/src/signals.rs); regenerate with PMU50_REGENERATE=1 {command} and review the diff"))
 }
 
 #[cfg(test)]

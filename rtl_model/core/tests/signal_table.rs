@@ -11,16 +11,11 @@
 use pmu50_core::pmu50::{self, Structural};
 use pmu50_core::signals::{self, check_generated, markdown_tables, Reset, Width};
 use pmu50_core::{Params, Pmu50};
-use std::path::Path;
-
-const BEGIN: &str = "<!-- BEGIN GENERATED";
-const END: &str = "<!-- END GENERATED -->";
 
 #[test]
 fn signals_md_tables_are_generated_from_the_signal_table() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/signals.md");
-    let source = "the signal table (rtl_model/core/src/signals.rs)";
-    check_generated(&path, "docs/signals.md", BEGIN, END, &markdown_tables(), source, "cargo test -p pmu50-core --test signal_table").unwrap_or_else(|e| panic!("{e}"));
+    let markers = ("<!-- BEGIN GENERATED", "<!-- END GENERATED -->");
+    check_generated("docs/signals.md", markers, &markdown_tables(), "cargo test -p pmu50-core --test signal_table").unwrap_or_else(|e| panic!("{e}"));
 }
 
 #[test]
