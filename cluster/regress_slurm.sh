@@ -67,7 +67,7 @@ submit() { # submit ARRAY_SPEC [EXTRA_EXPORTS] [sbatch options...]: prints the j
     --export="ALL,PMU50_BIN=$bin,PMU50_SEEDS=$seeds,PMU50_START_SEED=$start,PMU50_OUT=$sh,PMU50_JOBS=1$extra" \
     "$@" "$here/slurm/pmu50_regress.sbatch"
 }
-queued() { squeue -h -j "$1" -o %i 2>/dev/null | grep -q .; }
+queued() { [ -n "$(squeue -h -j "$1" -o %i 2>/dev/null)" ]; }
 lines() { [ -f "$1" ] && wc -l <"$1" | tr -d ' ' || echo 0; }
 
 echo "regress-slurm: seeds $start..$((start + seeds - 1)) ($seeds), $shards shards, $(sinfo -h -o '%D node(s), %c CPUs/node, partition %P' | head -n 1 | tr -d '*')"

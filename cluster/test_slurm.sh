@@ -58,8 +58,8 @@ for _ in $(seq 300); do
 done
 [ "$(squeue -h -j "${job}_1" -o %T 2>/dev/null)" = RUNNING ] || fail "array task ${job}_1 did not start within 30 s"
 scancel "${job}_1" || fail "scancel ${job}_1 failed"
-for _ in $(seq 300); do squeue -h -j "$job" -o %i 2>/dev/null | grep -q . || break; sleep 0.1; done
-squeue -h -j "$job" -o %i 2>/dev/null | grep -q . && fail "array job $job still queued 30 s after the cancel"
+for _ in $(seq 300); do [ -n "$(squeue -h -j "$job" -o %i 2>/dev/null)" ] || break; sleep 0.1; done
+[ -n "$(squeue -h -j "$job" -o %i 2>/dev/null)" ] && fail "array job $job still queued 30 s after the cancel"
 for t in 0 2; do grep -qx end "$tmp/a-$t.out" 2>/dev/null || fail "task $t did not finish: $(cat "$tmp/a-$t.out" 2>&1)"; done
 grep -qx "start 1 of 3" "$tmp/a-1.out" || fail "task 1 left no output: $(cat "$tmp/a-1.out" 2>&1)"
 grep -qx end "$tmp/a-1.out" && fail "task 1 ran to its end despite scancel"

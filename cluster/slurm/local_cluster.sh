@@ -92,7 +92,7 @@ ours() {
   for p in /proc/[0-9]*; do
     p=${p#/proc/}
     [ "$p" = $$ ] || [ "$p" = "$BASHPID" ] && continue
-    { tr '\0' '\n' <"/proc/$p/environ"; } 2>/dev/null | grep -qxF "SLURM_CONF=$CONF" && echo "$p"
+    grep -qxF "SLURM_CONF=$CONF" <<< "$(tr '\0' '\n' 2>/dev/null <"/proc/$p/environ")" && echo "$p"
   done
 }
 
@@ -151,7 +151,7 @@ free_port() {
   local p
   for _ in $(seq 50); do
     p=$((20000 + (RANDOM * 32768 + RANDOM) % 40000))
-    ss -Hltn "sport = :$p" 2>/dev/null | grep -q . && continue
+    [ -n "$(ss -Hltn "sport = :$p" 2>/dev/null)" ] && continue
     (exec 3<>"/dev/tcp/127.0.0.1/$p") 2>/dev/null && continue
     echo "$p"; return 0
   done
@@ -209,8 +209,8 @@ EOF
 
 SLURM_CONF=$CONF slurmctld -D -c -f "$CONF" >"$D/slurmctld.out" 2>&1 &
 slurm_pids="$slurm_pids $!"
-for i in $(seq 60); do SLURM_CONF=$CONF scontrol ping 2>/dev/null | grep -q UP && break; sleep 0.25; done
-SLURM_CONF=$CONF scontrol ping 2>/dev/null | grep -q UP || fail_start "slurmctld did not start"
+for i in $(seq 60); do grep -q UP <<< "$(SLURM_CONF=$CONF scontrol ping 2>/dev/null)" && break; sleep 0.25; done
+grep -q UP <<< "$(SLURM_CONF=$CONF scontrol ping 2>/dev/null)" || fail_start "slurmctld did not start"
 SLURM_CONF=$CONF slurmd -D -f "$CONF" -N "$NODE" >"$D/slurmd.out" 2>&1 &
 slurm_pids="$slurm_pids $!"
 state=""

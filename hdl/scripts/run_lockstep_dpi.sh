@@ -46,7 +46,7 @@ fi
 OUTTXT=$("$OUT/tb" "+vec=$VEC" "${PLUS[@]}" 2>&1)
 rc=$?
 printf '%s\n' "$OUTTXT"
-printf '%s\n' "$OUTTXT" | grep -q '^MISMATCH' && exit 1
+grep -q '^MISMATCH' <<< "$OUTTXT" && exit 1
 [ $rc -ne 0 ] && exit 2
-printf '%s\n' "$OUTTXT" | grep -q '^PASS' && exit 0
+grep -q '^PASS' <<< "$OUTTXT" && exit 0
 exit 2

@@ -60,7 +60,7 @@ PLUS=("+vec=$VEC")
 OUT=$(vvp -n "$VVP" "${PLUS[@]}" 2>&1)
 rc=$?
 printf '%s\n' "$OUT" | grep -v '^VCD info:'
-if printf '%s\n' "$OUT" | grep -q '^MISMATCH'; then exit 1; fi
+if grep -q '^MISMATCH' <<< "$OUT"; then exit 1; fi
 if [ $rc -ne 0 ]; then exit 2; fi
-if printf '%s\n' "$OUT" | grep -q -E '^(PASS|DONE) ticks='; then exit 0; fi
+if grep -q -E '^(PASS|DONE) ticks=' <<< "$OUT"; then exit 0; fi
 exit 2
