@@ -217,7 +217,7 @@ fn file_err(path: &Path, reason: impl std::fmt::Display) -> RegressError {
 /// parser refuses or a bench error is the seed's `error` verdict.
 pub fn run_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, timeout: Duration) -> (SeedResult, Vec<u64>) {
     match start_seed(spec, seed, bias, dut, timeout) {
-        Stage::Done(r, hits) => (r, hits),
+        Stage::Done(r, hits) => (*r, hits),
         Stage::Lockstep(p) => p.finish(dut, timeout),
     }
 }
@@ -225,7 +225,8 @@ pub fn run_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, 
 /// A seed after its model run: its result, or its stimulus for the RTL's lockstep
 /// (`--dut verilator`), which [`InLockstep::send`] hands to a DUT worker.
 enum Stage {
-    Done(SeedResult, Vec<u64>),
+    /// Boxed: a seed's result is large beside a seed in lockstep.
+    Done(Box<SeedResult>, Vec<u64>),
     Lockstep(InLockstep),
 }
 
@@ -233,7 +234,8 @@ enum Stage {
 struct InLockstep {
     seed: u64,
     start: Instant,
-    sc: Scenario,
+    /// Boxed: a scenario is large beside a finished seed's result.
+    sc: Box<Scenario>,
     inputs: Vec<u32>,
     flight: Option<dut::InFlight>,
     ticks: u64,
@@ -294,12 +296,12 @@ fn start_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, ti
     match evaluate_model(spec, &stim, dut, timeout) {
         Ok(Phase::Final(e)) => {
             let (r, hits) = seed_result(seed, start, e);
-            Stage::Done(r, hits)
+            Stage::Done(Box::new(r), hits)
         }
         Ok(Phase::Lockstep { sc, inputs, ticks, evaluated, readouts_checked, hits }) => Stage::Lockstep(InLockstep { seed, start, sc, inputs, flight: None, ticks, evaluated, readouts_checked, hits }),
         Err(f) => {
             let (r, hits) = seed_result(seed, start, ("error", Some(*f), 0, 0, 0, vec![0; layout().bins.len()]));
-            Stage::Done(r, hits)
+            Stage::Done(Box::new(r), hits)
         }
     }
 }
@@ -315,7 +317,7 @@ enum Phase {
     /// The verdict (the model failed, or there is no DUT, or the DUT has run).
     Final(Evaluated),
     /// The model passed; the RTL is to run in lockstep on these inputs.
-    Lockstep { sc: Scenario, inputs: Vec<u32>, ticks: u64, evaluated: u64, readouts_checked: u64, hits: Vec<u64> },
+    Lockstep { sc: Box<Scenario>, inputs: Vec<u32>, ticks: u64, evaluated: u64, readouts_checked: u64, hits: Vec<u64> },
 }
 
 /// The verdict of one stimulus: the model's checks, then the DUT.
@@ -365,7 +367,7 @@ fn evaluate_model(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeo
     }
     if failure.is_none() {
         if let Some(r) = recorder {
-            return Ok(Phase::Lockstep { sc, inputs: r.inputs, ticks: res.ticks, evaluated: res.evaluated_ticks, readouts_checked: checks.readouts_checked, hits });
+            return Ok(Phase::Lockstep { sc: Box::new(sc), inputs: r.inputs, ticks: res.ticks, evaluated: res.evaluated_ticks, readouts_checked: checks.readouts_checked, hits });
         }
         if let (Some(d), Some(v)) = (dut, &vec) {
             match d.check_vectors(&sc, v.path(), timeout) {
@@ -673,7 +675,7 @@ fn run_pool(
                     match stage {
                         None => break,
                         Some((k, Stage::Done(r, hits))) => {
-                            if !emit(k, (r, hits)) {
+                            if !emit(k, (*r, hits)) {
                                 break;
                             }
                         }

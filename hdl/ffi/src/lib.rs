@@ -452,7 +452,7 @@ pub unsafe extern "C" fn pmu50_reg_info(
     width: *mut u8,
 ) -> c_int {
     guard("pmu50_reg_info", || {
-        let Some(r) = entry("pmu50_reg_info", &signals::REGISTERS, index) else { return PMU50_ERR_RANGE };
+        let Some(r) = entry("pmu50_reg_info", signals::REGISTERS, index) else { return PMU50_ERR_RANGE };
         // SAFETY: forwarded contract.
         let w = r.bits(&unsafe { structural_of(m) });
         let n = names();
@@ -481,7 +481,7 @@ pub unsafe extern "C" fn pmu50_reg_get(m: *const pmu50_t, index: usize, value: *
     // SAFETY: forwarded contract.
     unsafe {
         get_into("pmu50_reg_get", m, "value", value, |m| {
-            entry("pmu50_reg_get", &signals::REGISTERS, index).map(|r| (r.get)(m.core.regs())).ok_or(PMU50_ERR_RANGE)
+            entry("pmu50_reg_get", signals::REGISTERS, index).map(|r| (r.get)(m.core.regs())).ok_or(PMU50_ERR_RANGE)
         })
     }
 }
@@ -552,7 +552,7 @@ pub unsafe extern "C" fn pmu50_output_info(
     guard("pmu50_output_info", || {
         // SAFETY: forwarded contract.
         let s = unsafe { structural_of(m) };
-        let Some(sig) = entry("pmu50_output_info", &signals::OUTPUTS, index) else { return PMU50_ERR_RANGE };
+        let Some(sig) = entry("pmu50_output_info", signals::OUTPUTS, index) else { return PMU50_ERR_RANGE };
         // SAFETY: the caller passes NULL or writable out pointers.
         unsafe { write_info(&names().outputs[index], sig.bits(&s), name, width) }
     })
@@ -575,7 +575,7 @@ pub unsafe extern "C" fn pmu50_internal_info(
     width: *mut u8,
 ) -> c_int {
     guard("pmu50_internal_info", || {
-        let Some(sig) = entry("pmu50_internal_info", &signals::INTERNALS, index) else { return PMU50_ERR_RANGE };
+        let Some(sig) = entry("pmu50_internal_info", signals::INTERNALS, index) else { return PMU50_ERR_RANGE };
         // Internals have fixed widths.
         // SAFETY: forwarded contract (NULL core: default configuration).
         let w = sig.bits(&unsafe { structural_of(std::ptr::null()) });
