@@ -20,7 +20,8 @@ pub fn text(o: &Output) -> String {
 }
 
 /// An empty folder of this test binary and `tag` (whatever a previous run left is removed),
-/// removed with what it holds when the test is done with it (dropped).
+/// removed with what it holds when the test is done with it (dropped), unless the test failed:
+/// then it stays for inspection and its path is printed.
 pub fn tmp(tag: &str) -> TmpDir {
     let d = std::env::temp_dir().join(format!("pmu50-{}-{tag}-{}", env!("CARGO_CRATE_NAME"), std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
@@ -46,7 +47,11 @@ impl AsRef<Path> for TmpDir {
 
 impl Drop for TmpDir {
     fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
+        if std::thread::panicking() {
+            eprintln!("the failed test's files are kept in {}", self.0.display());
+        } else {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
     }
 }
 
