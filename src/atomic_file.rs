@@ -342,6 +342,7 @@ pub fn install_signal_cleanup() -> Result<(), io::Error> {
     let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM])?;
     std::thread::Builder::new().name("signal-cleanup".into()).spawn(move || {
         if let Some(sig) = signals.forever().next() {
+            crate::regress::lockstep::cleanup_on_signal();
             remove_temporaries();
             std::process::exit(128 + sig);
         }

@@ -221,6 +221,10 @@ enum Cmd {
         /// ports and parameters of docs/signals.md). Default: the twin, hdl/pmu50.f.
         #[arg(long, value_name = "FILELIST")]
         rtl: Option<PathBuf>,
+        /// Also compare the RTL's registers and internals that this TOML map names (model name
+        /// = hierarchical RTL name; `pmu50 rtl-map` proposes one). Default: the ports only.
+        #[arg(long, value_name = "FILE.toml")]
+        map: Option<PathBuf>,
         /// Hold SYNC_DEPTH (1-4) for every seed, e.g. for an RTL built for one configuration.
         #[arg(long, value_parser = clap::value_parser!(u8).range(1..=4))]
         sync_depth: Option<u8>,
@@ -235,7 +239,7 @@ enum Cmd {
         #[arg(long, value_name = "N")]
         shard_count: Option<u64>,
         /// Continue the regression in DIR: run only the seeds its results.jsonl does not have.
-        #[arg(long, value_name = "DIR", conflicts_with_all = ["iterations", "shard", "shard_count", "directed", "check_spec", "rtl", "repro", "sync_depth", "cnt_width"])]
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["iterations", "shard", "shard_count", "directed", "check_spec", "rtl", "map", "repro", "sync_depth", "cnt_width"])]
         resume: Option<PathBuf>,
         /// Output folder.
         #[arg(long, default_value = "regress_out")]
@@ -249,6 +253,16 @@ enum Cmd {
         /// Check one scenario file (a shrunk repro) the way a seed is checked; prints the failure.
         #[arg(long, value_name = "FILE.toml", conflicts_with_all = ["iterations", "shard", "shard_count", "directed"])]
         repro: Option<PathBuf>,
+    },
+    /// Propose a map (`regress --map`) for an RTL: its signals matched to the model's registers
+    /// and internals by name and width, from Verilator's elaboration. Review and edit it.
+    RtlMap {
+        /// The RTL's Verilog file list (top `pmu50` with the contract ports).
+        #[arg(long, value_name = "FILELIST")]
+        rtl: PathBuf,
+        /// Write the map here (default: standard output).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
     },
     /// The DUT worker of `regress --dut verilator` (started by the regression itself): steps a
     /// Verilator library and the core in lockstep for each request on stdin.
@@ -498,9 +512,9 @@ fn main() -> ExitCode {
                 2
             }
         },
-        Cmd::Regress { start_seed, iterations, jobs, directed, check_spec, dut, rtl, sync_depth, cnt_width, shard, shard_count, resume, out, timeout, no_triage, repro } => {
+        Cmd::Regress { start_seed, iterations, jobs, directed, check_spec, dut, rtl, map, sync_depth, cnt_width, shard, shard_count, resume, out, timeout, no_triage, repro } => {
             let pins = pmu50::regress::gen::Pins { sync_depth, cnt_width };
-            cmd_regress(RegressArgs { start_seed, iterations, jobs, directed, check_spec, dut, rtl, pins, shard, shard_count, resume, out, timeout, no_triage, repro })
+            cmd_regress(RegressArgs { start_seed, iterations, jobs, directed, check_spec, dut, rtl, map, pins, shard, shard_count, resume, out, timeout, no_triage, repro })
         }
         Cmd::Closure { output, dirs } => match pmu50::regress::report::closure_cli(&dirs, &output) {
             Ok(text) => {
@@ -513,6 +527,7 @@ fn main() -> ExitCode {
             }
         },
         Cmd::DutWorker => pmu50::regress::lockstep::worker_main() as u8,
+        Cmd::RtlMap { rtl, output } => cmd_rtl_map(&rtl, output.as_deref()),
         Cmd::Merge { out, inputs } => match pmu50::regress::merge::merge(&inputs, &out) {
             Ok(m) => {
                 out!("merged {} regression folder(s) and {} coverage file(s) into {}", m.folders, m.coverage_files, out.display());
@@ -538,6 +553,7 @@ struct RegressArgs {
     check_spec: bool,
     dut: String,
     rtl: Option<PathBuf>,
+    map: Option<PathBuf>,
     pins: pmu50::regress::gen::Pins,
     shard: Option<String>,
     shard_count: Option<u64>,
@@ -572,9 +588,16 @@ fn cmd_regress(a: RegressArgs) -> u8 {
         return fail("--rtl needs an RTL simulator: add --dut verilator (or --dut icarus)".into());
     }
     let rtl = match &a.rtl {
-        Some(r) => match regress::dut::check_filelist(r) {
-            Ok(_) => Some(r.canonicalize().unwrap_or_else(|_| r.clone()).display().to_string()),
-            Err(e) => return fail(e),
+        Some(r) => match regress::rtl::FileList::read(r) {
+            Ok(fl) => Some(fl.list.display().to_string()),
+            Err(e) => return fail(e.to_string()),
+        },
+        None => None,
+    };
+    let map = match &a.map {
+        Some(m) => match regress::map::RtlMap::read(m) {
+            Ok(_) => Some(m.canonicalize().unwrap_or_else(|_| m.clone()).display().to_string()),
+            Err(e) => return fail(e.to_string()),
         },
         None => None,
     };
@@ -587,15 +610,14 @@ fn cmd_regress(a: RegressArgs) -> u8 {
             Ok(sc) => sc,
             Err(_) => return 2,
         };
-        let spec = RunSpec { tool, model, start_seed: 0, iterations: 0, directed: false, check_spec: a.check_spec, dut: dut.clone(), rtl, pins: a.pins, shard: None };
-        let d = if dut == DutKind::Model {
-            None
-        } else {
-            match regress::dut::Dut::prepare(&spec, 1) {
-                Ok(d) => Some(d),
-                Err(e) => return fail(e),
-            }
+        let spec = RunSpec { tool, model, start_seed: 0, iterations: 0, directed: false, check_spec: a.check_spec, dut: dut.clone(), rtl, map, fixed: Default::default(), pins: a.pins, shard: None };
+        let d = match regress::dut::prepare(&spec, 1) {
+            Ok(d) => d,
+            Err(e) => return fail(e.to_string()),
         };
+        if !d.fixed().holds(&sc.params) {
+            return fail(format!("{}: the RTL fixes {} (its top lacks these parameters), the scenario has other values", file.display(), d.fixed().text()));
+        }
         return match regress::check_scenario(&spec, &sc, d.as_ref(), timeout) {
             Ok(None) => {
                 out!("PASS {}: the model's checks{} hold", file.display(), if dut == DutKind::Model { String::new() } else { format!(" and the {} DUT", a.dut) });
@@ -631,20 +653,75 @@ fn cmd_regress(a: RegressArgs) -> u8 {
             if a.directed && shard.is_some() {
                 return fail("--directed steers each batch by the coverage of the seeds before it, which another shard runs: run a directed regression in one process, or shard a random one".into());
             }
-            (RunSpec { tool, model, start_seed: a.start_seed, iterations, directed: a.directed, check_spec: a.check_spec, dut, rtl, pins: a.pins, shard }, false)
+            (RunSpec { tool, model, start_seed: a.start_seed, iterations, directed: a.directed, check_spec: a.check_spec, dut, rtl, map, fixed: Default::default(), pins: a.pins, shard }, false)
         }
     };
     let out_dir = a.resume.clone().unwrap_or(a.out.clone());
+    // The DUT before any seed: an RTL that does not elaborate, lacks a contract port or does not
+    // build is bad input (exit 2), and what it fixes goes into the run's record.
+    let t0 = Instant::now();
+    let mut spec = spec;
+    let d = match regress::dut::prepare(&spec, jobs) {
+        Ok(d) => d,
+        Err(e) => return fail(e.to_string()),
+    };
+    if resume && spec.fixed != *d.fixed() {
+        return fail(format!("--resume {}: the regression was run on an RTL that fixes {}, this RTL fixes {}: the RTL changed", out_dir.display(), if spec.fixed.is_empty() { "nothing".into() } else { spec.fixed.text() }, if d.fixed().is_empty() { "nothing".into() } else { d.fixed().text() }));
+    }
+    spec.fixed = d.fixed().clone();
+    for n in d.notes() {
+        err!("regress: {n}");
+    }
     let o = regress::Options { spec, jobs, out: out_dir.clone(), timeout, triage: !a.no_triage, progress: std::io::stderr().is_terminal() };
     let stop = AtomicBool::new(false);
-    let t0 = Instant::now();
-    match regress::run(&o, resume, &stop) {
+    match regress::run(&o, resume, &stop, d.as_ref()) {
         Ok(s) => {
             out!("{}", s.text().trim_end());
             out!("wrote {}/results.jsonl, coverage.json, report.html ({:.1} s, {} jobs)", out_dir.display(), t0.elapsed().as_secs_f64(), jobs);
             u8::from(s.failed() > 0 || !s.missing.is_empty())
         }
         Err(e) => fail(e.to_string()),
+    }
+}
+
+/// `pmu50 rtl-map`: a proposed map for an RTL.
+fn cmd_rtl_map(rtl: &Path, output: Option<&Path>) -> u8 {
+    use pmu50::regress::{map, rtl as r};
+    let go = || -> Result<String, String> {
+        let fl = r::FileList::read(rtl).map_err(|e| e.to_string())?;
+        let work = tempfile::tempdir().map_err(|e| format!("a scratch folder: {e}"))?;
+        let d = r::elaborate(&fl, &[], work.path()).map_err(|e| e.to_string())?;
+        let p = pmu50_core::Params::default();
+        let s = pmu50_core::pmu50::Structural { sync_depth: d.param("SYNC_DEPTH").map_or(p.sync_depth, |v| v as u8), cnt_width: d.param("CNT_W").map_or_else(|| d.port_width("cnt_s").map_or(p.cnt_width, |w| w as u8), |v| v as u8) };
+        d.check_contract(&s).map_err(|e| e.to_string())?;
+        let (m, props) = map::propose(&d, &s);
+        Ok(map::proposal_toml(&m, &props))
+    };
+    match go() {
+        Ok(text) => match output {
+            Some(path) => match pmu50::atomic_file::write_atomic(path, text.as_bytes()).and_then(|f| {
+                let mut b = pmu50::atomic_file::Batch::new();
+                b.add(f);
+                b.commit()
+            }) {
+                Ok(()) => {
+                    out!("wrote {}", path.display());
+                    0
+                }
+                Err(e) => {
+                    err!("error: {e}");
+                    2
+                }
+            },
+            None => {
+                out!("{}", text.trim_end());
+                0
+            }
+        },
+        Err(e) => {
+            err!("error: {e}");
+            2
+        }
     }
 }
 

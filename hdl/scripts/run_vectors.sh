@@ -30,8 +30,11 @@ vec_params "$VEC" -Ptb_vectors.
 # 1 us timescale (as the model's VCD) when the half period is a whole number of microseconds.
 if [ $(( CLOCK_NS % 2000 )) -ne 0 ]; then ARGS+=("-DTB_TIMESCALE_NS"); fi
 [ "$MUT" != none ] && ARGS+=("-D$MUT")
-
+# The twin's waveform freezes its internals at the last edge (for `pmu50 diff`); any other RTL
+# is read on its ports only.
 rtl_files
+[ -n "$VCD" ] && [ "$FLIST" -ef "$HDL/pmu50.f" ] && ARGS+=("-DTB_TWIN_INTERNALS")
+
 KEY=$(printf '%s\n' "${ARGS[@]}" "${RTL[@]}" | md5sum | cut -c1-12)
 DIR="${PMU50_BUILD_DIR:-$HDL/build}/iv/$MUT"
 VVP="$DIR/$KEY.vvp"

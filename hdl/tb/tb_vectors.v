@@ -9,7 +9,12 @@
 //   iverilog -P tb_vectors.SI_MAX=660 ... -P tb_vectors.CLOCK_NS=10000
 // (hdl/scripts/run_vectors.sh extracts them). The testbench checks them against the header.
 // Plusargs: +vec=FILE (required), +vcd=FILE (optional waveform), +nocheck (replay the inputs
-// only, no comparison: a clean waveform for `pmu50 diff`, method 3)
+// only, no comparison: a clean waveform for `pmu50 diff`, method 3), +verdict=FILE (the
+// MISMATCH and PASS lines also go to FILE, which the RTL's own $display cannot reach).
+//
+// Port contract: the bench reads the DUT's ports only. Defines: TB_DUT_INST (the instance comes
+// from tb_dut_inst.vh, for a top that lacks some parameters), TB_TWIN_INTERNALS (the twin's
+// scope `internals` is frozen at the last edge, for the waveform diff of the twin's VCD).
 //
 // Time convention (spec 6.1): rising edge k at k*T; inputs for edge k+1 driven with
 // non-blocking assignments at edge k (time 0 for the first); outputs compared at the falling
@@ -67,6 +72,11 @@ module tb_vectors;
     wire [15:0] bus_rdata;
     wire        bus_err;
 
+`ifdef TB_DUT_INST
+    // An RTL whose top lacks some parameters (a netlist has none): the runner writes the
+    // instance with the parameters the top has (src/regress/dut/icarus.rs).
+    `include "tb_dut_inst.vh"
+`else
     pmu50 #(
         .SYNC_DEPTH(SYNC_DEPTH), .CNT_W(CNT_W), .ADAPTIVE(ADAPTIVE), .PW(PW), .PI(PI), .PS(PS),
         .SI_MAX(SI_MAX), .SI_MIN(SI_MIN), .T1(T1), .T2(T2), .CTH(CTH), .SMP_ON(SMP_ON)
@@ -80,6 +90,7 @@ module tb_vectors;
         .hist_s(hist_s), .hist_c(hist_c), .diag(diag), .quadrant_skip(quadrant_skip),
         .bus_rdata(bus_rdata), .bus_err(bus_err)
     );
+`endif
 
     // ---- outputs as an indexable list (column order of the vector file)
     reg [16*8-1:0] oname [0:NOUT-1];
@@ -114,8 +125,8 @@ module tb_vectors;
     end
 
     // ---- vector file
-    integer    fd, rc, c, i, k, nfail, hval, hticks, nocheck;
-    reg [8*1024-1:0] vecfile, vcdfile, line;
+    integer    fd, vd, rc, c, i, k, nfail, hval, hticks, nocheck;
+    reg [8*1024-1:0] vecfile, vcdfile, verdictfile, line;
     reg [8*64-1:0]   hname;
     reg [15:0] f [0:NIN+NOUT-1];     // current line
     reg [16*NOUT-1:0] ex_vec;        // expected outputs after the current edge
@@ -190,6 +201,15 @@ module tb_vectors;
             $display("FAIL cannot open %0s", vecfile);
             $fatal(1, "no vector file");
         end
+        // +verdict=FILE: the verdict lines also go to FILE, a channel the RTL cannot print on
+        vd = 0;
+        if ($value$plusargs("verdict=%s", verdictfile)) begin
+            vd = $fopen(verdictfile, "w");
+            if (vd == 0) begin
+                $display("FAIL cannot write %0s", verdictfile);
+                $fatal(1, "no verdict file");
+            end
+        end
         if ($value$plusargs("vcd=%s", vcdfile)) begin
             $dumpfile(vcdfile);
             $dumpvars(0, tb_vectors.dut);
@@ -234,6 +254,7 @@ module tb_vectors;
             @(posedge clk);                      // edge k+1
             k = k + 1;
             read_line;                           // inputs of the next edge
+`ifdef TB_TWIN_INTERNALS
             if (!have_line) begin
                 // Last edge: there are no inputs for the cycle after it. The model's VCD holds
                 // the internals of the last cycle at the final time stamp, so freeze the twin's
@@ -248,6 +269,7 @@ module tb_vectors;
                 force dut.internals.skip_clr = fz_skip_clr;
                 force dut.internals.fig17 = fz_fig17;   force dut.internals.fig18 = fz_fig18;
             end
+`endif
             if (have_line) begin
                 ig        <= f[0][0];
                 vs2_ok    <= f[1][0];
@@ -263,11 +285,14 @@ module tb_vectors;
                     if (act_vec[16*(NOUT-1-i) +: 16] !== ex_vec[16*(NOUT-1-i) +: 16]) begin
                         $display("MISMATCH tick=%0d signal=%0s expected=%0h got=%0h", k, oname[i],
                                  ex_vec[16*(NOUT-1-i) +: 16], act_vec[16*(NOUT-1-i) +: 16]);
+                        if (vd != 0) $fdisplay(vd, "MISMATCH tick=%0d signal=%0s expected=%0h got=%0h", k, oname[i],
+                                               ex_vec[16*(NOUT-1-i) +: 16], act_vec[16*(NOUT-1-i) +: 16]);
                         nfail = nfail + 1;
                     end
                 end
                 $display("FAIL %0s: first difference at tick %0d (after rising edge %0d, time %0t %0s; vector line %0d)",
                          vecfile, k, k, $time - TH, TUNIT, k - 1);
+                if (vd != 0) $fclose(vd);
                 $fatal(1, "vector mismatch");
             end
         end
@@ -277,6 +302,10 @@ module tb_vectors;
         end
         if (nocheck) $display("DONE ticks=%0d (inputs replayed, outputs not checked)", k);
         else         $display("PASS ticks=%0d", k);
+        if (vd != 0) begin
+            $fdisplay(vd, "PASS ticks=%0d", k);
+            $fclose(vd);
+        end
         $fclose(fd);
         $finish;
     end

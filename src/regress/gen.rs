@@ -12,6 +12,7 @@
 //! The scenario is kept structured ([`Stimulus`]) so that a failing one can be shrunk (fewer
 //! events, a shorter run) and written back as TOML.
 
+use super::rtl::Fixed;
 use crate::random::Rng;
 use pmu50_core::Params;
 use std::fmt::Write;
@@ -180,6 +181,35 @@ pub struct Bias {
     /// Structural parameters held fixed (`--sync-depth`, `--cnt-width`), for an RTL built for
     /// one configuration.
     pub pins: Pins,
+    /// Parameters the RTL under test fixes itself (its top lacks them): every seed keeps them.
+    pub fixed: Fixed,
+}
+
+/// The Verilog parameters a knob draws (or sets): a knob is not drawn when the RTL under test
+/// fixes one of them (docs/hdl-guide.md, "Your RTL").
+pub fn knob_params(k: Knob) -> &'static [&'static str] {
+    match k {
+        NarrowCounter | Width3To7 | Width8To15 => &["CNT_W"],
+        Sync1 | Sync3 | Sync4 => &["SYNC_DEPTH"],
+        Fixed => &["ADAPTIVE"],
+        CthOne | CthHigh => &["CTH"],
+        T1OneStep | T1Half => &["T1"],
+        T2OneStep | T2Half => &["T2"],
+        XEqualMin | XShort | XLong => &["SI_MAX"],
+        MinTight | MinFar => &["SI_MIN"],
+        PwZero => &["PW"],
+        PiZero => &["PI"],
+        PsOne => &["PS"],
+        SmpOnOne | SmpOnShort | Spin => &["SMP_ON"],
+        ExactStep => &["SI_MAX", "T1", "T2"],
+        LongQuiet => &["CTH", "T1", "T2"],
+        _ => &[],
+    }
+}
+
+/// The knobs a regression does not draw because the RTL fixes a parameter they need.
+pub fn knobs_off(fixed: &Fixed) -> Vec<Knob> {
+    KNOBS.iter().map(|&(k, _)| k).filter(|&k| knob_params(k).iter().any(|n| fixed.get(n).is_some())).collect()
 }
 
 /// Structural parameters a regression holds fixed.
@@ -194,7 +224,7 @@ pub struct Pins {
 impl Bias {
     /// Uniform random: every knob at its base probability.
     pub fn uniform() -> Bias {
-        Bias { percent: KNOBS.to_vec(), targets: Vec::new(), pins: Pins::default() }
+        Bias { percent: KNOBS.to_vec(), targets: Vec::new(), pins: Pins::default(), fixed: Fixed::default() }
     }
 
     /// Directed, from the coverage so far (hits in the model's order): every bin still empty
@@ -209,12 +239,25 @@ impl Bias {
         Bias { pins, ..self }
     }
 
+    /// The same bias for an RTL that fixes these parameters: the knobs that need one of them
+    /// are not drawn, and every seed keeps the values.
+    pub fn fixing(self, fixed: &Fixed) -> Bias {
+        if fixed.is_empty() {
+            return self;
+        }
+        let off = knobs_off(fixed);
+        let percent = self.percent.into_iter().filter(|(k, _)| !off.contains(k)).collect();
+        let mut targets: Vec<Vec<Knob>> = self.targets.into_iter().filter(|t| !t.iter().any(|k| off.contains(k))).collect();
+        targets.dedup();
+        Bias { percent, targets, pins: self.pins, fixed: fixed.clone() }
+    }
+
     /// Directed: each seed aims at one hole (a set of knobs that makes an empty bin likely).
     pub fn from_missing<'a>(missing: impl IntoIterator<Item = &'a str>) -> Bias {
         let mut sets: Vec<Vec<Knob>> = missing.into_iter().map(knobs_for).filter(|k| !k.is_empty()).collect();
         sets.sort();
         sets.dedup();
-        Bias { percent: KNOBS.to_vec(), targets: sets, pins: Pins::default() }
+        Bias { percent: KNOBS.to_vec(), targets: sets, pins: Pins::default(), fixed: Fixed::default() }
     }
 
     fn draw(&self, r: &mut Rng, seed: u64) -> Vec<Knob> {
@@ -270,8 +313,11 @@ pub struct Stimulus {
 const WRITABLE: [&str; 11] = ["CTRL", "PW", "PI", "PS", "SI_MAX", "SI_MIN", "T1", "T2", "CTH", "SMP_ON", "STATUS"];
 
 /// Draw the parameters from the knobs; always legal.
-fn params(r: &mut Rng, k: &[Knob]) -> Params {
+fn params(r: &mut Rng, k: &[Knob], fixed: &Fixed) -> Params {
     let on = |x: Knob| k.contains(&x);
+    // With parameters fixed by the RTL, a draw whose other values do not fit them is drawn
+    // again; after 64 draws, the other values come from the defaults.
+    let mut tries = 0;
     loop {
         let pw = if on(PwZero) { 0 } else { r.range(1, 8) as u16 };
         let pi = if on(PiZero) && pw > 0 { 0 } else { r.range(u64::from(pw == 0), 15) as u16 };
@@ -328,8 +374,13 @@ fn params(r: &mut Rng, k: &[Knob]) -> Params {
             cth: if on(CthOne) { 1 } else if on(CthHigh) { r.range(9, 40) as u8 } else { r.range(2, 8) as u8 },
             smp_on: if on(SmpOnOne) { 1 } else if on(SmpOnShort) { r.range(2, 9) as u16 } else { r.range(10, 30) as u16 },
         };
+        let p = fixed.apply(&p);
         if p.validate().is_ok() {
             return p;
+        }
+        tries += 1;
+        if !fixed.is_empty() && tries >= 64 {
+            return fixed.apply(&Params::default());
         }
     }
 }
@@ -340,7 +391,7 @@ impl Stimulus {
         let mut r = Rng::new(seed ^ 0x5245_4752_4553_5300);
         let knobs = bias.draw(&mut r, seed);
         let on = |x: Knob| knobs.contains(&x);
-        let mut p = params(&mut r, &knobs);
+        let mut p = params(&mut r, &knobs, &bias.fixed);
         // held structural parameters (they do not take part in legality)
         p.sync_depth = bias.pins.sync_depth.unwrap_or(p.sync_depth);
         p.cnt_width = bias.pins.cnt_width.unwrap_or(p.cnt_width);

@@ -1,26 +1,26 @@
 //! `pmu50 regress --dut verilator`: the RTL stepped in lockstep with the core, in memory.
 //!
 //! The RTL is a Verilator build loaded as a shared library (hdl/tb/lockstep/dut_lib.cpp, one per
-//! (SYNC_DEPTH, CNT_W), built by `hdl/scripts/build_lockstep.sh ... lib`). It runs in a DUT
+//! set of the top's Verilog parameters, built by [`super::dut::verilator`]). It runs in a DUT
 //! worker, a child process of the regression (`pmu50 dut-worker`) that serves seed after seed:
 //! the regression sends a seed's stimulus (the core's inputs of every tick, recorded from the
 //! model's bench run by [`InputRecorder`]) and the scenario's parameters; the worker steps the
 //! Rust core ([`pmu50_core::Pmu50`]) and the RTL side by side and compares, as verification
-//! method 2 does (docs/verification.md): the internals of every cycle before its edge, every
-//! output and every register after it. No vector file, no text parsing, no process per seed.
+//! method 2 does (docs/verification.md): every output port after every edge, and the registers
+//! and internals a `--map` names (after the edge, and before it). No vector file, no process
+//! per seed.
 //!
 //! The worker is a process of its own so that the RTL cannot take the regression down: an RTL
 //! that crashes or calls `$fatal` ends the worker, one that hangs is killed at the per-seed time
 //! limit with its process group; the seed fails with the reason and the next seed gets a new
-//! worker.
+//! worker. An interrupted regression kills every worker ([`kill_children`]).
 //!
-//! Protocol (pipes, little-endian): request = magic `PMU5`, path length (u32) and the library's
-//! path, the 12 HDL parameters (u64 each, in the order of [`Params::hdl_parameters`]), the tick
-//! count (u64) and one packed input word (u32, [`pack`]) per tick. Reply = text lines ending with
-//! `END`: `PASS ticks=<n>`, or the `MISMATCH tick=<k> signal=<path> expected=<hex> got=<hex>`
-//! lines of the first divergent tick and `LOCKSTEP FAIL first divergence at tick <k>`, or
-//! `LOCKSTEP ERROR <reason>`. The worker writes its replies on its own copy of stdout and sends
-//! the RTL's stdout (`$display`) to stderr, so the RTL cannot corrupt the protocol.
+//! Protocol (pipes, little-endian): request = magic `PMU6`, the kind ([`Request`], one byte),
+//! path length (u32) and the library's path, the 12 HDL parameters (u64 each, in the order of
+//! [`Params::hdl_parameters`]), the tick count (u64) and one packed input word (u32, [`pack`])
+//! per tick. Reply = one line of JSON, a [`Reply`]. The worker writes its replies on its own
+//! copy of stdout and sends the RTL's stdout (`$display`) to stderr, a log file kept to its last
+//! [`LOG_KEEP`] bytes: nothing the RTL prints can be taken for a verdict.
 
 use crate::sim::{Observer, SimError, TickView};
 use pmu50_core::params::Params;
@@ -30,15 +30,16 @@ use pmu50_core::Pmu50;
 use std::collections::HashMap;
 use std::ffi::{c_char, c_void, CStr};
 use std::io::{Read, Write};
+use serde::{Deserialize, Serialize};
 use std::os::fd::{AsRawFd, FromRawFd};
+use std::os::unix::ffi::OsStringExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 use std::time::{Duration, Instant};
 
-const MAGIC: &[u8; 4] = b"PMU5";
+const MAGIC: &[u8; 4] = b"PMU6";
 /// Interface version of hdl/tb/lockstep/dut_lib.cpp this worker speaks.
-const DUT_ABI: u32 = 1;
-const END: &str = "END\n";
+const DUT_ABI: u32 = 2;
 
 /// One tick's inputs as a word: `ig`, `vs2_ok`, `cmp_s`, `cmp_c`, `bus_we` in bits 0-4,
 /// `bus_addr` in bits 8-15, `bus_wdata` in bits 16-31.
@@ -98,30 +99,32 @@ impl Observer for InputRecorder {
 // ------------------------------------------------------------------------------------------
 // the worker
 
-type DutNew = unsafe extern "C" fn(*const u64) -> *mut c_void;
+type DutNew = unsafe extern "C" fn() -> *mut c_void;
 type DutFree = unsafe extern "C" fn(*mut c_void);
 type DutState = unsafe extern "C" fn(*mut c_void, *mut u64, *mut u64);
 type DutTick = unsafe extern "C" fn(*mut c_void, *const u64, *mut u64, *mut u64, *mut u64);
 type DutStep = unsafe extern "C" fn(*mut c_void, *const u64, u64) -> u64;
 
-/// A loaded RTL library and where each model signal is in its arrays.
+/// A loaded RTL library and where each of its values is in the model's signal table.
 struct DutLib {
     new: DutNew,
     free: DutFree,
     state: DutState,
     tick: DutTick,
     step: DutStep,
-    sync_depth: u8,
-    cnt_width: u8,
-    /// For each of the library's reset values, the index in [`Params::hdl_parameters`].
-    reset: Vec<usize>,
+    /// The Verilog parameters the library was built with (name, value).
+    params: Vec<(String, u64)>,
+    /// For each mapped register of the library, its index in [`signals::REGISTERS`].
+    regs: Vec<usize>,
+    /// For each mapped internal, its index in [`signals::INTERNALS`].
+    internals: Vec<usize>,
     _lib: libloading::Library,
 }
 
 impl DutLib {
     fn load(path: &Path) -> Result<DutLib, String> {
-        // SAFETY: loading runs the library's static constructors; the library is ours
-        // (dut_lib.cpp with the Verilator output and runtime), built by build_lockstep.sh.
+        // SAFETY: loading runs the library's static constructors; the library is one the
+        // regression built (dut_lib.cpp with the Verilator output and runtime).
         let lib = unsafe { libloading::Library::new(path) }.map_err(|e| format!("cannot load {}: {e}", path.display()))?;
         // SAFETY: the symbols have the types of dut_lib.cpp (checked by its interface version).
         unsafe {
@@ -133,38 +136,63 @@ impl DutLib {
             if abi() != DUT_ABI {
                 return Err(format!("{}: interface version {}, this pmu50 speaks {DUT_ABI} (rebuild it)", path.display(), abi()));
             }
-            let sd: unsafe extern "C" fn() -> u32 = std::mem::transmute(sym("pmu50_dut_sync_depth")?);
-            let w: unsafe extern "C" fn() -> u32 = std::mem::transmute(sym("pmu50_dut_cnt_width")?);
             let count: unsafe extern "C" fn(u32) -> u32 = std::mem::transmute(sym("pmu50_dut_count")?);
             let name: unsafe extern "C" fn(u32, u32) -> *const c_char = std::mem::transmute(sym("pmu50_dut_name")?);
-            let names = |group: u32| -> Vec<String> { (0..count(group)).map(|i| CStr::from_ptr(name(group, i)).to_string_lossy().into_owned()).collect() };
-            // The library's arrays must be in the order of the model's signal table.
+            let param: unsafe extern "C" fn(u32) -> u64 = std::mem::transmute(sym("pmu50_dut_param")?);
+            let names = |group: u32| -> Vec<String> {
+                (0..count(group))
+                    .map(|i| {
+                        let p = name(group, i);
+                        if p.is_null() {
+                            String::new()
+                        } else {
+                            CStr::from_ptr(p).to_string_lossy().into_owned()
+                        }
+                    })
+                    .collect()
+            };
+            // The ports are in the order of the model's signal table; mapped values are a subset.
             let same = |group: u32, model: Vec<String>, what: &str| -> Result<(), String> {
                 let lib_names = names(group);
                 if lib_names == model {
                     Ok(())
                 } else {
-                    Err(format!("{}: its {what} are {lib_names:?}, the model's signal table has {model:?} (rebuild it from hdl/tb/lockstep/dut_lib.cpp)", path.display()))
+                    Err(format!("{}: its {what} are {lib_names:?}, the model's signal table has {model:?} (rebuild it)", path.display()))
                 }
             };
             same(0, signals::INPUTS.iter().map(|s| s.name.to_string()).collect(), "inputs")?;
             same(1, signals::OUTPUTS.iter().map(|s| s.name.to_string()).collect(), "outputs")?;
-            same(2, signals::REGISTERS.iter().map(|s| s.path()).collect(), "registers")?;
-            same(3, signals::INTERNALS.iter().map(|s| s.name.to_string()).collect(), "internals")?;
-            let hdl: Vec<&str> = Params::default().hdl_parameters().iter().map(|(n, _)| *n).collect();
-            let reset = names(4).iter().map(|n| hdl.iter().position(|h| h == n).ok_or_else(|| format!("{}: reset value `{n}` is no HDL parameter", path.display()))).collect::<Result<_, _>>()?;
+            let index = |group: u32, model: Vec<String>, what: &str| -> Result<Vec<usize>, String> {
+                names(group).iter().map(|n| model.iter().position(|m| m == n).ok_or_else(|| format!("{}: mapped {what} `{n}` is not in the model's signal table", path.display()))).collect()
+            };
+            let regs = index(2, signals::REGISTERS.iter().map(|s| s.path()).collect(), "register")?;
+            let internals = index(3, signals::INTERNALS.iter().map(|s| s.name.to_string()).collect(), "internal")?;
+            let params = names(4).into_iter().enumerate().map(|(i, n)| (n, param(i as u32))).collect();
             Ok(DutLib {
                 new: std::mem::transmute::<*const c_void, DutNew>(sym("pmu50_dut_new")?),
                 free: std::mem::transmute::<*const c_void, DutFree>(sym("pmu50_dut_free")?),
                 state: std::mem::transmute::<*const c_void, DutState>(sym("pmu50_dut_state")?),
                 tick: std::mem::transmute::<*const c_void, DutTick>(sym("pmu50_dut_tick")?),
                 step: std::mem::transmute::<*const c_void, DutStep>(sym("pmu50_dut_step")?),
-                sync_depth: sd() as u8,
-                cnt_width: w() as u8,
-                reset,
+                params,
+                regs,
+                internals,
                 _lib: lib,
             })
         }
+    }
+
+    /// Whether the library was built for `p`: every parameter it was built with has `p`'s value.
+    fn check_params(&self, p: &Params) -> Result<(), String> {
+        let want = p.hdl_parameters();
+        for (n, v) in &self.params {
+            match want.iter().find(|(w, _)| w == n) {
+                Some((_, pv)) if pv == v => {}
+                Some((_, pv)) => return Err(format!("the library was built with {n}={v}, the seed needs {n}={pv}")),
+                None => return Err(format!("the library was built with parameter {n}, which the model does not have")),
+            }
+        }
+        Ok(())
     }
 }
 
@@ -177,18 +205,40 @@ fn params_of(v: &[u64; 12]) -> Result<Params, String> {
     Ok(p)
 }
 
-/// The differences between the model and the RTL in one group, as `MISMATCH` lines (the
-/// library's arrays are in the order of the model's signal table, checked at load).
-fn compare<T>(out: &mut String, tick: u64, table: &[Signal<T>], model: &T, rtl: &[u64]) -> usize {
-    let mut n = 0;
-    for (sig, &g) in table.iter().zip(rtl) {
+/// One value that differs between the model and the RTL.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Mismatch {
+    /// The model's path below `pmu50`: `si`, `drive_interval.si`, `internals.fig17`.
+    pub signal: String,
+    pub expected: u64,
+    pub got: u64,
+}
+
+/// A worker's answer to one request, one JSON line on the protocol pipe (the RTL's own output
+/// goes elsewhere, so nothing it prints can be taken for a verdict).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Reply {
+    /// Every compared value equal at every tick.
+    Pass { ticks: u64 },
+    /// The first divergent tick: after rising edge `tick` (outputs, registers), or during cycle
+    /// `tick` before its edge (`combinational`: internals); every value that differs there.
+    Diverged { tick: u64, combinational: bool, mismatches: Vec<Mismatch> },
+    /// `bus_rdata` after each tick of a probe.
+    Probe { rdata: Vec<u64> },
+    /// The request could not be run (the library, the parameters).
+    Error { reason: String },
+}
+
+/// The differences between the model and the RTL in one group, at the table indices `at`.
+fn compare<T>(out: &mut Vec<Mismatch>, table: &[Signal<T>], at: &[usize], model: &T, rtl: &[u64]) {
+    for (&j, &g) in at.iter().zip(rtl) {
+        let sig = &table[j];
         let e = (sig.get)(model);
         if e != g {
-            out.push_str(&format!("MISMATCH tick={tick} signal={} expected={e:x} got={g:x}\n", sig.path()));
-            n += 1;
+            out.push(Mismatch { signal: sig.path(), expected: e, got: g });
         }
     }
-    n
 }
 
 /// The values of a group in the order of its signal table. Inlined with the table a constant,
@@ -215,12 +265,10 @@ fn input_words(w: u32) -> (Inputs, [u64; signals::N_INPUTS]) {
 struct Handle<'a>(&'a DutLib, *mut c_void);
 
 impl<'a> Handle<'a> {
-    /// A DUT after reset with the reset values of `params`.
-    fn new(lib: &'a DutLib, params: &Params) -> Handle<'a> {
-        let hdl = params.hdl_parameters();
-        let reset: Vec<u64> = lib.reset.iter().map(|&k| hdl[k].1).collect();
-        // SAFETY: `reset` holds pmu50_dut_count(4) values.
-        Handle(lib, unsafe { (lib.new)(reset.as_ptr()) })
+    /// A DUT after reset.
+    fn new(lib: &'a DutLib) -> Handle<'a> {
+        // SAFETY: a function of the library, no arguments.
+        Handle(lib, unsafe { (lib.new)() })
     }
 }
 
@@ -234,9 +282,9 @@ impl Drop for Handle<'_> {
 /// Verilator alone on a stimulus (the peer of `make bench`'s lockstep row): the RTL library at
 /// `lib` stepped on `inputs` as a plain harness does (two evaluations a tick, the outputs
 /// folded, nothing compared). Returns the fold.
-pub fn replay_alone(lib: &Path, params: &Params, inputs: &[u32]) -> Result<u64, String> {
+pub fn replay_alone(lib: &Path, inputs: &[u32]) -> Result<u64, String> {
     let lib = DutLib::load(lib)?;
-    let dut = Handle::new(&lib, params);
+    let dut = Handle::new(&lib);
     let words: Vec<[u64; signals::N_INPUTS]> = inputs.iter().map(|&w| input_words(w).1).collect();
     let mut acc = 0xcbf2_9ce4_8422_2325u64;
     for w in &words {
@@ -246,45 +294,82 @@ pub fn replay_alone(lib: &Path, params: &Params, inputs: &[u32]) -> Result<u64, 
     Ok(acc)
 }
 
-/// Step the core and the RTL on `inputs`; the reply's lines (without `END`). Every output,
-/// register and internal is compared at every tick, as whole arrays; a group that differs is
-/// compared value by value, which names the divergent signals.
-fn lockstep(lib: &DutLib, params: Params, inputs: &[u32]) -> String {
-    if params.sync_depth != lib.sync_depth || params.cnt_width != lib.cnt_width {
-        return format!("LOCKSTEP ERROR the library was built for SYNC_DEPTH={} CNT_W={}, the seed needs SYNC_DEPTH={} CNT_W={}\n", lib.sync_depth, lib.cnt_width, params.sync_depth, params.cnt_width);
+/// Step the core and the RTL on `inputs`. Every output, and every mapped register and internal,
+/// is compared at every tick, as whole arrays; a group that differs is compared value by value,
+/// which names the divergent signals.
+fn lockstep(lib: &DutLib, params: Params, inputs: &[u32]) -> Reply {
+    if let Err(reason) = lib.check_params(&params) {
+        return Reply::Error { reason };
     }
     let mut model = match Pmu50::new(params) {
         Ok(m) => m,
-        Err(e) => return format!("LOCKSTEP ERROR illegal parameters: {e}\n"),
+        Err(e) => return Reply::Error { reason: format!("illegal parameters: {e}") },
     };
-    let dut = Handle::new(lib, &params);
+    let dut = Handle::new(lib);
+    let (nr, nx) = (lib.regs.len(), lib.internals.len());
     let mut out = [0u64; signals::N_OUTPUTS];
     let mut regs = [0u64; signals::N_REGISTERS];
     let mut x = [0u64; signals::N_INTERNALS];
-    let mut report = String::new();
-    // SAFETY: arrays of the library's counts (checked at load).
+    let mut expect_regs = [0u64; signals::N_REGISTERS];
+    let mut expect_x = [0u64; signals::N_INTERNALS];
+    let all_outputs: Vec<usize> = (0..signals::N_OUTPUTS).collect();
+    let mut mm = Vec::new();
+    // SAFETY: arrays of at least the library's counts (checked at load).
     unsafe { (lib.state)(dut.1, out.as_mut_ptr(), regs.as_mut_ptr()) };
-    if compare(&mut report, 0, signals::OUTPUTS, &model.peek(), &out) + compare(&mut report, 0, signals::REGISTERS, model.regs(), &regs) > 0 {
-        return report + "LOCKSTEP FAIL first divergence at tick 0 (after reset)\n";
+    compare(&mut mm, signals::OUTPUTS, &all_outputs, &model.peek(), &out);
+    compare(&mut mm, signals::REGISTERS, &lib.regs, model.regs(), &regs[..nr]);
+    if !mm.is_empty() {
+        return Reply::Diverged { tick: 0, combinational: false, mismatches: mm };
     }
     for (k, &w) in inputs.iter().enumerate() {
         let k = k as u64;
         let (i, word) = input_words(w);
-        // SAFETY: arrays of the library's counts (checked at load).
+        // SAFETY: arrays of at least the library's counts (checked at load).
         unsafe { (lib.tick)(dut.1, word.as_ptr(), x.as_mut_ptr(), out.as_mut_ptr(), regs.as_mut_ptr()) };
         let step = model.step_traced(&i);
-        let (internals, after) = (step.internals, step.after);
-        // the internals of cycle k, before edge k+1
-        if !same(&words::<Internals, { signals::N_INTERNALS }>(signals::INTERNALS, &internals), &x) && compare::<Internals>(&mut report, k, signals::INTERNALS, &internals, &x) > 0 {
-            return report + &format!("LOCKSTEP FAIL first divergence at tick {k} (combinational, before rising edge {})\n", k + 1);
+        // the mapped internals of cycle k, before edge k+1
+        if nx > 0 {
+            let all = words::<Internals, { signals::N_INTERNALS }>(signals::INTERNALS, &step.internals);
+            for (d, &j) in expect_x.iter_mut().zip(&lib.internals) {
+                *d = all[j];
+            }
+            if !same(&expect_x[..nx], &x[..nx]) {
+                compare::<Internals>(&mut mm, signals::INTERNALS, &lib.internals, &step.internals, &x[..nx]);
+                return Reply::Diverged { tick: k, combinational: true, mismatches: mm };
+            }
         }
-        // outputs and registers after edge k+1
-        let equal = same(&words::<Outputs, { signals::N_OUTPUTS }>(signals::OUTPUTS, &after), &out) & same(&words::<Regs, { signals::N_REGISTERS }>(signals::REGISTERS, model.regs()), &regs);
-        if !equal && compare::<Outputs>(&mut report, k + 1, signals::OUTPUTS, &after, &out) + compare::<Regs>(&mut report, k + 1, signals::REGISTERS, model.regs(), &regs) > 0 {
-            return report + &format!("LOCKSTEP FAIL first divergence at tick {} (after rising edge {})\n", k + 1, k + 1);
+        // outputs (and mapped registers) after edge k+1
+        let mut equal = same(&words::<Outputs, { signals::N_OUTPUTS }>(signals::OUTPUTS, &step.after), &out);
+        if nr > 0 {
+            let all = words::<Regs, { signals::N_REGISTERS }>(signals::REGISTERS, model.regs());
+            for (d, &j) in expect_regs.iter_mut().zip(&lib.regs) {
+                *d = all[j];
+            }
+            equal &= same(&expect_regs[..nr], &regs[..nr]);
+        }
+        if !equal {
+            compare::<Outputs>(&mut mm, signals::OUTPUTS, &all_outputs, &step.after, &out);
+            compare::<Regs>(&mut mm, signals::REGISTERS, &lib.regs, model.regs(), &regs[..nr]);
+            return Reply::Diverged { tick: k + 1, combinational: false, mismatches: mm };
         }
     }
-    format!("PASS ticks={}\n", inputs.len())
+    Reply::Pass { ticks: inputs.len() as u64 }
+}
+
+/// Step the RTL alone on `inputs` and return `bus_rdata` after each tick (the register bus
+/// read back after reset: what an RTL without parameters fixes).
+fn probe(lib: &DutLib, inputs: &[u32]) -> Reply {
+    let dut = Handle::new(lib);
+    let rdata = signals::OUTPUTS.iter().position(|s| s.name == "bus_rdata").unwrap_or(0);
+    let (mut x, mut out, mut regs) = ([0u64; signals::N_INTERNALS], [0u64; signals::N_OUTPUTS], [0u64; signals::N_REGISTERS]);
+    let mut v = Vec::with_capacity(inputs.len());
+    for &w in inputs {
+        let (_, word) = input_words(w);
+        // SAFETY: arrays of at least the library's counts (checked at load).
+        unsafe { (lib.tick)(dut.1, word.as_ptr(), x.as_mut_ptr(), out.as_mut_ptr(), regs.as_mut_ptr()) };
+        v.push(out[rdata]);
+    }
+    Reply::Probe { rdata: v }
 }
 
 fn read_exact<R: Read>(r: &mut R, n: usize) -> std::io::Result<Vec<u8>> {
@@ -297,15 +382,23 @@ fn u64s(b: &[u8]) -> impl Iterator<Item = u64> + '_ {
     b.chunks_exact(8).map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
 }
 
-/// `pmu50 dut-worker`: serve lockstep requests on stdin until it closes. Exit 0 at the end of
-/// the input, 2 on a broken request.
+/// What a request asks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Request {
+    /// Step the model and the RTL side by side and compare.
+    Lockstep = 0,
+    /// Step the RTL alone and return `bus_rdata` after each tick.
+    Probe = 1,
+}
+
+/// `pmu50 dut-worker`: serve requests on stdin until it closes. Exit 0 at the end of the input,
+/// 2 on a broken request.
 pub fn worker_main() -> i32 {
     // Replies go to a copy of stdout; the RTL's own output (its $display) goes to stderr.
     // SAFETY: dup/dup2 on the process's standard descriptors.
     let proto = unsafe {
         let fd = libc::dup(1);
         if fd < 0 || libc::dup2(2, 1) < 0 {
-            eprintln!("dut-worker: cannot set up its descriptors");
             return 2;
         }
         std::fs::File::from_raw_fd(fd)
@@ -318,17 +411,22 @@ pub fn worker_main() -> i32 {
         match input.read_exact(&mut magic) {
             Ok(()) => {}
             Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => return 0,
-            Err(e) => {
-                eprintln!("dut-worker: {e}");
-                return 2;
-            }
+            Err(_) => return 2,
         }
-        let request = (|| -> std::io::Result<(PathBuf, [u64; 12], Vec<u32>)> {
+        let request = (|| -> std::io::Result<(Request, PathBuf, [u64; 12], Vec<u32>)> {
             if &magic != MAGIC {
                 return Err(std::io::Error::other("not a lockstep request"));
             }
+            let kind = match read_exact(&mut input, 1)?[0] {
+                0 => Request::Lockstep,
+                1 => Request::Probe,
+                k => return Err(std::io::Error::other(format!("unknown request kind {k}"))),
+            };
             let len = u32::from_le_bytes(read_exact(&mut input, 4)?.try_into().unwrap_or([0; 4])) as usize;
-            let path = PathBuf::from(String::from_utf8_lossy(&read_exact(&mut input, len)?).into_owned());
+            if len > 1 << 16 {
+                return Err(std::io::Error::other("library path longer than 64 KiB"));
+            }
+            let path = PathBuf::from(std::ffi::OsString::from_vec(read_exact(&mut input, len)?));
             let mut hdl = [0u64; 12];
             for (d, v) in hdl.iter_mut().zip(u64s(&read_exact(&mut input, 96)?)) {
                 *d = v;
@@ -339,21 +437,19 @@ pub fn worker_main() -> i32 {
                 return Err(std::io::Error::other(format!("{ticks} ticks, at most {MAX_TICKS}")));
             }
             let inputs = read_exact(&mut input, ticks * 4)?.chunks_exact(4).map(|c| u32::from_le_bytes(c.try_into().unwrap_or([0; 4]))).collect();
-            Ok((path, hdl, inputs))
+            Ok((kind, path, hdl, inputs))
         })();
-        let (path, hdl, inputs) = match request {
-            Ok(r) => r,
-            Err(e) => {
-                eprintln!("dut-worker: broken request: {e}");
-                return 2;
-            }
+        let Ok((kind, path, hdl, inputs)) = request else {
+            return 2;
         };
-        let text = match (&*libs.entry(path.clone()).or_insert_with(|| DutLib::load(&path)), params_of(&hdl)) {
-            (Ok(lib), Ok(p)) => lockstep(lib, p, &inputs),
-            (Err(e), _) => format!("LOCKSTEP ERROR {e}\n"),
-            (_, Err(e)) => format!("LOCKSTEP ERROR {e}\n"),
+        let answer = match (&*libs.entry(path.clone()).or_insert_with(|| DutLib::load(&path)), params_of(&hdl), kind) {
+            (Ok(lib), _, Request::Probe) => probe(lib, &inputs),
+            (Ok(lib), Ok(p), Request::Lockstep) => lockstep(lib, p, &inputs),
+            (Err(e), _, _) => Reply::Error { reason: e.clone() },
+            (_, Err(e), _) => Reply::Error { reason: e },
         };
-        if reply.write_all(text.as_bytes()).and_then(|()| reply.write_all(END.as_bytes())).and_then(|()| reply.flush()).is_err() {
+        let line = serde_json::to_string(&answer).unwrap_or_else(|e| format!("{{\"error\":{{\"reason\":\"{e}\"}}}}"));
+        if reply.write_all(line.as_bytes()).and_then(|()| reply.write_all(b"\n")).and_then(|()| reply.flush()).is_err() {
             return 0;
         }
     }
@@ -362,14 +458,88 @@ pub fn worker_main() -> i32 {
 // ------------------------------------------------------------------------------------------
 // the regression's side
 
-/// What a worker answered for one seed.
+/// What a worker answered for one request.
 pub enum Answer {
-    /// The reply's lines (without `END`).
-    Reply(String),
+    Reply(Reply),
     /// No reply within the time limit: the worker was killed.
     TimedOut,
     /// The worker ended without a reply: how, and the end of its stderr.
     Died(String),
+}
+
+/// Most bytes of a worker's log (the RTL's `$display` output) kept on disk and read back.
+pub const LOG_KEEP: u64 = 64 * 1024;
+/// A worker's log is cut back to its last [`LOG_KEEP`] bytes when it passes this size.
+const LOG_LIMIT: u64 = 4 << 20;
+
+/// The process groups of the running DUT workers and simulators, ended by the signal handler
+/// of an interrupted regression ([`kill_children`]).
+static CHILDREN: std::sync::Mutex<Vec<libc::pid_t>> = std::sync::Mutex::new(Vec::new());
+
+/// Register a child process group (its leader's id) to be killed on an interrupt.
+pub fn register_child(pgid: libc::pid_t) {
+    CHILDREN.lock().unwrap_or_else(|e| e.into_inner()).push(pgid);
+}
+
+/// Forget a child process group that has ended.
+pub fn unregister_child(pgid: libc::pid_t) {
+    CHILDREN.lock().unwrap_or_else(|e| e.into_inner()).retain(|&p| p != pgid);
+}
+
+/// Kill every registered child process group (on SIGINT or SIGTERM, before the exit).
+pub fn kill_children() {
+    // try_lock: a signal can arrive while a job thread holds the lock for a moment
+    for _ in 0..100 {
+        if let Ok(c) = CHILDREN.try_lock() {
+            for &g in c.iter() {
+                // SAFETY: kill(2) with the negated id of a group a child leads.
+                unsafe { libc::kill(-g, libc::SIGKILL) };
+            }
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+}
+
+/// The scratch folders of the running regression (vector files, worker logs), removed by
+/// [`cleanup_on_signal`].
+static SCRATCH: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+pub fn register_scratch(p: &Path) {
+    SCRATCH.lock().unwrap_or_else(|e| e.into_inner()).push(p.to_path_buf());
+}
+
+pub fn unregister_scratch(p: &Path) {
+    SCRATCH.lock().unwrap_or_else(|e| e.into_inner()).retain(|q| q != p);
+}
+
+/// On SIGINT or SIGTERM (src/atomic_file.rs): kill every DUT worker and simulator with its
+/// process group, and remove the scratch folders. An interrupted regression leaves neither.
+pub fn cleanup_on_signal() {
+    kill_children();
+    for _ in 0..100 {
+        if let Ok(s) = SCRATCH.try_lock() {
+            for p in s.iter() {
+                let _ = std::fs::remove_dir_all(p);
+            }
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+}
+
+/// The last `keep` bytes of a file, as text.
+pub fn file_tail(path: &Path, keep: u64) -> String {
+    use std::io::Seek;
+    let Ok(mut f) = std::fs::File::open(path) else { return String::new() };
+    let len = f.metadata().map_or(0, |m| m.len());
+    let from = len.saturating_sub(keep);
+    if f.seek(std::io::SeekFrom::Start(from)).is_err() {
+        return String::new();
+    }
+    let mut b = Vec::new();
+    let _ = f.take(keep).read_to_end(&mut b);
+    String::from_utf8_lossy(&b).into_owned()
 }
 
 /// A running DUT worker.
@@ -377,7 +547,7 @@ pub struct Worker {
     child: Child,
     stdin: ChildStdin,
     stdout: ChildStdout,
-    stderr: tempfile::NamedTempFile,
+    log: PathBuf,
     buf: Vec<u8>,
     /// When the last seed was sent.
     sent: Instant,
@@ -406,37 +576,43 @@ impl Worker {
         Worker::spawn_exe(&worker_exe()?, scratch)
     }
 
-    /// A worker from this executable (`EXE dut-worker`).
+    /// A worker from this executable (`EXE dut-worker`), its stderr (the RTL's output) in a log
+    /// of `scratch` opened for appending, so that it can be cut back while the worker writes.
     fn spawn_exe(exe: &Path, scratch: &Path) -> Result<Worker, String> {
         use std::os::unix::process::CommandExt;
-        let stderr = tempfile::Builder::new().prefix("dut-worker.").suffix(".log").tempfile_in(scratch).map_err(|e| format!("a log for the DUT worker in {}: {e}", scratch.display()))?;
-        let log = stderr.reopen().map_err(|e| format!("{}: {e}", stderr.path().display()))?;
+        let (file, log) = tempfile::Builder::new().prefix("dut-worker.").suffix(".log").tempfile_in(scratch).map_err(|e| format!("a log for the DUT worker in {}: {e}", scratch.display()))?.keep().map_err(|e| format!("a log for the DUT worker: {e}"))?;
+        drop(file);
+        let append = std::fs::OpenOptions::new().append(true).open(&log).map_err(|e| format!("{}: {e}", log.display()))?;
         let mut child = Command::new(exe)
             .arg("dut-worker")
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
-            .stderr(Stdio::from(log))
+            .stderr(Stdio::from(append))
             .process_group(0)
             .spawn()
             .map_err(|e| format!("cannot start the DUT worker: {e}"))?;
+        register_child(child.id() as libc::pid_t);
         let (Some(stdin), Some(stdout)) = (child.stdin.take(), child.stdout.take()) else {
             let _ = child.kill();
             return Err("the DUT worker has no pipes".into());
         };
-        Ok(Worker { child, stdin, stdout, stderr, buf: Vec::with_capacity(4096), sent: Instant::now() })
+        Ok(Worker { child, stdin, stdout, log, buf: Vec::with_capacity(4096), sent: Instant::now() })
     }
 
-    /// Run one seed. After [`Answer::TimedOut`] or [`Answer::Died`] the worker is gone: drop it.
-    pub fn run(&mut self, lib: &Path, params: &Params, inputs: &[u32], timeout: Duration) -> Result<Answer, String> {
-        self.send(lib, params, inputs);
+    /// Run one request. After [`Answer::TimedOut`] or [`Answer::Died`] the worker is gone: drop it.
+    pub fn run(&mut self, kind: Request, lib: &Path, params: &Params, inputs: &[u32], timeout: Duration) -> Result<Answer, String> {
+        self.send(kind, lib, params, inputs);
         self.receive(timeout)
     }
 
-    /// Hand a seed to the worker; [`Worker::receive`] takes its answer.
-    pub fn send(&mut self, lib: &Path, params: &Params, inputs: &[u32]) {
+    /// Hand a request to the worker; [`Worker::receive`] takes its answer. The log of the
+    /// previous request is emptied.
+    pub fn send(&mut self, kind: Request, lib: &Path, params: &Params, inputs: &[u32]) {
+        let _ = std::fs::OpenOptions::new().write(true).open(&self.log).and_then(|f| f.set_len(0));
         let path = lib.as_os_str().as_encoded_bytes();
-        let mut req = Vec::with_capacity(4 + 4 + path.len() + 96 + 8 + 4 * inputs.len());
+        let mut req = Vec::with_capacity(4 + 1 + 4 + path.len() + 96 + 8 + 4 * inputs.len());
         req.extend_from_slice(MAGIC);
+        req.push(kind as u8);
         req.extend_from_slice(&(path.len() as u32).to_le_bytes());
         req.extend_from_slice(path);
         for (_, v) in params.hdl_parameters() {
@@ -452,19 +628,42 @@ impl Worker {
         let _ = self.stdin.write_all(&req).and_then(|()| self.stdin.flush());
     }
 
-    /// The answer to the seed [`Worker::send`] gave, within `timeout` from the send (an answer
-    /// already written is taken even when the caller comes late).
+    /// Cut the log back to its last [`LOG_KEEP`] bytes once it passes [`LOG_LIMIT`]: an RTL
+    /// that prints in a loop fills no disk.
+    fn bound_log(&self) {
+        if std::fs::metadata(&self.log).is_ok_and(|m| m.len() > LOG_LIMIT) {
+            let keep = file_tail(&self.log, LOG_KEEP);
+            if let Ok(f) = std::fs::OpenOptions::new().write(true).open(&self.log) {
+                let _ = f.set_len(0);
+                let _ = std::fs::OpenOptions::new().append(true).open(&self.log).and_then(|mut a| a.write_all(keep.as_bytes()));
+            }
+        }
+    }
+
+    /// The answer to the request [`Worker::send`] gave, within `timeout` from the send (an
+    /// answer already written is taken even when the caller comes late).
     pub fn receive(&mut self, timeout: Duration) -> Result<Answer, String> {
         self.buf.clear();
         let fd = self.stdout.as_raw_fd();
         loop {
-            if self.buf.ends_with(END.as_bytes()) {
-                let text = String::from_utf8_lossy(&self.buf[..self.buf.len() - END.len()]).into_owned();
-                return Ok(Answer::Reply(text));
+            if let Some(end) = self.buf.iter().position(|&b| b == b'\n') {
+                let line = &self.buf[..end];
+                return match serde_json::from_slice::<Reply>(line) {
+                    Ok(r) => Ok(Answer::Reply(r)),
+                    Err(e) => {
+                        self.kill();
+                        Err(format!("the DUT worker's reply is not one of the protocol: {e}"))
+                    }
+                };
+            }
+            if self.buf.len() > 64 << 20 {
+                self.kill();
+                return Err("the DUT worker's reply passed 64 MiB".into());
             }
             let left = timeout.saturating_sub(self.sent.elapsed());
             let mut pfd = libc::pollfd { fd, events: libc::POLLIN, revents: 0 };
-            let ms = if left.is_zero() { 0 } else { left.as_millis().clamp(1, i32::MAX as u128) as i32 };
+            // wake at least every 200 ms to keep the RTL's log bounded
+            let ms = if left.is_zero() { 0 } else { left.as_millis().clamp(1, 200) as i32 };
             // SAFETY: one valid pollfd.
             let r = unsafe { libc::poll(&mut pfd, 1, ms) };
             if r < 0 {
@@ -476,13 +675,14 @@ impl Worker {
                 return Err(format!("waiting for the DUT worker: {e}"));
             }
             if r == 0 {
+                self.bound_log();
                 if left.is_zero() {
                     self.kill();
                     return Ok(Answer::TimedOut);
                 }
                 continue;
             }
-            let mut chunk = [0u8; 4096];
+            let mut chunk = [0u8; 65536];
             match self.stdout.read(&mut chunk) {
                 Ok(0) => return Ok(Answer::Died(self.death())),
                 Ok(n) => self.buf.extend_from_slice(&chunk[..n]),
@@ -496,9 +696,11 @@ impl Worker {
     }
 
     fn kill(&mut self) {
+        let g = self.child.id() as libc::pid_t;
         // SAFETY: kill(2) with the negated id of the group the child leads.
-        unsafe { libc::kill(-(self.child.id() as libc::pid_t), libc::SIGKILL) };
+        unsafe { libc::kill(-g, libc::SIGKILL) };
         let _ = self.child.wait();
+        unregister_child(g);
     }
 
     /// How the worker ended, with the last lines of its stderr.
@@ -512,7 +714,8 @@ impl Worker {
             },
             Err(e) => format!("the DUT worker ended ({e})"),
         };
-        let log = std::fs::read_to_string(self.stderr.path()).unwrap_or_default();
+        self.kill();
+        let log = file_tail(&self.log, LOG_KEEP);
         let tail: Vec<&str> = log.lines().filter(|l| !l.trim().is_empty()).collect();
         let tail = tail[tail.len().saturating_sub(3)..].join(" | ");
         if tail.is_empty() {
@@ -526,6 +729,7 @@ impl Worker {
 impl Drop for Worker {
     fn drop(&mut self) {
         self.kill();
+        let _ = std::fs::remove_file(&self.log);
     }
 }
 
@@ -562,7 +766,7 @@ mod tests {
         let exe = fake_worker(dir.path(), "sleep 60 & echo $! > \"$(dirname \"$0\")/child.pid\"; exec sleep 60");
         let mut w = Worker::spawn_exe(&exe, dir.path()).unwrap();
         let t = Instant::now();
-        let a = w.run(Path::new("/nonexistent.so"), &Params::default(), &[0; 100], Duration::from_millis(300)).unwrap();
+        let a = w.run(Request::Lockstep, Path::new("/nonexistent.so"), &Params::default(), &[0; 100], Duration::from_millis(300)).unwrap();
         assert!(matches!(a, Answer::TimedOut));
         assert!(t.elapsed() < Duration::from_secs(10));
         let pid: i32 = std::fs::read_to_string(dir.path().join("child.pid")).unwrap().trim().parse().unwrap();
@@ -577,7 +781,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let exe = fake_worker(dir.path(), "head -c 4 > /dev/null; echo '%Error: planted: the RTL gave up' >&2; exit 3");
         let mut w = Worker::spawn_exe(&exe, dir.path()).unwrap();
-        match w.run(Path::new("/nonexistent.so"), &Params::default(), &[0; 100], Duration::from_secs(20)).unwrap() {
+        match w.run(Request::Lockstep, Path::new("/nonexistent.so"), &Params::default(), &[0; 100], Duration::from_secs(20)).unwrap() {
             Answer::Died(how) => assert_eq!(how, "the DUT ended its process (exit 3): %Error: planted: the RTL gave up"),
             _ => panic!("expected the worker's death"),
         }

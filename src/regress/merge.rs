@@ -94,6 +94,8 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<Merged, RegressError> {
                 check_spec: false,
                 dut: super::DutKind::Model,
                 rtl: None,
+                map: None,
+                fixed: Default::default(),
                 pins: super::gen::Pins::default(),
                 shard: None,
             };

@@ -17,8 +17,10 @@ pub mod check;
 pub mod dut;
 pub mod gen;
 pub mod lockstep;
+pub mod map;
 pub mod merge;
 pub mod report;
+pub mod rtl;
 pub mod shard;
 pub mod triage;
 pub mod wave;
@@ -64,6 +66,12 @@ pub struct RunSpec {
     pub dut: DutKind,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rtl: Option<String>,
+    /// `--map`: model registers and internals compared beside the ports.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub map: Option<String>,
+    /// What the RTL fixes itself (its top lacks these parameters): every seed keeps them.
+    #[serde(default, skip_serializing_if = "rtl::Fixed::is_empty")]
+    pub fixed: rtl::Fixed,
     /// Structural parameters held fixed (absent: drawn per seed).
     #[serde(default, skip_serializing_if = "is_default")]
     pub pins: gen::Pins,
@@ -213,61 +221,56 @@ fn file_err(path: &Path, reason: impl std::fmt::Display) -> RegressError {
     RegressError::File { path: path.to_path_buf(), reason: reason.to_string() }
 }
 
-/// Run one seed on the model (and the DUT). Never panics on a generated scenario: a scenario the
-/// parser refuses or a bench error is the seed's `error` verdict.
-pub fn run_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, timeout: Duration) -> (SeedResult, Vec<u64>) {
-    match start_seed(spec, seed, bias, dut, timeout) {
-        Stage::Done(r, hits) => (*r, hits),
-        Stage::Lockstep(p) => p.finish(dut, timeout),
-    }
-}
-
-/// A seed after its model run: its result, or its stimulus for the RTL's lockstep
-/// (`--dut verilator`), which [`InLockstep::send`] hands to a DUT worker.
-enum Stage {
-    /// Boxed: a seed's result is large beside a seed in lockstep.
+/// A seed after its model run: its result, or its recording for the RTL, which
+/// [`Pending::send`] hands to the DUT.
+enum Stage<'a> {
+    /// Boxed: a seed's result is large beside a seed in flight.
     Done(Box<SeedResult>, Vec<u64>),
-    Lockstep(InLockstep),
+    Pending(Pending<'a>),
 }
 
-/// A seed whose model run passed and whose RTL lockstep is to run or running.
-struct InLockstep {
+/// A seed whose model run passed and whose RTL check is to run or running.
+struct Pending<'a> {
     seed: u64,
     start: Instant,
     /// Boxed: a scenario is large beside a finished seed's result.
     sc: Box<Scenario>,
-    inputs: Vec<u32>,
-    flight: Option<dut::InFlight>,
+    rec: Option<dut::Recorded>,
+    flight: Option<Box<dyn dut::InFlight + 'a>>,
     ticks: u64,
     evaluated: u64,
     readouts_checked: u64,
     hits: Vec<u64>,
 }
 
-impl InLockstep {
-    /// Hand the stimulus to a DUT worker; the seed's verdict waits in [`InLockstep::finish`].
-    fn send(&mut self, d: &dut::Dut) -> Result<(), String> {
-        self.flight = Some(d.send(&self.sc, &self.inputs)?);
+impl<'a> Pending<'a> {
+    /// Hand the recording to the DUT; the seed's verdict waits in [`Pending::finish`].
+    fn send(&mut self, d: &'a dyn dut::Dut) -> Result<(), dut::DutError> {
+        if let Some(rec) = self.rec.take() {
+            self.flight = Some(d.send(&self.sc, rec)?);
+        }
         Ok(())
     }
 
-    /// The seed's result, with the verdict of the lockstep (sent or not yet).
-    fn finish(self, dut: Option<&dut::Dut>, timeout: Duration) -> (SeedResult, Vec<u64>) {
+    /// The seed's result, with the verdict of the DUT (sent or not yet).
+    fn finish(self, d: &'a dyn dut::Dut, timeout: Duration) -> (SeedResult, Vec<u64>) {
         let (seed, start) = (self.seed, self.start);
-        seed_result(seed, start, self.verdict(dut, timeout))
+        seed_result(seed, start, self.verdict(d, timeout))
     }
 
-    /// The verdict of the lockstep (sent or not yet).
-    fn verdict(mut self, dut: Option<&dut::Dut>, timeout: Duration) -> Evaluated {
-        let verdict = match (dut, self.flight.take()) {
-            (Some(d), Some(f)) => d.receive(&self.sc, f, timeout),
-            (Some(d), None) => d.lockstep(&self.sc, &self.inputs, timeout),
-            (None, _) => Ok(None),
+    /// The verdict of the DUT (sent or not yet).
+    fn verdict(mut self, d: &'a dyn dut::Dut, timeout: Duration) -> Evaluated {
+        let verdict = match self.flight.take() {
+            Some(f) => f.wait(&self.sc, timeout),
+            None => self.send(d).and_then(|()| match self.flight.take() {
+                Some(f) => f.wait(&self.sc, timeout),
+                None => Ok(None),
+            }),
         };
         let (verdict, failure) = match verdict {
             Ok(None) => ("pass", None),
             Ok(Some(f)) => ("fail", Some(f)),
-            Err(e) => ("error", Some(*error_failure(0, e))),
+            Err(e) => ("error", Some(*error_failure(0, e.to_string()))),
         };
         (verdict, failure, self.ticks, self.evaluated, self.readouts_checked, self.hits)
     }
@@ -289,16 +292,16 @@ fn seed_result(seed: u64, start: Instant, e: Evaluated) -> (SeedResult, Vec<u64>
     (r, hits)
 }
 
-/// The model's part of a seed (and an Icarus DUT's, which replays a vector file).
-fn start_seed(spec: &RunSpec, seed: u64, bias: &Bias, dut: Option<&dut::Dut>, timeout: Duration) -> Stage {
+/// The model's part of a seed.
+fn start_seed<'a>(spec: &RunSpec, seed: u64, bias: &Bias, d: &'a dyn dut::Dut) -> Stage<'a> {
     let start = Instant::now();
     let stim = Stimulus::generate(seed, bias);
-    match evaluate_model(spec, &stim, dut, timeout) {
+    match evaluate_model(spec, &stim, d) {
         Ok(Phase::Final(e)) => {
             let (r, hits) = seed_result(seed, start, e);
             Stage::Done(Box::new(r), hits)
         }
-        Ok(Phase::Lockstep { sc, inputs, ticks, evaluated, readouts_checked, hits }) => Stage::Lockstep(InLockstep { seed, start, sc, inputs, flight: None, ticks, evaluated, readouts_checked, hits }),
+        Ok(Phase::Dut { sc, rec, ticks, evaluated, readouts_checked, hits }) => Stage::Pending(Pending { seed, start, sc, rec: Some(rec), flight: None, ticks, evaluated, readouts_checked, hits }),
         Err(f) => {
             let (r, hits) = seed_result(seed, start, ("error", Some(*f), 0, 0, 0, vec![0; layout().bins.len()]));
             Stage::Done(Box::new(r), hits)
@@ -314,50 +317,52 @@ fn error_failure(tick: u64, detail: String) -> Box<Failure> {
 
 /// What the model's run of a seed leaves to do.
 enum Phase {
-    /// The verdict (the model failed, or there is no DUT, or the DUT has run).
+    /// The verdict (the model failed, or the DUT is the model).
     Final(Evaluated),
-    /// The model passed; the RTL is to run in lockstep on these inputs.
-    Lockstep { sc: Box<Scenario>, inputs: Vec<u32>, ticks: u64, evaluated: u64, readouts_checked: u64, hits: Vec<u64> },
+    /// The model passed; the RTL is to run on this recording.
+    Dut { sc: Box<Scenario>, rec: dut::Recorded, ticks: u64, evaluated: u64, readouts_checked: u64, hits: Vec<u64> },
 }
 
-/// The verdict of one stimulus: the model's checks, then the DUT.
-pub fn evaluate(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout: Duration) -> Result<Evaluated, Box<Failure>> {
-    match evaluate_model(spec, stim, dut, timeout)? {
+/// The verdict of one stimulus: the model's checks, then the DUT (shared by the seeds, the
+/// shrinking of a failure and `--repro`).
+pub fn evaluate(spec: &RunSpec, stim: &Stimulus, d: &dyn dut::Dut, timeout: Duration) -> Result<Evaluated, Box<Failure>> {
+    match evaluate_model(spec, stim, d)? {
         Phase::Final(e) => Ok(e),
-        Phase::Lockstep { sc, inputs, ticks, evaluated, readouts_checked, hits } => {
-            let p = InLockstep { seed: stim.seed, start: Instant::now(), sc, inputs, flight: None, ticks, evaluated, readouts_checked, hits };
-            Ok(p.verdict(dut, timeout))
+        Phase::Dut { sc, rec, ticks, evaluated, readouts_checked, hits } => {
+            let p = Pending { seed: stim.seed, start: Instant::now(), sc, rec: Some(rec), flight: None, ticks, evaluated, readouts_checked, hits };
+            Ok(p.verdict(d, timeout))
         }
     }
 }
 
-/// The model's run of a stimulus with its checks; an Icarus DUT replays its vector file here.
-fn evaluate_model(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeout: Duration) -> Result<Phase, Box<Failure>> {
+/// The model's run of a stimulus with its checks, recording what the DUT needs: the inputs of
+/// every tick in memory (verilator) or a vector file (icarus).
+fn evaluate_model(spec: &RunSpec, stim: &Stimulus, d: &dyn dut::Dut) -> Result<Phase, Box<Failure>> {
     let name = format!("regress_{}", stim.seed);
     let text = stim.to_toml(&name);
     let path = PathBuf::from(format!("{name}.toml"));
     let sc = Scenario::parse(&text, &path.display().to_string(), &name, &path).map_err(|e| error_failure(0, format!("the generator made a scenario the parser refuses: {e}")))?;
-    // One run of the model gives the checks, the coverage and, for an RTL DUT, its stimulus:
-    // the inputs of every tick in memory (verilator) or a vector file (icarus).
-    let vec = match dut {
-        Some(d) if !d.in_memory() => Some(d.vector_file(&sc).map_err(|e| error_failure(0, e))?),
+    let needs = d.needs();
+    let vec = match needs {
+        dut::Needs::Vectors => Some(d.vector_file(&sc).map_err(|e| error_failure(0, e.to_string()))?),
         _ => None,
     };
     let mut writer = match &vec {
         Some(f) => Some(crate::observers::vectors::VectorWriter::new(std::io::BufWriter::new(f.as_file()), &sc).map_err(|e| error_failure(0, e.to_string()))?),
         None => None,
     };
-    let mut recorder = dut.filter(|d| d.in_memory()).map(|_| lockstep::InputRecorder::default());
+    let mut recorder = (needs == dut::Needs::Inputs).then(lockstep::InputRecorder::default);
     let run = match (writer.as_mut(), recorder.as_mut()) {
         (Some(w), _) => run_model(&sc, spec.check_spec, &mut [w]),
         (None, Some(r)) => run_model(&sc, spec.check_spec, &mut [r]),
         (None, None) => run_model(&sc, spec.check_spec, &mut []),
     };
     let (checks, res) = run.map_err(|e| error_failure(0, e.to_string()))?;
-    if let Some(w) = writer {
+    if let Some(w) = writer.take() {
         use std::io::Write;
         w.into_inner().flush().map_err(|e| error_failure(0, format!("vector file: {e}")))?;
     }
+    drop(writer);
     let hits = checks.coverage.hits().to_vec();
     let mut failure = checks.failure.clone();
     if failure.is_none() {
@@ -366,35 +371,29 @@ fn evaluate_model(spec: &RunSpec, stim: &Stimulus, dut: Option<&dut::Dut>, timeo
         }
     }
     if failure.is_none() {
-        if let Some(r) = recorder {
-            return Ok(Phase::Lockstep { sc: Box::new(sc), inputs: r.inputs, ticks: res.ticks, evaluated: res.evaluated_ticks, readouts_checked: checks.readouts_checked, hits });
-        }
-        if let (Some(d), Some(v)) = (dut, &vec) {
-            match d.check_vectors(&sc, v.path(), timeout) {
-                Ok(None) => {}
-                Ok(Some(f)) => failure = Some(f),
-                Err(e) => return Ok(Phase::Final(("error", Some(*error_failure(0, e)), res.ticks, res.evaluated_ticks, checks.readouts_checked, hits))),
-            }
+        let rec = match (recorder, vec) {
+            (Some(r), _) => Some(dut::Recorded::Inputs(r.inputs)),
+            (None, Some(v)) => Some(dut::Recorded::Vectors(v)),
+            (None, None) => None,
+        };
+        if let Some(rec) = rec {
+            return Ok(Phase::Dut { sc: Box::new(sc), rec, ticks: res.ticks, evaluated: res.evaluated_ticks, readouts_checked: checks.readouts_checked, hits });
         }
     }
-    // (the scratch vector file is removed when `vec` goes out of scope)
     let verdict = if failure.is_some() { "fail" } else { "pass" };
     Ok(Phase::Final((verdict, failure, res.ticks, res.evaluated_ticks, checks.readouts_checked, hits)))
 }
 
 /// Check one scenario (a repro) as a seed is checked: `Ok(None)` it passes.
-pub fn check_scenario(spec: &RunSpec, sc: &Scenario, dut: Option<&dut::Dut>, timeout: Duration) -> Result<Option<Failure>, String> {
-    let (checks, res) = run_model(sc, spec.check_spec, &mut []).map_err(|e| e.to_string())?;
+pub fn check_scenario(spec: &RunSpec, sc: &Scenario, d: &dyn dut::Dut, timeout: Duration) -> Result<Option<Failure>, dut::DutError> {
+    let (checks, res) = run_model(sc, spec.check_spec, &mut []).map_err(|e| dut::DutError::Tool(e.to_string()))?;
     if let Some(f) = checks.failure {
         return Ok(Some(f));
     }
     if let Some(c) = res.checks.iter().find(|c| !c.ok) {
         return Ok(Some(Failure { kind: "expect".into(), tick: res.ticks, signal: c.name.clone(), expected: "-".into(), got: "-".into(), block: "-".into(), fig: "-".into(), detail: c.detail.clone() }));
     }
-    match dut {
-        Some(d) => d.check(sc, timeout),
-        None => Ok(None),
-    }
+    dut::check(d, sc, timeout)
 }
 
 /// The model's run of a scenario with the regression's checks and coverage.
@@ -548,7 +547,7 @@ pub fn scenario_closure(c: &CoverageFile) -> (usize, usize) {
 
 /// Run a regression into `o.out`: the seeds of the spec not yet in the folder (all of them
 /// unless resuming), in batches, on `o.jobs` threads.
-pub fn run(o: &Options, resume: bool, stop: &AtomicBool) -> Result<Summary, RegressError> {
+pub fn run(o: &Options, resume: bool, stop: &AtomicBool, d: &dyn dut::Dut) -> Result<Summary, RegressError> {
     let dir = &o.out;
     crate::atomic_file::create_dir(dir)?;
     let results_path = dir.join("results.jsonl");
@@ -561,10 +560,6 @@ pub fn run(o: &Options, resume: bool, stop: &AtomicBool) -> Result<Summary, Regr
         b.add(crate::atomic_file::write_atomic(&results_path, b"")?);
         b.commit()?;
     }
-    let dut = match o.spec.dut {
-        DutKind::Model => None,
-        _ => Some(dut::Dut::prepare(&o.spec, o.jobs).map_err(RegressError::Dut)?),
-    };
     let seeds = o.spec.seeds();
     let have: std::collections::BTreeSet<u64> = done.iter().map(|r| r.seed).collect();
     let mut total = vec![0u64; layout().bins.len()];
@@ -602,20 +597,20 @@ pub fn run(o: &Options, resume: bool, stop: &AtomicBool) -> Result<Summary, Regr
             for r in done.iter().filter(|r| r.seed < lo) {
                 r.hits(&mut before).map_err(RegressError::Usage)?;
             }
-            let bias = Bias::directed(&before, o.spec.pins);
+            let bias = Bias::directed(&before, o.spec.pins).fixing(&o.spec.fixed);
             let todo: Vec<u64> = (lo..hi).filter(|s| !have.contains(s)).collect();
-            let out = run_pool(&o.spec, &todo, &bias, dut.as_ref(), o.jobs, o.timeout, stop, |_| Ok(()))?;
+            let out = run_pool(&o.spec, &todo, &bias, d, o.jobs, o.timeout, stop, |_| Ok(()))?;
             write(out, &mut done, &mut total)?;
             lo = hi;
         }
     } else {
         // One queue over the whole range: no core waits for the slowest seed of a batch; the
         // results are written in seed order as soon as every seed before them has finished.
-        let bias = Bias::uniform().pinned(o.spec.pins);
+        let bias = Bias::uniform().pinned(o.spec.pins).fixing(&o.spec.fixed);
         let todo: Vec<u64> = seeds.clone().filter(|s| !have.contains(s)).collect();
         let mut pending: Vec<(SeedResult, Vec<u64>)> = Vec::new();
         let mut last = std::time::Instant::now();
-        run_pool(&o.spec, &todo, &bias, dut.as_ref(), o.jobs, o.timeout, stop, |ready| {
+        run_pool(&o.spec, &todo, &bias, d, o.jobs, o.timeout, stop, |ready| {
             pending.extend(ready);
             if pending.len() as u64 >= BATCH || last.elapsed() > Duration::from_secs(2) {
                 last = std::time::Instant::now();
@@ -627,7 +622,7 @@ pub fn run(o: &Options, resume: bool, stop: &AtomicBool) -> Result<Summary, Regr
     }
     let summary = Summary::build(o.spec.clone(), done)?;
     if o.triage && !stop.load(Ordering::Relaxed) {
-        triage::write_repros(&summary, dir, dut.as_ref(), o.timeout)?;
+        triage::write_repros(&summary, dir, d, o.timeout)?;
     }
     summary.write(dir, None)?;
     Ok(summary)
@@ -640,7 +635,7 @@ fn run_pool(
     spec: &RunSpec,
     seeds: &[u64],
     bias: &Bias,
-    dut: Option<&dut::Dut>,
+    dut: &dyn dut::Dut,
     jobs: usize,
     timeout: Duration,
     stop: &AtomicBool,
@@ -659,14 +654,14 @@ fn run_pool(
             // the model runs seed n+1 here; then n's verdict is taken and n+1 is sent. So the
             // regression waits for the model only where it is slower than the RTL.
             s.spawn(move || {
-                let mut running: Option<(usize, InLockstep)> = None;
+                let mut running: Option<(usize, Pending)> = None;
                 let emit = |k: usize, (mut r, hits): (SeedResult, Vec<u64>)| {
                     r.place = place.clone();
                     tx.send((k, r, hits)).is_ok()
                 };
                 loop {
                     let k = if stop.load(Ordering::Relaxed) { None } else { Some(next.fetch_add(1, Ordering::Relaxed)) };
-                    let stage = k.and_then(|k| seeds.get(k).map(|&seed| (k, start_seed(spec, seed, bias, dut, timeout))));
+                    let stage = k.and_then(|k| seeds.get(k).map(|&seed| (k, start_seed(spec, seed, bias, dut))));
                     if let Some((j, p)) = running.take() {
                         if !emit(j, p.finish(dut, timeout)) {
                             break;
@@ -679,14 +674,14 @@ fn run_pool(
                                 break;
                             }
                         }
-                        Some((k, Stage::Lockstep(mut p))) => match dut.map(|d| p.send(d)) {
-                            Some(Err(e)) => {
-                                let (r, hits) = seed_result(p.seed, p.start, ("error", Some(*error_failure(0, e)), p.ticks, p.evaluated, p.readouts_checked, p.hits));
+                        Some((k, Stage::Pending(mut p))) => match p.send(dut) {
+                            Err(e) => {
+                                let (r, hits) = seed_result(p.seed, p.start, ("error", Some(*error_failure(0, e.to_string())), p.ticks, p.evaluated, p.readouts_checked, p.hits));
                                 if !emit(k, (r, hits)) {
                                     break;
                                 }
                             }
-                            _ => running = Some((k, p)),
+                            Ok(()) => running = Some((k, p)),
                         },
                     }
                 }

@@ -4,7 +4,7 @@
 //! at a time while it still fails), and written to `failures/<signature>/`:
 //!
 //! - `repro.toml`: the shrunk scenario; `pmu50 regress --repro repro.toml` (with the same `--dut`,
-//!   `--rtl`, `--check-spec`) reproduces the failure, printed in `command.txt`;
+//!   `--rtl`, `--map`, `--check-spec`) reproduces the failure, printed in `command.txt`;
 //! - `repro.vcd` and `repro.gtkw`: the model's waveform of the shrunk run, GTKWave zoomed on the
 //!   first divergence with a named marker there;
 //! - `failure.txt`: what failed, where, and how the seed was shrunk.
@@ -35,19 +35,19 @@ pub fn groups(results: &[SeedResult]) -> BTreeMap<String, Vec<u64>> {
 /// the seeds of earlier batches).
 pub fn bias_for(spec: &RunSpec, seed: u64, results: &[SeedResult]) -> Bias {
     if !spec.directed {
-        return Bias::uniform().pinned(spec.pins);
+        return Bias::uniform().pinned(spec.pins).fixing(&spec.fixed);
     }
     let lo = spec.seeds().start + (seed - spec.seeds().start) / BATCH * BATCH;
     let mut before = vec![0u64; layout().bins.len()];
     for r in results.iter().filter(|r| r.seed < lo) {
         let _ = r.hits(&mut before);
     }
-    Bias::directed(&before, spec.pins)
+    Bias::directed(&before, spec.pins).fixing(&spec.fixed)
 }
 
 /// Shrink a failing stimulus; returns the smallest one found that fails with `sig`, its
 /// failure, and the number of candidates tried.
-pub fn shrink(spec: &RunSpec, stim: &Stimulus, first: &Failure, dut: Option<&Dut>, timeout: Duration) -> (Stimulus, Failure, usize) {
+pub fn shrink(spec: &RunSpec, stim: &Stimulus, first: &Failure, dut: &dyn Dut, timeout: Duration) -> (Stimulus, Failure, usize) {
     let sig = first.signature();
     let tries = std::cell::Cell::new(0usize);
     let fails = |s: &Stimulus| -> Option<Failure> {
@@ -131,6 +131,9 @@ pub fn command(spec: &RunSpec, repro: &Path) -> String {
     if let Some(r) = &spec.rtl {
         c.push_str(&format!(" --rtl {r}"));
     }
+    if let Some(m) = &spec.map {
+        c.push_str(&format!(" --map {m}"));
+    }
     if spec.check_spec {
         c.push_str(" --check-spec");
     }
@@ -138,7 +141,7 @@ pub fn command(spec: &RunSpec, repro: &Path) -> String {
 }
 
 /// Shrink the smallest failing seed of each signature and write its folder.
-pub fn write_repros(s: &Summary, dir: &Path, dut: Option<&Dut>, timeout: Duration) -> Result<(), RegressError> {
+pub fn write_repros(s: &Summary, dir: &Path, dut: &dyn Dut, timeout: Duration) -> Result<(), RegressError> {
     for (sig, seeds) in groups(&s.results) {
         let seed = seeds[0];
         let Some(first) = s.results.iter().find(|r| r.seed == seed).and_then(|r| r.failure.clone()) else { continue };

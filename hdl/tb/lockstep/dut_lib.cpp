@@ -1,40 +1,53 @@
-// The RTL as a shared library for `pmu50 regress --dut verilator` (verification method 2, in
-// process): a thin C interface around one Verilator build of the contract top `pmu50`
-// (docs/signals.md) for one (SYNC_DEPTH, CNT_W). The regression's DUT worker loads it
-// (dlopen), drives it tick by tick from the model's stimulus held in memory and compares every
-// output and register after every edge and the internals before it, against the Rust core
-// (src/regress/lockstep.rs). No file, no text, no process per seed.
+// An RTL under test as a shared library for `pmu50 regress --dut verilator` (verification method
+// 2, in process): a thin C interface around one Verilator build of the contract top `pmu50`
+// (docs/signals.md) for one set of Verilog parameters (`-G` at build time: the reset values go
+// in through the top's parameters, never into its registers). The regression's DUT worker loads
+// it (dlopen) and steps it in lockstep with the Rust core (src/regress/lockstep.rs).
+//
+// Port contract: the library reads and drives the top's ports only. What else it reads is named
+// by the header `dut_map.h`, which the regression generates for each build
+// (src/regress/dut/verilator.rs) from the contract and from an optional `--map` file:
+//   DUT_INPUTS(X)     X(port) per contract input, in the order of the model's signal table
+//   DUT_OUTPUTS(X)    X(port) per contract output, in the same order
+//   DUT_REGISTERS(X)  X("block.register", member) per mapped register (member of the root
+//                     class, made visible by the build's Verilator configuration file)
+//   DUT_INTERNALS(X)  X("name", member) per mapped internal
+//   DUT_PARAMS(X)     X("NAME", value) per Verilog parameter the build set
+// With no map, the register and internal lists are empty: nothing of the inside is read.
 //
 // A tick is two evaluations, as the Verilog bench's clock: the inputs of cycle k with clk low
-// (the internals of the cycle settle), then the rising edge k+1 (outputs and registers).
-//
-// Values cross the interface as u64 arrays in the order of the names this library reports
-// (pmu50_dut_name), which must be the order of the model's signal table (docs/signals.md): the
-// worker checks the names at load time, so an order change on either side is refused instead of
-// comparing the wrong pairs.
-//
-// The twin's names and accessors are those of twin_access.h, shared with lockstep.cpp.
-//
-// Built by hdl/scripts/build_lockstep.sh with KIND=lib (one translation unit with the
-// Verilator output, -fPIC, the Verilator runtime linked in, every symbol hidden but these).
-#include "twin_access.h"
+// (the mapped internals of the cycle settle), then the rising edge k+1 (outputs, registers).
+#include "Vpmu50.h"
+#include "Vpmu50___024root.h"
+#include "dut_map.h"
 #include "verilated.h"
 
 #include <cstdint>
 #include <memory>
+#include <type_traits>
 
 #define PMU50_DUT_API extern "C" __attribute__((visibility("default")))
-
-#if !defined(PMU50_SYNC_DEPTH) || !defined(PMU50_CNT_W)
-#error "build with -DPMU50_SYNC_DEPTH=.. -DPMU50_CNT_W=.. (the Verilog parameters of this build)"
-#endif
 
 namespace {
 
 // Interface version: bump when a function or an array order changes.
-constexpr uint32_t kAbi = 1;
+constexpr uint32_t kAbi = 2;
 
-enum Group { kInputs = 0, kOutputs = 1, kRegisters = 2, kInternals = 3, kResetValues = 4 };
+enum Group { kInputGroup = 0, kOutputGroup = 1, kRegisterGroup = 2, kInternalGroup = 3, kParamGroup = 4 };
+
+#define DUT_STR(n) #n,
+#define DUT_FIRST(n, m) n,
+#define DUT_COUNT(...) +1
+constexpr uint32_t kInputs = 0 DUT_INPUTS(DUT_COUNT), kOutputs = 0 DUT_OUTPUTS(DUT_COUNT),
+                   kRegisters = 0 DUT_REGISTERS(DUT_COUNT), kInternals = 0 DUT_INTERNALS(DUT_COUNT),
+                   kParams = 0 DUT_PARAMS(DUT_COUNT);
+const char *const kInputNames[kInputs + 1] = {DUT_INPUTS(DUT_STR) nullptr};
+const char *const kOutputNames[kOutputs + 1] = {DUT_OUTPUTS(DUT_STR) nullptr};
+const char *const kRegisterNames[kRegisters + 1] = {DUT_REGISTERS(DUT_FIRST) nullptr};
+const char *const kInternalNames[kInternals + 1] = {DUT_INTERNALS(DUT_FIRST) nullptr};
+const char *const kParamNames[kParams + 1] = {DUT_PARAMS(DUT_FIRST) nullptr};
+#define DUT_SECOND(n, v) static_cast<uint64_t>(v),
+const uint64_t kParamValues[kParams + 1] = {DUT_PARAMS(DUT_SECOND) 0};
 
 struct Dut {
     VerilatedContext ctx;
@@ -42,82 +55,124 @@ struct Dut {
     Dut() : top(new Vpmu50(&ctx, "pmu50")) {}
 };
 
+inline void set_inputs(Vpmu50 &t, const uint64_t *in) {
+    const uint64_t *p = in;
+#define DUT_SET(n) t.n = static_cast<std::remove_reference_t<decltype(t.n)>>(*p++);
+    DUT_INPUTS(DUT_SET)
+#undef DUT_SET
+    (void)p;
+}
+
+inline void outputs(const Vpmu50 &t, uint64_t *o) {
+#define DUT_GET(n) *o++ = static_cast<uint64_t>(t.n);
+    DUT_OUTPUTS(DUT_GET)
+#undef DUT_GET
+    (void)o;
+}
+
+inline void registers(const Vpmu50 &t, uint64_t *r) {
+    const Vpmu50___024root *R = t.rootp;
+#define DUT_GET(n, m) *r++ = static_cast<uint64_t>(R->m);
+    DUT_REGISTERS(DUT_GET)
+#undef DUT_GET
+    (void)R;
+    (void)r;
+}
+
+inline void internals(const Vpmu50 &t, uint64_t *x) {
+    const Vpmu50___024root *R = t.rootp;
+#define DUT_GET(n, m) *x++ = static_cast<uint64_t>(R->m);
+    DUT_INTERNALS(DUT_GET)
+#undef DUT_GET
+    (void)R;
+    (void)x;
+}
+
 }  // namespace
 
 /// Interface version (kAbi).
 PMU50_DUT_API uint32_t pmu50_dut_abi() { return kAbi; }
 
-/// The structural parameters this library was built for.
-PMU50_DUT_API uint32_t pmu50_dut_sync_depth() { return PMU50_SYNC_DEPTH; }
-PMU50_DUT_API uint32_t pmu50_dut_cnt_width() { return PMU50_CNT_W; }
-
-/// How many values a group has (0 inputs, 1 outputs, 2 registers, 3 internals, 4 reset values).
+/// How many values a group has (0 inputs, 1 outputs, 2 registers, 3 internals, 4 parameters).
 PMU50_DUT_API uint32_t pmu50_dut_count(uint32_t group) {
     switch (group) {
-    case kInputs: return twin::kInputs;
-    case kOutputs: return twin::kOutputs;
-    case kRegisters: return twin::kRegisters;
-    case kInternals: return twin::kInternals;
-    case kResetValues: return twin::kResetValues;
+    case kInputGroup: return kInputs;
+    case kOutputGroup: return kOutputs;
+    case kRegisterGroup: return kRegisters;
+    case kInternalGroup: return kInternals;
+    case kParamGroup: return kParams;
     default: return 0;
     }
 }
 
-/// The name of value `i` of a group (the model's signal path), or NULL.
+/// The name of value `i` of a group (the model's signal path, or the parameter), or NULL.
 PMU50_DUT_API const char *pmu50_dut_name(uint32_t group, uint32_t i) {
     if (i >= pmu50_dut_count(group)) return nullptr;
     switch (group) {
-    case kInputs: return twin::kInputNames[i];
-    case kOutputs: return twin::kOutputNames[i];
-    case kRegisters: return twin::kRegisterNames[i];
-    case kInternals: return twin::kInternalNames[i];
-    default: return twin::kResetNames[i];
+    case kInputGroup: return kInputNames[i];
+    case kOutputGroup: return kOutputNames[i];
+    case kRegisterGroup: return kRegisterNames[i];
+    case kInternalGroup: return kInternalNames[i];
+    default: return kParamNames[i];
     }
 }
 
-/// A DUT after reset, with the scenario's reset values (pmu50_dut_count(4) values in the
-/// order of pmu50_dut_name(4, i)) deposited into the programmable registers.
-PMU50_DUT_API void *pmu50_dut_new(const uint64_t *reset) {
+/// The value of parameter `i` this library was built with.
+PMU50_DUT_API uint64_t pmu50_dut_param(uint32_t i) { return i < kParams ? kParamValues[i] : 0; }
+
+/// A DUT after power-on reset: inputs 0, clk low, rst_n falling and held low for one
+/// evaluation, then released.
+PMU50_DUT_API void *pmu50_dut_new() {
     Dut *d = new Dut();
-    twin::reset(*d->top, reset);
+    Vpmu50 &t = *d->top;
+    const uint64_t zero[kInputs + 1] = {};
+    // a falling edge of rst_n (an asynchronous reset acts on it), held for one evaluation
+    t.clk = 0;
+    t.rst_n = 1;
+    set_inputs(t, zero);
+    t.eval();
+    t.rst_n = 0;
+    t.eval();
+    t.rst_n = 1;
+    t.eval();
     return d;
 }
 
 PMU50_DUT_API void pmu50_dut_free(void *d) { delete static_cast<Dut *>(d); }
 
-/// The outputs and registers now (after reset, or after the last edge).
+/// The outputs and mapped registers now (after reset, or after the last edge).
 PMU50_DUT_API void pmu50_dut_state(void *d, uint64_t *out, uint64_t *regs) {
     Vpmu50 &t = *static_cast<Dut *>(d)->top;
-    twin::outputs(t, out);
-    twin::registers(t.rootp, regs);
+    outputs(t, out);
+    registers(t, regs);
 }
 
 /// One tick as a plain Verilator harness runs it, for the speed comparison of `make bench`
 /// (benches/regress_speed.rs): the same two evaluations as pmu50_dut_tick, nothing read back
-/// but the 23 outputs folded into `acc` (returned), so the work cannot be optimised away.
+/// but the outputs folded into `acc` (returned), so the work cannot be optimised away.
 PMU50_DUT_API uint64_t pmu50_dut_step(void *d, const uint64_t *in, uint64_t acc) {
     Vpmu50 &t = *static_cast<Dut *>(d)->top;
     t.clk = 0;
-    twin::set_inputs(t, in);
+    set_inputs(t, in);
     t.eval();
     t.clk = 1;
     t.eval();
-    uint64_t o[twin::kOutputs];
-    twin::outputs(t, o);
-    for (uint64_t v : o) acc = (acc ^ v) * 0x100000001b3ull;
+    uint64_t o[kOutputs + 1];
+    outputs(t, o);
+    for (uint32_t k = 0; k < kOutputs; ++k) acc = (acc ^ o[k]) * 0x100000001b3ull;
     return acc;
 }
 
-/// One tick: the inputs of cycle k with clk low (`internals` of the cycle), then rising edge
-/// k+1 (`out` and `regs` after it).
+/// One tick: the inputs of cycle k with clk low (mapped `internals` of the cycle), then rising
+/// edge k+1 (`out` and mapped `regs` after it).
 PMU50_DUT_API void pmu50_dut_tick(void *d, const uint64_t *in, uint64_t *internals_out, uint64_t *out, uint64_t *regs) {
     Vpmu50 &t = *static_cast<Dut *>(d)->top;
     t.clk = 0;
-    twin::set_inputs(t, in);
+    set_inputs(t, in);
     t.eval();
-    twin::internals(t.rootp, internals_out);
+    internals(t, internals_out);
     t.clk = 1;
     t.eval();
-    twin::outputs(t, out);
-    twin::registers(t.rootp, regs);
+    outputs(t, out);
+    registers(t, regs);
 }

@@ -3,10 +3,10 @@
 //
 //   replay LIB.so FILE.vec
 //
-// LIB.so is an RTL library of hdl/tb/lockstep/dut_lib.cpp (build_lockstep.sh ... lib), FILE.vec a
-// vector file (`pmu50 vectors`, docs/spec.md 6.2). The scenario's parameters come from the
-// `// param` lines: SYNC_DEPTH and CNT_W must be the library's, the others are deposited as reset
-// values. Every input line is one tick (two evaluations); the outputs are folded into a checksum,
+// LIB.so is an RTL library of hdl/tb/lockstep/dut_lib.cpp (as `pmu50 regress --dut verilator`
+// builds it, for one set of Verilog parameters), FILE.vec a vector file (`pmu50 vectors`,
+// docs/spec.md 6.2). Every parameter the library was built with must equal the file's `// param`
+// line. Every input line is one tick (two evaluations); the outputs are folded into a checksum,
 // nothing is compared. Prints `ticks=<n> checksum=<hex>`; exit 2 on bad input.
 //
 // Build: g++ -O2 -o replay hdl/tb/lockstep/replay_main.cpp -ldl
@@ -58,12 +58,11 @@ int main(int argc, char **argv) {
     if (!lib) return fail(argv[1], dlerror());
     auto count = sym<uint32_t (*)(uint32_t)>(lib, "pmu50_dut_count");
     auto name = sym<const char *(*)(uint32_t, uint32_t)>(lib, "pmu50_dut_name");
-    auto sd = sym<uint32_t (*)()>(lib, "pmu50_dut_sync_depth");
-    auto w = sym<uint32_t (*)()>(lib, "pmu50_dut_cnt_width");
-    auto make = sym<void *(*)(const uint64_t *)>(lib, "pmu50_dut_new");
+    auto value = sym<uint64_t (*)(uint32_t)>(lib, "pmu50_dut_param");
+    auto make = sym<void *(*)()>(lib, "pmu50_dut_new");
     auto step = sym<uint64_t (*)(void *, const uint64_t *, uint64_t)>(lib, "pmu50_dut_step");
     auto release = sym<void (*)(void *)>(lib, "pmu50_dut_free");
-    if (!count || !name || !sd || !w || !make || !step || !release) return fail(argv[1], "not a pmu50 RTL library (dut_lib.cpp)");
+    if (!count || !name || !value || !make || !step || !release) return fail(argv[1], "not a pmu50 RTL library (dut_lib.cpp)");
 
     FILE *fp = std::fopen(argv[2], "r");
     if (!fp) return fail(argv[2], std::strerror(errno));
@@ -88,14 +87,11 @@ int main(int argc, char **argv) {
         for (unsigned x : f) in.push_back(x);
     }
     std::fclose(fp);
-    if (param["SYNC_DEPTH"] != sd() || param["CNT_W"] != w()) return fail(argv[2], "SYNC_DEPTH or CNT_W differs from the library's");
-    std::vector<uint64_t> reset;
     for (uint32_t i = 0; i < count(4); ++i) {
         auto it = param.find(name(4, i));
-        if (it == param.end()) return fail(argv[2], name(4, i));
-        reset.push_back(it->second);
+        if (it == param.end() || it->second != value(i)) return fail(argv[2], "a parameter differs from the library's");
     }
-    void *dut = make(reset.data());
+    void *dut = make();
     uint64_t acc = 0xcbf29ce484222325ull;
     for (size_t k = 0; k + 7 <= in.size(); k += 7) acc = step(dut, &in[k], acc);
     release(dut);
