@@ -21,7 +21,7 @@ PY_TARGET := target
 PY_WHEELS := target/python/wheels
 PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
 
-.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb regress regress-smoke formal formal-quick formal-mutants regress-slurm test-slurm
+.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb regress regress-smoke gls formal formal-quick formal-mutants regress-slurm test-slurm
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -52,10 +52,12 @@ test: deps
 	$(CARGO) test --workspace
 	$(MAKE) cosim COSIM_RANDOM=$(TEST_COSIM_RANDOM)
 	$(MAKE) regress-smoke test-slurm
+	$(MAKE) gls GLS_SEEDS=$(TEST_GLS_SEEDS)
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=$(TEST_COCOTB_MAX_TICKS)
 	$(MAKE) formal-quick
 
 TEST_COSIM_RANDOM     ?= 40
+TEST_GLS_SEEDS        ?= 100
 TEST_COCOTB_MAX_TICKS ?= 20000
 
 ## The same suites at full size: a parked day instead of half, 200 random cosim scenarios, whole
@@ -63,19 +65,26 @@ TEST_COCOTB_MAX_TICKS ?= 20000
 test-long: deps
 	PMU50_TEST_LONG=1 $(CARGO) test --workspace
 	$(MAKE) cosim COSIM_RANDOM=200
-	$(MAKE) regress-smoke test-slurm
+	$(MAKE) regress-smoke test-slurm gls
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
 	$(MAKE) formal formal-mutants
 
 ## Random regression with functional coverage (docs/verification.md): SEEDS directed seeds of
 ## the Verilog twin on Verilator in lockstep with the model, into regress_out/twin/
-## (results.jsonl, coverage.json, report.html, failures/). DUT=model for the model alone;
-## RTL=path/to/list.f for your own RTL.
+## (results.jsonl, coverage.json, report.html, failures/); the twin's map (hdl/pmu50.map.toml)
+## compares its registers and internals beside the ports. DUT=model for the model alone;
+## RTL=path/to/list.f for your own RTL (its ports; MAP=file.toml for more, docs/hdl-guide.md).
 SEEDS ?= 2000
 DUT   ?= verilator
 regress: deps $(BIN)
-	$(CARGO) build --release -p pmu50-ffi
-	$(BIN) regress --directed --iterations $(SEEDS) --dut $(DUT) $(if $(RTL),--rtl $(RTL)) --out regress_out/$(if $(RTL),rtl,twin)
+	$(BIN) regress --directed --iterations $(SEEDS) --dut $(DUT) $(if $(RTL),--rtl $(RTL) $(if $(MAP),--map $(MAP)),$(if $(filter verilator,$(DUT)),--map hdl/pmu50.map.toml)) --out regress_out/$(if $(RTL),rtl,twin)
+
+## Gate-level simulation (hdl/gls.sh): yosys synthesizes the twin to generic gates (synth
+## -flatten, default parameters); GLS_SEEDS directed seeds of the netlist against the model must
+## pass, and the netlist of a mutant (GLS_MUTANT) must be caught with a repro.
+GLS_SEEDS ?= 500
+gls: deps $(BIN)
+	GLS_SEEDS=$(GLS_SEEDS) bash hdl/gls.sh
 
 ## pmu50 regress against an RTL in a few seeds: the twin passes, a planted bug is found, shrunk
 ## and reproduced, the report renders in headless Chromium (hdl/regress_smoke.sh).
@@ -163,9 +172,10 @@ pytest: python $(BIN)
 	$(VPY) -m pytest python/tests -q
 
 ## cocotb testbench (hdl/cocotb): the Verilog twin on Icarus against pmu50.Core; vectors, random seeds, mutants.
+## RTL=path/to/list.f: any RTL with the contract ports (its ports only; what it fixes is kept).
 COCOTB_MAX_TICKS ?= 0
 cocotb: deps python $(BIN)
-	PMU50_COCOTB_MAX_TICKS=$(COCOTB_MAX_TICKS) $(VPY) -m pytest hdl/cocotb -q
+	PMU50_COCOTB_MAX_TICKS=$(COCOTB_MAX_TICKS) $(if $(RTL),PMU50_COCOTB_RTL=$(abspath $(RTL))) $(VPY) -m pytest hdl/cocotb -q
 
 clean:
 	$(CARGO) clean

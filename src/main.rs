@@ -264,6 +264,13 @@ enum Cmd {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
+    /// What the regression reads of an RTL, as JSON: the top's parameters, the values it fixes
+    /// (read back through the bus after reset) and the contract check. Exit 2 on a bad RTL.
+    RtlInfo {
+        /// The RTL's Verilog file list (top `pmu50` with the contract ports).
+        #[arg(long, value_name = "FILELIST")]
+        rtl: PathBuf,
+    },
     /// The DUT worker of `regress --dut verilator` (started by the regression itself): steps a
     /// Verilator library and the core in lockstep for each request on stdin.
     #[command(hide = true)]
@@ -528,6 +535,19 @@ fn main() -> ExitCode {
         },
         Cmd::DutWorker => pmu50::regress::lockstep::worker_main() as u8,
         Cmd::RtlMap { rtl, output } => cmd_rtl_map(&rtl, output.as_deref()),
+        Cmd::RtlInfo { rtl } => match pmu50::regress::dut::verilator::VerilatorDut::prepare(&rtl, None, Default::default(), 1) {
+            Ok(d) => {
+                use pmu50::regress::dut::Dut;
+                let fixed: serde_json::Map<String, serde_json::Value> = d.fixed().values.iter().map(|(n, v)| (n.clone(), serde_json::Value::from(*v))).collect();
+                let info = serde_json::json!({ "rtl": rtl.display().to_string(), "parameters": d.top_param_names(), "fixed": fixed, "contract": "ok" });
+                out!("{}", serde_json::to_string_pretty(&info).unwrap_or_default());
+                0
+            }
+            Err(e) => {
+                err!("error: {e}");
+                2
+            }
+        },
         Cmd::Merge { out, inputs } => match pmu50::regress::merge::merge(&inputs, &out) {
             Ok(m) => {
                 out!("merged {} regression folder(s) and {} coverage file(s) into {}", m.folders, m.coverage_files, out.display());

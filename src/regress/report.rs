@@ -119,6 +119,25 @@ pub fn closure_cli(dirs: &[std::path::PathBuf], out: &std::path::Path) -> Result
 }
 
 /// The page.
+/// What the report says of the DUT beside its name: the map, what the RTL fixes and the knobs
+/// that are therefore not drawn (docs/hdl-guide.md, "Your RTL").
+fn dut_notes(spec: &super::RunSpec) -> String {
+    let mut n = String::new();
+    if let Some(m) = &spec.map {
+        n.push_str(&format!("; registers and internals of the map {} compared beside the ports", esc(m)));
+    } else if spec.dut != super::DutKind::Model {
+        n.push_str("; the output ports compared after every edge");
+    }
+    if !spec.fixed.is_empty() {
+        let off: Vec<String> = super::gen::knobs_off(&spec.fixed).iter().map(|k| format!("{k:?}")).collect();
+        n.push_str(&format!("<br>the RTL fixes {} (its top lacks these parameters; read back through the bus after reset): every seed keeps them", esc(&spec.fixed.text())));
+        if !off.is_empty() {
+            n.push_str(&format!("<br>knobs not drawn (they need another value of a fixed parameter): {}", esc(&off.join(", "))));
+        }
+    }
+    n
+}
+
 pub fn html(s: &Summary, extra: Option<&str>) -> String {
     let l = layout();
     let c = &s.coverage;
@@ -148,7 +167,7 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
         if s.missing.is_empty() { String::new() } else { format!(", <b class=\"bad\">{} missing</b> (first {})", s.missing.len(), s.missing[0]) },
         if spec.directed { "directed (biased towards empty bins)" } else { "uniform random" },
         format!("{:?}", spec.dut).to_lowercase(),
-        spec.rtl.as_deref().map(|r| format!(", RTL {}", esc(r))).unwrap_or_default(),
+        spec.rtl.as_deref().map(|r| format!(", RTL {}", esc(r))).unwrap_or_default() + &dut_notes(spec),
         s.results.iter().filter(|r| r.verdict == "fail").count(),
         s.results.iter().filter(|r| r.verdict == "error").count(),
         pct(hit, reachable),
