@@ -109,10 +109,11 @@ golden:
 bench: deps
 	bash benches/compare.sh
 
-## HDL twin against the model: vectors (Icarus), lockstep (Verilator DPI-C), VCD diff, mutants.
+## HDL twin against the model: vectors (Icarus), lockstep (Verilator), VCD diff, mutants.
+## RTL=path/to/list.f (and MAP=file.toml): any RTL with the contract ports, without the mutants.
 COSIM_RANDOM ?= 200
 cosim: deps $(BIN)
-	bash hdl/cosim.sh --random $(COSIM_RANDOM)
+	$(if $(RTL),PMU50_FILELIST=$(abspath $(RTL)) $(if $(MAP),PMU50_MAP=$(abspath $(MAP)))) bash hdl/cosim.sh --random $(COSIM_RANDOM)
 
 ## Formal property kit (hdl/formal, docs/hdl-guide.md): every property of pmu50_formal.sv proven
 ## unbounded (ABC PDR) on the twin, parameter sets default and small; one line per property.

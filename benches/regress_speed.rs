@@ -198,7 +198,8 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
     let ticks: usize = stimuli.iter().map(|(_, i)| i.len()).sum();
     // The vector files and the file-replaying testbench.
     let files = tempfile::tempdir().expect("temp dir");
-    let replay = root.join("hdl/build/lockstep/replay");
+    let replay = root.join("hdl/build/bench/replay");
+    let _ = std::fs::create_dir_all(root.join("hdl/build/bench"));
     let built = std::process::Command::new("g++").args(["-O2", "-o"]).arg(&replay).arg(root.join("hdl/tb/lockstep/replay_main.cpp")).arg("-ldl").status().is_ok_and(|s| s.success());
     let vecs: Vec<std::path::PathBuf> = (1..=seeds)
         .map(|s| {

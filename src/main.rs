@@ -264,6 +264,26 @@ enum Cmd {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
+    /// Verification method 2 on one vector file: the RTL (default the twin) built by Verilator
+    /// and stepped in lockstep with the model on the file's inputs; every output port compared
+    /// after every edge, and what a --map names. Prints the MISMATCH lines of the first
+    /// divergent tick. Exit 0 equal, 1 a divergence, 2 bad input.
+    Lockstep {
+        /// The vector file (`pmu50 vectors`, docs/spec.md 6.2).
+        file: PathBuf,
+        /// The RTL's Verilog file list (default: the twin, hdl/pmu50.f).
+        #[arg(long, value_name = "FILELIST")]
+        rtl: Option<PathBuf>,
+        /// Also compare the registers and internals this map names.
+        #[arg(long, value_name = "FILE.toml")]
+        map: Option<PathBuf>,
+        /// A Verilog `define for the RTL (a mutant of hdl/mutants.txt), repeatable.
+        #[arg(long = "define", value_name = "NAME")]
+        defines: Vec<String>,
+        /// Time limit, seconds.
+        #[arg(long, default_value_t = 600.0)]
+        timeout: f64,
+    },
     /// What the regression reads of an RTL, as JSON: the top's parameters, the values it fixes
     /// (read back through the bus after reset) and the contract check. Exit 2 on a bad RTL.
     RtlInfo {
@@ -535,6 +555,7 @@ fn main() -> ExitCode {
         },
         Cmd::DutWorker => pmu50::regress::lockstep::worker_main() as u8,
         Cmd::RtlMap { rtl, output } => cmd_rtl_map(&rtl, output.as_deref()),
+        Cmd::Lockstep { file, rtl, map, defines, timeout } => cmd_lockstep(&file, rtl.as_deref(), map.as_deref(), &defines, timeout),
         Cmd::RtlInfo { rtl } => match pmu50::regress::dut::verilator::VerilatorDut::prepare(&rtl, None, Default::default(), 1) {
             Ok(d) => {
                 use pmu50::regress::dut::Dut;
@@ -699,6 +720,79 @@ fn cmd_regress(a: RegressArgs) -> u8 {
             out!("{}", s.text().trim_end());
             out!("wrote {}/results.jsonl, coverage.json, report.html ({:.1} s, {} jobs)", out_dir.display(), t0.elapsed().as_secs_f64(), jobs);
             u8::from(s.failed() > 0 || !s.missing.is_empty())
+        }
+        Err(e) => fail(e.to_string()),
+    }
+}
+
+/// `pmu50 lockstep`: method 2 on one vector file.
+fn cmd_lockstep(file: &Path, rtl: Option<&Path>, map: Option<&Path>, defines: &[String], timeout: f64) -> u8 {
+    use pmu50::regress::{dut::verilator::VerilatorDut, lockstep, map as m, rtl as r};
+    let fail = |e: String| {
+        err!("LOCKSTEP ERROR: {e}");
+        2
+    };
+    if !(timeout.is_finite() && timeout > 0.0 && timeout <= 86_400.0) {
+        return fail(format!("--timeout {timeout}: give seconds, 0 < T <= 86400"));
+    }
+    let v = match lockstep::read_vector_inputs(file) {
+        Ok(v) => v,
+        Err(e) => return fail(e),
+    };
+    let list = rtl.map(Path::to_path_buf).unwrap_or_else(|| pmu50::regress::dut::hdl_dir().join("pmu50.f"));
+    // defines: a file list with a file of `define lines first
+    let scratch = match tempfile::tempdir() {
+        Ok(d) => d,
+        Err(e) => return fail(format!("a scratch folder: {e}")),
+    };
+    let list = if defines.is_empty() {
+        list
+    } else {
+        if let Some(bad) = defines.iter().find(|d| d.is_empty() || !d.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')) {
+            return fail(format!("--define `{bad}`: a Verilog macro name (letters, digits, _)"));
+        }
+        let fl = match r::FileList::read(&list) {
+            Ok(fl) => fl,
+            Err(e) => return fail(e.to_string()),
+        };
+        let defs: String = defines.iter().map(|d| format!("`define {d}\n")).collect();
+        let body: String = std::iter::once(scratch.path().join("defines.vh")).chain(fl.files.iter().cloned()).map(|f| format!("{}\n", f.display())).collect();
+        if std::fs::write(scratch.path().join("defines.vh"), defs).and_then(|()| std::fs::write(scratch.path().join("rtl.f"), body)).is_err() {
+            return fail("cannot write the file list with the defines".into());
+        }
+        scratch.path().join("rtl.f")
+    };
+    let map = match map.map(m::RtlMap::read).transpose() {
+        Ok(m) => m,
+        Err(e) => return fail(e.to_string()),
+    };
+    let d = match VerilatorDut::prepare(&list, map, Default::default(), 1) {
+        Ok(d) => d,
+        Err(e) => return fail(e.to_string()),
+    };
+    let (nr, nx) = d.mapped_counts();
+    match d.lockstep_inputs(&v.params, &v.inputs, Duration::from_secs_f64(timeout)) {
+        Ok(lockstep::Answer::Reply(lockstep::Reply::Pass { ticks })) => {
+            out!("PASS ticks={ticks} outputs={} registers={nr} internals={nx} (scenario {})", pmu50_core::signals::N_OUTPUTS, v.scenario);
+            0
+        }
+        Ok(lockstep::Answer::Reply(lockstep::Reply::Diverged { tick, combinational, mismatches })) => {
+            for x in &mismatches {
+                out!("MISMATCH tick={tick} signal={} expected={:x} got={:x}", x.signal, x.expected, x.got);
+            }
+            let when = if combinational { format!("combinational, before rising edge {}", tick + 1) } else { format!("after rising edge {tick}") };
+            out!("LOCKSTEP FAIL {} (scenario {}): first divergence at tick {tick} ({when}), time {} ns", file.display(), v.scenario, tick * v.clock_ns);
+            1
+        }
+        Ok(lockstep::Answer::Reply(lockstep::Reply::Error { reason })) => fail(reason),
+        Ok(lockstep::Answer::Reply(lockstep::Reply::Probe { .. })) => fail("the DUT worker answered a probe".into()),
+        Ok(lockstep::Answer::TimedOut) => {
+            out!("LOCKSTEP FAIL {} (scenario {}): the DUT did not finish within {timeout} s", file.display(), v.scenario);
+            1
+        }
+        Ok(lockstep::Answer::Died(how)) => {
+            out!("LOCKSTEP FAIL {} (scenario {}): {how}", file.display(), v.scenario);
+            1
         }
         Err(e) => fail(e.to_string()),
     }

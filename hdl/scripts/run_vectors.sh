@@ -35,6 +35,21 @@ if [ $(( CLOCK_NS % 2000 )) -ne 0 ]; then ARGS+=("-DTB_TIMESCALE_NS"); fi
 rtl_files
 [ -n "$VCD" ] && [ "$FLIST" -ef "$HDL/pmu50.f" ] && ARGS+=("-DTB_TWIN_INTERNALS")
 
+# An RTL other than the twin is instantiated with the parameters its top has (a netlist has
+# none): `pmu50 rtl-info` reads them (and checks the port contract).
+INST_DIR=""
+if ! [ "$FLIST" -ef "$HDL/pmu50.f" ]; then
+    INFO=$("$PMU50" rtl-info --rtl "$FLIST") || { echo "run_vectors: the RTL of $FLIST is refused" >&2; exit 2; }
+    PARAMS=$(printf '%s\n' "$INFO" | sed -n '/"parameters": \[/,/\]/p' | grep -o '"[A-Z_0-9]*"' | tr -d '"' | tr '\n' ' ')
+    INST_DIR="${PMU50_BUILD_DIR:-$HDL/build}/iv/inst_$(printf '%s' "$PARAMS" | md5sum | cut -c1-8)"
+    mkdir -p "$INST_DIR"
+    {
+        P=""; for n in $PARAMS; do P="$P${P:+, }.$n($n)"; done
+        C=""; for n in clk rst_n ig vs2_ok cmp_s cmp_c bus_we bus_addr bus_wdata sig vr_hi vm_en vs1_en vs2_en vp_en rail_hi st sr ps_win smp cs cc cnt_s cnt_c cnt_r si hist_s hist_c diag quadrant_skip bus_rdata bus_err; do C="$C${C:+, }.$n($n)"; done
+        if [ -n "$P" ]; then echo "    pmu50 #($P) dut ($C);"; else echo "    pmu50 dut ($C);"; fi
+    } > "$INST_DIR/tb_dut_inst.vh"
+    ARGS+=("-DTB_DUT_INST" "-I$INST_DIR")
+fi
 KEY=$(printf '%s\n' "${ARGS[@]}" "${RTL[@]}" | md5sum | cut -c1-12)
 DIR="${PMU50_BUILD_DIR:-$HDL/build}/iv/$MUT"
 VVP="$DIR/$KEY.vvp"

@@ -96,6 +96,65 @@ impl Observer for InputRecorder {
     }
 }
 
+/// A vector file's stimulus (docs/spec.md 6.2): its parameters, clock and scenario name, and the
+/// inputs of every tick packed ([`pack`]). The expected-output columns are not read: the model
+/// computes them.
+pub struct VectorInputs {
+    pub params: Params,
+    pub clock_ns: u64,
+    pub scenario: String,
+    pub inputs: Vec<u32>,
+}
+
+/// Read a vector file's header and input columns; an error names the line.
+pub fn read_vector_inputs(path: &Path) -> Result<VectorInputs, String> {
+    use std::io::BufRead;
+    if let Some(kind) = crate::atomic_file::special_kind(path) {
+        return Err(format!("{}: is {kind}, not a vector file", path.display()));
+    }
+    let f = std::fs::File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut v = VectorInputs { params: Params::default(), clock_ns: 10_000, scenario: "?".into(), inputs: Vec::new() };
+    let mut ticks = None;
+    for (n, line) in std::io::BufReader::new(f).lines().enumerate() {
+        let line = line.map_err(|e| format!("{}:{}: {e}", path.display(), n + 1))?;
+        let l = line.trim();
+        if l.is_empty() {
+            continue;
+        }
+        if let Some(h) = l.strip_prefix("//") {
+            let w: Vec<&str> = h.split_whitespace().collect();
+            match w.as_slice() {
+                ["param", "CLOCK_US", x] => v.clock_ns = x.parse::<u64>().map_err(|e| format!("{}:{}: CLOCK_US {x}: {e}", path.display(), n + 1))? * 1000,
+                ["param", name, x] => {
+                    let x: u64 = x.parse().map_err(|e| format!("{}:{}: param {name} {x}: {e}", path.display(), n + 1))?;
+                    v.params.set_hdl_parameter(name, x).map_err(|e| format!("{}:{}: {e}", path.display(), n + 1))?;
+                }
+                ["clock_ns", x] => v.clock_ns = x.parse().map_err(|e| format!("{}:{}: clock_ns {x}: {e}", path.display(), n + 1))?,
+                ["scenario", x] => v.scenario = x.to_string(),
+                ["ticks", x] => ticks = x.parse::<u64>().ok(),
+                _ => {}
+            }
+            continue;
+        }
+        let f: Vec<u64> = l.split_whitespace().take(signals::N_INPUTS).map(|x| u64::from_str_radix(x, 16)).collect::<Result<_, _>>().map_err(|e| format!("{}:{}: not a vector line: {e}", path.display(), n + 1))?;
+        if f.len() < signals::N_INPUTS {
+            return Err(format!("{}:{}: {} fields, a vector line has {} inputs and the outputs", path.display(), n + 1, f.len(), signals::N_INPUTS));
+        }
+        if v.inputs.len() >= MAX_TICKS {
+            return Err(too_long().to_string());
+        }
+        let i = Inputs { ig: f[0] & 1 != 0, vs2_ok: f[1] & 1 != 0, cmp_s: f[2] & 1 != 0, cmp_c: f[3] & 1 != 0, bus_we: f[4] & 1 != 0, bus_addr: f[5] as u8, bus_wdata: f[6] as u16 };
+        v.inputs.push(pack(&i));
+    }
+    if let Some(t) = ticks {
+        if t != v.inputs.len() as u64 {
+            return Err(format!("{}: {} vector lines, the header says ticks {t}", path.display(), v.inputs.len()));
+        }
+    }
+    v.params.validate().map_err(|e| format!("{}: illegal parameters: {e}", path.display()))?;
+    Ok(v)
+}
+
 // ------------------------------------------------------------------------------------------
 // the worker
 

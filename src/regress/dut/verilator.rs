@@ -483,6 +483,22 @@ impl Drop for VerilatorDut {
     }
 }
 
+impl VerilatorDut {
+    /// Step the model and the RTL on `inputs` with parameters `p` in a DUT worker (`pmu50
+    /// lockstep`, the method 2 of hdl/cosim.sh): the worker's answer.
+    pub fn lockstep_inputs(&self, p: &Params, inputs: &[u32], timeout: Duration) -> Result<Answer, DutError> {
+        let lib = self.library(p)?;
+        let mut w = Worker::spawn(self.scratch.path()).map_err(tool_err)?;
+        w.run(Request::Lockstep, &lib, p, inputs, timeout).map_err(tool_err)
+    }
+
+    /// How many registers and internals the map compares.
+    pub fn mapped_counts(&self) -> (usize, usize) {
+        let regs = self.mapped.iter().filter(|(e, _)| signals::REGISTERS.iter().any(|r| r.path() == e.model)).count();
+        (regs, self.mapped.len() - regs)
+    }
+}
+
 /// The library of an RTL for one parameter set, built (or taken from the cache) as a regression
 /// would: for `make bench`'s peer row and the tests.
 pub fn library_for(list: &Path, p: &Params) -> Result<PathBuf, DutError> {
