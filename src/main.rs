@@ -556,7 +556,7 @@ fn main() -> ExitCode {
         Cmd::DutWorker => pmu50::regress::lockstep::worker_main() as u8,
         Cmd::RtlMap { rtl, output } => cmd_rtl_map(&rtl, output.as_deref()),
         Cmd::Lockstep { file, rtl, map, defines, timeout } => cmd_lockstep(&file, rtl.as_deref(), map.as_deref(), &defines, timeout),
-        Cmd::RtlInfo { rtl } => match pmu50::regress::dut::verilator::VerilatorDut::prepare(&rtl, None, Default::default(), 1) {
+        Cmd::RtlInfo { rtl } => match pmu50::regress::dut::verilator::VerilatorDut::prepare(&rtl, None, Default::default()) {
             Ok(d) => {
                 use pmu50::regress::dut::Dut;
                 let fixed: serde_json::Map<String, serde_json::Value> = d.fixed().values.iter().map(|(n, v)| (n.clone(), serde_json::Value::from(*v))).collect();
@@ -652,7 +652,7 @@ fn cmd_regress(a: RegressArgs) -> u8 {
             Err(_) => return 2,
         };
         let spec = RunSpec { tool, model, start_seed: 0, iterations: 0, directed: false, check_spec: a.check_spec, dut: dut.clone(), rtl, map, fixed: Default::default(), pins: a.pins, shard: None };
-        let d = match regress::dut::prepare(&spec, 1) {
+        let d = match regress::dut::prepare(&spec) {
             Ok(d) => d,
             Err(e) => return fail(e.to_string()),
         };
@@ -702,7 +702,7 @@ fn cmd_regress(a: RegressArgs) -> u8 {
     // build is bad input (exit 2), and what it fixes goes into the run's record.
     let t0 = Instant::now();
     let mut spec = spec;
-    let d = match regress::dut::prepare(&spec, jobs) {
+    let d = match regress::dut::prepare(&spec) {
         Ok(d) => d,
         Err(e) => return fail(e.to_string()),
     };
@@ -766,7 +766,7 @@ fn cmd_lockstep(file: &Path, rtl: Option<&Path>, map: Option<&Path>, defines: &[
         Ok(m) => m,
         Err(e) => return fail(e.to_string()),
     };
-    let d = match VerilatorDut::prepare(&list, map, Default::default(), 1) {
+    let d = match VerilatorDut::prepare(&list, map, Default::default()) {
         Ok(d) => d,
         Err(e) => return fail(e.to_string()),
     };

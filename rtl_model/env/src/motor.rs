@@ -148,11 +148,6 @@ impl MotorProfile {
         })
     }
 
-    /// Builds a profile from its scenario-file form.
-    pub fn from_config(cfg: &MotorConfig) -> Result<Self, MotorError> {
-        Self::new(cfg.start_deg, cfg.segments.clone())
-    }
-
     /// A shaft that never moves.
     pub fn constant(angle_deg: f64) -> Result<Self, MotorError> {
         Self::new(angle_deg, Vec::new())

@@ -50,7 +50,7 @@ impl IcarusDut {
             return Err(RtlError::NoTool { list: fl.list.clone(), tool: "iverilog", package: "iverilog" }.into());
         }
         // The analysis (ports, parameters, what the RTL fixes) is Verilator's.
-        let v = VerilatorDut::prepare(list, None, pins, 1)?;
+        let v = VerilatorDut::prepare(list, None, pins)?;
         let (top_params, fixed, notes) = (v.top_param_names(), v.fixed().clone(), v.notes());
         drop(v);
         let scratch = tempfile::Builder::new().prefix("pmu50-iv.").tempdir().map_err(|e| DutError::Tool(format!("a scratch folder: {e}")))?;

@@ -113,7 +113,7 @@ impl InFlight for Ready {
 
 /// The DUT of a run spec: the model, or the RTL (`spec.rtl`, default the twin) on a simulator,
 /// with an optional map. The RTL is analysed and built here: bad input fails now.
-pub fn prepare(spec: &RunSpec, jobs: usize) -> Result<Box<dyn Dut>, DutError> {
+pub fn prepare(spec: &RunSpec) -> Result<Box<dyn Dut>, DutError> {
     let map = match &spec.map {
         Some(m) => Some(super::map::RtlMap::read(Path::new(m))?),
         None => None,
@@ -129,7 +129,7 @@ pub fn prepare(spec: &RunSpec, jobs: usize) -> Result<Box<dyn Dut>, DutError> {
             }
             Ok(Box::new(model::ModelDut::default()))
         }
-        DutKind::Verilator => Ok(Box::new(verilator::VerilatorDut::prepare(&list, map, spec.pins, jobs)?)),
+        DutKind::Verilator => Ok(Box::new(verilator::VerilatorDut::prepare(&list, map, spec.pins)?)),
         DutKind::Icarus => {
             if map.is_some() {
                 return Err(DutError::Usage("--map is compared by the Verilator lockstep: use --dut verilator (the Icarus replay compares the ports)".into()));

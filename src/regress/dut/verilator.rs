@@ -78,7 +78,7 @@ impl VerilatorDut {
     /// Analyse the RTL of `list` (ports, parameters, hierarchy), check it against the contract,
     /// learn what it fixes, check the map, and build the library of its default parameters:
     /// every way an RTL can be bad input fails here, before any seed.
-    pub fn prepare(list: &Path, map: Option<RtlMap>, pins: Pins, _jobs: usize) -> Result<VerilatorDut, DutError> {
+    pub fn prepare(list: &Path, map: Option<RtlMap>, pins: Pins) -> Result<VerilatorDut, DutError> {
         let fl = FileList::read(list)?;
         if !rtl::have_tool("verilator") || !rtl::have_tool("g++") {
             return Err(RtlError::NoTool { list: fl.list.clone(), tool: if rtl::have_tool("verilator") { "g++" } else { "verilator" }, package: if rtl::have_tool("verilator") { "g++" } else { "verilator" } }.into());
@@ -502,6 +502,6 @@ impl VerilatorDut {
 /// The library of an RTL for one parameter set, built (or taken from the cache) as a regression
 /// would: for `make bench`'s peer row and the tests.
 pub fn library_for(list: &Path, p: &Params) -> Result<PathBuf, DutError> {
-    let d = VerilatorDut::prepare(list, None, Pins::default(), 1)?;
+    let d = VerilatorDut::prepare(list, None, Pins::default())?;
     d.library(&d.fixed.apply(p))
 }
