@@ -215,3 +215,36 @@ fn an_interrupted_regression_leaves_no_process_and_no_scratch() {
     let left: Vec<String> = std::fs::read_dir(&scratch).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert!(left.is_empty(), "the scratch folders are removed: {left:?}");
 }
+
+#[test]
+fn a_second_run_takes_every_build_from_the_cache() {
+    let t = tmp("cache");
+    let cache = t.join("cache");
+    let list = fixed_twin(&t.join("rtl"));
+    let run = |out: &str| {
+        let o = std::process::Command::new(BIN)
+            .args(["regress", "--iterations", "2", "--dut", "verilator", "--no-triage", "--rtl", s(&list), "--out", s(&t.join(out))])
+            .env("PMU50_CACHE_DIR", &cache)
+            .output()
+            .unwrap();
+        expect(&o, 0, &["2 seeds, 2 pass"]);
+    };
+    let libs = || -> Vec<(PathBuf, std::time::SystemTime)> {
+        let mut v = Vec::new();
+        for d in std::fs::read_dir(cache.join("verilator")).unwrap().flatten() {
+            for b in std::fs::read_dir(d.path()).into_iter().flatten().flatten() {
+                let lib = b.path().join("libpmu50_dut.so");
+                if let Ok(m) = std::fs::metadata(&lib) {
+                    v.push((lib, m.modified().unwrap()));
+                }
+            }
+        }
+        v.sort();
+        v
+    };
+    run("a");
+    let first = libs();
+    assert!(!first.is_empty(), "the run built its library into PMU50_CACHE_DIR");
+    run("b");
+    assert_eq!(libs(), first, "the second run built nothing");
+}

@@ -283,7 +283,8 @@ impl VerilatorDut {
         ld.args(["-shared", "-Wl,--exclude-libs,ALL", "-o"]).arg(tmp.path().join("libpmu50_dut.so")).arg(obj.join("unity.o")).arg(&runtime).args(["-lpthread", "-ldl", "-lm"]);
         step(&mut ld, "g++ (link)")?;
         // every file Verilator read, with a hash of each (`include`d files too)
-        let mut deps = verilator_deps(&obj.join("Vpmu50__ver.d"), &self.verilator_root);
+        // (the configuration file of the map is in the build folder, and in the key)
+        let mut deps: Vec<PathBuf> = verilator_deps(&obj.join("Vpmu50__ver.d"), &self.verilator_root).into_iter().filter(|p| !p.starts_with(tmp.path())).collect();
         deps.extend(self.list.files.iter().cloned());
         super::write_record(&tmp.path().join("deps.txt"), &deps);
         let _ = std::fs::remove_dir_all(&obj);
