@@ -227,7 +227,7 @@ pub fn elaborate_cached(fl: &FileList, gparams: &[(String, u64)], work: &Path, c
     let key: String = gparams.iter().map(|(n, v)| format!("{n}={v};")).collect();
     let stem = cache.join(format!("design-{:016x}", crate::regress::dut::fnv(&[key.as_bytes()])));
     let (xml, record) = (stem.with_extension("xml"), stem.with_extension("deps"));
-    if let (Ok(text), true) = (std::fs::read_to_string(&xml), crate::regress::dut::files_unchanged(&record)) {
+    if let (true, Ok(text)) = (crate::regress::dut::files_unchanged(&record), std::fs::read_to_string(&xml)) {
         if let Ok(d) = parse_xml(&text) {
             return Ok(d);
         }

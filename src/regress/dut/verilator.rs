@@ -50,7 +50,8 @@ pub struct VerilatorDut {
     map_key: String,
     /// The cache folder of this RTL (its files' paths and contents).
     root: PathBuf,
-    verilator_root: PathBuf,
+    /// Verilator's installation (its runtime's sources), looked up at the first build.
+    verilator_root: OnceLock<Result<PathBuf, String>>,
     builds: Mutex<HashMap<String, Slot>>,
     /// Structural pairs whose ports were checked against the contract.
     checked: Mutex<HashMap<(u8, u8), Result<(), String>>>,
@@ -80,9 +81,6 @@ impl VerilatorDut {
     /// every way an RTL can be bad input fails here, before any seed.
     pub fn prepare(list: &Path, map: Option<RtlMap>, pins: Pins) -> Result<VerilatorDut, DutError> {
         let fl = FileList::read(list)?;
-        if !rtl::have_tool("verilator") || !rtl::have_tool("g++") {
-            return Err(RtlError::NoTool { list: fl.list.clone(), tool: if rtl::have_tool("verilator") { "g++" } else { "verilator" }, package: if rtl::have_tool("verilator") { "g++" } else { "verilator" } }.into());
-        }
         let scratch = tempfile::Builder::new().prefix("pmu50-dut.").tempdir().map_err(|e| tool_err(format!("a scratch folder: {e}")))?;
         lockstep::register_scratch(scratch.path());
         let mut key_parts: Vec<Vec<u8>> = Vec::new();
@@ -95,7 +93,6 @@ impl VerilatorDut {
         std::fs::create_dir_all(&root).map_err(|e| tool_err(format!("{}: {e}", root.display())))?;
         let design = rtl::elaborate_cached(&fl, &[], &scratch.path().join("xml"), &root)?;
         let top_params: Vec<(&'static str, u64)> = HDL_NAMES.iter().filter_map(|n| design.param(n).map(|v| (*n, v.max(0) as u64))).collect();
-        let verilator_root = Command::new("verilator").arg("--getenv").arg("VERILATOR_ROOT").output().ok().map(|o| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim())).filter(|p| p.join("include/verilated.cpp").is_file()).ok_or_else(|| tool_err("verilator --getenv VERILATOR_ROOT names no folder with include/verilated.cpp"))?;
         let mut dut = VerilatorDut {
             list: fl.clone(),
             top_params,
@@ -103,7 +100,7 @@ impl VerilatorDut {
             mapped: Vec::new(),
             map_key: String::new(),
             root,
-            verilator_root,
+            verilator_root: OnceLock::new(),
             builds: Mutex::new(HashMap::new()),
             checked: Mutex::new(HashMap::new()),
             workers: Mutex::new(Vec::new()),
@@ -234,7 +231,7 @@ impl VerilatorDut {
     /// A build for these `-G` values: from the cache, or built now (once for all jobs).
     fn build(&self, g: &[(String, u64)]) -> Result<PathBuf, String> {
         let gtext: String = g.iter().map(|(n, v)| format!("{n}={v};")).collect();
-        let key = format!("{:016x}", fnv(&[gtext.as_bytes(), self.map_key.as_bytes(), DUT_LIB_CPP.as_bytes(), CXXFLAGS.join(" ").as_bytes(), self.verilator_root.as_os_str().as_encoded_bytes()]));
+        let key = format!("{:016x}", fnv(&[gtext.as_bytes(), self.map_key.as_bytes(), DUT_LIB_CPP.as_bytes(), CXXFLAGS.join(" ").as_bytes()]));
         let slot = self.builds.lock().unwrap_or_else(|e| e.into_inner()).entry(key.clone()).or_default().clone();
         slot.get_or_init(|| self.build_now(&key, g)).clone()
     }
@@ -245,6 +242,12 @@ impl VerilatorDut {
         if lib.is_file() && super::files_unchanged(&dir.join("deps.txt")) {
             return Ok(lib);
         }
+        for tool in ["verilator", "g++"] {
+            if !rtl::have_tool(tool) {
+                return Err(format!("`{tool}` is not installed (Debian package {tool}; `make deps` installs it)"));
+            }
+        }
+        let vroot = self.vroot()?;
         let _ = std::fs::remove_dir_all(&dir);
         let (pch, runtime) = self.runtime()?;
         let tmp = tempfile::Builder::new().prefix(".build-").tempdir_in(&self.root).map_err(|e| format!("{}: {e}", self.root.display()))?;
@@ -275,7 +278,7 @@ impl VerilatorDut {
             unity.push_str(&format!("#include \"{f}\"\n"));
         }
         std::fs::write(obj.join("unity.cpp"), unity).map_err(|e| e.to_string())?;
-        let inc = self.verilator_root.join("include");
+        let inc = vroot.join("include");
         let mut cc = Command::new("g++");
         cc.args(CXXFLAGS).arg(format!("-I{}", inc.display())).arg(format!("-I{}", inc.join("vltstd").display())).arg(format!("-I{}", obj.display())).arg("-include").arg(&pch).arg("-c").arg(obj.join("unity.cpp")).arg("-o").arg(obj.join("unity.o"));
         step(&mut cc, "g++ (the Verilator model)")?;
@@ -284,7 +287,7 @@ impl VerilatorDut {
         step(&mut ld, "g++ (link)")?;
         // every file Verilator read, with a hash of each (`include`d files too)
         // (the configuration file of the map is in the build folder, and in the key)
-        let mut deps: Vec<PathBuf> = verilator_deps(&obj.join("Vpmu50__ver.d"), &self.verilator_root).into_iter().filter(|p| !p.starts_with(tmp.path())).collect();
+        let mut deps: Vec<PathBuf> = verilator_deps(&obj.join("Vpmu50__ver.d"), &vroot).into_iter().filter(|p| !p.starts_with(tmp.path())).collect();
         deps.extend(self.list.files.iter().cloned());
         super::write_record(&tmp.path().join("deps.txt"), &deps);
         let _ = std::fs::remove_dir_all(&obj);
@@ -305,10 +308,27 @@ impl VerilatorDut {
 
     /// The precompiled header of the Verilator runtime and the runtime itself (compiled once
     /// per Verilator installation and flags).
+    /// Verilator's installation folder (`verilator --getenv VERILATOR_ROOT`, once).
+    fn vroot(&self) -> Result<PathBuf, String> {
+        self.verilator_root
+            .get_or_init(|| {
+                Command::new("verilator")
+                    .arg("--getenv")
+                    .arg("VERILATOR_ROOT")
+                    .output()
+                    .ok()
+                    .map(|o| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()))
+                    .filter(|p| p.join("include/verilated.cpp").is_file())
+                    .ok_or_else(|| "verilator --getenv VERILATOR_ROOT names no folder with include/verilated.cpp".to_string())
+            })
+            .clone()
+    }
+
     fn runtime(&self) -> Result<(PathBuf, PathBuf), String> {
         static DONE: OnceLock<Result<(PathBuf, PathBuf), String>> = OnceLock::new();
+        let vroot = self.vroot()?;
         DONE.get_or_init(|| {
-            let key = format!("{:016x}", fnv(&[self.verilator_root.as_os_str().as_encoded_bytes(), CXXFLAGS.join(" ").as_bytes(), &std::fs::metadata(self.verilator_root.join("include/verilated.h")).map(|m| m.len().to_le_bytes()).unwrap_or_default()]));
+            let key = format!("{:016x}", fnv(&[vroot.as_os_str().as_encoded_bytes(), CXXFLAGS.join(" ").as_bytes(), &std::fs::metadata(vroot.join("include/verilated.h")).map(|m| m.len().to_le_bytes()).unwrap_or_default()]));
             let dir = super::cache_dir().join("verilator").join(format!("_runtime_{key}"));
             let (pch, rt) = (dir.join("pre.h"), dir.join("libvlrt.a"));
             if dir.join("pre.h.gch").is_file() && rt.is_file() {
@@ -316,7 +336,7 @@ impl VerilatorDut {
             }
             std::fs::create_dir_all(super::cache_dir().join("verilator")).map_err(|e| e.to_string())?;
             let tmp = tempfile::Builder::new().prefix(".runtime-").tempdir_in(super::cache_dir().join("verilator")).map_err(|e| e.to_string())?;
-            let inc = self.verilator_root.join("include");
+            let inc = vroot.join("include");
             let flags = |c: &mut Command| {
                 c.args(CXXFLAGS).arg(format!("-I{}", inc.display())).arg(format!("-I{}", inc.join("vltstd").display()));
             };
