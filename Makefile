@@ -183,7 +183,10 @@ UVM_SCENARIOS     ?=
 TEST_UVM_MAX_TICKS ?= 3000
 TEST_UVM_SCENARIOS ?= fig15a,fig16
 TEST_UVM_SEEDS     ?= 2
-uvm: deps python $(BIN)
+$(VENV)/.uvm: hdl/uvm/requirements.txt $(VENV)/.ready
+	$(PIP) install -q --no-deps -r hdl/uvm/requirements.txt
+	@touch $@
+uvm: deps python $(BIN) $(VENV)/.uvm
 	PMU50_UVM_SIM=$(SIM) PMU50_UVM_RTL=$(if $(RTL),$(abspath $(RTL))) PMU50_UVM_SEEDS=$(UVM_SEEDS) \
 	PMU50_UVM_REGRESS_SEEDS=$(UVM_REGRESS_SEEDS) PMU50_UVM_MAX_TICKS=$(UVM_MAX_TICKS) \
 	PMU50_UVM_SCENARIOS=$(UVM_SCENARIOS) $(VPY) -m pytest hdl/uvm -q

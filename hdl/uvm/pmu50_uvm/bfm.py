@@ -109,12 +109,15 @@ class Pmu50Bfm:
         return {n: read_value(self.h[n]) for n in names}
 
     async def reset_and_start(self) -> None:
-        """Inputs 0, ``rst_n`` low for half a period, released 3/4 period before the first
-        rising edge; then the clock (low first) starts: tick 0."""
+        """Inputs 0; ``rst_n`` high for a quarter period, then low for half a period (a falling
+        edge on every simulator: Verilator starts it at 0, not x), released 3/4 period before
+        the first rising edge; then the clock (low first) starts: tick 0."""
         for n in self.inputs:
             self.h[n].value = 0
-        self.dut.rst_n.value = 0
+        self.dut.rst_n.value = 1
         self.clk.value = 0
+        await Timer(self.half_ns // 2, unit="ns")
+        self.dut.rst_n.value = 0
         await Timer(self.half_ns, unit="ns")
         self.dut.rst_n.value = 1
         await Timer(self.half_ns - self.half_ns // 2, unit="ns")
