@@ -8,8 +8,9 @@ the contract ports, on Icarus or Verilator through cocotb, against pmu50.Core (d
 - test_regress_seed[seed]: the stimulus `pmu50 regress` runs for a seed (`pmu50 random --regress`);
 - test_coverage_merges: every run's coverage.json merged by `pmu50 merge`, with a model
   regression of two seeds beside them;
-- test_mutant_is_caught[*]: the mutants of hdl/mutants.txt the cocotb bench catches, each failing
-  the scoreboard with its first divergence (tick, signal, expected, got, FIG. path);
+- test_mutant_is_caught[*]: every mutant of hdl/mutants.txt (the six the cocotb bench catches
+  first), each failing the scoreboard with its first divergence (tick, signal, expected, got,
+  FIG. path);
 - test_fixed_parameters: an RTL whose top has other parameter values, and one without
   parameters, both read from the top (or defaulted) by the env;
 - test_verilator: the twin on Verilator (when the suite runs on Icarus).
@@ -23,6 +24,7 @@ Environment:
   PMU50_UVM_REGRESS_SEEDS  regression seeds (default 2)
   PMU50_UVM_MAX_TICKS  replay only the first N ticks of each scenario and regression seed (0: all)
   PMU50_UVM_SCENARIOS  comma-separated scenario names (default: every shipped one)
+  PMU50_UVM_MUTANTS    all (default) or cocotb (the six mutants the cocotb bench catches)
 Work files: target/uvm/ (builds per simulator, parameter set and mutant; results/).
 """
 
@@ -116,16 +118,28 @@ RANDOM_CONFIGS = [
     dict(sync_depth=4, cnt_width=8, adaptive=False, pw="20 us", pi="10 us", ps="10 us", min="60 us", x="200 us", t1="60 us", t2="30 us", cth=3, smp_on="50 us"),
 ]
 
-# The mutants the cocotb bench catches (hdl/cocotb/test_cocotb.py), with the random seed and
-# configuration that catch them here.
-MUTANTS = [
-    ("MUT_SMP_LATE", 1, 0),
-    ("MUT_SYNC_SHORT", 1, 0),
-    ("MUT_CNT_C_SIGN", 1, 0),
-    ("MUT_WRITE_KEY_OFF", 1, 0),
-    ("MUT_CTH_OFF_BY_ONE", 1, 0),
-    ("MUT_SR_IGNORES_VS2_OK", 1, 0),
+# Every mutant of hdl/mutants.txt, with the UVM test, seed and random configuration (None: the
+# model's defaults) that catch it. The first six are the ones the cocotb bench catches
+# (hdl/cocotb/test_cocotb.py); PMU50_UVM_MUTANTS=cocotb runs only those.
+COCOTB_MUTANTS = ["MUT_SMP_LATE", "MUT_SYNC_SHORT", "MUT_CNT_C_SIGN", "MUT_WRITE_KEY_OFF", "MUT_CTH_OFF_BY_ONE", "MUT_SR_IGNORES_VS2_OK"]
+ALL_MUTANTS = [(m, "RandomTest", 1, 0) for m in COCOTB_MUTANTS] + [
+    ("MUT_NO_S11", "RandomTest", 1, 0),
+    ("MUT_NO_CLAMP_MIN", "RandomTest", 1, 0),
+    ("MUT_KOFF_NO_RELOAD", "RandomTest", 1, 0),
+    ("MUT_KOFF_OLD_X", "RegisterTest", 0, None),
+    ("MUT_CNT_R_NO_RESET", "RandomTest", 1, 0),
+    ("MUT_CHG_C_IGNORED_WHEN_HIST_S", "RandomTest", 1, 0),
+    ("MUT_PRESET_Q3", "RegisterTest", 0, None),
+    ("MUT_DIAG_NO_SKIP", "RandomTest", 1, 0),
+    ("MUT_KON_NO_RESTART", "RandomTest", 1, 0),
+    ("MUT_PW_PI_ZERO_OK", "RandomTest", 1, 0),
+    ("MUT_WT_LEGAL_LE", "RandomTest", 1, 0),
+    ("MUT_CNT_READ_ZERO_EXT", "RandomTest", 1, 1),
 ]
+_which = os.environ.get("PMU50_UVM_MUTANTS") or "all"
+if _which not in ("all", "cocotb"):
+    raise ValueError(f"PMU50_UVM_MUTANTS={_which!r}: expected all or cocotb")
+MUTANTS = ALL_MUTANTS if _which == "all" else [m for m in ALL_MUTANTS if m[0] in COCOTB_MUTANTS]
 
 MISMATCH = re.compile(r"MISMATCH tick=(\d+) signal=(\w+) expected=(0x[0-9a-f]+) got=(\S+)")
 FAIL = re.compile(r"FAIL: first divergence at tick (\d+): pmu50\.(\w+) expected (0x[0-9a-f]+) got (\S+) \(FIG\. path (\S+)\)")
@@ -267,20 +281,27 @@ def test_coverage_merges(tmp_path: Path):
 twin_only = pytest.mark.skipif(RTL is not None, reason="the twin's mutants and wrappers: not for PMU50_UVM_RTL")
 
 
+def test_every_mutant_has_a_catcher():
+    listed = [line.split("|")[0].strip() for line in (HDL / "mutants.txt").read_text().splitlines() if line.startswith("MUT_")]
+    assert sorted(listed) == sorted(m[0] for m in ALL_MUTANTS)
+    assert set(COCOTB_MUTANTS) <= set(listed)
+
+
 @twin_only
-@pytest.mark.parametrize("mutant,seed,config", MUTANTS, ids=[m[0] for m in MUTANTS])
-def test_mutant_is_caught(mutant: str, seed: int, config: int):
-    assert re.search(rf"^{mutant}\s*\|", (HDL / "mutants.txt").read_text(), re.M), f"{mutant} is not in hdl/mutants.txt"
-    params = pmu50.Core(**RANDOM_CONFIGS[config]).hdl_parameters
+@pytest.mark.parametrize("mutant,test,seed,config", MUTANTS, ids=[m[0] for m in MUTANTS])
+def test_mutant_is_caught(mutant: str, test: str, seed: int, config: int | None):
+    params = pmu50.Core(**({} if config is None else RANDOM_CONFIGS[config])).hdl_parameters
     d = build(TWIN, params, mutant)
-    ok, msg, cov, failure = simulate(d, "RandomTest", f"mutant_{mutant}", f"uvm/mutant/{mutant}/{seed}", {"PMU50_SEED": str(seed), "PMU50_CYCLES": str(CYCLES)})
-    assert not ok, f"{mutant} escaped the scoreboard ({CYCLES} random cycles, seed {seed})"
-    assert json.loads(cov.read_text())["runs"] == [{"id": f"uvm/mutant/{mutant}/{seed}", "verdict": "fail"}]
+    run_id = f"uvm/mutant/{mutant}/{test}/{seed}"
+    ok, msg, cov, failure = simulate(d, test, f"mutant_{mutant}", run_id, {"PMU50_SEED": str(seed), "PMU50_CYCLES": str(CYCLES)})
+    assert not ok, f"{mutant} escaped the scoreboard ({test}, seed {seed}, {CYCLES} cycles)"
+    # a failing run writes its coverage up to the failing edge, with verdict "fail"
+    assert json.loads(cov.read_text())["runs"] == [{"id": run_id, "verdict": "fail"}]
     m = FAIL.search(msg)
     assert m and MISMATCH.search(msg), f"{mutant}: the failure does not name tick, signal, expected, got and FIG. path:\n{msg}"
     assert failure is not None and failure["tick"] == int(m.group(1)) and failure["signal"] == f"pmu50.{m.group(2)}", failure
     assert set(failure) == {"kind", "tick", "signal", "expected", "got", "block", "fig", "detail"}
-    print(f"{mutant}: caught at tick {m.group(1)}, signal {m.group(2)} (expected {m.group(3)}, got {m.group(4)}, FIG. path {m.group(5)})")
+    print(f"{mutant}: caught by {test} at tick {m.group(1)}, signal {m.group(2)} (expected {m.group(3)}, got {m.group(4)}, FIG. path {m.group(5)})")
 
 
 def wrapper(tmp: Path, params: dict | None) -> Path:

@@ -212,28 +212,31 @@ GRAY = [(1, 1), (1, 0), (0, 0), (0, 1)]
 
 
 def cmp_random(rng: random.Random, cycles: int) -> list[CmpItem]:
-    """The shaft turning (the comparator bits stepping through the quadrants in Gray order, both
-    ways, sometimes two quadrants at once: a skip), comparator noise of one tick, and Vs2 rail
-    faults (``vs2_ok`` low while enabled)."""
+    """The shaft moving like a motor: turns of a few quadrants in one direction or the other
+    (the comparator bits stepping in Gray order), each step held for a random time, sometimes
+    two quadrants at once (a skip if no sample falls between), stops; comparator noise of one
+    tick; and Vs2 rail faults (``vs2_ok`` low while enabled)."""
     items, total = [], 0
     q = rng.randrange(4)
     fault_left = 0
     while total < cycles:
-        r = rng.random()
-        if r < 0.6:
-            q = (q + 1) % 4
-        elif r < 0.85:
-            q = (q - 1) % 4
-        elif r < 0.92:
-            q = (q + 2) % 4  # half a turn between two samples: a quadrant skip if sampled so
-        if fault_left <= 0 and rng.random() < 0.08:
-            fault_left = rng.randint(5, 300)
-        s, c = GRAY[q]
-        n = rng.choice([rng.randint(1, 12), rng.randint(5, 120), rng.randint(50, 600)])
-        if rng.random() < 0.05:
-            # noise: one tick of a wrong sine bit
-            items.append(CmpItem("cmp", s ^ 1, c, None, fault_left > 0, 1))
-            total += 1
+        direction = rng.choice((1, -1))
+        fast = rng.random() < 0.3
+        for _ in range(rng.randint(1, 16)):
+            q = (q + direction * (2 if rng.random() < 0.06 else 1)) % 4
+            if fault_left <= 0 and rng.random() < 0.05:
+                fault_left = rng.randint(5, 300)
+            s, c = GRAY[q]
+            n = rng.randint(1, 12) if fast else rng.randint(5, 150)
+            if rng.random() < 0.04:
+                # noise: one tick of a wrong sine bit
+                items.append(CmpItem("cmp", s ^ 1, c, None, fault_left > 0, 1))
+                total += 1
+            items.append(CmpItem("cmp", s, c, None, fault_left > 0, n))
+            total += n
+            fault_left -= n
+        # the shaft stands still for a while
+        n = rng.randint(20, 800)
         items.append(CmpItem("cmp", s, c, None, fault_left > 0, n))
         total += n
         fault_left -= n
@@ -249,8 +252,10 @@ def bus_random(rng: random.Random, cycles: int, hdl: dict) -> list[BusItem]:
     writable = [n for n, (_, _, acc) in REG.items() if "RW" in acc]
     timing = [n for n in ("PW", "PI", "PS", "SI_MAX", "SI_MIN", "T1", "T2", "CTH", "SMP_ON") if n in REG and n in hdl]
     items, total = [], 0
+    counters = [REG[n][0] for n in ("CNT_S", "CNT_C", "CNT_R", "SI", "STATUS") if n in REG]
     while total < cycles:
-        addr = rng.choice(mapped) if rng.random() < 0.85 else rng.getrandbits(8)
+        r = rng.random()
+        addr = rng.choice(counters) if r < 0.3 else rng.choice(mapped) if r < 0.9 else rng.getrandbits(8)
         n = rng.randint(1, 40)
         items.append(BusItem.read(addr, n))
         total += n
@@ -303,7 +308,9 @@ class RegisterSeq(Pmu50VirtualSeq):
     3. illegal values (CTH = 0, PS = 0, SI_MIN above SI_MAX, SI_MAX below SI_MIN), read-only and
        unmapped addresses: each refused, ``bus_err`` set, cleared by STATUS bit 9 (W1C);
     4. a legal change of CTH and SMP_ON, read back;
-    5. the key off: a parameter write refused, STATUS read.
+    5. the key off, with SI_MAX written at every edge until ``sig`` falls (the write of the
+       key-off edge sets the x the interval starts from); then a parameter write refused.
+    The shaft stands in quadrant 3 (Cs = 0, Cc = 1), which the first sample presets.
     """
 
     def __init__(self):
@@ -332,10 +339,15 @@ class RegisterSeq(Pmu50VirtualSeq):
         bus += [BusItem.write(REG["CTH"][0], cfg["CTH"] + 1), rd(REG["CTH"][0]), BusItem.write(REG["SMP_ON"][0], cfg["SMP_ON"] + 2), rd(REG["SMP_ON"][0])]
         bus += [BusItem.write(status, (1 << 5) | (1 << 9)), rd(status)]
         on = sum(b.cycles for b in bus)
-        # key off: wait for sig to fall, then a refused write
-        bus += [BusItem.read(status, sd + 3), BusItem.write(REG["PW"][0], cfg["PW"]), rd(status), rd(REG["PW"][0])]
+        # key off: SI_MAX written with a new value at every edge until sig has fallen (the write
+        # of the key-off edge itself is accepted, and the interval starts at the new x), then
+        # a refused write
+        bus += [BusItem.write(REG["SI_MAX"][0], cfg["SI_MAX"] + 1 + k) for k in range(sd + 2)]
+        bus += [rd(REG["SI_MAX"][0]), rd(REG["SI"][0]), BusItem.write(REG["PW"][0], cfg["PW"]), rd(status), rd(REG["PW"][0])]
         total = sum(b.cycles for b in bus)
         self.ticks = total
         key = [KeyItem("key", 1, on), KeyItem("key", 0, total - on)]
-        cmp_ = [CmpItem("cmp", 1, 1, None, False, total)]
+        # the shaft still in quadrant 3 (Cs = 0, Cc = 1): the first sample presets the counters
+        # from it
+        cmp_ = [CmpItem("cmp", 0, 1, None, False, total)]
         return key, cmp_, bus
