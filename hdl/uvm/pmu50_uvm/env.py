@@ -62,6 +62,22 @@ class Predictor(uvm_component):
         self.bus_export = _Imp("bus_export", self, lambda t: self._join(2, t))
         self.ap = uvm_analysis_port("ap", self)
         self._pending: dict[int, list] = {}
+        # what the sequences sent, per agent and edge (``expect_stimulus``): the bench's own
+        # check that each driver applied each item on its edges
+        self._sent: list | None = None
+        self.stimulus_error: str | None = None
+
+    def expect_stimulus(self, key: list, cmp_: list, bus: list) -> None:
+        """The item lists of a run: the pins each edge must sample (``vs2_ok`` of a rail that
+        follows ``vs2_en`` is not known in advance and is not checked)."""
+
+        def expand(items, fields):
+            out = []
+            for it in items:
+                out.extend([tuple(getattr(it, f) for f in fields)] * it.cycles)
+            return out
+
+        self._sent = [expand(key, ("ig",)), expand(cmp_, ("cmp_s", "cmp_c", "vs2_ok")), expand(bus, ("we", "addr", "wdata"))]
 
     def reset_state(self):
         """The prediction of tick 0 (after reset)."""
@@ -74,10 +90,30 @@ class Predictor(uvm_component):
             return
         del self._pending[t.tick]
         inputs = {**parts[0], **parts[1], **parts[2]}
+        if self._sent is not None and self.stimulus_error is None:
+            self._check_sent(t.tick, inputs)
         if t.tick != self.core.tick + 1:
             raise RuntimeError(f"predictor: edge {t.tick} arrived after edge {self.core.tick}")
         tr = self.core.step_traced(**inputs)
         self.ap.write(Prediction(t.tick, inputs, tr.after, fig_path(tr.internals.fig17, tr.internals.fig18)))
+
+
+    def _check_sent(self, tick: int, inputs: dict) -> None:
+        k = tick - 1
+        key, cmp_, bus = (s[k] if k < len(s) else None for s in self._sent)
+        want = {}
+        if key is not None:
+            want["ig"] = key[0]
+        if cmp_ is not None:
+            want.update(cmp_s=cmp_[0], cmp_c=cmp_[1])
+            if cmp_[2] is not None:
+                want["vs2_ok"] = cmp_[2]
+        if bus is not None:
+            want.update(bus_we=bus[0], bus_addr=bus[1], bus_wdata=bus[2])
+        off = {n: (v, inputs[n]) for n, v in want.items() if inputs[n] != v}
+        if off:
+            self.stimulus_error = f"edge {tick} sampled inputs other than the sequences sent (pin: (sent, sampled)): {off}"
+            self.logger.error(self.stimulus_error)
 
 
 class Scoreboard(uvm_scoreboard):

@@ -59,6 +59,11 @@ class ItemListSeq(uvm_sequence):
         super().__init__(name)
         self.items = items
 
+    @staticmethod
+    def items_of(sub) -> list:
+        """The items of a sub-sequence: a list, or an ``ItemListSeq``."""
+        return sub if isinstance(sub, list) else sub.items
+
     async def body(self):
         for item in self.items:
             await self.start_item(item)

@@ -22,7 +22,7 @@ from pyuvm import ConfigDB, uvm_test
 
 from .bfm import Pmu50Bfm
 from .env import Mismatch, Pmu50Env
-from .sequences import Pmu50VirtualSeq, RandomSeq, RegisterSeq, RegressSeedSeq, ScenarioSeq, VectorSeq
+from .sequences import ItemListSeq, Pmu50VirtualSeq, RandomSeq, RegisterSeq, RegressSeedSeq, ScenarioSeq, VectorSeq
 
 
 def _env_int(name: str, default: int) -> int:
@@ -59,6 +59,7 @@ class Pmu50Test(uvm_test):
         subs = seq.make(self.bfm.hdl_parameters)
         ticks = seq.ticks
         self.ticks = ticks
+        self.env.predictor.expect_stimulus(*(ItemListSeq.items_of(x) for x in subs))
         await self.bfm.reset_and_start()
         self.env.predictor.reset_state()
         sb = self.env.scoreboard
@@ -78,6 +79,8 @@ class Pmu50Test(uvm_test):
     def check_phase(self):
         if self.error:
             raise AssertionError(self.error)
+        if self.env.predictor.stimulus_error:
+            raise AssertionError(self.env.predictor.stimulus_error)
 
 
 class RandomTest(Pmu50Test):
