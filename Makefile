@@ -172,9 +172,10 @@ cocotb: deps python $(BIN)
 ## pyuvm bench (hdl/uvm, docs/python.md "UVM"): key, comparator/Vs2 and register bus agents,
 ## pmu50.Core as predictor, a scoreboard on every output after every edge, pmu50.Coverage as
 ## coverage subscriber; the shipped scenarios, `pmu50 regress` seeds, random and register
-## sequences, the cocotb bench's mutants. SIM=icarus|verilator; RTL=path/to/list.f for your own
-## RTL (built as it is: the env reads the top's parameters, else takes the model's defaults).
-## UVM_MAX_TICKS=N replays only the first N ticks of each scenario and regression seed.
+## sequences, every mutant of hdl/mutants.txt (UVM_MUTANTS=cocotb: the six the cocotb bench
+## catches). SIM=icarus|verilator; RTL=path/to/list.f for your own RTL (built as it is: the env
+## reads the top's parameters, else takes the model's defaults). UVM_MAX_TICKS=N replays only
+## the first N ticks of each scenario and regression seed.
 SIM               ?= icarus
 UVM_SEEDS         ?= 3
 UVM_REGRESS_SEEDS ?= 2
