@@ -21,7 +21,7 @@ PY_TARGET := target
 PY_WHEELS := target/python/wheels
 PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
 
-.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb regress regress-smoke gls formal formal-quick formal-mutants regress-slurm test-slurm
+.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls formal formal-quick formal-mutants regress-slurm test-slurm
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -54,6 +54,7 @@ test: deps
 	$(MAKE) regress-smoke test-slurm
 	$(MAKE) gls GLS_SEEDS=$(TEST_GLS_SEEDS)
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=$(TEST_COCOTB_MAX_TICKS)
+	$(MAKE) uvm UVM_MAX_TICKS=$(TEST_UVM_MAX_TICKS) UVM_SCENARIOS=$(TEST_UVM_SCENARIOS) UVM_SEEDS=$(TEST_UVM_SEEDS) UVM_MUTANTS=cocotb
 	$(MAKE) formal-quick
 
 TEST_COSIM_RANDOM     ?= 40
@@ -67,6 +68,7 @@ test-long: deps
 	$(MAKE) cosim COSIM_RANDOM=200
 	$(MAKE) regress-smoke test-slurm gls
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
+	$(MAKE) uvm UVM_MAX_TICKS=0 UVM_SEEDS=12 UVM_REGRESS_SEEDS=8
 	$(MAKE) formal formal-mutants
 
 ## Random regression with functional coverage (docs/verification.md): SEEDS directed seeds of
@@ -177,6 +179,30 @@ pytest: python $(BIN)
 COCOTB_MAX_TICKS ?= 0
 cocotb: deps python $(BIN)
 	PMU50_COCOTB_MAX_TICKS=$(COCOTB_MAX_TICKS) $(if $(RTL),PMU50_COCOTB_RTL=$(abspath $(RTL))) $(VPY) -m pytest hdl/cocotb -q
+
+## pyuvm bench (hdl/uvm, docs/python.md "UVM"): key, comparator/Vs2 and register bus agents,
+## pmu50.Core as predictor, a scoreboard on every output after every edge, pmu50.Coverage as
+## coverage subscriber; the shipped scenarios, `pmu50 regress` seeds, random and register
+## sequences, every mutant of hdl/mutants.txt (UVM_MUTANTS=cocotb: the six the cocotb bench
+## catches). SIM=icarus|verilator; RTL=path/to/list.f for your own RTL (built as it is: the env
+## reads the top's parameters, else takes the model's defaults). UVM_MAX_TICKS=N replays only
+## the first N ticks of each scenario and regression seed.
+SIM               ?= icarus
+UVM_SEEDS         ?= 3
+UVM_REGRESS_SEEDS ?= 2
+UVM_MAX_TICKS     ?= 0
+UVM_SCENARIOS     ?=
+UVM_MUTANTS       ?= all
+TEST_UVM_MAX_TICKS ?= 3000
+TEST_UVM_SCENARIOS ?= fig15a,fig16
+TEST_UVM_SEEDS     ?= 2
+$(VENV)/.uvm: hdl/uvm/requirements.txt $(VENV)/.ready
+	$(PIP) install -q --no-deps -r hdl/uvm/requirements.txt
+	@touch $@
+uvm: deps python $(BIN) $(VENV)/.uvm
+	PMU50_UVM_SIM=$(SIM) PMU50_UVM_RTL=$(if $(RTL),$(abspath $(RTL))) PMU50_UVM_SEEDS=$(UVM_SEEDS) \
+	PMU50_UVM_REGRESS_SEEDS=$(UVM_REGRESS_SEEDS) PMU50_UVM_MAX_TICKS=$(UVM_MAX_TICKS) \
+	PMU50_UVM_SCENARIOS=$(UVM_SCENARIOS) PMU50_UVM_MUTANTS=$(UVM_MUTANTS) $(VPY) -m pytest hdl/uvm -q
 
 clean:
 	$(CARGO) clean
