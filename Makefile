@@ -21,7 +21,7 @@ PY_TARGET := target
 PY_WHEELS := target/python/wheels
 PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
 
-.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls formal formal-quick formal-mutants regress-slurm test-slurm
+.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls test-install formal formal-quick formal-mutants regress-slurm test-slurm
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -66,7 +66,7 @@ TEST_COCOTB_MAX_TICKS ?= 20000
 test-long: deps
 	PMU50_TEST_LONG=1 $(CARGO) test --workspace
 	$(MAKE) cosim COSIM_RANDOM=200
-	$(MAKE) regress-smoke test-slurm gls
+	$(MAKE) regress-smoke test-slurm gls test-install
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
 	$(MAKE) uvm UVM_MAX_TICKS=0 UVM_SEEDS=12 UVM_REGRESS_SEEDS=8
 	$(MAKE) formal formal-mutants
@@ -80,6 +80,12 @@ SEEDS ?= 2000
 DUT   ?= verilator
 regress: deps $(BIN)
 	$(BIN) regress --directed --iterations $(SEEDS) --dut $(DUT) $(if $(RTL),--rtl $(RTL) $(if $(MAP),--map $(MAP)),$(if $(filter verilator,$(DUT)),--map hdl/pmu50.map.toml)) --out regress_out/$(if $(RTL),rtl,twin)
+
+## An installed pmu50 without its checkout (hdl/install_test.sh): cargo install of a copy of the
+## checkout into target/install-test/prefix, the copy deleted, then run, hdl export and regress
+## --dut verilator from another folder.
+test-install: deps
+	bash hdl/install_test.sh
 
 ## Gate-level simulation (hdl/gls.sh): yosys synthesizes the twin to generic gates (synth
 ## -flatten, default parameters); GLS_SEEDS directed seeds of the netlist against the model must

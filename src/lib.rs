@@ -7,6 +7,7 @@
 pub mod analysis;
 pub mod atomic_file;
 pub mod fuzzing;
+pub mod hdl_kit;
 pub mod limits;
 pub mod observers;
 pub mod output;

@@ -284,6 +284,12 @@ enum Cmd {
         #[arg(long, default_value_t = 600.0)]
         timeout: f64,
     },
+    /// The HDL kit this binary carries (the twin, its file list and map, the mutants, the FuseSoC
+    /// core, the testbenches, the scripts, the formal kit).
+    Hdl {
+        #[command(subcommand)]
+        cmd: HdlCmd,
+    },
     /// What the regression reads of an RTL, as JSON: the top's parameters, the values it fixes
     /// (read back through the bus after reset) and the contract check. Exit 2 on a bad RTL.
     RtlInfo {
@@ -336,6 +342,17 @@ enum Cmd {
         /// Refuse (exit 2) a file larger than this many bytes (default 2 GiB).
         #[arg(long, default_value_t = DEFAULT_MAX_FILE_BYTES)]
         max_bytes: u64,
+    },
+}
+
+#[derive(Subcommand)]
+enum HdlCmd {
+    /// Write the kit into DIR, for an HDL team to take into its own repository. Refuses a DIR
+    /// that holds files unless --force.
+    Export {
+        dir: PathBuf,
+        #[arg(long)]
+        force: bool,
     },
 }
 
@@ -555,6 +572,29 @@ fn main() -> ExitCode {
         },
         Cmd::DutWorker => pmu50::regress::lockstep::worker_main() as u8,
         Cmd::RtlMap { rtl, output } => cmd_rtl_map(&rtl, output.as_deref()),
+        Cmd::Hdl { cmd: HdlCmd::Export { dir, force } } => {
+            if let Some(kind) = pmu50::atomic_file::special_kind(&dir) {
+                err!("error: {}: is {kind}, not a folder", dir.display());
+                2
+            } else if dir.exists() && !dir.is_dir() {
+                err!("error: {}: is a file, not a folder", dir.display());
+                2
+            } else if !force && std::fs::read_dir(&dir).map(|mut d| d.next().is_some()).unwrap_or(false) {
+                err!("error: {}: the folder holds files; give --force to write the kit into it (files of the kit are replaced, others kept)", dir.display());
+                2
+            } else {
+                match pmu50::hdl_kit::write(&dir) {
+                    Ok(n) => {
+                        out!("wrote the HDL kit ({n} files) into {}: the twin (pmu50.f), its map, the testbenches, the FuseSoC core pmu50.core, the formal kit", dir.display());
+                        0
+                    }
+                    Err(e) => {
+                        err!("error: {e}");
+                        2
+                    }
+                }
+            }
+        }
         Cmd::Lockstep { file, rtl, map, defines, timeout } => cmd_lockstep(&file, rtl.as_deref(), map.as_deref(), &defines, timeout),
         Cmd::RtlInfo { rtl } => match pmu50::regress::dut::verilator::VerilatorDut::prepare(&rtl, None, Default::default()) {
             Ok(d) => {

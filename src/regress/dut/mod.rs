@@ -139,10 +139,9 @@ pub fn prepare(spec: &RunSpec) -> Result<Box<dyn Dut>, DutError> {
     }
 }
 
-/// The repository's hdl/ folder (the twin's file list, the benches), found next to the sources
-/// this binary was built from, or in `PMU50_HDL_DIR`.
+/// The HDL kit (the twin's file list, the benches): [`crate::hdl_kit::hdl_dir`].
 pub fn hdl_dir() -> PathBuf {
-    std::env::var_os("PMU50_HDL_DIR").map(PathBuf::from).unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("hdl"))
+    crate::hdl_kit::hdl_dir()
 }
 
 /// Where builds of RTL under test go: `PMU50_CACHE_DIR`, or `$XDG_CACHE_HOME/pmu50`, or

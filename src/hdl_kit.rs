@@ -1,0 +1,130 @@
+//! The HDL kit the binary carries (hdl/ of the repository: the Verilog twin, its file list and
+//! map, the mutants, the FuseSoC core, the testbenches, the scripts and the formal kit), so that
+//! an installed `pmu50` works without the checkout it was built from:
+//! - [`hdl_dir`] is the checkout's hdl/ when it is there (or `PMU50_HDL_DIR`), else the kit
+//!   unpacked once into the cache folder;
+//! - `pmu50 hdl export DIR` writes it for an HDL team to take into its own repository.
+
+use std::path::{Path, PathBuf};
+
+/// Every file of the kit: its path below hdl/ and its text.
+pub const FILES: &[(&str, &str)] = &[
+    ("README.md", include_str!("../hdl/README.md")),
+    ("SYNTH.md", include_str!("../hdl/SYNTH.md")),
+    ("cosim.sh", include_str!("../hdl/cosim.sh")),
+    ("gls.sh", include_str!("../hdl/gls.sh")),
+    ("install_test.sh", include_str!("../hdl/install_test.sh")),
+    ("regress_smoke.sh", include_str!("../hdl/regress_smoke.sh")),
+    ("mutants.txt", include_str!("../hdl/mutants.txt")),
+    ("pmu50.core", include_str!("../hdl/pmu50.core")),
+    ("pmu50.f", include_str!("../hdl/pmu50.f")),
+    ("pmu50.map.toml", include_str!("../hdl/pmu50.map.toml")),
+    ("pmu50.v", include_str!("../hdl/pmu50.v")),
+    ("rtl/action_switching_56a.v", include_str!("../hdl/rtl/action_switching_56a.v")),
+    ("rtl/comparator_latch_58ab.v", include_str!("../hdl/rtl/comparator_latch_58ab.v")),
+    ("rtl/count_diagnosis.v", include_str!("../hdl/rtl/count_diagnosis.v")),
+    ("rtl/drive_interval_changing_56b.v", include_str!("../hdl/rtl/drive_interval_changing_56b.v")),
+    ("rtl/register_file.v", include_str!("../hdl/rtl/register_file.v")),
+    ("rtl/sensor_power_determination_57.v", include_str!("../hdl/rtl/sensor_power_determination_57.v")),
+    ("rtl/timing_generator_56.v", include_str!("../hdl/rtl/timing_generator_56.v")),
+    ("rtl/updown_counter_58cd.v", include_str!("../hdl/rtl/updown_counter_58cd.v")),
+    ("scenarios/hdl_bus.toml", include_str!("../hdl/scenarios/hdl_bus.toml")),
+    ("scripts/common.sh", include_str!("../hdl/scripts/common.sh")),
+    ("scripts/run_lockstep_dpi.sh", include_str!("../hdl/scripts/run_lockstep_dpi.sh")),
+    ("scripts/run_vectors.sh", include_str!("../hdl/scripts/run_vectors.sh")),
+    ("scripts/synth.sh", include_str!("../hdl/scripts/synth.sh")),
+    ("tb/tb_vectors.v", include_str!("../hdl/tb/tb_vectors.v")),
+    ("tb/lockstep/dut_lib.cpp", include_str!("../hdl/tb/lockstep/dut_lib.cpp")),
+    ("tb/lockstep/pmu50_dpi.c", include_str!("../hdl/tb/lockstep/pmu50_dpi.c")),
+    ("tb/lockstep/replay_main.cpp", include_str!("../hdl/tb/lockstep/replay_main.cpp")),
+    ("tb/lockstep/tb_lockstep_dpi.sv", include_str!("../hdl/tb/lockstep/tb_lockstep_dpi.sv")),
+    ("formal/pmu50.sby.j2", include_str!("../hdl/formal/pmu50.sby.j2")),
+    ("formal/pmu50_formal.sv", include_str!("../hdl/formal/pmu50_formal.sv")),
+    ("formal/requirements.txt", include_str!("../hdl/formal/requirements.txt")),
+    ("formal/run.py", include_str!("../hdl/formal/run.py")),
+];
+
+/// Scripts, written executable.
+fn executable(path: &str) -> bool {
+    path.ends_with(".sh") || path.ends_with(".py")
+}
+
+/// Where the HDL kit is: `PMU50_HDL_DIR`, the hdl/ folder of the checkout this binary was built
+/// from, or the carried kit unpacked into the cache folder (`PMU50_CACHE_DIR`,
+/// `$XDG_CACHE_HOME/pmu50`, `~/.cache/pmu50`).
+pub fn hdl_dir() -> PathBuf {
+    if let Some(d) = std::env::var_os("PMU50_HDL_DIR").filter(|v| !v.is_empty()) {
+        return PathBuf::from(d);
+    }
+    let checkout = Path::new(env!("CARGO_MANIFEST_DIR")).join("hdl");
+    if checkout.join("pmu50.f").is_file() {
+        return checkout;
+    }
+    let dir = crate::regress::dut::cache_dir().join(format!("hdl-{:016x}", key()));
+    if !dir.join("pmu50.f").is_file() {
+        let _ = write(&dir);
+    }
+    dir
+}
+
+/// A hash of the kit's contents (the name of its unpacked copy).
+fn key() -> u64 {
+    let parts: Vec<&[u8]> = FILES.iter().flat_map(|(p, t)| [p.as_bytes(), t.as_bytes()]).collect();
+    crate::regress::dut::fnv(&parts)
+}
+
+/// Write the kit into `dir` (created), each file atomically.
+pub fn write(dir: &Path) -> Result<usize, crate::atomic_file::OutputError> {
+    let mut batch = crate::atomic_file::Batch::new();
+    for (path, text) in FILES {
+        let dest = dir.join(path);
+        if let Some(parent) = dest.parent() {
+            crate::atomic_file::create_dir(parent)?;
+        }
+        batch.add(crate::atomic_file::write_atomic(&dest, text.as_bytes())?);
+    }
+    batch.commit()?;
+    for (path, _) in FILES.iter().filter(|(p, _)| executable(p)) {
+        use std::os::unix::fs::PermissionsExt;
+        let _ = std::fs::set_permissions(dir.join(path), std::fs::Permissions::from_mode(0o755));
+    }
+    Ok(FILES.len())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The kit carries every file of the kit's folders that git tracks (a file added to hdl/
+    /// and not to [`FILES`] fails here), and each is the file on disk.
+    #[test]
+    fn the_kit_carries_every_tracked_file_of_hdl() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let out = std::process::Command::new("git").args(["ls-files", "hdl"]).current_dir(root).output();
+        let Ok(out) = out else { return };
+        if !out.status.success() {
+            return; // not a git checkout (a packaged source): nothing to compare with
+        }
+        let tracked: Vec<String> = String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .map(|l| l.trim_start_matches("hdl/").to_string())
+            .filter(|p| !["ffi/", "cocotb/", "uvm/", "bench/"].iter().any(|x| p.starts_with(x)))
+            .collect();
+        let carried: Vec<&str> = FILES.iter().map(|(p, _)| *p).collect();
+        for t in &tracked {
+            assert!(carried.contains(&t.as_str()), "hdl/{t} is tracked but not carried by src/hdl_kit.rs");
+        }
+        for (p, text) in FILES {
+            assert_eq!(std::fs::read_to_string(root.join("hdl").join(p)).unwrap(), *text, "hdl/{p}");
+        }
+    }
+
+    #[test]
+    fn an_exported_kit_has_the_twin_and_executable_scripts() {
+        let d = tempfile::tempdir().unwrap();
+        assert_eq!(write(d.path()).unwrap(), FILES.len());
+        assert!(d.path().join("rtl/register_file.v").is_file());
+        use std::os::unix::fs::PermissionsExt;
+        assert_ne!(std::fs::metadata(d.path().join("gls.sh")).unwrap().permissions().mode() & 0o111, 0);
+    }
+}
