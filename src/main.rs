@@ -825,7 +825,7 @@ fn cmd_lockstep(file: &Path, rtl: Option<&Path>, map: Option<&Path>, defines: &[
             1
         }
         Ok(lockstep::Answer::Reply(lockstep::Reply::Error { reason })) => fail(reason),
-        Ok(lockstep::Answer::Reply(lockstep::Reply::Probe { .. })) => fail("the DUT worker answered a probe".into()),
+        Ok(lockstep::Answer::Reply(lockstep::Reply::Probe { .. } | lockstep::Reply::Trace { .. })) => fail("the DUT worker answered another request".into()),
         Ok(lockstep::Answer::TimedOut) => {
             out!("LOCKSTEP FAIL {} (scenario {}): the DUT did not finish within {timeout} s", file.display(), v.scenario);
             1

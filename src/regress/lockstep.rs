@@ -18,7 +18,8 @@
 //! Protocol (pipes, little-endian): request = magic `PMU6`, the kind ([`Request`], one byte),
 //! path length (u32) and the library's path, the 12 HDL parameters (u64 each, in the order of
 //! [`Params::hdl_parameters`]), the tick count (u64) and one packed input word (u32, [`pack`])
-//! per tick. Reply = one line of JSON, a [`Reply`]. The worker writes its replies on its own
+//! per tick (a trace request then the first and last edge, u64 each). Reply = one line of JSON,
+//! a [`Reply`]. The worker writes its replies on its own
 //! copy of stdout and sends the RTL's stdout (`$display`) to stderr, a log file kept to its last
 //! [`LOG_KEEP`] bytes: nothing the RTL prints can be taken for a verdict.
 
@@ -285,6 +286,9 @@ pub enum Reply {
     Diverged { tick: u64, combinational: bool, mismatches: Vec<Mismatch> },
     /// `bus_rdata` after each tick of a probe.
     Probe { rdata: Vec<u64> },
+    /// The RTL's values after each edge `from..=to` of a trace: for each, the output ports in
+    /// table order, then the mapped registers (`regs` names them).
+    Trace { from: u64, regs: Vec<String>, values: Vec<Vec<u64>> },
     /// The request could not be run (the library, the parameters).
     Error { reason: String },
 }
@@ -435,6 +439,33 @@ fn probe(lib: &DutLib, inputs: &[u32]) -> Reply {
     Reply::Probe { rdata: v }
 }
 
+/// Step the RTL alone on `inputs` and return its outputs and mapped registers after each edge
+/// `from..=to` (edge 0: after reset).
+fn trace(lib: &DutLib, inputs: &[u32], from: u64, to: u64) -> Reply {
+    let dut = Handle::new(lib);
+    let (mut x, mut out, mut regs) = ([0u64; signals::N_INTERNALS], [0u64; signals::N_OUTPUTS], [0u64; signals::N_REGISTERS]);
+    let nr = lib.regs.len();
+    let mut values = Vec::new();
+    let mut keep = |edge: u64, out: &[u64], regs: &[u64]| {
+        if (from..=to).contains(&edge) {
+            values.push(out.iter().chain(&regs[..nr]).copied().collect::<Vec<u64>>());
+        }
+    };
+    // SAFETY: arrays of at least the library's counts (checked at load).
+    unsafe { (lib.state)(dut.1, out.as_mut_ptr(), regs.as_mut_ptr()) };
+    keep(0, &out, &regs);
+    for (k, &w) in inputs.iter().enumerate() {
+        if k as u64 >= to {
+            break;
+        }
+        let (_, word) = input_words(w);
+        // SAFETY: as above.
+        unsafe { (lib.tick)(dut.1, word.as_ptr(), x.as_mut_ptr(), out.as_mut_ptr(), regs.as_mut_ptr()) };
+        keep(k as u64 + 1, &out, &regs);
+    }
+    Reply::Trace { from, regs: lib.regs.iter().map(|&j| signals::REGISTERS[j].path()).collect(), values }
+}
+
 fn read_exact<R: Read>(r: &mut R, n: usize) -> std::io::Result<Vec<u8>> {
     let mut b = vec![0u8; n];
     r.read_exact(&mut b)?;
@@ -452,6 +483,9 @@ pub enum Request {
     Lockstep = 0,
     /// Step the RTL alone and return `bus_rdata` after each tick.
     Probe = 1,
+    /// Step the RTL alone and return its outputs and mapped registers after each edge of a
+    /// window (the picture of a failure).
+    Trace = 2,
 }
 
 /// `pmu50 dut-worker`: serve requests on stdin until it closes. Exit 0 at the end of the input,
@@ -476,13 +510,14 @@ pub fn worker_main() -> i32 {
             Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => return 0,
             Err(_) => return 2,
         }
-        let request = (|| -> std::io::Result<(Request, PathBuf, [u64; 12], Vec<u32>)> {
+        let request = (|| -> std::io::Result<(Request, PathBuf, [u64; 12], Vec<u32>, (u64, u64))> {
             if &magic != MAGIC {
                 return Err(std::io::Error::other("not a lockstep request"));
             }
             let kind = match read_exact(&mut input, 1)?[0] {
                 0 => Request::Lockstep,
                 1 => Request::Probe,
+                2 => Request::Trace,
                 k => return Err(std::io::Error::other(format!("unknown request kind {k}"))),
             };
             let len = u32::from_le_bytes(read_exact(&mut input, 4)?.try_into().unwrap_or([0; 4])) as usize;
@@ -500,13 +535,20 @@ pub fn worker_main() -> i32 {
                 return Err(std::io::Error::other(format!("{ticks} ticks, at most {MAX_TICKS}")));
             }
             let inputs = read_exact(&mut input, ticks * 4)?.chunks_exact(4).map(|c| u32::from_le_bytes(c.try_into().unwrap_or([0; 4]))).collect();
-            Ok((kind, path, hdl, inputs))
+            let window = if kind == Request::Trace {
+                let w: Vec<u64> = u64s(&read_exact(&mut input, 16)?).collect();
+                (w[0], w[1])
+            } else {
+                (0, 0)
+            };
+            Ok((kind, path, hdl, inputs, window))
         })();
-        let Ok((kind, path, hdl, inputs)) = request else {
+        let Ok((kind, path, hdl, inputs, (from, to))) = request else {
             return 2;
         };
         let answer = match (&*libs.entry(path.clone()).or_insert_with(|| DutLib::load(&path)), params_of(&hdl), kind) {
             (Ok(lib), _, Request::Probe) => probe(lib, &inputs),
+            (Ok(lib), _, Request::Trace) => trace(lib, &inputs, from, to.min(from.saturating_add(100_000))),
             (Ok(lib), Ok(p), Request::Lockstep) => lockstep(lib, p, &inputs),
             (Err(e), _, _) => Reply::Error { reason: e.clone() },
             (_, Err(e), _) => Reply::Error { reason: e },
@@ -668,9 +710,19 @@ impl Worker {
         self.receive(timeout)
     }
 
+    /// A trace request ([`Request::Trace`]) of the edges `from..=to`.
+    pub fn trace(&mut self, lib: &Path, params: &Params, inputs: &[u32], from: u64, to: u64, timeout: Duration) -> Result<Answer, String> {
+        self.send_with(Request::Trace, lib, params, inputs, &[from, to]);
+        self.receive(timeout)
+    }
+
     /// Hand a request to the worker; [`Worker::receive`] takes its answer. The log of the
     /// previous request is emptied.
     pub fn send(&mut self, kind: Request, lib: &Path, params: &Params, inputs: &[u32]) {
+        self.send_with(kind, lib, params, inputs, &[]);
+    }
+
+    fn send_with(&mut self, kind: Request, lib: &Path, params: &Params, inputs: &[u32], trailer: &[u64]) {
         let _ = std::fs::OpenOptions::new().write(true).open(&self.log).and_then(|f| f.set_len(0));
         let path = lib.as_os_str().as_encoded_bytes();
         let mut req = Vec::with_capacity(4 + 1 + 4 + path.len() + 96 + 8 + 4 * inputs.len());
@@ -684,6 +736,9 @@ impl Worker {
         req.extend_from_slice(&(inputs.len() as u64).to_le_bytes());
         for w in inputs {
             req.extend_from_slice(&w.to_le_bytes());
+        }
+        for t in trailer {
+            req.extend_from_slice(&t.to_le_bytes());
         }
         self.sent = Instant::now();
         // The worker reads a whole request before it works on it, so this write ends unless it

@@ -19,6 +19,7 @@ pub mod gen;
 pub mod lockstep;
 pub mod map;
 pub mod merge;
+pub mod picture;
 pub mod report;
 pub mod rtl;
 pub mod shard;

@@ -100,6 +100,20 @@ pub trait Dut: Send + Sync {
     fn notes(&self) -> Vec<String> {
         Vec::new()
     }
+    /// The DUT's values after each edge `from..=to` of a recording (for the picture of a
+    /// failure), where the backend can give them.
+    fn trace(&self, _sc: &Scenario, _rec: Recorded, _from: u64, _to: u64) -> Option<Result<DutTrace, DutError>> {
+        None
+    }
+}
+
+/// A DUT's values after each edge of a window: the output ports and the mapped registers, by
+/// the model's names (`si`, `drive_interval.si`).
+#[derive(Clone, Debug, Default)]
+pub struct DutTrace {
+    /// The first edge.
+    pub from: u64,
+    pub signals: Vec<(String, Vec<u64>)>,
 }
 
 /// A verdict known at once.

@@ -12,7 +12,7 @@
 //! each, and a build whose files changed is built again. A precompiled header of the Verilator
 //! runtime makes a build about half a second.
 
-use super::{divergence, dut_failure, fnv, timed_out, Dut, DutError, InFlight, Needs, Recorded};
+use super::{divergence, dut_failure, fnv, timed_out, Dut, DutError, DutTrace, InFlight, Needs, Recorded};
 use crate::regress::check::Failure;
 use crate::regress::gen::{knobs_off, Pins};
 use crate::regress::lockstep::{self, Answer, Reply, Request, Worker};
@@ -456,7 +456,7 @@ impl InFlight for Running<'_> {
                     Reply::Pass { .. } => Ok(None),
                     Reply::Diverged { tick, combinational, mismatches } => Ok(Some(divergence(sc, tick, combinational, &mismatches))),
                     Reply::Error { reason } => Err(DutError::Tool(format!("the DUT's lockstep failed: {reason}"))),
-                    Reply::Probe { .. } => Err(DutError::Tool("the DUT worker answered a probe to a lockstep".into())),
+                    Reply::Probe { .. } | Reply::Trace { .. } => Err(DutError::Tool("the DUT worker answered another request than a lockstep".into())),
                 }
             }
             Answer::TimedOut => Ok(Some(timed_out(sc, timeout))),
@@ -494,6 +494,26 @@ impl Dut for VerilatorDut {
 
     fn notes(&self) -> Vec<String> {
         self.notes.clone()
+    }
+
+    fn trace(&self, sc: &Scenario, rec: Recorded, from: u64, to: u64) -> Option<Result<DutTrace, DutError>> {
+        let Recorded::Inputs(inputs) = rec else { return None };
+        let go = || -> Result<DutTrace, DutError> {
+            let lib = self.library(&sc.params)?;
+            let mut w = Worker::spawn(self.scratch.path()).map_err(tool_err)?;
+            match w.trace(&lib, &sc.params, &inputs, from, to, Duration::from_secs(120)).map_err(tool_err)? {
+                Answer::Reply(Reply::Trace { from, regs, values }) => {
+                    let mut names: Vec<String> = signals::OUTPUTS.iter().map(|s| s.name.to_string()).collect();
+                    names.extend(regs);
+                    let signals = names.into_iter().enumerate().map(|(j, n)| (n, values.iter().map(|v| v.get(j).copied().unwrap_or(0)).collect())).collect();
+                    Ok(DutTrace { from, signals })
+                }
+                Answer::Reply(_) => Err(tool_err("the DUT worker answered another request than a trace")),
+                Answer::TimedOut => Err(tool_err("the DUT's trace did not end within 120 s")),
+                Answer::Died(how) => Err(tool_err(how)),
+            }
+        };
+        Some(go())
     }
 }
 
