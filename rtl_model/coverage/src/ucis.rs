@@ -66,12 +66,14 @@ pub fn to_ucis_xml(f: &CoverageFile) -> String {
     let _ = writeln!(w, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
     let _ = writeln!(w, "<UCIS xmlns:ucis=\"http://www.w3.org/2001/XMLSchema-instance\" ucisVersion=\"1.0\" writtenBy=\"pmu50-coverage\" writtenTime=\"{TIME}\">");
     let _ = writeln!(w, "  <sourceFiles fileName=\"docs/verification.md\" id=\"1\"/>");
+    let model = esc(&f.model);
+    w.reserve(f.runs.len() * 320);
     let node = |w: &mut String, k: usize, name: &str, pass: bool, comment: &str| {
         let _ = writeln!(
             w,
             "  <historyNodes historyNodeId=\"{k}\" logicalName=\"{}\" kind=\"1\" testStatus=\"{pass}\" date=\"{TIME}\" toolCategory=\"UCIS:simulator\" ucisVersion=\"1.0\" vendorId=\"pmu50\" vendorTool=\"pmu50-coverage\" vendorToolVersion=\"{}\" comment=\"{}\"/>",
             esc(name),
-            esc(&f.model),
+            model,
             esc(comment)
         );
     };
