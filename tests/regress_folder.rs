@@ -520,7 +520,7 @@ fn merge_carries_the_repro_folders_it_links_and_drops_stale_ones() {
     expect(&pmu50(&["merge", "--out", s(&n), s(&a), s(&b)]), 1, &[]);
     let html = read(n.join("report.html"));
     assert!(
-        !html.contains("href=\"failures/") && html.contains("not shrunk"),
+        !html.contains("href=\"failures/") && html.contains("no repro folder"),
         "no link to a folder that is not there"
     );
     // A regression rerun into a folder with a stale repro folder removes it.

@@ -418,6 +418,24 @@ pub fn run_model(sc: &Scenario, check_spec: bool, extra: &mut [&mut dyn sim::Obs
     Ok((checks, res))
 }
 
+/// A `fmt::Write` into an `io::Write`, keeping the first I/O error.
+struct IoText<W: std::io::Write> {
+    out: W,
+    err: Option<std::io::Error>,
+}
+
+impl<W: std::io::Write> std::fmt::Write for IoText<W> {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        if self.err.is_some() {
+            return Err(std::fmt::Error);
+        }
+        self.out.write_all(s.as_bytes()).map_err(|e| {
+            self.err = Some(e);
+            std::fmt::Error
+        })
+    }
+}
+
 /// Read regress.json of `dir`, checked as strictly as the command line ([`folder::parse_spec`]).
 pub fn read_spec(dir: &Path) -> Result<RunSpec, RegressError> {
     folder::read_spec(dir)
@@ -556,8 +574,17 @@ impl Summary {
             }
             batch.add(w.into_inner().map_err(|e| werr(&results)(e.into_error()))?);
         }
-        batch.add(write_atomic(&dir.join("coverage.json"), self.coverage.to_text().as_bytes())?);
-        batch.add(write_atomic(&dir.join("coverage.ucis.xml"), pmu50_coverage::to_ucis_xml(&self.coverage).as_bytes())?);
+        // Written a line at a time: the run list of a million seeds is 330 MB of UCIS text.
+        type Text = fn(&CoverageFile, &mut dyn std::fmt::Write) -> std::fmt::Result;
+        let texts: [(&str, Text); 2] = [("coverage.json", |c, w| c.write_text(w)), ("coverage.ucis.xml", |c, w| pmu50_coverage::write_ucis_xml(c, w))];
+        for (name, text) in texts {
+            let path = dir.join(name);
+            let mut w = IoText { out: std::io::BufWriter::with_capacity(1 << 16, AtomicFile::stage(&path)?), err: None };
+            if text(&self.coverage, &mut w).is_err() || w.err.is_some() {
+                return Err(werr(&path)(w.err.unwrap_or_else(|| std::io::Error::other("formatting failed"))));
+            }
+            batch.add(w.out.into_inner().map_err(|e| werr(&path)(e.into_error()))?);
+        }
         let repros = self.repro_folders(dir)?;
         batch.add(write_atomic(&dir.join("report.html"), report::html(self, extra, &repros).as_bytes())?);
         let missing = dir.join("missing.txt");

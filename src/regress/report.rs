@@ -201,7 +201,7 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
             let repro = if repros.contains(sig) {
                 format!("<a href=\"failures/{0}/failure.txt\">failure</a> <a href=\"failures/{0}/repro.toml\">repro.toml</a> <a href=\"failures/{0}/repro.gtkw\">repro.gtkw</a>", esc(sig))
             } else {
-                "not shrunk (<code>pmu50 random --regress --seed N</code> writes the seed's scenario)".to_string()
+                "no repro folder (not shrunk: an error, or a run with <code>--no-triage</code>)".to_string()
             };
             let _ = writeln!(h, "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{what}</td><td>{repro}</td></tr>", esc(sig), g.count, g.smallest);
         }

@@ -168,19 +168,24 @@ impl CoverageFile {
 
     /// The text written to `coverage.json` (one bin per line, deterministic).
     pub fn to_text(&self) -> String {
-        let mut s = String::new();
-        s.push_str(&format!("{{\"format\": {}, \"version\": {}, \"model\": {},\n \"bins\": [\n", json(&self.format), self.version, json(&self.model)));
+        let mut s = String::with_capacity(self.bins.len() * 160 + self.runs.len() * 48);
+        let _ = self.write_text(&mut s);
+        s
+    }
+
+    /// [`CoverageFile::to_text`] into `w`, a line at a time.
+    pub fn write_text(&self, w: &mut dyn std::fmt::Write) -> std::fmt::Result {
+        writeln!(w, "{{\"format\": {}, \"version\": {}, \"model\": {},\n \"bins\": [", json(&self.format), self.version, json(&self.model))?;
         for (k, b) in self.bins.iter().enumerate() {
             let sep = if k + 1 == self.bins.len() { "" } else { "," };
-            s.push_str(&format!("  {}{sep}\n", serde_json::to_string(b).expect("a bin record serialises")));
+            writeln!(w, "  {}{sep}", serde_json::to_string(b).expect("a bin record serialises"))?;
         }
-        s.push_str(" ],\n \"runs\": [\n");
+        writeln!(w, " ],\n \"runs\": [")?;
         for (k, r) in self.runs.iter().enumerate() {
             let sep = if k + 1 == self.runs.len() { "" } else { "," };
-            s.push_str(&format!("  {}{sep}\n", serde_json::to_string(r).expect("a run record serialises")));
+            writeln!(w, "  {}{sep}", serde_json::to_string(r).expect("a run record serialises"))?;
         }
-        s.push_str(" ]}\n");
-        s
+        writeln!(w, " ]}}")
     }
 
     /// Bins hit at least once, and bins that can be hit.
