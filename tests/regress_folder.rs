@@ -311,6 +311,25 @@ fn merge_never_replaces_an_input_and_asks_before_replacing_a_regression() {
         &["holds a regression already (regress.json)", "--force"],
     );
     assert_eq!(read(s1.join("results.jsonl")), kept, "s1 is left as it was");
+    // Shard folders below the output folder are fine: the merge writes none of their files.
+    let parent = t.join("runs");
+    for (i, d) in [&s0, &s1, &s2].into_iter().enumerate() {
+        copy(d, &parent.join(format!("shard-{i}")));
+    }
+    let below: Vec<PathBuf> = (0..3).map(|i| parent.join(format!("shard-{i}"))).collect();
+    expect(
+        &pmu50(&[
+            "merge",
+            "--out",
+            s(&parent),
+            s(&below[0]),
+            s(&below[1]),
+            s(&below[2]),
+        ]),
+        0,
+        &["30 seeds, 30 pass"],
+    );
+    assert_eq!(read(below[1].join("results.jsonl")), kept);
     let all = t.join("all");
     expect(
         &pmu50(&["merge", "--out", s(&all), s(&s0), s(&s1), s(&s2)]),

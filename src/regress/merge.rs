@@ -150,8 +150,8 @@ pub fn plan(specs: &[(PathBuf, RunSpec)]) -> Result<RunSpec, RegressError> {
     Ok(merged)
 }
 
-/// Refuse an output folder that is an input or holds one, and (without `force`) one that holds
-/// a regression already.
+/// Refuse an output folder that is an input or holds an input file (which the merge could
+/// replace), and (without `force`) one that holds a regression already.
 fn check_output(inputs: &[PathBuf], out: &Path, force: bool) -> Result<(), RegressError> {
     let Ok(out_canon) = out.canonicalize() else {
         return Ok(());
@@ -164,7 +164,9 @@ fn check_output(inputs: &[PathBuf], out: &Path, force: bool) -> Result<(), Regre
                 p.display()
             )));
         }
-        if c.starts_with(&out_canon) {
+        // A file in the output folder (its coverage.json) may be one the merge replaces; a
+        // folder in it (shards kept below the merged folder) is not, unless under failures/.
+        if c.starts_with(&out_canon) && (!c.is_dir() || c.starts_with(out_canon.join("failures"))) {
             return Err(RegressError::Usage(format!("{}: this input is inside the output folder {}, whose files the merge replaces; merge into a new folder", p.display(), out.display())));
         }
     }
