@@ -746,3 +746,47 @@ fn the_default_first_seed_is_the_same_for_regress_and_the_cluster_scripts() {
         "the Kubernetes Job starts at seed 1"
     );
 }
+
+#[test]
+fn a_merge_of_more_shard_folders_than_open_files_allows() {
+    // 100 shards of one seed each, made from a one-process run, merged with at most 80 open
+    // files: the merge keeps a bounded number of results files open.
+    let t = tmp("manyshards");
+    let one = t.join("one");
+    regress(&one, 1, 100);
+    let lines: Vec<String> = read(one.join("results.jsonl"))
+        .lines()
+        .map(String::from)
+        .collect();
+    let mut dirs = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let d = t.join(format!("shard-{i:03}"));
+        std::fs::create_dir(&d).unwrap();
+        std::fs::copy(one.join("regress.json"), d.join("regress.json")).unwrap();
+        edit_spec(&d, "shard", serde_json::json!({"index": i, "count": 100}));
+        std::fs::write(d.join("results.jsonl"), format!("{line}\n")).unwrap();
+        dirs.push(d);
+    }
+    let merged = t.join("merged");
+    let args: Vec<String> = dirs.iter().map(|d| format!("'{}'", d.display())).collect();
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -n 80 && exec '{}' merge --out '{}' {}",
+            common::BIN,
+            merged.display(),
+            args.join(" ")
+        ))
+        .output()
+        .unwrap();
+    expect(
+        &o,
+        0,
+        &["merged 100 regression folder(s)", "100 seeds, 100 pass"],
+    );
+    assert_eq!(
+        read(merged.join("coverage.json")),
+        read(one.join("coverage.json"))
+    );
+    assert_eq!(verdicts(&merged), verdicts(&one));
+}

@@ -443,30 +443,43 @@ impl Store {
 
     /// A reader of the results in seed order.
     pub fn reader(&self) -> Result<StoreReader<'_>, RegressError> {
-        let mut files = Vec::with_capacity(self.files.len());
-        for p in &self.files {
-            files.push(open_regular(p, false)?);
-        }
         Ok(StoreReader {
             store: self,
-            files,
+            files: (0..self.files.len()).map(|_| None).collect(),
+            open: 0,
             buf: Vec::new(),
         })
     }
 }
 
-/// Reads results of a [`Store`] back, one at a time.
+/// Results files a [`StoreReader`] keeps open at once (a merge of thousands of shard folders
+/// stays far below the usual limit of 1024 open files).
+const MAX_OPEN: usize = 64;
+
+/// Reads results of a [`Store`] back, one at a time; each file is opened when first read.
 pub struct StoreReader<'a> {
     store: &'a Store,
     files: Vec<Option<File>>,
+    open: usize,
     buf: Vec<u8>,
 }
 
 impl StoreReader<'_> {
     /// The line of `e` (without its newline), as it is in its file.
     pub fn line(&mut self, e: &Entry) -> Result<&[u8], RegressError> {
-        let path = &self.store.files[e.file as usize];
-        let f = self.files[e.file as usize]
+        let k = e.file as usize;
+        let path = &self.store.files[k];
+        if self.files[k].is_none() {
+            if self.open >= MAX_OPEN {
+                self.files.iter_mut().for_each(|f| *f = None);
+                self.open = 0;
+            }
+            let f = open_regular(path, false)?
+                .ok_or_else(|| file_err(path, "disappeared while the regression read it"))?;
+            self.files[k] = Some(f);
+            self.open += 1;
+        }
+        let f = self.files[k]
             .as_ref()
             .ok_or_else(|| file_err(path, "disappeared while the regression read it"))?;
         self.buf.resize(e.len as usize, 0);
