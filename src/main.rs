@@ -256,7 +256,8 @@ enum Cmd {
     /// Verilator library and the core in lockstep for each request on stdin.
     #[command(hide = true)]
     DutWorker,
-    /// Merge regression folders (shards, resumed parts) and coverage.json files into one folder.
+    /// Merge regression folders (shards, resumed parts, adjacent seed ranges) and coverage.json
+    /// files into one folder.
     /// Exit 0 complete and passing, 1 a seed failed or seeds are missing, 2 bad input.
     Merge {
         /// Output folder: a new folder, neither an input nor holding one.
