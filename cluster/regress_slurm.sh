@@ -20,7 +20,7 @@ set -uo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/.." && pwd)
-seeds="" shards="" start=0 jobs=$(nproc) out=regress_out bin=$root/target/release/pmu50 part="" fault=0
+seeds="" shards="" start=1 jobs=$(nproc) out=regress_out bin=$root/target/release/pmu50 part="" fault=0
 usage() { echo "usage: regress_slurm.sh --seeds N --shards K [--start-seed S] [--jobs J] [--out DIR] [--bin PMU50] [--partition P] [--fault]" >&2; exit 2; }
 while [ $# -gt 0 ]; do
   case "$1" in

@@ -197,10 +197,10 @@ enum Cmd {
     /// measured by functional coverage, failures shrunk to a repro (docs/verification.md).
     /// Exit 0 every seed passed, 1 a seed failed (or seeds are missing), 2 bad input.
     Regress {
-        /// First seed.
-        #[arg(long, default_value_t = 1)]
-        start_seed: u64,
-        /// Number of seeds (the whole regression; a shard runs its part of it).
+        /// First seed [default: 1].
+        #[arg(long)]
+        start_seed: Option<u64>,
+        /// Number of seeds (the whole regression; a shard runs its part of it), at most 10^7.
         #[arg(long)]
         iterations: Option<u64>,
         /// Parallel jobs (default: every core).
@@ -215,8 +215,9 @@ enum Cmd {
         check_spec: bool,
         /// Design under test: the model alone, or an RTL on verilator (lockstep) or icarus
         /// (vector replay), compared with the model on every seed.
-        #[arg(long, value_parser = ["model", "verilator", "icarus"], default_value = "model")]
-        dut: String,
+        /// [default: model]
+        #[arg(long, value_parser = ["model", "verilator", "icarus"])]
+        dut: Option<String>,
         /// The RTL's Verilog file list (paths relative to the list's folder; top `pmu50` with the
         /// ports and parameters of docs/signals.md). Default: the twin, hdl/pmu50.f.
         #[arg(long, value_name = "FILELIST")]
@@ -239,11 +240,12 @@ enum Cmd {
         #[arg(long, value_name = "N")]
         shard_count: Option<u64>,
         /// Continue the regression in DIR: run only the seeds its results.jsonl does not have.
-        #[arg(long, value_name = "DIR", conflicts_with_all = ["iterations", "shard", "shard_count", "directed", "check_spec", "rtl", "map", "repro", "sync_depth", "cnt_width"])]
+        /// Its seed range, DUT and options are those of DIR/regress.json.
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["start_seed", "iterations", "shard", "shard_count", "directed", "check_spec", "dut", "rtl", "map", "repro", "sync_depth", "cnt_width", "out"])]
         resume: Option<PathBuf>,
-        /// Output folder.
-        #[arg(long, default_value = "regress_out")]
-        out: PathBuf,
+        /// Output folder [default: regress_out].
+        #[arg(long)]
+        out: Option<PathBuf>,
         /// Per-seed time limit for the DUT, seconds.
         #[arg(long, default_value_t = 120.0)]
         timeout: f64,
@@ -301,11 +303,16 @@ enum Cmd {
     /// Verilator library and the core in lockstep for each request on stdin.
     #[command(hide = true)]
     DutWorker,
-    /// Merge regression folders (shards, resumed parts) and coverage.json files into one folder.
+    /// Merge regression folders (shards, resumed parts, adjacent seed ranges) and coverage.json
+    /// files into one folder.
     /// Exit 0 complete and passing, 1 a seed failed or seeds are missing, 2 bad input.
     Merge {
+        /// Output folder: a new folder, neither an input nor holding one.
         #[arg(long, default_value = "regress_out/merged")]
         out: PathBuf,
+        /// Replace the files of an output folder that holds a regression already.
+        #[arg(long)]
+        force: bool,
         inputs: Vec<PathBuf>,
     },
     /// Draw the closure curves (coverage against seeds) of regression folders into one SVG.
@@ -609,7 +616,7 @@ fn main() -> ExitCode {
                 2
             }
         },
-        Cmd::Merge { out, inputs } => match pmu50::regress::merge::merge(&inputs, &out) {
+        Cmd::Merge { out, force, inputs } => match pmu50::regress::merge::merge(&inputs, &out, force) {
             Ok(m) => {
                 out!("merged {} regression folder(s) and {} coverage file(s) into {}", m.folders, m.coverage_files, out.display());
                 out!("{}", m.summary.text().trim_end());
@@ -627,19 +634,19 @@ fn main() -> ExitCode {
 
 /// Print an analysis' text (exit 0) or its error (exit 2).
 struct RegressArgs {
-    start_seed: u64,
+    start_seed: Option<u64>,
     iterations: Option<u64>,
     jobs: Option<usize>,
     directed: bool,
     check_spec: bool,
-    dut: String,
+    dut: Option<String>,
     rtl: Option<PathBuf>,
     map: Option<PathBuf>,
     pins: pmu50::regress::gen::Pins,
     shard: Option<String>,
     shard_count: Option<u64>,
     resume: Option<PathBuf>,
-    out: PathBuf,
+    out: Option<PathBuf>,
     timeout: f64,
     no_triage: bool,
     repro: Option<PathBuf>,
@@ -660,7 +667,8 @@ fn cmd_regress(a: RegressArgs) -> u8 {
         Some(j) => j,
         None => std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1),
     };
-    let dut = match a.dut.as_str() {
+    let dut_name = a.dut.clone().unwrap_or_else(|| "model".into());
+    let dut = match dut_name.as_str() {
         "verilator" => DutKind::Verilator,
         "icarus" => DutKind::Icarus,
         _ => DutKind::Model,
@@ -701,7 +709,7 @@ fn cmd_regress(a: RegressArgs) -> u8 {
         }
         return match regress::check_scenario(&spec, &sc, d.as_ref(), timeout) {
             Ok(None) => {
-                out!("PASS {}: the model's checks{} hold", file.display(), if dut == DutKind::Model { String::new() } else { format!(" and the {} DUT", a.dut) });
+                out!("PASS {}: the model's checks{} hold", file.display(), if dut == DutKind::Model { String::new() } else { format!(" and the {dut_name} DUT") });
                 0
             }
             Ok(Some(f)) => {
@@ -721,11 +729,15 @@ fn cmd_regress(a: RegressArgs) -> u8 {
             let Some(iterations) = a.iterations else {
                 return fail("regress needs --iterations N (or --resume DIR, or --repro FILE)".into());
             };
+            let start_seed = a.start_seed.unwrap_or(1);
             if iterations == 0 {
                 return fail("--iterations 0: give at least one seed".into());
             }
-            if a.start_seed.checked_add(iterations).is_none() {
-                return fail(format!("--start-seed {} --iterations {iterations}: the seed range passes 2^64", a.start_seed));
+            if iterations > regress::folder::MAX_SEEDS {
+                return fail(format!("--iterations {iterations}: at most {} seeds make one regression; split a larger range into regressions of adjacent seed ranges (--start-seed), which pmu50 merge joins", regress::folder::MAX_SEEDS));
+            }
+            if start_seed.checked_add(iterations).is_none() {
+                return fail(format!("--start-seed {start_seed} --iterations {iterations}: the seed range passes 2^64"));
             }
             let shard = match regress::shard::Shard::resolve(a.shard.as_deref(), a.shard_count, |k| std::env::var(k).ok()) {
                 Ok(s) => s,
@@ -734,10 +746,10 @@ fn cmd_regress(a: RegressArgs) -> u8 {
             if a.directed && shard.is_some() {
                 return fail("--directed steers each batch by the coverage of the seeds before it, which another shard runs: run a directed regression in one process, or shard a random one".into());
             }
-            (RunSpec { tool, model, start_seed: a.start_seed, iterations, directed: a.directed, check_spec: a.check_spec, dut, rtl, map, fixed: Default::default(), pins: a.pins, shard }, false)
+            (RunSpec { tool, model, start_seed, iterations, directed: a.directed, check_spec: a.check_spec, dut, rtl, map, fixed: Default::default(), pins: a.pins, shard }, false)
         }
     };
-    let out_dir = a.resume.clone().unwrap_or(a.out.clone());
+    let out_dir = a.resume.clone().or(a.out.clone()).unwrap_or_else(|| PathBuf::from("regress_out"));
     // The DUT before any seed: an RTL that does not elaborate, lacks a contract port or does not
     // build is bad input (exit 2), and what it fixes goes into the run's record.
     let t0 = Instant::now();

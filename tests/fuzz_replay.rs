@@ -14,11 +14,12 @@ use pmu50_waves::fuzzing::{MALFORMED, VALID_SAMPLE};
 type Body = fn(&[u8]);
 
 /// (target name, body, random-pass iterations)
-const TARGETS: [(&str, Body, u32); 4] = [
+const TARGETS: [(&str, Body, u32); 5] = [
     ("scenario", pmu50::fuzzing::scenario, 20_000),
     ("duration", pmu50::fuzzing::duration, 200_000),
     ("vcd_diff", pmu50_waves::fuzzing::vcd, 20_000),
     ("fst_read", pmu50_waves::fuzzing::fst, 10_000),
+    ("regress_folder", pmu50::fuzzing::regress_folder, 3_000),
 ];
 
 const VCD_TOKENS: &[&str] = &[
@@ -37,6 +38,12 @@ const TOML_TOKENS: &[&str] = &[
 const FST_TOKENS: &[&str] = &[
     "\0", "\u{1}", "\u{3}", "\u{4}", "\u{6}", "\u{7}", "\u{8}", "\u{7f}", "\0\0\0\0\0\0\0\0", "\0\0\0\0\0\0\u{1}\u{49}",
     "\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}", "\0\0\0\0\u{7f}\u{7f}\u{7f}\u{7f}",
+];
+/// regress.json, results.jsonl and coverage.json keys and values, and the part separator.
+const FOLDER_TOKENS: &[&str] = &[
+    "\0", "\n", "{", "}", "[", "]", ":", ",", "\"", "\"shard\":{\"index\":0,\"count\":0}", "\"seed\":", "\"verdict\":\"fail\"",
+    "\"failure\":null", "\"cov\":\"0:1\"", "\"runs\":[]", "\"hits\":777", "\"start_seed\":", "\"iterations\":", "\"directed\":true",
+    "18446744073709551615", "1000000000000", "0", "-1", "1e3", "null", "true", "\"fa{",
 ];
 const DUR_TOKENS: &[&str] = &["s", "ms", "us", "µs", "ns", ".", "-", "+", " ", "0", "9", "18446744073709551615", "000000000"];
 
@@ -181,6 +188,7 @@ fn bounded_random_pass_finds_no_crash() {
             "vcd_diff" => VCD_TOKENS,
             "fst_read" => FST_TOKENS,
             "scenario" => TOML_TOKENS,
+            "regress_folder" => FOLDER_TOKENS,
             _ => DUR_TOKENS,
         };
         let mut rng = Rng(seed ^ (0x9e37_79b9_7f4a_7c15u64.wrapping_mul(i as u64 + 1)) | 1);

@@ -35,19 +35,10 @@ fn db_err(e: DbError) -> PyErr {
     }
 }
 
-/// `text` into `path` through a temporary file in the same folder, renamed into place.
+/// `text` into `path` through a temporary file in the same folder, renamed into place; a device,
+/// a FIFO or a folder at `path` is refused (`OSError`) and left as it is.
 pub(crate) fn write_atomic(path: &Path, text: &str) -> PyResult<()> {
-    let name = path.file_name().ok_or_else(|| PyValueError::new_err(format!("{}: not a file name", path.display())))?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(name);
-    tmp_name.push(format!(".{}.tmp", std::process::id()));
-    let tmp = path.with_file_name(tmp_name);
-    let io = |e: std::io::Error| PyOSError::new_err(format!("{}: {e}", path.display()));
-    std::fs::write(&tmp, text).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
-    })
+    db::write_file(path, text).map_err(db_err)
 }
 
 /// Functional coverage of one run: every bin of the model (docs/verification.md) with its hits.
@@ -209,9 +200,9 @@ pub fn merge_coverage(paths: Vec<PathBuf>, out: PathBuf) -> PyResult<(usize, usi
         if paths.is_empty() {
             return Err(PyValueError::new_err("merge_coverage(): no input files"));
         }
-        let files: Vec<(String, CoverageFile)> = paths.iter().map(|p| Ok((p.display().to_string(), CoverageFile::read(p).map_err(db_err)?))).collect::<PyResult<_>>()?;
-        let merged = db::merge(files.iter().map(|(n, f)| (n.as_str(), f))).map_err(db_err)?;
-        write_atomic(&out, &merged.to_text())?;
+        // An output that is one of the inputs is refused (`CoverageError`), before anything is read.
+        let refs: Vec<&Path> = paths.iter().map(PathBuf::as_path).collect();
+        let merged = db::merge_files(&refs, &out).map_err(db_err)?;
         let (hit, reachable) = merged.closure();
         Ok((hit, reachable, merged.runs.len()))
     })

@@ -164,3 +164,28 @@ def test_unreachable_bins_are_declared_with_a_reason():
     assert "fig18.history.both" in dict(unreachable)
     assert all(why.strip() for _, why in unreachable)
     assert {k for _, k, _, _ in bins} == {"point", "cross"}
+
+
+def test_writes_never_replace_a_fifo_or_a_device_nor_a_merge_input(tmp_path: Path):
+    import stat
+
+    cov = pmu50.Coverage(pmu50.Core())
+    fifo = tmp_path / "fifo.json"
+    os.mkfifo(fifo)
+    with pytest.raises(OSError, match=r"fifo\.json: is a FIFO, not a regular file"):
+        cov.write(fifo, "py/1")
+    assert stat.S_ISFIFO(fifo.lstat().st_mode), "the FIFO is left as it was"
+    null = tmp_path / "null.json"
+    null.symlink_to("/dev/null")
+    with pytest.raises(OSError, match=r"is a character device, not a regular file"):
+        cov.write(null, "py/1")
+    assert null.is_symlink()
+    a, b = tmp_path / "a.json", tmp_path / "b.json"
+    cov.write(a, "py/a")
+    cov.write(b, "py/b")
+    before = a.read_bytes()
+    with pytest.raises(pmu50.CoverageError, match=r"a\.json: the output is also input .*a\.json"):
+        pmu50.merge_coverage([a, b], a)
+    assert a.read_bytes() == before, "the input is left as it was"
+    with pytest.raises(OSError, match=r"is a FIFO"):
+        pmu50.merge_coverage([a, b], fifo)

@@ -15,6 +15,7 @@
 
 pub mod check;
 pub mod dut;
+pub mod folder;
 pub mod gen;
 pub mod lockstep;
 pub mod map;
@@ -91,7 +92,7 @@ impl RunSpec {
     pub fn seeds(&self) -> std::ops::Range<u64> {
         match &self.shard {
             Some(s) => s.seeds(self.start_seed, self.iterations),
-            None => self.start_seed..self.start_seed + self.iterations,
+            None => self.start_seed..self.start_seed.saturating_add(self.iterations),
         }
     }
 
@@ -176,6 +177,11 @@ impl SeedResult {
             let k: usize = k.parse().map_err(|_| format!("coverage bin `{k}` is not a number"))?;
             let v: u64 = v.parse().map_err(|_| format!("coverage hits `{v}` are not a number"))?;
             let slot = out.get_mut(k).ok_or_else(|| format!("coverage bin {k} is outside the model's {} bins", layout().bins.len()))?;
+            if let Some(why) = layout().bins[k].unreachable {
+                if v > 0 {
+                    return Err(format!("coverage bin {k} ({}) is declared unreachable ({why}) but has {v} hits", layout().bins[k].name));
+                }
+            }
             *slot = slot.checked_add(v).ok_or("coverage hits overflow 64 bits")?;
         }
         Ok(())
@@ -210,8 +216,10 @@ pub struct Options {
 pub enum RegressError {
     #[error("{0}")]
     Usage(String),
-    #[error("{path}: {reason}")]
+    #[error("{}: {reason}", path.display())]
     File { path: PathBuf, reason: String },
+    #[error("{}: line {line}: {reason}", path.display())]
+    Line { path: PathBuf, line: u64, reason: String },
     #[error(transparent)]
     Output(#[from] crate::atomic_file::OutputError),
     #[error("{0}")]
@@ -410,93 +418,215 @@ pub fn run_model(sc: &Scenario, check_spec: bool, extra: &mut [&mut dyn sim::Obs
     Ok((checks, res))
 }
 
-/// Read a results.jsonl: every complete line (a last line cut by an interruption is dropped);
-/// a malformed complete line is an error naming its line.
-pub fn read_results(path: &Path) -> Result<Vec<SeedResult>, RegressError> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(file_err(path, e)),
-    };
-    let complete = match text.rfind('\n') {
-        Some(i) => &text[..=i],
-        None => "",
-    };
-    let mut out = Vec::new();
-    for (n, line) in complete.lines().enumerate() {
-        if line.trim().is_empty() {
-            continue;
+/// A `fmt::Write` into an `io::Write`, keeping the first I/O error.
+struct IoText<W: std::io::Write> {
+    out: W,
+    err: Option<std::io::Error>,
+}
+
+impl<W: std::io::Write> std::fmt::Write for IoText<W> {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        if self.err.is_some() {
+            return Err(std::fmt::Error);
         }
-        let r: SeedResult = serde_json::from_str(line).map_err(|e| file_err(path, format!("line {}: not a seed result: {e}", n + 1)))?;
-        let mut scratch = vec![0u64; layout().bins.len()];
-        r.hits(&mut scratch).map_err(|e| file_err(path, format!("line {}: {e}", n + 1)))?;
-        out.push(r);
+        self.out.write_all(s.as_bytes()).map_err(|e| {
+            self.err = Some(e);
+            std::fmt::Error
+        })
     }
-    Ok(out)
 }
 
-/// Read regress.json.
+/// Read regress.json of `dir`, checked as strictly as the command line ([`folder::parse_spec`]).
 pub fn read_spec(dir: &Path) -> Result<RunSpec, RegressError> {
-    let p = dir.join("regress.json");
-    let text = std::fs::read_to_string(&p).map_err(|e| file_err(&p, format!("{e} (not a regression folder: it has no regress.json)")))?;
-    let spec: RunSpec = serde_json::from_str(&text).map_err(|e| file_err(&p, format!("line {}: {e}", e.line())))?;
-    if spec.model != pmu50_coverage::model_id(layout()) {
-        return Err(file_err(&p, format!("sampled with coverage model {}, this pmu50 has {}: merge and resume with the same version", spec.model, pmu50_coverage::model_id(layout()))));
-    }
-    Ok(spec)
+    folder::read_spec(dir)
 }
 
-/// What a finished regression folder holds, summed.
+/// A results file summed into a [`Summary`], and the seeds it may hold (its folder's range).
 #[derive(Clone, Debug)]
+pub struct Source {
+    pub results: PathBuf,
+    pub range: std::ops::Range<u64>,
+}
+
+impl Source {
+    /// The results file of the regression folder `dir` of `spec`.
+    pub fn of(dir: &Path, spec: &RunSpec) -> Source {
+        Source { results: dir.join("results.jsonl"), range: spec.seeds() }
+    }
+}
+
+/// What a regression folder holds, summed: the counts, the coverage and the failures by
+/// signature in memory; the results themselves stay in their files ([`folder::Store`]).
 pub struct Summary {
     pub spec: RunSpec,
-    pub results: Vec<SeedResult>,
+    pub store: folder::Store,
+    pub pass: u64,
+    pub fail: u64,
+    pub error: u64,
+    /// Failing seeds by signature.
+    pub groups: std::collections::BTreeMap<String, folder::Group>,
     pub coverage: CoverageFile,
-    pub missing: Vec<u64>,
+    /// Seeds of the range with no result, as ranges.
+    pub missing: Vec<std::ops::Range<u64>>,
+    /// The closure curve: (seeds, % of the bins scenario stimuli reach), where it changes.
+    pub curve: Vec<(u64, f64)>,
 }
 
 impl Summary {
-    pub fn build(spec: RunSpec, mut results: Vec<SeedResult>) -> Result<Summary, RegressError> {
-        results.sort_by_key(|r| r.seed);
-        let mut hits = vec![0u64; layout().bins.len()];
-        let mut runs = Vec::with_capacity(results.len());
-        for r in &results {
-            r.hits(&mut hits).map_err(RegressError::Usage)?;
-            runs.push(RunRecord { id: spec.run_id(r.seed), verdict: r.verdict.clone() });
+    /// Read and check every results file of `sources`, in one pass each, and sum them.
+    pub fn build(spec: RunSpec, sources: &[Source]) -> Result<Summary, RegressError> {
+        if sources.len() > usize::from(u16::MAX) {
+            return Err(RegressError::Usage(format!("{} results files: at most {} merge at once", sources.len(), u16::MAX)));
         }
-        let have: std::collections::BTreeSet<u64> = results.iter().map(|r| r.seed).collect();
-        let missing = spec.seeds().filter(|s| !have.contains(s)).collect();
-        Ok(Summary { coverage: CoverageFile::from_coverage(&hits, runs), spec, results, missing })
+        let mut hits = vec![0u64; layout().bins.len()];
+        let (mut pass, mut fail, mut error) = (0u64, 0u64, 0u64);
+        let mut groups: std::collections::BTreeMap<String, folder::Group> = std::collections::BTreeMap::new();
+        let mut entries = Vec::new();
+        for (k, s) in sources.iter().enumerate() {
+            let scanned = folder::scan(&s.results, k as u16, &s.range, &mut hits, |r, e| {
+                match e.verdict {
+                    folder::Verdict::Pass => pass += 1,
+                    folder::Verdict::Fail => fail += 1,
+                    folder::Verdict::Error => error += 1,
+                }
+                if let Some(f) = &r.failure {
+                    let g = groups.entry(f.signature()).or_insert_with(|| folder::Group { count: 0, smallest: r.seed, failure: f.clone(), file: e.file });
+                    g.count += 1;
+                    if r.seed < g.smallest {
+                        g.smallest = r.seed;
+                        g.failure = f.clone();
+                        g.file = e.file;
+                    }
+                }
+            })?;
+            entries.extend(scanned.entries);
+        }
+        let store = folder::Store::new(sources.iter().map(|s| s.results.clone()).collect(), entries)?;
+        let runs = store.entries.iter().map(|e| RunRecord { id: spec.run_id(e.seed), verdict: e.verdict.name().into() }).collect();
+        let mut missing = Vec::new();
+        let range = spec.seeds();
+        let mut next = range.start;
+        for e in &store.entries {
+            if e.seed > next {
+                missing.push(next..e.seed);
+            }
+            next = e.seed + 1;
+        }
+        if next < range.end {
+            missing.push(next..range.end);
+        }
+        let mut curve = report::Curve::new();
+        let mut reader = store.reader()?;
+        let mut scratch = vec![0u64; hits.len()];
+        for e in &store.entries {
+            scratch.iter_mut().for_each(|h| *h = 0);
+            reader.result(e)?.hits(&mut scratch).map_err(RegressError::Usage)?;
+            curve.push(&scratch);
+        }
+        drop(reader);
+        Ok(Summary { coverage: CoverageFile::from_coverage(&hits, runs), spec, store, pass, fail, error, groups, missing, curve: curve.finish() })
     }
 
-    pub fn failed(&self) -> usize {
-        self.results.iter().filter(|r| r.verdict != "pass").count()
+    /// Seeds with a result.
+    pub fn seeds(&self) -> u64 {
+        self.store.len() as u64
     }
 
-    /// Write regress.json, results.jsonl (sorted), coverage.json, report.html (and
-    /// missing.txt when seeds are missing) into `dir`, each atomically.
+    /// Seeds that did not pass.
+    pub fn failed(&self) -> u64 {
+        self.fail + self.error
+    }
+
+    /// Seeds of the range with no result.
+    pub fn missing_count(&self) -> u64 {
+        self.missing.iter().map(|r| r.end - r.start).sum()
+    }
+
+    /// The coverage of the seeds before `seed` (a directed batch's bias), read back in order.
+    pub fn hits_before(&self, seed: u64) -> Result<Vec<u64>, RegressError> {
+        let mut before = vec![0u64; layout().bins.len()];
+        let mut reader = self.store.reader()?;
+        for e in self.store.entries.iter().take_while(|e| e.seed < seed) {
+            reader.result(e)?.hits(&mut before).map_err(RegressError::Usage)?;
+        }
+        Ok(before)
+    }
+
+    /// Write regress.json, results.jsonl (sorted by seed), coverage.json, coverage.ucis.xml,
+    /// report.html (and missing.txt when seeds are missing) into `dir`, each atomically; the
+    /// folders of `failures/` whose signature no seed has any more are removed.
     pub fn write(&self, dir: &Path, extra: Option<&str>) -> Result<(), RegressError> {
+        use crate::atomic_file::{write_atomic, AtomicFile, OutputError};
         let mut batch = crate::atomic_file::Batch::new();
         let spec = serde_json::to_string_pretty(&self.spec).map_err(|e| RegressError::Usage(e.to_string()))? + "\n";
-        batch.add(crate::atomic_file::write_atomic(&dir.join("regress.json"), spec.as_bytes())?);
-        let mut lines = String::new();
-        for r in &self.results {
-            lines.push_str(&serde_json::to_string(r).map_err(|e| RegressError::Usage(e.to_string()))?);
-            lines.push('\n');
+        batch.add(write_atomic(&dir.join("regress.json"), spec.as_bytes())?);
+        let results = dir.join("results.jsonl");
+        let werr = |path: &Path| {
+            let path = path.to_path_buf();
+            move |source: std::io::Error| RegressError::Output(OutputError::Write { path: path.clone(), source })
+        };
+        {
+            let mut w = std::io::BufWriter::with_capacity(1 << 16, AtomicFile::stage(&results)?);
+            let mut reader = self.store.reader()?;
+            for e in &self.store.entries {
+                let line = reader.line(e)?;
+                w.write_all(line).and_then(|_| w.write_all(b"\n")).map_err(werr(&results))?;
+            }
+            batch.add(w.into_inner().map_err(|e| werr(&results)(e.into_error()))?);
         }
-        batch.add(crate::atomic_file::write_atomic(&dir.join("results.jsonl"), lines.as_bytes())?);
-        batch.add(crate::atomic_file::write_atomic(&dir.join("coverage.json"), self.coverage.to_text().as_bytes())?);
-        batch.add(crate::atomic_file::write_atomic(&dir.join("coverage.ucis.xml"), pmu50_coverage::to_ucis_xml(&self.coverage).as_bytes())?);
-        batch.add(crate::atomic_file::write_atomic(&dir.join("report.html"), report::html(self, extra).as_bytes())?);
+        // Written a line at a time: the run list of a million seeds is 330 MB of UCIS text.
+        type Text = fn(&CoverageFile, &mut dyn std::fmt::Write) -> std::fmt::Result;
+        let texts: [(&str, Text); 2] = [("coverage.json", |c, w| c.write_text(w)), ("coverage.ucis.xml", |c, w| pmu50_coverage::write_ucis_xml(c, w))];
+        for (name, text) in texts {
+            let path = dir.join(name);
+            let mut w = IoText { out: std::io::BufWriter::with_capacity(1 << 16, AtomicFile::stage(&path)?), err: None };
+            if text(&self.coverage, &mut w).is_err() || w.err.is_some() {
+                return Err(werr(&path)(w.err.unwrap_or_else(|| std::io::Error::other("formatting failed"))));
+            }
+            batch.add(w.out.into_inner().map_err(|e| werr(&path)(e.into_error()))?);
+        }
+        let repros = self.repro_folders(dir)?;
+        batch.add(write_atomic(&dir.join("report.html"), report::html(self, extra, &repros).as_bytes())?);
         let missing = dir.join("missing.txt");
         if self.missing.is_empty() {
             batch.remove_stale(missing);
         } else {
-            let text: String = self.missing.iter().map(|s| format!("{s}\n")).collect();
-            batch.add(crate::atomic_file::write_atomic(&missing, text.as_bytes())?);
+            let mut w = std::io::BufWriter::with_capacity(1 << 16, AtomicFile::stage(&missing)?);
+            for s in self.missing.iter().flat_map(|r| r.clone()) {
+                writeln!(w, "{s}").map_err(werr(&missing))?;
+            }
+            batch.add(w.into_inner().map_err(|e| werr(&missing)(e.into_error()))?);
         }
         batch.commit()?;
         Ok(())
+    }
+
+    /// The signatures whose repro folder `dir/failures/<signature>/` holds a repro; the folders
+    /// of signatures no seed fails with are removed (a rerun into the same folder).
+    pub fn repro_folders(&self, dir: &Path) -> Result<std::collections::BTreeSet<String>, RegressError> {
+        let mut have = std::collections::BTreeSet::new();
+        let failures = dir.join("failures");
+        match std::fs::symlink_metadata(&failures) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(have),
+            Err(e) => return Err(file_err(&failures, e)),
+            Ok(m) if !m.is_dir() => return Err(file_err(&failures, "is not a folder; the repros of a regression go into the folder failures/")),
+            Ok(_) => {}
+        }
+        let rd = std::fs::read_dir(&failures).map_err(|e| file_err(&failures, e))?;
+        for d in rd {
+            let d = d.map_err(|e| file_err(&failures, e))?;
+            let name = d.file_name().to_string_lossy().into_owned();
+            let path = d.path();
+            if self.groups.contains_key(&name) {
+                if std::fs::symlink_metadata(path.join("repro.toml")).is_ok_and(|m| m.is_file()) {
+                    have.insert(name);
+                }
+            } else if std::fs::symlink_metadata(&path).is_ok_and(|m| m.is_dir()) {
+                // A signature of an earlier run into this folder: no seed fails with it now.
+                std::fs::remove_dir_all(&path).map_err(|e| file_err(&path, format!("cannot remove the stale repro folder: {e}")))?;
+            }
+        }
+        Ok(have)
     }
 
     /// The summary printed on stdout.
@@ -505,20 +635,20 @@ impl Summary {
         let scen = scenario_closure(&self.coverage);
         let mut s = format!(
             "regress: {} seeds, {} pass, {} fail, {} error; coverage {hit}/{reachable} bins ({:.1} %), {}/{} of those scenario stimuli can reach ({:.1} %)\n",
-            self.results.len(),
-            self.results.iter().filter(|r| r.verdict == "pass").count(),
-            self.results.iter().filter(|r| r.verdict == "fail").count(),
-            self.results.iter().filter(|r| r.verdict == "error").count(),
+            self.seeds(),
+            self.pass,
+            self.fail,
+            self.error,
             pct(hit, reachable),
             scen.0,
             scen.1,
             pct(scen.0, scen.1),
         );
-        if !self.missing.is_empty() {
-            s.push_str(&format!("missing seeds: {} (first {}); run them with --resume\n", self.missing.len(), self.missing[0]));
+        if let Some(first) = self.missing.first() {
+            s.push_str(&format!("missing seeds: {} (first {}); run them with --resume\n", self.missing_count(), first.start));
         }
-        for (sig, seeds) in triage::groups(&self.results) {
-            s.push_str(&format!("  fail {sig}: {} seed(s), smallest {}\n", seeds.len(), seeds[0]));
+        for (sig, g) in &self.groups {
+            s.push_str(&format!("  fail {sig}: {} seed(s), smallest {}\n", g.count, g.smallest));
         }
         s
     }
@@ -546,13 +676,25 @@ pub fn scenario_closure(c: &CoverageFile) -> (usize, usize) {
     (hit, total)
 }
 
+/// Seeds of a random regression handed to the pool at once: what the pool holds in memory (a
+/// seed's result with its coverage is about 7 kB) stays bounded whatever the seed range.
+const CHUNK: u64 = 4096;
+
 /// Run a regression into `o.out`: the seeds of the spec not yet in the folder (all of them
-/// unless resuming), in batches, on `o.jobs` threads.
+/// unless resuming), in batches, on `o.jobs` threads. Finished results go to results.jsonl at
+/// once; only their index stays in memory.
 pub fn run(o: &Options, resume: bool, stop: &AtomicBool, d: &dyn dut::Dut) -> Result<Summary, RegressError> {
     let dir = &o.out;
     crate::atomic_file::create_dir(dir)?;
     let results_path = dir.join("results.jsonl");
-    let mut done = if resume { read_results(&results_path)? } else { Vec::new() };
+    let range = o.spec.seeds();
+    let mut total = vec![0u64; layout().bins.len()];
+    let (done, complete_len) = if resume {
+        let s = folder::scan(&results_path, 0, &range, &mut total, |_, _| {})?;
+        (folder::Store::new(vec![results_path.clone()], s.entries)?, s.complete_len)
+    } else {
+        (folder::Store::new(vec![results_path.clone()], Vec::new())?, 0)
+    };
     if !resume {
         // A new run: the folder's previous results are replaced when this run writes them.
         let spec = serde_json::to_string_pretty(&o.spec).map_err(|e| RegressError::Usage(e.to_string()))? + "\n";
@@ -561,15 +703,13 @@ pub fn run(o: &Options, resume: bool, stop: &AtomicBool, d: &dyn dut::Dut) -> Re
         b.add(crate::atomic_file::write_atomic(&results_path, b"")?);
         b.commit()?;
     }
-    let seeds = o.spec.seeds();
-    let have: std::collections::BTreeSet<u64> = done.iter().map(|r| r.seed).collect();
-    let mut total = vec![0u64; layout().bins.len()];
-    for r in &done {
-        r.hits(&mut total).map_err(RegressError::Usage)?;
-    }
-    let mut appender = std::fs::OpenOptions::new().append(true).create(true).open(&results_path).map_err(|e| file_err(&results_path, e))?;
-    let total_seeds = seeds.end - seeds.start;
-    let mut write = |out: Vec<(SeedResult, Vec<u64>)>, done: &mut Vec<SeedResult>, total: &mut Vec<u64>| -> Result<(), RegressError> {
+    // A last line torn by an interruption is cut before anything is appended after it.
+    let mut appender = folder::open_regular(&results_path, true)?.ok_or_else(|| file_err(&results_path, "cannot be created"))?;
+    appender.set_len(complete_len).map_err(|e| file_err(&results_path, e))?;
+    let total_seeds = range.end - range.start;
+    let mut n_done = done.len() as u64;
+    let mut fails = done.entries.iter().filter(|e| e.verdict != folder::Verdict::Pass).count() as u64;
+    let mut write = |out: Vec<(SeedResult, Vec<u64>)>, total: &mut Vec<u64>| -> Result<(), RegressError> {
         let mut text = String::new();
         for (r, hits) in &out {
             for (t, h) in total.iter_mut().zip(hits) {
@@ -579,49 +719,66 @@ pub fn run(o: &Options, resume: bool, stop: &AtomicBool, d: &dyn dut::Dut) -> Re
             text.push('\n');
         }
         appender.write_all(text.as_bytes()).and_then(|_| appender.flush()).map_err(|e| file_err(&results_path, e))?;
-        done.extend(out.into_iter().map(|(r, _)| r));
+        n_done += out.len() as u64;
+        fails += out.iter().filter(|(r, _)| r.verdict != "pass").count() as u64;
         if o.progress {
-            let fails = done.iter().filter(|r| r.verdict != "pass").count();
             let l = layout();
             let hit = l.bins.iter().zip(total.iter()).filter(|(b, h)| **h > 0 && b.unreachable.is_none()).count();
             let all = l.bins.iter().filter(|b| b.unreachable.is_none()).count();
-            eprintln!("regress: {}/{total_seeds} seeds, {fails} failing, coverage {hit}/{all}", done.len());
+            eprintln!("regress: {n_done}/{total_seeds} seeds, {fails} failing, coverage {hit}/{all}");
         }
         Ok(())
     };
     if o.spec.directed {
-        // Batch by batch: each batch's bias is the coverage of every seed before it.
-        let mut lo = seeds.start;
-        while lo < seeds.end && !stop.load(Ordering::Relaxed) {
-            let hi = (lo + BATCH).min(seeds.end);
-            let mut before = vec![0u64; total.len()];
-            for r in done.iter().filter(|r| r.seed < lo) {
-                r.hits(&mut before).map_err(RegressError::Usage)?;
+        // Batch by batch: each batch's bias is the coverage of every seed before it (the
+        // folder's, read back in seed order, and this run's).
+        let mut before = vec![0u64; total.len()];
+        let mut reader = done.reader()?;
+        let mut cursor = 0;
+        let mut lo = range.start;
+        while lo < range.end && !stop.load(Ordering::Relaxed) {
+            let hi = (lo + BATCH).min(range.end);
+            while let Some(e) = done.entries.get(cursor).filter(|e| e.seed < lo) {
+                reader.result(e)?.hits(&mut before).map_err(RegressError::Usage)?;
+                cursor += 1;
             }
             let bias = Bias::directed(&before, o.spec.pins).fixing(&o.spec.fixed);
-            let todo: Vec<u64> = (lo..hi).filter(|s| !have.contains(s)).collect();
+            let todo: Vec<u64> = (lo..hi).filter(|s| !done.contains(*s)).collect();
             let out = run_pool(&o.spec, &todo, &bias, d, o.jobs, o.timeout, stop, |_| Ok(()))?;
-            write(out, &mut done, &mut total)?;
+            for (_, hits) in &out {
+                for (b, h) in before.iter_mut().zip(hits) {
+                    *b = b.saturating_add(*h);
+                }
+            }
+            write(out, &mut total)?;
             lo = hi;
         }
     } else {
-        // One queue over the whole range: no core waits for the slowest seed of a batch; the
-        // results are written in seed order as soon as every seed before them has finished.
+        // One queue over each chunk of the range: no core waits for the slowest seed of a
+        // batch; the results are written in seed order as soon as every seed before them has
+        // finished.
         let bias = Bias::uniform().pinned(o.spec.pins).fixing(&o.spec.fixed);
-        let todo: Vec<u64> = seeds.clone().filter(|s| !have.contains(s)).collect();
         let mut pending: Vec<(SeedResult, Vec<u64>)> = Vec::new();
         let mut last = std::time::Instant::now();
-        run_pool(&o.spec, &todo, &bias, d, o.jobs, o.timeout, stop, |ready| {
-            pending.extend(ready);
-            if pending.len() as u64 >= BATCH || last.elapsed() > Duration::from_secs(2) {
-                last = std::time::Instant::now();
-                write(std::mem::take(&mut pending), &mut done, &mut total)?;
-            }
-            Ok(())
-        })?;
-        write(pending, &mut done, &mut total)?;
+        let mut lo = range.start;
+        while lo < range.end && !stop.load(Ordering::Relaxed) {
+            let hi = lo.saturating_add(CHUNK).min(range.end);
+            let todo: Vec<u64> = (lo..hi).filter(|s| !done.contains(*s)).collect();
+            run_pool(&o.spec, &todo, &bias, d, o.jobs, o.timeout, stop, |ready| {
+                pending.extend(ready);
+                if pending.len() as u64 >= BATCH || last.elapsed() > Duration::from_secs(2) {
+                    last = std::time::Instant::now();
+                    write(std::mem::take(&mut pending), &mut total)?;
+                }
+                Ok(())
+            })?;
+            lo = hi;
+        }
+        write(pending, &mut total)?;
     }
-    let summary = Summary::build(o.spec.clone(), done)?;
+    drop(appender);
+    drop(done);
+    let summary = Summary::build(o.spec.clone(), &[Source::of(dir, &o.spec)])?;
     if o.triage && !stop.load(Ordering::Relaxed) {
         triage::write_repros(&summary, dir, d, o.timeout)?;
     }

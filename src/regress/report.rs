@@ -3,7 +3,7 @@
 //! what was never hit, the failures by signature with their repro folders, and the closure
 //! curve (coverage against seeds) as an inline SVG.
 
-use super::{pct, scenario_closure, triage, Summary};
+use super::{pct, scenario_closure, Summary};
 use pmu50_coverage::{layout, model::crosses, model::POINTS};
 use std::fmt::Write;
 
@@ -26,34 +26,64 @@ fn colour(hits: u64, unreachable: bool, port_only: bool) -> &'static str {
     }
 }
 
-/// The closure curve: for each seed (in seed order) the share of reachable bins hit so far.
-pub fn closure_curve(s: &Summary) -> Vec<(usize, f64)> {
-    let l = layout();
-    let reachable: Vec<bool> = l.bins.iter().map(|b| b.unreachable.is_none() && !b.port_only).collect();
-    let total = reachable.iter().filter(|r| **r).count();
-    let mut seen = vec![false; l.bins.len()];
-    let mut hit = 0usize;
-    let mut out = Vec::with_capacity(s.results.len());
-    let mut scratch = vec![0u64; l.bins.len()];
-    for (k, r) in s.results.iter().enumerate() {
-        scratch.iter_mut().for_each(|h| *h = 0);
-        let _ = r.hits(&mut scratch);
-        for (i, h) in scratch.iter().enumerate() {
-            if *h > 0 && reachable[i] && !seen[i] {
-                seen[i] = true;
-                hit += 1;
+/// The closure curve, built seed by seed in seed order: the share of the bins scenario stimuli
+/// reach hit so far. Only the points where it changes are kept (each with the point just before
+/// it, so the line stays a staircase), with the first and the last: at most two points a bin,
+/// whatever the number of seeds.
+pub struct Curve {
+    reachable: Vec<bool>,
+    total: usize,
+    seen: Vec<bool>,
+    hit: usize,
+    n: u64,
+    out: Vec<(u64, f64)>,
+}
+
+impl Default for Curve {
+    fn default() -> Curve {
+        Curve::new()
+    }
+}
+
+impl Curve {
+    pub fn new() -> Curve {
+        let l = layout();
+        let reachable: Vec<bool> = l.bins.iter().map(|b| b.unreachable.is_none() && !b.port_only).collect();
+        let total = reachable.iter().filter(|r| **r).count();
+        Curve { seen: vec![false; reachable.len()], reachable, total, hit: 0, n: 0, out: Vec::new() }
+    }
+
+    /// The next seed's hits.
+    pub fn push(&mut self, hits: &[u64]) {
+        let before = self.hit;
+        for (i, h) in hits.iter().enumerate() {
+            if *h > 0 && self.reachable.get(i).copied().unwrap_or(false) && !self.seen[i] {
+                self.seen[i] = true;
+                self.hit += 1;
             }
         }
-        out.push((k + 1, pct(hit, total)));
+        if self.n == 0 || self.hit != before {
+            if self.n > 0 && self.out.last().is_some_and(|p| p.0 != self.n) {
+                self.out.push((self.n, pct(before, self.total)));
+            }
+            self.out.push((self.n + 1, pct(self.hit, self.total)));
+        }
+        self.n += 1;
     }
-    out
+
+    pub fn finish(mut self) -> Vec<(u64, f64)> {
+        if self.out.last().is_some_and(|p| p.0 != self.n) {
+            self.out.push((self.n, pct(self.hit, self.total)));
+        }
+        self.out
+    }
 }
 
 /// A closure curve: label, colour, (seeds, % of the bins scenario stimuli reach).
-pub type Curve<'a> = (&'a str, &'a str, Vec<(usize, f64)>);
+pub type Line<'a> = (&'a str, &'a str, Vec<(u64, f64)>);
 
 /// An SVG of closure curves, seeds on a log axis.
-pub fn curve_svg(curves: &[Curve<'_>], title: &str) -> String {
+pub fn curve_svg(curves: &[Line<'_>], title: &str) -> String {
     let (w, h, ml, mr, mt, mb) = (720.0, 360.0, 60.0, 20.0, 36.0, 48.0);
     let maxn = curves.iter().flat_map(|c| c.2.last().map(|p| p.0)).max().unwrap_or(1).max(10) as f64;
     let lo = curves.iter().flat_map(|c| c.2.first().map(|p| p.1)).fold(100.0f64, f64::min).min(90.0);
@@ -99,17 +129,16 @@ pub fn closure_cli(dirs: &[std::path::PathBuf], out: &std::path::Path) -> Result
     let mut text = String::new();
     for (k, d) in dirs.iter().enumerate() {
         let spec = super::read_spec(d)?;
-        let results = super::read_results(&d.join("results.jsonl"))?;
-        let s = Summary::build(spec, results)?;
-        let c = closure_curve(&s);
-        let label = format!("{} ({} seeds)", if s.spec.directed { "directed" } else { "uniform random" }, s.results.len());
+        let s = Summary::build(spec.clone(), &[super::Source::of(d, &spec)])?;
+        let c = s.curve.clone();
+        let label = format!("{} ({} seeds)", if s.spec.directed { "directed" } else { "uniform random" }, s.seeds());
         match c.iter().find(|(_, p)| *p >= 100.0 - 1e-9) {
             Some((n, _)) => text.push_str(&format!("{}: {label}: every bin scenario stimuli reach hit at seed {n}\n", d.display())),
-            None => text.push_str(&format!("{}: {label}: {:.1} % of the bins scenario stimuli reach after {} seeds\n", d.display(), c.last().map_or(0.0, |p| p.1), c.len())),
+            None => text.push_str(&format!("{}: {label}: {:.1} % of the bins scenario stimuli reach after {} seeds\n", d.display(), c.last().map_or(0.0, |p| p.1), s.seeds())),
         }
         curves.push((label, COLOURS[k % COLOURS.len()], c));
     }
-    let refs: Vec<Curve<'_>> = curves.iter().map(|(l, c, v)| (l.as_str(), *c, v.clone())).collect();
+    let refs: Vec<Line<'_>> = curves.iter().map(|(l, c, v)| (l.as_str(), *c, v.clone())).collect();
     let svg = curve_svg(&refs, "coverage closure: bins hit against seeds");
     let mut b = crate::atomic_file::Batch::new();
     b.add(crate::atomic_file::write_atomic(out, svg.as_bytes())?);
@@ -138,7 +167,8 @@ fn dut_notes(spec: &super::RunSpec) -> String {
     n
 }
 
-pub fn html(s: &Summary, extra: Option<&str>) -> String {
+/// `repros`: the signatures whose folder `failures/<signature>/` holds a repro (linked).
+pub fn html(s: &Summary, extra: Option<&str>, repros: &std::collections::BTreeSet<String>) -> String {
     let l = layout();
     let c = &s.coverage;
     let (hit, reachable) = c.closure();
@@ -155,49 +185,50 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
         spec.start_seed,
         spec.start_seed + spec.iterations.saturating_sub(1)
     );
-    let pass = s.results.iter().filter(|r| r.verdict == "pass").count();
+    let pass = s.pass;
     let _ = writeln!(
         h,
         "<table><tr><th>seeds</th><td>{} of {} (from {}){}</td></tr><tr><th>generator</th><td>{}</td></tr><tr><th>DUT</th><td>{}{}</td></tr>\
 <tr><th>verdicts</th><td><span class=\"ok\">{pass} pass</span>, <span class=\"bad\">{} fail, {} error</span></td></tr>\
 <tr><th>coverage</th><td>{hit} of {reachable} reachable bins ({:.1} %); {shit} of the {sreach} that scenario stimuli reach ({:.1} %); {} bins declared unreachable</td></tr></table>",
-        s.results.len(),
+        s.seeds(),
         spec.iterations,
         spec.start_seed,
-        if s.missing.is_empty() { String::new() } else { format!(", <b class=\"bad\">{} missing</b> (first {})", s.missing.len(), s.missing[0]) },
+        match s.missing.first() {
+            None => String::new(),
+            Some(m) => format!(", <b class=\"bad\">{} missing</b> (first {})", s.missing_count(), m.start),
+        },
         if spec.directed { "directed (biased towards empty bins)" } else { "uniform random" },
         format!("{:?}", spec.dut).to_lowercase(),
         spec.rtl.as_deref().map(|r| format!(", RTL {}", esc(r))).unwrap_or_default() + &dut_notes(spec),
-        s.results.iter().filter(|r| r.verdict == "fail").count(),
-        s.results.iter().filter(|r| r.verdict == "error").count(),
+        s.fail,
+        s.error,
         pct(hit, reachable),
         pct(shit, sreach),
         l.bins.iter().filter(|b| b.unreachable.is_some()).count(),
     );
 
     // Failures.
-    let groups = triage::groups(&s.results);
     let _ = writeln!(h, "<h2>Failures by signature</h2>");
-    if groups.is_empty() {
+    if s.groups.is_empty() {
         h.push_str("<p class=\"ok\">No failure.</p>\n");
     } else {
         h.push_str("<table><tr><th>signature</th><th>seeds</th><th>smallest</th><th>first failure</th><th>repro</th></tr>\n");
-        for (sig, seeds) in &groups {
-            let f = s.results.iter().find(|r| r.seed == seeds[0]).and_then(|r| r.failure.as_ref());
-            let what = f.map(|f| format!("tick {}: {} expected {} got {} — {}", f.tick, esc(&f.signal), esc(&f.expected), esc(&f.got), esc(&f.detail))).unwrap_or_default();
-            let _ = writeln!(
-                h,
-                "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{what}</td><td><a href=\"failures/{0}/failure.txt\">failure</a> <a href=\"failures/{0}/repro.toml\">repro.toml</a> <a href=\"failures/{0}/repro.gtkw\">repro.gtkw</a></td></tr>",
-                esc(sig),
-                seeds.len(),
-                seeds[0]
-            );
+        for (sig, g) in &s.groups {
+            let f = &g.failure;
+            let what = format!("tick {}: {} expected {} got {} — {}", f.tick, esc(&f.signal), esc(&f.expected), esc(&f.got), esc(&f.detail));
+            let repro = if repros.contains(sig) {
+                format!("<a href=\"failures/{0}/failure.txt\">failure</a> <a href=\"failures/{0}/repro.toml\">repro.toml</a> <a href=\"failures/{0}/repro.gtkw\">repro.gtkw</a>", esc(sig))
+            } else {
+                "no repro folder (not shrunk: an error, or a run with <code>--no-triage</code>)".to_string()
+            };
+            let _ = writeln!(h, "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{what}</td><td>{repro}</td></tr>", esc(sig), g.count, g.smallest);
         }
         h.push_str("</table>\n");
     }
 
     // Closure curve.
-    let curve = closure_curve(s);
+    let curve = s.curve.clone();
     if !curve.is_empty() {
         h.push_str("<h2>Closure</h2>\n");
         h.push_str(&curve_svg(&[(if spec.directed { "directed" } else { "uniform random" }, "#2166ac", curve)], "coverage against seeds"));

@@ -19,8 +19,14 @@ pub struct Shard {
 }
 
 impl Shard {
+    /// The seeds of this part of `iterations` seeds from `start`. A shard that is not a part
+    /// (`count` 0 or `index >= count`, which [`Shard::parse`] and the folder checks refuse) has
+    /// none; a range past 2^64 ends there.
     pub fn seeds(&self, start: u64, iterations: u64) -> std::ops::Range<u64> {
-        let at = |i: u64| start + ((u128::from(i) * u128::from(iterations)) / u128::from(self.count)) as u64;
+        if self.count == 0 || self.index >= self.count {
+            return start..start;
+        }
+        let at = |i: u64| start.saturating_add(((u128::from(i) * u128::from(iterations)) / u128::from(self.count)) as u64);
         at(self.index)..at(self.index + 1)
     }
 
@@ -44,10 +50,13 @@ impl Shard {
             }
             return Shard::parse(f).map(Some);
         }
+        // A variable set but empty is an error, not an absent one: a job array whose index
+        // was lost must not run the whole range unsharded.
         let num = |name: &str| -> Result<Option<u64>, String> {
-            match get(name).filter(|v| !v.trim().is_empty()) {
+            match get(name) {
                 None => Ok(None),
-                Some(v) => v.trim().parse().map(Some).map_err(|_| format!("{name}={v} is not a whole number")),
+                Some(v) if v.trim().is_empty() => Err(format!("{name} is set but empty; it must be a whole number (unset it outside a job array)")),
+                Some(v) => v.trim().parse().map(Some).map_err(|_| format!("{name}={v} is not a whole number (0 to {})", u64::MAX)),
             }
         };
         let check = |index: u64, count: u64, what: &str| -> Result<Option<Shard>, String> {
@@ -63,7 +72,11 @@ impl Shard {
             let min = if count_flag.is_some() { 0 } else { num("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0) };
             let count = match (count_flag, num("SLURM_ARRAY_TASK_COUNT")?, num("SLURM_ARRAY_TASK_MAX")?) {
                 (Some(c), _, _) | (None, Some(c), _) => c,
-                (None, None, Some(max)) => max.checked_sub(min).map(|d| d + 1).ok_or("SLURM_ARRAY_TASK_MAX is below SLURM_ARRAY_TASK_MIN")?,
+                (None, None, Some(max)) => max
+                    .checked_sub(min)
+                    .ok_or("SLURM_ARRAY_TASK_MAX is below SLURM_ARRAY_TASK_MIN")?
+                    .checked_add(1)
+                    .ok_or_else(|| format!("SLURM_ARRAY_TASK_MAX={max} with SLURM_ARRAY_TASK_MIN={min}: more than {} tasks", u64::MAX))?,
                 (None, None, None) => return Err("inside a Slurm array (SLURM_ARRAY_TASK_ID is set) but neither SLURM_ARRAY_TASK_COUNT nor SLURM_ARRAY_TASK_MAX says how many tasks: give --shard-count N".into()),
             };
             let index = task.checked_sub(min).ok_or("SLURM_ARRAY_TASK_ID is below SLURM_ARRAY_TASK_MIN")?;
@@ -119,6 +132,26 @@ mod tests {
         assert_eq!(Shard::resolve(None, Some(100), env(&resub)), Ok(Some(Shard { index: 17, count: 100 })));
         assert_eq!(Shard::resolve(None, None, env(&[("JOB_COMPLETION_INDEX", "0"), ("JOB_COMPLETIONS", "3")])), Ok(Some(Shard { index: 0, count: 3 })));
         assert_eq!(Shard::resolve(None, None, env(&[])), Ok(None));
+    }
+
+    #[test]
+    fn scheduler_variables_that_would_wrap_or_are_empty_are_refused() {
+        let max = u64::MAX.to_string();
+        let e = Shard::resolve(None, None, env(&[("SLURM_ARRAY_TASK_ID", "0"), ("SLURM_ARRAY_TASK_MAX", &max)])).unwrap_err();
+        assert!(e.contains("more than") && e.contains("SLURM_ARRAY_TASK_MAX=18446744073709551615"), "{e}");
+        for (vars, name) in [
+            (vec![("SLURM_ARRAY_TASK_ID", ""), ("SLURM_ARRAY_TASK_COUNT", "4")], "SLURM_ARRAY_TASK_ID"),
+            (vec![("SLURM_ARRAY_TASK_ID", " "), ("SLURM_ARRAY_TASK_MAX", "3")], "SLURM_ARRAY_TASK_ID"),
+            (vec![("JOB_COMPLETION_INDEX", ""), ("JOB_COMPLETIONS", "4")], "JOB_COMPLETION_INDEX"),
+            (vec![("SLURM_ARRAY_TASK_ID", "2"), ("SLURM_ARRAY_TASK_COUNT", "")], "SLURM_ARRAY_TASK_COUNT"),
+        ] {
+            let e = Shard::resolve(None, None, env(&vars)).unwrap_err();
+            assert!(e.contains(&format!("{name} is set but empty")), "{vars:?}: {e}");
+        }
+        // Not a part: no seed, never a panic or a wrap.
+        assert_eq!(Shard { index: 0, count: 0 }.seeds(5, 100), 5..5);
+        assert_eq!(Shard { index: 7, count: 3 }.seeds(5, 100), 5..5);
+        assert_eq!(Shard { index: 1, count: 2 }.seeds(u64::MAX - 10, 100).end, u64::MAX);
     }
 
     #[test]

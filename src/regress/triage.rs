@@ -11,38 +11,20 @@
 
 use super::check::Failure;
 use super::gen::{Action, Bias, Motion, Stimulus};
-use super::{dut::Dut, evaluate, RegressError, RunSpec, SeedResult, Summary, BATCH};
-use pmu50_coverage::layout;
-use std::collections::BTreeMap;
+use super::{dut::Dut, evaluate, RegressError, RunSpec, Summary, BATCH};
 use std::path::Path;
 use std::time::Duration;
 
-/// Failing seeds by signature, each list ascending.
-pub fn groups(results: &[SeedResult]) -> BTreeMap<String, Vec<u64>> {
-    let mut g: BTreeMap<String, Vec<u64>> = BTreeMap::new();
-    for r in results {
-        if let Some(f) = &r.failure {
-            g.entry(f.signature()).or_default().push(r.seed);
-        }
-    }
-    for v in g.values_mut() {
-        v.sort_unstable();
-    }
-    g
-}
-
-/// The generator's bias for `seed` in this regression (directed runs steer by the coverage of
-/// the seeds of earlier batches).
-pub fn bias_for(spec: &RunSpec, seed: u64, results: &[SeedResult]) -> Bias {
+/// The generator's bias for `seed` in the regression of `s` (directed runs steer by the
+/// coverage of the seeds of earlier batches).
+pub fn bias_for(s: &Summary, seed: u64) -> Result<Bias, RegressError> {
+    let spec = &s.spec;
     if !spec.directed {
-        return Bias::uniform().pinned(spec.pins).fixing(&spec.fixed);
+        return Ok(Bias::uniform().pinned(spec.pins).fixing(&spec.fixed));
     }
-    let lo = spec.seeds().start + (seed - spec.seeds().start) / BATCH * BATCH;
-    let mut before = vec![0u64; layout().bins.len()];
-    for r in results.iter().filter(|r| r.seed < lo) {
-        let _ = r.hits(&mut before);
-    }
-    Bias::directed(&before, spec.pins).fixing(&spec.fixed)
+    let start = spec.seeds().start;
+    let lo = start + (seed - start) / BATCH * BATCH;
+    Ok(Bias::directed(&s.hits_before(lo)?, spec.pins).fixing(&spec.fixed))
 }
 
 /// Shrink a failing stimulus; returns the smallest one found that fails with `sig`, its
@@ -120,16 +102,28 @@ fn truncate(s: &Stimulus, ticks: u64) -> Stimulus {
     c
 }
 
-/// The command that reproduces a failure from its folder.
+/// `arg` as one word of a POSIX shell command line: as it is when it holds only characters no
+/// shell treats specially, else in single quotes (a single quote inside as `'\''`).
+pub fn shell_quote(arg: &str) -> String {
+    let plain = !arg.is_empty() && arg.chars().all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c));
+    if plain {
+        arg.to_string()
+    } else {
+        format!("'{}'", arg.replace('\'', "'\\''"))
+    }
+}
+
+/// The command that reproduces a failure from its folder, one shell line with every path
+/// quoted ([`shell_quote`]): pasted into a shell it runs `pmu50` and nothing else.
 pub fn command(spec: &RunSpec, repro: &Path) -> String {
-    let mut c = format!("pmu50 regress --repro {}", repro.display());
+    let mut c = format!("pmu50 regress --repro {}", shell_quote(&repro.display().to_string()));
     match spec.dut {
         super::DutKind::Model => {}
         super::DutKind::Verilator => c.push_str(" --dut verilator"),
         super::DutKind::Icarus => c.push_str(" --dut icarus"),
     }
     if let Some(r) = &spec.rtl {
-        c.push_str(&format!(" --rtl {r}"));
+        c.push_str(&format!(" --rtl {}", shell_quote(r)));
     }
     if let Some(m) = &spec.map {
         c.push_str(&format!(" --map {m}"));
@@ -142,15 +136,15 @@ pub fn command(spec: &RunSpec, repro: &Path) -> String {
 
 /// Shrink the smallest failing seed of each signature and write its folder.
 pub fn write_repros(s: &Summary, dir: &Path, dut: &dyn Dut, timeout: Duration) -> Result<(), RegressError> {
-    for (sig, seeds) in groups(&s.results) {
-        let seed = seeds[0];
-        let Some(first) = s.results.iter().find(|r| r.seed == seed).and_then(|r| r.failure.clone()) else { continue };
+    for (sig, g) in &s.groups {
+        let seed = g.smallest;
+        let first = g.failure.clone();
         if first.kind == "error" {
             continue;
         }
-        let stim = Stimulus::generate(seed, &bias_for(&s.spec, seed, &s.results));
+        let stim = Stimulus::generate(seed, &bias_for(s, seed)?);
         let (small, f, tries) = shrink(&s.spec, &stim, &first, dut, timeout);
-        let folder = dir.join("failures").join(&sig);
+        let folder = dir.join("failures").join(sig);
         crate::atomic_file::create_dir(&folder)?;
         let name = format!("repro_{seed}");
         let toml = small.to_toml(&name);
@@ -158,7 +152,7 @@ pub fn write_repros(s: &Summary, dir: &Path, dut: &dyn Dut, timeout: Duration) -
         let cmd = command(&s.spec, &repro);
         let text = format!(
             "signature: {sig}\nseeds failing with it: {} (smallest {seed})\nfirst failure of seed {seed}: tick {} {} expected {} got {} ({})\nshrunk in {tries} runs: {} -> {} ticks, {} -> {} events\nafter shrinking: tick {} {} expected {} got {} (block {}, FIG. path {})\n{}\n\nreproduce:\n  {cmd}\n",
-            seeds.len(),
+            g.count,
             first.tick,
             first.signal,
             first.expected,
@@ -184,4 +178,31 @@ pub fn write_repros(s: &Summary, dir: &Path, dut: &dyn Dut, timeout: Duration) -
         super::wave::write(&folder, &toml, &name, &f)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The words a POSIX shell makes of `line` (run with `pmu50` replaced by printf).
+    fn words(line: &str) -> Vec<String> {
+        let line = line.strip_prefix("pmu50 ").expect("starts with pmu50");
+        let o = std::process::Command::new("sh").arg("-c").arg(format!("printf '%s\\n' {line}")).output().unwrap();
+        String::from_utf8(o.stdout).unwrap().lines().map(String::from).collect()
+    }
+
+    #[test]
+    fn the_repro_command_is_one_shell_line_that_runs_pmu50_only() {
+        let model = pmu50_coverage::model_id(pmu50_coverage::layout());
+        let rtl = "/tmp/x;echo INJECTED $(touch pwned) `id` 'q' \"d\"/rtl.f";
+        let spec = RunSpec { tool: "t".into(), model, start_seed: 1, iterations: 1, directed: false, check_spec: true, dut: super::super::DutKind::Verilator, rtl: Some(rtl.into()), pins: Default::default(), shard: None };
+        let repro = Path::new("out dir/failures/dut-x-y/repro.toml");
+        let cmd = command(&spec, repro);
+        assert_eq!(words(&cmd), ["regress", "--repro", "out dir/failures/dut-x-y/repro.toml", "--dut", "verilator", "--rtl", rtl, "--check-spec"], "{cmd}");
+        assert!(!cmd.contains('\n'));
+        // plain paths stay readable
+        assert_eq!(shell_quote("regress_out/failures/a-b.c/repro.toml"), "regress_out/failures/a-b.c/repro.toml");
+        assert_eq!(shell_quote(""), "''");
+        assert_eq!(words(&format!("pmu50 {}", shell_quote("it's"))), ["it's"]);
+    }
 }

@@ -6,7 +6,7 @@
 use crate::{guard, null, pmu50_inputs, pmu50_internals, pmu50_outputs, pmu50_params, pmu50_t, set_error, PMU50_ERR_NAME, PMU50_ERR_PARAM, PMU50_ERR_RANGE, PMU50_OK};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::Inputs;
-use pmu50_coverage::db::{self, CoverageFile, DbError};
+use pmu50_coverage::db::{self, DbError};
 use pmu50_coverage::{layout, Coverage, Edge, Kind};
 use std::ffi::{c_char, c_int, CStr, CString};
 use std::panic::catch_unwind;
@@ -66,19 +66,6 @@ unsafe fn text<'a>(what: &str, arg: &str, s: *const c_char) -> Result<&'a str, c
             Err(PMU50_ERR_TEXT)
         }
     }
-}
-
-/// `text` into `path` through a temporary file in the same folder, renamed into place.
-fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
-    let name = path.file_name().ok_or_else(|| std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file name"))?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(name);
-    tmp_name.push(format!(".{}.tmp", std::process::id()));
-    let tmp = path.with_file_name(tmp_name);
-    std::fs::write(&tmp, text)?;
-    std::fs::rename(&tmp, path).inspect_err(|_| {
-        let _ = std::fs::remove_file(&tmp);
-    })
 }
 
 fn db_error(what: &str, e: DbError) -> c_int {
@@ -313,12 +300,10 @@ pub unsafe extern "C" fn pmu50_coverage_write(c: *const pmu50_coverage_t, path: 
             (Ok(p), Ok(i), Ok(v)) => (p, i, v),
             (Err(rc), _, _) | (_, Err(rc), _) | (_, _, Err(rc)) => return rc,
         };
-        match write_atomic(Path::new(path), &db::of_run(&c.cov, id, verdict).to_text()) {
+        // A device, a FIFO or a folder at `path` is refused and left as it is.
+        match db::write_file(Path::new(path), &db::of_run(&c.cov, id, verdict).to_text()) {
             Ok(()) => PMU50_OK,
-            Err(e) => {
-                set_error(format!("{WHAT}: {path}: {e}"));
-                PMU50_ERR_IO
-            }
+            Err(e) => db_error(WHAT, e),
         }
     })
 }
@@ -345,25 +330,15 @@ pub unsafe extern "C" fn pmu50_coverage_merge(paths: *const *const c_char, n: us
         let mut files = Vec::with_capacity(n);
         for k in 0..n {
             // SAFETY: `paths` has n readable entries, by contract.
-            let p = match unsafe { text(WHAT, &format!("paths[{k}]"), *paths.add(k)) } {
-                Ok(p) => p,
+            match unsafe { text(WHAT, &format!("paths[{k}]"), *paths.add(k)) } {
+                Ok(p) => files.push(Path::new(p)),
                 Err(rc) => return rc,
-            };
-            match CoverageFile::read(Path::new(p)) {
-                Ok(f) => files.push((p.to_string(), f)),
-                Err(e) => return db_error(WHAT, e),
             }
         }
-        let merged = match db::merge(files.iter().map(|(p, f)| (p.as_str(), f))) {
-            Ok(m) => m,
-            Err(e) => return db_error(WHAT, e),
-        };
-        match write_atomic(Path::new(out), &merged.to_text()) {
-            Ok(()) => PMU50_OK,
-            Err(e) => {
-                set_error(format!("{WHAT}: {out}: {e}"));
-                PMU50_ERR_IO
-            }
+        // An output that is one of the inputs, or a device or a FIFO, is refused.
+        match db::merge_files(&files, Path::new(out)) {
+            Ok(_) => PMU50_OK,
+            Err(e) => db_error(WHAT, e),
         }
     })
 }

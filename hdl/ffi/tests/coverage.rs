@@ -167,3 +167,60 @@ fn the_c_program_writes_a_coverage_file_with_the_same_hits() {
     assert_eq!(f.runs.len(), 1);
     assert_eq!((f.runs[0].id.as_str(), f.runs[0].verdict.as_str()), ("c/stimulus/1", "pass"));
 }
+
+/// `pmu50_last_error()` as text.
+fn last_error() -> String {
+    // SAFETY: a NUL-terminated string owned by the library (or NULL).
+    unsafe {
+        let p = pmu50_last_error();
+        if p.is_null() {
+            String::new()
+        } else {
+            std::ffi::CStr::from_ptr(p).to_string_lossy().into_owned()
+        }
+    }
+}
+
+#[test]
+fn writes_never_replace_a_device_or_a_fifo_nor_a_merge_input() {
+    let d = std::env::temp_dir().join(format!("pmu50-ffi-special-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    let fifo = d.join("fifo.json");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    // A link to /dev/null: the old rename would have replaced the link only; the write is
+    // refused either way, and /dev/null stays a device.
+    let null = d.join("null.json");
+    std::os::unix::fs::symlink("/dev/null", &null).unwrap();
+    let cstr = |p: &Path| std::ffi::CString::new(p.to_str().unwrap()).unwrap();
+    let p: pmu50_params = params().into();
+    // SAFETY: valid pointers; the handle is freed at the end.
+    unsafe {
+        let c = pmu50_coverage_new(&p, 10_000);
+        assert!(!c.is_null());
+        let (id, pass) = (std::ffi::CString::new("dpi/1").unwrap(), std::ffi::CString::new("pass").unwrap());
+        for (target, kind) in [(&fifo, "FIFO"), (&null, "character device"), (&d, "folder")] {
+            assert_eq!(pmu50_coverage_write(c, cstr(target).as_ptr(), id.as_ptr(), pass.as_ptr()), PMU50_ERR_IO);
+            let e = last_error();
+            assert!(e.contains(&format!("is a {kind}, not a regular file")), "{e}");
+        }
+        use std::os::unix::fs::FileTypeExt;
+        assert!(std::fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
+        assert!(std::fs::symlink_metadata(&null).unwrap().file_type().is_symlink());
+        // A merge whose output is one of its inputs is refused, and the input is kept.
+        let one = d.join("one.json");
+        assert_eq!(pmu50_coverage_write(c, cstr(&one).as_ptr(), id.as_ptr(), pass.as_ptr()), PMU50_OK);
+        let before = std::fs::read(&one).unwrap();
+        let other = d.join("two.json");
+        let id2 = std::ffi::CString::new("dpi/2").unwrap();
+        assert_eq!(pmu50_coverage_write(c, cstr(&other).as_ptr(), id2.as_ptr(), pass.as_ptr()), PMU50_OK);
+        let paths = [cstr(&one), cstr(&other)];
+        let ptrs: Vec<*const std::ffi::c_char> = paths.iter().map(|p| p.as_ptr()).collect();
+        assert_eq!(pmu50_coverage_merge(ptrs.as_ptr(), 2, cstr(&one).as_ptr()), PMU50_ERR_COVERAGE);
+        assert!(last_error().contains("the output is also input"), "{}", last_error());
+        assert_eq!(std::fs::read(&one).unwrap(), before);
+        assert_eq!(pmu50_coverage_merge(ptrs.as_ptr(), 2, cstr(&d.join("all.json")).as_ptr()), PMU50_OK);
+        pmu50_coverage_free(c);
+    }
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -15,4 +15,4 @@ pub mod ucis;
 pub use db::{merge, CoverageFile, DbError, RunRecord};
 pub use model::{model_id, BinInfo, Kind, Layout};
 pub use sample::{layout, Coverage, Edge};
-pub use ucis::to_ucis_xml;
+pub use ucis::{to_ucis_xml, write_ucis_xml};

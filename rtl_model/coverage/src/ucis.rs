@@ -49,7 +49,7 @@ fn esc(s: &str) -> String {
 
 /// One bin element (`coverpointBin` or `crossBin`): its attributes, its count line and, for a bin
 /// that cannot be hit, the reason.
-fn bin_element(w: &mut String, tag: &str, attrs: &str, count: &str, unreachable: Option<&str>) {
+fn bin_element(w: &mut dyn Write, tag: &str, attrs: &str, count: &str, unreachable: Option<&str>) {
     let _ = writeln!(w, "          <{tag} {attrs}>");
     let _ = writeln!(w, "            {count}");
     if let Some(why) = unreachable {
@@ -61,17 +61,23 @@ fn bin_element(w: &mut String, tag: &str, attrs: &str, count: &str, unreachable:
 /// The UCIS XML text of a coverage file (its bins must be this model's, as
 /// [`CoverageFile::check`] ensures for every file read or merged).
 pub fn to_ucis_xml(f: &CoverageFile) -> String {
-    let mut s = String::new();
-    let w = &mut s;
+    let mut s = String::with_capacity(f.runs.len() * 320 + (1 << 16));
+    let _ = write_ucis_xml(f, &mut s);
+    s
+}
+
+/// [`to_ucis_xml`] into `w`, a line at a time (a file of a million runs is 330 MB of text).
+pub fn write_ucis_xml(f: &CoverageFile, w: &mut dyn Write) -> std::fmt::Result {
     let _ = writeln!(w, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
     let _ = writeln!(w, "<UCIS xmlns:ucis=\"http://www.w3.org/2001/XMLSchema-instance\" ucisVersion=\"1.0\" writtenBy=\"pmu50-coverage\" writtenTime=\"{TIME}\">");
     let _ = writeln!(w, "  <sourceFiles fileName=\"docs/verification.md\" id=\"1\"/>");
-    let node = |w: &mut String, k: usize, name: &str, pass: bool, comment: &str| {
+    let model = esc(&f.model);
+    let node = |w: &mut dyn Write, k: usize, name: &str, pass: bool, comment: &str| {
         let _ = writeln!(
             w,
             "  <historyNodes historyNodeId=\"{k}\" logicalName=\"{}\" kind=\"1\" testStatus=\"{pass}\" date=\"{TIME}\" toolCategory=\"UCIS:simulator\" ucisVersion=\"1.0\" vendorId=\"pmu50\" vendorTool=\"pmu50-coverage\" vendorToolVersion=\"{}\" comment=\"{}\"/>",
             esc(name),
-            esc(&f.model),
+            model,
             esc(comment)
         );
     };
@@ -126,8 +132,7 @@ pub fn to_ucis_xml(f: &CoverageFile) -> String {
     let _ = writeln!(w, "      </cgInstance>");
     let _ = writeln!(w, "    </covergroupCoverage>");
     let _ = writeln!(w, "  </instanceCoverages>");
-    let _ = writeln!(w, "</UCIS>");
-    s
+    writeln!(w, "</UCIS>")
 }
 
 #[cfg(test)]

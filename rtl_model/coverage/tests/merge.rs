@@ -7,16 +7,20 @@ use proptest::prelude::*;
 
 fn file(hits: &[(usize, u64)], runs: &[&str]) -> CoverageFile {
     let mut h = vec![0u64; layout().bins.len()];
+    // Hits on reachable bins only: a sampler never hits a bin declared unreachable.
     for &(k, v) in hits {
         let n = h.len();
-        h[k % n] += v;
+        if layout().bins[k % n].unreachable.is_none() {
+            h[k % n] += v;
+        }
     }
     CoverageFile::from_coverage(&h, runs.iter().map(|r| RunRecord { id: r.to_string(), verdict: "pass".into() }).collect())
 }
 
 fn files() -> impl Strategy<Value = Vec<CoverageFile>> {
-    // Up to five files, each with its own runs (ids made unique by the file's position).
-    proptest::collection::vec((proptest::collection::vec((0usize..5000, 0u64..1_000_000), 0..20), 0usize..4), 1..6).prop_map(|v| {
+    // Up to five files, each with its own runs (ids made unique by the file's position): hits are
+    // always counted in at least one run.
+    proptest::collection::vec((proptest::collection::vec((0usize..5000, 0u64..1_000_000), 0..20), 1usize..4), 1..6).prop_map(|v| {
         v.iter()
             .enumerate()
             .map(|(f, (hits, nruns))| {
@@ -63,6 +67,24 @@ proptest! {
 fn the_empty_file_is_the_identity() {
     let a = file(&[(3, 4), (10, 1)], &["random/1"]);
     assert_eq!(m(&[&a, &CoverageFile::empty()]), a);
+}
+
+#[test]
+fn hits_on_an_unreachable_bin_or_in_no_run_are_refused() {
+    let k = layout().bins.iter().position(|b| b.unreachable.is_some()).expect("an unreachable bin");
+    let mut a = file(&[], &["bench/1"]);
+    a.bins[k].hits = 777;
+    let e = merge([("a.json", &a)]).unwrap_err();
+    assert!(matches!(e, DbError::UnreachableHit { hits: 777, .. }), "{e}");
+    assert!(e.to_string().starts_with("a.json: bin"), "{e}");
+    // "runs": [] with hits: merged twice it would count its hits twice.
+    let r = layout().bins.iter().position(|b| b.unreachable.is_none()).unwrap();
+    let b = file(&[(r, 5)], &[]);
+    let e = merge([("b.json", &b), ("b.json", &b)]).unwrap_err();
+    assert_eq!(e, DbError::NoRuns { file: "b.json".into(), hits: 5 });
+    assert!(CoverageFile::parse(&b.to_text(), "b.json").is_err());
+    // no hit and no run: the empty file, accepted
+    assert!(merge([("e.json", &CoverageFile::empty())]).is_ok());
 }
 
 #[test]
