@@ -6,8 +6,9 @@
 #      its command reproduces it, its save file marks the first divergence, and GTKWave-ready
 #      files are valid (pmu50 diff reads them);
 #   3. on Icarus the twin passes, and an RTL that hangs fails each seed at the time limit;
-#   4. the report renders in headless Chromium (the DOM has the coverage, the failure and the
-#      curve; a screenshot is written to hdl/build/regress_smoke/report.png).
+#   4. the report renders in headless Chromium (the DOM has the coverage, the failure with the
+#      picture of its divergence, and the curve; a screenshot is written to
+#      hdl/build/regress_smoke/report.png).
 # Exit 0 when all hold, 1 otherwise, 2 on a setup failure.
 set -uo pipefail
 . "$(dirname "${BASH_SOURCE[0]}")/scripts/common.sh"
@@ -35,7 +36,11 @@ cat "$W/mut.log"
 n=$(ls -d "$W"/mut_run/failures/*/ 2>/dev/null | wc -l)
 [ "$n" -ge 1 ] || fail "no failure folder"
 for d in "$W"/mut_run/failures/*/; do
-    for f in repro.toml command.txt failure.txt repro.vcd repro.gtkw; do [ -s "$d/$f" ] || fail "$d$f missing"; done
+    for f in repro.toml command.txt failure.txt repro.vcd repro.gtkw divergence.svg; do [ -s "$d/$f" ] || fail "$d$f missing"; done
+    # the picture: the diverging signal as the model and as the DUT (its trace) have it
+    grep -q '(model)' "$d/divergence.svg" && grep -q '(DUT)' "$d/divergence.svg" && grep -q '#c00000' "$d/divergence.svg" \
+        || fail "$d/divergence.svg does not show the model's and the DUT's values with the divergence marked"
+    grep -q '^  gtkwave ' "$d/failure.txt" || fail "$d/failure.txt has no command that opens the waves"
     grep -q '^\[markername\].*first divergence' "$d/repro.gtkw" || grep -q 'first divergence' "$d/repro.gtkw" || fail "$d/repro.gtkw has no marker at the divergence"
     cmd=$(cat "$d/command.txt")
     out=$(cd "$ROOT" && PATH="$ROOT/target/release:$PATH" bash -c "$cmd" 2>&1); rc=$?
@@ -77,6 +82,7 @@ if command -v chromium > /dev/null; then
     timeout 120 chromium --headless --no-sandbox --disable-gpu --dump-dom "file://$W/mut_run/report.html" > "$W/dom.html" 2> /dev/null
     grep -q 'Failures by signature' "$W/dom.html" && grep -q '<svg' "$W/dom.html" && grep -q 'cross.fig17_x_fig18' "$W/dom.html" \
         && grep -q 'failures/dut-' "$W/dom.html" || fail "the report's DOM in Chromium lacks the failures, curve or crosses"
+    grep -q 'class="picture"' "$W/dom.html" && grep -q 'cnt_c (DUT)' "$W/dom.html" || fail "the report's DOM lacks the picture of the divergence"
     timeout 120 chromium --headless --no-sandbox --disable-gpu --window-size=1280,1600 --screenshot="$W/report.png" "file://$W/mut_run/report.html" > /dev/null 2>&1
     [ -s "$W/report.png" ] || fail "no screenshot"
 else

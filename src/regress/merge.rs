@@ -244,7 +244,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path, force: bool) -> Result<Merged, Regr
 
 /// The files of a repro folder, copied as they are but for `command.txt` and the command at
 /// the end of `failure.txt`, which name the repro's new path.
-const REPRO_FILES: [&str; 4] = ["repro.toml", "repro.vcd", "repro.gtkw", "failure.txt"];
+const REPRO_FILES: [&str; 5] = ["repro.toml", "repro.vcd", "repro.gtkw", "failure.txt", "divergence.svg"];
 
 /// For each signature, the repro folder of its smallest seed, from the input folder holding
 /// that seed, into `out/failures/<signature>/` (when that input has one).

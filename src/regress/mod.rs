@@ -603,8 +603,8 @@ impl Summary {
 
     /// The signatures whose repro folder `dir/failures/<signature>/` holds a repro; the folders
     /// of signatures no seed fails with are removed (a rerun into the same folder).
-    pub fn repro_folders(&self, dir: &Path) -> Result<std::collections::BTreeSet<String>, RegressError> {
-        let mut have = std::collections::BTreeSet::new();
+    pub fn repro_folders(&self, dir: &Path) -> Result<std::collections::BTreeMap<String, Option<String>>, RegressError> {
+        let mut have = std::collections::BTreeMap::new();
         let failures = dir.join("failures");
         match std::fs::symlink_metadata(&failures) {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(have),
@@ -619,7 +619,10 @@ impl Summary {
             let path = d.path();
             if self.groups.contains_key(&name) {
                 if std::fs::symlink_metadata(path.join("repro.toml")).is_ok_and(|m| m.is_file()) {
-                    have.insert(name);
+                    // the picture, when it is a regular file of a sane size
+                    let svg = path.join("divergence.svg");
+                    let pic = std::fs::symlink_metadata(&svg).ok().filter(|m| m.is_file() && m.len() < 4 << 20).and_then(|_| std::fs::read_to_string(&svg).ok()).and_then(|t| t.find("<svg").map(|i| t[i..].to_string()));
+                    have.insert(name, pic);
                 }
             } else if std::fs::symlink_metadata(&path).is_ok_and(|m| m.is_dir()) {
                 // A signature of an earlier run into this folder: no seed fails with it now.

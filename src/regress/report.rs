@@ -167,8 +167,9 @@ fn dut_notes(spec: &super::RunSpec) -> String {
     n
 }
 
-/// `repros`: the signatures whose folder `failures/<signature>/` holds a repro (linked).
-pub fn html(s: &Summary, extra: Option<&str>, repros: &std::collections::BTreeSet<String>) -> String {
+/// `repros`: the signatures whose folder `failures/<signature>/` holds a repro (linked), each
+/// with the SVG picture of its divergence when there is one (inlined).
+pub fn html(s: &Summary, extra: Option<&str>, repros: &std::collections::BTreeMap<String, Option<String>>) -> String {
     let l = layout();
     let c = &s.coverage;
     let (hit, reachable) = c.closure();
@@ -217,12 +218,16 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
         for (sig, g) in &s.groups {
             let f = &g.failure;
             let what = format!("tick {}: {} expected {} got {} — {}", f.tick, esc(&f.signal), esc(&f.expected), esc(&f.got), esc(&f.detail));
-            let repro = if repros.contains(sig) {
-                format!("<a href=\"failures/{0}/failure.txt\">failure</a> <a href=\"failures/{0}/repro.toml\">repro.toml</a> <a href=\"failures/{0}/repro.gtkw\">repro.gtkw</a>", esc(sig))
+            let repro = if repros.contains_key(sig) {
+                format!("<a href=\"failures/{0}/failure.txt\">failure</a> <a href=\"failures/{0}/repro.toml\">repro.toml</a> <a href=\"failures/{0}/repro.gtkw\">repro.gtkw</a> <a href=\"failures/{0}/divergence.svg\">divergence.svg</a><br>waves: <code>gtkwave failures/{0}/repro.vcd failures/{0}/repro.gtkw</code>", esc(sig))
             } else {
                 "no repro folder (not shrunk: an error, or a run with <code>--no-triage</code>)".to_string()
             };
             let _ = writeln!(h, "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{what}</td><td>{repro}</td></tr>", esc(sig), g.count, g.smallest);
+            // the picture of the shrunk repro around the first divergence, inline
+            if let Some(Some(svg)) = repros.get(sig) {
+                let _ = writeln!(h, "<tr><td colspan=\"5\" class=\"picture\">{svg}</td></tr>");
+            }
         }
         h.push_str("</table>\n");
     }

@@ -126,12 +126,30 @@ pub fn command(spec: &RunSpec, repro: &Path) -> String {
         c.push_str(&format!(" --rtl {}", shell_quote(r)));
     }
     if let Some(m) = &spec.map {
-        c.push_str(&format!(" --map {m}"));
+        c.push_str(&format!(" --map {}", shell_quote(m)));
     }
     if spec.check_spec {
         c.push_str(" --check-spec");
     }
     c
+}
+
+/// The command that opens GTKWave on a repro folder's waveform, zoomed on the divergence.
+pub fn view_command(folder: &Path) -> String {
+    format!("gtkwave {} {}", shell_quote(&folder.join("repro.vcd").display().to_string()), shell_quote(&folder.join("repro.gtkw").display().to_string()))
+}
+
+/// The SVG picture of a repro's divergence (super::picture), with the DUT's trace where its
+/// backend gives one.
+fn picture(folder: &Path, toml: &str, name: &str, f: &Failure, dut: &dyn Dut) -> Result<String, String> {
+    let path = folder.join("repro.toml");
+    let sc = crate::scenario::Scenario::parse(toml, &path.display().to_string(), name, &path).map_err(|e| e.to_string())?;
+    let (from, to) = super::picture::window(f.tick, sc.ticks);
+    let trace = match super::dut::record(dut, &sc) {
+        Ok(rec) => dut.trace(&sc, rec, from, to).and_then(Result::ok),
+        Err(_) => None,
+    };
+    super::picture::divergence_svg(&sc, f, trace.as_ref()).map_err(|e| e.to_string())
 }
 
 /// Shrink the smallest failing seed of each signature and write its folder.
@@ -150,8 +168,9 @@ pub fn write_repros(s: &Summary, dir: &Path, dut: &dyn Dut, timeout: Duration) -
         let toml = small.to_toml(&name);
         let repro = folder.join("repro.toml");
         let cmd = command(&s.spec, &repro);
+        let view = view_command(&folder);
         let text = format!(
-            "signature: {sig}\nseeds failing with it: {} (smallest {seed})\nfirst failure of seed {seed}: tick {} {} expected {} got {} ({})\nshrunk in {tries} runs: {} -> {} ticks, {} -> {} events\nafter shrinking: tick {} {} expected {} got {} (block {}, FIG. path {})\n{}\n\nreproduce:\n  {cmd}\n",
+            "signature: {sig}\nseeds failing with it: {} (smallest {seed})\nfirst failure of seed {seed}: tick {} {} expected {} got {} ({})\nshrunk in {tries} runs: {} -> {} ticks, {} -> {} events\nafter shrinking: tick {} {} expected {} got {} (block {}, FIG. path {})\n{}\n\nreproduce:\n  {cmd}\nwaves around the divergence:\n  {view}\npicture: divergence.svg\n",
             g.count,
             first.tick,
             first.signal,
@@ -176,6 +195,11 @@ pub fn write_repros(s: &Summary, dir: &Path, dut: &dyn Dut, timeout: Duration) -
         b.add(crate::atomic_file::write_atomic(&folder.join("failure.txt"), text.as_bytes())?);
         b.commit()?;
         super::wave::write(&folder, &toml, &name, &f)?;
+        // the picture: the model's values around the divergence beside the DUT's trace
+        let svg = picture(&folder, &toml, &name, &f, dut).map_err(|e| RegressError::File { path: folder.join("divergence.svg"), reason: e })?;
+        let mut b = crate::atomic_file::Batch::new();
+        b.add(crate::atomic_file::write_atomic(&folder.join("divergence.svg"), svg.as_bytes())?);
+        b.commit()?;
     }
     Ok(())
 }
@@ -195,7 +219,7 @@ mod tests {
     fn the_repro_command_is_one_shell_line_that_runs_pmu50_only() {
         let model = pmu50_coverage::model_id(pmu50_coverage::layout());
         let rtl = "/tmp/x;echo INJECTED $(touch pwned) `id` 'q' \"d\"/rtl.f";
-        let spec = RunSpec { tool: "t".into(), model, start_seed: 1, iterations: 1, directed: false, check_spec: true, dut: super::super::DutKind::Verilator, rtl: Some(rtl.into()), pins: Default::default(), shard: None };
+        let spec = RunSpec { tool: "t".into(), model, start_seed: 1, iterations: 1, directed: false, check_spec: true, dut: super::super::DutKind::Verilator, rtl: Some(rtl.into()), map: Some("/m $(x).toml".into()), fixed: Default::default(), pins: Default::default(), shard: None };
         let repro = Path::new("out dir/failures/dut-x-y/repro.toml");
         let cmd = command(&spec, repro);
         assert_eq!(words(&cmd), ["regress", "--repro", "out dir/failures/dut-x-y/repro.toml", "--dut", "verilator", "--rtl", rtl, "--check-spec"], "{cmd}");

@@ -170,7 +170,20 @@ impl VerilatorDut {
             dut.check_pair(s0.sync_depth, 2)?;
         }
         if let Some(m) = map {
-            dut.mapped = m.check(&design, &s0)?;
+            // the widths of the mapped signals in the structure the seeds start from
+            let at_s0 = if (s0.sync_depth, s0.cnt_width) == (defaults.sync_depth, defaults.cnt_width) {
+                design.clone()
+            } else {
+                let mut g = Vec::new();
+                if dut.top_params.iter().any(|(n, _)| *n == "SYNC_DEPTH") {
+                    g.push(("SYNC_DEPTH".to_string(), u64::from(s0.sync_depth)));
+                }
+                if dut.top_params.iter().any(|(n, _)| *n == "CNT_W") {
+                    g.push(("CNT_W".to_string(), u64::from(s0.cnt_width)));
+                }
+                rtl::elaborate_cached(&fl, &g, &dut.scratch.path().join("xml_map"), &dut.root)?
+            };
+            dut.mapped = m.check(&at_s0, &s0)?;
             dut.map_key = m.key();
             dut.notes.push(format!("map {}: {} register(s) and {} internal(s) compared beside the ports", m.path.as_ref().map_or(String::new(), |p| p.display().to_string()), m.registers.len(), m.internals.len()));
         }
