@@ -640,8 +640,11 @@ def replay(m, s, prop, depth):
     write_atomic(os.path.join(d, "cex.aim"), cone_map(m.aim, latch_map))
     abc = "read_aiger cex.aig; fold; strash; bmc3 -F %d; write_cex -a trace.aiw" % (depth + 1)
     run(["yosys-abc", "-c", abc], d, "abc_cex.log", timeout=600)
-    if not os.path.exists(os.path.join(d, "trace.aiw")):
+    mm = re.search(r"was asserted in frame (\d+)", open(os.path.join(d, "abc_cex.log")).read())
+    if not mm or not os.path.exists(os.path.join(d, "trace.aiw")):
         return "no witness (%s/abc_cex.log)" % d
+    # bmc3 gives the shortest trace: IC3's may be longer than needed
+    depth = int(mm.group(1))
     ys = ("read_rtlil ../design.il\nchformal -cover -remove\n"
           "chformal -assert -remove t:$assert */%s %%d\nselect -assert-count 1 t:$assert\n"
           "dffunmap\nwrite_smt2 -wires model.smt2\n" % prop)
@@ -787,7 +790,7 @@ def prove(a, sets, names, files, incs, defs):
                 else:
                     v, note = "unknown", "antecedent %s not decided (%s)" % (reach_of(n), rhow)
             elif v == "refuted":
-                note += " at frame %d; " % frame + replay(kit.model(s), s, n, frame)
+                note += "; " + replay(kit.model(s), s, n, frame if frame is not None else a.deep)
             if cached and (rcached or v != "proven"):
                 note += ", cached"
             final[(s, n)] = v
