@@ -290,7 +290,7 @@ class SetModel:
         return m.cone(m.outputs[self.index[name]])
 
 
-def build_model(setname, params, files, incs, defs, mutant, out, timeout):
+def build_model(setname, params, files, incs, defs, mutant, out, timeout, scorr=True):
     """OUT/<set>/: design.il (elaborated), model.aig (+ .aim map), scorr.aig."""
     d = os.path.join(out, setname)
     os.makedirs(d, exist_ok=True)
@@ -339,8 +339,10 @@ write_aiger -zinit -map model.aim model.aig
         raise SetupError("set %s: checks missing from the model: %s (see %s)"
                          % (setname, ", ".join(missing), os.path.join(d, "model.aim")))
     # signal correspondence over every check at once: an inductive, unbounded proof
+    if os.path.exists(os.path.join(d, "scorr.aig")):
+        os.remove(os.path.join(d, "scorr.aig"))
     rc = run(["yosys-abc", "-c", "read_aiger model.aig; fold; strash; scorr; write_aiger scorr.aig"],
-             d, "scorr.log", timeout=timeout)
+             d, "scorr.log", timeout=timeout) if scorr else None
     try:
         model = Aiger(open(os.path.join(d, "model.aig"), "rb").read())
         if rc == 0 and os.path.exists(os.path.join(d, "scorr.aig")):
@@ -430,6 +432,24 @@ class Ric3(Engine):
         return "unknown", None
 
 
+class Ric3Bmc(Ric3):
+    name = "ric3-bmc"
+
+    def __init__(self, depth):
+        self.depth = depth
+
+    def argv(self, aig, timeout):
+        return [RIC3, "-e", "bmc", "--end", str(self.depth), "--witness", aig]
+
+    def verdict(self, rc, log):
+        v, frame = Ric3.verdict(self, rc, log)
+        if v == "proven":  # rIC3's BMC says UNSAT for "no failure up to --end"
+            return "bounded", self.depth
+        if v == "unknown" and "RESULT: UNKNOWN" in log:
+            return "bounded", self.depth
+        return v, frame
+
+
 def run_engines(engines, aig, d, timeout, first_wins=True):
     """Run the engines side by side on `aig`. first_wins: the first decisive answer (proven or
     refuted) ends the others. Returns {engine name: (verdict, frame, seconds)}."""
@@ -500,11 +520,12 @@ class Kit:
         self.salt = (sources_digest(files, incs, defs, mutant), names, a.timeout, a.deep,
                      tool_versions(names))
         self.models = {}
+        self.scorr = True
 
     def model(self, s):
         if s not in self.models:
             self.models[s] = build_model(s, SETS[s], self.files, self.incs, self.defs, self.mutant,
-                                         self.out, self.a.timeout)
+                                         self.out, self.a.timeout, scorr=self.scorr)
         return self.models[s]
 
     def key(self, s, name):
@@ -798,7 +819,7 @@ def prove(a, sets, names, files, incs, defs):
     st = list(final.values())
     engines = {}
     for (s, n), r in res.items():
-        if n.startswith("prop_"):
+        if n.startswith("prop_") and r[0] in ("proven", "refuted"):
             e = r[3].split(" ")[0].split(";")[0]
             engines[e] = engines.get(e, 0) + 1
     print("formal: %d/%d proven, %d refuted, %d vacuous, %d unknown; %.0f s wall (%s, %d jobs; "
@@ -833,10 +854,11 @@ MUTANT_HINTS = {
 
 
 def engine_pair(a):
-    """The two engines of the mutation table, each a bounded search then IC3/PDR."""
+    """The two engines of the mutation table, each a bounded search (to --bmc-depth) then
+    IC3/PDR."""
     pair = {"abc": [AbcBmc(a.bmc_depth), AbcPdr()]}
     if Ric3().available():
-        pair["ric3"] = [Ric3()]
+        pair["ric3"] = [Ric3Bmc(a.bmc_depth), Ric3()]
     return pair
 
 
@@ -847,8 +869,8 @@ def disagreement(verdicts):
 
 
 def mutants(a, sets, names, files, incs, defs):
-    """Each mutant of hdl/mutants.txt: its properties (the expected one first) that scorr did
-    not prove, each checked by both engines (ABC: bmc3 then pdr; rIC3: IC3) independently,
+    """Each mutant of hdl/mutants.txt: its properties (the expected one first), each checked on
+    its unreduced cone by both engines (ABC: bmc3 then pdr; rIC3: IC3) independently,
     until one is refuted. The table gives each engine's verdict, cycle and time; two engines
     disagreeing on a property fails the run."""
     muts = []
@@ -865,13 +887,14 @@ def mutants(a, sets, names, files, incs, defs):
     pair = engine_pair(a)
     t_all = time.time()
     print("%-30s %-26s %-6s %-24s %-24s %s" % ("mutant", "property", "set", "abc (bmc3, pdr)",
-                                                "ric3 (ic3)", "time"), flush=True)
+                                                "ric3 (bmc, ic3)", "time"), flush=True)
 
     def one(m):
         t0 = time.time()
         kit_a = argparse.Namespace(**vars(a))
         kit_a.no_cache = True
         kit = Kit(kit_a, files, incs, defs, m, os.path.join(a.out, "mutants", m))
+        kit.scorr = False  # a refutation needs no reduction: each engine gets the whole cone
         order = [p for p in MUTANT_HINTS.get(m, []) if p in names]
         order += [p for p in names if p not in order]
         for s in sets:
@@ -919,7 +942,7 @@ def mutants(a, sets, names, files, incs, defs):
                 m, prop or "NOT REFUTED", s, cells[0], cells[1], secs,
                 "  ENGINES DISAGREE" if bad else ""), flush=True)
     print("formal-mutants: %d/%d mutants refuted, %d engine disagreements; %.0f s wall "
-          "(%s; cycle = failing cycle; scorr proofs skipped)" % (
+          "(%s; @cycle = failing cycle of that engine's trace)" % (
               len(muts) - missed, len(muts), split, time.time() - t_all, ",".join(sets)))
     return 0 if missed == 0 and split == 0 else 1
 
