@@ -83,6 +83,7 @@ OUTPUTS = ["sig", "vr_hi", "vm_en", "vs1_en", "vs2_en", "vp_en", "rail_hi", "st"
            "quadrant_skip", "bus_rdata", "bus_err"]
 OUT_DIGITS = {"cnt_s": 4, "cnt_c": 4, "cnt_r": 2, "si": 4, "bus_rdata": 4}
 IN_DIGITS = {"bus_addr": 2, "bus_wdata": 4}
+REACH_DEPTH = 150  # cycles of the bounded search tried first for a cover
 KIT_COVERS = {"reach_reset_state": "the reset state",
               "reach_keyoff_period": "one whole key-off period"}
 
@@ -542,7 +543,14 @@ class Kit:
             return (v if kind == "prop" else "unreachable"), None, "scorr"
         data, _ = m.cone(name)
         write_atomic(os.path.join(d, "cone.aig"), data)
-        res = run_engines(self.engines, "cone.aig", d, self.a.timeout)
+        res = {}
+        if kind == "reach":
+            # covers are shallow: a bounded search finds their traces at a fraction of the cost
+            res = run_engines([AbcBmc(REACH_DEPTH)], "cone.aig", d, min(self.a.timeout, 30))
+            if res["abc-bmc"][0] != "refuted":
+                res = {}
+        if not res:
+            res = run_engines(self.engines, "cone.aig", d, self.a.timeout)
         v, frame, eng = decisive(res)
         how = eng
         if v == "unknown":
