@@ -112,7 +112,8 @@ cosim: deps $(BIN)
 ## with the contract ports. Answers are cached by the hash of the files read (hdl/build/formal/
 ## cache); FORMAL_CACHE=0 runs cold. formal-quick: set small only, with the engines already built
 ## (ABC alone on a fresh machine: for make test); formal-mutants: every mutant refuted, both
-## engines side by side in one table; formal-test: the kit's own tests (vacuity, engines agree).
+## engines side by side in one table, then formal-test: the kit's own tests (vacuity, engines
+## agreeing, the counterexample's view).
 ## formal-tools: rIC3 built once into target/tools (its nightly features on the stable toolchain).
 .PHONY: formal-test formal-tools
 FORMAL_CACHE ?= 1
@@ -139,6 +140,7 @@ formal-quick: deps $(VENV)/.formal
 	$(FORMAL) --sets small
 formal-mutants: deps $(VENV)/.formal formal-tools
 	$(VPY) hdl/formal/run.py --mutants --sets small --timeout 120
+	$(MAKE) formal-test
 formal-test: deps $(VENV)/.formal
 	$(VPY) -m pytest -q hdl/formal/tests
 

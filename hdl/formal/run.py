@@ -472,7 +472,7 @@ def run_engines(engines, aig, d, timeout, first_wins=True):
             if name in res:
                 continue
             rc = p.poll()
-            late = time.time() - t0 > timeout + 5
+            late = time.time() - t0 > timeout + max(5, timeout // 4)  # the engine's own limit first
             if rc is None and not late:
                 continue
             if rc is None:
@@ -562,8 +562,9 @@ class Kit:
             if r[0] == "refuted":
                 v, frame, how = "refuted", r[1], "abc-bmc after %s" % tried
             else:
-                how = "%s; abc-bmc %s" % (tried, "clean to %s cycles" % r[1] if r[0] == "bounded"
-                                          else r[0])
+                how = "%s within %d s; abc-bmc %s" % (
+                    tried, self.a.timeout, "no failure in %s cycles" % r[1] if r[0] == "bounded"
+                    else r[0])
         if kind == "reach":
             v = {"proven": "unreachable", "refuted": "reached"}.get(v, v)
         return v, frame, how
