@@ -814,7 +814,7 @@ def prove(a, sets, names, files, incs, defs):
                 if rv == "reached" and not lost:
                     note += "; antecedent reached at cycle %d" % max(rframe - 1, 0) if rframe else ""
                 elif rv == "reached":
-                    v, note = "vacuous", "the assumptions exclude %s" % " and ".join(lost)
+                    v, note = "vacuous", "%s not reached under the assumptions" % " and ".join(lost)
                 elif rv == "unreachable":
                     v, note = "vacuous", "antecedent %s unreachable (%s)" % (reach_of(n), rhow)
                 else:
@@ -878,8 +878,8 @@ def disagreement(verdicts):
 
 
 def mutants(a, sets, names, files, incs, defs):
-    """Each mutant of hdl/mutants.txt: its properties (the expected one first), each checked on
-    its unreduced cone by both engines (ABC: bmc3 then pdr; rIC3: IC3) independently,
+    """Each mutant of hdl/mutants.txt: its properties (the expected one first) that scorr did
+    not prove, each checked on its reduced cone by both engines (ABC: bmc3 then pdr; rIC3: IC3) independently,
     until one is refuted. The table gives each engine's verdict, cycle and time; two engines
     disagreeing on a property fails the run."""
     muts = []
@@ -903,7 +903,6 @@ def mutants(a, sets, names, files, incs, defs):
         kit_a = argparse.Namespace(**vars(a))
         kit_a.no_cache = True
         kit = Kit(kit_a, files, incs, defs, m, os.path.join(a.out, "mutants", m))
-        kit.scorr = False  # a refutation needs no reduction: each engine gets the whole cone
         order = [p for p in MUTANT_HINTS.get(m, []) if p in names]
         order += [p for p in names if p not in order]
         for s in sets:
