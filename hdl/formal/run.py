@@ -396,8 +396,11 @@ class AbcBmc(Engine):
         self.depth = depth
 
     def argv(self, aig, timeout):
-        return ["yosys-abc", "-c", "read_aiger %s; fold; strash; bmc3 -F %d -T %d"
-                % (aig, self.depth, max(1, timeout))]
+        # line-buffered with per-frame progress (-v): a run stopped at its time limit still
+        # tells how deep it got
+        return (["stdbuf", "-oL"] if shutil.which("stdbuf") else []) + [
+            "yosys-abc", "-c", "read_aiger %s; fold; strash; bmc3 -v -F %d -T %d"
+            % (aig, self.depth, max(1, timeout))]
 
     def verdict(self, rc, log):
         m = re.search(r"was asserted in frame (\d+)", log)
@@ -406,6 +409,9 @@ class AbcBmc(Engine):
         m = re.search(r"No output asserted in (\d+) frames", log)
         if m:
             return "bounded", int(m.group(1))
+        frames = re.findall(r"^\s*(\d+) [+:-]", log, re.M)
+        if frames:
+            return "bounded", int(frames[-1])
         return "unknown", None
 
 
@@ -481,8 +487,10 @@ def run_engines(engines, aig, d, timeout, first_wins=True):
             log.close()
             text = open(os.path.join(d, name + ".log"), errors="replace").read()
             v, frame = e.verdict(rc, text) if rc is not None else ("unknown", None)
-            if rc is not None and rc < 0 and v not in ("proven", "refuted"):
+            if rc is not None and rc < 0 and v not in ("proven", "refuted", "bounded"):
                 v = "unknown"
+            if rc is None and e.name == "abc-bmc":
+                v, frame = e.verdict(0, text)  # stopped: how deep it got
             res[name] = (v, frame, time.time() - t0)
             if first_wins and v in ("proven", "refuted"):
                 for other, (_, q, qlog) in procs.items():
@@ -554,10 +562,8 @@ class Kit:
         v, frame, eng = decisive(res)
         how = eng
         if v == "unknown":
-            # deeper bounded search on the unreduced cone
-            data, _ = m.cone(name, reduced=False)
-            write_atomic(os.path.join(d, "full.aig"), data)
-            r = run_engines([AbcBmc(self.a.deep)], "full.aig", d, self.a.timeout)["abc-bmc"]
+            # deeper bounded search (on the reduced cone: bmc3 goes much deeper there)
+            r = run_engines([AbcBmc(self.a.deep)], "cone.aig", d, self.a.timeout)["abc-bmc"]
             tried = ", ".join("%s %s" % (k, x[0]) for k, x in res.items())
             if r[0] == "refuted":
                 v, frame, how = "refuted", r[1], "abc-bmc after %s" % tried
@@ -834,7 +840,7 @@ def prove(a, sets, names, files, incs, defs):
     print("formal: %d/%d proven, %d refuted, %d vacuous, %d unknown; %.0f s wall (%s, %d jobs; "
           "decided by %s)%s" % (st.count("proven"), len(st), st.count("refuted"), st.count("vacuous"),
                                 st.count("unknown"), time.time() - t0, ",".join(sets), a.jobs,
-                                ", ".join("%s %d" % kv for kv in sorted(engines.items())),
+                                ", ".join("%s %d" % kv for kv in sorted(engines.items())) or "none",
                                 (" mutant " + a.mutant) if a.mutant else ""), flush=True)
     return 0 if all(v == "proven" for v in st) else 1
 
