@@ -42,6 +42,8 @@ pub const FILES: &[(&str, &str)] = &[
     ("formal/pmu50_formal.sv", include_str!("../hdl/formal/pmu50_formal.sv")),
     ("formal/requirements.txt", include_str!("../hdl/formal/requirements.txt")),
     ("formal/run.py", include_str!("../hdl/formal/run.py")),
+    ("formal/aiger.py", include_str!("../hdl/formal/aiger.py")),
+    ("formal/tests/test_formal.py", include_str!("../hdl/formal/tests/test_formal.py")),
 ];
 
 /// Scripts, written executable.
