@@ -192,31 +192,7 @@ impl RunSpec {
     }
 }
 
-/// A seed's verdict.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Verdict {
-    Pass,
-    Fail,
-    Error,
-}
-
-impl Verdict {
-    pub fn parse(s: &str) -> Option<Verdict> {
-        match s {
-            "pass" => Some(Verdict::Pass),
-            "fail" => Some(Verdict::Fail),
-            "error" => Some(Verdict::Error),
-            _ => None,
-        }
-    }
-    pub fn name(self) -> &'static str {
-        match self {
-            Verdict::Pass => "pass",
-            Verdict::Fail => "fail",
-            Verdict::Error => "error",
-        }
-    }
-}
+pub use super::spec::Verdict;
 
 /// Where a seed's result is: which results file, at which byte, how long its line is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -245,12 +221,8 @@ pub fn check_line(
             range.end.wrapping_sub(1)
         ));
     }
-    let v = Verdict::parse(&r.verdict).ok_or_else(|| {
-        format!(
-            "field `verdict`: `{}`; valid is pass, fail or error",
-            r.verdict
-        )
-    })?;
+    // (an unknown verdict is refused by the parser: `verdict` is one of pass, fail, error)
+    let v = r.verdict;
     match (v, &r.failure) {
         (Verdict::Pass, Some(_)) => {
             return Err("field `failure`: a passing seed has no failure".into())
@@ -346,7 +318,7 @@ pub fn scan_reader(
             offset: start,
             len: line.len() as u32,
             file,
-            verdict: Verdict::parse(&res.verdict).unwrap_or(Verdict::Error),
+            verdict: res.verdict,
         };
         each(&res, &e);
         entries.push(e);
