@@ -15,7 +15,19 @@ use std::path::Path;
 fn wave(sc: &Scenario, format: WaveFormat, level: Level, own_thread: bool) -> Vec<u8> {
     let dir = tempfile::tempdir().unwrap();
     let core = pmu50_core::Pmu50::new(sc.params).unwrap();
-    let mut vcd = OnBegin::new(|init: &TickView<'_>| VcdObserver::create(dir.path(), &sc.name, &core, sc.clock_ns(), sc.vcd_window, format, level, init).map(|o| o.on_own_thread(own_thread)));
+    let mut vcd = OnBegin::new(|init: &TickView<'_>| {
+        VcdObserver::create(
+            dir.path(),
+            &sc.name,
+            &core,
+            sc.clock_ns(),
+            sc.vcd_window,
+            format,
+            level,
+            init,
+        )
+        .map(|o| o.on_own_thread(own_thread))
+    });
     let mut marks = MarkerObserver::new(sc.clock_ns());
     run(sc, SimOptions::default(), &mut [&mut vcd, &mut marks]).unwrap();
     let (file, gtkw) = vcd.into_inner().unwrap().into_outputs();
@@ -24,7 +36,12 @@ fn wave(sc: &Scenario, format: WaveFormat, level: Level, own_thread: bool) -> Ve
 }
 
 fn shipped(name: &str) -> Scenario {
-    Scenario::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios").join(format!("{name}.toml"))).unwrap()
+    Scenario::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenarios")
+            .join(format!("{name}.toml")),
+    )
+    .unwrap()
 }
 
 fn same_both_ways(name: &str, formats: &[WaveFormat], levels: &[Level]) {
@@ -33,9 +50,17 @@ fn same_both_ways(name: &str, formats: &[WaveFormat], levels: &[Level]) {
         for &level in levels {
             let a = wave(&sc, format, level, false);
             let b = wave(&sc, format, level, true);
-            assert!(a.len() > 1000, "{name} {format:?} {level:?}: only {} bytes", a.len());
+            assert!(
+                a.len() > 1000,
+                "{name} {format:?} {level:?}: only {} bytes",
+                a.len()
+            );
             if a != b {
-                let at = a.iter().zip(&b).position(|(x, y)| x != y).unwrap_or(a.len().min(b.len()));
+                let at = a
+                    .iter()
+                    .zip(&b)
+                    .position(|(x, y)| x != y)
+                    .unwrap_or(a.len().min(b.len()));
                 panic!("{name} {format:?} {level:?}: the threaded writer's file differs at byte {at} of {} / {}", a.len(), b.len());
             }
         }
@@ -54,7 +79,13 @@ fn keyoff_turns_is_the_same_on_its_own_thread() {
 /// Key on and off with the MPU's read-outs, and a window.
 #[test]
 fn figures_are_the_same_on_their_own_thread() {
-    for name in ["fig15a", "fig16", "first_embodiment", "threshold_error", "too_fast"] {
+    for name in [
+        "fig15a",
+        "fig16",
+        "first_embodiment",
+        "threshold_error",
+        "too_fast",
+    ] {
         same_both_ways(name, &FORMATS, &LEVELS);
     }
 }
@@ -82,7 +113,10 @@ impl Observer for Failing {
             if self.panic {
                 panic!("planted panic at tick {}", v.tick);
             }
-            return Err(SimError::observer("planted.vcd", format!("planted error at tick {}", v.tick)));
+            return Err(SimError::observer(
+                "planted.vcd",
+                format!("planted error at tick {}", v.tick),
+            ));
         }
         Ok(())
     }
@@ -98,11 +132,27 @@ fn short() -> Scenario {
 #[test]
 fn an_error_on_the_thread_ends_the_run() {
     let sc = short();
-    assert!(sc.ticks > 4 * BATCH as u64, "the scenario is too short for the test: {} ticks", sc.ticks);
+    assert!(
+        sc.ticks > 4 * BATCH as u64,
+        "the scenario is too short for the test: {} ticks",
+        sc.ticks
+    );
     for at in [3, BATCH as u64 + 7, sc.ticks - 2] {
-        let mut t = Threaded::spawn(Failing { at, panic: false, ticks: 0 }, "planted.vcd").unwrap_or_else(|_| panic!("no thread"));
+        let mut t = Threaded::spawn(
+            Failing {
+                at,
+                panic: false,
+                ticks: 0,
+            },
+            "planted.vcd",
+        )
+        .unwrap_or_else(|_| panic!("no thread"));
         let e = run_with(&sc, Stepping::EveryTick, &mut [&mut t]).unwrap_err();
-        assert!(e.to_string().contains(&format!("planted error at tick {at}")), "{e}");
+        assert!(
+            e.to_string()
+                .contains(&format!("planted error at tick {at}")),
+            "{e}"
+        );
         assert!(e.to_string().starts_with("planted.vcd"), "{e}");
     }
 }
@@ -111,17 +161,36 @@ fn an_error_on_the_thread_ends_the_run() {
 #[test]
 fn a_panic_on_the_thread_is_an_error() {
     let sc = short();
-    let mut t = Threaded::spawn(Failing { at: 100, panic: true, ticks: 0 }, "planted.vcd").unwrap_or_else(|_| panic!("no thread"));
+    let mut t = Threaded::spawn(
+        Failing {
+            at: 100,
+            panic: true,
+            ticks: 0,
+        },
+        "planted.vcd",
+    )
+    .unwrap_or_else(|_| panic!("no thread"));
     let e = run_with(&sc, Stepping::EveryTick, &mut [&mut t]).unwrap_err();
     let s = e.to_string();
-    assert!(s.contains("panicked") && s.contains("planted panic at tick 100"), "{s}");
+    assert!(
+        s.contains("panicked") && s.contains("planted panic at tick 100"),
+        "{s}"
+    );
 }
 
 /// Every tick reaches the observer on its thread, in order, and it comes back after `finish`.
 #[test]
 fn every_tick_reaches_the_thread() {
     let sc = short();
-    let mut t = Threaded::spawn(Failing { at: u64::MAX, panic: false, ticks: 0 }, "count").unwrap_or_else(|_| panic!("no thread"));
+    let mut t = Threaded::spawn(
+        Failing {
+            at: u64::MAX,
+            panic: false,
+            ticks: 0,
+        },
+        "count",
+    )
+    .unwrap_or_else(|_| panic!("no thread"));
     run_with(&sc, Stepping::EveryTick, &mut [&mut t]).unwrap();
     assert_eq!(t.into_inner().map(|f| f.ticks), Some(sc.ticks));
 }

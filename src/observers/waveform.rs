@@ -187,7 +187,7 @@ pub struct VcdObserver {
 enum Route {
     /// on the bench's thread; moved to its own at `begin` when `thread` says so
     Here { wave: Box<Wave>, thread: bool },
-    Thread(Threaded<Wave>),
+    Thread(Box<Threaded<Wave>>),
     /// its thread ended: the observer back from it
     Back(Box<Wave>),
     Gone,
@@ -244,7 +244,7 @@ impl VcdObserver {
     fn wave(&mut self) -> Result<&mut dyn Observer, SimError> {
         match &mut self.route {
             Route::Here { wave, .. } | Route::Back(wave) => Ok(&mut **wave),
-            Route::Thread(t) => Ok(t),
+            Route::Thread(t) => Ok(&mut **t),
             Route::Gone => Err(SimError::observer("waveform", "writer already closed")),
         }
     }
@@ -256,7 +256,7 @@ impl Observer for VcdObserver {
             let Route::Here { wave, .. } = std::mem::replace(&mut self.route, Route::Gone) else { unreachable!("matched above") };
             let what = wave.path.display().to_string();
             self.route = match Threaded::spawn(*wave, &what) {
-                Ok(t) => Route::Thread(t),
+                Ok(t) => Route::Thread(Box::new(t)),
                 // no thread to be had: on the bench's
                 Err(wave) => Route::Here { wave: Box::new(wave), thread: false },
             };
