@@ -11,9 +11,11 @@ TOOLS := vcd2lxt2:gtkwave xvfb-run:xvfb xauth:xauth iverilog:iverilog verilator:
 
 # Python: a project-local virtual environment (nothing is installed outside the project folder).
 # The extension builds in the workspace's target folder with the release profile, so it reuses
-# the model crates and dependencies `cargo build --release` compiled (python/Cargo.lock pins the
-# same versions as Cargo.lock; a differing version recompiles what depends on it). Its wheel goes
-# to target/python/wheels.
+# the model crates and dependencies `cargo build --release` compiled: python/Cargo.lock pins the
+# same versions as Cargo.lock (a differing version recompiles what depends on it), and the pmu50
+# crate asks for the features pyo3 turns on in syn and once_cell (Cargo.toml), so both builds have
+# one feature set and the extension's compiles only pyo3 and the bindings. Its wheel goes to
+# target/python/wheels.
 PYTHON3   ?= python3
 VENV      := target/venv
 VPY       := $(VENV)/bin/python

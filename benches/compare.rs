@@ -2,7 +2,7 @@
 //! Verilog twin side by side, on the same stimulus held in memory, in one run, in one table.
 //!
 //!   cargo bench --bench compare -- --dir hdl/build/bench --stim keyoff_turns --stim random_7 \
-//!       [--icarus keyoff_turns] [--seconds 1.0] [--rounds 15] [--quick | --quick-traced | --quick-vcd | --quick-run]
+//!       [--icarus keyoff_turns] [--seconds 1.0] [--rounds 15] [--quick | --quick-traced | --quick-vcd | --quick-run | --quick-wall]
 //!
 //! For each stimulus NAME, `DIR/NAME.vec` is a vector file (`pmu50 vectors`): its inputs are the
 //! stimulus, its `// param` lines the parameters. Harnesses, each replaying the stimulus from reset
@@ -28,6 +28,25 @@
 //! `--quick-run` prints only the `pmu50 run --trace all` row against both Verilator --trace
 //! rows (interleaved rounds, as in the table; needs only `DIR/vlt_NAME` and `DIR/vla_NAME`).
 //!
+//! `--quick-wall` prints only the wall-time table (below).
+//!
+//! Wall time, after the table: what a user waits for, whole processes side by side in
+//! interleaved rounds (the fastest wall time of each counts, printed with that round's CPU
+//! time, the process's user + system time of all its threads): `pmu50 run SCENARIO --trace all`
+//! with its waveform writer on a thread of its own (the default on a machine with two cores or
+//! more) and on the bench's thread (`PMU50_WRITER_THREAD=0`), against Verilator's harness with
+//! `--trace` of every variable built with `--threads 1` and `--threads 2` (`DIR/vlw1_NAME/bench`,
+//! `DIR/vlw2_NAME/bench`: benches/verilator_threads.sh, which also makes the harness time its
+//! replay loop by the wall clock; Verilator 5 has no other threading of a VCD:
+//! `--trace-threads` offloads FST only). Verilator's best of the two is the one the ratio is
+//! taken against, and the line says which; a second ratio is taken against the fastest replay
+//! loop alone. Both processes read their
+//! stimulus (a scenario file and the environment models, a vector file) and write the VCD of
+//! every variable; `pmu50 run` also writes the save file, and syncs both files to the disk
+//! before renaming them into place (the harness neither): the last row is the same run into
+//! `/dev/shm` (memory), without the disk's share. Verilator's replay loop alone (timed by the
+//! wall clock) is printed beside it.
+//!
 //! The harnesses of a stimulus are timed in [`rounds`] rounds each, interleaved (round 1 of
 //! every harness, then round 2, ...), and the fastest round of each counts.
 //!
@@ -51,6 +70,7 @@ use pmu50_waves::{TimeUnit, Timescale};
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::time::Instant;
 
 fn cpu_now() -> f64 {
     let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
@@ -644,6 +664,193 @@ fn fmt_rate(r: f64) -> String {
     if r >= 1e6 { format!("{:.1} M", r / 1e6) } else { format!("{:.0} k", r / 1e3) }
 }
 
+/// One whole process of the wall-time table: its wall time and CPU time (user + system, every
+/// thread), in seconds, and what it printed.
+#[derive(Clone, Debug)]
+struct Proc {
+    wall: f64,
+    cpu: f64,
+    stdout: String,
+}
+
+/// Run `cmd` to its end, timed.
+fn timed(cmd: &mut Command) -> Result<Proc, String> {
+    let (c0, _) = rusage(libc::RUSAGE_CHILDREN);
+    let t0 = Instant::now();
+    let o = cmd.output().map_err(|e| format!("{cmd:?}: {e}"))?;
+    let wall = t0.elapsed().as_secs_f64();
+    let (c1, _) = rusage(libc::RUSAGE_CHILDREN);
+    if !o.status.success() {
+        return Err(format!("{cmd:?} failed: {}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr)));
+    }
+    Ok(Proc { wall, cpu: c1 - c0, stdout: String::from_utf8_lossy(&o.stdout).into_owned() })
+}
+
+/// [`timed`], but a process still running after `limit` seconds is killed (`Ok(None)`): a
+/// Verilator model on two threads waits for its other thread by spinning, which on a machine
+/// busy with other work can take minutes instead of milliseconds.
+fn timed_within(cmd: &mut Command, limit: f64) -> Result<Option<Proc>, String> {
+    use std::io::Read;
+    let (c0, _) = rusage(libc::RUSAGE_CHILDREN);
+    let t0 = Instant::now();
+    let mut child = cmd.stdout(std::process::Stdio::piped()).stderr(std::process::Stdio::null()).spawn().map_err(|e| format!("{cmd:?}: {e}"))?;
+    let status = loop {
+        if let Some(st) = child.try_wait().map_err(|e| format!("{cmd:?}: {e}"))? {
+            break st;
+        }
+        if t0.elapsed().as_secs_f64() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Ok(None);
+        }
+        std::thread::sleep(std::time::Duration::from_micros(200));
+    };
+    let wall = t0.elapsed().as_secs_f64();
+    let (c1, _) = rusage(libc::RUSAGE_CHILDREN);
+    let mut stdout = String::new();
+    if let Some(mut o) = child.stdout.take() {
+        let _ = o.read_to_string(&mut stdout);
+    }
+    if !status.success() {
+        return Err(format!("{cmd:?} failed: {stdout}"));
+    }
+    Ok(Some(Proc { wall, cpu: c1 - c0, stdout }))
+}
+
+/// The rows of the wall-time table (see the module documentation).
+const WALL_ROWS: [&str; 5] = [
+    "pmu50 run --trace all, writer thread",
+    "pmu50 run --trace all, one thread (PMU50_WRITER_THREAD=0)",
+    "Verilator -O3 --trace, every variable",
+    "Verilator -O3 --trace --threads 2, every variable",
+    "pmu50 run --trace all, writer thread, into /dev/shm",
+];
+
+/// The harness directory of each Verilator row of [`WALL_ROWS`] (benches/verilator_threads.sh).
+const WALL_VERILATOR: [&str; 2] = ["vlw1", "vlw2"];
+
+/// The wall-time table of the stimuli and its ratio lines.
+fn wall_table(stims: &[Stim], dir: &Path) -> Result<String, String> {
+    let bin = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/release/pmu50");
+    let mut out = format!(
+        "\nwall time, whole processes side by side, fastest of {} interleaved rounds; CPU: that round's user + system time, every thread; loop: Verilator's replay loop alone by the wall clock (file opened to file closed); ratio = Verilator's best traced whole process / this row's wall time; machine: {} CPUs, load average {} at the start\n\n",
+        rounds(),
+        std::thread::available_parallelism().map_or(0, |n| n.get()),
+        std::fs::read_to_string("/proc/loadavg").unwrap_or_default().split_whitespace().take(3).collect::<Vec<_>>().join(" ")
+    );
+    let w0 = WALL_ROWS.iter().map(|l| l.len()).max().unwrap_or(0);
+    out += &format!("| {:w0$} |", "harness");
+    for st in stims {
+        out += &format!(" {} wall | CPU | loop | ratio |", st.name);
+    }
+    out += "\n";
+    out += &format!("|{}|", "-".repeat(w0 + 2));
+    for _ in stims {
+        out += "---:|---:|---:|---:|";
+    }
+    out += "\n";
+    let mut cells: Vec<Vec<Option<Proc>>> = vec![Vec::new(); WALL_ROWS.len()];
+    let mut lines = Vec::new();
+    // the replay loop's wall time a Verilator harness printed
+    let loop_s = |p: &Proc| p.stdout.split_whitespace().find_map(|w| w.strip_prefix("cpu_s=")).and_then(|v| v.parse::<f64>().ok());
+    for st in stims {
+        let sc = scenario_of(st, dir);
+        let vec = st.vec.display().to_string();
+        let outd = dir.join("pmu50_wall");
+        let vcd = dir.join(format!("verilator_wall_{}.vcd", st.name));
+        let run = |thread: &str| -> Result<Option<Proc>, String> { timed(Command::new(&bin).arg("run").arg(&sc).arg("--out-dir").arg(&outd).args(["--trace", "all"]).env("PMU50_WRITER_THREAD", thread)).map(Some) };
+        // a harness that ran out of time once (more than 20 times the single-threaded one's
+        // wall time, at least 2 s) is not run again
+        let mut gave_up = [false; 2];
+        let mut vl = |j: usize, limit: f64| -> Result<Option<Proc>, String> {
+            let b = dir.join(format!("{}_{}/bench", WALL_VERILATOR[j], st.name));
+            if !b.exists() || gave_up[j] {
+                return Ok(None);
+            }
+            let p = timed_within(Command::new(&b).arg(&vec).arg("1").arg("--trace").arg(&vcd), limit)?;
+            gave_up[j] = p.is_none();
+            Ok(p)
+        };
+        // the same run into memory (tmpfs): without the disk's share of syncing and renaming
+        let shm = Path::new("/dev/shm").is_dir().then(|| Path::new("/dev/shm").join(format!("pmu50_wall_{}", std::process::id())));
+        let run_shm = || -> Result<Option<Proc>, String> {
+            let Some(d) = shm.as_ref() else { return Ok(None) };
+            timed(Command::new(&bin).arg("run").arg(&sc).arg("--out-dir").arg(d).args(["--trace", "all"]).env("PMU50_WRITER_THREAD", "1")).map(Some)
+        };
+        let mut best: Vec<Option<Proc>> = vec![None; WALL_ROWS.len()];
+        for _ in 0..rounds() {
+            let one = vl(0, 60.0)?;
+            let limit = one.as_ref().map_or(60.0, |p| (20.0 * p.wall).max(2.0));
+            let round = [run("1")?, run("0")?, one, vl(1, limit)?, run_shm()?];
+            for (b, p) in best.iter_mut().zip(round) {
+                if let Some(p) = p {
+                    if b.as_ref().is_none_or(|b| p.wall < b.wall) {
+                        *b = Some(p);
+                    }
+                }
+            }
+        }
+        let _ = std::fs::remove_file(&vcd);
+        if let Some(d) = shm.as_ref() {
+            let _ = std::fs::remove_dir_all(d);
+        }
+        for (j, g) in gave_up.iter().enumerate() {
+            if *g {
+                lines.push(format!("{}: {} stopped: it ran 20 times as long as the single-threaded build (at least 2 s), its threads spinning for each other on the busy machine", st.name, WALL_ROWS[2 + j]));
+            }
+        }
+        // Verilator's best traced run
+        let (vrow, vbest) = best[2..4]
+            .iter()
+            .enumerate()
+            .filter_map(|(j, p)| p.as_ref().map(|p| (j + 2, p.clone())))
+            .min_by(|a, b| a.1.wall.total_cmp(&b.1.wall))
+            .ok_or_else(|| format!("{}: no Verilator harness of the wall-time table (DIR/vlw1_{}/bench: benches/verilator_threads.sh)", st.name, st.name))?;
+        let best_loop = best[2..4].iter().flatten().filter_map(loop_s).fold(f64::INFINITY, f64::min);
+        if let (Some(r), Some(one)) = (&best[0], &best[1]) {
+            lines.push(format!(
+                "{}: pmu50 run --trace all {:.1} ms wall ({:.1} ms CPU), {:.2}x Verilator's best traced run ({}: {:.1} ms wall, {:.1} ms CPU), {:.2}x Verilator's fastest replay loop alone ({:.1} ms wall); one thread {:.1} ms wall ({:.1} ms CPU), {:.2}x and {:.2}x",
+                st.name,
+                r.wall * 1e3,
+                r.cpu * 1e3,
+                vbest.wall / r.wall,
+                WALL_ROWS[vrow],
+                vbest.wall * 1e3,
+                vbest.cpu * 1e3,
+                best_loop / r.wall,
+                best_loop * 1e3,
+                one.wall * 1e3,
+                one.cpu * 1e3,
+                vbest.wall / one.wall,
+                best_loop / one.wall
+            ));
+        }
+        for (row, b) in cells.iter_mut().zip(best) {
+            row.push(b);
+        }
+    }
+    for (r, label) in WALL_ROWS.iter().enumerate() {
+        out += &format!("| {label:w0$} |");
+        for j in 0..stims.len() {
+            match &cells[r][j] {
+                Some(p) => {
+                    let vref = cells[2..4].iter().filter_map(|row| row[j].as_ref().map(|p| p.wall)).fold(f64::INFINITY, f64::min);
+                    let lp = if (2..4).contains(&r) { loop_s(p).map_or("-".into(), |l| format!("{:.1} ms", l * 1e3)) } else { "-".to_string() };
+                    out += &format!(" {:.1} ms | {:.1} ms | {lp} | {:.2}x |", p.wall * 1e3, p.cpu * 1e3, vref / p.wall);
+                }
+                None => out += " - | - | - | - |",
+            }
+        }
+        out += "\n";
+    }
+    out += "\n";
+    for l in lines {
+        out += &l;
+        out += "\n";
+    }
+    Ok(out)
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     if let Some(k) = args.iter().position(|a| a == "--park-child") {
@@ -707,6 +914,16 @@ fn main() {
             }
             let v = alone(Box::new(|| Ok(traced_once(st, &dir, false, Sink::File))));
             println!("{}: tracer VCD {} ({:.1} ns a tick; {} ticks, {wide} wide edges, {narrow_upd} narrow with a sample; checksum {:016x})", st.name, fmt_rate(v.rate()), 1e9 / v.rate(), st.inputs.len(), v.checksum.unwrap_or(0));
+        }
+        return;
+    }
+    if args.iter().any(|a| a == "--quick-wall") {
+        match wall_table(&stims, &dir) {
+            Ok(t) => println!("{t}"),
+            Err(e) => {
+                eprintln!("compare: {e}");
+                std::process::exit(1);
+            }
         }
         return;
     }
@@ -858,6 +1075,13 @@ fn main() {
         })
         .collect();
     out += &format!("\npmu50 run --trace all, whole process, against the Verilator --trace harnesses' replay loop: {}\n", ratios.join("; "));
+    match wall_table(&stims, &dir) {
+        Ok(t) => out += &t,
+        Err(e) => {
+            out += &format!("\nwall time: not measured: {e}\n");
+            ok = false;
+        }
+    }
 
     // The page cache's share of a VCD written to a file, the same for both sides.
     match page_cache_ns_per_byte(&dir) {

@@ -8,8 +8,8 @@
 #    seeded random scenario PMU50_BENCH_SEED (default 7, as `pmu50 random --seed 7`);
 # 2. hdl/bench/build.sh builds the Verilator harness per stimulus, without and with --trace (the
 #    model's signals, and every variable: --trace-all) (verilator -O3, g++ -O3; cached in
-#    hdl/build/bench/); iverilog compiles tb_vectors.v for the
-#    Icarus row (keyoff_turns only);
+#    hdl/build/bench/), benches/verilator_threads.sh the one of every variable with --threads 1
+#    and 2, its loop timed by the wall clock (the wall-time table); iverilog compiles tb_vectors.v for the Icarus row (keyoff_turns only);
 # 3. cargo bench --bench compare runs every harness and prints the table; exit 1 when the output
 #    checksums of the harnesses differ;
 # 4. cargo bench --bench regress_speed: what a regression seed costs (coverage and checks against
@@ -22,7 +22,7 @@ SEED="${PMU50_BENCH_SEED:-7}"
 SECONDS_ARG=()
 case "${1:-}" in
     --seconds) SECONDS_ARG=(--seconds "$2") ;;
-    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
 esac
 mkdir -p "$B"
 for t in verilator iverilog vvp g++; do
@@ -40,6 +40,8 @@ for s in keyoff_turns "random_$SEED"; do
     "$ROOT/hdl/bench/build.sh" "$B/$s.vec" "$B/vl_$s"
     "$ROOT/hdl/bench/build.sh" "$B/$s.vec" "$B/vlt_$s" --trace
     "$ROOT/hdl/bench/build.sh" "$B/$s.vec" "$B/vla_$s" --trace-all
+    "$ROOT/benches/verilator_threads.sh" "$B/$s.vec" "$B/vlw1_$s" 1
+    "$ROOT/benches/verilator_threads.sh" "$B/$s.vec" "$B/vlw2_$s" 2
 done
 # Icarus: the vector-replay testbench of method 1, compiled with the file's parameters (as
 # hdl/scripts/run_vectors.sh does).

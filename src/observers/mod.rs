@@ -4,6 +4,7 @@
 //! | module | observer | writes |
 //! |---|---|---|
 //! | [`waveform`] | `VcdObserver` | the VCD or FST of a run and its GTKWave save file |
+//! | [`thread`] | `Threaded` | (runs another observer, the waveform's, on a thread of its own) |
 //! | [`tracer`] | (used by `VcdObserver`) | the core's signals into a waveform frame, one edge a step |
 //! | [`changelog`] | `ChangeLog` | `<name>.log`: one line per register change |
 //! | [`markers`] | `MarkerObserver` | the key events, GTKWave's named markers |
@@ -15,6 +16,7 @@ pub mod changelog;
 pub mod markers;
 pub mod refusals;
 pub mod timing;
+pub mod thread;
 pub mod tracer;
 pub mod vectors;
 pub mod waveform;

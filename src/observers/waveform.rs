@@ -16,6 +16,7 @@
 
 use crate::sim::replay::PeriodRecorder;
 use crate::sim::{Observer, SimError, TickView};
+use crate::observers::thread::Threaded;
 use crate::observers::tracer::{CoreTracer, TracerRun, TracerTextRun};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::Pmu50;
@@ -173,10 +174,148 @@ enum Out {
     Fst(Box<FstWriter>, AtomicFile),
 }
 
-/// Observer writing the waveform (VCD or FST) of a run and its GTKWave save file.
+/// Observer writing the waveform (VCD or FST) of a run and its GTKWave save file. The writing
+/// runs on a thread of its own ([`crate::observers::thread::Threaded`]) where the machine has a
+/// second core, so that the text of tick `k` is written while the bench evaluates the ticks
+/// after it; the file is the same byte for byte either way (`tests/writer_thread.rs`).
+/// `PMU50_WRITER_THREAD=0` in the environment keeps it on the bench's thread (the least CPU
+/// time), `1` starts the thread on any machine.
 pub struct VcdObserver {
+    route: Route,
+}
+
+enum Route {
+    /// on the bench's thread; moved to its own at `begin` when `thread` says so
+    Here { wave: Box<Wave>, thread: bool },
+    Thread(Box<Threaded<Wave>>),
+    /// its thread ended: the observer back from it
+    Back(Box<Wave>),
+    Gone,
+}
+
+/// The environment variable that says where the waveform is written: `0` on the bench's
+/// thread, `1` on a thread of its own; unset, on its own thread when the machine has a second
+/// core.
+pub const WRITER_THREAD_VAR: &str = "PMU50_WRITER_THREAD";
+
+/// Whether a waveform is written on a thread of its own ([`WRITER_THREAD_VAR`]).
+pub fn writer_thread_default() -> Result<bool, String> {
+    match std::env::var(WRITER_THREAD_VAR) {
+        Ok(v) if v == "0" => Ok(false),
+        Ok(v) if v == "1" => Ok(true),
+        Ok(v) => Err(format!("{WRITER_THREAD_VAR}={v:?}: use 0 (write the waveform on the bench's thread) or 1 (on a thread of its own)")),
+        Err(std::env::VarError::NotPresent) => Ok(std::thread::available_parallelism().is_ok_and(|n| n.get() > 1)),
+        Err(std::env::VarError::NotUnicode(v)) => Err(format!("{WRITER_THREAD_VAR}={v:?}: use 0 or 1")),
+    }
+}
+
+impl VcdObserver {
+    /// Create `<dir>/<name>.<vcd|fst>` and `<dir>/<name>.gtkw` (pointing at the waveform file)
+    /// with the signals of `level` (the save file lists only them). `core` is the bench's core
+    /// at reset (a VCD of every signal is written by a tracer stepping a copy of it); `window`
+    /// is in ticks. The writing moves to a thread of its own at `begin` when
+    /// [`writer_thread_default`] says so.
+    #[allow(clippy::too_many_arguments)]
+    pub fn create(dir: &Path, name: &str, core: &Pmu50, clock_ns: u64, window: Option<(u64, u64)>, format: WaveFormat, level: Level, first: &TickView<'_>) -> Result<VcdObserver, SimError> {
+        let path = dir.join(format!("{name}.{}", format.ext()));
+        let thread = writer_thread_default().map_err(|e| err(&path, e))?;
+        let wave = Box::new(Wave::create(dir, name, core, clock_ns, window, format, level, first)?);
+        Ok(VcdObserver { route: Route::Here { wave, thread } })
+    }
+
+    /// Write on a thread of its own (`true`) or on the bench's (`false`), whatever the
+    /// environment says: the same file either way. Before `begin`.
+    pub fn on_own_thread(mut self, yes: bool) -> VcdObserver {
+        if let Route::Here { thread, .. } = &mut self.route {
+            *thread = yes;
+        }
+        self
+    }
+
+    /// The complete waveform (after `finish`, still a temporary file) and its save file.
+    pub fn into_outputs(mut self) -> (Option<AtomicFile>, Option<GtkwSave>) {
+        match std::mem::replace(&mut self.route, Route::Gone) {
+            Route::Here { wave, .. } | Route::Back(wave) => wave.into_outputs(),
+            Route::Thread(t) => t.into_inner().map_or((None, None), Wave::into_outputs),
+            Route::Gone => (None, None),
+        }
+    }
+
+    fn wave(&mut self) -> Result<&mut dyn Observer, SimError> {
+        match &mut self.route {
+            Route::Here { wave, .. } | Route::Back(wave) => Ok(&mut **wave),
+            Route::Thread(t) => Ok(&mut **t),
+            Route::Gone => Err(SimError::observer("waveform", "writer already closed")),
+        }
+    }
+}
+
+impl Observer for VcdObserver {
+    fn begin(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+        if let Route::Here { thread: true, .. } = self.route {
+            let Route::Here { wave, .. } = std::mem::replace(&mut self.route, Route::Gone) else { unreachable!("matched above") };
+            let what = wave.path.display().to_string();
+            self.route = match Threaded::spawn(*wave, &what) {
+                Ok(t) => Route::Thread(Box::new(t)),
+                // no thread to be had: on the bench's
+                Err(wave) => Route::Here { wave: Box::new(wave), thread: false },
+            };
+        }
+        self.wave()?.begin(v)
+    }
+
+    #[inline]
+    fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+        match &mut self.route {
+            Route::Thread(t) => t.tick(v),
+            _ => self.wave()?.tick(v),
+        }
+    }
+
+    fn finish(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+        self.wave()?.finish(v)?;
+        if let Route::Thread(_) = self.route {
+            if let Route::Thread(t) = std::mem::replace(&mut self.route, Route::Gone) {
+                self.route = t.into_inner().map_or(Route::Gone, |w| Route::Back(Box::new(w)));
+            }
+        }
+        Ok(())
+    }
+
+    fn needs_every_tick(&self) -> bool {
+        true
+    }
+
+    fn replays_periods(&self) -> bool {
+        true
+    }
+
+    fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        self.wave()?.period_boundary(k)
+    }
+
+    fn moving_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        self.wave()?.moving_boundary(k)
+    }
+
+    fn can_replay(&self, k: u64, len: u64) -> bool {
+        match &self.route {
+            Route::Here { wave, .. } | Route::Back(wave) => wave.can_replay(k, len),
+            Route::Thread(t) => t.can_replay(k, len),
+            Route::Gone => false,
+        }
+    }
+
+    fn replay(&mut self, k: u64, periods: u64, len: u64) -> Result<(), SimError> {
+        self.wave()?.replay(k, periods, len)
+    }
+}
+
+/// The writer of a run's waveform (VCD or FST) and its GTKWave save file: the observer
+/// [`VcdObserver`] runs it on its own thread, or on the bench's.
+struct Wave {
     out: Option<Out>,
-    /// The tracer while its writer is lent out of it (a replay: [`VcdObserver::untraced`]).
+    /// The tracer while its writer is lent out of it (a replay: [`Wave::untraced`]).
     tracer: Option<CoreTracer>,
     /// The complete VCD (temporary file) after `finish`, and the save file, for the caller to
     /// rename into place (crate::atomic_file).
@@ -312,13 +451,13 @@ fn declare<T>(b: &mut VcdBuilder, list: &[Signal<T>], v: &T, s: &Structural) -> 
 
 const ENV_NAMES: [&str; 8] = ["theta_deg", "sin2_v", "cos2_v", "vs2_v", "vp_v", "vr_v", "theta1_deg", "theta_m_deg"];
 
-impl VcdObserver {
+impl Wave {
     /// Create `<dir>/<name>.<vcd|fst>` and `<dir>/<name>.gtkw` (pointing at the waveform file)
     /// with the signals of `level` (the save file lists only them). `core` is the bench's core
     /// at reset (a VCD of every signal is written by a tracer stepping a copy of it); `window`
     /// is in ticks.
     #[allow(clippy::too_many_arguments)]
-    pub fn create(dir: &Path, name: &str, core: &Pmu50, clock_ns: u64, window: Option<(u64, u64)>, format: WaveFormat, level: Level, first: &TickView<'_>) -> Result<VcdObserver, SimError> {
+    fn create(dir: &Path, name: &str, core: &Pmu50, clock_ns: u64, window: Option<(u64, u64)>, format: WaveFormat, level: Level, first: &TickView<'_>) -> Result<Wave, SimError> {
         let s = core.structural();
         let file_name = format!("{name}.{}", format.ext());
         let path = dir.join(&file_name);
@@ -428,11 +567,11 @@ impl VcdObserver {
             }
         };
         let ids = Ids { all, state, env, values: Vec::with_capacity(all_ids.len()), level, all_ids };
-        Ok(VcdObserver { out: Some(w), tracer: None, file: None, gtkw: Some(gt), ids, unit_ns, path, rec: PeriodRecorder::new(), rec_values: Vec::new(), env: EnvCache::new(first), clock_ns, window })
+        Ok(Wave { out: Some(w), tracer: None, file: None, gtkw: Some(gt), ids, unit_ns, path, rec: PeriodRecorder::new(), rec_values: Vec::new(), env: EnvCache::new(first), clock_ns, window })
     }
 
     /// The complete VCD (after `finish`, still a temporary file) and its save file.
-    pub fn into_outputs(self) -> (Option<AtomicFile>, Option<GtkwSave>) {
+    fn into_outputs(self) -> (Option<AtomicFile>, Option<GtkwSave>) {
         (self.file, self.gtkw)
     }
 
@@ -453,7 +592,7 @@ impl VcdObserver {
         };
     }
 
-    /// The writer lent to the tracer again after [`VcdObserver::untraced`].
+    /// The writer lent to the tracer again after [`Wave::untraced`].
     fn retraced(&mut self) -> Result<(), SimError> {
         let Some(tracer) = self.tracer.take() else { return Ok(()) };
         self.out = match self.out.take() {
@@ -530,7 +669,7 @@ fn replay_into<E: Emitter>(w: &mut Writer<E>, all: &[SigId], env: &[SigId], t: u
     Ok(())
 }
 
-impl Observer for VcdObserver {
+impl Observer for Wave {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
         self.dump(v, true)?;
         if self.rec.active() {
@@ -571,7 +710,7 @@ impl Observer for VcdObserver {
     }
 }
 
-impl VcdObserver {
+impl Wave {
     fn replay_untraced(&mut self, k: u64, periods: u64, len: u64) -> Result<(), SimError> {
         let (clk, unit) = (self.clock_ns, self.unit_ns);
         let (all, env) = (&self.ids.all_ids, &self.ids.env);
