@@ -62,10 +62,13 @@ fn a_twin_with_other_register_names_passes_on_its_ports() {
     expect(&o, 0, &["3 seeds, 3 pass"]);
 }
 
+/// A change of a twin file's text (file, text) -> text.
+type Edit = Box<dyn Fn(&str, String) -> String>;
+
 #[test]
 fn bad_rtl_is_one_error_before_any_seed() {
     let t = tmp("bad");
-    let cases: Vec<(&str, Box<dyn Fn(&str, String) -> String>, Vec<&str>)> = vec![
+    let cases: Vec<(&str, Edit, Vec<&str>)> = vec![
         ("width", Box::new(|f: &str, x: String| if f == "pmu50.v" { x.replace("output wire [15:0]      si,", "output wire [14:0]      si,") } else { x }), vec!["pmu50.v:", "port `si` of `pmu50` is 15 bit(s) wide", "needs 16"]),
         (
             "missing",

@@ -488,6 +488,10 @@ pub enum Request {
     Trace = 2,
 }
 
+/// A request as the worker read it: its kind, the library, the 12 HDL parameters, the inputs
+/// and the window of a trace.
+type Received = (Request, PathBuf, [u64; 12], Vec<u32>, (u64, u64));
+
 /// `pmu50 dut-worker`: serve requests on stdin until it closes. Exit 0 at the end of the input,
 /// 2 on a broken request.
 pub fn worker_main() -> i32 {
@@ -510,7 +514,7 @@ pub fn worker_main() -> i32 {
             Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => return 0,
             Err(_) => return 2,
         }
-        let request = (|| -> std::io::Result<(Request, PathBuf, [u64; 12], Vec<u32>, (u64, u64))> {
+        let request = (|| -> std::io::Result<Received> {
             if &magic != MAGIC {
                 return Err(std::io::Error::other("not a lockstep request"));
             }

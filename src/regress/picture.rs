@@ -157,7 +157,7 @@ fn render(sc: &Scenario, f: &Failure, from: u64, to: u64, rows: &[Row], note: &s
     for e in from..=to {
         let x = x_of(e);
         svg.line(x, top - 6.0, x, top + rows.len() as f64 * row_h, "#eeeeee", 1.0, None);
-        if (e - from) % 4 == 0 || e == f.tick {
+        if (e - from).is_multiple_of(4) || e == f.tick {
             svg.text(x + col_w / 2.0, height - 14.0, 10.0, Anchor::Middle, if e == f.tick { "#c00000" } else { "#444444" }, &e.to_string());
         }
     }

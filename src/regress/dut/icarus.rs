@@ -83,7 +83,7 @@ impl IcarusDut {
     fn compiled(&self, p: &Params, clock_ns: u64) -> Result<PathBuf, String> {
         let mut args: Vec<String> = p.hdl_parameters().iter().map(|(n, v)| format!("-Ptb_vectors.{n}={v}")).collect();
         args.push(format!("-Ptb_vectors.CLOCK_NS={clock_ns}"));
-        if clock_ns % 2000 != 0 {
+        if !clock_ns.is_multiple_of(2000) {
             args.push("-DTB_TIMESCALE_NS".into());
         }
         let key = format!("{:016x}", fnv(&[args.join(" ").as_bytes(), self.top_params.join(",").as_bytes(), TB_VECTORS.as_bytes()]));
