@@ -59,8 +59,8 @@
 //! fast-forward and period skip (`pmu50::sim::run` as `pmu50 run` with trace = none), each in a
 //! child process for its CPU time and peak memory.
 
-use pmu50::scenario::Scenario;
 use pmu50::observers::tracer::CoreTracer;
+use pmu50::scenario::Scenario;
 use pmu50::sim::{run, SimOptions};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::{Inputs, Internals, Outputs, Params, Pmu50, Pmu50Spec, Regs};
@@ -73,7 +73,10 @@ use std::process::Command;
 use std::time::Instant;
 
 fn cpu_now() -> f64 {
-    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
     // SAFETY: clock_gettime writes one timespec through a valid pointer.
     unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
     ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
@@ -98,7 +101,8 @@ struct Stim {
 
 fn load(dir: &Path, name: &str) -> Result<Stim, String> {
     let vec = dir.join(format!("{name}.vec"));
-    let text = std::fs::read_to_string(&vec).map_err(|e| format!("{}: {e} (benches/compare.sh writes it)", vec.display()))?;
+    let text = std::fs::read_to_string(&vec)
+        .map_err(|e| format!("{}: {e} (benches/compare.sh writes it)", vec.display()))?;
     let mut p = Params::default();
     let mut clock_ns = 10_000;
     let mut inputs = Vec::new();
@@ -106,20 +110,47 @@ fn load(dir: &Path, name: &str) -> Result<Stim, String> {
         let bad = || format!("{}:{}: cannot read `{line}`", vec.display(), n + 1);
         if let Some(rest) = line.strip_prefix("// param ") {
             let mut it = rest.split_whitespace();
-            let (k, v) = (it.next().ok_or_else(bad)?, it.next().ok_or_else(bad)?.parse::<u64>().map_err(|_| bad())?);
-            p.set_hdl_parameter(k, v).map_err(|e| format!("{}:{}: {e}", vec.display(), n + 1))?;
+            let (k, v) = (
+                it.next().ok_or_else(bad)?,
+                it.next()
+                    .ok_or_else(bad)?
+                    .parse::<u64>()
+                    .map_err(|_| bad())?,
+            );
+            p.set_hdl_parameter(k, v)
+                .map_err(|e| format!("{}:{}: {e}", vec.display(), n + 1))?;
         } else if let Some(rest) = line.strip_prefix("// clock_ns ") {
             clock_ns = rest.trim().parse().map_err(|_| bad())?;
         } else if !line.starts_with("//") && !line.trim().is_empty() {
-            let f: Vec<u32> = line.split_whitespace().take(7).map(|x| u32::from_str_radix(x, 16)).collect::<Result<_, _>>().map_err(|_| bad())?;
+            let f: Vec<u32> = line
+                .split_whitespace()
+                .take(7)
+                .map(|x| u32::from_str_radix(x, 16))
+                .collect::<Result<_, _>>()
+                .map_err(|_| bad())?;
             if f.len() != 7 {
                 return Err(bad());
             }
-            inputs.push(Inputs { ig: f[0] & 1 == 1, vs2_ok: f[1] & 1 == 1, cmp_s: f[2] & 1 == 1, cmp_c: f[3] & 1 == 1, bus_we: f[4] & 1 == 1, bus_addr: f[5] as u8, bus_wdata: f[6] as u16 });
+            inputs.push(Inputs {
+                ig: f[0] & 1 == 1,
+                vs2_ok: f[1] & 1 == 1,
+                cmp_s: f[2] & 1 == 1,
+                cmp_c: f[3] & 1 == 1,
+                bus_we: f[4] & 1 == 1,
+                bus_addr: f[5] as u8,
+                bus_wdata: f[6] as u16,
+            });
         }
     }
-    p.validate().map_err(|e| format!("{}: {e}", vec.display()))?;
-    Ok(Stim { name: name.to_string(), vec, params: p, clock_ns, inputs })
+    p.validate()
+        .map_err(|e| format!("{}: {e}", vec.display()))?;
+    Ok(Stim {
+        name: name.to_string(),
+        vec,
+        params: p,
+        clock_ns,
+        inputs,
+    })
 }
 
 /// The 23 outputs after an edge folded into the checksum (the same function as
@@ -129,7 +160,10 @@ fn load(dir: &Path, name: &str) -> Result<Stim, String> {
 /// rtl_model/core/tests/kernel_equivalence.rs checks it against the C++ definition written out).
 #[inline(always)]
 fn mix(h: u64, o: &Outputs) -> u64 {
-    let w0 = u64::from(o.flags()) | u64::from(o.cnt_r) << 18 | u64::from(o.si) << 26 | u64::from(o.bus_rdata) << 42;
+    let w0 = u64::from(o.flags())
+        | u64::from(o.cnt_r) << 18
+        | u64::from(o.si) << 26
+        | u64::from(o.bus_rdata) << 42;
     let w1 = u64::from(o.cnt_s) | u64::from(o.cnt_c) << 16;
     (h.rotate_left(5) ^ w0).wrapping_add(w1.wrapping_mul(0x9E37_79B9_7F4A_7C15))
 }
@@ -159,11 +193,20 @@ fn rounds() -> u32 {
     static R: std::sync::OnceLock<u32> = std::sync::OnceLock::new();
     *R.get_or_init(|| {
         let a: Vec<String> = std::env::args().collect();
-        let Some(k) = a.iter().position(|x| x == "--rounds") else { return ROUNDS };
-        match a.get(k + 1).and_then(|v| v.parse().ok()).filter(|&n: &u32| n > 0) {
+        let Some(k) = a.iter().position(|x| x == "--rounds") else {
+            return ROUNDS;
+        };
+        match a
+            .get(k + 1)
+            .and_then(|v| v.parse().ok())
+            .filter(|&n: &u32| n > 0)
+        {
             Some(n) => n,
             None => {
-                eprintln!("compare: --rounds needs a whole number of at least 1, got {:?}", a.get(k + 1));
+                eprintln!(
+                    "compare: --rounds needs a whole number of at least 1, got {:?}",
+                    a.get(k + 1)
+                );
                 std::process::exit(2);
             }
         }
@@ -178,10 +221,15 @@ type Round<'a> = Box<dyn FnMut() -> Result<Meas, String> + 'a>;
 /// falls on the neighbouring rounds of all harnesses rather than on every round of one, which
 /// kept the ratios of earlier runs from repeating; the fastest round of each harness counts.
 fn interleaved(mut harnesses: Vec<Result<Round<'_>, String>>) -> Vec<Result<Meas, String>> {
-    let mut best: Vec<Result<Option<Meas>, String>> = harnesses.iter().map(|h| h.as_ref().map(|_| None).map_err(String::clone)).collect();
+    let mut best: Vec<Result<Option<Meas>, String>> = harnesses
+        .iter()
+        .map(|h| h.as_ref().map(|_| None).map_err(String::clone))
+        .collect();
     for _ in 0..rounds() {
         for (h, b) in harnesses.iter_mut().zip(best.iter_mut()) {
-            let (Ok(round), Ok(kept)) = (h, &mut *b) else { continue };
+            let (Ok(round), Ok(kept)) = (h, &mut *b) else {
+                continue;
+            };
             match round() {
                 Ok(m) if kept.as_ref().is_none_or(|k| m.rate() > k.rate()) => *kept = Some(m),
                 Ok(_) => {}
@@ -189,7 +237,9 @@ fn interleaved(mut harnesses: Vec<Result<Round<'_>, String>>) -> Vec<Result<Meas
             }
         }
     }
-    best.into_iter().map(|b| b.and_then(|m| m.ok_or_else(|| "no round".to_string()))).collect()
+    best.into_iter()
+        .map(|b| b.and_then(|m| m.ok_or_else(|| "no round".to_string())))
+        .collect()
 }
 
 /// A round of an in-process pass: the number of replays per round is chosen first so that
@@ -207,9 +257,17 @@ fn pass_rounds<'a>(st: &'a Stim, seconds: f64, pass: fn(&Stim) -> u64) -> Round<
         }
         let cpu = cpu_now() - t0;
         if last != h {
-            return Err(format!("{}: a replay from reset gave checksum {last:016x}, the first {h:016x}", st.name));
+            return Err(format!(
+                "{}: a replay from reset gave checksum {last:016x}, the first {h:016x}",
+                st.name
+            ));
         }
-        Ok(Meas { ticks: reps * st.inputs.len() as u64, cpu, checksum: Some(last), note: String::new() })
+        Ok(Meas {
+            ticks: reps * st.inputs.len() as u64,
+            cpu,
+            checksum: Some(last),
+            note: String::new(),
+        })
     })
 }
 
@@ -247,29 +305,93 @@ fn frame_values(v: &mut [u64; NSIG], i: &Inputs, o: &Outputs, r: &Regs, x: &Inte
     let u = |b: bool| u64::from(b);
     let f = &r.register_file;
     *v = [
-        u(i.ig), u(i.vs2_ok), u(i.cmp_s), u(i.cmp_c), u(i.bus_we), u64::from(i.bus_addr), u64::from(i.bus_wdata),
-        u(o.sig), u(o.vr_hi), u(o.vm_en), u(o.vs1_en), u(o.vs2_en), u(o.vp_en), u(o.rail_hi), u(o.st), u(o.sr), u(o.ps_win), u(o.smp), u(o.cs), u(o.cc),
-        u64::from(o.cnt_s), u64::from(o.cnt_c), u64::from(o.cnt_r), u64::from(o.si), u(o.hist_s), u(o.hist_c), u(o.diag), u(o.quadrant_skip), u64::from(o.bus_rdata), u(o.bus_err),
+        u(i.ig),
+        u(i.vs2_ok),
+        u(i.cmp_s),
+        u(i.cmp_c),
+        u(i.bus_we),
+        u64::from(i.bus_addr),
+        u64::from(i.bus_wdata),
+        u(o.sig),
+        u(o.vr_hi),
+        u(o.vm_en),
+        u(o.vs1_en),
+        u(o.vs2_en),
+        u(o.vp_en),
+        u(o.rail_hi),
+        u(o.st),
+        u(o.sr),
+        u(o.ps_win),
+        u(o.smp),
+        u(o.cs),
+        u(o.cc),
+        u64::from(o.cnt_s),
+        u64::from(o.cnt_c),
+        u64::from(o.cnt_r),
+        u64::from(o.si),
+        u(o.hist_s),
+        u(o.hist_c),
+        u(o.diag),
+        u(o.quadrant_skip),
+        u64::from(o.bus_rdata),
+        u(o.bus_err),
         u64::from(r.action_switching.sync),
-        u(f.adaptive), u64::from(f.pw), u64::from(f.pi), u64::from(f.ps), u64::from(f.si_max), u64::from(f.si_min), u64::from(f.t1), u64::from(f.t2), u64::from(f.cth), u64::from(f.smp_on), u(f.bus_err), u64::from(f.rdata),
+        u(f.adaptive),
+        u64::from(f.pw),
+        u64::from(f.pi),
+        u64::from(f.ps),
+        u64::from(f.si_max),
+        u64::from(f.si_min),
+        u64::from(f.t1),
+        u64::from(f.t2),
+        u64::from(f.cth),
+        u64::from(f.smp_on),
+        u(f.bus_err),
+        u64::from(f.rdata),
         u64::from(r.timing_generator.tmr),
         u(r.sensor_power_determination.sr),
-        u(r.comparator_latch.cs), u(r.comparator_latch.cc), u(r.comparator_latch.vld),
-        u64::from(r.updown_counter.cnt_s), u64::from(r.updown_counter.cnt_c), u(r.updown_counter.quadrant_skip),
-        u64::from(r.drive_interval.si), u(r.drive_interval.hist_s), u(r.drive_interval.hist_c), u64::from(r.drive_interval.cnt_r),
+        u(r.comparator_latch.cs),
+        u(r.comparator_latch.cc),
+        u(r.comparator_latch.vld),
+        u64::from(r.updown_counter.cnt_s),
+        u64::from(r.updown_counter.cnt_c),
+        u(r.updown_counter.quadrant_skip),
+        u64::from(r.drive_interval.si),
+        u(r.drive_interval.hist_s),
+        u(r.drive_interval.hist_c),
+        u64::from(r.drive_interval.cnt_r),
         u(r.count_diagnosis.diag),
-        u(x.kon), u(x.koff), u(x.upd), u(x.first), u(x.chg_s), u(x.chg_c), u(x.skip_clr), x.fig17 as u64, x.fig18 as u64,
+        u(x.kon),
+        u(x.koff),
+        u(x.upd),
+        u(x.first),
+        u(x.chg_s),
+        u(x.chg_c),
+        u(x.skip_clr),
+        x.fig17 as u64,
+        x.fig18 as u64,
     ];
 }
 
 /// Declarations of the model's VCD (src/observers/waveform.rs) without the `env` reals.
 fn declare(st: &Stim) -> (VcdBuilder, Vec<SigId>, u64) {
-    let s = Structural { sync_depth: st.params.sync_depth, cnt_width: st.params.cnt_width };
-    let (ts, unit_ns) = if st.clock_ns.is_multiple_of(1000) { (Timescale::new(1, TimeUnit::Us), 1000) } else { (Timescale::new(1, TimeUnit::Ns), 1) };
+    let s = Structural {
+        sync_depth: st.params.sync_depth,
+        cnt_width: st.params.cnt_width,
+    };
+    let (ts, unit_ns) = if st.clock_ns.is_multiple_of(1000) {
+        (Timescale::new(1, TimeUnit::Us), 1000)
+    } else {
+        (Timescale::new(1, TimeUnit::Ns), 1)
+    };
     let mut b = VcdBuilder::new(ts, "pmu50 bench").expect("valid header");
     let mut ids = Vec::new();
     let mut add = |b: &mut VcdBuilder, ty: BitType, n: &str, w: u8| {
-        let id = if w == 1 { b.add_bit(ty, n, false.into()) } else { b.add_vector(ty, n, u32::from(w) - 1, 0, 0) };
+        let id = if w == 1 {
+            b.add_bit(ty, n, false.into())
+        } else {
+            b.add_vector(ty, n, u32::from(w) - 1, 0, 0)
+        };
         ids.push(id.expect("valid declaration"));
     };
     b.push_scope("pmu50").unwrap();
@@ -308,11 +430,16 @@ fn declare(st: &Stim) -> (VcdBuilder, Vec<SigId>, u64) {
 macro_rules! traced_pass {
     ($st:expr, $w:expr, $frame:expr, $unit_ns:expr, $open:ident) => {{
         let (st, w, unit_ns): (&Stim, _, u64) = ($st, $w, $unit_ns);
-        let mut tr = CoreTracer::new($frame, Pmu50::new(st.params).expect("legal parameters")).expect("a frame of the 65 signals");
+        let mut tr = CoreTracer::new($frame, Pmu50::new(st.params).expect("legal parameters"))
+            .expect("a frame of the 65 signals");
         let mut run = tr.$open(w).expect("the tracer's frame is this writer's");
-        let h = traced_steps(st, unit_ns, |t, i| *run.step(t, i).expect("traced values fit their declarations"));
+        let h = traced_steps(st, unit_ns, |t, i| {
+            *run.step(t, i)
+                .expect("traced values fit their declarations")
+        });
         drop(run);
-        w.set_time(st.inputs.len() as u64 * (st.clock_ns / unit_ns)).expect("time moves forward");
+        w.set_time(st.inputs.len() as u64 * (st.clock_ns / unit_ns))
+            .expect("time moves forward");
         h
     }};
 }
@@ -326,7 +453,12 @@ fn pass_traced<E: Emitter>(st: &Stim, w: &mut Writer<E>, frame: Frame, unit_ns: 
 /// [`pass_traced`] for a VCD: the tracer's text run ([`CoreTracer::text_run`]), each step's
 /// changed values written at once.
 #[inline(never)]
-fn pass_traced_vcd<W: std::io::Write>(st: &Stim, w: &mut VcdWriter<W>, frame: Frame, unit_ns: u64) -> u64 {
+fn pass_traced_vcd<W: std::io::Write>(
+    st: &Stim,
+    w: &mut VcdWriter<W>,
+    frame: Frame,
+    unit_ns: u64,
+) -> u64 {
     traced_pass!(st, w, frame, unit_ns, text_run)
 }
 
@@ -335,7 +467,10 @@ fn pass_traced_vcd<W: std::io::Write>(st: &Stim, w: &mut VcdWriter<W>, frame: Fr
 #[inline(always)]
 fn traced_steps(st: &Stim, unit_ns: u64, mut step: impl FnMut(u64, &Inputs) -> Outputs) -> u64 {
     let dt = st.clock_ns / unit_ns;
-    st.inputs.iter().enumerate().fold(0, |h, (k, i)| mix(h, &step(k as u64 * dt, i)))
+    st.inputs
+        .iter()
+        .enumerate()
+        .fold(0, |h, (k, i)| mix(h, &step(k as u64 * dt, i)))
 }
 
 /// The VCD of every value of every tick through `Writer::dump_frame`, which [`CoreTracer`] must
@@ -349,11 +484,17 @@ fn vcd_every_value(st: &Stim) -> Vec<u8> {
     let dt = st.clock_ns / unit_ns;
     for (k, i) in st.inputs.iter().enumerate() {
         let regs = *m.regs();
-        let pmu50_core::TracedStep { before, internals: x, .. } = m.step_traced(i);
+        let pmu50_core::TracedStep {
+            before,
+            internals: x,
+            ..
+        } = m.step_traced(i);
         frame_values(&mut vals, i, &before, &regs, &x);
-        w.dump_frame(&mut f, k as u64 * dt, &vals).expect("traced values fit their declarations");
+        w.dump_frame(&mut f, k as u64 * dt, &vals)
+            .expect("traced values fit their declarations");
     }
-    w.set_time(st.inputs.len() as u64 * dt).expect("time moves forward");
+    w.set_time(st.inputs.len() as u64 * dt)
+        .expect("time moves forward");
     w.finish().expect("VCD written")
 }
 
@@ -365,9 +506,17 @@ fn check_tracer(st: &Stim) -> usize {
     let f = w.frame(&ids).unwrap();
     pass_traced_vcd(st, &mut w, f, unit_ns);
     let vcd = w.finish().expect("VCD written");
-    assert!(vcd == vcd_every_value(st), "{}: the CoreTracer VCD differs from dump_frame's with every value", st.name);
+    assert!(
+        vcd == vcd_every_value(st),
+        "{}: the CoreTracer VCD differs from dump_frame's with every value",
+        st.name
+    );
     let end = b"$enddefinitions $end\n";
-    let header = vcd.windows(end.len()).position(|w| w == end).expect("a VCD header") + end.len();
+    let header = vcd
+        .windows(end.len())
+        .position(|w| w == end)
+        .expect("a VCD header")
+        + end.len();
     vcd.len() - header
 }
 
@@ -389,7 +538,12 @@ fn pass_edge_only(st: &Stim) -> u64 {
     let mut h = 0;
     for i in &st.inputs {
         let regs = *m.regs();
-        let pmu50_core::TracedStep { before, internals: x, after, .. } = m.step_traced(i);
+        let pmu50_core::TracedStep {
+            before,
+            internals: x,
+            after,
+            ..
+        } = m.step_traced(i);
         black_box((&regs, &before, &x));
         h = mix(h, &after);
     }
@@ -398,15 +552,33 @@ fn pass_edge_only(st: &Stim) -> u64 {
 
 fn check_frame_order(st: &Stim) {
     // The hand-written frame order is the order of the declarations (Regs::values and friends).
-    let s = Structural { sync_depth: st.params.sync_depth, cnt_width: st.params.cnt_width };
+    let s = Structural {
+        sync_depth: st.params.sync_depth,
+        cnt_width: st.params.cnt_width,
+    };
     let mut m = Pmu50::new(st.params).unwrap();
     for i in st.inputs.iter().take(5000) {
         let regs = *m.regs();
-        let pmu50_core::TracedStep { before, internals: x, .. } = m.step_traced(i);
+        let pmu50_core::TracedStep {
+            before,
+            internals: x,
+            ..
+        } = m.step_traced(i);
         let mut v = [0u64; NSIG];
         frame_values(&mut v, i, &before, &regs, &x);
-        let want: Vec<u64> = i.values().iter().map(|t| t.2).chain(before.values(&s).iter().map(|t| t.2)).chain(regs.values(&s).iter().map(|r| r.value)).chain(x.values().iter().map(|t| t.2)).collect();
-        assert_eq!(v.to_vec(), want, "frame_values order differs from the declarations");
+        let want: Vec<u64> = i
+            .values()
+            .iter()
+            .map(|t| t.2)
+            .chain(before.values(&s).iter().map(|t| t.2))
+            .chain(regs.values(&s).iter().map(|r| r.value))
+            .chain(x.values().iter().map(|t| t.2))
+            .collect();
+        assert_eq!(
+            v.to_vec(),
+            want,
+            "frame_values order differs from the declarations"
+        );
     }
 }
 
@@ -423,7 +595,11 @@ enum Sink {
 fn traced_once(st: &Stim, dir: &Path, fst: bool, sink: Sink) -> Meas {
     let (b, ids, unit_ns) = declare(st);
     let path = match sink {
-        Sink::File => dir.join(format!("rust_{}.{}", st.name, if fst { "fst" } else { "vcd" })),
+        Sink::File => dir.join(format!(
+            "rust_{}.{}",
+            st.name,
+            if fst { "fst" } else { "vcd" }
+        )),
         Sink::Null => PathBuf::from("/dev/null"),
     };
     // The clock starts after the file is created and the header written, and stops after the
@@ -438,7 +614,12 @@ fn traced_once(st: &Stim, dir: &Path, fst: bool, sink: Sink) -> Meas {
         (h, cpu_now() - t0)
     } else {
         // (create and truncate leave /dev/null as it is)
-        let file = std::fs::OpenOptions::new().write(true).create(true).truncate(true).open(&path).expect("VCD file");
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create(true)
+            .truncate(true)
+            .open(&path)
+            .expect("VCD file");
         let mut w = b.start(file).expect("VCD header");
         let f = w.frame(&ids).unwrap();
         let t0 = cpu_now();
@@ -456,17 +637,35 @@ fn traced_once(st: &Stim, dir: &Path, fst: bool, sink: Sink) -> Meas {
         }
         Sink::Null => format!("{NSIG} signals"),
     };
-    Meas { ticks: st.inputs.len() as u64, cpu, checksum: Some(h), note }
+    Meas {
+        ticks: st.inputs.len() as u64,
+        cpu,
+        checksum: Some(h),
+        note,
+    }
 }
 
 /// Run a harness binary that prints `ticks=N cpu_s=S checksum=H`.
 fn external(bin: &Path, args: &[String]) -> Result<Meas, String> {
-    let out = Command::new(bin).args(args).output().map_err(|e| format!("{}: {e}", bin.display()))?;
+    let out = Command::new(bin)
+        .args(args)
+        .output()
+        .map_err(|e| format!("{}: {e}", bin.display()))?;
     let text = String::from_utf8_lossy(&out.stdout).to_string();
     if !out.status.success() {
-        return Err(format!("{} failed: {}{}", bin.display(), text, String::from_utf8_lossy(&out.stderr)));
+        return Err(format!(
+            "{} failed: {}{}",
+            bin.display(),
+            text,
+            String::from_utf8_lossy(&out.stderr)
+        ));
     }
-    let field = |k: &str| text.split_whitespace().find_map(|w| w.strip_prefix(k)).map(str::to_string).ok_or_else(|| format!("{}: no `{k}` in `{text}`", bin.display()));
+    let field = |k: &str| {
+        text.split_whitespace()
+            .find_map(|w| w.strip_prefix(k))
+            .map(str::to_string)
+            .ok_or_else(|| format!("{}: no `{k}` in `{text}`", bin.display()))
+    };
     Ok(Meas {
         ticks: field("ticks=")?.parse().map_err(|e| format!("{e}"))?,
         cpu: field("cpu_s=")?.parse().map_err(|e| format!("{e}"))?,
@@ -478,21 +677,50 @@ fn external(bin: &Path, args: &[String]) -> Result<Meas, String> {
 /// Rounds of the Verilator harness, untraced (`reps` replays per round, chosen from one replay)
 /// or with `--trace` (one replay per round into a VCD; the note, from the last round's VCD,
 /// counts its `$var`s against the Rust tracer's signals).
-fn verilator<'a>(st: &'a Stim, dir: &Path, seconds: f64, trace: Option<Sink>) -> Result<Round<'a>, String> {
-    let bin = dir.join(format!("{}_{}/bench", if trace.is_some() { "vlt" } else { "vl" }, st.name));
+fn verilator<'a>(
+    st: &'a Stim,
+    dir: &Path,
+    seconds: f64,
+    trace: Option<Sink>,
+) -> Result<Round<'a>, String> {
+    let bin = dir.join(format!(
+        "{}_{}/bench",
+        if trace.is_some() { "vlt" } else { "vl" },
+        st.name
+    ));
     let vec = st.vec.display().to_string();
     if trace == Some(Sink::Null) {
-        return Ok(Box::new(move || external(&bin, &[vec.clone(), "1".into(), "--trace".into(), "/dev/null".into()])));
+        return Ok(Box::new(move || {
+            external(
+                &bin,
+                &[
+                    vec.clone(),
+                    "1".into(),
+                    "--trace".into(),
+                    "/dev/null".into(),
+                ],
+            )
+        }));
     }
     if trace.is_some() {
         let vcd = dir.join(format!("verilator_{}.vcd", st.name));
         let mut left = rounds();
         let mut note: Option<String> = None;
         return Ok(Box::new(move || {
-            let mut m = external(&bin, &[vec.clone(), "1".into(), "--trace".into(), vcd.display().to_string()])?;
+            let mut m = external(
+                &bin,
+                &[
+                    vec.clone(),
+                    "1".into(),
+                    "--trace".into(),
+                    vcd.display().to_string(),
+                ],
+            )?;
             let n = note.get_or_insert_with(|| {
                 let bytes = std::fs::metadata(&vcd).map(|m| m.len()).unwrap_or(0);
-                let twin = std::fs::read(&vcd).map(|b| var_paths(&b)).unwrap_or_default();
+                let twin = std::fs::read(&vcd)
+                    .map(|b| var_paths(&b))
+                    .unwrap_or_default();
                 format!("{}, {}", same_signals(st, &twin), fmt_bytes(bytes))
             });
             m.note = n.clone();
@@ -504,8 +732,11 @@ fn verilator<'a>(st: &'a Stim, dir: &Path, seconds: f64, trace: Option<Sink>) ->
         }));
     }
     let one = external(&bin, &[vec.clone(), "1".into()])?;
-    let reps = ((seconds / f64::from(rounds()) / one.cpu.max(1e-6)).ceil() as u64).clamp(1, 100_000);
-    Ok(Box::new(move || external(&bin, &[vec.clone(), reps.to_string()])))
+    let reps =
+        ((seconds / f64::from(rounds()) / one.cpu.max(1e-6)).ceil() as u64).clamp(1, 100_000);
+    Ok(Box::new(move || {
+        external(&bin, &[vec.clone(), reps.to_string()])
+    }))
 }
 
 /// Rounds of the Verilator harness built with every variable traced (`DIR/vla_NAME/bench`,
@@ -518,10 +749,20 @@ fn verilator_all<'a>(st: &'a Stim, dir: &Path) -> Result<Round<'a>, String> {
     let mut left = rounds();
     let mut note: Option<String> = None;
     Ok(Box::new(move || {
-        let mut m = external(&bin, &[vec.clone(), "1".into(), "--trace".into(), vcd.display().to_string()])?;
+        let mut m = external(
+            &bin,
+            &[
+                vec.clone(),
+                "1".into(),
+                "--trace".into(),
+                vcd.display().to_string(),
+            ],
+        )?;
         let n = note.get_or_insert_with(|| {
             let bytes = std::fs::metadata(&vcd).map(|m| m.len()).unwrap_or(0);
-            let vars = std::fs::read(&vcd).map(|b| var_paths(&b).len()).unwrap_or(0);
+            let vars = std::fs::read(&vcd)
+                .map(|b| var_paths(&b).len())
+                .unwrap_or(0);
             format!("{vars} $var lines, {}", fmt_bytes(bytes))
         });
         m.note = n.clone();
@@ -540,7 +781,9 @@ fn scenario_of(st: &Stim, dir: &Path) -> PathBuf {
     if own.exists() {
         own
     } else {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios").join(format!("{}.toml", st.name))
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenarios")
+            .join(format!("{}.toml", st.name))
     }
 }
 
@@ -555,17 +798,38 @@ fn pmu50_run<'a>(st: &'a Stim, dir: &Path) -> Result<Round<'a>, String> {
     let mut note: Option<String> = None;
     Ok(Box::new(move || {
         let (c0, _) = rusage(libc::RUSAGE_CHILDREN);
-        let o = Command::new(&bin).arg("run").arg(&sc).arg("--out-dir").arg(&out).args(["--trace", "all"]).output().map_err(|e| format!("{}: {e}", bin.display()))?;
+        let o = Command::new(&bin)
+            .arg("run")
+            .arg(&sc)
+            .arg("--out-dir")
+            .arg(&out)
+            .args(["--trace", "all"])
+            .output()
+            .map_err(|e| format!("{}: {e}", bin.display()))?;
         let (c1, _) = rusage(libc::RUSAGE_CHILDREN);
         if !o.status.success() {
-            return Err(format!("pmu50 run {} failed: {}", sc.display(), String::from_utf8_lossy(&o.stderr)));
+            return Err(format!(
+                "pmu50 run {} failed: {}",
+                sc.display(),
+                String::from_utf8_lossy(&o.stderr)
+            ));
         }
         let n = note.get_or_insert_with(|| {
             let bytes = std::fs::metadata(&vcd).map(|m| m.len()).unwrap_or(0);
-            let vars = std::fs::read(&vcd).map(|b| var_paths(&b).len()).unwrap_or(0);
-            format!("whole process; {vars} $var lines with the env reals, {}", fmt_bytes(bytes))
+            let vars = std::fs::read(&vcd)
+                .map(|b| var_paths(&b).len())
+                .unwrap_or(0);
+            format!(
+                "whole process; {vars} $var lines with the env reals, {}",
+                fmt_bytes(bytes)
+            )
         });
-        Ok(Meas { ticks: st.inputs.len() as u64, cpu: c1 - c0, checksum: None, note: n.clone() })
+        Ok(Meas {
+            ticks: st.inputs.len() as u64,
+            cpu: c1 - c0,
+            checksum: None,
+            note: n.clone(),
+        })
     }))
 }
 
@@ -580,7 +844,14 @@ fn var_paths(vcd: &[u8]) -> Vec<String> {
             Some("$upscope") => {
                 scopes.pop();
             }
-            Some("$var") if t.len() > 4 => paths.push(scopes.iter().map(String::as_str).chain([t[4]]).collect::<Vec<_>>().join(".")),
+            Some("$var") if t.len() > 4 => paths.push(
+                scopes
+                    .iter()
+                    .map(String::as_str)
+                    .chain([t[4]])
+                    .collect::<Vec<_>>()
+                    .join("."),
+            ),
             Some("$enddefinitions") => break,
             _ => {}
         }
@@ -594,17 +865,38 @@ fn var_paths(vcd: &[u8]) -> Vec<String> {
 /// signals without a counterpart and the twin's extra ones.
 fn same_signals(st: &Stim, twin: &[String]) -> String {
     let (b, _, _) = declare(st);
-    let rust = b.start(Vec::new()).and_then(|w| w.finish()).map(|v| var_paths(&v)).unwrap_or_default();
-    let mapped: Vec<String> = twin.iter().map(|p| p.strip_prefix("pmu50.pmu50.").map_or_else(|| format!("(twin) {p}"), |r| format!("pmu50.{r}"))).collect();
-    let missing: Vec<&str> = rust.iter().filter(|p| !mapped.contains(p)).map(String::as_str).collect();
+    let rust = b
+        .start(Vec::new())
+        .and_then(|w| w.finish())
+        .map(|v| var_paths(&v))
+        .unwrap_or_default();
+    let mapped: Vec<String> = twin
+        .iter()
+        .map(|p| {
+            p.strip_prefix("pmu50.pmu50.")
+                .map_or_else(|| format!("(twin) {p}"), |r| format!("pmu50.{r}"))
+        })
+        .collect();
+    let missing: Vec<&str> = rust
+        .iter()
+        .filter(|p| !mapped.contains(p))
+        .map(String::as_str)
+        .collect();
     let extra = mapped.iter().filter(|p| !rust.contains(p)).count();
     let mut note = format!("{} $var lines", twin.len());
     if missing.is_empty() && extra == 0 && twin.len() == rust.len() {
-        note += &format!(", the counterparts of the Rust tracer's {} signals", rust.len());
+        note += &format!(
+            ", the counterparts of the Rust tracer's {} signals",
+            rust.len()
+        );
     } else {
         note += &format!(" for the Rust tracer's {}", rust.len());
         if !missing.is_empty() {
-            note += &format!(", {} without counterpart: {}", missing.len(), missing.join(" "));
+            note += &format!(
+                ", {} without counterpart: {}",
+                missing.len(),
+                missing.join(" ")
+            );
         }
         if extra > 0 {
             note += &format!(", {extra} not in the Rust tracer");
@@ -616,13 +908,27 @@ fn same_signals(st: &Stim, twin: &[String]) -> String {
 fn icarus(st: &Stim, dir: &Path) -> Result<Meas, String> {
     let vvp = dir.join(format!("iv_{}.vvp", st.name));
     let (c0, _) = rusage(libc::RUSAGE_CHILDREN);
-    let out = Command::new("vvp").arg("-n").arg(&vvp).arg(format!("+vec={}", st.vec.display())).output().map_err(|e| format!("vvp: {e}"))?;
+    let out = Command::new("vvp")
+        .arg("-n")
+        .arg(&vvp)
+        .arg(format!("+vec={}", st.vec.display()))
+        .output()
+        .map_err(|e| format!("vvp: {e}"))?;
     let (c1, _) = rusage(libc::RUSAGE_CHILDREN);
     let text = String::from_utf8_lossy(&out.stdout);
     if !text.lines().any(|l| l.starts_with("PASS ticks=")) {
-        return Err(format!("Icarus replay of {} did not pass: {}", st.vec.display(), text.lines().take(5).collect::<Vec<_>>().join(" / ")));
+        return Err(format!(
+            "Icarus replay of {} did not pass: {}",
+            st.vec.display(),
+            text.lines().take(5).collect::<Vec<_>>().join(" / ")
+        ));
     }
-    Ok(Meas { ticks: st.inputs.len() as u64, cpu: c1 - c0, checksum: None, note: "outputs == vector file".into() })
+    Ok(Meas {
+        ticks: st.inputs.len() as u64,
+        cpu: c1 - c0,
+        checksum: None,
+        note: "outputs == vector file".into(),
+    })
 }
 
 /// Child process: a parked car for `secs` seconds through the simulator with fast-forward, or
@@ -634,34 +940,65 @@ fn park_child(secs: u64, file: Option<&str>) {
             let text = format!(
                 "name = \"park_{secs}s\"\ndescription = \"parked: key off, motor still\"\nduration = \"{secs} s\"\n\n[motor]\nstart_deg = 37.0\nsegments = [ {{ kind = \"hold\", duration = \"{secs} s\" }} ]\n"
             );
-            Scenario::parse(&text, "park.toml", "park", Path::new("park.toml")).unwrap_or_else(|e| panic!("{e}"))
+            Scenario::parse(&text, "park.toml", "park", Path::new("park.toml"))
+                .unwrap_or_else(|e| panic!("{e}"))
         }
     };
     let t0 = cpu_now();
     let r = run(&sc, SimOptions { fast_forward: true }, &mut []).unwrap_or_else(|e| panic!("{e}"));
     let cpu = cpu_now() - t0;
     let (_, rss) = rusage(libc::RUSAGE_SELF);
-    println!("park cpu_s={cpu:.9} maxrss_kib={rss} ticks={} evaluated={} pulses={}", r.ticks, r.evaluated_ticks, r.pulses.len());
+    println!(
+        "park cpu_s={cpu:.9} maxrss_kib={rss} ticks={} evaluated={} pulses={}",
+        r.ticks,
+        r.evaluated_ticks,
+        r.pulses.len()
+    );
 }
 
 /// (CPU seconds, peak MiB, ticks, evaluated ticks) of a park child.
 fn park(args: &[&str]) -> Result<(f64, f64, f64, f64), String> {
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
-    let out = Command::new(exe).arg("--park-child").args(args).output().map_err(|e| e.to_string())?;
+    let out = Command::new(exe)
+        .arg("--park-child")
+        .args(args)
+        .output()
+        .map_err(|e| e.to_string())?;
     let text = String::from_utf8_lossy(&out.stdout).to_string();
     if !out.status.success() {
-        return Err(format!("park {args:?} failed: {text}{}", String::from_utf8_lossy(&out.stderr)));
+        return Err(format!(
+            "park {args:?} failed: {text}{}",
+            String::from_utf8_lossy(&out.stderr)
+        ));
     }
-    let field = |k: &str| text.split_whitespace().find_map(|w| w.strip_prefix(k)).and_then(|v| v.parse::<f64>().ok()).ok_or_else(|| format!("park: no `{k}` in `{text}`"));
-    Ok((field("cpu_s=")?, field("maxrss_kib=")? / 1024.0, field("ticks=")?, field("evaluated=")?))
+    let field = |k: &str| {
+        text.split_whitespace()
+            .find_map(|w| w.strip_prefix(k))
+            .and_then(|v| v.parse::<f64>().ok())
+            .ok_or_else(|| format!("park: no `{k}` in `{text}`"))
+    };
+    Ok((
+        field("cpu_s=")?,
+        field("maxrss_kib=")? / 1024.0,
+        field("ticks=")?,
+        field("evaluated=")?,
+    ))
 }
 
 fn fmt_bytes(b: u64) -> String {
-    if b >= 1_000_000 { format!("{:.1} MB", b as f64 / 1e6) } else { format!("{:.0} kB", b as f64 / 1e3) }
+    if b >= 1_000_000 {
+        format!("{:.1} MB", b as f64 / 1e6)
+    } else {
+        format!("{:.0} kB", b as f64 / 1e3)
+    }
 }
 
 fn fmt_rate(r: f64) -> String {
-    if r >= 1e6 { format!("{:.1} M", r / 1e6) } else { format!("{:.0} k", r / 1e3) }
+    if r >= 1e6 {
+        format!("{:.1} M", r / 1e6)
+    } else {
+        format!("{:.0} k", r / 1e3)
+    }
 }
 
 /// One whole process of the wall-time table: its wall time and CPU time (user + system, every
@@ -681,9 +1018,17 @@ fn timed(cmd: &mut Command) -> Result<Proc, String> {
     let wall = t0.elapsed().as_secs_f64();
     let (c1, _) = rusage(libc::RUSAGE_CHILDREN);
     if !o.status.success() {
-        return Err(format!("{cmd:?} failed: {}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr)));
+        return Err(format!(
+            "{cmd:?} failed: {}{}",
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr)
+        ));
     }
-    Ok(Proc { wall, cpu: c1 - c0, stdout: String::from_utf8_lossy(&o.stdout).into_owned() })
+    Ok(Proc {
+        wall,
+        cpu: c1 - c0,
+        stdout: String::from_utf8_lossy(&o.stdout).into_owned(),
+    })
 }
 
 /// [`timed`], but a process still running after `limit` seconds is killed (`Ok(None)`): a
@@ -693,7 +1038,11 @@ fn timed_within(cmd: &mut Command, limit: f64) -> Result<Option<Proc>, String> {
     use std::io::Read;
     let (c0, _) = rusage(libc::RUSAGE_CHILDREN);
     let t0 = Instant::now();
-    let mut child = cmd.stdout(std::process::Stdio::piped()).stderr(std::process::Stdio::null()).spawn().map_err(|e| format!("{cmd:?}: {e}"))?;
+    let mut child = cmd
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .map_err(|e| format!("{cmd:?}: {e}"))?;
     let status = loop {
         if let Some(st) = child.try_wait().map_err(|e| format!("{cmd:?}: {e}"))? {
             break st;
@@ -714,7 +1063,11 @@ fn timed_within(cmd: &mut Command, limit: f64) -> Result<Option<Proc>, String> {
     if !status.success() {
         return Err(format!("{cmd:?} failed: {stdout}"));
     }
-    Ok(Some(Proc { wall, cpu: c1 - c0, stdout }))
+    Ok(Some(Proc {
+        wall,
+        cpu: c1 - c0,
+        stdout,
+    }))
 }
 
 /// The rows of the wall-time table (see the module documentation).
@@ -752,13 +1105,29 @@ fn wall_table(stims: &[Stim], dir: &Path) -> Result<String, String> {
     let mut cells: Vec<Vec<Option<Proc>>> = vec![Vec::new(); WALL_ROWS.len()];
     let mut lines = Vec::new();
     // the replay loop's wall time a Verilator harness printed
-    let loop_s = |p: &Proc| p.stdout.split_whitespace().find_map(|w| w.strip_prefix("cpu_s=")).and_then(|v| v.parse::<f64>().ok());
+    let loop_s = |p: &Proc| {
+        p.stdout
+            .split_whitespace()
+            .find_map(|w| w.strip_prefix("cpu_s="))
+            .and_then(|v| v.parse::<f64>().ok())
+    };
     for st in stims {
         let sc = scenario_of(st, dir);
         let vec = st.vec.display().to_string();
         let outd = dir.join("pmu50_wall");
         let vcd = dir.join(format!("verilator_wall_{}.vcd", st.name));
-        let run = |thread: &str| -> Result<Option<Proc>, String> { timed(Command::new(&bin).arg("run").arg(&sc).arg("--out-dir").arg(&outd).args(["--trace", "all"]).env("PMU50_WRITER_THREAD", thread)).map(Some) };
+        let run = |thread: &str| -> Result<Option<Proc>, String> {
+            timed(
+                Command::new(&bin)
+                    .arg("run")
+                    .arg(&sc)
+                    .arg("--out-dir")
+                    .arg(&outd)
+                    .args(["--trace", "all"])
+                    .env("PMU50_WRITER_THREAD", thread),
+            )
+            .map(Some)
+        };
         // a harness that ran out of time once (more than 20 times the single-threaded one's
         // wall time, at least 2 s) is not run again
         let mut gave_up = [false; 2];
@@ -767,15 +1136,31 @@ fn wall_table(stims: &[Stim], dir: &Path) -> Result<String, String> {
             if !b.exists() || gave_up[j] {
                 return Ok(None);
             }
-            let p = timed_within(Command::new(&b).arg(&vec).arg("1").arg("--trace").arg(&vcd), limit)?;
+            let p = timed_within(
+                Command::new(&b).arg(&vec).arg("1").arg("--trace").arg(&vcd),
+                limit,
+            )?;
             gave_up[j] = p.is_none();
             Ok(p)
         };
         // the same run into memory (tmpfs): without the disk's share of syncing and renaming
-        let shm = Path::new("/dev/shm").is_dir().then(|| Path::new("/dev/shm").join(format!("pmu50_wall_{}", std::process::id())));
+        let shm = Path::new("/dev/shm")
+            .is_dir()
+            .then(|| Path::new("/dev/shm").join(format!("pmu50_wall_{}", std::process::id())));
         let run_shm = || -> Result<Option<Proc>, String> {
-            let Some(d) = shm.as_ref() else { return Ok(None) };
-            timed(Command::new(&bin).arg("run").arg(&sc).arg("--out-dir").arg(d).args(["--trace", "all"]).env("PMU50_WRITER_THREAD", "1")).map(Some)
+            let Some(d) = shm.as_ref() else {
+                return Ok(None);
+            };
+            timed(
+                Command::new(&bin)
+                    .arg("run")
+                    .arg(&sc)
+                    .arg("--out-dir")
+                    .arg(d)
+                    .args(["--trace", "all"])
+                    .env("PMU50_WRITER_THREAD", "1"),
+            )
+            .map(Some)
         };
         let mut best: Vec<Option<Proc>> = vec![None; WALL_ROWS.len()];
         for _ in 0..rounds() {
@@ -806,7 +1191,11 @@ fn wall_table(stims: &[Stim], dir: &Path) -> Result<String, String> {
             .filter_map(|(j, p)| p.as_ref().map(|p| (j + 2, p.clone())))
             .min_by(|a, b| a.1.wall.total_cmp(&b.1.wall))
             .ok_or_else(|| format!("{}: no Verilator harness of the wall-time table (DIR/vlw1_{}/bench: benches/verilator_threads.sh)", st.name, st.name))?;
-        let best_loop = best[2..4].iter().flatten().filter_map(loop_s).fold(f64::INFINITY, f64::min);
+        let best_loop = best[2..4]
+            .iter()
+            .flatten()
+            .filter_map(loop_s)
+            .fold(f64::INFINITY, f64::min);
         if let (Some(r), Some(one)) = (&best[0], &best[1]) {
             lines.push(format!(
                 "{}: pmu50 run --trace all {:.1} ms wall ({:.1} ms CPU), {:.2}x Verilator's best traced run ({}: {:.1} ms wall, {:.1} ms CPU), {:.2}x Verilator's fastest replay loop alone ({:.1} ms wall); one thread {:.1} ms wall ({:.1} ms CPU), {:.2}x and {:.2}x",
@@ -834,9 +1223,21 @@ fn wall_table(stims: &[Stim], dir: &Path) -> Result<String, String> {
         for j in 0..stims.len() {
             match &cells[r][j] {
                 Some(p) => {
-                    let vref = cells[2..4].iter().filter_map(|row| row[j].as_ref().map(|p| p.wall)).fold(f64::INFINITY, f64::min);
-                    let lp = if (2..4).contains(&r) { loop_s(p).map_or("-".into(), |l| format!("{:.1} ms", l * 1e3)) } else { "-".to_string() };
-                    out += &format!(" {:.1} ms | {:.1} ms | {lp} | {:.2}x |", p.wall * 1e3, p.cpu * 1e3, vref / p.wall);
+                    let vref = cells[2..4]
+                        .iter()
+                        .filter_map(|row| row[j].as_ref().map(|p| p.wall))
+                        .fold(f64::INFINITY, f64::min);
+                    let lp = if (2..4).contains(&r) {
+                        loop_s(p).map_or("-".into(), |l| format!("{:.1} ms", l * 1e3))
+                    } else {
+                        "-".to_string()
+                    };
+                    out += &format!(
+                        " {:.1} ms | {:.1} ms | {lp} | {:.2}x |",
+                        p.wall * 1e3,
+                        p.cpu * 1e3,
+                        vref / p.wall
+                    );
                 }
                 None => out += " - | - | - | - |",
             }
@@ -856,7 +1257,11 @@ fn main() {
     if let Some(k) = args.iter().position(|a| a == "--park-child") {
         match args.get(k + 1).map(String::as_str) {
             Some("--file") => park_child(0, args.get(k + 2).map(String::as_str)),
-            a => park_child(a.and_then(|s| s.parse().ok()).expect("--park-child SECONDS | --file PATH"), None),
+            a => park_child(
+                a.and_then(|s| s.parse().ok())
+                    .expect("--park-child SECONDS | --file PATH"),
+                None,
+            ),
         }
         return;
     }
@@ -908,7 +1313,11 @@ fn main() {
             let mut m = Pmu50::new(st.params).expect("legal parameters");
             let (mut wide, mut narrow_upd) = (0, 0);
             for i in &st.inputs {
-                let pmu50_core::TracedStep { internals: x, wide: w, .. } = m.step_traced(i);
+                let pmu50_core::TracedStep {
+                    internals: x,
+                    wide: w,
+                    ..
+                } = m.step_traced(i);
                 wide += u32::from(w);
                 narrow_upd += u32::from(!w && x.upd);
             }
@@ -931,7 +1340,11 @@ fn main() {
         // Only pmu50 run --trace all and the two Verilator --trace harnesses it is quoted against.
         for st in &stims {
             let dir = &dir;
-            let m = interleaved(vec![pmu50_run(st, dir), verilator_all(st, dir), verilator(st, dir, seconds, Some(Sink::File))]);
+            let m = interleaved(vec![
+                pmu50_run(st, dir),
+                verilator_all(st, dir),
+                verilator(st, dir, seconds, Some(Sink::File)),
+            ]);
             match (&m[0], &m[1], &m[2]) {
                 (Ok(r), Ok(a), Ok(t)) => println!(
                     "{}: pmu50 run --trace all {:.1} ns a tick ({:.2} ms), Verilator --trace of every variable {:.1} ns ({:.2}x), of the same signals {:.1} ns ({:.2}x)",
@@ -960,10 +1373,23 @@ fn main() {
             // the parts of a traced tick: the traced edge alone, then with the VCD text thrown away
             let edge = alone(pass_rounds(st, seconds / 2.0, pass_edge_only));
             let sink = alone(pass_rounds(st, seconds / 2.0, pass_sink));
-            println!("{}: traced edge only {}, tracer VCD to io::sink {}", st.name, fmt_rate(edge.rate()), fmt_rate(sink.rate()));
+            println!(
+                "{}: traced edge only {}, tracer VCD to io::sink {}",
+                st.name,
+                fmt_rate(edge.rate()),
+                fmt_rate(sink.rate())
+            );
             let v = alone(Box::new(|| Ok(traced_once(st, &dir, false, Sink::File))));
             let f = alone(Box::new(|| Ok(traced_once(st, &dir, true, Sink::File))));
-            println!("{}: tracer VCD {} FST {} ({}; {}; checksum {:016x})", st.name, fmt_rate(v.rate()), fmt_rate(f.rate()), v.note, f.note, v.checksum.unwrap_or(0));
+            println!(
+                "{}: tracer VCD {} FST {} ({}; {}; checksum {:016x})",
+                st.name,
+                fmt_rate(v.rate()),
+                fmt_rate(f.rate()),
+                v.note,
+                f.note,
+                v.checksum.unwrap_or(0)
+            );
         }
         return;
     }
@@ -972,7 +1398,15 @@ fn main() {
         for st in &stims {
             let a = alone(pass_rounds(st, seconds, pass_spec));
             let b = alone(pass_rounds(st, seconds, pass_kernel));
-            println!("{}: spec {} kernel {} ({:.2}x; checksums {:016x} {:016x})", st.name, fmt_rate(a.rate()), fmt_rate(b.rate()), b.rate() / a.rate(), a.checksum.unwrap_or(0), b.checksum.unwrap_or(0));
+            println!(
+                "{}: spec {} kernel {} ({:.2}x; checksums {:016x} {:016x})",
+                st.name,
+                fmt_rate(a.rate()),
+                fmt_rate(b.rate()),
+                b.rate() / a.rate(),
+                a.checksum.unwrap_or(0),
+                b.checksum.unwrap_or(0)
+            );
         }
         return;
     }
@@ -1007,27 +1441,44 @@ fn main() {
             Ok(pass_rounds(st, seconds, pass_kernel)),
             verilator(st, dir, seconds, None),
             verilator(st, dir, seconds, Some(Sink::File)),
-            Ok(Box::new(move || Ok(traced_once(st, dir, false, Sink::File)))),
+            Ok(Box::new(move || {
+                Ok(traced_once(st, dir, false, Sink::File))
+            })),
             Ok(Box::new(move || Ok(traced_once(st, dir, true, Sink::File)))),
             verilator(st, dir, seconds, Some(Sink::Null)),
-            Ok(Box::new(move || Ok(traced_once(st, dir, false, Sink::Null)))),
+            Ok(Box::new(move || {
+                Ok(traced_once(st, dir, false, Sink::Null))
+            })),
             verilator_all(st, dir),
             pmu50_run(st, dir),
         ];
         for (row, m) in table.iter_mut().zip(interleaved(harnesses)) {
             row.push(m);
         }
-        table[row_icarus].push(if iv.contains(&st.name) { icarus(st, dir) } else { Err("not run (slow; see --icarus)".into()) });
+        table[row_icarus].push(if iv.contains(&st.name) {
+            icarus(st, dir)
+        } else {
+            Err("not run (slow; see --icarus)".into())
+        });
     }
 
     // Checksums: every harness of a stimulus must agree.
     let mut ok = true;
     let mut sums = Vec::new();
     for (j, st) in stims.iter().enumerate() {
-        let all: Vec<u64> = table.iter().filter_map(|row| row[j].as_ref().ok().and_then(|m| m.checksum)).collect();
+        let all: Vec<u64> = table
+            .iter()
+            .filter_map(|row| row[j].as_ref().ok().and_then(|m| m.checksum))
+            .collect();
         let same = all.windows(2).all(|w| w[0] == w[1]);
         ok &= same && table[2][j].is_ok();
-        sums.push(format!("{}: {} ({} harnesses {})", st.name, all.first().map_or("-".into(), |h| format!("{h:016x}")), all.len(), if same { "equal" } else { "DIFFER" }));
+        sums.push(format!(
+            "{}: {} ({} harnesses {})",
+            st.name,
+            all.first().map_or("-".into(), |h| format!("{h:016x}")),
+            all.len(),
+            if same { "equal" } else { "DIFFER" }
+        ));
     }
 
     let w0 = labels.iter().map(|l| l.len()).max().unwrap_or(0);
@@ -1050,7 +1501,10 @@ fn main() {
         for j in 0..stims.len() {
             match &table[r][j] {
                 Ok(m) => {
-                    let ratio = table[base][j].as_ref().map(|b| format!("{:.1}x", m.rate() / b.rate())).unwrap_or_else(|_| "-".into());
+                    let ratio = table[base][j]
+                        .as_ref()
+                        .map(|b| format!("{:.1}x", m.rate() / b.rate()))
+                        .unwrap_or_else(|_| "-".into());
                     out += &format!(" {} | {} |", fmt_rate(m.rate()), ratio);
                     if !m.note.is_empty() {
                         notes.push(format!("{}: {}", stims[j].name, m.note));
@@ -1086,7 +1540,18 @@ fn main() {
     // The page cache's share of a VCD written to a file, the same for both sides.
     match page_cache_ns_per_byte(&dir) {
         Ok(ns) => {
-            let per_tick: Vec<String> = stims.iter().zip(&vcd_bytes).map(|(st, &b)| format!("{}: {:.1} bytes of VCD a tick, {:.0} ns", st.name, b, b * ns)).collect();
+            let per_tick: Vec<String> = stims
+                .iter()
+                .zip(&vcd_bytes)
+                .map(|(st, &b)| {
+                    format!(
+                        "{}: {:.1} bytes of VCD a tick, {:.0} ns",
+                        st.name,
+                        b,
+                        b * ns
+                    )
+                })
+                .collect();
             out += &format!("\npage cache: writing a new 8 MiB file costs {ns:.2} ns of CPU per byte (1 MiB writes, best of 15); {}\n", per_tick.join("; "));
         }
         Err(e) => out += &format!("\npage cache: not measured: {e}\n"),
@@ -1094,12 +1559,18 @@ fn main() {
 
     // Park figures.
     out += "\npark (key off; pmu50 simulator with fast-forward and period skip, no waveform, as `pmu50 run` with trace = none; one child process each, its CPU time and peak memory):\n";
-    let park_30d = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/park_30d.toml").display().to_string();
+    let park_30d = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenarios/park_30d.toml")
+        .display()
+        .to_string();
     let runs: [(&str, Vec<&str>); 4] = [
         ("1 h still", vec!["3600"]),
         ("1 d still", vec!["86400"]),
         ("30 d still", vec!["2592000"]),
-        ("scenarios/park_30d.toml (a bump or turn by hand every 6 h)", vec!["--file", &park_30d]),
+        (
+            "scenarios/park_30d.toml (a bump or turn by hand every 6 h)",
+            vec!["--file", &park_30d],
+        ),
     ];
     for (label, a) in &runs {
         match park(a) {

@@ -36,7 +36,10 @@ use std::path::Path;
 use std::time::Instant;
 
 fn cpu_now() -> f64 {
-    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
     // SAFETY: clock_gettime writes one timespec through a valid pointer.
     unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
     ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
@@ -68,7 +71,11 @@ impl Observer for Record {
 
 fn arg(name: &str, default: u64) -> u64 {
     let a: Vec<String> = std::env::args().collect();
-    a.iter().position(|x| x == name).and_then(|i| a.get(i + 1)).and_then(|v| v.parse().ok()).unwrap_or(default)
+    a.iter()
+        .position(|x| x == name)
+        .and_then(|i| a.get(i + 1))
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
 }
 
 fn main() {
@@ -78,7 +85,8 @@ fn main() {
     let scenarios: Vec<Scenario> = (1..=seeds)
         .map(|s| {
             let text = Stimulus::generate(s, &Bias::uniform()).to_toml(&format!("regress_{s}"));
-            Scenario::parse(&text, "bench", "bench", Path::new("bench.toml")).expect("a generated scenario parses")
+            Scenario::parse(&text, "bench", "bench", Path::new("bench.toml"))
+                .expect("a generated scenario parses")
         })
         .collect();
     // Every tick the bench evaluates with a coverage observer, as inputs for the kernel row.
@@ -87,12 +95,14 @@ fn main() {
     for sc in &scenarios {
         let mut rec = Record(Vec::new());
         let mut idle = Idle;
-        let r = sim::run(sc, SimOptions::default(), &mut [&mut idle, &mut rec]).expect("bench runs");
+        let r =
+            sim::run(sc, SimOptions::default(), &mut [&mut idle, &mut rec]).expect("bench runs");
         evaluated += r.evaluated_ticks;
         inputs.push((sc.params, rec.0));
     }
 
-    let (mut kernel, mut bench, mut covered, mut checked) = (f64::MAX, f64::MAX, f64::MAX, f64::MAX);
+    let (mut kernel, mut bench, mut covered, mut checked) =
+        (f64::MAX, f64::MAX, f64::MAX, f64::MAX);
     for _ in 0..rounds {
         let t = cpu_now();
         for (p, ins) in &inputs {
@@ -108,7 +118,11 @@ fn main() {
         let t = cpu_now();
         for sc in &scenarios {
             let mut idle = Idle;
-            std::hint::black_box(sim::run(sc, SimOptions::default(), &mut [&mut idle]).expect("bench runs").evaluated_ticks);
+            std::hint::black_box(
+                sim::run(sc, SimOptions::default(), &mut [&mut idle])
+                    .expect("bench runs")
+                    .evaluated_ticks,
+            );
         }
         bench = bench.min(cpu_now() - t);
 
@@ -135,10 +149,25 @@ fn main() {
     println!("regression seeds 1..={seeds}: {evaluated} evaluated ticks (fastest of {rounds} rounds, CPU seconds of this process)");
     println!("| harness | M ticks/CPU-s | against the bench |");
     println!("|---|---:|---:|");
-    println!("| kernel alone (Pmu50::step, the same inputs) | {:.1} | {:.1}x |", m(kernel), bench / kernel);
-    println!("| bench, every tick (environment, MPU, core) | {:.1} | 1.00x |", m(bench));
-    println!("| bench + coverage sampled at every edge | {:.1} | {:.3}x |", m(covered), covered / bench);
-    println!("| bench + coverage + invariants (a regress seed) | {:.1} | {:.3}x |", m(checked), checked / bench);
+    println!(
+        "| kernel alone (Pmu50::step, the same inputs) | {:.1} | {:.1}x |",
+        m(kernel),
+        bench / kernel
+    );
+    println!(
+        "| bench, every tick (environment, MPU, core) | {:.1} | 1.00x |",
+        m(bench)
+    );
+    println!(
+        "| bench + coverage sampled at every edge | {:.1} | {:.3}x |",
+        m(covered),
+        covered / bench
+    );
+    println!(
+        "| bench + coverage + invariants (a regress seed) | {:.1} | {:.3}x |",
+        m(checked),
+        checked / bench
+    );
     println!("coverage sampling costs {:+.1} % of the untraced bench (goal: at most 10 %); with the invariants {:+.1} %", (covered / bench - 1.0) * 100.0, (checked / bench - 1.0) * 100.0);
 
     // pmu50 regress on every core.
@@ -147,12 +176,20 @@ fn main() {
         let out = tempfile::tempdir().expect("temp dir");
         let t = Instant::now();
         let o = std::process::Command::new(&bin)
-            .args(["regress", "--iterations", &regress_seeds.to_string(), "--no-triage", "--out"])
+            .args([
+                "regress",
+                "--iterations",
+                &regress_seeds.to_string(),
+                "--no-triage",
+                "--out",
+            ])
             .arg(out.path().join("r"))
             .output()
             .expect("pmu50 runs");
         let wall = t.elapsed().as_secs_f64();
-        let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
+        let cores = std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1);
         println!(
             "pmu50 regress --iterations {regress_seeds} on {cores} cores: {wall:.1} s wall, {:.0} seeds/s (exit {})",
             regress_seeds as f64 / wall,
@@ -168,7 +205,12 @@ fn main() {
 fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
     use pmu50::regress::lockstep::{replay_alone, InputRecorder};
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let have = |tool: &str| std::process::Command::new(tool).arg("--version").output().is_ok_and(|o| o.status.success());
+    let have = |tool: &str| {
+        std::process::Command::new(tool)
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    };
     if !bin.is_file() || !have("verilator") {
         println!("regress --dut verilator rows skipped: they need target/release/pmu50 and verilator (make deps)");
         return;
@@ -177,19 +219,27 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
     // serves every seed, as for a netlist, so both rows step the same library.
     let fixed_dir = tempfile::tempdir().expect("temp dir");
     let list = fixed_twin(root, fixed_dir.path());
-    let lib = match pmu50::regress::dut::verilator::library_for(&list, &pmu50_core::Params::default()) {
-        Ok(l) => l,
-        Err(e) => {
-            println!("regress --dut verilator rows skipped: the RTL library did not build: {e}");
-            return;
-        }
-    };
-    let all: Vec<(String, u64)> = pmu50_core::Params::default().hdl_parameters().iter().map(|(n, v)| (n.to_string(), *v)).collect();
+    let lib =
+        match pmu50::regress::dut::verilator::library_for(&list, &pmu50_core::Params::default()) {
+            Ok(l) => l,
+            Err(e) => {
+                println!(
+                    "regress --dut verilator rows skipped: the RTL library did not build: {e}"
+                );
+                return;
+            }
+        };
+    let all: Vec<(String, u64)> = pmu50_core::Params::default()
+        .hdl_parameters()
+        .iter()
+        .map(|(n, v)| (n.to_string(), *v))
+        .collect();
     let bias = Bias::uniform().fixing(&pmu50::regress::rtl::Fixed { values: all });
     let stimuli: Vec<(pmu50_core::Params, Vec<u32>)> = (1..=seeds)
         .map(|s| {
             let text = Stimulus::generate(s, &bias).to_toml(&format!("regress_{s}"));
-            let sc = Scenario::parse(&text, "bench", "bench", Path::new("bench.toml")).expect("a generated scenario parses");
+            let sc = Scenario::parse(&text, "bench", "bench", Path::new("bench.toml"))
+                .expect("a generated scenario parses");
             let mut rec = InputRecorder::default();
             sim::run(&sc, SimOptions::default(), &mut [&mut rec]).expect("bench runs");
             (sc.params, rec.inputs)
@@ -200,14 +250,22 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
     let files = tempfile::tempdir().expect("temp dir");
     let replay = root.join("hdl/build/bench/replay");
     let _ = std::fs::create_dir_all(root.join("hdl/build/bench"));
-    let built = std::process::Command::new("g++").args(["-O2", "-o"]).arg(&replay).arg(root.join("hdl/tb/lockstep/replay_main.cpp")).arg("-ldl").status().is_ok_and(|s| s.success());
+    let built = std::process::Command::new("g++")
+        .args(["-O2", "-o"])
+        .arg(&replay)
+        .arg(root.join("hdl/tb/lockstep/replay_main.cpp"))
+        .arg("-ldl")
+        .status()
+        .is_ok_and(|s| s.success());
     let vecs: Vec<std::path::PathBuf> = (1..=seeds)
         .map(|s| {
             let text = Stimulus::generate(s, &bias).to_toml(&format!("regress_{s}"));
-            let sc = Scenario::parse(&text, "bench", "bench", Path::new("bench.toml")).expect("a generated scenario parses");
+            let sc = Scenario::parse(&text, "bench", "bench", Path::new("bench.toml"))
+                .expect("a generated scenario parses");
             let path = files.path().join(format!("regress_{s}.vec"));
             let f = std::io::BufWriter::new(std::fs::File::create(&path).expect("a vector file"));
-            let mut w = pmu50::observers::vectors::VectorWriter::new(f, &sc).expect("vector header");
+            let mut w =
+                pmu50::observers::vectors::VectorWriter::new(f, &sc).expect("vector header");
             sim::run(&sc, SimOptions::default(), &mut [&mut w]).expect("bench runs");
             path
         })
@@ -225,15 +283,38 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
         let cpu = children_cpu();
         let t = Instant::now();
         let o = std::process::Command::new(bin)
-            .args(["regress", "--iterations", &seeds.to_string(), "--jobs", "1", "--no-triage", "--dut", dut, "--out"])
+            .args([
+                "regress",
+                "--iterations",
+                &seeds.to_string(),
+                "--jobs",
+                "1",
+                "--no-triage",
+                "--dut",
+                dut,
+                "--out",
+            ])
             .arg(out.path().join("r"))
-            .args(if dut == "model" { vec![] } else { vec!["--rtl".to_string(), list.display().to_string()] })
+            .args(if dut == "model" {
+                vec![]
+            } else {
+                vec!["--rtl".to_string(), list.display().to_string()]
+            })
             .output()
             .expect("pmu50 runs");
-        (t.elapsed().as_secs_f64(), children_cpu() - cpu, o.status.code())
+        (
+            t.elapsed().as_secs_f64(),
+            children_cpu() - cpu,
+            o.status.code(),
+        )
     };
     // (wall, CPU) of each, fastest wall of the rounds
-    let (mut alone, mut files_alone, mut model, mut lockstep) = ((f64::MAX, 0.0), (f64::MAX, 0.0), (f64::MAX, 0.0), (f64::MAX, 0.0));
+    let (mut alone, mut files_alone, mut model, mut lockstep) = (
+        (f64::MAX, 0.0),
+        (f64::MAX, 0.0),
+        (f64::MAX, 0.0),
+        (f64::MAX, 0.0),
+    );
     let mut exits = Vec::new();
     for _ in 0..rounds {
         let (t, cpu) = (Instant::now(), cpu_now());
@@ -247,8 +328,17 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
         if built {
             let (t, cpu) = (Instant::now(), children_cpu());
             for v in &vecs {
-                let o = std::process::Command::new(&replay).arg(&lib).arg(v).output().expect("replay runs");
-                assert!(o.status.success(), "replay {}: {}", v.display(), String::from_utf8_lossy(&o.stderr));
+                let o = std::process::Command::new(&replay)
+                    .arg(&lib)
+                    .arg(v)
+                    .output()
+                    .expect("replay runs");
+                assert!(
+                    o.status.success(),
+                    "replay {}: {}",
+                    v.display(),
+                    String::from_utf8_lossy(&o.stderr)
+                );
             }
             let w = t.elapsed().as_secs_f64();
             if w < files_alone.0 {
@@ -266,13 +356,28 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
     println!("regress seeds 1..={seeds}, every parameter at its default (the twin under a top without parameters: one library): {ticks} ticks on the RTL, one job, fastest wall of {rounds} (regress exits {exits:?})");
     println!("| what | wall s | against Verilator alone | CPU s (all processes) | against Verilator alone |");
     println!("|---|---:|---:|---:|---:|");
-    let row = |what: &str, (w, c): (f64, f64)| println!("| {what} | {w:.2} | {:.2}x | {c:.2} | {:.2}x |", w / alone.0, c / alone.1);
-    row("Verilator alone (the RTL library, stimuli in memory, outputs folded)", alone);
+    let row = |what: &str, (w, c): (f64, f64)| {
+        println!(
+            "| {what} | {w:.2} | {:.2}x | {c:.2} | {:.2}x |",
+            w / alone.0,
+            c / alone.1
+        )
+    };
+    row(
+        "Verilator alone (the RTL library, stimuli in memory, outputs folded)",
+        alone,
+    );
     if built {
         row("Verilator alone as its own testbench (the same library, a process a seed reading its vector file)", files_alone);
     }
-    row("pmu50 regress --dut model (the model, coverage, checks)", model);
-    row("pmu50 regress --dut verilator (model + RTL in lockstep, the 23 output ports compared)", lockstep);
+    row(
+        "pmu50 regress --dut model (the model, coverage, checks)",
+        model,
+    );
+    row(
+        "pmu50 regress --dut verilator (model + RTL in lockstep, the 23 output ports compared)",
+        lockstep,
+    );
     if built {
         println!("regress --dut verilator adds {:+.0} % wall, {:+.0} % CPU to Verilator alone replaying the stimulus files (goal: at most +10 %)", (lockstep.0 / files_alone.0 - 1.0) * 100.0, (lockstep.1 / files_alone.1 - 1.0) * 100.0);
     }
@@ -284,20 +389,60 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
 fn fixed_twin(root: &Path, dir: &Path) -> std::path::PathBuf {
     let hdl = root.join("hdl");
     let mut list = String::new();
-    for f in std::fs::read_to_string(hdl.join("pmu50.f")).expect("hdl/pmu50.f").lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with("//")) {
+    for f in std::fs::read_to_string(hdl.join("pmu50.f"))
+        .expect("hdl/pmu50.f")
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with("//"))
+    {
         let text = std::fs::read_to_string(hdl.join(f)).expect("a twin source");
         let name = f.replace('/', "_");
-        std::fs::write(dir.join(&name), text.replace("module pmu50 #(", "module pmu50_twin #(")).expect("a copy");
+        std::fs::write(
+            dir.join(&name),
+            text.replace("module pmu50 #(", "module pmu50_twin #("),
+        )
+        .expect("a copy");
         list.push_str(&name);
         list.push('\n');
     }
-    let ports: Vec<String> = ["clk", "rst_n"].iter().map(|s| s.to_string()).chain(pmu50_core::signals::INPUTS.iter().map(|s| s.name.to_string())).chain(pmu50_core::signals::OUTPUTS.iter().map(|s| s.name.to_string())).collect();
+    let ports: Vec<String> = ["clk", "rst_n"]
+        .iter()
+        .map(|s| s.to_string())
+        .chain(
+            pmu50_core::signals::INPUTS
+                .iter()
+                .map(|s| s.name.to_string()),
+        )
+        .chain(
+            pmu50_core::signals::OUTPUTS
+                .iter()
+                .map(|s| s.name.to_string()),
+        )
+        .collect();
     let decl = |n: &str| -> String {
-        let w = |b: u8| if b > 1 { format!("[{}:0] ", b - 1) } else { String::new() };
+        let w = |b: u8| {
+            if b > 1 {
+                format!("[{}:0] ", b - 1)
+            } else {
+                String::new()
+            }
+        };
         if let Some(s) = pmu50_core::signals::INPUTS.iter().find(|s| s.name == n) {
-            format!("input wire {}{n}", w(s.width.bits(&pmu50_core::pmu50::Structural { sync_depth: 2, cnt_width: 16 })))
+            format!(
+                "input wire {}{n}",
+                w(s.width.bits(&pmu50_core::pmu50::Structural {
+                    sync_depth: 2,
+                    cnt_width: 16
+                }))
+            )
         } else if let Some(s) = pmu50_core::signals::OUTPUTS.iter().find(|s| s.name == n) {
-            format!("output wire {}{n}", w(s.width.bits(&pmu50_core::pmu50::Structural { sync_depth: 2, cnt_width: 16 })))
+            format!(
+                "output wire {}{n}",
+                w(s.width.bits(&pmu50_core::pmu50::Structural {
+                    sync_depth: 2,
+                    cnt_width: 16
+                }))
+            )
         } else {
             format!("input wire {n}")
         }

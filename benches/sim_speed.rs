@@ -17,7 +17,12 @@ fn core_step(c: &mut Criterion) {
             let mut core = Pmu50::new(Params::default()).unwrap();
             let mut out = core.peek();
             for k in 0..N {
-                let i = Inputs { vs2_ok: out.vs2_en, cmp_s: k & 0x4000 != 0, cmp_c: k & 0x2000 != 0, ..Inputs::default() };
+                let i = Inputs {
+                    vs2_ok: out.vs2_en,
+                    cmp_s: k & 0x4000 != 0,
+                    cmp_c: k & 0x2000 != 0,
+                    ..Inputs::default()
+                };
                 out = core.step(black_box(&i));
             }
             black_box(out)
@@ -29,10 +34,24 @@ fn core_step(c: &mut Criterion) {
 fn scenarios(c: &mut Criterion) {
     let mut g = c.benchmark_group("scenario");
     g.sample_size(10);
-    let sc = Scenario::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/keyoff_turns.toml")).unwrap();
+    let sc =
+        Scenario::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/keyoff_turns.toml"))
+            .unwrap();
     g.throughput(Throughput::Elements(sc.ticks));
-    for (name, ff) in [("keyoff_turns_fast_forward", true), ("keyoff_turns_every_tick", false)] {
-        g.bench_function(name, |b| b.iter(|| black_box(run(&sc, SimOptions { fast_forward: ff }, &mut []).unwrap().pulses.len())));
+    for (name, ff) in [
+        ("keyoff_turns_fast_forward", true),
+        ("keyoff_turns_every_tick", false),
+    ] {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                black_box(
+                    run(&sc, SimOptions { fast_forward: ff }, &mut [])
+                        .unwrap()
+                        .pulses
+                        .len(),
+                )
+            })
+        });
     }
     g.finish();
 }

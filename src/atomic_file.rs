@@ -37,19 +37,43 @@ fn live() -> MutexGuard<'static, Vec<PathBuf>> {
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     #[error("{}: cannot create the output folder: {source}", path.display())]
-    Folder { path: PathBuf, #[source] source: io::Error },
+    Folder {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
     #[error("{}: cannot create a temporary file beside it: {source}", path.display())]
-    Create { path: PathBuf, #[source] source: io::Error },
+    Create {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
     #[error("{}: cannot write (the previous file is left as it was): {source}", path.display())]
-    Write { path: PathBuf, #[source] source: io::Error },
+    Write {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
     #[error("{}: cannot rename the complete file into place: {source}", path.display())]
-    Rename { path: PathBuf, #[source] source: io::Error },
+    Rename {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
     #[error("{}: is a directory; an output file cannot replace it", path.display())]
     IsDir { path: PathBuf },
     #[error("{}: is a {kind}, not a regular file; an output file never replaces it (give the path of a file{})", path.display(), if *stdout_ok { ", or - for standard output" } else { "" })]
-    NotRegular { path: PathBuf, kind: &'static str, stdout_ok: bool },
+    NotRegular {
+        path: PathBuf,
+        kind: &'static str,
+        stdout_ok: bool,
+    },
     #[error("{}: cannot remove the stale file: {source}", path.display())]
-    Remove { path: PathBuf, #[source] source: io::Error },
+    Remove {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
 }
 
 /// An output file being written: a temporary file beside `dest`.
@@ -65,14 +89,19 @@ impl AtomicFile {
     /// `dest` only when its batch commits.
     pub fn stage(dest: &Path) -> Result<AtomicFile, OutputError> {
         if is_real_dir(dest) {
-            return Err(OutputError::IsDir { path: dest.to_path_buf() });
+            return Err(OutputError::IsDir {
+                path: dest.to_path_buf(),
+            });
         }
         refuse_special(dest)?;
         let dir = match dest.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        let base = dest.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let base = dest
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
         remove_strays(&dir, &base);
         let mut reg = live();
         // 0o666 less the umask, like File::create; the registry lock is held while the file is
@@ -82,10 +111,17 @@ impl AtomicFile {
             .suffix(".tmp")
             .permissions(Permissions::from_mode(0o666))
             .tempfile_in(&dir)
-            .map_err(|source| OutputError::Create { path: dest.to_path_buf(), source })?;
+            .map_err(|source| OutputError::Create {
+                path: dest.to_path_buf(),
+                source,
+            })?;
         let tmp = file.path().to_path_buf();
         reg.push(tmp.clone());
-        Ok(AtomicFile { file: Some(file), dest: dest.to_path_buf(), tmp })
+        Ok(AtomicFile {
+            file: Some(file),
+            dest: dest.to_path_buf(),
+            tmp,
+        })
     }
 
     /// The final path.
@@ -99,7 +135,9 @@ impl AtomicFile {
     }
 
     fn inner(&mut self) -> io::Result<&mut tempfile::NamedTempFile> {
-        self.file.as_mut().ok_or_else(|| io::Error::other("output file already committed"))
+        self.file
+            .as_mut()
+            .ok_or_else(|| io::Error::other("output file already committed"))
     }
 
     /// Flush to disk and rename into place; the caller holds the registry lock (so this never
@@ -107,15 +145,28 @@ impl AtomicFile {
     fn persist(mut self, reg: &mut Vec<PathBuf>) -> Result<(), OutputError> {
         let dest = self.dest.clone();
         reg.retain(|p| p != &self.tmp);
-        let file = self.file.take().ok_or_else(|| OutputError::Write { path: dest.clone(), source: io::Error::other("output file already committed") })?;
+        let file = self.file.take().ok_or_else(|| OutputError::Write {
+            path: dest.clone(),
+            source: io::Error::other("output file already committed"),
+        })?;
         // On an error the temporary file is dropped (deleted) on return.
-        file.as_file().sync_data().map_err(|source| OutputError::Write { path: dest.clone(), source })?;
+        file.as_file()
+            .sync_data()
+            .map_err(|source| OutputError::Write {
+                path: dest.clone(),
+                source,
+            })?;
         if is_real_dir(&dest) {
             return Err(OutputError::IsDir { path: dest });
         }
         // The path may have become a device or a FIFO while the run wrote.
         refuse_special(&dest)?;
-        file.persist(&dest).map(|_| ()).map_err(|e| OutputError::Rename { path: dest, source: e.error })
+        file.persist(&dest)
+            .map(|_| ())
+            .map_err(|e| OutputError::Rename {
+                path: dest,
+                source: e.error,
+            })
     }
 
     /// Delete the temporary file; the caller holds the registry lock.
@@ -168,7 +219,11 @@ pub fn special_kind(p: &Path) -> Option<&'static str> {
 /// [`OutputError::NotRegular`] when `dest` exists and is a device, a FIFO or a socket.
 fn refuse_special(dest: &Path) -> Result<(), OutputError> {
     match special_kind(dest) {
-        Some(kind) => Err(OutputError::NotRegular { path: dest.to_path_buf(), kind, stdout_ok: false }),
+        Some(kind) => Err(OutputError::NotRegular {
+            path: dest.to_path_buf(),
+            kind,
+            stdout_ok: false,
+        }),
         None => Ok(()),
     }
 }
@@ -197,10 +252,16 @@ impl Sink {
         if dest.as_os_str() == "-" {
             return Ok(Sink::Stdout(io::stdout()));
         }
-        AtomicFile::stage(dest).map(Sink::File).map_err(|e| match e {
-            OutputError::NotRegular { path, kind, .. } => OutputError::NotRegular { path, kind, stdout_ok: true },
-            e => e,
-        })
+        AtomicFile::stage(dest)
+            .map(Sink::File)
+            .map_err(|e| match e {
+                OutputError::NotRegular { path, kind, .. } => OutputError::NotRegular {
+                    path,
+                    kind,
+                    stdout_ok: true,
+                },
+                e => e,
+            })
     }
 
     /// Add the file to `batch` (renamed into place when it commits); standard output is flushed.
@@ -210,7 +271,10 @@ impl Sink {
                 batch.add(f);
                 Ok(())
             }
-            Sink::Stdout(mut o) => o.flush().map_err(|source| OutputError::Write { path: PathBuf::from("-"), source }),
+            Sink::Stdout(mut o) => o.flush().map_err(|source| OutputError::Write {
+                path: PathBuf::from("-"),
+                source,
+            }),
         }
     }
 }
@@ -244,13 +308,25 @@ fn is_real_dir(p: &Path) -> bool {
 /// Remove temporary files `.<base>.<pid>.*.tmp` in `dir` left by a process that no longer runs
 /// (a run killed by SIGKILL): the next run that writes the same output cleans up after it.
 fn remove_strays(dir: &Path, base: &str) {
-    let Ok(rd) = std::fs::read_dir(dir) else { return };
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return;
+    };
     let prefix = format!(".{base}.");
     for e in rd.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
-        let Some(rest) = name.strip_prefix(&prefix).filter(|_| name.ends_with(".tmp")) else { continue };
-        let Some(pid) = rest.split('.').next().and_then(|p| p.parse::<u32>().ok()) else { continue };
-        if pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() && e.file_type().is_ok_and(|t| t.is_file()) {
+        let Some(rest) = name
+            .strip_prefix(&prefix)
+            .filter(|_| name.ends_with(".tmp"))
+        else {
+            continue;
+        };
+        let Some(pid) = rest.split('.').next().and_then(|p| p.parse::<u32>().ok()) else {
+            continue;
+        };
+        if pid != std::process::id()
+            && !Path::new(&format!("/proc/{pid}")).exists()
+            && e.file_type().is_ok_and(|t| t.is_file())
+        {
             let _ = std::fs::remove_file(e.path());
         }
     }
@@ -259,7 +335,10 @@ fn remove_strays(dir: &Path, base: &str) {
 /// Write a whole small file atomically (e.g. a `.gtkw` or a random scenario).
 pub fn write_atomic(dest: &Path, bytes: &[u8]) -> Result<AtomicFile, OutputError> {
     let mut f = AtomicFile::stage(dest)?;
-    f.write_all(bytes).map_err(|source| OutputError::Write { path: dest.to_path_buf(), source })?;
+    f.write_all(bytes).map_err(|source| OutputError::Write {
+        path: dest.to_path_buf(),
+        source,
+    })?;
     Ok(f)
 }
 
@@ -293,7 +372,11 @@ impl Batch {
 
     /// Final paths of the files in this batch.
     pub fn paths(&self) -> Vec<PathBuf> {
-        self.files.iter().chain(&self.last).map(|f| f.dest.clone()).collect()
+        self.files
+            .iter()
+            .chain(&self.last)
+            .map(|f| f.dest.clone())
+            .collect()
     }
 
     /// Rename every file into place. A signal arriving meanwhile waits until all are renamed.
@@ -323,7 +406,10 @@ impl Batch {
 
 /// Create `dir` (and parents) for outputs.
 pub fn create_dir(dir: &Path) -> Result<(), OutputError> {
-    std::fs::create_dir_all(dir).map_err(|source| OutputError::Folder { path: dir.to_path_buf(), source })
+    std::fs::create_dir_all(dir).map_err(|source| OutputError::Folder {
+        path: dir.to_path_buf(),
+        source,
+    })
 }
 
 /// Remove every live temporary file (signal thread; also usable before an emergency exit).
@@ -340,13 +426,15 @@ pub fn remove_temporaries() {
 pub fn install_signal_cleanup() -> Result<(), io::Error> {
     use signal_hook::consts::{SIGINT, SIGTERM};
     let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM])?;
-    std::thread::Builder::new().name("signal-cleanup".into()).spawn(move || {
-        if let Some(sig) = signals.forever().next() {
-            crate::regress::lockstep::cleanup_on_signal();
-            remove_temporaries();
-            std::process::exit(128 + sig);
-        }
-    })?;
+    std::thread::Builder::new()
+        .name("signal-cleanup".into())
+        .spawn(move || {
+            if let Some(sig) = signals.forever().next() {
+                crate::regress::lockstep::cleanup_on_signal();
+                remove_temporaries();
+                std::process::exit(128 + sig);
+            }
+        })?;
     Ok(())
 }
 
@@ -362,7 +450,10 @@ mod tests {
     }
 
     fn names(d: &Path) -> Vec<String> {
-        let mut v: Vec<String> = std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        let mut v: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
         v.sort();
         v
     }
@@ -381,7 +472,10 @@ mod tests {
         assert_eq!(names(&d), ["a.vcd"]);
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "old");
         // Other tests of this process may hold temporary files of their own at this moment.
-        assert!(!live().iter().any(|t| t.starts_with(&d)), "no temporary file of this folder stays registered");
+        assert!(
+            !live().iter().any(|t| t.starts_with(&d)),
+            "no temporary file of this folder stays registered"
+        );
         std::fs::remove_dir_all(&d).ok();
     }
 
@@ -397,7 +491,10 @@ mod tests {
         b.remove_stale(d.join("a.log"));
         b.commit().unwrap();
         assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep me");
-        assert!(!std::fs::symlink_metadata(&p).unwrap().file_type().is_symlink());
+        assert!(!std::fs::symlink_metadata(&p)
+            .unwrap()
+            .file_type()
+            .is_symlink());
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "save file");
         assert_eq!(names(&d), ["a.gtkw", "precious.txt"]);
         // A symlink to a folder is replaced as well; the folder stays.
@@ -416,7 +513,10 @@ mod tests {
     fn a_directory_at_the_output_path_is_an_error() {
         let d = dir("isdir");
         std::fs::create_dir(d.join("a.vcd")).unwrap();
-        assert!(matches!(AtomicFile::stage(&d.join("a.vcd")), Err(OutputError::IsDir { .. })));
+        assert!(matches!(
+            AtomicFile::stage(&d.join("a.vcd")),
+            Err(OutputError::IsDir { .. })
+        ));
         std::fs::remove_dir_all(&d).ok();
     }
 
@@ -430,7 +530,10 @@ mod tests {
         std::fs::create_dir(d.join("a.vcd")).unwrap();
         assert!(matches!(b.commit(), Err(OutputError::IsDir { .. })));
         assert_eq!(names(&d), ["a.vcd", "b.gtkw"]);
-        assert_eq!(std::fs::read_to_string(d.join("b.gtkw")).unwrap(), "old save file");
+        assert_eq!(
+            std::fs::read_to_string(d.join("b.gtkw")).unwrap(),
+            "old save file"
+        );
         std::fs::remove_dir_all(&d).ok();
     }
 
@@ -446,7 +549,10 @@ mod tests {
         }
         let f = AtomicFile::stage(&d.join("a.vcd")).unwrap();
         assert!(!dead.exists(), "the dead run's temporary file is removed");
-        assert!(alive.exists() && other.exists(), "a live process's and another output's are kept");
+        assert!(
+            alive.exists() && other.exists(),
+            "a live process's and another output's are kept"
+        );
         drop(f);
         std::fs::remove_dir_all(&d).ok();
     }

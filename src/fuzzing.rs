@@ -19,10 +19,15 @@ pub const FUZZ_FILE: &str = "fuzz.toml";
 /// # Panics
 /// When the parser panics, or an error message does not start with [`FUZZ_FILE`].
 pub fn scenario(data: &[u8]) {
-    let Ok(src) = std::str::from_utf8(data) else { return };
+    let Ok(src) = std::str::from_utf8(data) else {
+        return;
+    };
     if let Err(e) = Scenario::parse(src, FUZZ_FILE, "fuzz", Path::new(FUZZ_FILE)) {
         let msg = e.to_string();
-        assert!(msg.starts_with(FUZZ_FILE), "error message does not name the file: {msg}");
+        assert!(
+            msg.starts_with(FUZZ_FILE),
+            "error message does not name the file: {msg}"
+        );
     }
 }
 
@@ -32,15 +37,28 @@ pub fn scenario(data: &[u8]) {
 /// When the parser panics, or an accepted duration, printed with `Display`, does not parse back
 /// to the same number of nanoseconds.
 pub fn duration(data: &[u8]) {
-    let Ok(text) = std::str::from_utf8(data) else { return };
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
     if let Ok(d) = Dur::parse(text) {
         let shown = d.to_string();
-        assert_eq!(Dur::parse(&shown), Ok(d), "`{text}` is {} ns, shown as `{shown}`, which does not parse back", d.0);
+        assert_eq!(
+            Dur::parse(&shown),
+            Ok(d),
+            "`{text}` is {} ns, shown as `{shown}`, which does not parse back",
+            d.0
+        );
     }
 }
 
 /// File names the regression-folder body gives its parts; every error message names one.
-pub const FOLDER_FILES: [&str; 5] = ["a/regress.json", "a/results.jsonl", "b/regress.json", "b/results.jsonl", "c/coverage.json"];
+pub const FOLDER_FILES: [&str; 5] = [
+    "a/regress.json",
+    "a/results.jsonl",
+    "b/regress.json",
+    "b/results.jsonl",
+    "c/coverage.json",
+];
 
 /// Reads `data` as the files of two regression folders and a coverage file, separated by NUL
 /// bytes ([`FOLDER_FILES`], in that order; missing parts are empty): each `regress.json` as
@@ -58,7 +76,11 @@ pub fn regress_folder(data: &[u8]) {
     parts.resize(5, &[]);
     let named = |e: &dyn std::fmt::Display, k: usize| {
         let msg = e.to_string();
-        assert!(msg.contains(FOLDER_FILES[k]), "error message does not name {}: {msg}", FOLDER_FILES[k]);
+        assert!(
+            msg.contains(FOLDER_FILES[k]),
+            "error message does not name {}: {msg}",
+            FOLDER_FILES[k]
+        );
     };
     let mut specs = Vec::new();
     for (k, part) in [(0usize, parts[0]), (2, parts[2])] {
@@ -66,7 +88,13 @@ pub fn regress_folder(data: &[u8]) {
         let spec = match folder::parse_spec(&text, Path::new(FOLDER_FILES[k])) {
             Ok(s) => {
                 let again = serde_json::to_string_pretty(&s).expect("a run prints");
-                assert_eq!(folder::parse_spec(&again, Path::new(FOLDER_FILES[k])).ok().as_ref(), Some(&s), "regress.json does not parse back: {again}");
+                assert_eq!(
+                    folder::parse_spec(&again, Path::new(FOLDER_FILES[k]))
+                        .ok()
+                        .as_ref(),
+                    Some(&s),
+                    "regress.json does not parse back: {again}"
+                );
                 assert!(s.seeds().end - s.seeds().start <= folder::MAX_SEEDS);
                 Some(s)
             }
@@ -78,7 +106,9 @@ pub fn regress_folder(data: &[u8]) {
         let range = spec.as_ref().map_or(1..101, |s| s.seeds());
         let mut hits = vec![0u64; pmu50_coverage::layout().bins.len()];
         let path = Path::new(FOLDER_FILES[k + 1]);
-        match folder::scan_reader(parts[k + 1], path, 0, &range, &mut hits, &mut |r, e| assert!(range.contains(&r.seed) && e.seed == r.seed)) {
+        match folder::scan_reader(parts[k + 1], path, 0, &range, &mut hits, &mut |r, e| {
+            assert!(range.contains(&r.seed) && e.seed == r.seed)
+        }) {
             Ok(s) => {
                 assert!(s.complete_len <= parts[k + 1].len() as u64);
                 let torn = &parts[k + 1][s.complete_len as usize..];
@@ -86,7 +116,10 @@ pub fn regress_folder(data: &[u8]) {
                 let n = s.entries.len();
                 if let Ok(store) = folder::Store::new(vec![path.to_path_buf()], s.entries) {
                     assert_eq!(store.len(), n);
-                    assert!(store.entries.windows(2).all(|w| w[0].seed < w[1].seed), "a seed accepted twice");
+                    assert!(
+                        store.entries.windows(2).all(|w| w[0].seed < w[1].seed),
+                        "a seed accepted twice"
+                    );
                 }
             }
             Err(e) => named(&e, k + 1),
@@ -100,11 +133,16 @@ pub fn regress_folder(data: &[u8]) {
             let w = whole.seeds();
             for (_, s) in &specs {
                 let (a, b) = (s.start_seed, s.start_seed + s.iterations);
-                assert!(w.start <= a && b <= w.end, "the merged range {w:?} leaves out seeds {a}..{b}");
+                assert!(
+                    w.start <= a && b <= w.end,
+                    "the merged range {w:?} leaves out seeds {a}..{b}"
+                );
             }
         }
     }
-    if let Err(e) = pmu50_coverage::CoverageFile::parse(&String::from_utf8_lossy(parts[4]), FOLDER_FILES[4]) {
+    if let Err(e) =
+        pmu50_coverage::CoverageFile::parse(&String::from_utf8_lossy(parts[4]), FOLDER_FILES[4])
+    {
         named(&e, 4);
     }
 }

@@ -20,30 +20,90 @@ pub const FILES: &[(&str, &str)] = &[
     ("pmu50.f", include_str!("../hdl/pmu50.f")),
     ("pmu50.map.toml", include_str!("../hdl/pmu50.map.toml")),
     ("pmu50.v", include_str!("../hdl/pmu50.v")),
-    ("rtl/action_switching_56a.v", include_str!("../hdl/rtl/action_switching_56a.v")),
-    ("rtl/comparator_latch_58ab.v", include_str!("../hdl/rtl/comparator_latch_58ab.v")),
-    ("rtl/count_diagnosis.v", include_str!("../hdl/rtl/count_diagnosis.v")),
-    ("rtl/drive_interval_changing_56b.v", include_str!("../hdl/rtl/drive_interval_changing_56b.v")),
-    ("rtl/register_file.v", include_str!("../hdl/rtl/register_file.v")),
-    ("rtl/sensor_power_determination_57.v", include_str!("../hdl/rtl/sensor_power_determination_57.v")),
-    ("rtl/timing_generator_56.v", include_str!("../hdl/rtl/timing_generator_56.v")),
-    ("rtl/updown_counter_58cd.v", include_str!("../hdl/rtl/updown_counter_58cd.v")),
-    ("scenarios/hdl_bus.toml", include_str!("../hdl/scenarios/hdl_bus.toml")),
-    ("scripts/common.sh", include_str!("../hdl/scripts/common.sh")),
-    ("scripts/run_lockstep_dpi.sh", include_str!("../hdl/scripts/run_lockstep_dpi.sh")),
-    ("scripts/run_vectors.sh", include_str!("../hdl/scripts/run_vectors.sh")),
+    (
+        "rtl/action_switching_56a.v",
+        include_str!("../hdl/rtl/action_switching_56a.v"),
+    ),
+    (
+        "rtl/comparator_latch_58ab.v",
+        include_str!("../hdl/rtl/comparator_latch_58ab.v"),
+    ),
+    (
+        "rtl/count_diagnosis.v",
+        include_str!("../hdl/rtl/count_diagnosis.v"),
+    ),
+    (
+        "rtl/drive_interval_changing_56b.v",
+        include_str!("../hdl/rtl/drive_interval_changing_56b.v"),
+    ),
+    (
+        "rtl/register_file.v",
+        include_str!("../hdl/rtl/register_file.v"),
+    ),
+    (
+        "rtl/sensor_power_determination_57.v",
+        include_str!("../hdl/rtl/sensor_power_determination_57.v"),
+    ),
+    (
+        "rtl/timing_generator_56.v",
+        include_str!("../hdl/rtl/timing_generator_56.v"),
+    ),
+    (
+        "rtl/updown_counter_58cd.v",
+        include_str!("../hdl/rtl/updown_counter_58cd.v"),
+    ),
+    (
+        "scenarios/hdl_bus.toml",
+        include_str!("../hdl/scenarios/hdl_bus.toml"),
+    ),
+    (
+        "scripts/common.sh",
+        include_str!("../hdl/scripts/common.sh"),
+    ),
+    (
+        "scripts/run_lockstep_dpi.sh",
+        include_str!("../hdl/scripts/run_lockstep_dpi.sh"),
+    ),
+    (
+        "scripts/run_vectors.sh",
+        include_str!("../hdl/scripts/run_vectors.sh"),
+    ),
     ("scripts/synth.sh", include_str!("../hdl/scripts/synth.sh")),
     ("tb/tb_vectors.v", include_str!("../hdl/tb/tb_vectors.v")),
-    ("tb/lockstep/dut_lib.cpp", include_str!("../hdl/tb/lockstep/dut_lib.cpp")),
-    ("tb/lockstep/pmu50_dpi.c", include_str!("../hdl/tb/lockstep/pmu50_dpi.c")),
-    ("tb/lockstep/replay_main.cpp", include_str!("../hdl/tb/lockstep/replay_main.cpp")),
-    ("tb/lockstep/tb_lockstep_dpi.sv", include_str!("../hdl/tb/lockstep/tb_lockstep_dpi.sv")),
-    ("formal/pmu50.sby.j2", include_str!("../hdl/formal/pmu50.sby.j2")),
-    ("formal/pmu50_formal.sv", include_str!("../hdl/formal/pmu50_formal.sv")),
-    ("formal/requirements.txt", include_str!("../hdl/formal/requirements.txt")),
+    (
+        "tb/lockstep/dut_lib.cpp",
+        include_str!("../hdl/tb/lockstep/dut_lib.cpp"),
+    ),
+    (
+        "tb/lockstep/pmu50_dpi.c",
+        include_str!("../hdl/tb/lockstep/pmu50_dpi.c"),
+    ),
+    (
+        "tb/lockstep/replay_main.cpp",
+        include_str!("../hdl/tb/lockstep/replay_main.cpp"),
+    ),
+    (
+        "tb/lockstep/tb_lockstep_dpi.sv",
+        include_str!("../hdl/tb/lockstep/tb_lockstep_dpi.sv"),
+    ),
+    (
+        "formal/pmu50.sby.j2",
+        include_str!("../hdl/formal/pmu50.sby.j2"),
+    ),
+    (
+        "formal/pmu50_formal.sv",
+        include_str!("../hdl/formal/pmu50_formal.sv"),
+    ),
+    (
+        "formal/requirements.txt",
+        include_str!("../hdl/formal/requirements.txt"),
+    ),
     ("formal/run.py", include_str!("../hdl/formal/run.py")),
     ("formal/aiger.py", include_str!("../hdl/formal/aiger.py")),
-    ("formal/tests/test_formal.py", include_str!("../hdl/formal/tests/test_formal.py")),
+    (
+        "formal/tests/test_formal.py",
+        include_str!("../hdl/formal/tests/test_formal.py"),
+    ),
 ];
 
 /// Scripts, written executable.
@@ -71,7 +131,10 @@ pub fn hdl_dir() -> PathBuf {
 
 /// A hash of the kit's contents (the name of its unpacked copy).
 fn key() -> u64 {
-    let parts: Vec<&[u8]> = FILES.iter().flat_map(|(p, t)| [p.as_bytes(), t.as_bytes()]).collect();
+    let parts: Vec<&[u8]> = FILES
+        .iter()
+        .flat_map(|(p, t)| [p.as_bytes(), t.as_bytes()])
+        .collect();
     crate::regress::dut::fnv(&parts)
 }
 
@@ -102,7 +165,10 @@ mod tests {
     #[test]
     fn the_kit_carries_every_tracked_file_of_hdl() {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let out = std::process::Command::new("git").args(["ls-files", "hdl"]).current_dir(root).output();
+        let out = std::process::Command::new("git")
+            .args(["ls-files", "hdl"])
+            .current_dir(root)
+            .output();
         let Ok(out) = out else { return };
         if !out.status.success() {
             return; // not a git checkout (a packaged source): nothing to compare with
@@ -110,14 +176,25 @@ mod tests {
         let tracked: Vec<String> = String::from_utf8_lossy(&out.stdout)
             .lines()
             .map(|l| l.trim_start_matches("hdl/").to_string())
-            .filter(|p| !["ffi/", "cocotb/", "uvm/", "bench/"].iter().any(|x| p.starts_with(x)))
+            .filter(|p| {
+                !["ffi/", "cocotb/", "uvm/", "bench/"]
+                    .iter()
+                    .any(|x| p.starts_with(x))
+            })
             .collect();
         let carried: Vec<&str> = FILES.iter().map(|(p, _)| *p).collect();
         for t in &tracked {
-            assert!(carried.contains(&t.as_str()), "hdl/{t} is tracked but not carried by src/hdl_kit.rs");
+            assert!(
+                carried.contains(&t.as_str()),
+                "hdl/{t} is tracked but not carried by src/hdl_kit.rs"
+            );
         }
         for (p, text) in FILES {
-            assert_eq!(std::fs::read_to_string(root.join("hdl").join(p)).unwrap(), *text, "hdl/{p}");
+            assert_eq!(
+                std::fs::read_to_string(root.join("hdl").join(p)).unwrap(),
+                *text,
+                "hdl/{p}"
+            );
         }
     }
 
@@ -127,6 +204,13 @@ mod tests {
         assert_eq!(write(d.path()).unwrap(), FILES.len());
         assert!(d.path().join("rtl/register_file.v").is_file());
         use std::os::unix::fs::PermissionsExt;
-        assert_ne!(std::fs::metadata(d.path().join("gls.sh")).unwrap().permissions().mode() & 0o111, 0);
+        assert_ne!(
+            std::fs::metadata(d.path().join("gls.sh"))
+                .unwrap()
+                .permissions()
+                .mode()
+                & 0o111,
+            0
+        );
     }
 }

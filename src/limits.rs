@@ -62,7 +62,13 @@ fn amount(n: u64, unit: Unit) -> String {
 
 impl fmt::Display for TooMuch {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{} would be about {}, above the limit of {}; ", self.what, amount(self.estimate, self.unit), amount(self.limit, self.unit))?;
+        write!(
+            f,
+            "{} would be about {}, above the limit of {}; ",
+            self.what,
+            amount(self.estimate, self.unit),
+            amount(self.limit, self.unit)
+        )?;
         if !self.hint.is_empty() {
             write!(f, "{}, or ", self.hint)?;
         }
@@ -71,10 +77,25 @@ impl fmt::Display for TooMuch {
 }
 
 /// `Err(TooMuch)` when `estimate` is above `limit` (default `default`).
-pub fn check(what: impl Into<String>, estimate: u64, limit: Option<u64>, default: u64, unit: Unit, option: &'static str, hint: &str) -> Result<(), TooMuch> {
+pub fn check(
+    what: impl Into<String>,
+    estimate: u64,
+    limit: Option<u64>,
+    default: u64,
+    unit: Unit,
+    option: &'static str,
+    hint: &str,
+) -> Result<(), TooMuch> {
     let limit = limit.unwrap_or(default);
     if estimate > limit {
-        return Err(TooMuch { what: what.into(), estimate, limit, unit, option, hint: hint.to_string() });
+        return Err(TooMuch {
+            what: what.into(),
+            estimate,
+            limit,
+            unit,
+            option,
+            hint: hint.to_string(),
+        });
     }
     Ok(())
 }
@@ -88,20 +109,49 @@ pub fn active_ticks(sc: &Scenario) -> u64 {
 /// Refuse `runs` simulations of `sc` above `max` (`--max-ticks`) key-on ticks.
 pub fn check_ticks(sc: &Scenario, runs: u64, max: Option<u64>) -> Result<(), TooMuch> {
     let est = active_ticks(sc).saturating_mul(runs);
-    let what = if runs > 1 { format!("{}: {runs} simulations of its key-on ticks", sc.path.display()) } else { format!("{}: the simulation of its key-on ticks", sc.path.display()) };
-    check(what, est, max, DEFAULT_MAX_TICKS, Unit::Ticks, "--max-ticks", "shorten the scenario's key-on time")
+    let what = if runs > 1 {
+        format!(
+            "{}: {runs} simulations of its key-on ticks",
+            sc.path.display()
+        )
+    } else {
+        format!("{}: the simulation of its key-on ticks", sc.path.display())
+    };
+    check(
+        what,
+        est,
+        max,
+        DEFAULT_MAX_TICKS,
+        Unit::Ticks,
+        "--max-ticks",
+        "shorten the scenario's key-on time",
+    )
 }
 
 /// Size of the vector file of `sc`: its header (at most 4 kB) and one line of
 /// [`crate::observers::vectors::line_bytes`] per tick (the vectors skip nothing).
 pub fn estimate_vector_bytes(sc: &Scenario) -> u64 {
-    4096 + sc.ticks.saturating_mul(crate::observers::vectors::line_bytes(sc))
+    4096 + sc
+        .ticks
+        .saturating_mul(crate::observers::vectors::line_bytes(sc))
 }
 
 /// Refuse the vector file of `sc` above `max` (`--max-vector-bytes`).
 pub fn check_vector_bytes(sc: &Scenario, max: Option<u64>) -> Result<(), TooMuch> {
-    let what = format!("{}: the vector file ({} lines)", sc.path.display(), sc.ticks);
-    check(what, estimate_vector_bytes(sc), max, DEFAULT_MAX_VECTOR_BYTES, Unit::Bytes, "--max-vector-bytes", "export a shorter scenario")
+    let what = format!(
+        "{}: the vector file ({} lines)",
+        sc.path.display(),
+        sc.ticks
+    );
+    check(
+        what,
+        estimate_vector_bytes(sc),
+        max,
+        DEFAULT_MAX_VECTOR_BYTES,
+        Unit::Bytes,
+        "--max-vector-bytes",
+        "export a shorter scenario",
+    )
 }
 
 /// A progress bar on stderr for `total` steps, drawn only when stderr is a terminal and only
@@ -138,7 +188,11 @@ pub struct TickBar {
 
 impl TickBar {
     pub fn new(bar: &indicatif::ProgressBar, offset: u64) -> TickBar {
-        TickBar { bar: bar.clone(), offset, seen: 0 }
+        TickBar {
+            bar: bar.clone(),
+            offset,
+            seen: 0,
+        }
     }
 }
 

@@ -5,12 +5,15 @@
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pmu50::atomic_file::{self, Batch};
-use pmu50::output::{choose_trace, dumped_ticks, estimate_run_bytes, human_bytes as human, output_paths, run_to_batch, run_to_batch_as, summary, FileOptions, RunError, TraceChoice};
-use pmu50::observers::waveform::{Level, WaveFormat};
 use pmu50::observers::refusals::RefusalWatch;
+use pmu50::observers::vectors::VectorWriter;
+use pmu50::observers::waveform::{Level, WaveFormat};
+use pmu50::output::{
+    choose_trace, dumped_ticks, estimate_run_bytes, human_bytes as human, output_paths,
+    run_to_batch, run_to_batch_as, summary, FileOptions, RunError, TraceChoice,
+};
 use pmu50::scenario::{Scenario, Trace};
 use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
-use pmu50::observers::vectors::VectorWriter;
 use pmu50_core::Dur;
 use pmu50_waves::diff::{diff_files, DiffOptions, Sample, XPolicy};
 use pmu50_waves::reader::{ReadLimits, DEFAULT_MAX_FILE_BYTES};
@@ -51,17 +54,45 @@ use pmu50::limits::DEFAULT_MAX_VCD_BYTES;
 #[derive(Debug, thiserror::Error)]
 enum CliError {
     #[error("--window {which}: {source}")]
-    WindowDur { which: &'static str, #[source] source: pmu50_core::config::DurParseError },
-    #[error("--window {which}: {value} is not a whole number of ticks of {clock} (scenario {file})")]
-    WindowTicks { which: &'static str, value: Dur, clock: Dur, file: String },
+    WindowDur {
+        which: &'static str,
+        #[source]
+        source: pmu50_core::config::DurParseError,
+    },
+    #[error(
+        "--window {which}: {value} is not a whole number of ticks of {clock} (scenario {file})"
+    )]
+    WindowTicks {
+        which: &'static str,
+        value: Dur,
+        clock: Dur,
+        file: String,
+    },
     #[error("--window: END ({end}) must be after START ({start})")]
     WindowOrder { start: Dur, end: Dur },
     #[error("--window {start} {end} is outside the run of {file} (0 to {duration}); valid is 0 <= START < END <= {duration}")]
-    WindowOutside { start: Dur, end: Dur, duration: Dur, file: String },
+    WindowOutside {
+        start: Dur,
+        end: Dur,
+        duration: Dur,
+        file: String,
+    },
     #[error("{file}: the {} at trace = {} would be about {} ({ticks} dumped ticks), above the limit of {}; {}", format.ext().to_uppercase(), level.name(), human(*estimate), human(*limit), too_large_hint(*level, *format))]
-    VcdTooLarge { file: String, ticks: u64, estimate: u64, limit: u64, level: Level, format: WaveFormat },
+    VcdTooLarge {
+        file: String,
+        ticks: u64,
+        estimate: u64,
+        limit: u64,
+        level: Level,
+        format: WaveFormat,
+    },
     #[error("{} would be written by two scenarios: {first} and {second} (both are named `{name}`); give one of them another `name`", path.display())]
-    SameOutput { path: PathBuf, first: String, second: String, name: String },
+    SameOutput {
+        path: PathBuf,
+        first: String,
+        second: String,
+        name: String,
+    },
 }
 
 /// What to do about a waveform over the limit: the smaller choices the run has not taken.
@@ -75,11 +106,18 @@ fn too_large_hint(level: Level, format: WaveFormat) -> String {
     if format == WaveFormat::Vcd {
         ways.push("write the compressed --format fst".into());
     }
-    format!("{}, or raise the limit with --max-vcd-bytes", ways.join(", "))
+    format!(
+        "{}, or raise the limit with --max-vcd-bytes",
+        ways.join(", ")
+    )
 }
 
 #[derive(Parser)]
-#[command(name = "pmu50", version, about = "Cycle-accurate reference model of PMU 50 (US 2022/0041215 A1)")]
+#[command(
+    name = "pmu50",
+    version,
+    about = "Cycle-accurate reference model of PMU 50 (US 2022/0041215 A1)"
+)]
 struct Cli {
     #[command(subcommand)]
     cmd: Cmd,
@@ -378,7 +416,12 @@ impl Progress {
             bar.set_style(style.progress_chars("=> "));
         }
         bar.set_message(name.to_string());
-        Progress { bar, start: Instant::now(), shown: false, tty: std::io::stderr().is_terminal() }
+        Progress {
+            bar,
+            start: Instant::now(),
+            shown: false,
+            tty: std::io::stderr().is_terminal(),
+        }
     }
 }
 
@@ -419,26 +462,52 @@ fn window_ticks(sc: &Scenario, w: &Option<Vec<String>>) -> Result<Option<(u64, u
         let which = if i == 0 { "START" } else { "END" };
         let d = Dur::parse(s).map_err(|source| CliError::WindowDur { which, source })?;
         if d.0 % clk != 0 {
-            return Err(CliError::WindowTicks { which, value: d, clock: Dur(clk), file: sc.path.display().to_string() });
+            return Err(CliError::WindowTicks {
+                which,
+                value: d,
+                clock: Dur(clk),
+                file: sc.path.display().to_string(),
+            });
         }
         t[i] = d.0 / clk;
     }
     if t[1] <= t[0] {
-        return Err(CliError::WindowOrder { start: Dur(t[0] * clk), end: Dur(t[1] * clk) });
+        return Err(CliError::WindowOrder {
+            start: Dur(t[0] * clk),
+            end: Dur(t[1] * clk),
+        });
     }
     if t[1] > sc.ticks {
-        return Err(CliError::WindowOutside { start: Dur(t[0] * clk), end: Dur(t[1] * clk), duration: Dur(sc.ticks * clk), file: sc.path.display().to_string() });
+        return Err(CliError::WindowOutside {
+            start: Dur(t[0] * clk),
+            end: Dur(t[1] * clk),
+            duration: Dur(sc.ticks * clk),
+            file: sc.path.display().to_string(),
+        });
     }
     Ok(Some((t[0], t[1])))
 }
 
 /// Refuse a run whose waveform (of `level`, in `format`) would exceed the limit.
-fn check_vcd_size(sc: &Scenario, window: Option<(u64, u64)>, level: Level, format: WaveFormat, max: Option<u64>) -> Result<(), CliError> {
+fn check_vcd_size(
+    sc: &Scenario,
+    window: Option<(u64, u64)>,
+    level: Level,
+    format: WaveFormat,
+    max: Option<u64>,
+) -> Result<(), CliError> {
     let ticks = dumped_ticks(sc, window);
     let estimate = estimate_run_bytes(sc, window, level, format);
     let limit = max.unwrap_or(DEFAULT_MAX_VCD_BYTES);
     if estimate > limit {
-        return Err(CliError::VcdTooLarge { file: sc.path.display().to_string(), ticks, estimate, limit, level, format });
+        return Err(CliError::VcdTooLarge {
+            file: sc.path.display().to_string(),
+            ticks,
+            estimate,
+            limit,
+            level,
+            format,
+        });
     }
     Ok(())
 }
@@ -475,10 +544,32 @@ fn main() -> ExitCode {
         return with_streams(2);
     }
     let code = match cli.cmd {
-        Cmd::Run { scenarios, out_dir, log, window, max_vcd_bytes, max_ticks, svg, trace, format } => {
+        Cmd::Run {
+            scenarios,
+            out_dir,
+            log,
+            window,
+            max_vcd_bytes,
+            max_ticks,
+            svg,
+            trace,
+            format,
+        } => {
             let trace = trace.as_deref().and_then(Trace::parse);
             let format = WaveFormat::parse(&format).unwrap_or_default();
-            cmd_run(&scenarios, &out_dir, RunFlags { log, svg, trace, format, max_ticks }, &window, max_vcd_bytes)
+            cmd_run(
+                &scenarios,
+                &out_dir,
+                RunFlags {
+                    log,
+                    svg,
+                    trace,
+                    format,
+                    max_ticks,
+                },
+                &window,
+                max_vcd_bytes,
+            )
         }
         Cmd::Check { scenarios } => {
             let mut bad = false;
@@ -495,11 +586,18 @@ fn main() -> ExitCode {
                     }
                 }
             }
-            if bad { 2 } else { 0 }
+            if bad {
+                2
+            } else {
+                0
+            }
         }
         Cmd::List { dir } => {
             let mut files: Vec<PathBuf> = match std::fs::read_dir(&dir) {
-                Ok(rd) => rd.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|x| x == "toml")).collect(),
+                Ok(rd) => rd
+                    .filter_map(|e| e.ok().map(|e| e.path()))
+                    .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+                    .collect(),
                 Err(e) => {
                     err!("error: {}: {e}", dir.display());
                     return with_streams(2);
@@ -509,22 +607,41 @@ fn main() -> ExitCode {
             for p in files {
                 // Scenario::load refuses FIFOs, devices and folders before opening them.
                 match Scenario::load(&p) {
-                    Ok(sc) => out!("{:<18} {:>10}  {}", sc.name, Dur(sc.ticks * sc.clock_ns()).to_string(), sc.description),
+                    Ok(sc) => out!(
+                        "{:<18} {:>10}  {}",
+                        sc.name,
+                        Dur(sc.ticks * sc.clock_ns()).to_string(),
+                        sc.description
+                    ),
                     Err(e) => out!("{:<18} INVALID: {e}", p.display()),
                 }
             }
             0
         }
-        Cmd::Vectors { scenario, output, vcd_dir, max_vector_bytes } => cmd_vectors(&scenario, &output, vcd_dir.as_deref(), max_vector_bytes),
-        Cmd::Random { seed, regress, output } => {
+        Cmd::Vectors {
+            scenario,
+            output,
+            vcd_dir,
+            max_vector_bytes,
+        } => cmd_vectors(&scenario, &output, vcd_dir.as_deref(), max_vector_bytes),
+        Cmd::Random {
+            seed,
+            regress,
+            output,
+        } => {
             let text = if regress {
-                pmu50::regress::gen::Stimulus::generate(seed, &pmu50::regress::gen::Bias::uniform()).to_toml(&format!("regress_{seed}"))
+                pmu50::regress::gen::Stimulus::generate(seed, &pmu50::regress::gen::Bias::uniform())
+                    .to_toml(&format!("regress_{seed}"))
             } else {
                 pmu50::random::random_scenario(seed)
             };
             // `-o -`: standard output (atomic_file::Sink); a device or a FIFO is refused.
             let r = atomic_file::Sink::open(&output).and_then(|mut f| {
-                f.write_all(text.as_bytes()).map_err(|source| atomic_file::OutputError::Write { path: output.clone(), source })?;
+                f.write_all(text.as_bytes())
+                    .map_err(|source| atomic_file::OutputError::Write {
+                        path: output.clone(),
+                        source,
+                    })?;
                 let mut b = Batch::new();
                 f.finish(&mut b)?;
                 b.commit()
@@ -537,56 +654,124 @@ fn main() -> ExitCode {
                 }
             }
         }
-        Cmd::SpeedLimit { scenario, out_dir, step, from, to, no_grid, max_points, max_ticks } => {
+        Cmd::SpeedLimit {
+            scenario,
+            out_dir,
+            step,
+            from,
+            to,
+            no_grid,
+            max_points,
+            max_ticks,
+        } => {
             let sc = match &scenario {
                 Some(p) => Scenario::load(p),
-                None => Scenario::parse("duration = \"1 ms\"\n", "<defaults>", "defaults", Path::new("")),
+                None => Scenario::parse(
+                    "duration = \"1 ms\"\n",
+                    "<defaults>",
+                    "defaults",
+                    Path::new(""),
+                ),
             };
             match sc {
-                Ok(sc) => report(pmu50::analysis::speed::run_cli(&sc, &out_dir, step, from, to, !no_grid, max_points, max_ticks)),
+                Ok(sc) => report(pmu50::analysis::speed::run_cli(
+                    &sc, &out_dir, step, from, to, !no_grid, max_points, max_ticks,
+                )),
                 Err(e) => {
                     err!("error: {e}");
                     2
                 }
             }
         }
-        Cmd::Budget { scenario, out_dir, max_ticks } => match Scenario::load(&scenario) {
-            Ok(sc) => match pmu50::limits::check_ticks(&sc, pmu50::analysis::budget::RUNS, max_ticks) {
-                Ok(()) => report(pmu50::analysis::budget::run_cli(&sc, &out_dir)),
+        Cmd::Budget {
+            scenario,
+            out_dir,
+            max_ticks,
+        } => match Scenario::load(&scenario) {
+            Ok(sc) => {
+                match pmu50::limits::check_ticks(&sc, pmu50::analysis::budget::RUNS, max_ticks) {
+                    Ok(()) => report(pmu50::analysis::budget::run_cli(&sc, &out_dir)),
+                    Err(e) => {
+                        err!("error: {e}");
+                        2
+                    }
+                }
+            }
+            Err(e) => {
+                err!("error: {e}");
+                2
+            }
+        },
+        Cmd::Regress {
+            start_seed,
+            iterations,
+            jobs,
+            directed,
+            check_spec,
+            dut,
+            rtl,
+            map,
+            sync_depth,
+            cnt_width,
+            shard,
+            shard_count,
+            resume,
+            out,
+            timeout,
+            no_triage,
+            repro,
+        } => {
+            let pins = pmu50::regress::gen::Pins {
+                sync_depth,
+                cnt_width,
+            };
+            cmd_regress(RegressArgs {
+                start_seed,
+                iterations,
+                jobs,
+                directed,
+                check_spec,
+                dut,
+                rtl,
+                map,
+                pins,
+                shard,
+                shard_count,
+                resume,
+                out,
+                timeout,
+                no_triage,
+                repro,
+            })
+        }
+        Cmd::Closure { output, dirs } => {
+            match pmu50::regress::report::closure_cli(&dirs, &output) {
+                Ok(text) => {
+                    out!("{}", text.trim_end());
+                    0
+                }
                 Err(e) => {
                     err!("error: {e}");
                     2
                 }
-            },
-            Err(e) => {
-                err!("error: {e}");
-                2
             }
-        },
-        Cmd::Regress { start_seed, iterations, jobs, directed, check_spec, dut, rtl, map, sync_depth, cnt_width, shard, shard_count, resume, out, timeout, no_triage, repro } => {
-            let pins = pmu50::regress::gen::Pins { sync_depth, cnt_width };
-            cmd_regress(RegressArgs { start_seed, iterations, jobs, directed, check_spec, dut, rtl, map, pins, shard, shard_count, resume, out, timeout, no_triage, repro })
         }
-        Cmd::Closure { output, dirs } => match pmu50::regress::report::closure_cli(&dirs, &output) {
-            Ok(text) => {
-                out!("{}", text.trim_end());
-                0
-            }
-            Err(e) => {
-                err!("error: {e}");
-                2
-            }
-        },
         Cmd::DutWorker => pmu50::regress::lockstep::worker_main() as u8,
         Cmd::RtlMap { rtl, output } => cmd_rtl_map(&rtl, output.as_deref()),
-        Cmd::Hdl { cmd: HdlCmd::Export { dir, force } } => {
+        Cmd::Hdl {
+            cmd: HdlCmd::Export { dir, force },
+        } => {
             if let Some(kind) = pmu50::atomic_file::special_kind(&dir) {
                 err!("error: {}: is {kind}, not a folder", dir.display());
                 2
             } else if dir.exists() && !dir.is_dir() {
                 err!("error: {}: is a file, not a folder", dir.display());
                 2
-            } else if !force && std::fs::read_dir(&dir).map(|mut d| d.next().is_some()).unwrap_or(false) {
+            } else if !force
+                && std::fs::read_dir(&dir)
+                    .map(|mut d| d.next().is_some())
+                    .unwrap_or(false)
+            {
                 err!("error: {}: the folder holds files; give --force to write the kit into it (files of the kit are replaced, others kept)", dir.display());
                 2
             } else {
@@ -602,13 +787,31 @@ fn main() -> ExitCode {
                 }
             }
         }
-        Cmd::Lockstep { file, rtl, map, defines, timeout } => cmd_lockstep(&file, rtl.as_deref(), map.as_deref(), &defines, timeout),
-        Cmd::RtlInfo { rtl } => match pmu50::regress::dut::verilator::VerilatorDut::prepare(&rtl, None, Default::default()) {
+        Cmd::Lockstep {
+            file,
+            rtl,
+            map,
+            defines,
+            timeout,
+        } => cmd_lockstep(&file, rtl.as_deref(), map.as_deref(), &defines, timeout),
+        Cmd::RtlInfo { rtl } => match pmu50::regress::dut::verilator::VerilatorDut::prepare(
+            &rtl,
+            None,
+            Default::default(),
+        ) {
             Ok(d) => {
                 use pmu50::regress::dut::Dut;
-                let fixed: serde_json::Map<String, serde_json::Value> = d.fixed().values.iter().map(|(n, v)| (n.clone(), serde_json::Value::from(*v))).collect();
+                let fixed: serde_json::Map<String, serde_json::Value> = d
+                    .fixed()
+                    .values
+                    .iter()
+                    .map(|(n, v)| (n.clone(), serde_json::Value::from(*v)))
+                    .collect();
                 let info = serde_json::json!({ "rtl": rtl.display().to_string(), "parameters": d.top_param_names(), "fixed": fixed, "contract": "ok" });
-                out!("{}", serde_json::to_string_pretty(&info).unwrap_or_default());
+                out!(
+                    "{}",
+                    serde_json::to_string_pretty(&info).unwrap_or_default()
+                );
                 0
             }
             Err(e) => {
@@ -616,18 +819,47 @@ fn main() -> ExitCode {
                 2
             }
         },
-        Cmd::Merge { out, force, inputs } => match pmu50::regress::merge::merge(&inputs, &out, force) {
-            Ok(m) => {
-                out!("merged {} regression folder(s) and {} coverage file(s) into {}", m.folders, m.coverage_files, out.display());
-                out!("{}", m.summary.text().trim_end());
-                u8::from(m.summary.failed() > 0 || !m.summary.missing.is_empty())
+        Cmd::Merge { out, force, inputs } => {
+            match pmu50::regress::merge::merge(&inputs, &out, force) {
+                Ok(m) => {
+                    out!(
+                        "merged {} regression folder(s) and {} coverage file(s) into {}",
+                        m.folders,
+                        m.coverage_files,
+                        out.display()
+                    );
+                    out!("{}", m.summary.text().trim_end());
+                    u8::from(m.summary.failed() > 0 || !m.summary.missing.is_empty())
+                }
+                Err(e) => {
+                    err!("error: {e}");
+                    2
+                }
             }
-            Err(e) => {
-                err!("error: {e}");
-                2
-            }
-        },
-        Cmd::Diff { left, right, map, clock, every, x_policy, max, allow_unmatched, real_tol, max_bytes } => cmd_diff(left, right, map, clock, every, x_policy, max, allow_unmatched, real_tol, max_bytes),
+        }
+        Cmd::Diff {
+            left,
+            right,
+            map,
+            clock,
+            every,
+            x_policy,
+            max,
+            allow_unmatched,
+            real_tol,
+            max_bytes,
+        } => cmd_diff(
+            left,
+            right,
+            map,
+            clock,
+            every,
+            x_policy,
+            max,
+            allow_unmatched,
+            real_tol,
+            max_bytes,
+        ),
     };
     with_streams(code)
 }
@@ -660,12 +892,17 @@ fn cmd_regress(a: RegressArgs) -> u8 {
         2
     };
     if !(a.timeout.is_finite() && a.timeout > 0.0 && a.timeout <= 86_400.0) {
-        return fail(format!("--timeout {}: give the per-seed time limit in seconds, 0 < T <= 86400", a.timeout));
+        return fail(format!(
+            "--timeout {}: give the per-seed time limit in seconds, 0 < T <= 86400",
+            a.timeout
+        ));
     }
     let jobs = match a.jobs {
         Some(0) => return fail("--jobs 0: give at least 1 job".into()),
         Some(j) => j,
-        None => std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1),
+        None => std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1),
     };
     let dut_name = a.dut.clone().unwrap_or_else(|| "model".into());
     let dut = match dut_name.as_str() {
@@ -685,7 +922,12 @@ fn cmd_regress(a: RegressArgs) -> u8 {
     };
     let map = match &a.map {
         Some(m) => match regress::map::RtlMap::read(m) {
-            Ok(_) => Some(m.canonicalize().unwrap_or_else(|_| m.clone()).display().to_string()),
+            Ok(_) => Some(
+                m.canonicalize()
+                    .unwrap_or_else(|_| m.clone())
+                    .display()
+                    .to_string(),
+            ),
             Err(e) => return fail(e.to_string()),
         },
         None => None,
@@ -699,7 +941,20 @@ fn cmd_regress(a: RegressArgs) -> u8 {
             Ok(sc) => sc,
             Err(_) => return 2,
         };
-        let spec = RunSpec { tool, model, start_seed: 0, iterations: 0, directed: false, check_spec: a.check_spec, dut: dut.clone(), rtl, map, fixed: Default::default(), pins: a.pins, shard: None };
+        let spec = RunSpec {
+            tool,
+            model,
+            start_seed: 0,
+            iterations: 0,
+            directed: false,
+            check_spec: a.check_spec,
+            dut: dut.clone(),
+            rtl,
+            map,
+            fixed: Default::default(),
+            pins: a.pins,
+            shard: None,
+        };
         let d = match regress::dut::prepare(&spec) {
             Ok(d) => d,
             Err(e) => return fail(e.to_string()),
@@ -709,11 +964,29 @@ fn cmd_regress(a: RegressArgs) -> u8 {
         }
         return match regress::check_scenario(&spec, &sc, d.as_ref(), timeout) {
             Ok(None) => {
-                out!("PASS {}: the model's checks{} hold", file.display(), if dut == DutKind::Model { String::new() } else { format!(" and the {dut_name} DUT") });
+                out!(
+                    "PASS {}: the model's checks{} hold",
+                    file.display(),
+                    if dut == DutKind::Model {
+                        String::new()
+                    } else {
+                        format!(" and the {dut_name} DUT")
+                    }
+                );
                 0
             }
             Ok(Some(f)) => {
-                out!("FAIL {}: tick {} {} expected {} got {} (block {}, FIG. path {})\n  {}", file.display(), f.tick, f.signal, f.expected, f.got, f.block, f.fig, f.detail);
+                out!(
+                    "FAIL {}: tick {} {} expected {} got {} (block {}, FIG. path {})\n  {}",
+                    file.display(),
+                    f.tick,
+                    f.signal,
+                    f.expected,
+                    f.got,
+                    f.block,
+                    f.fig,
+                    f.detail
+                );
                 1
             }
             Err(e) => fail(format!("{}: {e}", file.display())),
@@ -727,7 +1000,9 @@ fn cmd_regress(a: RegressArgs) -> u8 {
         },
         None => {
             let Some(iterations) = a.iterations else {
-                return fail("regress needs --iterations N (or --resume DIR, or --repro FILE)".into());
+                return fail(
+                    "regress needs --iterations N (or --resume DIR, or --repro FILE)".into(),
+                );
             };
             let start_seed = a.start_seed.unwrap_or(1);
             if iterations == 0 {
@@ -739,17 +1014,40 @@ fn cmd_regress(a: RegressArgs) -> u8 {
             if start_seed.checked_add(iterations).is_none() {
                 return fail(format!("--start-seed {start_seed} --iterations {iterations}: the seed range passes 2^64"));
             }
-            let shard = match regress::shard::Shard::resolve(a.shard.as_deref(), a.shard_count, |k| std::env::var(k).ok()) {
-                Ok(s) => s,
-                Err(e) => return fail(e),
-            };
+            let shard =
+                match regress::shard::Shard::resolve(a.shard.as_deref(), a.shard_count, |k| {
+                    std::env::var(k).ok()
+                }) {
+                    Ok(s) => s,
+                    Err(e) => return fail(e),
+                };
             if a.directed && shard.is_some() {
                 return fail("--directed steers each batch by the coverage of the seeds before it, which another shard runs: run a directed regression in one process, or shard a random one".into());
             }
-            (RunSpec { tool, model, start_seed, iterations, directed: a.directed, check_spec: a.check_spec, dut, rtl, map, fixed: Default::default(), pins: a.pins, shard }, false)
+            (
+                RunSpec {
+                    tool,
+                    model,
+                    start_seed,
+                    iterations,
+                    directed: a.directed,
+                    check_spec: a.check_spec,
+                    dut,
+                    rtl,
+                    map,
+                    fixed: Default::default(),
+                    pins: a.pins,
+                    shard,
+                },
+                false,
+            )
         }
     };
-    let out_dir = a.resume.clone().or(a.out.clone()).unwrap_or_else(|| PathBuf::from("regress_out"));
+    let out_dir = a
+        .resume
+        .clone()
+        .or(a.out.clone())
+        .unwrap_or_else(|| PathBuf::from("regress_out"));
     // The DUT before any seed: an RTL that does not elaborate, lacks a contract port or does not
     // build is bad input (exit 2), and what it fixes goes into the run's record.
     let t0 = Instant::now();
@@ -765,12 +1063,24 @@ fn cmd_regress(a: RegressArgs) -> u8 {
     for n in d.notes() {
         err!("regress: {n}");
     }
-    let o = regress::Options { spec, jobs, out: out_dir.clone(), timeout, triage: !a.no_triage, progress: std::io::stderr().is_terminal() };
+    let o = regress::Options {
+        spec,
+        jobs,
+        out: out_dir.clone(),
+        timeout,
+        triage: !a.no_triage,
+        progress: std::io::stderr().is_terminal(),
+    };
     let stop = AtomicBool::new(false);
     match regress::run(&o, resume, &stop, d.as_ref()) {
         Ok(s) => {
             out!("{}", s.text().trim_end());
-            out!("wrote {}/results.jsonl, coverage.json, report.html ({:.1} s, {} jobs)", out_dir.display(), t0.elapsed().as_secs_f64(), jobs);
+            out!(
+                "wrote {}/results.jsonl, coverage.json, report.html ({:.1} s, {} jobs)",
+                out_dir.display(),
+                t0.elapsed().as_secs_f64(),
+                jobs
+            );
             u8::from(s.failed() > 0 || !s.missing.is_empty())
         }
         Err(e) => fail(e.to_string()),
@@ -778,7 +1088,13 @@ fn cmd_regress(a: RegressArgs) -> u8 {
 }
 
 /// `pmu50 lockstep`: method 2 on one vector file.
-fn cmd_lockstep(file: &Path, rtl: Option<&Path>, map: Option<&Path>, defines: &[String], timeout: f64) -> u8 {
+fn cmd_lockstep(
+    file: &Path,
+    rtl: Option<&Path>,
+    map: Option<&Path>,
+    defines: &[String],
+    timeout: f64,
+) -> u8 {
     use pmu50::regress::{dut::verilator::VerilatorDut, lockstep, map as m, rtl as r};
     let fail = |e: String| {
         err!("LOCKSTEP ERROR: {e}");
@@ -791,7 +1107,9 @@ fn cmd_lockstep(file: &Path, rtl: Option<&Path>, map: Option<&Path>, defines: &[
         Ok(v) => v,
         Err(e) => return fail(e),
     };
-    let list = rtl.map(Path::to_path_buf).unwrap_or_else(|| pmu50::regress::dut::hdl_dir().join("pmu50.f"));
+    let list = rtl
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| pmu50::regress::dut::hdl_dir().join("pmu50.f"));
     // defines: a file list with a file of `define lines first
     let scratch = match tempfile::tempdir() {
         Ok(d) => d,
@@ -800,16 +1118,27 @@ fn cmd_lockstep(file: &Path, rtl: Option<&Path>, map: Option<&Path>, defines: &[
     let list = if defines.is_empty() {
         list
     } else {
-        if let Some(bad) = defines.iter().find(|d| d.is_empty() || !d.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')) {
-            return fail(format!("--define `{bad}`: a Verilog macro name (letters, digits, _)"));
+        if let Some(bad) = defines
+            .iter()
+            .find(|d| d.is_empty() || !d.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'))
+        {
+            return fail(format!(
+                "--define `{bad}`: a Verilog macro name (letters, digits, _)"
+            ));
         }
         let fl = match r::FileList::read(&list) {
             Ok(fl) => fl,
             Err(e) => return fail(e.to_string()),
         };
         let defs: String = defines.iter().map(|d| format!("`define {d}\n")).collect();
-        let body: String = std::iter::once(scratch.path().join("defines.vh")).chain(fl.files.iter().cloned()).map(|f| format!("{}\n", f.display())).collect();
-        if std::fs::write(scratch.path().join("defines.vh"), defs).and_then(|()| std::fs::write(scratch.path().join("rtl.f"), body)).is_err() {
+        let body: String = std::iter::once(scratch.path().join("defines.vh"))
+            .chain(fl.files.iter().cloned())
+            .map(|f| format!("{}\n", f.display()))
+            .collect();
+        if std::fs::write(scratch.path().join("defines.vh"), defs)
+            .and_then(|()| std::fs::write(scratch.path().join("rtl.f"), body))
+            .is_err()
+        {
             return fail("cannot write the file list with the defines".into());
         }
         scratch.path().join("rtl.f")
@@ -825,25 +1154,52 @@ fn cmd_lockstep(file: &Path, rtl: Option<&Path>, map: Option<&Path>, defines: &[
     let (nr, nx) = d.mapped_counts();
     match d.lockstep_inputs(&v.params, &v.inputs, Duration::from_secs_f64(timeout)) {
         Ok(lockstep::Answer::Reply(lockstep::Reply::Pass { ticks })) => {
-            out!("PASS ticks={ticks} outputs={} registers={nr} internals={nx} (scenario {})", pmu50_core::signals::N_OUTPUTS, v.scenario);
+            out!(
+                "PASS ticks={ticks} outputs={} registers={nr} internals={nx} (scenario {})",
+                pmu50_core::signals::N_OUTPUTS,
+                v.scenario
+            );
             0
         }
-        Ok(lockstep::Answer::Reply(lockstep::Reply::Diverged { tick, combinational, mismatches })) => {
+        Ok(lockstep::Answer::Reply(lockstep::Reply::Diverged {
+            tick,
+            combinational,
+            mismatches,
+        })) => {
             for x in &mismatches {
-                out!("MISMATCH tick={tick} signal={} expected={:x} got={:x}", x.signal, x.expected, x.got);
+                out!(
+                    "MISMATCH tick={tick} signal={} expected={:x} got={:x}",
+                    x.signal,
+                    x.expected,
+                    x.got
+                );
             }
-            let when = if combinational { format!("combinational, before rising edge {}", tick + 1) } else { format!("after rising edge {tick}") };
+            let when = if combinational {
+                format!("combinational, before rising edge {}", tick + 1)
+            } else {
+                format!("after rising edge {tick}")
+            };
             out!("LOCKSTEP FAIL {} (scenario {}): first divergence at tick {tick} ({when}), time {} ns", file.display(), v.scenario, tick * v.clock_ns);
             1
         }
         Ok(lockstep::Answer::Reply(lockstep::Reply::Error { reason })) => fail(reason),
-        Ok(lockstep::Answer::Reply(lockstep::Reply::Probe { .. } | lockstep::Reply::Trace { .. })) => fail("the DUT worker answered another request".into()),
+        Ok(lockstep::Answer::Reply(
+            lockstep::Reply::Probe { .. } | lockstep::Reply::Trace { .. },
+        )) => fail("the DUT worker answered another request".into()),
         Ok(lockstep::Answer::TimedOut) => {
-            out!("LOCKSTEP FAIL {} (scenario {}): the DUT did not finish within {timeout} s", file.display(), v.scenario);
+            out!(
+                "LOCKSTEP FAIL {} (scenario {}): the DUT did not finish within {timeout} s",
+                file.display(),
+                v.scenario
+            );
             1
         }
         Ok(lockstep::Answer::Died(how)) => {
-            out!("LOCKSTEP FAIL {} (scenario {}): {how}", file.display(), v.scenario);
+            out!(
+                "LOCKSTEP FAIL {} (scenario {}): {how}",
+                file.display(),
+                v.scenario
+            );
             1
         }
         Err(e) => fail(e.to_string()),
@@ -858,27 +1214,35 @@ fn cmd_rtl_map(rtl: &Path, output: Option<&Path>) -> u8 {
         let work = tempfile::tempdir().map_err(|e| format!("a scratch folder: {e}"))?;
         let d = r::elaborate(&fl, &[], work.path()).map_err(|e| e.to_string())?;
         let p = pmu50_core::Params::default();
-        let s = pmu50_core::pmu50::Structural { sync_depth: d.param("SYNC_DEPTH").map_or(p.sync_depth, |v| v as u8), cnt_width: d.param("CNT_W").map_or_else(|| d.port_width("cnt_s").map_or(p.cnt_width, |w| w as u8), |v| v as u8) };
+        let s = pmu50_core::pmu50::Structural {
+            sync_depth: d.param("SYNC_DEPTH").map_or(p.sync_depth, |v| v as u8),
+            cnt_width: d.param("CNT_W").map_or_else(
+                || d.port_width("cnt_s").map_or(p.cnt_width, |w| w as u8),
+                |v| v as u8,
+            ),
+        };
         d.check_contract(&s).map_err(|e| e.to_string())?;
         let (m, props) = map::propose(&d, &s);
         Ok(map::proposal_toml(&m, &props))
     };
     match go() {
         Ok(text) => match output {
-            Some(path) => match pmu50::atomic_file::write_atomic(path, text.as_bytes()).and_then(|f| {
-                let mut b = pmu50::atomic_file::Batch::new();
-                b.add(f);
-                b.commit()
-            }) {
-                Ok(()) => {
-                    out!("wrote {}", path.display());
-                    0
+            Some(path) => {
+                match pmu50::atomic_file::write_atomic(path, text.as_bytes()).and_then(|f| {
+                    let mut b = pmu50::atomic_file::Batch::new();
+                    b.add(f);
+                    b.commit()
+                }) {
+                    Ok(()) => {
+                        out!("wrote {}", path.display());
+                        0
+                    }
+                    Err(e) => {
+                        err!("error: {e}");
+                        2
+                    }
                 }
-                Err(e) => {
-                    err!("error: {e}");
-                    2
-                }
-            },
+            }
             None => {
                 out!("{}", text.trim_end());
                 0
@@ -926,7 +1290,13 @@ struct Planned {
     choice: TraceChoice,
 }
 
-fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Option<Vec<String>>, max_vcd_bytes: Option<u64>) -> u8 {
+fn cmd_run(
+    scenarios: &[PathBuf],
+    out_dir: &Path,
+    flags: RunFlags,
+    window: &Option<Vec<String>>,
+    max_vcd_bytes: Option<u64>,
+) -> u8 {
     let RunFlags { log, svg, .. } = flags;
     if scenarios.is_empty() {
         err!("error: run needs at least one scenario file (see `pmu50 list`)");
@@ -962,7 +1332,11 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
                 err!("error: --window: {} is run with trace = none, which writes no waveform; drop --window or run it with --trace ports, registers or all", sc.path.display());
                 code = 2;
             } else {
-                good.push(Planned { sc, window: None, choice });
+                good.push(Planned {
+                    sc,
+                    window: None,
+                    choice,
+                });
             }
             continue;
         };
@@ -971,14 +1345,27 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
             code = 2;
             continue;
         }
-        good.push(Planned { sc, window: window_flag, choice });
+        good.push(Planned {
+            sc,
+            window: window_flag,
+            choice,
+        });
     }
     let mut owner: BTreeMap<PathBuf, usize> = BTreeMap::new();
     let mut clash = false;
-    for (k, Planned { sc, .. }) in good.iter().enumerate().filter(|(_, p)| p.choice.trace.level().is_some()) {
+    for (k, Planned { sc, .. }) in good
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.choice.trace.level().is_some())
+    {
         for path in output_paths(out_dir, &sc.name, true) {
             if let Some(&j) = owner.get(&path) {
-                let e = CliError::SameOutput { path, first: good[j].sc.path.display().to_string(), second: sc.path.display().to_string(), name: sc.name.clone() };
+                let e = CliError::SameOutput {
+                    path,
+                    first: good[j].sc.path.display().to_string(),
+                    second: sc.path.display().to_string(),
+                    name: sc.name.clone(),
+                };
                 err!("error: {e}");
                 clash = true;
                 break;
@@ -1012,7 +1399,19 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
             }
             continue;
         };
-        let r = run_to_batch_as(sc, out_dir, FileOptions { log, window: *window, svg, level }, flags.format, &mut [&mut prog, &mut watch]).and_then(|(res, w, batch)| {
+        let r = run_to_batch_as(
+            sc,
+            out_dir,
+            FileOptions {
+                log,
+                window: *window,
+                svg,
+                level,
+            },
+            flags.format,
+            &mut [&mut prog, &mut watch],
+        )
+        .and_then(|(res, w, batch)| {
             batch.commit()?;
             Ok((res, w))
         });
@@ -1023,7 +1422,14 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
                     out!("   refused write {rw}");
                 }
                 out!("   {}", choice.describe(flags.format));
-                out!("   wrote {} and {}{}", w.vcd.display(), w.gtkw.display(), w.log.map(|l| format!(" and {}", l.display())).unwrap_or_default());
+                out!(
+                    "   wrote {} and {}{}",
+                    w.vcd.display(),
+                    w.gtkw.display(),
+                    w.log
+                        .map(|l| format!(" and {}", l.display()))
+                        .unwrap_or_default()
+                );
                 if let Some(s) = &w.svg {
                     out!("   wrote {} and {}", s.svg.display(), s.csv.display());
                 }
@@ -1040,7 +1446,12 @@ fn cmd_run(scenarios: &[PathBuf], out_dir: &Path, flags: RunFlags, window: &Opti
     code
 }
 
-fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>, max_vector_bytes: Option<u64>) -> u8 {
+fn cmd_vectors(
+    scenario: &Path,
+    output: &Path,
+    vcd_dir: Option<&Path>,
+    max_vector_bytes: Option<u64>,
+) -> u8 {
     let mut sc = match load(scenario) {
         Ok(s) => s,
         Err(_) => return 2,
@@ -1055,9 +1466,14 @@ fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>, max_vecto
     if let Some(d) = vcd_dir {
         // Same folder and name (the folders compared once they exist).
         let same = |a: &Path, b: &Path| {
-            a == b || (a.file_name() == b.file_name() && matches!((a.parent().map(std::fs::canonicalize), b.parent().map(std::fs::canonicalize)), (Some(Ok(x)), Some(Ok(y))) if x == y))
+            a == b
+                || (a.file_name() == b.file_name()
+                    && matches!((a.parent().map(std::fs::canonicalize), b.parent().map(std::fs::canonicalize)), (Some(Ok(x)), Some(Ok(y))) if x == y))
         };
-        if let Some(p) = output_paths(d, &sc.name, false).into_iter().find(|p| same(p, output)) {
+        if let Some(p) = output_paths(d, &sc.name, false)
+            .into_iter()
+            .find(|p| same(p, output))
+        {
             err!("error: -o {} is also the model's {} written into --vcd-dir; choose another name for the vectors", output.display(), p.display());
             return 2;
         }
@@ -1073,12 +1489,29 @@ fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>, max_vecto
         let mut prog = Progress::new(sc.ticks, &sc.name);
         let (ticks, mut batch) = match vcd_dir {
             Some(d) => {
-                let (r, _, b) = run_to_batch(&sc, d, FileOptions::default(), &mut [&mut vw, &mut prog])?;
+                let (r, _, b) =
+                    run_to_batch(&sc, d, FileOptions::default(), &mut [&mut vw, &mut prog])?;
                 (r.ticks, b)
             }
-            None => (sim::run(&sc, SimOptions { fast_forward: false }, &mut [&mut vw, &mut prog])?.ticks, Batch::new()),
+            None => (
+                sim::run(
+                    &sc,
+                    SimOptions {
+                        fast_forward: false,
+                    },
+                    &mut [&mut vw, &mut prog],
+                )?
+                .ticks,
+                Batch::new(),
+            ),
         };
-        let f = vw.into_inner().into_inner().map_err(|e| atomic_file::OutputError::Write { path: output.to_path_buf(), source: e.into_error() })?;
+        let f = vw
+            .into_inner()
+            .into_inner()
+            .map_err(|e| atomic_file::OutputError::Write {
+                path: output.to_path_buf(),
+                source: e.into_error(),
+            })?;
         f.finish(&mut batch)?;
         batch.commit()?;
         Ok(ticks)
@@ -1100,11 +1533,24 @@ fn cmd_vectors(scenario: &Path, output: &Path, vcd_dir: Option<&Path>, max_vecto
 }
 
 #[allow(clippy::too_many_arguments)]
-fn cmd_diff(left: PathBuf, right: PathBuf, map: Vec<String>, clock: Option<String>, every: Option<u64>, x: String, max: usize, allow_unmatched: bool, real_tol: f64, max_bytes: u64) -> u8 {
+fn cmd_diff(
+    left: PathBuf,
+    right: PathBuf,
+    map: Vec<String>,
+    clock: Option<String>,
+    every: Option<u64>,
+    x: String,
+    max: usize,
+    allow_unmatched: bool,
+    real_tol: f64,
+    max_bytes: u64,
+) -> u8 {
     let mut prefix_map = Vec::new();
     for m in &map {
         match m.split_once('=') {
-            Some((a, b)) if !a.is_empty() && !b.is_empty() => prefix_map.push((a.to_string(), b.to_string())),
+            Some((a, b)) if !a.is_empty() && !b.is_empty() => {
+                prefix_map.push((a.to_string(), b.to_string()))
+            }
             _ => {
                 err!("error: --map {m}: expected LEFT=RIGHT, e.g. pmu50=tb_vectors.dut");
                 return 2;
@@ -1129,8 +1575,19 @@ fn cmd_diff(left: PathBuf, right: PathBuf, map: Vec<String>, clock: Option<Strin
         (None, Some(n)) => Sample::Every(n),
         (None, None) => Sample::Changes,
     };
-    let read_limits = ReadLimits { max_file_bytes: max_bytes, ..ReadLimits::default() };
-    let opts = DiffOptions { prefix_map, sample, x_policy, max_reported: max, real_tolerance: real_tol, allow_unmatched, read_limits };
+    let read_limits = ReadLimits {
+        max_file_bytes: max_bytes,
+        ..ReadLimits::default()
+    };
+    let opts = DiffOptions {
+        prefix_map,
+        sample,
+        x_policy,
+        max_reported: max,
+        real_tolerance: real_tol,
+        allow_unmatched,
+        read_limits,
+    };
     // The exit codes are the diff API's own (0 equal, 1 different, 2 bad input).
     match diff_files(&left, &right, &opts) {
         Ok(rep) => {

@@ -3,12 +3,12 @@
 //! Every file goes through [`crate::atomic_file`]: written beside its final path, renamed into place
 //! when the run is complete, the `.gtkw` last.
 
-use crate::observers::changelog::ChangeLog;
 use crate::atomic_file::{self, AtomicFile, Batch, OutputError};
+use crate::observers::changelog::ChangeLog;
 use crate::observers::markers::MarkerObserver;
+use crate::observers::waveform::{timescale_for, Level, VcdObserver, WaveFormat};
 use crate::scenario::{Scenario, Trace};
 use crate::sim::{self, Observer, RunResult, SimError, SimOptions, TickView};
-use crate::observers::waveform::{timescale_for, Level, VcdObserver, WaveFormat};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::Pmu50;
 use std::io::BufWriter;
@@ -48,7 +48,11 @@ pub enum RunError {
     #[error(transparent)]
     Output(#[from] OutputError),
     #[error("{}: save file: {source}", path.display())]
-    Gtkw { path: PathBuf, #[source] source: pmu50_waves::gtkw::GtkwError },
+    Gtkw {
+        path: PathBuf,
+        #[source]
+        source: pmu50_waves::gtkw::GtkwError,
+    },
     #[error("{}: the {what} was not finished by the run (internal error)", path.display())]
     Unfinished { path: PathBuf, what: &'static str },
 }
@@ -56,7 +60,10 @@ pub enum RunError {
 /// The files a run writes, for `dir` and scenario `name` (to detect two scenarios writing the
 /// same file before anything runs).
 pub fn output_paths(dir: &Path, name: &str, log: bool) -> Vec<PathBuf> {
-    let mut v = vec![dir.join(format!("{name}.vcd")), dir.join(format!("{name}.gtkw"))];
+    let mut v = vec![
+        dir.join(format!("{name}.vcd")),
+        dir.join(format!("{name}.gtkw")),
+    ];
     if log {
         v.push(dir.join(format!("{name}.log")));
     }
@@ -66,7 +73,10 @@ pub fn output_paths(dir: &Path, name: &str, log: bool) -> Vec<PathBuf> {
 }
 
 fn svg_paths(dir: &Path, name: &str) -> WrittenSvg {
-    WrittenSvg { svg: dir.join(format!("{name}.svg")), csv: dir.join(format!("{name}_timing.csv")) }
+    WrittenSvg {
+        svg: dir.join(format!("{name}.svg")),
+        csv: dir.join(format!("{name}_timing.csv")),
+    }
 }
 
 /// Estimated size in bytes of the VCD of every signal (`trace = all`) for `ticks` dumped ticks:
@@ -124,14 +134,21 @@ pub fn estimate_wave_bytes(ticks: u64, level: Level, format: WaveFormat) -> u64 
 /// sensor time constant, 15.0 / 100 MB and 0.75 / 58 MB; a fast turn then a hold at a 0.5 ms
 /// si_min, 15.4 / 93 MB and 1.4 / 54 MB; a 2.5 ms output window, 15.3 / 93 MB and 0.96 / 53 MB
 /// (estimates with a 40-byte base; tests/trace_levels.rs `parked_estimates_are_upper_bounds`).
-pub fn estimate_run_bytes(sc: &Scenario, window: Option<(u64, u64)>, level: Level, format: WaveFormat) -> u64 {
+pub fn estimate_run_bytes(
+    sc: &Scenario,
+    window: Option<(u64, u64)>,
+    level: Level,
+    format: WaveFormat,
+) -> u64 {
     let (a, z) = window.or(sc.vcd_window).unwrap_or((0, sc.ticks));
     let z = z.min(sc.ticks);
     let dumped = z.saturating_sub(a);
     let parked = parked_ticks(sc, a, z);
     let active = estimate_wave_bytes(dumped - parked, level, format);
     let p = &sc.params;
-    let settle = (PARK_SETTLE_TAUS * sc.env.sensor2.tau_us * 1e3 / sc.clock_ns() as f64).ceil().max(0.0) as u64;
+    let settle = (PARK_SETTLE_TAUS * sc.env.sensor2.tau_us * 1e3 / sc.clock_ns() as f64)
+        .ceil()
+        .max(0.0) as u64;
     let busy = u64::from(p.pw) + u64::from(p.pi) + u64::from(p.ps) + settle;
     let si_min = u64::from(p.si_min).max(1);
     let rate = estimate_wave_bytes(1, level, format) - WAVE_HEADER_BYTES;
@@ -157,13 +174,21 @@ pub fn parked_ticks(sc: &Scenario, a: u64, z: u64) -> u64 {
     use crate::scenario::Action;
     // A register write (key on) may change Pw, Pi, Ps or si_min for the parks after it: then no
     // tick counts as parked.
-    if z <= a || sc.events.iter().any(|e| matches!(e.action, Action::Write { .. })) {
+    if z <= a
+        || sc
+            .events
+            .iter()
+            .any(|e| matches!(e.action, Action::Write { .. }))
+    {
         return 0;
     }
     let clk = sc.clock_ns().max(1);
     let p = &sc.params;
-    let settle = (PARK_SETTLE_TAUS * sc.env.sensor2.tau_us * 1e3 / clk as f64).ceil().max(0.0) as u64;
-    let after_off = u64::from(p.sync_depth) + 2 + u64::from(p.pw) + u64::from(p.pi) + u64::from(p.ps) + settle;
+    let settle = (PARK_SETTLE_TAUS * sc.env.sensor2.tau_us * 1e3 / clk as f64)
+        .ceil()
+        .max(0.0) as u64;
+    let after_off =
+        u64::from(p.sync_depth) + 2 + u64::from(p.pw) + u64::from(p.pi) + u64::from(p.ps) + settle;
     // Active intervals [from, to) in ticks.
     let mut active: Vec<(u64, u64)> = Vec::new();
     // Before the first event the key is off since power-on; the reset itself is a key-off edge.
@@ -198,7 +223,10 @@ pub fn parked_ticks(sc: &Scenario, a: u64, z: u64) -> u64 {
     for seg in sc.motor.segments() {
         let d = seg.duration_ns();
         if matches!(seg, pmu50_env::Segment::Move { .. }) {
-            active.push(((t_ns / clk).saturating_sub(1), (t_ns.saturating_add(d)).div_ceil(clk).saturating_add(1)));
+            active.push((
+                (t_ns / clk).saturating_sub(1),
+                (t_ns.saturating_add(d)).div_ceil(clk).saturating_add(1),
+            ));
         }
         t_ns = t_ns.saturating_add(d);
     }
@@ -255,16 +283,34 @@ pub fn dumped_ticks(sc: &Scenario, window: Option<(u64, u64)>) -> u64 {
 /// The trace level of a run of `sc`: `flag` (`--trace`) if given, else the scenario's
 /// `[vcd] trace`, else `all` when the estimated `all` waveform ([`estimate_run_bytes`] of the
 /// dumped ticks of `window`, in `format`) is at most [`DEFAULT_ALL_MAX_BYTES`], otherwise `ports`.
-pub fn choose_trace(sc: &Scenario, flag: Option<Trace>, window: Option<(u64, u64)>, format: WaveFormat) -> TraceChoice {
+pub fn choose_trace(
+    sc: &Scenario,
+    flag: Option<Trace>,
+    window: Option<(u64, u64)>,
+    format: WaveFormat,
+) -> TraceChoice {
     if let Some(trace) = flag {
-        return TraceChoice { trace, from: TraceFrom::Flag };
+        return TraceChoice {
+            trace,
+            from: TraceFrom::Flag,
+        };
     }
     if let Some(trace) = sc.trace {
-        return TraceChoice { trace, from: TraceFrom::Scenario };
+        return TraceChoice {
+            trace,
+            from: TraceFrom::Scenario,
+        };
     }
     let all_estimate = estimate_run_bytes(sc, window, Level::All, format);
-    let level = if all_estimate <= DEFAULT_ALL_MAX_BYTES { Level::All } else { Level::Ports };
-    TraceChoice { trace: Trace::Wave(level), from: TraceFrom::Default { all_estimate } }
+    let level = if all_estimate <= DEFAULT_ALL_MAX_BYTES {
+        Level::All
+    } else {
+        Level::Ports
+    };
+    TraceChoice {
+        trace: Trace::Wave(level),
+        from: TraceFrom::Default { all_estimate },
+    }
 }
 
 /// A size for messages: `58.0 MB`, `1.2 GB`, `900 kB`.
@@ -303,13 +349,24 @@ impl TraceChoice {
 
 /// Run `sc` and stage its files (temporary files, not yet in place); the returned batch renames
 /// them into place. `extra` observers (a progress bar, a vector writer) see every tick as well.
-pub fn run_to_batch(sc: &Scenario, dir: &Path, fo: FileOptions, extra: &mut [&mut dyn Observer]) -> Result<(RunResult, Written, Batch), RunError> {
+pub fn run_to_batch(
+    sc: &Scenario,
+    dir: &Path,
+    fo: FileOptions,
+    extra: &mut [&mut dyn Observer],
+) -> Result<(RunResult, Written, Batch), RunError> {
     run_to_batch_as(sc, dir, fo, WaveFormat::Vcd, extra)
 }
 
 /// [`run_to_batch`] with the waveform in `format` (`<name>.vcd` or `<name>.fst`; the `.gtkw`
 /// points at it).
-pub fn run_to_batch_as(sc: &Scenario, dir: &Path, fo: FileOptions, format: WaveFormat, extra: &mut [&mut dyn Observer]) -> Result<(RunResult, Written, Batch), RunError> {
+pub fn run_to_batch_as(
+    sc: &Scenario,
+    dir: &Path,
+    fo: FileOptions,
+    format: WaveFormat,
+    extra: &mut [&mut dyn Observer],
+) -> Result<(RunResult, Written, Batch), RunError> {
     run_to_batch_focused(sc, dir, fo, format, extra, None)
 }
 
@@ -325,13 +382,37 @@ pub struct Focus {
 
 /// [`run_to_batch_as`] with the save file zoomed on `focus` and a named marker there (ahead of
 /// the scenario's own markers).
-pub fn run_to_batch_focused(sc: &Scenario, dir: &Path, fo: FileOptions, format: WaveFormat, extra: &mut [&mut dyn Observer], focus: Option<&Focus>) -> Result<(RunResult, Written, Batch), RunError> {
+pub fn run_to_batch_focused(
+    sc: &Scenario,
+    dir: &Path,
+    fo: FileOptions,
+    format: WaveFormat,
+    extra: &mut [&mut dyn Observer],
+    focus: Option<&Focus>,
+) -> Result<(RunResult, Written, Batch), RunError> {
     atomic_file::create_dir(dir)?;
-    let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
+    let s = Structural {
+        sync_depth: sc.params.sync_depth,
+        cnt_width: sc.params.cnt_width,
+    };
     let window = fo.window.or(sc.vcd_window);
     // The VCD declares every signal with its reset value: built when the bench begins.
-    let core = Pmu50::new(sc.params).map_err(|source| SimError::Core { scenario: sc.name.clone(), source })?;
-    let mut vcd = sim::OnBegin::new(|init: &TickView<'_>| VcdObserver::create(dir, &sc.name, &core, sc.clock_ns(), window, format, fo.level, init));
+    let core = Pmu50::new(sc.params).map_err(|source| SimError::Core {
+        scenario: sc.name.clone(),
+        source,
+    })?;
+    let mut vcd = sim::OnBegin::new(|init: &TickView<'_>| {
+        VcdObserver::create(
+            dir,
+            &sc.name,
+            &core,
+            sc.clock_ns(),
+            window,
+            format,
+            fo.level,
+            init,
+        )
+    });
     let log_path = dir.join(format!("{}.log", sc.name));
     let mut log = if fo.log {
         let f = AtomicFile::stage(&log_path)?;
@@ -357,11 +438,24 @@ pub fn run_to_batch_focused(sc: &Scenario, dir: &Path, fo: FileOptions, format: 
     let vcd_path = dir.join(format!("{}.{}", sc.name, format.ext()));
     let gtkw_path = dir.join(format!("{}.gtkw", sc.name));
     let mut batch = Batch::new();
-    let missing = |what| RunError::Unfinished { path: vcd_path.clone(), what };
-    let (vcd_file, gtkw) = vcd.into_inner().ok_or_else(|| missing("VCD"))?.into_outputs();
+    let missing = |what| RunError::Unfinished {
+        path: vcd_path.clone(),
+        what,
+    };
+    let (vcd_file, gtkw) = vcd
+        .into_inner()
+        .ok_or_else(|| missing("VCD"))?
+        .into_outputs();
     batch.add(vcd_file.ok_or_else(|| missing("VCD"))?);
     match log {
-        Some(l) => batch.add(l.into_inner().into_inner().map_err(|e| OutputError::Write { path: log_path.clone(), source: e.into_error() })?),
+        Some(l) => batch.add(
+            l.into_inner()
+                .into_inner()
+                .map_err(|e| OutputError::Write {
+                    path: log_path.clone(),
+                    source: e.into_error(),
+                })?,
+        ),
         None => {
             // A log of an earlier `--log` run would no longer match the VCD beside it.
             if std::fs::read(&log_path).is_ok_and(|b| b.starts_with(LOG_HEADER.as_bytes())) {
@@ -370,9 +464,16 @@ pub fn run_to_batch_focused(sc: &Scenario, dir: &Path, fo: FileOptions, format: 
         }
     }
     let svg = if fo.svg {
-        let title = if sc.description.is_empty() { sc.name.clone() } else { format!("{}: {}", sc.name, sc.description) };
+        let title = if sc.description.is_empty() {
+            sc.name.clone()
+        } else {
+            format!("{}: {}", sc.name, sc.description)
+        };
         let ws = svg_paths(dir, &sc.name);
-        batch.add(atomic_file::write_atomic(&ws.svg, timing.svg(&title).as_bytes())?);
+        batch.add(atomic_file::write_atomic(
+            &ws.svg,
+            timing.svg(&title).as_bytes(),
+        )?);
         batch.add(atomic_file::write_atomic(&ws.csv, timing.csv().as_bytes())?);
         Some(ws)
     } else {
@@ -382,10 +483,16 @@ pub fn run_to_batch_focused(sc: &Scenario, dir: &Path, fo: FileOptions, format: 
     let (_, unit_ns) = timescale_for(sc.clock_ns());
     let to_units = |tick: u64| tick * sc.clock_ns() / unit_ns;
     let (a, z) = window.unwrap_or((0, sc.ticks));
-    let gerr = |source| RunError::Gtkw { path: gtkw_path.clone(), source };
+    let gerr = |source| RunError::Gtkw {
+        path: gtkw_path.clone(),
+        source,
+    };
     match focus {
         Some(f) => {
-            gtkw.fit(to_units(f.tick.saturating_sub(f.before).max(a)), to_units((f.tick + f.after).min(z).min(sc.ticks)));
+            gtkw.fit(
+                to_units(f.tick.saturating_sub(f.before).max(a)),
+                to_units((f.tick + f.after).min(z).min(sc.ticks)),
+            );
             gtkw.marker(to_units(f.tick), &f.name).map_err(gerr)?;
         }
         None => {
@@ -402,16 +509,33 @@ pub fn run_to_batch_focused(sc: &Scenario, dir: &Path, fo: FileOptions, format: 
         gtkw.marker(to_units(m.tick), &m.name).map_err(gerr)?;
     }
     if left_out > 0 {
-        gtkw.note(&format!("{left_out} more key events than GTKWave's 26 named markers are not marked")).map_err(gerr)?;
+        gtkw.note(&format!(
+            "{left_out} more key events than GTKWave's 26 named markers are not marked"
+        ))
+        .map_err(gerr)?;
     }
     let text = gtkw.render().map_err(gerr)?;
     batch.set_last(atomic_file::write_atomic(&gtkw_path, text.as_bytes())?);
-    Ok((res, Written { vcd: vcd_path, gtkw: gtkw_path, log: fo.log.then_some(log_path), svg }, batch))
+    Ok((
+        res,
+        Written {
+            vcd: vcd_path,
+            gtkw: gtkw_path,
+            log: fo.log.then_some(log_path),
+            svg,
+        },
+        batch,
+    ))
 }
 
 /// Run `sc`, writing `<dir>/<name>.vcd`, `.gtkw` and optionally `.log` (each renamed into
 /// place when complete; a stale `.log` is removed when none is written).
-pub fn run_to_files(sc: &Scenario, dir: &Path, fo: FileOptions, extra: &mut [&mut dyn Observer]) -> Result<(RunResult, Written), RunError> {
+pub fn run_to_files(
+    sc: &Scenario,
+    dir: &Path,
+    fo: FileOptions,
+    extra: &mut [&mut dyn Observer],
+) -> Result<(RunResult, Written), RunError> {
     let (res, w, batch) = run_to_batch(sc, dir, fo, extra)?;
     batch.commit()?;
     Ok((res, w))
@@ -435,7 +559,14 @@ fn at_ms(ns: u64) -> String {
         return ms;
     }
     let s = ns / 1_000_000_000;
-    format!("{ms} ({} d {:02}:{:02}:{:02}.{:03})", s / 86_400, s / 3_600 % 24, s / 60 % 60, s % 60, ns / 1_000_000 % 1_000)
+    format!(
+        "{ms} ({} d {:02}:{:02}:{:02}.{:03})",
+        s / 86_400,
+        s / 3_600 % 24,
+        s / 60 % 60,
+        s % 60,
+        ns / 1_000_000 % 1_000
+    )
 }
 
 /// Human summary of a run: counts, read-outs against the true angle, diagnosis, Vs2 duty,
@@ -445,7 +576,13 @@ pub fn summary(sc: &Scenario, r: &RunResult) -> String {
     let w = r.cnt_width;
     let sx = |v: u16| pmu50_core::updown_counter_58cd::sext(v, w);
     s += &format!("== {}: {}\n", sc.name, sc.description);
-    s += &format!("   simulated {} ({} ticks of {} ns), {} key-off pulses\n", at_ms(r.ticks * r.clock_ns), r.ticks, r.clock_ns, r.pulses.len());
+    s += &format!(
+        "   simulated {} ({} ticks of {} ns), {} key-off pulses\n",
+        at_ms(r.ticks * r.clock_ns),
+        r.ticks,
+        r.clock_ns,
+        r.pulses.len()
+    );
     let p = &r.final_ports;
     s += &format!(
         "   final: cnt_s={} cnt_c={} (CNT={}) si={:.1} ms cnt_r={} hist_s={} hist_c={} diag={} quadrant_skip={}\n",
@@ -459,14 +596,21 @@ pub fn summary(sc: &Scenario, r: &RunResult) -> String {
         u8::from(p.diag),
         u8::from(p.quadrant_skip)
     );
-    let seq: Vec<String> = r.si_sequence_ms().iter().map(|v| format!("{v:.1}")).collect();
+    let seq: Vec<String> = r
+        .si_sequence_ms()
+        .iter()
+        .map(|v| format!("{v:.1}"))
+        .collect();
     if seq.len() > SI_SEQ_SHOWN {
         // Days of parking: the first and the last changes, and how many there were.
         let head = seq[..SI_SEQ_SHOWN / 2].join(" -> ");
         let tail = seq[seq.len() - SI_SEQ_SHOWN / 2..].join(" -> ");
         s += &format!("   drive interval at key-off pulses (ms): {head} -> ... ({} intervals in all) ... -> {tail}\n", seq.len());
     } else if !seq.is_empty() {
-        s += &format!("   drive interval at key-off pulses (ms): {}\n", seq.join(" -> "));
+        s += &format!(
+            "   drive interval at key-off pulses (ms): {}\n",
+            seq.join(" -> ")
+        );
     }
     for k in &r.keyons {
         let ro = &k.readout;
@@ -480,12 +624,24 @@ pub fn summary(sc: &Scenario, r: &RunResult) -> String {
     }
     let d = &r.dark;
     if d.key_off_ns > 0 {
-        let duty = d.vs2_duty.map_or("-".into(), |v| format!("{:.2} %", v * 100.0));
-        let cur = d.avg_current_ua.map_or("-".into(), |v| format!("{v:.1} uA"));
-        s += &format!("   key off for {}: Vs2 duty {duty}, average key-off current {cur}\n", at_ms(d.key_off_ns));
+        let duty = d
+            .vs2_duty
+            .map_or("-".into(), |v| format!("{:.2} %", v * 100.0));
+        let cur = d
+            .avg_current_ua
+            .map_or("-".into(), |v| format!("{v:.1} uA"));
+        s += &format!(
+            "   key off for {}: Vs2 duty {duty}, average key-off current {cur}\n",
+            at_ms(d.key_off_ns)
+        );
     }
     for c in &r.checks {
-        s += &format!("   check {:<20} {}  {}\n", c.name, if c.ok { "PASS" } else { "FAIL" }, c.detail);
+        s += &format!(
+            "   check {:<20} {}  {}\n",
+            c.name,
+            if c.ok { "PASS" } else { "FAIL" },
+            c.detail
+        );
     }
     s
 }

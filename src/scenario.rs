@@ -65,18 +65,38 @@ pub const MAX_SCENARIO_BYTES: u64 = 1 << 20;
 #[derive(Debug, thiserror::Error)]
 pub enum ScenarioError {
     #[error("{file}: cannot read the scenario: {source}")]
-    Io { file: String, #[source] source: std::io::Error },
+    Io {
+        file: String,
+        #[source]
+        source: std::io::Error,
+    },
     #[error("{file}: is {kind}, not a regular file; a scenario is a TOML file")]
     NotAFile { file: String, kind: &'static str },
     #[error("{file}: {size} bytes is larger than a scenario can be ({max} bytes at most)")]
     TooLarge { file: String, size: u64, max: u64 },
     #[error("{file}:{line}:{col}: {msg}")]
-    Syntax { file: String, line: usize, col: usize, msg: String },
+    Syntax {
+        file: String,
+        line: usize,
+        col: usize,
+        msg: String,
+    },
     #[error("{file}:{line}: `{field}`: {msg}")]
-    Invalid { file: String, line: usize, field: String, msg: String },
+    Invalid {
+        file: String,
+        line: usize,
+        field: String,
+        msg: String,
+    },
     /// A value the core's or an environment model's own validation refused.
     #[error("{file}:{line}: `{field}`: {source}")]
-    Model { file: String, line: usize, field: String, #[source] source: ModelError },
+    Model {
+        file: String,
+        line: usize,
+        field: String,
+        #[source]
+        source: ModelError,
+    },
 }
 
 /// The typed error of the model that refused a scenario value.
@@ -150,14 +170,20 @@ fn humanize(msg: &str) -> String {
     if msg.contains("expected struct ") {
         // `core = []`, `env = 3`, ...: serde names the Rust struct.
         let got = msg.split(',').next().unwrap_or(msg).trim();
-        let got = got.strip_prefix("invalid type: ").or_else(|| got.strip_prefix("invalid length ").map(|_| "an array")).unwrap_or(got);
+        let got = got
+            .strip_prefix("invalid type: ")
+            .or_else(|| got.strip_prefix("invalid length ").map(|_| "an array"))
+            .unwrap_or(got);
         return format!("expected a table (a `[section]` of `key = value` lines, or `{{ key = value, ... }}`), got {got}");
     }
     let mut m = msg.to_string();
     for (rust, words) in [
         ("expected u8", "expected a whole number from 0 to 255"),
         ("expected u16", "expected a whole number from 0 to 65535"),
-        ("expected u32", "expected a whole number from 0 to 4294967295"),
+        (
+            "expected u32",
+            "expected a whole number from 0 to 4294967295",
+        ),
         ("expected i64", "expected a whole number"),
         ("expected f64", "expected a number"),
         ("expected a sequence", "expected an array `[...]`"),
@@ -229,7 +255,8 @@ pub const CORE_INTS: [(&str, i64, i64, &str); 3] = [
 /// `shown`) is out of its range; `None` when it is in range or the field is not an integer field.
 pub fn core_int_out_of_range(field: &str, shown: &str, value: i64) -> Option<String> {
     let &(_, lo, hi, what) = CORE_INTS.iter().find(|f| f.0 == field)?;
-    (value < lo || value > hi).then(|| format!("{shown} is out of range; valid is {what} from {lo} to {hi}"))
+    (value < lo || value > hi)
+        .then(|| format!("{shown} is out of range; valid is {what} from {lo} to {hi}"))
 }
 
 // ---------------------------------------------------------------- checked ----
@@ -358,7 +385,10 @@ impl Scenario {
         use std::io::Read;
         use std::os::unix::fs::FileTypeExt;
         let file = path.display().to_string();
-        let io = |source| ScenarioError::Io { file: file.clone(), source };
+        let io = |source| ScenarioError::Io {
+            file: file.clone(),
+            source,
+        };
         let meta = std::fs::metadata(path).map_err(io)?;
         let ft = meta.file_type();
         if !ft.is_file() {
@@ -376,25 +406,48 @@ impl Scenario {
             return Err(ScenarioError::NotAFile { file, kind });
         }
         if meta.len() > MAX_SCENARIO_BYTES {
-            return Err(ScenarioError::TooLarge { file, size: meta.len(), max: MAX_SCENARIO_BYTES });
+            return Err(ScenarioError::TooLarge {
+                file,
+                size: meta.len(),
+                max: MAX_SCENARIO_BYTES,
+            });
         }
         let mut src = String::new();
         // Read at most one byte past the limit: the file may have grown since `metadata`.
         let f = std::fs::File::open(path).map_err(io)?;
-        f.take(MAX_SCENARIO_BYTES + 1).read_to_string(&mut src).map_err(io)?;
+        f.take(MAX_SCENARIO_BYTES + 1)
+            .read_to_string(&mut src)
+            .map_err(io)?;
         if src.len() as u64 > MAX_SCENARIO_BYTES {
-            return Err(ScenarioError::TooLarge { file, size: src.len() as u64, max: MAX_SCENARIO_BYTES });
+            return Err(ScenarioError::TooLarge {
+                file,
+                size: src.len() as u64,
+                max: MAX_SCENARIO_BYTES,
+            });
         }
-        let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
         Scenario::parse(&src, &file, &stem, path)
     }
 
     /// Validate scenario text; `file` is used in messages, `stem` is the default name.
-    pub fn parse(src: &str, file: &str, stem: &str, path: &Path) -> Result<Scenario, ScenarioError> {
+    pub fn parse(
+        src: &str,
+        file: &str,
+        stem: &str,
+        path: &Path,
+    ) -> Result<Scenario, ScenarioError> {
         let cx = Cx { src, file };
         let raw: Raw = toml::from_str(src).map_err(|e| {
             let (line, col) = e.span().map(|s| cx.line_col(s.start)).unwrap_or((1, 1));
-            ScenarioError::Syntax { file: file.to_string(), line, col, msg: humanize(e.message().trim()) }
+            ScenarioError::Syntax {
+                file: file.to_string(),
+                line,
+                col,
+                msg: humanize(e.message().trim()),
+            }
         })?;
         cx.build(raw, stem, path)
     }
@@ -414,7 +467,12 @@ impl Cx<'_> {
     }
 
     fn err(&self, span: Range<usize>, field: &str, msg: impl Into<String>) -> ScenarioError {
-        ScenarioError::Invalid { file: self.file.to_string(), line: self.line_col(span.start).0, field: field.to_string(), msg: msg.into() }
+        ScenarioError::Invalid {
+            file: self.file.to_string(),
+            line: self.line_col(span.start).0,
+            field: field.to_string(),
+            msg: msg.into(),
+        }
     }
 
     /// Offset of `field = ` inside the table that starts at `from` (up to the next `[` header),
@@ -422,14 +480,18 @@ impl Cx<'_> {
     fn field_offset(&self, from: usize, field: &str) -> Option<usize> {
         let from = from.min(self.src.len());
         let rest = &self.src[from..];
-        let end = rest[1.min(rest.len())..].find("\n[").map_or(rest.len(), |i| i + 1);
+        let end = rest[1.min(rest.len())..]
+            .find("\n[")
+            .map_or(rest.len(), |i| i + 1);
         let body = &rest[..end];
         let mut at = 0;
         while let Some(i) = body[at..].find(field) {
             let k = at + i;
             let before = body[..k].chars().next_back();
             let after = body[k + field.len()..].trim_start();
-            if before.is_none_or(|c| c.is_whitespace() || c == '{' || c == ',') && after.starts_with('=') {
+            if before.is_none_or(|c| c.is_whitespace() || c == '{' || c == ',')
+                && after.starts_with('=')
+            {
                 return Some(from + k);
             }
             at = k + field.len();
@@ -446,8 +508,18 @@ impl Cx<'_> {
         }
     }
 
-    fn model(&self, span: Range<usize>, field: &str, source: impl Into<ModelError>) -> ScenarioError {
-        ScenarioError::Model { file: self.file.to_string(), line: self.line_col(span.start).0, field: field.to_string(), source: source.into() }
+    fn model(
+        &self,
+        span: Range<usize>,
+        field: &str,
+        source: impl Into<ModelError>,
+    ) -> ScenarioError {
+        ScenarioError::Model {
+            file: self.file.to_string(),
+            line: self.line_col(span.start).0,
+            field: field.to_string(),
+            source: source.into(),
+        }
     }
 
     fn dur(&self, s: &Spanned<String>, field: &str) -> Result<Dur, ScenarioError> {
@@ -455,7 +527,13 @@ impl Cx<'_> {
     }
 
     /// A duration that must be a whole, positive number of ticks... or zero when `allow_zero`.
-    fn ticks(&self, s: &Spanned<String>, field: &str, clock: Dur, allow_zero: bool) -> Result<u64, ScenarioError> {
+    fn ticks(
+        &self,
+        s: &Spanned<String>,
+        field: &str,
+        clock: Dur,
+        allow_zero: bool,
+    ) -> Result<u64, ScenarioError> {
         let d = self.dur(s, field)?;
         if d.0 % clock.0 != 0 {
             return Err(self.err(s.span(), field, format!("{d} is not a whole number of clock ticks (clock = {clock}); use a multiple of {clock}")));
@@ -507,14 +585,20 @@ impl Cx<'_> {
         }
         let params = core.to_params().map_err(|e| {
             // Point at the involved field written last in the file (the one most likely edited).
-            let named = spans.iter().filter(|(n, _)| e.fields().contains(n)).max_by_key(|(_, sp)| sp.start);
+            let named = spans
+                .iter()
+                .filter(|(n, _)| e.fields().contains(n))
+                .max_by_key(|(_, sp)| sp.start);
             match named {
                 Some((n, span)) => self.model(span.clone(), &format!("core.{n}"), e),
                 None => ScenarioError::Invalid {
                     file: self.file.to_string(),
                     // A default that no longer fits, e.g. after a change of `clock`: point at
                     // the clock when it is given.
-                    line: spans.iter().find(|(n, _)| *n == "clock").map_or(1, |(_, sp)| self.line_col(sp.start).0),
+                    line: spans
+                        .iter()
+                        .find(|(n, _)| *n == "clock")
+                        .map_or(1, |(_, sp)| self.line_col(sp.start).0),
                     field: format!("core.{}", e.fields().first().copied().unwrap_or("core")),
                     msg: format!("{e} (with the default values of the fields not given)"),
                 },
@@ -527,14 +611,19 @@ impl Cx<'_> {
 
         // ---- env ----
         let e = raw.env;
-        let volts = |v: &Option<Spanned<f64>>, f: &str, default: f64| -> Result<f64, ScenarioError> {
-            let Some(v) = v else { return Ok(default) };
-            let x = *v.get_ref();
-            if !(x.is_finite() && x > 0.0 && x <= 40.0) {
-                return Err(self.err(v.span(), f, format!("{x} V is not a supply voltage; valid is 0 < V <= 40")));
-            }
-            Ok(x)
-        };
+        let volts =
+            |v: &Option<Spanned<f64>>, f: &str, default: f64| -> Result<f64, ScenarioError> {
+                let Some(v) = v else { return Ok(default) };
+                let x = *v.get_ref();
+                if !(x.is_finite() && x > 0.0 && x <= 40.0) {
+                    return Err(self.err(
+                        v.span(),
+                        f,
+                        format!("{x} V is not a supply voltage; valid is 0 < V <= 40"),
+                    ));
+                }
+                Ok(x)
+            };
         let vcc1_v = volts(&e.vcc1_v, "env.vcc1_v", 5.0)?;
         let vcc2_v = volts(&e.vcc2_v, "env.vcc2_v", 3.3)?;
         let mpu_boot_ticks = match &e.mpu_boot {
@@ -551,9 +640,19 @@ impl Cx<'_> {
                         ($check)(v.clone()).map_err(|er: pmu50_env::EnvError| {
                             // Point at the line of the field the model names, when it is written.
                             let msg = er.to_string();
-                            let field = msg.split_once("field `").and_then(|(_, r)| r.split_once('`')).map(|(f, _)| f.to_string());
-                            match field.as_deref().and_then(|f| self.field_offset(span.start, f)) {
-                                Some(at) => self.model(at..at, &format!("{}.{}", $name, field.unwrap_or_default()), er),
+                            let field = msg
+                                .split_once("field `")
+                                .and_then(|(_, r)| r.split_once('`'))
+                                .map(|(f, _)| f.to_string());
+                            match field
+                                .as_deref()
+                                .and_then(|f| self.field_offset(span.start, f))
+                            {
+                                Some(at) => self.model(
+                                    at..at,
+                                    &format!("{}.{}", $name, field.unwrap_or_default()),
+                                    er,
+                                ),
                                 None => self.model(span, $name, er),
                             }
                         })?;
@@ -563,26 +662,56 @@ impl Cx<'_> {
                 }
             }};
         }
-        let sensor2: Sensor2Config = sub!(e.sensor2, "env.sensor2", |c| Sensor2::new(c).map(|_| ()).map_err(Into::into));
-        let comparator: ComparatorConfig = sub!(e.comparator, "env.comparator", |c| ComparatorPair::new(c).map(|_| ()).map_err(Into::into));
-        let sensor1: Sensor1Config = sub!(e.sensor1, "env.sensor1", |c| Sensor1::new(c).map(|_| ()).map_err(Into::into));
-        let readout: ReadoutConfig = sub!(e.readout, "env.readout", |c| Readout::new(c).map(|_| ()).map_err(Into::into));
-        let dark_current: DarkCurrentConfig = sub!(e.dark_current, "env.dark_current", |c| DarkCurrentMeter::new(c).map(|_| ()).map_err(Into::into));
+        let sensor2: Sensor2Config = sub!(e.sensor2, "env.sensor2", |c| Sensor2::new(c)
+            .map(|_| ())
+            .map_err(Into::into));
+        let comparator: ComparatorConfig =
+            sub!(e.comparator, "env.comparator", |c| ComparatorPair::new(c)
+                .map(|_| ())
+                .map_err(Into::into));
+        let sensor1: Sensor1Config = sub!(e.sensor1, "env.sensor1", |c| Sensor1::new(c)
+            .map(|_| ())
+            .map_err(Into::into));
+        let readout: ReadoutConfig = sub!(e.readout, "env.readout", |c| Readout::new(c)
+            .map(|_| ())
+            .map_err(Into::into));
+        let dark_current: DarkCurrentConfig = sub!(e.dark_current, "env.dark_current", |c| {
+            DarkCurrentMeter::new(c).map(|_| ()).map_err(Into::into)
+        });
         let theta_t_deg = match &e.theta_t_deg {
             None => 0.0,
             Some(v) => {
                 let x = *v.get_ref();
                 if !x.is_finite() || x.abs() > 90.0 {
-                    return Err(self.err(v.span(), "env.theta_t_deg", format!("{x} deg is not a torsion angle; valid is -90 to 90 degrees")));
+                    return Err(self.err(
+                        v.span(),
+                        "env.theta_t_deg",
+                        format!("{x} deg is not a torsion angle; valid is -90 to 90 degrees"),
+                    ));
                 }
                 x
             }
         };
-        let env = EnvSpec { vcc1_v, vcc2_v, mpu_boot_ticks, theta_t_deg, sensor2, comparator, sensor1, readout, dark_current };
+        let env = EnvSpec {
+            vcc1_v,
+            vcc2_v,
+            mpu_boot_ticks,
+            theta_t_deg,
+            sensor2,
+            comparator,
+            sensor1,
+            readout,
+            dark_current,
+        };
 
         // ---- motor ----
         let motor = match raw.motor {
-            None => MotorProfile::constant(0.0).map_err(|er| ScenarioError::Invalid { file: self.file.into(), line: 1, field: "motor".into(), msg: er.to_string() })?,
+            None => MotorProfile::constant(0.0).map_err(|er| ScenarioError::Invalid {
+                file: self.file.into(),
+                line: 1,
+                field: "motor".into(),
+                msg: er.to_string(),
+            })?,
             Some(m) => {
                 let mspan = m.span();
                 let m = m.into_inner();
@@ -592,15 +721,42 @@ impl Cx<'_> {
                     let d = self.dur(&s.get_ref().duration, &format!("{field}.duration"))?;
                     let seg = match (s.get_ref().kind.get_ref().as_str(), s.get_ref().delta_deg) {
                         ("hold", None) => Segment::Hold { duration_ns: d.0 },
-                        ("hold", Some(_)) => return Err(self.err(s.span(), &format!("{field}.delta_deg"), "a hold segment has no delta_deg")),
+                        ("hold", Some(_)) => {
+                            return Err(self.err(
+                                s.span(),
+                                &format!("{field}.delta_deg"),
+                                "a hold segment has no delta_deg",
+                            ))
+                        }
                         ("move", Some(delta_deg)) => {
                             if d.0 == 0 {
-                                return Err(self.err(s.get_ref().duration.span(), &format!("{field}.duration"), "a move must last longer than zero"));
+                                return Err(self.err(
+                                    s.get_ref().duration.span(),
+                                    &format!("{field}.duration"),
+                                    "a move must last longer than zero",
+                                ));
                             }
-                            Segment::Move { duration_ns: d.0, delta_deg }
+                            Segment::Move {
+                                duration_ns: d.0,
+                                delta_deg,
+                            }
                         }
-                        ("move", None) => return Err(self.err(s.span(), &format!("{field}.delta_deg"), "a move segment needs delta_deg (degrees, signed)")),
-                        (other, _) => return Err(self.err(s.get_ref().kind.span(), &format!("{field}.kind"), format!("unknown kind `{other}`; valid kinds are \"hold\" and \"move\""))),
+                        ("move", None) => {
+                            return Err(self.err(
+                                s.span(),
+                                &format!("{field}.delta_deg"),
+                                "a move segment needs delta_deg (degrees, signed)",
+                            ))
+                        }
+                        (other, _) => {
+                            return Err(self.err(
+                                s.get_ref().kind.span(),
+                                &format!("{field}.kind"),
+                                format!(
+                                    "unknown kind `{other}`; valid kinds are \"hold\" and \"move\""
+                                ),
+                            ))
+                        }
                     };
                     segs.push(seg);
                 }
@@ -622,10 +778,20 @@ impl Cx<'_> {
                 return Err(self.err(r.at.span(), &format!("{field}.at"), format!("time goes backwards: {} is before the previous event at {}; list events in time order", Dur(tick * clock.0), Dur(last_tick * clock.0))));
             }
             if tick >= ticks {
-                return Err(self.err(r.at.span(), &format!("{field}.at"), format!("{} is not before the end of the run (duration = {})", Dur(tick * clock.0), Dur(ticks * clock.0))));
+                return Err(self.err(
+                    r.at.span(),
+                    &format!("{field}.at"),
+                    format!(
+                        "{} is not before the end of the run (duration = {})",
+                        Dur(tick * clock.0),
+                        Dur(ticks * clock.0)
+                    ),
+                ));
             }
             last_tick = tick;
-            let given = usize::from(r.ig.is_some()) + usize::from(r.write.is_some()) + usize::from(r.vs2_fault.is_some());
+            let given = usize::from(r.ig.is_some())
+                + usize::from(r.write.is_some())
+                + usize::from(r.vs2_fault.is_some());
             if given != 1 {
                 return Err(self.err(ev.span(), &field, format!("an event has exactly one action (ig, write or vs2_fault); this one has {given}")));
             }
@@ -636,20 +802,42 @@ impl Cx<'_> {
                 Action::Vs2Fault(v)
             } else {
                 let w_span = r.write.as_ref().map_or(r.at.span(), |w| w.span());
-                let w = r.write.as_ref().map(|w| w.get_ref()).ok_or_else(|| self.err(ev.span(), &field, "missing action"))?;
+                let w = r
+                    .write
+                    .as_ref()
+                    .map(|w| w.get_ref())
+                    .ok_or_else(|| self.err(ev.span(), &field, "missing action"))?;
                 let name = w.reg.get_ref().to_ascii_uppercase();
                 let Some(&(_, addr, width, access)) = MAP.iter().find(|(n, ..)| *n == name) else {
                     let names: Vec<&str> = MAP.iter().map(|(n, ..)| *n).collect();
-                    return Err(self.err(w.reg.span(), &format!("{field}.write.reg"), format!("unknown register `{}`; registers are {}", w.reg.get_ref(), names.join(", "))));
+                    return Err(self.err(
+                        w.reg.span(),
+                        &format!("{field}.write.reg"),
+                        format!(
+                            "unknown register `{}`; registers are {}",
+                            w.reg.get_ref(),
+                            names.join(", ")
+                        ),
+                    ));
                 };
                 if !(access.contains("RW") || access.contains("W1C")) {
-                    return Err(self.err(w.reg.span(), &format!("{field}.write.reg"), format!("register {name} is read-only ({access})")));
+                    return Err(self.err(
+                        w.reg.span(),
+                        &format!("{field}.write.reg"),
+                        format!("register {name} is read-only ({access})"),
+                    ));
                 }
                 let v = *w.value.get_ref();
                 let max = (1i64 << width.min(16)) - 1;
                 let max = if name == "STATUS" { 0xFFFF } else { max };
                 if !(0..=max).contains(&v) {
-                    return Err(self.err(w.value.span(), &format!("{field}.write.value"), format!("{v} does not fit register {name} ({width} bits); valid is 0..={max}")));
+                    return Err(self.err(
+                        w.value.span(),
+                        &format!("{field}.write.value"),
+                        format!(
+                            "{v} does not fit register {name} ({width} bits); valid is 0..={max}"
+                        ),
+                    ));
                 }
                 if !ig {
                     return Err(self.err(r.at.span(), &format!("{field}.write"), "the key is off at this time: the MPU is not powered and cannot write ([0205]); turn ig on first"));
@@ -663,10 +851,20 @@ impl Cx<'_> {
                     ));
                 }
                 last_write = Some((tick, line));
-                Action::Write { addr, name, value: v as u16 }
+                Action::Write {
+                    addr,
+                    name,
+                    value: v as u16,
+                }
             };
             // Messages point at the action's line (`write = ...`), else at `at`.
-            let line = self.line_col(r.write.as_ref().map_or(r.at.span().start, |w| w.span().start)).0;
+            let line = self
+                .line_col(
+                    r.write
+                        .as_ref()
+                        .map_or(r.at.span().start, |w| w.span().start),
+                )
+                .0;
             events.push(Event { tick, action, line });
         }
 
@@ -678,17 +876,34 @@ impl Cx<'_> {
                 let x = x.into_inner();
                 if let Some(t) = x.readout_within_deg {
                     if !(t.is_finite() && t > 0.0) {
-                        let at = self.field_offset(span.start, "readout_within_deg").unwrap_or(span.start);
-                        return Err(self.err(at..at, "expect.readout_within_deg", format!("{t} is not a positive angle in degrees")));
+                        let at = self
+                            .field_offset(span.start, "readout_within_deg")
+                            .unwrap_or(span.start);
+                        return Err(self.err(
+                            at..at,
+                            "expect.readout_within_deg",
+                            format!("{t} is not a positive angle in degrees"),
+                        ));
                     }
                 }
                 if let Some(seq) = &x.si_sequence_ms {
                     if seq.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-                        let at = self.field_offset(span.start, "si_sequence_ms").unwrap_or(span.start);
-                        return Err(self.err(at..at, "expect.si_sequence_ms", "intervals are positive numbers of milliseconds"));
+                        let at = self
+                            .field_offset(span.start, "si_sequence_ms")
+                            .unwrap_or(span.start);
+                        return Err(self.err(
+                            at..at,
+                            "expect.si_sequence_ms",
+                            "intervals are positive numbers of milliseconds",
+                        ));
                     }
                 }
-                Expect { si_sequence_ms: x.si_sequence_ms, readout_within_deg: x.readout_within_deg, diag: x.diag, quadrant_skip: x.quadrant_skip }
+                Expect {
+                    si_sequence_ms: x.si_sequence_ms,
+                    readout_within_deg: x.readout_within_deg,
+                    diag: x.diag,
+                    quadrant_skip: x.quadrant_skip,
+                }
             }
         };
 
@@ -698,12 +913,20 @@ impl Cx<'_> {
             Some(w) => {
                 let list = w.get_ref();
                 if list.len() != 2 {
-                    return Err(self.err(w.span(), "vcd.window", format!("a window is [start, end], got {} values", list.len())));
+                    return Err(self.err(
+                        w.span(),
+                        "vcd.window",
+                        format!("a window is [start, end], got {} values", list.len()),
+                    ));
                 }
                 let a = self.ticks(&list[0], "vcd.window[0]", clock, true)?;
                 let b = self.ticks(&list[1], "vcd.window[1]", clock, true)?;
                 if b <= a {
-                    return Err(self.err(list[1].span(), "vcd.window[1]", "the window ends before it starts"));
+                    return Err(self.err(
+                        list[1].span(),
+                        "vcd.window[1]",
+                        "the window ends before it starts",
+                    ));
                 }
                 if b > ticks {
                     return Err(self.err(list[1].span(), "vcd.window[1]", format!("the window ends at {}, after the end of the run (duration = {}); valid is a window within 0 to {}", Dur(b * clock.0), Dur(ticks * clock.0), Dur(ticks * clock.0))));
@@ -714,7 +937,16 @@ impl Cx<'_> {
 
         let trace = match &raw.vcd.trace {
             None => None,
-            Some(t) => Some(Trace::parse(t.get_ref()).ok_or_else(|| self.err(t.span(), "vcd.trace", format!("`{}` is not a trace level; valid are {TRACE_VALID}", t.get_ref())))?),
+            Some(t) => Some(Trace::parse(t.get_ref()).ok_or_else(|| {
+                self.err(
+                    t.span(),
+                    "vcd.trace",
+                    format!(
+                        "`{}` is not a trace level; valid are {TRACE_VALID}",
+                        t.get_ref()
+                    ),
+                )
+            })?),
         };
         if trace == Some(Trace::None) && vcd_window.is_some() {
             let at = raw.vcd.trace.as_ref().map_or(0..0, |t| t.span());
@@ -724,7 +956,11 @@ impl Cx<'_> {
         let name = match &raw.name {
             Some(n) => {
                 let v = n.get_ref();
-                if v.is_empty() || !v.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+                if v.is_empty()
+                    || !v
+                        .chars()
+                        .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+                {
                     return Err(self.err(n.span(), "name", format!("`{v}` is not a valid name; use letters, digits, `_` and `-` (it names the output files)")));
                 }
                 v.clone()

@@ -45,9 +45,15 @@ fn bad_input(o: &Output, want: &str) {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "stdout: {out}\nstderr: {err}");
     assert!(out.is_empty(), "nothing on stdout, got: {out}");
-    assert!(!err.contains("panicked") && !err.contains("backtrace") && !err.contains("RUST_BACKTRACE"), "{err}");
+    assert!(
+        !err.contains("panicked") && !err.contains("backtrace") && !err.contains("RUST_BACKTRACE"),
+        "{err}"
+    );
     assert_eq!(err.lines().count(), 1, "one line: {err}");
-    assert!(err.starts_with("error: ") && err.contains(want), "`{want}` not in: {err}");
+    assert!(
+        err.starts_with("error: ") && err.contains(want),
+        "`{want}` not in: {err}"
+    );
 }
 
 #[test]
@@ -57,10 +63,20 @@ fn every_malformed_shape_exits_2_with_file_and_line_and_no_panic_text() {
     for m in MALFORMED {
         let bad = write(&d, &format!("{}.vcd", m.name), m.vcd);
         let o = pmu50(&[&bad, &good]);
-        bad_input(&o, &format!("cannot read left waveform: {}:{}: malformed VCD: ", bad.display(), m.line));
+        bad_input(
+            &o,
+            &format!(
+                "cannot read left waveform: {}:{}: malformed VCD: ",
+                bad.display(),
+                m.line
+            ),
+        );
         bad_input(&o, m.says);
         let o = pmu50(&[&good, &bad]);
-        bad_input(&o, &format!("cannot read right waveform: {}:{}: ", bad.display(), m.line));
+        bad_input(
+            &o,
+            &format!("cannot read right waveform: {}:{}: ", bad.display(), m.line),
+        );
     }
 }
 
@@ -92,7 +108,13 @@ fn time_going_backwards_exits_2_not_equal() {
     let back = write(&d, "back.vcd", format!("{head}#5\n0!\n").as_bytes());
     let plain = write(&d, "plain.vcd", head.as_bytes());
     let o = pmu50(&[&back, &plain]);
-    bad_input(&o, &format!("{}:10: malformed VCD: time goes backwards: #5 after #10 (line 8)", back.display()));
+    bad_input(
+        &o,
+        &format!(
+            "{}:10: malformed VCD: time goes backwards: #5 after #10 (line 8)",
+            back.display()
+        ),
+    );
 }
 
 #[test]
@@ -100,10 +122,30 @@ fn fifo_directory_and_device_exit_2_without_blocking() {
     let d = tmp("special");
     let good = write(&d, "good.vcd", VALID_SAMPLE);
     let fifo = d.join("fifo.vcd");
-    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
-    for (p, kind) in [(fifo.as_path(), "FIFO"), (&*d, "directory"), (Path::new("/dev/zero"), "character device")] {
-        bad_input(&pmu50(&[p, &good]), &format!("cannot read left waveform: {} is a {kind}, not a regular file", p.display()));
-        bad_input(&pmu50(&[&good, p]), &format!("cannot read right waveform: {} is a {kind}, not a regular file", p.display()));
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    for (p, kind) in [
+        (fifo.as_path(), "FIFO"),
+        (&*d, "directory"),
+        (Path::new("/dev/zero"), "character device"),
+    ] {
+        bad_input(
+            &pmu50(&[p, &good]),
+            &format!(
+                "cannot read left waveform: {} is a {kind}, not a regular file",
+                p.display()
+            ),
+        );
+        bad_input(
+            &pmu50(&[&good, p]),
+            &format!(
+                "cannot read right waveform: {} is a {kind}, not a regular file",
+                p.display()
+            ),
+        );
     }
 }
 
@@ -117,7 +159,10 @@ fn files_over_max_bytes_exit_2_and_the_limit_is_an_option() {
     let o = pmu50_args(&[fs, fs, "--max-bytes", &small]);
     bad_input(&o, &format!("{fs} is {n} bytes, more than the limit of {} bytes; raise the limit (`pmu50 diff --max-bytes N`)", n - 1));
     let exact = n.to_string();
-    assert_eq!(pmu50_args(&[fs, fs, "--max-bytes", &exact]).status.code(), Some(0));
+    assert_eq!(
+        pmu50_args(&[fs, fs, "--max-bytes", &exact]).status.code(),
+        Some(0)
+    );
 }
 
 #[test]
@@ -137,5 +182,8 @@ fn equal_is_0_and_differ_is_1() {
     assert_eq!(pmu50(&[&a, &a]).status.code(), Some(0));
     let o = pmu50(&[&a, &b]);
     let out = exited(&o, 1);
-    assert!(out.contains("t=1 (x 10 ns)  top.cnt[7:0]: left=00000101 right=00000100"), "{out}");
+    assert!(
+        out.contains("t=1 (x 10 ns)  top.cnt[7:0]: left=00000101 right=00000100"),
+        "{out}"
+    );
 }

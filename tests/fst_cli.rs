@@ -20,7 +20,11 @@ fn pmu50(args: &[&str]) -> Output {
 }
 
 fn scenario(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios").join(format!("{name}.toml")).display().to_string()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenarios")
+        .join(format!("{name}.toml"))
+        .display()
+        .to_string()
 }
 
 fn run(name: &str, dir: &Path, format: Option<&str>) {
@@ -36,7 +40,11 @@ fn run_with(name: &str, dir: &Path, format: Option<&str>, extra: &[&str]) {
     }
     args.extend(extra);
     let o = pmu50(&args);
-    assert!(o.status.success(), "pmu50 {args:?}: {}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        o.status.success(),
+        "pmu50 {args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
 }
 
 #[test]
@@ -47,10 +55,17 @@ fn fst_run_equals_vcd_run_and_gtkw_points_at_it() {
     run("fig15b", &f, Some("fst"));
     run("fig15b", &f2, Some("fst"));
     let fst = f.join("fig15b.fst");
-    assert!(!f.join("fig15b.vcd").exists(), "--format fst also wrote a VCD");
+    assert!(
+        !f.join("fig15b.vcd").exists(),
+        "--format fst also wrote a VCD"
+    );
     let bytes = std::fs::read(&fst).unwrap();
     assert_eq!(bytes[0], 0, "an FST starts with its header block (type 0)");
-    assert_eq!(bytes, std::fs::read(f2.join("fig15b.fst")).unwrap(), "FST reruns differ");
+    assert_eq!(
+        bytes,
+        std::fs::read(f2.join("fig15b.fst")).unwrap(),
+        "FST reruns differ"
+    );
     fst2vcd_reads_it_clean(&fst);
     let gtkw = std::fs::read_to_string(f.join("fig15b.gtkw")).unwrap();
     assert!(gtkw.contains("[dumpfile] \"fig15b.fst\""), "{gtkw}");
@@ -61,12 +76,20 @@ fn fst_run_equals_vcd_run_and_gtkw_points_at_it() {
     let fst = fst.display().to_string();
     let o = pmu50(&["diff", &vcd, &fst]);
     let out = exited(&o, 0);
-    assert!(out.contains("EQUAL") && out.contains("value mismatches: 0"), "{out}");
+    assert!(
+        out.contains("EQUAL") && out.contains("value mismatches: 0"),
+        "{out}"
+    );
     // and a different scenario's FST is not equal: the comparison can fail
     run("fig15a", &f, Some("fst"));
     let other = f.join("fig15a.fst").display().to_string();
     let o = pmu50(&["diff", &vcd, &other]);
-    assert_eq!(o.status.code(), Some(1), "{}", String::from_utf8_lossy(&o.stdout));
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
 }
 
 /// Regression: the windowed FST had its window-start values at time 0 (and the window start in
@@ -83,7 +106,10 @@ fn windowed_fst_run_equals_windowed_vcd_run() {
     for (l, r) in [(&vcd, &fst), (&fst, &vcd)] {
         let o = pmu50(&["diff", l, r]);
         let out = exited(&o, 0);
-        assert!(out.contains("EQUAL") && out.contains("value mismatches: 0"), "{out}");
+        assert!(
+            out.contains("EQUAL") && out.contains("value mismatches: 0"),
+            "{out}"
+        );
     }
     fst2vcd_reads_it_clean(&f.join("fig15a.fst"));
     fst2vcd_reads_it_clean(&g.join("fig15a.fst"));
@@ -101,23 +127,47 @@ fn damaged_fst_exits_2_with_one_line() {
     let vcd_dir = d.join("v");
     run("fig15b", &vcd_dir, None);
     let vcd = vcd_dir.join("fig15b.vcd").display().to_string();
-    for (k, cut) in [3, 20, good.len() / 3, good.len() - 10].into_iter().enumerate() {
+    for (k, cut) in [3, 20, good.len() / 3, good.len() - 10]
+        .into_iter()
+        .enumerate()
+    {
         let bad = d.join(format!("bad{k}.fst"));
         std::fs::write(&bad, &good[..cut]).unwrap();
         let o = pmu50(&["diff", &vcd, &bad.display().to_string()]);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "cut {cut}: {err}");
-        assert!(o.stdout.is_empty(), "cut {cut}: {}", String::from_utf8_lossy(&o.stdout));
+        assert!(
+            o.stdout.is_empty(),
+            "cut {cut}: {}",
+            String::from_utf8_lossy(&o.stdout)
+        );
         assert_eq!(err.trim_end().lines().count(), 1, "cut {cut}: {err}");
-        assert!(err.contains("bad") && err.contains("FST"), "cut {cut}: {err}");
-        assert!(!err.contains("panick") && !err.contains("backtrace") && !err.contains("RUST_BACKTRACE"), "cut {cut}: {err}");
+        assert!(
+            err.contains("bad") && err.contains("FST"),
+            "cut {cut}: {err}"
+        );
+        assert!(
+            !err.contains("panick")
+                && !err.contains("backtrace")
+                && !err.contains("RUST_BACKTRACE"),
+            "cut {cut}: {err}"
+        );
     }
 }
 
 /// GTKWave's `fst2vcd` of `fst`, when it is installed (Debian package gtkwave, `make deps`).
 fn fst2vcd(fst: &Path) -> Option<String> {
-    let o = Command::new("fst2vcd").arg(fst).stdin(Stdio::null()).output().ok()?;
-    assert!(o.status.success(), "fst2vcd {}: {}", fst.display(), String::from_utf8_lossy(&o.stderr));
+    let o = Command::new("fst2vcd")
+        .arg(fst)
+        .stdin(Stdio::null())
+        .output()
+        .ok()?;
+    assert!(
+        o.status.success(),
+        "fst2vcd {}: {}",
+        fst.display(),
+        String::from_utf8_lossy(&o.stderr)
+    );
     Some(String::from_utf8_lossy(&o.stdout).into_owned())
 }
 
@@ -126,8 +176,20 @@ fn fst2vcd(fst: &Path) -> Option<String> {
 fn fst2vcd_reads_it_clean(fst: &Path) {
     let Some(text) = fst2vcd(fst) else { return };
     let body = text.split("$enddefinitions").nth(1).unwrap_or_default();
-    assert!(body.lines().any(|l| l.starts_with('#')), "{}: no time in fst2vcd's output", fst.display());
-    let bad: Vec<&str> = body.lines().filter(|l| l.starts_with('x') || (l.starts_with('b') && l.contains('x')) || l.to_ascii_lowercase().contains("nan")).take(3).collect();
+    assert!(
+        body.lines().any(|l| l.starts_with('#')),
+        "{}: no time in fst2vcd's output",
+        fst.display()
+    );
+    let bad: Vec<&str> = body
+        .lines()
+        .filter(|l| {
+            l.starts_with('x')
+                || (l.starts_with('b') && l.contains('x'))
+                || l.to_ascii_lowercase().contains("nan")
+        })
+        .take(3)
+        .collect();
     assert!(bad.is_empty(), "{}: fst2vcd shows {bad:?}", fst.display());
 }
 
@@ -138,18 +200,35 @@ fn fst2vcd_reads_it_clean(fst: &Path) {
 #[test]
 fn every_window_writes_an_fst_every_reader_reads() {
     let d = tmp("windows");
-    let windows: [(&str, &str); 5] = [("0 us", "10 us"), ("10 us", "20 us"), ("47990 us", "48 ms"), ("10 us", "30 us"), ("0 us", "48 ms")];
+    let windows: [(&str, &str); 5] = [
+        ("0 us", "10 us"),
+        ("10 us", "20 us"),
+        ("47990 us", "48 ms"),
+        ("10 us", "30 us"),
+        ("0 us", "48 ms"),
+    ];
     for (k, (a, z)) in windows.into_iter().enumerate() {
         let (f, v) = (d.join(format!("f{k}")), d.join(format!("v{k}")));
         run_with("fig15a", &f, Some("fst"), &["--window", a, z]);
         run_with("fig15a", &v, None, &["--window", a, z]);
         let fst = f.join("fig15a.fst");
-        let (fs, vs) = (fst.display().to_string(), v.join("fig15a.vcd").display().to_string());
+        let (fs, vs) = (
+            fst.display().to_string(),
+            v.join("fig15a.vcd").display().to_string(),
+        );
         for (l, r) in [(&vs, &fs), (&fs, &vs)] {
             let o = pmu50(&["diff", l, r]);
             let out = String::from_utf8_lossy(&o.stdout);
-            assert_eq!(o.status.code(), Some(0), "window {a} {z}: {out}{}", String::from_utf8_lossy(&o.stderr));
-            assert!(out.contains("EQUAL") && out.contains("signals compared: 73"), "window {a} {z}: {out}");
+            assert_eq!(
+                o.status.code(),
+                Some(0),
+                "window {a} {z}: {out}{}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+            assert!(
+                out.contains("EQUAL") && out.contains("signals compared: 73"),
+                "window {a} {z}: {out}"
+            );
         }
         fst2vcd_reads_it_clean(&fst);
     }
@@ -172,7 +251,10 @@ fn hostile_fsts_exit_2_with_one_line() {
         assert_eq!(o.status.code(), Some(2), "{ps}: {err}");
         assert_eq!(err.trim_end().lines().count(), 1, "{ps}: {err}");
         assert!(err.contains(&ps) && err.contains("FST"), "{ps}: {err}");
-        assert!(!err.contains("backtrace") && !err.contains("thread '"), "{ps}: {err}");
+        assert!(
+            !err.contains("backtrace") && !err.contains("thread '"),
+            "{ps}: {err}"
+        );
         assert!(t.elapsed().as_secs() < 20, "{ps}: took {:?}", t.elapsed());
         n += 1;
     }
@@ -184,8 +266,14 @@ fn hostile_fsts_exit_2_with_one_line() {
 /// and reads; the checks once refused it (a value-change block before the geometry).
 #[test]
 fn an_fst_of_gtkwaves_writer_reads() {
-    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/seeds/fst_read/icarus-gzip-hierarchy-last.fst").display().to_string();
+    let f = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("fuzz/seeds/fst_read/icarus-gzip-hierarchy-last.fst")
+        .display()
+        .to_string();
     let o = pmu50(&["diff", &f, &f]);
     let out = exited(&o, 0);
-    assert!(out.contains("EQUAL") && out.contains("signals compared: 4"), "{out}");
+    assert!(
+        out.contains("EQUAL") && out.contains("signals compared: 4"),
+        "{out}"
+    );
 }

@@ -23,29 +23,149 @@ const TARGETS: [(&str, Body, u32); 5] = [
 ];
 
 const VCD_TOKENS: &[&str] = &[
-    "$end", " $end\n", "$var wire 8 ! a [7:0] $end\n", "$var real 64 \" r $end\n", "$scope module m $end\n",
-    "$upscope $end\n", "$enddefinitions $end\n", "$timescale 1 ns $end\n", "$comment c $end", "$dumpvars",
-    "#", "#0\n", "#18446744073709551615\n", "b", "r", "s", "\n", " ", "!", "\"", "[", "]", ":", "nan", "inf",
-    "-", "x", "z", "X", "Z", "h", "u", "w", "l", "4294967295", "65536", "0", "1", "1e308", "event", "string",
+    "$end",
+    " $end\n",
+    "$var wire 8 ! a [7:0] $end\n",
+    "$var real 64 \" r $end\n",
+    "$scope module m $end\n",
+    "$upscope $end\n",
+    "$enddefinitions $end\n",
+    "$timescale 1 ns $end\n",
+    "$comment c $end",
+    "$dumpvars",
+    "#",
+    "#0\n",
+    "#18446744073709551615\n",
+    "b",
+    "r",
+    "s",
+    "\n",
+    " ",
+    "!",
+    "\"",
+    "[",
+    "]",
+    ":",
+    "nan",
+    "inf",
+    "-",
+    "x",
+    "z",
+    "X",
+    "Z",
+    "h",
+    "u",
+    "w",
+    "l",
+    "4294967295",
+    "65536",
+    "0",
+    "1",
+    "1e308",
+    "event",
+    "string",
 ];
 const TOML_TOKENS: &[&str] = &[
-    "=", "\"", "'", "[", "]", "{", "}", ",", "\n", "ms", "us", "µs", "ns", " s", ".", "-", "+", "[[events]]\n",
-    "at = \"1 ms\"\n", "duration", "[core]\n", "[env]\n", "[motor]\n", "[expect]\n", "[vcd]\n", "window",
-    "18446744073709551615", "0", "1.5", "true", "write = { reg = \"T2\", value = 110 }", "ig = true",
-    "cnt_width = 256", "sync_depth = 0", "clock = \"0 ns\"", "nan", "inf", "\u{10ffff}", "é",
+    "=",
+    "\"",
+    "'",
+    "[",
+    "]",
+    "{",
+    "}",
+    ",",
+    "\n",
+    "ms",
+    "us",
+    "µs",
+    "ns",
+    " s",
+    ".",
+    "-",
+    "+",
+    "[[events]]\n",
+    "at = \"1 ms\"\n",
+    "duration",
+    "[core]\n",
+    "[env]\n",
+    "[motor]\n",
+    "[expect]\n",
+    "[vcd]\n",
+    "window",
+    "18446744073709551615",
+    "0",
+    "1.5",
+    "true",
+    "write = { reg = \"T2\", value = 110 }",
+    "ig = true",
+    "cnt_width = 256",
+    "sync_depth = 0",
+    "clock = \"0 ns\"",
+    "nan",
+    "inf",
+    "\u{10ffff}",
+    "é",
 ];
 /// FST sizes and block types (big-endian u64s, varints, block type bytes).
 const FST_TOKENS: &[&str] = &[
-    "\0", "\u{1}", "\u{3}", "\u{4}", "\u{6}", "\u{7}", "\u{8}", "\u{7f}", "\0\0\0\0\0\0\0\0", "\0\0\0\0\0\0\u{1}\u{49}",
-    "\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}", "\0\0\0\0\u{7f}\u{7f}\u{7f}\u{7f}",
+    "\0",
+    "\u{1}",
+    "\u{3}",
+    "\u{4}",
+    "\u{6}",
+    "\u{7}",
+    "\u{8}",
+    "\u{7f}",
+    "\0\0\0\0\0\0\0\0",
+    "\0\0\0\0\0\0\u{1}\u{49}",
+    "\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}\u{7f}",
+    "\0\0\0\0\u{7f}\u{7f}\u{7f}\u{7f}",
 ];
 /// regress.json, results.jsonl and coverage.json keys and values, and the part separator.
 const FOLDER_TOKENS: &[&str] = &[
-    "\0", "\n", "{", "}", "[", "]", ":", ",", "\"", "\"shard\":{\"index\":0,\"count\":0}", "\"seed\":", "\"verdict\":\"fail\"",
-    "\"failure\":null", "\"cov\":\"0:1\"", "\"runs\":[]", "\"hits\":777", "\"start_seed\":", "\"iterations\":", "\"directed\":true",
-    "18446744073709551615", "1000000000000", "0", "-1", "1e3", "null", "true", "\"fa{",
+    "\0",
+    "\n",
+    "{",
+    "}",
+    "[",
+    "]",
+    ":",
+    ",",
+    "\"",
+    "\"shard\":{\"index\":0,\"count\":0}",
+    "\"seed\":",
+    "\"verdict\":\"fail\"",
+    "\"failure\":null",
+    "\"cov\":\"0:1\"",
+    "\"runs\":[]",
+    "\"hits\":777",
+    "\"start_seed\":",
+    "\"iterations\":",
+    "\"directed\":true",
+    "18446744073709551615",
+    "1000000000000",
+    "0",
+    "-1",
+    "1e3",
+    "null",
+    "true",
+    "\"fa{",
 ];
-const DUR_TOKENS: &[&str] = &["s", "ms", "us", "µs", "ns", ".", "-", "+", " ", "0", "9", "18446744073709551615", "000000000"];
+const DUR_TOKENS: &[&str] = &[
+    "s",
+    "ms",
+    "us",
+    "µs",
+    "ns",
+    ".",
+    "-",
+    "+",
+    " ",
+    "0",
+    "9",
+    "18446744073709551615",
+    "000000000",
+];
 
 /// xorshift64*: small, seeded, reproducible.
 struct Rng(u64);
@@ -71,7 +191,9 @@ fn root() -> PathBuf {
 }
 
 fn files_in(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let Ok(rd) = std::fs::read_dir(dir) else { return Vec::new() };
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
     let mut v: Vec<(String, Vec<u8>)> = rd
         .filter_map(|e| e.ok())
         .map(|e| e.path())
@@ -95,7 +217,9 @@ fn run_one(target: &str, what: &str, body: Body, data: &[u8]) {
     }
     let dir = root().join("target/fuzz-replay-failures");
     std::fs::create_dir_all(&dir).unwrap();
-    let h = data.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(*b)).wrapping_mul(0x100_0000_01b3));
+    let h = data.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ u64::from(*b)).wrapping_mul(0x100_0000_01b3)
+    });
     let path = dir.join(format!("{target}-{h:016x}"));
     std::fs::write(&path, data).unwrap();
     panic!("fuzz target `{target}` fails on {what}; input saved as {} (replay: cargo +nightly fuzz run {target} {})", path.display(), path.display());
@@ -147,7 +271,10 @@ fn mutate(rng: &mut Rng, base: &[u8], other: &[u8], tokens: &[&str]) -> Vec<u8> 
 #[test]
 fn every_target_has_seeds() {
     for (t, _, _) in TARGETS {
-        assert!(corpus(t).len() >= 3, "fuzz/seeds/{t} has fewer than 3 seeds");
+        assert!(
+            corpus(t).len() >= 3,
+            "fuzz/seeds/{t} has fewer than 3 seeds"
+        );
     }
 }
 
@@ -156,14 +283,22 @@ fn vcd_seeds_hold_every_malformed_shape_and_the_valid_sample() {
     // PMU50_UPDATE_SEEDS=1 rewrites them from pmu50_waves::fuzzing
     let dir = root().join("fuzz/seeds/vcd_diff");
     let update = std::env::var_os("PMU50_UPDATE_SEEDS").is_some();
-    let mut want: Vec<(String, &[u8])> = MALFORMED.iter().map(|m| (format!("malformed-{}.vcd", m.name), m.vcd)).collect();
+    let mut want: Vec<(String, &[u8])> = MALFORMED
+        .iter()
+        .map(|m| (format!("malformed-{}.vcd", m.name), m.vcd))
+        .collect();
     want.push(("valid-sample.vcd".into(), VALID_SAMPLE));
     for (name, bytes) in want {
         let p = dir.join(&name);
         if update {
             std::fs::write(&p, bytes).unwrap();
         }
-        assert_eq!(std::fs::read(&p).ok().as_deref(), Some(bytes), "{} differs from pmu50_waves::fuzzing (PMU50_UPDATE_SEEDS=1 rewrites it)", p.display());
+        assert_eq!(
+            std::fs::read(&p).ok().as_deref(),
+            Some(bytes),
+            "{} differs from pmu50_waves::fuzzing (PMU50_UPDATE_SEEDS=1 rewrites it)",
+            p.display()
+        );
     }
 }
 
@@ -181,7 +316,10 @@ fn seeds_and_regressions_replay_cleanly() {
 
 #[test]
 fn bounded_random_pass_finds_no_crash() {
-    let seed: u64 = std::env::var("FUZZ_REPLAY_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(0x5eed_0050);
+    let seed: u64 = std::env::var("FUZZ_REPLAY_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0x5eed_0050);
     for (i, (t, body, iters)) in TARGETS.into_iter().enumerate() {
         let inputs = corpus(t);
         let tokens = match t {

@@ -16,7 +16,12 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 fn scenario(name: &str) -> Scenario {
-    Scenario::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios").join(format!("{name}.toml"))).unwrap()
+    Scenario::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenarios")
+            .join(format!("{name}.toml")),
+    )
+    .unwrap()
 }
 
 fn tmp(tag: &str) -> PathBuf {
@@ -36,7 +41,10 @@ struct Recorder {
 
 impl Recorder {
     fn record(&mut self, v: &TickView<'_>) {
-        let s = pmu50_core::pmu50::Structural { sync_depth: self.sync_depth, cnt_width: self.cnt_width };
+        let s = pmu50_core::pmu50::Structural {
+            sync_depth: self.sync_depth,
+            cnt_width: self.cnt_width,
+        };
         let mut m = BTreeMap::new();
         for (n, _, val) in v.ports.values(&s) {
             m.insert(format!("pmu50.{n}"), val);
@@ -61,7 +69,9 @@ impl Observer for Recorder {
 
 fn bits_to_u64(v: &Value) -> u64 {
     match v {
-        Value::Bits(b) => u64::from_str_radix(b, 2).unwrap_or_else(|_| panic!("non-binary value {b}")),
+        Value::Bits(b) => {
+            u64::from_str_radix(b, 2).unwrap_or_else(|_| panic!("non-binary value {b}"))
+        }
         other => panic!("expected bits, got {other:?}"),
     }
 }
@@ -70,11 +80,18 @@ fn bits_to_u64(v: &Value) -> u64 {
 fn run_and_read_back(name: &str) -> (String, String) {
     let sc = scenario(name);
     let dir = tmp(name);
-    let mut rec = Recorder { cnt_width: sc.params.cnt_width, sync_depth: sc.params.sync_depth, ..Default::default() };
+    let mut rec = Recorder {
+        cnt_width: sc.params.cnt_width,
+        sync_depth: sc.params.sync_depth,
+        ..Default::default()
+    };
     let (res, w) = run_to_files(&sc, &dir, FileOptions::default(), &mut [&mut rec]).unwrap();
     assert!(res.passed(), "{:?}", res.checks);
     let wave = Waveform::open(&w.vcd).unwrap();
-    assert_eq!(wave.timescale().map(|t| t.to_string()), Some("1 us".to_string()));
+    assert_eq!(
+        wave.timescale().map(|t| t.to_string()),
+        Some("1 us".to_string())
+    );
     let paths: Vec<String> = rec.rows[0].1.keys().cloned().collect();
     for path in &paths {
         let changes = wave.changes(path).unwrap_or_else(|e| panic!("{e}"));
@@ -85,7 +102,12 @@ fn run_and_read_back(name: &str) -> (String, String) {
                 cur = Some(bits_to_u64(&changes[i].1));
                 i += 1;
             }
-            assert_eq!(cur, Some(vals[path]), "{name}: {path} at {t} us: VCD says {cur:?}, model produced {}", vals[path]);
+            assert_eq!(
+                cur,
+                Some(vals[path]),
+                "{name}: {path} at {t} us: VCD says {cur:?}, model produced {}",
+                vals[path]
+            );
         }
     }
     let vcd = std::fs::read_to_string(&w.vcd).unwrap();
@@ -123,7 +145,16 @@ fn golden_fig16() {
 fn golden_svg(name: &str) {
     let sc = scenario(name);
     let dir = tmp(&format!("svg-{name}"));
-    let (res, w) = pmu50::output::run_to_files(&sc, &dir, FileOptions { svg: true, ..FileOptions::default() }, &mut []).unwrap();
+    let (res, w) = pmu50::output::run_to_files(
+        &sc,
+        &dir,
+        FileOptions {
+            svg: true,
+            ..FileOptions::default()
+        },
+        &mut [],
+    )
+    .unwrap();
     let ws = w.svg.unwrap();
     let svg = std::fs::read_to_string(&ws.svg).unwrap();
     let csv = std::fs::read_to_string(&ws.csv).unwrap();
@@ -139,7 +170,11 @@ fn golden_svg(name: &str) {
             _ => None,
         })
         .collect();
-    let signs: Vec<String> = csv.lines().filter(|l| l.ends_with(",100") || l.ends_with(",101")).map(|l| format!("{},{}", &l[..l.find(',').unwrap()], &l[l.len() - 3..])).collect();
+    let signs: Vec<String> = csv
+        .lines()
+        .filter(|l| l.ends_with(",100") || l.ends_with(",101"))
+        .map(|l| format!("{},{}", &l[..l.find(',').unwrap()], &l[l.len() - 3..]))
+        .collect();
     assert!(!detected.is_empty(), "{name}: no rotation detected");
     assert_eq!(signs, detected, "{name}: {csv}");
     insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false, omit_expression => true }, {
@@ -167,7 +202,16 @@ fn same_scenario_gives_byte_identical_files() {
     let sc = scenario("fig15b");
     let (a, b) = (tmp("det-a"), tmp("det-b"));
     for d in [&a, &b] {
-        run_to_files(&sc, d, FileOptions { log: true, ..FileOptions::default() }, &mut []).unwrap();
+        run_to_files(
+            &sc,
+            d,
+            FileOptions {
+                log: true,
+                ..FileOptions::default()
+            },
+            &mut [],
+        )
+        .unwrap();
     }
     for ext in ["vcd", "gtkw", "log"] {
         let fa = std::fs::read(a.join(format!("fig15b.{ext}"))).unwrap();
@@ -179,7 +223,11 @@ fn same_scenario_gives_byte_identical_files() {
 }
 
 fn tool(name: &str) -> Option<PathBuf> {
-    std::env::var_os("PATH").and_then(|p| std::env::split_paths(&p).map(|d| d.join(name)).find(|f| f.is_file()))
+    std::env::var_os("PATH").and_then(|p| {
+        std::env::split_paths(&p)
+            .map(|d| d.join(name))
+            .find(|f| f.is_file())
+    })
 }
 
 /// GTKWave's loader (vcd2lxt2) reads every shipped scenario's VCD, full and windowed, with
@@ -187,12 +235,19 @@ fn tool(name: &str) -> Option<PathBuf> {
 #[test]
 fn gtkwave_loader_reads_every_shipped_vcd_without_a_warning() {
     let Some(conv) = tool("vcd2lxt2") else {
-        assert!(std::env::var_os("PMU50_ALLOW_MISSING_TOOLS").is_some(), "vcd2lxt2 (Debian package gtkwave) is not installed; `make test` installs it");
+        assert!(
+            std::env::var_os("PMU50_ALLOW_MISSING_TOOLS").is_some(),
+            "vcd2lxt2 (Debian package gtkwave) is not installed; `make test` installs it"
+        );
         return;
     };
     let dir = tmp("gtkwave");
     let scen = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&scen).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|x| x == "toml")).collect();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&scen)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
     files.sort();
     assert!(files.len() >= 7);
     for p in files {
@@ -204,14 +259,38 @@ fn gtkwave_loader_reads_every_shipped_vcd_without_a_warning() {
         let half = sc.ticks / 2;
         for (tag, window) in [("full", None), ("window", Some((half / 2, half)))] {
             let d = dir.join(tag);
-            let (_, w) = run_to_files(&sc, &d, FileOptions { window, ..FileOptions::default() }, &mut []).unwrap();
+            let (_, w) = run_to_files(
+                &sc,
+                &d,
+                FileOptions {
+                    window,
+                    ..FileOptions::default()
+                },
+                &mut [],
+            )
+            .unwrap();
             let lxt = d.join(format!("{}.lxt", sc.name));
-            let out = std::process::Command::new(&conv).arg(&w.vcd).arg(&lxt).output().unwrap();
+            let out = std::process::Command::new(&conv)
+                .arg(&w.vcd)
+                .arg(&lxt)
+                .output()
+                .unwrap();
             let stderr = String::from_utf8_lossy(&out.stderr);
             // The converter echoes the file names (one of which contains "error"): drop them first.
-            let stdout = String::from_utf8_lossy(&out.stdout).replace(&*w.vcd.to_string_lossy(), "VCD").replace(&*lxt.to_string_lossy(), "LXT").to_lowercase();
-            assert!(out.status.success() && stderr.trim().is_empty(), "{}: vcd2lxt2 said: {stderr}", w.vcd.display());
-            assert!(!stdout.contains("warning") && !stdout.contains("error"), "{}: {stdout}", w.vcd.display());
+            let stdout = String::from_utf8_lossy(&out.stdout)
+                .replace(&*w.vcd.to_string_lossy(), "VCD")
+                .replace(&*lxt.to_string_lossy(), "LXT")
+                .to_lowercase();
+            assert!(
+                out.status.success() && stderr.trim().is_empty(),
+                "{}: vcd2lxt2 said: {stderr}",
+                w.vcd.display()
+            );
+            assert!(
+                !stdout.contains("warning") && !stdout.contains("error"),
+                "{}: {stdout}",
+                w.vcd.display()
+            );
             assert!(std::fs::metadata(&lxt).unwrap().len() > 0);
         }
     }
@@ -222,9 +301,23 @@ fn gtkwave_loader_reads_every_shipped_vcd_without_a_warning() {
 fn windowed_vcd_holds_only_the_window() {
     let sc = scenario("fig16");
     let dir = tmp("win");
-    let (_, w) = run_to_files(&sc, &dir, FileOptions { window: Some((5_000, 6_000)), ..FileOptions::default() }, &mut []).unwrap();
+    let (_, w) = run_to_files(
+        &sc,
+        &dir,
+        FileOptions {
+            window: Some((5_000, 6_000)),
+            ..FileOptions::default()
+        },
+        &mut [],
+    )
+    .unwrap();
     let wave = Waveform::open(&w.vcd).unwrap();
     let tmr = wave.changes("pmu50.timing_generator.tmr").unwrap();
-    assert!(tmr.first().unwrap().0 >= 50_000 && tmr.last().unwrap().0 <= 60_000, "{:?}..{:?}", tmr.first(), tmr.last());
+    assert!(
+        tmr.first().unwrap().0 >= 50_000 && tmr.last().unwrap().0 <= 60_000,
+        "{:?}..{:?}",
+        tmr.first(),
+        tmr.last()
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -41,22 +41,50 @@ fn snapshot(d: &Path) -> BTreeMap<String, Vec<u8>> {
     std::fs::read_dir(d)
         .unwrap()
         .map(|e| e.unwrap())
-        .filter(|e| e.file_type().unwrap().is_file() && !e.file_name().to_string_lossy().ends_with(".tmp"))
-        .map(|e| (e.file_name().to_string_lossy().into_owned(), std::fs::read(e.path()).unwrap()))
+        .filter(|e| {
+            e.file_type().unwrap().is_file() && !e.file_name().to_string_lossy().ends_with(".tmp")
+        })
+        .map(|e| {
+            (
+                e.file_name().to_string_lossy().into_owned(),
+                std::fs::read(e.path()).unwrap(),
+            )
+        })
         .collect()
 }
 
 fn temporaries(d: &Path) -> Vec<String> {
-    std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).filter(|n| n.ends_with(".tmp")).collect()
+    std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect()
 }
 
 /// Previous outputs of `victim` in `out`: a complete short run with `--log`.
 fn previous_outputs(work: &Path, out: &Path) -> BTreeMap<String, Vec<u8>> {
     let short = scenario(work, "short.toml", "20 ms");
-    let o = Command::new(BIN).args(["run", short.to_str().unwrap(), "--log", "--out-dir", out.to_str().unwrap()]).output().unwrap();
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = Command::new(BIN)
+        .args([
+            "run",
+            short.to_str().unwrap(),
+            "--log",
+            "--out-dir",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let snap = snapshot(out);
-    assert_eq!(snap.keys().collect::<Vec<_>>(), ["victim.gtkw", "victim.log", "victim.vcd"]);
+    assert_eq!(
+        snap.keys().collect::<Vec<_>>(),
+        ["victim.gtkw", "victim.log", "victim.vcd"]
+    );
     snap
 }
 
@@ -72,13 +100,23 @@ impl Rng {
 }
 
 fn seed() -> u64 {
-    SystemTime::now().duration_since(UNIX_EPOCH).map(|d| d.as_nanos() as u64).unwrap_or(1) | 1
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map(|d| d.as_nanos() as u64)
+        .unwrap_or(1)
+        | 1
 }
 
 /// Start the long run and wait until it is writing (a temporary file exists), plus `extra`.
 fn start_long(long: &Path, out: &Path, extra: Duration, ctx: &str) -> Child {
     let mut child = Command::new(BIN)
-        .args(["run", long.to_str().unwrap(), "--log", "--out-dir", out.to_str().unwrap()])
+        .args([
+            "run",
+            long.to_str().unwrap(),
+            "--log",
+            "--out-dir",
+            out.to_str().unwrap(),
+        ])
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
@@ -86,18 +124,30 @@ fn start_long(long: &Path, out: &Path, extra: Duration, ctx: &str) -> Child {
     let t0 = Instant::now();
     let mine = format!(".{}.", child.id());
     while !temporaries(out).iter().any(|t| t.contains(&mine)) {
-        assert!(t0.elapsed() < Duration::from_secs(30), "{ctx}: no temporary file appeared within 30 s");
-        assert!(child.try_wait().unwrap().is_none(), "{ctx}: the run ended before writing");
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "{ctx}: no temporary file appeared within 30 s"
+        );
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "{ctx}: the run ended before writing"
+        );
         std::thread::sleep(Duration::from_millis(2));
     }
     std::thread::sleep(extra);
-    assert!(child.try_wait().unwrap().is_none(), "{ctx}: the run finished before the signal: the scenario must be longer");
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "{ctx}: the run finished before the signal: the scenario must be longer"
+    );
     child
 }
 
 /// The shell's `kill` builtin (a fresh Debian has no /usr/bin/kill without procps).
 fn kill(pid: u32, sig: &str) {
-    let st = Command::new("sh").args(["-c", &format!("kill -s {sig} {pid}")]).status().unwrap();
+    let st = Command::new("sh")
+        .args(["-c", &format!("kill -s {sig} {pid}")])
+        .status()
+        .unwrap();
     assert!(st.success(), "kill -s {sig} {pid} failed");
 }
 
@@ -124,26 +174,60 @@ fn interrupt(sig: &str, want_code: Option<i32>, rounds: usize) {
             Some(c) => {
                 assert_eq!(st.code(), Some(c), "{ctx}: exit status {st:?}\n{stderr}");
                 assert!(!stderr.contains("panicked"), "{ctx}: {stderr}");
-                assert_eq!(temporaries(&out), Vec::<String>::new(), "{ctx}: temporary files left behind");
+                assert_eq!(
+                    temporaries(&out),
+                    Vec::<String>::new(),
+                    "{ctx}: temporary files left behind"
+                );
             }
             None => {
                 assert_eq!(st.signal(), Some(9), "{ctx}: {st:?}");
                 // SIGKILL: stray temporary files are allowed (the run was writing when killed) ...
-                assert!(!temporaries(&out).is_empty(), "{ctx}: a killed run leaves its temporary files");
+                assert!(
+                    !temporaries(&out).is_empty(),
+                    "{ctx}: a killed run leaves its temporary files"
+                );
             }
         }
         let after = snapshot(&out);
-        assert_eq!(after.keys().collect::<Vec<_>>(), before.keys().collect::<Vec<_>>(), "{ctx}");
+        assert_eq!(
+            after.keys().collect::<Vec<_>>(),
+            before.keys().collect::<Vec<_>>(),
+            "{ctx}"
+        );
         for (k, v) in &before {
-            assert!(after[k] == *v, "{ctx}: {k} changed ({} -> {} bytes)", v.len(), after[k].len());
+            assert!(
+                after[k] == *v,
+                "{ctx}: {k} changed ({} -> {} bytes)",
+                v.len(),
+                after[k].len()
+            );
         }
     }
     if want_code.is_none() {
         // ... and the next run that writes the same outputs removes them.
         let short = work.join("short.toml");
-        let o = Command::new(BIN).args(["run", short.to_str().unwrap(), "--log", "--out-dir", out.to_str().unwrap()]).output().unwrap();
-        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
-        assert_eq!(temporaries(&out), Vec::<String>::new(), "strays of killed runs are removed by the next run");
+        let o = Command::new(BIN)
+            .args([
+                "run",
+                short.to_str().unwrap(),
+                "--log",
+                "--out-dir",
+                out.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert_eq!(
+            temporaries(&out),
+            Vec::<String>::new(),
+            "strays of killed runs are removed by the next run"
+        );
     }
     std::fs::remove_dir_all(&work).ok();
 }
@@ -167,9 +251,20 @@ fn sigkill_mid_run_never_damages_a_final_file() {
 fn in_private_mount_ns(script: &str) -> std::process::Output {
     let mut last = String::new();
     for args in [&["-rm"][..], &["-m"][..]] {
-        match Command::new("unshare").args(args).args(["sh", "-c", script]).output() {
+        match Command::new("unshare")
+            .args(args)
+            .args(["sh", "-c", script])
+            .output()
+        {
             Ok(o) if String::from_utf8_lossy(&o.stdout).contains("MOUNTED") => return o,
-            Ok(o) => last = format!("unshare {args:?}: {:?}\n{}{}", o.status, String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr)),
+            Ok(o) => {
+                last = format!(
+                    "unshare {args:?}: {:?}\n{}{}",
+                    o.status,
+                    String::from_utf8_lossy(&o.stdout),
+                    String::from_utf8_lossy(&o.stderr)
+                )
+            }
             Err(e) => last = format!("unshare {args:?}: {e}"),
         }
     }
@@ -204,15 +299,30 @@ fn disk_full_keeps_previous_outputs_and_removes_temporaries() {
     let o = in_private_mount_ns(&script);
     let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
     let stderr = std::fs::read_to_string(after.join("stderr.txt")).unwrap_or_default();
-    assert!(stdout.contains("RC=2"), "the run must fail with exit 2 on a full disk:\n{stdout}\n{stderr}");
+    assert!(
+        stdout.contains("RC=2"),
+        "the run must fail with exit 2 on a full disk:\n{stdout}\n{stderr}"
+    );
     assert!(stderr.contains("No space left on device"), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
     std::fs::remove_file(after.join("stderr.txt")).unwrap();
-    assert_eq!(temporaries(&after), Vec::<String>::new(), "temporary files left on the full disk");
+    assert_eq!(
+        temporaries(&after),
+        Vec::<String>::new(),
+        "temporary files left on the full disk"
+    );
     let got = snapshot(&after);
-    assert_eq!(got.keys().collect::<Vec<_>>(), before.keys().collect::<Vec<_>>());
+    assert_eq!(
+        got.keys().collect::<Vec<_>>(),
+        before.keys().collect::<Vec<_>>()
+    );
     for (k, v) in &before {
-        assert!(got[k] == *v, "{k} changed ({} -> {} bytes)", v.len(), got[k].len());
+        assert!(
+            got[k] == *v,
+            "{k} changed ({} -> {} bytes)",
+            v.len(),
+            got[k].len()
+        );
     }
     std::fs::remove_dir_all(&work).ok();
 }

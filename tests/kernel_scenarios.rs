@@ -23,13 +23,39 @@ struct SpecLockstep {
 impl SpecLockstep {
     fn check(&self, v: &TickView<'_>, what: &str) -> Result<(), SimError> {
         if self.spec.tick() != v.tick {
-            return Err(SimError::observer("kernel against the specification model", format!("{}: spec at tick {}, simulator at {} ({what})", self.name, self.spec.tick(), v.tick)));
+            return Err(SimError::observer(
+                "kernel against the specification model",
+                format!(
+                    "{}: spec at tick {}, simulator at {} ({what})",
+                    self.name,
+                    self.spec.tick(),
+                    v.tick
+                ),
+            ));
         }
         if self.spec.regs() != v.regs {
-            return Err(SimError::observer("kernel against the specification model", format!("{}: registers differ at tick {} ({what}):\nkernel {:?}\nspec   {:?}", self.name, v.tick, v.regs, self.spec.regs())));
+            return Err(SimError::observer(
+                "kernel against the specification model",
+                format!(
+                    "{}: registers differ at tick {} ({what}):\nkernel {:?}\nspec   {:?}",
+                    self.name,
+                    v.tick,
+                    v.regs,
+                    self.spec.regs()
+                ),
+            ));
         }
         if self.spec.peek() != *v.ports {
-            return Err(SimError::observer("kernel against the specification model", format!("{}: outputs differ at tick {} ({what}):\nkernel {:?}\nspec   {:?}", self.name, v.tick, v.ports, self.spec.peek())));
+            return Err(SimError::observer(
+                "kernel against the specification model",
+                format!(
+                    "{}: outputs differ at tick {} ({what}):\nkernel {:?}\nspec   {:?}",
+                    self.name,
+                    v.tick,
+                    v.ports,
+                    self.spec.peek()
+                ),
+            ));
         }
         Ok(())
     }
@@ -40,7 +66,13 @@ impl Observer for SpecLockstep {
         self.check(v, "before the edge")?;
         let pmu50_core::TracedStep { internals, .. } = self.spec.step_traced(v.inputs);
         if internals != *v.internals {
-            return Err(SimError::observer("kernel against the specification model", format!("{}: internals differ in cycle {}:\nkernel {:?}\nspec   {:?}", self.name, v.tick, v.internals, internals)));
+            return Err(SimError::observer(
+                "kernel against the specification model",
+                format!(
+                    "{}: internals differ in cycle {}:\nkernel {:?}\nspec   {:?}",
+                    self.name, v.tick, v.internals, internals
+                ),
+            ));
         }
         self.ticks += 1;
         Ok(())
@@ -51,8 +83,19 @@ impl Observer for SpecLockstep {
 }
 
 fn lockstep(sc: &Scenario) -> u64 {
-    let mut obs = SpecLockstep { spec: Pmu50Spec::new(sc.params).unwrap(), name: sc.name.clone(), ticks: 0 };
-    let r = run(sc, SimOptions { fast_forward: false }, &mut [&mut obs]).unwrap_or_else(|e| panic!("{e}"));
+    let mut obs = SpecLockstep {
+        spec: Pmu50Spec::new(sc.params).unwrap(),
+        name: sc.name.clone(),
+        ticks: 0,
+    };
+    let r = run(
+        sc,
+        SimOptions {
+            fast_forward: false,
+        },
+        &mut [&mut obs],
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(obs.ticks, sc.ticks, "{}: every tick compared", sc.name);
     assert_eq!(r.final_regs, *obs.spec.regs());
     obs.ticks
@@ -63,7 +106,11 @@ fn shipped_and_directed_scenarios() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut n = 0;
     for dir in ["scenarios", "hdl/scenarios"] {
-        let mut files: Vec<_> = std::fs::read_dir(root.join(dir)).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
+        let mut files: Vec<_> = std::fs::read_dir(root.join(dir))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+            .collect();
         files.sort();
         for f in files {
             let sc = Scenario::load(&f).unwrap_or_else(|e| panic!("{e}"));
@@ -86,7 +133,13 @@ fn cosim_random_scenarios_seeds_1_to_200() {
     for seed in 1..=200u64 {
         let text = random_scenario(seed);
         let name = format!("random_{seed}");
-        let sc = Scenario::parse(&text, &format!("{name}.toml"), &name, Path::new(&format!("{name}.toml"))).unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        let sc = Scenario::parse(
+            &text,
+            &format!("{name}.toml"),
+            &name,
+            Path::new(&format!("{name}.toml")),
+        )
+        .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
         total += lockstep(&sc);
     }
     assert!(total > 200 * 20_000);

@@ -7,11 +7,17 @@ use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
 use std::path::Path;
 
 fn load(name: &str) -> Scenario {
-    Scenario::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios").join(format!("{name}.toml"))).unwrap()
+    Scenario::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenarios")
+            .join(format!("{name}.toml")),
+    )
+    .unwrap()
 }
 
 fn parse(text: &str) -> Scenario {
-    Scenario::parse(text, "inline.toml", "inline", Path::new("inline.toml")).unwrap_or_else(|e| panic!("{e}"))
+    Scenario::parse(text, "inline.toml", "inline", Path::new("inline.toml"))
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn sim(sc: &Scenario) -> RunResult {
@@ -60,26 +66,51 @@ fn fig15a_cs_then_cc_shortens_6_6_to_4_4_to_2_2() {
 fn fig15b_15c_a_second_change_of_the_same_sign_does_not_shorten_again() {
     let r = sim(&load("fig15b"));
     let rows = r.pulses.rows();
-    let first = rows.iter().position(|p| p.fig18 == Fig18::S23DetectedCs).expect("Cs change");
-    let again = rows.iter().position(|p| p.fig18 == Fig18::S21CsRepeat).expect("Cs changes back");
+    let first = rows
+        .iter()
+        .position(|p| p.fig18 == Fig18::S23DetectedCs)
+        .expect("Cs change");
+    let again = rows
+        .iter()
+        .position(|p| p.fig18 == Fig18::S21CsRepeat)
+        .expect("Cs changes back");
     assert!(again > first);
     assert_eq!(rows[first].si, 440, "6.6 -> 4.4 ms at the first change");
     let p = &rows[again];
-    assert_eq!(p.si, 440, "no second shortening [0236]: {}", r.pulse_table());
+    assert_eq!(
+        p.si,
+        440,
+        "no second shortening [0236]: {}",
+        r.pulse_table()
+    );
     assert!(!p.cs && p.hist_s, "Cs is back at 0, history still stored");
-    assert_eq!(p.fig17, Fig17::S9Count, "not a rotation: counts as a quiet pulse");
-    assert!(r.pulses.iter().all(|p| p.si >= 440), "never below 4.4 ms in FIG. 15B");
+    assert_eq!(
+        p.fig17,
+        Fig17::S9Count,
+        "not a rotation: counts as a quiet pulse"
+    );
+    assert!(
+        r.pulses.iter().all(|p| p.si >= 440),
+        "never below 4.4 ms in FIG. 15B"
+    );
 }
 
 #[test]
 fn fig16_expands_2_2_3_3_4_4_5_5_6_6_and_stops_at_x() {
     let r = sim(&load("fig16"));
     let rows = r.pulses.rows();
-    let at_min = rows.iter().position(|p| p.si == 220).expect("reaches 2.2 ms");
+    let at_min = rows
+        .iter()
+        .position(|p| p.si == 220)
+        .expect("reaches 2.2 ms");
     let after = &rows[at_min + 1..];
     // Cth = 4: four quiet pulses count 1..4, the fifth expands by T2 = 1.1 ms, and every later
     // quiet pulse expands again until x.
-    let got: Vec<(Fig17, u8, u16)> = after.iter().take(10).map(|p| (p.fig17, p.cnt_r, p.si)).collect();
+    let got: Vec<(Fig17, u8, u16)> = after
+        .iter()
+        .take(10)
+        .map(|p| (p.fig17, p.cnt_r, p.si))
+        .collect();
     let want = vec![
         (Fig17::S9Count, 1, 220),
         (Fig17::S9Count, 2, 220),
@@ -93,7 +124,13 @@ fn fig16_expands_2_2_3_3_4_4_5_5_6_6_and_stops_at_x() {
         (Fig17::S7AtMax, 8, 660),
     ];
     assert_eq!(got, want, "{}", r.pulse_table());
-    assert!(after.iter().filter(|p| p.fig17 == Fig17::S10Expand).all(|p| !p.hist_s && !p.hist_c), "S11 clears the history");
+    assert!(
+        after
+            .iter()
+            .filter(|p| p.fig17 == Fig17::S10Expand)
+            .all(|p| !p.hist_s && !p.hist_c),
+        "S11 clears the history"
+    );
     // The interval between consecutive pulses is the interval decided at the earlier one.
     for w in after.windows(2) {
         assert_eq!(w[1].tick - w[0].tick, u64::from(w[0].si));
@@ -104,7 +141,11 @@ fn fig16_expands_2_2_3_3_4_4_5_5_6_6_and_stops_at_x() {
 fn change_at_3_3_ms_goes_to_2_2_not_below_0261_0262() {
     // FIG. 16 run, then a new quarter-turn crossing right after the first expansion to 3.3 ms.
     let base = sim(&load("fig16"));
-    let expand = base.pulses.iter().find(|p| p.fig17 == Fig17::S10Expand).expect("expansion");
+    let expand = base
+        .pulses
+        .iter()
+        .find(|p| p.fig17 == Fig17::S10Expand)
+        .expect("expansion");
     assert_eq!(expand.si, 330);
     let t_ms = expand.time_ns as f64 / 1e6;
     let hold = t_ms - 38.0 + 0.3; // the fig16 motion ends at 38 ms
@@ -123,25 +164,44 @@ segments = [
     );
     let r = sim(&parse(&text));
     let rows = r.pulses.rows();
-    let i = rows.iter().position(|p| p.fig17 == Fig17::S10Expand).unwrap();
+    let i = rows
+        .iter()
+        .position(|p| p.fig17 == Fig17::S10Expand)
+        .unwrap();
     let p = &rows[i + 1];
     assert_eq!(rows[i].si, 330);
-    assert_eq!((p.fig17, p.si), (Fig17::S6Shorten, 220), "3.3 ms - T1 clamps at the 2.2 ms minimum: {}", r.pulse_table());
+    assert_eq!(
+        (p.fig17, p.si),
+        (Fig17::S6Shorten, 220),
+        "3.3 ms - T1 clamps at the 2.2 ms minimum: {}",
+        r.pulse_table()
+    );
 }
 
 #[test]
 fn first_embodiment_keeps_the_fixed_cycle() {
     let r = sim(&load("first_embodiment"));
     assert!(!r.pulses.is_empty());
-    assert!(r.pulses.iter().all(|p| p.si == 660 && p.fig17 == Fig17::Fixed), "{}", r.pulse_table());
-    assert!(r.final_ports.cnt_s != 0 || r.final_ports.cnt_c != 0, "the counters still count");
+    assert!(
+        r.pulses
+            .iter()
+            .all(|p| p.si == 660 && p.fig17 == Fig17::Fixed),
+        "{}",
+        r.pulse_table()
+    );
+    assert!(
+        r.final_ports.cnt_s != 0 || r.final_ports.cnt_c != 0,
+        "the counters still count"
+    );
     assert!(r.passed(), "{:?}", r.checks);
 }
 
 fn parked(x: &str, cycles: u64) -> RunResult {
     let x_ms: f64 = x.trim_end_matches(" ms").parse().unwrap();
     let dur_us = (x_ms * 1000.0).round() as u64 * cycles;
-    sim(&parse(&format!("duration = \"{dur_us} us\"\n[core]\nadaptive = false\nx = \"{x}\"\n")))
+    sim(&parse(&format!(
+        "duration = \"{dur_us} us\"\n[core]\nadaptive = false\nx = \"{x}\"\n"
+    )))
 }
 
 #[test]
@@ -169,8 +229,17 @@ vs2_fault = true
     ));
     let faulted: Vec<PulseRow> = r.pulses.iter().filter(|p| p.time_ns > 5_000_000).collect();
     assert!(!faulted.is_empty());
-    assert!(faulted.iter().all(|p| p.fig17 == Fig17::S1NoRise && p.si == 660 && p.cnt_r == 0), "{}", r.pulse_table());
-    assert!(!r.final_ports.cs && !r.final_ports.cc, "Cs/Cc keep the last sampled values (third quadrant)");
+    assert!(
+        faulted
+            .iter()
+            .all(|p| p.fig17 == Fig17::S1NoRise && p.si == 660 && p.cnt_r == 0),
+        "{}",
+        r.pulse_table()
+    );
+    assert!(
+        !r.final_ports.cs && !r.final_ports.cc,
+        "Cs/Cc keep the last sampled values (third quadrant)"
+    );
 }
 
 #[test]
@@ -178,7 +247,10 @@ fn keyoff_turns_read_out_gives_the_true_angle() {
     let r = sim(&load("keyoff_turns"));
     assert_eq!(r.keyons.len(), 2);
     let k = &r.keyons[1];
-    assert_eq!(k.readout.nr, 1, "two turns forward and one back: one turn on");
+    assert_eq!(
+        k.readout.nr, 1,
+        "two turns forward and one back: one turn on"
+    );
     assert!(k.error_deg.abs() <= 0.05, "{k:?}");
     assert!(!k.diag && !k.theta_abnormal);
     assert!(r.passed(), "{:?}", r.checks);
@@ -190,9 +262,21 @@ fn threshold_error_is_corrected_by_equations_1_and_2() {
     let r = sim(&load("threshold_error"));
     assert_eq!(r.keyons.len(), 3);
     let (a, b) = (&r.keyons[1].readout, &r.keyons[2].readout);
-    assert_eq!((a.quadrant_diff, a.equation), (-1, QuadrantEquation::Eq1), "Cs falls late after 180 deg: CNT one short");
-    assert_eq!((b.quadrant_diff, b.equation), (1, QuadrantEquation::Eq2), "Cs rises early before 360 deg: Q1 fourth, Q2 first");
-    assert!(r.keyons.iter().all(|k| k.error_deg.abs() <= 0.05), "{:?}", r.keyons);
+    assert_eq!(
+        (a.quadrant_diff, a.equation),
+        (-1, QuadrantEquation::Eq1),
+        "Cs falls late after 180 deg: CNT one short"
+    );
+    assert_eq!(
+        (b.quadrant_diff, b.equation),
+        (1, QuadrantEquation::Eq2),
+        "Cs rises early before 360 deg: Q1 fourth, Q2 first"
+    );
+    assert!(
+        r.keyons.iter().all(|k| k.error_deg.abs() <= 0.05),
+        "{:?}",
+        r.keyons
+    );
 }
 
 #[test]
@@ -200,8 +284,14 @@ fn too_fast_rotation_sets_quadrant_skip_and_diag() {
     let r = sim(&load("too_fast"));
     assert!(r.final_ports.quadrant_skip && r.final_ports.diag);
     let k = &r.keyons[0];
-    assert!(k.diag && k.quadrant_skip, "the MPU sees the diagnosis in STATUS");
-    assert!(k.error_deg.abs() > 90.0, "the read-out is wrong, which is why the flag exists");
+    assert!(
+        k.diag && k.quadrant_skip,
+        "the MPU sees the diagnosis in STATUS"
+    );
+    assert!(
+        k.error_deg.abs() > 90.0,
+        "the read-out is wrong, which is why the flag exists"
+    );
 }
 
 #[test]

@@ -35,13 +35,26 @@ struct Stim {
 fn to_toml(s: &Stim) -> String {
     let mut t = String::new();
     let _ = writeln!(t, "duration = \"{} us\"", s.ticks * 10);
-    let _ = writeln!(t, "[env.comparator]\nvr_err_s = {}\nvr_err_c = {}", s.vr_err.0, s.vr_err.1);
+    let _ = writeln!(
+        t,
+        "[env.comparator]\nvr_err_s = {}\nvr_err_c = {}",
+        s.vr_err.0, s.vr_err.1
+    );
     let _ = writeln!(t, "[motor]\nstart_deg = {}\nsegments = [", s.start);
     for g in &s.segs {
         if g.delta == 0.0 {
-            let _ = writeln!(t, "  {{ kind = \"hold\", duration = \"{} us\" }},", g.ticks * 10);
+            let _ = writeln!(
+                t,
+                "  {{ kind = \"hold\", duration = \"{} us\" }},",
+                g.ticks * 10
+            );
         } else {
-            let _ = writeln!(t, "  {{ kind = \"move\", duration = \"{} us\", delta_deg = {} }},", g.ticks * 10, g.delta);
+            let _ = writeln!(
+                t,
+                "  {{ kind = \"move\", duration = \"{} us\", delta_deg = {} }},",
+                g.ticks * 10,
+                g.delta
+            );
         }
     }
     t += "]\n";
@@ -53,7 +66,8 @@ fn to_toml(s: &Stim) -> String {
 
 fn sim(s: &Stim, ff: bool) -> RunResult {
     let text = to_toml(s);
-    let sc = Scenario::parse(&text, "prop.toml", "prop", Path::new("prop.toml")).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    let sc = Scenario::parse(&text, "prop.toml", "prop", Path::new("prop.toml"))
+        .unwrap_or_else(|e| panic!("{e}\n{text}"));
     run(&sc, SimOptions { fast_forward: ff }, &mut []).unwrap()
 }
 
@@ -62,26 +76,46 @@ fn sim(s: &Stim, ff: bool) -> RunResult {
 fn stim(max_deg_per_ms: f64, vr_err: f64) -> impl Strategy<Value = Stim> {
     let seg = (20u64..3_000, -1.0f64..1.0, any::<bool>()).prop_map(move |(ticks, f, hold)| Seg {
         ticks,
-        delta: if hold { 0.0 } else { (f * max_deg_per_ms * ticks as f64 / 100.0 * 1000.0).round() / 1000.0 },
+        delta: if hold {
+            0.0
+        } else {
+            (f * max_deg_per_ms * ticks as f64 / 100.0 * 1000.0).round() / 1000.0
+        },
     });
     let keys = prop::collection::vec(300u64..4_000, 1..4);
-    (0.0f64..360.0, prop::collection::vec(seg, 1..8), keys, -vr_err..=vr_err, -vr_err..=vr_err).prop_map(|(start, segs, gaps, es, ec)| {
-        // ig on at 0, then alternate off/on; the last toggle is on, followed by 500 ticks.
-        let mut keys = vec![(0u64, true)];
-        let mut t = 200u64;
-        let mut level = false;
-        for g in gaps.iter().chain(gaps.iter()) {
-            keys.push((t, level));
-            t += g;
-            level = !level;
-        }
-        if !keys.last().is_some_and(|k| k.1) {
-            keys.push((t, true));
-            t += 300;
-        }
-        let ticks = t + 500;
-        Stim { start: (start * 10.0).round() / 10.0, segs, keys, vr_err: ((es * 1000.0).round() / 1000.0, (ec * 1000.0).round() / 1000.0), ticks }
-    })
+    (
+        0.0f64..360.0,
+        prop::collection::vec(seg, 1..8),
+        keys,
+        -vr_err..=vr_err,
+        -vr_err..=vr_err,
+    )
+        .prop_map(|(start, segs, gaps, es, ec)| {
+            // ig on at 0, then alternate off/on; the last toggle is on, followed by 500 ticks.
+            let mut keys = vec![(0u64, true)];
+            let mut t = 200u64;
+            let mut level = false;
+            for g in gaps.iter().chain(gaps.iter()) {
+                keys.push((t, level));
+                t += g;
+                level = !level;
+            }
+            if !keys.last().is_some_and(|k| k.1) {
+                keys.push((t, true));
+                t += 300;
+            }
+            let ticks = t + 500;
+            Stim {
+                start: (start * 10.0).round() / 10.0,
+                segs,
+                keys,
+                vr_err: (
+                    (es * 1000.0).round() / 1000.0,
+                    (ec * 1000.0).round() / 1000.0,
+                ),
+                ticks,
+            }
+        })
 }
 
 fn counts_and_interval_invariants(r: &RunResult) -> Result<(), TestCaseError> {
@@ -157,8 +191,22 @@ proptest! {
 #[test]
 fn fast_forward_skips_most_of_a_parked_hour_fraction() {
     // 10 s parked at x = 6.6 ms: only the windows and a few ticks around them are evaluated.
-    let s = Stim { start: 10.0, segs: vec![Seg { ticks: 10, delta: 0.0 }], keys: vec![], vr_err: (0.0, 0.0), ticks: 1_000_000 };
+    let s = Stim {
+        start: 10.0,
+        segs: vec![Seg {
+            ticks: 10,
+            delta: 0.0,
+        }],
+        keys: vec![],
+        vr_err: (0.0, 0.0),
+        ticks: 1_000_000,
+    };
     let r = sim(&s, true);
     assert_eq!(r.pulses.len(), 1_000_000u64.div_ceil(660));
-    assert!(r.evaluated_ticks * 10 < r.ticks, "evaluated {} of {}", r.evaluated_ticks, r.ticks);
+    assert!(
+        r.evaluated_ticks * 10 < r.ticks,
+        "evaluated {} of {}",
+        r.evaluated_ticks,
+        r.ticks
+    );
 }

@@ -46,9 +46,17 @@ fn reported_refusals_are_exactly_the_chips() {
         let mut watch = RefusalWatch::new(&sc);
         let mut be = BusErr::default();
         sim::run(&sc, SimOptions::default(), &mut [&mut watch, &mut be]).unwrap();
-        let timeline: Vec<u64> = sc.events.iter().filter(|e| matches!(e.action, Action::Write { .. })).map(|e| e.tick).collect();
+        let timeline: Vec<u64> = sc
+            .events
+            .iter()
+            .filter(|e| matches!(e.action, Action::Write { .. }))
+            .map(|e| e.tick)
+            .collect();
         let writes: Vec<u64> = be.writes.iter().map(|w| w.0).collect();
-        assert_eq!(writes, timeline, "seed {seed}: every timeline write reaches the bus");
+        assert_eq!(
+            writes, timeline,
+            "seed {seed}: every timeline write reaches the bus"
+        );
         for &(tick, before, after) in &be.writes {
             if before {
                 continue; // sticky: a refusal would not show
@@ -63,9 +71,16 @@ fn reported_refusals_are_exactly_the_chips() {
         }
         for r in &watch.refused {
             let line = text.lines().nth(r.line - 1).unwrap_or_default();
-            assert!(line.starts_with("write = "), "seed {seed}: line {} is the write: {line}", r.line);
+            assert!(
+                line.starts_with("write = "),
+                "seed {seed}: line {} is the write: {line}",
+                r.line
+            );
         }
     }
     println!("{refused_seen} refused and {taken_seen} taken writes checked against bus_err");
-    assert!(refused_seen >= 8 && taken_seen >= 50, "both kinds occur: {refused_seen} refused, {taken_seen} taken");
+    assert!(
+        refused_seen >= 8 && taken_seen >= 50,
+        "both kinds occur: {refused_seen} refused, {taken_seen} taken"
+    );
 }

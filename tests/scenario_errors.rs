@@ -87,11 +87,27 @@ fn each_bad_input_names_file_line_and_field() {
     for (text, want) in CASES {
         let msg = err(text);
         for w in *want {
-            assert!(msg.contains(w), "message for\n{text}\n---\n{msg}\n--- lacks `{w}`");
+            assert!(
+                msg.contains(w),
+                "message for\n{text}\n---\n{msg}\n--- lacks `{w}`"
+            );
         }
         // No Rust type or internal struct names (RawCore, u8, f64, Spanned, ...).
-        for internal in ["Raw", "struct", "Spanned", "u8", "u16", "u32", "i64", "f64", "a sequence"] {
-            assert!(!msg.contains(internal), "message for\n{text}\n---\n{msg}\n--- names `{internal}`");
+        for internal in [
+            "Raw",
+            "struct",
+            "Spanned",
+            "u8",
+            "u16",
+            "u32",
+            "i64",
+            "f64",
+            "a sequence",
+        ] {
+            assert!(
+                !msg.contains(internal),
+                "message for\n{text}\n---\n{msg}\n--- names `{internal}`"
+            );
         }
     }
 }
@@ -100,7 +116,10 @@ fn each_bad_input_names_file_line_and_field() {
 fn missing_file_is_an_io_error_naming_it() {
     let e = Scenario::load(Path::new("no/such/scenario.toml")).unwrap_err();
     assert!(matches!(e, ScenarioError::Io { .. }));
-    assert!(std::error::Error::source(&e).is_some(), "the io::Error is the source");
+    assert!(
+        std::error::Error::source(&e).is_some(),
+        "the io::Error is the source"
+    );
     assert!(e.to_string().contains("no/such/scenario.toml"), "{e}");
 }
 
@@ -152,10 +171,19 @@ fn model_errors_keep_their_typed_source() {
     use std::error::Error;
     type IsKind = fn(&ModelError) -> bool;
     let cases: [(&str, IsKind); 4] = [
-        ("duration = \"10 ms\"\n[core]\nt2 = \"-1.1 ms\"", |m| matches!(m, ModelError::Duration(_))),
-        ("duration = \"10 ms\"\n[core]\npi = \"3 ms\"", |m| matches!(m, ModelError::Core(_))),
-        ("duration = \"10 ms\"\n[env.comparator]\nvr_err_s = 1.5", |m| matches!(m, ModelError::Env(_))),
-        ("duration = \"10 ms\"\n[motor]\nstart_deg = nan", |m| matches!(m, ModelError::Motor(_))),
+        ("duration = \"10 ms\"\n[core]\nt2 = \"-1.1 ms\"", |m| {
+            matches!(m, ModelError::Duration(_))
+        }),
+        ("duration = \"10 ms\"\n[core]\npi = \"3 ms\"", |m| {
+            matches!(m, ModelError::Core(_))
+        }),
+        (
+            "duration = \"10 ms\"\n[env.comparator]\nvr_err_s = 1.5",
+            |m| matches!(m, ModelError::Env(_)),
+        ),
+        ("duration = \"10 ms\"\n[motor]\nstart_deg = nan", |m| {
+            matches!(m, ModelError::Motor(_))
+        }),
     ];
     for (text, kind) in cases {
         let e = Scenario::parse(text, "bad.toml", "bad", Path::new("bad.toml")).unwrap_err();

@@ -18,11 +18,11 @@
 
 use pmu50::observers::changelog::ChangeLog;
 use pmu50::observers::markers::{Marker, MarkerObserver};
-use pmu50::output::summary;
 use pmu50::observers::timing::TimingRecorder;
+use pmu50::observers::waveform::{Level, VcdObserver, WaveFormat};
+use pmu50::output::summary;
 use pmu50::scenario::Scenario;
 use pmu50::sim::{run_with, OnBegin, RunResult, Stepping, TickView};
-use pmu50::observers::waveform::{Level, VcdObserver, WaveFormat};
 use pmu50_core::pmu50::Structural;
 use proptest::prelude::*;
 use std::fmt::Write;
@@ -33,7 +33,13 @@ fn scenarios_dir() -> PathBuf {
 }
 
 fn parse(text: &str, name: &str) -> Scenario {
-    Scenario::parse(text, &format!("{name}.toml"), name, Path::new("inline.toml")).unwrap_or_else(|e| panic!("{e}\n{text}"))
+    Scenario::parse(
+        text,
+        &format!("{name}.toml"),
+        name,
+        Path::new("inline.toml"),
+    )
+    .unwrap_or_else(|e| panic!("{e}\n{text}"))
 }
 
 /// Every output of two runs, equal (the table row by row only when `rows`).
@@ -73,7 +79,11 @@ fn tick_and_skip(sc: &Scenario) -> (RunResult, RunResult) {
 
 #[test]
 fn every_shipped_scenario_gives_the_same_summary_skipping_and_per_tick() {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(scenarios_dir()).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|x| x == "toml")).collect();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(scenarios_dir())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
     files.sort();
     let mut n = 0;
     for p in files {
@@ -95,7 +105,11 @@ fn every_shipped_scenario_gives_the_same_summary_skipping_and_per_tick() {
 /// The shipped 30-day park shortened to half a day (one day with PMU50_TEST_LONG=1, as
 /// `make test-long` runs it): the same disturbances every 6 h, key-on one second before the end.
 fn park_short() -> (Scenario, u64) {
-    let secs: u64 = if std::env::var_os("PMU50_TEST_LONG").is_some() { 86_400 } else { 43_200 };
+    let secs: u64 = if std::env::var_os("PMU50_TEST_LONG").is_some() {
+        86_400
+    } else {
+        43_200
+    };
     let text = std::fs::read_to_string(scenarios_dir().join("park_30d.toml")).unwrap();
     assert!(text.contains("duration = \"30 d\"") && text.contains("at = \"2591999 s\""));
     let text = text
@@ -114,10 +128,23 @@ fn a_parked_half_day_skipping_equals_per_tick() {
     assert!(skip.passed(), "{:?}", skip.checks);
     assert_eq!(skip.keyons.len(), 2);
     // Most of the park is skipped; the table holds a few runs per disturbance.
-    assert!(skip.skipped_ticks * 100 > sc.ticks * 99, "skipped {} of {}", skip.skipped_ticks, sc.ticks);
-    assert!(skip.pulses.runs().len() < 1_000, "{} runs", skip.pulses.runs().len());
+    assert!(
+        skip.skipped_ticks * 100 > sc.ticks * 99,
+        "skipped {} of {}",
+        skip.skipped_ticks,
+        sc.ticks
+    );
+    assert!(
+        skip.pulses.runs().len() < 1_000,
+        "{} runs",
+        skip.pulses.runs().len()
+    );
     // about one pulse every 6.6 ms
-    assert!(skip.pulses.len() > secs * 1000 / 7, "{} pulses", skip.pulses.len());
+    assert!(
+        skip.pulses.len() > secs * 1000 / 7,
+        "{} pulses",
+        skip.pulses.len()
+    );
 }
 
 #[test]
@@ -129,10 +156,24 @@ fn thirty_parked_days_pass_their_checks_with_a_bounded_table() {
     assert_eq!(r.keyons.len(), 2);
     let k = &r.keyons[1];
     // 30 days of +4 +360 -3 -270 deg a day from 37 deg.
-    assert!((k.true_deg - (r.keyons[0].true_deg + 30.0 * 91.0)).abs() < 1e-6, "{k:?}");
-    assert!(k.error_deg.abs() <= 0.05 && !k.diag && !k.theta_abnormal, "{k:?}");
-    assert!(r.pulses.runs().len() < 30 * 4 * 100, "{} runs", r.pulses.runs().len());
-    assert!(r.evaluated_ticks < 20_000_000, "evaluated {}", r.evaluated_ticks);
+    assert!(
+        (k.true_deg - (r.keyons[0].true_deg + 30.0 * 91.0)).abs() < 1e-6,
+        "{k:?}"
+    );
+    assert!(
+        k.error_deg.abs() <= 0.05 && !k.diag && !k.theta_abnormal,
+        "{k:?}"
+    );
+    assert!(
+        r.pulses.runs().len() < 30 * 4 * 100,
+        "{} runs",
+        r.pulses.runs().len()
+    );
+    assert!(
+        r.evaluated_ticks < 20_000_000,
+        "evaluated {}",
+        r.evaluated_ticks
+    );
     // The interval settles back to x = 6.6 ms after every disturbance: the key-off current is
     // close to the settled one (duty 220 us / 6.6 ms).
     let duty = r.dark.vs2_duty.unwrap();
@@ -161,14 +202,30 @@ fn park_toml(p: &Park) -> String {
     let end = on + 30_000;
     let _ = writeln!(t, "duration = \"{} us\"", end * 10);
     let x = ["2.2", "4.4", "6.6"][(p.x_ms - 1) as usize];
-    let _ = writeln!(t, "[core]\nadaptive = {}\nx = \"{x} ms\"\ncth = {}", p.adaptive, p.cth);
+    let _ = writeln!(
+        t,
+        "[core]\nadaptive = {}\nx = \"{x} ms\"\ncth = {}",
+        p.adaptive, p.cth
+    );
     let _ = writeln!(t, "[motor]\nstart_deg = {}\nsegments = [", p.start);
     for (hold, dur, delta) in &p.moves {
-        let _ = writeln!(t, "  {{ kind = \"hold\", duration = \"{} us\" }},", hold * 10);
-        let _ = writeln!(t, "  {{ kind = \"move\", duration = \"{} us\", delta_deg = {delta} }},", dur * 10);
+        let _ = writeln!(
+            t,
+            "  {{ kind = \"hold\", duration = \"{} us\" }},",
+            hold * 10
+        );
+        let _ = writeln!(
+            t,
+            "  {{ kind = \"move\", duration = \"{} us\", delta_deg = {delta} }},",
+            dur * 10
+        );
     }
     t += "]\n";
-    let mut ev: Vec<(u64, String)> = vec![(0, "ig = true".into()), (off, "ig = false".into()), (on, "ig = true".into())];
+    let mut ev: Vec<(u64, String)> = vec![
+        (0, "ig = true".into()),
+        (off, "ig = false".into()),
+        (on, "ig = true".into()),
+    ];
     if let Some((a, b)) = p.fault {
         // Both fault edges inside the run: a scenario refuses events at or after its end.
         let a = a % p.keyoff_ticks;
@@ -194,16 +251,28 @@ fn park() -> impl Strategy<Value = Park> {
         prop::option::of((0u64..300_000, 1u64..50_000)),
         200_000u64..600_000,
     )
-        .prop_map(|(adaptive, x, cth, start, moves, fault, keyoff_ticks)| Park {
-            adaptive,
-            x_ms: x,
-            cth,
-            start: (start * 10.0).round() / 10.0,
-            // At most 10 deg/ms: never a skipped quadrant at any interval up to 6.6 ms.
-            moves: moves.into_iter().map(|(h, d, a)| (h, d, ((a.clamp(-(d as f64) / 10.0, d as f64 / 10.0)) * 100.0).round() / 100.0)).collect(),
-            fault,
-            keyoff_ticks,
-        })
+        .prop_map(
+            |(adaptive, x, cth, start, moves, fault, keyoff_ticks)| Park {
+                adaptive,
+                x_ms: x,
+                cth,
+                start: (start * 10.0).round() / 10.0,
+                // At most 10 deg/ms: never a skipped quadrant at any interval up to 6.6 ms.
+                moves: moves
+                    .into_iter()
+                    .map(|(h, d, a)| {
+                        (
+                            h,
+                            d,
+                            ((a.clamp(-(d as f64) / 10.0, d as f64 / 10.0)) * 100.0).round()
+                                / 100.0,
+                        )
+                    })
+                    .collect(),
+                fault,
+                keyoff_ticks,
+            },
+        )
 }
 
 proptest! {
@@ -222,10 +291,22 @@ proptest! {
 
 #[test]
 fn a_still_park_skips_almost_everything() {
-    let p = Park { adaptive: true, x_ms: 3, cth: 4, start: 100.0, moves: vec![], fault: None, keyoff_ticks: 600_000 };
+    let p = Park {
+        adaptive: true,
+        x_ms: 3,
+        cth: 4,
+        start: 100.0,
+        moves: vec![],
+        fault: None,
+        keyoff_ticks: 600_000,
+    };
     let sc = parse(&park_toml(&p), "still");
     let (_, skip) = tick_and_skip(&sc);
-    assert!(skip.skipped_ticks * 10 > 9 * 600_000, "skipped {}", skip.skipped_ticks);
+    assert!(
+        skip.skipped_ticks * 10 > 9 * 600_000,
+        "skipped {}",
+        skip.skipped_ticks
+    );
 }
 
 /// An observer that does not need every tick: it gets the reset state at `begin` and the final
@@ -280,20 +361,50 @@ fn sim_errors_are_typed_with_their_source() {
 /// A run writing the waveform of `sc` (with the GTKWave markers' observer, as `pmu50 run`, the
 /// change log of `--log` and the timing diagram of `--svg`): its result, the waveform file's
 /// bytes, the markers, and the log followed by the diagram's CSV.
-fn traced(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: Option<(u64, u64)>) -> (RunResult, Vec<u8>, Vec<Marker>, Vec<u8>) {
+fn traced(
+    sc: &Scenario,
+    stepping: Stepping,
+    format: WaveFormat,
+    window: Option<(u64, u64)>,
+) -> (RunResult, Vec<u8>, Vec<Marker>, Vec<u8>) {
     traced_level(sc, stepping, format, window, Level::All)
 }
 
 /// [`traced`] with the signals of a trace level.
-fn traced_level(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: Option<(u64, u64)>, level: Level) -> (RunResult, Vec<u8>, Vec<Marker>, Vec<u8>) {
+fn traced_level(
+    sc: &Scenario,
+    stepping: Stepping,
+    format: WaveFormat,
+    window: Option<(u64, u64)>,
+    level: Level,
+) -> (RunResult, Vec<u8>, Vec<Marker>, Vec<u8>) {
     let dir = tempfile::tempdir().unwrap();
-    let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
+    let s = Structural {
+        sync_depth: sc.params.sync_depth,
+        cnt_width: sc.params.cnt_width,
+    };
     let core = pmu50_core::Pmu50::new(sc.params).unwrap();
-    let mut vcd = OnBegin::new(|init: &TickView<'_>| VcdObserver::create(dir.path(), &sc.name, &core, sc.clock_ns(), window, format, level, init));
+    let mut vcd = OnBegin::new(|init: &TickView<'_>| {
+        VcdObserver::create(
+            dir.path(),
+            &sc.name,
+            &core,
+            sc.clock_ns(),
+            window,
+            format,
+            level,
+            init,
+        )
+    });
     let mut marks = MarkerObserver::new(sc.clock_ns());
     let mut log = ChangeLog::new(Vec::new(), s, sc.clock_ns()).unwrap();
     let mut timing = TimingRecorder::new(sc.clock_ns(), window);
-    let r = run_with(sc, stepping, &mut [&mut vcd, &mut marks, &mut log, &mut timing]).unwrap();
+    let r = run_with(
+        sc,
+        stepping,
+        &mut [&mut vcd, &mut marks, &mut log, &mut timing],
+    )
+    .unwrap();
     let mut log = log.into_inner();
     // The timing diagram of `--svg`, as its CSV (every row and mark, and the end).
     log.extend_from_slice(timing.csv().as_bytes());
@@ -305,17 +416,31 @@ fn traced_level(sc: &Scenario, stepping: Stepping, format: WaveFormat, window: O
 
 /// The waveform of the skipping bench equals the per-tick one byte for byte, and so does
 /// everything else; returns the ticks skipped.
-fn same_waves(sc: &Scenario, format: WaveFormat, window: Option<(u64, u64)>) -> Result<u64, TestCaseError> {
+fn same_waves(
+    sc: &Scenario,
+    format: WaveFormat,
+    window: Option<(u64, u64)>,
+) -> Result<u64, TestCaseError> {
     let (tick, a, ma, la) = traced(sc, Stepping::EveryTick, format, window);
     let (skip, b, mb, lb) = traced(sc, Stepping::Periods, format, window);
     prop_assert_eq!(tick.evaluated_ticks, sc.ticks);
     same(sc, &tick, &skip, true)?;
     prop_assert_eq!(ma, mb);
     prop_assert!(la.len() > 100);
-    prop_assert!(la == lb, "{}: the change logs or timing diagrams differ:\n{}\n----\n{}", sc.name, String::from_utf8_lossy(&la), String::from_utf8_lossy(&lb));
+    prop_assert!(
+        la == lb,
+        "{}: the change logs or timing diagrams differ:\n{}\n----\n{}",
+        sc.name,
+        String::from_utf8_lossy(&la),
+        String::from_utf8_lossy(&lb)
+    );
     prop_assert!(a.len() > 100);
     if a != b {
-        let at = a.iter().zip(&b).position(|(x, y)| x != y).unwrap_or(a.len().min(b.len()));
+        let at = a
+            .iter()
+            .zip(&b)
+            .position(|(x, y)| x != y)
+            .unwrap_or(a.len().min(b.len()));
         let from = at.saturating_sub(200);
         return Err(TestCaseError::fail(format!(
             "{} {format:?} window {window:?}: waveforms differ at byte {at} of {} / {}\nper tick: {:?}\nskipping: {:?}",
@@ -334,9 +459,18 @@ fn same_waves(sc: &Scenario, format: WaveFormat, window: Option<(u64, u64)>) -> 
 #[test]
 fn shipped_scenarios_write_the_same_waveform_skipping_and_per_tick() {
     let mut skipped = 0;
-    for name in ["fig15a", "fig15b", "fig16", "first_embodiment", "keyoff_turns", "threshold_error", "too_fast"] {
+    for name in [
+        "fig15a",
+        "fig15b",
+        "fig16",
+        "first_embodiment",
+        "keyoff_turns",
+        "threshold_error",
+        "too_fast",
+    ] {
         let sc = Scenario::load(&scenarios_dir().join(format!("{name}.toml"))).unwrap();
-        skipped += same_waves(&sc, WaveFormat::Vcd, sc.vcd_window).unwrap_or_else(|e| panic!("{e}"));
+        skipped +=
+            same_waves(&sc, WaveFormat::Vcd, sc.vcd_window).unwrap_or_else(|e| panic!("{e}"));
     }
     assert!(skipped > 0);
 }
@@ -345,14 +479,29 @@ fn shipped_scenarios_write_the_same_waveform_skipping_and_per_tick() {
 fn shipped_parks_write_the_same_waveform_skipping_and_per_tick() {
     // Each park in both formats, with and without its window (two runs each: the per-tick
     // reference writes 300 000 ticks).
-    for (name, vcd_windowed) in [("park_still", false), ("park_bumps", true), ("park_ferry", false)] {
+    for (name, vcd_windowed) in [
+        ("park_still", false),
+        ("park_bumps", true),
+        ("park_ferry", false),
+    ] {
         let sc = Scenario::load(&scenarios_dir().join(format!("{name}.toml"))).unwrap();
-        assert!(sc.vcd_window.is_some(), "{name}: the shipped parks have a window");
-        let runs = if vcd_windowed { [(WaveFormat::Vcd, sc.vcd_window), (WaveFormat::Fst, None)] } else { [(WaveFormat::Vcd, None), (WaveFormat::Fst, sc.vcd_window)] };
+        assert!(
+            sc.vcd_window.is_some(),
+            "{name}: the shipped parks have a window"
+        );
+        let runs = if vcd_windowed {
+            [(WaveFormat::Vcd, sc.vcd_window), (WaveFormat::Fst, None)]
+        } else {
+            [(WaveFormat::Vcd, None), (WaveFormat::Fst, sc.vcd_window)]
+        };
         for (format, window) in runs {
             let skipped = same_waves(&sc, format, window).unwrap_or_else(|e| panic!("{e}"));
             if name == "park_still" {
-                assert!(skipped * 10 > sc.ticks * 8, "{name}: skipped {skipped} of {}", sc.ticks);
+                assert!(
+                    skipped * 10 > sc.ticks * 8,
+                    "{name}: skipped {skipped} of {}",
+                    sc.ticks
+                );
             }
         }
     }
@@ -363,12 +512,26 @@ fn shipped_parks_write_the_same_waveform_skipping_and_per_tick() {
 #[test]
 fn lower_trace_levels_write_the_same_waveform_skipping_and_per_tick() {
     let sc = Scenario::load(&scenarios_dir().join("park_bumps.toml")).unwrap();
-    for (level, format) in [(Level::Ports, WaveFormat::Vcd), (Level::Ports, WaveFormat::Fst), (Level::Registers, WaveFormat::Vcd)] {
+    for (level, format) in [
+        (Level::Ports, WaveFormat::Vcd),
+        (Level::Ports, WaveFormat::Fst),
+        (Level::Registers, WaveFormat::Vcd),
+    ] {
         let (tick, a, _, _) = traced_level(&sc, Stepping::EveryTick, format, None, level);
         let (skip, b, _, _) = traced_level(&sc, Stepping::Periods, format, None, level);
         assert_same(&sc, &tick, &skip, true);
-        assert!(skip.skipped_ticks * 2 > sc.ticks, "{level:?} {format:?}: skipped only {} of {}", skip.skipped_ticks, sc.ticks);
-        assert!(a.len() > 100 && a == b, "{level:?} {format:?}: the waveforms differ ({} / {} bytes)", a.len(), b.len());
+        assert!(
+            skip.skipped_ticks * 2 > sc.ticks,
+            "{level:?} {format:?}: skipped only {} of {}",
+            skip.skipped_ticks,
+            sc.ticks
+        );
+        assert!(
+            a.len() > 100 && a == b,
+            "{level:?} {format:?}: the waveforms differ ({} / {} bytes)",
+            a.len(),
+            b.len()
+        );
     }
 }
 
@@ -380,7 +543,11 @@ fn traced_park() -> impl Strategy<Value = (Park, WaveFormat, Option<(f64, f64)>)
         p.moves.iter_mut().for_each(|m| m.0 /= 2);
         p
     });
-    (shorter, prop_oneof![Just(WaveFormat::Vcd), Just(WaveFormat::Fst)], prop::option::of((0.0f64..1.0, 0.0f64..1.0)))
+    (
+        shorter,
+        prop_oneof![Just(WaveFormat::Vcd), Just(WaveFormat::Fst)],
+        prop::option::of((0.0f64..1.0, 0.0f64..1.0)),
+    )
 }
 
 proptest! {
@@ -403,9 +570,21 @@ proptest! {
 /// replay writes its first dump and its last change exactly where stepping does.
 #[test]
 fn a_window_inside_a_skipped_stretch_gives_the_same_waveform() {
-    let p = Park { adaptive: true, x_ms: 3, cth: 4, start: 100.0, moves: vec![(30_000, 2_000, 20.0)], fault: None, keyoff_ticks: 100_000 };
+    let p = Park {
+        adaptive: true,
+        x_ms: 3,
+        cth: 4,
+        start: 100.0,
+        moves: vec![(30_000, 2_000, 20.0)],
+        fault: None,
+        keyoff_ticks: 100_000,
+    };
     let sc = parse(&park_toml(&p), "still");
-    for (format, window) in [(WaveFormat::Vcd, (60_007, 90_013)), (WaveFormat::Fst, (60_007, 90_013)), (WaveFormat::Vcd, (75_001, 75_002))] {
+    for (format, window) in [
+        (WaveFormat::Vcd, (60_007, 90_013)),
+        (WaveFormat::Fst, (60_007, 90_013)),
+        (WaveFormat::Vcd, (75_001, 75_002)),
+    ] {
         let skipped = same_waves(&sc, format, Some(window)).unwrap_or_else(|e| panic!("{e}"));
         assert!(skipped > 60_000, "skipped {skipped}");
     }
@@ -423,7 +602,10 @@ struct Picky {
 
 impl pmu50::sim::Observer for Picky {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), pmu50::sim::SimError> {
-        assert_eq!(v.tick, self.next, "ticks in order, none twice, none left out");
+        assert_eq!(
+            v.tick, self.next,
+            "ticks in order, none twice, none left out"
+        );
         self.next += 1;
         Ok(())
     }
@@ -454,20 +636,41 @@ impl pmu50::sim::Observer for Picky {
 
 #[test]
 fn a_declined_replay_steps_on_and_every_tick_is_seen_once() {
-    let p = Park { adaptive: true, x_ms: 1, cth: 2, start: 10.0, moves: vec![(40_000, 3_000, 30.0)], fault: Some((90_000, 5_000)), keyoff_ticks: 150_000 };
+    let p = Park {
+        adaptive: true,
+        x_ms: 1,
+        cth: 2,
+        start: 10.0,
+        moves: vec![(40_000, 3_000, 30.0)],
+        fault: Some((90_000, 5_000)),
+        keyoff_ticks: 150_000,
+    };
     let sc = parse(&park_toml(&p), "picky");
     let tick = run_with(&sc, Stepping::EveryTick, &mut []).unwrap();
     for decline in [0, 5, 40, u32::MAX] {
-        let mut o = Picky { next: 0, offers: 0, decline, replayed: 0 };
+        let mut o = Picky {
+            next: 0,
+            offers: 0,
+            decline,
+            replayed: 0,
+        };
         let r = run_with(&sc, Stepping::Periods, &mut [&mut o]).unwrap();
         assert_same(&sc, &tick, &r, true);
         assert_eq!(o.next, sc.ticks);
         assert_eq!(o.replayed, r.skipped_ticks, "decline {decline}");
-        assert_eq!(r.evaluated_ticks + r.skipped_ticks, sc.ticks, "no idle gap is fast-forwarded past a waveform");
+        assert_eq!(
+            r.evaluated_ticks + r.skipped_ticks,
+            sc.ticks,
+            "no idle gap is fast-forwarded past a waveform"
+        );
         if decline == u32::MAX {
             assert_eq!(r.skipped_ticks, 0);
         } else {
-            assert!(r.skipped_ticks > 50_000, "decline {decline}: skipped {}", r.skipped_ticks);
+            assert!(
+                r.skipped_ticks > 50_000,
+                "decline {decline}: skipped {}",
+                r.skipped_ticks
+            );
         }
     }
 }
@@ -504,9 +707,22 @@ ig = false
     let sc = parse(text, "key_on_still");
     let (every, skip) = tick_and_skip(&sc);
     assert_eq!(every.keyons.len(), 2);
-    assert!(skip.evaluated_ticks * 10 < sc.ticks, "key-on periods were skipped: {} of {} ticks evaluated", skip.evaluated_ticks, sc.ticks);
+    assert!(
+        skip.evaluated_ticks * 10 < sc.ticks,
+        "key-on periods were skipped: {} of {} ticks evaluated",
+        skip.evaluated_ticks,
+        sc.ticks
+    );
     // and the waveform of every signal (the writer replays the skipped periods)
-    let short = parse(&text.replace("3.2 s", "0.9 s").replace("1.5 s", "0.5 s").replace("1.6 s", "0.6 s").replace("3.0 s", "0.8 s").replace("2.0 s", "0.7 s"), "key_on_still_short");
+    let short = parse(
+        &text
+            .replace("3.2 s", "0.9 s")
+            .replace("1.5 s", "0.5 s")
+            .replace("1.6 s", "0.6 s")
+            .replace("3.0 s", "0.8 s")
+            .replace("2.0 s", "0.7 s"),
+        "key_on_still_short",
+    );
     let skipped = same_waves(&short, WaveFormat::Vcd, None).unwrap_or_else(|e| panic!("{e}"));
     assert!(skipped > 10_000, "skipped {skipped}");
 }
@@ -536,5 +752,9 @@ ig = true
     let sc = parse(text, "key_on_dead_rail");
     let (every, skip) = tick_and_skip(&sc);
     assert_eq!(every.keyons.len(), 1);
-    assert!(skip.skipped_ticks > 40_000, "skipped {}", skip.skipped_ticks);
+    assert!(
+        skip.skipped_ticks > 40_000,
+        "skipped {}",
+        skip.skipped_ticks
+    );
 }

@@ -25,13 +25,36 @@ enum Decl {
 /// The 65 signals in the tracer's frame order (inputs, outputs, registers, internals), plus a bit
 /// `extra` outside the frame, with the widths of `decl`.
 fn declare(p: &Params, decl: Decl) -> (VcdBuilder, Vec<SigId>, SigId) {
-    let s = Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width };
+    let s = Structural {
+        sync_depth: p.sync_depth,
+        cnt_width: p.cnt_width,
+    };
     let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Us), "tracer test").unwrap();
     let mut names: Vec<(String, u8)> = Vec::new();
-    names.extend(Inputs::default().values().iter().map(|v| (format!("i_{}", v.0), v.1)));
-    names.extend(pmu50_core::pmu50::Outputs::default().values(&s).iter().map(|v| (format!("o_{}", v.0), v.1)));
-    names.extend(pmu50_core::pmu50::reset(p).values(&s).iter().map(|r| (format!("r_{}_{}", r.block, r.name), r.width)));
-    names.extend(pmu50_core::pmu50::Internals::default().values().iter().map(|v| (format!("x_{}", v.0), v.1)));
+    names.extend(
+        Inputs::default()
+            .values()
+            .iter()
+            .map(|v| (format!("i_{}", v.0), v.1)),
+    );
+    names.extend(
+        pmu50_core::pmu50::Outputs::default()
+            .values(&s)
+            .iter()
+            .map(|v| (format!("o_{}", v.0), v.1)),
+    );
+    names.extend(
+        pmu50_core::pmu50::reset(p)
+            .values(&s)
+            .iter()
+            .map(|r| (format!("r_{}_{}", r.block, r.name), r.width)),
+    );
+    names.extend(
+        pmu50_core::pmu50::Internals::default()
+            .values()
+            .iter()
+            .map(|v| (format!("x_{}", v.0), v.1)),
+    );
     b.push_scope("pmu50").unwrap();
     let ids = names
         .iter()
@@ -44,7 +67,12 @@ fn declare(p: &Params, decl: Decl) -> (VcdBuilder, Vec<SigId>, SigId) {
                 (Decl::Wider, "x_fig17") => 8,
                 _ => *w,
             };
-            if w == 1 { b.add_bit(BitType::Wire, n, Logic::Zero) } else { b.add_vector(BitType::Wire, n, u32::from(w) - 1, 0, 0) }.unwrap()
+            if w == 1 {
+                b.add_bit(BitType::Wire, n, Logic::Zero)
+            } else {
+                b.add_vector(BitType::Wire, n, u32::from(w) - 1, 0, 0)
+            }
+            .unwrap()
         })
         .collect();
     let extra = b.add_bit(BitType::Wire, "extra", Logic::Zero).unwrap();
@@ -53,9 +81,21 @@ fn declare(p: &Params, decl: Decl) -> (VcdBuilder, Vec<SigId>, SigId) {
 }
 
 /// Every value of a tick in the frame order.
-fn values(m: &Pmu50, i: &Inputs, x: &pmu50_core::pmu50::Internals, before: &pmu50_core::pmu50::Outputs, r: &pmu50_core::pmu50::Regs) -> Vec<u64> {
+fn values(
+    m: &Pmu50,
+    i: &Inputs,
+    x: &pmu50_core::pmu50::Internals,
+    before: &pmu50_core::pmu50::Outputs,
+    r: &pmu50_core::pmu50::Regs,
+) -> Vec<u64> {
     let s = m.structural();
-    i.values().iter().map(|v| v.2).chain(before.values(&s).iter().map(|v| v.2)).chain(r.values(&s).iter().map(|v| v.value)).chain(x.values().iter().map(|v| v.2)).collect()
+    i.values()
+        .iter()
+        .map(|v| v.2)
+        .chain(before.values(&s).iter().map(|v| v.2))
+        .chain(r.values(&s).iter().map(|v| v.value))
+        .chain(x.values().iter().map(|v| v.2))
+        .collect()
 }
 
 /// What happens between two ticks of a run.
@@ -77,7 +117,11 @@ fn both(p: Params, run: &[(Inputs, Between)], mode: usize, decl: Decl) -> (Strin
     let mut w2 = b2.start(Vec::new()).unwrap();
     let mut m2 = Pmu50::new(p).unwrap();
     let mut tr = CoreTracer::new(w1.frame(&ids1).unwrap(), Pmu50::new(p).unwrap()).unwrap();
-    assert_eq!(tr.exact(), decl == Decl::Core, "the unchecked lines exactly when the frame's widths are the core's");
+    assert_eq!(
+        tr.exact(),
+        decl == Decl::Core,
+        "the unchecked lines exactly when the frame's widths are the core's"
+    );
     let mut f2 = w2.frame(&ids2).unwrap();
     let mut flip = false;
     let mut t = 0;
@@ -90,8 +134,14 @@ fn both(p: Params, run: &[(Inputs, Between)], mode: usize, decl: Decl) -> (Strin
                     let (i, b) = &run[k];
                     k += 1;
                     let regs = *m2.regs();
-                    let pmu50_core::TracedStep { before, internals: x, after: after2, .. } = m2.step_traced(i);
-                    w2.dump_frame(&mut f2, t, &values(&m2, i, &x, &before, &regs)).unwrap();
+                    let pmu50_core::TracedStep {
+                        before,
+                        internals: x,
+                        after: after2,
+                        ..
+                    } = m2.step_traced(i);
+                    w2.dump_frame(&mut f2, t, &values(&m2, i, &x, &before, &regs))
+                        .unwrap();
                     assert_eq!(step(t, i), after2);
                     t += 2;
                     if let Between::SingleChanges = b {
@@ -120,7 +170,10 @@ fn both(p: Params, run: &[(Inputs, Between)], mode: usize, decl: Decl) -> (Strin
             }
         }
     }
-    (String::from_utf8(w1.finish().unwrap()).unwrap(), String::from_utf8(w2.finish().unwrap()).unwrap())
+    (
+        String::from_utf8(w1.finish().unwrap()).unwrap(),
+        String::from_utf8(w2.finish().unwrap()).unwrap(),
+    )
 }
 
 fn arb_run() -> impl Strategy<Value = Vec<(Inputs, Between)>> {
@@ -128,12 +181,47 @@ fn arb_run() -> impl Strategy<Value = Vec<(Inputs, Between)>> {
     // and bus writes to any address (refused ones too), and now and then something between two
     // ticks.
     let between = prop_oneof![30 => Just(Between::Nothing), 1 => Just(Between::SingleChanges)];
-    let one = (any::<bool>(), any::<bool>(), any::<bool>(), any::<bool>(), prop::bool::weighted(0.1), 0u8..0x20, any::<u16>(), 1usize..150, between);
+    let one = (
+        any::<bool>(),
+        any::<bool>(),
+        any::<bool>(),
+        any::<bool>(),
+        prop::bool::weighted(0.1),
+        0u8..0x20,
+        any::<u16>(),
+        1usize..150,
+        between,
+    );
     prop::collection::vec(one, 1..40).prop_map(|runs| {
         let mut v = Vec::new();
         for (ig, vs2_ok, cmp_s, cmp_c, bus_we, bus_addr, bus_wdata, n, between) in runs {
-            v.push((Inputs { ig, vs2_ok, cmp_s, cmp_c, bus_we, bus_addr, bus_wdata }, between));
-            v.extend(std::iter::repeat_n((Inputs { ig, vs2_ok, cmp_s, cmp_c, bus_we: false, bus_addr, bus_wdata }, Between::Nothing), n));
+            v.push((
+                Inputs {
+                    ig,
+                    vs2_ok,
+                    cmp_s,
+                    cmp_c,
+                    bus_we,
+                    bus_addr,
+                    bus_wdata,
+                },
+                between,
+            ));
+            v.extend(std::iter::repeat_n(
+                (
+                    Inputs {
+                        ig,
+                        vs2_ok,
+                        cmp_s,
+                        cmp_c,
+                        bus_we: false,
+                        bus_addr,
+                        bus_wdata,
+                    },
+                    Between::Nothing,
+                ),
+                n,
+            ));
         }
         v
     })
@@ -179,21 +267,43 @@ fn a_failed_step_takes_its_edge_and_is_followed_by_a_full_one() {
         // the write: PW := 9 (a wide edge)
         let input = |t: u64| {
             if t == fail_at {
-                Inputs { bus_addr: 7, bus_wdata: 0x30, ..Inputs::default() }
+                Inputs {
+                    bus_addr: 7,
+                    bus_wdata: 0x30,
+                    ..Inputs::default()
+                }
             } else if Some(t) == write_at {
-                Inputs { bus_we: true, bus_addr: 0x03, bus_wdata: 9, ..Inputs::default() }
+                Inputs {
+                    bus_we: true,
+                    bus_addr: 0x03,
+                    bus_wdata: 9,
+                    ..Inputs::default()
+                }
             } else {
-                Inputs { bus_addr: 1, bus_wdata: 3, ..Inputs::default() }
+                Inputs {
+                    bus_addr: 1,
+                    bus_wdata: 3,
+                    ..Inputs::default()
+                }
             }
         };
         let mut check = |t: u64, i: &Inputs, res: Result<Outputs, WriteError>, tick: u64| {
             let r = *m2.regs();
-            let pmu50_core::TracedStep { before, internals: x, after, .. } = m2.step_traced(i);
+            let pmu50_core::TracedStep {
+                before,
+                internals: x,
+                after,
+                ..
+            } = m2.step_traced(i);
             if t == fail_at {
-                assert!(matches!(res, Err(WriteError::ValueTooWide { value: 0x30, .. })), "{res:?}");
+                assert!(
+                    matches!(res, Err(WriteError::ValueTooWide { value: 0x30, .. })),
+                    "{res:?}"
+                );
             } else {
                 assert_eq!(res.unwrap(), after);
-                w2.dump_frame(&mut f2, t, &values(&m2, i, &x, &before, &r)).unwrap();
+                w2.dump_frame(&mut f2, t, &values(&m2, i, &x, &before, &r))
+                    .unwrap();
             }
             assert_eq!(tick, t + 1, "the edge is taken");
         };
@@ -220,11 +330,24 @@ fn a_failed_step_takes_its_edge_and_is_followed_by_a_full_one() {
             }
         }
         // an error before the step starts (time backwards) takes no edge
-        assert!(matches!(tr.step(&mut w, 5, &Inputs::default()), Err(WriteError::TimeBackwards { .. })));
+        assert!(matches!(
+            tr.step(&mut w, 5, &Inputs::default()),
+            Err(WriteError::TimeBackwards { .. })
+        ));
         assert_eq!(tr.core().tick(), 40);
-        (String::from_utf8(w.finish().unwrap()).unwrap(), String::from_utf8(w2.finish().unwrap()).unwrap())
+        (
+            String::from_utf8(w.finish().unwrap()).unwrap(),
+            String::from_utf8(w2.finish().unwrap()).unwrap(),
+        )
     };
-    for (fail_at, write_at, mode) in [(10, None, 0), (6, Some(5), 0), (10, None, 1), (6, Some(5), 1), (10, None, 2), (6, Some(5), 2)] {
+    for (fail_at, write_at, mode) in [
+        (10, None, 0),
+        (6, Some(5), 0),
+        (10, None, 1),
+        (6, Some(5), 1),
+        (10, None, 2),
+        (6, Some(5), 2),
+    ] {
         let (vcd, every) = run(fail_at, write_at, mode);
         // From the tick after the failed one on, the tracer's file holds what every value gives
         // (before it, they differ by what the failed tick assigned, which `every` skipped).
@@ -233,11 +356,28 @@ fn a_failed_step_takes_its_edge_and_is_followed_by_a_full_one() {
             let rest = &v[from + 1..];
             rest[..rest.find('#').unwrap_or(rest.len())].to_string()
         };
-        let code = vcd.lines().find_map(|l| l.strip_suffix(" i_bus_addr [7:0] $end")?.rsplit(' ').next()).expect("bus_addr declared").to_string();
-        assert!(step(&vcd, fail_at).contains(&format!("b00000111 {code}\n")), "{}", step(&vcd, fail_at));
-        assert!(step(&vcd, fail_at + 1).contains(&format!("b00000001 {code}\n")), "tick after the failure must put bus_addr back: {}", step(&vcd, fail_at + 1));
-        let tail = |v: &str| v[v.find(&format!("#{}\n", fail_at + 2)).expect("written")..].to_string();
-        assert_eq!(tail(&vcd), tail(&every), "failure at {fail_at}, write at {write_at:?}");
+        let code = vcd
+            .lines()
+            .find_map(|l| l.strip_suffix(" i_bus_addr [7:0] $end")?.rsplit(' ').next())
+            .expect("bus_addr declared")
+            .to_string();
+        assert!(
+            step(&vcd, fail_at).contains(&format!("b00000111 {code}\n")),
+            "{}",
+            step(&vcd, fail_at)
+        );
+        assert!(
+            step(&vcd, fail_at + 1).contains(&format!("b00000001 {code}\n")),
+            "tick after the failure must put bus_addr back: {}",
+            step(&vcd, fail_at + 1)
+        );
+        let tail =
+            |v: &str| v[v.find(&format!("#{}\n", fail_at + 2)).expect("written")..].to_string();
+        assert_eq!(
+            tail(&vcd),
+            tail(&every),
+            "failure at {fail_at}, write at {write_at:?}"
+        );
     }
 }
 
@@ -247,19 +387,33 @@ fn the_frame_must_hold_the_65_signals() {
     let (b, ids, _) = declare(&p, Decl::Core);
     let mut w = b.start(Vec::new()).unwrap();
     assert_eq!(ids.len(), N_SIGNALS);
-    let e = CoreTracer::new(w.frame(&ids[..64]).unwrap(), Pmu50::new(p).unwrap()).err().expect("refused");
+    let e = CoreTracer::new(w.frame(&ids[..64]).unwrap(), Pmu50::new(p).unwrap())
+        .err()
+        .expect("refused");
     assert_eq!(e, FrameSizeError { got: 64 });
-    assert!(e.to_string().contains("65 variables") && e.to_string().contains("has 64"), "{e}");
+    assert!(
+        e.to_string().contains("65 variables") && e.to_string().contains("has 64"),
+        "{e}"
+    );
 }
 
 /// The tracer's positions of the registers a narrow edge writes are those of the kernel's list.
 #[test]
 fn narrow_registers_are_the_kernels_narrow_writes() {
     let p = Params::default();
-    let s = Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width };
+    let s = Structural {
+        sync_depth: p.sync_depth,
+        cnt_width: p.cnt_width,
+    };
     let regs = pmu50_core::pmu50::reset(&p).values(&s);
-    let names: Vec<String> = NARROW_REGISTERS.iter().map(|&k| format!("{}.{}", regs[k].block, regs[k].name)).collect();
-    let mut want: Vec<String> = pmu50_core::kernel::NARROW_WRITES.iter().map(|n| n.to_string()).collect();
+    let names: Vec<String> = NARROW_REGISTERS
+        .iter()
+        .map(|&k| format!("{}.{}", regs[k].block, regs[k].name))
+        .collect();
+    let mut want: Vec<String> = pmu50_core::kernel::NARROW_WRITES
+        .iter()
+        .map(|n| n.to_string())
+        .collect();
     let mut got = names.clone();
     want.sort();
     got.sort();

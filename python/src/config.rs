@@ -13,7 +13,21 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyInt, PyString};
 
 /// The `[core]` field names, in the order of docs/spec.md.
-pub const FIELDS: [&str; 13] = ["clock", "sync_depth", "cnt_width", "adaptive", "pw", "pi", "ps", "x", "min", "t1", "t2", "cth", "smp_on"];
+pub const FIELDS: [&str; 13] = [
+    "clock",
+    "sync_depth",
+    "cnt_width",
+    "adaptive",
+    "pw",
+    "pi",
+    "ps",
+    "x",
+    "min",
+    "t1",
+    "t2",
+    "cth",
+    "smp_on",
+];
 
 /// Which Python type a field takes.
 enum Ty {
@@ -31,18 +45,27 @@ fn ty(field: &str) -> Ty {
 }
 
 fn type_name(v: &Bound<'_, PyAny>) -> String {
-    v.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into())
+    v.get_type()
+        .name()
+        .map(|n| n.to_string())
+        .unwrap_or_else(|_| "?".into())
 }
 
 fn repr(v: &Bound<'_, PyAny>) -> String {
-    v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into())
+    v.repr()
+        .map(|r| r.to_string())
+        .unwrap_or_else(|_| "?".into())
 }
 
 /// An integer field's value as the field's Rust type, or the CLI's out-of-range message (the
 /// same table and words, `pmu50::scenario::CORE_INTS`).
 fn int_value(field: &'static str, v: &Bound<'_, PyAny>) -> PyResult<Result<u32, String>> {
     if v.is_instance_of::<PyBool>() || !v.is_instance_of::<PyInt>() {
-        return Err(PyTypeError::new_err(format!("`core.{field}` takes an integer, got {} {}", type_name(v), repr(v))));
+        return Err(PyTypeError::new_err(format!(
+            "`core.{field}` takes an integer, got {} {}",
+            type_name(v),
+            repr(v)
+        )));
     }
     let out_of_range = |msg: String| Ok(Err(format!("`core.{field}`: {msg}")));
     match v.extract::<i64>() {
@@ -51,7 +74,9 @@ fn int_value(field: &'static str, v: &Bound<'_, PyAny>) -> PyResult<Result<u32, 
             None => Ok(Ok(x as u32)),
         },
         // Beyond any i64: out of range whatever the field.
-        Err(_) => out_of_range(pmu50::scenario::core_int_out_of_range(field, &repr(v), i64::MAX).unwrap_or_default()),
+        Err(_) => out_of_range(
+            pmu50::scenario::core_int_out_of_range(field, &repr(v), i64::MAX).unwrap_or_default(),
+        ),
     }
 }
 
@@ -79,7 +104,8 @@ pub fn from_kwargs(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<(CoreConfig, 
                         )));
                     }
                     let s: String = v.extract()?;
-                    let d = Dur::parse(&s).map_err(|e| ConfigError::new_err(format!("`core.{field}`: {e}")))?;
+                    let d = Dur::parse(&s)
+                        .map_err(|e| ConfigError::new_err(format!("`core.{field}`: {e}")))?;
                     match field {
                         "clock" => core.clock = d,
                         "pw" => core.pw = d,
@@ -94,7 +120,11 @@ pub fn from_kwargs(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<(CoreConfig, 
                 }
                 Ty::Bool => {
                     if !v.is_instance_of::<PyBool>() {
-                        return Err(PyTypeError::new_err(format!("`core.{field}` takes True or False, got {} {}", type_name(&v), repr(&v))));
+                        return Err(PyTypeError::new_err(format!(
+                            "`core.{field}` takes True or False, got {} {}",
+                            type_name(&v),
+                            repr(&v)
+                        )));
                     }
                     core.adaptive = v.extract()?;
                 }
@@ -110,7 +140,9 @@ pub fn from_kwargs(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<(CoreConfig, 
             given.push(field);
         }
     }
-    let params = core.to_params().map_err(|e| ConfigError::new_err(message(&e, &given)))?;
+    let params = core
+        .to_params()
+        .map_err(|e| ConfigError::new_err(message(&e, &given)))?;
     Ok((core, params))
 }
 
@@ -119,7 +151,10 @@ pub fn from_kwargs(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<(CoreConfig, 
 fn message(e: &CoreConfigError, given: &[&'static str]) -> String {
     match given.iter().rev().find(|n| e.fields().contains(n)) {
         Some(n) => format!("`core.{n}`: {e}"),
-        None => format!("`core.{}`: {e} (with the default values of the fields not given)", e.fields().first().copied().unwrap_or("core")),
+        None => format!(
+            "`core.{}`: {e} (with the default values of the fields not given)",
+            e.fields().first().copied().unwrap_or("core")
+        ),
     }
 }
 

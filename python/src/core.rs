@@ -6,8 +6,8 @@
 //! so a testbench may `peek()` before it decides this tick's inputs.
 
 use crate::config;
-use crate::signals;
 use crate::guard;
+use crate::signals;
 use pmu50_core::pmu50::Structural;
 use pmu50_core::{CoreConfig, Inputs, Params, Pmu50};
 use pyo3::exceptions::{PyAttributeError, PyKeyError, PyTypeError, PyValueError};
@@ -43,7 +43,11 @@ macro_rules! signal_bag {
             fn __getattr__(&self, name: &str) -> PyResult<u64> {
                 find(&self.vals, name).ok_or_else(|| {
                     let names: Vec<&str> = self.vals.iter().map(|v| v.0).collect();
-                    PyAttributeError::new_err(format!("{} has no signal `{name}`; signals are {}", $py, names.join(", ")))
+                    PyAttributeError::new_err(format!(
+                        "{} has no signal `{name}`; signals are {}",
+                        $py,
+                        names.join(", ")
+                    ))
                 })
             }
 
@@ -73,7 +77,10 @@ macro_rules! signal_bag {
             fn __eq__(&self, other: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
                 let py = other.py();
                 if let Ok(o) = other.cast::<$rust>() {
-                    return Ok(PyBool::new(py, o.get().vals == self.vals).to_owned().into_any().unbind());
+                    return Ok(PyBool::new(py, o.get().vals == self.vals)
+                        .to_owned()
+                        .into_any()
+                        .unbind());
                 }
                 if let Ok(d) = other.cast::<PyDict>() {
                     let mine = self.to_dict(py)?;
@@ -113,10 +120,15 @@ macro_rules! signal_bag {
             /// Compare with the values of another implementation (a mapping name -> int, e.g.
             /// read from a simulator): `[(signal, expected, got), ...]` for every signal that
             /// differs, in table order; `[]` when all agree. Every signal must be present.
-            fn mismatches(&self, got: &Bound<'_, PyAny>) -> PyResult<Vec<(&'static str, u64, Py<PyAny>)>> {
+            fn mismatches(
+                &self,
+                got: &Bound<'_, PyAny>,
+            ) -> PyResult<Vec<(&'static str, u64, Py<PyAny>)>> {
                 let mut out = Vec::new();
                 for (n, _, v) in &self.vals {
-                    let g = got.get_item(*n).map_err(|_| PyKeyError::new_err(format!("mismatches(): no value for signal `{n}`")))?;
+                    let g = got.get_item(*n).map_err(|_| {
+                        PyKeyError::new_err(format!("mismatches(): no value for signal `{n}`"))
+                    })?;
                     let same = match g.extract::<u64>() {
                         Ok(x) => x == *v,
                         Err(_) => false,
@@ -131,9 +143,17 @@ macro_rules! signal_bag {
     };
 }
 
-signal_bag!(Outputs, "Outputs", "The 23 top-level outputs of one tick, by name (`out.si`, `out[\"si\"]`).");
+signal_bag!(
+    Outputs,
+    "Outputs",
+    "The 23 top-level outputs of one tick, by name (`out.si`, `out[\"si\"]`)."
+);
 signal_bag!(Internals, "Internals", "The combinational internals of one cycle (`kon`, `koff`, `upd`, `first`, `chg_s`, `chg_c`, `skip_clr`, `fig17`, `fig18`).");
-signal_bag!(InputValues, "InputValues", "The 7 top-level inputs of one cycle as the core applied them.");
+signal_bag!(
+    InputValues,
+    "InputValues",
+    "The 7 top-level inputs of one cycle as the core applied them."
+);
 
 /// One row of the signal table (the core's, rtl_model/core/src/signals.rs): `kind` ("input",
 /// "output", "register", "internal"), `name` (registers: `block.register`, the VCD path below
@@ -154,12 +174,16 @@ pub struct Signal {
 #[pymethods]
 impl Signal {
     fn __repr__(&self) -> String {
-        format!("Signal(kind={:?}, name={:?}, width={})", self.kind, self.name, self.width)
+        format!(
+            "Signal(kind={:?}, name={:?}, width={})",
+            self.kind, self.name, self.width
+        )
     }
     fn __eq__(&self, o: &Bound<'_, PyAny>) -> bool {
         o.cast::<Signal>().is_ok_and(|o| {
             let o = o.get();
-            (o.kind, &o.name, o.width, o.signed, o.reset) == (self.kind, &self.name, self.width, self.signed, self.reset)
+            (o.kind, &o.name, o.width, o.signed, o.reset)
+                == (self.kind, &self.name, self.width, self.signed, self.reset)
         })
     }
 }
@@ -168,14 +192,28 @@ fn table(p: &Params, kind: Option<&str>) -> PyResult<Vec<Signal>> {
     const KINDS: [&str; 4] = ["input", "output", "register", "internal"];
     if let Some(k) = kind {
         if !KINDS.contains(&k) {
-            return Err(PyValueError::new_err(format!("unknown signal kind `{k}`; kinds are {}", KINDS.join(", "))));
+            return Err(PyValueError::new_err(format!(
+                "unknown signal kind `{k}`; kinds are {}",
+                KINDS.join(", ")
+            )));
         }
     }
-    let s = Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width };
+    let s = Structural {
+        sync_depth: p.sync_depth,
+        cnt_width: p.cnt_width,
+    };
     Ok(signals::table(&s, &p.hdl_parameters())
         .into_iter()
         .filter(|r| kind.is_none_or(|k| r.kind == k))
-        .map(|r| Signal { kind: r.kind, name: r.name, width: r.width, signed: r.signed, reset: r.reset, meaning: r.meaning, patent: r.patent })
+        .map(|r| Signal {
+            kind: r.kind,
+            name: r.name,
+            width: r.width,
+            signed: r.signed,
+            reset: r.reset,
+            meaning: r.meaning,
+            patent: r.patent,
+        })
         .collect())
 }
 
@@ -184,8 +222,13 @@ fn table(p: &Params, kind: Option<&str>) -> PyResult<Vec<Signal>> {
 #[pyfunction]
 #[pyo3(signature = (kind=None, *, sync_depth=2, cnt_width=16))]
 pub fn signal_table(kind: Option<&str>, sync_depth: u8, cnt_width: u8) -> PyResult<Vec<Signal>> {
-    let p = Params { sync_depth, cnt_width, ..Params::default() };
-    p.validate().map_err(|e| crate::ConfigError::new_err(e.to_string()))?;
+    let p = Params {
+        sync_depth,
+        cnt_width,
+        ..Params::default()
+    };
+    p.validate()
+        .map_err(|e| crate::ConfigError::new_err(e.to_string()))?;
     table(&p, kind)
 }
 
@@ -232,7 +275,9 @@ impl Core {
     }
 
     pub(crate) fn outputs(&self, o: &pmu50_core::Outputs) -> Outputs {
-        Outputs { vals: signals::output_values(&self.s(), o) }
+        Outputs {
+            vals: signals::output_values(&self.s(), o),
+        }
     }
 
     /// The Python view of the edge `t` this core has just taken with inputs `i`.
@@ -240,9 +285,13 @@ impl Core {
         Trace {
             tick: self.model.tick(),
             before: self.outputs(&t.before),
-            internals: Internals { vals: signals::internal_values(&t.internals) },
+            internals: Internals {
+                vals: signals::internal_values(&t.internals),
+            },
             after: self.outputs(&t.after),
-            inputs: InputValues { vals: signals::input_values(i) },
+            inputs: InputValues {
+                vals: signals::input_values(i),
+            },
         }
     }
 
@@ -255,7 +304,10 @@ impl Core {
             let name: String = k.extract()?;
             let Some(&(_, w, _)) = table.iter().find(|t| t.0 == name) else {
                 let names: Vec<&str> = table.iter().map(|t| t.0).collect();
-                return Err(PyTypeError::new_err(format!("step() got an unexpected keyword argument `{name}`; the inputs are {}", names.join(", "))));
+                return Err(PyTypeError::new_err(format!(
+                    "step() got an unexpected keyword argument `{name}`; the inputs are {}",
+                    names.join(", ")
+                )));
             };
             // ints, bools, and integer-like objects (`__index__`: numpy integers, simulator values)
             let v = if v.is_instance_of::<PyInt>() {
@@ -263,12 +315,20 @@ impl Core {
             } else if !v.is_instance_of::<PyString>() && v.hasattr("__index__")? {
                 v.call_method0("__index__")?
             } else {
-                return Err(PyTypeError::new_err(format!("input `{name}` takes an int or a bool, got {}", v.get_type().name()?)));
+                return Err(PyTypeError::new_err(format!(
+                    "input `{name}` takes an int or a bool, got {}",
+                    v.get_type().name()?
+                )));
             };
             let max = (1u64 << w) - 1;
             let x = match v.extract::<u64>() {
                 Ok(x) if x <= max => x,
-                _ => return Err(PyValueError::new_err(format!("input `{name}` = {} does not fit its {w} bit(s); valid is 0..={max}", v.repr()?))),
+                _ => {
+                    return Err(PyValueError::new_err(format!(
+                        "input `{name}` = {} does not fit its {w} bit(s); valid is 0..={max}",
+                        v.repr()?
+                    )))
+                }
             };
             signals::set_input(&mut i, &name, x);
         }
@@ -277,7 +337,10 @@ impl Core {
 }
 
 /// `{block: {register: value}}` of the rows of `signals::register_values`.
-pub(crate) fn register_dict<'py>(py: Python<'py>, vals: Vec<(&str, &str, u8, u64)>) -> PyResult<Bound<'py, PyDict>> {
+pub(crate) fn register_dict<'py>(
+    py: Python<'py>,
+    vals: Vec<(&str, &str, u8, u64)>,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     for (b, n, _, v) in vals {
         let blk = match d.get_item(b)? {
@@ -301,7 +364,11 @@ impl Core {
         guard("Core()", || {
             let (cfg, p) = config::from_kwargs(params)?;
             let m = Pmu50::new(p).map_err(|e| crate::ConfigError::new_err(e.to_string()))?;
-            Ok(Core { model: m, cfg, params: p })
+            Ok(Core {
+                model: m,
+                cfg,
+                params: p,
+            })
         })
     }
 
@@ -334,7 +401,9 @@ impl Core {
 
     /// Every register: `{block: {register: value}}` (the VCD scopes `pmu50.<block>`).
     fn regs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let vals = guard("Core.regs()", || Ok(signals::register_values(&self.s(), self.model.regs())))?;
+        let vals = guard("Core.regs()", || {
+            Ok(signals::register_values(&self.s(), self.model.regs()))
+        })?;
         register_dict(py, vals)
     }
 
@@ -343,7 +412,12 @@ impl Core {
     fn read(&self, addr: &Bound<'_, PyAny>) -> PyResult<u16> {
         let a = match addr.extract::<u64>() {
             Ok(a) if a <= 255 && addr.is_instance_of::<PyInt>() => a as u8,
-            _ => return Err(PyValueError::new_err(format!("read(): address {} is not 0..=255", addr.repr()?))),
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "read(): address {} is not 0..=255",
+                    addr.repr()?
+                )))
+            }
         };
         guard("Core.read()", || Ok(self.model.read(a)))
     }
@@ -407,6 +481,10 @@ impl Core {
         for (k, v) in cfg.iter() {
             parts.push(format!("{}={}", k, v.repr()?));
         }
-        Ok(format!("Core(tick={}, {})", self.model.tick(), parts.join(", ")))
+        Ok(format!(
+            "Core(tick={}, {})",
+            self.model.tick(),
+            parts.join(", ")
+        ))
     }
 }

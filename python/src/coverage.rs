@@ -57,11 +57,23 @@ pub struct Coverage {
 
 impl Coverage {
     fn of(p: &Params, clock_ns: u64) -> Coverage {
-        Coverage { cov: pmu50_coverage::Coverage::new(p, clock_ns), structural: Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width }, clock_ns, edges: 0 }
+        Coverage {
+            cov: pmu50_coverage::Coverage::new(p, clock_ns),
+            structural: Structural {
+                sync_depth: p.sync_depth,
+                cnt_width: p.cnt_width,
+            },
+            clock_ns,
+            edges: 0,
+        }
     }
 
     /// One edge of `core` with `inputs`, sampled.
-    fn edge(&mut self, core: &mut Core, inputs: &pmu50_core::Inputs) -> PyResult<pmu50_core::TracedStep> {
+    fn edge(
+        &mut self,
+        core: &mut Core,
+        inputs: &pmu50_core::Inputs,
+    ) -> PyResult<pmu50_core::TracedStep> {
         let s = core.model.structural();
         if (s.sync_depth, s.cnt_width) != (self.structural.sync_depth, self.structural.cnt_width) {
             return Err(PyValueError::new_err(format!(
@@ -72,7 +84,13 @@ impl Coverage {
         let before = *core.model.regs();
         let t = core.model.step_traced(inputs);
         let after = *core.model.regs();
-        self.cov.sample(&Edge { before: &before, after: &after, out: &t.before, inputs, internals: &t.internals });
+        self.cov.sample(&Edge {
+            before: &before,
+            after: &after,
+            out: &t.before,
+            inputs,
+            internals: &t.internals,
+        });
         self.edges += 1;
         Ok(t)
     }
@@ -89,19 +107,27 @@ impl Coverage {
 impl Coverage {
     #[new]
     #[pyo3(signature = (core=None, **config))]
-    fn new(core: Option<PyRef<'_, Core>>, config: Option<&Bound<'_, PyDict>>) -> PyResult<Coverage> {
+    fn new(
+        core: Option<PyRef<'_, Core>>,
+        config: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Coverage> {
         guard("Coverage()", || match core {
             Some(c) => {
                 if config.is_some_and(|d| !d.is_empty()) {
                     return Err(PyValueError::new_err("Coverage(core) takes its configuration from the core: give either a core or keyword arguments, not both"));
                 }
                 let s = c.model.structural();
-                let p = c.model.regs().register_file.params(s.sync_depth, s.cnt_width);
+                let p = c
+                    .model
+                    .regs()
+                    .register_file
+                    .params(s.sync_depth, s.cnt_width);
                 Ok(Coverage::of(&p, c.cfg.clock.0))
             }
             None => {
                 let (cfg, p) = crate::config::from_kwargs(config)?;
-                p.validate().map_err(|e| crate::ConfigError::new_err(e.to_string()))?;
+                p.validate()
+                    .map_err(|e| crate::ConfigError::new_err(e.to_string()))?;
                 Ok(Coverage::of(&p, cfg.clock.0))
             }
         })
@@ -109,7 +135,11 @@ impl Coverage {
 
     /// `core.step(**inputs)` with the edge sampled: the outputs after the edge.
     #[pyo3(signature = (core, **inputs))]
-    fn step(&mut self, mut core: PyRefMut<'_, Core>, inputs: Option<&Bound<'_, PyDict>>) -> PyResult<Outputs> {
+    fn step(
+        &mut self,
+        mut core: PyRefMut<'_, Core>,
+        inputs: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Outputs> {
         guard("Coverage.step()", || {
             let i = Core::inputs(inputs)?;
             let t = self.edge(&mut core, &i)?;
@@ -119,7 +149,11 @@ impl Coverage {
 
     /// `core.step_traced(**inputs)` with the edge sampled.
     #[pyo3(signature = (core, **inputs))]
-    fn step_traced(&mut self, mut core: PyRefMut<'_, Core>, inputs: Option<&Bound<'_, PyDict>>) -> PyResult<Trace> {
+    fn step_traced(
+        &mut self,
+        mut core: PyRefMut<'_, Core>,
+        inputs: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Trace> {
         guard("Coverage.step_traced()", || {
             let i = Core::inputs(inputs)?;
             let t = self.edge(&mut core, &i)?;
@@ -141,7 +175,12 @@ impl Coverage {
     fn closure(&self) -> (usize, usize) {
         let l = layout();
         let reachable = l.bins.iter().filter(|b| b.unreachable.is_none()).count();
-        let hit = l.bins.iter().zip(self.cov.hits()).filter(|(b, h)| b.unreachable.is_none() && **h > 0).count();
+        let hit = l
+            .bins
+            .iter()
+            .zip(self.cov.hits())
+            .filter(|(b, h)| b.unreachable.is_none() && **h > 0)
+            .count();
         (hit, reachable)
     }
 
@@ -160,19 +199,38 @@ impl Coverage {
     /// The text of `coverage.json` for this run (`run_id` unique across everything merged).
     #[pyo3(signature = (run_id, verdict="pass"))]
     fn to_json(&self, run_id: &str, verdict: &str) -> PyResult<String> {
-        guard("Coverage.to_json()", || Ok(self.file(run_id, verdict)?.to_text()))
+        guard("Coverage.to_json()", || {
+            Ok(self.file(run_id, verdict)?.to_text())
+        })
     }
 
     /// Write `coverage.json` for this run to `path` (a temporary file renamed into place).
     #[pyo3(signature = (path, run_id, verdict="pass"))]
     fn write(&self, path: PathBuf, run_id: &str, verdict: &str) -> PyResult<()> {
-        guard("Coverage.write()", || write_atomic(&path, &self.file(run_id, verdict)?.to_text()))
+        guard("Coverage.write()", || {
+            write_atomic(&path, &self.file(run_id, verdict)?.to_text())
+        })
     }
 
     /// Every bin of the model: `[(name, kind "point" | "cross", cite, unreachable reason or None)]`.
     #[staticmethod]
     fn bins() -> Vec<(String, &'static str, &'static str, Option<&'static str>)> {
-        layout().bins.iter().map(|b| (b.name.clone(), if b.kind == Kind::Point { "point" } else { "cross" }, b.cite, b.unreachable)).collect()
+        layout()
+            .bins
+            .iter()
+            .map(|b| {
+                (
+                    b.name.clone(),
+                    if b.kind == Kind::Point {
+                        "point"
+                    } else {
+                        "cross"
+                    },
+                    b.cite,
+                    b.unreachable,
+                )
+            })
+            .collect()
     }
 
     /// The model's identity, carried by every coverage file (files merge only within one model).
@@ -187,7 +245,10 @@ impl Coverage {
 
     fn __repr__(&self) -> String {
         let (hit, reachable) = self.closure();
-        format!("Coverage(edges={}, bins hit {hit} of {reachable} reachable)", self.edges)
+        format!(
+            "Coverage(edges={}, bins hit {hit} of {reachable} reachable)",
+            self.edges
+        )
     }
 }
 

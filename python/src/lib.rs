@@ -86,10 +86,32 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
             $(m.add_class::<$class>()?;)*
         };
     }
-    add_classes!(core::Core, core::Outputs, core::Internals, core::InputValues, core::Trace, core::Signal, coverage::Coverage);
-    add_classes!(scenario::Scenario, scenario::RunResult, scenario::Pulse, scenario::PulseRun, scenario::PulseTable);
-    add_classes!(scenario::Readout, scenario::KeyOff, scenario::Check, scenario::DarkCurrent);
-    for f in [wrap_pyfunction!(coverage::merge_coverage, m)?, wrap_pyfunction!(coverage::export_ucis, m)?] {
+    add_classes!(
+        core::Core,
+        core::Outputs,
+        core::Internals,
+        core::InputValues,
+        core::Trace,
+        core::Signal,
+        coverage::Coverage
+    );
+    add_classes!(
+        scenario::Scenario,
+        scenario::RunResult,
+        scenario::Pulse,
+        scenario::PulseRun,
+        scenario::PulseTable
+    );
+    add_classes!(
+        scenario::Readout,
+        scenario::KeyOff,
+        scenario::Check,
+        scenario::DarkCurrent
+    );
+    for f in [
+        wrap_pyfunction!(coverage::merge_coverage, m)?,
+        wrap_pyfunction!(coverage::export_ucis, m)?,
+    ] {
         m.add_function(f)?;
     }
     m.add_function(wrap_pyfunction!(core::signal_table, m)?)?;

@@ -122,11 +122,54 @@ macro_rules! record_repr {
         }
     };
 }
-record_repr!(Pulse, "Pulse", tick, time_ns, cs, cc, hist_s, hist_c, cnt_r, si, si_ms, cnt_s, cnt_c, fig17, fig18);
-record_repr!(Readout, "Readout", tick, time_ns, cnt_s, cnt_c, cnt, q1, q2, quadrant_diff, equation, cnt_a, nr, theta1_deg, theta_m_deg, true_deg, error_deg, diag, quadrant_skip, theta_abnormal);
-record_repr!(KeyOff, "KeyOff", tick, true_deg, theta_m_deg, theta_o_deg, theta_i_deg);
+record_repr!(
+    Pulse, "Pulse", tick, time_ns, cs, cc, hist_s, hist_c, cnt_r, si, si_ms, cnt_s, cnt_c, fig17,
+    fig18
+);
+record_repr!(
+    Readout,
+    "Readout",
+    tick,
+    time_ns,
+    cnt_s,
+    cnt_c,
+    cnt,
+    q1,
+    q2,
+    quadrant_diff,
+    equation,
+    cnt_a,
+    nr,
+    theta1_deg,
+    theta_m_deg,
+    true_deg,
+    error_deg,
+    diag,
+    quadrant_skip,
+    theta_abnormal
+);
+record_repr!(
+    KeyOff,
+    "KeyOff",
+    tick,
+    true_deg,
+    theta_m_deg,
+    theta_o_deg,
+    theta_i_deg
+);
 record_repr!(Check, "Check", name, ok, detail);
-record_repr!(DarkCurrent, "DarkCurrent", key_off_ns, vm_on_ns, vs1_on_ns, vs2_on_ns, vp_on_ns, vs2_duty, charge_uc, avg_current_ua);
+record_repr!(
+    DarkCurrent,
+    "DarkCurrent",
+    key_off_ns,
+    vm_on_ns,
+    vs1_on_ns,
+    vs2_on_ns,
+    vp_on_ns,
+    vs2_duty,
+    charge_uc,
+    avg_current_ua
+);
 
 fn pulse(p: &PulseRow, clock_ns: u64) -> Pulse {
     Pulse {
@@ -175,7 +218,13 @@ fn readout(k: &KeyOnRow) -> Readout {
 }
 
 fn keyoff(k: &KeyOffRow) -> KeyOff {
-    KeyOff { tick: k.tick, true_deg: k.true_deg, theta_m_deg: k.theta_m_deg, theta_o_deg: k.angles.theta_o_deg, theta_i_deg: k.angles.theta_i_deg }
+    KeyOff {
+        tick: k.tick,
+        true_deg: k.true_deg,
+        theta_m_deg: k.theta_m_deg,
+        theta_o_deg: k.angles.theta_o_deg,
+        theta_i_deg: k.angles.theta_i_deg,
+    }
 }
 
 fn dark(d: &DarkCurrentReport) -> DarkCurrent {
@@ -205,7 +254,12 @@ pub struct PulseRun {
 #[pymethods]
 impl PulseRun {
     fn __repr__(&self) -> String {
-        format!("PulseRun(first={}, count={}, stride={})", self.first.__repr__(), self.count, self.stride)
+        format!(
+            "PulseRun(first={}, count={}, stride={})",
+            self.first.__repr__(),
+            self.count,
+            self.stride
+        )
     }
 }
 
@@ -229,16 +283,29 @@ impl PulseTable {
         for r in log.runs() {
             starts.push(n);
             n += r.count;
-            runs.push(PulseRun { first: pulse(&r.first, clock_ns), count: r.count, stride: r.stride });
+            runs.push(PulseRun {
+                first: pulse(&r.first, clock_ns),
+                count: r.count,
+                stride: r.stride,
+            });
         }
-        PulseTable { runs, starts, len: n, clock_ns }
+        PulseTable {
+            runs,
+            starts,
+            len: n,
+            clock_ns,
+        }
     }
 
     fn row(&self, i: u64) -> Pulse {
         let k = self.starts.partition_point(|&s| s <= i) - 1;
         let r = &self.runs[k];
         let tick = r.first.tick + (i - self.starts[k]) * r.stride;
-        Pulse { tick, time_ns: tick * self.clock_ns, ..r.first.clone() }
+        Pulse {
+            tick,
+            time_ns: tick * self.clock_ns,
+            ..r.first.clone()
+        }
     }
 }
 
@@ -264,13 +331,19 @@ impl PulseTable {
         let n = self.len as i128;
         let j = if i < 0 { n + i as i128 } else { i as i128 };
         if !(0..n).contains(&j) {
-            return Err(pyo3::exceptions::PyIndexError::new_err(format!("pulse index {i} out of range ({} pulses)", self.len)));
+            return Err(pyo3::exceptions::PyIndexError::new_err(format!(
+                "pulse index {i} out of range ({} pulses)",
+                self.len
+            )));
         }
         Ok(self.row(j as u64).into_pyobject(py)?.into_any().unbind())
     }
 
     fn __iter__(slf: Bound<'_, Self>) -> PulseIter {
-        PulseIter { table: slf.unbind(), next: 0 }
+        PulseIter {
+            table: slf.unbind(),
+            next: 0,
+        }
     }
 
     /// The run-length rows: `[PulseRun(first, count, stride)]`.
@@ -376,7 +449,11 @@ impl Scenario {
     /// Read and validate a scenario file.
     #[staticmethod]
     fn load(path: PathBuf) -> PyResult<Scenario> {
-        guard("Scenario.load()", || RsScenario::load(&path).map(|sc| Scenario { sc }).map_err(scenario_err))
+        guard("Scenario.load()", || {
+            RsScenario::load(&path)
+                .map(|sc| Scenario { sc })
+                .map_err(scenario_err)
+        })
     }
 
     /// Validate scenario text. `filename` is used in error messages (`filename:line: ...`) and
@@ -386,8 +463,13 @@ impl Scenario {
     fn from_str(text: &str, filename: &str) -> PyResult<Scenario> {
         guard("Scenario.from_str()", || {
             let path = Path::new(filename);
-            let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scenario".into());
-            RsScenario::parse(text, filename, &stem, path).map(|sc| Scenario { sc }).map_err(scenario_err)
+            let stem = path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "scenario".into());
+            RsScenario::parse(text, filename, &stem, path)
+                .map(|sc| Scenario { sc })
+                .map_err(scenario_err)
         })
     }
 
@@ -435,8 +517,17 @@ impl Scenario {
         for e in &self.sc.events {
             let (a, v): (&'static str, Py<PyAny>) = match &e.action {
                 Action::Ig(b) => ("ig", b.into_pyobject(py)?.to_owned().into_any().unbind()),
-                Action::Vs2Fault(b) => ("vs2_fault", b.into_pyobject(py)?.to_owned().into_any().unbind()),
-                Action::Write { addr, name, value } => ("write", (name.clone(), *addr, *value).into_pyobject(py)?.into_any().unbind()),
+                Action::Vs2Fault(b) => (
+                    "vs2_fault",
+                    b.into_pyobject(py)?.to_owned().into_any().unbind(),
+                ),
+                Action::Write { addr, name, value } => (
+                    "write",
+                    (name.clone(), *addr, *value)
+                        .into_pyobject(py)?
+                        .into_any()
+                        .unbind(),
+                ),
             };
             out.push((e.tick, a, v));
         }
@@ -454,27 +545,60 @@ impl Scenario {
             guard("Scenario.run()", || {
                 // A scenario with `[vcd] trace = "none"` (days of parking) writes no files, as
                 // with `pmu50 run`; otherwise the level is chosen as `pmu50 run` chooses it.
-                let level = pmu50::output::choose_trace(&sc, None, None, pmu50::observers::waveform::WaveFormat::Vcd).trace.level();
+                let level = pmu50::output::choose_trace(
+                    &sc,
+                    None,
+                    None,
+                    pmu50::observers::waveform::WaveFormat::Vcd,
+                )
+                .trace
+                .level();
                 let r = match (&out_dir, level) {
-                    (Some(d), Some(level)) => {
-                        run_to_files(&sc, d, FileOptions { log, level, ..FileOptions::default() }, &mut []).map(|(r, w)| (r, Some(w))).map_err(|e| e.to_string())
-                    }
-                    _ => sim::run(&sc, SimOptions::default(), &mut []).map(|r| (r, None)).map_err(|e| e.to_string()),
+                    (Some(d), Some(level)) => run_to_files(
+                        &sc,
+                        d,
+                        FileOptions {
+                            log,
+                            level,
+                            ..FileOptions::default()
+                        },
+                        &mut [],
+                    )
+                    .map(|(r, w)| (r, Some(w)))
+                    .map_err(|e| e.to_string()),
+                    _ => sim::run(&sc, SimOptions::default(), &mut [])
+                        .map(|r| (r, None))
+                        .map_err(|e| e.to_string()),
                 };
                 Ok(r.map(|(r, w)| (summary(&sc, &r), r, w)))
             })
         })?;
         let (text, r, written) = done.map_err(|e| SimulationError::new_err(e.to_string()))?;
-        let s = Structural { sync_depth: self.sc.params.sync_depth, cnt_width: self.sc.params.cnt_width };
+        let s = Structural {
+            sync_depth: self.sc.params.sync_depth,
+            cnt_width: self.sc.params.cnt_width,
+        };
         guard("Scenario.run()", || result(py, s, text, &r, written))
     }
 
     fn __repr__(&self) -> String {
-        format!("Scenario(name={:?}, ticks={}, clock_ns={}, path={:?})", self.sc.name, self.sc.ticks, self.sc.clock_ns(), self.sc.path.display().to_string())
+        format!(
+            "Scenario(name={:?}, ticks={}, clock_ns={}, path={:?})",
+            self.sc.name,
+            self.sc.ticks,
+            self.sc.clock_ns(),
+            self.sc.path.display().to_string()
+        )
     }
 }
 
-fn result(py: Python<'_>, s: Structural, summary: String, r: &RsRunResult, w: Option<pmu50::output::Written>) -> PyResult<RunResult> {
+fn result(
+    py: Python<'_>,
+    s: Structural,
+    summary: String,
+    r: &RsRunResult,
+    w: Option<pmu50::output::Written>,
+) -> PyResult<RunResult> {
     let regs = register_dict(py, signals::register_values(&s, &r.final_regs))?;
     Ok(RunResult {
         name: r.name.clone(),
@@ -486,10 +610,20 @@ fn result(py: Python<'_>, s: Structural, summary: String, r: &RsRunResult, w: Op
         intervals_ms: r.si_sequence_ms(),
         readouts: r.keyons.iter().map(readout).collect(),
         keyoffs: r.keyoffs.iter().map(keyoff).collect(),
-        checks: r.checks.iter().map(|c| Check { name: c.name.clone(), ok: c.ok, detail: c.detail.clone() }).collect(),
+        checks: r
+            .checks
+            .iter()
+            .map(|c| Check {
+                name: c.name.clone(),
+                ok: c.ok,
+                detail: c.detail.clone(),
+            })
+            .collect(),
         passed: r.passed(),
         dark: dark(&r.dark),
-        final_outputs: Outputs { vals: signals::output_values(&s, &r.final_ports) },
+        final_outputs: Outputs {
+            vals: signals::output_values(&s, &r.final_ports),
+        },
         final_regs: regs.unbind(),
         summary,
         vcd_path: w.as_ref().map(|w| w.vcd.clone()),

@@ -33,13 +33,22 @@ pub fn kind(d: Dir) -> &'static str {
 }
 
 fn named<T>(s: &Structural, list: &[Signal<T>], v: &T) -> Vec<(&'static str, u8, u64)> {
-    list.iter().map(|x| (x.name, x.bits(s), (x.get)(v))).collect()
+    list.iter()
+        .map(|x| (x.name, x.bits(s), (x.get)(v)))
+        .collect()
 }
 
 /// The top-level inputs as (name, width, value), in port order.
 pub fn input_values(i: &Inputs) -> Vec<(&'static str, u8, u64)> {
     // inputs have no structural width
-    named(&Structural { sync_depth: 1, cnt_width: 16 }, table::INPUTS, i)
+    named(
+        &Structural {
+            sync_depth: 1,
+            cnt_width: 16,
+        },
+        table::INPUTS,
+        i,
+    )
 }
 
 /// The top-level outputs as (name, width, value), in the order of docs/signals.md.
@@ -49,12 +58,22 @@ pub fn output_values(s: &Structural, o: &Outputs) -> Vec<(&'static str, u8, u64)
 
 /// Every register as (block, name, width, value), in block evaluation order.
 pub fn register_values(s: &Structural, r: &Regs) -> Vec<(&'static str, &'static str, u8, u64)> {
-    table::REGISTERS.iter().map(|x| (x.scope, x.name, x.bits(s), (x.get)(r))).collect()
+    table::REGISTERS
+        .iter()
+        .map(|x| (x.scope, x.name, x.bits(s), (x.get)(r)))
+        .collect()
 }
 
 /// The combinational internals as (name, width, value).
 pub fn internal_values(x: &Internals) -> Vec<(&'static str, u8, u64)> {
-    named(&Structural { sync_depth: 1, cnt_width: 16 }, table::INTERNALS, x)
+    named(
+        &Structural {
+            sync_depth: 1,
+            cnt_width: 16,
+        },
+        table::INTERNALS,
+        x,
+    )
 }
 
 /// Set input `name` to `v` (already checked against its width). `false`: no such input.
@@ -71,15 +90,32 @@ pub fn set_input(i: &mut Inputs, name: &str, v: u64) -> bool {
 /// The whole table for one structural configuration (widths of `cnt_s`, `cnt_c` and
 /// `action_switching.sync` depend on it): inputs, outputs, registers, internals.
 pub fn table(s: &Structural, hdl: &[(&'static str, u64)]) -> Vec<Row> {
-    fn rows<T>(s: &Structural, hdl: &[(&'static str, u64)], list: &[Signal<T>], out: &mut Vec<Row>) {
+    fn rows<T>(
+        s: &Structural,
+        hdl: &[(&'static str, u64)],
+        list: &[Signal<T>],
+        out: &mut Vec<Row>,
+    ) {
         for x in list {
             let reset = match x.reset {
                 table::Reset::Value(v) => Some(v),
                 table::Reset::Param(p) => hdl.iter().find(|(n, _)| *n == p).map(|(_, v)| *v),
                 table::Reset::None => None,
             };
-            let name = if x.dir == Dir::Reg { x.path() } else { x.name.to_string() };
-            out.push(Row { kind: kind(x.dir), name, width: x.bits(s), signed: x.signed, reset, meaning: x.meaning, patent: x.patent });
+            let name = if x.dir == Dir::Reg {
+                x.path()
+            } else {
+                x.name.to_string()
+            };
+            out.push(Row {
+                kind: kind(x.dir),
+                name,
+                width: x.bits(s),
+                signed: x.signed,
+                reset,
+                meaning: x.meaning,
+                patent: x.patent,
+            });
         }
     }
     let mut out = Vec::new();

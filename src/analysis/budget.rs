@@ -61,7 +61,13 @@ impl Variant {
 }
 
 /// Rails, in the order of the tables.
-pub const RAILS: [&str; 5] = ["Vm (MPU)", "Vs1 (1st sensor)", "Vs2 (2nd sensor + comparators)", "Vp (logic)", "regulator Iq"];
+pub const RAILS: [&str; 5] = [
+    "Vm (MPU)",
+    "Vs1 (1st sensor)",
+    "Vs2 (2nd sensor + comparators)",
+    "Vp (logic)",
+    "regulator Iq",
+];
 
 /// One variant's result.
 #[derive(Clone, Debug, PartialEq)]
@@ -140,7 +146,11 @@ fn key_off_ticks_before(sc: &Scenario, t: u64) -> u64 {
 fn row_from(sc: &Scenario, r: &RunResult, variant: Variant, run_time_s: f64) -> Row {
     let c = &sc.env.dark_current;
     let d = &r.dark;
-    let vs2_on = if variant == Variant::AlwaysOn { d.key_off_ns } else { d.vs2_on_ns };
+    let vs2_on = if variant == Variant::AlwaysOn {
+        d.key_off_ns
+    } else {
+        d.vs2_on_ns
+    };
     let t = d.key_off_ns as f64;
     // uA x ns -> uC: 1e-9
     let rail_uc = [
@@ -157,18 +167,38 @@ fn row_from(sc: &Scenario, r: &RunResult, variant: Variant, run_time_s: f64) -> 
     // Cumulative curve at 400 points: per key-off sample one Vs2 output of the measured average
     // width; the other rails in proportion to the key-off time so far.
     let outputs = r.pulses.len();
-    let per_output_uc = if variant == Variant::AlwaysOn || outputs == 0 { 0.0 } else { rail_uc[2] / outputs as f64 };
+    let per_output_uc = if variant == Variant::AlwaysOn || outputs == 0 {
+        0.0
+    } else {
+        rail_uc[2] / outputs as f64
+    };
     let off_total = key_off_ticks_before(sc, sc.ticks).max(1) as f64;
-    let steady_uc = if variant == Variant::AlwaysOn { total_uc } else { total_uc - rail_uc[2] };
+    let steady_uc = if variant == Variant::AlwaysOn {
+        total_uc
+    } else {
+        total_uc - rail_uc[2]
+    };
     let n = 400u64;
     let mut curve = Vec::with_capacity(n as usize + 1);
     for k in 0..=n {
         let tick = sc.ticks * k / n;
         let i = r.pulses.count_until(tick);
-        let q = per_output_uc * i as f64 + steady_uc * key_off_ticks_before(sc, tick) as f64 / off_total;
+        let q = per_output_uc * i as f64
+            + steady_uc * key_off_ticks_before(sc, tick) as f64 / off_total;
         curve.push(((tick * clk) as f64 / 1e9, q / UC_PER_MAH));
     }
-    Row { variant, key_off_ns: d.key_off_ns, vs2_on_ns: vs2_on, rail_ua, rail_uc, total_ua, total_uc, outputs, curve, run_time_s }
+    Row {
+        variant,
+        key_off_ns: d.key_off_ns,
+        vs2_on_ns: vs2_on,
+        rail_ua,
+        rail_uc,
+        total_ua,
+        total_uc,
+        outputs,
+        curve,
+        run_time_s,
+    }
 }
 
 /// Run the budget of `base` three ways.
@@ -214,7 +244,12 @@ pub fn budget(base: &Scenario) -> Result<Budget, AnalysisError> {
         sc.expect = Default::default();
         let t = Instant::now();
         let r = run(&sc)?;
-        rows.push(row_from(&sc, &r, Variant::FixedMin, t.elapsed().as_secs_f64()));
+        rows.push(row_from(
+            &sc,
+            &r,
+            Variant::FixedMin,
+            t.elapsed().as_secs_f64(),
+        ));
     }
     bar.finish_and_clear();
     let x_ns = u64::from(p.si_max) * base.clock_ns();
@@ -241,17 +276,46 @@ pub fn budget(base: &Scenario) -> Result<Budget, AnalysisError> {
 
 /// budget.csv: one line per variant and rail, then the totals.
 pub fn csv(b: &Budget) -> String {
-    let mut s = String::from("variant,rail,current_while_on,unit,avg_key_off_current_ua,key_off_charge_mah\n");
+    let mut s = String::from(
+        "variant,rail,current_while_on,unit,avg_key_off_current_ua,key_off_charge_mah\n",
+    );
     let c = &b.currents;
-    let on = [(c.i_vm_ma, "mA"), (c.i_vs1_ma, "mA"), (c.i_vs2_ma, "mA"), (c.i_vp_ua, "uA"), (c.i_q_ua, "uA")];
+    let on = [
+        (c.i_vm_ma, "mA"),
+        (c.i_vs1_ma, "mA"),
+        (c.i_vs2_ma, "mA"),
+        (c.i_vp_ua, "uA"),
+        (c.i_q_ua, "uA"),
+    ];
     for r in &b.rows {
         for (k, rail) in RAILS.iter().enumerate() {
-            let _ = writeln!(s, "{},{rail},{},{},{:.6},{:.9}", r.variant.name(), on[k].0, on[k].1, r.rail_ua[k], r.rail_uc[k] / UC_PER_MAH);
+            let _ = writeln!(
+                s,
+                "{},{rail},{},{},{:.6},{:.9}",
+                r.variant.name(),
+                on[k].0,
+                on[k].1,
+                r.rail_ua[k],
+                r.rail_uc[k] / UC_PER_MAH
+            );
         }
-        let _ = writeln!(s, "{},total,,,{:.6},{:.9}", r.variant.name(), r.total_ua, r.total_uc / UC_PER_MAH);
+        let _ = writeln!(
+            s,
+            "{},total,,,{:.6},{:.9}",
+            r.variant.name(),
+            r.total_ua,
+            r.total_uc / UC_PER_MAH
+        );
     }
     for r in &b.rows {
-        let _ = writeln!(s, "# {}: key off {:.3} s, Vs2 duty {:.4} %, {} Vs2 outputs", r.variant.name(), r.key_off_ns as f64 / 1e9, r.vs2_duty() * 100.0, r.outputs);
+        let _ = writeln!(
+            s,
+            "# {}: key off {:.3} s, Vs2 duty {:.4} %, {} Vs2 outputs",
+            r.variant.name(),
+            r.key_off_ns as f64 / 1e9,
+            r.vs2_duty() * 100.0,
+            r.outputs
+        );
     }
     s
 }
@@ -276,8 +340,14 @@ pub fn curve_csv(b: &Budget) -> String {
 
 /// Terminal summary: the table, the patent's duty claim, the chips that do the same job.
 pub fn summary(b: &Budget) -> String {
-    let mut s = format!("== budget {}: {}\n   run of {:.1} s; Wt = {:.3} ms, x = {:.1} ms, min = {:.1} ms\n", b.name, b.description, b.duration_s, b.wt_ms, b.x_ms, b.min_ms);
-    s += &format!("   {:<36} {:>10} {:>10} {:>12} {:>12} {:>12} {:>12} {:>10}\n", "average key-off current (uA)", "Vm", "Vs1", "Vs2", "Vp", "reg. Iq", "total", "Vs2 duty");
+    let mut s = format!(
+        "== budget {}: {}\n   run of {:.1} s; Wt = {:.3} ms, x = {:.1} ms, min = {:.1} ms\n",
+        b.name, b.description, b.duration_s, b.wt_ms, b.x_ms, b.min_ms
+    );
+    s += &format!(
+        "   {:<36} {:>10} {:>10} {:>12} {:>12} {:>12} {:>12} {:>10}\n",
+        "average key-off current (uA)", "Vm", "Vs1", "Vs2", "Vp", "reg. Iq", "total", "Vs2 duty"
+    );
     for r in &b.rows {
         s += &format!(
             "   {:<36} {:>10.3} {:>10.3} {:>12.3} {:>12.3} {:>12.3} {:>12.3} {:>9.3}%\n",
@@ -294,7 +364,10 @@ pub fn summary(b: &Budget) -> String {
     for r in &b.rows {
         s += &format!("   {}: {:.6} mAh over the run, {:.1} mAh per 30 days at this average; ran in {:.2} s{}\n", r.variant.label(), r.total_uc / UC_PER_MAH, r.total_ua * 720.0 / 1e3, r.run_time_s, if r.variant == Variant::AlwaysOn { " (computed from the adaptive run)" } else { "" });
     }
-    if let (Some(a), Some(f)) = (b.rows.iter().find(|r| r.variant == Variant::Adaptive), b.rows.iter().find(|r| r.variant == Variant::Fixed)) {
+    if let (Some(a), Some(f)) = (
+        b.rows.iter().find(|r| r.variant == Variant::Adaptive),
+        b.rows.iter().find(|r| r.variant == Variant::Fixed),
+    ) {
         s += &format!("   patent: duty 10 % at 2.2 ms and a third of that at 6.6 ms with w = 220 us ([0229]-[0231]); here Wt/min = {:.2} %, Wt/x = {:.2} %, fixed cycle measured {:.2} %, adaptive {:.2} %\n", b.wt_ms / b.min_ms * 100.0, b.wt_ms / b.x_ms * 100.0, f.vs2_duty() * 100.0, a.vs2_duty() * 100.0);
     }
     s += "   chips that do the same job (docs/power.md): TI TMAG6181-Q1 counts turns itself at 1.6 ms / 0.2 ms wake-up periods; its low-power-mode current and iC-Haus iC-PV's current could not be confirmed from their datasheets here\n";
@@ -304,16 +377,40 @@ pub fn summary(b: &Budget) -> String {
 /// budget.svg: average key-off current by rail (stacked bars), cumulative charge over the run.
 pub fn svg(b: &Budget) -> String {
     let mut svg = Svg::new(1000.0, 900.0);
-    svg.text(500.0, 22.0, 15.0, Anchor::Middle, "#000", &format!("{}: average key-off current by rail (log scale)", b.name));
+    svg.text(
+        500.0,
+        22.0,
+        15.0,
+        Anchor::Middle,
+        "#000",
+        &format!("{}: average key-off current by rail (log scale)", b.name),
+    );
     // grouped horizontal bars on a log axis (the rails span five decades)
     let left = 230.0;
     let right = 880.0;
     let top = 44.0;
     let bar_h = 14.0;
     let group_h = RAILS.len() as f64 * (bar_h + 3.0) + 22.0;
-    let vals: Vec<f64> = b.rows.iter().flat_map(|r| r.rail_ua.iter().copied().chain([r.total_ua])).filter(|v| *v > 0.0).collect();
-    let lo = vals.iter().copied().fold(f64::INFINITY, f64::min).max(1e-3).log10().floor();
-    let hi = vals.iter().copied().fold(1.0f64, f64::max).log10().ceil().max(lo + 1.0);
+    let vals: Vec<f64> = b
+        .rows
+        .iter()
+        .flat_map(|r| r.rail_ua.iter().copied().chain([r.total_ua]))
+        .filter(|v| *v > 0.0)
+        .collect();
+    let lo = vals
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min)
+        .max(1e-3)
+        .log10()
+        .floor();
+    let hi = vals
+        .iter()
+        .copied()
+        .fold(1.0f64, f64::max)
+        .log10()
+        .ceil()
+        .max(lo + 1.0);
     let sx = |v: f64| left + (v.max(10f64.powf(lo)).log10() - lo) / (hi - lo) * (right - left);
     let bottom = top + group_h * b.rows.len() as f64;
     let mut d = lo;
@@ -324,22 +421,52 @@ pub fn svg(b: &Budget) -> String {
             let gy = top + g as f64 * group_h;
             svg.line(x, gy + 16.0, x, gy + group_h - 4.0, "#e0e0e0", 1.0, None);
         }
-        let label = if d >= 3.0 { format!("{} mA", 10f64.powf(d - 3.0)) } else { format!("{} uA", 10f64.powf(d)) };
+        let label = if d >= 3.0 {
+            format!("{} mA", 10f64.powf(d - 3.0))
+        } else {
+            format!("{} uA", 10f64.powf(d))
+        };
         svg.text(x, bottom + 16.0, 11.0, Anchor::Middle, "#000", &label);
         d += 1.0;
     }
     for (g, r) in b.rows.iter().enumerate() {
         let gy = top + g as f64 * group_h;
-        svg.text(20.0, gy + 12.0, 12.5, Anchor::Start, "#000", &format!("{}: total {:.2} uA, Vs2 duty {:.2} %", r.variant.label(), r.total_ua, r.vs2_duty() * 100.0));
+        svg.text(
+            20.0,
+            gy + 12.0,
+            12.5,
+            Anchor::Start,
+            "#000",
+            &format!(
+                "{}: total {:.2} uA, Vs2 duty {:.2} %",
+                r.variant.label(),
+                r.total_ua,
+                r.vs2_duty() * 100.0
+            ),
+        );
         for (k, rail) in RAILS.iter().enumerate() {
             let y = gy + 18.0 + k as f64 * (bar_h + 3.0);
             svg.text(left - 8.0, y + 11.0, 11.0, Anchor::End, "#404040", rail);
             if r.rail_ua[k] > 0.0 {
                 svg.rect(left, y, sx(r.rail_ua[k]) - left, bar_h, PALETTE[k], None);
                 let v = format!("{:.3} uA", r.rail_ua[k]);
-                svg.text(sx(r.rail_ua[k]) + 4.0, y + 11.0, 10.0, Anchor::Start, "#000", &v);
+                svg.text(
+                    sx(r.rail_ua[k]) + 4.0,
+                    y + 11.0,
+                    10.0,
+                    Anchor::Start,
+                    "#000",
+                    &v,
+                );
             } else {
-                svg.text(left + 4.0, y + 11.0, 10.0, Anchor::Start, "#707070", "0 (rail off)");
+                svg.text(
+                    left + 4.0,
+                    y + 11.0,
+                    10.0,
+                    Anchor::Start,
+                    "#707070",
+                    "0 (rail off)",
+                );
             }
         }
     }
@@ -348,9 +475,21 @@ pub fn svg(b: &Budget) -> String {
         svg.line(left, gy + 16.0, left, gy + group_h - 4.0, "#000", 1.0, None);
     }
 
-    let mut c = Chart::new(&format!("cumulative key-off charge over the run ({:.0} s)", b.duration_s), "time (s)", "charge (mAh)");
+    let mut c = Chart::new(
+        &format!(
+            "cumulative key-off charge over the run ({:.0} s)",
+            b.duration_s
+        ),
+        "time (s)",
+        "charge (mAh)",
+    );
     for (k, r) in b.rows.iter().enumerate() {
-        c.series.push(Series { name: format!("{}: {:.5} mAh", r.variant.label(), r.total_uc / UC_PER_MAH), color: [PALETTE[0], PALETTE[1], PALETTE[6], PALETTE[3]][k % 4].into(), style: Style::Line, points: r.curve.clone() });
+        c.series.push(Series {
+            name: format!("{}: {:.5} mAh", r.variant.label(), r.total_uc / UC_PER_MAH),
+            color: [PALETTE[0], PALETTE[1], PALETTE[6], PALETTE[3]][k % 4].into(),
+            style: Style::Line,
+            points: r.curve.clone(),
+        });
     }
     c.auto_range();
     let ctop = bottom + 40.0;
@@ -362,9 +501,15 @@ pub fn svg(b: &Budget) -> String {
 /// return the summary.
 pub fn run_cli(sc: &Scenario, dir: &std::path::Path) -> Result<String, AnalysisError> {
     let b = budget(sc)?;
-    let w = |name: &str, text: String| crate::plot::write_atomic(&dir.join(name), text.as_bytes()).map_err(AnalysisError::Write);
+    let w = |name: &str, text: String| {
+        crate::plot::write_atomic(&dir.join(name), text.as_bytes()).map_err(AnalysisError::Write)
+    };
     w("budget.csv", csv(&b))?;
     w("budget_cumulative.csv", curve_csv(&b))?;
     w("budget.svg", svg(&b))?;
-    Ok(summary(&b) + &format!("   wrote {0}/budget.csv, {0}/budget_cumulative.csv and {0}/budget.svg\n", dir.display()))
+    Ok(summary(&b)
+        + &format!(
+            "   wrote {0}/budget.csv, {0}/budget_cumulative.csv and {0}/budget.svg\n",
+            dir.display()
+        ))
 }

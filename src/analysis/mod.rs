@@ -26,8 +26,16 @@ pub enum AnalysisError {
 }
 
 /// A copy of `base` with another motor profile, timeline and length, no checks and no window.
-pub fn variant(base: &Scenario, name: &str, start_deg: f64, segments: Vec<Segment>, events: Vec<Event>, ticks: u64) -> Result<Scenario, AnalysisError> {
-    let motor = MotorProfile::new(start_deg, segments).map_err(|e| AnalysisError::Input(format!("{name}: motor profile: {e}")))?;
+pub fn variant(
+    base: &Scenario,
+    name: &str,
+    start_deg: f64,
+    segments: Vec<Segment>,
+    events: Vec<Event>,
+    ticks: u64,
+) -> Result<Scenario, AnalysisError> {
+    let motor = MotorProfile::new(start_deg, segments)
+        .map_err(|e| AnalysisError::Input(format!("{name}: motor profile: {e}")))?;
     let mut sc = base.clone();
     sc.name = name.to_string();
     sc.motor = motor;
@@ -44,16 +52,26 @@ pub fn run(sc: &Scenario) -> Result<RunResult, AnalysisError> {
 }
 
 /// [`run`] with an observer (a progress bar).
-pub fn run_observed(sc: &Scenario, obs: &mut dyn sim::Observer) -> Result<RunResult, AnalysisError> {
+pub fn run_observed(
+    sc: &Scenario,
+    obs: &mut dyn sim::Observer,
+) -> Result<RunResult, AnalysisError> {
     Ok(sim::run(sc, SimOptions::default(), &mut [obs])?)
 }
 
 /// An ignition event (made by an analysis, so it has no line in a file).
 pub fn ig(tick: u64, on: bool) -> Event {
-    Event { tick, action: Action::Ig(on), line: 0 }
+    Event {
+        tick,
+        action: Action::Ig(on),
+        line: 0,
+    }
 }
 
 /// Number of key-off samples at which both sign signals changed at once (quadrant skips).
 pub fn skip_count(r: &RunResult) -> usize {
-    r.pulses.run_boundaries().filter(|(a, b)| a.cs != b.cs && a.cc != b.cc).count()
+    r.pulses
+        .run_boundaries()
+        .filter(|(a, b)| a.cs != b.cs && a.cc != b.cc)
+        .count()
 }

@@ -28,8 +28,18 @@ pub struct ChangeLog<W: Write> {
 
 impl<W: Write> ChangeLog<W> {
     pub fn new(mut out: W, s: Structural, clock_ns: u64) -> Result<Self, SimError> {
-        writeln!(out, "# tick      time_us  register                                      old -> new").map_err(|e| SimError::observer("change log", e))?;
-        Ok(ChangeLog { out, structural: s, clock_ns, prev: None, rec: PeriodRecorder::new() })
+        writeln!(
+            out,
+            "# tick      time_us  register                                      old -> new"
+        )
+        .map_err(|e| SimError::observer("change log", e))?;
+        Ok(ChangeLog {
+            out,
+            structural: s,
+            clock_ns,
+            prev: None,
+            rec: PeriodRecorder::new(),
+        })
     }
 
     fn record(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
@@ -41,7 +51,9 @@ impl<W: Write> ChangeLog<W> {
                     self.line(&mut lines, v.tick, i, *a, *b);
                 }
             }
-            self.out.write_all(lines.as_bytes()).map_err(|e| SimError::observer("change log", e))?;
+            self.out
+                .write_all(lines.as_bytes())
+                .map_err(|e| SimError::observer("change log", e))?;
         }
         self.prev = Some(now);
         if self.rec.active() {
@@ -57,7 +69,14 @@ impl<W: Write> ChangeLog<W> {
         if !r.free_running {
             let time_us = (tick * self.clock_ns) as f64 / 1e3;
             let path = format!("pmu50.{}", r.path());
-            *lines += &format!("{:>6} {:>12.1}  {:<44} {} -> {}\n", tick, time_us, path, r.show(a, &self.structural), r.show(b, &self.structural));
+            *lines += &format!(
+                "{:>6} {:>12.1}  {:<44} {} -> {}\n",
+                tick,
+                time_us,
+                path,
+                r.show(a, &self.structural),
+                r.show(b, &self.structural)
+            );
         }
     }
 }
@@ -75,7 +94,9 @@ impl<W: Write> Observer for ChangeLog<W> {
     }
     fn finish(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
         self.record(v)?;
-        self.out.flush().map_err(|e| SimError::observer("change log", e))
+        self.out
+            .flush()
+            .map_err(|e| SimError::observer("change log", e))
     }
 
     /// A log replays skipped periods: the lines of each copy are those of the recorded period

@@ -43,7 +43,15 @@ pub struct MarkerObserver {
 
 impl MarkerObserver {
     pub fn new(clock_ns: u64) -> MarkerObserver {
-        MarkerObserver { clock_ns, prev_ig: false, prev_si: None, events: Vec::new(), pushes: 0, cur: None, quiet: None }
+        MarkerObserver {
+            clock_ns,
+            prev_ig: false,
+            prev_si: None,
+            events: Vec::new(),
+            pushes: 0,
+            cur: None,
+            quiet: None,
+        }
     }
 
     fn push(&mut self, tick: u64, name: String, key: bool) {
@@ -60,7 +68,12 @@ impl MarkerObserver {
     /// Markers within `[start, end]` ticks, at most [`MAX_MARKERS`], in time order, and the number
     /// left out.
     pub fn markers(&self, window: Option<(u64, u64)>) -> (Vec<Marker>, usize) {
-        let mut inside: Vec<Marker> = self.events.iter().filter(|m| window.is_none_or(|(a, z)| m.tick >= a && m.tick <= z)).cloned().collect();
+        let mut inside: Vec<Marker> = self
+            .events
+            .iter()
+            .filter(|m| window.is_none_or(|(a, z)| m.tick >= a && m.tick <= z))
+            .cloned()
+            .collect();
         inside.sort_by_key(|m| m.tick);
         let total = inside.len();
         if total <= MAX_MARKERS {
@@ -90,10 +103,21 @@ impl MarkerObserver {
 
 impl Observer for MarkerObserver {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
-        self.cur = self.cur.filter(|c| c.1 == v.tick).map(|(a, n, p)| (a, n + 1, p));
+        self.cur = self
+            .cur
+            .filter(|c| c.1 == v.tick)
+            .map(|(a, n, p)| (a, n + 1, p));
         if v.inputs.ig != self.prev_ig {
             self.prev_ig = v.inputs.ig;
-            self.push(v.tick, if v.inputs.ig { "key on".into() } else { "key off".into() }, true);
+            self.push(
+                v.tick,
+                if v.inputs.ig {
+                    "key on".into()
+                } else {
+                    "key off".into()
+                },
+                true,
+            );
         }
         if self.prev_si.is_some_and(|p| p != v.ports.si) {
             let ms = f64::from(v.ports.si) * self.clock_ns as f64 / 1e6;
@@ -126,7 +150,10 @@ impl Observer for MarkerObserver {
     }
 
     fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
-        self.quiet = self.cur.filter(|&(a, n, p)| n == k && n > a && p == self.pushes).map(|(a, _, _)| (a, k));
+        self.quiet = self
+            .cur
+            .filter(|&(a, n, p)| n == k && n > a && p == self.pushes)
+            .map(|(a, _, _)| (a, k));
         self.cur = Some((k, k, self.pushes));
         Ok(())
     }
@@ -156,7 +183,10 @@ mod tests {
         assert_eq!(kept.len(), MAX_MARKERS);
         assert_eq!(left, 40 - MAX_MARKERS);
         assert!(kept.iter().any(|k| k.name == "e39"), "key edges are kept");
-        assert_eq!(kept.iter().find(|k| k.tick == 30).map(|k| k.name.as_str()), Some("e3, same"));
+        assert_eq!(
+            kept.iter().find(|k| k.tick == 30).map(|k| k.name.as_str()),
+            Some("e3, same")
+        );
         assert!(kept.windows(2).all(|w| w[0].tick < w[1].tick));
         let (w, _) = m.markers(Some((100, 200)));
         assert_eq!(w.first().map(|k| k.tick), Some(100));

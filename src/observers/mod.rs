@@ -15,8 +15,8 @@
 pub mod changelog;
 pub mod markers;
 pub mod refusals;
-pub mod timing;
 pub mod thread;
+pub mod timing;
 pub mod tracer;
 pub mod vectors;
 pub mod waveform;

@@ -31,7 +31,15 @@ impl std::fmt::Display for RefusedWrite {
             WriteRefusal::NotWritable => "the register is not writable".to_string(),
             WriteRefusal::Illegal(e) => format!("the parameter set would become illegal: {e}"),
         };
-        write!(f, "{}:{}: write {} = {} at {:.3} ms refused by the chip (bus_err set): {why}", self.file, self.line, self.reg, self.value, self.time_ns as f64 / 1e6)
+        write!(
+            f,
+            "{}:{}: write {} = {} at {:.3} ms refused by the chip (bus_err set): {why}",
+            self.file,
+            self.line,
+            self.reg,
+            self.value,
+            self.time_ns as f64 / 1e6
+        )
     }
 }
 
@@ -56,7 +64,14 @@ impl RefusalWatch {
                 _ => None,
             })
             .collect();
-        RefusalWatch { file: sc.path.display().to_string(), sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width, writes, next: 0, refused: Vec::new() }
+        RefusalWatch {
+            file: sc.path.display().to_string(),
+            sync_depth: sc.params.sync_depth,
+            cnt_width: sc.params.cnt_width,
+            writes,
+            next: 0,
+            refused: Vec::new(),
+        }
     }
 }
 
@@ -74,8 +89,18 @@ impl Observer for RefusalWatch {
                 sig: v.ports.sig,
                 ..Default::default()
             };
-            if let Err(reason) = rf::RegisterFile::new(self.sync_depth, self.cnt_width).bus_write(&v.regs.register_file, &i) {
-                self.refused.push(RefusedWrite { file: self.file.clone(), line, tick, time_ns: v.time_ns, reg, value, reason });
+            if let Err(reason) = rf::RegisterFile::new(self.sync_depth, self.cnt_width)
+                .bus_write(&v.regs.register_file, &i)
+            {
+                self.refused.push(RefusedWrite {
+                    file: self.file.clone(),
+                    line,
+                    tick,
+                    time_ns: v.time_ns,
+                    reg,
+                    value,
+                    reason,
+                });
             }
             self.next += 1;
         }

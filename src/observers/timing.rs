@@ -11,7 +11,7 @@
 //! The recorder is an [`Observer`]: it keeps only the ticks where a drawn signal changes, so a
 //! long run costs little memory. Time is the absolute run time in ms.
 
-use crate::plot::svg::{ticks, tick_label, Anchor, Svg};
+use crate::plot::svg::{tick_label, ticks, Anchor, Svg};
 use crate::sim::{Observer, SimError, TickView};
 use pmu50_core::drive_interval_changing_56b::Fig18;
 use std::collections::BTreeMap;
@@ -68,7 +68,16 @@ type Drawn = (u64, Vec<(State, Option<&'static str>)>);
 
 impl TimingRecorder {
     pub fn new(clock_ns: u64, window: Option<(u64, u64)>) -> TimingRecorder {
-        TimingRecorder { window, clock_ns, rows: Vec::new(), marks: Vec::new(), start: window.map_or(0, |w| w.0), end: 0, cur: None, done: None }
+        TimingRecorder {
+            window,
+            clock_ns,
+            rows: Vec::new(),
+            marks: Vec::new(),
+            start: window.map_or(0, |w| w.0),
+            end: 0,
+            cur: None,
+            done: None,
+        }
     }
 
     fn inside(&self, tick: u64) -> bool {
@@ -77,7 +86,12 @@ impl TimingRecorder {
 
     /// The stretches of equal `value` as (left x, right x, value), the last one ending at
     /// `right`: where a bus is drawn with its value, or a staircase step labelled.
-    fn segments<T: PartialEq>(&self, value: impl Fn(&State) -> T, sx: impl Fn(f64) -> f64, right: f64) -> Vec<(f64, f64, T)> {
+    fn segments<T: PartialEq>(
+        &self,
+        value: impl Fn(&State) -> T,
+        sx: impl Fn(f64) -> f64,
+        right: f64,
+    ) -> Vec<(f64, f64, T)> {
         let mut segs: Vec<(f64, f64, T)> = Vec::new();
         for (t, st) in &self.rows {
             let x = sx(self.ms(*t));
@@ -103,7 +117,12 @@ impl TimingRecorder {
         let mut by_tick: BTreeMap<u64, (State, Vec<&str>)> = BTreeMap::new();
         let mut cur = self.rows.first().map(|r| r.1).unwrap_or_default();
         let mut i = 0;
-        let mut ticks_all: Vec<u64> = self.rows.iter().map(|r| r.0).chain(self.marks.iter().map(|m| m.tick)).collect();
+        let mut ticks_all: Vec<u64> = self
+            .rows
+            .iter()
+            .map(|r| r.0)
+            .chain(self.marks.iter().map(|m| m.tick))
+            .collect();
         ticks_all.sort_unstable();
         ticks_all.dedup();
         for t in ticks_all {
@@ -183,7 +202,11 @@ impl TimingRecorder {
         let mut level = 0;
         for m in &self.marks {
             let x = sx(self.ms(m.tick));
-            let color = if m.is_reference_sign() { "#C00000" } else { "#707070" };
+            let color = if m.is_reference_sign() {
+                "#C00000"
+            } else {
+                "#707070"
+            };
             svg.line(x, marks_top + 4.0, x, axis_y, color, 1.0, Some("4 3"));
             let w = crate::plot::svg::text_width(m.label, 12.0) + 8.0;
             level = if x - last_x < w { 1 - level } else { 0 };
@@ -230,7 +253,20 @@ impl TimingRecorder {
             let segs = self.segments(|st| st.cnt_r, sx, right);
             for (a, b, v) in segs {
                 let e = 2.5f64.min((b - a) / 2.0);
-                svg.polyline(&[(a, mid), (a + e, top), (b - e, top), (b, mid), (b - e, bot), (a + e, bot), (a, mid)], "#000", 1.2, None);
+                svg.polyline(
+                    &[
+                        (a, mid),
+                        (a + e, top),
+                        (b - e, top),
+                        (b, mid),
+                        (b - e, bot),
+                        (a + e, bot),
+                        (a, mid),
+                    ],
+                    "#000",
+                    1.2,
+                    None,
+                );
                 let s = v.to_string();
                 if b - a > crate::plot::svg::text_width(&s, 11.0) + 6.0 {
                     svg.text((a + b) / 2.0, mid + 4.0, 11.0, Anchor::Middle, "#000", &s);
@@ -240,15 +276,44 @@ impl TimingRecorder {
 
         // Si staircase in ms
         {
-            let max_ms = self.rows.iter().map(|r| self.ms(u64::from(r.1.si))).fold(0.0, f64::max);
-            let y1 = if max_ms > 0.0 { (max_ms * 1.15).max(1.0) } else { 1.0 };
+            let max_ms = self
+                .rows
+                .iter()
+                .map(|r| self.ms(u64::from(r.1.si)))
+                .fold(0.0, f64::max);
+            let y1 = if max_ms > 0.0 {
+                (max_ms * 1.15).max(1.0)
+            } else {
+                1.0
+            };
             let sy = |v: f64| axis_y - v / y1 * si_h;
-            svg.text(label_w - 26.0, si_top + si_h / 2.0 - 8.0, 12.0, Anchor::End, "#000", "drive interval");
-            svg.text(label_w - 26.0, si_top + si_h / 2.0 + 8.0, 12.0, Anchor::End, "#000", "Si (ms)");
+            svg.text(
+                label_w - 26.0,
+                si_top + si_h / 2.0 - 8.0,
+                12.0,
+                Anchor::End,
+                "#000",
+                "drive interval",
+            );
+            svg.text(
+                label_w - 26.0,
+                si_top + si_h / 2.0 + 8.0,
+                12.0,
+                Anchor::End,
+                "#000",
+                "Si (ms)",
+            );
             let yt = ticks(0.0, y1, 5);
             for v in &yt {
                 svg.line(label_w, sy(*v), right, sy(*v), "#e4e4e4", 1.0, None);
-                svg.text(label_w - 4.0, sy(*v) + 4.0, 10.0, Anchor::End, "#404040", &tick_label(*v, &yt));
+                svg.text(
+                    label_w - 4.0,
+                    sy(*v) + 4.0,
+                    10.0,
+                    Anchor::End,
+                    "#404040",
+                    &tick_label(*v, &yt),
+                );
             }
             svg.line(label_w, si_top, label_w, axis_y, "#000", 1.0, None);
             let mut pts = Vec::new();
@@ -285,10 +350,31 @@ impl TimingRecorder {
         svg.line(label_w, axis_y, right, axis_y, "#000", 1.0, None);
         for v in &tt {
             svg.line(sx(*v), axis_y, sx(*v), axis_y + 5.0, "#000", 1.0, None);
-            svg.text(sx(*v), axis_y + 19.0, 11.0, Anchor::Middle, "#000", &tick_label(*v, &tt));
+            svg.text(
+                sx(*v),
+                axis_y + 19.0,
+                11.0,
+                Anchor::Middle,
+                "#000",
+                &tick_label(*v, &tt),
+            );
         }
-        svg.text(label_w + plot_w / 2.0, axis_y + 42.0, 12.0, Anchor::Middle, "#000", "time (ms)");
-        svg.text(label_w, axis_y + 42.0, 10.0, Anchor::Start, "#C00000", "100 / 101: rotation detected through a change of Cs / Cc (FIG. 18 S23 / S28)");
+        svg.text(
+            label_w + plot_w / 2.0,
+            axis_y + 42.0,
+            12.0,
+            Anchor::Middle,
+            "#000",
+            "time (ms)",
+        );
+        svg.text(
+            label_w,
+            axis_y + 42.0,
+            10.0,
+            Anchor::Start,
+            "#C00000",
+            "100 / 101: rotation detected through a change of Cs / Cc (FIG. 18 S23 / S28)",
+        );
         svg.finish()
     }
 }
@@ -305,7 +391,10 @@ impl TimingRecorder {
         self.end = tick + 1;
         if let Some(label) = label {
             if self.inside(tick + 1) {
-                self.marks.push(Mark { tick: tick + 1, label });
+                self.marks.push(Mark {
+                    tick: tick + 1,
+                    label,
+                });
             }
         }
     }
@@ -334,7 +423,9 @@ impl Observer for TimingRecorder {
         };
         self.draw(v.tick, st, label);
         if let Some((start, per)) = self.cur.as_mut() {
-            if *start + per.len() as u64 == v.tick && (per.len() as u64) < crate::sim::replay::MAX_TICKS {
+            if *start + per.len() as u64 == v.tick
+                && (per.len() as u64) < crate::sim::replay::MAX_TICKS
+            {
                 per.push((st, label));
             } else {
                 self.cur = None;
@@ -351,7 +442,10 @@ impl Observer for TimingRecorder {
     }
 
     fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
-        self.done = self.cur.take().filter(|(a, per)| !per.is_empty() && a + per.len() as u64 == k);
+        self.done = self
+            .cur
+            .take()
+            .filter(|(a, per)| !per.is_empty() && a + per.len() as u64 == k);
         self.cur = Some((k, Vec::new()));
         Ok(())
     }
@@ -364,7 +458,9 @@ impl Observer for TimingRecorder {
     }
 
     fn can_replay(&self, k: u64, len: u64) -> bool {
-        self.done.as_ref().is_some_and(|(a, per)| a + len == k && per.len() as u64 == len)
+        self.done
+            .as_ref()
+            .is_some_and(|(a, per)| a + len == k && per.len() as u64 == len)
     }
 
     fn replay(&mut self, k: u64, periods: u64, len: u64) -> Result<(), SimError> {
@@ -376,10 +472,19 @@ impl Observer for TimingRecorder {
         // Offsets where a tick does something once the tick before it was drawn: the state
         // changes (the first tick against the last one, the tick before it in the copy before)
         // or a label falls.
-        let busy: Vec<usize> = (0..n).filter(|&i| per[i].1.is_some() || per[i].0 != per[(i + n - 1) % n].0).collect();
+        let busy: Vec<usize> = (0..n)
+            .filter(|&i| per[i].1.is_some() || per[i].0 != per[(i + n - 1) % n].0)
+            .collect();
         let stop = k + periods * len;
         let (lo, hi) = match self.window {
-            Some((a, z)) => (if a > k { (a - k) / len } else { 0 }, if z > k { (z - k).div_ceil(len).min(periods) } else { 0 }),
+            Some((a, z)) => (
+                if a > k { (a - k) / len } else { 0 },
+                if z > k {
+                    (z - k).div_ceil(len).min(periods)
+                } else {
+                    0
+                },
+            ),
             None => (0, periods),
         };
         // The first tick drawn, when the window starts inside the skipped stretch.

@@ -46,7 +46,9 @@
 use pmu50_core::pmu50::{Inputs, Internals, Outputs, Regs};
 use pmu50_core::signals::{self, Width};
 use pmu50_core::Pmu50;
-use pmu50_waves::writer::{Emitter, Frame, FrameRun, RunStep, SigId, TextRun, TextStep, VcdWriter, WriteError, Writer};
+use pmu50_waves::writer::{
+    Emitter, Frame, FrameRun, RunStep, SigId, TextRun, TextStep, VcdWriter, WriteError, Writer,
+};
 use std::io::Write;
 
 /// Number of signals in a [`CoreTracer`]'s frame, and where each group starts.
@@ -114,8 +116,24 @@ impl CoreTracer {
             .chain(r.values(&s).into_iter().map(|v| v.width))
             .chain(Internals::default().values().into_iter().map(|v| v.1))
             .collect();
-        let exact = widths.into_iter().enumerate().all(|(k, w)| frame.max(k) == Some(u64::MAX >> (64 - u32::from(w).clamp(1, 64))));
-        Ok(CoreTracer { core: m, frame, exact, held: Held { last_i: 0, last_o: o, last_r: r, last_x: 0, outputs: o, wide: true, valid: false } })
+        let exact = widths
+            .into_iter()
+            .enumerate()
+            .all(|(k, w)| frame.max(k) == Some(u64::MAX >> (64 - u32::from(w).clamp(1, 64))));
+        Ok(CoreTracer {
+            core: m,
+            frame,
+            exact,
+            held: Held {
+                last_i: 0,
+                last_o: o,
+                last_r: r,
+                last_x: 0,
+                outputs: o,
+                wide: true,
+                valid: false,
+            },
+        })
     }
 
     /// The core (its registers, tick count, read-out).
@@ -138,8 +156,15 @@ impl CoreTracer {
     /// Lend the writer to the tracer for a run of edges ([`TracerRun::step`]), the fast way
     /// to trace many: the writer is a [`FrameRun`] of the tracer's frame until the run is
     /// dropped (then the last edge's values become the writer's pending step).
-    pub fn run<'a, E: Emitter>(&'a mut self, w: &'a mut Writer<E>) -> Result<TracerRun<'a, E>, WriteError> {
-        Ok(TracerRun { run: w.frame_run(&mut self.frame)?, held: &mut self.held, core: &mut self.core })
+    pub fn run<'a, E: Emitter>(
+        &'a mut self,
+        w: &'a mut Writer<E>,
+    ) -> Result<TracerRun<'a, E>, WriteError> {
+        Ok(TracerRun {
+            run: w.frame_run(&mut self.frame)?,
+            held: &mut self.held,
+            core: &mut self.core,
+        })
     }
 
     /// Lend a VCD writer to the tracer for a run of edges written at once
@@ -148,14 +173,27 @@ impl CoreTracer {
     /// written at once (the first, one outside the writer's window, one after a failed step or
     /// after other writes to the frame's variables) goes through a [`FrameRun`] as in
     /// [`CoreTracer::run`]. The file is the same.
-    pub fn text_run<'a, W: Write>(&'a mut self, w: &'a mut VcdWriter<W>) -> Result<TracerTextRun<'a, W>, WriteError> {
-        Ok(TracerTextRun { run: w.text_run(&mut self.frame)?, held: &mut self.held, core: &mut self.core, exact: self.exact })
+    pub fn text_run<'a, W: Write>(
+        &'a mut self,
+        w: &'a mut VcdWriter<W>,
+    ) -> Result<TracerTextRun<'a, W>, WriteError> {
+        Ok(TracerTextRun {
+            run: w.text_run(&mut self.frame)?,
+            held: &mut self.held,
+            core: &mut self.core,
+            exact: self.exact,
+        })
     }
 
     /// One traced edge, as [`TracerRun::step`] in a run of its own (each call ends its run:
     /// when a value changed, the writer takes the frame's 65 values; [`CoreTracer::run`] for
     /// many edges).
-    pub fn step<E: Emitter>(&mut self, w: &mut Writer<E>, t: u64, i: &Inputs) -> Result<&Outputs, WriteError> {
+    pub fn step<E: Emitter>(
+        &mut self,
+        w: &mut Writer<E>,
+        t: u64,
+        i: &Inputs,
+    ) -> Result<&Outputs, WriteError> {
         self.run(w)?.step(t, i)?;
         Ok(&self.held.outputs)
     }
@@ -257,11 +295,22 @@ impl Held {
     /// by value and lent to the out-of-line groups by value too (they give it back), so it
     /// stays in registers on the common path (a [`TextStep`] keeps its end of text there).
     #[inline(always)]
-    fn edge<S: StepSink>(&mut self, s: S, m: &mut Pmu50, i: &Inputs, full: bool) -> Result<(), WriteError> {
+    fn edge<S: StepSink>(
+        &mut self,
+        s: S,
+        m: &mut Pmu50,
+        i: &Inputs,
+        full: bool,
+    ) -> Result<(), WriteError> {
         let h = self;
         h.valid = false;
         let before = h.before_edge(s, m.regs(), i, full);
-        let pmu50_core::TracedStep { internals: x, after, wide, .. } = m.step_traced(i);
+        let pmu50_core::TracedStep {
+            internals: x,
+            after,
+            wide,
+            ..
+        } = m.step_traced(i);
         if wide {
             h.outputs = after;
         } else {
@@ -275,8 +324,15 @@ impl Held {
         } else {
             // after every edge: a narrow one may set `upd` (a sample that moved nothing), and
             // has every other internal false
-            let narrow = Internals { upd: x.upd, ..Internals::default() }.packed();
-            debug_assert!(wide || x.packed() == narrow, "a narrow edge set an internal other than upd: {x:?}");
+            let narrow = Internals {
+                upd: x.upd,
+                ..Internals::default()
+            }
+            .packed();
+            debug_assert!(
+                wide || x.packed() == narrow,
+                "a narrow edge set an internal other than upd: {x:?}"
+            );
             let x = if wide { x.packed() } else { narrow };
             if x != h.last_x {
                 diff_internals(&mut s, x, std::mem::replace(&mut h.last_x, x))?;
@@ -288,7 +344,13 @@ impl Held {
 
     /// The inputs, outputs and registers of the step (before the edge).
     #[inline(always)]
-    fn before_edge<S: StepSink>(&mut self, mut s: S, r: &Regs, i: &Inputs, full: bool) -> Result<S, WriteError> {
+    fn before_edge<S: StepSink>(
+        &mut self,
+        mut s: S,
+        r: &Regs,
+        i: &Inputs,
+        full: bool,
+    ) -> Result<S, WriteError> {
         let i = i.packed();
         if full {
             self.last_i = i;
@@ -581,16 +643,28 @@ fn diff_internals<S: StepSink>(s: &mut S, cur: u128, held: u128) -> Result<(), W
 // and `fig18` is as wide as `fig17`.
 const _: () = {
     let (i, x) = (signals::INPUTS, signals::INTERNALS);
-    assert!(i.len() == 7 && x.len() == 9, "the tracer's input and internal widths assume 7 inputs and 9 internals");
+    assert!(
+        i.len() == 7 && x.len() == 9,
+        "the tracer's input and internal widths assume 7 inputs and 9 internals"
+    );
     let mut k = 0;
     while k < 5 {
-        assert!(fixed_width(i[k].width, 1), "an input the tracer writes as a flag is not 1 bit wide");
+        assert!(
+            fixed_width(i[k].width, 1),
+            "an input the tracer writes as a flag is not 1 bit wide"
+        );
         k += 1;
     }
     let mut k = 0;
     while k < 7 {
-        assert!(fixed_width(x[k].width, 1), "an internal the tracer writes as a flag is not 1 bit wide");
+        assert!(
+            fixed_width(x[k].width, 1),
+            "an internal the tracer writes as a flag is not 1 bit wide"
+        );
         k += 1;
     }
-    assert!(fixed_width(x[8].width, FIG_BITS), "fig17 and fig18 differ in width");
+    assert!(
+        fixed_width(x[8].width, FIG_BITS),
+        "fig17 and fig18 differ in width"
+    );
 };

@@ -28,16 +28,26 @@ fn digits(width: u8) -> usize {
 /// Bytes of each vector line of `sc` (every field has a fixed number of hex digits, a separator
 /// or the newline after it): what [`VectorWriter`] writes per tick.
 pub fn line_bytes(sc: &Scenario) -> u64 {
-    let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
-    let ins = signals::INPUTS.iter().map(|sig| digits(sig.bits(&s)) as u64 + 1);
-    let outs = signals::OUTPUTS.iter().map(|sig| digits(sig.bits(&s)) as u64 + 1);
+    let s = Structural {
+        sync_depth: sc.params.sync_depth,
+        cnt_width: sc.params.cnt_width,
+    };
+    let ins = signals::INPUTS
+        .iter()
+        .map(|sig| digits(sig.bits(&s)) as u64 + 1);
+    let outs = signals::OUTPUTS
+        .iter()
+        .map(|sig| digits(sig.bits(&s)) as u64 + 1);
     ins.chain(outs).sum()
 }
 
 impl<W: Write> VectorWriter<W> {
     pub fn new(mut out: W, sc: &Scenario) -> Result<Self, SimError> {
         let p = &sc.params;
-        let s = Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width };
+        let s = Structural {
+            sync_depth: p.sync_depth,
+            cnt_width: p.cnt_width,
+        };
         let mut h = String::new();
         h += "// pmu50 vectors v1\n";
         h += &format!("// scenario {}\n", sc.name);
@@ -51,7 +61,12 @@ impl<W: Write> VectorWriter<W> {
         h += &format!("// fields {}\n", ins.len() + outs.len());
         h += &format!("// columns {} | {}\n", ins.join(" "), outs.join(" "));
         out.write_all(h.as_bytes()).map_err(io)?;
-        Ok(VectorWriter { out, structural: s, pending: None, buf: Vec::with_capacity(128) })
+        Ok(VectorWriter {
+            out,
+            structural: s,
+            pending: None,
+            buf: Vec::with_capacity(128),
+        })
     }
 
     fn line(&mut self, i: &Inputs, v: &TickView<'_>) -> Result<(), SimError> {
@@ -69,7 +84,11 @@ impl<W: Write> VectorWriter<W> {
             hex(&mut l, (sig.get)(i), digits(sig.bits(&self.structural)));
         }
         for sig in signals::OUTPUTS {
-            hex(&mut l, (sig.get)(v.ports), digits(sig.bits(&self.structural)));
+            hex(
+                &mut l,
+                (sig.get)(v.ports),
+                digits(sig.bits(&self.structural)),
+            );
         }
         l.pop();
         l.push(b'\n');

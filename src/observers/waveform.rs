@@ -14,18 +14,20 @@
 //! divides the clock period. Reals are rounded (angles to 0.001 deg, volts to 0.1 mV) so that
 //! settling tails do not flood the file; only changes are written.
 
-use crate::sim::replay::PeriodRecorder;
-use crate::sim::{Observer, SimError, TickView};
+use crate::atomic_file::AtomicFile;
 use crate::observers::thread::Threaded;
 use crate::observers::tracer::{CoreTracer, TracerRun, TracerTextRun};
+use crate::sim::replay::PeriodRecorder;
+use crate::sim::{Observer, SimError, TickView};
 use pmu50_core::pmu50::Structural;
-use pmu50_core::Pmu50;
 use pmu50_core::signals::{self, Dir, Radix, Signal};
-use pmu50_waves::gtkw::{Analog, Color, Format, GtkwSave, Trace};
+use pmu50_core::Pmu50;
 use pmu50_waves::fst::{start_fst, FstOut, FstWriter};
-use pmu50_waves::writer::{BitType, Emitter, Frame, SigId, VcdBuilder, VcdWriter, WriteError, Writer};
+use pmu50_waves::gtkw::{Analog, Color, Format, GtkwSave, Trace};
+use pmu50_waves::writer::{
+    BitType, Emitter, Frame, SigId, VcdBuilder, VcdWriter, WriteError, Writer,
+};
 use pmu50_waves::{TimeUnit, Timescale};
-use crate::atomic_file::AtomicFile;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
@@ -142,7 +144,12 @@ struct TracedVcd {
 
 impl TracedVcd {
     fn start(writer: Box<VcdWriter<VcdFile>>, tracer: CoreTracer) -> Result<TracedVcd, WriteError> {
-        TracedVcdTryBuilder { writer, tracer, run_builder: |w, t| t.text_run(w) }.try_build()
+        TracedVcdTryBuilder {
+            writer,
+            tracer,
+            run_builder: |w, t| t.text_run(w),
+        }
+        .try_build()
     }
 }
 
@@ -159,7 +166,12 @@ struct TracedFst {
 
 impl TracedFst {
     fn start(writer: Box<FstWriter>, tracer: CoreTracer) -> Result<TracedFst, WriteError> {
-        TracedFstTryBuilder { writer, tracer, run_builder: |w, t| t.run(w) }.try_build()
+        TracedFstTryBuilder {
+            writer,
+            tracer,
+            run_builder: |w, t| t.run(w),
+        }
+        .try_build()
     }
 }
 
@@ -186,7 +198,10 @@ pub struct VcdObserver {
 
 enum Route {
     /// on the bench's thread; moved to its own at `begin` when `thread` says so
-    Here { wave: Box<Wave>, thread: bool },
+    Here {
+        wave: Box<Wave>,
+        thread: bool,
+    },
     Thread(Box<Threaded<Wave>>),
     /// its thread ended: the observer back from it
     Back(Box<Wave>),
@@ -216,11 +231,24 @@ impl VcdObserver {
     /// is in ticks. The writing moves to a thread of its own at `begin` when
     /// [`writer_thread_default`] says so.
     #[allow(clippy::too_many_arguments)]
-    pub fn create(dir: &Path, name: &str, core: &Pmu50, clock_ns: u64, window: Option<(u64, u64)>, format: WaveFormat, level: Level, first: &TickView<'_>) -> Result<VcdObserver, SimError> {
+    pub fn create(
+        dir: &Path,
+        name: &str,
+        core: &Pmu50,
+        clock_ns: u64,
+        window: Option<(u64, u64)>,
+        format: WaveFormat,
+        level: Level,
+        first: &TickView<'_>,
+    ) -> Result<VcdObserver, SimError> {
         let path = dir.join(format!("{name}.{}", format.ext()));
         let thread = writer_thread_default().map_err(|e| err(&path, e))?;
-        let wave = Box::new(Wave::create(dir, name, core, clock_ns, window, format, level, first)?);
-        Ok(VcdObserver { route: Route::Here { wave, thread } })
+        let wave = Box::new(Wave::create(
+            dir, name, core, clock_ns, window, format, level, first,
+        )?);
+        Ok(VcdObserver {
+            route: Route::Here { wave, thread },
+        })
     }
 
     /// Write on a thread of its own (`true`) or on the bench's (`false`), whatever the
@@ -253,12 +281,17 @@ impl VcdObserver {
 impl Observer for VcdObserver {
     fn begin(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
         if let Route::Here { thread: true, .. } = self.route {
-            let Route::Here { wave, .. } = std::mem::replace(&mut self.route, Route::Gone) else { unreachable!("matched above") };
+            let Route::Here { wave, .. } = std::mem::replace(&mut self.route, Route::Gone) else {
+                unreachable!("matched above")
+            };
             let what = wave.path.display().to_string();
             self.route = match Threaded::spawn(*wave, &what) {
                 Ok(t) => Route::Thread(Box::new(t)),
                 // no thread to be had: on the bench's
-                Err(wave) => Route::Here { wave: Box::new(wave), thread: false },
+                Err(wave) => Route::Here {
+                    wave: Box::new(wave),
+                    thread: false,
+                },
             };
         }
         self.wave()?.begin(v)
@@ -276,7 +309,9 @@ impl Observer for VcdObserver {
         self.wave()?.finish(v)?;
         if let Route::Thread(_) = self.route {
             if let Route::Thread(t) = std::mem::replace(&mut self.route, Route::Gone) {
-                self.route = t.into_inner().map_or(Route::Gone, |w| Route::Back(Box::new(w)));
+                self.route = t
+                    .into_inner()
+                    .map_or(Route::Gone, |w| Route::Back(Box::new(w)));
             }
         }
         Ok(())
@@ -354,7 +389,11 @@ pub fn timescale_for(clock_ns: u64) -> (Timescale, u64) {
 
 fn round(v: f64, q: f64) -> f64 {
     let r = (v / q).round() * q;
-    if r == 0.0 { 0.0 } else { r }
+    if r == 0.0 {
+        0.0
+    } else {
+        r
+    }
 }
 
 fn env_values(v: &TickView<'_>) -> [f64; 8] {
@@ -380,11 +419,25 @@ const ENV_STEPS: [f64; 8] = [1e-3, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-3, 1e-3];
 impl EnvCache {
     fn raw(v: &TickView<'_>) -> [u64; 8] {
         let e = v.env;
-        [e.theta_deg, e.sin2_v, e.cos2_v, e.vs2_v, e.vp_v, e.vr_v, e.theta1_deg.unwrap_or(0.0), e.theta_m_deg.unwrap_or(0.0)].map(f64::to_bits)
+        [
+            e.theta_deg,
+            e.sin2_v,
+            e.cos2_v,
+            e.vs2_v,
+            e.vp_v,
+            e.vr_v,
+            e.theta1_deg.unwrap_or(0.0),
+            e.theta_m_deg.unwrap_or(0.0),
+        ]
+        .map(f64::to_bits)
     }
 
     fn new(v: &TickView<'_>) -> EnvCache {
-        EnvCache { raw: Self::raw(v), rounded: env_values(v), changed: 0 }
+        EnvCache {
+            raw: Self::raw(v),
+            rounded: env_values(v),
+            changed: 0,
+        }
     }
 
     #[inline]
@@ -405,7 +458,9 @@ impl EnvCache {
 
     /// `(index, rounded value)` of the values that changed at the last update.
     fn changes(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
-        (0..8).filter(|j| self.changed & 1 << j != 0).map(|j| (j, self.rounded[j]))
+        (0..8)
+            .filter(|j| self.changed & 1 << j != 0)
+            .map(|j| (j, self.rounded[j]))
     }
 }
 
@@ -425,7 +480,12 @@ fn format_of<T>(sig: &Signal<T>, s: &Structural) -> Format {
 
 /// Declare every signal of `list` with its value in `v`: `reg` for registers, `wire` otherwise,
 /// in the table's scopes (below the current scope `pmu50`).
-fn declare<T>(b: &mut VcdBuilder, list: &[Signal<T>], v: &T, s: &Structural) -> Result<Vec<SigId>, pmu50_waves::writer::WriteError> {
+fn declare<T>(
+    b: &mut VcdBuilder,
+    list: &[Signal<T>],
+    v: &T,
+    s: &Structural,
+) -> Result<Vec<SigId>, pmu50_waves::writer::WriteError> {
     let mut ids = Vec::with_capacity(list.len());
     let mut scope = "";
     for sig in list {
@@ -438,10 +498,18 @@ fn declare<T>(b: &mut VcdBuilder, list: &[Signal<T>], v: &T, s: &Structural) -> 
             }
             scope = sig.scope;
         }
-        let ty = if sig.dir == Dir::Reg { BitType::Reg } else { BitType::Wire };
+        let ty = if sig.dir == Dir::Reg {
+            BitType::Reg
+        } else {
+            BitType::Wire
+        };
         let width = sig.bits(s);
         let value = (sig.get)(v);
-        ids.push(if width == 1 { b.add_bit(ty, sig.name, (value != 0).into())? } else { b.add_vector(ty, sig.name, u32::from(width) - 1, 0, value)? });
+        ids.push(if width == 1 {
+            b.add_bit(ty, sig.name, (value != 0).into())?
+        } else {
+            b.add_vector(ty, sig.name, u32::from(width) - 1, 0, value)?
+        });
     }
     if !scope.is_empty() {
         b.pop_scope()?;
@@ -449,7 +517,16 @@ fn declare<T>(b: &mut VcdBuilder, list: &[Signal<T>], v: &T, s: &Structural) -> 
     Ok(ids)
 }
 
-const ENV_NAMES: [&str; 8] = ["theta_deg", "sin2_v", "cos2_v", "vs2_v", "vp_v", "vr_v", "theta1_deg", "theta_m_deg"];
+const ENV_NAMES: [&str; 8] = [
+    "theta_deg",
+    "sin2_v",
+    "cos2_v",
+    "vs2_v",
+    "vp_v",
+    "vr_v",
+    "theta1_deg",
+    "theta_m_deg",
+];
 
 impl Wave {
     /// Create `<dir>/<name>.<vcd|fst>` and `<dir>/<name>.gtkw` (pointing at the waveform file)
@@ -457,25 +534,49 @@ impl Wave {
     /// at reset (a VCD of every signal is written by a tracer stepping a copy of it); `window`
     /// is in ticks.
     #[allow(clippy::too_many_arguments)]
-    fn create(dir: &Path, name: &str, core: &Pmu50, clock_ns: u64, window: Option<(u64, u64)>, format: WaveFormat, level: Level, first: &TickView<'_>) -> Result<Wave, SimError> {
+    fn create(
+        dir: &Path,
+        name: &str,
+        core: &Pmu50,
+        clock_ns: u64,
+        window: Option<(u64, u64)>,
+        format: WaveFormat,
+        level: Level,
+        first: &TickView<'_>,
+    ) -> Result<Wave, SimError> {
         let s = core.structural();
         let file_name = format!("{name}.{}", format.ext());
         let path = dir.join(&file_name);
         let (ts, unit_ns) = timescale_for(clock_ns);
         let mut b = VcdBuilder::new(ts, VERSION).map_err(|e| err(&path, e))?;
         if let Some((a, z)) = window {
-            b.window(a * clock_ns / unit_ns, z * clock_ns / unit_ns).map_err(|e| err(&path, e))?;
+            b.window(a * clock_ns / unit_ns, z * clock_ns / unit_ns)
+                .map_err(|e| err(&path, e))?;
         }
         let mut gt = GtkwSave::new(&file_name).map_err(|e| err(&path, e))?;
         b.push_scope("pmu50").map_err(|e| err(&path, e))?;
-        let inputs = declare(&mut b, signals::INPUTS, first.inputs, &s).map_err(|e| err(&path, e))?;
-        let ports = declare(&mut b, signals::OUTPUTS, first.ports, &s).map_err(|e| err(&path, e))?;
-        let regs = if level.registers() { declare(&mut b, signals::REGISTERS, first.regs, &s).map_err(|e| err(&path, e))? } else { Vec::new() };
-        let internals = if level.internals() { declare(&mut b, signals::INTERNALS, first.internals, &s).map_err(|e| err(&path, e))? } else { Vec::new() };
+        let inputs =
+            declare(&mut b, signals::INPUTS, first.inputs, &s).map_err(|e| err(&path, e))?;
+        let ports =
+            declare(&mut b, signals::OUTPUTS, first.ports, &s).map_err(|e| err(&path, e))?;
+        let regs = if level.registers() {
+            declare(&mut b, signals::REGISTERS, first.regs, &s).map_err(|e| err(&path, e))?
+        } else {
+            Vec::new()
+        };
+        let internals = if level.internals() {
+            declare(&mut b, signals::INTERNALS, first.internals, &s).map_err(|e| err(&path, e))?
+        } else {
+            Vec::new()
+        };
         b.pop_scope().map_err(|e| err(&path, e))?;
         b.push_scope("env").map_err(|e| err(&path, e))?;
         let ev = env_values(first);
-        let env = ENV_NAMES.iter().zip(ev).map(|(n, v)| b.add_real(n, v).map_err(|e| err(&path, e))).collect::<Result<Vec<_>, _>>()?;
+        let env = ENV_NAMES
+            .iter()
+            .zip(ev)
+            .map(|(n, v)| b.add_real(n, v).map_err(|e| err(&path, e)))
+            .collect::<Result<Vec<_>, _>>()?;
         b.pop_scope().map_err(|e| err(&path, e))?;
 
         // GTKWave save file: the contract ports first, then the inputs, one group per block, the
@@ -486,7 +587,11 @@ impl Wave {
             gt.trace(Trace::new(n).format(f)).map_err(gerr)
         };
         gt.begin_group("ports", false).map_err(gerr)?;
-        for (id, sig) in inputs.iter().zip(signals::INPUTS).filter(|(_, sig)| sig.contract) {
+        for (id, sig) in inputs
+            .iter()
+            .zip(signals::INPUTS)
+            .filter(|(_, sig)| sig.contract)
+        {
             trace(&mut gt, *id, format_of(sig, &s))?;
         }
         for (id, sig) in ports.iter().zip(signals::OUTPUTS) {
@@ -504,7 +609,8 @@ impl Wave {
                 if !block.is_empty() {
                     gt.end_group().map_err(gerr)?;
                 }
-                gt.begin_group(sig.scope, COLLAPSED_BLOCKS.contains(&sig.scope)).map_err(gerr)?;
+                gt.begin_group(sig.scope, COLLAPSED_BLOCKS.contains(&sig.scope))
+                    .map_err(gerr)?;
                 block = sig.scope;
             }
             trace(&mut gt, *id, format_of(sig, &s))?;
@@ -521,10 +627,28 @@ impl Wave {
         }
         let name_of = |b: &VcdBuilder, id: SigId| b.gtkwave_name(id).map_err(|e| err(&path, e));
         gt.begin_group("env", false).map_err(gerr)?;
-        let colors = [Color::Yellow, Color::Orange, Color::Green, Color::Red, Color::Violet, Color::Indigo, Color::Blue, Color::Yellow];
+        let colors = [
+            Color::Yellow,
+            Color::Orange,
+            Color::Green,
+            Color::Red,
+            Color::Violet,
+            Color::Indigo,
+            Color::Blue,
+            Color::Yellow,
+        ];
         for ((id, n), c) in env.iter().zip(ENV_NAMES).zip(colors) {
-            let rows = if n.starts_with("theta") || n.ends_with("2_v") { 6 } else { 3 };
-            gt.trace(Trace::new(name_of(&b, *id)?).analog(Analog::Interpolated, rows).color(c)).map_err(gerr)?;
+            let rows = if n.starts_with("theta") || n.ends_with("2_v") {
+                6
+            } else {
+                3
+            };
+            gt.trace(
+                Trace::new(name_of(&b, *id)?)
+                    .analog(Analog::Interpolated, rows)
+                    .color(c),
+            )
+            .map_err(gerr)?;
         }
         gt.end_group().map_err(gerr)?;
         gt.size(1400, 900);
@@ -533,16 +657,33 @@ impl Wave {
         }
         let file = AtomicFile::stage(&path).map_err(|e| err(&path, e))?;
         let state_ids: Vec<SigId> = ports.iter().chain(&regs).copied().collect();
-        let all_ids: Vec<SigId> = state_ids.iter().chain(&inputs).chain(&internals).copied().collect();
+        let all_ids: Vec<SigId> = state_ids
+            .iter()
+            .chain(&inputs)
+            .chain(&internals)
+            .copied()
+            .collect();
         let (w, all, state) = match format {
             WaveFormat::Vcd if level == Level::All => {
                 // the tracer's frame: every signal in declaration order
                 let mut w = Box::new(b.start(BufWriter::new(file)).map_err(|e| err(&path, e))?);
-                let traced: Vec<SigId> = inputs.iter().chain(&ports).chain(&regs).chain(&internals).copied().collect();
+                let traced: Vec<SigId> = inputs
+                    .iter()
+                    .chain(&ports)
+                    .chain(&regs)
+                    .chain(&internals)
+                    .copied()
+                    .collect();
                 let frame = w.frame(&traced).map_err(|e| err(&path, e))?;
                 let state = w.frame(&state_ids).map_err(|e| err(&path, e))?;
                 let tracer = CoreTracer::new(frame, core.clone()).map_err(|e| err(&path, e))?;
-                (Out::Traced(Box::new(TracedVcd::start(w, tracer).map_err(|e| err(&path, e))?)), None, state)
+                (
+                    Out::Traced(Box::new(
+                        TracedVcd::start(w, tracer).map_err(|e| err(&path, e))?,
+                    )),
+                    None,
+                    state,
+                )
             }
             WaveFormat::Vcd => {
                 let mut w = b.start(BufWriter::new(file)).map_err(|e| err(&path, e))?;
@@ -553,11 +694,24 @@ impl Wave {
             WaveFormat::Fst if level == Level::All => {
                 // the tracer's frame, as for a VCD
                 let mut w = Box::new(start_fst(b, file.temp_path()).map_err(|e| err(&path, e))?);
-                let traced: Vec<SigId> = inputs.iter().chain(&ports).chain(&regs).chain(&internals).copied().collect();
+                let traced: Vec<SigId> = inputs
+                    .iter()
+                    .chain(&ports)
+                    .chain(&regs)
+                    .chain(&internals)
+                    .copied()
+                    .collect();
                 let frame = w.frame(&traced).map_err(|e| err(&path, e))?;
                 let state = w.frame(&state_ids).map_err(|e| err(&path, e))?;
                 let tracer = CoreTracer::new(frame, core.clone()).map_err(|e| err(&path, e))?;
-                (Out::TracedFst(Box::new(TracedFst::start(w, tracer).map_err(|e| err(&path, e))?), file), None, state)
+                (
+                    Out::TracedFst(
+                        Box::new(TracedFst::start(w, tracer).map_err(|e| err(&path, e))?),
+                        file,
+                    ),
+                    None,
+                    state,
+                )
             }
             WaveFormat::Fst => {
                 let mut w = start_fst(b, file.temp_path()).map_err(|e| err(&path, e))?;
@@ -566,8 +720,28 @@ impl Wave {
                 (Out::Fst(Box::new(w), file), Some(all), state)
             }
         };
-        let ids = Ids { all, state, env, values: Vec::with_capacity(all_ids.len()), level, all_ids };
-        Ok(Wave { out: Some(w), tracer: None, file: None, gtkw: Some(gt), ids, unit_ns, path, rec: PeriodRecorder::new(), rec_values: Vec::new(), env: EnvCache::new(first), clock_ns, window })
+        let ids = Ids {
+            all,
+            state,
+            env,
+            values: Vec::with_capacity(all_ids.len()),
+            level,
+            all_ids,
+        };
+        Ok(Wave {
+            out: Some(w),
+            tracer: None,
+            file: None,
+            gtkw: Some(gt),
+            ids,
+            unit_ns,
+            path,
+            rec: PeriodRecorder::new(),
+            rec_values: Vec::new(),
+            env: EnvCache::new(first),
+            clock_ns,
+            window,
+        })
     }
 
     /// The complete VCD (after `finish`, still a temporary file) and its save file.
@@ -594,10 +768,17 @@ impl Wave {
 
     /// The writer lent to the tracer again after [`Wave::untraced`].
     fn retraced(&mut self) -> Result<(), SimError> {
-        let Some(tracer) = self.tracer.take() else { return Ok(()) };
+        let Some(tracer) = self.tracer.take() else {
+            return Ok(());
+        };
         self.out = match self.out.take() {
-            Some(Out::Vcd(w)) => Some(Out::Traced(Box::new(TracedVcd::start(w, tracer).map_err(|e| err(&self.path, e))?))),
-            Some(Out::Fst(w, file)) => Some(Out::TracedFst(Box::new(TracedFst::start(w, tracer).map_err(|e| err(&self.path, e))?), file)),
+            Some(Out::Vcd(w)) => Some(Out::Traced(Box::new(
+                TracedVcd::start(w, tracer).map_err(|e| err(&self.path, e))?,
+            ))),
+            Some(Out::Fst(w, file)) => Some(Out::TracedFst(
+                Box::new(TracedFst::start(w, tracer).map_err(|e| err(&self.path, e))?),
+                file,
+            )),
             w => w,
         };
         Ok(())
@@ -638,7 +819,14 @@ impl Wave {
 }
 
 /// One tick into either writer: the frame of this dump, then the analog values.
-fn dump_into<E: Emitter>(w: &mut Writer<E>, ids: &mut Ids, env: &mut EnvCache, v: &TickView<'_>, t: u64, with_inputs: bool) -> Result<(), WriteError> {
+fn dump_into<E: Emitter>(
+    w: &mut Writer<E>,
+    ids: &mut Ids,
+    env: &mut EnvCache,
+    v: &TickView<'_>,
+    t: u64,
+    with_inputs: bool,
+) -> Result<(), WriteError> {
     frame_values(&mut ids.values, v, with_inputs, ids.level);
     let frame = match (with_inputs, ids.all.as_mut()) {
         (true, Some(all)) => all,
@@ -658,7 +846,13 @@ fn dump_into<E: Emitter>(w: &mut Writer<E>, ids: &mut Ids, env: &mut EnvCache, v
 /// One replayed tick of a skipped period: slots below `all.len()` are variables of the frame
 /// `all`, the others the analog values (bits of the `f64`), through the writer's checked calls
 /// (the same values as the frame and `change_real` of a stepped tick, hence the same bytes).
-fn replay_into<E: Emitter>(w: &mut Writer<E>, all: &[SigId], env: &[SigId], t: u64, changes: &[(u32, u64)]) -> Result<(), WriteError> {
+fn replay_into<E: Emitter>(
+    w: &mut Writer<E>,
+    all: &[SigId],
+    env: &[SigId],
+    t: u64,
+    changes: &[(u32, u64)],
+) -> Result<(), WriteError> {
     w.set_time(t)?;
     for &(slot, v) in changes {
         match all.get(slot as usize) {
@@ -715,9 +909,15 @@ impl Wave {
         let (clk, unit) = (self.clock_ns, self.unit_ns);
         let (all, env) = (&self.ids.all_ids, &self.ids.env);
         let r = match self.out.as_mut() {
-            Some(Out::Vcd(w)) => self.rec.replay(k, periods, len, self.window, |tick, c| replay_into(w, all, env, tick * clk / unit, c)),
-            Some(Out::Fst(w, _)) => self.rec.replay(k, periods, len, self.window, |tick, c| replay_into(w, all, env, tick * clk / unit, c)),
-            Some(Out::Traced(_) | Out::TracedFst(..)) | None => return Err(err(&self.path, "writer already closed")),
+            Some(Out::Vcd(w)) => self.rec.replay(k, periods, len, self.window, |tick, c| {
+                replay_into(w, all, env, tick * clk / unit, c)
+            }),
+            Some(Out::Fst(w, _)) => self.rec.replay(k, periods, len, self.window, |tick, c| {
+                replay_into(w, all, env, tick * clk / unit, c)
+            }),
+            Some(Out::Traced(_) | Out::TracedFst(..)) | None => {
+                return Err(err(&self.path, "writer already closed"))
+            }
         };
         r.map_err(|e| err(&self.path, e))
     }
@@ -725,10 +925,19 @@ impl Wave {
     fn finish_untraced(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
         self.dump(v, false)?;
         let path = self.path.clone();
-        let w = self.out.take().ok_or_else(|| err(&path, "writer already closed"))?;
+        let w = self
+            .out
+            .take()
+            .ok_or_else(|| err(&path, "writer already closed"))?;
         self.file = Some(match w {
-            Out::Traced(_) | Out::TracedFst(..) => return Err(err(&path, "the tracer still holds the writer")),
-            Out::Vcd(w) => (*w).finish().map_err(|e| err(&path, e))?.into_inner().map_err(|e| err(&path, e.into_error()))?,
+            Out::Traced(_) | Out::TracedFst(..) => {
+                return Err(err(&path, "the tracer still holds the writer"))
+            }
+            Out::Vcd(w) => (*w)
+                .finish()
+                .map_err(|e| err(&path, e))?
+                .into_inner()
+                .map_err(|e| err(&path, e.into_error()))?,
             Out::Fst(w, file) => {
                 w.finish().map_err(|e| err(&path, e))?;
                 file

@@ -10,7 +10,9 @@ use std::fmt::Write as _;
 pub const FONT: &str = "DejaVu Sans, Verdana, Arial, sans-serif";
 
 /// Colours of the series, in order (colour-blind friendly, Okabe-Ito).
-pub const PALETTE: [&str; 8] = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000", "#F0E442"];
+pub const PALETTE: [&str; 8] = [
+    "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000", "#F0E442",
+];
 
 /// Escape text for XML (`&`, `<`, `>`, `"`).
 pub fn esc(s: &str) -> String {
@@ -54,13 +56,28 @@ impl Anchor {
 
 impl Svg {
     pub fn new(width: f64, height: f64) -> Svg {
-        Svg { width, height, body: String::new() }
+        Svg {
+            width,
+            height,
+            body: String::new(),
+        }
     }
 
     /// One `<line>`: the element's own attributes, in its order.
     #[allow(clippy::too_many_arguments)]
-    pub fn line(&mut self, x1: f64, y1: f64, x2: f64, y2: f64, stroke: &str, width: f64, dash: Option<&str>) {
-        let d = dash.map(|d| format!(" stroke-dasharray=\"{d}\"")).unwrap_or_default();
+    pub fn line(
+        &mut self,
+        x1: f64,
+        y1: f64,
+        x2: f64,
+        y2: f64,
+        stroke: &str,
+        width: f64,
+        dash: Option<&str>,
+    ) {
+        let d = dash
+            .map(|d| format!(" stroke-dasharray=\"{d}\""))
+            .unwrap_or_default();
         let _ = writeln!(self.body, "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{stroke}\" stroke-width=\"{}\"{d}/>", n(x1), n(y1), n(x2), n(y2), n(width));
     }
 
@@ -75,21 +92,46 @@ impl Svg {
             }
             p += &format!("{},{}", n(*x), n(*y));
         }
-        let d = dash.map(|d| format!(" stroke-dasharray=\"{d}\"")).unwrap_or_default();
+        let d = dash
+            .map(|d| format!(" stroke-dasharray=\"{d}\""))
+            .unwrap_or_default();
         let _ = writeln!(self.body, "<polyline points=\"{p}\" fill=\"none\" stroke=\"{stroke}\" stroke-width=\"{}\" stroke-linejoin=\"miter\"{d}/>", n(width));
     }
 
     pub fn rect(&mut self, x: f64, y: f64, w: f64, h: f64, fill: &str, stroke: Option<&str>) {
-        let s = stroke.map(|s| format!(" stroke=\"{s}\" stroke-width=\"1.00\"")).unwrap_or_default();
-        let _ = writeln!(self.body, "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"{fill}\"{s}/>", n(x), n(y), n(w.max(0.0)), n(h.max(0.0)));
+        let s = stroke
+            .map(|s| format!(" stroke=\"{s}\" stroke-width=\"1.00\""))
+            .unwrap_or_default();
+        let _ = writeln!(
+            self.body,
+            "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"{fill}\"{s}/>",
+            n(x),
+            n(y),
+            n(w.max(0.0)),
+            n(h.max(0.0))
+        );
     }
 
     pub fn circle(&mut self, x: f64, y: f64, r: f64, fill: &str) {
-        let _ = writeln!(self.body, "<circle cx=\"{}\" cy=\"{}\" r=\"{}\" fill=\"{fill}\"/>", n(x), n(y), n(r));
+        let _ = writeln!(
+            self.body,
+            "<circle cx=\"{}\" cy=\"{}\" r=\"{}\" fill=\"{fill}\"/>",
+            n(x),
+            n(y),
+            n(r)
+        );
     }
 
     pub fn text(&mut self, x: f64, y: f64, size: f64, anchor: Anchor, fill: &str, s: &str) {
-        let _ = writeln!(self.body, "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"{}\" fill=\"{fill}\">{}</text>", n(x), n(y), n(size), anchor.as_str(), esc(s));
+        let _ = writeln!(
+            self.body,
+            "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"{}\" fill=\"{fill}\">{}</text>",
+            n(x),
+            n(y),
+            n(size),
+            anchor.as_str(),
+            esc(s)
+        );
     }
 
     /// Text rotated by -90 degrees around its anchor point (a y-axis label).
@@ -123,7 +165,11 @@ pub fn ticks(lo: f64, hi: f64, target: usize) -> Vec<f64> {
     }
     let raw = (hi - lo) / target.max(1) as f64;
     let mag = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * mag).find(|s| *s >= raw).unwrap_or(10.0 * mag);
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * mag);
     let first = (lo / step).ceil();
     let last = (hi / step + 1e-9).floor();
     let mut out = Vec::new();
@@ -138,8 +184,16 @@ pub fn ticks(lo: f64, hi: f64, target: usize) -> Vec<f64> {
 
 /// A tick label: as few decimals as the step needs.
 pub fn tick_label(v: f64, ticks: &[f64]) -> String {
-    let step = if ticks.len() > 1 { (ticks[1] - ticks[0]).abs() } else { 1.0 };
-    let dec = if step >= 1.0 { 0 } else { (-step.log10()).ceil() as usize };
+    let step = if ticks.len() > 1 {
+        (ticks[1] - ticks[0]).abs()
+    } else {
+        1.0
+    };
+    let dec = if step >= 1.0 {
+        0
+    } else {
+        (-step.log10()).ceil() as usize
+    };
     let s = format!("{v:.dec$}");
     if s.starts_with('-') && s[1..].chars().all(|c| c == '0' || c == '.') {
         s[1..].to_string()
@@ -229,12 +283,27 @@ impl Chart {
         let left = bx + 78.0;
         let top = by + 34.0;
         // three legend entries per line, two when a name is long
-        let per_line = if self.series.iter().any(|s| text_width(&s.name, 11.0) > (bw - 94.0) / 3.0 - 34.0) { 2 } else { 3 };
+        let per_line = if self
+            .series
+            .iter()
+            .any(|s| text_width(&s.name, 11.0) > (bw - 94.0) / 3.0 - 34.0)
+        {
+            2
+        } else {
+            3
+        };
         let legend_h = 18.0 * self.series.len().div_ceil(per_line) as f64;
         let right = bx + bw - 16.0;
         let bottom = by + bh - 46.0 - legend_h;
         let (w, h) = (right - left, bottom - top);
-        svg.text(bx + bw / 2.0, by + 20.0, 15.0, Anchor::Middle, "#000", &self.title);
+        svg.text(
+            bx + bw / 2.0,
+            by + 20.0,
+            15.0,
+            Anchor::Middle,
+            "#000",
+            &self.title,
+        );
         let (x0, x1) = self.x_range;
         let (y0, y1) = self.y_range;
         let sx = |x: f64| left + (x - x0) / (x1 - x0) * w;
@@ -243,14 +312,28 @@ impl Chart {
         let yt = ticks(y0, y1, 6);
         for v in &yt {
             svg.line(left, sy(*v), right, sy(*v), "#e0e0e0", 1.0, None);
-            svg.text(left - 6.0, sy(*v) + 4.0, 11.0, Anchor::End, "#000", &tick_label(*v, &yt));
+            svg.text(
+                left - 6.0,
+                sy(*v) + 4.0,
+                11.0,
+                Anchor::End,
+                "#000",
+                &tick_label(*v, &yt),
+            );
         }
         if self.x_categories.is_empty() {
             let xt = ticks(x0, x1, 8);
             for v in &xt {
                 svg.line(sx(*v), top, sx(*v), bottom, "#eeeeee", 1.0, None);
                 svg.line(sx(*v), bottom, sx(*v), bottom + 4.0, "#000", 1.0, None);
-                svg.text(sx(*v), bottom + 17.0, 11.0, Anchor::Middle, "#000", &tick_label(*v, &xt));
+                svg.text(
+                    sx(*v),
+                    bottom + 17.0,
+                    11.0,
+                    Anchor::Middle,
+                    "#000",
+                    &tick_label(*v, &xt),
+                );
             }
         } else {
             for (v, l) in &self.x_categories {
@@ -260,7 +343,14 @@ impl Chart {
         }
         svg.line(left, bottom, right, bottom, "#000", 1.0, None);
         svg.line(left, top, left, bottom, "#000", 1.0, None);
-        svg.text(left + w / 2.0, bottom + 34.0, 12.0, Anchor::Middle, "#000", &self.x_label);
+        svg.text(
+            left + w / 2.0,
+            bottom + 34.0,
+            12.0,
+            Anchor::Middle,
+            "#000",
+            &self.x_label,
+        );
         svg.text_vertical(bx + 16.0, top + h / 2.0, 12.0, &self.y_label);
         for (x, _, color) in &self.vlines {
             if *x >= x0 && *x <= x1 {
@@ -284,15 +374,26 @@ impl Chart {
             match s.style {
                 Style::Line | Style::Step => svg.polyline(&pts, &s.color, 2.0, None),
                 Style::Dashed => svg.polyline(&pts, &s.color, 2.0, Some("8 5")),
-                Style::Points => pts.iter().for_each(|(x, y)| svg.circle(*x, *y, 3.0, &s.color)),
+                Style::Points => pts
+                    .iter()
+                    .for_each(|(x, y)| svg.circle(*x, *y, 3.0, &s.color)),
                 Style::LinePoints => {
                     svg.polyline(&pts, &s.color, 1.5, None);
-                    pts.iter().for_each(|(x, y)| svg.circle(*x, *y, 2.5, &s.color));
+                    pts.iter()
+                        .for_each(|(x, y)| svg.circle(*x, *y, 2.5, &s.color));
                 }
                 Style::Level => {
                     for p in &s.points {
                         let y = sy(p.1.clamp(y0, y1));
-                        svg.line(sx((p.0 - 0.3).max(x0)), y, sx((p.0 + 0.3).min(x1)), y, &s.color, 2.0, Some("6 3"));
+                        svg.line(
+                            sx((p.0 - 0.3).max(x0)),
+                            y,
+                            sx((p.0 + 0.3).min(x1)),
+                            y,
+                            &s.color,
+                            2.0,
+                            Some("6 3"),
+                        );
                     }
                 }
             }
@@ -302,11 +403,19 @@ impl Chart {
             if *x < x0 || *x > x1 {
                 continue;
             }
-            let anchor = if sx(*x) > left + w * 0.7 { Anchor::End } else { Anchor::Start };
+            let anchor = if sx(*x) > left + w * 0.7 {
+                Anchor::End
+            } else {
+                Anchor::Start
+            };
             let dx = if anchor == Anchor::End { -4.0 } else { 4.0 };
             let y = top + h * 0.4 + 16.0 * i as f64;
             let tw = text_width(label, 11.0);
-            let bx0 = if anchor == Anchor::End { sx(*x) + dx - tw } else { sx(*x) + dx };
+            let bx0 = if anchor == Anchor::End {
+                sx(*x) + dx - tw
+            } else {
+                sx(*x) + dx
+            };
             svg.rect(bx0 - 2.0, y - 10.0, tw + 4.0, 13.0, "#ffffff", None);
             svg.text(sx(*x) + dx, y, 11.0, anchor, color, label);
         }
@@ -317,7 +426,15 @@ impl Chart {
             let ly = bottom + 52.0 + (i / per_line) as f64 * 18.0;
             match s.style {
                 Style::Points => svg.circle(lx + 11.0, ly - 4.0, 3.0, &s.color),
-                Style::Dashed | Style::Level => svg.line(lx, ly - 4.0, lx + 22.0, ly - 4.0, &s.color, 2.0, Some("6 3")),
+                Style::Dashed | Style::Level => svg.line(
+                    lx,
+                    ly - 4.0,
+                    lx + 22.0,
+                    ly - 4.0,
+                    &s.color,
+                    2.0,
+                    Some("6 3"),
+                ),
                 _ => svg.line(lx, ly - 4.0, lx + 22.0, ly - 4.0, &s.color, 2.0, None),
             }
             svg.text(lx + 28.0, ly, 11.0, Anchor::Start, "#000", &s.name);

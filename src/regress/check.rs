@@ -46,8 +46,21 @@ pub struct Failure {
 impl Failure {
     /// What groups failures: the kind, the first divergent signal and the FIG. path.
     pub fn signature(&self) -> String {
-        let raw = format!("{}-{}-{}", self.kind, self.signal.trim_start_matches("pmu50."), self.fig.replace('/', "_"));
-        raw.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' { c } else { '_' }).collect()
+        let raw = format!(
+            "{}-{}-{}",
+            self.kind,
+            self.signal.trim_start_matches("pmu50."),
+            self.fig.replace('/', "_")
+        );
+        raw.chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect()
     }
 }
 
@@ -85,7 +98,11 @@ impl SeedChecks {
     pub fn new(p: &pmu50_core::Params, clock_ns: u64, check_spec: bool) -> SeedChecks {
         SeedChecks {
             coverage: Coverage::new(p, clock_ns),
-            spec: if check_spec { Pmu50Spec::new(*p).ok() } else { None },
+            spec: if check_spec {
+                Pmu50Spec::new(*p).ok()
+            } else {
+                None
+            },
             failure: None,
             first_sample: None,
             param_writes: Vec::new(),
@@ -106,7 +123,9 @@ impl SeedChecks {
     /// under the bound: no Vs2 fault, no parameter write, the shaft below 0.8 x 90 deg per
     /// sampling period, and within the turns the counters' width can tell apart.
     pub fn finish_checks(&mut self, r: &RunResult, sc: &Scenario) {
-        let Some(first) = self.first_sample else { return };
+        let Some(first) = self.first_sample else {
+            return;
+        };
         let p = &sc.params;
         // Every sample must see a settled sensor (99 %, tau ln 100): the key-off window Wt and
         // the on-key period both at least that long ([0321]: Pw lets the sensor stabilise).
@@ -118,8 +137,23 @@ impl SeedChecks {
         let period = u64::from(p.si_max.max(p.smp_on));
         let bound = 0.8 * 90.0 / period as f64;
         let clk = sc.clock_ns();
-        let faults: Vec<(u64, bool)> = sc.events.iter().filter_map(|e| if let Action::Vs2Fault(v) = e.action { Some((e.tick, v)) } else { None }).collect();
-        let faulted_before = faults.iter().filter(|(t, _)| *t <= first).map(|(_, v)| *v).next_back().unwrap_or(false);
+        let faults: Vec<(u64, bool)> = sc
+            .events
+            .iter()
+            .filter_map(|e| {
+                if let Action::Vs2Fault(v) = e.action {
+                    Some((e.tick, v))
+                } else {
+                    None
+                }
+            })
+            .collect();
+        let faulted_before = faults
+            .iter()
+            .filter(|(t, _)| *t <= first)
+            .map(|(_, v)| *v)
+            .next_back()
+            .unwrap_or(false);
         // Each counter holds 2^W values, read sign-extended: the read-out is the angle modulo
         // 2^W quadrants (docs/spec.md 2.5), 360 deg at W = 2.
         let modulus = f64::from(1u32 << p.cnt_width) * 90.0;
@@ -127,7 +161,10 @@ impl SeedChecks {
             let window = first..=k.tick;
             let faulted = faulted_before || faults.iter().any(|(t, v)| window.contains(t) && *v);
             let wrote = self.param_writes.iter().any(|t| window.contains(t));
-            let speed = sc.motor.max_speed_deg_per_ns(first * clk, (k.tick + 1) * clk) * clk as f64;
+            let speed = sc
+                .motor
+                .max_speed_deg_per_ns(first * clk, (k.tick + 1) * clk)
+                * clk as f64;
             if faulted || wrote || speed >= bound {
                 return;
             }
@@ -158,7 +195,13 @@ impl SeedChecks {
 /// regression bench measures it on its own).
 impl Observer for Coverage {
     fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
-        self.sample(&Edge { before: v.regs, after: v.after, out: v.ports, inputs: v.inputs, internals: v.internals });
+        self.sample(&Edge {
+            before: v.regs,
+            after: v.after,
+            out: v.ports,
+            inputs: v.inputs,
+            internals: v.internals,
+        });
         Ok(())
     }
 
@@ -206,9 +249,18 @@ impl Observer for SeedChecks {
         }
         if i.bus_we {
             let block = rf::RegisterFile::new(self.sync_depth, self.cnt_width);
-            let rfi = rf::Inputs { bus_we: true, bus_addr: i.bus_addr, bus_wdata: i.bus_wdata, sig: v.ports.sig, ..Default::default() };
+            let rfi = rf::Inputs {
+                bus_we: true,
+                bus_addr: i.bus_addr,
+                bus_wdata: i.bus_wdata,
+                sig: v.ports.sig,
+                ..Default::default()
+            };
             let refused = block.bus_write(&b.register_file, &rfi).is_err();
-            if !refused && a.register_file.params(self.sync_depth, self.cnt_width) != b.register_file.params(self.sync_depth, self.cnt_width) {
+            if !refused
+                && a.register_file.params(self.sync_depth, self.cnt_width)
+                    != b.register_file.params(self.sync_depth, self.cnt_width)
+            {
                 self.param_writes.push(v.tick);
             }
             if refused != a.register_file.bus_err && !b.register_file.bus_err {
@@ -292,13 +344,30 @@ fn first_difference(want: &Regs, got: &Regs) -> Option<(String, String, String, 
     }
     cmp!(
         action_switching.sync,
-        register_file.adaptive, register_file.pw, register_file.pi, register_file.ps, register_file.si_max, register_file.si_min,
-        register_file.t1, register_file.t2, register_file.cth, register_file.smp_on, register_file.bus_err, register_file.rdata,
+        register_file.adaptive,
+        register_file.pw,
+        register_file.pi,
+        register_file.ps,
+        register_file.si_max,
+        register_file.si_min,
+        register_file.t1,
+        register_file.t2,
+        register_file.cth,
+        register_file.smp_on,
+        register_file.bus_err,
+        register_file.rdata,
         timing_generator.tmr,
         sensor_power_determination.sr,
-        comparator_latch.cs, comparator_latch.cc, comparator_latch.vld,
-        updown_counter.cnt_s, updown_counter.cnt_c, updown_counter.quadrant_skip,
-        drive_interval.si, drive_interval.hist_s, drive_interval.hist_c, drive_interval.cnt_r,
+        comparator_latch.cs,
+        comparator_latch.cc,
+        comparator_latch.vld,
+        updown_counter.cnt_s,
+        updown_counter.cnt_c,
+        updown_counter.quadrant_skip,
+        drive_interval.si,
+        drive_interval.hist_s,
+        drive_interval.hist_c,
+        drive_interval.cnt_r,
         count_diagnosis.diag,
     );
     debug_assert!(want == got, "every register is compared");

@@ -127,10 +127,18 @@ fn knobs_for_point(point: &str, bin: &str) -> Vec<Knob> {
         ("config.clock", "below_10us") => vec![ClockFast],
         ("config.clock", "above_10us") => vec![ClockSlow],
         ("counter.wrap", _) => vec![Spin],
-        ("counter.quadrant_skip", _) | ("faults.diag", _) | ("fig18.path", _) | ("fig18.history", _) | ("interval.clamp", _) => vec![FastMoves],
-        ("interval.shorten_to", "min_exact") | ("interval.expand_to", "x_exact") => vec![ExactStep, FastMoves],
+        ("counter.quadrant_skip", _)
+        | ("faults.diag", _)
+        | ("fig18.path", _)
+        | ("fig18.history", _)
+        | ("interval.clamp", _) => vec![FastMoves],
+        ("interval.shorten_to", "min_exact") | ("interval.expand_to", "x_exact") => {
+            vec![ExactStep, FastMoves]
+        }
         ("interval.shorten_to" | "interval.expand_to" | "interval.at_edge", _) => vec![FastMoves],
-        ("cnt_r.value", "saturated" | "above_cth") | ("cnt_r.before", "saturated") => vec![LongQuiet],
+        ("cnt_r.value", "saturated" | "above_cth") | ("cnt_r.before", "saturated") => {
+            vec![LongQuiet]
+        }
         ("faults.vs2", _) | ("fig17.path", "s1_no_rise") => vec![Faults],
         ("faults.sync_glitch", _) => vec![Glitches],
         ("faults.skip_clear", _) => vec![StatusWrites, FastMoves],
@@ -149,10 +157,19 @@ fn knobs_for_point(point: &str, bin: &str) -> Vec<Knob> {
 pub fn knobs_for(bin: &str) -> Vec<Knob> {
     let mut k = Vec::new();
     if let Some(rest) = bin.strip_prefix("cross.") {
-        let Some((name, pair)) = rest.split_once('.') else { return k };
-        let Some(c) = pmu50_coverage::model::crosses().find(|c| c.name == name) else { return k };
-        let Some((a, b)) = pair.split_once('*') else { return k };
-        let (pa, pb) = (&pmu50_coverage::model::POINTS[c.rows], &pmu50_coverage::model::POINTS[c.columns]);
+        let Some((name, pair)) = rest.split_once('.') else {
+            return k;
+        };
+        let Some(c) = pmu50_coverage::model::crosses().find(|c| c.name == name) else {
+            return k;
+        };
+        let Some((a, b)) = pair.split_once('*') else {
+            return k;
+        };
+        let (pa, pb) = (
+            &pmu50_coverage::model::POINTS[c.rows],
+            &pmu50_coverage::model::POINTS[c.columns],
+        );
         k.extend(knobs_for_point(&format!("{}.{}", pa.group, pa.name), a));
         k.extend(knobs_for_point(&format!("{}.{}", pb.group, pb.name), b));
         // FIG. 18 runs at x only when x = min (a detection at x shortens the interval)
@@ -209,7 +226,11 @@ pub fn knob_params(k: Knob) -> &'static [&'static str] {
 
 /// The knobs a regression does not draw because the RTL fixes a parameter they need.
 pub fn knobs_off(fixed: &Fixed) -> Vec<Knob> {
-    KNOBS.iter().map(|&(k, _)| k).filter(|&k| knob_params(k).iter().any(|n| fixed.get(n).is_some())).collect()
+    KNOBS
+        .iter()
+        .map(|&(k, _)| k)
+        .filter(|&k| knob_params(k).iter().any(|n| fixed.get(n).is_some()))
+        .collect()
 }
 
 /// Structural parameters a regression holds fixed.
@@ -224,14 +245,26 @@ pub struct Pins {
 impl Bias {
     /// Uniform random: every knob at its base probability.
     pub fn uniform() -> Bias {
-        Bias { percent: KNOBS.to_vec(), targets: Vec::new(), pins: Pins::default(), fixed: Fixed::default() }
+        Bias {
+            percent: KNOBS.to_vec(),
+            targets: Vec::new(),
+            pins: Pins::default(),
+            fixed: Fixed::default(),
+        }
     }
 
     /// Directed, from the coverage so far (hits in the model's order): every bin still empty
     /// that can be hit and that scenario stimuli reach.
     pub fn directed(hits: &[u64], pins: Pins) -> Bias {
         let l = pmu50_coverage::layout();
-        Bias::from_missing(l.bins.iter().zip(hits).filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only).map(|(b, _)| b.name.as_str())).pinned(pins)
+        Bias::from_missing(
+            l.bins
+                .iter()
+                .zip(hits)
+                .filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only)
+                .map(|(b, _)| b.name.as_str()),
+        )
+        .pinned(pins)
     }
 
     /// The same bias with these structural parameters held.
@@ -246,24 +279,55 @@ impl Bias {
             return self;
         }
         let off = knobs_off(fixed);
-        let percent = self.percent.into_iter().filter(|(k, _)| !off.contains(k)).collect();
-        let mut targets: Vec<Vec<Knob>> = self.targets.into_iter().filter(|t| !t.iter().any(|k| off.contains(k))).collect();
+        let percent = self
+            .percent
+            .into_iter()
+            .filter(|(k, _)| !off.contains(k))
+            .collect();
+        let mut targets: Vec<Vec<Knob>> = self
+            .targets
+            .into_iter()
+            .filter(|t| !t.iter().any(|k| off.contains(k)))
+            .collect();
         targets.dedup();
-        Bias { percent, targets, pins: self.pins, fixed: fixed.clone() }
+        Bias {
+            percent,
+            targets,
+            pins: self.pins,
+            fixed: fixed.clone(),
+        }
     }
 
     /// Directed: each seed aims at one hole (a set of knobs that makes an empty bin likely).
     pub fn from_missing<'a>(missing: impl IntoIterator<Item = &'a str>) -> Bias {
-        let mut sets: Vec<Vec<Knob>> = missing.into_iter().map(knobs_for).filter(|k| !k.is_empty()).collect();
+        let mut sets: Vec<Vec<Knob>> = missing
+            .into_iter()
+            .map(knobs_for)
+            .filter(|k| !k.is_empty())
+            .collect();
         sets.sort();
         sets.dedup();
-        Bias { percent: KNOBS.to_vec(), targets: sets, pins: Pins::default(), fixed: Fixed::default() }
+        Bias {
+            percent: KNOBS.to_vec(),
+            targets: sets,
+            pins: Pins::default(),
+            fixed: Fixed::default(),
+        }
     }
 
     fn draw(&self, r: &mut Rng, seed: u64) -> Vec<Knob> {
-        let mut k: Vec<Knob> = self.percent.iter().filter(|&&(_, p)| r.percent(p)).map(|&(k, _)| k).collect();
+        let mut k: Vec<Knob> = self
+            .percent
+            .iter()
+            .filter(|&&(_, p)| r.percent(p))
+            .map(|&(k, _)| k)
+            .collect();
         if !self.targets.is_empty() {
-            k.extend(self.targets[(seed % self.targets.len() as u64) as usize].iter().copied());
+            k.extend(
+                self.targets[(seed % self.targets.len() as u64) as usize]
+                    .iter()
+                    .copied(),
+            );
             k.sort();
             k.dedup();
         }
@@ -310,7 +374,9 @@ pub struct Stimulus {
     pub ticks: u64,
 }
 
-const WRITABLE: [&str; 11] = ["CTRL", "PW", "PI", "PS", "SI_MAX", "SI_MIN", "T1", "T2", "CTH", "SMP_ON", "STATUS"];
+const WRITABLE: [&str; 11] = [
+    "CTRL", "PW", "PI", "PS", "SI_MAX", "SI_MIN", "T1", "T2", "CTH", "SMP_ON", "STATUS",
+];
 
 /// Draw the parameters from the knobs; always legal.
 fn params(r: &mut Rng, k: &[Knob], fixed: &Fixed) -> Params {
@@ -320,7 +386,11 @@ fn params(r: &mut Rng, k: &[Knob], fixed: &Fixed) -> Params {
     let mut tries = 0;
     loop {
         let pw = if on(PwZero) { 0 } else { r.range(1, 8) as u16 };
-        let pi = if on(PiZero) && pw > 0 { 0 } else { r.range(u64::from(pw == 0), 15) as u16 };
+        let pi = if on(PiZero) && pw > 0 {
+            0
+        } else {
+            r.range(u64::from(pw == 0), 15) as u16
+        };
         let ps = if on(PsOne) { 1 } else { r.range(2, 8) as u16 };
         let wt = u64::from(pw) + u64::from(pi) + u64::from(ps);
         let si_min = if on(MinTight) {
@@ -349,20 +419,47 @@ fn params(r: &mut Rng, k: &[Knob], fixed: &Fixed) -> Params {
                 r.range(1, (span / 2).saturating_sub(1).max(1))
             }
         };
-        let (mut t1, mut t2) = (step(r, on(T1OneStep), on(T1Half)), step(r, on(T2OneStep), on(T2Half)));
+        let (mut t1, mut t2) = (
+            step(r, on(T1OneStep), on(T1Half)),
+            step(r, on(T2OneStep), on(T2Half)),
+        );
         let mut si_max = si_max;
         if on(ExactStep) && !on(XEqualMin) {
             // the span a whole number of T1 and of T2 steps, so S6 lands exactly on min and S10
             // exactly on x: span = 12 u, T = span / k with k = 1 (one step), 2 (half) or 3, 4
             let u = r.range(1, 60);
-            let k = |r: &mut Rng, one: bool, half: bool| if one { 1 } else if half { 2 } else { r.range(3, 4) };
+            let k = |r: &mut Rng, one: bool, half: bool| {
+                if one {
+                    1
+                } else if half {
+                    2
+                } else {
+                    r.range(3, 4)
+                }
+            };
             si_max = si_min + 12 * u;
             t1 = 12 * u / k(r, on(T1OneStep), on(T1Half));
             t2 = 12 * u / k(r, on(T2OneStep), on(T2Half));
         }
         let p = Params {
-            sync_depth: if on(Sync1) { 1 } else if on(Sync4) { 4 } else if on(Sync3) { 3 } else { 2 },
-            cnt_width: if on(NarrowCounter) { 2 } else if on(Width3To7) { r.range(3, 7) as u8 } else if on(Width8To15) { r.range(8, 15) as u8 } else { 16 },
+            sync_depth: if on(Sync1) {
+                1
+            } else if on(Sync4) {
+                4
+            } else if on(Sync3) {
+                3
+            } else {
+                2
+            },
+            cnt_width: if on(NarrowCounter) {
+                2
+            } else if on(Width3To7) {
+                r.range(3, 7) as u8
+            } else if on(Width8To15) {
+                r.range(8, 15) as u8
+            } else {
+                16
+            },
             adaptive: !on(Fixed),
             pw,
             pi,
@@ -371,8 +468,20 @@ fn params(r: &mut Rng, k: &[Knob], fixed: &Fixed) -> Params {
             si_min: si_min as u16,
             t1: t1.min(65535) as u16,
             t2: t2.min(65535) as u16,
-            cth: if on(CthOne) { 1 } else if on(CthHigh) { r.range(9, 40) as u8 } else { r.range(2, 8) as u8 },
-            smp_on: if on(SmpOnOne) { 1 } else if on(SmpOnShort) { r.range(2, 9) as u16 } else { r.range(10, 30) as u16 },
+            cth: if on(CthOne) {
+                1
+            } else if on(CthHigh) {
+                r.range(9, 40) as u8
+            } else {
+                r.range(2, 8) as u8
+            },
+            smp_on: if on(SmpOnOne) {
+                1
+            } else if on(SmpOnShort) {
+                r.range(2, 9) as u16
+            } else {
+                r.range(10, 30) as u16
+            },
         };
         let p = fixed.apply(&p);
         if p.validate().is_ok() {
@@ -395,7 +504,13 @@ impl Stimulus {
         // held structural parameters (they do not take part in legality)
         p.sync_depth = bias.pins.sync_depth.unwrap_or(p.sync_depth);
         p.cnt_width = bias.pins.cnt_width.unwrap_or(p.cnt_width);
-        let clock_us = if on(ClockFast) { 5 } else if on(ClockSlow) { 20 } else { 10 };
+        let clock_us = if on(ClockFast) {
+            5
+        } else if on(ClockSlow) {
+            20
+        } else {
+            10
+        };
         let mut ticks = r.range(20_000, 60_000);
         // CNTr up to its saturation ([0248]): after a rotation, quiet pulses with the key off,
         // either at the minimum interval with Cth = 255 (S9 holds si), or climbing to x in T2 = 1
@@ -426,7 +541,10 @@ impl Stimulus {
         let mut motion = Vec::new();
         if on(Spin) {
             let dir = if r.percent(50) { 1 } else { -1 };
-            motion.push(Motion::Move { ticks, milli_deg: dir * 20_000 * ticks as i64 });
+            motion.push(Motion::Move {
+                ticks,
+                milli_deg: dir * 20_000 * ticks as i64,
+            });
         } else if on(LongQuiet) {
             // From reset with the key off, samples are taken at the edges wt-1, x+wt-1, 2x+wt-1,
             // ...: the shaft turns a quadrant (mid to mid) between the second and third, so the
@@ -437,14 +555,28 @@ impl Stimulus {
             let dir = if r.percent(50) { 1 } else { -1 };
             let (x, min, wt) = (u64::from(p.si_max), u64::from(p.si_min), u64::from(p.wt()));
             let p0 = 2 * x + wt - 1;
-            let second = if saturate_at_min { p0 + 255 * min + min / 4 } else { ticks.max(p0 + 2 * x) };
+            let second = if saturate_at_min {
+                p0 + 255 * min + min / 4
+            } else {
+                ticks.max(p0 + 2 * x)
+            };
             let first_move = (x / 2).max(1);
             let second_move = (min / 2).max(1);
             motion.push(Motion::Hold { ticks: x + wt });
-            motion.push(Motion::Move { ticks: first_move, milli_deg: dir * 90_000 });
-            motion.push(Motion::Hold { ticks: second - (x + wt + first_move) });
-            motion.push(Motion::Move { ticks: second_move, milli_deg: dir * 90_000 });
-            motion.push(Motion::Hold { ticks: 2 * min.max(x) });
+            motion.push(Motion::Move {
+                ticks: first_move,
+                milli_deg: dir * 90_000,
+            });
+            motion.push(Motion::Hold {
+                ticks: second - (x + wt + first_move),
+            });
+            motion.push(Motion::Move {
+                ticks: second_move,
+                milli_deg: dir * 90_000,
+            });
+            motion.push(Motion::Hold {
+                ticks: 2 * min.max(x),
+            });
             ticks = motion.iter().map(Motion::ticks).sum();
         } else {
             let mut t = 0;
@@ -455,7 +587,10 @@ impl Stimulus {
                 } else {
                     let fast = on(FastMoves) && r.percent(60) || r.percent(5);
                     let max = if fast { 600 } else { 50 };
-                    Motion::Move { ticks: d, milli_deg: (r.range(0, 2000) as i64 - 1000) * max * d as i64 / 1000 }
+                    Motion::Move {
+                        ticks: d,
+                        milli_deg: (r.range(0, 2000) as i64 - 1000) * max * d as i64 / 1000,
+                    }
                 };
                 motion.push(m);
                 t += d;
@@ -475,10 +610,28 @@ impl Stimulus {
         if on(Spin) || on(LongQuiet) {
             // nothing else: the key and the parameters hold for the whole run
             // the middle of a quadrant, so that each quarter turn crosses exactly one boundary
-            let start_decideg = if on(LongQuiet) { 450 + 900 * r.range(0, 3) } else { r.range(0, 3599) };
-            return Stimulus { seed, knobs, params: p, clock_us, vr_err: (0, 0), start_decideg, motion, events, ticks };
+            let start_decideg = if on(LongQuiet) {
+                450 + 900 * r.range(0, 3)
+            } else {
+                r.range(0, 3599)
+            };
+            return Stimulus {
+                seed,
+                knobs,
+                params: p,
+                clock_us,
+                vr_err: (0, 0),
+                start_decideg,
+                motion,
+                events,
+                ticks,
+            };
         }
-        let gap = if on(KeyStorm) { (20, 800) } else { (50, 15_000) };
+        let gap = if on(KeyStorm) {
+            (20, 800)
+        } else {
+            (50, 15_000)
+        };
         let mut at = 0u64;
         let mut fault = false;
         loop {
@@ -510,7 +663,11 @@ impl Stimulus {
                     events.push((at, Action::Fault(fault)));
                 }
                 _ if ig => {
-                    let reg = if on(StatusWrites) && r.percent(40) { "STATUS" } else { WRITABLE[r.range(0, WRITABLE.len() as u64 - 2) as usize] };
+                    let reg = if on(StatusWrites) && r.percent(40) {
+                        "STATUS"
+                    } else {
+                        WRITABLE[r.range(0, WRITABLE.len() as u64 - 2) as usize]
+                    };
                     let value = write_value(&mut r, reg, &p, on(IllegalWrites));
                     events.push((at, Action::Write { reg, value }));
                 }
@@ -519,8 +676,20 @@ impl Stimulus {
         }
         // One event of a kind per tick: a write shares its tick only with ig.
         events.sort_by_key(|(t, a)| (*t, matches!(a, Action::Write { .. })));
-        events.dedup_by(|b, a| a.0 == b.0 && std::mem::discriminant(&a.1) == std::mem::discriminant(&b.1));
-        Stimulus { seed, knobs, params: p, clock_us, vr_err, start_decideg, motion, events, ticks }
+        events.dedup_by(|b, a| {
+            a.0 == b.0 && std::mem::discriminant(&a.1) == std::mem::discriminant(&b.1)
+        });
+        Stimulus {
+            seed,
+            knobs,
+            params: p,
+            clock_us,
+            vr_err,
+            start_decideg,
+            motion,
+            events,
+            ticks,
+        }
     }
 
     /// The scenario as TOML (what `pmu50 run` reads).
@@ -529,25 +698,61 @@ impl Stimulus {
         let us = |t: u64| format!("\"{} us\"", t * self.clock_us);
         let mut s = String::new();
         let knobs: Vec<String> = self.knobs.iter().map(|k| format!("{k:?}")).collect();
-        let _ = writeln!(s, "# pmu50 regress, seed {}: knobs {}", self.seed, if knobs.is_empty() { "none".into() } else { knobs.join(", ") });
+        let _ = writeln!(
+            s,
+            "# pmu50 regress, seed {}: knobs {}",
+            self.seed,
+            if knobs.is_empty() {
+                "none".into()
+            } else {
+                knobs.join(", ")
+            }
+        );
         let _ = writeln!(s, "name = \"{name}\"");
         let _ = writeln!(s, "description = \"regression seed {}\"", self.seed);
         let _ = writeln!(s, "duration = {}\n", us(self.ticks));
         let _ = writeln!(s, "[core]\nclock = \"{} us\"", self.clock_us);
-        let _ = writeln!(s, "sync_depth = {}\ncnt_width = {}\nadaptive = {}", p.sync_depth, p.cnt_width, p.adaptive);
-        for (n, v) in [("pw", p.pw), ("pi", p.pi), ("ps", p.ps), ("x", p.si_max), ("min", p.si_min), ("t1", p.t1), ("t2", p.t2), ("smp_on", p.smp_on)] {
+        let _ = writeln!(
+            s,
+            "sync_depth = {}\ncnt_width = {}\nadaptive = {}",
+            p.sync_depth, p.cnt_width, p.adaptive
+        );
+        for (n, v) in [
+            ("pw", p.pw),
+            ("pi", p.pi),
+            ("ps", p.ps),
+            ("x", p.si_max),
+            ("min", p.si_min),
+            ("t1", p.t1),
+            ("t2", p.t2),
+            ("smp_on", p.smp_on),
+        ] {
             let _ = writeln!(s, "{n} = {}", us(u64::from(v)));
         }
         let _ = writeln!(s, "cth = {}\n", p.cth);
-        let _ = writeln!(s, "[env.comparator]\nvr_err_s = {:.3}\nvr_err_c = {:.3}\n", self.vr_err.0 as f64 / 1000.0, self.vr_err.1 as f64 / 1000.0);
-        let _ = writeln!(s, "[motor]\nstart_deg = {:.1}\nsegments = [", self.start_decideg as f64 / 10.0);
+        let _ = writeln!(
+            s,
+            "[env.comparator]\nvr_err_s = {:.3}\nvr_err_c = {:.3}\n",
+            self.vr_err.0 as f64 / 1000.0,
+            self.vr_err.1 as f64 / 1000.0
+        );
+        let _ = writeln!(
+            s,
+            "[motor]\nstart_deg = {:.1}\nsegments = [",
+            self.start_decideg as f64 / 10.0
+        );
         for m in &self.motion {
             match *m {
                 Motion::Hold { ticks } => {
                     let _ = writeln!(s, "  {{ kind = \"hold\", duration = {} }},", us(ticks));
                 }
                 Motion::Move { ticks, milli_deg } => {
-                    let _ = writeln!(s, "  {{ kind = \"move\", duration = {}, delta_deg = {:.3} }},", us(ticks), milli_deg as f64 / 1000.0);
+                    let _ = writeln!(
+                        s,
+                        "  {{ kind = \"move\", duration = {}, delta_deg = {:.3} }},",
+                        us(ticks),
+                        milli_deg as f64 / 1000.0
+                    );
                 }
             }
         }
@@ -557,7 +762,9 @@ impl Stimulus {
             let _ = match a {
                 Action::Ig(v) => writeln!(s, "ig = {v}"),
                 Action::Fault(v) => writeln!(s, "vs2_fault = {v}"),
-                Action::Write { reg, value } => writeln!(s, "write = {{ reg = \"{reg}\", value = {value} }}"),
+                Action::Write { reg, value } => {
+                    writeln!(s, "write = {{ reg = \"{reg}\", value = {value} }}")
+                }
             };
         }
         s
@@ -569,12 +776,21 @@ fn write_value(r: &mut Rng, reg: &str, p: &Params, illegal: bool) -> u16 {
     let bad = illegal && r.percent(50);
     let v = match reg {
         "CTRL" => r.range(0, 1),
-        "STATUS" => [1 << 5, 1 << 9, (1 << 5) | (1 << 9), 0, r.range(0, 0x3FF)][r.range(0, 4) as usize],
+        "STATUS" => {
+            [1 << 5, 1 << 9, (1 << 5) | (1 << 9), 0, r.range(0, 0x3FF)][r.range(0, 4) as usize]
+        }
         "CTH" if bad => 0,
         "CTH" => r.range(1, 10),
-        "SI_MIN" if bad => [0, u64::from(p.si_max) + 1 + r.range(0, 50), u64::from(p.pw) + u64::from(p.pi)][r.range(0, 2) as usize],
+        "SI_MIN" if bad => [
+            0,
+            u64::from(p.si_max) + 1 + r.range(0, 50),
+            u64::from(p.pw) + u64::from(p.pi),
+        ][r.range(0, 2) as usize],
         "SI_MAX" if bad => u64::from(p.si_min).saturating_sub(1 + r.range(0, 20)),
-        "SI_MIN" | "SI_MAX" => r.range(u64::from(p.si_min).saturating_sub(50), u64::from(p.si_max) + 50),
+        "SI_MIN" | "SI_MAX" => r.range(
+            u64::from(p.si_min).saturating_sub(50),
+            u64::from(p.si_max) + 50,
+        ),
         // Pw = Pi = 0 leaves no settling tick; a long one makes the window too long
         "PW" if bad && p.pi == 0 => 0,
         "PI" if bad && p.pw == 0 => 0,

@@ -28,10 +28,10 @@ use pmu50_core::params::Params;
 use pmu50_core::pmu50::{Inputs, Internals, Outputs, Regs};
 use pmu50_core::signals::{self, Signal};
 use pmu50_core::Pmu50;
+use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::ffi::{c_char, c_void, CStr};
 use std::io::{Read, Write};
-use serde::{Deserialize, Serialize};
 use std::os::fd::{AsRawFd, FromRawFd};
 use std::os::unix::ffi::OsStringExt;
 use std::path::{Path, PathBuf};
@@ -45,12 +45,26 @@ const DUT_ABI: u32 = 2;
 /// One tick's inputs as a word: `ig`, `vs2_ok`, `cmp_s`, `cmp_c`, `bus_we` in bits 0-4,
 /// `bus_addr` in bits 8-15, `bus_wdata` in bits 16-31.
 pub fn pack(i: &Inputs) -> u32 {
-    u32::from(i.ig) | u32::from(i.vs2_ok) << 1 | u32::from(i.cmp_s) << 2 | u32::from(i.cmp_c) << 3 | u32::from(i.bus_we) << 4 | u32::from(i.bus_addr) << 8 | u32::from(i.bus_wdata) << 16
+    u32::from(i.ig)
+        | u32::from(i.vs2_ok) << 1
+        | u32::from(i.cmp_s) << 2
+        | u32::from(i.cmp_c) << 3
+        | u32::from(i.bus_we) << 4
+        | u32::from(i.bus_addr) << 8
+        | u32::from(i.bus_wdata) << 16
 }
 
 /// The inverse of [`pack`].
 pub fn unpack(w: u32) -> Inputs {
-    Inputs { ig: w & 1 != 0, vs2_ok: w & 2 != 0, cmp_s: w & 4 != 0, cmp_c: w & 8 != 0, bus_we: w & 16 != 0, bus_addr: (w >> 8) as u8, bus_wdata: (w >> 16) as u16 }
+    Inputs {
+        ig: w & 1 != 0,
+        vs2_ok: w & 2 != 0,
+        cmp_s: w & 4 != 0,
+        cmp_c: w & 8 != 0,
+        bus_we: w & 16 != 0,
+        bus_addr: (w >> 8) as u8,
+        bus_wdata: (w >> 16) as u16,
+    }
 }
 
 /// Most ticks a stimulus may hold in memory (4 bytes a tick: 1 GiB).
@@ -69,7 +83,10 @@ pub struct InputRecorder {
 }
 
 fn too_long() -> SimError {
-    SimError::observer("lockstep stimulus", format!("more than {MAX_TICKS} ticks to hold in memory for the DUT"))
+    SimError::observer(
+        "lockstep stimulus",
+        format!("more than {MAX_TICKS} ticks to hold in memory for the DUT"),
+    )
 }
 
 impl Observer for InputRecorder {
@@ -87,7 +104,11 @@ impl Observer for InputRecorder {
         self.inputs.len() as u64 == k && len > 0 && k >= len
     }
     fn replay(&mut self, k: u64, periods: u64, len: u64) -> Result<(), SimError> {
-        let total = periods.checked_mul(len).and_then(|n| n.checked_add(k)).filter(|&n| n <= MAX_TICKS as u64).ok_or_else(too_long)?;
+        let total = periods
+            .checked_mul(len)
+            .and_then(|n| n.checked_add(k))
+            .filter(|&n| n <= MAX_TICKS as u64)
+            .ok_or_else(too_long)?;
         let (from, len) = ((k - len) as usize, len as usize);
         self.inputs.reserve((total - k) as usize);
         for _ in 0..periods {
@@ -114,7 +135,12 @@ pub fn read_vector_inputs(path: &Path) -> Result<VectorInputs, String> {
         return Err(format!("{}: is {kind}, not a vector file", path.display()));
     }
     let f = std::fs::File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut v = VectorInputs { params: Params::default(), clock_ns: 10_000, scenario: "?".into(), inputs: Vec::new() };
+    let mut v = VectorInputs {
+        params: Params::default(),
+        clock_ns: 10_000,
+        scenario: "?".into(),
+        inputs: Vec::new(),
+    };
     let mut ticks = None;
     for (n, line) in std::io::BufReader::new(f).lines().enumerate() {
         let line = line.map_err(|e| format!("{}:{}: {e}", path.display(), n + 1))?;
@@ -125,34 +151,72 @@ pub fn read_vector_inputs(path: &Path) -> Result<VectorInputs, String> {
         if let Some(h) = l.strip_prefix("//") {
             let w: Vec<&str> = h.split_whitespace().collect();
             match w.as_slice() {
-                ["param", "CLOCK_US", x] => v.clock_ns = x.parse::<u64>().map_err(|e| format!("{}:{}: CLOCK_US {x}: {e}", path.display(), n + 1))? * 1000,
-                ["param", name, x] => {
-                    let x: u64 = x.parse().map_err(|e| format!("{}:{}: param {name} {x}: {e}", path.display(), n + 1))?;
-                    v.params.set_hdl_parameter(name, x).map_err(|e| format!("{}:{}: {e}", path.display(), n + 1))?;
+                ["param", "CLOCK_US", x] => {
+                    v.clock_ns = x
+                        .parse::<u64>()
+                        .map_err(|e| format!("{}:{}: CLOCK_US {x}: {e}", path.display(), n + 1))?
+                        * 1000
                 }
-                ["clock_ns", x] => v.clock_ns = x.parse().map_err(|e| format!("{}:{}: clock_ns {x}: {e}", path.display(), n + 1))?,
+                ["param", name, x] => {
+                    let x: u64 = x.parse().map_err(|e| {
+                        format!("{}:{}: param {name} {x}: {e}", path.display(), n + 1)
+                    })?;
+                    v.params
+                        .set_hdl_parameter(name, x)
+                        .map_err(|e| format!("{}:{}: {e}", path.display(), n + 1))?;
+                }
+                ["clock_ns", x] => {
+                    v.clock_ns = x
+                        .parse()
+                        .map_err(|e| format!("{}:{}: clock_ns {x}: {e}", path.display(), n + 1))?
+                }
                 ["scenario", x] => v.scenario = x.to_string(),
                 ["ticks", x] => ticks = x.parse::<u64>().ok(),
                 _ => {}
             }
             continue;
         }
-        let f: Vec<u64> = l.split_whitespace().take(signals::N_INPUTS).map(|x| u64::from_str_radix(x, 16)).collect::<Result<_, _>>().map_err(|e| format!("{}:{}: not a vector line: {e}", path.display(), n + 1))?;
+        let f: Vec<u64> = l
+            .split_whitespace()
+            .take(signals::N_INPUTS)
+            .map(|x| u64::from_str_radix(x, 16))
+            .collect::<Result<_, _>>()
+            .map_err(|e| format!("{}:{}: not a vector line: {e}", path.display(), n + 1))?;
         if f.len() < signals::N_INPUTS {
-            return Err(format!("{}:{}: {} fields, a vector line has {} inputs and the outputs", path.display(), n + 1, f.len(), signals::N_INPUTS));
+            return Err(format!(
+                "{}:{}: {} fields, a vector line has {} inputs and the outputs",
+                path.display(),
+                n + 1,
+                f.len(),
+                signals::N_INPUTS
+            ));
         }
         if v.inputs.len() >= MAX_TICKS {
             return Err(too_long().to_string());
         }
-        let i = Inputs { ig: f[0] & 1 != 0, vs2_ok: f[1] & 1 != 0, cmp_s: f[2] & 1 != 0, cmp_c: f[3] & 1 != 0, bus_we: f[4] & 1 != 0, bus_addr: f[5] as u8, bus_wdata: f[6] as u16 };
+        let i = Inputs {
+            ig: f[0] & 1 != 0,
+            vs2_ok: f[1] & 1 != 0,
+            cmp_s: f[2] & 1 != 0,
+            cmp_c: f[3] & 1 != 0,
+            bus_we: f[4] & 1 != 0,
+            bus_addr: f[5] as u8,
+            bus_wdata: f[6] as u16,
+        };
         v.inputs.push(pack(&i));
     }
     if let Some(t) = ticks {
         if t != v.inputs.len() as u64 {
-            return Err(format!("{}: {} vector lines, the header says ticks {t}", path.display(), v.inputs.len()));
+            return Err(format!(
+                "{}: {} vector lines, the header says ticks {t}",
+                path.display(),
+                v.inputs.len()
+            ));
         }
     }
-    v.params.validate().map_err(|e| format!("{}: illegal parameters: {e}", path.display()))?;
+    v.params
+        .validate()
+        .map_err(|e| format!("{}: illegal parameters: {e}", path.display()))?;
     Ok(v)
 }
 
@@ -185,20 +249,30 @@ impl DutLib {
     fn load(path: &Path) -> Result<DutLib, String> {
         // SAFETY: loading runs the library's static constructors; the library is one the
         // regression built (dut_lib.cpp with the Verilator output and runtime).
-        let lib = unsafe { libloading::Library::new(path) }.map_err(|e| format!("cannot load {}: {e}", path.display()))?;
+        let lib = unsafe { libloading::Library::new(path) }
+            .map_err(|e| format!("cannot load {}: {e}", path.display()))?;
         // SAFETY: the symbols have the types of dut_lib.cpp (checked by its interface version).
         unsafe {
             let sym = |name: &str| -> Result<*const c_void, String> {
-                let s: libloading::Symbol<*const c_void> = lib.get(name.as_bytes()).map_err(|e| format!("{}: no `{name}`: {e}", path.display()))?;
+                let s: libloading::Symbol<*const c_void> = lib
+                    .get(name.as_bytes())
+                    .map_err(|e| format!("{}: no `{name}`: {e}", path.display()))?;
                 Ok(*s)
             };
             let abi: unsafe extern "C" fn() -> u32 = std::mem::transmute(sym("pmu50_dut_abi")?);
             if abi() != DUT_ABI {
-                return Err(format!("{}: interface version {}, this pmu50 speaks {DUT_ABI} (rebuild it)", path.display(), abi()));
+                return Err(format!(
+                    "{}: interface version {}, this pmu50 speaks {DUT_ABI} (rebuild it)",
+                    path.display(),
+                    abi()
+                ));
             }
-            let count: unsafe extern "C" fn(u32) -> u32 = std::mem::transmute(sym("pmu50_dut_count")?);
-            let name: unsafe extern "C" fn(u32, u32) -> *const c_char = std::mem::transmute(sym("pmu50_dut_name")?);
-            let param: unsafe extern "C" fn(u32) -> u64 = std::mem::transmute(sym("pmu50_dut_param")?);
+            let count: unsafe extern "C" fn(u32) -> u32 =
+                std::mem::transmute(sym("pmu50_dut_count")?);
+            let name: unsafe extern "C" fn(u32, u32) -> *const c_char =
+                std::mem::transmute(sym("pmu50_dut_name")?);
+            let param: unsafe extern "C" fn(u32) -> u64 =
+                std::mem::transmute(sym("pmu50_dut_param")?);
             let names = |group: u32| -> Vec<String> {
                 (0..count(group))
                     .map(|i| {
@@ -220,14 +294,51 @@ impl DutLib {
                     Err(format!("{}: its {what} are {lib_names:?}, the model's signal table has {model:?} (rebuild it)", path.display()))
                 }
             };
-            same(0, signals::INPUTS.iter().map(|s| s.name.to_string()).collect(), "inputs")?;
-            same(1, signals::OUTPUTS.iter().map(|s| s.name.to_string()).collect(), "outputs")?;
-            let index = |group: u32, model: Vec<String>, what: &str| -> Result<Vec<usize>, String> {
-                names(group).iter().map(|n| model.iter().position(|m| m == n).ok_or_else(|| format!("{}: mapped {what} `{n}` is not in the model's signal table", path.display()))).collect()
-            };
-            let regs = index(2, signals::REGISTERS.iter().map(|s| s.path()).collect(), "register")?;
-            let internals = index(3, signals::INTERNALS.iter().map(|s| s.name.to_string()).collect(), "internal")?;
-            let params = names(4).into_iter().enumerate().map(|(i, n)| (n, param(i as u32))).collect();
+            same(
+                0,
+                signals::INPUTS.iter().map(|s| s.name.to_string()).collect(),
+                "inputs",
+            )?;
+            same(
+                1,
+                signals::OUTPUTS
+                    .iter()
+                    .map(|s| s.name.to_string())
+                    .collect(),
+                "outputs",
+            )?;
+            let index =
+                |group: u32, model: Vec<String>, what: &str| -> Result<Vec<usize>, String> {
+                    names(group)
+                        .iter()
+                        .map(|n| {
+                            model.iter().position(|m| m == n).ok_or_else(|| {
+                                format!(
+                                    "{}: mapped {what} `{n}` is not in the model's signal table",
+                                    path.display()
+                                )
+                            })
+                        })
+                        .collect()
+                };
+            let regs = index(
+                2,
+                signals::REGISTERS.iter().map(|s| s.path()).collect(),
+                "register",
+            )?;
+            let internals = index(
+                3,
+                signals::INTERNALS
+                    .iter()
+                    .map(|s| s.name.to_string())
+                    .collect(),
+                "internal",
+            )?;
+            let params = names(4)
+                .into_iter()
+                .enumerate()
+                .map(|(i, n)| (n, param(i as u32)))
+                .collect();
             Ok(DutLib {
                 new: std::mem::transmute::<*const c_void, DutNew>(sym("pmu50_dut_new")?),
                 free: std::mem::transmute::<*const c_void, DutFree>(sym("pmu50_dut_free")?),
@@ -248,8 +359,16 @@ impl DutLib {
         for (n, v) in &self.params {
             match want.iter().find(|(w, _)| w == n) {
                 Some((_, pv)) if pv == v => {}
-                Some((_, pv)) => return Err(format!("the library was built with {n}={v}, the seed needs {n}={pv}")),
-                None => return Err(format!("the library was built with parameter {n}, which the model does not have")),
+                Some((_, pv)) => {
+                    return Err(format!(
+                        "the library was built with {n}={v}, the seed needs {n}={pv}"
+                    ))
+                }
+                None => {
+                    return Err(format!(
+                        "the library was built with parameter {n}, which the model does not have"
+                    ))
+                }
             }
         }
         Ok(())
@@ -260,7 +379,8 @@ impl DutLib {
 fn params_of(v: &[u64; 12]) -> Result<Params, String> {
     let mut p = Params::default();
     for ((name, _), &value) in Params::default().hdl_parameters().iter().zip(v) {
-        p.set_hdl_parameter(name, value).map_err(|e| e.to_string())?;
+        p.set_hdl_parameter(name, value)
+            .map_err(|e| e.to_string())?;
     }
     Ok(p)
 }
@@ -283,12 +403,20 @@ pub enum Reply {
     Pass { ticks: u64 },
     /// The first divergent tick: after rising edge `tick` (outputs, registers), or during cycle
     /// `tick` before its edge (`combinational`: internals); every value that differs there.
-    Diverged { tick: u64, combinational: bool, mismatches: Vec<Mismatch> },
+    Diverged {
+        tick: u64,
+        combinational: bool,
+        mismatches: Vec<Mismatch>,
+    },
     /// `bus_rdata` after each tick of a probe.
     Probe { rdata: Vec<u64> },
     /// The RTL's values after each edge `from..=to` of a trace: for each, the output ports in
     /// table order, then the mapped registers (`regs` names them).
-    Trace { from: u64, regs: Vec<String>, values: Vec<Vec<u64>> },
+    Trace {
+        from: u64,
+        regs: Vec<String>,
+        values: Vec<Vec<u64>>,
+    },
     /// The request could not be run (the library, the parameters).
     Error { reason: String },
 }
@@ -299,7 +427,11 @@ fn compare<T>(out: &mut Vec<Mismatch>, table: &[Signal<T>], at: &[usize], model:
         let sig = &table[j];
         let e = (sig.get)(model);
         if e != g {
-            out.push(Mismatch { signal: sig.path(), expected: e, got: g });
+            out.push(Mismatch {
+                signal: sig.path(),
+                expected: e,
+                got: g,
+            });
         }
     }
 }
@@ -321,7 +453,18 @@ fn same(a: &[u64], b: &[u64]) -> bool {
 /// The seven input values of a packed word, in the order of [`signals::INPUTS`].
 fn input_words(w: u32) -> (Inputs, [u64; signals::N_INPUTS]) {
     let i = unpack(w);
-    (i, [u64::from(i.ig), u64::from(i.vs2_ok), u64::from(i.cmp_s), u64::from(i.cmp_c), u64::from(i.bus_we), u64::from(i.bus_addr), u64::from(i.bus_wdata)])
+    (
+        i,
+        [
+            u64::from(i.ig),
+            u64::from(i.vs2_ok),
+            u64::from(i.cmp_s),
+            u64::from(i.cmp_c),
+            u64::from(i.bus_we),
+            u64::from(i.bus_addr),
+            u64::from(i.bus_wdata),
+        ],
+    )
 }
 
 /// A DUT handle, freed when dropped.
@@ -366,7 +509,11 @@ fn lockstep(lib: &DutLib, params: Params, inputs: &[u32]) -> Reply {
     }
     let mut model = match Pmu50::new(params) {
         Ok(m) => m,
-        Err(e) => return Reply::Error { reason: format!("illegal parameters: {e}") },
+        Err(e) => {
+            return Reply::Error {
+                reason: format!("illegal parameters: {e}"),
+            }
+        }
     };
     let dut = Handle::new(lib);
     let (nr, nx) = (lib.regs.len(), lib.internals.len());
@@ -380,33 +527,65 @@ fn lockstep(lib: &DutLib, params: Params, inputs: &[u32]) -> Reply {
     // SAFETY: arrays of at least the library's counts (checked at load).
     unsafe { (lib.state)(dut.1, out.as_mut_ptr(), regs.as_mut_ptr()) };
     compare(&mut mm, signals::OUTPUTS, &all_outputs, &model.peek(), &out);
-    compare(&mut mm, signals::REGISTERS, &lib.regs, model.regs(), &regs[..nr]);
+    compare(
+        &mut mm,
+        signals::REGISTERS,
+        &lib.regs,
+        model.regs(),
+        &regs[..nr],
+    );
     if !mm.is_empty() {
-        return Reply::Diverged { tick: 0, combinational: false, mismatches: mm };
+        return Reply::Diverged {
+            tick: 0,
+            combinational: false,
+            mismatches: mm,
+        };
     }
     for (k, &w) in inputs.iter().enumerate() {
         let k = k as u64;
         let (i, word) = input_words(w);
         // SAFETY: arrays of at least the library's counts (checked at load).
-        unsafe { (lib.tick)(dut.1, word.as_ptr(), x.as_mut_ptr(), out.as_mut_ptr(), regs.as_mut_ptr()) };
+        unsafe {
+            (lib.tick)(
+                dut.1,
+                word.as_ptr(),
+                x.as_mut_ptr(),
+                out.as_mut_ptr(),
+                regs.as_mut_ptr(),
+            )
+        };
         // the internals are built only when the map compares some (the untraced edge is faster)
         let after = if nx > 0 {
             let step = model.step_traced(&i);
             // the mapped internals of cycle k, before edge k+1
-            let all = words::<Internals, { signals::N_INTERNALS }>(signals::INTERNALS, &step.internals);
+            let all =
+                words::<Internals, { signals::N_INTERNALS }>(signals::INTERNALS, &step.internals);
             for (d, &j) in expect_x.iter_mut().zip(&lib.internals) {
                 *d = all[j];
             }
             if !same(&expect_x[..nx], &x[..nx]) {
-                compare::<Internals>(&mut mm, signals::INTERNALS, &lib.internals, &step.internals, &x[..nx]);
-                return Reply::Diverged { tick: k, combinational: true, mismatches: mm };
+                compare::<Internals>(
+                    &mut mm,
+                    signals::INTERNALS,
+                    &lib.internals,
+                    &step.internals,
+                    &x[..nx],
+                );
+                return Reply::Diverged {
+                    tick: k,
+                    combinational: true,
+                    mismatches: mm,
+                };
             }
             step.after
         } else {
             model.step(&i)
         };
         // outputs (and mapped registers) after edge k+1
-        let mut equal = same(&words::<Outputs, { signals::N_OUTPUTS }>(signals::OUTPUTS, &after), &out);
+        let mut equal = same(
+            &words::<Outputs, { signals::N_OUTPUTS }>(signals::OUTPUTS, &after),
+            &out,
+        );
         if nr > 0 {
             let all = words::<Regs, { signals::N_REGISTERS }>(signals::REGISTERS, model.regs());
             for (d, &j) in expect_regs.iter_mut().zip(&lib.regs) {
@@ -416,24 +595,51 @@ fn lockstep(lib: &DutLib, params: Params, inputs: &[u32]) -> Reply {
         }
         if !equal {
             compare::<Outputs>(&mut mm, signals::OUTPUTS, &all_outputs, &after, &out);
-            compare::<Regs>(&mut mm, signals::REGISTERS, &lib.regs, model.regs(), &regs[..nr]);
-            return Reply::Diverged { tick: k + 1, combinational: false, mismatches: mm };
+            compare::<Regs>(
+                &mut mm,
+                signals::REGISTERS,
+                &lib.regs,
+                model.regs(),
+                &regs[..nr],
+            );
+            return Reply::Diverged {
+                tick: k + 1,
+                combinational: false,
+                mismatches: mm,
+            };
         }
     }
-    Reply::Pass { ticks: inputs.len() as u64 }
+    Reply::Pass {
+        ticks: inputs.len() as u64,
+    }
 }
 
 /// Step the RTL alone on `inputs` and return `bus_rdata` after each tick (the register bus
 /// read back after reset: what an RTL without parameters fixes).
 fn probe(lib: &DutLib, inputs: &[u32]) -> Reply {
     let dut = Handle::new(lib);
-    let rdata = signals::OUTPUTS.iter().position(|s| s.name == "bus_rdata").unwrap_or(0);
-    let (mut x, mut out, mut regs) = ([0u64; signals::N_INTERNALS], [0u64; signals::N_OUTPUTS], [0u64; signals::N_REGISTERS]);
+    let rdata = signals::OUTPUTS
+        .iter()
+        .position(|s| s.name == "bus_rdata")
+        .unwrap_or(0);
+    let (mut x, mut out, mut regs) = (
+        [0u64; signals::N_INTERNALS],
+        [0u64; signals::N_OUTPUTS],
+        [0u64; signals::N_REGISTERS],
+    );
     let mut v = Vec::with_capacity(inputs.len());
     for &w in inputs {
         let (_, word) = input_words(w);
         // SAFETY: arrays of at least the library's counts (checked at load).
-        unsafe { (lib.tick)(dut.1, word.as_ptr(), x.as_mut_ptr(), out.as_mut_ptr(), regs.as_mut_ptr()) };
+        unsafe {
+            (lib.tick)(
+                dut.1,
+                word.as_ptr(),
+                x.as_mut_ptr(),
+                out.as_mut_ptr(),
+                regs.as_mut_ptr(),
+            )
+        };
         v.push(out[rdata]);
     }
     Reply::Probe { rdata: v }
@@ -443,7 +649,11 @@ fn probe(lib: &DutLib, inputs: &[u32]) -> Reply {
 /// `from..=to` (edge 0: after reset).
 fn trace(lib: &DutLib, inputs: &[u32], from: u64, to: u64) -> Reply {
     let dut = Handle::new(lib);
-    let (mut x, mut out, mut regs) = ([0u64; signals::N_INTERNALS], [0u64; signals::N_OUTPUTS], [0u64; signals::N_REGISTERS]);
+    let (mut x, mut out, mut regs) = (
+        [0u64; signals::N_INTERNALS],
+        [0u64; signals::N_OUTPUTS],
+        [0u64; signals::N_REGISTERS],
+    );
     let nr = lib.regs.len();
     let mut values = Vec::new();
     let mut keep = |edge: u64, out: &[u64], regs: &[u64]| {
@@ -460,10 +670,26 @@ fn trace(lib: &DutLib, inputs: &[u32], from: u64, to: u64) -> Reply {
         }
         let (_, word) = input_words(w);
         // SAFETY: as above.
-        unsafe { (lib.tick)(dut.1, word.as_ptr(), x.as_mut_ptr(), out.as_mut_ptr(), regs.as_mut_ptr()) };
+        unsafe {
+            (lib.tick)(
+                dut.1,
+                word.as_ptr(),
+                x.as_mut_ptr(),
+                out.as_mut_ptr(),
+                regs.as_mut_ptr(),
+            )
+        };
         keep(k as u64 + 1, &out, &regs);
     }
-    Reply::Trace { from, regs: lib.regs.iter().map(|&j| signals::REGISTERS[j].path()).collect(), values }
+    Reply::Trace {
+        from,
+        regs: lib
+            .regs
+            .iter()
+            .map(|&j| signals::REGISTERS[j].path())
+            .collect(),
+        values,
+    }
 }
 
 fn read_exact<R: Read>(r: &mut R, n: usize) -> std::io::Result<Vec<u8>> {
@@ -473,7 +699,8 @@ fn read_exact<R: Read>(r: &mut R, n: usize) -> std::io::Result<Vec<u8>> {
 }
 
 fn u64s(b: &[u8]) -> impl Iterator<Item = u64> + '_ {
-    b.chunks_exact(8).map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
+    b.chunks_exact(8)
+        .map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
 }
 
 /// What a request asks.
@@ -524,7 +751,8 @@ pub fn worker_main() -> i32 {
                 2 => Request::Trace,
                 k => return Err(std::io::Error::other(format!("unknown request kind {k}"))),
             };
-            let len = u32::from_le_bytes(read_exact(&mut input, 4)?.try_into().unwrap_or([0; 4])) as usize;
+            let len = u32::from_le_bytes(read_exact(&mut input, 4)?.try_into().unwrap_or([0; 4]))
+                as usize;
             if len > 1 << 16 {
                 return Err(std::io::Error::other("library path longer than 64 KiB"));
             }
@@ -536,9 +764,14 @@ pub fn worker_main() -> i32 {
             let ticks = u64::from_le_bytes(read_exact(&mut input, 8)?.try_into().unwrap_or([0; 8]));
             let ticks = usize::try_from(ticks).map_err(std::io::Error::other)?;
             if ticks > MAX_TICKS {
-                return Err(std::io::Error::other(format!("{ticks} ticks, at most {MAX_TICKS}")));
+                return Err(std::io::Error::other(format!(
+                    "{ticks} ticks, at most {MAX_TICKS}"
+                )));
             }
-            let inputs = read_exact(&mut input, ticks * 4)?.chunks_exact(4).map(|c| u32::from_le_bytes(c.try_into().unwrap_or([0; 4]))).collect();
+            let inputs = read_exact(&mut input, ticks * 4)?
+                .chunks_exact(4)
+                .map(|c| u32::from_le_bytes(c.try_into().unwrap_or([0; 4])))
+                .collect();
             let window = if kind == Request::Trace {
                 let w: Vec<u64> = u64s(&read_exact(&mut input, 16)?).collect();
                 (w[0], w[1])
@@ -550,15 +783,29 @@ pub fn worker_main() -> i32 {
         let Ok((kind, path, hdl, inputs, (from, to))) = request else {
             return 2;
         };
-        let answer = match (&*libs.entry(path.clone()).or_insert_with(|| DutLib::load(&path)), params_of(&hdl), kind) {
+        let answer = match (
+            &*libs
+                .entry(path.clone())
+                .or_insert_with(|| DutLib::load(&path)),
+            params_of(&hdl),
+            kind,
+        ) {
             (Ok(lib), _, Request::Probe) => probe(lib, &inputs),
-            (Ok(lib), _, Request::Trace) => trace(lib, &inputs, from, to.min(from.saturating_add(100_000))),
+            (Ok(lib), _, Request::Trace) => {
+                trace(lib, &inputs, from, to.min(from.saturating_add(100_000)))
+            }
             (Ok(lib), Ok(p), Request::Lockstep) => lockstep(lib, p, &inputs),
             (Err(e), _, _) => Reply::Error { reason: e.clone() },
             (_, Err(e), _) => Reply::Error { reason: e },
         };
-        let line = serde_json::to_string(&answer).unwrap_or_else(|e| format!("{{\"error\":{{\"reason\":\"{e}\"}}}}"));
-        if reply.write_all(line.as_bytes()).and_then(|()| reply.write_all(b"\n")).and_then(|()| reply.flush()).is_err() {
+        let line = serde_json::to_string(&answer)
+            .unwrap_or_else(|e| format!("{{\"error\":{{\"reason\":\"{e}\"}}}}"));
+        if reply
+            .write_all(line.as_bytes())
+            .and_then(|()| reply.write_all(b"\n"))
+            .and_then(|()| reply.flush())
+            .is_err()
+        {
             return 0;
         }
     }
@@ -587,12 +834,18 @@ static CHILDREN: std::sync::Mutex<Vec<libc::pid_t>> = std::sync::Mutex::new(Vec:
 
 /// Register a child process group (its leader's id) to be killed on an interrupt.
 pub fn register_child(pgid: libc::pid_t) {
-    CHILDREN.lock().unwrap_or_else(|e| e.into_inner()).push(pgid);
+    CHILDREN
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push(pgid);
 }
 
 /// Forget a child process group that has ended.
 pub fn unregister_child(pgid: libc::pid_t) {
-    CHILDREN.lock().unwrap_or_else(|e| e.into_inner()).retain(|&p| p != pgid);
+    CHILDREN
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .retain(|&p| p != pgid);
 }
 
 /// Kill every registered child process group (on SIGINT or SIGTERM, before the exit).
@@ -615,11 +868,17 @@ pub fn kill_children() {
 static SCRATCH: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
 
 pub fn register_scratch(p: &Path) {
-    SCRATCH.lock().unwrap_or_else(|e| e.into_inner()).push(p.to_path_buf());
+    SCRATCH
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push(p.to_path_buf());
 }
 
 pub fn unregister_scratch(p: &Path) {
-    SCRATCH.lock().unwrap_or_else(|e| e.into_inner()).retain(|q| q != p);
+    SCRATCH
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .retain(|q| q != p);
 }
 
 /// On SIGINT or SIGTERM (src/atomic_file.rs): kill every DUT worker and simulator with its
@@ -640,7 +899,9 @@ pub fn cleanup_on_signal() {
 /// The last `keep` bytes of a file, as text.
 pub fn file_tail(path: &Path, keep: u64) -> String {
     use std::io::Seek;
-    let Ok(mut f) = std::fs::File::open(path) else { return String::new() };
+    let Ok(mut f) = std::fs::File::open(path) else {
+        return String::new();
+    };
     let len = f.metadata().map_or(0, |m| m.len());
     let from = len.saturating_sub(keep);
     if f.seek(std::io::SeekFrom::Start(from)).is_err() {
@@ -676,7 +937,10 @@ fn worker_exe() -> Result<PathBuf, String> {
     if p.is_file() {
         Ok(p)
     } else {
-        Err(format!("the DUT worker needs the pmu50 executable: {} is missing (cargo build --release)", p.display()))
+        Err(format!(
+            "the DUT worker needs the pmu50 executable: {} is missing (cargo build --release)",
+            p.display()
+        ))
     }
 }
 
@@ -689,9 +953,18 @@ impl Worker {
     /// of `scratch` opened for appending, so that it can be cut back while the worker writes.
     fn spawn_exe(exe: &Path, scratch: &Path) -> Result<Worker, String> {
         use std::os::unix::process::CommandExt;
-        let (file, log) = tempfile::Builder::new().prefix("dut-worker.").suffix(".log").tempfile_in(scratch).map_err(|e| format!("a log for the DUT worker in {}: {e}", scratch.display()))?.keep().map_err(|e| format!("a log for the DUT worker: {e}"))?;
+        let (file, log) = tempfile::Builder::new()
+            .prefix("dut-worker.")
+            .suffix(".log")
+            .tempfile_in(scratch)
+            .map_err(|e| format!("a log for the DUT worker in {}: {e}", scratch.display()))?
+            .keep()
+            .map_err(|e| format!("a log for the DUT worker: {e}"))?;
         drop(file);
-        let append = std::fs::OpenOptions::new().append(true).open(&log).map_err(|e| format!("{}: {e}", log.display()))?;
+        let append = std::fs::OpenOptions::new()
+            .append(true)
+            .open(&log)
+            .map_err(|e| format!("{}: {e}", log.display()))?;
         let mut child = Command::new(exe)
             .arg("dut-worker")
             .stdin(Stdio::piped())
@@ -705,17 +978,39 @@ impl Worker {
             let _ = child.kill();
             return Err("the DUT worker has no pipes".into());
         };
-        Ok(Worker { child, stdin, stdout, log, buf: Vec::with_capacity(4096), sent: Instant::now() })
+        Ok(Worker {
+            child,
+            stdin,
+            stdout,
+            log,
+            buf: Vec::with_capacity(4096),
+            sent: Instant::now(),
+        })
     }
 
     /// Run one request. After [`Answer::TimedOut`] or [`Answer::Died`] the worker is gone: drop it.
-    pub fn run(&mut self, kind: Request, lib: &Path, params: &Params, inputs: &[u32], timeout: Duration) -> Result<Answer, String> {
+    pub fn run(
+        &mut self,
+        kind: Request,
+        lib: &Path,
+        params: &Params,
+        inputs: &[u32],
+        timeout: Duration,
+    ) -> Result<Answer, String> {
         self.send(kind, lib, params, inputs);
         self.receive(timeout)
     }
 
     /// A trace request ([`Request::Trace`]) of the edges `from..=to`.
-    pub fn trace(&mut self, lib: &Path, params: &Params, inputs: &[u32], from: u64, to: u64, timeout: Duration) -> Result<Answer, String> {
+    pub fn trace(
+        &mut self,
+        lib: &Path,
+        params: &Params,
+        inputs: &[u32],
+        from: u64,
+        to: u64,
+        timeout: Duration,
+    ) -> Result<Answer, String> {
         self.send_with(Request::Trace, lib, params, inputs, &[from, to]);
         self.receive(timeout)
     }
@@ -726,8 +1021,18 @@ impl Worker {
         self.send_with(kind, lib, params, inputs, &[]);
     }
 
-    fn send_with(&mut self, kind: Request, lib: &Path, params: &Params, inputs: &[u32], trailer: &[u64]) {
-        let _ = std::fs::OpenOptions::new().write(true).open(&self.log).and_then(|f| f.set_len(0));
+    fn send_with(
+        &mut self,
+        kind: Request,
+        lib: &Path,
+        params: &Params,
+        inputs: &[u32],
+        trailer: &[u64],
+    ) {
+        let _ = std::fs::OpenOptions::new()
+            .write(true)
+            .open(&self.log)
+            .and_then(|f| f.set_len(0));
         let path = lib.as_os_str().as_encoded_bytes();
         let mut req = Vec::with_capacity(4 + 1 + 4 + path.len() + 96 + 8 + 4 * inputs.len());
         req.extend_from_slice(MAGIC);
@@ -757,7 +1062,10 @@ impl Worker {
             let keep = file_tail(&self.log, LOG_KEEP);
             if let Ok(f) = std::fs::OpenOptions::new().write(true).open(&self.log) {
                 let _ = f.set_len(0);
-                let _ = std::fs::OpenOptions::new().append(true).open(&self.log).and_then(|mut a| a.write_all(keep.as_bytes()));
+                let _ = std::fs::OpenOptions::new()
+                    .append(true)
+                    .open(&self.log)
+                    .and_then(|mut a| a.write_all(keep.as_bytes()));
             }
         }
     }
@@ -774,7 +1082,9 @@ impl Worker {
                     Ok(r) => Ok(Answer::Reply(r)),
                     Err(e) => {
                         self.kill();
-                        Err(format!("the DUT worker's reply is not one of the protocol: {e}"))
+                        Err(format!(
+                            "the DUT worker's reply is not one of the protocol: {e}"
+                        ))
                     }
                 };
             }
@@ -783,9 +1093,17 @@ impl Worker {
                 return Err("the DUT worker's reply passed 64 MiB".into());
             }
             let left = timeout.saturating_sub(self.sent.elapsed());
-            let mut pfd = libc::pollfd { fd, events: libc::POLLIN, revents: 0 };
+            let mut pfd = libc::pollfd {
+                fd,
+                events: libc::POLLIN,
+                revents: 0,
+            };
             // wake at least every 200 ms to keep the RTL's log bounded
-            let ms = if left.is_zero() { 0 } else { left.as_millis().clamp(1, 200) as i32 };
+            let ms = if left.is_zero() {
+                0
+            } else {
+                left.as_millis().clamp(1, 200) as i32
+            };
             // SAFETY: one valid pollfd.
             let r = unsafe { libc::poll(&mut pfd, 1, ms) };
             if r < 0 {
@@ -861,7 +1179,15 @@ mod tests {
 
     #[test]
     fn pack_and_unpack_are_inverse_on_every_field() {
-        let i = Inputs { ig: true, vs2_ok: false, cmp_s: true, cmp_c: true, bus_we: true, bus_addr: 0xA5, bus_wdata: 0xBEEF };
+        let i = Inputs {
+            ig: true,
+            vs2_ok: false,
+            cmp_s: true,
+            cmp_c: true,
+            bus_we: true,
+            bus_addr: 0xA5,
+            bus_wdata: 0xBEEF,
+        };
         assert_eq!(unpack(pack(&i)), i);
         let z = Inputs::default();
         assert_eq!(unpack(pack(&z)), z);
@@ -875,7 +1201,8 @@ mod tests {
         use std::os::unix::fs::PermissionsExt;
         let p = dir.join("fake");
         let mut f = tempfile::NamedTempFile::new_in(dir).unwrap();
-        f.write_all(format!("#!/bin/sh\n{body}\n").as_bytes()).unwrap();
+        f.write_all(format!("#!/bin/sh\n{body}\n").as_bytes())
+            .unwrap();
         f.persist(&p).unwrap();
         std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o755)).unwrap();
         p
@@ -885,26 +1212,59 @@ mod tests {
     fn a_worker_that_hangs_is_killed_at_the_time_limit_with_its_group() {
         let dir = tempfile::tempdir().unwrap();
         // the worker leaves a child of its own behind, as a simulator under a script would
-        let exe = fake_worker(dir.path(), "sleep 60 & echo $! > \"$(dirname \"$0\")/child.pid\"; exec sleep 60");
+        let exe = fake_worker(
+            dir.path(),
+            "sleep 60 & echo $! > \"$(dirname \"$0\")/child.pid\"; exec sleep 60",
+        );
         let mut w = Worker::spawn_exe(&exe, dir.path()).unwrap();
         let t = Instant::now();
-        let a = w.run(Request::Lockstep, Path::new("/nonexistent.so"), &Params::default(), &[0; 100], Duration::from_millis(300)).unwrap();
+        let a = w
+            .run(
+                Request::Lockstep,
+                Path::new("/nonexistent.so"),
+                &Params::default(),
+                &[0; 100],
+                Duration::from_millis(300),
+            )
+            .unwrap();
         assert!(matches!(a, Answer::TimedOut));
         assert!(t.elapsed() < Duration::from_secs(10));
-        let pid: i32 = std::fs::read_to_string(dir.path().join("child.pid")).unwrap().trim().parse().unwrap();
+        let pid: i32 = std::fs::read_to_string(dir.path().join("child.pid"))
+            .unwrap()
+            .trim()
+            .parse()
+            .unwrap();
         std::thread::sleep(Duration::from_millis(100));
         // SAFETY: signal 0 only asks whether the process exists.
-        let alive = unsafe { libc::kill(pid, 0) } == 0 && !std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default().contains(") Z ");
+        let alive = unsafe { libc::kill(pid, 0) } == 0
+            && !std::fs::read_to_string(format!("/proc/{pid}/stat"))
+                .unwrap_or_default()
+                .contains(") Z ");
         assert!(!alive, "the worker's own child {pid} survived the kill");
     }
 
     #[test]
     fn a_worker_that_ends_reports_how_with_its_last_words() {
         let dir = tempfile::tempdir().unwrap();
-        let exe = fake_worker(dir.path(), "head -c 4 > /dev/null; echo '%Error: planted: the RTL gave up' >&2; exit 3");
+        let exe = fake_worker(
+            dir.path(),
+            "head -c 4 > /dev/null; echo '%Error: planted: the RTL gave up' >&2; exit 3",
+        );
         let mut w = Worker::spawn_exe(&exe, dir.path()).unwrap();
-        match w.run(Request::Lockstep, Path::new("/nonexistent.so"), &Params::default(), &[0; 100], Duration::from_secs(20)).unwrap() {
-            Answer::Died(how) => assert_eq!(how, "the DUT ended its process (exit 3): %Error: planted: the RTL gave up"),
+        match w
+            .run(
+                Request::Lockstep,
+                Path::new("/nonexistent.so"),
+                &Params::default(),
+                &[0; 100],
+                Duration::from_secs(20),
+            )
+            .unwrap()
+        {
+            Answer::Died(how) => assert_eq!(
+                how,
+                "the DUT ended its process (exit 3): %Error: planted: the RTL gave up"
+            ),
             _ => panic!("expected the worker's death"),
         }
     }

@@ -28,13 +28,40 @@ pub enum MapError {
     #[error("--map {path}: {reason}")]
     File { path: PathBuf, reason: String },
     #[error("--map {path}:{line}: `{key}` is not a model {group} (valid: {valid})")]
-    UnknownModel { path: PathBuf, line: usize, key: String, group: &'static str, valid: String },
+    UnknownModel {
+        path: PathBuf,
+        line: usize,
+        key: String,
+        group: &'static str,
+        valid: String,
+    },
     #[error("--map {path}:{line}: `{key}` = `{name}`: the RTL has no signal `{name}`{closest}")]
-    NoSignal { path: PathBuf, line: usize, key: String, name: String, closest: String },
+    NoSignal {
+        path: PathBuf,
+        line: usize,
+        key: String,
+        name: String,
+        closest: String,
+    },
     #[error("--map {path}:{line}: `{key}` = `{name}`: the RTL signal is {actual} bit(s) wide, the model's {key} is {expected}{why}")]
-    Width { path: PathBuf, line: usize, key: String, name: String, expected: u32, actual: u32, why: String },
-    #[error("--map {path}:{line}: `{key}` = `{name}`: signals wider than 64 bits cannot be compared")]
-    TooWide { path: PathBuf, line: usize, key: String, name: String },
+    Width {
+        path: PathBuf,
+        line: usize,
+        key: String,
+        name: String,
+        expected: u32,
+        actual: u32,
+        why: String,
+    },
+    #[error(
+        "--map {path}:{line}: `{key}` = `{name}`: signals wider than 64 bits cannot be compared"
+    )]
+    TooWide {
+        path: PathBuf,
+        line: usize,
+        key: String,
+        name: String,
+    },
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -65,46 +92,76 @@ pub struct RtlMap {
 
 fn line_of(text: &str, key: &str) -> usize {
     let quoted = format!("\"{key}\"");
-    text.lines().position(|l| {
-        let t = l.trim_start();
-        t.starts_with(&quoted) || t.split(['=', ' ']).next() == Some(key)
-    })
-    .map_or(0, |i| i + 1)
+    text.lines()
+        .position(|l| {
+            let t = l.trim_start();
+            t.starts_with(&quoted) || t.split(['=', ' ']).next() == Some(key)
+        })
+        .map_or(0, |i| i + 1)
 }
 
 impl RtlMap {
     /// Read and check a map file's syntax and model names (the RTL names are checked by
     /// [`RtlMap::check`] once the RTL is elaborated).
     pub fn read(path: &Path) -> Result<RtlMap, MapError> {
-        let file = |reason: String| MapError::File { path: path.to_path_buf(), reason };
+        let file = |reason: String| MapError::File {
+            path: path.to_path_buf(),
+            reason,
+        };
         if let Some(kind) = crate::atomic_file::special_kind(path) {
             return Err(file(format!("is {kind}, not a map file")));
         }
         let meta = std::fs::metadata(path).map_err(|e| file(e.to_string()))?;
         if meta.len() > 1 << 20 {
-            return Err(file(format!("{} bytes: a map is at most 1 MiB", meta.len())));
+            return Err(file(format!(
+                "{} bytes: a map is at most 1 MiB",
+                meta.len()
+            )));
         }
         let text = std::fs::read_to_string(path).map_err(|e| file(e.to_string()))?;
         let raw: MapFile = toml::from_str(&text).map_err(|e| {
-            let line = e.span().map_or(0, |s| text[..s.start.min(text.len())].lines().count().max(1));
+            let line = e.span().map_or(0, |s| {
+                text[..s.start.min(text.len())].lines().count().max(1)
+            });
             file(format!("line {line}: {}", e.message()))
         })?;
         let regs: Vec<String> = signals::REGISTERS.iter().map(|s| s.path()).collect();
-        let ints: Vec<String> = signals::INTERNALS.iter().map(|s| s.name.to_string()).collect();
-        let mut map = RtlMap { path: Some(path.to_path_buf()), ..RtlMap::default() };
-        for (group, given, valid, out) in [("register", &raw.registers, &regs, &mut map.registers), ("internal", &raw.internals, &ints, &mut map.internals)] {
+        let ints: Vec<String> = signals::INTERNALS
+            .iter()
+            .map(|s| s.name.to_string())
+            .collect();
+        let mut map = RtlMap {
+            path: Some(path.to_path_buf()),
+            ..RtlMap::default()
+        };
+        for (group, given, valid, out) in [
+            ("register", &raw.registers, &regs, &mut map.registers),
+            ("internal", &raw.internals, &ints, &mut map.internals),
+        ] {
             for k in given.keys() {
                 if !valid.contains(k) {
-                    return Err(MapError::UnknownModel { path: path.to_path_buf(), line: line_of(&text, k), key: k.clone(), group, valid: valid.join(", ") });
+                    return Err(MapError::UnknownModel {
+                        path: path.to_path_buf(),
+                        line: line_of(&text, k),
+                        key: k.clone(),
+                        group,
+                        valid: valid.join(", "),
+                    });
                 }
             }
             for v in valid {
                 if let Some(r) = given.get(v) {
                     let rtl = r.trim().to_string();
                     if rtl.is_empty() {
-                        return Err(file(format!("line {}: `{v}` maps to an empty name", line_of(&text, v))));
+                        return Err(file(format!(
+                            "line {}: `{v}` maps to an empty name",
+                            line_of(&text, v)
+                        )));
                     }
-                    out.push(Entry { model: v.clone(), rtl });
+                    out.push(Entry {
+                        model: v.clone(),
+                        rtl,
+                    });
                 }
             }
         }
@@ -116,7 +173,10 @@ impl RtlMap {
     }
 
     fn line(&self, key: &str) -> usize {
-        self.path.as_ref().and_then(|p| std::fs::read_to_string(p).ok()).map_or(0, |t| line_of(&t, key))
+        self.path
+            .as_ref()
+            .and_then(|p| std::fs::read_to_string(p).ok())
+            .map_or(0, |t| line_of(&t, key))
     }
 
     /// Check every mapped name against the elaborated RTL (structure `s`): it exists, and has
@@ -124,18 +184,45 @@ impl RtlMap {
     pub fn check(&self, d: &Design, s: &Structural) -> Result<Vec<(Entry, HierSignal)>, MapError> {
         let path = self.path.clone().unwrap_or_default();
         let mut out = Vec::new();
-        let widths: Vec<(String, Width)> = signals::REGISTERS.iter().map(|x| (x.path(), x.width)).chain(signals::INTERNALS.iter().map(|x| (x.name.to_string(), x.width))).collect();
+        let widths: Vec<(String, Width)> = signals::REGISTERS
+            .iter()
+            .map(|x| (x.path(), x.width))
+            .chain(
+                signals::INTERNALS
+                    .iter()
+                    .map(|x| (x.name.to_string(), x.width)),
+            )
+            .collect();
         for e in self.registers.iter().chain(&self.internals) {
             let line = self.line(&e.model);
             let Some(sig) = d.signal(&e.rtl) else {
                 let closest = closest(&e.rtl, d.signals.iter().map(|x| x.path.as_str()), 5);
-                let closest = if closest.is_empty() { String::new() } else { format!("; closest: {}", closest.join(", ")) };
-                return Err(MapError::NoSignal { path, line, key: e.model.clone(), name: e.rtl.clone(), closest });
+                let closest = if closest.is_empty() {
+                    String::new()
+                } else {
+                    format!("; closest: {}", closest.join(", "))
+                };
+                return Err(MapError::NoSignal {
+                    path,
+                    line,
+                    key: e.model.clone(),
+                    name: e.rtl.clone(),
+                    closest,
+                });
             };
             if sig.width > 64 {
-                return Err(MapError::TooWide { path, line, key: e.model.clone(), name: e.rtl.clone() });
+                return Err(MapError::TooWide {
+                    path,
+                    line,
+                    key: e.model.clone(),
+                    name: e.rtl.clone(),
+                });
             }
-            let w = widths.iter().find(|(n, _)| *n == e.model).map(|(_, w)| *w).unwrap_or(Width::Bits(0));
+            let w = widths
+                .iter()
+                .find(|(n, _)| *n == e.model)
+                .map(|(_, w)| *w)
+                .unwrap_or(Width::Bits(0));
             let expected = u32::from(w.bits(s));
             if sig.width != expected {
                 let why = match w {
@@ -143,7 +230,15 @@ impl RtlMap {
                     Width::SyncDepth => format!(" (SYNC_DEPTH = {})", s.sync_depth),
                     Width::Bits(_) => String::new(),
                 };
-                return Err(MapError::Width { path, line, key: e.model.clone(), name: e.rtl.clone(), expected, actual: sig.width, why });
+                return Err(MapError::Width {
+                    path,
+                    line,
+                    key: e.model.clone(),
+                    name: e.rtl.clone(),
+                    expected,
+                    actual: sig.width,
+                    why,
+                });
             }
             out.push((e.clone(), sig.clone()));
         }
@@ -165,16 +260,32 @@ impl RtlMap {
 
     /// A text that changes whenever the map does (for the build cache key).
     pub fn key(&self) -> String {
-        self.registers.iter().chain(&self.internals).map(|e| format!("{}={};", e.model, e.rtl)).collect()
+        self.registers
+            .iter()
+            .chain(&self.internals)
+            .map(|e| format!("{}={};", e.model, e.rtl))
+            .collect()
     }
 }
 
 /// The `n` names closest to `name` (Jaro-Winkler on the whole path and on its last part).
 pub fn closest<'a>(name: &str, names: impl Iterator<Item = &'a str>, n: usize) -> Vec<String> {
     let last = |s: &str| s.rsplit('.').next().unwrap_or(s).to_string();
-    let mut scored: Vec<(f64, &str)> = names.map(|c| (strsim::jaro_winkler(name, c).max(strsim::jaro_winkler(&last(name), &last(c)) * 0.95), c)).collect();
+    let mut scored: Vec<(f64, &str)> = names
+        .map(|c| {
+            (
+                strsim::jaro_winkler(name, c)
+                    .max(strsim::jaro_winkler(&last(name), &last(c)) * 0.95),
+                c,
+            )
+        })
+        .collect();
     scored.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(b.1)));
-    scored.into_iter().take(n).map(|(_, c)| c.to_string()).collect()
+    scored
+        .into_iter()
+        .take(n)
+        .map(|(_, c)| c.to_string())
+        .collect()
 }
 
 /// How a proposed entry was found, for the comment beside it.
@@ -192,7 +303,13 @@ pub struct Proposal {
 /// internal, the signal of its width whose name best matches. Ports of the top are never
 /// proposed (they are compared anyway). Entries below a score of 0.75 are left out.
 pub fn propose(d: &Design, s: &Structural) -> (RtlMap, Vec<Proposal>) {
-    let inner: Vec<&HierSignal> = d.signals.iter().filter(|x| x.path.matches('.').count() >= 1 && !(x.is_port && x.path.matches('.').count() == 1)).collect();
+    let inner: Vec<&HierSignal> = d
+        .signals
+        .iter()
+        .filter(|x| {
+            x.path.matches('.').count() >= 1 && !(x.is_port && x.path.matches('.').count() == 1)
+        })
+        .collect();
     let mut props: Vec<Proposal> = Vec::new();
     let mut taken: Vec<String> = Vec::new();
     let mut pick = |model: String, block: &str, var: &str, width: u32| -> Option<Proposal> {
@@ -202,9 +319,21 @@ pub fn propose(d: &Design, s: &Structural) -> (RtlMap, Vec<Proposal>) {
             .map(|x| {
                 let parts: Vec<&str> = x.path.split('.').collect();
                 let leaf = parts[parts.len() - 1];
-                let scope = if parts.len() >= 3 { parts[parts.len() - 2] } else { "" };
-                let name_score = if leaf == var { 1.0 } else { strsim::jaro_winkler(leaf, var) * 0.9 };
-                let scope_score = if block.is_empty() || scope == block { 1.0 } else { strsim::jaro_winkler(scope, block).max(strsim::jaro_winkler(&x.module, block)) };
+                let scope = if parts.len() >= 3 {
+                    parts[parts.len() - 2]
+                } else {
+                    ""
+                };
+                let name_score = if leaf == var {
+                    1.0
+                } else {
+                    strsim::jaro_winkler(leaf, var) * 0.9
+                };
+                let scope_score = if block.is_empty() || scope == block {
+                    1.0
+                } else {
+                    strsim::jaro_winkler(scope, block).max(strsim::jaro_winkler(&x.module, block))
+                };
                 // a port of a sub-block is a copy of a register elsewhere: prefer the register
                 let port_penalty = if x.is_port { 0.9 } else { 1.0 };
                 (name_score * (0.6 + 0.4 * scope_score) * port_penalty, *x)
@@ -216,8 +345,20 @@ pub fn propose(d: &Design, s: &Structural) -> (RtlMap, Vec<Proposal>) {
             return None;
         }
         taken.push(best.path.clone());
-        let others = cands.iter().skip(1).take(3).map(|(_, c)| c.path.clone()).collect();
-        Some(Proposal { entry: Entry { model, rtl: best.path.clone() }, score: *score, others })
+        let others = cands
+            .iter()
+            .skip(1)
+            .take(3)
+            .map(|(_, c)| c.path.clone())
+            .collect();
+        Some(Proposal {
+            entry: Entry {
+                model,
+                rtl: best.path.clone(),
+            },
+            score: *score,
+            others,
+        })
     };
     let mut map = RtlMap::default();
     for r in signals::REGISTERS {
@@ -240,23 +381,39 @@ pub fn propose(d: &Design, s: &Structural) -> (RtlMap, Vec<Proposal>) {
 pub fn proposal_toml(map: &RtlMap, props: &[Proposal]) -> String {
     let mut s = String::from("# pmu50 rtl-map: a proposed map (model registers and internals -> RTL signals), matched by name\n# and width. Review it: `pmu50 regress --map FILE` compares every entry after every edge.\n\n[registers]\n");
     let note = |model: &str| -> String {
-        props.iter().find(|p| p.entry.model == model).map_or(String::new(), |p| {
-            let others = if p.others.is_empty() { String::new() } else { format!("; also {}", p.others.join(", ")) };
-            format!("  # score {:.2}{others}", p.score)
-        })
+        props
+            .iter()
+            .find(|p| p.entry.model == model)
+            .map_or(String::new(), |p| {
+                let others = if p.others.is_empty() {
+                    String::new()
+                } else {
+                    format!("; also {}", p.others.join(", "))
+                };
+                format!("  # score {:.2}{others}", p.score)
+            })
     };
     for r in signals::REGISTERS {
         let k = r.path();
         match map.registers.iter().find(|e| e.model == k) {
             Some(e) => s.push_str(&format!("\"{}\" = \"{}\"{}\n", e.model, e.rtl, note(&k))),
-            None => s.push_str(&format!("# \"{k}\" = ?  (no signal of {} bit(s) with a matching name)\n", r.width.bits(&Structural { sync_depth: 2, cnt_width: 16 }))),
+            None => s.push_str(&format!(
+                "# \"{k}\" = ?  (no signal of {} bit(s) with a matching name)\n",
+                r.width.bits(&Structural {
+                    sync_depth: 2,
+                    cnt_width: 16
+                })
+            )),
         }
     }
     s.push_str("\n[internals]\n");
     for x in signals::INTERNALS {
         match map.internals.iter().find(|e| e.model == x.name) {
             Some(e) => s.push_str(&format!("{} = \"{}\"{}\n", e.model, e.rtl, note(x.name))),
-            None => s.push_str(&format!("# {} = ?  (no signal with a matching name and width)\n", x.name)),
+            None => s.push_str(&format!(
+                "# {} = ?  (no signal with a matching name and width)\n",
+                x.name
+            )),
         }
     }
     s
@@ -294,14 +451,24 @@ mod tests {
 
     #[test]
     fn member_names_follow_verilator() {
-        assert_eq!(verilator_member("pmu50.timing_generator.tmr"), "pmu50__DOT__timing_generator__DOT__tmr");
-        assert_eq!(verilator_member("pmu50.internals.kon"), "pmu50__DOT__internals__DOT__kon");
+        assert_eq!(
+            verilator_member("pmu50.timing_generator.tmr"),
+            "pmu50__DOT__timing_generator__DOT__tmr"
+        );
+        assert_eq!(
+            verilator_member("pmu50.internals.kon"),
+            "pmu50__DOT__internals__DOT__kon"
+        );
         assert_eq!(verilator_member("pmu50.a__b"), "pmu50__DOT__a___05Fb");
     }
 
     #[test]
     fn closest_names_rank_the_leaf() {
-        let names = ["pmu50.timing_generator.tmr", "pmu50.timing_generator.timer", "pmu50.register_file.pw"];
+        let names = [
+            "pmu50.timing_generator.tmr",
+            "pmu50.timing_generator.timer",
+            "pmu50.register_file.pw",
+        ];
         let c = closest("pmu50.timing_generator.tmrr", names.iter().copied(), 2);
         assert_eq!(c[0], "pmu50.timing_generator.tmr");
     }
@@ -312,10 +479,20 @@ mod tests {
         let p = d.path().join("m.toml");
         std::fs::write(&p, "[registers]\n\"timing_generator.tmr\" = \"pmu50.t.q\"\n\"timing_generator.tmx\" = \"pmu50.t.x\"\n").unwrap();
         let e = RtlMap::read(&p).unwrap_err().to_string();
-        assert!(e.contains(":3: `timing_generator.tmx` is not a model register") && e.contains("timing_generator.tmr"), "{e}");
+        assert!(
+            e.contains(":3: `timing_generator.tmx` is not a model register")
+                && e.contains("timing_generator.tmr"),
+            "{e}"
+        );
         std::fs::write(&p, "[registers]\n\"timing_generator.tmr\" = \"pmu50.t.q\"\n[internals]\nkon = \"pmu50.k\"\n").unwrap();
         let m = RtlMap::read(&p).unwrap();
-        assert_eq!(m.registers, vec![Entry { model: "timing_generator.tmr".into(), rtl: "pmu50.t.q".into() }]);
+        assert_eq!(
+            m.registers,
+            vec![Entry {
+                model: "timing_generator.tmr".into(),
+                rtl: "pmu50.t.q".into()
+            }]
+        );
         assert_eq!(m.internals.len(), 1);
         std::fs::write(&p, "[regs]\n").unwrap();
         assert!(RtlMap::read(&p).unwrap_err().to_string().contains("line 1"));

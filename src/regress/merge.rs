@@ -54,8 +54,18 @@ pub fn differences(a: &RunSpec, b: &RunSpec) -> Vec<String> {
         a.rtl.clone().unwrap_or_else(|| "(none)".into()),
         b.rtl.clone().unwrap_or_else(|| "(none)".into()),
     );
-    cmp("map", a.map.clone().unwrap_or_else(|| "(none)".into()), b.map.clone().unwrap_or_else(|| "(none)".into()));
-    let fixed = |f: &super::rtl::Fixed| if f.is_empty() { "(nothing)".to_string() } else { f.text() };
+    cmp(
+        "map",
+        a.map.clone().unwrap_or_else(|| "(none)".into()),
+        b.map.clone().unwrap_or_else(|| "(none)".into()),
+    );
+    let fixed = |f: &super::rtl::Fixed| {
+        if f.is_empty() {
+            "(nothing)".to_string()
+        } else {
+            f.text()
+        }
+    };
     cmp("fixed", fixed(&a.fixed), fixed(&b.fixed));
     let pin = |p: Option<u8>| p.map_or_else(|| "(drawn per seed)".to_string(), |v| v.to_string());
     cmp(
@@ -244,7 +254,13 @@ pub fn merge(inputs: &[PathBuf], out: &Path, force: bool) -> Result<Merged, Regr
 
 /// The files of a repro folder, copied as they are but for `command.txt` and the command at
 /// the end of `failure.txt`, which name the repro's new path.
-const REPRO_FILES: [&str; 5] = ["repro.toml", "repro.vcd", "repro.gtkw", "failure.txt", "divergence.svg"];
+const REPRO_FILES: [&str; 5] = [
+    "repro.toml",
+    "repro.vcd",
+    "repro.gtkw",
+    "failure.txt",
+    "divergence.svg",
+];
 
 /// For each signature, the repro folder of its smallest seed, from the input folder holding
 /// that seed, into `out/failures/<signature>/` (when that input has one).

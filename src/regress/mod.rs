@@ -67,7 +67,11 @@ pub enum RegressError {
     #[error("{}: {reason}", path.display())]
     File { path: PathBuf, reason: String },
     #[error("{}: line {line}: {reason}", path.display())]
-    Line { path: PathBuf, line: u64, reason: String },
+    Line {
+        path: PathBuf,
+        line: u64,
+        reason: String,
+    },
     #[error(transparent)]
     Output(#[from] crate::atomic_file::OutputError),
     #[error("{0}")]
@@ -75,7 +79,10 @@ pub enum RegressError {
 }
 
 fn file_err(path: &Path, reason: impl std::fmt::Display) -> RegressError {
-    RegressError::File { path: path.to_path_buf(), reason: reason.to_string() }
+    RegressError::File {
+        path: path.to_path_buf(),
+        reason: reason.to_string(),
+    }
 }
 
 /// Seeds of a random regression handed to the pool at once: what the pool holds in memory (a
@@ -85,7 +92,12 @@ const CHUNK: u64 = 4096;
 /// Run a regression into `o.out`: the seeds of the spec not yet in the folder (all of them
 /// unless resuming), in batches, on `o.jobs` threads. Finished results go to results.jsonl at
 /// once; only their index stays in memory.
-pub fn run(o: &Options, resume: bool, stop: &AtomicBool, d: &dyn dut::Dut) -> Result<Summary, RegressError> {
+pub fn run(
+    o: &Options,
+    resume: bool,
+    stop: &AtomicBool,
+    d: &dyn dut::Dut,
+) -> Result<Summary, RegressError> {
     let dir = &o.out;
     crate::atomic_file::create_dir(dir)?;
     let results_path = dir.join("results.jsonl");
@@ -93,44 +105,78 @@ pub fn run(o: &Options, resume: bool, stop: &AtomicBool, d: &dyn dut::Dut) -> Re
     let mut total = vec![0u64; layout().bins.len()];
     let (done, complete_len) = if resume {
         let s = folder::scan(&results_path, 0, &range, &mut total, |_, _| {})?;
-        (folder::Store::new(vec![results_path.clone()], s.entries)?, s.complete_len)
+        (
+            folder::Store::new(vec![results_path.clone()], s.entries)?,
+            s.complete_len,
+        )
     } else {
-        (folder::Store::new(vec![results_path.clone()], Vec::new())?, 0)
+        (
+            folder::Store::new(vec![results_path.clone()], Vec::new())?,
+            0,
+        )
     };
     if !resume {
         // A new run: the folder's previous results are replaced when this run writes them.
-        let spec = serde_json::to_string_pretty(&o.spec).map_err(|e| RegressError::Usage(e.to_string()))? + "\n";
+        let spec = serde_json::to_string_pretty(&o.spec)
+            .map_err(|e| RegressError::Usage(e.to_string()))?
+            + "\n";
         let mut b = crate::atomic_file::Batch::new();
-        b.add(crate::atomic_file::write_atomic(&dir.join("regress.json"), spec.as_bytes())?);
+        b.add(crate::atomic_file::write_atomic(
+            &dir.join("regress.json"),
+            spec.as_bytes(),
+        )?);
         b.add(crate::atomic_file::write_atomic(&results_path, b"")?);
         b.commit()?;
     }
     // A last line torn by an interruption is cut before anything is appended after it.
-    let mut appender = folder::open_regular(&results_path, true)?.ok_or_else(|| file_err(&results_path, "cannot be created"))?;
-    appender.set_len(complete_len).map_err(|e| file_err(&results_path, e))?;
+    let mut appender = folder::open_regular(&results_path, true)?
+        .ok_or_else(|| file_err(&results_path, "cannot be created"))?;
+    appender
+        .set_len(complete_len)
+        .map_err(|e| file_err(&results_path, e))?;
     let total_seeds = range.end - range.start;
     let mut n_done = done.len() as u64;
-    let mut fails = done.entries.iter().filter(|e| e.verdict != folder::Verdict::Pass).count() as u64;
-    let mut write = |out: Vec<(SeedResult, Vec<u64>)>, total: &mut Vec<u64>| -> Result<(), RegressError> {
-        let mut text = String::new();
-        for (r, hits) in &out {
-            for (t, h) in total.iter_mut().zip(hits) {
-                *t = t.saturating_add(*h);
+    let mut fails = done
+        .entries
+        .iter()
+        .filter(|e| e.verdict != folder::Verdict::Pass)
+        .count() as u64;
+    let mut write =
+        |out: Vec<(SeedResult, Vec<u64>)>, total: &mut Vec<u64>| -> Result<(), RegressError> {
+            let mut text = String::new();
+            for (r, hits) in &out {
+                for (t, h) in total.iter_mut().zip(hits) {
+                    *t = t.saturating_add(*h);
+                }
+                text.push_str(
+                    &serde_json::to_string(r).map_err(|e| RegressError::Usage(e.to_string()))?,
+                );
+                text.push('\n');
             }
-            text.push_str(&serde_json::to_string(r).map_err(|e| RegressError::Usage(e.to_string()))?);
-            text.push('\n');
-        }
-        appender.write_all(text.as_bytes()).and_then(|_| appender.flush()).map_err(|e| file_err(&results_path, e))?;
-        n_done += out.len() as u64;
-        fails += out.iter().filter(|(r, _)| r.verdict != Verdict::Pass).count() as u64;
-        if o.progress {
-            let l = layout();
-            let hit = l.bins.iter().zip(total.iter()).filter(|(b, h)| **h > 0 && b.unreachable.is_none()).count();
-            let all = l.bins.iter().filter(|b| b.unreachable.is_none()).count();
-            eprintln!("regress: {n_done}/{total_seeds} seeds, {fails} failing, coverage {hit}/{all}");
-        }
-        Ok(())
-    };
+            appender
+                .write_all(text.as_bytes())
+                .and_then(|_| appender.flush())
+                .map_err(|e| file_err(&results_path, e))?;
+            n_done += out.len() as u64;
+            fails += out
+                .iter()
+                .filter(|(r, _)| r.verdict != Verdict::Pass)
+                .count() as u64;
+            if o.progress {
+                let l = layout();
+                let hit = l
+                    .bins
+                    .iter()
+                    .zip(total.iter())
+                    .filter(|(b, h)| **h > 0 && b.unreachable.is_none())
+                    .count();
+                let all = l.bins.iter().filter(|b| b.unreachable.is_none()).count();
+                eprintln!(
+                    "regress: {n_done}/{total_seeds} seeds, {fails} failing, coverage {hit}/{all}"
+                );
+            }
+            Ok(())
+        };
     if o.spec.directed {
         // Batch by batch: each batch's bias is the coverage of every seed before it (the
         // folder's, read back in seed order, and this run's).
@@ -141,12 +187,24 @@ pub fn run(o: &Options, resume: bool, stop: &AtomicBool, d: &dyn dut::Dut) -> Re
         while lo < range.end && !stop.load(Ordering::Relaxed) {
             let hi = (lo + BATCH).min(range.end);
             while let Some(e) = done.entries.get(cursor).filter(|e| e.seed < lo) {
-                reader.result(e)?.hits(&mut before).map_err(RegressError::Usage)?;
+                reader
+                    .result(e)?
+                    .hits(&mut before)
+                    .map_err(RegressError::Usage)?;
                 cursor += 1;
             }
             let bias = Bias::directed(&before, o.spec.pins).fixing(&o.spec.fixed);
             let todo: Vec<u64> = (lo..hi).filter(|s| !done.contains(*s)).collect();
-            let out = run_pool(&o.spec, &todo, &bias, d, o.jobs, o.timeout, stop, |_| Ok(()))?;
+            let out = run_pool(
+                &o.spec,
+                &todo,
+                &bias,
+                d,
+                o.jobs,
+                o.timeout,
+                stop,
+                |_| Ok(()),
+            )?;
             for (_, hits) in &out {
                 for (b, h) in before.iter_mut().zip(hits) {
                     *b = b.saturating_add(*h);
@@ -187,4 +245,3 @@ pub fn run(o: &Options, resume: bool, stop: &AtomicBool, d: &dyn dut::Dut) -> Re
     summary.write(dir, None)?;
     Ok(summary)
 }
-

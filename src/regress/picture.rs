@@ -42,7 +42,9 @@ struct Capture {
 
 impl Capture {
     fn col(&self, edge: u64) -> Option<usize> {
-        (self.from..=self.to).contains(&edge).then(|| (edge - self.from) as usize)
+        (self.from..=self.to)
+            .contains(&edge)
+            .then(|| (edge - self.from) as usize)
     }
 }
 
@@ -75,14 +77,28 @@ pub fn window(tick: u64, ticks: u64) -> (u64, u64) {
 }
 
 /// The SVG of failure `f` of scenario `sc` (a shrunk repro), with the DUT's trace if any.
-pub fn divergence_svg(sc: &Scenario, f: &Failure, dut: Option<&DutTrace>) -> Result<String, SimError> {
+pub fn divergence_svg(
+    sc: &Scenario,
+    f: &Failure,
+    dut: Option<&DutTrace>,
+) -> Result<String, SimError> {
     let (from, to) = window(f.tick, sc.ticks);
     let n = (to - from + 1) as usize;
-    let mut cap = Capture { from, to, inputs: vec![[0; signals::N_INPUTS]; n], outputs: vec![[0; signals::N_OUTPUTS]; n], regs: vec![[0; signals::N_REGISTERS]; n], internals: vec![[0; signals::N_INTERNALS]; n] };
+    let mut cap = Capture {
+        from,
+        to,
+        inputs: vec![[0; signals::N_INPUTS]; n],
+        outputs: vec![[0; signals::N_OUTPUTS]; n],
+        regs: vec![[0; signals::N_REGISTERS]; n],
+        internals: vec![[0; signals::N_INTERNALS]; n],
+    };
     let mut short = sc.clone();
     short.ticks = sc.ticks.min(to + 1);
     sim::run(&short, SimOptions::default(), &mut [&mut cap])?;
-    let s = Structural { sync_depth: sc.params.sync_depth, cnt_width: sc.params.cnt_width };
+    let s = Structural {
+        sync_depth: sc.params.sync_depth,
+        cnt_width: sc.params.cnt_width,
+    };
     let bits = |w: Width| w.bits(&s);
     let path = f.signal.trim_start_matches("pmu50.").to_string();
 
@@ -93,46 +109,92 @@ pub fn divergence_svg(sc: &Scenario, f: &Failure, dut: Option<&DutTrace>) -> Res
         if j >= 4 && !wrote {
             continue;
         }
-        rows.push(Row { name: format!("in {}", sig.name), bits: bits(sig.width), values: cap.inputs.iter().map(|v| Some(v[j])).collect(), against: None });
+        rows.push(Row {
+            name: format!("in {}", sig.name),
+            bits: bits(sig.width),
+            values: cap.inputs.iter().map(|v| Some(v[j])).collect(),
+            against: None,
+        });
     }
     // the diverging signal: the model's, then the DUT's
     let model_of = |p: &str| -> Option<(u8, Vec<Option<u64>>)> {
         if let Some(j) = signals::OUTPUTS.iter().position(|x| x.path() == p) {
-            return Some((bits(signals::OUTPUTS[j].width), cap.outputs.iter().map(|v| Some(v[j])).collect()));
+            return Some((
+                bits(signals::OUTPUTS[j].width),
+                cap.outputs.iter().map(|v| Some(v[j])).collect(),
+            ));
         }
         if let Some(j) = signals::REGISTERS.iter().position(|x| x.path() == p) {
-            return Some((bits(signals::REGISTERS[j].width), cap.regs.iter().map(|v| Some(v[j])).collect()));
+            return Some((
+                bits(signals::REGISTERS[j].width),
+                cap.regs.iter().map(|v| Some(v[j])).collect(),
+            ));
         }
         if let Some(j) = signals::INTERNALS.iter().position(|x| x.path() == p) {
-            return Some((bits(signals::INTERNALS[j].width), cap.internals.iter().map(|v| Some(v[j])).collect()));
+            return Some((
+                bits(signals::INTERNALS[j].width),
+                cap.internals.iter().map(|v| Some(v[j])).collect(),
+            ));
         }
         None
     };
     let mut marked = String::new();
     if let Some((b, values)) = model_of(&path) {
         let model_row = rows.len();
-        rows.push(Row { name: format!("{path} (model)"), bits: b, values, against: None });
-        let dut_values: Vec<Option<u64>> = match dut.and_then(|t| t.signals.iter().find(|(nm, _)| *nm == path).map(|(_, v)| (t.from, v))) {
-            Some((tf, v)) => (from..=to).map(|e| e.checked_sub(tf).and_then(|i| v.get(i as usize).copied())).collect(),
+        rows.push(Row {
+            name: format!("{path} (model)"),
+            bits: b,
+            values,
+            against: None,
+        });
+        let dut_values: Vec<Option<u64>> = match dut.and_then(|t| {
+            t.signals
+                .iter()
+                .find(|(nm, _)| *nm == path)
+                .map(|(_, v)| (t.from, v))
+        }) {
+            Some((tf, v)) => (from..=to)
+                .map(|e| e.checked_sub(tf).and_then(|i| v.get(i as usize).copied()))
+                .collect(),
             None => {
                 let got = u64::from_str_radix(f.got.trim_start_matches("0x"), 16).ok();
                 marked = " (the DUT's value is known at the divergence only)".into();
-                (from..=to).map(|e| if e == f.tick { got } else { None }).collect()
+                (from..=to)
+                    .map(|e| if e == f.tick { got } else { None })
+                    .collect()
             }
         };
-        rows.push(Row { name: format!("{path} (DUT)"), bits: b, values: dut_values, against: Some(model_row) });
+        rows.push(Row {
+            name: format!("{path} (DUT)"),
+            bits: b,
+            values: dut_values,
+            against: Some(model_row),
+        });
     }
     // the ports that pace the core, and the block's registers, as the model has them
     for p in ["sig", "st", "smp", "sr"] {
         if p != path {
             if let Some((b, values)) = model_of(p) {
-                rows.push(Row { name: p.into(), bits: b, values, against: None });
+                rows.push(Row {
+                    name: p.into(),
+                    bits: b,
+                    values,
+                    against: None,
+                });
             }
         }
     }
-    for r in signals::REGISTERS.iter().filter(|r| r.scope == f.block && r.path() != path && !r.free_running) {
+    for r in signals::REGISTERS
+        .iter()
+        .filter(|r| r.scope == f.block && r.path() != path && !r.free_running)
+    {
         if let Some((b, values)) = model_of(&r.path()) {
-            rows.push(Row { name: r.path(), bits: b, values, against: None });
+            rows.push(Row {
+                name: r.path(),
+                bits: b,
+                values,
+                against: None,
+            });
         }
     }
     Ok(render(sc, f, from, to, &rows, &marked))
@@ -145,27 +207,63 @@ fn render(sc: &Scenario, f: &Failure, from: u64, to: u64, rows: &[Row], note: &s
     let height = top + rows.len() as f64 * row_h + 36.0;
     let mut svg = Svg::new(width, height);
     svg.rect(0.0, 0.0, width, height, "#ffffff", None);
-    let title = format!("{}: first divergence at tick {} on {} (expected {}, got {}){}", sc.name, f.tick, f.signal, f.expected, f.got, note);
+    let title = format!(
+        "{}: first divergence at tick {} on {} (expected {}, got {}){}",
+        sc.name, f.tick, f.signal, f.expected, f.got, note
+    );
     svg.text(8.0, 18.0, 13.0, Anchor::Start, "#000000", &title);
     svg.text(8.0, 36.0, 11.0, Anchor::Start, "#444444", &format!("block {}, FIG. path {}; one column per rising edge k (values after edge k, inputs sampled by it)", f.block, f.fig));
     let x_of = |edge: u64| left + (edge - from) as f64 * col_w;
     // the divergence column
     if (from..=to).contains(&f.tick) {
-        svg.rect(x_of(f.tick), top - 6.0, col_w, rows.len() as f64 * row_h + 6.0, "#fde0e0", None);
+        svg.rect(
+            x_of(f.tick),
+            top - 6.0,
+            col_w,
+            rows.len() as f64 * row_h + 6.0,
+            "#fde0e0",
+            None,
+        );
     }
     // tick labels every 4 edges, and at the divergence
     for e in from..=to {
         let x = x_of(e);
-        svg.line(x, top - 6.0, x, top + rows.len() as f64 * row_h, "#eeeeee", 1.0, None);
+        svg.line(
+            x,
+            top - 6.0,
+            x,
+            top + rows.len() as f64 * row_h,
+            "#eeeeee",
+            1.0,
+            None,
+        );
         if (e - from).is_multiple_of(4) || e == f.tick {
-            svg.text(x + col_w / 2.0, height - 14.0, 10.0, Anchor::Middle, if e == f.tick { "#c00000" } else { "#444444" }, &e.to_string());
+            svg.text(
+                x + col_w / 2.0,
+                height - 14.0,
+                10.0,
+                Anchor::Middle,
+                if e == f.tick { "#c00000" } else { "#444444" },
+                &e.to_string(),
+            );
         }
     }
     for (r, row) in rows.iter().enumerate() {
         let y0 = top + r as f64 * row_h;
         let (hi, lo) = (y0 + 4.0, y0 + row_h - 6.0);
-        svg.text(left - 8.0, y0 + row_h / 2.0 + 4.0, 11.0, Anchor::End, "#000000", &row.name);
-        let differs = |c: usize| -> bool { row.against.is_some_and(|m| row.values[c].is_some() && rows[m].values.get(c).copied().flatten() != row.values[c]) };
+        svg.text(
+            left - 8.0,
+            y0 + row_h / 2.0 + 4.0,
+            11.0,
+            Anchor::End,
+            "#000000",
+            &row.name,
+        );
+        let differs = |c: usize| -> bool {
+            row.against.is_some_and(|m| {
+                row.values[c].is_some() && rows[m].values.get(c).copied().flatten() != row.values[c]
+            })
+        };
         for (c, v) in row.values.iter().enumerate() {
             let x = left + c as f64 * col_w;
             let colour = if differs(c) { "#c00000" } else { "#1f4e9c" };
@@ -187,7 +285,14 @@ fn render(sc: &Scenario, f: &Failure, from: u64, to: u64, rows: &[Row], note: &s
                     svg.line(x, lo, x + col_w, lo, colour, 1.2, None);
                     if changed {
                         svg.line(x, hi, x, lo, colour, 1.2, None);
-                        svg.text(x + 3.0, lo - 3.0, 9.5, Anchor::Start, colour, &format!("{v:x}"));
+                        svg.text(
+                            x + 3.0,
+                            lo - 3.0,
+                            9.5,
+                            Anchor::Start,
+                            colour,
+                            &format!("{v:x}"),
+                        );
                     }
                 }
             }
@@ -209,14 +314,35 @@ mod tests {
 
     #[test]
     fn a_picture_marks_the_diverging_signal_of_the_model_and_the_dut() {
-        let sc = Scenario::parse("duration = \"10 ms\"\n", "t.toml", "t", std::path::Path::new("t.toml")).unwrap();
-        let f = Failure { kind: "dut".into(), tick: 40, signal: "pmu50.st".into(), expected: "0x1".into(), got: "0x0".into(), block: "ports".into(), fig: "-".into(), detail: String::new() };
+        let sc = Scenario::parse(
+            "duration = \"10 ms\"\n",
+            "t.toml",
+            "t",
+            std::path::Path::new("t.toml"),
+        )
+        .unwrap();
+        let f = Failure {
+            kind: "dut".into(),
+            tick: 40,
+            signal: "pmu50.st".into(),
+            expected: "0x1".into(),
+            got: "0x0".into(),
+            block: "ports".into(),
+            fig: "-".into(),
+            detail: String::new(),
+        };
         let svg = divergence_svg(&sc, &f, None).unwrap();
         assert!(svg.starts_with("<svg") || svg.contains("<svg"), "an SVG");
-        assert!(svg.contains("st (model)") && svg.contains("st (DUT)") && svg.contains("in ig"), "{svg}");
+        assert!(
+            svg.contains("st (model)") && svg.contains("st (DUT)") && svg.contains("in ig"),
+            "{svg}"
+        );
         assert!(svg.contains("known at the divergence only"));
         // with a trace, the DUT's row is drawn where it differs
-        let t = DutTrace { from: 0, signals: vec![("st".into(), vec![0; 60])] };
+        let t = DutTrace {
+            from: 0,
+            signals: vec![("st".into(), vec![0; 60])],
+        };
         let svg = divergence_svg(&sc, &f, Some(&t)).unwrap();
         assert!(svg.contains("#c00000") && !svg.contains("known at the divergence only"));
     }

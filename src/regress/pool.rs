@@ -38,8 +38,16 @@ pub fn run_pool(
                     tx.send((k, r, hits)).is_ok()
                 };
                 loop {
-                    let k = if stop.load(Ordering::Relaxed) { None } else { Some(next.fetch_add(1, Ordering::Relaxed)) };
-                    let stage = k.and_then(|k| seeds.get(k).map(|&seed| (k, start_seed(spec, seed, bias, dut))));
+                    let k = if stop.load(Ordering::Relaxed) {
+                        None
+                    } else {
+                        Some(next.fetch_add(1, Ordering::Relaxed))
+                    };
+                    let stage = k.and_then(|k| {
+                        seeds
+                            .get(k)
+                            .map(|&seed| (k, start_seed(spec, seed, bias, dut)))
+                    });
                     if let Some((j, p)) = running.take() {
                         if !emit(j, p.finish(dut, timeout)) {
                             break;
@@ -87,4 +95,3 @@ pub fn run_pool(
     }
     Ok(all.into_iter().flatten().collect())
 }
-

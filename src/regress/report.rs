@@ -48,9 +48,20 @@ impl Default for Curve {
 impl Curve {
     pub fn new() -> Curve {
         let l = layout();
-        let reachable: Vec<bool> = l.bins.iter().map(|b| b.unreachable.is_none() && !b.port_only).collect();
+        let reachable: Vec<bool> = l
+            .bins
+            .iter()
+            .map(|b| b.unreachable.is_none() && !b.port_only)
+            .collect();
         let total = reachable.iter().filter(|r| **r).count();
-        Curve { seen: vec![false; reachable.len()], reachable, total, hit: 0, n: 0, out: Vec::new() }
+        Curve {
+            seen: vec![false; reachable.len()],
+            reachable,
+            total,
+            hit: 0,
+            n: 0,
+            out: Vec::new(),
+        }
     }
 
     /// The next seed's hits.
@@ -85,8 +96,17 @@ pub type Line<'a> = (&'a str, &'a str, Vec<(u64, f64)>);
 /// An SVG of closure curves, seeds on a log axis.
 pub fn curve_svg(curves: &[Line<'_>], title: &str) -> String {
     let (w, h, ml, mr, mt, mb) = (720.0, 360.0, 60.0, 20.0, 36.0, 48.0);
-    let maxn = curves.iter().flat_map(|c| c.2.last().map(|p| p.0)).max().unwrap_or(1).max(10) as f64;
-    let lo = curves.iter().flat_map(|c| c.2.first().map(|p| p.1)).fold(100.0f64, f64::min).min(90.0);
+    let maxn = curves
+        .iter()
+        .flat_map(|c| c.2.last().map(|p| p.0))
+        .max()
+        .unwrap_or(1)
+        .max(10) as f64;
+    let lo = curves
+        .iter()
+        .flat_map(|c| c.2.first().map(|p| p.1))
+        .fold(100.0f64, f64::min)
+        .min(90.0);
     let y0 = (lo / 10.0).floor() * 10.0;
     let x = |n: f64| ml + (n.max(1.0).ln() / maxn.ln()) * (w - ml - mr);
     let y = |p: f64| mt + (100.0 - p) / (100.0 - y0) * (h - mt - mb);
@@ -103,14 +123,28 @@ pub fn curve_svg(curves: &[Line<'_>], title: &str) -> String {
         let _ = write!(s, "<line x1=\"{:.1}\" x2=\"{:.1}\" y1=\"{mt}\" y2=\"{}\" stroke=\"#eee\"/><text x=\"{:.1}\" y=\"{}\" text-anchor=\"middle\">{n}</text>", x(n), x(n), h - mb, x(n), h - mb + 16.0);
         n *= 10.0;
     }
-    let _ = write!(s, "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">seeds (log scale)</text>", (ml + w - mr) / 2.0, h - 10.0);
+    let _ = write!(
+        s,
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">seeds (log scale)</text>",
+        (ml + w - mr) / 2.0,
+        h - 10.0
+    );
     let _ = write!(s, "<text x=\"14\" y=\"{}\" transform=\"rotate(-90 14 {})\" text-anchor=\"middle\">bins hit of those scenarios reach</text>", (mt + h - mb) / 2.0, (mt + h - mb) / 2.0);
     for (k, (label, col, pts)) in curves.iter().enumerate() {
         let mut d = String::new();
         for (i, (n, p)) in pts.iter().enumerate() {
-            let _ = write!(d, "{}{:.1},{:.1}", if i == 0 { "M" } else { "L" }, x(*n as f64), y(*p));
+            let _ = write!(
+                d,
+                "{}{:.1},{:.1}",
+                if i == 0 { "M" } else { "L" },
+                x(*n as f64),
+                y(*p)
+            );
         }
-        let _ = write!(s, "<path d=\"{d}\" fill=\"none\" stroke=\"{col}\" stroke-width=\"2\"/>");
+        let _ = write!(
+            s,
+            "<path d=\"{d}\" fill=\"none\" stroke=\"{col}\" stroke-width=\"2\"/>"
+        );
         let ly = h - mb - 16.0 - 18.0 * (curves.len() - 1 - k) as f64;
         let _ = write!(s, "<line x1=\"{}\" x2=\"{}\" y1=\"{ly}\" y2=\"{ly}\" stroke=\"{col}\" stroke-width=\"3\"/><text x=\"{}\" y=\"{}\">{}</text>", w - mr - 230.0, w - mr - 205.0, w - mr - 200.0, ly + 4.0, esc(label));
     }
@@ -120,25 +154,51 @@ pub fn curve_svg(curves: &[Line<'_>], title: &str) -> String {
 
 /// `pmu50 closure -o FILE.svg DIR...`: the closure curves of regression folders in one SVG, and
 /// for each the seed at which every bin scenario stimuli reach was hit.
-pub fn closure_cli(dirs: &[std::path::PathBuf], out: &std::path::Path) -> Result<String, super::RegressError> {
+pub fn closure_cli(
+    dirs: &[std::path::PathBuf],
+    out: &std::path::Path,
+) -> Result<String, super::RegressError> {
     if dirs.is_empty() {
-        return Err(super::RegressError::Usage("closure needs at least one regression folder".into()));
+        return Err(super::RegressError::Usage(
+            "closure needs at least one regression folder".into(),
+        ));
     }
-    const COLOURS: [&str; 6] = ["#b2182b", "#2166ac", "#1b7837", "#762a83", "#e08214", "#4d4d4d"];
+    const COLOURS: [&str; 6] = [
+        "#b2182b", "#2166ac", "#1b7837", "#762a83", "#e08214", "#4d4d4d",
+    ];
     let mut curves = Vec::new();
     let mut text = String::new();
     for (k, d) in dirs.iter().enumerate() {
         let spec = super::read_spec(d)?;
         let s = Summary::build(spec.clone(), &[super::Source::of(d, &spec)])?;
         let c = s.curve.clone();
-        let label = format!("{} ({} seeds)", if s.spec.directed { "directed" } else { "uniform random" }, s.seeds());
+        let label = format!(
+            "{} ({} seeds)",
+            if s.spec.directed {
+                "directed"
+            } else {
+                "uniform random"
+            },
+            s.seeds()
+        );
         match c.iter().find(|(_, p)| *p >= 100.0 - 1e-9) {
-            Some((n, _)) => text.push_str(&format!("{}: {label}: every bin scenario stimuli reach hit at seed {n}\n", d.display())),
-            None => text.push_str(&format!("{}: {label}: {:.1} % of the bins scenario stimuli reach after {} seeds\n", d.display(), c.last().map_or(0.0, |p| p.1), s.seeds())),
+            Some((n, _)) => text.push_str(&format!(
+                "{}: {label}: every bin scenario stimuli reach hit at seed {n}\n",
+                d.display()
+            )),
+            None => text.push_str(&format!(
+                "{}: {label}: {:.1} % of the bins scenario stimuli reach after {} seeds\n",
+                d.display(),
+                c.last().map_or(0.0, |p| p.1),
+                s.seeds()
+            )),
         }
         curves.push((label, COLOURS[k % COLOURS.len()], c));
     }
-    let refs: Vec<Line<'_>> = curves.iter().map(|(l, c, v)| (l.as_str(), *c, v.clone())).collect();
+    let refs: Vec<Line<'_>> = curves
+        .iter()
+        .map(|(l, c, v)| (l.as_str(), *c, v.clone()))
+        .collect();
     let svg = curve_svg(&refs, "coverage closure: bins hit against seeds");
     let mut b = crate::atomic_file::Batch::new();
     b.add(crate::atomic_file::write_atomic(out, svg.as_bytes())?);
@@ -153,15 +213,24 @@ pub fn closure_cli(dirs: &[std::path::PathBuf], out: &std::path::Path) -> Result
 fn dut_notes(spec: &super::RunSpec) -> String {
     let mut n = String::new();
     if let Some(m) = &spec.map {
-        n.push_str(&format!("; registers and internals of the map {} compared beside the ports", esc(m)));
+        n.push_str(&format!(
+            "; registers and internals of the map {} compared beside the ports",
+            esc(m)
+        ));
     } else if spec.dut != super::DutKind::Model {
         n.push_str("; the output ports compared after every edge");
     }
     if !spec.fixed.is_empty() {
-        let off: Vec<String> = super::gen::knobs_off(&spec.fixed).iter().map(|k| format!("{k:?}")).collect();
+        let off: Vec<String> = super::gen::knobs_off(&spec.fixed)
+            .iter()
+            .map(|k| format!("{k:?}"))
+            .collect();
         n.push_str(&format!("<br>the RTL fixes {} (its top lacks these parameters; read back through the bus after reset): every seed keeps them", esc(&spec.fixed.text())));
         if !off.is_empty() {
-            n.push_str(&format!("<br>knobs not drawn (they need another value of a fixed parameter): {}", esc(&off.join(", "))));
+            n.push_str(&format!(
+                "<br>knobs not drawn (they need another value of a fixed parameter): {}",
+                esc(&off.join(", "))
+            ));
         }
     }
     n
@@ -169,7 +238,11 @@ fn dut_notes(spec: &super::RunSpec) -> String {
 
 /// `repros`: the signatures whose folder `failures/<signature>/` holds a repro (linked), each
 /// with the SVG picture of its divergence when there is one (inlined).
-pub fn html(s: &Summary, extra: Option<&str>, repros: &std::collections::BTreeMap<String, Option<String>>) -> String {
+pub fn html(
+    s: &Summary,
+    extra: Option<&str>,
+    repros: &std::collections::BTreeMap<String, Option<String>>,
+) -> String {
     let l = layout();
     let c = &s.coverage;
     let (hit, reachable) = c.closure();
@@ -217,11 +290,19 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
         h.push_str("<table><tr><th>signature</th><th>seeds</th><th>smallest</th><th>first failure</th><th>repro</th></tr>\n");
         for (sig, g) in &s.groups {
             let f = &g.failure;
-            let what = format!("tick {}: {} expected {} got {} — {}", f.tick, esc(&f.signal), esc(&f.expected), esc(&f.got), esc(&f.detail));
+            let what = format!(
+                "tick {}: {} expected {} got {} — {}",
+                f.tick,
+                esc(&f.signal),
+                esc(&f.expected),
+                esc(&f.got),
+                esc(&f.detail)
+            );
             let repro = if repros.contains_key(sig) {
                 format!("<a href=\"failures/{0}/failure.txt\">failure</a> <a href=\"failures/{0}/repro.toml\">repro.toml</a> <a href=\"failures/{0}/repro.gtkw\">repro.gtkw</a> <a href=\"failures/{0}/divergence.svg\">divergence.svg</a><br>waves: <code>gtkwave failures/{0}/repro.vcd failures/{0}/repro.gtkw</code>", esc(sig))
             } else {
-                "no repro folder (not shrunk: an error, or a run with <code>--no-triage</code>)".to_string()
+                "no repro folder (not shrunk: an error, or a run with <code>--no-triage</code>)"
+                    .to_string()
             };
             let _ = writeln!(h, "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{what}</td><td>{repro}</td></tr>", esc(sig), g.count, g.smallest);
             // the picture of the shrunk repro around the first divergence, inline
@@ -236,21 +317,49 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
     let curve = s.curve.clone();
     if !curve.is_empty() {
         h.push_str("<h2>Closure</h2>\n");
-        h.push_str(&curve_svg(&[(if spec.directed { "directed" } else { "uniform random" }, "#2166ac", curve)], "coverage against seeds"));
+        h.push_str(&curve_svg(
+            &[(
+                if spec.directed {
+                    "directed"
+                } else {
+                    "uniform random"
+                },
+                "#2166ac",
+                curve,
+            )],
+            "coverage against seeds",
+        ));
     }
     if let Some(x) = extra {
         h.push_str(x);
     }
 
     // Never hit.
-    let never: Vec<&pmu50_coverage::BinInfo> = l.bins.iter().zip(&c.bins).filter(|(b, r)| r.hits == 0 && b.unreachable.is_none()).map(|(b, _)| b).collect();
+    let never: Vec<&pmu50_coverage::BinInfo> = l
+        .bins
+        .iter()
+        .zip(&c.bins)
+        .filter(|(b, r)| r.hits == 0 && b.unreachable.is_none())
+        .map(|(b, _)| b)
+        .collect();
     let _ = writeln!(h, "<h2>Never hit ({})</h2>", never.len());
     if never.is_empty() {
         h.push_str("<p class=\"ok\">Every reachable bin was hit.</p>\n");
     } else {
         h.push_str("<table><tr><th>bin</th><th>cites</th><th>meaning</th></tr>\n");
         for b in &never {
-            let _ = writeln!(h, "<tr><td><code>{}</code>{}</td><td>{}</td><td>{}</td></tr>", esc(&b.name), if b.port_only { " (port-level stimuli)" } else { "" }, esc(b.cite), esc(&b.meaning));
+            let _ = writeln!(
+                h,
+                "<tr><td><code>{}</code>{}</td><td>{}</td><td>{}</td></tr>",
+                esc(&b.name),
+                if b.port_only {
+                    " (port-level stimuli)"
+                } else {
+                    ""
+                },
+                esc(b.cite),
+                esc(&b.meaning)
+            );
         }
         h.push_str("</table>\n");
     }
@@ -264,12 +373,28 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
             let _ = writeln!(h, "<h3>{}</h3>", esc(group));
         }
         let off = l.point_offset[pi];
-        let _ = write!(h, "<p><b>{}.{}</b> — {} <i>({})</i><br>", esc(p.group), esc(p.name), esc(p.meaning), esc(p.cite));
+        let _ = write!(
+            h,
+            "<p><b>{}.{}</b> — {} <i>({})</i><br>",
+            esc(p.group),
+            esc(p.name),
+            esc(p.meaning),
+            esc(p.cite)
+        );
         for (k, b) in p.bins.iter().enumerate() {
             let info = &l.bins[off + k];
             let hits = c.bins[off + k].hits;
-            let tip = info.unreachable.map(|r| format!("unreachable: {r}")).unwrap_or_else(|| info.meaning.clone());
-            let _ = write!(h, "<span class=\"bin\" style=\"background:{}\" title=\"{}\">{} <b>{hits}</b></span>", colour(hits, info.unreachable.is_some(), info.port_only), esc(&tip), esc(b.name));
+            let tip = info
+                .unreachable
+                .map(|r| format!("unreachable: {r}"))
+                .unwrap_or_else(|| info.meaning.clone());
+            let _ = write!(
+                h,
+                "<span class=\"bin\" style=\"background:{}\" title=\"{}\">{} <b>{hits}</b></span>",
+                colour(hits, info.unreachable.is_some(), info.port_only),
+                esc(&tip),
+                esc(b.name)
+            );
         }
         h.push_str("</p>\n");
     }
@@ -289,14 +414,32 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
                 let k = off + i * pb.bins.len() + j;
                 let info = &l.bins[k];
                 let hits = c.bins[k].hits;
-                let tip = info.unreachable.map(|r| format!("unreachable: {r}")).unwrap_or_else(|| info.name.clone());
-                let shown = if info.unreachable.is_some() { "—".to_string() } else { hits.to_string() };
-                let _ = write!(h, "<td style=\"background:{}\" title=\"{}\">{shown}</td>", colour(hits, info.unreachable.is_some(), info.port_only), esc(&tip));
+                let tip = info
+                    .unreachable
+                    .map(|r| format!("unreachable: {r}"))
+                    .unwrap_or_else(|| info.name.clone());
+                let shown = if info.unreachable.is_some() {
+                    "—".to_string()
+                } else {
+                    hits.to_string()
+                };
+                let _ = write!(
+                    h,
+                    "<td style=\"background:{}\" title=\"{}\">{shown}</td>",
+                    colour(hits, info.unreachable.is_some(), info.port_only),
+                    esc(&tip)
+                );
             }
             h.push_str("</tr>\n");
         }
         h.push_str("</table>\n");
     }
-    let _ = writeln!(h, "<p>Coverage model <code>{}</code>; {} bins. Generated by pmu50 {}.</p>\n</body></html>", esc(&c.model), l.bins.len(), env!("CARGO_PKG_VERSION"));
+    let _ = writeln!(
+        h,
+        "<p>Coverage model <code>{}</code>; {} bins. Generated by pmu50 {}.</p>\n</body></html>",
+        esc(&c.model),
+        l.bins.len(),
+        env!("CARGO_PKG_VERSION")
+    );
     h
 }

@@ -30,21 +30,56 @@ pub enum RtlError {
     #[error("--rtl {list}: {reason}")]
     FileList { list: PathBuf, reason: String },
     #[error("--rtl {list}:{line}: `{entry}` is not a readable file ({path} does not exist); entries are Verilog file paths relative to the list's folder")]
-    MissingFile { list: PathBuf, line: usize, entry: String, path: PathBuf },
+    MissingFile {
+        list: PathBuf,
+        line: usize,
+        entry: String,
+        path: PathBuf,
+    },
     #[error("--rtl {list}:{line}: `{entry}`: a file list here holds Verilog file paths only (relative to the list's folder), no tool options")]
-    Option { list: PathBuf, line: usize, entry: String },
+    Option {
+        list: PathBuf,
+        line: usize,
+        entry: String,
+    },
     #[error("--rtl {list}: `{tool}` is not installed (Debian package {package}; `make deps` installs it)")]
-    NoTool { list: PathBuf, tool: &'static str, package: &'static str },
+    NoTool {
+        list: PathBuf,
+        tool: &'static str,
+        package: &'static str,
+    },
     #[error("--rtl {list}: the RTL does not elaborate with {tool}:\n{log}")]
-    Build { list: PathBuf, tool: &'static str, log: String },
+    Build {
+        list: PathBuf,
+        tool: &'static str,
+        log: String,
+    },
     #[error("--rtl {list}: the design has no module `pmu50` (the contract's top, docs/signals.md); modules: {modules}")]
     NoTop { list: PathBuf, modules: String },
     #[error("{file}: top `pmu50` lacks the contract port `{port}` ({dir}, {expected} bit(s), docs/signals.md)")]
-    MissingPort { file: String, port: &'static str, dir: &'static str, expected: u32 },
+    MissingPort {
+        file: String,
+        port: &'static str,
+        dir: &'static str,
+        expected: u32,
+    },
     #[error("{file}:{line}: port `{port}` of `pmu50` is {actual} bit(s) wide, the contract (docs/signals.md) needs {expected}{why}")]
-    PortWidth { file: String, line: u32, port: String, expected: u32, actual: u32, why: String },
+    PortWidth {
+        file: String,
+        line: u32,
+        port: String,
+        expected: u32,
+        actual: u32,
+        why: String,
+    },
     #[error("{file}:{line}: port `{port}` of `pmu50` is an {actual}, the contract (docs/signals.md) needs an {expected}")]
-    PortDir { file: String, line: u32, port: String, expected: &'static str, actual: String },
+    PortDir {
+        file: String,
+        line: u32,
+        port: String,
+        expected: &'static str,
+        actual: String,
+    },
     #[error("--rtl {list}: {what}")]
     Fixed { list: PathBuf, what: String },
     #[error("--rtl {list}: cannot read Verilator's XML of the design: {reason}")]
@@ -81,9 +116,28 @@ pub struct ContractPort {
 /// The ports every RTL under test has: `clk`, `rst_n`, then the model's inputs and outputs
 /// (docs/signals.md), in the order of the model's signal table.
 pub fn contract_ports() -> Vec<ContractPort> {
-    let mut v = vec![ContractPort { name: "clk", dir: PortDir::Input, width: Width::Bits(1) }, ContractPort { name: "rst_n", dir: PortDir::Input, width: Width::Bits(1) }];
-    v.extend(signals::INPUTS.iter().map(|s| ContractPort { name: s.name, dir: PortDir::Input, width: s.width }));
-    v.extend(signals::OUTPUTS.iter().map(|s| ContractPort { name: s.name, dir: PortDir::Output, width: s.width }));
+    let mut v = vec![
+        ContractPort {
+            name: "clk",
+            dir: PortDir::Input,
+            width: Width::Bits(1),
+        },
+        ContractPort {
+            name: "rst_n",
+            dir: PortDir::Input,
+            width: Width::Bits(1),
+        },
+    ];
+    v.extend(signals::INPUTS.iter().map(|s| ContractPort {
+        name: s.name,
+        dir: PortDir::Input,
+        width: s.width,
+    }));
+    v.extend(signals::OUTPUTS.iter().map(|s| ContractPort {
+        name: s.name,
+        dir: PortDir::Output,
+        width: s.width,
+    }));
     v
 }
 
@@ -97,7 +151,10 @@ pub struct FileList {
 
 impl FileList {
     pub fn read(list: &Path) -> Result<FileList, RtlError> {
-        let fl = |reason: String| RtlError::FileList { list: list.to_path_buf(), reason };
+        let fl = |reason: String| RtlError::FileList {
+            list: list.to_path_buf(),
+            reason,
+        };
         if let Some(kind) = crate::atomic_file::special_kind(list) {
             return Err(fl(format!("is {kind}, not a file list")));
         }
@@ -106,30 +163,52 @@ impl FileList {
             return Err(fl("is not a regular file".into()));
         }
         if meta.len() > 1 << 20 {
-            return Err(fl(format!("{} bytes: a file list is at most 1 MiB", meta.len())));
+            return Err(fl(format!(
+                "{} bytes: a file list is at most 1 MiB",
+                meta.len()
+            )));
         }
         let text = std::fs::read_to_string(list).map_err(|e| fl(e.to_string()))?;
         let list_abs = list.canonicalize().map_err(|e| fl(e.to_string()))?;
         let dir = list_abs.parent().unwrap_or(Path::new("/")).to_path_buf();
         let mut files = Vec::new();
         for (n, line) in text.lines().enumerate() {
-            let entry = line.split("//").next().unwrap_or("").split('#').next().unwrap_or("").trim();
+            let entry = line
+                .split("//")
+                .next()
+                .unwrap_or("")
+                .split('#')
+                .next()
+                .unwrap_or("")
+                .trim();
             if entry.is_empty() {
                 continue;
             }
             if entry.starts_with('+') || entry.starts_with('-') {
-                return Err(RtlError::Option { list: list.to_path_buf(), line: n + 1, entry: entry.into() });
+                return Err(RtlError::Option {
+                    list: list.to_path_buf(),
+                    line: n + 1,
+                    entry: entry.into(),
+                });
             }
             let p = dir.join(entry);
             if !p.is_file() || crate::atomic_file::special_kind(&p).is_some() {
-                return Err(RtlError::MissingFile { list: list.to_path_buf(), line: n + 1, entry: entry.into(), path: p });
+                return Err(RtlError::MissingFile {
+                    list: list.to_path_buf(),
+                    line: n + 1,
+                    entry: entry.into(),
+                    path: p,
+                });
             }
             files.push(p.canonicalize().unwrap_or(p));
         }
         if files.is_empty() {
             return Err(fl("the file list names no Verilog file".into()));
         }
-        Ok(FileList { list: list_abs, files })
+        Ok(FileList {
+            list: list_abs,
+            files,
+        })
     }
 
     /// The folders of the files, for `` `include `` (each file's own folder, in list order).
@@ -187,20 +266,48 @@ fn tail(s: &str) -> String {
 
 /// Whether a tool can be started (found on the PATH and executable).
 pub fn have_tool(tool: &str) -> bool {
-    let arg = if tool == "iverilog" { "-V" } else { "--version" };
-    Command::new(tool).arg(arg).stdout(std::process::Stdio::null()).stderr(std::process::Stdio::null()).status().is_ok()
+    let arg = if tool == "iverilog" {
+        "-V"
+    } else {
+        "--version"
+    };
+    Command::new(tool)
+        .arg(arg)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .status()
+        .is_ok()
 }
 
 /// Elaborate `fl` with Verilator (`--xml-only`) with these top parameters, in `work` (a
 /// scratch folder).
-pub fn elaborate(fl: &FileList, gparams: &[(String, u64)], work: &Path) -> Result<Design, RtlError> {
+pub fn elaborate(
+    fl: &FileList,
+    gparams: &[(String, u64)],
+    work: &Path,
+) -> Result<Design, RtlError> {
     if !have_tool("verilator") {
-        return Err(RtlError::NoTool { list: fl.list.clone(), tool: "verilator", package: "verilator" });
+        return Err(RtlError::NoTool {
+            list: fl.list.clone(),
+            tool: "verilator",
+            package: "verilator",
+        });
     }
     std::fs::create_dir_all(work).map_err(|e| RtlError::Io(format!("{}: {e}", work.display())))?;
     let xml = work.join("design.xml");
     let mut cmd = Command::new("verilator");
-    cmd.arg("--xml-only").arg("--xml-output").arg(&xml).arg("-Mdir").arg(work).args(["--top-module", "pmu50", "-Wno-fatal", "-Wno-lint", "-Wno-style"]);
+    cmd.arg("--xml-only")
+        .arg("--xml-output")
+        .arg(&xml)
+        .arg("-Mdir")
+        .arg(work)
+        .args([
+            "--top-module",
+            "pmu50",
+            "-Wno-fatal",
+            "-Wno-lint",
+            "-Wno-style",
+        ]);
     for d in fl.include_dirs() {
         cmd.arg(format!("-I{}", d.display()));
     }
@@ -208,33 +315,66 @@ pub fn elaborate(fl: &FileList, gparams: &[(String, u64)], work: &Path) -> Resul
         cmd.arg(format!("-G{n}={v}"));
     }
     cmd.args(&fl.files);
-    let out = cmd.output().map_err(|e| RtlError::Io(format!("cannot run verilator: {e}")))?;
-    let log = String::from_utf8_lossy(&out.stderr).into_owned() + &String::from_utf8_lossy(&out.stdout);
+    let out = cmd
+        .output()
+        .map_err(|e| RtlError::Io(format!("cannot run verilator: {e}")))?;
+    let log =
+        String::from_utf8_lossy(&out.stderr).into_owned() + &String::from_utf8_lossy(&out.stdout);
     if !out.status.success() || !xml.is_file() {
-        if log.contains("Cannot find top module") || log.contains("Specified --top-module 'pmu50' was not found") {
+        if log.contains("Cannot find top module")
+            || log.contains("Specified --top-module 'pmu50' was not found")
+        {
             let modules = modules_of(fl);
-            return Err(RtlError::NoTop { list: fl.list.clone(), modules: if modules.is_empty() { "none".into() } else { modules.join(", ") } });
+            return Err(RtlError::NoTop {
+                list: fl.list.clone(),
+                modules: if modules.is_empty() {
+                    "none".into()
+                } else {
+                    modules.join(", ")
+                },
+            });
         }
-        return Err(RtlError::Build { list: fl.list.clone(), tool: "verilator", log: tail(&log) });
+        return Err(RtlError::Build {
+            list: fl.list.clone(),
+            tool: "verilator",
+            log: tail(&log),
+        });
     }
-    let text = std::fs::read_to_string(&xml).map_err(|e| RtlError::Io(format!("{}: {e}", xml.display())))?;
-    parse_xml(&text).map_err(|reason| RtlError::Xml { list: fl.list.clone(), reason })
+    let text = std::fs::read_to_string(&xml)
+        .map_err(|e| RtlError::Io(format!("{}: {e}", xml.display())))?;
+    parse_xml(&text).map_err(|reason| RtlError::Xml {
+        list: fl.list.clone(),
+        reason,
+    })
 }
 
 /// [`elaborate`], its XML kept in `cache` (a folder of this RTL's cache) with the hash of every
 /// file Verilator read: an unchanged RTL is not elaborated again.
-pub fn elaborate_cached(fl: &FileList, gparams: &[(String, u64)], work: &Path, cache: &Path) -> Result<Design, RtlError> {
+pub fn elaborate_cached(
+    fl: &FileList,
+    gparams: &[(String, u64)],
+    work: &Path,
+    cache: &Path,
+) -> Result<Design, RtlError> {
     let key: String = gparams.iter().map(|(n, v)| format!("{n}={v};")).collect();
-    let stem = cache.join(format!("design-{:016x}", crate::regress::dut::fnv(&[key.as_bytes()])));
+    let stem = cache.join(format!(
+        "design-{:016x}",
+        crate::regress::dut::fnv(&[key.as_bytes()])
+    ));
     let (xml, record) = (stem.with_extension("xml"), stem.with_extension("deps"));
-    if let (true, Ok(text)) = (crate::regress::dut::files_unchanged(&record), std::fs::read_to_string(&xml)) {
+    if let (true, Ok(text)) = (
+        crate::regress::dut::files_unchanged(&record),
+        std::fs::read_to_string(&xml),
+    ) {
         if let Ok(d) = parse_xml(&text) {
             return Ok(d);
         }
     }
     let d = elaborate(fl, gparams, work)?;
     let _ = std::fs::create_dir_all(cache);
-    if std::fs::copy(work.join("design.xml"), xml.with_extension("xml.tmp")).is_ok() && std::fs::rename(xml.with_extension("xml.tmp"), &xml).is_ok() {
+    if std::fs::copy(work.join("design.xml"), xml.with_extension("xml.tmp")).is_ok()
+        && std::fs::rename(xml.with_extension("xml.tmp"), &xml).is_ok()
+    {
         let mut files = d.files_read.clone();
         files.extend(fl.files.iter().cloned());
         crate::regress::dut::write_record(&record, &files);
@@ -250,7 +390,11 @@ fn modules_of(fl: &FileList) -> Vec<String> {
             for l in t.lines() {
                 let l = l.trim_start();
                 if let Some(rest) = l.strip_prefix("module ") {
-                    let name: String = rest.trim_start().chars().take_while(|c| c.is_alphanumeric() || *c == '_' || *c == '$').collect();
+                    let name: String = rest
+                        .trim_start()
+                        .chars()
+                        .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == '$')
+                        .collect();
                     if !name.is_empty() && !v.contains(&name) {
                         v.push(name);
                     }
@@ -270,20 +414,30 @@ pub fn parse_xml(text: &str) -> Result<Design, String> {
     let mut files_read = Vec::new();
     if let Some(files) = root.children().find(|n| n.has_tag_name("files")) {
         for f in files.children().filter(|n| n.has_tag_name("file")) {
-            let (Some(id), Some(name)) = (f.attribute("id"), f.attribute("filename")) else { continue };
+            let (Some(id), Some(name)) = (f.attribute("id"), f.attribute("filename")) else {
+                continue;
+            };
             file_names.insert(id.to_string(), name.to_string());
             if !name.starts_with('<') {
                 files_read.push(PathBuf::from(name));
             }
         }
     }
-    let netlist = root.children().find(|n| n.has_tag_name("netlist")).ok_or("no <netlist>")?;
+    let netlist = root
+        .children()
+        .find(|n| n.has_tag_name("netlist"))
+        .ok_or("no <netlist>")?;
     // widths of the data types
     let mut widths = std::collections::HashMap::new();
     if let Some(tt) = netlist.children().find(|n| n.has_tag_name("typetable")) {
         for t in tt.children().filter(|n| n.is_element()) {
-            let Some(id) = t.attribute("id") else { continue };
-            let w = match (t.attribute("left").and_then(|s| s.parse::<i64>().ok()), t.attribute("right").and_then(|s| s.parse::<i64>().ok())) {
+            let Some(id) = t.attribute("id") else {
+                continue;
+            };
+            let w = match (
+                t.attribute("left").and_then(|s| s.parse::<i64>().ok()),
+                t.attribute("right").and_then(|s| s.parse::<i64>().ok()),
+            ) {
                 (Some(l), Some(r)) => (l - r).unsigned_abs() as u32 + 1,
                 _ if t.has_tag_name("basicdtype") => match t.attribute("name") {
                     Some("integer" | "int") => 32,
@@ -295,25 +449,52 @@ pub fn parse_xml(text: &str) -> Result<Design, String> {
             widths.insert(id.to_string(), w);
         }
     }
-    let modules: std::collections::HashMap<&str, roxmltree::Node> = netlist.children().filter(|n| n.has_tag_name("module")).filter_map(|m| m.attribute("name").map(|n| (n, m))).collect();
-    let top = netlist.children().find(|n| n.has_tag_name("module") && n.attribute("topModule") == Some("1")).ok_or("no top module")?;
+    let modules: std::collections::HashMap<&str, roxmltree::Node> = netlist
+        .children()
+        .filter(|n| n.has_tag_name("module"))
+        .filter_map(|m| m.attribute("name").map(|n| (n, m)))
+        .collect();
+    let top = netlist
+        .children()
+        .find(|n| n.has_tag_name("module") && n.attribute("topModule") == Some("1"))
+        .ok_or("no top module")?;
     if top.attribute("origName").or(top.attribute("name")) != Some("pmu50") {
-        return Err(format!("the top module is `{}`, not `pmu50`", top.attribute("name").unwrap_or("?")));
+        return Err(format!(
+            "the top module is `{}`, not `pmu50`",
+            top.attribute("name").unwrap_or("?")
+        ));
     }
     let loc = |n: &roxmltree::Node| -> (String, u32) {
         let l = n.attribute("loc").unwrap_or("");
         let mut it = l.split(',');
-        let file = it.next().and_then(|id| file_names.get(id)).cloned().unwrap_or_else(|| "?".into());
+        let file = it
+            .next()
+            .and_then(|id| file_names.get(id))
+            .cloned()
+            .unwrap_or_else(|| "?".into());
         let line = it.next().and_then(|s| s.parse().ok()).unwrap_or(0);
         (file, line)
     };
-    let width_of = |n: &roxmltree::Node| n.attribute("dtype_id").and_then(|d| widths.get(d)).copied().unwrap_or(0);
+    let width_of = |n: &roxmltree::Node| {
+        n.attribute("dtype_id")
+            .and_then(|d| widths.get(d))
+            .copied()
+            .unwrap_or(0)
+    };
     let mut ports = Vec::new();
     let mut params = Vec::new();
     for v in top.children().filter(|n| n.has_tag_name("var")) {
-        let name = v.attribute("origName").or(v.attribute("name")).unwrap_or("").to_string();
+        let name = v
+            .attribute("origName")
+            .or(v.attribute("name"))
+            .unwrap_or("")
+            .to_string();
         if v.attribute("param") == Some("true") {
-            let value = v.descendants().find(|n| n.has_tag_name("const")).and_then(|c| c.attribute("name")).and_then(verilog_int);
+            let value = v
+                .descendants()
+                .find(|n| n.has_tag_name("const"))
+                .and_then(|c| c.attribute("name"))
+                .and_then(verilog_int);
             if let Some(value) = value {
                 params.push((name, value));
             }
@@ -343,30 +524,58 @@ pub fn parse_xml(text: &str) -> Result<Design, String> {
         }
     }
     if stack.is_empty() {
-        stack.push(("pmu50".into(), top.attribute("name").unwrap_or("pmu50").into()));
+        stack.push((
+            "pmu50".into(),
+            top.attribute("name").unwrap_or("pmu50").into(),
+        ));
     }
     for (hier, mname) in &stack {
-        let Some(m) = modules.get(mname.as_str()) else { continue };
+        let Some(m) = modules.get(mname.as_str()) else {
+            continue;
+        };
         let orig = m.attribute("origName").unwrap_or(mname).to_string();
         collect_vars(*m, hier, &orig, &width_of, &mut signals);
     }
-    Ok(Design { ports, params, signals, files_read })
+    Ok(Design {
+        ports,
+        params,
+        signals,
+        files_read,
+    })
 }
 
 /// The variables of a module body and of its named blocks (generate scopes).
-fn collect_vars(node: roxmltree::Node, prefix: &str, module: &str, width_of: &dyn Fn(&roxmltree::Node) -> u32, out: &mut Vec<HierSignal>) {
+fn collect_vars(
+    node: roxmltree::Node,
+    prefix: &str,
+    module: &str,
+    width_of: &dyn Fn(&roxmltree::Node) -> u32,
+    out: &mut Vec<HierSignal>,
+) {
     for c in node.children().filter(|n| n.is_element()) {
         if c.has_tag_name("var") {
             if c.attribute("param") == Some("true") || c.attribute("localparam") == Some("true") {
                 continue;
             }
-            let name = c.attribute("origName").or(c.attribute("name")).unwrap_or("").to_string();
+            let name = c
+                .attribute("origName")
+                .or(c.attribute("name"))
+                .unwrap_or("")
+                .to_string();
             let local = prefix.split_once('.').map_or("", |(_, r)| r);
             let _ = local;
-            out.push(HierSignal { path: format!("{prefix}.{name}"), width: width_of(&c), module: module.to_string(), var: c.attribute("name").unwrap_or("").to_string(), is_port: c.attribute("dir").is_some() });
+            out.push(HierSignal {
+                path: format!("{prefix}.{name}"),
+                width: width_of(&c),
+                module: module.to_string(),
+                var: c.attribute("name").unwrap_or("").to_string(),
+                is_port: c.attribute("dir").is_some(),
+            });
         } else if c.has_tag_name("begin") {
             match c.attribute("name") {
-                Some(n) if !n.is_empty() => collect_vars(c, &format!("{prefix}.{n}"), module, width_of, out),
+                Some(n) if !n.is_empty() => {
+                    collect_vars(c, &format!("{prefix}.{n}"), module, width_of, out)
+                }
                 _ => collect_vars(c, prefix, module, width_of, out),
             }
         } else if c.has_tag_name("func") || c.has_tag_name("task") || c.has_tag_name("instance") {
@@ -402,20 +611,40 @@ impl Design {
 
     /// The names of [`HDL_NAMES`] the top lacks (fixed by the RTL).
     pub fn missing_params(&self) -> Vec<&'static str> {
-        HDL_NAMES.iter().copied().filter(|n| self.param(n).is_none()).collect()
+        HDL_NAMES
+            .iter()
+            .copied()
+            .filter(|n| self.param(n).is_none())
+            .collect()
     }
 
     /// Check the top's ports against the contract for a core of structure `s`: every contract
     /// port present, with its direction and width. Extra ports are allowed (inputs tied to 0).
     pub fn check_contract(&self, s: &Structural) -> Result<(), RtlError> {
-        let top_file = self.ports.first().map(|p| p.3.clone()).unwrap_or_else(|| "pmu50".into());
+        let top_file = self
+            .ports
+            .first()
+            .map(|p| p.3.clone())
+            .unwrap_or_else(|| "pmu50".into());
         for c in contract_ports() {
             let expected = u32::from(c.width.bits(s));
-            let Some((name, dir, actual, file, line)) = self.ports.iter().find(|p| p.0 == c.name) else {
-                return Err(RtlError::MissingPort { file: top_file, port: c.name, dir: c.dir.name(), expected });
+            let Some((name, dir, actual, file, line)) = self.ports.iter().find(|p| p.0 == c.name)
+            else {
+                return Err(RtlError::MissingPort {
+                    file: top_file,
+                    port: c.name,
+                    dir: c.dir.name(),
+                    expected,
+                });
             };
             if *dir != c.dir {
-                return Err(RtlError::PortDir { file: file.clone(), line: *line, port: name.clone(), expected: c.dir.name(), actual: dir.name().into() });
+                return Err(RtlError::PortDir {
+                    file: file.clone(),
+                    line: *line,
+                    port: name.clone(),
+                    expected: c.dir.name(),
+                    actual: dir.name().into(),
+                });
             }
             if *actual != expected {
                 let why = match c.width {
@@ -423,7 +652,14 @@ impl Design {
                     Width::SyncDepth => format!(" (SYNC_DEPTH = {})", s.sync_depth),
                     Width::Bits(_) => String::new(),
                 };
-                return Err(RtlError::PortWidth { file: file.clone(), line: *line, port: name.clone(), expected, actual: *actual, why });
+                return Err(RtlError::PortWidth {
+                    file: file.clone(),
+                    line: *line,
+                    port: name.clone(),
+                    expected,
+                    actual: *actual,
+                    why,
+                });
             }
         }
         Ok(())
@@ -474,7 +710,11 @@ impl Fixed {
 
     /// `SYNC_DEPTH=2, CNT_W=16, ...` for a message.
     pub fn text(&self) -> String {
-        self.values.iter().map(|(n, v)| format!("{n}={v}")).collect::<Vec<_>>().join(", ")
+        self.values
+            .iter()
+            .map(|(n, v)| format!("{n}={v}"))
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 
@@ -498,6 +738,8 @@ mod tests {
         let c = contract_ports();
         assert_eq!(c.len(), 2 + signals::N_INPUTS + signals::N_OUTPUTS);
         assert_eq!((c[0].name, c[1].name, c[2].name), ("clk", "rst_n", "ig"));
-        assert!(c.iter().any(|p| p.name == "cnt_s" && p.width == Width::CntWidth && p.dir == PortDir::Output));
+        assert!(c
+            .iter()
+            .any(|p| p.name == "cnt_s" && p.width == Width::CntWidth && p.dir == PortDir::Output));
     }
 }

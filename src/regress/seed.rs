@@ -52,7 +52,18 @@ impl<'a> Pending<'a> {
 
     /// The seed's result when its recording could not be handed to the DUT: `error`.
     pub(crate) fn failed(self, e: dut::DutError) -> (SeedResult, Vec<u64>) {
-        seed_result(self.seed, self.start, (Verdict::Error, Some(*error_failure(0, e.to_string())), self.ticks, self.evaluated, self.readouts_checked, self.hits))
+        seed_result(
+            self.seed,
+            self.start,
+            (
+                Verdict::Error,
+                Some(*error_failure(0, e.to_string())),
+                self.ticks,
+                self.evaluated,
+                self.readouts_checked,
+                self.hits,
+            ),
+        )
     }
 
     /// The verdict of the DUT (sent or not yet).
@@ -69,7 +80,14 @@ impl<'a> Pending<'a> {
             Ok(Some(f)) => (Verdict::Fail, Some(f)),
             Err(e) => (Verdict::Error, Some(*error_failure(0, e.to_string()))),
         };
-        (verdict, failure, self.ticks, self.evaluated, self.readouts_checked, self.hits)
+        (
+            verdict,
+            failure,
+            self.ticks,
+            self.evaluated,
+            self.readouts_checked,
+            self.hits,
+        )
     }
 }
 
@@ -90,7 +108,12 @@ pub(crate) fn seed_result(seed: u64, start: Instant, e: Evaluated) -> (SeedResul
 }
 
 /// The model's part of a seed.
-pub(crate) fn start_seed<'a>(spec: &RunSpec, seed: u64, bias: &Bias, d: &'a dyn dut::Dut) -> Stage<'a> {
+pub(crate) fn start_seed<'a>(
+    spec: &RunSpec,
+    seed: u64,
+    bias: &Bias,
+    d: &'a dyn dut::Dut,
+) -> Stage<'a> {
     let start = Instant::now();
     let stim = Stimulus::generate(seed, bias);
     match evaluate_model(spec, &stim, d) {
@@ -98,9 +121,37 @@ pub(crate) fn start_seed<'a>(spec: &RunSpec, seed: u64, bias: &Bias, d: &'a dyn 
             let (r, hits) = seed_result(seed, start, e);
             Stage::Done(Box::new(r), hits)
         }
-        Ok(Phase::Dut { sc, rec, ticks, evaluated, readouts_checked, hits }) => Stage::Pending(Pending { seed, start, sc, rec: Some(rec), flight: None, ticks, evaluated, readouts_checked, hits }),
+        Ok(Phase::Dut {
+            sc,
+            rec,
+            ticks,
+            evaluated,
+            readouts_checked,
+            hits,
+        }) => Stage::Pending(Pending {
+            seed,
+            start,
+            sc,
+            rec: Some(rec),
+            flight: None,
+            ticks,
+            evaluated,
+            readouts_checked,
+            hits,
+        }),
         Err(f) => {
-            let (r, hits) = seed_result(seed, start, (Verdict::Error, Some(*f), 0, 0, 0, vec![0; layout().bins.len()]));
+            let (r, hits) = seed_result(
+                seed,
+                start,
+                (
+                    Verdict::Error,
+                    Some(*f),
+                    0,
+                    0,
+                    0,
+                    vec![0; layout().bins.len()],
+                ),
+            );
             Stage::Done(Box::new(r), hits)
         }
     }
@@ -109,7 +160,16 @@ pub(crate) fn start_seed<'a>(spec: &RunSpec, seed: u64, bias: &Bias, d: &'a dyn 
 pub type Evaluated = (Verdict, Option<Failure>, u64, u64, u64, Vec<u64>);
 
 pub(crate) fn error_failure(tick: u64, detail: String) -> Box<Failure> {
-    Box::new(Failure { kind: "error".into(), tick, signal: "-".into(), expected: "-".into(), got: "-".into(), block: "-".into(), fig: "-".into(), detail })
+    Box::new(Failure {
+        kind: "error".into(),
+        tick,
+        signal: "-".into(),
+        expected: "-".into(),
+        got: "-".into(),
+        block: "-".into(),
+        fig: "-".into(),
+        detail,
+    })
 }
 
 /// What the model's run of a seed leaves to do.
@@ -117,16 +177,45 @@ pub(crate) enum Phase {
     /// The verdict (the model failed, or the DUT is the model).
     Final(Evaluated),
     /// The model passed; the RTL is to run on this recording.
-    Dut { sc: Box<Scenario>, rec: dut::Recorded, ticks: u64, evaluated: u64, readouts_checked: u64, hits: Vec<u64> },
+    Dut {
+        sc: Box<Scenario>,
+        rec: dut::Recorded,
+        ticks: u64,
+        evaluated: u64,
+        readouts_checked: u64,
+        hits: Vec<u64>,
+    },
 }
 
 /// The verdict of one stimulus: the model's checks, then the DUT (shared by the seeds, the
 /// shrinking of a failure and `--repro`).
-pub fn evaluate(spec: &RunSpec, stim: &Stimulus, d: &dyn dut::Dut, timeout: Duration) -> Result<Evaluated, Box<Failure>> {
+pub fn evaluate(
+    spec: &RunSpec,
+    stim: &Stimulus,
+    d: &dyn dut::Dut,
+    timeout: Duration,
+) -> Result<Evaluated, Box<Failure>> {
     match evaluate_model(spec, stim, d)? {
         Phase::Final(e) => Ok(e),
-        Phase::Dut { sc, rec, ticks, evaluated, readouts_checked, hits } => {
-            let p = Pending { seed: stim.seed, start: Instant::now(), sc, rec: Some(rec), flight: None, ticks, evaluated, readouts_checked, hits };
+        Phase::Dut {
+            sc,
+            rec,
+            ticks,
+            evaluated,
+            readouts_checked,
+            hits,
+        } => {
+            let p = Pending {
+                seed: stim.seed,
+                start: Instant::now(),
+                sc,
+                rec: Some(rec),
+                flight: None,
+                ticks,
+                evaluated,
+                readouts_checked,
+                hits,
+            };
             Ok(p.verdict(d, timeout))
         }
     }
@@ -134,18 +223,33 @@ pub fn evaluate(spec: &RunSpec, stim: &Stimulus, d: &dyn dut::Dut, timeout: Dura
 
 /// The model's run of a stimulus with its checks, recording what the DUT needs: the inputs of
 /// every tick in memory (verilator) or a vector file (icarus).
-pub(crate) fn evaluate_model(spec: &RunSpec, stim: &Stimulus, d: &dyn dut::Dut) -> Result<Phase, Box<Failure>> {
+pub(crate) fn evaluate_model(
+    spec: &RunSpec,
+    stim: &Stimulus,
+    d: &dyn dut::Dut,
+) -> Result<Phase, Box<Failure>> {
     let name = format!("regress_{}", stim.seed);
     let text = stim.to_toml(&name);
     let path = PathBuf::from(format!("{name}.toml"));
-    let sc = Scenario::parse(&text, &path.display().to_string(), &name, &path).map_err(|e| error_failure(0, format!("the generator made a scenario the parser refuses: {e}")))?;
+    let sc = Scenario::parse(&text, &path.display().to_string(), &name, &path).map_err(|e| {
+        error_failure(
+            0,
+            format!("the generator made a scenario the parser refuses: {e}"),
+        )
+    })?;
     let needs = d.needs();
     let vec = match needs {
-        dut::Needs::Vectors => Some(d.vector_file(&sc).map_err(|e| error_failure(0, e.to_string()))?),
+        dut::Needs::Vectors => Some(
+            d.vector_file(&sc)
+                .map_err(|e| error_failure(0, e.to_string()))?,
+        ),
         _ => None,
     };
     let mut writer = match &vec {
-        Some(f) => Some(crate::observers::vectors::VectorWriter::new(std::io::BufWriter::new(f.as_file()), &sc).map_err(|e| error_failure(0, e.to_string()))?),
+        Some(f) => Some(
+            crate::observers::vectors::VectorWriter::new(std::io::BufWriter::new(f.as_file()), &sc)
+                .map_err(|e| error_failure(0, e.to_string()))?,
+        ),
         None => None,
     };
     let mut recorder = (needs == dut::Needs::Inputs).then(lockstep::InputRecorder::default);
@@ -157,14 +261,25 @@ pub(crate) fn evaluate_model(spec: &RunSpec, stim: &Stimulus, d: &dyn dut::Dut) 
     let (checks, res) = run.map_err(|e| error_failure(0, e.to_string()))?;
     if let Some(w) = writer.take() {
         use std::io::Write;
-        w.into_inner().flush().map_err(|e| error_failure(0, format!("vector file: {e}")))?;
+        w.into_inner()
+            .flush()
+            .map_err(|e| error_failure(0, format!("vector file: {e}")))?;
     }
     drop(writer);
     let hits = checks.coverage.hits().to_vec();
     let mut failure = checks.failure.clone();
     if failure.is_none() {
         if let Some(c) = res.checks.iter().find(|c| !c.ok) {
-            failure = Some(Failure { kind: "expect".into(), tick: res.ticks, signal: c.name.clone(), expected: "-".into(), got: "-".into(), block: "-".into(), fig: "-".into(), detail: c.detail.clone() });
+            failure = Some(Failure {
+                kind: "expect".into(),
+                tick: res.ticks,
+                signal: c.name.clone(),
+                expected: "-".into(),
+                got: "-".into(),
+                block: "-".into(),
+                fig: "-".into(),
+                detail: c.detail.clone(),
+            });
         }
     }
     if failure.is_none() {
@@ -174,27 +289,64 @@ pub(crate) fn evaluate_model(spec: &RunSpec, stim: &Stimulus, d: &dyn dut::Dut) 
             (None, None) => None,
         };
         if let Some(rec) = rec {
-            return Ok(Phase::Dut { sc: Box::new(sc), rec, ticks: res.ticks, evaluated: res.evaluated_ticks, readouts_checked: checks.readouts_checked, hits });
+            return Ok(Phase::Dut {
+                sc: Box::new(sc),
+                rec,
+                ticks: res.ticks,
+                evaluated: res.evaluated_ticks,
+                readouts_checked: checks.readouts_checked,
+                hits,
+            });
         }
     }
-    let verdict = if failure.is_some() { Verdict::Fail } else { Verdict::Pass };
-    Ok(Phase::Final((verdict, failure, res.ticks, res.evaluated_ticks, checks.readouts_checked, hits)))
+    let verdict = if failure.is_some() {
+        Verdict::Fail
+    } else {
+        Verdict::Pass
+    };
+    Ok(Phase::Final((
+        verdict,
+        failure,
+        res.ticks,
+        res.evaluated_ticks,
+        checks.readouts_checked,
+        hits,
+    )))
 }
 
 /// Check one scenario (a repro) as a seed is checked: `Ok(None)` it passes.
-pub fn check_scenario(spec: &RunSpec, sc: &Scenario, d: &dyn dut::Dut, timeout: Duration) -> Result<Option<Failure>, dut::DutError> {
-    let (checks, res) = run_model(sc, spec.check_spec, &mut []).map_err(|e| dut::DutError::Tool(e.to_string()))?;
+pub fn check_scenario(
+    spec: &RunSpec,
+    sc: &Scenario,
+    d: &dyn dut::Dut,
+    timeout: Duration,
+) -> Result<Option<Failure>, dut::DutError> {
+    let (checks, res) =
+        run_model(sc, spec.check_spec, &mut []).map_err(|e| dut::DutError::Tool(e.to_string()))?;
     if let Some(f) = checks.failure {
         return Ok(Some(f));
     }
     if let Some(c) = res.checks.iter().find(|c| !c.ok) {
-        return Ok(Some(Failure { kind: "expect".into(), tick: res.ticks, signal: c.name.clone(), expected: "-".into(), got: "-".into(), block: "-".into(), fig: "-".into(), detail: c.detail.clone() }));
+        return Ok(Some(Failure {
+            kind: "expect".into(),
+            tick: res.ticks,
+            signal: c.name.clone(),
+            expected: "-".into(),
+            got: "-".into(),
+            block: "-".into(),
+            fig: "-".into(),
+            detail: c.detail.clone(),
+        }));
     }
     dut::check(d, sc, timeout)
 }
 
 /// The model's run of a scenario with the regression's checks and coverage.
-pub fn run_model(sc: &Scenario, check_spec: bool, extra: &mut [&mut dyn sim::Observer]) -> Result<(SeedChecks, sim::RunResult), sim::SimError> {
+pub fn run_model(
+    sc: &Scenario,
+    check_spec: bool,
+    extra: &mut [&mut dyn sim::Observer],
+) -> Result<(SeedChecks, sim::RunResult), sim::SimError> {
     let mut checks = SeedChecks::new(&sc.params, sc.clock_ns(), check_spec);
     let mut obs: Vec<&mut dyn sim::Observer> = vec![&mut checks];
     for e in extra.iter_mut() {
@@ -205,4 +357,3 @@ pub fn run_model(sc: &Scenario, check_spec: bool, extra: &mut [&mut dyn sim::Obs
     checks.finish_checks(&res, sc);
     Ok((checks, res))
 }
-

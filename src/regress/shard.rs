@@ -26,7 +26,11 @@ impl Shard {
         if self.count == 0 || self.index >= self.count {
             return start..start;
         }
-        let at = |i: u64| start.saturating_add(((u128::from(i) * u128::from(iterations)) / u128::from(self.count)) as u64);
+        let at = |i: u64| {
+            start.saturating_add(
+                ((u128::from(i) * u128::from(iterations)) / u128::from(self.count)) as u64,
+            )
+        };
         at(self.index)..at(self.index + 1)
     }
 
@@ -34,7 +38,10 @@ impl Shard {
     pub fn parse(text: &str) -> Result<Shard, String> {
         let bad = || format!("--shard {text}: expected I/N with 0 <= I < N, e.g. --shard 3/8");
         let (i, n) = text.split_once('/').ok_or_else(bad)?;
-        let (index, count): (u64, u64) = (i.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
+        let (index, count): (u64, u64) = (
+            i.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
         if count == 0 || index >= count {
             return Err(bad());
         }
@@ -43,7 +50,11 @@ impl Shard {
 
     /// The shard of this process: `--shard`, else the scheduler's environment (`get` reads a
     /// variable), else none. `count_flag` is `--shard-count`.
-    pub fn resolve(flag: Option<&str>, count_flag: Option<u64>, get: impl Fn(&str) -> Option<String>) -> Result<Option<Shard>, String> {
+    pub fn resolve(
+        flag: Option<&str>,
+        count_flag: Option<u64>,
+        get: impl Fn(&str) -> Option<String>,
+    ) -> Result<Option<Shard>, String> {
         if let Some(f) = flag {
             if count_flag.is_some() {
                 return Err("--shard I/N already gives the count; drop --shard-count".into());
@@ -61,7 +72,9 @@ impl Shard {
         };
         let check = |index: u64, count: u64, what: &str| -> Result<Option<Shard>, String> {
             if count == 0 || index >= count {
-                Err(format!("{what}: index {index} is not below the count {count}"))
+                Err(format!(
+                    "{what}: index {index} is not below the count {count}"
+                ))
             } else {
                 Ok(Some(Shard { index, count }))
             }
@@ -69,7 +82,11 @@ impl Shard {
         if let Some(task) = num("SLURM_ARRAY_TASK_ID")? {
             // With --shard-count the task ids are the shard indices themselves (`--array=3,17`
             // resubmits shards 3 and 17); without it, the array is 0..N or MIN..MAX.
-            let min = if count_flag.is_some() { 0 } else { num("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0) };
+            let min = if count_flag.is_some() {
+                0
+            } else {
+                num("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0)
+            };
             let count = match (count_flag, num("SLURM_ARRAY_TASK_COUNT")?, num("SLURM_ARRAY_TASK_MAX")?) {
                 (Some(c), _, _) | (None, Some(c), _) => c,
                 (None, None, Some(max)) => max
@@ -79,7 +96,9 @@ impl Shard {
                     .ok_or_else(|| format!("SLURM_ARRAY_TASK_MAX={max} with SLURM_ARRAY_TASK_MIN={min}: more than {} tasks", u64::MAX))?,
                 (None, None, None) => return Err("inside a Slurm array (SLURM_ARRAY_TASK_ID is set) but neither SLURM_ARRAY_TASK_COUNT nor SLURM_ARRAY_TASK_MAX says how many tasks: give --shard-count N".into()),
             };
-            let index = task.checked_sub(min).ok_or("SLURM_ARRAY_TASK_ID is below SLURM_ARRAY_TASK_MIN")?;
+            let index = task
+                .checked_sub(min)
+                .ok_or("SLURM_ARRAY_TASK_ID is below SLURM_ARRAY_TASK_MIN")?;
             return check(index, count, "Slurm array task");
         }
         if let Some(index) = num("JOB_COMPLETION_INDEX")? {
@@ -117,51 +136,155 @@ mod tests {
     }
 
     fn env<'a>(vars: &'a [(&'a str, &'a str)]) -> impl Fn(&str) -> Option<String> + 'a {
-        move |k| vars.iter().find(|(n, _)| *n == k).map(|(_, v)| v.to_string())
+        move |k| {
+            vars.iter()
+                .find(|(n, _)| *n == k)
+                .map(|(_, v)| v.to_string())
+        }
     }
 
     #[test]
     fn the_index_comes_from_the_flag_slurm_or_kubernetes() {
-        assert_eq!(Shard::resolve(Some("2/5"), None, env(&[])), Ok(Some(Shard { index: 2, count: 5 })));
-        assert_eq!(Shard::resolve(None, None, env(&[("SLURM_ARRAY_TASK_ID", "3"), ("SLURM_ARRAY_TASK_COUNT", "4")])), Ok(Some(Shard { index: 3, count: 4 })));
+        assert_eq!(
+            Shard::resolve(Some("2/5"), None, env(&[])),
+            Ok(Some(Shard { index: 2, count: 5 }))
+        );
+        assert_eq!(
+            Shard::resolve(
+                None,
+                None,
+                env(&[
+                    ("SLURM_ARRAY_TASK_ID", "3"),
+                    ("SLURM_ARRAY_TASK_COUNT", "4")
+                ])
+            ),
+            Ok(Some(Shard { index: 3, count: 4 }))
+        );
         // --array=1-8: ids 1..8, index = id - min
-        assert_eq!(Shard::resolve(None, None, env(&[("SLURM_ARRAY_TASK_ID", "8"), ("SLURM_ARRAY_TASK_MIN", "1"), ("SLURM_ARRAY_TASK_MAX", "8")])), Ok(Some(Shard { index: 7, count: 8 })));
-        assert_eq!(Shard::resolve(None, Some(10), env(&[("JOB_COMPLETION_INDEX", "9")])), Ok(Some(Shard { index: 9, count: 10 })));
+        assert_eq!(
+            Shard::resolve(
+                None,
+                None,
+                env(&[
+                    ("SLURM_ARRAY_TASK_ID", "8"),
+                    ("SLURM_ARRAY_TASK_MIN", "1"),
+                    ("SLURM_ARRAY_TASK_MAX", "8")
+                ])
+            ),
+            Ok(Some(Shard { index: 7, count: 8 }))
+        );
+        assert_eq!(
+            Shard::resolve(None, Some(10), env(&[("JOB_COMPLETION_INDEX", "9")])),
+            Ok(Some(Shard {
+                index: 9,
+                count: 10
+            }))
+        );
         // a resubmission of shards 3 and 17 of 100: the task id is the index
-        let resub = [("SLURM_ARRAY_TASK_ID", "17"), ("SLURM_ARRAY_TASK_MIN", "3"), ("SLURM_ARRAY_TASK_MAX", "17"), ("SLURM_ARRAY_TASK_COUNT", "2")];
-        assert_eq!(Shard::resolve(None, Some(100), env(&resub)), Ok(Some(Shard { index: 17, count: 100 })));
-        assert_eq!(Shard::resolve(None, None, env(&[("JOB_COMPLETION_INDEX", "0"), ("JOB_COMPLETIONS", "3")])), Ok(Some(Shard { index: 0, count: 3 })));
+        let resub = [
+            ("SLURM_ARRAY_TASK_ID", "17"),
+            ("SLURM_ARRAY_TASK_MIN", "3"),
+            ("SLURM_ARRAY_TASK_MAX", "17"),
+            ("SLURM_ARRAY_TASK_COUNT", "2"),
+        ];
+        assert_eq!(
+            Shard::resolve(None, Some(100), env(&resub)),
+            Ok(Some(Shard {
+                index: 17,
+                count: 100
+            }))
+        );
+        assert_eq!(
+            Shard::resolve(
+                None,
+                None,
+                env(&[("JOB_COMPLETION_INDEX", "0"), ("JOB_COMPLETIONS", "3")])
+            ),
+            Ok(Some(Shard { index: 0, count: 3 }))
+        );
         assert_eq!(Shard::resolve(None, None, env(&[])), Ok(None));
     }
 
     #[test]
     fn scheduler_variables_that_would_wrap_or_are_empty_are_refused() {
         let max = u64::MAX.to_string();
-        let e = Shard::resolve(None, None, env(&[("SLURM_ARRAY_TASK_ID", "0"), ("SLURM_ARRAY_TASK_MAX", &max)])).unwrap_err();
-        assert!(e.contains("more than") && e.contains("SLURM_ARRAY_TASK_MAX=18446744073709551615"), "{e}");
+        let e = Shard::resolve(
+            None,
+            None,
+            env(&[("SLURM_ARRAY_TASK_ID", "0"), ("SLURM_ARRAY_TASK_MAX", &max)]),
+        )
+        .unwrap_err();
+        assert!(
+            e.contains("more than") && e.contains("SLURM_ARRAY_TASK_MAX=18446744073709551615"),
+            "{e}"
+        );
         for (vars, name) in [
-            (vec![("SLURM_ARRAY_TASK_ID", ""), ("SLURM_ARRAY_TASK_COUNT", "4")], "SLURM_ARRAY_TASK_ID"),
-            (vec![("SLURM_ARRAY_TASK_ID", " "), ("SLURM_ARRAY_TASK_MAX", "3")], "SLURM_ARRAY_TASK_ID"),
-            (vec![("JOB_COMPLETION_INDEX", ""), ("JOB_COMPLETIONS", "4")], "JOB_COMPLETION_INDEX"),
-            (vec![("SLURM_ARRAY_TASK_ID", "2"), ("SLURM_ARRAY_TASK_COUNT", "")], "SLURM_ARRAY_TASK_COUNT"),
+            (
+                vec![("SLURM_ARRAY_TASK_ID", ""), ("SLURM_ARRAY_TASK_COUNT", "4")],
+                "SLURM_ARRAY_TASK_ID",
+            ),
+            (
+                vec![("SLURM_ARRAY_TASK_ID", " "), ("SLURM_ARRAY_TASK_MAX", "3")],
+                "SLURM_ARRAY_TASK_ID",
+            ),
+            (
+                vec![("JOB_COMPLETION_INDEX", ""), ("JOB_COMPLETIONS", "4")],
+                "JOB_COMPLETION_INDEX",
+            ),
+            (
+                vec![("SLURM_ARRAY_TASK_ID", "2"), ("SLURM_ARRAY_TASK_COUNT", "")],
+                "SLURM_ARRAY_TASK_COUNT",
+            ),
         ] {
             let e = Shard::resolve(None, None, env(&vars)).unwrap_err();
-            assert!(e.contains(&format!("{name} is set but empty")), "{vars:?}: {e}");
+            assert!(
+                e.contains(&format!("{name} is set but empty")),
+                "{vars:?}: {e}"
+            );
         }
         // Not a part: no seed, never a panic or a wrap.
         assert_eq!(Shard { index: 0, count: 0 }.seeds(5, 100), 5..5);
         assert_eq!(Shard { index: 7, count: 3 }.seeds(5, 100), 5..5);
-        assert_eq!(Shard { index: 1, count: 2 }.seeds(u64::MAX - 10, 100).end, u64::MAX);
+        assert_eq!(
+            Shard { index: 1, count: 2 }.seeds(u64::MAX - 10, 100).end,
+            u64::MAX
+        );
     }
 
     #[test]
     fn bad_shards_say_what_is_valid() {
         for f in ["5/5", "1/0", "x/2", "3", "-1/4"] {
-            assert!(Shard::resolve(Some(f), None, env(&[])).unwrap_err().contains("0 <= I < N"), "{f}");
+            assert!(
+                Shard::resolve(Some(f), None, env(&[]))
+                    .unwrap_err()
+                    .contains("0 <= I < N"),
+                "{f}"
+            );
         }
-        assert!(Shard::resolve(None, None, env(&[("SLURM_ARRAY_TASK_ID", "3")])).unwrap_err().contains("--shard-count"));
-        assert!(Shard::resolve(None, None, env(&[("JOB_COMPLETION_INDEX", "3"), ("JOB_COMPLETIONS", "3")])).unwrap_err().contains("not below"));
-        assert!(Shard::resolve(None, Some(4), env(&[])).unwrap_err().contains("needs a shard index"));
-        assert!(Shard::resolve(None, None, env(&[("SLURM_ARRAY_TASK_ID", "abc"), ("SLURM_ARRAY_TASK_COUNT", "4")])).unwrap_err().contains("not a whole number"));
+        assert!(
+            Shard::resolve(None, None, env(&[("SLURM_ARRAY_TASK_ID", "3")]))
+                .unwrap_err()
+                .contains("--shard-count")
+        );
+        assert!(Shard::resolve(
+            None,
+            None,
+            env(&[("JOB_COMPLETION_INDEX", "3"), ("JOB_COMPLETIONS", "3")])
+        )
+        .unwrap_err()
+        .contains("not below"));
+        assert!(Shard::resolve(None, Some(4), env(&[]))
+            .unwrap_err()
+            .contains("needs a shard index"));
+        assert!(Shard::resolve(
+            None,
+            None,
+            env(&[
+                ("SLURM_ARRAY_TASK_ID", "abc"),
+                ("SLURM_ARRAY_TASK_COUNT", "4")
+            ])
+        )
+        .unwrap_err()
+        .contains("not a whole number"));
     }
 }

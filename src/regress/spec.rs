@@ -51,7 +51,13 @@ pub struct RunSpec {
 impl RunSpec {
     /// The same regression (seed range and options), whatever the shard.
     pub fn same_regression(&self, o: &RunSpec) -> bool {
-        RunSpec { shard: None, ..self.clone() } == RunSpec { shard: None, ..o.clone() }
+        RunSpec {
+            shard: None,
+            ..self.clone()
+        } == RunSpec {
+            shard: None,
+            ..o.clone()
+        }
     }
 
     /// The seeds of this folder.
@@ -102,14 +108,20 @@ impl Place {
             host: hostname(),
             slurm_job_id: env("SLURM_ARRAY_JOB_ID").or_else(|| env("SLURM_JOB_ID")),
             slurm_array_task_id: env("SLURM_ARRAY_TASK_ID"),
-            k8s_job: env("JOB_NAME").or_else(|| env("HOSTNAME").filter(|_| env("JOB_COMPLETION_INDEX").is_some())),
+            k8s_job: env("JOB_NAME")
+                .or_else(|| env("HOSTNAME").filter(|_| env("JOB_COMPLETION_INDEX").is_some())),
             k8s_index: env("JOB_COMPLETION_INDEX"),
         }
     }
 }
 
 pub(crate) fn hostname() -> String {
-    std::fs::read_to_string("/proc/sys/kernel/hostname").map(|s| s.trim().to_string()).ok().filter(|s| !s.is_empty()).or_else(|| std::env::var("HOSTNAME").ok()).unwrap_or_else(|| "unknown".into())
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .map(|s| s.trim().to_string())
+        .ok()
+        .filter(|s| !s.is_empty())
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .unwrap_or_else(|| "unknown".into())
 }
 
 /// One line of results.jsonl.
@@ -138,16 +150,32 @@ impl SeedResult {
             return Ok(());
         }
         for pair in self.cov.split(',') {
-            let (k, v) = pair.split_once(':').ok_or_else(|| format!("coverage entry `{pair}` is not bin:hits"))?;
-            let k: usize = k.parse().map_err(|_| format!("coverage bin `{k}` is not a number"))?;
-            let v: u64 = v.parse().map_err(|_| format!("coverage hits `{v}` are not a number"))?;
-            let slot = out.get_mut(k).ok_or_else(|| format!("coverage bin {k} is outside the model's {} bins", layout().bins.len()))?;
+            let (k, v) = pair
+                .split_once(':')
+                .ok_or_else(|| format!("coverage entry `{pair}` is not bin:hits"))?;
+            let k: usize = k
+                .parse()
+                .map_err(|_| format!("coverage bin `{k}` is not a number"))?;
+            let v: u64 = v
+                .parse()
+                .map_err(|_| format!("coverage hits `{v}` are not a number"))?;
+            let slot = out.get_mut(k).ok_or_else(|| {
+                format!(
+                    "coverage bin {k} is outside the model's {} bins",
+                    layout().bins.len()
+                )
+            })?;
             if let Some(why) = layout().bins[k].unreachable {
                 if v > 0 {
-                    return Err(format!("coverage bin {k} ({}) is declared unreachable ({why}) but has {v} hits", layout().bins[k].name));
+                    return Err(format!(
+                        "coverage bin {k} ({}) is declared unreachable ({why}) but has {v} hits",
+                        layout().bins[k].name
+                    ));
                 }
             }
-            *slot = slot.checked_add(v).ok_or("coverage hits overflow 64 bits")?;
+            *slot = slot
+                .checked_add(v)
+                .ok_or("coverage hits overflow 64 bits")?;
         }
         Ok(())
     }
@@ -163,7 +191,6 @@ pub fn sparse(hits: &[u64]) -> String {
     }
     s
 }
-
 
 /// A seed's verdict.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -191,4 +218,3 @@ impl Verdict {
         }
     }
 }
-

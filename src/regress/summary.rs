@@ -39,7 +39,10 @@ pub struct Source {
 impl Source {
     /// The results file of the regression folder `dir` of `spec`.
     pub fn of(dir: &Path, spec: &RunSpec) -> Source {
-        Source { results: dir.join("results.jsonl"), range: spec.seeds() }
+        Source {
+            results: dir.join("results.jsonl"),
+            range: spec.seeds(),
+        }
     }
 }
 
@@ -64,11 +67,16 @@ impl Summary {
     /// Read and check every results file of `sources`, in one pass each, and sum them.
     pub fn build(spec: RunSpec, sources: &[Source]) -> Result<Summary, RegressError> {
         if sources.len() > usize::from(u16::MAX) {
-            return Err(RegressError::Usage(format!("{} results files: at most {} merge at once", sources.len(), u16::MAX)));
+            return Err(RegressError::Usage(format!(
+                "{} results files: at most {} merge at once",
+                sources.len(),
+                u16::MAX
+            )));
         }
         let mut hits = vec![0u64; layout().bins.len()];
         let (mut pass, mut fail, mut error) = (0u64, 0u64, 0u64);
-        let mut groups: std::collections::BTreeMap<String, folder::Group> = std::collections::BTreeMap::new();
+        let mut groups: std::collections::BTreeMap<String, folder::Group> =
+            std::collections::BTreeMap::new();
         let mut entries = Vec::new();
         for (k, s) in sources.iter().enumerate() {
             let scanned = folder::scan(&s.results, k as u16, &s.range, &mut hits, |r, e| {
@@ -78,7 +86,14 @@ impl Summary {
                     folder::Verdict::Error => error += 1,
                 }
                 if let Some(f) = &r.failure {
-                    let g = groups.entry(f.signature()).or_insert_with(|| folder::Group { count: 0, smallest: r.seed, failure: f.clone(), file: e.file });
+                    let g = groups
+                        .entry(f.signature())
+                        .or_insert_with(|| folder::Group {
+                            count: 0,
+                            smallest: r.seed,
+                            failure: f.clone(),
+                            file: e.file,
+                        });
                     g.count += 1;
                     if r.seed < g.smallest {
                         g.smallest = r.seed;
@@ -89,8 +104,16 @@ impl Summary {
             })?;
             entries.extend(scanned.entries);
         }
-        let store = folder::Store::new(sources.iter().map(|s| s.results.clone()).collect(), entries)?;
-        let runs = store.entries.iter().map(|e| RunRecord { id: spec.run_id(e.seed), verdict: e.verdict.name().into() }).collect();
+        let store =
+            folder::Store::new(sources.iter().map(|s| s.results.clone()).collect(), entries)?;
+        let runs = store
+            .entries
+            .iter()
+            .map(|e| RunRecord {
+                id: spec.run_id(e.seed),
+                verdict: e.verdict.name().into(),
+            })
+            .collect();
         let mut missing = Vec::new();
         let range = spec.seeds();
         let mut next = range.start;
@@ -108,11 +131,24 @@ impl Summary {
         let mut scratch = vec![0u64; hits.len()];
         for e in &store.entries {
             scratch.iter_mut().for_each(|h| *h = 0);
-            reader.result(e)?.hits(&mut scratch).map_err(RegressError::Usage)?;
+            reader
+                .result(e)?
+                .hits(&mut scratch)
+                .map_err(RegressError::Usage)?;
             curve.push(&scratch);
         }
         drop(reader);
-        Ok(Summary { coverage: CoverageFile::from_coverage(&hits, runs), spec, store, pass, fail, error, groups, missing, curve: curve.finish() })
+        Ok(Summary {
+            coverage: CoverageFile::from_coverage(&hits, runs),
+            spec,
+            store,
+            pass,
+            fail,
+            error,
+            groups,
+            missing,
+            curve: curve.finish(),
+        })
     }
 
     /// Seeds with a result.
@@ -135,7 +171,10 @@ impl Summary {
         let mut before = vec![0u64; layout().bins.len()];
         let mut reader = self.store.reader()?;
         for e in self.store.entries.iter().take_while(|e| e.seed < seed) {
-            reader.result(e)?.hits(&mut before).map_err(RegressError::Usage)?;
+            reader
+                .result(e)?
+                .hits(&mut before)
+                .map_err(RegressError::Usage)?;
         }
         Ok(before)
     }
@@ -146,35 +185,62 @@ impl Summary {
     pub fn write(&self, dir: &Path, extra: Option<&str>) -> Result<(), RegressError> {
         use crate::atomic_file::{write_atomic, AtomicFile, OutputError};
         let mut batch = crate::atomic_file::Batch::new();
-        let spec = serde_json::to_string_pretty(&self.spec).map_err(|e| RegressError::Usage(e.to_string()))? + "\n";
+        let spec = serde_json::to_string_pretty(&self.spec)
+            .map_err(|e| RegressError::Usage(e.to_string()))?
+            + "\n";
         batch.add(write_atomic(&dir.join("regress.json"), spec.as_bytes())?);
         let results = dir.join("results.jsonl");
         let werr = |path: &Path| {
             let path = path.to_path_buf();
-            move |source: std::io::Error| RegressError::Output(OutputError::Write { path: path.clone(), source })
+            move |source: std::io::Error| {
+                RegressError::Output(OutputError::Write {
+                    path: path.clone(),
+                    source,
+                })
+            }
         };
         {
             let mut w = std::io::BufWriter::with_capacity(1 << 16, AtomicFile::stage(&results)?);
             let mut reader = self.store.reader()?;
             for e in &self.store.entries {
                 let line = reader.line(e)?;
-                w.write_all(line).and_then(|_| w.write_all(b"\n")).map_err(werr(&results))?;
+                w.write_all(line)
+                    .and_then(|_| w.write_all(b"\n"))
+                    .map_err(werr(&results))?;
             }
             batch.add(w.into_inner().map_err(|e| werr(&results)(e.into_error()))?);
         }
         // Written a line at a time: the run list of a million seeds is 330 MB of UCIS text.
         type Text = fn(&CoverageFile, &mut dyn std::fmt::Write) -> std::fmt::Result;
-        let texts: [(&str, Text); 2] = [("coverage.json", |c, w| c.write_text(w)), ("coverage.ucis.xml", |c, w| pmu50_coverage::write_ucis_xml(c, w))];
+        let texts: [(&str, Text); 2] = [
+            ("coverage.json", |c, w| c.write_text(w)),
+            ("coverage.ucis.xml", |c, w| {
+                pmu50_coverage::write_ucis_xml(c, w)
+            }),
+        ];
         for (name, text) in texts {
             let path = dir.join(name);
-            let mut w = IoText { out: std::io::BufWriter::with_capacity(1 << 16, AtomicFile::stage(&path)?), err: None };
+            let mut w = IoText {
+                out: std::io::BufWriter::with_capacity(1 << 16, AtomicFile::stage(&path)?),
+                err: None,
+            };
             if text(&self.coverage, &mut w).is_err() || w.err.is_some() {
-                return Err(werr(&path)(w.err.unwrap_or_else(|| std::io::Error::other("formatting failed"))));
+                return Err(werr(&path)(
+                    w.err
+                        .unwrap_or_else(|| std::io::Error::other("formatting failed")),
+                ));
             }
-            batch.add(w.out.into_inner().map_err(|e| werr(&path)(e.into_error()))?);
+            batch.add(
+                w.out
+                    .into_inner()
+                    .map_err(|e| werr(&path)(e.into_error()))?,
+            );
         }
         let repros = self.repro_folders(dir)?;
-        batch.add(write_atomic(&dir.join("report.html"), report::html(self, extra, &repros).as_bytes())?);
+        batch.add(write_atomic(
+            &dir.join("report.html"),
+            report::html(self, extra, &repros).as_bytes(),
+        )?);
         let missing = dir.join("missing.txt");
         if self.missing.is_empty() {
             batch.remove_stale(missing);
@@ -191,13 +257,21 @@ impl Summary {
 
     /// The signatures whose repro folder `dir/failures/<signature>/` holds a repro; the folders
     /// of signatures no seed fails with are removed (a rerun into the same folder).
-    pub fn repro_folders(&self, dir: &Path) -> Result<std::collections::BTreeMap<String, Option<String>>, RegressError> {
+    pub fn repro_folders(
+        &self,
+        dir: &Path,
+    ) -> Result<std::collections::BTreeMap<String, Option<String>>, RegressError> {
         let mut have = std::collections::BTreeMap::new();
         let failures = dir.join("failures");
         match std::fs::symlink_metadata(&failures) {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(have),
             Err(e) => return Err(file_err(&failures, e)),
-            Ok(m) if !m.is_dir() => return Err(file_err(&failures, "is not a folder; the repros of a regression go into the folder failures/")),
+            Ok(m) if !m.is_dir() => {
+                return Err(file_err(
+                    &failures,
+                    "is not a folder; the repros of a regression go into the folder failures/",
+                ))
+            }
             Ok(_) => {}
         }
         let rd = std::fs::read_dir(&failures).map_err(|e| file_err(&failures, e))?;
@@ -209,12 +283,18 @@ impl Summary {
                 if std::fs::symlink_metadata(path.join("repro.toml")).is_ok_and(|m| m.is_file()) {
                     // the picture, when it is a regular file of a sane size
                     let svg = path.join("divergence.svg");
-                    let pic = std::fs::symlink_metadata(&svg).ok().filter(|m| m.is_file() && m.len() < 4 << 20).and_then(|_| std::fs::read_to_string(&svg).ok()).and_then(|t| t.find("<svg").map(|i| t[i..].to_string()));
+                    let pic = std::fs::symlink_metadata(&svg)
+                        .ok()
+                        .filter(|m| m.is_file() && m.len() < 4 << 20)
+                        .and_then(|_| std::fs::read_to_string(&svg).ok())
+                        .and_then(|t| t.find("<svg").map(|i| t[i..].to_string()));
                     have.insert(name, pic);
                 }
             } else if std::fs::symlink_metadata(&path).is_ok_and(|m| m.is_dir()) {
                 // A signature of an earlier run into this folder: no seed fails with it now.
-                std::fs::remove_dir_all(&path).map_err(|e| file_err(&path, format!("cannot remove the stale repro folder: {e}")))?;
+                std::fs::remove_dir_all(&path).map_err(|e| {
+                    file_err(&path, format!("cannot remove the stale repro folder: {e}"))
+                })?;
             }
         }
         Ok(have)
@@ -236,10 +316,17 @@ impl Summary {
             pct(scen.0, scen.1),
         );
         if let Some(first) = self.missing.first() {
-            s.push_str(&format!("missing seeds: {} (first {}); run them with --resume\n", self.missing_count(), first.start));
+            s.push_str(&format!(
+                "missing seeds: {} (first {}); run them with --resume\n",
+                self.missing_count(),
+                first.start
+            ));
         }
         for (sig, g) in &self.groups {
-            s.push_str(&format!("  fail {sig}: {} seed(s), smallest {}\n", g.count, g.smallest));
+            s.push_str(&format!(
+                "  fail {sig}: {} seed(s), smallest {}\n",
+                g.count, g.smallest
+            ));
         }
         s
     }
@@ -266,4 +353,3 @@ pub fn scenario_closure(c: &CoverageFile) -> (usize, usize) {
     }
     (hit, total)
 }
-

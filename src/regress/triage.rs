@@ -29,7 +29,13 @@ pub fn bias_for(s: &Summary, seed: u64) -> Result<Bias, RegressError> {
 
 /// Shrink a failing stimulus; returns the smallest one found that fails with `sig`, its
 /// failure, and the number of candidates tried.
-pub fn shrink(spec: &RunSpec, stim: &Stimulus, first: &Failure, dut: &dyn Dut, timeout: Duration) -> (Stimulus, Failure, usize) {
+pub fn shrink(
+    spec: &RunSpec,
+    stim: &Stimulus,
+    first: &Failure,
+    dut: &dyn Dut,
+    timeout: Duration,
+) -> (Stimulus, Failure, usize) {
     let sig = first.signature();
     let tries = std::cell::Cell::new(0usize);
     let fails = |s: &Stimulus| -> Option<Failure> {
@@ -67,7 +73,9 @@ pub fn shrink(spec: &RunSpec, stim: &Stimulus, first: &Failure, dut: &dyn Dut, t
             continue;
         }
         let mut c = best.clone();
-        c.motion[k] = Motion::Hold { ticks: c.motion[k].ticks() };
+        c.motion[k] = Motion::Hold {
+            ticks: c.motion[k].ticks(),
+        };
         if let Some(f) = fails(&c) {
             best = c;
             best_f = f;
@@ -91,12 +99,22 @@ fn truncate(s: &Stimulus, ticks: u64) -> Stimulus {
         let len = m.ticks().min(ticks - t);
         motion.push(match *m {
             Motion::Hold { .. } => Motion::Hold { ticks: len },
-            Motion::Move { ticks: full, milli_deg } => Motion::Move { ticks: len, milli_deg: milli_deg * len as i64 / full.max(1) as i64 },
+            Motion::Move {
+                ticks: full,
+                milli_deg,
+            } => Motion::Move {
+                ticks: len,
+                milli_deg: milli_deg * len as i64 / full.max(1) as i64,
+            },
         });
         t += len;
     }
     c.motion = motion;
-    if !c.events.iter().any(|(t, a)| *t == 0 && matches!(a, Action::Ig(_))) {
+    if !c
+        .events
+        .iter()
+        .any(|(t, a)| *t == 0 && matches!(a, Action::Ig(_)))
+    {
         c.events.insert(0, (0, Action::Ig(false)));
     }
     c
@@ -105,7 +123,10 @@ fn truncate(s: &Stimulus, ticks: u64) -> Stimulus {
 /// `arg` as one word of a POSIX shell command line: as it is when it holds only characters no
 /// shell treats specially, else in single quotes (a single quote inside as `'\''`).
 pub fn shell_quote(arg: &str) -> String {
-    let plain = !arg.is_empty() && arg.chars().all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c));
+    let plain = !arg.is_empty()
+        && arg
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c));
     if plain {
         arg.to_string()
     } else {
@@ -116,7 +137,10 @@ pub fn shell_quote(arg: &str) -> String {
 /// The command that reproduces a failure from its folder, one shell line with every path
 /// quoted ([`shell_quote`]): pasted into a shell it runs `pmu50` and nothing else.
 pub fn command(spec: &RunSpec, repro: &Path) -> String {
-    let mut c = format!("pmu50 regress --repro {}", shell_quote(&repro.display().to_string()));
+    let mut c = format!(
+        "pmu50 regress --repro {}",
+        shell_quote(&repro.display().to_string())
+    );
     match spec.dut {
         super::DutKind::Model => {}
         super::DutKind::Verilator => c.push_str(" --dut verilator"),
@@ -136,14 +160,25 @@ pub fn command(spec: &RunSpec, repro: &Path) -> String {
 
 /// The command that opens GTKWave on a repro folder's waveform, zoomed on the divergence.
 pub fn view_command(folder: &Path) -> String {
-    format!("gtkwave {} {}", shell_quote(&folder.join("repro.vcd").display().to_string()), shell_quote(&folder.join("repro.gtkw").display().to_string()))
+    format!(
+        "gtkwave {} {}",
+        shell_quote(&folder.join("repro.vcd").display().to_string()),
+        shell_quote(&folder.join("repro.gtkw").display().to_string())
+    )
 }
 
 /// The SVG picture of a repro's divergence (super::picture), with the DUT's trace where its
 /// backend gives one.
-fn picture(folder: &Path, toml: &str, name: &str, f: &Failure, dut: &dyn Dut) -> Result<String, String> {
+fn picture(
+    folder: &Path,
+    toml: &str,
+    name: &str,
+    f: &Failure,
+    dut: &dyn Dut,
+) -> Result<String, String> {
     let path = folder.join("repro.toml");
-    let sc = crate::scenario::Scenario::parse(toml, &path.display().to_string(), name, &path).map_err(|e| e.to_string())?;
+    let sc = crate::scenario::Scenario::parse(toml, &path.display().to_string(), name, &path)
+        .map_err(|e| e.to_string())?;
     let (from, to) = super::picture::window(f.tick, sc.ticks);
     let trace = match super::dut::record(dut, &sc) {
         Ok(rec) => dut.trace(&sc, rec, from, to).and_then(Result::ok),
@@ -153,7 +188,12 @@ fn picture(folder: &Path, toml: &str, name: &str, f: &Failure, dut: &dyn Dut) ->
 }
 
 /// Shrink the smallest failing seed of each signature and write its folder.
-pub fn write_repros(s: &Summary, dir: &Path, dut: &dyn Dut, timeout: Duration) -> Result<(), RegressError> {
+pub fn write_repros(
+    s: &Summary,
+    dir: &Path,
+    dut: &dyn Dut,
+    timeout: Duration,
+) -> Result<(), RegressError> {
     for (sig, g) in &s.groups {
         let seed = g.smallest;
         let first = g.failure.clone();
@@ -191,14 +231,26 @@ pub fn write_repros(s: &Summary, dir: &Path, dut: &dyn Dut, timeout: Duration) -
         );
         let mut b = crate::atomic_file::Batch::new();
         b.add(crate::atomic_file::write_atomic(&repro, toml.as_bytes())?);
-        b.add(crate::atomic_file::write_atomic(&folder.join("command.txt"), format!("{cmd}\n").as_bytes())?);
-        b.add(crate::atomic_file::write_atomic(&folder.join("failure.txt"), text.as_bytes())?);
+        b.add(crate::atomic_file::write_atomic(
+            &folder.join("command.txt"),
+            format!("{cmd}\n").as_bytes(),
+        )?);
+        b.add(crate::atomic_file::write_atomic(
+            &folder.join("failure.txt"),
+            text.as_bytes(),
+        )?);
         b.commit()?;
         super::wave::write(&folder, &toml, &name, &f)?;
         // the picture: the model's values around the divergence beside the DUT's trace
-        let svg = picture(&folder, &toml, &name, &f, dut).map_err(|e| RegressError::File { path: folder.join("divergence.svg"), reason: e })?;
+        let svg = picture(&folder, &toml, &name, &f, dut).map_err(|e| RegressError::File {
+            path: folder.join("divergence.svg"),
+            reason: e,
+        })?;
         let mut b = crate::atomic_file::Batch::new();
-        b.add(crate::atomic_file::write_atomic(&folder.join("divergence.svg"), svg.as_bytes())?);
+        b.add(crate::atomic_file::write_atomic(
+            &folder.join("divergence.svg"),
+            svg.as_bytes(),
+        )?);
         b.commit()?;
     }
     Ok(())
@@ -211,21 +263,58 @@ mod tests {
     /// The words a POSIX shell makes of `line` (run with `pmu50` replaced by printf).
     fn words(line: &str) -> Vec<String> {
         let line = line.strip_prefix("pmu50 ").expect("starts with pmu50");
-        let o = std::process::Command::new("sh").arg("-c").arg(format!("printf '%s\\n' {line}")).output().unwrap();
-        String::from_utf8(o.stdout).unwrap().lines().map(String::from).collect()
+        let o = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(format!("printf '%s\\n' {line}"))
+            .output()
+            .unwrap();
+        String::from_utf8(o.stdout)
+            .unwrap()
+            .lines()
+            .map(String::from)
+            .collect()
     }
 
     #[test]
     fn the_repro_command_is_one_shell_line_that_runs_pmu50_only() {
         let model = pmu50_coverage::model_id(pmu50_coverage::layout());
         let rtl = "/tmp/x;echo INJECTED $(touch pwned) `id` 'q' \"d\"/rtl.f";
-        let spec = RunSpec { tool: "t".into(), model, start_seed: 1, iterations: 1, directed: false, check_spec: true, dut: super::super::DutKind::Verilator, rtl: Some(rtl.into()), map: Some("/m $(x).toml".into()), fixed: Default::default(), pins: Default::default(), shard: None };
+        let spec = RunSpec {
+            tool: "t".into(),
+            model,
+            start_seed: 1,
+            iterations: 1,
+            directed: false,
+            check_spec: true,
+            dut: super::super::DutKind::Verilator,
+            rtl: Some(rtl.into()),
+            map: Some("/m $(x).toml".into()),
+            fixed: Default::default(),
+            pins: Default::default(),
+            shard: None,
+        };
         let repro = Path::new("out dir/failures/dut-x-y/repro.toml");
         let cmd = command(&spec, repro);
-        assert_eq!(words(&cmd), ["regress", "--repro", "out dir/failures/dut-x-y/repro.toml", "--dut", "verilator", "--rtl", rtl, "--check-spec"], "{cmd}");
+        assert_eq!(
+            words(&cmd),
+            [
+                "regress",
+                "--repro",
+                "out dir/failures/dut-x-y/repro.toml",
+                "--dut",
+                "verilator",
+                "--rtl",
+                rtl,
+                "--check-spec"
+            ],
+            "{cmd}"
+        );
         assert!(!cmd.contains('\n'));
         // plain paths stay readable
-        assert_eq!(shell_quote("regress_out/failures/a-b.c/repro.toml"), "regress_out/failures/a-b.c/repro.toml");
+        assert_eq!(
+            shell_quote("regress_out/failures/a-b.c/repro.toml"),
+            "regress_out/failures/a-b.c/repro.toml"
+        );
         assert_eq!(shell_quote(""), "''");
         assert_eq!(words(&format!("pmu50 {}", shell_quote("it's"))), ["it's"]);
     }

@@ -64,11 +64,30 @@ impl AnalogFront {
 
     /// One tick: rail from the core's outputs, sensor settling towards `theta_deg` over
     /// `clock_ns`, comparator bits.
-    pub fn sample(&mut self, out: &Outputs, theta_deg: f64, clock_ns: u64) -> Result<FrontSample, EnvError> {
-        let level = if out.rail_hi { self.vcc1_v } else { self.vcc2_v };
-        let vs2_v = if out.vs2_en && !self.fault { level } else { 0.0 };
+    pub fn sample(
+        &mut self,
+        out: &Outputs,
+        theta_deg: f64,
+        clock_ns: u64,
+    ) -> Result<FrontSample, EnvError> {
+        let level = if out.rail_hi {
+            self.vcc1_v
+        } else {
+            self.vcc2_v
+        };
+        let vs2_v = if out.vs2_en && !self.fault {
+            level
+        } else {
+            0.0
+        };
         let (sin2_v, cos2_v) = self.sensor2.step(vs2_v, theta_deg, clock_ns)?;
-        Ok(FrontSample { vs2_v, vp_v: level, sin2_v, cos2_v, bits: self.cmp.compare(vs2_v, sin2_v, cos2_v) })
+        Ok(FrontSample {
+            vs2_v,
+            vp_v: level,
+            sin2_v,
+            cos2_v,
+            bits: self.cmp.compare(vs2_v, sin2_v, cos2_v),
+        })
     }
 
     /// A fast-forwarded stretch with Vs2 off: the sensor is unpowered (its outputs are forced to
@@ -84,6 +103,9 @@ impl AnalogFront {
     }
 
     pub fn state(&self) -> FrontState {
-        FrontState { sensor2: self.sensor2.clone(), fault: self.fault }
+        FrontState {
+            sensor2: self.sensor2.clone(),
+            fault: self.fault,
+        }
     }
 }

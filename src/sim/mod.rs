@@ -35,9 +35,11 @@ use mpu::Mpu;
 use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
 use pmu50_core::pmu50::FastForwardError;
 use pmu50_core::{Inputs, Internals, Outputs, ParamError, Pmu50, Regs};
-use pmu50_env::{DarkCurrentMeter, DarkCurrentReport, EnvError, KeyOnReadout, RailStates, RotationAngles};
-pub use recorder::{PulseLog, PulseRun};
+use pmu50_env::{
+    DarkCurrentMeter, DarkCurrentReport, EnvError, KeyOnReadout, RailStates, RotationAngles,
+};
 use recorder::Recorder;
+pub use recorder::{PulseLog, PulseRun};
 use skip::{At, PeriodSkip, Snapshot};
 
 #[derive(Debug, thiserror::Error)]
@@ -81,8 +83,14 @@ pub enum SimError {
 
 impl SimError {
     /// An observer's error: `what` it was writing (a file, "change log"), and the cause.
-    pub fn observer(what: impl Into<String>, source: impl Into<Box<dyn std::error::Error + Send + Sync + 'static>>) -> SimError {
-        SimError::Observer { what: what.into(), source: source.into() }
+    pub fn observer(
+        what: impl Into<String>,
+        source: impl Into<Box<dyn std::error::Error + Send + Sync + 'static>>,
+    ) -> SimError {
+        SimError::Observer {
+            what: what.into(),
+            source: source.into(),
+        }
     }
 }
 
@@ -181,7 +189,10 @@ where
     F: FnOnce(&TickView<'_>) -> Result<O, SimError>,
 {
     pub fn new(make: F) -> Self {
-        OnBegin { make: Some(make), inner: None }
+        OnBegin {
+            make: Some(make),
+            inner: None,
+        }
     }
 
     /// The observer, once begun.
@@ -220,16 +231,25 @@ where
         self.inner.as_ref().is_some_and(|o| o.replays_periods())
     }
     fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
-        self.inner.as_mut().ok_or(SimError::NotBegun)?.period_boundary(k)
+        self.inner
+            .as_mut()
+            .ok_or(SimError::NotBegun)?
+            .period_boundary(k)
     }
     fn moving_boundary(&mut self, k: u64) -> Result<(), SimError> {
-        self.inner.as_mut().ok_or(SimError::NotBegun)?.moving_boundary(k)
+        self.inner
+            .as_mut()
+            .ok_or(SimError::NotBegun)?
+            .moving_boundary(k)
     }
     fn can_replay(&self, k: u64, len: u64) -> bool {
         self.inner.as_ref().is_some_and(|o| o.can_replay(k, len))
     }
     fn replay(&mut self, k: u64, periods: u64, len: u64) -> Result<(), SimError> {
-        self.inner.as_mut().ok_or(SimError::NotBegun)?.replay(k, periods, len)
+        self.inner
+            .as_mut()
+            .ok_or(SimError::NotBegun)?
+            .replay(k, periods, len)
     }
 }
 
@@ -401,21 +421,43 @@ impl Timeline<'_> {
 }
 
 /// Run a scenario.
-pub fn run(sc: &Scenario, opts: SimOptions, observers: &mut [&mut dyn Observer]) -> Result<RunResult, SimError> {
+pub fn run(
+    sc: &Scenario,
+    opts: SimOptions,
+    observers: &mut [&mut dyn Observer],
+) -> Result<RunResult, SimError> {
     run_with(sc, opts.into(), observers)
 }
 
 /// Run a scenario with the given stepping: as given while no observer needs every tick; whole
 /// periods only (no idle gaps) while those that do all replay periods; else every tick.
-pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Observer]) -> Result<RunResult, SimError> {
-    let setup = |source: EnvError| SimError::EnvSetup { scenario: sc.name.clone(), source };
-    let mut core = Pmu50::new(sc.params).map_err(|source| SimError::Core { scenario: sc.name.clone(), source })?;
+pub fn run_with(
+    sc: &Scenario,
+    stepping: Stepping,
+    observers: &mut [&mut dyn Observer],
+) -> Result<RunResult, SimError> {
+    let setup = |source: EnvError| SimError::EnvSetup {
+        scenario: sc.name.clone(),
+        source,
+    };
+    let mut core = Pmu50::new(sc.params).map_err(|source| SimError::Core {
+        scenario: sc.name.clone(),
+        source,
+    })?;
     let w = sc.params.cnt_width;
     let clk = sc.clock_ns();
-    let env_err = |k: u64, source: EnvError| SimError::Env { scenario: sc.name.clone(), time_us: (k * clk) as f64 / 1e3, source };
+    let env_err = |k: u64, source: EnvError| SimError::Env {
+        scenario: sc.name.clone(),
+        time_us: (k * clk) as f64 / 1e3,
+        source,
+    };
 
     // The parts.
-    let mut timeline = Timeline { events: &sc.events, next: 0, ig: false };
+    let mut timeline = Timeline {
+        events: &sc.events,
+        next: 0,
+        ig: false,
+    };
     let mut front = AnalogFront::new(&sc.env).map_err(setup)?;
     let mut mpu = Mpu::new(&sc.env).map_err(setup)?;
     let mut meter = DarkCurrentMeter::new(sc.env.dark_current).map_err(|e| setup(e.into()))?;
@@ -431,13 +473,25 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
 
     let reset = *core.regs();
     for o in observers.iter_mut() {
-        o.begin(&TickView { tick: 0, time_ns: 0, regs: &reset, after: &reset, ports: &out, inputs: &Inputs::default(), internals: &Internals::default(), env: &env })?;
+        o.begin(&TickView {
+            tick: 0,
+            time_ns: 0,
+            regs: &reset,
+            after: &reset,
+            ports: &out,
+            inputs: &Inputs::default(),
+            internals: &Internals::default(),
+            env: &env,
+        })?;
     }
     // Observers that need every tick: if one of them cannot replay a skipped period, every tick
     // is evaluated; if all can, whole repeated periods are still skipped (and replayed to them),
     // but no idle gap (nobody could replay the timer counting through it).
     let replaying = observers.iter().any(|o| o.needs_every_tick());
-    if observers.iter().any(|o| o.needs_every_tick() && !o.replays_periods()) {
+    if observers
+        .iter()
+        .any(|o| o.needs_every_tick() && !o.replays_periods())
+    {
         stepping = Stepping::EveryTick;
     }
     let idle_gaps = stepping != Stepping::EveryTick && !replaying;
@@ -456,11 +510,20 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
             let tmr0 = core.regs().timing_generator.tmr == 0;
             // (A pending MPU boot is due at a tick of its own, so no key-on period repeats
             // before the read-out.)
-            let boundary = if out.sig { tmr0 && k.is_multiple_of(mpu::POLL_CYCLE) && mpu.idle() } else { tmr0 && front.quiet_while_off() };
+            let boundary = if out.sig {
+                tmr0 && k.is_multiple_of(mpu::POLL_CYCLE) && mpu.idle()
+            } else {
+                tmr0 && front.quiet_while_off()
+            };
             if boundary {
                 let at = At {
                     tick: k,
-                    snap: Snapshot { regs: *core.regs(), front: front.state(), mpu: mpu.state().clone(), ig: timeline.ig },
+                    snap: Snapshot {
+                        regs: *core.regs(),
+                        front: front.state(),
+                        mpu: mpu.state().clone(),
+                        ig: timeline.ig,
+                    },
                     next_event: timeline.next,
                     next_event_tick: timeline.next_tick(),
                     meter: meter.on_times(),
@@ -483,7 +546,11 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
                         }
                     }
                 }
-                let skip = ps.at_boundary(at).filter(|s| observers.iter().all(|o| !o.needs_every_tick() || o.can_replay(k, s.len)));
+                let skip = ps.at_boundary(at).filter(|s| {
+                    observers
+                        .iter()
+                        .all(|o| !o.needs_every_tick() || o.can_replay(k, s.len))
+                });
                 if let Some(s) = skip {
                     for o in observers.iter_mut().filter(|o| o.needs_every_tick()) {
                         o.replay(k, s.periods, s.len)?;
@@ -509,11 +576,28 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
             if tmr >= wt && tmr < si {
                 let until_event = timeline.next_tick().map_or(u64::MAX, |e| e - k);
                 let n = (si - tmr).min(until_event).min(sc.ticks - k);
-                let idle = Inputs { ig: timeline.ig, ..Inputs::default() };
+                let idle = Inputs {
+                    ig: timeline.ig,
+                    ..Inputs::default()
+                };
                 if n > 1 && core.quiet_ticks(&idle) >= n {
                     front.unpowered(clk).map_err(|e| env_err(k, e))?;
-                    meter.tick(out.sig, RailStates { vm: out.vm_en, vs1: out.vs1_en, vs2: false, vp: out.vp_en }, n * clk);
-                    core.fast_forward(n, &idle).map_err(|source| SimError::FastForward { scenario: sc.name.clone(), time_us: t_ns as f64 / 1e3, source })?;
+                    meter.tick(
+                        out.sig,
+                        RailStates {
+                            vm: out.vm_en,
+                            vs1: out.vs1_en,
+                            vs2: false,
+                            vp: out.vp_en,
+                        },
+                        n * clk,
+                    );
+                    core.fast_forward(n, &idle)
+                        .map_err(|source| SimError::FastForward {
+                            scenario: sc.name.clone(),
+                            time_us: t_ns as f64 / 1e3,
+                            source,
+                        })?;
                     k += n;
                     out = core.peek();
                     continue;
@@ -529,21 +613,52 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
         inputs.cmp_c = f.bits.cc;
 
         // MPU: read-out at boot, then tracking ([0108]-[0116]).
-        let (theta1, theta_m) = mpu.read_and_track(k, t_ns, &core, &out, theta, &f).map_err(|e| env_err(k, e))?;
+        let (theta1, theta_m) = mpu
+            .read_and_track(k, t_ns, &core, &out, theta, &f)
+            .map_err(|e| env_err(k, e))?;
 
-        env = EnvSample { theta_deg: theta, sin2_v: f.sin2_v, cos2_v: f.cos2_v, vs2_v: f.vs2_v, vp_v: f.vp_v, vr_v: f.vs2_v / 2.0, theta1_deg: theta1, theta_m_deg: theta_m };
+        env = EnvSample {
+            theta_deg: theta,
+            sin2_v: f.sin2_v,
+            cos2_v: f.cos2_v,
+            vs2_v: f.vs2_v,
+            vp_v: f.vp_v,
+            vr_v: f.vs2_v / 2.0,
+            theta1_deg: theta1,
+            theta_m_deg: theta_m,
+        };
 
         // One clock edge.
         let regs_before = *core.regs();
-        let pmu50_core::TracedStep { internals, after, .. } = core.step_traced(&inputs);
+        let pmu50_core::TracedStep {
+            internals, after, ..
+        } = core.step_traced(&inputs);
         evaluated += 1;
         let regs_after = *core.regs();
         for o in observers.iter_mut() {
-            o.tick(&TickView { tick: k, time_ns: t_ns, regs: &regs_before, after: &regs_after, ports: &out, inputs: &inputs, internals: &internals, env: &env })?;
+            o.tick(&TickView {
+                tick: k,
+                time_ns: t_ns,
+                regs: &regs_before,
+                after: &regs_after,
+                ports: &out,
+                inputs: &inputs,
+                internals: &internals,
+                env: &env,
+            })?;
         }
 
         // Dark-current meter and recorder.
-        meter.tick(out.sig, RailStates { vm: out.vm_en, vs1: out.vs1_en, vs2: f.vs2_v > 0.0, vp: out.vp_en }, clk);
+        meter.tick(
+            out.sig,
+            RailStates {
+                vm: out.vm_en,
+                vs1: out.vs1_en,
+                vs2: f.vs2_v > 0.0,
+                vp: out.vp_en,
+            },
+            clk,
+        );
         if internals.first {
             mpu.first_sample(&after, theta);
         }
@@ -555,9 +670,21 @@ pub fn run_with(sc: &Scenario, stepping: Stepping, observers: &mut [&mut dyn Obs
     let final_ports = core.peek();
     let final_regs = *core.regs();
     let idle = Internals::default();
-    let last_in = Inputs { ig: timeline.ig, ..Inputs::default() };
+    let last_in = Inputs {
+        ig: timeline.ig,
+        ..Inputs::default()
+    };
     for o in observers.iter_mut() {
-        o.finish(&TickView { tick: sc.ticks, time_ns: sc.ticks * clk, regs: &final_regs, after: &final_regs, ports: &final_ports, inputs: &last_in, internals: &idle, env: &env })?;
+        o.finish(&TickView {
+            tick: sc.ticks,
+            time_ns: sc.ticks * clk,
+            regs: &final_regs,
+            after: &final_regs,
+            ports: &final_ports,
+            inputs: &last_in,
+            internals: &idle,
+            env: &env,
+        })?;
     }
 
     let mut res = RunResult {
@@ -585,22 +712,45 @@ fn checks(sc: &Scenario, r: &RunResult) -> Vec<Check> {
     if let Some(want) = &x.si_sequence_ms {
         let got = r.si_sequence_ms();
         let ok = got.len() == want.len() && got.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-6);
-        out.push(Check { name: "si_sequence_ms".into(), ok, detail: format!("expected {want:?}, got {got:?}") });
+        out.push(Check {
+            name: "si_sequence_ms".into(),
+            ok,
+            detail: format!("expected {want:?}, got {got:?}"),
+        });
     }
     if let Some(tol) = x.readout_within_deg {
-        let worst = r.keyons.iter().map(|k| k.error_deg.abs()).fold(0.0, f64::max);
+        let worst = r
+            .keyons
+            .iter()
+            .map(|k| k.error_deg.abs())
+            .fold(0.0, f64::max);
         let ok = !r.keyons.is_empty() && worst <= tol;
         out.push(Check {
             name: "readout_within_deg".into(),
             ok,
-            detail: if r.keyons.is_empty() { "no key-on read-out happened".into() } else { format!("worst |theta_m - true| = {worst:.4} deg over {} read-outs, limit {tol}", r.keyons.len()) },
+            detail: if r.keyons.is_empty() {
+                "no key-on read-out happened".into()
+            } else {
+                format!(
+                    "worst |theta_m - true| = {worst:.4} deg over {} read-outs, limit {tol}",
+                    r.keyons.len()
+                )
+            },
         });
     }
     if let Some(want) = x.diag {
-        out.push(Check { name: "diag".into(), ok: r.final_ports.diag == want, detail: format!("expected {want}, got {}", r.final_ports.diag) });
+        out.push(Check {
+            name: "diag".into(),
+            ok: r.final_ports.diag == want,
+            detail: format!("expected {want}, got {}", r.final_ports.diag),
+        });
     }
     if let Some(want) = x.quadrant_skip {
-        out.push(Check { name: "quadrant_skip".into(), ok: r.final_ports.quadrant_skip == want, detail: format!("expected {want}, got {}", r.final_ports.quadrant_skip) });
+        out.push(Check {
+            name: "quadrant_skip".into(),
+            ok: r.final_ports.quadrant_skip == want,
+            detail: format!("expected {want}, got {}", r.final_ports.quadrant_skip),
+        });
     }
     out
 }

@@ -45,7 +45,12 @@ impl Mpu {
             readout: Readout::new(env.readout)?,
             boot_ticks: env.mpu_boot_ticks,
             theta_t_deg: env.theta_t_deg,
-            st: MpuState { boot_at: None, tracker: None, turn0: None, prev_sig: false },
+            st: MpuState {
+                boot_at: None,
+                tracker: None,
+                turn0: None,
+                prev_sig: false,
+            },
             keyons: Vec::new(),
             keyoffs: Vec::new(),
         })
@@ -65,7 +70,12 @@ impl Mpu {
             self.st.boot_at = None;
             if let Some(tr) = self.st.tracker.take() {
                 let true_deg = motor.angle_at(t_ns) - self.st.turn0.unwrap_or(0.0);
-                self.keyoffs.push(KeyOffRow { tick: k, true_deg, theta_m_deg: tr.theta_m_deg(), angles: tr.angles(self.theta_t_deg) });
+                self.keyoffs.push(KeyOffRow {
+                    tick: k,
+                    true_deg,
+                    theta_m_deg: tr.theta_m_deg(),
+                    angles: tr.angles(self.theta_t_deg),
+                });
             }
         }
         self.st.prev_sig = out.sig;
@@ -86,8 +96,20 @@ impl Mpu {
 
     /// The read-out at boot, then tracking; returns θ1 (while the first sensor is powered) and
     /// the tracked θm. `theta_deg` is the true angle at the end of this tick.
-    pub fn read_and_track(&mut self, k: u64, t_ns: u64, core: &Pmu50, out: &Outputs, theta_deg: f64, f: &FrontSample) -> Result<(Option<f64>, Option<f64>), EnvError> {
-        let theta1 = if out.vs1_en { Some(self.sensor1.theta1_deg(wrap_360(theta_deg))?) } else { None };
+    pub fn read_and_track(
+        &mut self,
+        k: u64,
+        t_ns: u64,
+        core: &Pmu50,
+        out: &Outputs,
+        theta_deg: f64,
+        f: &FrontSample,
+    ) -> Result<(Option<f64>, Option<f64>), EnvError> {
+        let theta1 = if out.vs1_en {
+            Some(self.sensor1.theta1_deg(wrap_360(theta_deg))?)
+        } else {
+            None
+        };
         if let (Some(b), Some(t1)) = (self.st.boot_at, theta1) {
             if k == b {
                 let cnt_s = core.read(addr::CNT_S) as i16;

@@ -28,12 +28,24 @@ impl PulseRun {
     /// Row `i` of the run (`i < count`).
     pub fn row(&self, i: u64, clock_ns: u64) -> PulseRow {
         let tick = self.first.tick + i * self.stride;
-        PulseRow { tick, time_ns: tick * clock_ns, ..self.first.clone() }
+        PulseRow {
+            tick,
+            time_ns: tick * clock_ns,
+            ..self.first.clone()
+        }
     }
 }
 
 fn same_but_time(a: &PulseRow, b: &PulseRow) -> bool {
-    PulseRow { tick: 0, time_ns: 0, ..a.clone() } == PulseRow { tick: 0, time_ns: 0, ..b.clone() }
+    PulseRow {
+        tick: 0,
+        time_ns: 0,
+        ..a.clone()
+    } == PulseRow {
+        tick: 0,
+        time_ns: 0,
+        ..b.clone()
+    }
 }
 
 /// The per-pulse table, run-length aggregated.
@@ -46,7 +58,11 @@ pub struct PulseLog {
 
 impl PulseLog {
     pub fn new(clock_ns: u64) -> PulseLog {
-        PulseLog { clock_ns, runs: Vec::new(), len: 0 }
+        PulseLog {
+            clock_ns,
+            runs: Vec::new(),
+            len: 0,
+        }
     }
 
     /// Number of rows (pulses).
@@ -65,7 +81,9 @@ impl PulseLog {
 
     /// Every row, in time order.
     pub fn iter(&self) -> impl Iterator<Item = PulseRow> + '_ {
-        self.runs.iter().flat_map(move |r| (0..r.count).map(move |i| r.row(i, self.clock_ns)))
+        self.runs
+            .iter()
+            .flat_map(move |r| (0..r.count).map(move |i| r.row(i, self.clock_ns)))
     }
 
     /// Every row as a vector (for short runs: tests, tables).
@@ -90,7 +108,11 @@ impl PulseLog {
                 }
             }
         }
-        self.runs.push(PulseRun { first: row, count: 1, stride: 0 });
+        self.runs.push(PulseRun {
+            first: row,
+            count: 1,
+            stride: 0,
+        });
     }
 
     /// Append `n` more copies of the last row, each `period` edges after the one before: what
@@ -99,7 +121,9 @@ impl PulseLog {
         if n == 0 || period == 0 {
             return;
         }
-        let Some(r) = self.runs.last_mut() else { return };
+        let Some(r) = self.runs.last_mut() else {
+            return;
+        };
         self.len += n;
         if r.count == 1 {
             r.stride = period;
@@ -109,7 +133,15 @@ impl PulseLog {
         } else {
             let next = r.row(r.count - 1, self.clock_ns);
             let tick = next.tick + period;
-            self.runs.push(PulseRun { first: PulseRow { tick, time_ns: tick * self.clock_ns, ..next }, count: n, stride: period });
+            self.runs.push(PulseRun {
+                first: PulseRow {
+                    tick,
+                    time_ns: tick * self.clock_ns,
+                    ..next
+                },
+                count: n,
+                stride: period,
+            });
         }
     }
 
@@ -118,14 +150,20 @@ impl PulseLog {
         self.runs
             .iter()
             .take_while(|r| r.first.tick <= tick)
-            .map(|r| (tick - r.first.tick).checked_div(r.stride).map_or(r.count, |n| r.count.min(n + 1)))
+            .map(|r| {
+                (tick - r.first.tick)
+                    .checked_div(r.stride)
+                    .map_or(r.count, |n| r.count.min(n + 1))
+            })
             .sum()
     }
 
     /// Consecutive pairs of rows, as (last row of a run, first row of the next): rows inside a
     /// run are equal but for their time, so these are the only pairs at which anything changes.
     pub fn run_boundaries(&self) -> impl Iterator<Item = (PulseRow, PulseRow)> + '_ {
-        self.runs.windows(2).map(move |w| (w[0].row(w[0].count - 1, self.clock_ns), w[1].first.clone()))
+        self.runs
+            .windows(2)
+            .map(move |w| (w[0].row(w[0].count - 1, self.clock_ns), w[1].first.clone()))
     }
 
     /// The last row.
@@ -135,7 +173,9 @@ impl PulseLog {
 
     /// The table as text, one line per row (golden snapshots, CLI).
     pub fn table(&self) -> String {
-        let mut s = String::from("    time_us  cs cc hist_s hist_c cnt_r  si_ms  cnt_s  cnt_c  fig17       fig18\n");
+        let mut s = String::from(
+            "    time_us  cs cc hist_s hist_c cnt_r  si_ms  cnt_s  cnt_c  fig17       fig18\n",
+        );
         for p in self.iter() {
             s += &format!(
                 "{:>11} {:>3} {:>2} {:>6} {:>6} {:>5} {:>6} {:>6} {:>6}  {:<11} {:?}\n",
@@ -168,7 +208,11 @@ pub struct Recorder {
 
 impl Recorder {
     pub fn new(clock_ns: u64, cnt_width: u8) -> Recorder {
-        Recorder { cnt_width, log: PulseLog::new(clock_ns), in_period: 0 }
+        Recorder {
+            cnt_width,
+            log: PulseLog::new(clock_ns),
+            in_period: 0,
+        }
     }
 
     /// After edge `k + 1`: one row when the drive interval unit made a key-off decision.

@@ -98,7 +98,12 @@ impl PeriodRecorder {
     pub fn boundary(&mut self, k: u64) {
         self.end_stretch(k);
         self.active = true;
-        self.cur = Stretch { start: k, next: k, ok: true, ..Stretch::default() };
+        self.cur = Stretch {
+            start: k,
+            next: k,
+            ok: true,
+            ..Stretch::default()
+        };
     }
 
     /// A boundary at tick `k` whose period is never replayed (the shaft moves in it,
@@ -165,7 +170,11 @@ impl PeriodRecorder {
 
     /// Whether the stretch `[k - len, k)` is recorded whole, so that it can be replayed at `k`.
     pub fn can_replay(&self, k: u64, len: u64) -> bool {
-        self.last_tick == Some(k.wrapping_sub(1)) && self.done.as_ref().is_some_and(|d| d.ok && d.next == k && d.next - d.start == len)
+        self.last_tick == Some(k.wrapping_sub(1))
+            && self
+                .done
+                .as_ref()
+                .is_some_and(|d| d.ok && d.next == k && d.next - d.start == len)
     }
 
     /// Replay `periods` copies of the recorded stretch `[k - len, k)` at ticks `k ..
@@ -173,17 +182,35 @@ impl PeriodRecorder {
     /// time order, with the (slot, value) pairs of that tick. Copies that lie wholly outside
     /// `window` (ticks `[a, z)`) are left out: they would only assign values that the copy before
     /// and after assign too, and write nothing. Call only after [`PeriodRecorder::can_replay`].
-    pub fn replay<E>(&mut self, k: u64, periods: u64, len: u64, window: Option<(u64, u64)>, mut emit: impl FnMut(u64, &[(u32, u64)]) -> Result<(), E>) -> Result<(), E> {
+    pub fn replay<E>(
+        &mut self,
+        k: u64,
+        periods: u64,
+        len: u64,
+        window: Option<(u64, u64)>,
+        mut emit: impl FnMut(u64, &[(u32, u64)]) -> Result<(), E>,
+    ) -> Result<(), E> {
         let Some(d) = self.done.as_ref().filter(|_| self.can_replay(k, len)) else {
             return Ok(());
         };
         // First tick of a copy: its values against the last tick of the copy before.
-        let first: Vec<(u32, u64)> = d.first.iter().zip(&self.last).enumerate().filter(|(_, (f, l))| f != l).map(|(i, (f, _))| (i as u32, *f)).collect();
+        let first: Vec<(u32, u64)> = d
+            .first
+            .iter()
+            .zip(&self.last)
+            .enumerate()
+            .filter(|(_, (f, l))| f != l)
+            .map(|(i, (f, _))| (i as u32, *f))
+            .collect();
         // Copies j = 0 .. periods; copy j covers ticks [k + j·len, k + (j+1)·len).
         let (lo, hi) = match window {
             Some((a, z)) => {
                 let lo = if a > k { (a - k) / len } else { 0 };
-                let hi = if z > k { (z - k).div_ceil(len).min(periods) } else { 0 };
+                let hi = if z > k {
+                    (z - k).div_ceil(len).min(periods)
+                } else {
+                    0
+                };
                 (lo, hi)
             }
             None => (0, periods),
@@ -198,7 +225,12 @@ impl PeriodRecorder {
             for &(off, end) in &d.ticks {
                 let end = end as usize;
                 buf.clear();
-                buf.extend(d.slots[from..end].iter().copied().zip(d.values[from..end].iter().copied()));
+                buf.extend(
+                    d.slots[from..end]
+                        .iter()
+                        .copied()
+                        .zip(d.values[from..end].iter().copied()),
+                );
                 emit(base + u64::from(off), &buf)?;
                 from = end;
             }
@@ -252,7 +284,13 @@ mod tests {
         let mut want = Vec::new();
         for k in 17..32u64 {
             let (p, v) = (val(k - 1), val(k));
-            let c: Vec<(u32, u64)> = p.iter().zip(&v).enumerate().filter(|(_, (a, b))| a != b).map(|(i, (_, b))| (i as u32, *b)).collect();
+            let c: Vec<(u32, u64)> = p
+                .iter()
+                .zip(&v)
+                .enumerate()
+                .filter(|(_, (a, b))| a != b)
+                .map(|(i, (_, b))| (i as u32, *b))
+                .collect();
             if !c.is_empty() {
                 want.push((k, c));
             }
@@ -266,7 +304,12 @@ mod tests {
             Ok(())
         })
         .unwrap();
-        assert!(ticks.iter().all(|&t| (22..27).contains(&t)) && ticks.contains(&23) && ticks.contains(&25), "{ticks:?}");
+        assert!(
+            ticks.iter().all(|&t| (22..27).contains(&t))
+                && ticks.contains(&23)
+                && ticks.contains(&25),
+            "{ticks:?}"
+        );
     }
 
     /// After a moving boundary nothing is recorded; the period that ended there still replays,
@@ -299,7 +342,10 @@ mod tests {
             Ok(())
         })
         .unwrap();
-        assert_eq!(got, vec![(9, vec![(0, 0)]), (10, vec![(0, 1)]), (11, vec![(0, 2)])]);
+        assert_eq!(
+            got,
+            vec![(9, vec![(0, 0)]), (10, vec![(0, 1)]), (11, vec![(0, 2)])]
+        );
     }
 
     #[test]

@@ -78,12 +78,18 @@ impl PeriodSkip {
     /// tick; returns the skip to take, if the last period repeats and at least one whole period
     /// fits before the next event, motion or the end of the run.
     pub fn at_boundary(&mut self, a: At<'_>) -> Option<Skip> {
-        let cur = Boundary { tick: a.tick, snap: a.snap, next_event: a.next_event, meter: a.meter };
+        let cur = Boundary {
+            tick: a.tick,
+            snap: a.snap,
+            next_event: a.next_event,
+            meter: a.meter,
+        };
         let p = self.prev.replace(cur)?;
         let cur = self.prev.as_ref()?;
         // A period with more than one table row cannot happen with the key off (one sampling
         // strobe per period); not skipping keeps the table exact if it ever did.
-        if a.rows > 1 || cur.next_event != p.next_event || cur.snap != p.snap || cur.tick <= p.tick {
+        if a.rows > 1 || cur.next_event != p.next_event || cur.snap != p.snap || cur.tick <= p.tick
+        {
             return None;
         }
         let len = cur.tick - p.tick;
@@ -104,6 +110,11 @@ impl PeriodSkip {
         let meter = cur.meter.since(&p.meter);
         // After the skip the next period is stepped again and compared afresh.
         self.prev = None;
-        Some(Skip { periods: n, len, meter, rows: a.rows })
+        Some(Skip {
+            periods: n,
+            len,
+            meter,
+            rows: a.rows,
+        })
     }
 }

@@ -11,19 +11,31 @@ pub const BIN: &str = env!("CARGO_BIN_EXE_pmu50");
 
 /// `pmu50 ARGS` run in the project folder (so `scenarios/...` paths work).
 pub fn pmu50(args: &[&str]) -> Output {
-    Command::new(BIN).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
+    Command::new(BIN)
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap()
 }
 
 /// Standard output then standard error.
 pub fn text(o: &Output) -> String {
-    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
 }
 
 /// An empty folder of this test binary and `tag` (whatever a previous run left is removed),
 /// removed with what it holds when the test is done with it (dropped), unless the test failed:
 /// then it stays for inspection and its path is printed.
 pub fn tmp(tag: &str) -> TmpDir {
-    let d = std::env::temp_dir().join(format!("pmu50-{}-{tag}-{}", env!("CARGO_CRATE_NAME"), std::process::id()));
+    let d = std::env::temp_dir().join(format!(
+        "pmu50-{}-{tag}-{}",
+        env!("CARGO_CRATE_NAME"),
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     TmpDir(d)
@@ -85,7 +97,12 @@ pub fn expect_code(o: &Output, code: i32) {
 /// streams).
 pub fn exited(o: &Output, code: i32) -> String {
     let out = String::from_utf8_lossy(&o.stdout).into_owned();
-    assert_eq!(o.status.code(), Some(code), "{out}{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        o.status.code(),
+        Some(code),
+        "{out}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     out
 }
 

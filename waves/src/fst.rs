@@ -24,9 +24,14 @@ use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
-use fst_writer::{FstBodyWriter, FstFileType, FstInfo, FstScopeType, FstSignalId, FstSignalType, FstVarDirection, FstVarType};
+use fst_writer::{
+    FstBodyWriter, FstFileType, FstInfo, FstScopeType, FstSignalId, FstSignalType, FstVarDirection,
+    FstVarType,
+};
 
-use crate::writer::{format_real_bits, Declaration, Emitter, Result, ValueRef, VcdBuilder, WriteError, Writer};
+use crate::writer::{
+    format_real_bits, Declaration, Emitter, Result, ValueRef, VcdBuilder, WriteError, Writer,
+};
 
 /// Value-change data kept in memory before it is compressed and written as one FST block.
 const FST_BLOCK: usize = 32 << 20;
@@ -85,7 +90,10 @@ pub fn start_fst(b: VcdBuilder, path: &Path) -> Result<FstWriter> {
     };
     let mut h = fst_writer::open_fst(path, &info).map_err(fst_err)?;
     let decls = b.declarations();
-    let n = decls.iter().filter(|d| matches!(d, Declaration::Var { .. })).count();
+    let n = decls
+        .iter()
+        .filter(|d| matches!(d, Declaration::Var { .. }))
+        .count();
     let mut ids = vec![None; n];
     let mut widths = vec![0; n];
     let mut real = vec![false; n];
@@ -93,26 +101,57 @@ pub fn start_fst(b: VcdBuilder, path: &Path) -> Result<FstWriter> {
         match d {
             Declaration::Scope(name) => h.scope(name, "", FstScopeType::Module).map_err(fst_err)?,
             Declaration::Upscope => h.up_scope().map_err(fst_err)?,
-            Declaration::Var { index, name, width, real: is_real, wire, range } => {
+            Declaration::Var {
+                index,
+                name,
+                width,
+                real: is_real,
+                wire,
+                range,
+            } => {
                 let (sig, ty) = if is_real {
                     (FstSignalType::real(), FstVarType::Real)
                 } else {
-                    (FstSignalType::bit_vec(width), if wire { FstVarType::Wire } else { FstVarType::Reg })
+                    (
+                        FstSignalType::bit_vec(width),
+                        if wire {
+                            FstVarType::Wire
+                        } else {
+                            FstVarType::Reg
+                        },
+                    )
                 };
                 let name = match range {
                     Some((msb, lsb)) if msb == lsb => format!("{name}[{msb}]"),
                     Some((msb, lsb)) => format!("{name}[{msb}:{lsb}]"),
                     None => name,
                 };
-                ids[index] = Some(h.var(name, sig, ty, FstVarDirection::Implicit, None).map_err(fst_err)?);
+                ids[index] = Some(
+                    h.var(name, sig, ty, FstVarDirection::Implicit, None)
+                        .map_err(fst_err)?,
+                );
                 widths[index] = width;
                 real[index] = is_real;
             }
         }
     }
-    let ids = ids.into_iter().map(|i| i.ok_or_else(|| WriteError::Fst("a declared variable has no FST id".into()))).collect::<Result<Vec<_>>>()?;
+    let ids = ids
+        .into_iter()
+        .map(|i| i.ok_or_else(|| WriteError::Fst("a declared variable has no FST id".into())))
+        .collect::<Result<Vec<_>>>()?;
     let body = h.finish().map_err(fst_err)?;
-    Ok(b.into_writer(FstOut { body, ids, widths, real, scale, start, end, stepped: false, path: path.to_path_buf(), scratch: Vec::with_capacity(64) }))
+    Ok(b.into_writer(FstOut {
+        body,
+        ids,
+        widths,
+        real,
+        scale,
+        start,
+        end,
+        stepped: false,
+        path: path.to_path_buf(),
+        scratch: Vec::with_capacity(64),
+    }))
 }
 
 impl Emitter for FstOut {
@@ -149,13 +188,21 @@ impl Emitter for FstOut {
             ValueRef::Int(v) => {
                 let w = self.widths[i];
                 self.scratch.clear();
-                self.scratch.extend((0..w).rev().map(|k| if k < 64 && (v >> k) & 1 == 1 { b'1' } else { b'0' }));
+                self.scratch.extend((0..w).rev().map(|k| {
+                    if k < 64 && (v >> k) & 1 == 1 {
+                        b'1'
+                    } else {
+                        b'0'
+                    }
+                }));
                 self.body.signal_change(id, &self.scratch).map_err(fst_err)
             }
             ValueRef::Bits(b) => self.body.signal_change(id, b).map_err(fst_err),
             ValueRef::Real(r) => {
                 debug_assert!(self.real[i]);
-                self.body.signal_change(id, &format_real_bits(r)).map_err(fst_err)
+                self.body
+                    .signal_change(id, &format_real_bits(r))
+                    .map_err(fst_err)
             }
         }
     }
@@ -170,7 +217,11 @@ impl Emitter for FstOut {
             // end of the one tick dumped), else one time unit after the start. An entry at the
             // start itself would not do: fst-reader then skips the frame.
             None if !self.stepped => {
-                let t = if self.end != u64::MAX { self.end } else { self.start + 1 };
+                let t = if self.end != u64::MAX {
+                    self.end
+                } else {
+                    self.start + 1
+                };
                 self.body.time_change(t * self.scale).map_err(fst_err)?;
             }
             None => {}

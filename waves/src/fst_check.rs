@@ -102,7 +102,13 @@ pub fn check(b: &[u8], max_decoded: u64, max_width: u32) -> Result<FstLayout, Fs
     while pos < size {
         let tpe = b[pos as usize];
         let Some(len) = be64(b, pos + 1) else {
-            return bad(pos, format!("block of type {tpe} is cut off: its length field needs 8 bytes, {} are left", size - pos - 1));
+            return bad(
+                pos,
+                format!(
+                    "block of type {tpe} is cut off: its length field needs 8 bytes, {} are left",
+                    size - pos - 1
+                ),
+            );
         };
         let start = pos + 1; // the section's first byte: its length field
         if len < 8 || len > size - start {
@@ -111,13 +117,21 @@ pub fn check(b: &[u8], max_decoded: u64, max_width: u32) -> Result<FstLayout, Fs
         let end = start + len;
         let need = |min: u64| -> Result<(), FstProblem> {
             if len < min {
-                Err(FstProblem { offset: pos, what: format!("block of type {tpe} has {len} bytes, less than its fixed fields ({min})") })
+                Err(FstProblem {
+                    offset: pos,
+                    what: format!(
+                        "block of type {tpe} has {len} bytes, less than its fixed fields ({min})"
+                    ),
+                })
             } else {
                 Ok(())
             }
         };
         if pos == 0 && tpe != 0 {
-            return bad(0, format!("the first block has type {tpe}, not the header block (0)"));
+            return bad(
+                0,
+                format!("the first block has type {tpe}, not the header block (0)"),
+            );
         }
         match tpe {
             0 => {
@@ -217,54 +231,101 @@ pub fn check(b: &[u8], max_decoded: u64, max_width: u32) -> Result<FstLayout, Fs
     }
     for (pos, tpe, len) in vc_at {
         let (start, end) = (pos + 1, pos + 1 + len);
-        let (t0, t1) = (be64(b, start + 8).unwrap_or(0), be64(b, start + 16).unwrap_or(0));
+        let (t0, t1) = (
+            be64(b, start + 8).unwrap_or(0),
+            be64(b, start + 16).unwrap_or(0),
+        );
         if t1 < t0 {
-            return bad(pos, format!("value-change block ends at time {t1}, before its start {t0}"));
+            return bad(
+                pos,
+                format!("value-change block ends at time {t1}, before its start {t0}"),
+            );
         }
         // the time table: its three sizes are the block's last 24 bytes
-        let (tu, tc, items) = (be64(b, end - 24).unwrap_or(0), be64(b, end - 16).unwrap_or(0), be64(b, end - 8).unwrap_or(0));
+        let (tu, tc, items) = (
+            be64(b, end - 24).unwrap_or(0),
+            be64(b, end - 16).unwrap_or(0),
+            be64(b, end - 8).unwrap_or(0),
+        );
         if tc > len - 24 - 32 {
-            return bad(end - 16, format!("time table of {tc} compressed bytes does not fit in its block of {len}"));
+            return bad(
+                end - 16,
+                format!("time table of {tc} compressed bytes does not fit in its block of {len}"),
+            );
         }
         if tu != tc && tu > tc.saturating_mul(DEFLATE_RATIO) {
             return bad(end - 24, format!("time table declares {tu} bytes from {tc} compressed bytes (zlib gives at most {DEFLATE_RATIO}:1)"));
         }
         if items > tu {
-            return bad(end - 8, format!("time table declares {items} entries in {tu} bytes (each takes at least one)"));
+            return bad(
+                end - 8,
+                format!(
+                    "time table declares {items} entries in {tu} bytes (each takes at least one)"
+                ),
+            );
         }
         if items == 0 {
             return bad(end - 8, "value-change block without a time step (readers need at least one entry; wellen panics on none)".into());
         }
-        add(end - 24, tu.saturating_add(items.saturating_mul(16)), "the time table")?;
+        add(
+            end - 24,
+            tu.saturating_add(items.saturating_mul(16)),
+            "the time table",
+        )?;
         layout.time_steps = layout.time_steps.saturating_add(items);
         // the frame (initial values): three varints after the 32 bytes of fixed fields
-        let Some((fu, n1)) = varint(b, start + 32) else { return bad(start + 32, "frame sizes are not valid varints".into()) };
-        let Some((fc, n2)) = varint(b, start + 32 + n1) else { return bad(start + 32, "frame sizes are not valid varints".into()) };
-        let Some((fh, n3)) = varint(b, start + 32 + n1 + n2) else { return bad(start + 32, "frame sizes are not valid varints".into()) };
+        let Some((fu, n1)) = varint(b, start + 32) else {
+            return bad(start + 32, "frame sizes are not valid varints".into());
+        };
+        let Some((fc, n2)) = varint(b, start + 32 + n1) else {
+            return bad(start + 32, "frame sizes are not valid varints".into());
+        };
+        let Some((fh, n3)) = varint(b, start + 32 + n1 + n2) else {
+            return bad(start + 32, "frame sizes are not valid varints".into());
+        };
         let frame = start + 32 + n1 + n2 + n3;
         let time_at = end - 24 - tc;
         if fc > time_at.saturating_sub(frame) {
-            return bad(start + 32, format!("frame of {fc} compressed bytes does not fit in its block"));
+            return bad(
+                start + 32,
+                format!("frame of {fc} compressed bytes does not fit in its block"),
+            );
         }
         if fu != fc && fu > fc.saturating_mul(DEFLATE_RATIO) {
             return bad(start + 32, format!("frame declares {fu} bytes from {fc} compressed bytes (zlib gives at most {DEFLATE_RATIO}:1)"));
         }
         add(start + 32, fu, "the frame")?;
         let signals = geometry.as_ref().map(|g| g.len() as u64);
-        let Some(signals) = signals else { return bad(pos, "the file has no geometry block (the signals' widths): damaged or not finished".into()) };
+        let Some(signals) = signals else {
+            return bad(
+                pos,
+                "the file has no geometry block (the signals' widths): damaged or not finished"
+                    .into(),
+            );
+        };
         if fh != signals {
-            return bad(start + 32, format!("frame has {fh} signals, the geometry {signals}"));
+            return bad(
+                start + 32,
+                format!("frame has {fh} signals, the geometry {signals}"),
+            );
         }
         let vc = frame + fc;
-        let Some((vh, n4)) = varint(b, vc) else { return bad(vc, "value-change signal count is not a valid varint".into()) };
+        let Some((vh, n4)) = varint(b, vc) else {
+            return bad(vc, "value-change signal count is not a valid varint".into());
+        };
         if vh != signals {
-            return bad(vc, format!("value changes of {vh} signals, the geometry has {signals}"));
+            return bad(
+                vc,
+                format!("value changes of {vh} signals, the geometry has {signals}"),
+            );
         }
         // per signal: three u32 pointers and a 12-byte location (fst-reader's tables)
         add(vc, vh.saturating_mul(24), "the value-change tables")?;
         // the chain of offsets: its length is the u64 just before the time table
         let chain_len_at = time_at.checked_sub(8).filter(|&c| c > vc + n4);
-        let Some(chain_len_at) = chain_len_at else { return bad(vc, "no room for the chain of value-change offsets".into()) };
+        let Some(chain_len_at) = chain_len_at else {
+            return bad(vc, "no room for the chain of value-change offsets".into());
+        };
         let chain = be64(b, chain_len_at).unwrap_or(u64::MAX);
         let vc_start = vc + n4;
         if chain > chain_len_at - (vc_start + 1) {
@@ -273,9 +334,23 @@ pub fn check(b: &[u8], max_decoded: u64, max_width: u32) -> Result<FstLayout, Fs
         let chain_start = chain_len_at - chain;
         let data_len = chain_start - vc_start;
         if data_len > u64::from(u32::MAX) {
-            return bad(vc_start, format!("value changes of {data_len} bytes in one block (FST's offsets are 32 bits)"));
+            return bad(
+                vc_start,
+                format!(
+                    "value changes of {data_len} bytes in one block (FST's offsets are 32 bits)"
+                ),
+            );
         }
-        let locs = chain_offsets(&b[chain_start as usize..chain_len_at as usize], tpe == 8, signals, data_len as u32).map_err(|what| FstProblem { offset: chain_start, what })?;
+        let locs = chain_offsets(
+            &b[chain_start as usize..chain_len_at as usize],
+            tpe == 8,
+            signals,
+            data_len as u32,
+        )
+        .map_err(|what| FstProblem {
+            offset: chain_start,
+            what,
+        })?;
         // each signal's packed values: a varint length (0: stored as is), then the data
         let ratio = match b[vc_start as usize] {
             b'4' | b'F' => LZ4_RATIO,
@@ -283,8 +358,13 @@ pub fn check(b: &[u8], max_decoded: u64, max_width: u32) -> Result<FstLayout, Fs
         };
         for (off, n) in locs {
             let at = vc_start + u64::from(off);
-            let Some((u, skip)) = varint(b, at).filter(|&(u, k)| k <= u64::from(n) && u <= u64::from(u32::MAX)) else {
-                return bad(at, "a signal's packed value changes start with no valid length".into());
+            let Some((u, skip)) =
+                varint(b, at).filter(|&(u, k)| k <= u64::from(n) && u <= u64::from(u32::MAX))
+            else {
+                return bad(
+                    at,
+                    "a signal's packed value changes start with no valid length".into(),
+                );
             };
             let c = u64::from(n) - skip;
             if u != 0 && u > c.saturating_mul(ratio) {
@@ -294,10 +374,23 @@ pub fn check(b: &[u8], max_decoded: u64, max_width: u32) -> Result<FstLayout, Fs
         }
         vc_blocks += 1;
     }
-    let Some(widths) = geometry else { return bad(size, "the file has no geometry block (the signals' widths): damaged or not finished".into()) };
-    let Some(hier) = hierarchy_len else { return bad(size, "the file has no hierarchy block: damaged or not finished".into()) };
+    let Some(widths) = geometry else {
+        return bad(
+            size,
+            "the file has no geometry block (the signals' widths): damaged or not finished".into(),
+        );
+    };
+    let Some(hier) = hierarchy_len else {
+        return bad(
+            size,
+            "the file has no hierarchy block: damaged or not finished".into(),
+        );
+    };
     if vc_blocks == 0 {
-        return bad(size, "the file has no value-change block: damaged or not finished".into());
+        return bad(
+            size,
+            "the file has no value-change block: damaged or not finished".into(),
+        );
     }
     if header_vars > hier || header_handles > hier {
         return bad(49, format!("the header declares {header_vars} variables and {header_handles} handles, more than its hierarchy of {hier} bytes can hold"));
@@ -312,7 +405,12 @@ pub fn check(b: &[u8], max_decoded: u64, max_width: u32) -> Result<FstLayout, Fs
 /// offset that does not grow (fst-reader unwraps a zero length), an offset past `data_len`, an
 /// alias of a signal that has no offset of its own. Returns each signal's (offset, length) in
 /// the block's value-change data.
-fn chain_offsets(mut c: &[u8], alias2: bool, signals: u64, data_len: u32) -> Result<Vec<(u32, u32)>, String> {
+fn chain_offsets(
+    mut c: &[u8],
+    alias2: bool,
+    signals: u64,
+    data_len: u32,
+) -> Result<Vec<(u32, u32)>, String> {
     let mut locs: Vec<(u32, u32)> = Vec::new();
     let mut offset: Option<u32> = None;
     let mut idx = 0u64;
@@ -323,7 +421,9 @@ fn chain_offsets(mut c: &[u8], alias2: bool, signals: u64, data_len: u32) -> Res
     let cut = || "chain of value-change offsets ends inside a number".to_string();
     while let Some(&kind) = c.first() {
         if idx >= signals {
-            return Err(format!("chain of value-change offsets lists more than the {signals} signals"));
+            return Err(format!(
+                "chain of value-change offsets lists more than the {signals} signals"
+            ));
         }
         // Some(step): a new offset `step` bytes after the previous one; else an alias or a gap
         let mut step: Option<i64> = None;
@@ -340,18 +440,26 @@ fn chain_offsets(mut c: &[u8], alias2: bool, signals: u64, data_len: u32) -> Res
                     idx += 1;
                 }
             } else {
-                let (v, n) = varint(c, 0).filter(|&(v, _)| v <= u64::from(u32::MAX)).ok_or_else(cut)?;
+                let (v, n) = varint(c, 0)
+                    .filter(|&(v, _)| v <= u64::from(u32::MAX))
+                    .ok_or_else(cut)?;
                 c = &c[n as usize..];
                 idx += v >> 1;
             }
         } else {
-            let (raw, n) = varint(c, 0).filter(|&(v, _)| v <= u64::from(u32::MAX)).ok_or_else(cut)?;
+            let (raw, n) = varint(c, 0)
+                .filter(|&(v, _)| v <= u64::from(u32::MAX))
+                .ok_or_else(cut)?;
             c = &c[n as usize..];
             if raw == 0 {
-                let (a, n) = varint(c, 0).filter(|&(v, _)| v <= u64::from(u32::MAX)).ok_or_else(cut)?;
+                let (a, n) = varint(c, 0)
+                    .filter(|&(v, _)| v <= u64::from(u32::MAX))
+                    .ok_or_else(cut)?;
                 c = &c[n as usize..];
                 if a == 0 {
-                    return Err("chain of value-change offsets: alias 0 (aliases count from 1)".into());
+                    return Err(
+                        "chain of value-change offsets: alias 0 (aliases count from 1)".into(),
+                    );
                 }
                 aliases.push((idx, a - 1));
                 idx += 1;
@@ -375,13 +483,18 @@ fn chain_offsets(mut c: &[u8], alias2: bool, signals: u64, data_len: u32) -> Res
             idx += 1;
         }
         if idx > signals {
-            return Err(format!("chain of value-change offsets lists more than the {signals} signals"));
+            return Err(format!(
+                "chain of value-change offsets lists more than the {signals} signals"
+            ));
         }
     }
     if let Some(p) = offset {
         locs.push((p, data_len - p));
     }
-    if let Some(&(i, t)) = aliases.iter().find(|&&(_, t)| !has_offset.get(t as usize).copied().unwrap_or(false)) {
+    if let Some(&(i, t)) = aliases
+        .iter()
+        .find(|&&(_, t)| !has_offset.get(t as usize).copied().unwrap_or(false))
+    {
         return Err(format!("chain of value-change offsets: signal handle {} is an alias of handle {}, which has no value changes of its own", i + 1, t + 1));
     }
     Ok(locs)

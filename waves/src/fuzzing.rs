@@ -22,7 +22,10 @@ use crate::reader::{ReadError, ReadLimits, Waveform};
 use crate::validate::validate;
 
 /// Limits for fuzzing: small enough that one input stays fast.
-pub const FUZZ_LIMITS: ReadLimits = ReadLimits { max_file_bytes: 1 << 20, max_var_width: 4096 };
+pub const FUZZ_LIMITS: ReadLimits = ReadLimits {
+    max_file_bytes: 1 << 20,
+    max_var_width: 4096,
+};
 
 /// Reads `data` as a VCD and diffs it with itself.
 ///
@@ -52,12 +55,19 @@ pub fn vcd(data: &[u8]) {
         );
     }
     for x_policy in [XPolicy::Strict, XPolicy::EitherXIsWildcard] {
-        let opts = DiffOptions { x_policy, ..DiffOptions::default() };
+        let opts = DiffOptions {
+            x_policy,
+            ..DiffOptions::default()
+        };
         let r = match diff(&w, &w, &opts) {
             Ok(r) => r,
             Err(e) => panic!("diff of a readable file with itself failed: {e}"),
         };
-        assert_eq!(r.outcome, Outcome::Equal, "a file differs from itself:\n{r}");
+        assert_eq!(
+            r.outcome,
+            Outcome::Equal,
+            "a file differs from itself:\n{r}"
+        );
     }
 }
 
@@ -77,13 +87,21 @@ pub fn fst(data: &[u8]) {
     };
     for i in 0..w.signals().len() {
         let ch = w.changes_at(i);
-        assert!(ch.windows(2).all(|p| p[0].0 <= p[1].0), "changes of {} are not in time order", w.signals()[i].gtkwave_name());
+        assert!(
+            ch.windows(2).all(|p| p[0].0 <= p[1].0),
+            "changes of {} are not in time order",
+            w.signals()[i].gtkwave_name()
+        );
     }
     let r = match diff(&w, &w, &DiffOptions::default()) {
         Ok(r) => r,
         Err(e) => panic!("diff of a readable FST with itself failed: {e}"),
     };
-    assert_eq!(r.outcome, Outcome::Equal, "an FST differs from itself:\n{r}");
+    assert_eq!(
+        r.outcome,
+        Outcome::Equal,
+        "an FST differs from itself:\n{r}"
+    );
 }
 
 /// One malformed-VCD shape: `wellen` panics on (or silently misreads) each of
@@ -102,7 +120,11 @@ pub struct Malformed {
 
 macro_rules! hdr {
     ($vars:literal) => {
-        concat!("$timescale 1 us $end\n$scope module top $end\n", $vars, "$upscope $end\n$enddefinitions $end\n")
+        concat!(
+            "$timescale 1 us $end\n$scope module top $end\n",
+            $vars,
+            "$upscope $end\n$enddefinitions $end\n"
+        )
     };
 }
 

@@ -519,8 +519,14 @@ impl GtkwSave {
     pub fn write(&self, path: impl AsRef<Path>) -> Result<(), GtkwError> {
         let text = self.render()?;
         let path = path.as_ref();
-        let io = |source| GtkwError::Io { path: path.display().to_string(), source };
-        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let io = |source| GtkwError::Io {
+            path: path.display().to_string(),
+            source,
+        };
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
         let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
         std::fs::write(&tmp, text).map_err(io)?;
         std::fs::rename(&tmp, path).map_err(|e| {

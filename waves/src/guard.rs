@@ -51,7 +51,10 @@ pub(crate) fn quietly<T>(f: impl FnOnce() -> T) -> Result<T, String> {
     let was = QUIET.with(|q| q.replace(true));
     let r = panic::catch_unwind(AssertUnwindSafe(f));
     QUIET.with(|q| q.set(was));
-    r.map_err(|p| LAST.with(|l| l.borrow_mut().take()).unwrap_or_else(|| payload_text(p.as_ref())))
+    r.map_err(|p| {
+        LAST.with(|l| l.borrow_mut().take())
+            .unwrap_or_else(|| payload_text(p.as_ref()))
+    })
 }
 
 #[cfg(test)]

@@ -36,7 +36,9 @@ use std::path::{Path, PathBuf};
 
 use std::collections::HashMap;
 use thiserror::Error;
-use wellen::{Hierarchy, LoadOptions, Signal, SignalEncoding, SignalRef, SignalSource, SignalValueRef};
+use wellen::{
+    Hierarchy, LoadOptions, Signal, SignalEncoding, SignalRef, SignalSource, SignalValueRef,
+};
 
 use crate::guard::quietly;
 use crate::time::{TimeUnit, Timescale};
@@ -62,7 +64,10 @@ pub struct ReadLimits {
 
 impl Default for ReadLimits {
     fn default() -> Self {
-        ReadLimits { max_file_bytes: DEFAULT_MAX_FILE_BYTES, max_var_width: DEFAULT_MAX_VAR_WIDTH }
+        ReadLimits {
+            max_file_bytes: DEFAULT_MAX_FILE_BYTES,
+            max_var_width: DEFAULT_MAX_VAR_WIDTH,
+        }
     }
 }
 
@@ -234,7 +239,11 @@ fn check_fst_hierarchy(h: &Hierarchy, layout: &crate::fst_check::FstLayout) -> R
         let handle = v.signal_ref().index();
         let name = v.full_name(h);
         let Some(&geo) = layout.widths.get(handle) else {
-            return Err(format!("variable {name} has signal handle {}, the geometry declares {}", handle + 1, layout.widths.len()));
+            return Err(format!(
+                "variable {name} has signal handle {}, the geometry declares {}",
+                handle + 1,
+                layout.widths.len()
+            ));
         };
         match (v.signal_encoding(h), geo) {
             (SignalEncoding::BitVector(w), Some(g)) if w == g => {}
@@ -307,10 +316,20 @@ impl Waveform {
     /// opening, so a FIFO never blocks) and files over `limits.max_file_bytes`.
     pub fn open_with(path: impl AsRef<Path>, limits: &ReadLimits) -> Result<Self, ReadError> {
         let path = path.as_ref();
-        let open_err = |source| ReadError::Open { path: path.to_path_buf(), source };
-        let not_regular = |ft| ReadError::NotRegular { path: path.to_path_buf(), kind: file_kind(ft) };
+        let open_err = |source| ReadError::Open {
+            path: path.to_path_buf(),
+            source,
+        };
+        let not_regular = |ft| ReadError::NotRegular {
+            path: path.to_path_buf(),
+            kind: file_kind(ft),
+        };
         let origin = path.display().to_string();
-        let too_large = |size| ReadError::TooLarge { origin: origin.clone(), size, limit: limits.max_file_bytes };
+        let too_large = |size| ReadError::TooLarge {
+            origin: origin.clone(),
+            size,
+            limit: limits.max_file_bytes,
+        };
         let meta = std::fs::metadata(path).map_err(open_err)?;
         if !meta.is_file() {
             return Err(not_regular(meta.file_type()));
@@ -361,8 +380,16 @@ impl Waveform {
         if is_fst(&bytes) {
             // Sizes and counts first: fst-reader allocates whatever a block declares, and its
             // format detection alone loops for minutes on a damaged header length.
-            let layout = crate::fst_check::check(&bytes, limits.max_file_bytes, limits.max_var_width).map_err(|p| ReadError::BadFst { origin: origin.clone(), message: p.to_string() })?;
-            let fst = quietly(|| wellen::viewers::detect_file_format(&mut Cursor::new(bytes.as_slice())) == wellen::FileFormat::Fst);
+            let layout =
+                crate::fst_check::check(&bytes, limits.max_file_bytes, limits.max_var_width)
+                    .map_err(|p| ReadError::BadFst {
+                        origin: origin.clone(),
+                        message: p.to_string(),
+                    })?;
+            let fst = quietly(|| {
+                wellen::viewers::detect_file_format(&mut Cursor::new(bytes.as_slice()))
+                    == wellen::FileFormat::Fst
+            });
             if fst != Ok(true) {
                 return Err(ReadError::BadFst { origin, message: "it starts like an FST (block type 0, FST_BL_HDR) but its header block is not valid".into() });
             }
@@ -370,7 +397,8 @@ impl Waveform {
             // name any handle): every handle must be one the geometry declares.
             let handles = layout.widths.len();
             let hier = quietly(|| -> Result<Option<String>, String> {
-                let mut r = fst_reader::FstReader::open(Cursor::new(bytes.as_slice())).map_err(|e| e.to_string())?;
+                let mut r = fst_reader::FstReader::open(Cursor::new(bytes.as_slice()))
+                    .map_err(|e| e.to_string())?;
                 let mut bad = None;
                 r.read_hierarchy(|e| {
                     if let fst_reader::FstHierarchyEntry::Var { handle, name, .. } = e {
@@ -384,8 +412,18 @@ impl Waveform {
             });
             match hier {
                 Ok(Ok(None)) => {}
-                Ok(Ok(Some(message))) | Ok(Err(message)) => return Err(ReadError::BadFst { origin, message: message.split_whitespace().collect::<Vec<_>>().join(" ") }),
-                Err(message) => return Err(ReadError::FstReaderPanicked { origin, message: message.split_whitespace().collect::<Vec<_>>().join(" ") }),
+                Ok(Ok(Some(message))) | Ok(Err(message)) => {
+                    return Err(ReadError::BadFst {
+                        origin,
+                        message: message.split_whitespace().collect::<Vec<_>>().join(" "),
+                    })
+                }
+                Err(message) => {
+                    return Err(ReadError::FstReaderPanicked {
+                        origin,
+                        message: message.split_whitespace().collect::<Vec<_>>().join(" "),
+                    })
+                }
             }
             Self::parse(bytes, origin, Some(&layout))
         } else {
@@ -398,32 +436,74 @@ impl Waveform {
         let origin = origin.to_string();
         match validate(bytes, limits.max_var_width) {
             Ok(_) => Ok(()),
-            Err(ValidateError::Malformed(p)) => Err(ReadError::Malformed { origin, line: p.line, what: p.what }),
-            Err(ValidateError::Io(e)) => Err(ReadError::Parse { origin, message: e.to_string() }),
+            Err(ValidateError::Malformed(p)) => Err(ReadError::Malformed {
+                origin,
+                line: p.line,
+                what: p.what,
+            }),
+            Err(ValidateError::Io(e)) => Err(ReadError::Parse {
+                origin,
+                message: e.to_string(),
+            }),
         }
     }
 
     /// Reads `bytes` with wellen; `fst` is the checked layout of an FST (None for a VCD).
-    fn parse(bytes: Vec<u8>, origin: String, fst: Option<&crate::fst_check::FstLayout>) -> Result<Self, ReadError> {
+    fn parse(
+        bytes: Vec<u8>,
+        origin: String,
+        fst: Option<&crate::fst_check::FstLayout>,
+    ) -> Result<Self, ReadError> {
         let layout = fst;
         let fst = fst.is_some();
         // wellen's FST messages span lines; an error is one line.
-        let bad_fst = |message: String| ReadError::BadFst { origin: origin.clone(), message: message.split_whitespace().collect::<Vec<_>>().join(" ") };
-        let parse_err = |message: String| if fst { bad_fst(message) } else { ReadError::Parse { origin: origin.clone(), message } };
-        let panicked = |message: String| if fst { ReadError::FstReaderPanicked { origin: origin.clone(), message: message.split_whitespace().collect::<Vec<_>>().join(" ") } } else { ReadError::ParserPanicked { origin: origin.clone(), message } };
-        // One thread: a panic on a rayon worker would be printed by a hook we do not guard.
-        let options = LoadOptions { multi_thread: false, remove_scopes_with_empty_name: false };
-        let read = quietly(move || -> Result<(Hierarchy, SignalSource, Vec<u64>), String> {
-            let header = wellen::viewers::read_header(Cursor::new(bytes), &options).map_err(|e| e.to_string())?;
-            // The hierarchy's widths are what wellen sizes its signals by, the geometry's what
-            // fst-reader decodes by: they must agree (a hierarchy width of 54 for a 1-bit
-            // signal panics in wellen's signal/mod.rs), and stay within the width limit.
-            if let Some(layout) = layout {
-                check_fst_hierarchy(&header.hierarchy, layout)?;
+        let bad_fst = |message: String| ReadError::BadFst {
+            origin: origin.clone(),
+            message: message.split_whitespace().collect::<Vec<_>>().join(" "),
+        };
+        let parse_err = |message: String| {
+            if fst {
+                bad_fst(message)
+            } else {
+                ReadError::Parse {
+                    origin: origin.clone(),
+                    message,
+                }
             }
-            let body = wellen::viewers::read_body(header.body, &header.hierarchy, None).map_err(|e| e.to_string())?;
-            Ok((header.hierarchy, body.source, body.time_table))
-        });
+        };
+        let panicked = |message: String| {
+            if fst {
+                ReadError::FstReaderPanicked {
+                    origin: origin.clone(),
+                    message: message.split_whitespace().collect::<Vec<_>>().join(" "),
+                }
+            } else {
+                ReadError::ParserPanicked {
+                    origin: origin.clone(),
+                    message,
+                }
+            }
+        };
+        // One thread: a panic on a rayon worker would be printed by a hook we do not guard.
+        let options = LoadOptions {
+            multi_thread: false,
+            remove_scopes_with_empty_name: false,
+        };
+        let read = quietly(
+            move || -> Result<(Hierarchy, SignalSource, Vec<u64>), String> {
+                let header = wellen::viewers::read_header(Cursor::new(bytes), &options)
+                    .map_err(|e| e.to_string())?;
+                // The hierarchy's widths are what wellen sizes its signals by, the geometry's what
+                // fst-reader decodes by: they must agree (a hierarchy width of 54 for a 1-bit
+                // signal panics in wellen's signal/mod.rs), and stay within the width limit.
+                if let Some(layout) = layout {
+                    check_fst_hierarchy(&header.hierarchy, layout)?;
+                }
+                let body = wellen::viewers::read_body(header.body, &header.hierarchy, None)
+                    .map_err(|e| e.to_string())?;
+                Ok((header.hierarchy, body.source, body.time_table))
+            },
+        );
         let (h, mut source, time_table) = match read {
             Ok(Ok(w)) => w,
             Ok(Err(e)) => return Err(parse_err(e)),
@@ -469,15 +549,29 @@ impl Waveform {
         unique.dedup();
         let loaded = quietly(|| source.load_signals(&unique, &h, false)).map_err(panicked)?;
         let data = loaded.into_iter().map(|s| (s.signal_ref(), s)).collect();
-        let w = Waveform { origin: origin.clone(), data, time_table, signals, refs, timescale };
+        let w = Waveform {
+            origin: origin.clone(),
+            data,
+            time_table,
+            signals,
+            refs,
+            timescale,
+        };
         if fst {
             // Every value once, under the guard: wellen decodes values lazily, and a damaged
             // FST that slipped through would otherwise panic later, in changes_at.
             // A real that is not a number cannot equal itself: refused, as in a VCD.
             let nan = quietly(|| {
                 for i in 0..w.refs.len() {
-                    if let Some((t, v)) = w.changes_at(i).into_iter().find(|(_, v)| matches!(v, Value::Real(r) if !r.is_finite())) {
-                        return Some(format!("real value {v} of {} at time {t} is not a finite number", w.signals[i].path));
+                    if let Some((t, v)) = w
+                        .changes_at(i)
+                        .into_iter()
+                        .find(|(_, v)| matches!(v, Value::Real(r) if !r.is_finite()))
+                    {
+                        return Some(format!(
+                            "real value {v} of {} at time {t} is not a finite number",
+                            w.signals[i].path
+                        ));
                     }
                 }
                 None

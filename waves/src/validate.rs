@@ -107,16 +107,64 @@ struct Decl {
 }
 
 const VAR_TYPES: &[&str] = &[
-    "wire", "reg", "parameter", "integer", "string", "event", "real", "real_parameter", "supply0",
-    "supply1", "time", "tri", "triand", "trior", "trireg", "tri0", "tri1", "wand", "wor", "logic",
-    "port", "sparray", "realtime", "bit", "int", "shortint", "longint", "byte", "enum", "shortreal",
+    "wire",
+    "reg",
+    "parameter",
+    "integer",
+    "string",
+    "event",
+    "real",
+    "real_parameter",
+    "supply0",
+    "supply1",
+    "time",
+    "tri",
+    "triand",
+    "trior",
+    "trireg",
+    "tri0",
+    "tri1",
+    "wand",
+    "wor",
+    "logic",
+    "port",
+    "sparray",
+    "realtime",
+    "bit",
+    "int",
+    "shortint",
+    "longint",
+    "byte",
+    "enum",
+    "shortreal",
 ];
 
 const SCOPE_TYPES: &[&str] = &[
-    "module", "task", "function", "begin", "fork", "generate", "struct", "union", "class",
-    "interface", "package", "program", "vhdl_architecture", "vhdl_procedure", "vhdl_function",
-    "vhdl_record", "vhdl_process", "vhdl_block", "vhdl_for_generate", "vhdl_if_generate",
-    "vhdl_generate", "vhdl_package", "unknown", "clocking", "sv_array",
+    "module",
+    "task",
+    "function",
+    "begin",
+    "fork",
+    "generate",
+    "struct",
+    "union",
+    "class",
+    "interface",
+    "package",
+    "program",
+    "vhdl_architecture",
+    "vhdl_procedure",
+    "vhdl_function",
+    "vhdl_record",
+    "vhdl_process",
+    "vhdl_block",
+    "vhdl_for_generate",
+    "vhdl_if_generate",
+    "vhdl_generate",
+    "vhdl_package",
+    "unknown",
+    "clocking",
+    "sv_array",
 ];
 
 const UNITS: &[&str] = &["s", "ms", "us", "ns", "ps", "fs"];
@@ -124,7 +172,20 @@ const UNITS: &[&str] = &["s", "ms", "us", "ns", "ps", "fs"];
 fn is_bit_char(c: u8) -> bool {
     matches!(
         c,
-        b'0' | b'1' | b'x' | b'X' | b'z' | b'Z' | b'h' | b'H' | b'u' | b'U' | b'w' | b'W' | b'l' | b'L' | b'-'
+        b'0' | b'1'
+            | b'x'
+            | b'X'
+            | b'z'
+            | b'Z'
+            | b'h'
+            | b'H'
+            | b'u'
+            | b'U'
+            | b'w'
+            | b'W'
+            | b'l'
+            | b'L'
+            | b'-'
     )
 }
 
@@ -162,7 +223,13 @@ struct Src<R> {
 
 impl<R: Read> Src<R> {
     fn new(r: R) -> Self {
-        Src { reader: r, buf: vec![0u8; 1 << 16].into_boxed_slice(), pos: 0, len: 0, line: 1 }
+        Src {
+            reader: r,
+            buf: vec![0u8; 1 << 16].into_boxed_slice(),
+            pos: 0,
+            len: 0,
+            line: 1,
+        }
     }
 
     #[inline]
@@ -193,7 +260,10 @@ impl<R: Read> Src<R> {
 }
 
 fn bad<T>(line: u64, what: impl Into<String>) -> Result<T, ValidateError> {
-    Err(ValidateError::Malformed(Problem { line, what: what.into() }))
+    Err(ValidateError::Malformed(Problem {
+        line,
+        what: what.into(),
+    }))
 }
 
 /// Validate a VCD read from `input`; `max_var_width` bounds every `$var` size.
@@ -250,10 +320,16 @@ fn check_name(line: u64, what: &str, raw: &[u8]) -> Result<String, ValidateError
         return bad(line, format!("{what} `{}` is not valid UTF-8", show(raw)));
     };
     if s.chars().any(|c| c.is_control()) {
-        return bad(line, format!("{what} `{}` contains a control character", show(raw)));
+        return bad(
+            line,
+            format!("{what} `{}` contains a control character", show(raw)),
+        );
     }
     if s.starts_with('[') {
-        return bad(line, format!("{what} `{s}` starts with `[`; a name comes before its index"));
+        return bad(
+            line,
+            format!("{what} `{s}` starts with `[`; a name comes before its index"),
+        );
     }
     let mut depth = 0u32;
     let mut digits = 0usize;
@@ -275,7 +351,10 @@ fn check_name(line: u64, what: &str, raw: &[u8]) -> Result<String, ValidateError
             '0'..='9' if depth > 0 => {
                 digits += 1;
                 if digits > 9 {
-                    return bad(line, format!("{what} `{s}` has an index longer than 9 digits"));
+                    return bad(
+                        line,
+                        format!("{what} `{s}` has an index longer than 9 digits"),
+                    );
                 }
             }
             _ => digits = 0,
@@ -319,7 +398,10 @@ impl<R: Read> Validator<R> {
                 Some(c) if is_header_ws(c) => break,
                 Some(c) => {
                     if kw.len() >= 64 {
-                        return bad(line, format!("command `${}` is not a VCD command", show(&kw)));
+                        return bad(
+                            line,
+                            format!("command `${}` is not a VCD command", show(&kw)),
+                        );
                     }
                     kw.push(c);
                 }
@@ -334,7 +416,10 @@ impl<R: Read> Validator<R> {
         let mut glued = false; // the `$` of the current `$end` candidate follows a non-space
         loop {
             let Some(c) = self.src.next()? else {
-                return bad(line, format!("file ends before the `$end` of `${}`", show(&kw)));
+                return bad(
+                    line,
+                    format!("file ends before the `$end` of `${}`", show(&kw)),
+                );
             };
             if skipping {
                 if is_header_ws(c) {
@@ -347,7 +432,10 @@ impl<R: Read> Validator<R> {
                 if kept > MAX_COMMAND_BYTES {
                     return bad(
                         line,
-                        format!("`${}` is longer than {MAX_COMMAND_BYTES} bytes (no `$end`?)", show(&kw)),
+                        format!(
+                            "`${}` is longer than {MAX_COMMAND_BYTES} bytes (no `$end`?)",
+                            show(&kw)
+                        ),
                     );
                 }
                 body.push(c);
@@ -369,7 +457,10 @@ impl<R: Read> Validator<R> {
             if glued {
                 return bad(
                     line,
-                    format!("`$end` of `${}` must be separated from the text before it by a space", show(&kw)),
+                    format!(
+                        "`$end` of `${}` must be separated from the text before it by a space",
+                        show(&kw)
+                    ),
                 );
             }
             body.truncate(body.len() - 4);
@@ -387,13 +478,21 @@ impl<R: Read> Validator<R> {
         loop {
             let Some((kw, line, body)) = self.command()? else {
                 let line = self.src.line;
-                return bad(line, "file ends before `$enddefinitions $end`: the header is incomplete");
+                return bad(
+                    line,
+                    "file ends before `$enddefinitions $end`: the header is incomplete",
+                );
             };
             match kw.as_slice() {
                 b"comment" => {}
                 b"date" => {
                     if let Some(l) = date_line {
-                        return bad(line, format!("second `$date` (the first is on line {l}); a VCD has at most one"));
+                        return bad(
+                            line,
+                            format!(
+                                "second `$date` (the first is on line {l}); a VCD has at most one"
+                            ),
+                        );
                     }
                     date_line = Some(line);
                 }
@@ -413,7 +512,10 @@ impl<R: Read> Validator<R> {
                 b"scope" => self.scope(line, &body)?,
                 b"upscope" => {
                     if !header_tokens(&body).is_empty() {
-                        return bad(line, format!("`$upscope {}`: $upscope takes no arguments", show(&body)));
+                        return bad(
+                            line,
+                            format!("`$upscope {}`: $upscope takes no arguments", show(&body)),
+                        );
                     }
                     if self.scopes.pop().is_none() {
                         return bad(line, "`$upscope` without an open `$scope`");
@@ -437,7 +539,13 @@ impl<R: Read> Validator<R> {
                     return self.after_enddefinitions();
                 }
                 b"attrbegin" | b"attrend" => {
-                    return bad(line, format!("`${}` (a GTKWave attribute extension) is not supported", show(&kw)));
+                    return bad(
+                        line,
+                        format!(
+                            "`${}` (a GTKWave attribute extension) is not supported",
+                            show(&kw)
+                        ),
+                    );
                 }
                 other => {
                     return bad(
@@ -476,16 +584,28 @@ impl<R: Read> Validator<R> {
         let toks = header_tokens(body);
         let (factor, unit): (&[u8], &[u8]) = match toks.as_slice() {
             [(_, t)] => {
-                let p = t.iter().position(|c| !c.is_ascii_digit()).unwrap_or(t.len());
+                let p = t
+                    .iter()
+                    .position(|c| !c.is_ascii_digit())
+                    .unwrap_or(t.len());
                 (&t[..p], &t[p..])
             }
             [(_, f), (_, u)] => (f, u),
             _ => {
-                return bad(line, format!("`$timescale {}`: expected a factor and a unit, e.g. `1 ns`", show(body)));
+                return bad(
+                    line,
+                    format!(
+                        "`$timescale {}`: expected a factor and a unit, e.g. `1 ns`",
+                        show(body)
+                    ),
+                );
             }
         };
         let ok_factor = factor.iter().all(|c| c.is_ascii_digit())
-            && std::str::from_utf8(factor).ok().and_then(|f| f.parse::<u32>().ok()).is_some_and(|f| f >= 1);
+            && std::str::from_utf8(factor)
+                .ok()
+                .and_then(|f| f.parse::<u32>().ok())
+                .is_some_and(|f| f >= 1);
         let ok_unit = std::str::from_utf8(unit).is_ok_and(|u| UNITS.contains(&u));
         if !ok_factor || !ok_unit {
             return bad(
@@ -502,7 +622,13 @@ impl<R: Read> Validator<R> {
     fn scope(&mut self, line: u64, body: &[u8]) -> Result<(), ValidateError> {
         let toks = header_tokens(body);
         let [(_, tpe), (_, name)] = toks.as_slice() else {
-            return bad(line, format!("`$scope {}`: expected a scope type and a name, e.g. `$scope module top $end`", show(body)));
+            return bad(
+                line,
+                format!(
+                    "`$scope {}`: expected a scope type and a name, e.g. `$scope module top $end`",
+                    show(body)
+                ),
+            );
         };
         let tpe_ok = std::str::from_utf8(tpe).is_ok_and(|t| SCOPE_TYPES.contains(&t));
         if !tpe_ok {
@@ -530,7 +656,9 @@ impl<R: Read> Validator<R> {
         let name_start = toks[3].0;
         let (last_start, last) = toks[toks.len() - 1];
         let raw_name = &body[name_start..last_start + last.len()];
-        let tpe_s = std::str::from_utf8(tpe).ok().filter(|t| VAR_TYPES.contains(t));
+        let tpe_s = std::str::from_utf8(tpe)
+            .ok()
+            .filter(|t| VAR_TYPES.contains(t));
         let Some(tpe_s) = tpe_s else {
             return bad(
                 line,
@@ -538,9 +666,15 @@ impl<R: Read> Validator<R> {
             );
         };
         if size.is_empty() || size.len() > 10 || !size.iter().all(|c| c.is_ascii_digit()) {
-            return bad(line, format!("variable size `{}` is not a whole number", show(size)));
+            return bad(
+                line,
+                format!("variable size `{}` is not a whole number", show(size)),
+            );
         }
-        let width: u64 = std::str::from_utf8(size).ok().and_then(|s| s.parse().ok()).unwrap_or(u64::MAX);
+        let width: u64 = std::str::from_utf8(size)
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(u64::MAX);
         if width > u64::from(self.max_width) {
             return bad(
                 line,
@@ -557,13 +691,25 @@ impl<R: Read> Validator<R> {
             "real" | "realtime" | "shortreal" | "real_parameter" => Kind::Real,
             "event" => {
                 if width > 1 {
-                    return bad(line, format!("event `{}` has size {width}; an event has size 1 (or 0)", show(raw_name)));
+                    return bad(
+                        line,
+                        format!(
+                            "event `{}` has size {width}; an event has size 1 (or 0)",
+                            show(raw_name)
+                        ),
+                    );
                 }
                 Kind::Event
             }
             _ => {
                 if width == 0 {
-                    return bad(line, format!("variable `{}` has size 0; a {tpe_s} has at least 1 bit", show(raw_name)));
+                    return bad(
+                        line,
+                        format!(
+                            "variable `{}` has size 0; a {tpe_s} has at least 1 bit",
+                            show(raw_name)
+                        ),
+                    );
                 }
                 Kind::Bits(width)
             }
@@ -571,7 +717,11 @@ impl<R: Read> Validator<R> {
         if !printable_ascii(id) {
             return bad(
                 line,
-                format!("identifier `{}` of `{}` must be printable ASCII characters (`!` to `~`)", show(id), show(raw_name)),
+                format!(
+                    "identifier `{}` of `{}` must be printable ASCII characters (`!` to `~`)",
+                    show(id),
+                    show(raw_name)
+                ),
             );
         }
         let name = check_name(line, "variable name", raw_name)?;
@@ -620,7 +770,10 @@ impl<R: Read> Validator<R> {
                 Some(c) if c.is_ascii_whitespace() => return Ok(Some(line)),
                 Some(c) => {
                     if tok.len() >= cap {
-                        return bad(line, format!("token `{}` is longer than {cap} bytes", show(tok)));
+                        return bad(
+                            line,
+                            format!("token `{}` is longer than {cap} bytes", show(tok)),
+                        );
                     }
                     tok.push(c);
                 }
@@ -637,8 +790,13 @@ impl<R: Read> Validator<R> {
             match tok[0] {
                 b'#' => {
                     let digits = &tok[1..];
-                    let t = if !digits.is_empty() && digits.len() <= 20 && digits.iter().all(|c| c.is_ascii_digit()) {
-                        std::str::from_utf8(digits).ok().and_then(|s| s.parse::<u64>().ok())
+                    let t = if !digits.is_empty()
+                        && digits.len() <= 20
+                        && digits.iter().all(|c| c.is_ascii_digit())
+                    {
+                        std::str::from_utf8(digits)
+                            .ok()
+                            .and_then(|s| s.parse::<u64>().ok())
                     } else {
                         None
                     };
@@ -679,7 +837,10 @@ impl<R: Read> Validator<R> {
                 }
                 b'b' | b'B' | b'r' | b'R' | b's' | b'S' => {
                     let Some(_) = self.token(&mut id, MAX_TOKEN_BYTES)? else {
-                        return bad(line, format!("value `{}` has no identifier after it", show(&tok)));
+                        return bad(
+                            line,
+                            format!("value `{}` has no identifier after it", show(&tok)),
+                        );
                     };
                     self.value(line, &tok, &id)?;
                     self.summary.changes += 1;
@@ -723,7 +884,14 @@ impl<R: Read> Validator<R> {
         }
         match self.ids.get(id) {
             Some(d) => Ok(d),
-            None => bad(line, format!("identifier `{}` in `{}` is not declared by any `$var`", show(id), show(tok))),
+            None => bad(
+                line,
+                format!(
+                    "identifier `{}` in `{}` is not declared by any `$var`",
+                    show(id),
+                    show(tok)
+                ),
+            ),
         }
     }
 
@@ -740,15 +908,29 @@ impl<R: Read> Validator<R> {
                 }
                 let n = v.len();
                 if n == 0 {
-                    return bad(line, format!("vector value `{}` for `{}` has no bits", show(tok), decl.path));
+                    return bad(
+                        line,
+                        format!(
+                            "vector value `{}` for `{}` has no bits",
+                            show(tok),
+                            decl.path
+                        ),
+                    );
                 }
                 if n > w as usize {
                     return bad(
                         line,
-                        format!("value `{}` has {n} bits but `{}` is declared with {w}", show(tok), decl.path),
+                        format!(
+                            "value `{}` has {n} bits but `{}` is declared with {w}",
+                            show(tok),
+                            decl.path
+                        ),
                     );
                 }
-                if n < w as usize && w > 1 && !matches!(v[0], b'0' | b'1' | b'x' | b'X' | b'z' | b'Z') {
+                if n < w as usize
+                    && w > 1
+                    && !matches!(v[0], b'0' | b'1' | b'x' | b'X' | b'z' | b'Z')
+                {
                     return bad(
                         line,
                         format!(
@@ -762,7 +944,9 @@ impl<R: Read> Validator<R> {
                 Ok(())
             }
             (b'r', Kind::Real) => {
-                let ok = std::str::from_utf8(v).ok().is_some_and(|s| s.parse::<f64>().is_ok());
+                let ok = std::str::from_utf8(v)
+                    .ok()
+                    .is_some_and(|s| s.parse::<f64>().is_ok());
                 if !ok {
                     return bad(
                         line,
@@ -773,7 +957,10 @@ impl<R: Read> Validator<R> {
             }
             (b's', Kind::Text) => {
                 if std::str::from_utf8(v).is_err() {
-                    return bad(line, format!("string value for `{}` is not valid UTF-8", decl.path));
+                    return bad(
+                        line,
+                        format!("string value for `{}` is not valid UTF-8", decl.path),
+                    );
                 }
                 Ok(())
             }
@@ -785,7 +972,12 @@ impl<R: Read> Validator<R> {
                 };
                 bad(
                     line,
-                    format!("{given} value `{}` for `{}`, which is declared as a {}", show(tok), decl.path, k.describe()),
+                    format!(
+                        "{given} value `{}` for `{}`, which is declared as a {}",
+                        show(tok),
+                        decl.path,
+                        k.describe()
+                    ),
                 )
             }
         }

@@ -56,7 +56,11 @@ pub struct ChangeLine {
 impl ChangeLine {
     /// The writer's mark of a variable without a line (width 0): its changes take the general
     /// path.
-    pub(crate) const GENERAL: ChangeLine = ChangeLine { suffix: [0; 16], len: 0, width: 0 };
+    pub(crate) const GENERAL: ChangeLine = ChangeLine {
+        suffix: [0; 16],
+        len: 0,
+        width: 0,
+    };
 
     /// False for [`ChangeLine::GENERAL`].
     #[inline(always)]
@@ -69,19 +73,35 @@ impl ChangeLine {
     /// a code that is not an identifier code of VCD (empty, or a byte outside the printable
     /// ASCII characters `!` to `~`).
     pub fn new(code: &[u8], width: u32) -> Option<ChangeLine> {
-        if !(1..=64).contains(&width) || code.is_empty() || code.len() > CODE || !code.iter().all(|b| (b'!'..=b'~').contains(b)) {
+        if !(1..=64).contains(&width)
+            || code.is_empty()
+            || code.len() > CODE
+            || !code.iter().all(|b| (b'!'..=b'~').contains(b))
+        {
             return None;
         }
-        let text: Vec<u8> = if width == 1 { [code, b"\n"].concat() } else { [&b" "[..], code, b"\n"].concat() };
+        let text: Vec<u8> = if width == 1 {
+            [code, b"\n"].concat()
+        } else {
+            [&b" "[..], code, b"\n"].concat()
+        };
         let mut suffix = [0; 16];
         suffix[..text.len()].copy_from_slice(&text);
-        Some(ChangeLine { suffix, len: text.len() as u8, width: width as u8 })
+        Some(ChangeLine {
+            suffix,
+            len: text.len() as u8,
+            width: width as u8,
+        })
     }
 
     /// `line` (one line, its `\n` included) is a change line of this variable.
     pub(crate) fn is_line_of(&self, line: &[u8]) -> bool {
         let len = usize::from(self.len);
-        let value = if self.width == 1 { 1 } else { 1 + usize::from(self.width) };
+        let value = if self.width == 1 {
+            1
+        } else {
+            1 + usize::from(self.width)
+        };
         line.len() == value + len && line.ends_with(&self.suffix[..len])
     }
 
@@ -118,7 +138,12 @@ impl ChangeLine {
     /// goes).
     #[inline(always)]
     pub fn write_w<const W: usize>(&self, out: &mut [u8; SLACK], v: u64) -> usize {
-        debug_assert_eq!(usize::from(self.width), W, "write_w: a line of {} bits written as {W}", self.width);
+        debug_assert_eq!(
+            usize::from(self.width),
+            W,
+            "write_w: a line of {} bits written as {W}",
+            self.width
+        );
         if W == 1 {
             return self.scalar(out, v);
         }
@@ -192,10 +217,20 @@ fn digits8(x: u32) -> u64 {
 pub fn stamp(out: &mut [u8; SLACK], t: u64) -> usize {
     const E8: u64 = 100_000_000;
     out[0] = b'#';
-    let (first, rest) = if t < E8 { (t, None) } else if t < E8 * E8 { (t / E8, Some(t % E8)) } else { return stamp_long(out, t) };
+    let (first, rest) = if t < E8 {
+        (t, None)
+    } else if t < E8 * E8 {
+        (t / E8, Some(t % E8))
+    } else {
+        return stamp_long(out, t);
+    };
     let d = digits8(first as u32);
     // leading zero digits of the first group (t = 0 keeps its last digit)
-    let lead = if first == 0 { 7 } else { (d.trailing_zeros() / 8) as usize };
+    let lead = if first == 0 {
+        7
+    } else {
+        (d.trailing_zeros() / 8) as usize
+    };
     out[1..9].copy_from_slice(&((d | ASCII0) >> (8 * lead)).to_le_bytes());
     let mut n = 1 + 8 - lead;
     if let Some(r) = rest {
@@ -229,7 +264,12 @@ impl Default for Stamps {
 impl Stamps {
     /// No stamp written yet.
     pub const fn new() -> Stamps {
-        Stamps { last: 0, digits: 0, step: u64::MAX, step_digits: 0 }
+        Stamps {
+            last: 0,
+            digits: 0,
+            step: u64::MAX,
+            step_digits: 0,
+        }
     }
 
     /// Write `#t\n` at the start of `out` (as [`stamp`]); returns its length.
@@ -249,7 +289,11 @@ impl Stamps {
             out[0] = b'#';
             // most significant digit first, its leading zeros shifted out (0 keeps one digit)
             let d = digits.swap_bytes();
-            let lead = if digits == 0 { 7 } else { (digits.leading_zeros() / 8) as usize };
+            let lead = if digits == 0 {
+                7
+            } else {
+                (digits.leading_zeros() / 8) as usize
+            };
             out[1..9].copy_from_slice(&((d | ASCII0) >> (8 * lead)).to_le_bytes());
             let n = 9 - lead;
             out[n] = b'\n';
@@ -352,7 +396,10 @@ mod tests {
             let p = 10u32.pow(e);
             [p - 1, p, p + 1, 2 * p - 1, 5 * p, 10 * p - 1]
         });
-        let all = (0..100_000).chain((0..100_000_000).step_by(9_973)).chain(pow).chain([99_999_999]);
+        let all = (0..100_000)
+            .chain((0..100_000_000).step_by(9_973))
+            .chain(pow)
+            .chain([99_999_999]);
         for x in all {
             let got = (digits8(x) | ASCII0).to_le_bytes();
             assert_eq!(std::str::from_utf8(&got).unwrap(), format!("{x:08}"), "{x}");
@@ -372,7 +419,11 @@ mod tests {
         for t in ts {
             let mut out = [0u8; SLACK];
             let n = stamp(&mut out, t);
-            assert_eq!(std::str::from_utf8(&out[..n]).unwrap(), format!("#{t}\n"), "{t}");
+            assert_eq!(
+                std::str::from_utf8(&out[..n]).unwrap(),
+                format!("#{t}\n"),
+                "{t}"
+            );
         }
     }
 
@@ -389,8 +440,16 @@ mod tests {
                     let mut out = [b'?'; SLACK];
                     let n = l.write(&mut out, v);
                     let code = std::str::from_utf8(code).unwrap();
-                    let want = if w == 1 { format!("{v}{code}\n") } else { format!("b{:0w$b} {code}\n", v, w = w as usize) };
-                    assert_eq!(std::str::from_utf8(&out[..n]).unwrap(), want, "width {w} value {v}");
+                    let want = if w == 1 {
+                        format!("{v}{code}\n")
+                    } else {
+                        format!("b{:0w$b} {code}\n", v, w = w as usize)
+                    };
+                    assert_eq!(
+                        std::str::from_utf8(&out[..n]).unwrap(),
+                        want,
+                        "width {w} value {v}"
+                    );
                 }
             }
         }
@@ -409,7 +468,8 @@ mod tests {
     fn change_lines_of_a_known_width_are_the_same_lines() {
         fn check<const W: usize>() {
             for code in [&b"!"[..], b"abcdefghijklmn"] {
-                let l = ChangeLine::new(code, W as u32).expect("a line up to 64 bits and 14 characters");
+                let l = ChangeLine::new(code, W as u32)
+                    .expect("a line up to 64 bits and 14 characters");
                 let max = u64::MAX >> (64 - W);
                 let mut x = 0x9E37_79B9_7F4A_7C15u64;
                 let stride = (0..200).map(|_| {

@@ -451,7 +451,11 @@ pub(crate) struct RealBuf {
 impl RealBuf {
     #[inline]
     pub(crate) fn new() -> RealBuf {
-        RealBuf { grid: [0; 24], zmij: zmij::Buffer::new(), ryu: ryu::Buffer::new() }
+        RealBuf {
+            grid: [0; 24],
+            zmij: zmij::Buffer::new(),
+            ryu: ryu::Buffer::new(),
+        }
     }
 }
 
@@ -981,8 +985,20 @@ pub struct VcdOut<W: Write> {
 
 impl<W: Write> VcdOut<W> {
     fn new(out: W, codes: Vec<Box<[u8]>>, widths: Vec<u32>) -> VcdOut<W> {
-        let lines = codes.iter().zip(&widths).map(|(code, &w)| ChangeLine::new(code, w).unwrap_or(ChangeLine::GENERAL)).collect();
-        VcdOut { out, buf: vec![0; VCD_BUFFER + SLACK].into_boxed_slice(), pos: 0, codes, widths, lines, stamps: Stamps::new() }
+        let lines = codes
+            .iter()
+            .zip(&widths)
+            .map(|(code, &w)| ChangeLine::new(code, w).unwrap_or(ChangeLine::GENERAL))
+            .collect();
+        VcdOut {
+            out,
+            buf: vec![0; VCD_BUFFER + SLACK].into_boxed_slice(),
+            pos: 0,
+            codes,
+            widths,
+            lines,
+            stamps: Stamps::new(),
+        }
     }
 
     /// Write the buffer out once it holds [`VCD_BUFFER`] bytes; afterwards at least [`SLACK`]
@@ -1000,7 +1016,9 @@ impl<W: Write> VcdOut<W> {
     #[inline(always)]
     fn stamp(&mut self, t: u64) {
         let p = self.pos;
-        let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("SLACK bytes free after room()");
+        let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK])
+            .try_into()
+            .expect("SLACK bytes free after room()");
         self.pos = p + self.stamps.write(out, t);
     }
 
@@ -1092,7 +1110,9 @@ impl<W: Write> Emitter for VcdOut<W> {
             ValueRef::Int(v) if self.lines[i].is_line() => {
                 self.room()?;
                 let p = self.pos;
-                let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK]).try_into().expect("SLACK bytes free after room()");
+                let out: &mut [u8; SLACK] = (&mut self.buf[p..p + SLACK])
+                    .try_into()
+                    .expect("SLACK bytes free after room()");
                 self.pos = p + self.lines[i].write(out, v);
                 Ok(())
             }
@@ -1195,7 +1215,11 @@ impl<E: Emitter> FrameStep<'_, E> {
         if *seen & bit != 0 {
             return Err(self.writer.double_change(f.idx[k] as usize));
         }
-        let same = if self.slow { self.writer.cur[f.idx[k] as usize] == Stored::Int(v) } else { v == prev };
+        let same = if self.slow {
+            self.writer.cur[f.idx[k] as usize] == Stored::Int(v)
+        } else {
+            v == prev
+        };
         if !same && !self.changed(k, v) {
             return Err(too_wide(self.writer, self.frame, k, v));
         }
@@ -1268,7 +1292,13 @@ impl<E: Emitter> Writer<E> {
             return Err(WriteError::UnknownFrame);
         }
         frame.nopen = 0;
-        Ok(FrameRun { writer: self, frame, direct: false, dirty: false, reals: Vec::new() })
+        Ok(FrameRun {
+            writer: self,
+            frame,
+            direct: false,
+            dirty: false,
+            reals: Vec::new(),
+        })
     }
 }
 
@@ -1281,7 +1311,10 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
         if self.direct {
             let w = &mut *self.writer;
             if t < w.time {
-                return Err(WriteError::TimeBackwards { requested: t, current: w.time });
+                return Err(WriteError::TimeBackwards {
+                    requested: t,
+                    current: w.time,
+                });
             }
             if t == w.time {
                 // the open step assigned every variable of the frame at `t`
@@ -1294,7 +1327,10 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
                     self.dirty |= f.nopen > 0;
                     w.emitter.timestamp(w.time)?;
                     for &k in &f.open[..f.nopen] {
-                        w.emitter.value(f.idx[k as usize] as usize, ValueRef::Int(f.prev[k as usize]))?;
+                        w.emitter.value(
+                            f.idx[k as usize] as usize,
+                            ValueRef::Int(f.prev[k as usize]),
+                        )?;
                     }
                     for &(i, v, _) in self.reals.iter().filter(|r| r.2) {
                         w.emitter.value(i as usize, ValueRef::Real(v))?;
@@ -1306,7 +1342,14 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
                 w.time = t;
                 w.step += 1;
                 w.frame_steps[self.frame.id as usize] = w.step;
-                return Ok(RunStep { inner: Inner::Direct { writer: &*self.writer, frame: &mut *self.frame }, next: 0, current: true });
+                return Ok(RunStep {
+                    inner: Inner::Direct {
+                        writer: &*self.writer,
+                        frame: &mut *self.frame,
+                    },
+                    next: 0,
+                    current: true,
+                });
             }
             self.close();
         }
@@ -1315,7 +1358,10 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
             w.frame_prologue(f, t)?;
             if w.dumped && w.in_window(t) {
                 let current = f.generation == w.generation;
-                let all_int = current || f.idx.iter().all(|&i| matches!(w.cur[i as usize], Stored::Int(_)));
+                let all_int = current
+                    || f.idx
+                        .iter()
+                        .all(|&i| matches!(w.cur[i as usize], Stored::Int(_)));
                 if all_int {
                     if !current {
                         for (k, &i) in f.idx.iter().enumerate() {
@@ -1327,13 +1373,24 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
                     w.frame_steps[f.id as usize] = w.step;
                     self.direct = true;
                     f.nopen = 0;
-                    return Ok(RunStep { inner: Inner::Direct { writer: &*self.writer, frame: &mut *self.frame }, next: 0, current });
+                    return Ok(RunStep {
+                        inner: Inner::Direct {
+                            writer: &*self.writer,
+                            frame: &mut *self.frame,
+                        },
+                        next: 0,
+                        current,
+                    });
                 }
             }
         }
         let s = self.writer.frame_step(self.frame, t)?;
         let current = s.is_current();
-        Ok(RunStep { inner: Inner::Checked(s), next: 0, current })
+        Ok(RunStep {
+            inner: Inner::Checked(s),
+            next: 0,
+            current,
+        })
     }
 
     /// The `real` variable `id` (declared after every variable of the frame) at the time of
@@ -1361,10 +1418,17 @@ impl<'a, E: Emitter> FrameRun<'a, E> {
             return Err(order_error(i, last as usize + 1));
         }
         if let Some(&(last, ..)) = self.reals.last().filter(|r| i as u32 <= r.0) {
-            return Err(if last == i as u32 { w.double_change(i) } else { order_error(i, last as usize + 1) });
+            return Err(if last == i as u32 {
+                w.double_change(i)
+            } else {
+                order_error(i, last as usize + 1)
+            });
         }
         if !v.is_finite() {
-            return Err(WriteError::NotFinite { name: w.vars[i].path.clone(), value: v });
+            return Err(WriteError::NotFinite {
+                name: w.vars[i].path.clone(),
+                value: v,
+            });
         }
         let v = v + 0.0;
         let changed = old != v;
@@ -1422,7 +1486,10 @@ pub struct RunStep<'r, E: Emitter> {
 }
 
 enum Inner<'r, E: Emitter> {
-    Direct { writer: &'r Writer<E>, frame: &'r mut Frame },
+    Direct {
+        writer: &'r Writer<E>,
+        frame: &'r mut Frame,
+    },
     Checked(FrameStep<'r, E>),
 }
 
@@ -1444,7 +1511,10 @@ impl<E: Emitter> RunStep<'_, E> {
             return Err(order_error(k, self.next));
         }
         match &mut self.inner {
-            Inner::Direct { writer: w, frame: f } => {
+            Inner::Direct {
+                writer: w,
+                frame: f,
+            } => {
                 let Some(prev) = f.prev.get_mut(k) else {
                     return Err(position_error(f, k));
                 };
@@ -1468,14 +1538,20 @@ impl<E: Emitter> RunStep<'_, E> {
 #[cold]
 #[inline(never)]
 fn order_error(k: usize, next: usize) -> WriteError {
-    WriteError::FrameOrder { position: k, previous: next - 1 }
+    WriteError::FrameOrder {
+        position: k,
+        previous: next - 1,
+    }
 }
 
 /// The error of a position outside the frame.
 #[cold]
 #[inline(never)]
 fn position_error(f: &Frame, k: usize) -> WriteError {
-    WriteError::FramePosition { position: k, len: f.idx.len() }
+    WriteError::FramePosition {
+        position: k,
+        len: f.idx.len(),
+    }
 }
 
 /// The error of a frame value `v` at position `k` wider than its variable.
@@ -1576,7 +1652,11 @@ impl<W: Write> VcdWriter<W> {
         if frame.owner != self.owner || frame.id as usize >= self.frame_steps.len() {
             return Err(WriteError::UnknownFrame);
         }
-        let eligible = frame.sorted && frame.idx.iter().all(|&i| self.emitter.lines[i as usize].is_line());
+        let eligible = frame.sorted
+            && frame
+                .idx
+                .iter()
+                .all(|&i| self.emitter.lines[i as usize].is_line());
         let need = (frame.idx.len() + 1) * SLACK;
         let e = &mut self.emitter;
         if eligible && e.buf.len() < need + SLACK {
@@ -1587,8 +1667,28 @@ impl<W: Write> VcdWriter<W> {
         }
         frame.nopen = 0;
         // (the values are taken from the frame when text steps start: `TextRun::step`)
-        let slots = frame.idx.iter().map(|&i| TextSlot { prev: 0, line: self.emitter.lines[i as usize] }).collect();
-        Ok(TextRun { writer: self, frame, eligible, slots, need, open: false, mark: 0, start: 0, next: 0, dirty: false, reals: Vec::new(), next_real: None })
+        let slots = frame
+            .idx
+            .iter()
+            .map(|&i| TextSlot {
+                prev: 0,
+                line: self.emitter.lines[i as usize],
+            })
+            .collect();
+        Ok(TextRun {
+            writer: self,
+            frame,
+            eligible,
+            slots,
+            need,
+            open: false,
+            mark: 0,
+            start: 0,
+            next: 0,
+            dirty: false,
+            reals: Vec::new(),
+            next_real: None,
+        })
     }
 }
 
@@ -1604,7 +1704,10 @@ impl<'a, W: Write> TextRun<'a, W> {
         let w = &mut *self.writer;
         if t <= w.time {
             if t < w.time {
-                return Err(WriteError::TimeBackwards { requested: t, current: w.time });
+                return Err(WriteError::TimeBackwards {
+                    requested: t,
+                    current: w.time,
+                });
             }
             if self.open {
                 return Err(w.double_change(self.frame.idx[0] as usize));
@@ -1640,7 +1743,13 @@ impl<'a, W: Write> TextRun<'a, W> {
             w.flush_step()?;
             // `frame_prologue`'s checks (this frame or an overlapping one already stepped at
             // `t`, a single change at `t`) cannot fail: `t` is after the writer's time
-            if !(w.dumped && self.frame.generation == w.generation) || self.frame.idx.iter().any(|&i| !matches!(w.cur[i as usize], Stored::Int(_))) {
+            if !(w.dumped && self.frame.generation == w.generation)
+                || self
+                    .frame
+                    .idx
+                    .iter()
+                    .any(|&i| !matches!(w.cur[i as usize], Stored::Int(_)))
+            {
                 return Ok(None);
             }
             // the text steps hold the frame's values from here until they end (`close`)
@@ -1693,13 +1802,23 @@ impl<'a, W: Write> TextRun<'a, W> {
             return self.change_real(id, v);
         }
         if self.frame.idx.last().is_some_and(|&last| i as u32 <= last) {
-            return Err(order_error(i, self.frame.idx[self.frame.idx.len() - 1] as usize + 1));
+            return Err(order_error(
+                i,
+                self.frame.idx[self.frame.idx.len() - 1] as usize + 1,
+            ));
         }
         if let Some(last) = self.next_real.filter(|&last| i as u32 <= last) {
-            return Err(if last == i as u32 { self.writer.double_change(i) } else { order_error(i, last as usize + 1) });
+            return Err(if last == i as u32 {
+                self.writer.double_change(i)
+            } else {
+                order_error(i, last as usize + 1)
+            });
         }
         if !v.is_finite() {
-            return Err(WriteError::NotFinite { name: self.writer.vars[i].path.clone(), value: v });
+            return Err(WriteError::NotFinite {
+                name: self.writer.vars[i].path.clone(),
+                value: v,
+            });
         }
         let v = v + 0.0;
         let k = match self.reals.iter().position(|r| r.var == i as u32) {
@@ -1710,7 +1829,12 @@ impl<'a, W: Write> TextRun<'a, W> {
                 };
                 // room for its line in every later step
                 self.need += SLACK;
-                self.reals.push(RealSlot { var: i as u32, value, given: false, changed: false });
+                self.reals.push(RealSlot {
+                    var: i as u32,
+                    value,
+                    given: false,
+                    changed: false,
+                });
                 self.reals.len() - 1
             }
         };
@@ -1776,7 +1900,11 @@ impl<'a, W: Write> TextRun<'a, W> {
         let mut k = 0;
         let mut changed = false;
         // (the reals' lines, `r...`, follow the frame's: `TextRun::real`)
-        for line in w.emitter.buf[start..end].to_vec().split_inclusive(|&b| b == b'\n').take_while(|l| l.first() != Some(&b'r')) {
+        for line in w.emitter.buf[start..end]
+            .to_vec()
+            .split_inclusive(|&b| b == b'\n')
+            .take_while(|l| l.first() != Some(&b'r'))
+        {
             while !self.slots[k].line.is_line_of(line) {
                 k += 1;
             }
@@ -1876,10 +2004,20 @@ impl<W: Write> TextStep<'_, '_, W> {
     #[inline(always)]
     fn change_n<const N: usize>(&mut self, k: usize, v: u64) {
         let r = &*self.run;
-        debug_assert!(k >= r.next, "change: position {k} after {} in one step", r.next);
+        debug_assert!(
+            k >= r.next,
+            "change: position {k} after {} in one step",
+            r.next
+        );
         debug_assert!(r.slots[k].prev != v, "change: position {k} did not change");
-        debug_assert!(v <= r.frame.max[k], "change: value {v:#x} too wide for position {k}");
-        debug_assert!(N == 0 || r.frame.max[k] == u64::MAX >> (64 - N), "change_w: position {k} is not {N} bits wide");
+        debug_assert!(
+            v <= r.frame.max[k],
+            "change: value {v:#x} too wide for position {k}"
+        );
+        debug_assert!(
+            N == 0 || r.frame.max[k] == u64::MAX >> (64 - N),
+            "change_w: position {k} is not {N} bits wide"
+        );
         self.write::<N>(k, v);
     }
 
@@ -1895,8 +2033,14 @@ impl<W: Write> TextStep<'_, '_, W> {
         r.next = k + 1;
         let p = self.pos;
         let e = &mut r.writer.emitter;
-        let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK]).try_into().expect("room for a whole step, reserved when it began");
-        self.pos = p + if N == 0 { slot.line.write(out, v) } else { slot.line.write_w::<N>(out, v) };
+        let out: &mut [u8; SLACK] = (&mut e.buf[p..p + SLACK])
+            .try_into()
+            .expect("room for a whole step, reserved when it began");
+        self.pos = p + if N == 0 {
+            slot.line.write(out, v)
+        } else {
+            slot.line.write_w::<N>(out, v)
+        };
         e.pos = self.pos;
     }
 }
@@ -2189,7 +2333,10 @@ impl<E: Emitter> Writer<E> {
         while k < n {
             let end = (k + 8).min(n);
             if fast {
-                let unchanged = match (<&[u64; 8]>::try_from(&values[k..end]), <&[u64; 8]>::try_from(&frame.prev[k..end])) {
+                let unchanged = match (
+                    <&[u64; 8]>::try_from(&values[k..end]),
+                    <&[u64; 8]>::try_from(&frame.prev[k..end]),
+                ) {
                     (Ok(a), Ok(b)) => a.iter().zip(b).fold(0, |acc, (x, y)| acc | (x ^ y)) == 0,
                     _ => values[k..end] == frame.prev[k..end],
                 };
@@ -2203,7 +2350,11 @@ impl<E: Emitter> Writer<E> {
             for k in k..end {
                 let v = values[k];
                 let i = frame.idx[k] as usize;
-                let same = if fast { v == frame.prev[k] } else { matches!(self.cur[i], Stored::Int(c) if c == v) };
+                let same = if fast {
+                    v == frame.prev[k]
+                } else {
+                    matches!(self.cur[i], Stored::Int(c) if c == v)
+                };
                 if same {
                     continue;
                 }
@@ -2255,14 +2406,23 @@ impl<E: Emitter> Writer<E> {
             let k = g.trailing_zeros() as usize;
             g &= g - 1;
             if self.frame_steps[k] == step {
-                let i = frame.idx.iter().map(|&i| i as usize).find(|&i| self.var_frames[i] & (1 << k) != 0).unwrap_or(frame.idx[0] as usize);
+                let i = frame
+                    .idx
+                    .iter()
+                    .map(|&i| i as usize)
+                    .find(|&i| self.var_frames[i] & (1 << k) != 0)
+                    .unwrap_or(frame.idx[0] as usize);
                 return Err(self.double_change(i));
             }
         }
         if frame.generation != self.generation || self.single_step == step {
             // Values changed since this frame's last dump, or single assignments in this step
             // (one that kept a variable's value changes no generation): any of the frame's?
-            if let Some(&i) = frame.idx.iter().find(|&&i| self.assigned[i as usize] == step) {
+            if let Some(&i) = frame
+                .idx
+                .iter()
+                .find(|&&i| self.assigned[i as usize] == step)
+            {
                 return Err(self.double_change(i as usize));
             }
         }
@@ -2302,7 +2462,12 @@ impl<E: Emitter> Writer<E> {
             [a, b] => (*a, *b) = (0, 0),
             seen => seen.fill(0),
         }
-        Ok(FrameStep { writer: self, frame, slow, current })
+        Ok(FrameStep {
+            writer: self,
+            frame,
+            slow,
+            current,
+        })
     }
 
     /// Flush the last step, write a closing time stamp at the current time
@@ -2310,11 +2475,12 @@ impl<E: Emitter> Writer<E> {
     /// return the output.
     pub fn finish(mut self) -> Result<E::Output> {
         self.flush_step()?;
-        let closing = if self.dumped && self.in_window(self.time) && self.last_written != Some(self.time) {
-            Some(self.time)
-        } else {
-            None
-        };
+        let closing =
+            if self.dumped && self.in_window(self.time) && self.last_written != Some(self.time) {
+                Some(self.time)
+            } else {
+                None
+            };
         self.emitter.finish(closing)
     }
 
@@ -2363,7 +2529,8 @@ impl<E: Emitter> Writer<E> {
                 }
                 self.emitter.timestamp(t)?;
                 for &i in pending.iter() {
-                    self.emitter.value(i as usize, self.cur[i as usize].as_ref())?;
+                    self.emitter
+                        .value(i as usize, self.cur[i as usize].as_ref())?;
                 }
                 self.last_written = Some(t);
             }
@@ -2469,9 +2636,16 @@ mod real_text_tests {
         let mut ties = 0;
         for k in 1..=25u32 {
             let p5 = 5u128.pow(k);
-            let (lo, hi) = (10u128.pow(17).div_ceil(p5), (10u128.pow(18) / p5).min(1 << 53));
+            let (lo, hi) = (
+                10u128.pow(17).div_ceil(p5),
+                (10u128.pow(18) / p5).min(1 << 53),
+            );
             for _ in 0..4_000 {
-                let m = if lo < hi { (lo + u128::from(next()) % (hi - lo)) | 1 } else { 1 };
+                let m = if lo < hi {
+                    (lo + u128::from(next()) % (hi - lo)) | 1
+                } else {
+                    1
+                };
                 let v = m as f64 * 2f64.powi(-(k as i32));
                 if m < hi && (m * p5) % 10 == 5 && (1e-4..1e16).contains(&v) {
                     ties += 1;
@@ -2482,7 +2656,11 @@ mod real_text_tests {
         assert!(ties > 10_000, "{ties} halfway cases");
         for _ in 0..200_000 {
             let b = next();
-            for v in [f64::from_bits(b), (b >> 11) as f64 * 2f64.powi(-((b % 61) as i32)), ((b % 20_000_000) as f64 - 1e7) * [1e-3, 1e-4][(b >> 63) as usize]] {
+            for v in [
+                f64::from_bits(b),
+                (b >> 11) as f64 * 2f64.powi(-((b % 61) as i32)),
+                ((b % 20_000_000) as f64 - 1e7) * [1e-3, 1e-4][(b >> 63) as usize],
+            ] {
                 if (1e-4..1e16).contains(&v.abs()) {
                     assert_eq!(z.format_finite(v), r.format_finite(v), "{v:e}");
                 }
@@ -2492,7 +2670,25 @@ mod real_text_tests {
 
     #[test]
     fn grid_edges_as_ryu() {
-        for v in [1e-4, -1e-4, 0.000_1 + 1e-6, 1e9 - 1e-6, 999_999_999.999_999, 1e9, 0.5, 1.0, -1.0, 10.0, 100.001, 0.1 * 3.0, 123_456.000_001, 0.000_123, 7.0e-4, 1e-6, 1234.0 + 1.0 / 16384.0] {
+        for v in [
+            1e-4,
+            -1e-4,
+            0.000_1 + 1e-6,
+            1e9 - 1e-6,
+            999_999_999.999_999,
+            1e9,
+            0.5,
+            1.0,
+            -1.0,
+            10.0,
+            100.001,
+            0.1 * 3.0,
+            123_456.000_001,
+            0.000_123,
+            7.0e-4,
+            1e-6,
+            1234.0 + 1.0 / 16384.0,
+        ] {
             assert_eq!(format_real(v), by_ryu(v), "{v:e}");
         }
         for m in 1..200_000i64 {
@@ -2507,8 +2703,29 @@ mod real_text_tests {
     #[test]
     fn edges_of_the_notations() {
         // a short dyadic fraction: its exact value needs 18 digits
-        assert_eq!(format_real(1234.0 + 1.0 / 16384.0).parse::<f64>(), Ok(1234.0 + 1.0 / 16384.0));
-        for v in [1e-4, 9.99e-5, 1e-5, 1.5e-5, 9.9e-6, 1e16, 1e15, 37.0, -37.0, 0.001, -0.0001, 1e300, 5e-324, -1.25e-7, 123456.789, f64::MAX, f64::MIN_POSITIVE] {
+        assert_eq!(
+            format_real(1234.0 + 1.0 / 16384.0).parse::<f64>(),
+            Ok(1234.0 + 1.0 / 16384.0)
+        );
+        for v in [
+            1e-4,
+            9.99e-5,
+            1e-5,
+            1.5e-5,
+            9.9e-6,
+            1e16,
+            1e15,
+            37.0,
+            -37.0,
+            0.001,
+            -0.0001,
+            1e300,
+            5e-324,
+            -1.25e-7,
+            123456.789,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+        ] {
             assert_eq!(format_real(v), by_fmt(v), "{v:e}");
         }
         assert_eq!(format_real(-0.0), "0");
@@ -2569,9 +2786,15 @@ mod frame_step_tests {
     fn frame_builder() -> (VcdBuilder, Vec<super::SigId>) {
         let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Us), "pmu50-waves test").unwrap();
         b.push_scope("pmu50").unwrap();
-        let vectors = [(BitType::Reg, "tmr", 15, 0), (BitType::Reg, "w", 4, 3), (BitType::Wire, "wide", 63, 0)];
+        let vectors = [
+            (BitType::Reg, "tmr", 15, 0),
+            (BitType::Reg, "w", 4, 3),
+            (BitType::Wire, "wide", 63, 0),
+        ];
         let mut ids = vec![b.add_bit(BitType::Wire, "a", Logic::Zero).unwrap()];
-        ids.extend(vectors.map(|(ty, name, msb, init)| b.add_vector(ty, name, msb, 0, init).unwrap()));
+        ids.extend(
+            vectors.map(|(ty, name, msb, init)| b.add_vector(ty, name, msb, 0, init).unwrap()),
+        );
         ids.push(b.add_bit(BitType::Reg, "z", Logic::X).unwrap());
         b.pop_scope().unwrap();
         (b, ids)
@@ -2631,32 +2854,69 @@ mod frame_step_tests {
             s.set(1, 7).unwrap();
             // a position outside the frame, named with the frame's length
             let e = s.set(3, 1).unwrap_err();
-            assert!(matches!(e, WriteError::FramePosition { position: 3, len: 3 }), "{e}");
+            assert!(
+                matches!(
+                    e,
+                    WriteError::FramePosition {
+                        position: 3,
+                        len: 3
+                    }
+                ),
+                "{e}"
+            );
             assert!(e.to_string().contains("0..3"), "{e}");
             // the same position twice in one step
             let e = s.set(1, 8).unwrap_err();
-            assert!(matches!(&e, WriteError::DoubleChange { name, .. } if name == "pmu50.tmr"), "{e}");
+            assert!(
+                matches!(&e, WriteError::DoubleChange { name, .. } if name == "pmu50.tmr"),
+                "{e}"
+            );
             // a changed value wider than the variable: 5-bit `w` takes at most 31, nothing assigned
             let e = s.set(2, 32).unwrap_err();
-            assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
+            assert!(
+                matches!(
+                    e,
+                    WriteError::ValueTooWide {
+                        value: 32,
+                        max: 31,
+                        ..
+                    }
+                ),
+                "{e}"
+            );
             // the refused position may still be given a value in the step (here its current one)
             s.set(2, 3).unwrap();
         }
         // a single change of a frame variable in the frame's step is a double assignment
-        assert!(matches!(w.change_vector(ids[0], 1), Err(WriteError::DoubleChange { .. })));
+        assert!(matches!(
+            w.change_vector(ids[0], 1),
+            Err(WriteError::DoubleChange { .. })
+        ));
         // an overlapping frame in the same step
-        assert!(matches!(w.frame_step(&mut g, 1), Err(WriteError::DoubleChange { .. })));
+        assert!(matches!(
+            w.frame_step(&mut g, 1),
+            Err(WriteError::DoubleChange { .. })
+        ));
         // time backwards
-        assert!(matches!(w.frame_step(&mut f, 0), Err(WriteError::TimeBackwards { .. })));
+        assert!(matches!(
+            w.frame_step(&mut f, 0),
+            Err(WriteError::TimeBackwards { .. })
+        ));
         // a single change first, then the frame, in one step
         w.set_time(2).unwrap();
         w.change_vector(ids[1], 9).unwrap();
-        assert!(matches!(w.frame_step(&mut f, 2), Err(WriteError::DoubleChange { .. })));
+        assert!(matches!(
+            w.frame_step(&mut f, 2),
+            Err(WriteError::DoubleChange { .. })
+        ));
         // a frame of another writer
         let (b2, ids2) = frame_builder();
         let mut other = b2.start(Vec::new()).unwrap();
         let mut f2 = other.frame(&ids2[..1]).unwrap();
-        assert!(matches!(w.frame_step(&mut f2, 3), Err(WriteError::UnknownFrame)));
+        assert!(matches!(
+            w.frame_step(&mut f2, 3),
+            Err(WriteError::UnknownFrame)
+        ));
         // later steps: a step with nothing set keeps every value (and writes nothing)
         w.frame_step(&mut f, 3).unwrap();
         let mut s = w.frame_step(&mut f, 4).unwrap();
@@ -2694,6 +2954,9 @@ mod frame_step_tests {
         w.change_bits(ids[2], "xxxxx").unwrap();
         w.frame_step(&mut f, 5).unwrap().set(0, 1).unwrap();
         let vcd = text(w);
-        assert!(vcd.contains("#2\nbx0x0x #\n#3\nb00101 #\n#4\nbxxxxx #\n#5\n1!\n"), "{vcd}");
+        assert!(
+            vcd.contains("#2\nbx0x0x #\n#3\nb00101 #\n#4\nbxxxxx #\n#5\n1!\n"),
+            "{vcd}"
+        );
     }
 }

@@ -3,7 +3,9 @@
 mod common;
 
 use common::{sample_builder, vcd, wave};
-use pmu50_waves::diff::{diff, exit_code, DiffError, DiffOptions, DiffReport, Outcome, Sample, XPolicy};
+use pmu50_waves::diff::{
+    diff, exit_code, DiffError, DiffOptions, DiffReport, Outcome, Sample, XPolicy,
+};
 use pmu50_waves::reader::{SignalKind, Waveform};
 use pmu50_waves::writer::Logic;
 use pmu50_waves::{TimeUnit, Timescale};
@@ -65,7 +67,11 @@ fn us() -> Timescale {
 
 #[test]
 fn identical_files_are_equal() {
-    let r = equal(&run(us(), 1, None), &run(us(), 1, None), &DiffOptions::default());
+    let r = equal(
+        &run(us(), 1, None),
+        &run(us(), 1, None),
+        &DiffOptions::default(),
+    );
     assert_eq!(r.exit_code(), 0);
     assert_eq!(r.signals_compared, 4);
     assert_eq!(r.mismatch_count, 0);
@@ -77,7 +83,12 @@ fn identical_files_are_equal() {
 
 #[test]
 fn one_flipped_bit_is_the_first_mismatch_at_its_time() {
-    let r = diff(&run(us(), 1, None), &run(us(), 1, Some(37)), &DiffOptions::default()).unwrap();
+    let r = diff(
+        &run(us(), 1, None),
+        &run(us(), 1, Some(37)),
+        &DiffOptions::default(),
+    )
+    .unwrap();
     assert_eq!(r.outcome, Outcome::Differ, "{r}");
     assert_eq!(r.exit_code(), 1);
     assert_eq!(r.mismatch_count, 1);
@@ -100,8 +111,16 @@ fn one_flipped_bit_is_the_first_mismatch_at_its_time() {
 
 #[test]
 fn reports_first_n_mismatches_in_time_order_and_counts_all() {
-    let left = ns_wave(&["top"], &[("!", "wire 4 a [3:0]"), ("\"", "wire 4 b [3:0]")], "#0\nb0 !\nb0 \"\n#10\nb1 !\nb1 \"\n#20\nb10 !\nb10 \"\n#30\nb11 !\nb11 \"\n");
-    let right = ns_wave(&["top"], &[("!", "wire 4 a [3:0]"), ("\"", "wire 4 b [3:0]")], "#0\nb0 !\nb1111 \"\n#10\nb1111 !\n#20\nb1110 !\n#30\nb1101 !\n");
+    let left = ns_wave(
+        &["top"],
+        &[("!", "wire 4 a [3:0]"), ("\"", "wire 4 b [3:0]")],
+        "#0\nb0 !\nb0 \"\n#10\nb1 !\nb1 \"\n#20\nb10 !\nb10 \"\n#30\nb11 !\nb11 \"\n",
+    );
+    let right = ns_wave(
+        &["top"],
+        &[("!", "wire 4 a [3:0]"), ("\"", "wire 4 b [3:0]")],
+        "#0\nb0 !\nb1111 \"\n#10\nb1111 !\n#20\nb1110 !\n#30\nb1101 !\n",
+    );
     let opts = DiffOptions {
         max_reported: 3,
         ..DiffOptions::default()
@@ -133,7 +152,11 @@ fn reports_first_n_mismatches_in_time_order_and_counts_all() {
 
 #[test]
 fn prefix_mapping_pairs_pmu50_with_tb_dut() {
-    let left = ns_wave(&["pmu50"], &[("!", "wire 1 clk"), ("\"", "reg 8 cnt [7:0]")], "#0\n0!\nb0 \"\n#5\n1!\nb101 \"\n");
+    let left = ns_wave(
+        &["pmu50"],
+        &[("!", "wire 1 clk"), ("\"", "reg 8 cnt [7:0]")],
+        "#0\n0!\nb0 \"\n#5\n1!\nb101 \"\n",
+    );
     let right = wave(
         "$timescale 1 ns $end\n$scope module tb $end\n$var wire 1 % stim $end\n\
          $scope module dut $end\n$var wire 1 ! clk $end\n$var reg 8 \" cnt [7:0] $end\n\
@@ -241,15 +264,27 @@ fn missing_timescale_on_one_side_is_bad_input() {
 
 #[test]
 fn widths_8_and_16_are_zero_extended_and_real_vs_vector_is_a_type_mismatch() {
-    let l = t_ns(&[("!", "wire 8 v [7:0]"), ("\"", "real 64 r")], "#0\nb10100101 !\nr1.5 \"\n#4\nb11111111 !\n");
-    let r = t_ns(&[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")], "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000011111111 !\n");
+    let l = t_ns(
+        &[("!", "wire 8 v [7:0]"), ("\"", "real 64 r")],
+        "#0\nb10100101 !\nr1.5 \"\n#4\nb11111111 !\n",
+    );
+    let r = t_ns(
+        &[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")],
+        "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000011111111 !\n",
+    );
     equal_over(&l, &r, &DiffOptions::default(), 2);
     // a set upper bit on the wide side is a difference
-    let r2 = t_ns(&[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")], "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000111111111 !\n");
+    let r2 = t_ns(
+        &[("!", "wire 16 v [15:0]"), ("\"", "real 64 r")],
+        "#0\nb0000000010100101 !\nr1.5 \"\n#4\nb0000000111111111 !\n",
+    );
     let res = diff(&l, &r2, &DiffOptions::default()).unwrap();
     assert_eq!(res.first_mismatch_time, Some(4));
     // real on one side, vector on the other
-    let r3 = t_ns(&[("!", "wire 8 v [7:0]"), ("\"", "wire 64 r [63:0]")], "#0\nb10100101 !\nb1 \"\n#4\nb11111111 !\n");
+    let r3 = t_ns(
+        &[("!", "wire 8 v [7:0]"), ("\"", "wire 64 r [63:0]")],
+        "#0\nb10100101 !\nb1 \"\n#4\nb11111111 !\n",
+    );
     let res = diff(&l, &r3, &DiffOptions::default()).unwrap();
     assert_eq!(res.outcome, Outcome::Differ);
     assert_eq!(res.signals_compared, 1);
@@ -288,10 +323,22 @@ fn real_tolerance() {
 
 #[test]
 fn x_handling_strict_and_wildcard() {
-    let with_x = t_ns(&[("!", "wire 4 v [3:0]")], "#0\nb0000 !\n#5\nb01x1 !\n#9\nb0000 !\n");
-    let plain = t_ns(&[("!", "wire 4 v [3:0]")], "#0\nb0000 !\n#5\nb0111 !\n#9\nb0000 !\n");
-    let other = t_ns(&[("!", "wire 4 v [3:0]")], "#0\nb0000 !\n#5\nb1101 !\n#9\nb0000 !\n");
-    let with_z = t_ns(&[("!", "wire 4 v [3:0]")], "#0\nb0000 !\n#5\nb01z1 !\n#9\nb0000 !\n");
+    let with_x = t_ns(
+        &[("!", "wire 4 v [3:0]")],
+        "#0\nb0000 !\n#5\nb01x1 !\n#9\nb0000 !\n",
+    );
+    let plain = t_ns(
+        &[("!", "wire 4 v [3:0]")],
+        "#0\nb0000 !\n#5\nb0111 !\n#9\nb0000 !\n",
+    );
+    let other = t_ns(
+        &[("!", "wire 4 v [3:0]")],
+        "#0\nb0000 !\n#5\nb1101 !\n#9\nb0000 !\n",
+    );
+    let with_z = t_ns(
+        &[("!", "wire 4 v [3:0]")],
+        "#0\nb0000 !\n#5\nb01z1 !\n#9\nb0000 !\n",
+    );
     let strict = DiffOptions::default();
     let left_x = DiffOptions {
         x_policy: XPolicy::LeftXIsWildcard,
@@ -327,7 +374,10 @@ fn x_handling_strict_and_wildcard() {
         assert_eq!(diff(l, r, opts).unwrap().outcome, want, "case {k}");
     }
     // a left x is a don't-care for that bit only
-    assert_eq!(diff(&with_x, &other, &left_x).unwrap().first_mismatch_time, Some(5));
+    assert_eq!(
+        diff(&with_x, &other, &left_x).unwrap().first_mismatch_time,
+        Some(5)
+    );
     // a missing value (signal starts later) counts as x
     let late = t_ns(&[("!", "wire 4 v [3:0]")], "#0\n#5\nb0111 !\n#9\nb0000 !\n");
     let r = diff(&late, &plain, &strict).unwrap();
@@ -354,7 +404,11 @@ fn clocked(glitch: bool, at_edge: bool) -> Waveform {
         "#30\n1!\nb10 \"\n"
     };
     body += "#40\n0!\n#50\n1!\nb00 \"\n#60\n0!\n";
-    ns_wave(&["top"], &[("!", "wire 1 clk"), ("\"", "reg 2 q [1:0]")], &body)
+    ns_wave(
+        &["top"],
+        &[("!", "wire 1 clk"), ("\"", "reg 2 q [1:0]")],
+        &body,
+    )
 }
 
 #[test]
@@ -420,7 +474,10 @@ fn bad_sampling_options_are_bad_input() {
 
 #[test]
 fn signals_on_one_side_only() {
-    let l = t_ns(&[("!", "wire 1 a"), ("\"", "wire 1 extra")], "#0\n0!\n0\"\n");
+    let l = t_ns(
+        &[("!", "wire 1 a"), ("\"", "wire 1 extra")],
+        "#0\n0!\n0\"\n",
+    );
     let r = t_ns(&[("!", "wire 1 a")], "#0\n0!\n");
     let res = diff(&l, &r, &DiffOptions::default()).unwrap();
     assert_eq!(res.outcome, Outcome::Differ);
@@ -436,8 +493,14 @@ fn signals_on_one_side_only() {
 #[test]
 fn bit_selects_merge_into_one_vector_and_repeated_paths_use_gtkwave_names() {
     // wellen merges `b [0]` + `b [1]` into `b[1:0]`, whatever the declaration order
-    let l = t_ns(&[("!", "wire 1 b [0]"), ("\"", "wire 1 b [1]")], "#0\n0!\n1\"\n");
-    let r = t_ns(&[("\"", "wire 1 b [1]"), ("!", "wire 1 b [0]")], "#0\n0!\n1\"\n");
+    let l = t_ns(
+        &[("!", "wire 1 b [0]"), ("\"", "wire 1 b [1]")],
+        "#0\n0!\n1\"\n",
+    );
+    let r = t_ns(
+        &[("\"", "wire 1 b [1]"), ("!", "wire 1 b [0]")],
+        "#0\n0!\n1\"\n",
+    );
     equal_over(&l, &r, &DiffOptions::default(), 1);
     // a path declared twice (scalar `a` and vector `a [3:0]`) is keyed by GTKWave name
     let decls = [("!", "wire 1 a"), ("\"", "wire 4 a [3:0]")];

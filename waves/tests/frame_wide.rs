@@ -11,7 +11,12 @@ const N: usize = 21;
 fn builder() -> (VcdBuilder, Vec<SigId>) {
     let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Us), "frame_wide test").unwrap();
     b.push_scope("top").unwrap();
-    let ids = (0..N).map(|k| b.add_vector(BitType::Reg, &format!("v{k}"), 7, 0, 0).unwrap()).collect();
+    let ids = (0..N)
+        .map(|k| {
+            b.add_vector(BitType::Reg, &format!("v{k}"), 7, 0, 0)
+                .unwrap()
+        })
+        .collect();
     b.pop_scope().unwrap();
     (b, ids)
 }

@@ -42,7 +42,16 @@ fn builder(ts: Timescale, window: Option<(u64, u64)>) -> (VcdBuilder, Ids) {
     b.push_scope("env").unwrap();
     let r = b.add_real("theta_deg", 0.0).unwrap();
     b.pop_scope().unwrap();
-    (b, Ids { a, tmr, sel, wide, r })
+    (
+        b,
+        Ids {
+            a,
+            tmr,
+            sel,
+            wide,
+            r,
+        },
+    )
 }
 
 /// The same sequence of calls on any checked writer.
@@ -64,28 +73,50 @@ macro_rules! drive {
                 w.change_bit(ids.a, Logic::Z).unwrap();
             }
             if k % 40 == 1 {
-                w.change_bits(ids.wide, &format!("1x{}", "01".repeat(34))).unwrap();
+                w.change_bits(ids.wide, &format!("1x{}", "01".repeat(34)))
+                    .unwrap();
             }
             if k % 40 == 21 {
                 w.change_vector(ids.wide, k << 40).unwrap();
             }
-            w.change_real(ids.r, (k as f64 * 0.37).sin() * 180.0).unwrap();
+            w.change_real(ids.r, (k as f64 * 0.37).sin() * 180.0)
+                .unwrap();
         }
         w.set_time(1000).unwrap();
     }};
 }
 
 fn same_content(vcd: &Waveform, fst: &Waveform) {
-    assert_eq!(vcd.timescale().map(|t| t.unit.exponent() + (t.factor as f64).log10() as i32), fst.timescale().map(|t| t.unit.exponent() + (t.factor as f64).log10() as i32));
+    assert_eq!(
+        vcd.timescale()
+            .map(|t| t.unit.exponent() + (t.factor as f64).log10() as i32),
+        fst.timescale()
+            .map(|t| t.unit.exponent() + (t.factor as f64).log10() as i32)
+    );
     assert_eq!(vcd.signals().len(), fst.signals().len());
     let mut n = 0;
     for (i, s) in vcd.signals().iter().enumerate() {
-        let j = fst.find(&s.gtkwave_name()).unwrap_or_else(|| panic!("{} not in the FST", s.gtkwave_name()));
+        let j = fst
+            .find(&s.gtkwave_name())
+            .unwrap_or_else(|| panic!("{} not in the FST", s.gtkwave_name()));
         let t = &fst.signals()[j];
-        assert_eq!((&s.path, s.index, s.width, &s.kind), (&t.path, t.index, t.width, &t.kind), "{}", s.path);
+        assert_eq!(
+            (&s.path, s.index, s.width, &s.kind),
+            (&t.path, t.index, t.width, &t.kind),
+            "{}",
+            s.path
+        );
         let scale = |w: &Waveform| w.timescale().map_or(1, |t| u64::from(t.factor));
-        let a: Vec<_> = vcd.changes_at(i).into_iter().map(|(t, v)| (t * scale(vcd), v)).collect();
-        let b: Vec<_> = fst.changes_at(j).into_iter().map(|(t, v)| (t * scale(fst), v)).collect();
+        let a: Vec<_> = vcd
+            .changes_at(i)
+            .into_iter()
+            .map(|(t, v)| (t * scale(vcd), v))
+            .collect();
+        let b: Vec<_> = fst
+            .changes_at(j)
+            .into_iter()
+            .map(|(t, v)| (t * scale(fst), v))
+            .collect();
         assert_eq!(a, b, "{}", s.path);
         n += a.len();
     }
@@ -122,19 +153,37 @@ fn fst_keeps_the_checks() {
     let path = tmp("checks.fst");
     let mut w = start_fst(b, &path).unwrap();
     w.set_time(5).unwrap();
-    assert!(matches!(w.set_time(4), Err(WriteError::TimeBackwards { .. })));
+    assert!(matches!(
+        w.set_time(4),
+        Err(WriteError::TimeBackwards { .. })
+    ));
     w.change_vector(ids.tmr, 3).unwrap();
-    assert!(matches!(w.change_vector(ids.tmr, 4), Err(WriteError::DoubleChange { .. })));
-    assert!(matches!(w.change_vector(ids.sel, 2), Err(WriteError::ValueTooWide { .. })));
-    assert!(matches!(w.change_real(ids.r, f64::NAN), Err(WriteError::NotFinite { .. })));
-    assert!(matches!(w.change_real(ids.a, 1.0), Err(WriteError::TypeMismatch { .. })));
+    assert!(matches!(
+        w.change_vector(ids.tmr, 4),
+        Err(WriteError::DoubleChange { .. })
+    ));
+    assert!(matches!(
+        w.change_vector(ids.sel, 2),
+        Err(WriteError::ValueTooWide { .. })
+    ));
+    assert!(matches!(
+        w.change_real(ids.r, f64::NAN),
+        Err(WriteError::NotFinite { .. })
+    ));
+    assert!(matches!(
+        w.change_real(ids.a, 1.0),
+        Err(WriteError::TypeMismatch { .. })
+    ));
     w.finish().unwrap();
     std::fs::remove_file(&path).unwrap();
     // Declarations are checked before the file is created.
     let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Us), "t").unwrap();
     b.push_scope("m").unwrap();
     let p2 = tmp("unclosed.fst");
-    assert!(matches!(start_fst(b, &p2), Err(WriteError::UnclosedScopes { .. })));
+    assert!(matches!(
+        start_fst(b, &p2),
+        Err(WriteError::UnclosedScopes { .. })
+    ));
     assert!(!p2.exists());
 }
 
@@ -146,7 +195,12 @@ fn vcd_of(ts: Timescale, window: Option<(u64, u64)>) -> Waveform {
 }
 
 /// Writes the FST of `drive!` (plus, if `extra`, a change of `tmr` at its last time, 1000) and returns its bytes and its reading.
-fn fst_of(name: &str, ts: Timescale, window: Option<(u64, u64)>, extra: bool) -> (Vec<u8>, Waveform) {
+fn fst_of(
+    name: &str,
+    ts: Timescale,
+    window: Option<(u64, u64)>,
+    extra: bool,
+) -> (Vec<u8>, Waveform) {
     let (b, ids) = builder(ts, window);
     let path = tmp(name);
     let mut f = start_fst(b, &path).unwrap();
@@ -179,10 +233,19 @@ fn windowed_fst_starts_at_the_window_and_diffs_equal_to_the_vcd() {
     assert_eq!(be64(&bytes, 9), 50, "header start time");
     assert_eq!(be64(&bytes, 17), vcd.end_time(), "header end time");
     assert!(vcd.end_time() > 600);
-    assert_eq!(be64(&bytes, 1 + 329 - 8), 0, "time zero (an offset viewers add to every time)");
+    assert_eq!(
+        be64(&bytes, 1 + 329 - 8),
+        0,
+        "time zero (an offset viewers add to every time)"
+    );
     // every signal's first value is at the window start, as in the VCD
     for (i, s) in fst.signals().iter().enumerate() {
-        assert_eq!(fst.changes_at(i).first().map(|c| c.0), Some(50), "{}", s.path);
+        assert_eq!(
+            fst.changes_at(i).first().map(|c| c.0),
+            Some(50),
+            "{}",
+            s.path
+        );
     }
     for (l, r) in [(&vcd, &fst), (&fst, &vcd)] {
         let d = diff(l, r, &DiffOptions::default()).unwrap();
@@ -192,15 +255,27 @@ fn windowed_fst_starts_at_the_window_and_diffs_equal_to_the_vcd() {
     // genuinely different files still differ: another window, the whole run, one more change
     let (_, later) = fst_of("later.fst", ts, Some((51, 700)), false);
     let d = diff(&vcd, &later, &DiffOptions::default()).unwrap();
-    assert_eq!((d.outcome, d.first_mismatch_time), (Outcome::Differ, Some(50)), "{d}");
+    assert_eq!(
+        (d.outcome, d.first_mismatch_time),
+        (Outcome::Differ, Some(50)),
+        "{d}"
+    );
     let (_, whole) = fst_of("whole.fst", ts, None, false);
     let d = diff(&vcd, &whole, &DiffOptions::default()).unwrap();
-    assert_eq!((d.outcome, d.first_mismatch_time), (Outcome::Differ, Some(0)), "{d}");
+    assert_eq!(
+        (d.outcome, d.first_mismatch_time),
+        (Outcome::Differ, Some(0)),
+        "{d}"
+    );
     // without a window the file starts at 0 and equals its VCD, and one more change differs
     let unwindowed = vcd_of(ts, None);
     let d = diff(&unwindowed, &whole, &DiffOptions::default()).unwrap();
     assert_eq!(d.outcome, Outcome::Equal, "{d}");
     let (_, extra) = fst_of("extra.fst", ts, None, true);
     let d = diff(&unwindowed, &extra, &DiffOptions::default()).unwrap();
-    assert_eq!((d.outcome, d.mismatch_count, d.first_mismatch_time), (Outcome::Differ, 1, Some(1000)), "{d}");
+    assert_eq!(
+        (d.outcome, d.mismatch_count, d.first_mismatch_time),
+        (Outcome::Differ, 1, Some(1000)),
+        "{d}"
+    );
 }

@@ -22,7 +22,10 @@ fn fst_bytes() -> Vec<u8> {
     b.pop_scope().unwrap();
     // Tests run in parallel threads of one process: each FST gets a file of its own.
     static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let path = tmp(&format!("cnt_{}.fst", N.fetch_add(1, std::sync::atomic::Ordering::Relaxed)));
+    let path = tmp(&format!(
+        "cnt_{}.fst",
+        N.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+    ));
     let mut w = start_fst(b, &path).unwrap();
     let mut f = w.frame(&[c]).unwrap();
     for k in 0..200u64 {
@@ -49,7 +52,11 @@ fn damaged_fst_is_an_error_not_a_panic() {
     let bytes = fst_bytes();
     for cut in [1, 8, 40, bytes.len() / 2, bytes.len() - 3] {
         let r = Waveform::from_bytes(bytes[..cut].to_vec());
-        assert!(r.is_err(), "FST cut to {cut} of {} bytes was read", bytes.len());
+        assert!(
+            r.is_err(),
+            "FST cut to {cut} of {} bytes was read",
+            bytes.len()
+        );
     }
     let mut garbled = bytes.clone();
     for b in garbled.iter_mut().skip(400).step_by(3) {

@@ -171,9 +171,22 @@ fn fit_sets_timestart_and_gtkwave_zoom() {
     assert!(out.contains("*-10.000000 -1"), "{out}");
     // Any span: rounded down (more zoomed out), so the whole span is visible.
     s.fit(0, 48_000);
-    let z: f64 = s.render().unwrap().lines().find_map(|l| l.strip_prefix('*')).unwrap().split(' ').next().unwrap().parse().unwrap();
+    let z: f64 = s
+        .render()
+        .unwrap()
+        .lines()
+        .find_map(|l| l.strip_prefix('*'))
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
     let units_per_px = 2f64.powf(-z) / 200.0;
-    assert!(units_per_px * 800.0 >= 48_000.0 && units_per_px * 800.0 < 48_000.0 * 1.0001, "{z}");
+    assert!(
+        units_per_px * 800.0 >= 48_000.0 && units_per_px * 800.0 < 48_000.0 * 1.0001,
+        "{z}"
+    );
 }
 
 #[test]
@@ -185,17 +198,36 @@ fn named_markers_go_on_the_zoom_line_with_their_names() {
     let out = s.render().unwrap();
     let star = out.lines().find(|l| l.starts_with('*')).unwrap();
     let f: Vec<&str> = star.split(' ').collect();
-    assert_eq!(f.len(), 2 + 26, "zoom, primary marker, 26 named markers: {star}");
+    assert_eq!(
+        f.len(),
+        2 + 26,
+        "zoom, primary marker, 26 named markers: {star}"
+    );
     assert_eq!(&f[1..4], ["-1", "26620", "39820"]);
-    assert!(out.contains("\n[markername] Arotation cs, si 4.4 ms\n[markername] Brotation cc\n"), "{out}");
-    assert!(out.starts_with("[*]\n[*] pmu50-waves GTKWave save file\n[*] two markers\n[*]\n"), "{out}");
+    assert!(
+        out.contains("\n[markername] Arotation cs, si 4.4 ms\n[markername] Brotation cc\n"),
+        "{out}"
+    );
+    assert!(
+        out.starts_with("[*]\n[*] pmu50-waves GTKWave save file\n[*] two markers\n[*]\n"),
+        "{out}"
+    );
     // GTKWave reads leading capitals as the marker's letters; 26 is all it has.
-    assert!(matches!(s.marker(1, "Key on"), Err(GtkwError::InvalidText { .. })));
-    assert!(matches!(s.marker(1, "a\nb"), Err(GtkwError::InvalidText { .. })));
+    assert!(matches!(
+        s.marker(1, "Key on"),
+        Err(GtkwError::InvalidText { .. })
+    ));
+    assert!(matches!(
+        s.marker(1, "a\nb"),
+        Err(GtkwError::InvalidText { .. })
+    ));
     for t in 2..26 {
         s.marker(t, "m").unwrap();
     }
-    assert!(matches!(s.marker(99, "one too many"), Err(GtkwError::TooManyMarkers { max: 26, .. })));
+    assert!(matches!(
+        s.marker(99, "one too many"),
+        Err(GtkwError::TooManyMarkers { max: 26, .. })
+    ));
 }
 
 #[test]
@@ -231,7 +263,11 @@ fn trace_names_are_checked_against_the_vcd() {
 #[test]
 fn gtkwave_reads_and_rewrites_the_save_file_identically() {
     let missing = "`gtkwave` and/or `xvfb-run` not on PATH (apt-get install gtkwave xvfb xauth)";
-    let Some(tools) = tools_or_skip("gtkwave_reads_and_rewrites_the_save_file_identically", &["gtkwave", "xvfb-run"], missing) else {
+    let Some(tools) = tools_or_skip(
+        "gtkwave_reads_and_rewrites_the_save_file_identically",
+        &["gtkwave", "xvfb-run"],
+        missing,
+    ) else {
         return;
     };
     let (gtkwave, xvfb) = (&tools[0], &tools[1]);
@@ -314,7 +350,11 @@ fn gtkwave_reads_and_rewrites_the_save_file_identically() {
             .map(String::from)
             .collect()
     };
-    assert_eq!(markers(&theirs), markers(&ours), "GTKWave rewrote:\n{theirs}");
+    assert_eq!(
+        markers(&theirs),
+        markers(&ours),
+        "GTKWave rewrote:\n{theirs}"
+    );
     assert!(ours.contains("*-3.000000 -1 5 11 -1"), "{ours}");
     let _ = std::fs::remove_dir_all(&dir);
 }

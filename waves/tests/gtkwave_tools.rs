@@ -99,7 +99,13 @@ fn check_tool_output(vcd: &Path) {
 
 #[test]
 fn gtkwave_loader_reads_written_vcds_without_warnings() {
-    if tools_or_skip("gtkwave_loader_reads_written_vcds_without_warnings", &["vcd2lxt2"], "`vcd2lxt2` not on PATH (Debian package `gtkwave`)").is_none() {
+    if tools_or_skip(
+        "gtkwave_loader_reads_written_vcds_without_warnings",
+        &["vcd2lxt2"],
+        "`vcd2lxt2` not on PATH (Debian package `gtkwave`)",
+    )
+    .is_none()
+    {
         return;
     }
     let dir = std::env::temp_dir().join(format!("pmu50-waves-tools-{}", std::process::id()));

@@ -11,7 +11,10 @@ use pmu50_waves::validate::{validate, Problem, ValidateError};
 
 /// A fresh temporary folder named after `tag`, removed with what it holds when dropped.
 fn tmp(tag: &str) -> tempfile::TempDir {
-    tempfile::Builder::new().prefix(&format!("pmu50-waves-malformed-{tag}-")).tempdir().unwrap()
+    tempfile::Builder::new()
+        .prefix(&format!("pmu50-waves-malformed-{tag}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
@@ -21,7 +24,10 @@ fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
 }
 
 fn shape(name: &str) -> Malformed {
-    *MALFORMED.iter().find(|m| m.name == name).unwrap_or_else(|| panic!("no shape {name}"))
+    *MALFORMED
+        .iter()
+        .find(|m| m.name == name)
+        .unwrap_or_else(|| panic!("no shape {name}"))
 }
 
 /// Validator, reader and `diff_files` all refuse `m` with its line and message.
@@ -29,13 +35,26 @@ fn refused(m: Malformed) {
     match validate(m.vcd, DEFAULT_MAX_VAR_WIDTH) {
         Err(ValidateError::Malformed(Problem { line, what })) => {
             assert_eq!(line, m.line, "{}: line of `{what}`", m.name);
-            assert!(what.contains(m.says), "{}: `{what}` lacks `{}`", m.name, m.says);
+            assert!(
+                what.contains(m.says),
+                "{}: `{what}` lacks `{}`",
+                m.name,
+                m.says
+            );
         }
         other => panic!("{}: validator gave {other:?}", m.name),
     }
     let e = Waveform::from_bytes(m.vcd.to_vec()).unwrap_err();
-    assert!(matches!(e, ReadError::Malformed { line, .. } if line == m.line), "{}: {e:?}", m.name);
-    assert!(e.to_string().starts_with(&format!("<memory>:{}: malformed VCD: ", m.line)), "{e}");
+    assert!(
+        matches!(e, ReadError::Malformed { line, .. } if line == m.line),
+        "{}: {e:?}",
+        m.name
+    );
+    assert!(
+        e.to_string()
+            .starts_with(&format!("<memory>:{}: malformed VCD: ", m.line)),
+        "{e}"
+    );
 
     let t = tmp(m.name);
     let d = t.path();
@@ -47,7 +66,11 @@ fn refused(m: Malformed) {
         let e = res.unwrap_err();
         assert_eq!(e.exit_code(), DiffError::EXIT_CODE);
         let msg = e.to_string();
-        let want = format!("cannot read {side} waveform: {}:{}: malformed VCD: ", bad.display(), m.line);
+        let want = format!(
+            "cannot read {side} waveform: {}:{}: malformed VCD: ",
+            bad.display(),
+            m.line
+        );
         assert!(msg.starts_with(&want), "{msg}");
         assert!(msg.contains(m.says), "{msg}");
         assert!(!msg.contains('\n'), "one line: {msg}");
@@ -134,7 +157,10 @@ fn icarus_verilog_output_is_accepted() {
     let w = Waveform::open(&p).unwrap();
     assert_eq!(w.signals().len(), 9);
     let r = w.changes("tb.r").unwrap();
-    assert!(matches!(r.last(), Some((_, pmu50_waves::Value::Real(v))) if v.is_nan()), "{r:?}");
+    assert!(
+        matches!(r.last(), Some((_, pmu50_waves::Value::Real(v))) if v.is_nan()),
+        "{r:?}"
+    );
     let rep = diff_files(&p, &p, &DiffOptions::default()).unwrap();
     assert_eq!(rep.outcome, Outcome::Equal, "{rep}");
 }
@@ -156,9 +182,18 @@ fn nan_equals_nan_for_a_diff() {
     let rep = diff_files(&a, &c, &DiffOptions::default()).unwrap();
     assert_eq!(rep.outcome, Outcome::Differ, "{rep}");
     assert_eq!(rep.mismatch_count, 1);
-    assert_eq!((rep.mismatches[0].left.as_str(), rep.mismatches[0].right.as_str()), ("NaN", "1"));
+    assert_eq!(
+        (
+            rep.mismatches[0].left.as_str(),
+            rep.mismatches[0].right.as_str()
+        ),
+        ("NaN", "1")
+    );
     // with a tolerance, NaN still equals only NaN
-    let tol = DiffOptions { real_tolerance: 1e9, ..DiffOptions::default() };
+    let tol = DiffOptions {
+        real_tolerance: 1e9,
+        ..DiffOptions::default()
+    };
     assert_eq!(diff_files(&a, &c, &tol).unwrap().outcome, Outcome::Differ);
 }
 
@@ -173,16 +208,31 @@ fn time_going_backwards_is_bad_input_not_an_equal() {
     let res = diff_files(&back, &plain, &DiffOptions::default());
     assert_eq!(exit_code(&res), 2);
     let msg = res.unwrap_err().to_string();
-    assert!(msg.contains(&format!("{}:10: malformed VCD: time goes backwards: #5 after #10 (line 8)", back.display())), "{msg}");
+    assert!(
+        msg.contains(&format!(
+            "{}:10: malformed VCD: time goes backwards: #5 after #10 (line 8)",
+            back.display()
+        )),
+        "{msg}"
+    );
 }
 
 #[test]
 fn declared_width_bound_is_checked_before_reading_and_configurable() {
-    let at = |w: u32| format!("$timescale 1 ns $end\n$scope module t $end\n$var wire {w} ! a $end\n$upscope $end\n$enddefinitions $end\n#0\nb1 !\n");
+    let at = |w: u32| {
+        format!("$timescale 1 ns $end\n$scope module t $end\n$var wire {w} ! a $end\n$upscope $end\n$enddefinitions $end\n#0\nb1 !\n")
+    };
     assert!(Waveform::from_bytes(at(DEFAULT_MAX_VAR_WIDTH).into_bytes()).is_ok());
     let e = Waveform::from_bytes(at(DEFAULT_MAX_VAR_WIDTH + 1).into_bytes()).unwrap_err();
-    assert!(e.to_string().contains("declared with 65537 bits; the limit is 65536 bits"), "{e}");
-    let small = ReadLimits { max_var_width: 16, ..ReadLimits::default() };
+    assert!(
+        e.to_string()
+            .contains("declared with 65537 bits; the limit is 65536 bits"),
+        "{e}"
+    );
+    let small = ReadLimits {
+        max_var_width: 16,
+        ..ReadLimits::default()
+    };
     assert!(Waveform::from_bytes_with(at(16).into_bytes(), &small).is_ok());
     let e = Waveform::from_bytes_with(at(17).into_bytes(), &small).unwrap_err();
     assert!(matches!(e, ReadError::Malformed { line: 3, .. }), "{e:?}");
@@ -190,7 +240,10 @@ fn declared_width_bound_is_checked_before_reading_and_configurable() {
     let t = tmp("width");
     let d = t.path();
     let f = write(d, "w.vcd", at(17).as_bytes());
-    let opts = DiffOptions { read_limits: small, ..DiffOptions::default() };
+    let opts = DiffOptions {
+        read_limits: small,
+        ..DiffOptions::default()
+    };
     assert_eq!(exit_code(&diff_files(&f, &f, &opts)), 2);
     assert_eq!(exit_code(&diff_files(&f, &f, &DiffOptions::default())), 0);
 }
@@ -201,22 +254,38 @@ fn non_regular_files_are_refused_without_opening_them() {
     let d = t.path();
     let good = write(d, "good.vcd", VALID_SAMPLE);
     let fifo = d.join("fifo.vcd");
-    let st = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
+    let st = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap();
     assert!(st.success());
     // a FIFO without a writer would block an open(); it must be refused before that
-    for (p, kind) in [(fifo.as_path(), "FIFO"), (d, "directory"), (Path::new("/dev/null"), "character device")] {
+    for (p, kind) in [
+        (fifo.as_path(), "FIFO"),
+        (d, "directory"),
+        (Path::new("/dev/null"), "character device"),
+    ] {
         let e = Waveform::open(p).unwrap_err();
-        assert!(matches!(e, ReadError::NotRegular { kind: k, .. } if k == kind), "{e:?}");
+        assert!(
+            matches!(e, ReadError::NotRegular { kind: k, .. } if k == kind),
+            "{e:?}"
+        );
         let res = diff_files(p, &good, &DiffOptions::default());
         assert_eq!(exit_code(&res), 2);
         let msg = res.unwrap_err().to_string();
-        assert!(msg.contains(&format!("{} is a {kind}, not a regular file", p.display())), "{msg}");
+        assert!(
+            msg.contains(&format!("{} is a {kind}, not a regular file", p.display())),
+            "{msg}"
+        );
         assert_eq!(exit_code(&diff_files(&good, p, &DiffOptions::default())), 2);
     }
     // a symlink to a regular file is read through
     let link = d.join("link.vcd");
     std::os::unix::fs::symlink(&good, &link).unwrap();
-    assert_eq!(exit_code(&diff_files(&link, &good, &DiffOptions::default())), 0);
+    assert_eq!(
+        exit_code(&diff_files(&link, &good, &DiffOptions::default())),
+        0
+    );
 }
 
 #[test]
@@ -225,16 +294,39 @@ fn files_over_the_size_limit_are_refused() {
     let d = t.path();
     let f = write(d, "f.vcd", VALID_SAMPLE);
     let n = VALID_SAMPLE.len() as u64;
-    let exact = DiffOptions { read_limits: ReadLimits { max_file_bytes: n, ..ReadLimits::default() }, ..DiffOptions::default() };
+    let exact = DiffOptions {
+        read_limits: ReadLimits {
+            max_file_bytes: n,
+            ..ReadLimits::default()
+        },
+        ..DiffOptions::default()
+    };
     assert_eq!(exit_code(&diff_files(&f, &f, &exact)), 0);
-    let under = DiffOptions { read_limits: ReadLimits { max_file_bytes: n - 1, ..ReadLimits::default() }, ..DiffOptions::default() };
+    let under = DiffOptions {
+        read_limits: ReadLimits {
+            max_file_bytes: n - 1,
+            ..ReadLimits::default()
+        },
+        ..DiffOptions::default()
+    };
     let res = diff_files(&f, &f, &under);
     assert_eq!(exit_code(&res), 2);
     let msg = res.unwrap_err().to_string();
-    assert!(msg.contains(&format!("{} is {n} bytes, more than the limit of {} bytes", f.display(), n - 1)), "{msg}");
+    assert!(
+        msg.contains(&format!(
+            "{} is {n} bytes, more than the limit of {} bytes",
+            f.display(),
+            n - 1
+        )),
+        "{msg}"
+    );
     let e = Waveform::from_bytes_with(VALID_SAMPLE.to_vec(), &under.read_limits).unwrap_err();
     assert!(matches!(e, ReadError::TooLarge { .. }), "{e:?}");
-    assert_eq!(ReadLimits::default().max_file_bytes, 2 << 30, "the documented default is 2 GiB");
+    assert_eq!(
+        ReadLimits::default().max_file_bytes,
+        2 << 30,
+        "the documented default is 2 GiB"
+    );
 }
 
 #[test]
@@ -243,6 +335,13 @@ fn a_huge_token_is_refused_with_bounded_memory() {
     v.extend(std::iter::repeat_n(b'a', 3 << 20));
     v.extend_from_slice(b" !\n");
     let e = Waveform::from_bytes(v).unwrap_err();
-    assert!(e.to_string().contains("<memory>:7: malformed VCD: token `saaaa"), "{e}");
-    assert!(e.to_string().contains("is longer than 1048576 bytes"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("<memory>:7: malformed VCD: token `saaaa"),
+        "{e}"
+    );
+    assert!(
+        e.to_string().contains("is longer than 1048576 bytes"),
+        "{e}"
+    );
 }

@@ -593,22 +593,50 @@ fn frames_keep_every_check() {
     w.set_time(1).unwrap();
     // value wider than the variable: 5-bit `w` takes at most 31 (the values before it are taken)
     let e = w.dump_frame(&mut f, 1, &[1, 2, 32]).unwrap_err();
-    assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            WriteError::ValueTooWide {
+                value: 32,
+                max: 31,
+                ..
+            }
+        ),
+        "{e}"
+    );
     assert!(e.to_string().contains("pmu50.w"), "{e}");
     w.set_time(2).unwrap();
     // wrong number of values
-    assert!(matches!(w.dump_frame(&mut f, 2, &[1, 2]), Err(WriteError::FrameLength { expected: 3, got: 2 })));
+    assert!(matches!(
+        w.dump_frame(&mut f, 2, &[1, 2]),
+        Err(WriteError::FrameLength {
+            expected: 3,
+            got: 2
+        })
+    ));
     // a single change, then the frame, in one step
     w.change_vector(ids[1], 5).unwrap();
-    assert!(matches!(w.dump_frame(&mut f, 2, &[0, 5, 1]), Err(WriteError::DoubleChange { .. })));
+    assert!(matches!(
+        w.dump_frame(&mut f, 2, &[0, 5, 1]),
+        Err(WriteError::DoubleChange { .. })
+    ));
     // the frame, then a single change of one of its variables, in one step
     w.dump_frame(&mut f, 3, &[0, 5, 1]).unwrap();
-    assert!(matches!(w.change_vector(ids[0], 1), Err(WriteError::DoubleChange { .. })));
+    assert!(matches!(
+        w.change_vector(ids[0], 1),
+        Err(WriteError::DoubleChange { .. })
+    ));
     // two frames sharing `w` in one step
     let e = w.dump_frame(&mut g, 3, &[1, 0]).unwrap_err();
-    assert!(matches!(&e, WriteError::DoubleChange { name, .. } if name == "pmu50.w"), "{e}");
+    assert!(
+        matches!(&e, WriteError::DoubleChange { name, .. } if name == "pmu50.w"),
+        "{e}"
+    );
     // time backwards
-    assert!(matches!(w.dump_frame(&mut f, 2, &[0, 5, 1]), Err(WriteError::TimeBackwards { .. })));
+    assert!(matches!(
+        w.dump_frame(&mut f, 2, &[0, 5, 1]),
+        Err(WriteError::TimeBackwards { .. })
+    ));
     // later steps are fine again, and a variable outside both frames changes with them
     w.dump_frame(&mut g, 4, &[2, 9]).unwrap();
     w.dump_frame(&mut f, 5, &[1, 6, 2]).unwrap();
@@ -618,7 +646,13 @@ fn frames_keep_every_check() {
     // The same accepted assignments through single changes.
     let (b, ids) = frame_builder();
     let mut r = b.start(Vec::new()).unwrap();
-    for (t, ch) in [(1, vec![(0, 1), (1, 2)]), (2, vec![(1, 5)]), (3, vec![(0, 0), (1, 5), (2, 1)]), (4, vec![(2, 2), (3, 9)]), (5, vec![(0, 1), (1, 6), (2, 2)])] {
+    for (t, ch) in [
+        (1, vec![(0, 1), (1, 2)]),
+        (2, vec![(1, 5)]),
+        (3, vec![(0, 0), (1, 5), (2, 1)]),
+        (4, vec![(2, 2), (3, 9)]),
+        (5, vec![(0, 1), (1, 6), (2, 2)]),
+    ] {
         r.set_time(t).unwrap();
         for (k, v) in ch {
             r.change_vector(ids[k], v).unwrap();
@@ -639,14 +673,29 @@ fn frames_refuse_reals_wide_vectors_foreign_writers_and_duplicates() {
     let a = b.add_bit(BitType::Wire, "a", Logic::Zero).unwrap();
     b.pop_scope().unwrap();
     let mut w = b.start(Vec::new()).unwrap();
-    assert!(matches!(w.frame(&[r]), Err(WriteError::TypeMismatch { .. })));
-    assert!(matches!(w.frame(&[big]), Err(WriteError::TypeMismatch { .. })));
-    assert!(matches!(w.frame(&[a, a]), Err(WriteError::Duplicate { .. })));
+    assert!(matches!(
+        w.frame(&[r]),
+        Err(WriteError::TypeMismatch { .. })
+    ));
+    assert!(matches!(
+        w.frame(&[big]),
+        Err(WriteError::TypeMismatch { .. })
+    ));
+    assert!(matches!(
+        w.frame(&[a, a]),
+        Err(WriteError::Duplicate { .. })
+    ));
     let (b2, ids2) = frame_builder();
     let mut other = b2.start(Vec::new()).unwrap();
-    assert!(matches!(w.frame(&ids2[..1]), Err(WriteError::UnknownId { .. })));
+    assert!(matches!(
+        w.frame(&ids2[..1]),
+        Err(WriteError::UnknownId { .. })
+    ));
     let mut f2 = other.frame(&ids2[..1]).unwrap();
-    assert!(matches!(w.dump_frame(&mut f2, 1, &[1]), Err(WriteError::UnknownFrame)));
+    assert!(matches!(
+        w.dump_frame(&mut f2, 1, &[1]),
+        Err(WriteError::UnknownFrame)
+    ));
     for _ in 0..pmu50_waves::writer::MAX_FRAMES {
         w.frame(&[a]).unwrap();
     }
@@ -745,7 +794,11 @@ impl RunPair {
                 self.w2.change_bool(self.ids2[4], self.zv).unwrap();
                 // and a frame variable at that time is a double assignment
                 let e = self.w1.change_vector(self.ids1[0], 1).err();
-                proptest::prop_assert!(matches!(e, Some(WriteError::DoubleChange { .. })), "{:?}", e);
+                proptest::prop_assert!(
+                    matches!(e, Some(WriteError::DoubleChange { .. })),
+                    "{:?}",
+                    e
+                );
             }
             AfterStep::FrameIntLater(v) => {
                 // the frame's copy is stale at the next run's first step
@@ -806,7 +859,11 @@ fn give_step(
         if too_wide && order[k] == 2 {
             // 5-bit `w`: refused, nothing assigned, the position may be given again
             let e = set_fn(k, 32 + v).unwrap_err();
-            proptest::prop_assert!(matches!(e, WriteError::ValueTooWide { max: 31, .. }), "{}", e);
+            proptest::prop_assert!(
+                matches!(e, WriteError::ValueTooWide { max: 31, .. }),
+                "{}",
+                e
+            );
         }
         let v = frame_value(order[k], *v);
         set_fn(k, v).unwrap();
@@ -816,7 +873,12 @@ fn give_step(
         // a position again, or one before the last, in the same step
         let e = set_fn(0, cur[0]).err();
         let given = set.iter().any(|v| v.is_some());
-        proptest::prop_assert_eq!(given, matches!(e, Some(WriteError::FrameOrder { .. })), "{:?}", e);
+        proptest::prop_assert_eq!(
+            given,
+            matches!(e, Some(WriteError::FrameOrder { .. })),
+            "{:?}",
+            e
+        );
     }
     Ok(())
 }
@@ -962,14 +1024,51 @@ proptest::proptest! {
 fn step_checks(t: u64, give: &mut dyn FnMut(usize, u64) -> Result<(), WriteError>) {
     give(1, 4 + t).unwrap();
     let e = give(3, 1).unwrap_err();
-    assert!(matches!(e, WriteError::FramePosition { position: 3, len: 3 }), "{e}");
+    assert!(
+        matches!(
+            e,
+            WriteError::FramePosition {
+                position: 3,
+                len: 3
+            }
+        ),
+        "{e}"
+    );
     let e = give(0, 1).unwrap_err();
-    assert!(matches!(e, WriteError::FrameOrder { position: 0, previous: 1 }), "{e}");
+    assert!(
+        matches!(
+            e,
+            WriteError::FrameOrder {
+                position: 0,
+                previous: 1
+            }
+        ),
+        "{e}"
+    );
     assert!(e.to_string().contains("increasing order"), "{e}");
     let e = give(1, 9).unwrap_err();
-    assert!(matches!(e, WriteError::FrameOrder { position: 1, previous: 1 }), "{e}");
+    assert!(
+        matches!(
+            e,
+            WriteError::FrameOrder {
+                position: 1,
+                previous: 1
+            }
+        ),
+        "{e}"
+    );
     let e = give(2, 32).unwrap_err();
-    assert!(matches!(e, WriteError::ValueTooWide { value: 32, max: 31, .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            WriteError::ValueTooWide {
+                value: 32,
+                max: 31,
+                ..
+            }
+        ),
+        "{e}"
+    );
     assert!(e.to_string().contains("pmu50.w"), "{e}");
     give(2, t).unwrap();
 }
@@ -979,7 +1078,10 @@ fn step_checks(t: u64, give: &mut dyn FnMut(usize, u64) -> Result<(), WriteError
 /// and another variable joins the step. Returns another writer (kept for as long as its frame is
 /// used) and a frame of it, which `w` must refuse.
 fn after_a_run(w: &mut VcdWriter<Vec<u8>>, ids: &[SigId]) -> (VcdWriter<Vec<u8>>, Frame) {
-    assert!(matches!(w.change_vector(ids[1], 1), Err(WriteError::DoubleChange { .. })));
+    assert!(matches!(
+        w.change_vector(ids[1], 1),
+        Err(WriteError::DoubleChange { .. })
+    ));
     w.change_vector(ids[3], 1).unwrap();
     let (other, f2, _) = framed(frame_builder(), 1);
     (other, f2)
@@ -998,7 +1100,11 @@ fn text_runs_keep_every_check() {
         assert!(run.step(0).unwrap().is_none());
         run.frame_run().unwrap().step(0).unwrap().set(1, 4).unwrap();
         // t = 1: the writer's first step is written (the first dump), then this one at once
-        run.step(1).unwrap().expect("a step written at once").line(1, 5).unwrap();
+        run.step(1)
+            .unwrap()
+            .expect("a step written at once")
+            .line(1, 5)
+            .unwrap();
         for t in 2..5 {
             let mut s = run.step(t).unwrap().expect("a step written at once");
             step_checks(t, &mut |k, v| s.line(k, v));
@@ -1007,14 +1113,23 @@ fn text_runs_keep_every_check() {
         let mut s = run.step(5).unwrap().unwrap();
         s.line(1, 8).unwrap();
         assert!(matches!(run.step(5), Err(WriteError::DoubleChange { .. })));
-        assert!(matches!(run.step(4), Err(WriteError::TimeBackwards { requested: 4, current: 5 })));
+        assert!(matches!(
+            run.step(4),
+            Err(WriteError::TimeBackwards {
+                requested: 4,
+                current: 5
+            })
+        ));
         let mut s = run.step(6).unwrap().unwrap();
         s.line(0, 1).unwrap();
     }
     let (_other, mut f2) = after_a_run(&mut w, &ids);
     assert!(matches!(w.text_run(&mut f2), Err(WriteError::UnknownFrame)));
     let got = text(w);
-    assert!(got.contains("#1\nb0000000000000101 \"\n#2\nb0000000000000110 \"\nb00010 #\n#3\n"), "{got}");
+    assert!(
+        got.contains("#1\nb0000000000000101 \"\n#2\nb0000000000000110 \"\nb00010 #\n#3\n"),
+        "{got}"
+    );
     assert!(got.contains("#4\nb0000000000001000 \"\nb00100 #\n#6\n1!\nb0000000000000000000000000000000000000000000000000000000000000001 $\n"), "{got}");
     assert!(!got.contains("#5"), "{got}");
 }
@@ -1029,7 +1144,10 @@ fn text_step_change_writes_a_changed_value() {
         s.change(1, 5);
         s.change(2, 7);
     });
-    assert!(got.contains("#1\nb0000000000000101 \"\nb00111 #\n"), "{got}");
+    assert!(
+        got.contains("#1\nb0000000000000101 \"\nb00111 #\n"),
+        "{got}"
+    );
 }
 
 /// The VCD after a text run of a 3-variable frame (a 16-bit and a 5-bit variable at positions 1
@@ -1037,7 +1155,10 @@ fn text_step_change_writes_a_changed_value() {
 /// the run's later steps.
 fn after_a_text_run(body: impl FnOnce(&mut pmu50_waves::writer::TextRun<'_, Vec<u8>>)) -> String {
     let (mut w, mut f, _ids) = framed(frame_builder(), 3);
-    assert_eq!((f.max(1), f.max(2), f.max(3)), (Some(0xFFFF), Some(31), None));
+    assert_eq!(
+        (f.max(1), f.max(2), f.max(3)),
+        (Some(0xFFFF), Some(31), None)
+    );
     {
         let mut run = w.text_run(&mut f).unwrap();
         assert!(run.step(0).unwrap().is_none());
@@ -1062,7 +1183,10 @@ fn a_leaked_text_step_keeps_its_lines() {
         let mut s = run.step(2).unwrap().expect("a step written at once");
         s.line(1, 6).unwrap();
     });
-    assert!(got.contains("#1\nb0000000000000101 \"\nb00111 #\n#2\nb0000000000000110 \"\n"), "{got}");
+    assert!(
+        got.contains("#1\nb0000000000000101 \"\nb00111 #\n#2\nb0000000000000110 \"\n"),
+        "{got}"
+    );
 }
 
 /// One of `TextStep::change`'s broken guarantees, in a text step at t = 1 of a 3-variable frame
@@ -1106,7 +1230,10 @@ fn text_step_change_past_the_frame_panics() {
     let mut run = w.text_run(&mut f).unwrap();
     assert!(run.step(0).unwrap().is_none());
     run.frame_run().unwrap().step(0).unwrap().set(1, 4).unwrap();
-    run.step(1).unwrap().expect("a step written at once").change(3, 1);
+    run.step(1)
+        .unwrap()
+        .expect("a step written at once")
+        .change(3, 1);
 }
 
 /// A run's direct steps are written when the next step begins and the last one when the run
@@ -1125,12 +1252,24 @@ fn frame_runs_keep_every_check() {
             step_checks(t, &mut |k, v| s.set(k, v));
         }
         assert!(matches!(run.step(3), Err(WriteError::DoubleChange { .. })));
-        assert!(matches!(run.step(2), Err(WriteError::TimeBackwards { requested: 2, current: 3 })));
+        assert!(matches!(
+            run.step(2),
+            Err(WriteError::TimeBackwards {
+                requested: 2,
+                current: 3
+            })
+        ));
     }
     let (_other, mut f2) = after_a_run(&mut w, &ids);
-    assert!(matches!(w.frame_run(&mut f2), Err(WriteError::UnknownFrame)));
+    assert!(matches!(
+        w.frame_run(&mut f2),
+        Err(WriteError::UnknownFrame)
+    ));
     let got = text(w);
-    assert!(got.contains("#1\nb0000000000000101 \"\nb00001 #\n#2\n"), "{got}");
+    assert!(
+        got.contains("#1\nb0000000000000101 \"\nb00001 #\n#2\n"),
+        "{got}"
+    );
     assert!(got.ends_with("#3\nb0000000000000111 \"\nb00011 #\nb0000000000000000000000000000000000000000000000000000000000000001 $\n"), "{got}");
 }
 
@@ -1139,7 +1278,30 @@ fn frame_runs_keep_every_check() {
 /// every window, which ends before it).
 #[test]
 fn time_stamps_across_digit_boundaries() {
-    let times = [0u64, 1, 9, 10, 11, 19, 99, 100, 101, 999, 1000, 1009, 99_999, 100_000, 123_456_789, 123_456_790, 999_999_999_999, 1_000_000_000_000, u64::MAX / 2, u64::MAX - 10, u64::MAX - 2, u64::MAX - 1];
+    let times = [
+        0u64,
+        1,
+        9,
+        10,
+        11,
+        19,
+        99,
+        100,
+        101,
+        999,
+        1000,
+        1009,
+        99_999,
+        100_000,
+        123_456_789,
+        123_456_790,
+        999_999_999_999,
+        1_000_000_000_000,
+        u64::MAX / 2,
+        u64::MAX - 10,
+        u64::MAX - 2,
+        u64::MAX - 1,
+    ];
     let mut b = VcdBuilder::new(Timescale::new(1, TimeUnit::Ns), "t").unwrap();
     b.push_scope("m").unwrap();
     let a = b.add_bit(BitType::Wire, "a", Logic::Zero).unwrap();
@@ -1150,7 +1312,11 @@ fn time_stamps_across_digit_boundaries() {
         w.change_bool(a, k % 2 == 1).unwrap();
     }
     let vcd = text(w);
-    let stamps: Vec<u64> = vcd.lines().filter_map(|l| l.strip_prefix('#')).map(|d| d.parse().unwrap()).collect();
+    let stamps: Vec<u64> = vcd
+        .lines()
+        .filter_map(|l| l.strip_prefix('#'))
+        .map(|d| d.parse().unwrap())
+        .collect();
     assert_eq!(stamps, times, "{vcd}");
 }
 
@@ -1194,8 +1360,14 @@ fn a_single_change_to_the_same_value_blocks_the_frame_in_its_step() {
     w.dump_frame(&mut f, 1, &[1, 2, 3]).unwrap();
     w.set_time(2).unwrap();
     w.change_vector(ids[1], 2).unwrap();
-    assert!(matches!(w.dump_frame(&mut f, 2, &[1, 2, 3]), Err(WriteError::DoubleChange { .. })));
-    assert!(matches!(w.frame_run(&mut f).unwrap().step(2).err(), Some(WriteError::DoubleChange { .. })));
+    assert!(matches!(
+        w.dump_frame(&mut f, 2, &[1, 2, 3]),
+        Err(WriteError::DoubleChange { .. })
+    ));
+    assert!(matches!(
+        w.frame_run(&mut f).unwrap().step(2).err(),
+        Some(WriteError::DoubleChange { .. })
+    ));
     w.dump_frame(&mut f, 3, &[1, 2, 3]).unwrap();
     assert!(matches!(w.frame(&[]), Err(WriteError::EmptyFrame)));
 }
@@ -1319,16 +1491,28 @@ proptest::proptest! {
 }
 
 /// A run's `real` refuses a bit and a NaN and writes 2.5 into the real `ids[5]`.
-fn real_keeps_the_checks(mut real: impl FnMut(SigId, f64) -> Result<(), WriteError>, ids: &[SigId]) {
-    assert!(matches!(real(ids[0], 1.0), Err(WriteError::TypeMismatch { .. })), "a bit is not a real");
-    assert!(matches!(real(ids[5], f64::NAN), Err(WriteError::NotFinite { .. })));
+fn real_keeps_the_checks(
+    mut real: impl FnMut(SigId, f64) -> Result<(), WriteError>,
+    ids: &[SigId],
+) {
+    assert!(
+        matches!(real(ids[0], 1.0), Err(WriteError::TypeMismatch { .. })),
+        "a bit is not a real"
+    );
+    assert!(matches!(
+        real(ids[5], f64::NAN),
+        Err(WriteError::NotFinite { .. })
+    ));
     real(ids[5], 2.5).unwrap();
 }
 
 /// After [`real_keeps_the_checks`] in a run whose step at 2 set position 1 to 5: the real was
 /// assigned in that step, once.
 fn real_was_written_at_2(mut w: VcdWriter<Vec<u8>>, ids: &[SigId]) {
-    assert!(matches!(w.change_real(ids[5], 3.0), Err(WriteError::DoubleChange { .. })));
+    assert!(matches!(
+        w.change_real(ids[5], 3.0),
+        Err(WriteError::DoubleChange { .. })
+    ));
     let vcd = text(w);
     assert!(vcd.contains("#2\nb0000000000000101 \"\nr2.5 &\n"), "{vcd}");
 }

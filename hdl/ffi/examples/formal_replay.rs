@@ -16,16 +16,60 @@ use pmu50_core::{Inputs, Outputs, Params, Pmu50Spec};
 use std::process::ExitCode;
 
 const OUT_NAMES: [&str; 23] = [
-    "sig", "vr_hi", "vm_en", "vs1_en", "vs2_en", "vp_en", "rail_hi", "st", "sr", "ps_win", "smp", "cs", "cc", "cnt_s", "cnt_c", "cnt_r", "si",
-    "hist_s", "hist_c", "diag", "quadrant_skip", "bus_rdata", "bus_err",
+    "sig",
+    "vr_hi",
+    "vm_en",
+    "vs1_en",
+    "vs2_en",
+    "vp_en",
+    "rail_hi",
+    "st",
+    "sr",
+    "ps_win",
+    "smp",
+    "cs",
+    "cc",
+    "cnt_s",
+    "cnt_c",
+    "cnt_r",
+    "si",
+    "hist_s",
+    "hist_c",
+    "diag",
+    "quadrant_skip",
+    "bus_rdata",
+    "bus_err",
 ];
-const OUT_DIGITS: [usize; 23] = [1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 4, 4, 2, 4, 1, 1, 1, 1, 4, 1];
+const OUT_DIGITS: [usize; 23] = [
+    1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 4, 4, 2, 4, 1, 1, 1, 1, 4, 1,
+];
 
 fn outs(o: &Outputs) -> [u16; 23] {
     let b = u16::from;
     [
-        b(o.sig), b(o.vr_hi), b(o.vm_en), b(o.vs1_en), b(o.vs2_en), b(o.vp_en), b(o.rail_hi), b(o.st), b(o.sr), b(o.ps_win), b(o.smp), b(o.cs),
-        b(o.cc), o.cnt_s, o.cnt_c, u16::from(o.cnt_r), o.si, b(o.hist_s), b(o.hist_c), b(o.diag), b(o.quadrant_skip), o.bus_rdata, b(o.bus_err),
+        b(o.sig),
+        b(o.vr_hi),
+        b(o.vm_en),
+        b(o.vs1_en),
+        b(o.vs2_en),
+        b(o.vp_en),
+        b(o.rail_hi),
+        b(o.st),
+        b(o.sr),
+        b(o.ps_win),
+        b(o.smp),
+        b(o.cs),
+        b(o.cc),
+        o.cnt_s,
+        o.cnt_c,
+        u16::from(o.cnt_r),
+        o.si,
+        b(o.hist_s),
+        b(o.hist_c),
+        b(o.diag),
+        b(o.quadrant_skip),
+        o.bus_rdata,
+        b(o.bus_err),
     ]
 }
 
@@ -55,7 +99,14 @@ fn main() -> ExitCode {
             if f.len() == 3 && f[0] == "param" {
                 let v: u64 = match f[2].parse() {
                     Ok(v) => v,
-                    Err(_) => return fail(format!("{path}:{}: parameter {} is not a number: {}", n + 1, f[1], f[2])),
+                    Err(_) => {
+                        return fail(format!(
+                            "{path}:{}: parameter {} is not a number: {}",
+                            n + 1,
+                            f[1],
+                            f[2]
+                        ))
+                    }
                 };
                 if let Err(e) = p.set_hdl_parameter(f[1], v) {
                     return fail(format!("{path}:{}: {e}", n + 1));
@@ -63,7 +114,10 @@ fn main() -> ExitCode {
             }
             continue;
         }
-        let v: Result<Vec<u16>, _> = line.split_whitespace().map(|x| u16::from_str_radix(x, 16)).collect();
+        let v: Result<Vec<u16>, _> = line
+            .split_whitespace()
+            .map(|x| u16::from_str_radix(x, 16))
+            .collect();
         match v {
             Ok(v) if v.len() == 30 => rows.push(v),
             Ok(v) if v.is_empty() => {}
@@ -77,18 +131,47 @@ fn main() -> ExitCode {
     let mut model_rows = Vec::new();
     let mut first_diff = None;
     for (k, r) in rows.iter().enumerate() {
-        let i = Inputs { ig: r[0] != 0, vs2_ok: r[1] != 0, cmp_s: r[2] != 0, cmp_c: r[3] != 0, bus_we: r[4] != 0, bus_addr: r[5] as u8, bus_wdata: r[6] };
+        let i = Inputs {
+            ig: r[0] != 0,
+            vs2_ok: r[1] != 0,
+            cmp_s: r[2] != 0,
+            cmp_c: r[3] != 0,
+            bus_we: r[4] != 0,
+            bus_addr: r[5] as u8,
+            bus_wdata: r[6],
+        };
         let o = outs(&m.step(&i));
         if first_diff.is_none() && o[..] != r[7..] {
             first_diff = Some(k + 1);
             for (j, name) in OUT_NAMES.iter().enumerate() {
                 if o[j] != r[7 + j] {
-                    println!("DIFF tick={} signal={} file={:x} model={:x}", k + 1, name, r[7 + j], o[j]);
+                    println!(
+                        "DIFF tick={} signal={} file={:x} model={:x}",
+                        k + 1,
+                        name,
+                        r[7 + j],
+                        o[j]
+                    );
                 }
             }
         }
-        let ins: Vec<String> = [(r[0], 1), (r[1], 1), (r[2], 1), (r[3], 1), (r[4], 1), (r[5], 2), (r[6], 4)].iter().map(|&(v, d)| format!("{v:0d$x}")).collect();
-        let os: Vec<String> = o.iter().zip(OUT_DIGITS).map(|(&v, d)| format!("{v:0d$x}")).collect();
+        let ins: Vec<String> = [
+            (r[0], 1),
+            (r[1], 1),
+            (r[2], 1),
+            (r[3], 1),
+            (r[4], 1),
+            (r[5], 2),
+            (r[6], 4),
+        ]
+        .iter()
+        .map(|&(v, d)| format!("{v:0d$x}"))
+        .collect();
+        let os: Vec<String> = o
+            .iter()
+            .zip(OUT_DIGITS)
+            .map(|(&v, d)| format!("{v:0d$x}"))
+            .collect();
         model_rows.push(format!("{} {}", ins.join(" "), os.join(" ")));
     }
     if let Some(o) = out {

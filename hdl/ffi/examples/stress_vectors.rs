@@ -27,7 +27,20 @@ use pmu50_core::rng::{ParamRanges, SplitMix64 as Rng};
 
 /// Legal random parameters (ticks), narrow counters half the time.
 fn random_params(r: &mut Rng) -> Params {
-    r.legal_params(&ParamRanges { pw: 6, pi: 12, ps: 6, si_min_over_wt: 150, si_max_over_min: 300, narrow_cnt: (500, 1000), narrow_cnt_max: 15, adaptive: (850, 1000), t1: 200, t2: 150, cth: 6, smp_on: 20 })
+    r.legal_params(&ParamRanges {
+        pw: 6,
+        pi: 12,
+        ps: 6,
+        si_min_over_wt: 150,
+        si_max_over_min: 300,
+        narrow_cnt: (500, 1000),
+        narrow_cnt_max: 15,
+        adaptive: (850, 1000),
+        t1: 200,
+        t2: 150,
+        cth: 6,
+        smp_on: 20,
+    })
 }
 
 /// Stimulus generator state.
@@ -248,7 +261,10 @@ fn run(seed: u64, ticks: u64, out: &str, vcd_path: Option<&str>) -> Result<(), S
     for (n, v) in p.hdl_parameters() {
         h += &format!("// param {n} {v}\n");
     }
-    h += &format!("// ticks {ticks}\n// fields {}\n", signals::N_INPUTS + signals::N_OUTPUTS);
+    h += &format!(
+        "// ticks {ticks}\n// fields {}\n",
+        signals::N_INPUTS + signals::N_OUTPUTS
+    );
     let ins: Vec<&str> = Inputs::default().values().iter().map(|v| v.0).collect();
     let outs: Vec<&str> = core.peek().values(&s).iter().map(|v| v.0).collect();
     h += &format!("// columns {} | {}\n", ins.join(" "), outs.join(" "));
@@ -311,7 +327,9 @@ fn run(seed: u64, ticks: u64, out: &str, vcd_path: Option<&str>) -> Result<(), S
         let before = core.peek();
         let regs_before = *core.regs();
         let i = stim.next(before.sig, &regs_before);
-        let pmu50_core::TracedStep { internals, after, .. } = core.step_traced(&i);
+        let pmu50_core::TracedStep {
+            internals, after, ..
+        } = core.step_traced(&i);
         let mut l = String::with_capacity(96);
         for (_, w, v) in i.values() {
             let _ = write!(l, "{:0d$x} ", v, d = usize::from(w).div_ceil(4));

@@ -3,7 +3,10 @@
 //! The same rules as the rest of the boundary (crate root): no panic crosses it, NULL pointers
 //! and strings that are not UTF-8 give an error code with the reason in `pmu50_last_error()`.
 
-use crate::{guard, null, pmu50_inputs, pmu50_internals, pmu50_outputs, pmu50_params, pmu50_t, set_error, PMU50_ERR_NAME, PMU50_ERR_PARAM, PMU50_ERR_RANGE, PMU50_OK};
+use crate::{
+    guard, null, pmu50_inputs, pmu50_internals, pmu50_outputs, pmu50_params, pmu50_t, set_error,
+    PMU50_ERR_NAME, PMU50_ERR_PARAM, PMU50_ERR_RANGE, PMU50_OK,
+};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::Inputs;
 use pmu50_coverage::db::{self, DbError};
@@ -69,7 +72,11 @@ unsafe fn text<'a>(what: &str, arg: &str, s: *const c_char) -> Result<&'a str, c
 }
 
 fn db_error(what: &str, e: DbError) -> c_int {
-    let code = if matches!(e, DbError::Io { .. }) { PMU50_ERR_IO } else { PMU50_ERR_COVERAGE };
+    let code = if matches!(e, DbError::Io { .. }) {
+        PMU50_ERR_IO
+    } else {
+        PMU50_ERR_COVERAGE
+    };
     set_error(format!("{what}: {e}"));
     code
 }
@@ -80,13 +87,23 @@ fn db_error(what: &str, e: DbError) -> c_int {
 /// # Safety
 /// `p` NULL or a readable `pmu50_params`.
 #[no_mangle]
-pub unsafe extern "C" fn pmu50_coverage_new(p: *const pmu50_params, clock_ns: u64) -> *mut pmu50_coverage_t {
+pub unsafe extern "C" fn pmu50_coverage_new(
+    p: *const pmu50_params,
+    clock_ns: u64,
+) -> *mut pmu50_coverage_t {
     // SAFETY: forwarded contract.
     unsafe {
         crate::new_handle("pmu50_coverage_new", p, |params| {
             params.validate().map_err(|e| e.to_string())?;
-            let structural = Structural { sync_depth: params.sync_depth, cnt_width: params.cnt_width };
-            Ok(pmu50_coverage_t { cov: Coverage::new(&params, clock_ns), structural, edges: 0 })
+            let structural = Structural {
+                sync_depth: params.sync_depth,
+                cnt_width: params.cnt_width,
+            };
+            Ok(pmu50_coverage_t {
+                cov: Coverage::new(&params, clock_ns),
+                structural,
+                edges: 0,
+            })
         })
     }
 }
@@ -106,7 +123,12 @@ pub unsafe extern "C" fn pmu50_coverage_free(c: *mut pmu50_coverage_t) {
 /// # Safety
 /// `c`, `m` NULL or live; `i` NULL or readable; `after` NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn pmu50_coverage_step(c: *mut pmu50_coverage_t, m: *mut pmu50_t, i: *const pmu50_inputs, after: *mut pmu50_outputs) -> c_int {
+pub unsafe extern "C" fn pmu50_coverage_step(
+    c: *mut pmu50_coverage_t,
+    m: *mut pmu50_t,
+    i: *const pmu50_inputs,
+    after: *mut pmu50_outputs,
+) -> c_int {
     // SAFETY: forwarded contract.
     unsafe { pmu50_coverage_step_traced(c, m, i, std::ptr::null_mut(), after) }
 }
@@ -116,7 +138,13 @@ pub unsafe extern "C" fn pmu50_coverage_step(c: *mut pmu50_coverage_t, m: *mut p
 /// # Safety
 /// `c`, `m` NULL or live; `i` NULL or readable; `internals`, `after` NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn pmu50_coverage_step_traced(c: *mut pmu50_coverage_t, m: *mut pmu50_t, i: *const pmu50_inputs, internals: *mut pmu50_internals, after: *mut pmu50_outputs) -> c_int {
+pub unsafe extern "C" fn pmu50_coverage_step_traced(
+    c: *mut pmu50_coverage_t,
+    m: *mut pmu50_t,
+    i: *const pmu50_inputs,
+    internals: *mut pmu50_internals,
+    after: *mut pmu50_outputs,
+) -> c_int {
     const WHAT: &str = "pmu50_coverage_step";
     guard(WHAT, || {
         // SAFETY: NULL or live handles, by contract.
@@ -137,9 +165,20 @@ pub unsafe extern "C" fn pmu50_coverage_step_traced(c: *mut pmu50_coverage_t, m:
         // SAFETY: checked non-null.
         let inputs: Inputs = unsafe { i.read() }.into();
         let before = *m.core.regs();
-        let pmu50_core::TracedStep { before: out, internals: n, after: after_out, .. } = m.core.step_traced(&inputs);
+        let pmu50_core::TracedStep {
+            before: out,
+            internals: n,
+            after: after_out,
+            ..
+        } = m.core.step_traced(&inputs);
         m.last = Some(n);
-        c.cov.sample(&Edge { before: &before, after: m.core.regs(), out: &out, inputs: &inputs, internals: &n });
+        c.cov.sample(&Edge {
+            before: &before,
+            after: m.core.regs(),
+            out: &out,
+            inputs: &inputs,
+            internals: &n,
+        });
         c.edges += 1;
         // SAFETY: NULL or writable, by contract.
         unsafe {
@@ -182,11 +221,19 @@ pub extern "C" fn pmu50_coverage_model() -> *const c_char {
 /// # Safety
 /// Out pointers NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn pmu50_coverage_bin_info(index: usize, name: *mut *const c_char, is_cross: *mut u8, unreachable: *mut *const c_char) -> c_int {
+pub unsafe extern "C" fn pmu50_coverage_bin_info(
+    index: usize,
+    name: *mut *const c_char,
+    is_cross: *mut u8,
+    unreachable: *mut *const c_char,
+) -> c_int {
     guard("pmu50_coverage_bin_info", || {
         let l = layout();
         let Some(b) = l.bins.get(index) else {
-            set_error(format!("pmu50_coverage_bin_info: index {index} out of range 0..{}", l.bins.len()));
+            set_error(format!(
+                "pmu50_coverage_bin_info: index {index} out of range 0..{}",
+                l.bins.len()
+            ));
             return PMU50_ERR_RANGE;
         };
         let n = bin_names();
@@ -199,7 +246,11 @@ pub unsafe extern "C" fn pmu50_coverage_bin_info(index: usize, name: *mut *const
                 is_cross.write(u8::from(b.kind == Kind::Cross));
             }
             if !unreachable.is_null() {
-                unreachable.write(n.unreachable[index].as_ref().map_or(std::ptr::null(), |s| s.as_ptr()));
+                unreachable.write(
+                    n.unreachable[index]
+                        .as_ref()
+                        .map_or(std::ptr::null(), |s| s.as_ptr()),
+                );
             }
         }
         PMU50_OK
@@ -234,7 +285,11 @@ pub unsafe extern "C" fn pmu50_coverage_find(name: *const c_char) -> c_int {
 /// # Safety
 /// `c` NULL or live; `hits` NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn pmu50_coverage_hits(c: *const pmu50_coverage_t, index: usize, hits: *mut u64) -> c_int {
+pub unsafe extern "C" fn pmu50_coverage_hits(
+    c: *const pmu50_coverage_t,
+    index: usize,
+    hits: *mut u64,
+) -> c_int {
     guard("pmu50_coverage_hits", || {
         // SAFETY: NULL or live, by contract.
         let Some(c) = (unsafe { c.as_ref() }) else {
@@ -244,7 +299,10 @@ pub unsafe extern "C" fn pmu50_coverage_hits(c: *const pmu50_coverage_t, index: 
             return null("pmu50_coverage_hits", "hits");
         }
         let Some(&h) = c.cov.hits().get(index) else {
-            set_error(format!("pmu50_coverage_hits: index {index} out of range 0..{}", c.cov.hits().len()));
+            set_error(format!(
+                "pmu50_coverage_hits: index {index} out of range 0..{}",
+                c.cov.hits().len()
+            ));
             return PMU50_ERR_RANGE;
         };
         // SAFETY: checked non-null.
@@ -259,7 +317,11 @@ pub unsafe extern "C" fn pmu50_coverage_hits(c: *const pmu50_coverage_t, index: 
 /// # Safety
 /// `c` NULL or live; out pointers NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn pmu50_coverage_closure(c: *const pmu50_coverage_t, hit: *mut usize, reachable: *mut usize) -> c_int {
+pub unsafe extern "C" fn pmu50_coverage_closure(
+    c: *const pmu50_coverage_t,
+    hit: *mut usize,
+    reachable: *mut usize,
+) -> c_int {
     guard("pmu50_coverage_closure", || {
         // SAFETY: NULL or live, by contract.
         let Some(c) = (unsafe { c.as_ref() }) else {
@@ -267,7 +329,12 @@ pub unsafe extern "C" fn pmu50_coverage_closure(c: *const pmu50_coverage_t, hit:
         };
         let l = layout();
         let r = l.bins.iter().filter(|b| b.unreachable.is_none()).count();
-        let h = l.bins.iter().zip(c.cov.hits()).filter(|(b, h)| b.unreachable.is_none() && **h > 0).count();
+        let h = l
+            .bins
+            .iter()
+            .zip(c.cov.hits())
+            .filter(|(b, h)| b.unreachable.is_none() && **h > 0)
+            .count();
         // SAFETY: NULL or writable, by contract.
         unsafe {
             if !hit.is_null() {
@@ -288,7 +355,12 @@ pub unsafe extern "C" fn pmu50_coverage_closure(c: *const pmu50_coverage_t, hit:
 /// # Safety
 /// `c` NULL or live; the strings NULL or NUL-terminated.
 #[no_mangle]
-pub unsafe extern "C" fn pmu50_coverage_write(c: *const pmu50_coverage_t, path: *const c_char, run_id: *const c_char, verdict: *const c_char) -> c_int {
+pub unsafe extern "C" fn pmu50_coverage_write(
+    c: *const pmu50_coverage_t,
+    path: *const c_char,
+    run_id: *const c_char,
+    verdict: *const c_char,
+) -> c_int {
     const WHAT: &str = "pmu50_coverage_write";
     guard(WHAT, || {
         // SAFETY: NULL or live, by contract.
@@ -296,7 +368,13 @@ pub unsafe extern "C" fn pmu50_coverage_write(c: *const pmu50_coverage_t, path: 
             return null(WHAT, "c");
         };
         // SAFETY: forwarded contract.
-        let (path, id, verdict) = match unsafe { (text(WHAT, "path", path), text(WHAT, "run_id", run_id), text(WHAT, "verdict", verdict)) } {
+        let (path, id, verdict) = match unsafe {
+            (
+                text(WHAT, "path", path),
+                text(WHAT, "run_id", run_id),
+                text(WHAT, "verdict", verdict),
+            )
+        } {
             (Ok(p), Ok(i), Ok(v)) => (p, i, v),
             (Err(rc), _, _) | (_, Err(rc), _) | (_, _, Err(rc)) => return rc,
         };
@@ -316,7 +394,11 @@ pub unsafe extern "C" fn pmu50_coverage_write(c: *const pmu50_coverage_t, path: 
 /// `paths` NULL or `n` readable pointers, each NULL or NUL-terminated; `out` NULL or
 /// NUL-terminated.
 #[no_mangle]
-pub unsafe extern "C" fn pmu50_coverage_merge(paths: *const *const c_char, n: usize, out: *const c_char) -> c_int {
+pub unsafe extern "C" fn pmu50_coverage_merge(
+    paths: *const *const c_char,
+    n: usize,
+    out: *const c_char,
+) -> c_int {
     const WHAT: &str = "pmu50_coverage_merge";
     guard(WHAT, || {
         if paths.is_null() {

@@ -149,14 +149,23 @@ pub struct Mismatch {
 impl std::fmt::Display for Mismatch {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let d = usize::from(self.width).div_ceil(4).max(1);
-        write!(f, "MISMATCH tick={} signal={} expected={:0d$x} got={:0d$x}", self.tick, self.signal, self.expected, self.got)
+        write!(
+            f,
+            "MISMATCH tick={} signal={} expected={:0d$x} got={:0d$x}",
+            self.tick, self.signal, self.expected, self.got
+        )
     }
 }
 
 /// The lockstep comparison (verification method 2), once for every testbench: the RTL's
 /// outputs and registers after the last edge and its internals of the cycle before that edge,
 /// each optional, against the model's. Differences in table order.
-pub fn check(m: &pmu50_t, outputs: Option<&pmu50_outputs>, regs: Option<&[u64; signals::N_REGISTERS]>, internals: Option<&pmu50_internals>) -> Result<Vec<Mismatch>, String> {
+pub fn check(
+    m: &pmu50_t,
+    outputs: Option<&pmu50_outputs>,
+    regs: Option<&[u64; signals::N_REGISTERS]>,
+    internals: Option<&pmu50_internals>,
+) -> Result<Vec<Mismatch>, String> {
     let s = m.core.structural();
     let tick = m.core.tick();
     let mut out = Vec::new();
@@ -164,7 +173,13 @@ pub fn check(m: &pmu50_t, outputs: Option<&pmu50_outputs>, regs: Option<&[u64; s
         let model = pmu50_outputs::from(m.core.peek()).values();
         for ((sig, &e), g) in signals::OUTPUTS.iter().zip(&model).zip(rtl.values()) {
             if e != g {
-                out.push(Mismatch { tick, signal: sig.path(), width: sig.bits(&s), expected: e, got: g });
+                out.push(Mismatch {
+                    tick,
+                    signal: sig.path(),
+                    width: sig.bits(&s),
+                    expected: e,
+                    got: g,
+                });
             }
         }
     }
@@ -172,18 +187,32 @@ pub fn check(m: &pmu50_t, outputs: Option<&pmu50_outputs>, regs: Option<&[u64; s
         for (sig, &g) in signals::REGISTERS.iter().zip(rtl) {
             let e = (sig.get)(m.core.regs());
             if e != g {
-                out.push(Mismatch { tick, signal: sig.path(), width: sig.bits(&s), expected: e, got: g });
+                out.push(Mismatch {
+                    tick,
+                    signal: sig.path(),
+                    width: sig.bits(&s),
+                    expected: e,
+                    got: g,
+                });
             }
         }
     }
     if let Some(rtl) = internals {
         let Some(last) = m.last else {
-            return Err("internals can only be compared after a step (pmu50_step_traced)".to_string());
+            return Err(
+                "internals can only be compared after a step (pmu50_step_traced)".to_string(),
+            );
         };
         let model = pmu50_internals::from(last).values();
         for ((sig, &e), g) in signals::INTERNALS.iter().zip(&model).zip(rtl.values()) {
             if e != g {
-                out.push(Mismatch { tick: tick - 1, signal: sig.path(), width: sig.bits(&s), expected: e, got: g });
+                out.push(Mismatch {
+                    tick: tick - 1,
+                    signal: sig.path(),
+                    width: sig.bits(&s),
+                    expected: e,
+                    got: g,
+                });
             }
         }
     }
@@ -301,7 +330,18 @@ pub unsafe extern "C" fn pmu50_params_validate(p: *const pmu50_params) -> c_int 
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_new(p: *const pmu50_params) -> *mut pmu50_t {
     // SAFETY: forwarded contract.
-    unsafe { new_handle("pmu50_new", p, |params| Pmu50::new(params).map(|core| pmu50_t { core, params, last: None, report: CString::default() }).map_err(|e| e.to_string())) }
+    unsafe {
+        new_handle("pmu50_new", p, |params| {
+            Pmu50::new(params)
+                .map(|core| pmu50_t {
+                    core,
+                    params,
+                    last: None,
+                    report: CString::default(),
+                })
+                .map_err(|e| e.to_string())
+        })
+    }
 }
 
 /// Free a core (NULL is ignored).
@@ -372,7 +412,11 @@ pub unsafe extern "C" fn pmu50_step_traced(
         }
         // SAFETY: checked non-null.
         let inputs: Inputs = unsafe { i.read() }.into();
-        let pmu50_core::TracedStep { internals: int, after: out, .. } = m.core.step_traced(&inputs);
+        let pmu50_core::TracedStep {
+            internals: int,
+            after: out,
+            ..
+        } = m.core.step_traced(&inputs);
         m.last = Some(int);
         if !internals.is_null() {
             // SAFETY: checked non-null.
@@ -434,7 +478,13 @@ pub extern "C" fn pmu50_reg_count() -> usize {
 unsafe fn structural_of(m: *const pmu50_t) -> Structural {
     let d = Params::default();
     // SAFETY: the caller passes NULL or a live handle.
-    unsafe { m.as_ref() }.map_or(Structural { sync_depth: d.sync_depth, cnt_width: d.cnt_width }, |m| m.core.structural())
+    unsafe { m.as_ref() }.map_or(
+        Structural {
+            sync_depth: d.sync_depth,
+            cnt_width: d.cnt_width,
+        },
+        |m| m.core.structural(),
+    )
 }
 
 /// Name of register `index`: `block` (VCD sub-scope, e.g. "updown_counter"), `name` (e.g.
@@ -452,7 +502,9 @@ pub unsafe extern "C" fn pmu50_reg_info(
     width: *mut u8,
 ) -> c_int {
     guard("pmu50_reg_info", || {
-        let Some(r) = entry("pmu50_reg_info", signals::REGISTERS, index) else { return PMU50_ERR_RANGE };
+        let Some(r) = entry("pmu50_reg_info", signals::REGISTERS, index) else {
+            return PMU50_ERR_RANGE;
+        };
         // SAFETY: forwarded contract.
         let w = r.bits(&unsafe { structural_of(m) });
         let n = names();
@@ -481,7 +533,9 @@ pub unsafe extern "C" fn pmu50_reg_get(m: *const pmu50_t, index: usize, value: *
     // SAFETY: forwarded contract.
     unsafe {
         get_into("pmu50_reg_get", m, "value", value, |m| {
-            entry("pmu50_reg_get", signals::REGISTERS, index).map(|r| (r.get)(m.core.regs())).ok_or(PMU50_ERR_RANGE)
+            entry("pmu50_reg_get", signals::REGISTERS, index)
+                .map(|r| (r.get)(m.core.regs()))
+                .ok_or(PMU50_ERR_RANGE)
         })
     }
 }
@@ -552,7 +606,9 @@ pub unsafe extern "C" fn pmu50_output_info(
     guard("pmu50_output_info", || {
         // SAFETY: forwarded contract.
         let s = unsafe { structural_of(m) };
-        let Some(sig) = entry("pmu50_output_info", signals::OUTPUTS, index) else { return PMU50_ERR_RANGE };
+        let Some(sig) = entry("pmu50_output_info", signals::OUTPUTS, index) else {
+            return PMU50_ERR_RANGE;
+        };
         // SAFETY: the caller passes NULL or writable out pointers.
         unsafe { write_info(&names().outputs[index], sig.bits(&s), name, width) }
     })
@@ -575,7 +631,9 @@ pub unsafe extern "C" fn pmu50_internal_info(
     width: *mut u8,
 ) -> c_int {
     guard("pmu50_internal_info", || {
-        let Some(sig) = entry("pmu50_internal_info", signals::INTERNALS, index) else { return PMU50_ERR_RANGE };
+        let Some(sig) = entry("pmu50_internal_info", signals::INTERNALS, index) else {
+            return PMU50_ERR_RANGE;
+        };
         // Internals have fixed widths.
         // SAFETY: forwarded contract (NULL core: default configuration).
         let w = sig.bits(&unsafe { structural_of(std::ptr::null()) });
@@ -665,7 +723,13 @@ pub unsafe extern "C" fn pmu50_check(
 ) -> c_int {
     let compare = |m: &mut pmu50_t| {
         // SAFETY: NULL or readable, by contract (`rtl_regs`: PMU50_REG_COUNT values).
-        let (o, r, x) = unsafe { (rtl_outputs.as_ref(), rtl_regs.cast::<[u64; signals::N_REGISTERS]>().as_ref(), rtl_internals.as_ref()) };
+        let (o, r, x) = unsafe {
+            (
+                rtl_outputs.as_ref(),
+                rtl_regs.cast::<[u64; signals::N_REGISTERS]>().as_ref(),
+                rtl_internals.as_ref(),
+            )
+        };
         match check(m, o, r, x) {
             Ok(diffs) => {
                 let text: String = diffs.iter().map(|d| format!("{d}\n")).collect();
@@ -699,7 +763,13 @@ pub unsafe extern "C" fn pmu50_check_report(m: *const pmu50_t) -> *const c_char 
 ///
 /// # Safety
 /// `m` NULL or live; `out` NULL or writable.
-unsafe fn get_into<T>(what: &str, m: *const pmu50_t, arg: &str, out: *mut T, f: impl FnOnce(&pmu50_t) -> Result<T, c_int>) -> c_int {
+unsafe fn get_into<T>(
+    what: &str,
+    m: *const pmu50_t,
+    arg: &str,
+    out: *mut T,
+    f: impl FnOnce(&pmu50_t) -> Result<T, c_int>,
+) -> c_int {
     guard(what, || {
         // SAFETY: the caller passes NULL or a live handle.
         let Some(m) = (unsafe { m.as_ref() }) else {
@@ -724,7 +794,11 @@ unsafe fn get_into<T>(what: &str, m: *const pmu50_t, arg: &str, out: *mut T, f: 
 ///
 /// # Safety
 /// `p` NULL or a readable `pmu50_params`.
-pub(crate) unsafe fn new_handle<T>(what: &str, p: *const pmu50_params, make: impl FnOnce(Params) -> Result<T, String>) -> *mut T {
+pub(crate) unsafe fn new_handle<T>(
+    what: &str,
+    p: *const pmu50_params,
+    make: impl FnOnce(Params) -> Result<T, String>,
+) -> *mut T {
     let r = catch_unwind(AssertUnwindSafe(|| {
         if p.is_null() {
             set_error(format!("{what}: `p` is NULL"));
@@ -764,7 +838,10 @@ pub(crate) unsafe fn free_handle<T>(h: *mut T) {
 fn entry<'t, T>(what: &str, table: &'t [T], index: usize) -> Option<&'t T> {
     let e = table.get(index);
     if e.is_none() {
-        set_error(format!("{what}: index {index} out of range 0..{}", table.len()));
+        set_error(format!(
+            "{what}: index {index} out of range 0..{}",
+            table.len()
+        ));
     }
     e
 }
@@ -773,7 +850,13 @@ fn entry<'t, T>(what: &str, table: &'t [T], index: usize) -> Option<&'t T> {
 ///
 /// # Safety
 /// `value` NULL or writable.
-unsafe fn write_value(what: &str, v: Option<u64>, len: usize, index: usize, value: *mut u64) -> c_int {
+unsafe fn write_value(
+    what: &str,
+    v: Option<u64>,
+    len: usize,
+    index: usize,
+    value: *mut u64,
+) -> c_int {
     if value.is_null() {
         return null(what, "value");
     }
@@ -876,7 +959,11 @@ mod tests {
                 };
                 let i = pmu50_inputs::from(core_in);
                 assert_eq!(pmu50_step_traced(m, &i, &mut x, &mut o), PMU50_OK);
-                let pmu50_core::TracedStep { internals: int, after: out, .. } = core.step_traced(&i.into());
+                let pmu50_core::TracedStep {
+                    internals: int,
+                    after: out,
+                    ..
+                } = core.step_traced(&i.into());
                 assert_eq!(o, out.into());
                 assert_eq!(x, int.into());
             }
@@ -888,7 +975,10 @@ mod tests {
             assert_eq!(pmu50_reg_find(c"nope".as_ptr()), PMU50_ERR_NAME);
             let mut v = 0u64;
             assert_eq!(pmu50_reg_get_by_name(m, c"si".as_ptr(), &mut v), PMU50_OK);
-            let si = signals::OUTPUTS.iter().position(|s| s.name == "si").unwrap();
+            let si = signals::OUTPUTS
+                .iter()
+                .position(|s| s.name == "si")
+                .unwrap();
             assert_eq!(Some(v), o.get(si));
             let mut w = 0u8;
             let mut b: *const c_char = ptr::null();
@@ -911,7 +1001,11 @@ mod tests {
         let (_, m) = default_handle();
         // SAFETY: valid pointers; the handle is freed at the end.
         unsafe {
-            let on = pmu50_inputs::from(Inputs { ig: true, vs2_ok: true, ..Default::default() });
+            let on = pmu50_inputs::from(Inputs {
+                ig: true,
+                vs2_ok: true,
+                ..Default::default()
+            });
             let mut after = pmu50_outputs::default();
             let mut x = pmu50_internals::default();
             let mut regs = [0u64; signals::N_REGISTERS];
@@ -925,15 +1019,24 @@ mod tests {
             assert_eq!(pmu50_check(m, &after, regs.as_ptr(), &x), 0);
             assert_eq!(CStr::from_ptr(pmu50_check_report(m)).to_str().unwrap(), "");
             // One output, one register and one internal wrong.
-            let si_out = signals::OUTPUTS.iter().position(|s| s.name == "si").unwrap();
+            let si_out = signals::OUTPUTS
+                .iter()
+                .position(|s| s.name == "si")
+                .unwrap();
             let si_reg = find_register("drive_interval.si").unwrap();
-            let fig17 = signals::INTERNALS.iter().position(|s| s.name == "fig17").unwrap();
+            let fig17 = signals::INTERNALS
+                .iter()
+                .position(|s| s.name == "fig17")
+                .unwrap();
             let (mut o2, mut r2, mut x2) = (after, regs, x);
             assert_eq!(pmu50_output_set(&mut o2, si_out, 0x1b8), PMU50_OK);
             r2[si_reg] = 0x1b8;
             assert_eq!(pmu50_internal_set(&mut x2, fig17, 6), PMU50_OK);
             assert_eq!(pmu50_check(m, &o2, r2.as_ptr(), &x2), 3);
-            let report = CStr::from_ptr(pmu50_check_report(m)).to_str().unwrap().to_string();
+            let report = CStr::from_ptr(pmu50_check_report(m))
+                .to_str()
+                .unwrap()
+                .to_string();
             assert_eq!(
                 report,
                 "MISMATCH tick=3 signal=si expected=0294 got=01b8\n\
@@ -942,9 +1045,16 @@ mod tests {
             );
             // Each set is optional.
             assert_eq!(pmu50_check(m, ptr::null(), ptr::null(), &x2), 1);
-            assert_eq!(pmu50_check(ptr::null_mut(), &o2, ptr::null(), ptr::null()), PMU50_ERR_NULL);
+            assert_eq!(
+                pmu50_check(ptr::null_mut(), &o2, ptr::null(), ptr::null()),
+                PMU50_ERR_NULL
+            );
             pmu50_reset(m);
-            assert_eq!(pmu50_check(m, ptr::null(), ptr::null(), &x), PMU50_ERR_RANGE, "no internals before a step");
+            assert_eq!(
+                pmu50_check(m, ptr::null(), ptr::null(), &x),
+                PMU50_ERR_RANGE,
+                "no internals before a step"
+            );
             assert!(last_error().contains("after a step"), "{}", last_error());
             pmu50_free(m);
         }

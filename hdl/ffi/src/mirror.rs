@@ -62,7 +62,12 @@ pub const fn layout<T, const N: usize>(list: &[Signal<T>]) -> Layout<N> {
         }
         k += 1;
     }
-    Layout { offset, size, total: at.div_ceil(align) * align, align }
+    Layout {
+        offset,
+        size,
+        total: at.div_ceil(align) * align,
+        align,
+    }
 }
 
 pub const INPUT_LAYOUT: Layout<N_INPUTS> = layout(signals::INPUTS);
@@ -70,7 +75,10 @@ pub const OUTPUT_LAYOUT: Layout<N_OUTPUTS> = layout(signals::OUTPUTS);
 pub const INTERNAL_LAYOUT: Layout<N_INTERNALS> = layout(signals::INTERNALS);
 
 // The `align` attributes below must be the layouts' alignment (C's alignment of the struct).
-const _: () = assert!(INPUT_LAYOUT.align == 2 && OUTPUT_LAYOUT.align == 2 && INTERNAL_LAYOUT.align == 1, "update the #[repr(align)] of the C mirror structs");
+const _: () = assert!(
+    INPUT_LAYOUT.align == 2 && OUTPUT_LAYOUT.align == 2 && INTERNAL_LAYOUT.align == 1,
+    "update the #[repr(align)] of the C mirror structs"
+);
 
 fn read(bytes: &[u8], at: usize, size: usize) -> u64 {
     let mut b = [0u8; 8];
@@ -84,7 +92,11 @@ fn read(bytes: &[u8], at: usize, size: usize) -> u64 {
 }
 
 fn write(bytes: &mut [u8], at: usize, size: usize, v: u64) {
-    let b = if cfg!(target_endian = "little") { v.to_le_bytes() } else { (v << (8 * (8 - size))).to_be_bytes() };
+    let b = if cfg!(target_endian = "little") {
+        v.to_le_bytes()
+    } else {
+        (v << (8 * (8 - size))).to_be_bytes()
+    };
     bytes[at..at + size].copy_from_slice(&b[..size]);
 }
 
@@ -193,7 +205,13 @@ impl From<Internals> for pmu50_internals {
     }
 }
 
-fn c_struct<T, const N: usize>(out: &mut String, doc: &str, name: &str, list: &[Signal<T>], l: &Layout<N>) {
+fn c_struct<T, const N: usize>(
+    out: &mut String,
+    doc: &str,
+    name: &str,
+    list: &[Signal<T>],
+    l: &Layout<N>,
+) {
     *out += doc;
     *out += &format!("typedef struct {name} {{\n");
     for (s, &sz) in list.iter().zip(&l.size) {
@@ -247,9 +265,15 @@ mod tests {
     fn rust_layout_is_the_computed_c_layout() {
         assert_eq!(std::mem::size_of::<pmu50_inputs>(), INPUT_LAYOUT.total);
         assert_eq!(std::mem::size_of::<pmu50_outputs>(), OUTPUT_LAYOUT.total);
-        assert_eq!(std::mem::size_of::<pmu50_internals>(), INTERNAL_LAYOUT.total);
+        assert_eq!(
+            std::mem::size_of::<pmu50_internals>(),
+            INTERNAL_LAYOUT.total
+        );
         assert_eq!(std::mem::align_of::<pmu50_outputs>(), OUTPUT_LAYOUT.align);
-        assert_eq!(std::mem::align_of::<pmu50_internals>(), INTERNAL_LAYOUT.align);
+        assert_eq!(
+            std::mem::align_of::<pmu50_internals>(),
+            INTERNAL_LAYOUT.align
+        );
     }
 
     #[test]
@@ -258,7 +282,20 @@ mod tests {
         let l: Layout<3> = {
             use pmu50_core::signals::{Dir, Radix, Reset, Width};
             const fn s(w: u8) -> Signal<u8> {
-                Signal { name: "x", scope: "", dir: Dir::In, width: Width::Bits(w), radix: Radix::Hex, signed: false, reset: Reset::None, free_running: false, contract: false, meaning: "", patent: "", get: |_| 0 }
+                Signal {
+                    name: "x",
+                    scope: "",
+                    dir: Dir::In,
+                    width: Width::Bits(w),
+                    radix: Radix::Hex,
+                    signed: false,
+                    reset: Reset::None,
+                    free_running: false,
+                    contract: false,
+                    meaning: "",
+                    patent: "",
+                    get: |_| 0,
+                }
             }
             const L: &[Signal<u8>] = &[s(1), s(16), s(8)];
             layout(L)
@@ -281,7 +318,13 @@ mod tests {
 
     #[test]
     fn inputs_convert_both_ways() {
-        let i = Inputs { ig: true, cmp_c: true, bus_addr: 0x14, bus_wdata: 0xBEEF, ..Default::default() };
+        let i = Inputs {
+            ig: true,
+            cmp_c: true,
+            bus_addr: 0x14,
+            bus_wdata: 0xBEEF,
+            ..Default::default()
+        };
         let c: pmu50_inputs = i.into();
         assert_eq!(Inputs::from(c), i);
         let mut c = pmu50_inputs::default();

@@ -27,7 +27,18 @@ const GOLDEN: &str = "tests/coverage_stimulus.json";
 
 /// The configuration of the stimulus: short windows and intervals, in ticks of 10 us.
 fn params() -> Params {
-    Params { pw: 1, pi: 2, ps: 1, si_max: 30, si_min: 10, t1: 10, t2: 5, cth: 2, smp_on: 3, ..Params::default() }
+    Params {
+        pw: 1,
+        pi: 2,
+        ps: 1,
+        si_max: 30,
+        si_min: 10,
+        t1: 10,
+        t2: 5,
+        cth: 2,
+        smp_on: 3,
+        ..Params::default()
+    }
 }
 
 /// The shared stimulus: `n` inputs from splitmix64 draws starting at state 1.
@@ -48,7 +59,11 @@ fn stimulus(n: usize) -> Vec<Inputs> {
                 cmp_c: cc,
                 bus_we: (r >> 24) & 0x1F == 0,
                 bus_addr: ((r >> 29) % 24) as u8,
-                bus_wdata: if (r >> 34) & 1 == 1 { (r >> 40) % 64 } else { (r >> 40) % 1024 } as u16,
+                bus_wdata: if (r >> 34) & 1 == 1 {
+                    (r >> 40) % 64
+                } else {
+                    (r >> 40) % 1024
+                } as u16,
             }
         })
         .collect()
@@ -60,19 +75,38 @@ fn rust_hits() -> Vec<u64> {
     let mut cov = Coverage::new(&p, 10_000);
     for i in stimulus(EDGES) {
         let before = *core.regs();
-        let pmu50_core::TracedStep { before: out, internals: n, .. } = core.step_traced(&i);
-        cov.sample(&Edge { before: &before, after: core.regs(), out: &out, inputs: &i, internals: &n });
+        let pmu50_core::TracedStep {
+            before: out,
+            internals: n,
+            ..
+        } = core.step_traced(&i);
+        cov.sample(&Edge {
+            before: &before,
+            after: core.regs(),
+            out: &out,
+            inputs: &i,
+            internals: &n,
+        });
     }
     cov.hits().to_vec()
 }
 
 /// `{name: hits}` of the bins hit at least once.
 fn named(hits: &[u64]) -> BTreeMap<String, u64> {
-    layout().bins.iter().zip(hits).filter(|(_, &h)| h > 0).map(|(b, &h)| (b.name.clone(), h)).collect()
+    layout()
+        .bins
+        .iter()
+        .zip(hits)
+        .filter(|(_, &h)| h > 0)
+        .map(|(b, &h)| (b.name.clone(), h))
+        .collect()
 }
 
 fn golden_text(hits: &[u64]) -> String {
-    let mut s = format!("{{\"model\": \"{}\", \"edges\": {EDGES},\n \"hits\": {{\n", model_id(layout()));
+    let mut s = format!(
+        "{{\"model\": \"{}\", \"edges\": {EDGES},\n \"hits\": {{\n",
+        model_id(layout())
+    );
     let m = named(hits);
     let lines: Vec<String> = m.iter().map(|(k, v)| format!("  \"{k}\": {v}")).collect();
     s.push_str(&lines.join(",\n"));
@@ -113,7 +147,10 @@ fn the_c_abi_called_from_rust_samples_the_same_hits() {
         assert!(!m.is_null() && !c.is_null());
         let mut o = pmu50_outputs::default();
         for i in stimulus(EDGES) {
-            assert_eq!(pmu50_coverage_step(c, m, &pmu50_inputs::from(i), &mut o), PMU50_OK);
+            assert_eq!(
+                pmu50_coverage_step(c, m, &pmu50_inputs::from(i), &mut o),
+                PMU50_OK
+            );
         }
         let n = pmu50_coverage_bin_count();
         let mut hits = vec![0u64; n];
@@ -137,7 +174,10 @@ fn static_lib() -> PathBuf {
             return lib;
         }
     }
-    panic!("libpmu50_ffi.a not found next to {} (cargo builds it with the crate's staticlib type)", deps.display());
+    panic!(
+        "libpmu50_ffi.a not found next to {} (cargo builds it with the crate's staticlib type)",
+        deps.display()
+    );
 }
 
 #[test]
@@ -156,16 +196,31 @@ fn the_c_program_writes_a_coverage_file_with_the_same_hits() {
         .arg(&exe)
         .output()
         .unwrap_or_else(|e| panic!("cannot run the C compiler `{cc}`: {e}"));
-    assert!(build.status.success(), "C build failed:\n{}", String::from_utf8_lossy(&build.stderr));
+    assert!(
+        build.status.success(),
+        "C build failed:\n{}",
+        String::from_utf8_lossy(&build.stderr)
+    );
     let out = dir.join("coverage.json");
     let _ = std::fs::remove_file(&out);
-    let run = Command::new(&exe).arg(&out).arg(EDGES.to_string()).output().unwrap();
+    let run = Command::new(&exe)
+        .arg(&out)
+        .arg(EDGES.to_string())
+        .output()
+        .unwrap();
     let stdout = String::from_utf8_lossy(&run.stdout);
-    assert!(run.status.success() && stdout.contains("C coverage test: OK"), "{stdout}{}", String::from_utf8_lossy(&run.stderr));
+    assert!(
+        run.status.success() && stdout.contains("C coverage test: OK"),
+        "{stdout}{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     let f = CoverageFile::read(&out).expect("the C program's coverage.json reads back");
     assert_eq!(f.hits(), rust_hits());
     assert_eq!(f.runs.len(), 1);
-    assert_eq!((f.runs[0].id.as_str(), f.runs[0].verdict.as_str()), ("c/stimulus/1", "pass"));
+    assert_eq!(
+        (f.runs[0].id.as_str(), f.runs[0].verdict.as_str()),
+        ("c/stimulus/1", "pass")
+    );
 }
 
 /// `pmu50_last_error()` as text.
@@ -187,7 +242,11 @@ fn writes_never_replace_a_device_or_a_fifo_nor_a_merge_input() {
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     let fifo = d.join("fifo.json");
-    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
     // A link to /dev/null: the old rename would have replaced the link only; the write is
     // refused either way, and /dev/null stays a device.
     let null = d.join("null.json");
@@ -198,28 +257,59 @@ fn writes_never_replace_a_device_or_a_fifo_nor_a_merge_input() {
     unsafe {
         let c = pmu50_coverage_new(&p, 10_000);
         assert!(!c.is_null());
-        let (id, pass) = (std::ffi::CString::new("dpi/1").unwrap(), std::ffi::CString::new("pass").unwrap());
+        let (id, pass) = (
+            std::ffi::CString::new("dpi/1").unwrap(),
+            std::ffi::CString::new("pass").unwrap(),
+        );
         for (target, kind) in [(&fifo, "FIFO"), (&null, "character device"), (&d, "folder")] {
-            assert_eq!(pmu50_coverage_write(c, cstr(target).as_ptr(), id.as_ptr(), pass.as_ptr()), PMU50_ERR_IO);
+            assert_eq!(
+                pmu50_coverage_write(c, cstr(target).as_ptr(), id.as_ptr(), pass.as_ptr()),
+                PMU50_ERR_IO
+            );
             let e = last_error();
-            assert!(e.contains(&format!("is a {kind}, not a regular file")), "{e}");
+            assert!(
+                e.contains(&format!("is a {kind}, not a regular file")),
+                "{e}"
+            );
         }
         use std::os::unix::fs::FileTypeExt;
-        assert!(std::fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
-        assert!(std::fs::symlink_metadata(&null).unwrap().file_type().is_symlink());
+        assert!(std::fs::symlink_metadata(&fifo)
+            .unwrap()
+            .file_type()
+            .is_fifo());
+        assert!(std::fs::symlink_metadata(&null)
+            .unwrap()
+            .file_type()
+            .is_symlink());
         // A merge whose output is one of its inputs is refused, and the input is kept.
         let one = d.join("one.json");
-        assert_eq!(pmu50_coverage_write(c, cstr(&one).as_ptr(), id.as_ptr(), pass.as_ptr()), PMU50_OK);
+        assert_eq!(
+            pmu50_coverage_write(c, cstr(&one).as_ptr(), id.as_ptr(), pass.as_ptr()),
+            PMU50_OK
+        );
         let before = std::fs::read(&one).unwrap();
         let other = d.join("two.json");
         let id2 = std::ffi::CString::new("dpi/2").unwrap();
-        assert_eq!(pmu50_coverage_write(c, cstr(&other).as_ptr(), id2.as_ptr(), pass.as_ptr()), PMU50_OK);
+        assert_eq!(
+            pmu50_coverage_write(c, cstr(&other).as_ptr(), id2.as_ptr(), pass.as_ptr()),
+            PMU50_OK
+        );
         let paths = [cstr(&one), cstr(&other)];
         let ptrs: Vec<*const std::ffi::c_char> = paths.iter().map(|p| p.as_ptr()).collect();
-        assert_eq!(pmu50_coverage_merge(ptrs.as_ptr(), 2, cstr(&one).as_ptr()), PMU50_ERR_COVERAGE);
-        assert!(last_error().contains("the output is also input"), "{}", last_error());
+        assert_eq!(
+            pmu50_coverage_merge(ptrs.as_ptr(), 2, cstr(&one).as_ptr()),
+            PMU50_ERR_COVERAGE
+        );
+        assert!(
+            last_error().contains("the output is also input"),
+            "{}",
+            last_error()
+        );
         assert_eq!(std::fs::read(&one).unwrap(), before);
-        assert_eq!(pmu50_coverage_merge(ptrs.as_ptr(), 2, cstr(&d.join("all.json")).as_ptr()), PMU50_OK);
+        assert_eq!(
+            pmu50_coverage_merge(ptrs.as_ptr(), 2, cstr(&d.join("all.json")).as_ptr()),
+            PMU50_OK
+        );
         pmu50_coverage_free(c);
     }
     std::fs::remove_dir_all(&d).unwrap();

@@ -11,5 +11,11 @@ use pmu50_ffi::mirror::c_structs;
 #[test]
 fn header_structs_are_generated_from_the_signal_table() {
     let markers = ("/* BEGIN GENERATED", "/* END GENERATED */");
-    check_generated("hdl/ffi/include/pmu50.h", markers, &c_structs(), "cargo test -p pmu50-ffi --test header").unwrap_or_else(|e| panic!("{e}"));
+    check_generated(
+        "hdl/ffi/include/pmu50.h",
+        markers,
+        &c_structs(),
+        "cargo test -p pmu50-ffi --test header",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
 }

@@ -81,7 +81,13 @@ impl ActionSwitching {
     /// `sync_depth` stages (legal 1..=4, checked by `Params::validate`; clamped here so that the
     /// shifts below stay defined).
     pub const fn new(sync_depth: u8) -> Self {
-        let d = if sync_depth < 1 { 1 } else if sync_depth > 4 { 4 } else { sync_depth };
+        let d = if sync_depth < 1 {
+            1
+        } else if sync_depth > 4 {
+            4
+        } else {
+            sync_depth
+        };
         ActionSwitching { sync_depth: d }
     }
 
@@ -96,7 +102,14 @@ impl ActionSwitching {
     /// Registered outputs, decoded from the registers.
     pub fn outputs(&self, r: &Regs) -> Outputs {
         let sig = self.last_stage(r.sync);
-        Outputs { sig, vr_hi: sig, vm_en: sig, vs1_en: sig, vp_en: true, rail_hi: sig }
+        Outputs {
+            sig,
+            vr_hi: sig,
+            vm_en: sig,
+            vs1_en: sig,
+            vp_en: true,
+            rail_hi: sig,
+        }
     }
 
     /// Pure next-state function, with the combinational outputs of the cycle.
@@ -105,7 +118,14 @@ impl ActionSwitching {
         let sync_nxt = ((r.sync << 1) | u8::from(i.ig)) & mask;
         let sig = self.last_stage(r.sync);
         let sig_nxt = self.last_stage(sync_nxt);
-        (Comb { sig_nxt, kon: !sig && sig_nxt, koff: sig && !sig_nxt }, Regs { sync: sync_nxt })
+        (
+            Comb {
+                sig_nxt,
+                kon: !sig && sig_nxt,
+                koff: sig && !sig_nxt,
+            },
+            Regs { sync: sync_nxt },
+        )
     }
 }
 
@@ -144,7 +164,10 @@ mod tests {
         let outs = run(2, &ig);
         assert_eq!(outs.iter().filter(|(_, c)| c.koff).count(), 1);
         for (o, _) in &outs {
-            assert_eq!((o.vm_en, o.vs1_en, o.vr_hi, o.rail_hi), (o.sig, o.sig, o.sig, o.sig));
+            assert_eq!(
+                (o.vm_en, o.vs1_en, o.vr_hi, o.rail_hi),
+                (o.sig, o.sig, o.sig, o.sig)
+            );
             assert!(o.vp_en, "Vp is always present [0330]");
         }
         let fall = outs.iter().position(|(_, c)| c.koff).unwrap();

@@ -39,7 +39,11 @@ pub struct Regs {
     pub vld: bool,
 }
 
-pub const RESET: Regs = Regs { cs: false, cc: false, vld: false };
+pub const RESET: Regs = Regs {
+    cs: false,
+    cc: false,
+    vld: false,
+};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct Inputs {
@@ -76,7 +80,11 @@ pub fn outputs(r: &Regs) -> Outputs {
 pub fn eval(r: &Regs, i: &Inputs) -> (Comb, Regs) {
     let upd = i.smp && i.sr;
     let first = upd && !r.vld;
-    let (cs_new, cc_new) = if upd { (i.cmp_s, i.cmp_c) } else { (r.cs, r.cc) };
+    let (cs_new, cc_new) = if upd {
+        (i.cmp_s, i.cmp_c)
+    } else {
+        (r.cs, r.cc)
+    };
     let counted = upd && r.vld;
     let o = Comb {
         upd,
@@ -86,7 +94,14 @@ pub fn eval(r: &Regs, i: &Inputs) -> (Comb, Regs) {
         chg_s: counted && cs_new != r.cs,
         chg_c: counted && cc_new != r.cc,
     };
-    (o, Regs { cs: cs_new, cc: cc_new, vld: r.vld || upd })
+    (
+        o,
+        Regs {
+            cs: cs_new,
+            cc: cc_new,
+            vld: r.vld || upd,
+        },
+    )
 }
 
 #[cfg(test)]
@@ -95,9 +110,21 @@ mod tests {
 
     #[test]
     fn holds_without_a_strobe_or_without_sr() {
-        let r = Regs { cs: true, cc: false, vld: true };
+        let r = Regs {
+            cs: true,
+            cc: false,
+            vld: true,
+        };
         for (smp, sr) in [(false, false), (false, true), (true, false)] {
-            let (o, n) = eval(&r, &Inputs { cmp_s: false, cmp_c: true, smp, sr });
+            let (o, n) = eval(
+                &r,
+                &Inputs {
+                    cmp_s: false,
+                    cmp_c: true,
+                    smp,
+                    sr,
+                },
+            );
             assert_eq!(n, r, "held while Vs2 off or not sampling [0211]");
             assert!(!o.upd && !o.chg_s && !o.chg_c);
         }
@@ -105,15 +132,35 @@ mod tests {
 
     #[test]
     fn samples_and_flags_changes() {
-        let r = Regs { cs: true, cc: false, vld: true };
-        let (o, n) = eval(&r, &Inputs { cmp_s: false, cmp_c: false, smp: true, sr: true });
+        let r = Regs {
+            cs: true,
+            cc: false,
+            vld: true,
+        };
+        let (o, n) = eval(
+            &r,
+            &Inputs {
+                cmp_s: false,
+                cmp_c: false,
+                smp: true,
+                sr: true,
+            },
+        );
         assert_eq!((n.cs, n.cc), (false, false));
         assert!(o.upd && o.chg_s && !o.chg_c && !o.first);
     }
 
     #[test]
     fn first_sample_loads_without_a_change() {
-        let (o, n) = eval(&RESET, &Inputs { cmp_s: true, cmp_c: true, smp: true, sr: true });
+        let (o, n) = eval(
+            &RESET,
+            &Inputs {
+                cmp_s: true,
+                cmp_c: true,
+                smp: true,
+                sr: true,
+            },
+        );
         assert!(o.first && !o.chg_s && !o.chg_c);
         assert!(n.vld && n.cs && n.cc);
     }

@@ -59,12 +59,18 @@ impl Dur {
             None => (num, ""),
         };
         let digits_ok = |s: &str| s.chars().all(|c| c.is_ascii_digit());
-        if (int_part.is_empty() && frac_part.is_empty()) || !digits_ok(int_part) || !digits_ok(frac_part)
+        if (int_part.is_empty() && frac_part.is_empty())
+            || !digits_ok(int_part)
+            || !digits_ok(frac_part)
         {
             return Err(DurParseError::BadNumber(text.to_string()));
         }
         let overflow = || DurParseError::TooLarge(text.to_string());
-        let int_val: u64 = if int_part.is_empty() { 0 } else { int_part.parse().map_err(|_| overflow())? };
+        let int_val: u64 = if int_part.is_empty() {
+            0
+        } else {
+            int_part.parse().map_err(|_| overflow())?
+        };
         let mut total = int_val.checked_mul(scale).ok_or_else(overflow)?;
         // Fractional digits: each digit is worth scale / 10^k ns; it must be whole.
         let mut place = scale;
@@ -189,9 +195,20 @@ pub enum ConfigError {
     #[error("core.clock must be a positive duration, got {0}")]
     ZeroClock(Dur),
     #[error("core.{field} = {value} is not a whole number of clock ticks (clock = {clock}); use a multiple of {clock}")]
-    NotWholeTicks { field: &'static str, value: Dur, clock: Dur },
+    NotWholeTicks {
+        field: &'static str,
+        value: Dur,
+        clock: Dur,
+    },
     #[error("core.{field} = {value} is {ticks} ticks; the register holds at most {max} ticks ({max_dur} at clock {clock})")]
-    TooManyTicks { field: &'static str, value: Dur, ticks: u64, max: u64, max_dur: Dur, clock: Dur },
+    TooManyTicks {
+        field: &'static str,
+        value: Dur,
+        ticks: u64,
+        max: u64,
+        max_dur: Dur,
+        clock: Dur,
+    },
     #[error(transparent)]
     Param(#[from] ParamError),
 }
@@ -202,10 +219,15 @@ impl ConfigError {
     pub fn fields(&self) -> &'static [&'static str] {
         match self {
             ConfigError::ZeroClock(_) => &["clock"],
-            ConfigError::NotWholeTicks { field, .. } | ConfigError::TooManyTicks { field, .. } => field_list(field),
-            ConfigError::Param(ParamError::OutOfRange { field, .. }) | ConfigError::Param(ParamError::Zero { field }) => field_list(field),
+            ConfigError::NotWholeTicks { field, .. } | ConfigError::TooManyTicks { field, .. } => {
+                field_list(field)
+            }
+            ConfigError::Param(ParamError::OutOfRange { field, .. })
+            | ConfigError::Param(ParamError::Zero { field }) => field_list(field),
             ConfigError::Param(ParamError::MinAboveMax { .. }) => &["min", "x"],
-            ConfigError::Param(ParamError::WindowTooLong { .. }) => &["pw", "pi", "ps", "min", "x", "adaptive"],
+            ConfigError::Param(ParamError::WindowTooLong { .. }) => {
+                &["pw", "pi", "ps", "min", "x", "adaptive"]
+            }
             ConfigError::Param(ParamError::NoSettlingTick) => &["pw", "pi"],
         }
     }
@@ -213,8 +235,26 @@ impl ConfigError {
 
 /// A static one-element list for a field name.
 fn field_list(field: &str) -> &'static [&'static str] {
-    const ALL: [&str; 14] = ["clock", "sync_depth", "cnt_width", "adaptive", "pw", "pi", "ps", "x", "min", "t1", "t2", "cth", "smp_on", "core"];
-    let i = ALL.iter().position(|f| *f == field).unwrap_or(ALL.len() - 1);
+    const ALL: [&str; 14] = [
+        "clock",
+        "sync_depth",
+        "cnt_width",
+        "adaptive",
+        "pw",
+        "pi",
+        "ps",
+        "x",
+        "min",
+        "t1",
+        "t2",
+        "cth",
+        "smp_on",
+        "core",
+    ];
+    let i = ALL
+        .iter()
+        .position(|f| *f == field)
+        .unwrap_or(ALL.len() - 1);
     &ALL[i..=i]
 }
 
@@ -227,7 +267,11 @@ impl CoreConfig {
         }
         let ticks = |field: &'static str, d: Dur, max: u64| -> Result<u64, ConfigError> {
             if !d.0.is_multiple_of(clk) {
-                return Err(ConfigError::NotWholeTicks { field, value: d, clock: self.clock });
+                return Err(ConfigError::NotWholeTicks {
+                    field,
+                    value: d,
+                    clock: self.clock,
+                });
             }
             let t = d.0 / clk;
             if t > max {
@@ -285,13 +329,34 @@ mod tests {
 
     #[test]
     fn rejects_bad_durations() {
-        assert!(matches!(Dur::parse("2.2"), Err(DurParseError::MissingUnit(_))));
-        assert!(matches!(Dur::parse("2.2 min"), Err(DurParseError::BadUnit(..))));
-        assert!(matches!(Dur::parse("-1 ms"), Err(DurParseError::Negative(_))));
-        assert!(matches!(Dur::parse("1.5 ns"), Err(DurParseError::SubNanosecond(_))));
-        assert!(matches!(Dur::parse("1.2.3 ms"), Err(DurParseError::BadNumber(_))));
-        assert!(matches!(Dur::parse(" ms"), Err(DurParseError::BadNumber(_))));
-        assert!(matches!(Dur::parse("99999999999999999999 s"), Err(DurParseError::TooLarge(_))));
+        assert!(matches!(
+            Dur::parse("2.2"),
+            Err(DurParseError::MissingUnit(_))
+        ));
+        assert!(matches!(
+            Dur::parse("2.2 min"),
+            Err(DurParseError::BadUnit(..))
+        ));
+        assert!(matches!(
+            Dur::parse("-1 ms"),
+            Err(DurParseError::Negative(_))
+        ));
+        assert!(matches!(
+            Dur::parse("1.5 ns"),
+            Err(DurParseError::SubNanosecond(_))
+        ));
+        assert!(matches!(
+            Dur::parse("1.2.3 ms"),
+            Err(DurParseError::BadNumber(_))
+        ));
+        assert!(matches!(
+            Dur::parse(" ms"),
+            Err(DurParseError::BadNumber(_))
+        ));
+        assert!(matches!(
+            Dur::parse("99999999999999999999 s"),
+            Err(DurParseError::TooLarge(_))
+        ));
     }
 
     #[test]
@@ -302,11 +367,23 @@ mod tests {
         assert_eq!(Dur::parse("0.25 d"), Ok(Dur(6 * 3_600 * 1_000_000_000)));
         // 1e-11 h = 36 ns exactly; 1e-13 h = 0.36 ns is below the resolution.
         assert_eq!(Dur::parse("0.00000000001 h"), Ok(Dur(36)));
-        assert!(matches!(Dur::parse("0.0000000000001 h"), Err(DurParseError::SubNanosecond(_))));
+        assert!(matches!(
+            Dur::parse("0.0000000000001 h"),
+            Err(DurParseError::SubNanosecond(_))
+        ));
         assert_eq!(Dur::parse("213503 d"), Ok(Dur(213_503 * Dur::DAY_NS)));
-        assert!(matches!(Dur::parse("213504 d"), Err(DurParseError::TooLarge(_))));
-        assert!(matches!(Dur::parse("-1 d"), Err(DurParseError::Negative(_))));
-        assert!(matches!(Dur::parse("2 days"), Err(DurParseError::BadUnit(..))));
+        assert!(matches!(
+            Dur::parse("213504 d"),
+            Err(DurParseError::TooLarge(_))
+        ));
+        assert!(matches!(
+            Dur::parse("-1 d"),
+            Err(DurParseError::Negative(_))
+        ));
+        assert!(matches!(
+            Dur::parse("2 days"),
+            Err(DurParseError::BadUnit(..))
+        ));
         let e = Dur::parse("2 min").unwrap_err().to_string();
         assert!(e.contains("s, ms, us, ns, and h, d"), "{e}");
         assert_eq!(Dur::parse("30 d").unwrap().to_string(), "30 d");
@@ -317,7 +394,18 @@ mod tests {
 
     #[test]
     fn display_round_trips() {
-        for s in ["2.2 ms", "220 us", "10 ns", "1 s", "1.000001 s", "6.6 ms", "0 ns", "30 d", "12 h", "3601 s"] {
+        for s in [
+            "2.2 ms",
+            "220 us",
+            "10 ns",
+            "1 s",
+            "1.000001 s",
+            "6.6 ms",
+            "0 ns",
+            "30 d",
+            "12 h",
+            "3601 s",
+        ] {
             let d = Dur::parse(s).unwrap();
             assert_eq!(d.to_string(), s);
             assert_eq!(Dur::parse(&d.to_string()), Ok(d));
@@ -327,28 +415,50 @@ mod tests {
     #[test]
     fn default_is_the_patent() {
         let p = CoreConfig::default().to_params().unwrap();
-        assert_eq!((p.t1, p.t2, p.si_max, p.si_min, p.cth), (220, 110, 660, 220, 4));
+        assert_eq!(
+            (p.t1, p.t2, p.si_max, p.si_min, p.cth),
+            (220, 110, 660, 220, 4)
+        );
         assert_eq!(p.pw + p.pi + p.ps, 22, "Wt = 220 us [0229]");
     }
 
     #[test]
     fn not_whole_ticks_names_the_field() {
-        let c = CoreConfig { t2: Dur::us(1_105), ..CoreConfig::default() };
+        let c = CoreConfig {
+            t2: Dur::us(1_105),
+            ..CoreConfig::default()
+        };
         let e = c.to_params().unwrap_err();
-        assert_eq!(e, ConfigError::NotWholeTicks { field: "t2", value: Dur::us(1_105), clock: Dur::us(10) });
+        assert_eq!(
+            e,
+            ConfigError::NotWholeTicks {
+                field: "t2",
+                value: Dur::us(1_105),
+                clock: Dur::us(10)
+            }
+        );
         assert!(e.to_string().contains("core.t2"), "{e}");
     }
 
     #[test]
     fn too_many_ticks_is_an_error() {
-        let c = CoreConfig { clock: Dur::ns(10), ..CoreConfig::default() };
+        let c = CoreConfig {
+            clock: Dur::ns(10),
+            ..CoreConfig::default()
+        };
         let e = c.to_params().unwrap_err();
-        assert!(matches!(e, ConfigError::TooManyTicks { field: "x", .. }), "{e}");
+        assert!(
+            matches!(e, ConfigError::TooManyTicks { field: "x", .. }),
+            "{e}"
+        );
     }
 
     #[test]
     fn zero_clock_is_an_error() {
-        let c = CoreConfig { clock: Dur(0), ..CoreConfig::default() };
+        let c = CoreConfig {
+            clock: Dur(0),
+            ..CoreConfig::default()
+        };
         assert_eq!(c.to_params(), Err(ConfigError::ZeroClock(Dur(0))));
     }
 }

@@ -71,7 +71,9 @@ impl CountDiagnosis {
     /// Pure next-state function (no combinational outputs).
     pub fn eval(&self, _r: &Regs, i: &Inputs) -> Regs {
         let d = difference(i.cnt_s_nxt, i.cnt_c_nxt, self.cnt_width);
-        Regs { diag: d.abs() >= 2 || i.skip_nxt }
+        Regs {
+            diag: d.abs() >= 2 || i.skip_nxt,
+        }
     }
 }
 
@@ -80,7 +82,16 @@ mod tests {
     use super::*;
 
     fn diag(s: u16, c: u16, skip: bool, w: u8) -> bool {
-        CountDiagnosis::new(w).eval(&RESET, &Inputs { cnt_s_nxt: s, cnt_c_nxt: c, skip_nxt: skip }).diag
+        CountDiagnosis::new(w)
+            .eval(
+                &RESET,
+                &Inputs {
+                    cnt_s_nxt: s,
+                    cnt_c_nxt: c,
+                    skip_nxt: skip,
+                },
+            )
+            .diag
     }
 
     #[test]

@@ -125,11 +125,19 @@ pub struct Regs {
 
 /// Reset value with the patent's default x = 6.6 ms at a 10 us clock; the top level resets `si` to
 /// the configured x (see [`reset`]).
-pub const RESET: Regs = Regs { si: 660, hist_s: false, hist_c: false, cnt_r: 0 };
+pub const RESET: Regs = Regs {
+    si: 660,
+    hist_s: false,
+    hist_c: false,
+    cnt_r: 0,
+};
 
 /// Reset value for a given maximum interval x.
 pub const fn reset(si_max: u16) -> Regs {
-    Regs { si: si_max, ..RESET }
+    Regs {
+        si: si_max,
+        ..RESET
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -166,7 +174,12 @@ pub struct Comb {
 
 /// Registered outputs, decoded from the registers.
 pub fn outputs(r: &Regs) -> Outputs {
-    Outputs { si: r.si, hist_s: r.hist_s, hist_c: r.hist_c, cnt_r: r.cnt_r }
+    Outputs {
+        si: r.si,
+        hist_s: r.hist_s,
+        hist_c: r.hist_c,
+        cnt_r: r.cnt_r,
+    }
 }
 
 /// FIG. 18: returns (rotation detected, next hist_s, next hist_c, path).
@@ -207,7 +220,11 @@ pub fn eval(r: &Regs, i: &Inputs) -> (Comb, Regs) {
     }
     let (detected, hist_s, hist_c, f18) = rotation_detection(r, i.chg_s, i.chg_c);
     o.fig18 = f18;
-    let mut n = Regs { hist_s, hist_c, ..*r };
+    let mut n = Regs {
+        hist_s,
+        hist_c,
+        ..*r
+    };
     if detected {
         n.cnt_r = 0; // S4
         if r.si <= i.si_min {
@@ -239,7 +256,20 @@ mod tests {
 
     /// The patent's parameters at a 10 us clock: T1 2.2 ms, T2 1.1 ms, x 6.6 ms, min 2.2 ms, Cth 4.
     fn pulse(chg_s: bool, chg_c: bool) -> Inputs {
-        Inputs { pulse: true, sr: true, chg_s, chg_c, adaptive: true, si_min: 220, si_max: 660, si_max_nxt: 660, t1: 220, t2: 110, cth: 4, koff: false }
+        Inputs {
+            pulse: true,
+            sr: true,
+            chg_s,
+            chg_c,
+            adaptive: true,
+            si_min: 220,
+            si_max: 660,
+            si_max_nxt: 660,
+            t1: 220,
+            t2: 110,
+            cth: 4,
+            koff: false,
+        }
     }
 
     fn run(r: Regs, i: Inputs) -> (Comb, Regs) {
@@ -254,12 +284,22 @@ mod tests {
     fn s20y_s21n_s22_s23_first_cs_change_is_a_rotation() {
         let (o, n) = run(Regs { hist_c: true, ..X }, pulse(true, false));
         assert_eq!(o.fig18, Fig18::S23DetectedCs);
-        assert!(n.hist_s && !n.hist_c, "S22 stores Cs history and clears Cc history [0270]");
+        assert!(
+            n.hist_s && !n.hist_c,
+            "S22 stores Cs history and clears Cc history [0270]"
+        );
     }
 
     #[test]
     fn s20y_s21y_s24_repeated_cs_change_is_not_a_rotation() {
-        let (o, n) = run(Regs { si: 440, hist_s: true, ..X }, pulse(true, false));
+        let (o, n) = run(
+            Regs {
+                si: 440,
+                hist_s: true,
+                ..X
+            },
+            pulse(true, false),
+        );
         assert_eq!(o.fig18, Fig18::S21CsRepeat);
         assert_eq!(n.si, 440, "FIG. 15B/15C: no second shortening [0236]");
         assert!(n.hist_s);
@@ -274,7 +314,14 @@ mod tests {
 
     #[test]
     fn s20n_s25y_s26y_s24_repeated_cc_change_is_not_a_rotation() {
-        let (o, n) = run(Regs { si: 440, hist_c: true, ..X }, pulse(false, true));
+        let (o, n) = run(
+            Regs {
+                si: 440,
+                hist_c: true,
+                ..X
+            },
+            pulse(false, true),
+        );
         assert_eq!(o.fig18, Fig18::S26CcRepeat);
         assert_eq!(n.si, 440);
     }
@@ -296,8 +343,19 @@ mod tests {
 
     #[test]
     fn s1n_no_rise_of_vs2_changes_nothing() {
-        let r = Regs { si: 440, hist_s: true, hist_c: false, cnt_r: 2 };
-        let (o, n) = run(r, Inputs { sr: false, ..pulse(true, false) });
+        let r = Regs {
+            si: 440,
+            hist_s: true,
+            hist_c: false,
+            cnt_r: 2,
+        };
+        let (o, n) = run(
+            r,
+            Inputs {
+                sr: false,
+                ..pulse(true, false)
+            },
+        );
         assert_eq!(o.fig17, Fig17::S1NoRise);
         assert_eq!(n, r);
     }
@@ -311,7 +369,14 @@ mod tests {
 
     #[test]
     fn s3y_s4_s5y_rotation_at_minimum_holds_and_resets_cnt_r() {
-        let (o, n) = run(Regs { si: 220, cnt_r: 3, ..X }, pulse(true, false));
+        let (o, n) = run(
+            Regs {
+                si: 220,
+                cnt_r: 3,
+                ..X
+            },
+            pulse(true, false),
+        );
         assert_eq!(o.fig17, Fig17::S5AtMin);
         assert_eq!((n.si, n.cnt_r), (220, 0), "never below the minimum [0228]");
     }
@@ -320,12 +385,19 @@ mod tests {
     fn s6_clamps_to_the_minimum_0261_0262() {
         let (o, n) = run(Regs { si: 330, ..X }, pulse(false, true));
         assert_eq!(o.fig17, Fig17::S6Shorten);
-        assert_eq!(n.si, 220, "3.3 ms - 2.2 ms would be 1.1 ms; clamped to 2.2 ms [0262]");
+        assert_eq!(
+            n.si, 220,
+            "3.3 ms - 2.2 ms would be 1.1 ms; clamped to 2.2 ms [0262]"
+        );
     }
 
     #[test]
     fn s3n_s7y_quiet_at_x_changes_nothing() {
-        let r = Regs { cnt_r: 8, hist_s: true, ..X };
+        let r = Regs {
+            cnt_r: 8,
+            hist_s: true,
+            ..X
+        };
         let (o, n) = run(r, pulse(false, false));
         assert_eq!(o.fig17, Fig17::S7AtMax);
         assert_eq!(n, r, "cnt_r not incremented at x (S7: Y ends the process)");
@@ -333,34 +405,79 @@ mod tests {
 
     #[test]
     fn s3n_s7n_s8n_s9_quiet_counts() {
-        let (o, n) = run(Regs { si: 220, cnt_r: 3, ..X }, pulse(false, false));
+        let (o, n) = run(
+            Regs {
+                si: 220,
+                cnt_r: 3,
+                ..X
+            },
+            pulse(false, false),
+        );
         assert_eq!(o.fig17, Fig17::S9Count);
         assert_eq!((n.si, n.cnt_r), (220, 4));
     }
 
     #[test]
     fn s3n_s7n_s8y_s10_s11_s9_quiet_expands_clears_history_and_counts() {
-        let (o, n) = run(Regs { si: 220, cnt_r: 4, hist_s: true, hist_c: false }, pulse(false, false));
+        let (o, n) = run(
+            Regs {
+                si: 220,
+                cnt_r: 4,
+                hist_s: true,
+                hist_c: false,
+            },
+            pulse(false, false),
+        );
         assert_eq!(o.fig17, Fig17::S10Expand);
-        assert_eq!((n.si, n.cnt_r, n.hist_s, n.hist_c), (330, 5, false, false), "2.2 -> 3.3 ms [0257]");
+        assert_eq!(
+            (n.si, n.cnt_r, n.hist_s, n.hist_c),
+            (330, 5, false, false),
+            "2.2 -> 3.3 ms [0257]"
+        );
     }
 
     #[test]
     fn s10_clamps_to_x_0260() {
-        let (_, n) = run(Regs { si: 600, cnt_r: 9, ..X }, pulse(false, false));
+        let (_, n) = run(
+            Regs {
+                si: 600,
+                cnt_r: 9,
+                ..X
+            },
+            pulse(false, false),
+        );
         assert_eq!(n.si, 660);
     }
 
     #[test]
     fn repeated_change_counts_as_quiet_through_s7_s8_s9() {
         // [0236] + FIG. 17: a not-detected rotation goes S3: N, so CNTr keeps counting.
-        let (o, n) = run(Regs { si: 440, hist_s: true, cnt_r: 1, ..X }, pulse(true, false));
+        let (o, n) = run(
+            Regs {
+                si: 440,
+                hist_s: true,
+                cnt_r: 1,
+                ..X
+            },
+            pulse(true, false),
+        );
         assert_eq!((o.fig17, n.cnt_r), (Fig17::S9Count, 2));
     }
 
     #[test]
     fn cnt_r_saturates_at_255() {
-        let (_, n) = run(Regs { si: 220, cnt_r: 255, ..X }, Inputs { cth: 255, t2: 1, ..pulse(false, false) });
+        let (_, n) = run(
+            Regs {
+                si: 220,
+                cnt_r: 255,
+                ..X
+            },
+            Inputs {
+                cth: 255,
+                t2: 1,
+                ..pulse(false, false)
+            },
+        );
         assert_eq!(n.cnt_r, 255);
     }
 
@@ -368,28 +485,67 @@ mod tests {
 
     #[test]
     fn key_off_loads_x_and_clears_history_and_count() {
-        let (_, n) = run(Regs { si: 220, hist_s: true, hist_c: true, cnt_r: 7 }, Inputs { koff: true, ..pulse(true, true) });
+        let (_, n) = run(
+            Regs {
+                si: 220,
+                hist_s: true,
+                hist_c: true,
+                cnt_r: 7,
+            },
+            Inputs {
+                koff: true,
+                ..pulse(true, true)
+            },
+        );
         assert_eq!(n, reset(660));
     }
 
     #[test]
     fn key_off_loads_x_as_written_in_the_same_cycle() {
-        let (_, n) = run(Regs { si: 660, ..X }, Inputs { koff: true, si_max_nxt: 440, ..pulse(false, false) });
+        let (_, n) = run(
+            Regs { si: 660, ..X },
+            Inputs {
+                koff: true,
+                si_max_nxt: 440,
+                ..pulse(false, false)
+            },
+        );
         assert_eq!(n.si, 440, "never above the new x");
     }
 
     #[test]
     fn fixed_cycle_when_adaptive_is_off() {
-        let r = Regs { si: 220, hist_s: true, ..X };
-        let (o, n) = run(r, Inputs { adaptive: false, ..pulse(true, false) });
+        let r = Regs {
+            si: 220,
+            hist_s: true,
+            ..X
+        };
+        let (o, n) = run(
+            r,
+            Inputs {
+                adaptive: false,
+                ..pulse(true, false)
+            },
+        );
         assert_eq!(o.fig17, Fig17::Fixed);
         assert_eq!(n, Regs { si: 660, ..r });
     }
 
     #[test]
     fn no_pulse_no_change() {
-        let r = Regs { si: 220, hist_s: true, hist_c: false, cnt_r: 2 };
-        let (o, n) = run(r, Inputs { pulse: false, ..pulse(true, true) });
+        let r = Regs {
+            si: 220,
+            hist_s: true,
+            hist_c: false,
+            cnt_r: 2,
+        };
+        let (o, n) = run(
+            r,
+            Inputs {
+                pulse: false,
+                ..pulse(true, true)
+            },
+        );
         assert_eq!((o.fig17, o.fig18, n), (Fig17::Idle, Fig18::Idle, r));
     }
 }

@@ -67,7 +67,12 @@ impl Consts {
     pub fn new(s: &Structural) -> Consts {
         let depth = s.sync_depth.clamp(1, 4);
         let width = s.cnt_width.clamp(2, 16);
-        Consts { structural: *s, sig_bit: 1u8 << (depth - 1), sync_mask: (1u8 << depth) - 1, cnt_mask: ((1u32 << width) - 1) as u16 }
+        Consts {
+            structural: *s,
+            sig_bit: 1u8 << (depth - 1),
+            sync_mask: (1u8 << depth) - 1,
+            cnt_mask: ((1u32 << width) - 1) as u16,
+        }
     }
 }
 
@@ -111,7 +116,16 @@ const STATUS_LIVE: u16 = (1 << status::SIG) | (1 << status::SR) | (1 << status::
 impl Shadow {
     /// The shadow of the registers `r` (built with the core, at reset, and for the tests).
     pub fn of(c: &Consts, r: &Regs) -> Shadow {
-        let mut s = Shadow { rd: [0; 256], st_at: 0, vs2_lt: 0, ps_lo: 0, ps_len: 0, smp_at: 0, period: 0, diag: false };
+        let mut s = Shadow {
+            rd: [0; 256],
+            st_at: 0,
+            vs2_lt: 0,
+            ps_lo: 0,
+            ps_len: 0,
+            smp_at: 0,
+            period: 0,
+            diag: false,
+        };
         s.rebuild(c, r);
         s
     }
@@ -159,13 +173,16 @@ impl Shadow {
         for a in a {
             self.rd[usize::from(a)] = crate::pmu50::read(&c.structural, r, false, a);
         }
-        self.rd[usize::from(addr::STATUS)] = crate::pmu50::read(&c.structural, r, false, addr::STATUS) & !STATUS_LIVE;
+        self.rd[usize::from(addr::STATUS)] =
+            crate::pmu50::read(&c.structural, r, false, addr::STATUS) & !STATUS_LIVE;
     }
 
     /// The read mux at `a` for the registers before the edge (`sig`, `sr` and `diag` of `r`).
     #[inline(always)]
     fn read(&self, r: &Regs, sig: bool, a: u8) -> u16 {
-        let live = (u16::from(sig) << status::SIG) | (u16::from(r.sensor_power_determination.sr) << status::SR) | (u16::from(r.count_diagnosis.diag) << status::DIAG);
+        let live = (u16::from(sig) << status::SIG)
+            | (u16::from(r.sensor_power_determination.sr) << status::SR)
+            | (u16::from(r.count_diagnosis.diag) << status::DIAG);
         let is_status = 0u16.wrapping_sub(u16::from(a == addr::STATUS));
         self.rd[usize::from(a)] | (live & is_status)
     }
@@ -173,7 +190,10 @@ impl Shadow {
 
 impl std::fmt::Debug for Shadow {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Shadow").field("period", &self.period).field("diag", &self.diag).finish_non_exhaustive()
+        f.debug_struct("Shadow")
+            .field("period", &self.period)
+            .field("diag", &self.diag)
+            .finish_non_exhaustive()
     }
 }
 
@@ -229,7 +249,16 @@ struct Narrow {
 fn narrow_of(c: &Consts, r: &Regs) -> Narrow {
     let sig = sig_of(c, r.action_switching.sync);
     let (st, vs2_en, ps_win, smp) = decode(r, sig);
-    Narrow { sig, vs2_en, st, sr: r.sensor_power_determination.sr, ps_win, smp, diag: r.count_diagnosis.diag, bus_rdata: r.register_file.rdata }
+    Narrow {
+        sig,
+        vs2_en,
+        st,
+        sr: r.sensor_power_determination.sr,
+        ps_win,
+        smp,
+        diag: r.count_diagnosis.diag,
+        bus_rdata: r.register_file.rdata,
+    }
 }
 
 /// The 23 outputs: `n`, and the ten that are registers of `r` (plus the constant `vp_en`).
@@ -274,7 +303,11 @@ struct Sample {
 /// updating `r` in place; `skip_clr` is this cycle's W1C of `quadrant_skip`.
 #[inline(always)]
 fn sample(c: &Consts, r: &mut Regs, i: &Inputs) -> Sample {
-    let (cs, cc, vld) = (r.comparator_latch.cs, r.comparator_latch.cc, r.comparator_latch.vld);
+    let (cs, cc, vld) = (
+        r.comparator_latch.cs,
+        r.comparator_latch.cc,
+        r.comparator_latch.vld,
+    );
     let (cs_new, cc_new) = (i.cmp_s, i.cmp_c);
     r.comparator_latch.cs = cs_new;
     r.comparator_latch.cc = cc_new;
@@ -291,7 +324,11 @@ fn sample(c: &Consts, r: &mut Regs, i: &Inputs) -> Sample {
         };
         u.cnt_s = s & m;
         u.cnt_c = k & m;
-        return Sample { first: true, chg_s: false, chg_c: false };
+        return Sample {
+            first: true,
+            chg_s: false,
+            chg_c: false,
+        };
     }
     let chg_s = cs_new != cs;
     let chg_c = cc_new != cc;
@@ -299,19 +336,37 @@ fn sample(c: &Consts, r: &mut Regs, i: &Inputs) -> Sample {
         u.quadrant_skip = true;
     } else if chg_s {
         // [0096]/[0097]: up iff the new Cs equals Cc.
-        u.cnt_s = if cs_new == cc { u.cnt_s.wrapping_add(1) } else { u.cnt_s.wrapping_sub(1) } & m;
+        u.cnt_s = if cs_new == cc {
+            u.cnt_s.wrapping_add(1)
+        } else {
+            u.cnt_s.wrapping_sub(1)
+        } & m;
     } else if chg_c {
         // [0098]/[0099]: up iff the new Cc differs from Cs.
-        u.cnt_c = if cc_new != cs { u.cnt_c.wrapping_add(1) } else { u.cnt_c.wrapping_sub(1) } & m;
+        u.cnt_c = if cc_new != cs {
+            u.cnt_c.wrapping_add(1)
+        } else {
+            u.cnt_c.wrapping_sub(1)
+        } & m;
     }
-    Sample { first: false, chg_s, chg_c }
+    Sample {
+        first: false,
+        chg_s,
+        chg_c,
+    }
 }
 
 /// Drive interval changing unit 56b at a key-off sampling strobe (`pulse` = 1, no `koff`), with the
 /// pre-edge `sr`, the sign changes of this sample and the pre-edge parameters `f`. Returns the
 /// FIG. 17 and FIG. 18 paths.
 #[inline(always)]
-fn drive_interval_pulse(d: &mut crate::drive_interval_changing_56b::Regs, f: &crate::register_file::Regs, sr: bool, chg_s: bool, chg_c: bool) -> (Fig17, Fig18) {
+fn drive_interval_pulse(
+    d: &mut crate::drive_interval_changing_56b::Regs,
+    f: &crate::register_file::Regs,
+    sr: bool,
+    chg_s: bool,
+    chg_c: bool,
+) -> (Fig17, Fig18) {
     if !f.adaptive {
         d.si = f.si_max;
         return (Fig17::Fixed, Fig18::Idle);
@@ -382,7 +437,13 @@ pub fn step(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> Outputs {
 /// `action_switching.sync`, the timer `timing_generator.tmr`, `sensor_power_determination.sr`,
 /// `register_file.rdata` and `count_diagnosis.diag`. Every other register keeps its value (a
 /// narrow key-on sample writes the latches with the values they hold).
-pub const NARROW_WRITES: [&str; 5] = ["action_switching.sync", "timing_generator.tmr", "sensor_power_determination.sr", "register_file.rdata", "count_diagnosis.diag"];
+pub const NARROW_WRITES: [&str; 5] = [
+    "action_switching.sync",
+    "timing_generator.tmr",
+    "sensor_power_determination.sr",
+    "register_file.rdata",
+    "count_diagnosis.diag",
+];
 
 /// [`step`], traced (the path of [`crate::Pmu50::step_traced`]: waveforms, the C ABI's
 /// lockstep): the outputs before and after the edge, the internals of the cycle, and whether the
@@ -402,13 +463,23 @@ pub const NARROW_WRITES: [&str; 5] = ["action_switching.sync", "timing_generator
 pub fn step_traced(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> TracedStep {
     let before = ports(c, r);
     let (after, internals, wide) = step_with::<true>(c, r, sh, i);
-    TracedStep { before, internals, after, wide }
+    TracedStep {
+        before,
+        internals,
+        after,
+        wide,
+    }
 }
 
 /// The edge of [`step`] and [`step_traced`]; with `TRACED` false the internals are not built
 /// (the compiler drops them).
 #[inline(always)]
-fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs) -> (Outputs, Internals, bool) {
+fn step_with<const TRACED: bool>(
+    c: &Consts,
+    r: &mut Regs,
+    sh: &mut Shadow,
+    i: &Inputs,
+) -> (Outputs, Internals, bool) {
     // 1. Synchronizer (56a).
     let sync = r.action_switching.sync;
     let sig = sig_of(c, sync);
@@ -423,7 +494,11 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
         // (an `Outputs` returned through memory by the out-of-line call costs a
         // store-forwarding stall in the caller every tick).
         let x = edge_rare(c, r, sh, i);
-        (narrow_of(c, r), if TRACED { x } else { Internals::default() }, true)
+        (
+            narrow_of(c, r),
+            if TRACED { x } else { Internals::default() },
+            true,
+        )
     } else {
         edge_common::<TRACED>(c, r, sh, i, sig, sync_n)
     };
@@ -434,7 +509,14 @@ fn step_with<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &
 /// computes ([`Narrow`]), its internals and whether it was wide (a key-off strobe, or a key-on
 /// sample that preset or moved the latches or counters: [`step_traced`]).
 #[inline(always)]
-fn edge_common<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i: &Inputs, sig: bool, sync_n: u8) -> (Narrow, Internals, bool) {
+fn edge_common<const TRACED: bool>(
+    c: &Consts,
+    r: &mut Regs,
+    sh: &mut Shadow,
+    i: &Inputs,
+    sig: bool,
+    sync_n: u8,
+) -> (Narrow, Internals, bool) {
     // 3. Timing generator decode of the pre-edge registers (parameters before the edge, from
     // the shadow).
     let t = u32::from(r.timing_generator.tmr);
@@ -457,14 +539,28 @@ fn edge_common<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i:
     // internals only `upd` is set.
     let mut wide = false;
     if smp {
-        let s = if sr_pre { sample(c, r, i) } else { Sample { first: false, chg_s: false, chg_c: false } };
+        let s = if sr_pre {
+            sample(c, r, i)
+        } else {
+            Sample {
+                first: false,
+                chg_s: false,
+                chg_c: false,
+            }
+        };
         let moved = s.first | s.chg_s | s.chg_c;
         if moved {
             sh.refresh_sample(c, r);
         }
         wide = moved | !sig;
         if !sig {
-            let (f17, f18) = drive_interval_pulse(&mut r.drive_interval, &r.register_file, sr_pre, s.chg_s, s.chg_c);
+            let (f17, f18) = drive_interval_pulse(
+                &mut r.drive_interval,
+                &r.register_file,
+                sr_pre,
+                s.chg_s,
+                s.chg_c,
+            );
             sh.refresh_pulse(c, r);
             if TRACED {
                 (x.fig17, x.fig18) = (f17, f18);
@@ -489,7 +585,20 @@ fn edge_common<const TRACED: bool>(c: &Consts, r: &mut Regs, sh: &mut Shadow, i:
     let vs2_en_n = t_n < sh.vs2_lt;
     let ps_win = t_n.wrapping_sub(sh.ps_lo) < sh.ps_len;
     let smp_n = t_n + 1 == sh.smp_at;
-    (Narrow { sig, vs2_en: vs2_en_n, st, sr, ps_win, smp: smp_n, diag, bus_rdata: rdata }, x, wide)
+    (
+        Narrow {
+            sig,
+            vs2_en: vs2_en_n,
+            st,
+            sr,
+            ps_win,
+            smp: smp_n,
+            diag,
+            bus_rdata: rdata,
+        },
+        x,
+        wide,
+    )
 }
 
 /// The edges [`step`] does not take inline: a bus write or a key edge. They run the

@@ -135,7 +135,11 @@ pub enum HdlParamError {
     #[error("unknown parameter `{name}`; valid are {}", HDL_NAMES.join(", "))]
     Unknown { name: String },
     #[error("parameter {name} = {value} does not fit in its {bits} bits")]
-    TooWide { name: &'static str, value: u64, bits: u32 },
+    TooWide {
+        name: &'static str,
+        value: u64,
+        bits: u32,
+    },
 }
 
 impl Default for Params {
@@ -148,7 +152,12 @@ impl Default for Params {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum ParamError {
     #[error("core.{field} = {value} is out of range; valid is {min}..={max}")]
-    OutOfRange { field: &'static str, value: u64, min: u64, max: u64 },
+    OutOfRange {
+        field: &'static str,
+        value: u64,
+        min: u64,
+        max: u64,
+    },
     #[error("core.{field} must be longer than zero")]
     Zero { field: &'static str },
     #[error("core.min ({min} ticks) is above core.x ({max} ticks); the minimum interval must not exceed the maximum interval x")]
@@ -167,14 +176,23 @@ impl Params {
 
     /// The shortest interval the drive interval register can hold in this configuration.
     pub fn shortest_interval(&self) -> u16 {
-        if self.adaptive { self.si_min } else { self.si_max }
+        if self.adaptive {
+            self.si_min
+        } else {
+            self.si_max
+        }
     }
 
     /// Every rule a legal configuration obeys (docs/spec.md, "Legal parameter values").
     pub fn validate(&self) -> Result<(), ParamError> {
         let range = |field, value: u64, min: u64, max: u64| {
             if value < min || value > max {
-                Err(ParamError::OutOfRange { field, value, min, max })
+                Err(ParamError::OutOfRange {
+                    field,
+                    value,
+                    min,
+                    max,
+                })
             } else {
                 Ok(())
             }
@@ -198,10 +216,17 @@ impl Params {
             return Err(ParamError::NoSettlingTick);
         }
         if self.si_min > self.si_max {
-            return Err(ParamError::MinAboveMax { min: self.si_min, max: self.si_max });
+            return Err(ParamError::MinAboveMax {
+                min: self.si_min,
+                max: self.si_max,
+            });
         }
         if self.wt() >= u32::from(self.shortest_interval()) {
-            return Err(ParamError::WindowTooLong { wt: self.wt(), min: self.si_min, max: self.si_max });
+            return Err(ParamError::WindowTooLong {
+                wt: self.wt(),
+                min: self.si_min,
+                max: self.si_max,
+            });
         }
         Ok(())
     }
@@ -242,26 +267,81 @@ mod tests {
 
     #[test]
     fn hdl_parameters_set_back_by_name() {
-        let p = Params { sync_depth: 3, cnt_width: 5, adaptive: false, pw: 1, pi: 2, ps: 3, si_max: 400, si_min: 300, t1: 7, t2: 8, cth: 9, smp_on: 11 };
+        let p = Params {
+            sync_depth: 3,
+            cnt_width: 5,
+            adaptive: false,
+            pw: 1,
+            pi: 2,
+            ps: 3,
+            si_max: 400,
+            si_min: 300,
+            t1: 7,
+            t2: 8,
+            cth: 9,
+            smp_on: 11,
+        };
         let mut q = Params::default();
         for (name, v) in p.hdl_parameters() {
             q.set_hdl_parameter(name, v).unwrap();
         }
         assert_eq!(q, p);
-        assert_eq!(p.hdl_parameters().map(|(n, _)| n), ["SYNC_DEPTH", "CNT_W", "ADAPTIVE", "PW", "PI", "PS", "SI_MAX", "SI_MIN", "T1", "T2", "CTH", "SMP_ON"]);
+        assert_eq!(
+            p.hdl_parameters().map(|(n, _)| n),
+            [
+                "SYNC_DEPTH",
+                "CNT_W",
+                "ADAPTIVE",
+                "PW",
+                "PI",
+                "PS",
+                "SI_MAX",
+                "SI_MIN",
+                "T1",
+                "T2",
+                "CTH",
+                "SMP_ON"
+            ]
+        );
         let e = q.set_hdl_parameter("SI_MAXX", 1).unwrap_err().to_string();
         assert!(e.contains("`SI_MAXX`") && e.contains("SMP_ON"), "{e}");
-        assert_eq!(q.set_hdl_parameter("CTH", 256), Err(HdlParamError::TooWide { name: "CTH", value: 256, bits: 8 }));
-        assert_eq!(q.set_hdl_parameter("ADAPTIVE", 2), Err(HdlParamError::TooWide { name: "ADAPTIVE", value: 2, bits: 1 }));
+        assert_eq!(
+            q.set_hdl_parameter("CTH", 256),
+            Err(HdlParamError::TooWide {
+                name: "CTH",
+                value: 256,
+                bits: 8
+            })
+        );
+        assert_eq!(
+            q.set_hdl_parameter("ADAPTIVE", 2),
+            Err(HdlParamError::TooWide {
+                name: "ADAPTIVE",
+                value: 2,
+                bits: 1
+            })
+        );
         assert_eq!(q, p, "a refused value changes nothing");
     }
 
     #[test]
     fn window_rule_uses_x_when_not_adaptive() {
-        let p = Params { adaptive: false, si_min: 10, pi: 100, ..Params::default() };
+        let p = Params {
+            adaptive: false,
+            si_min: 10,
+            pi: 100,
+            ..Params::default()
+        };
         // Wt = 110 < x = 660: legal even though Wt > min, because min is unused.
         assert_eq!(p.validate(), Ok(()));
-        let p = Params { si_min: 10, pi: 100, ..Params::default() };
-        assert!(matches!(p.validate(), Err(ParamError::WindowTooLong { .. })));
+        let p = Params {
+            si_min: 10,
+            pi: 100,
+            ..Params::default()
+        };
+        assert!(matches!(
+            p.validate(),
+            Err(ParamError::WindowTooLong { .. })
+        ));
     }
 }

@@ -205,7 +205,16 @@ pub struct Blocks {
 }
 
 fn tg_inputs(sig: bool, kon: bool, koff: bool, p: &Params, si: u16) -> tg::Inputs {
-    tg::Inputs { sig, kon, koff, si, pw: p.pw, pi: p.pi, ps: p.ps, smp_on: p.smp_on }
+    tg::Inputs {
+        sig,
+        kon,
+        koff,
+        si,
+        pw: p.pw,
+        pi: p.pi,
+        ps: p.ps,
+        smp_on: p.smp_on,
+    }
 }
 
 /// Moore outputs, decoded from the registers.
@@ -213,7 +222,10 @@ pub fn ports(s: &Structural, r: &Regs) -> Outputs {
     let b = s.blocks();
     let a = b.action_switching.outputs(&r.action_switching);
     let f = b.register_file.outputs(&r.register_file);
-    let t = tg::outputs(&r.timing_generator, &tg_inputs(a.sig, false, false, &f.params, r.drive_interval.si));
+    let t = tg::outputs(
+        &r.timing_generator,
+        &tg_inputs(a.sig, false, false, &f.params, r.drive_interval.si),
+    );
     let d = spd::outputs(&r.sensor_power_determination);
     let c = cl::outputs(&r.comparator_latch);
     let u = b.updown_counter.outputs(&r.updown_counter);
@@ -267,7 +279,11 @@ fn status_view(r: &Regs, sig: bool) -> rf::StatusView {
 /// The register file's read mux at `addr` for the registers `r` with the key mode `sig` (what
 /// `bus_rdata` shows one edge later).
 pub fn read(s: &Structural, r: &Regs, sig: bool, addr: u8) -> u16 {
-    let i = rf::Inputs { view: status_view(r, sig), sig, ..Default::default() };
+    let i = rf::Inputs {
+        view: status_view(r, sig),
+        sig,
+        ..Default::default()
+    };
     s.blocks().register_file.read(&r.register_file, &i, addr)
 }
 
@@ -285,12 +301,20 @@ pub fn next(s: &Structural, r: &Regs, i: &Inputs) -> (Internals, Regs) {
     let b = s.blocks();
     // 1. Action switching unit 56a and regulator 51.
     let a = b.action_switching.outputs(&r.action_switching);
-    let (ac, a_n) = b.action_switching.eval(&r.action_switching, &sw::Inputs { ig: i.ig });
+    let (ac, a_n) = b
+        .action_switching
+        .eval(&r.action_switching, &sw::Inputs { ig: i.ig });
     // 2. Register file: the parameters in force this cycle are the registers before the edge.
     let f = b.register_file.outputs(&r.register_file);
     let (fc, f_n) = b.register_file.eval(
         &r.register_file,
-        &rf::Inputs { bus_we: i.bus_we, bus_addr: i.bus_addr, bus_wdata: i.bus_wdata, sig: a.sig, view: status_view(r, a.sig) },
+        &rf::Inputs {
+            bus_we: i.bus_we,
+            bus_addr: i.bus_addr,
+            bus_wdata: i.bus_wdata,
+            sig: a.sig,
+            view: status_view(r, a.sig),
+        },
     );
     let p = f.params;
     // 3. Timing generator of 56 with the window of 54.
@@ -299,10 +323,24 @@ pub fn next(s: &Structural, r: &Regs, i: &Inputs) -> (Internals, Regs) {
     let t_n = tg::eval(&r.timing_generator, &ti);
     // 4. Sensor power determination unit 57.
     let d = spd::outputs(&r.sensor_power_determination);
-    let d_n = spd::eval(&r.sensor_power_determination, &spd::Inputs { vs2_en: t.vs2_en, vs2_ok: i.vs2_ok });
+    let d_n = spd::eval(
+        &r.sensor_power_determination,
+        &spd::Inputs {
+            vs2_en: t.vs2_en,
+            vs2_ok: i.vs2_ok,
+        },
+    );
     // 5. Comparator latches 58a/58b.
     let c = cl::outputs(&r.comparator_latch);
-    let (cc, c_n) = cl::eval(&r.comparator_latch, &cl::Inputs { cmp_s: i.cmp_s, cmp_c: i.cmp_c, smp: t.smp, sr: d.sr });
+    let (cc, c_n) = cl::eval(
+        &r.comparator_latch,
+        &cl::Inputs {
+            cmp_s: i.cmp_s,
+            cmp_c: i.cmp_c,
+            smp: t.smp,
+            sr: d.sr,
+        },
+    );
     // 6. Up/down counters 58c/58d.
     let u_n = b.updown_counter.eval(
         &r.updown_counter,
@@ -335,7 +373,14 @@ pub fn next(s: &Structural, r: &Regs, i: &Inputs) -> (Internals, Regs) {
         },
     );
     // 8. Count diagnosis, aligned with the counters' next values.
-    let g_n = b.count_diagnosis.eval(&r.count_diagnosis, &cd::Inputs { cnt_s_nxt: u_n.cnt_s, cnt_c_nxt: u_n.cnt_c, skip_nxt: u_n.quadrant_skip });
+    let g_n = b.count_diagnosis.eval(
+        &r.count_diagnosis,
+        &cd::Inputs {
+            cnt_s_nxt: u_n.cnt_s,
+            cnt_c_nxt: u_n.cnt_c,
+            skip_nxt: u_n.quadrant_skip,
+        },
+    );
     let next = Regs {
         action_switching: a_n,
         register_file: f_n,
@@ -376,7 +421,12 @@ impl Regs {
     pub fn values(&self, s: &Structural) -> Vec<RegValue> {
         signals::REGISTERS
             .iter()
-            .map(|r| RegValue { block: r.scope, name: r.name, width: r.bits(s), value: (r.get)(self) })
+            .map(|r| RegValue {
+                block: r.scope,
+                name: r.name,
+                width: r.bits(s),
+                value: (r.get)(self),
+            })
             .collect()
     }
 }
@@ -393,9 +443,20 @@ impl Outputs {
 
 const _: () = {
     use std::mem::{offset_of, size_of};
-    assert!(offset_of!(Outputs, cc) == 12 && offset_of!(Outputs, cnt_r) == 13 && offset_of!(Outputs, cnt_s) == 14);
-    assert!(offset_of!(Outputs, bus_rdata) == 20 && offset_of!(Outputs, hist_s) == 22 && offset_of!(Outputs, bus_err) == 26);
-    assert!(size_of::<Outputs>() == 28, "Outputs: 27 bytes of fields, one byte of padding at the end");
+    assert!(
+        offset_of!(Outputs, cc) == 12
+            && offset_of!(Outputs, cnt_r) == 13
+            && offset_of!(Outputs, cnt_s) == 14
+    );
+    assert!(
+        offset_of!(Outputs, bus_rdata) == 20
+            && offset_of!(Outputs, hist_s) == 22
+            && offset_of!(Outputs, bus_err) == 26
+    );
+    assert!(
+        size_of::<Outputs>() == 28,
+        "Outputs: 27 bytes of fields, one byte of padding at the end"
+    );
 };
 
 /// The bytes of `b` (each 0 or 1) as the bits of one byte: bit k is byte k. Multiplying by
@@ -413,14 +474,44 @@ impl Outputs {
     #[inline(always)]
     pub fn flags(&self) -> u32 {
         let b = u8::from;
-        let lo = gather_bits([b(self.sig), b(self.vr_hi), b(self.vm_en), b(self.vs1_en), b(self.vs2_en), b(self.vp_en), b(self.rail_hi), b(self.st)]);
-        let mid = gather_bits([b(self.sr), b(self.ps_win), b(self.smp), b(self.cs), b(self.cc), 0, 0, 0]);
-        let hi = gather_bits([b(self.hist_s), b(self.hist_c), b(self.diag), b(self.quadrant_skip), b(self.bus_err), 0, 0, 0]);
+        let lo = gather_bits([
+            b(self.sig),
+            b(self.vr_hi),
+            b(self.vm_en),
+            b(self.vs1_en),
+            b(self.vs2_en),
+            b(self.vp_en),
+            b(self.rail_hi),
+            b(self.st),
+        ]);
+        let mid = gather_bits([
+            b(self.sr),
+            b(self.ps_win),
+            b(self.smp),
+            b(self.cs),
+            b(self.cc),
+            0,
+            0,
+            0,
+        ]);
+        let hi = gather_bits([
+            b(self.hist_s),
+            b(self.hist_c),
+            b(self.diag),
+            b(self.quadrant_skip),
+            b(self.bus_err),
+            0,
+            0,
+            0,
+        ]);
         lo | mid << 8 | hi << 13
     }
 }
 
-const _: () = assert!(std::mem::size_of::<Inputs>() == 8, "Inputs: eight bytes, no padding");
+const _: () = assert!(
+    std::mem::size_of::<Inputs>() == 8,
+    "Inputs: eight bytes, no padding"
+);
 
 impl Inputs {
     /// The inputs as one word, a byte each in the order of the fields (little-endian): `ig`,
@@ -430,13 +521,25 @@ impl Inputs {
     #[inline(always)]
     pub fn packed(&self) -> u64 {
         let w = self.bus_wdata.to_le_bytes();
-        u64::from_le_bytes([u8::from(self.ig), u8::from(self.vs2_ok), u8::from(self.cmp_s), u8::from(self.cmp_c), u8::from(self.bus_we), self.bus_addr, w[0], w[1]])
+        u64::from_le_bytes([
+            u8::from(self.ig),
+            u8::from(self.vs2_ok),
+            u8::from(self.cmp_s),
+            u8::from(self.cmp_c),
+            u8::from(self.bus_we),
+            self.bus_addr,
+            w[0],
+            w[1],
+        ])
     }
 
     /// Every input port as (name, width, value), in the order of [`signals::INPUTS`].
     pub fn values(&self) -> [(&'static str, u8, u64); signals::N_INPUTS] {
         // Inputs have no structural width.
-        let s = Structural { sync_depth: 1, cnt_width: 16 };
+        let s = Structural {
+            sync_depth: 1,
+            cnt_width: 16,
+        };
         std::array::from_fn(|k| {
             let i = &signals::INPUTS[k];
             (i.name, i.bits(&s), (i.get)(self))
@@ -444,7 +547,10 @@ impl Inputs {
     }
 }
 
-const _: () = assert!(std::mem::size_of::<Internals>() == 9, "Internals: nine bytes, no padding");
+const _: () = assert!(
+    std::mem::size_of::<Internals>() == 9,
+    "Internals: nine bytes, no padding"
+);
 
 impl Internals {
     /// The internals as one word, a byte each in the order of the fields (little-endian):
@@ -474,7 +580,10 @@ impl Internals {
 
     /// Every internal signal as (name, width, value), in the order of [`signals::INTERNALS`].
     pub fn values(&self) -> [(&'static str, u8, u64); signals::N_INTERNALS] {
-        let s = Structural { sync_depth: 1, cnt_width: 16 };
+        let s = Structural {
+            sync_depth: 1,
+            cnt_width: 16,
+        };
         std::array::from_fn(|k| {
             let x = &signals::INTERNALS[k];
             (x.name, x.bits(&s), (x.get)(self))
@@ -522,7 +631,8 @@ pub struct Pmu50 {
 
 impl PartialEq for Pmu50 {
     fn eq(&self, o: &Pmu50) -> bool {
-        (self.structural, self.params, self.regs, self.tick) == (o.structural, o.params, o.regs, o.tick)
+        (self.structural, self.params, self.regs, self.tick)
+            == (o.structural, o.params, o.regs, o.tick)
     }
 }
 impl Eq for Pmu50 {}
@@ -531,10 +641,20 @@ impl Pmu50 {
     /// A core at power-on reset with these parameters (which must be legal).
     pub fn new(p: Params) -> Result<Pmu50, ParamError> {
         p.validate()?;
-        let s = Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width };
+        let s = Structural {
+            sync_depth: p.sync_depth,
+            cnt_width: p.cnt_width,
+        };
         let k = crate::kernel::Consts::new(&s);
         let regs = reset(&p);
-        Ok(Pmu50 { structural: s, params: p, regs, tick: 0, consts: k, shadow: crate::kernel::Shadow::of(&k, &regs) })
+        Ok(Pmu50 {
+            structural: s,
+            params: p,
+            regs,
+            tick: 0,
+            consts: k,
+            shadow: crate::kernel::Shadow::of(&k, &regs),
+        })
     }
 
     /// Back to power-on reset (the parameters given to [`Pmu50::new`]); tick count restarts at 0.
@@ -593,7 +713,10 @@ impl Pmu50 {
     /// gaps without evaluating every tick.
     pub fn quiet_ticks(&self, i: &Inputs) -> u64 {
         let (_, _, next) = eval(&self.structural, &self.regs, i);
-        let only_tmr = Regs { timing_generator: self.regs.timing_generator, ..next } == self.regs;
+        let only_tmr = Regs {
+            timing_generator: self.regs.timing_generator,
+            ..next
+        } == self.regs;
         if !only_tmr {
             return 0;
         }
@@ -604,7 +727,10 @@ impl Pmu50 {
         // on [0, smp_on-1), {smp_on-1} (key on). So the first event is at t+1 or at the start of
         // one of those intervals; each candidate is checked with the real next-state function.
         let a = self.peek();
-        let p = self.regs.register_file.params(self.structural.sync_depth, self.structural.cnt_width);
+        let p = self
+            .regs
+            .register_file
+            .params(self.structural.sync_depth, self.structural.cnt_width);
         let ti = tg_inputs(a.sig, false, false, &p, self.regs.drive_interval.si);
         let period = u64::from(tg::period(&ti));
         let t = u64::from(self.regs.timing_generator.tmr);
@@ -621,7 +747,10 @@ impl Pmu50 {
             let mut at = self.regs;
             at.timing_generator.tmr = c as u16;
             let (_, _, n) = eval(&self.structural, &at, i);
-            Regs { timing_generator: at.timing_generator, ..n } != at
+            Regs {
+                timing_generator: at.timing_generator,
+                ..n
+            } != at
         };
         let wt = u64::from(p.pw) + u64::from(p.pi) + u64::from(p.ps);
         let mut best = u64::MAX;
@@ -644,11 +773,18 @@ impl Pmu50 {
             return Ok(());
         }
         let a = self.peek();
-        let p = self.regs.register_file.params(self.structural.sync_depth, self.structural.cnt_width);
+        let p = self
+            .regs
+            .register_file
+            .params(self.structural.sync_depth, self.structural.cnt_width);
         let ti = tg_inputs(a.sig, false, false, &p, self.regs.drive_interval.si);
         let period = u64::from(tg::period(&ti)).max(1);
         let t = u64::from(self.regs.timing_generator.tmr);
-        let tmr = if t + 1 >= period { (n - 1) % period } else { (t + n) % period };
+        let tmr = if t + 1 >= period {
+            (n - 1) % period
+        } else {
+            (t + n) % period
+        };
         self.regs.timing_generator.tmr = tmr as u16;
         self.tick += n;
         Ok(())

@@ -20,7 +20,15 @@ impl Pmu50Spec {
     /// A core at power-on reset with these parameters (which must be legal).
     pub fn new(p: Params) -> Result<Pmu50Spec, ParamError> {
         p.validate()?;
-        Ok(Pmu50Spec { structural: Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width }, params: p, regs: reset(&p), tick: 0 })
+        Ok(Pmu50Spec {
+            structural: Structural {
+                sync_depth: p.sync_depth,
+                cnt_width: p.cnt_width,
+            },
+            params: p,
+            regs: reset(&p),
+            tick: 0,
+        })
     }
 
     /// Back to power-on reset; tick count restarts at 0.
@@ -49,7 +57,12 @@ impl Pmu50Spec {
         let (before, internals, next) = eval(&self.structural, &self.regs, i);
         self.regs = next;
         self.tick += 1;
-        TracedStep { before, internals, after: self.peek(), wide: true }
+        TracedStep {
+            before,
+            internals,
+            after: self.peek(),
+            wide: true,
+        }
     }
 
     /// All registers.

@@ -130,7 +130,9 @@ pub const MAP: &[(&str, u8, u8, &str)] = &[
 
 /// Look up a register address by name (case-insensitive).
 pub fn address_of(name: &str) -> Option<u8> {
-    MAP.iter().find(|(n, ..)| n.eq_ignore_ascii_case(name)).map(|&(_, a, ..)| a)
+    MAP.iter()
+        .find(|(n, ..)| n.eq_ignore_ascii_case(name))
+        .map(|&(_, a, ..)| a)
 }
 
 macro_rules! parameter_registers {
@@ -264,7 +266,10 @@ pub enum WriteRefusal {
 
 impl RegisterFile {
     pub const fn new(sync_depth: u8, cnt_width: u8) -> Self {
-        RegisterFile { sync_depth, cnt_width }
+        RegisterFile {
+            sync_depth,
+            cnt_width,
+        }
     }
 
     /// The parameter set the registers hold, with this block's structural parameters.
@@ -274,7 +279,11 @@ impl RegisterFile {
 
     /// Registered outputs, decoded from the registers.
     pub fn outputs(&self, r: &Regs) -> Outputs {
-        Outputs { params: self.params(r), bus_rdata: r.rdata, bus_err: r.bus_err }
+        Outputs {
+            params: self.params(r),
+            bus_rdata: r.rdata,
+            bus_err: r.bus_err,
+        }
     }
 
     /// Combinational read mux.
@@ -309,7 +318,9 @@ impl RegisterFile {
             return Ok(None);
         }
         let cand = with_write(r, i.bus_addr, i.bus_wdata).ok_or(WriteRefusal::NotWritable)?;
-        self.params(&cand).validate().map_err(WriteRefusal::Illegal)?;
+        self.params(&cand)
+            .validate()
+            .map_err(WriteRefusal::Illegal)?;
         Ok(Some(cand))
     }
 
@@ -326,7 +337,12 @@ impl RegisterFile {
         // Set wins over clear.
         n.bus_err = refused || (r.bus_err && !w1c(status::BUS_ERR));
         n.rdata = self.read(r, i, i.bus_addr);
-        (Comb { skip_clr: w1c(status::QUADRANT_SKIP) }, n)
+        (
+            Comb {
+                skip_clr: w1c(status::QUADRANT_SKIP),
+            },
+            n,
+        )
     }
 }
 
@@ -337,7 +353,16 @@ mod tests {
     const RF: RegisterFile = RegisterFile::new(2, 16);
 
     fn wr(r: &Regs, a: u8, d: u16, sig: bool) -> (Comb, Regs) {
-        RF.eval(r, &Inputs { bus_we: true, bus_addr: a, bus_wdata: d, sig, ..Default::default() })
+        RF.eval(
+            r,
+            &Inputs {
+                bus_we: true,
+                bus_addr: a,
+                bus_wdata: d,
+                sig,
+                ..Default::default()
+            },
+        )
     }
 
     /// (`t2`, `bus_err`) after a write of 220 to T2 from reset, with `sig` (key on) as given.
@@ -354,13 +379,13 @@ mod tests {
     #[test]
     fn illegal_writes_are_refused_and_flagged() {
         for (a, d) in [
-            (addr::SI_MIN, 0),        // zero
-            (addr::SI_MIN, 700),      // min above x
-            (addr::SI_MAX, 100),      // x below min
-            (addr::PI, 300),          // Wt >= min
-            (addr::CTH, 0),           // Cth zero
-            (addr::CNT_S, 5),         // read-only
-            (0x7F, 5),                // unmapped
+            (addr::SI_MIN, 0),   // zero
+            (addr::SI_MIN, 700), // min above x
+            (addr::SI_MAX, 100), // x below min
+            (addr::PI, 300),     // Wt >= min
+            (addr::CTH, 0),      // Cth zero
+            (addr::CNT_S, 5),    // read-only
+            (0x7F, 5),           // unmapped
         ] {
             let (_, n) = wr(&RESET, a, d, true);
             assert!(n.bus_err, "addr {a:#x} value {d}");
@@ -375,8 +400,16 @@ mod tests {
 
     #[test]
     fn status_w1c_clears_skip_and_bus_err() {
-        let r = Regs { bus_err: true, ..RESET };
-        let (o, n) = wr(&r, addr::STATUS, (1 << status::QUADRANT_SKIP) | (1 << status::BUS_ERR), true);
+        let r = Regs {
+            bus_err: true,
+            ..RESET
+        };
+        let (o, n) = wr(
+            &r,
+            addr::STATUS,
+            (1 << status::QUADRANT_SKIP) | (1 << status::BUS_ERR),
+            true,
+        );
         assert!(o.skip_clr && !n.bus_err);
         let (o, n) = wr(&r, addr::STATUS, 0, true);
         assert!(!o.skip_clr && n.bus_err);
@@ -384,11 +417,23 @@ mod tests {
 
     #[test]
     fn read_is_registered_and_sign_extends_counts() {
-        let view = StatusView { cnt_s: 0x7, cnt_c: 0x2, ..Default::default() };
-        let i = Inputs { bus_addr: addr::CNT_S, view, ..Default::default() };
+        let view = StatusView {
+            cnt_s: 0x7,
+            cnt_c: 0x2,
+            ..Default::default()
+        };
+        let i = Inputs {
+            bus_addr: addr::CNT_S,
+            view,
+            ..Default::default()
+        };
         let rf = RegisterFile::new(2, 3);
         let (_, n) = rf.eval(&RESET, &i);
-        assert_eq!(rf.outputs(&RESET).bus_rdata, 0, "data appears one cycle later");
+        assert_eq!(
+            rf.outputs(&RESET).bus_rdata,
+            0,
+            "data appears one cycle later"
+        );
         assert_eq!(rf.outputs(&n).bus_rdata, 0xFFFF, "3-bit 0b111 is -1");
         assert_eq!(rf.read(&RESET, &i, addr::ID), ID_VALUE);
         assert_eq!(rf.read(&RESET, &i, addr::CFG), 0x0302);
@@ -396,7 +441,12 @@ mod tests {
 
     #[test]
     fn status_bits_are_where_the_map_says() {
-        let v = StatusView { cs: true, diag: true, sr: true, ..Default::default() };
+        let v = StatusView {
+            cs: true,
+            diag: true,
+            sr: true,
+            ..Default::default()
+        };
         assert_eq!(status_word(&v, true), 0b10_0001_0001 | (1 << 8));
     }
 

@@ -78,10 +78,15 @@ impl SplitMix64 {
             let ps = self.range(1, r.ps) as u16;
             let wt = u64::from(pw + pi + ps);
             let si_min = self.range(wt + 1, wt + r.si_min_over_wt) as u16;
-            let si_max = self.range(u64::from(si_min), u64::from(si_min) + r.si_max_over_min) as u16;
+            let si_max =
+                self.range(u64::from(si_min), u64::from(si_min) + r.si_max_over_min) as u16;
             let p = Params {
                 sync_depth: self.range(1, 4) as u8,
-                cnt_width: if self.chance(r.narrow_cnt.0, r.narrow_cnt.1) { self.range(2, r.narrow_cnt_max) as u8 } else { 16 },
+                cnt_width: if self.chance(r.narrow_cnt.0, r.narrow_cnt.1) {
+                    self.range(2, r.narrow_cnt_max) as u8
+                } else {
+                    16
+                },
                 adaptive: self.chance(r.adaptive.0, r.adaptive.1),
                 pw,
                 pi,
@@ -109,7 +114,14 @@ mod tests {
     #[test]
     fn reference_sequence() {
         let mut r = SplitMix64(0);
-        assert_eq!([r.next(), r.next(), r.next()], [0xE220_A839_7B1D_CDAF, 0x6E78_9E6A_A1B9_65F4, 0x06C4_5D18_8009_454F]);
+        assert_eq!(
+            [r.next(), r.next(), r.next()],
+            [
+                0xE220_A839_7B1D_CDAF,
+                0x6E78_9E6A_A1B9_65F4,
+                0x06C4_5D18_8009_454F
+            ]
+        );
         assert_eq!(SplitMix64::new(5).0, 5 ^ 0x9E37_79B9_7F4A_7C15);
     }
 

@@ -47,7 +47,9 @@ pub fn outputs(r: &Regs) -> Outputs {
 
 /// Pure next-state function (no combinational outputs).
 pub fn eval(_r: &Regs, i: &Inputs) -> Regs {
-    Regs { sr: i.vs2_en && i.vs2_ok }
+    Regs {
+        sr: i.vs2_en && i.vs2_ok,
+    }
 }
 
 #[cfg(test)]
@@ -57,7 +59,13 @@ mod tests {
     #[test]
     fn sr_needs_both_the_enable_and_a_good_rail() {
         for (en, ok) in [(false, false), (false, true), (true, false), (true, true)] {
-            let n = eval(&RESET, &Inputs { vs2_en: en, vs2_ok: ok });
+            let n = eval(
+                &RESET,
+                &Inputs {
+                    vs2_en: en,
+                    vs2_ok: ok,
+                },
+            );
             assert_eq!(n.sr, en && ok, "en={en} ok={ok}");
         }
     }

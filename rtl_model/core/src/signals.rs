@@ -173,17 +173,83 @@ pub fn sext64(v: u64, width: u8) -> i64 {
 }
 
 #[allow(clippy::too_many_arguments)]
-const fn port<T>(name: &'static str, dir: Dir, width: Width, radix: Radix, signed: bool, contract: bool, meaning: &'static str, patent: &'static str, get: fn(&T) -> u64) -> Signal<T> {
-    Signal { name, scope: "", dir, width, radix, signed, reset: Reset::None, free_running: false, contract, meaning, patent, get }
+const fn port<T>(
+    name: &'static str,
+    dir: Dir,
+    width: Width,
+    radix: Radix,
+    signed: bool,
+    contract: bool,
+    meaning: &'static str,
+    patent: &'static str,
+    get: fn(&T) -> u64,
+) -> Signal<T> {
+    Signal {
+        name,
+        scope: "",
+        dir,
+        width,
+        radix,
+        signed,
+        reset: Reset::None,
+        free_running: false,
+        contract,
+        meaning,
+        patent,
+        get,
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
-const fn reg(scope: &'static str, name: &'static str, width: Width, radix: Radix, signed: bool, reset: Reset, meaning: &'static str, patent: &'static str, get: fn(&Regs) -> u64) -> Signal<Regs> {
-    Signal { name, scope, dir: Dir::Reg, width, radix, signed, reset, free_running: false, contract: false, meaning, patent, get }
+const fn reg(
+    scope: &'static str,
+    name: &'static str,
+    width: Width,
+    radix: Radix,
+    signed: bool,
+    reset: Reset,
+    meaning: &'static str,
+    patent: &'static str,
+    get: fn(&Regs) -> u64,
+) -> Signal<Regs> {
+    Signal {
+        name,
+        scope,
+        dir: Dir::Reg,
+        width,
+        radix,
+        signed,
+        reset,
+        free_running: false,
+        contract: false,
+        meaning,
+        patent,
+        get,
+    }
 }
 
-const fn internal(name: &'static str, width: Width, radix: Radix, meaning: &'static str, patent: &'static str, get: fn(&Internals) -> u64) -> Signal<Internals> {
-    Signal { name, scope: "internals", dir: Dir::Internal, width, radix, signed: false, reset: Reset::None, free_running: false, contract: false, meaning, patent, get }
+const fn internal(
+    name: &'static str,
+    width: Width,
+    radix: Radix,
+    meaning: &'static str,
+    patent: &'static str,
+    get: fn(&Internals) -> u64,
+) -> Signal<Internals> {
+    Signal {
+        name,
+        scope: "internals",
+        dir: Dir::Internal,
+        width,
+        radix,
+        signed: false,
+        reset: Reset::None,
+        free_running: false,
+        contract: false,
+        meaning,
+        patent,
+        get,
+    }
 }
 
 use Radix::{Binary as B, Decimal as D, Hex as H};
@@ -195,13 +261,83 @@ const fn b(v: bool) -> u64 {
 
 /// Top-level inputs, in vector-file column order.
 pub const INPUTS: &[Signal<Inputs>] = &[
-    port("ig", Dir::In, Bits(1), B, false, true, "ignition key signal IG", "[0080]", |i| b(i.ig)),
-    port("vs2_ok", Dir::In, Bits(1), B, false, false, "Vs2 power-good from the analog rail monitor", "[0209]", |i| b(i.vs2_ok)),
-    port("cmp_s", Dir::In, Bits(1), B, false, false, "raw decision of comparator 58a (sin2 >= Vr)", "[0086]", |i| b(i.cmp_s)),
-    port("cmp_c", Dir::In, Bits(1), B, false, false, "raw decision of comparator 58b (cos2 >= Vr)", "[0087]", |i| b(i.cmp_c)),
-    port("bus_we", Dir::In, Bits(1), B, false, false, "register write strobe", "[0259]", |i| b(i.bus_we)),
-    port("bus_addr", Dir::In, Bits(8), B, false, false, "register address", "[0259]", |i| i.bus_addr as u64),
-    port("bus_wdata", Dir::In, Bits(16), B, false, false, "register write data", "[0259]", |i| i.bus_wdata as u64),
+    port(
+        "ig",
+        Dir::In,
+        Bits(1),
+        B,
+        false,
+        true,
+        "ignition key signal IG",
+        "[0080]",
+        |i| b(i.ig),
+    ),
+    port(
+        "vs2_ok",
+        Dir::In,
+        Bits(1),
+        B,
+        false,
+        false,
+        "Vs2 power-good from the analog rail monitor",
+        "[0209]",
+        |i| b(i.vs2_ok),
+    ),
+    port(
+        "cmp_s",
+        Dir::In,
+        Bits(1),
+        B,
+        false,
+        false,
+        "raw decision of comparator 58a (sin2 >= Vr)",
+        "[0086]",
+        |i| b(i.cmp_s),
+    ),
+    port(
+        "cmp_c",
+        Dir::In,
+        Bits(1),
+        B,
+        false,
+        false,
+        "raw decision of comparator 58b (cos2 >= Vr)",
+        "[0087]",
+        |i| b(i.cmp_c),
+    ),
+    port(
+        "bus_we",
+        Dir::In,
+        Bits(1),
+        B,
+        false,
+        false,
+        "register write strobe",
+        "[0259]",
+        |i| b(i.bus_we),
+    ),
+    port(
+        "bus_addr",
+        Dir::In,
+        Bits(8),
+        B,
+        false,
+        false,
+        "register address",
+        "[0259]",
+        |i| i.bus_addr as u64,
+    ),
+    port(
+        "bus_wdata",
+        Dir::In,
+        Bits(16),
+        B,
+        false,
+        false,
+        "register write data",
+        "[0259]",
+        |i| i.bus_wdata as u64,
+    ),
 ];
 
 /// Writes an input from a 64-bit value (low bits; a 1-bit input is true when non-zero), in the
@@ -218,75 +354,628 @@ pub const INPUT_SETTERS: [fn(&mut Inputs, u64); 7] = [
 
 /// Top-level outputs (all Moore), in vector-file column order.
 pub const OUTPUTS: &[Signal<Outputs>] = &[
-    port("sig", Dir::Out, Bits(1), B, false, true, "operation switching signal Sig", "[0196]-[0198]", |o| b(o.sig)),
-    port("vr_hi", Dir::Out, Bits(1), B, false, false, "regulator 51: 6 V (1) / 4 V (0)", "[0340]", |o| b(o.vr_hi)),
-    port("vm_en", Dir::Out, Bits(1), B, false, true, "power source Vm on (unit 52)", "[0202]", |o| b(o.vm_en)),
-    port("vs1_en", Dir::Out, Bits(1), B, false, true, "first sensor power Vs1 on (unit 53)", "[0203]", |o| b(o.vs1_en)),
-    port("vs2_en", Dir::Out, Bits(1), B, false, true, "second sensor power Vs2 on (unit 54)", "[0206], [0347]", |o| b(o.vs2_en)),
-    port("vp_en", Dir::Out, Bits(1), B, false, true, "internal power Vp on (always 1)", "[0330]", |o| b(o.vp_en)),
-    port("rail_hi", Dir::Out, Bits(1), B, false, false, "Vs2 and Vp at Vcc1 (1) / Vcc2 (0)", "[0343], [0345], [0348]", |o| b(o.rail_hi)),
-    port("st", Dir::Out, Bits(1), B, false, true, "timing signal St", "[0336]", |o| b(o.st)),
-    port("sr", Dir::Out, Bits(1), B, false, true, "activation signal Sr", "[0209]", |o| b(o.sr)),
-    port("ps_win", Dir::Out, Bits(1), B, false, false, "inside the sampling period Ps", "[0322]-[0323]", |o| b(o.ps_win)),
-    port("smp", Dir::Out, Bits(1), B, false, false, "sampling strobe", "[0354]", |o| b(o.smp)),
-    port("cs", Dir::Out, Bits(1), B, false, true, "sign signal Cs (latched)", "[0086]", |o| b(o.cs)),
-    port("cc", Dir::Out, Bits(1), B, false, true, "sign signal Cc (latched)", "[0087]", |o| b(o.cc)),
-    port("cnt_s", Dir::Out, CntWidth, D, true, true, "sine count value CNTs", "[0096]-[0097]", |o| o.cnt_s as u64),
-    port("cnt_c", Dir::Out, CntWidth, D, true, true, "cosine count value CNTc", "[0098]-[0099]", |o| o.cnt_c as u64),
-    port("cnt_r", Dir::Out, Bits(8), D, false, true, "power supply count CNTr", "[0248]", |o| o.cnt_r as u64),
-    port("si", Dir::Out, Bits(16), D, false, true, "drive interval instruction Si, in ticks", "[0199]", |o| o.si as u64),
-    port("hist_s", Dir::Out, Bits(1), B, false, true, "change history of Cs", "[0237]", |o| b(o.hist_s)),
-    port("hist_c", Dir::Out, Bits(1), B, false, true, "change history of Cc", "[0240]", |o| b(o.hist_c)),
-    port("diag", Dir::Out, Bits(1), B, false, true, "count diagnosis", "[0119]", |o| b(o.diag)),
-    port("quadrant_skip", Dir::Out, Bits(1), B, false, false, "sticky: both signs changed in one sample", "[0119]", |o| b(o.quadrant_skip)),
-    port("bus_rdata", Dir::Out, Bits(16), H, false, false, "registered read data", "[0108]", |o| o.bus_rdata as u64),
-    port("bus_err", Dir::Out, Bits(1), B, false, false, "sticky: a write was refused", "[0259]", |o| b(o.bus_err)),
+    port(
+        "sig",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        true,
+        "operation switching signal Sig",
+        "[0196]-[0198]",
+        |o| b(o.sig),
+    ),
+    port(
+        "vr_hi",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        false,
+        "regulator 51: 6 V (1) / 4 V (0)",
+        "[0340]",
+        |o| b(o.vr_hi),
+    ),
+    port(
+        "vm_en",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        true,
+        "power source Vm on (unit 52)",
+        "[0202]",
+        |o| b(o.vm_en),
+    ),
+    port(
+        "vs1_en",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        true,
+        "first sensor power Vs1 on (unit 53)",
+        "[0203]",
+        |o| b(o.vs1_en),
+    ),
+    port(
+        "vs2_en",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        true,
+        "second sensor power Vs2 on (unit 54)",
+        "[0206], [0347]",
+        |o| b(o.vs2_en),
+    ),
+    port(
+        "vp_en",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        true,
+        "internal power Vp on (always 1)",
+        "[0330]",
+        |o| b(o.vp_en),
+    ),
+    port(
+        "rail_hi",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        false,
+        "Vs2 and Vp at Vcc1 (1) / Vcc2 (0)",
+        "[0343], [0345], [0348]",
+        |o| b(o.rail_hi),
+    ),
+    port(
+        "st",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        true,
+        "timing signal St",
+        "[0336]",
+        |o| b(o.st),
+    ),
+    port(
+        "sr",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        true,
+        "activation signal Sr",
+        "[0209]",
+        |o| b(o.sr),
+    ),
+    port(
+        "ps_win",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        false,
+        "inside the sampling period Ps",
+        "[0322]-[0323]",
+        |o| b(o.ps_win),
+    ),
+    port(
+        "smp",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        false,
+        "sampling strobe",
+        "[0354]",
+        |o| b(o.smp),
+    ),
+    port(
+        "cs",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        true,
+        "sign signal Cs (latched)",
+        "[0086]",
+        |o| b(o.cs),
+    ),
+    port(
+        "cc",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        true,
+        "sign signal Cc (latched)",
+        "[0087]",
+        |o| b(o.cc),
+    ),
+    port(
+        "cnt_s",
+        Dir::Out,
+        CntWidth,
+        D,
+        true,
+        true,
+        "sine count value CNTs",
+        "[0096]-[0097]",
+        |o| o.cnt_s as u64,
+    ),
+    port(
+        "cnt_c",
+        Dir::Out,
+        CntWidth,
+        D,
+        true,
+        true,
+        "cosine count value CNTc",
+        "[0098]-[0099]",
+        |o| o.cnt_c as u64,
+    ),
+    port(
+        "cnt_r",
+        Dir::Out,
+        Bits(8),
+        D,
+        false,
+        true,
+        "power supply count CNTr",
+        "[0248]",
+        |o| o.cnt_r as u64,
+    ),
+    port(
+        "si",
+        Dir::Out,
+        Bits(16),
+        D,
+        false,
+        true,
+        "drive interval instruction Si, in ticks",
+        "[0199]",
+        |o| o.si as u64,
+    ),
+    port(
+        "hist_s",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        true,
+        "change history of Cs",
+        "[0237]",
+        |o| b(o.hist_s),
+    ),
+    port(
+        "hist_c",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        true,
+        "change history of Cc",
+        "[0240]",
+        |o| b(o.hist_c),
+    ),
+    port(
+        "diag",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        true,
+        "count diagnosis",
+        "[0119]",
+        |o| b(o.diag),
+    ),
+    port(
+        "quadrant_skip",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        false,
+        "sticky: both signs changed in one sample",
+        "[0119]",
+        |o| b(o.quadrant_skip),
+    ),
+    port(
+        "bus_rdata",
+        Dir::Out,
+        Bits(16),
+        H,
+        false,
+        false,
+        "registered read data",
+        "[0108]",
+        |o| o.bus_rdata as u64,
+    ),
+    port(
+        "bus_err",
+        Dir::Out,
+        Bits(1),
+        B,
+        false,
+        false,
+        "sticky: a write was refused",
+        "[0259]",
+        |o| b(o.bus_err),
+    ),
 ];
 
 /// Every register, grouped by block in evaluation order (the VCD sub-scopes `pmu50.<block>`).
 pub const REGISTERS: &[Signal<Regs>] = &[
-    reg("action_switching", "sync", SyncDepth, H, false, Reset::Value(0), "synchronizer stages of `ig`, bit 0 first; the last stage is `sig`", "[0213]", |r| r.action_switching.sync as u64),
-    reg("register_file", "adaptive", Bits(1), B, false, Reset::Param("ADAPTIVE"), "CTRL bit 0: adaptive drive interval", "[0214]", |r| b(r.register_file.adaptive)),
-    reg("register_file", "pw", Bits(16), D, false, Reset::Param("PW"), "waiting period Pw, ticks", "[0321]", |r| r.register_file.pw as u64),
-    reg("register_file", "pi", Bits(16), D, false, Reset::Param("PI"), "idle period Pi, ticks", "[0322]", |r| r.register_file.pi as u64),
-    reg("register_file", "ps", Bits(16), D, false, Reset::Param("PS"), "sampling period Ps, ticks", "[0322]", |r| r.register_file.ps as u64),
-    reg("register_file", "si_max", Bits(16), D, false, Reset::Param("SI_MAX"), "maximum interval x, ticks", "[0216]", |r| r.register_file.si_max as u64),
-    reg("register_file", "si_min", Bits(16), D, false, Reset::Param("SI_MIN"), "minimum interval, ticks", "[0228]", |r| r.register_file.si_min as u64),
-    reg("register_file", "t1", Bits(16), D, false, Reset::Param("T1"), "shortening step T1, ticks", "[0224]", |r| r.register_file.t1 as u64),
-    reg("register_file", "t2", Bits(16), D, false, Reset::Param("T2"), "expanding step T2, ticks", "[0250]", |r| r.register_file.t2 as u64),
-    reg("register_file", "cth", Bits(8), D, false, Reset::Param("CTH"), "count threshold Cth", "[0250]", |r| r.register_file.cth as u64),
-    reg("register_file", "smp_on", Bits(16), D, false, Reset::Param("SMP_ON"), "on-key sampling period, ticks", "[0349]", |r| r.register_file.smp_on as u64),
-    reg("register_file", "bus_err", Bits(1), B, false, Reset::Value(0), "sticky: a write was refused", "[0259]", |r| b(r.register_file.bus_err)),
-    reg("register_file", "rdata", Bits(16), H, false, Reset::Value(0), "registered read data", "[0108]", |r| r.register_file.rdata as u64),
+    reg(
+        "action_switching",
+        "sync",
+        SyncDepth,
+        H,
+        false,
+        Reset::Value(0),
+        "synchronizer stages of `ig`, bit 0 first; the last stage is `sig`",
+        "[0213]",
+        |r| r.action_switching.sync as u64,
+    ),
+    reg(
+        "register_file",
+        "adaptive",
+        Bits(1),
+        B,
+        false,
+        Reset::Param("ADAPTIVE"),
+        "CTRL bit 0: adaptive drive interval",
+        "[0214]",
+        |r| b(r.register_file.adaptive),
+    ),
+    reg(
+        "register_file",
+        "pw",
+        Bits(16),
+        D,
+        false,
+        Reset::Param("PW"),
+        "waiting period Pw, ticks",
+        "[0321]",
+        |r| r.register_file.pw as u64,
+    ),
+    reg(
+        "register_file",
+        "pi",
+        Bits(16),
+        D,
+        false,
+        Reset::Param("PI"),
+        "idle period Pi, ticks",
+        "[0322]",
+        |r| r.register_file.pi as u64,
+    ),
+    reg(
+        "register_file",
+        "ps",
+        Bits(16),
+        D,
+        false,
+        Reset::Param("PS"),
+        "sampling period Ps, ticks",
+        "[0322]",
+        |r| r.register_file.ps as u64,
+    ),
+    reg(
+        "register_file",
+        "si_max",
+        Bits(16),
+        D,
+        false,
+        Reset::Param("SI_MAX"),
+        "maximum interval x, ticks",
+        "[0216]",
+        |r| r.register_file.si_max as u64,
+    ),
+    reg(
+        "register_file",
+        "si_min",
+        Bits(16),
+        D,
+        false,
+        Reset::Param("SI_MIN"),
+        "minimum interval, ticks",
+        "[0228]",
+        |r| r.register_file.si_min as u64,
+    ),
+    reg(
+        "register_file",
+        "t1",
+        Bits(16),
+        D,
+        false,
+        Reset::Param("T1"),
+        "shortening step T1, ticks",
+        "[0224]",
+        |r| r.register_file.t1 as u64,
+    ),
+    reg(
+        "register_file",
+        "t2",
+        Bits(16),
+        D,
+        false,
+        Reset::Param("T2"),
+        "expanding step T2, ticks",
+        "[0250]",
+        |r| r.register_file.t2 as u64,
+    ),
+    reg(
+        "register_file",
+        "cth",
+        Bits(8),
+        D,
+        false,
+        Reset::Param("CTH"),
+        "count threshold Cth",
+        "[0250]",
+        |r| r.register_file.cth as u64,
+    ),
+    reg(
+        "register_file",
+        "smp_on",
+        Bits(16),
+        D,
+        false,
+        Reset::Param("SMP_ON"),
+        "on-key sampling period, ticks",
+        "[0349]",
+        |r| r.register_file.smp_on as u64,
+    ),
+    reg(
+        "register_file",
+        "bus_err",
+        Bits(1),
+        B,
+        false,
+        Reset::Value(0),
+        "sticky: a write was refused",
+        "[0259]",
+        |r| b(r.register_file.bus_err),
+    ),
+    reg(
+        "register_file",
+        "rdata",
+        Bits(16),
+        H,
+        false,
+        Reset::Value(0),
+        "registered read data",
+        "[0108]",
+        |r| r.register_file.rdata as u64,
+    ),
     Signal {
         free_running: true,
-        ..reg("timing_generator", "tmr", Bits(16), D, false, Reset::Value(0), "ticks since the start of the current cycle (free-running timer)", "[0336]", |r| r.timing_generator.tmr as u64)
+        ..reg(
+            "timing_generator",
+            "tmr",
+            Bits(16),
+            D,
+            false,
+            Reset::Value(0),
+            "ticks since the start of the current cycle (free-running timer)",
+            "[0336]",
+            |r| r.timing_generator.tmr as u64,
+        )
     },
-    reg("sensor_power_determination", "sr", Bits(1), B, false, Reset::Value(0), "activation signal Sr", "[0209]", |r| b(r.sensor_power_determination.sr)),
-    reg("comparator_latch", "cs", Bits(1), B, false, Reset::Value(0), "sign signal Cs", "[0086]", |r| b(r.comparator_latch.cs)),
-    reg("comparator_latch", "cc", Bits(1), B, false, Reset::Value(0), "sign signal Cc", "[0087]", |r| b(r.comparator_latch.cc)),
-    reg("comparator_latch", "vld", Bits(1), B, false, Reset::Value(0), "a sample has been taken since reset", "[0092]", |r| b(r.comparator_latch.vld)),
-    reg("updown_counter", "cnt_s", CntWidth, D, true, Reset::Value(0), "sine count value CNTs", "[0096]-[0097]", |r| r.updown_counter.cnt_s as u64),
-    reg("updown_counter", "cnt_c", CntWidth, D, true, Reset::Value(0), "cosine count value CNTc", "[0098]-[0099]", |r| r.updown_counter.cnt_c as u64),
-    reg("updown_counter", "quadrant_skip", Bits(1), B, false, Reset::Value(0), "sticky: both signs changed in one sample", "[0119]", |r| b(r.updown_counter.quadrant_skip)),
-    reg("drive_interval", "si", Bits(16), D, false, Reset::Param("SI_MAX"), "drive interval Si, ticks", "[0199], [0226]", |r| r.drive_interval.si as u64),
-    reg("drive_interval", "hist_s", Bits(1), B, false, Reset::Value(0), "change history of Cs", "[0237]", |r| b(r.drive_interval.hist_s)),
-    reg("drive_interval", "hist_c", Bits(1), B, false, Reset::Value(0), "change history of Cc", "[0240]", |r| b(r.drive_interval.hist_c)),
-    reg("drive_interval", "cnt_r", Bits(8), D, false, Reset::Value(0), "power supply count CNTr, saturating at 255", "[0248]", |r| r.drive_interval.cnt_r as u64),
-    reg("count_diagnosis", "diag", Bits(1), B, false, Reset::Value(0), "count diagnosis flag", "[0119]", |r| b(r.count_diagnosis.diag)),
+    reg(
+        "sensor_power_determination",
+        "sr",
+        Bits(1),
+        B,
+        false,
+        Reset::Value(0),
+        "activation signal Sr",
+        "[0209]",
+        |r| b(r.sensor_power_determination.sr),
+    ),
+    reg(
+        "comparator_latch",
+        "cs",
+        Bits(1),
+        B,
+        false,
+        Reset::Value(0),
+        "sign signal Cs",
+        "[0086]",
+        |r| b(r.comparator_latch.cs),
+    ),
+    reg(
+        "comparator_latch",
+        "cc",
+        Bits(1),
+        B,
+        false,
+        Reset::Value(0),
+        "sign signal Cc",
+        "[0087]",
+        |r| b(r.comparator_latch.cc),
+    ),
+    reg(
+        "comparator_latch",
+        "vld",
+        Bits(1),
+        B,
+        false,
+        Reset::Value(0),
+        "a sample has been taken since reset",
+        "[0092]",
+        |r| b(r.comparator_latch.vld),
+    ),
+    reg(
+        "updown_counter",
+        "cnt_s",
+        CntWidth,
+        D,
+        true,
+        Reset::Value(0),
+        "sine count value CNTs",
+        "[0096]-[0097]",
+        |r| r.updown_counter.cnt_s as u64,
+    ),
+    reg(
+        "updown_counter",
+        "cnt_c",
+        CntWidth,
+        D,
+        true,
+        Reset::Value(0),
+        "cosine count value CNTc",
+        "[0098]-[0099]",
+        |r| r.updown_counter.cnt_c as u64,
+    ),
+    reg(
+        "updown_counter",
+        "quadrant_skip",
+        Bits(1),
+        B,
+        false,
+        Reset::Value(0),
+        "sticky: both signs changed in one sample",
+        "[0119]",
+        |r| b(r.updown_counter.quadrant_skip),
+    ),
+    reg(
+        "drive_interval",
+        "si",
+        Bits(16),
+        D,
+        false,
+        Reset::Param("SI_MAX"),
+        "drive interval Si, ticks",
+        "[0199], [0226]",
+        |r| r.drive_interval.si as u64,
+    ),
+    reg(
+        "drive_interval",
+        "hist_s",
+        Bits(1),
+        B,
+        false,
+        Reset::Value(0),
+        "change history of Cs",
+        "[0237]",
+        |r| b(r.drive_interval.hist_s),
+    ),
+    reg(
+        "drive_interval",
+        "hist_c",
+        Bits(1),
+        B,
+        false,
+        Reset::Value(0),
+        "change history of Cc",
+        "[0240]",
+        |r| b(r.drive_interval.hist_c),
+    ),
+    reg(
+        "drive_interval",
+        "cnt_r",
+        Bits(8),
+        D,
+        false,
+        Reset::Value(0),
+        "power supply count CNTr, saturating at 255",
+        "[0248]",
+        |r| r.drive_interval.cnt_r as u64,
+    ),
+    reg(
+        "count_diagnosis",
+        "diag",
+        Bits(1),
+        B,
+        false,
+        Reset::Value(0),
+        "count diagnosis flag",
+        "[0119]",
+        |r| b(r.count_diagnosis.diag),
+    ),
 ];
 
 /// Combinational signals of the cycle (they depend on this cycle's inputs).
 pub const INTERNALS: &[Signal<Internals>] = &[
-    internal("kon", Bits(1), B, "`sig` rises at this edge (key on)", "[0213]", |x| b(x.kon)),
-    internal("koff", Bits(1), B, "`sig` falls at this edge (key off)", "[0213]", |x| b(x.koff)),
-    internal("upd", Bits(1), B, "a sample is taken at this edge (`smp` & `sr`)", "[0265]", |x| b(x.upd)),
-    internal("first", Bits(1), B, "this sample is the first since reset", "[0092]", |x| b(x.first)),
-    internal("chg_s", Bits(1), B, "`cs` changes at this edge", "[0268]", |x| b(x.chg_s)),
-    internal("chg_c", Bits(1), B, "`cc` changes at this edge", "[0268]", |x| b(x.chg_c)),
-    internal("skip_clr", Bits(1), B, "write-1-to-clear strobe of STATUS.quadrant_skip", "[0119]", |x| b(x.skip_clr)),
-    internal("fig17", Bits(3), D, "FIG. 17 path taken at this edge (spec 2.6)", "[0263]-[0291]", |x| x.fig17 as u64),
-    internal("fig18", Bits(3), D, "FIG. 18 path taken at this edge (spec 2.6)", "[0268]-[0279]", |x| x.fig18 as u64),
+    internal(
+        "kon",
+        Bits(1),
+        B,
+        "`sig` rises at this edge (key on)",
+        "[0213]",
+        |x| b(x.kon),
+    ),
+    internal(
+        "koff",
+        Bits(1),
+        B,
+        "`sig` falls at this edge (key off)",
+        "[0213]",
+        |x| b(x.koff),
+    ),
+    internal(
+        "upd",
+        Bits(1),
+        B,
+        "a sample is taken at this edge (`smp` & `sr`)",
+        "[0265]",
+        |x| b(x.upd),
+    ),
+    internal(
+        "first",
+        Bits(1),
+        B,
+        "this sample is the first since reset",
+        "[0092]",
+        |x| b(x.first),
+    ),
+    internal(
+        "chg_s",
+        Bits(1),
+        B,
+        "`cs` changes at this edge",
+        "[0268]",
+        |x| b(x.chg_s),
+    ),
+    internal(
+        "chg_c",
+        Bits(1),
+        B,
+        "`cc` changes at this edge",
+        "[0268]",
+        |x| b(x.chg_c),
+    ),
+    internal(
+        "skip_clr",
+        Bits(1),
+        B,
+        "write-1-to-clear strobe of STATUS.quadrant_skip",
+        "[0119]",
+        |x| b(x.skip_clr),
+    ),
+    internal(
+        "fig17",
+        Bits(3),
+        D,
+        "FIG. 17 path taken at this edge (spec 2.6)",
+        "[0263]-[0291]",
+        |x| x.fig17 as u64,
+    ),
+    internal(
+        "fig18",
+        Bits(3),
+        D,
+        "FIG. 18 path taken at this edge (spec 2.6)",
+        "[0268]-[0279]",
+        |x| x.fig18 as u64,
+    ),
 ];
 
 pub const N_INPUTS: usize = INPUTS.len();
@@ -297,7 +986,12 @@ pub const N_INTERNALS: usize = INTERNALS.len();
 /// Ports of the Verilog twin that the model does not have (its step is one rising edge, its
 /// construction is the reset): (name, width, direction, meaning).
 pub const HDL_ONLY_PORTS: &[(&str, u8, &str, &str)] = &[
-    ("clk", 1, "in", "clock (HDL only; the model's step is one rising edge)"),
+    (
+        "clk",
+        1,
+        "in",
+        "clock (HDL only; the model's step is one rising edge)",
+    ),
     ("rst_n", 1, "in", "power-on reset, active low (HDL only)"),
 ];
 
@@ -322,13 +1016,21 @@ pub fn find_register(q: &str) -> Result<usize, FindError> {
     match hits.as_slice() {
         [k] => Ok(*k),
         [] => Err(FindError::Unknown(q.to_string())),
-        many => Err(FindError::Ambiguous(q.to_string(), many.iter().map(|&k| REGISTERS[k].path()).collect::<Vec<_>>().join(", "))),
+        many => Err(FindError::Ambiguous(
+            q.to_string(),
+            many.iter()
+                .map(|&k| REGISTERS[k].path())
+                .collect::<Vec<_>>()
+                .join(", "),
+        )),
     }
 }
 
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum FindError {
-    #[error("no register `{0}`; names are `name`, `block.name` or `pmu50.block.name` (docs/signals.md)")]
+    #[error(
+        "no register `{0}`; names are `name`, `block.name` or `pmu50.block.name` (docs/signals.md)"
+    )]
     Unknown(String),
     #[error("register name `{0}` is ambiguous ({1}); use `block.name`")]
     Ambiguous(String, String),
@@ -343,9 +1045,22 @@ fn port_row<T>(s: &Signal<T>, with_patent: bool) -> String {
         w => w.doc(),
     };
     if with_patent {
-        format!("| `{}` | {} | {} | {} | {} |\n", s.name, w, s.dir.doc(), s.meaning, s.patent)
+        format!(
+            "| `{}` | {} | {} | {} | {} |\n",
+            s.name,
+            w,
+            s.dir.doc(),
+            s.meaning,
+            s.patent
+        )
     } else {
-        format!("| `{}` | {} | {} | {} |\n", s.name, w, s.dir.doc(), s.meaning)
+        format!(
+            "| `{}` | {} | {} | {} |\n",
+            s.name,
+            w,
+            s.dir.doc(),
+            s.meaning
+        )
     }
 }
 
@@ -376,13 +1091,27 @@ pub fn markdown_tables() -> String {
     m += "(the configured value).\n\n";
     m += "| scope | register | width | reset | meaning | patent |\n|---|---|---|---|---|---|\n";
     for r in REGISTERS {
-        m += &format!("| `pmu50.{}` | `{}` | {} | {} | {} | {} |\n", r.scope, r.name, r.width.doc(), r.reset.doc(), r.meaning, r.patent);
+        m += &format!(
+            "| `pmu50.{}` | `{}` | {} | {} | {} | {} |\n",
+            r.scope,
+            r.name,
+            r.width.doc(),
+            r.reset.doc(),
+            r.meaning,
+            r.patent
+        );
     }
     m += "\n## Internal signals (scope `pmu50.internals`)\n\n";
     m += "Combinational values of the cycle that ends at the edge.\n\n";
     m += "| name | width | meaning | patent |\n|---|---|---|---|\n";
     for x in INTERNALS {
-        m += &format!("| `{}` | {} | {} | {} |\n", x.name, x.width.doc(), x.meaning, x.patent);
+        m += &format!(
+            "| `{}` | {} | {} | {} |\n",
+            x.name,
+            x.width.doc(),
+            x.meaning,
+            x.patent
+        );
     }
     m
 }
@@ -407,7 +1136,8 @@ pub fn regenerate(path: &std::path::Path, want: &str) -> bool {
     }
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".tmp");
-    std::fs::write(&tmp, want).unwrap_or_else(|e| panic!("{}: {e}", std::path::Path::new(&tmp).display()));
+    std::fs::write(&tmp, want)
+        .unwrap_or_else(|e| panic!("{}: {e}", std::path::Path::new(&tmp).display()));
     std::fs::rename(&tmp, path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     true
 }
@@ -416,10 +1146,18 @@ pub fn regenerate(path: &std::path::Path, want: &str) -> bool {
 /// generated from the signal table (`body`): with `PMU50_REGENERATE` set the part is rewritten
 /// ([`regenerate`]); otherwise the file must hold it already. `file` is the file's path from the
 /// workspace root (as the message names it), `command` the command that regenerates it.
-pub fn check_generated(file: &str, (begin, end): (&str, &str), body: &str, command: &str) -> Result<(), String> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(file);
+pub fn check_generated(
+    file: &str,
+    (begin, end): (&str, &str),
+    body: &str,
+    command: &str,
+) -> Result<(), String> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(file);
     let text = std::fs::read_to_string(&path).map_err(|e| format!("{file}: {e}"))?;
-    let want = splice(&text, begin, end, body).ok_or_else(|| format!("{file} lost its BEGIN/END GENERATED markers"))?;
+    let want = splice(&text, begin, end, body)
+        .ok_or_else(|| format!("{file} lost its BEGIN/END GENERATED markers"))?;
     if regenerate(&path, &want) || text == want {
         return Ok(());
     }
@@ -447,8 +1185,15 @@ mod tests {
 
     #[test]
     fn ports_without_a_structural_width_are_fixed() {
-        for w in INPUTS.iter().map(|s| s.width).chain(INTERNALS.iter().map(|s| s.width)) {
-            assert!(matches!(w, Width::Bits(_)), "inputs and internals have fixed widths");
+        for w in INPUTS
+            .iter()
+            .map(|s| s.width)
+            .chain(INTERNALS.iter().map(|s| s.width))
+        {
+            assert!(
+                matches!(w, Width::Bits(_)),
+                "inputs and internals have fixed widths"
+            );
         }
     }
 
@@ -458,7 +1203,12 @@ mod tests {
             let mut i = Inputs::default();
             set(&mut i, 1);
             for (j, s) in INPUTS.iter().enumerate() {
-                assert_eq!((s.get)(&i), u64::from(j == k), "setter {k} vs input {}", s.name);
+                assert_eq!(
+                    (s.get)(&i),
+                    u64::from(j == k),
+                    "setter {k} vs input {}",
+                    s.name
+                );
             }
         }
         assert_eq!(INPUT_SETTERS.len(), N_INPUTS);
@@ -471,7 +1221,10 @@ mod tests {
         assert_eq!(find_register("cnt_s"), Ok(k));
         assert_eq!(find_register("pmu50.updown_counter.cnt_s"), Ok(k));
         assert!(matches!(find_register("nope"), Err(FindError::Unknown(_))));
-        assert_eq!(REGISTERS[find_register("bus_err").unwrap()].scope, "register_file");
+        assert_eq!(
+            REGISTERS[find_register("bus_err").unwrap()].scope,
+            "register_file"
+        );
     }
 
     #[test]
@@ -485,7 +1238,10 @@ mod tests {
     #[test]
     fn splice_replaces_between_markers() {
         let d = "a\n<!-- b -->\nold\nold\n<!-- e -->\nz\n";
-        assert_eq!(splice(d, "<!-- b -->", "<!-- e -->", "new\n").unwrap(), "a\n<!-- b -->\nnew\n<!-- e -->\nz\n");
+        assert_eq!(
+            splice(d, "<!-- b -->", "<!-- e -->", "new\n").unwrap(),
+            "a\n<!-- b -->\nnew\n<!-- e -->\nz\n"
+        );
         assert_eq!(splice(d, "<!-- x -->", "<!-- e -->", ""), None);
     }
 }

@@ -81,7 +81,12 @@ pub fn decode(tmr: u16, i: &Inputs) -> Outputs {
     let ps_start = u32::from(i.pw) + u32::from(i.pi);
     let wt = ps_start + u32::from(i.ps);
     if i.sig {
-        Outputs { st: false, vs2_en: true, ps_win: false, smp: t + 1 == u32::from(i.smp_on) }
+        Outputs {
+            st: false,
+            vs2_en: true,
+            ps_win: false,
+            smp: t + 1 == u32::from(i.smp_on),
+        }
     } else {
         Outputs {
             st: t == 0,
@@ -94,7 +99,11 @@ pub fn decode(tmr: u16, i: &Inputs) -> Outputs {
 
 /// Cycle length in ticks in the current mode.
 pub fn period(i: &Inputs) -> u16 {
-    if i.sig { i.smp_on } else { i.si }
+    if i.sig {
+        i.smp_on
+    } else {
+        i.si
+    }
 }
 
 /// Pure next-state function (the block has no combinational outputs besides [`outputs`]).
@@ -103,7 +112,11 @@ pub fn eval(r: &Regs, i: &Inputs) -> Regs {
     // with legal parameters, see docs/spec.md), the cycle still ends instead of running 65536
     // ticks.
     let end_of_cycle = u32::from(r.tmr) + 1 >= u32::from(period(i));
-    let tmr = if i.kon || i.koff || end_of_cycle { 0 } else { r.tmr + 1 };
+    let tmr = if i.kon || i.koff || end_of_cycle {
+        0
+    } else {
+        r.tmr + 1
+    };
     Regs { tmr }
 }
 
@@ -112,7 +125,15 @@ mod tests {
     use super::*;
 
     fn off(si: u16) -> Inputs {
-        Inputs { sig: false, si, pw: 5, pi: 12, ps: 5, smp_on: 10, ..Default::default() }
+        Inputs {
+            sig: false,
+            si,
+            pw: 5,
+            pi: 12,
+            ps: 5,
+            smp_on: 10,
+            ..Default::default()
+        }
     }
 
     fn trace(i: &Inputs, n: usize) -> Vec<Outputs> {
@@ -130,7 +151,12 @@ mod tests {
     fn st_cycle_equals_the_drive_interval() {
         for si in [220u16, 330, 660] {
             let outs = trace(&off(si), 3 * usize::from(si));
-            let st: Vec<usize> = outs.iter().enumerate().filter(|(_, o)| o.st).map(|(k, _)| k).collect();
+            let st: Vec<usize> = outs
+                .iter()
+                .enumerate()
+                .filter(|(_, o)| o.st)
+                .map(|(k, _)| k)
+                .collect();
             assert_eq!(st, vec![0, usize::from(si), 2 * usize::from(si)]);
         }
     }
@@ -138,27 +164,62 @@ mod tests {
     #[test]
     fn vs2_is_on_for_exactly_wt_and_samples_at_the_end_of_ps() {
         let outs = trace(&off(220), 220);
-        assert_eq!(outs.iter().filter(|o| o.vs2_en).count(), 22, "Wt = 220 us = 22 ticks [0229]");
+        assert_eq!(
+            outs.iter().filter(|o| o.vs2_en).count(),
+            22,
+            "Wt = 220 us = 22 ticks [0229]"
+        );
         assert!(outs[..22].iter().all(|o| o.vs2_en));
-        let ps: Vec<usize> = outs.iter().enumerate().filter(|(_, o)| o.ps_win).map(|(k, _)| k).collect();
-        assert_eq!(ps, (17..22).collect::<Vec<_>>(), "Ps starts after Pw + Pi [0323]");
-        let smp: Vec<usize> = outs.iter().enumerate().filter(|(_, o)| o.smp).map(|(k, _)| k).collect();
+        let ps: Vec<usize> = outs
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| o.ps_win)
+            .map(|(k, _)| k)
+            .collect();
+        assert_eq!(
+            ps,
+            (17..22).collect::<Vec<_>>(),
+            "Ps starts after Pw + Pi [0323]"
+        );
+        let smp: Vec<usize> = outs
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| o.smp)
+            .map(|(k, _)| k)
+            .collect();
         assert_eq!(smp, vec![21], "one strobe, last tick of Ps");
     }
 
     #[test]
     fn key_on_samples_every_smp_on_with_vs2_continuous() {
-        let i = Inputs { sig: true, ..off(220) };
+        let i = Inputs {
+            sig: true,
+            ..off(220)
+        };
         let outs = trace(&i, 40);
         assert!(outs.iter().all(|o| o.vs2_en && !o.st && !o.ps_win));
-        let smp: Vec<usize> = outs.iter().enumerate().filter(|(_, o)| o.smp).map(|(k, _)| k).collect();
+        let smp: Vec<usize> = outs
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| o.smp)
+            .map(|(k, _)| k)
+            .collect();
         assert_eq!(smp, vec![9, 19, 29, 39]);
     }
 
     #[test]
     fn key_edges_restart_the_timer() {
         let r = Regs { tmr: 100 };
-        for i in [Inputs { koff: true, ..off(220) }, Inputs { kon: true, ..off(220) }] {
+        for i in [
+            Inputs {
+                koff: true,
+                ..off(220)
+            },
+            Inputs {
+                kon: true,
+                ..off(220)
+            },
+        ] {
             assert_eq!(eval(&r, &i).tmr, 0);
         }
     }

@@ -58,7 +58,11 @@ pub struct Regs {
     pub quadrant_skip: bool,
 }
 
-pub const RESET: Regs = Regs { cnt_s: 0, cnt_c: 0, quadrant_skip: false };
+pub const RESET: Regs = Regs {
+    cnt_s: 0,
+    cnt_c: 0,
+    quadrant_skip: false,
+};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct Inputs {
@@ -88,7 +92,11 @@ pub fn mask(width: u8) -> u16 {
 pub fn sext(v: u16, width: u8) -> i32 {
     let w = u32::from(width.clamp(2, 16));
     let v = i32::from(v) & ((1 << w) - 1);
-    if v >> (w - 1) & 1 == 1 { v - (1 << w) } else { v }
+    if v >> (w - 1) & 1 == 1 {
+        v - (1 << w)
+    } else {
+        v
+    }
 }
 
 /// Counter preset for the first sample after reset, indexed by (cs, cc).
@@ -115,7 +123,11 @@ impl UpdownCounter {
 
     /// Registered outputs, decoded from the registers.
     pub fn outputs(&self, r: &Regs) -> Outputs {
-        Outputs { cnt_s: r.cnt_s, cnt_c: r.cnt_c, quadrant_skip: r.quadrant_skip }
+        Outputs {
+            cnt_s: r.cnt_s,
+            cnt_c: r.cnt_c,
+            quadrant_skip: r.quadrant_skip,
+        }
     }
 
     /// Pure next-state function.
@@ -141,25 +153,29 @@ fn next(width: u8, r: &Regs, i: &Inputs) -> Regs {
     } else if chg_s && !both {
         // Sine counter 58c: the other sign Cc is unchanged in this sample.
         cnt_s = match (i.cs, i.cs_new, i.cc) {
-            (false, true, true) => inc(r.cnt_s),   // [0096] Cs 0->1 while Cc = 1
-            (true, false, true) => dec(r.cnt_s),   // [0096] Cs 1->0 (while Cc = 1)
-            (true, false, false) => inc(r.cnt_s),  // [0097] Cs 1->0 while Cc = 0
-            (false, true, false) => dec(r.cnt_s),  // [0097] Cs 0->1 (while Cc = 0)
+            (false, true, true) => inc(r.cnt_s), // [0096] Cs 0->1 while Cc = 1
+            (true, false, true) => dec(r.cnt_s), // [0096] Cs 1->0 (while Cc = 1)
+            (true, false, false) => inc(r.cnt_s), // [0097] Cs 1->0 while Cc = 0
+            (false, true, false) => dec(r.cnt_s), // [0097] Cs 0->1 (while Cc = 0)
             _ => r.cnt_s,
         };
     } else if chg_c && !both {
         // Cosine counter 58d: the other sign Cs is unchanged in this sample.
         cnt_c = match (i.cc, i.cc_new, i.cs) {
-            (false, true, false) => inc(r.cnt_c),  // [0098] Cc 0->1 while Cs = 0
-            (true, false, false) => dec(r.cnt_c),  // [0098] Cc 1->0 (while Cs = 0)
-            (true, false, true) => inc(r.cnt_c),   // [0099] Cc 1->0 while Cs = 1
-            (false, true, true) => dec(r.cnt_c),   // [0099] Cc 0->1 (while Cs = 1)
+            (false, true, false) => inc(r.cnt_c), // [0098] Cc 0->1 while Cs = 0
+            (true, false, false) => dec(r.cnt_c), // [0098] Cc 1->0 (while Cs = 0)
+            (true, false, true) => inc(r.cnt_c),  // [0099] Cc 1->0 while Cs = 1
+            (false, true, true) => dec(r.cnt_c),  // [0099] Cc 0->1 (while Cs = 1)
             _ => r.cnt_c,
         };
     }
     // Set wins over clear: a skip seen in the same cycle as the MPU's clear is not lost.
     let quadrant_skip = both || (r.quadrant_skip && !i.skip_clr);
-    Regs { cnt_s, cnt_c, quadrant_skip }
+    Regs {
+        cnt_s,
+        cnt_c,
+        quadrant_skip,
+    }
 }
 
 #[cfg(test)]
@@ -167,7 +183,18 @@ mod tests {
     use super::*;
 
     fn sample(r: &Regs, cs: bool, cc: bool, cs_new: bool, cc_new: bool) -> Regs {
-        UpdownCounter::new(16).eval(r, &Inputs { upd: true, first: false, cs, cc, cs_new, cc_new, skip_clr: false })
+        UpdownCounter::new(16).eval(
+            r,
+            &Inputs {
+                upd: true,
+                first: false,
+                cs,
+                cc,
+                cs_new,
+                cc_new,
+                skip_clr: false,
+            },
+        )
     }
 
     const Z: Regs = RESET;
@@ -175,7 +202,11 @@ mod tests {
     #[test]
     fn rule_0096_up_and_down() {
         assert_eq!(sample(&Z, false, true, true, true).cnt_s, 1);
-        assert_eq!(sample(&Z, true, true, false, true).cnt_s, 0xFFFF, "-1 in 16 bit");
+        assert_eq!(
+            sample(&Z, true, true, false, true).cnt_s,
+            0xFFFF,
+            "-1 in 16 bit"
+        );
     }
 
     #[test]
@@ -206,7 +237,11 @@ mod tests {
 
     #[test]
     fn both_changed_holds_and_sets_sticky_skip() {
-        let r = Regs { cnt_s: 5, cnt_c: 5, quadrant_skip: false };
+        let r = Regs {
+            cnt_s: 5,
+            cnt_c: 5,
+            quadrant_skip: false,
+        };
         let n = sample(&r, true, true, false, false);
         assert_eq!((n.cnt_s, n.cnt_c, n.quadrant_skip), (5, 5, true));
         // Sticky across later ordinary samples.
@@ -215,7 +250,18 @@ mod tests {
         // Cleared by the W1C strobe, but a new skip in the same cycle wins.
         let clr = |r: &Regs, both: bool| {
             let (cs_new, cc_new) = if both { (true, true) } else { (false, false) };
-            UpdownCounter::new(16).eval(r, &Inputs { upd: true, cs: false, cc: false, cs_new, cc_new, skip_clr: true, ..Default::default() })
+            UpdownCounter::new(16).eval(
+                r,
+                &Inputs {
+                    upd: true,
+                    cs: false,
+                    cc: false,
+                    cs_new,
+                    cc_new,
+                    skip_clr: true,
+                    ..Default::default()
+                },
+            )
         };
         assert!(!clr(&n, false).quadrant_skip);
         assert!(clr(&n, true).quadrant_skip);
@@ -223,17 +269,49 @@ mod tests {
 
     #[test]
     fn first_sample_presets_from_the_quadrant() {
-        for ((cs, cc), want) in [((true, true), (0, 0)), ((true, false), (0, 1)), ((false, false), (1, 1)), ((false, true), (1, 2))] {
-            let r = Regs { cnt_s: 77, cnt_c: 99, quadrant_skip: false };
-            let n = UpdownCounter::new(16).eval(&r, &Inputs { upd: true, first: true, cs_new: cs, cc_new: cc, ..Default::default() });
+        for ((cs, cc), want) in [
+            ((true, true), (0, 0)),
+            ((true, false), (0, 1)),
+            ((false, false), (1, 1)),
+            ((false, true), (1, 2)),
+        ] {
+            let r = Regs {
+                cnt_s: 77,
+                cnt_c: 99,
+                quadrant_skip: false,
+            };
+            let n = UpdownCounter::new(16).eval(
+                &r,
+                &Inputs {
+                    upd: true,
+                    first: true,
+                    cs_new: cs,
+                    cc_new: cc,
+                    ..Default::default()
+                },
+            );
             assert_eq!((n.cnt_s, n.cnt_c), want);
         }
     }
 
     #[test]
     fn wraps_at_the_configured_width() {
-        let r = Regs { cnt_s: 0x7, cnt_c: 0, quadrant_skip: false };
-        let n = UpdownCounter::new(3).eval(&r, &Inputs { upd: true, cs: false, cc: true, cs_new: true, cc_new: true, ..Default::default() });
+        let r = Regs {
+            cnt_s: 0x7,
+            cnt_c: 0,
+            quadrant_skip: false,
+        };
+        let n = UpdownCounter::new(3).eval(
+            &r,
+            &Inputs {
+                upd: true,
+                cs: false,
+                cc: true,
+                cs_new: true,
+                cc_new: true,
+                ..Default::default()
+            },
+        );
         assert_eq!(n.cnt_s, 0);
         assert_eq!(sext(0x7, 3), -1);
         assert_eq!(sext(0x3, 3), 3);
@@ -242,8 +320,20 @@ mod tests {
 
     #[test]
     fn no_update_no_change() {
-        let r = Regs { cnt_s: 3, cnt_c: 4, quadrant_skip: true };
-        let n = UpdownCounter::new(16).eval(&r, &Inputs { upd: false, cs: false, cs_new: true, ..Default::default() });
+        let r = Regs {
+            cnt_s: 3,
+            cnt_c: 4,
+            quadrant_skip: true,
+        };
+        let n = UpdownCounter::new(16).eval(
+            &r,
+            &Inputs {
+                upd: false,
+                cs: false,
+                cs_new: true,
+                ..Default::default()
+            },
+        );
         assert_eq!(n, r);
     }
 }

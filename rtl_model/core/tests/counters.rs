@@ -45,13 +45,25 @@ enum Move {
 
 impl RefCounters {
     fn reset() -> Self {
-        RefCounters { cnt_s: 0, cnt_c: 0, skip: false, quadrant: None, skips: 0 }
+        RefCounters {
+            cnt_s: 0,
+            cnt_c: 0,
+            skip: false,
+            quadrant: None,
+            skips: 0,
+        }
     }
 
     /// The state reached from reset by a first sample in quadrant 0 and then `n` forward steps
     /// (negative: backward steps); its quadrant is n mod 4.
     fn at_position(n: i64) -> Self {
-        RefCounters { cnt_s: n.div_euclid(2), cnt_c: n.div_euclid(2) + n.rem_euclid(2), skip: false, quadrant: Some(n.rem_euclid(4) as u8), skips: 0 }
+        RefCounters {
+            cnt_s: n.div_euclid(2),
+            cnt_c: n.div_euclid(2) + n.rem_euclid(2),
+            skip: false,
+            quadrant: Some(n.rem_euclid(4) as u8),
+            skips: 0,
+        }
     }
 
     /// One edge. `sample` = Some((cs, cc)) when a sample is taken at this edge.
@@ -115,7 +127,15 @@ impl Latch {
     fn inputs(&self, sample: Option<(bool, bool)>, skip_clr: bool) -> uc::Inputs {
         let upd = sample.is_some();
         let (cs_new, cc_new) = sample.unwrap_or((self.cs, self.cc));
-        uc::Inputs { upd, first: upd && !self.vld, cs: self.cs, cc: self.cc, cs_new, cc_new, skip_clr }
+        uc::Inputs {
+            upd,
+            first: upd && !self.vld,
+            cs: self.cs,
+            cc: self.cc,
+            cs_new,
+            cc_new,
+            skip_clr,
+        }
     }
     fn commit(&mut self, sample: Option<(bool, bool)>) {
         if let Some((s, c)) = sample {
@@ -143,29 +163,60 @@ fn ops() -> impl Strategy<Value = Vec<(bool, u8, bool)>> {
 }
 
 /// Checks of one block edge against the reference and the invariants.
-fn check_edge(w: u8, before: &uc::Regs, after: &uc::Regs, i: &uc::Inputs, rf: &RefCounters, mv: Move, q: u8) {
+fn check_edge(
+    w: u8,
+    before: &uc::Regs,
+    after: &uc::Regs,
+    i: &uc::Inputs,
+    rf: &RefCounters,
+    mv: Move,
+    q: u8,
+) {
     let m = (1u32 << w) as i64;
-    assert_eq!(after.cnt_s, wrap(rf.cnt_s, w), "cnt_s vs reference ({mv:?})");
-    assert_eq!(after.cnt_c, wrap(rf.cnt_c, w), "cnt_c vs reference ({mv:?})");
-    assert_eq!(after.quadrant_skip, rf.skip, "quadrant_skip vs reference ({mv:?})");
+    assert_eq!(
+        after.cnt_s,
+        wrap(rf.cnt_s, w),
+        "cnt_s vs reference ({mv:?})"
+    );
+    assert_eq!(
+        after.cnt_c,
+        wrap(rf.cnt_c, w),
+        "cnt_c vs reference ({mv:?})"
+    );
+    assert_eq!(
+        after.quadrant_skip, rf.skip,
+        "quadrant_skip vs reference ({mv:?})"
+    );
     let sum = |r: &uc::Regs| i64::from(r.cnt_s) + i64::from(r.cnt_c);
     let dsum = (sum(after) - sum(before)).rem_euclid(m);
     match mv {
         Move::Forward => assert_eq!(dsum, 1, "forward step adds +1 to the total"),
         Move::Backward => assert_eq!(dsum, m - 1, "backward step adds -1 to the total"),
         Move::Skip => {
-            assert_eq!((after.cnt_s, after.cnt_c), (before.cnt_s, before.cnt_c), "2-step holds both");
+            assert_eq!(
+                (after.cnt_s, after.cnt_c),
+                (before.cnt_s, before.cnt_c),
+                "2-step holds both"
+            );
             assert!(after.quadrant_skip, "2-step sets quadrant_skip");
         }
-        Move::Hold | Move::None => assert_eq!((after.cnt_s, after.cnt_c), (before.cnt_s, before.cnt_c)),
+        Move::Hold | Move::None => {
+            assert_eq!((after.cnt_s, after.cnt_c), (before.cnt_s, before.cnt_c))
+        }
         Move::Preset => {}
     }
     if mv != Move::Preset {
         if after.cnt_s != before.cnt_s {
-            assert!(i.upd && i.cs != i.cs_new, "sine counter moved without a change of Cs");
+            assert!(
+                i.upd && i.cs != i.cs_new,
+                "sine counter moved without a change of Cs"
+            );
         }
         if after.cnt_c != before.cnt_c {
-            assert!(i.upd && i.cc != i.cc_new, "cosine counter moved without a change of Cc");
+            assert!(
+                i.upd && i.cc != i.cc_new,
+                "cosine counter moved without a change of Cc"
+            );
         }
     }
     if rf.quadrant.is_some() {
@@ -176,14 +227,28 @@ fn check_edge(w: u8, before: &uc::Regs, after: &uc::Regs, i: &uc::Inputs, rf: &R
             assert!(diff.abs() <= 1, "|cnt_s - cnt_c| <= 1, got {diff}");
         } else {
             // Each skip leaves the total half a turn (2 quadrants) behind.
-            assert_eq!(total, (i64::from(q) + 2 * i64::from(rf.skips)).rem_euclid(4));
+            assert_eq!(
+                total,
+                (i64::from(q) + 2 * i64::from(rf.skips)).rem_euclid(4)
+            );
         }
     }
 }
 
 /// Run a sequence through the block from latch/counter state (`latch`, `regs`), checking each edge.
-fn run_block(w: u8, mut latch: Latch, mut regs: uc::Regs, mut rf: RefCounters, first_q: u8, seq: &[(bool, u8, bool)]) {
-    let mut target = if latch.vld { quadrant(latch.cs, latch.cc) } else { first_q };
+fn run_block(
+    w: u8,
+    mut latch: Latch,
+    mut regs: uc::Regs,
+    mut rf: RefCounters,
+    first_q: u8,
+    seq: &[(bool, u8, bool)],
+) {
+    let mut target = if latch.vld {
+        quadrant(latch.cs, latch.cc)
+    } else {
+        first_q
+    };
     for &(upd, step, clr) in seq {
         let sample = if upd {
             if latch.vld {
@@ -196,7 +261,11 @@ fn run_block(w: u8, mut latch: Latch, mut regs: uc::Regs, mut rf: RefCounters, f
         let i = latch.inputs(sample, clr);
         let b = uc::UpdownCounter::new(w);
         let (o, n) = (b.outputs(&regs), b.eval(&regs, &i));
-        assert_eq!((o.cnt_s, o.cnt_c, o.quadrant_skip), (regs.cnt_s, regs.cnt_c, regs.quadrant_skip), "outputs are the registers");
+        assert_eq!(
+            (o.cnt_s, o.cnt_c, o.quadrant_skip),
+            (regs.cnt_s, regs.cnt_c, regs.quadrant_skip),
+            "outputs are the registers"
+        );
         let mv = rf.edge(sample, clr);
         check_edge(w, &regs, &n, &i, &rf, mv, target);
         regs = n;
@@ -289,7 +358,13 @@ fn run_top(p: Params, seed: u64, samples: u32) {
         assert!(ticks < 100_000, "no sampling");
         let o = m.peek();
         let sampling = o.smp && o.sr;
-        let mut i = Inputs { ig: true, vs2_ok: true, cmp_s: rng.bit(), cmp_c: rng.bit(), ..Default::default() };
+        let mut i = Inputs {
+            ig: true,
+            vs2_ok: true,
+            cmp_s: rng.bit(),
+            cmp_c: rng.bit(),
+            ..Default::default()
+        };
         if sampling {
             if rf.quadrant.is_some() {
                 let step = match rng.range(0, 9 + drift) {
@@ -309,7 +384,11 @@ fn run_top(p: Params, seed: u64, samples: u32) {
             i.bus_wdata = (1 << 5) | (rng.next() as u16 & !(1 << 5));
         }
         let before = *m.regs();
-        let TracedStep { internals: int, after: o2, .. } = m.step_traced(&i);
+        let TracedStep {
+            internals: int,
+            after: o2,
+            ..
+        } = m.step_traced(&i);
         assert_eq!(int.upd, sampling, "a sample is taken exactly when smp & sr");
         let mv = rf.edge(sampling.then(|| signs(target)), clr);
         if sampling {
@@ -325,14 +404,38 @@ fn run_top(p: Params, seed: u64, samples: u32) {
             cc_new: o2.cc,
             skip_clr: clr,
         };
-        check_edge(w, &before.updown_counter, &m.regs().updown_counter, &ui, &rf, mv, target);
+        check_edge(
+            w,
+            &before.updown_counter,
+            &m.regs().updown_counter,
+            &ui,
+            &rf,
+            mv,
+            target,
+        );
         // Outputs and register file views of the counters.
-        assert_eq!((o2.cnt_s, o2.cnt_c, o2.quadrant_skip), (wrap(rf.cnt_s, w), wrap(rf.cnt_c, w), rf.skip));
-        assert_eq!(m.read(addr::CNT_S), signed(o2.cnt_s, w) as i16 as u16, "CNT_S sign-extended");
-        assert_eq!(m.read(addr::CNT_C), signed(o2.cnt_c, w) as i16 as u16, "CNT_C sign-extended");
+        assert_eq!(
+            (o2.cnt_s, o2.cnt_c, o2.quadrant_skip),
+            (wrap(rf.cnt_s, w), wrap(rf.cnt_c, w), rf.skip)
+        );
+        assert_eq!(
+            m.read(addr::CNT_S),
+            signed(o2.cnt_s, w) as i16 as u16,
+            "CNT_S sign-extended"
+        );
+        assert_eq!(
+            m.read(addr::CNT_C),
+            signed(o2.cnt_c, w) as i16 as u16,
+            "CNT_C sign-extended"
+        );
         // 2.7: diag registered, aligned with the counters visible in the same cycle.
         let diff = signed(o2.cnt_s.wrapping_sub(o2.cnt_c), w);
-        assert_eq!(o2.diag, diff.abs() >= 2 || o2.quadrant_skip, "diag at tick {} (diff {diff})", m.tick());
+        assert_eq!(
+            o2.diag,
+            diff.abs() >= 2 || o2.quadrant_skip,
+            "diag at tick {} (diff {diff})",
+            m.tick()
+        );
     }
 }
 
@@ -348,7 +451,11 @@ proptest! {
 /// Small widths wrap through the top level too.
 #[test]
 fn top_level_two_bit_counters_wrap() {
-    let p = Params { cnt_width: 2, smp_on: 1, ..Params::default() };
+    let p = Params {
+        cnt_width: 2,
+        smp_on: 1,
+        ..Params::default()
+    };
     for seed in 0..8 {
         run_top(p, seed, 400);
     }

@@ -62,9 +62,21 @@ fn fig18(st: &mut State, cs_changed: bool, cc_changed: bool) -> (bool, Vec<Step>
         path.push(step);
         step = match step {
             // [0268] Did Cs change?
-            S20 => if cs_changed { S21 } else { S25 },
+            S20 => {
+                if cs_changed {
+                    S21
+                } else {
+                    S25
+                }
+            }
             // [0269] Does the change history of Cs exist?
-            S21 => if st.hist_s { S24 } else { S22 },
+            S21 => {
+                if st.hist_s {
+                    S24
+                } else {
+                    S22
+                }
+            }
             // [0270] Store the Cs history, reset the Cc history.
             S22 => {
                 st.hist_s = true;
@@ -76,9 +88,21 @@ fn fig18(st: &mut State, cs_changed: bool, cc_changed: bool) -> (bool, Vec<Step>
             // [0272], [0274], [0276] Rotation not detected.
             S24 => return (false, path),
             // [0273]-[0274] Did Cc change?
-            S25 => if cc_changed { S26 } else { S24 },
+            S25 => {
+                if cc_changed {
+                    S26
+                } else {
+                    S24
+                }
+            }
             // [0275]-[0276] Does the change history of Cc exist?
-            S26 => if st.hist_c { S24 } else { S27 },
+            S26 => {
+                if st.hist_c {
+                    S24
+                } else {
+                    S27
+                }
+            }
             // [0278] Store the Cc history, reset the Cs history.
             S27 => {
                 st.hist_c = true;
@@ -94,7 +118,13 @@ fn fig18(st: &mut State, cs_changed: bool, cc_changed: bool) -> (bool, Vec<Step>
 
 /// FIG. 17 from S1, for one key-off intermittent output. Returns the path of FIG. 17 and of
 /// FIG. 18 (empty when S2 is not reached).
-fn fig17(st: &mut State, p: &Param, sr: bool, cs_changed: bool, cc_changed: bool) -> (Vec<Step>, Vec<Step>) {
+fn fig17(
+    st: &mut State,
+    p: &Param,
+    sr: bool,
+    cs_changed: bool,
+    cc_changed: bool,
+) -> (Vec<Step>, Vec<Step>) {
     let mut path = vec![];
     let mut path18 = vec![];
     let mut detected = false;
@@ -103,7 +133,13 @@ fn fig17(st: &mut State, p: &Param, sr: bool, cs_changed: bool, cc_changed: bool
         path.push(step);
         step = match step {
             // [0264] Rise of Vs2 detected? No: terminate, the interval does not change.
-            S1 => if sr { S2 } else { End },
+            S1 => {
+                if sr {
+                    S2
+                } else {
+                    End
+                }
+            }
             // [0265]-[0266] Sr starts the rotation number detection; rotation detection process.
             S2 => {
                 let (d, p18) = fig18(st, cs_changed, cc_changed);
@@ -112,24 +148,52 @@ fn fig17(st: &mut State, p: &Param, sr: bool, cs_changed: bool, cc_changed: bool
                 S3
             }
             // [0280]
-            S3 => if detected { S4 } else { S7 },
+            S3 => {
+                if detected {
+                    S4
+                } else {
+                    S7
+                }
+            }
             // [0281] Reset the power supply count.
             S4 => {
                 st.cnt_r = 0;
                 S5
             }
             // [0282]-[0283] Already the minimum interval? (I11: "at or below")
-            S5 => if st.si <= p.si_min { End } else { S6 },
+            S5 => {
+                if st.si <= p.si_min {
+                    End
+                } else {
+                    S6
+                }
+            }
             // [0284] Shorten by T1, [0260]-[0262] never below the minimum (I10).
             S6 => {
                 let shortened = st.si.saturating_sub(p.t1); // "si - t1 saturates at 0"
-                st.si = if shortened < p.si_min { p.si_min } else { shortened };
+                st.si = if shortened < p.si_min {
+                    p.si_min
+                } else {
+                    shortened
+                };
                 End
             }
             // [0285]-[0286] Already the maximum interval x? (at or above)
-            S7 => if st.si >= p.si_max { End } else { S8 },
+            S7 => {
+                if st.si >= p.si_max {
+                    End
+                } else {
+                    S8
+                }
+            }
             // [0287]-[0288] CNTr >= Cth? (I8: tested before S9 increments)
-            S8 => if st.cnt_r >= p.cth { S10 } else { S9 },
+            S8 => {
+                if st.cnt_r >= p.cth {
+                    S10
+                } else {
+                    S9
+                }
+            }
             // [0289] CNTr + 1 (an 8-bit counter that stops at 255).
             S9 => {
                 st.cnt_r = st.cnt_r.saturating_add(1);
@@ -138,7 +202,11 @@ fn fig17(st: &mut State, p: &Param, sr: bool, cs_changed: bool, cc_changed: bool
             // [0290] Expand by T2, [0260] never above x (I10).
             S10 => {
                 let expanded = u32::from(st.si) + u32::from(p.t2);
-                st.si = if expanded > u32::from(p.si_max) { p.si_max } else { expanded as u16 };
+                st.si = if expanded > u32::from(p.si_max) {
+                    p.si_max
+                } else {
+                    expanded as u16
+                };
                 S11
             }
             // [0291] Reset the change histories; the process terminates after S9 (I7).
@@ -155,11 +223,29 @@ fn fig17(st: &mut State, p: &Param, sr: bool, cs_changed: bool, cc_changed: bool
 
 /// Reference of one edge: (next state, fig17 code, fig18 code).
 #[allow(clippy::too_many_arguments)]
-fn reference(st: State, p: &Param, koff: bool, pulse: bool, adaptive: bool, sr: bool, cs_changed: bool, cc_changed: bool) -> (State, u8, u8) {
+fn reference(
+    st: State,
+    p: &Param,
+    koff: bool,
+    pulse: bool,
+    adaptive: bool,
+    sr: bool,
+    cs_changed: bool,
+    cc_changed: bool,
+) -> (State, u8, u8) {
     // Key-off: "the initial drive interval is the maximum interval x" [0226] (x as it stands after
     // this edge, spec 2.6), history and CNTr cleared ([0248], spec section 3).
     if koff {
-        return (State { si: p.si_max_nxt, hist_s: false, hist_c: false, cnt_r: 0 }, 0, 0);
+        return (
+            State {
+                si: p.si_max_nxt,
+                hist_s: false,
+                hist_c: false,
+                cnt_r: 0,
+            },
+            0,
+            0,
+        );
     }
     // The process runs once per key-off intermittent output.
     if !pulse {
@@ -208,7 +294,10 @@ fn reference(st: State, p: &Param, koff: bool, pulse: bool, adaptive: bool, sr: 
 fn param() -> impl Strategy<Value = Param> {
     let small_or_any = || prop_oneof![1u16..=400, 1u16..=u16::MAX, (u16::MAX - 50)..=u16::MAX];
     (
-        prop_oneof![(1u16..=2000, 0u16..=2000), (1u16..=u16::MAX, 0u16..=u16::MAX)],
+        prop_oneof![
+            (1u16..=2000, 0u16..=2000),
+            (1u16..=u16::MAX, 0u16..=u16::MAX)
+        ],
         small_or_any(),
         small_or_any(),
         prop_oneof![1u8..=8, 1u8..=255, 250u8..=255],
@@ -216,7 +305,14 @@ fn param() -> impl Strategy<Value = Param> {
     )
         .prop_map(|((si_min, spread), t1, t2, cth, written)| {
             let si_max = si_min.saturating_add(spread);
-            Param { si_min, si_max, si_max_nxt: written.unwrap_or(si_max), t1, t2, cth }
+            Param {
+                si_min,
+                si_max,
+                si_max_nxt: written.unwrap_or(si_max),
+                t1,
+                t2,
+                cth,
+            }
         })
 }
 
@@ -230,19 +326,56 @@ fn state(p: Param) -> impl Strategy<Value = State> {
         ],
         any::<bool>(),
         any::<bool>(),
-        prop_oneof![0u8..=12, any::<u8>(), Just(p.cth), Just(p.cth.saturating_sub(1)), 250u8..=255],
+        prop_oneof![
+            0u8..=12,
+            any::<u8>(),
+            Just(p.cth),
+            Just(p.cth.saturating_sub(1)),
+            250u8..=255
+        ],
     )
-        .prop_map(|(si, hist_s, hist_c, cnt_r)| State { si, hist_s, hist_c, cnt_r })
+        .prop_map(|(si, hist_s, hist_c, cnt_r)| State {
+            si,
+            hist_s,
+            hist_c,
+            cnt_r,
+        })
 }
 
 fn eval(st: State, p: &Param, i: (bool, bool, bool, bool, bool, bool)) -> (di::Comb, State) {
     let (koff, pulse, adaptive, sr, chg_s, chg_c) = i;
-    let r = di::Regs { si: st.si, hist_s: st.hist_s, hist_c: st.hist_c, cnt_r: st.cnt_r };
+    let r = di::Regs {
+        si: st.si,
+        hist_s: st.hist_s,
+        hist_c: st.hist_c,
+        cnt_r: st.cnt_r,
+    };
     let (o, n) = di::eval(
         &r,
-        &di::Inputs { koff, pulse, sr, chg_s, chg_c, adaptive, si_min: p.si_min, si_max: p.si_max, si_max_nxt: p.si_max_nxt, t1: p.t1, t2: p.t2, cth: p.cth },
+        &di::Inputs {
+            koff,
+            pulse,
+            sr,
+            chg_s,
+            chg_c,
+            adaptive,
+            si_min: p.si_min,
+            si_max: p.si_max,
+            si_max_nxt: p.si_max_nxt,
+            t1: p.t1,
+            t2: p.t2,
+            cth: p.cth,
+        },
     );
-    (o, State { si: n.si, hist_s: n.hist_s, hist_c: n.hist_c, cnt_r: n.cnt_r })
+    (
+        o,
+        State {
+            si: n.si,
+            hist_s: n.hist_s,
+            hist_c: n.hist_c,
+            cnt_r: n.cnt_r,
+        },
+    )
 }
 
 /// Inputs (koff, pulse, adaptive, sr, chg_s, chg_c), pulses and the adaptive path favoured.
@@ -302,15 +435,32 @@ proptest! {
 /// fifth quiet pulse (I8), then one T2 per pulse up to x.
 #[test]
 fn patent_example_fig15a_fig16a() {
-    let p = Param { si_min: 220, si_max: 660, si_max_nxt: 660, t1: 220, t2: 110, cth: 4 };
-    let mut st = State { si: 660, hist_s: false, hist_c: false, cnt_r: 0 };
+    let p = Param {
+        si_min: 220,
+        si_max: 660,
+        si_max_nxt: 660,
+        t1: 220,
+        t2: 110,
+        cth: 4,
+    };
+    let mut st = State {
+        si: 660,
+        hist_s: false,
+        hist_c: false,
+        cnt_r: 0,
+    };
     let mut sis = vec![];
-    let pulses = [(true, false), (false, true)].into_iter().chain(std::iter::repeat_n((false, false), 10));
+    let pulses = [(true, false), (false, true)]
+        .into_iter()
+        .chain(std::iter::repeat_n((false, false), 10));
     for (cs, cc) in pulses {
         let (_, n) = eval(st, &p, (false, true, true, true, cs, cc));
         assert_eq!(n, reference(st, &p, false, true, true, true, cs, cc).0);
         st = n;
         sis.push(st.si);
     }
-    assert_eq!(sis, [440, 220, 220, 220, 220, 220, 330, 440, 550, 660, 660, 660]);
+    assert_eq!(
+        sis,
+        [440, 220, 220, 220, 220, 220, 330, 440, 550, 660, 660, 660]
+    );
 }

@@ -38,11 +38,23 @@ fn reach(p: Params, seed: u64, len: u64, end_key_off: bool) -> (Pmu50, Rng) {
             cmp = (rng.bit(), rng.bit());
         }
         let o = m.peek();
-        let mut i = Inputs { ig, vs2_ok: o.vs2_en && !rng.chance(1, 40), cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() };
+        let mut i = Inputs {
+            ig,
+            vs2_ok: o.vs2_en && !rng.chance(1, 40),
+            cmp_s: cmp.0,
+            cmp_c: cmp.1,
+            ..Default::default()
+        };
         if rng.chance(1, 40) {
             i.bus_we = true;
             i.bus_addr = rng.range(0, 0x15) as u8;
-            i.bus_wdata = if rng.bit() { rng.range(0, 60) as u16 } else { m.read(i.bus_addr).wrapping_add(rng.range(0, 9) as u16).wrapping_sub(4) };
+            i.bus_wdata = if rng.bit() {
+                rng.range(0, 60) as u16
+            } else {
+                m.read(i.bus_addr)
+                    .wrapping_add(rng.range(0, 9) as u16)
+                    .wrapping_sub(4)
+            };
         }
         m.step(&i);
     }
@@ -50,7 +62,12 @@ fn reach(p: Params, seed: u64, len: u64, end_key_off: bool) -> (Pmu50, Rng) {
         let extra = rng.range(0, 3 * u64::from(p.si_max));
         for _ in 0..u64::from(p.sync_depth) + extra {
             let o = m.peek();
-            m.step(&Inputs { vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
+            m.step(&Inputs {
+                vs2_ok: o.vs2_en,
+                cmp_s: cmp.0,
+                cmp_c: cmp.1,
+                ..Default::default()
+            });
         }
     }
     (m, rng)
@@ -64,13 +81,36 @@ fn constant_inputs(m: &Pmu50, rng: &mut Rng, kind: u8) -> Inputs {
         0 => Inputs::default(),
         // Same key state, random Vs2 good, comparators at the latched values or random.
         1 => {
-            let (s, c) = if rng.bit() { (o.cs, o.cc) } else { (rng.bit(), rng.bit()) };
-            Inputs { ig: o.sig, vs2_ok: rng.bit(), cmp_s: s, cmp_c: c, bus_addr: rng.range(0, 0x15) as u8, ..Default::default() }
+            let (s, c) = if rng.bit() {
+                (o.cs, o.cc)
+            } else {
+                (rng.bit(), rng.bit())
+            };
+            Inputs {
+                ig: o.sig,
+                vs2_ok: rng.bit(),
+                cmp_s: s,
+                cmp_c: c,
+                bus_addr: rng.range(0, 0x15) as u8,
+                ..Default::default()
+            }
         }
         // Key on, healthy rail, comparators at the latched values: only the timer moves.
-        2 => Inputs { ig: true, vs2_ok: true, cmp_s: o.cs, cmp_c: o.cc, ..Default::default() },
+        2 => Inputs {
+            ig: true,
+            vs2_ok: true,
+            cmp_s: o.cs,
+            cmp_c: o.cc,
+            ..Default::default()
+        },
         // Key on, healthy rail, comparators away from the latched values: the next sample counts.
-        4 => Inputs { ig: true, vs2_ok: true, cmp_s: !o.cs, cmp_c: o.cc ^ rng.bit(), ..Default::default() },
+        4 => Inputs {
+            ig: true,
+            vs2_ok: true,
+            cmp_s: !o.cs,
+            cmp_c: o.cc ^ rng.bit(),
+            ..Default::default()
+        },
         // Anything, including a constant bus write (refused or not; half of them writing the
         // value the register holds).
         _ => {
@@ -87,7 +127,13 @@ fn constant_inputs(m: &Pmu50, rng: &mut Rng, kind: u8) -> Inputs {
 /// Check one quiet window; returns the core after the edge that ends it (None: q = MAX or > CAP).
 fn check_exact(m: &Pmu50, i: &Inputs) -> Option<Pmu50> {
     let q = m.quiet_ticks(i);
-    let ctx = || format!("q = {q}, tick {}, regs {:?}, inputs {i:?}", m.tick(), m.regs());
+    let ctx = || {
+        format!(
+            "q = {q}, tick {}, regs {:?}, inputs {i:?}",
+            m.tick(),
+            m.regs()
+        )
+    };
     // `n` steps from `m` change no register but tmr (`why`: the message around the edge that
     // did), and fast_forward(n) lands where they do; the core after the steps
     let quiet_steps = |n: u64, why: (&str, &str)| {
@@ -95,7 +141,14 @@ fn check_exact(m: &Pmu50, i: &Inputs) -> Option<Pmu50> {
         for k in 0..n {
             let before = others(a.regs());
             a.step(i);
-            assert_eq!(others(a.regs()), before, "{} {k} {}; {}", why.0, why.1, ctx());
+            assert_eq!(
+                others(a.regs()),
+                before,
+                "{} {k} {}; {}",
+                why.0,
+                why.1,
+                ctx()
+            );
         }
         let mut b = m.clone();
         b.fast_forward(n, i).unwrap();
@@ -105,8 +158,15 @@ fn check_exact(m: &Pmu50, i: &Inputs) -> Option<Pmu50> {
     if q == u64::MAX {
         let o = m.peek();
         let p = m.regs().register_file;
-        let period = if o.sig { u64::from(p.smp_on) } else { u64::from(m.regs().drive_interval.si) };
-        quiet_steps(3 * period.max(u64::from(m.regs().timing_generator.tmr) + 1), ("q = MAX but edge", "changed a register"));
+        let period = if o.sig {
+            u64::from(p.smp_on)
+        } else {
+            u64::from(m.regs().drive_interval.si)
+        };
+        quiet_steps(
+            3 * period.max(u64::from(m.regs().timing_generator.tmr) + 1),
+            ("q = MAX but edge", "changed a register"),
+        );
         return None;
     }
     let n = q.min(CAP);
@@ -125,9 +185,18 @@ fn check_exact(m: &Pmu50, i: &Inputs) -> Option<Pmu50> {
     if q <= CAP {
         let before = others(a.regs());
         a.step(i);
-        assert_ne!(others(a.regs()), before, "edge q did not change any register but tmr: q is not exact; {}", ctx());
+        assert_ne!(
+            others(a.regs()),
+            before,
+            "edge q did not change any register but tmr: q is not exact; {}",
+            ctx()
+        );
         let mut e = m.clone();
-        assert!(e.fast_forward(q + 1, i).is_err(), "fast_forward(q + 1) accepted; {}", ctx());
+        assert!(
+            e.fast_forward(q + 1, i).is_err(),
+            "fast_forward(q + 1) accepted; {}",
+            ctx()
+        );
         assert_eq!(&e, m, "a refused fast_forward changed the core");
         return Some(a);
     }
@@ -166,8 +235,28 @@ proptest! {
 fn idle_gap_is_one_fast_forward() {
     for (p, cmp) in [
         (Params::default(), (true, true)),
-        (Params { adaptive: false, ..Params::default() }, (false, true)),
-        (Params { pw: 1, pi: 0, ps: 1, si_min: 3, si_max: 9, t1: 3, t2: 1, cth: 1, sync_depth: 1, ..Params::default() }, (true, false)),
+        (
+            Params {
+                adaptive: false,
+                ..Params::default()
+            },
+            (false, true),
+        ),
+        (
+            Params {
+                pw: 1,
+                pi: 0,
+                ps: 1,
+                si_min: 3,
+                si_max: 9,
+                t1: 3,
+                t2: 1,
+                cth: 1,
+                sync_depth: 1,
+                ..Params::default()
+            },
+            (true, false),
+        ),
     ] {
         let mut m = Pmu50::new(p).unwrap();
         let wt = u64::from(p.pw + p.pi + p.ps);
@@ -177,8 +266,15 @@ fn idle_gap_is_one_fast_forward() {
             let tmr = u64::from(m.regs().timing_generator.tmr);
             if !o.sig && !o.sr && !o.vs2_en && tmr > wt {
                 let si = u64::from(o.si);
-                let idle = Inputs { cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() };
-                let good = Inputs { vs2_ok: true, ..idle };
+                let idle = Inputs {
+                    cmp_s: cmp.0,
+                    cmp_c: cmp.1,
+                    ..Default::default()
+                };
+                let good = Inputs {
+                    vs2_ok: true,
+                    ..idle
+                };
                 assert_eq!(m.quiet_ticks(&good), si - tmr, "tmr {tmr}, si {si}");
                 assert_eq!(m.quiet_ticks(&idle), u64::MAX, "tmr {tmr}");
                 assert!(check_exact(&m, &good).is_some());
@@ -187,7 +283,12 @@ fn idle_gap_is_one_fast_forward() {
                     gaps += 1;
                 }
             }
-            m.step(&Inputs { vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
+            m.step(&Inputs {
+                vs2_ok: o.vs2_en,
+                cmp_s: cmp.0,
+                cmp_c: cmp.1,
+                ..Default::default()
+            });
         }
         assert!(gaps >= 3, "{gaps} gaps seen");
     }
@@ -198,7 +299,12 @@ fn idle_gap_is_one_fast_forward() {
 #[test]
 fn constant_refused_write_is_quiet_once_flagged() {
     let mut m = Pmu50::new(Params::default()).unwrap();
-    let w = Inputs { bus_we: true, bus_addr: addr::T2, bus_wdata: 1, ..Default::default() };
+    let w = Inputs {
+        bus_we: true,
+        bus_addr: addr::T2,
+        bus_wdata: 1,
+        ..Default::default()
+    };
     assert_eq!(m.quiet_ticks(&w), 0);
     m.step(&w);
     assert!(m.peek().bus_err);

@@ -75,7 +75,10 @@ fn sext(v: u16, w: u8) -> u16 {
 }
 
 fn wires(s: &Sh, o: &Outputs, i: &Inputs, p: &Params) -> W {
-    let mut w = W { tmr: if o.sig != s.sig_q { 0 } else { s.base }, ..Default::default() };
+    let mut w = W {
+        tmr: if o.sig != s.sig_q { 0 } else { s.base },
+        ..Default::default()
+    };
     w.ps_start = u32::from(s.regs.pw) + u32::from(s.regs.pi);
     w.wt = w.ps_start + u32::from(s.regs.ps);
     w.upd = o.smp && o.sr;
@@ -84,7 +87,11 @@ fn wires(s: &Sh, o: &Outputs, i: &Inputs, p: &Params) -> W {
     w.chg_c = w.upd && s.vld && i.cmp_c != o.cc;
     w.pulse = o.smp && !o.sig;
     w.adp = w.pulse && s.regs.adaptive && o.sr;
-    w.det = if w.chg_s { !o.hist_s } else { w.chg_c && !o.hist_c };
+    w.det = if w.chg_s {
+        !o.hist_s
+    } else {
+        w.chg_c && !o.hist_c
+    };
     w.short = o.si.saturating_sub(s.regs.t1).max(s.regs.si_min);
     w.long = (u32::from(o.si) + u32::from(s.regs.t2)).min(u32::from(s.regs.si_max)) as u16;
     w.inc = o.cnt_r.saturating_add(1);
@@ -108,10 +115,21 @@ fn wires(s: &Sh, o: &Outputs, i: &Inputs, p: &Params) -> W {
         0x11 => sext(o.cnt_c, cw),
         0x12 => u16::from(o.cnt_r),
         0x13 => o.si,
-        0x14 => [o.cs, o.cc, o.hist_s, o.hist_c, o.diag, o.quadrant_skip, o.sig, s.vld, o.sr, o.bus_err]
-            .iter()
-            .enumerate()
-            .fold(0, |acc, (k, &b)| acc | (u16::from(b) << k)),
+        0x14 => [
+            o.cs,
+            o.cc,
+            o.hist_s,
+            o.hist_c,
+            o.diag,
+            o.quadrant_skip,
+            o.sig,
+            s.vld,
+            o.sr,
+            o.bus_err,
+        ]
+        .iter()
+        .enumerate()
+        .fold(0, |acc, (k, &b)| acc | (u16::from(b) << k)),
         _ => 0,
     });
     w.rd_fixed = a <= 0x01 || a == 0x0C || (a > 0x0C && a < 0x10) || a > 0x14;
@@ -124,12 +142,19 @@ fn next_shadow(s: &Sh, o: &Outputs, i: &Inputs, w: &W, p: &Params) -> Sh {
     let mask = (1u16 << p.sync_depth) - 1;
     n.pipe = (((u16::from(s.pipe) << 1) | u16::from(i.ig)) & mask) as u8;
     if w.param_wr {
-        n.regs = s.regs.with_write(i.bus_addr, i.bus_wdata).expect("a parameter write");
+        n.regs = s
+            .regs
+            .with_write(i.bus_addr, i.bus_wdata)
+            .expect("a parameter write");
     }
     n.sig_q = o.sig;
     let period = if o.sig { s.regs.smp_on } else { o.si };
     let tinc = u32::from(w.tmr) + 1;
-    n.base = if tinc >= u32::from(period) { 0 } else { tinc as u16 };
+    n.base = if tinc >= u32::from(period) {
+        0
+    } else {
+        tinc as u16
+    };
     n.vld = s.vld || w.upd;
     n.wr_v = w.param_wr;
     n.wr_addr = i.bus_addr;
@@ -165,12 +190,22 @@ impl Cyc {
         (i32::from(a) + b).rem_euclid(1 << self.params.cnt_width) as u16
     }
     fn held_56b(&self) -> bool {
-        self.out.si == self.po.si && self.out.hist_s == self.po.hist_s && self.out.hist_c == self.po.hist_c && self.out.cnt_r == self.po.cnt_r
+        self.out.si == self.po.si
+            && self.out.hist_s == self.po.hist_s
+            && self.out.hist_c == self.po.hist_c
+            && self.out.cnt_r == self.po.cnt_r
     }
 }
 
 /// Stimulus with memory: key runs, Vs2 mostly good, comparators held for a while, bus writes.
-fn stimulus(rng: &mut Rng, o: &Outputs, s: &Sh, ig: &mut bool, run: &mut u64, cmp: &mut (bool, bool)) -> Inputs {
+fn stimulus(
+    rng: &mut Rng,
+    o: &Outputs,
+    s: &Sh,
+    ig: &mut bool,
+    run: &mut u64,
+    cmp: &mut (bool, bool),
+) -> Inputs {
     if *run == 0 {
         *ig = !*ig;
         *run = rng.range(1, 300);
@@ -179,15 +214,31 @@ fn stimulus(rng: &mut Rng, o: &Outputs, s: &Sh, ig: &mut bool, run: &mut u64, cm
     if rng.chance(1, 4) {
         *cmp = (rng.bit(), rng.bit());
     }
-    let mut i = Inputs { ig: *ig, vs2_ok: !rng.chance(1, 20), cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() };
+    let mut i = Inputs {
+        ig: *ig,
+        vs2_ok: !rng.chance(1, 20),
+        cmp_s: cmp.0,
+        cmp_c: cmp.1,
+        ..Default::default()
+    };
     i.bus_addr = rng.range(0, 0x18) as u8;
     if rng.chance(1, 12) {
         i.bus_we = true;
         i.bus_wdata = match rng.range(0, 4) {
             0 => rng.next() as u16,
             1 => rng.range(0, 12) as u16,
-            2 => (u32::from(s.regs.pw) + u32::from(s.regs.pi) + u32::from(s.regs.ps)).saturating_sub(1) as u16 + rng.range(0, 3) as u16,
-            3 => if rng.bit() { 0x20 } else { 0x200 },
+            2 => {
+                (u32::from(s.regs.pw) + u32::from(s.regs.pi) + u32::from(s.regs.ps))
+                    .saturating_sub(1) as u16
+                    + rng.range(0, 3) as u16
+            }
+            3 => {
+                if rng.bit() {
+                    0x20
+                } else {
+                    0x200
+                }
+            }
             _ => o.si.wrapping_add(rng.range(0, 40) as u16),
         };
     }
@@ -195,7 +246,13 @@ fn stimulus(rng: &mut Rng, o: &Outputs, s: &Sh, ig: &mut bool, run: &mut u64, cm
 }
 
 /// Runs `ticks` random cycles from reset and checks `rule` at every cycle.
-fn check_rule(p: Params, seed: u64, ticks: usize, name: &str, rule: &dyn Fn(&Cyc) -> bool) -> Result<(), TestCaseError> {
+fn check_rule(
+    p: Params,
+    seed: u64,
+    ticks: usize,
+    name: &str,
+    rule: &dyn Fn(&Cyc) -> bool,
+) -> Result<(), TestCaseError> {
     let mut m = Pmu50Spec::new(p).expect("legal parameters");
     let mut rng = Rng(seed);
     let (mut ig, mut run, mut cmp) = (false, rng.range(1, 40), (false, false));
@@ -206,8 +263,27 @@ fn check_rule(p: Params, seed: u64, ticks: usize, name: &str, rule: &dyn Fn(&Cyc
         let i = stimulus(&mut rng, &o, &s, &mut ig, &mut run, &mut cmp);
         let w = wires(&s, &o, &i, &p);
         let (po, pi, pw, psh) = prev.unwrap_or((o, i, w, s));
-        let c = Cyc { after_reset: t == 0, live: t > 0, params: p, out: o, shadow: s, wires: w, po, pi, pw, prev_shadow: Some(psh), koff: t > 0 && po.sig && !o.sig };
-        prop_assert!(rule(&c), "{} fails at tick {} (parameters {:?}, seed {})", name, t, p, seed);
+        let c = Cyc {
+            after_reset: t == 0,
+            live: t > 0,
+            params: p,
+            out: o,
+            shadow: s,
+            wires: w,
+            po,
+            pi,
+            pw,
+            prev_shadow: Some(psh),
+            koff: t > 0 && po.sig && !o.sig,
+        };
+        prop_assert!(
+            rule(&c),
+            "{} fails at tick {} (parameters {:?}, seed {})",
+            name,
+            t,
+            p,
+            seed
+        );
         prev = Some((o, i, w, s));
         s = next_shadow(&s, &o, &i, &w, &p);
         o = m.step(&i);
@@ -345,5 +421,8 @@ fn twin_names_match_the_kit() {
     assert!(kit.len() >= 25, "the kit states {} properties", kit.len());
     kit.sort_unstable();
     twins.sort_unstable();
-    assert_eq!(kit, twins, "properties of hdl/formal/pmu50_formal.sv and their twins differ");
+    assert_eq!(
+        kit, twins,
+        "properties of hdl/formal/pmu50_formal.sv and their twins differ"
+    );
 }

@@ -17,21 +17,29 @@ use common::{Driver, Rng};
 use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
 use pmu50_core::pmu50::{eval, Regs, Structural};
 use pmu50_core::register_file::addr;
-use pmu50_core::{action_switching_56a as sw, comparator_latch_58ab as cl, count_diagnosis as cd, drive_interval_changing_56b as di};
-use pmu50_core::{kernel, register_file as rf, sensor_power_determination_57 as spd, timing_generator_56 as tg, updown_counter_58cd as uc};
+use pmu50_core::{
+    action_switching_56a as sw, comparator_latch_58ab as cl, count_diagnosis as cd,
+    drive_interval_changing_56b as di,
+};
+use pmu50_core::{
+    kernel, register_file as rf, sensor_power_determination_57 as spd, timing_generator_56 as tg,
+    updown_counter_58cd as uc,
+};
 use pmu50_core::{Inputs, Internals, Params, Pmu50, Pmu50Spec, TracedStep};
 use proptest::prelude::*;
 use std::collections::HashSet;
 
 fn any_inputs() -> impl Strategy<Value = Inputs> {
-    (any::<[bool; 5]>(), any::<u8>(), any::<u16>(), any::<bool>()).prop_map(|(b, a, d, mapped)| Inputs {
-        ig: b[0],
-        vs2_ok: b[1],
-        cmp_s: b[2],
-        cmp_c: b[3],
-        bus_we: b[4],
-        bus_addr: if mapped { a % 0x16 } else { a },
-        bus_wdata: d,
+    (any::<[bool; 5]>(), any::<u8>(), any::<u16>(), any::<bool>()).prop_map(|(b, a, d, mapped)| {
+        Inputs {
+            ig: b[0],
+            vs2_ok: b[1],
+            cmp_s: b[2],
+            cmp_c: b[3],
+            bus_we: b[4],
+            bus_addr: if mapped { a % 0x16 } else { a },
+            bus_wdata: d,
+        }
     })
 }
 
@@ -39,49 +47,88 @@ fn any_inputs() -> impl Strategy<Value = Inputs> {
 /// reaches: counters beyond their width, `tmr` past the period, `si` outside [min, x]).
 fn any_regs() -> impl Strategy<Value = Regs> {
     (
-        (any::<u8>(), any::<bool>(), any::<[u16; 9]>(), any::<u8>(), any::<bool>(), any::<u16>()),
+        (
+            any::<u8>(),
+            any::<bool>(),
+            any::<[u16; 9]>(),
+            any::<u8>(),
+            any::<bool>(),
+            any::<u16>(),
+        ),
         (any::<u16>(), any::<[bool; 4]>(), any::<u16>(), any::<u16>()),
         (any::<u16>(), any::<[bool; 3]>(), any::<u8>()),
     )
-        .prop_map(|((sync, adaptive, p, cth, bus_err, rdata), (tmr, b, cnt_s, cnt_c), (si, h, cnt_r))| Regs {
-            action_switching: sw::Regs { sync: sync & 0xF },
-            register_file: rf::Regs {
-                adaptive,
-                pw: p[0],
-                pi: p[1],
-                ps: p[2],
-                si_max: p[3],
-                si_min: p[4],
-                t1: p[5],
-                t2: p[6],
-                cth,
-                smp_on: p[7],
-                bus_err,
-                rdata,
+        .prop_map(
+            |((sync, adaptive, p, cth, bus_err, rdata), (tmr, b, cnt_s, cnt_c), (si, h, cnt_r))| {
+                Regs {
+                    action_switching: sw::Regs { sync: sync & 0xF },
+                    register_file: rf::Regs {
+                        adaptive,
+                        pw: p[0],
+                        pi: p[1],
+                        ps: p[2],
+                        si_max: p[3],
+                        si_min: p[4],
+                        t1: p[5],
+                        t2: p[6],
+                        cth,
+                        smp_on: p[7],
+                        bus_err,
+                        rdata,
+                    },
+                    timing_generator: tg::Regs { tmr },
+                    sensor_power_determination: spd::Regs { sr: b[0] },
+                    comparator_latch: cl::Regs {
+                        cs: b[1],
+                        cc: b[2],
+                        vld: b[3],
+                    },
+                    updown_counter: uc::Regs {
+                        cnt_s,
+                        cnt_c,
+                        quadrant_skip: h[0],
+                    },
+                    drive_interval: di::Regs {
+                        si,
+                        hist_s: h[1],
+                        hist_c: h[2],
+                        cnt_r,
+                    },
+                    count_diagnosis: cd::Regs {
+                        diag: p[8] & 1 == 1,
+                    },
+                }
             },
-            timing_generator: tg::Regs { tmr },
-            sensor_power_determination: spd::Regs { sr: b[0] },
-            comparator_latch: cl::Regs { cs: b[1], cc: b[2], vld: b[3] },
-            updown_counter: uc::Regs { cnt_s, cnt_c, quadrant_skip: h[0] },
-            drive_interval: di::Regs { si, hist_s: h[1], hist_c: h[2], cnt_r },
-            count_diagnosis: cd::Regs { diag: p[8] & 1 == 1 },
-        })
+        )
 }
 
 /// Legal register states are a subset worth sampling more densely: small periods so that the
 /// timer sits at the interesting boundaries.
 fn small_regs() -> impl Strategy<Value = Regs> {
-    (any_regs(), 0u16..8, 0u16..8, 1u16..8, 0u16..40, 0u16..40, 0u16..30, 0u16..40, 0u8..6, 0u16..12).prop_map(
-        |(mut r, pw, pi, ps, si_max, si_min, tmr, si, cth, smp_on)| {
-            let f = &mut r.register_file;
-            (f.pw, f.pi, f.ps, f.si_max, f.si_min, f.cth, f.smp_on) = (pw, pi, ps, si_max, si_min, cth, smp_on);
-            f.t1 %= 50;
-            f.t2 %= 50;
-            r.timing_generator.tmr = tmr;
-            r.drive_interval.si = si;
-            r
-        },
+    (
+        any_regs(),
+        0u16..8,
+        0u16..8,
+        1u16..8,
+        0u16..40,
+        0u16..40,
+        0u16..30,
+        0u16..40,
+        0u8..6,
+        0u16..12,
     )
+        .prop_map(
+            |(mut r, pw, pi, ps, si_max, si_min, tmr, si, cth, smp_on)| {
+                let f = &mut r.register_file;
+                (f.pw, f.pi, f.ps, f.si_max, f.si_min, f.cth, f.smp_on) =
+                    (pw, pi, ps, si_max, si_min, cth, smp_on);
+                f.t1 %= 50;
+                f.t2 %= 50;
+                r.timing_generator.tmr = tmr;
+                r.drive_interval.si = si;
+                r
+            },
+        )
 }
 
 proptest! {
@@ -220,11 +267,18 @@ fn narrow_writes_of(before: &Regs, after: &Regs) -> Regs {
 /// (the quiet sample). Returns how many were narrow with `upd` set and how many were wide.
 fn key_on_strobes(r: &Regs, i: &Inputs, s: &Structural) -> Result<(u32, u32), TestCaseError> {
     let c = kernel::Consts::new(s);
-    let i = Inputs { bus_we: false, ..*i };
+    let i = Inputs {
+        bus_we: false,
+        ..*i
+    };
     let mut latched = *r;
     latched.sensor_power_determination.sr = true;
     latched.comparator_latch.vld = true;
-    let same = Inputs { cmp_s: latched.comparator_latch.cs, cmp_c: latched.comparator_latch.cc, ..i };
+    let same = Inputs {
+        cmp_s: latched.comparator_latch.cs,
+        cmp_c: latched.comparator_latch.cc,
+        ..i
+    };
     let (mut narrow_upd, mut wide_moved) = (0, 0);
     for (tmr, (r, i)) in (0..64).flat_map(|t| [(t, (*r, i)), (t, (latched, same))]) {
         let mut r = r;
@@ -236,10 +290,23 @@ fn key_on_strobes(r: &Regs, i: &Inputs, s: &Structural) -> Result<(u32, u32), Te
         }
         let mut sh = kernel::Shadow::of(&c, &r);
         let mut k = r;
-        let TracedStep { internals: x, wide, .. } = kernel::step_traced(&c, &mut k, &mut sh, &i);
+        let TracedStep {
+            internals: x, wide, ..
+        } = kernel::step_traced(&c, &mut k, &mut sh, &i);
         prop_assert_eq!((k, x), (want, want_x));
-        let quiet = narrow_writes_of(&r, &k) == k && x == Internals { upd: x.upd, ..Internals::default() };
-        prop_assert_eq!(wide, !quiet, "a key-on strobe at tmr {}: wide {}, internals {:?}", tmr, wide, x);
+        let quiet = narrow_writes_of(&r, &k) == k
+            && x == Internals {
+                upd: x.upd,
+                ..Internals::default()
+            };
+        prop_assert_eq!(
+            wide,
+            !quiet,
+            "a key-on strobe at tmr {}: wide {}, internals {:?}",
+            tmr,
+            wide,
+            x
+        );
         narrow_upd += u32::from(!wide && x.upd);
         wide_moved += u32::from(wide);
     }
@@ -268,11 +335,22 @@ fn key_on_strobe_cases_reach_both_kinds() {
     for _ in 0..300 {
         let r = small_regs().new_tree(&mut runner).unwrap().current();
         let i = any_inputs().new_tree(&mut runner).unwrap().current();
-        let (n, w) = key_on_strobes(&r, &i, &Structural { sync_depth: 2, cnt_width: 16 }).unwrap();
+        let (n, w) = key_on_strobes(
+            &r,
+            &i,
+            &Structural {
+                sync_depth: 2,
+                cnt_width: 16,
+            },
+        )
+        .unwrap();
         narrow_upd += n;
         wide += w;
     }
-    assert!(narrow_upd >= 20 && wide >= 20, "narrow strobes with upd {narrow_upd}, wide strobes {wide}");
+    assert!(
+        narrow_upd >= 20 && wide >= 20,
+        "narrow strobes with upd {narrow_upd}, wide strobes {wide}"
+    );
 }
 
 #[derive(Default)]
@@ -303,25 +381,71 @@ fn lockstep(p: Params, seed: u64, len: u64, cov: &mut Coverage) -> Result<(), Te
         let err_before = spec.regs().register_file.bus_err;
         let sig_before = spec.peek().sig;
         let regs_before = *spec.regs();
-        let TracedStep { before: b1, internals: x1, after: a1, .. } = fast.step_traced(&i);
-        let TracedStep { before: b2, internals: x2, after: a2, .. } = spec.step_traced(&i);
-        prop_assert_eq!(b1, b2, "outputs before edge {} (seed {}, {:?})", k + 1, seed, p);
+        let TracedStep {
+            before: b1,
+            internals: x1,
+            after: a1,
+            ..
+        } = fast.step_traced(&i);
+        let TracedStep {
+            before: b2,
+            internals: x2,
+            after: a2,
+            ..
+        } = spec.step_traced(&i);
+        prop_assert_eq!(
+            b1,
+            b2,
+            "outputs before edge {} (seed {}, {:?})",
+            k + 1,
+            seed,
+            p
+        );
         prop_assert_eq!(x1, x2, "internals of cycle {} (seed {})", k, seed);
         prop_assert_eq!(a1, a2, "outputs after edge {} (seed {})", k + 1, seed);
-        prop_assert_eq!(fast.regs(), spec.regs(), "registers after edge {} (seed {}, inputs {:?})", k + 1, seed, i);
+        prop_assert_eq!(
+            fast.regs(),
+            spec.regs(),
+            "registers after edge {} (seed {}, inputs {:?})",
+            k + 1,
+            seed,
+            i
+        );
         prop_assert_eq!(fast.tick(), spec.tick());
         // `Pmu50::step` (with the kernel's idle memo) from the same inputs.
-        prop_assert_eq!(untraced.step(&i), a2, "untraced outputs after edge {} (seed {})", k + 1, seed);
-        prop_assert_eq!(untraced.regs(), spec.regs(), "untraced registers after edge {} (seed {})", k + 1, seed);
+        prop_assert_eq!(
+            untraced.step(&i),
+            a2,
+            "untraced outputs after edge {} (seed {})",
+            k + 1,
+            seed
+        );
+        prop_assert_eq!(
+            untraced.regs(),
+            spec.regs(),
+            "untraced registers after edge {} (seed {})",
+            k + 1,
+            seed
+        );
         cov.fig17.insert(x2.fig17);
         cov.fig18.insert(x2.fig18);
         let now = spec.regs();
         if i.bus_we && !(sig_before && i.bus_addr == addr::STATUS) {
-            if now.register_file.bus_err && (!err_before || now.register_file == rf::Regs { rdata: now.register_file.rdata, bus_err: true, ..regs_before.register_file }) {
+            if now.register_file.bus_err
+                && (!err_before
+                    || now.register_file
+                        == rf::Regs {
+                            rdata: now.register_file.rdata,
+                            bus_err: true,
+                            ..regs_before.register_file
+                        })
+            {
                 cov.refused = true;
                 cov.refused_key_off |= !sig_before;
             }
-            if now.register_file.params(p.sync_depth, p.cnt_width) != regs_before.register_file.params(p.sync_depth, p.cnt_width) {
+            if now.register_file.params(p.sync_depth, p.cnt_width)
+                != regs_before.register_file.params(p.sync_depth, p.cnt_width)
+            {
                 cov.accepted = true;
             }
         }
@@ -386,7 +510,15 @@ fn memo_across_held_inputs_resets_and_fast_forward() {
         let mut i = Inputs::default();
         for k in 0..20_000u64 {
             if r.chance(1, 150) {
-                i = Inputs { ig: r.chance(1, 3), vs2_ok: r.bit(), cmp_s: r.bit(), cmp_c: r.bit(), bus_we: r.chance(1, 20), bus_addr: r.range(0, 0x15) as u8, bus_wdata: r.range(0, 80) as u16 };
+                i = Inputs {
+                    ig: r.chance(1, 3),
+                    vs2_ok: r.bit(),
+                    cmp_s: r.bit(),
+                    cmp_c: r.bit(),
+                    bus_we: r.chance(1, 20),
+                    bus_addr: r.range(0, 0x15) as u8,
+                    bus_wdata: r.range(0, 80) as u16,
+                };
             } else if i.bus_we {
                 i.bus_we = false;
             }
@@ -445,14 +577,36 @@ fn the_stimulus_covers_every_branch() {
         seeds += 1;
     }
     assert_eq!(seeds, 400);
-    let all17 = [Fig17::Idle, Fig17::S1NoRise, Fig17::S5AtMin, Fig17::S6Shorten, Fig17::S7AtMax, Fig17::S9Count, Fig17::S10Expand, Fig17::Fixed];
-    let all18 = [Fig18::Idle, Fig18::S23DetectedCs, Fig18::S21CsRepeat, Fig18::S28DetectedCc, Fig18::S26CcRepeat, Fig18::S25NoChange];
+    let all17 = [
+        Fig17::Idle,
+        Fig17::S1NoRise,
+        Fig17::S5AtMin,
+        Fig17::S6Shorten,
+        Fig17::S7AtMax,
+        Fig17::S9Count,
+        Fig17::S10Expand,
+        Fig17::Fixed,
+    ];
+    let all18 = [
+        Fig18::Idle,
+        Fig18::S23DetectedCs,
+        Fig18::S21CsRepeat,
+        Fig18::S28DetectedCc,
+        Fig18::S26CcRepeat,
+        Fig18::S25NoChange,
+    ];
     for f in all17 {
         assert!(cov.fig17.contains(&f), "FIG. 17 path {f:?} never taken");
     }
     for f in all18 {
         assert!(cov.fig18.contains(&f), "FIG. 18 path {f:?} never taken");
     }
-    assert!(cov.refused && cov.refused_key_off && cov.accepted, "bus writes: refused {} (key off {}), accepted {}", cov.refused, cov.refused_key_off, cov.accepted);
+    assert!(
+        cov.refused && cov.refused_key_off && cov.accepted,
+        "bus writes: refused {} (key off {}), accepted {}",
+        cov.refused,
+        cov.refused_key_off,
+        cov.accepted
+    );
     assert!(cov.first && cov.skip && cov.skip_clr && cov.kon && cov.koff && cov.diag);
 }

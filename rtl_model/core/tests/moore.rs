@@ -20,8 +20,14 @@ fn check_moore(m: &Pmu50, rng: &mut Rng) {
     let i2 = common::random_inputs(rng);
     let o1 = eval(&s, r, &i1).0;
     let o2 = eval(&s, r, &i2).0;
-    assert_eq!(o1, want, "outputs under {i1:?} differ from the registers' decode");
-    assert_eq!(o2, want, "outputs under {i2:?} differ from the registers' decode");
+    assert_eq!(
+        o1, want,
+        "outputs under {i1:?} differ from the registers' decode"
+    );
+    assert_eq!(
+        o2, want,
+        "outputs under {i2:?} differ from the registers' decode"
+    );
 }
 
 proptest! {

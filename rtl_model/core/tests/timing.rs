@@ -29,20 +29,36 @@ fn check_key_off_table(p: Params, cmp: (bool, bool)) {
         let o = m.peek();
         let t = k % si;
         let ctx = format!("tick {k} (t = {t}), {p:?}, {o:?}");
-        assert!(!o.sig && !o.vr_hi && !o.vm_en && !o.vs1_en && !o.rail_hi && o.vp_en, "{ctx}");
+        assert!(
+            !o.sig && !o.vr_hi && !o.vm_en && !o.vs1_en && !o.rail_hi && o.vp_en,
+            "{ctx}"
+        );
         assert_eq!(o.st, t == 0, "st: {ctx}");
         assert_eq!(o.vs2_en, t < wt, "vs2_en high for pw+pi+ps from st: {ctx}");
         assert_eq!(o.ps_win, ps_start <= t && t < wt, "ps_win: {ctx}");
         assert_eq!(o.smp, t == wt - 1, "smp at the last tick of Ps: {ctx}");
         assert_eq!(o.sr, k >= 1 && prev_vs2_en, "sr one tick late: {ctx}");
-        assert_eq!((o.si, o.cnt_r, o.hist_s, o.hist_c), (p.si_max, 0, false, false), "{ctx}");
+        assert_eq!(
+            (o.si, o.cnt_r, o.hist_s, o.hist_c),
+            (p.si_max, 0, false, false),
+            "{ctx}"
+        );
         assert!(!o.bus_err && !o.quadrant_skip && !o.diag, "{ctx}");
         // (A one-tick window never samples: see the failing test below; not repeated here.)
         if wt >= 2 {
-            assert_eq!((o.cs, o.cc), if k >= wt { cmp } else { (false, false) }, "{ctx}");
+            assert_eq!(
+                (o.cs, o.cc),
+                if k >= wt { cmp } else { (false, false) },
+                "{ctx}"
+            );
         }
         prev_vs2_en = o.vs2_en;
-        let TracedStep { internals: int, .. } = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() });
+        let TracedStep { internals: int, .. } = m.step_traced(&Inputs {
+            vs2_ok: o.vs2_en,
+            cmp_s: cmp.0,
+            cmp_c: cmp.1,
+            ..Default::default()
+        });
         assert_eq!(int.upd, o.smp && o.sr, "{ctx}");
         assert!(!int.kon && !int.koff && !int.chg_s && !int.chg_c, "{ctx}");
     }
@@ -57,12 +73,27 @@ fn spec_table_with_defaults() {
     for _ in 0..700 {
         let o = m.peek();
         rows.push(o);
-        m.step(&Inputs { vs2_ok: o.vs2_en, ..Default::default() });
+        m.step(&Inputs {
+            vs2_ok: o.vs2_en,
+            ..Default::default()
+        });
     }
-    let on = |f: fn(&Outputs) -> bool| rows.iter().enumerate().filter(|(_, o)| f(o)).map(|(k, _)| k).collect::<Vec<_>>();
+    let on = |f: fn(&Outputs) -> bool| {
+        rows.iter()
+            .enumerate()
+            .filter(|(_, o)| f(o))
+            .map(|(k, _)| k)
+            .collect::<Vec<_>>()
+    };
     assert_eq!(on(|o| o.st), [0, 660]);
-    assert_eq!(on(|o| o.vs2_en), (0..22).chain(660..682).collect::<Vec<_>>());
-    assert_eq!(on(|o| o.ps_win), (17..22).chain(677..682).collect::<Vec<_>>());
+    assert_eq!(
+        on(|o| o.vs2_en),
+        (0..22).chain(660..682).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        on(|o| o.ps_win),
+        (17..22).chain(677..682).collect::<Vec<_>>()
+    );
     assert_eq!(on(|o| o.smp), [21, 681]);
     assert_eq!(on(|o| o.sr), (1..23).chain(661..683).collect::<Vec<_>>());
 }
@@ -113,19 +144,36 @@ proptest! {
 /// Ps = 1) samples at every pulse.
 #[test]
 fn every_key_off_pulse_takes_a_sample_with_the_shortest_legal_window() {
-    let p = Params { pw: 0, pi: 0, ps: 1, ..Params::default() };
+    let p = Params {
+        pw: 0,
+        pi: 0,
+        ps: 1,
+        ..Params::default()
+    };
     assert!(p.validate().is_err(), "Pw = Pi = 0 must be refused");
-    let p = Params { pw: 1, pi: 0, ps: 1, ..Params::default() };
+    let p = Params {
+        pw: 1,
+        pi: 0,
+        ps: 1,
+        ..Params::default()
+    };
     let mut m = Pmu50::new(p).unwrap();
     let (mut pulses, mut samples) = (0, 0);
     for _ in 0..5 * u64::from(p.si_max) {
         let o = m.peek();
-        let TracedStep { internals: int, .. } = m.step_traced(&Inputs { vs2_ok: o.vs2_en, cmp_s: true, ..Default::default() });
+        let TracedStep { internals: int, .. } = m.step_traced(&Inputs {
+            vs2_ok: o.vs2_en,
+            cmp_s: true,
+            ..Default::default()
+        });
         pulses += u32::from(o.smp);
         samples += u32::from(int.upd);
     }
     assert!(pulses >= 5);
-    assert_eq!(samples, pulses, "key-off pulses without a sample (Wt = 2 ticks)");
+    assert_eq!(
+        samples, pulses,
+        "key-off pulses without a sample (Wt = 2 ticks)"
+    );
 }
 
 proptest! {
@@ -252,11 +300,17 @@ struct RefRf {
 
 impl RefRf {
     fn new(p: &Params) -> Self {
-        RefRf { regs: RefParams::new(p), bus_err: false }
+        RefRf {
+            regs: RefParams::new(p),
+            bus_err: false,
+        }
     }
     fn of(m: &Pmu50) -> Self {
         let r = m.regs().register_file;
-        RefRf { regs: RefParams::of(&r), bus_err: r.bus_err }
+        RefRf {
+            regs: RefParams::of(&r),
+            bus_err: r.bus_err,
+        }
     }
     /// The read mux at `a`, with the status and count registers taken from the cycle's outputs
     /// (and the latch's `vld`).
@@ -310,7 +364,14 @@ impl RefRf {
 fn any_write() -> impl Strategy<Value = (u8, u16)> {
     (
         prop_oneof![4 => 0u8..=0x16, 1 => any::<u8>()],
-        prop_oneof![any::<u16>(), 0u16..=40, 300u16..=2000, Just(0x3FF), Just(1 << 9), Just(1 << 5)],
+        prop_oneof![
+            any::<u16>(),
+            0u16..=40,
+            300u16..=2000,
+            Just(0x3FF),
+            Just(1 << 9),
+            Just(1 << 5)
+        ],
     )
 }
 
@@ -396,7 +457,13 @@ fn sample_on(m: &mut Pmu50, cmp: (bool, bool), bus: Option<(u8, u16)>) -> Output
     for _ in 0..200_000 {
         let o = m.peek();
         let sampling = o.smp && o.sr;
-        let mut i = Inputs { ig: true, vs2_ok: o.vs2_en, cmp_s: cmp.0, cmp_c: cmp.1, ..Default::default() };
+        let mut i = Inputs {
+            ig: true,
+            vs2_ok: o.vs2_en,
+            cmp_s: cmp.0,
+            cmp_c: cmp.1,
+            ..Default::default()
+        };
         if sampling {
             if let Some((a, d)) = bus {
                 (i.bus_we, i.bus_addr, i.bus_wdata) = (true, a, d);
@@ -466,13 +533,20 @@ fn si_within_min_and_max_in_key_off_even_with_a_write_at_the_key_off_edge() {
     let mut m = Pmu50::new(p).unwrap();
     for _ in 0..50 {
         let o = m.peek();
-        m.step(&Inputs { ig: true, vs2_ok: o.vs2_en, ..Default::default() });
+        m.step(&Inputs {
+            ig: true,
+            vs2_ok: o.vs2_en,
+            ..Default::default()
+        });
     }
     assert!(m.peek().sig);
     // ig falls: sig falls at the d-th edge; that edge carries the write x := 440.
     for k in 1..=d {
         let o = m.peek();
-        let mut i = Inputs { vs2_ok: o.vs2_en, ..Default::default() };
+        let mut i = Inputs {
+            vs2_ok: o.vs2_en,
+            ..Default::default()
+        };
         if k == d {
             (i.bus_we, i.bus_addr, i.bus_wdata) = (true, addr::SI_MAX, 440);
         }
@@ -480,16 +554,26 @@ fn si_within_min_and_max_in_key_off_even_with_a_write_at_the_key_off_edge() {
         assert_eq!(int.koff, k == d);
     }
     let o = m.peek();
-    assert!(!o.sig && !o.bus_err, "the write was accepted at the key-off edge");
+    assert!(
+        !o.sig && !o.bus_err,
+        "the write was accepted at the key-off edge"
+    );
     assert_eq!(m.read(addr::SI_MAX), 440);
     let mut sts = vec![];
     for k in 0..1500u64 {
         let o = m.peek();
-        assert!(o.si <= 440, "tick {k} after key-off: si = {} > x = 440", o.si);
+        assert!(
+            o.si <= 440,
+            "tick {k} after key-off: si = {} > x = 440",
+            o.si
+        );
         if o.st {
             sts.push(k);
         }
-        m.step(&Inputs { vs2_ok: o.vs2_en, ..Default::default() });
+        m.step(&Inputs {
+            vs2_ok: o.vs2_en,
+            ..Default::default()
+        });
     }
     assert_eq!(&sts[..3], [0, 440, 880]);
 }

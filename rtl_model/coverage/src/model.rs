@@ -94,7 +94,10 @@ pub const CFG_CLOCK: usize = 35;
 
 /// The readable register addresses, in the order of the `bus.read` bins (the last bin is
 /// every other address).
-pub const READ_ADDRS: [u8; 18] = [0x00, 0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0A, 0x0B, 0x0C, 0x10, 0x11, 0x12, 0x13, 0x14];
+pub const READ_ADDRS: [u8; 18] = [
+    0x00, 0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0A, 0x0B, 0x0C, 0x10, 0x11, 0x12,
+    0x13, 0x14,
+];
 
 /// Every coverpoint.
 pub static POINTS: [Point; 36] = [
@@ -517,9 +520,15 @@ const DETECTED: [&str; 2] = ["s23_detected_cs", "s28_detected_cc"];
 
 fn fig17_x_fig18(a: &str, b: &str) -> Option<&'static str> {
     match a {
-        "s1_no_rise" | "fixed" => Some("FIG. 18 is evaluated only after S1: Y with the adaptive interval"),
-        "s5_at_min" | "s6_shorten" if !DETECTED.contains(&b) => Some("S3: Y (S5/S6) follows only a detected rotation (S23 or S28)"),
-        "s7_at_max" | "s9_count" | "s10_expand" if DETECTED.contains(&b) => Some("S3: N (S7-S10) follows only when no rotation was detected"),
+        "s1_no_rise" | "fixed" => {
+            Some("FIG. 18 is evaluated only after S1: Y with the adaptive interval")
+        }
+        "s5_at_min" | "s6_shorten" if !DETECTED.contains(&b) => {
+            Some("S3: Y (S5/S6) follows only a detected rotation (S23 or S28)")
+        }
+        "s7_at_max" | "s9_count" | "s10_expand" if DETECTED.contains(&b) => {
+            Some("S3: N (S7-S10) follows only when no rotation was detected")
+        }
         _ => None,
     }
 }
@@ -544,8 +553,12 @@ fn write_reg_x_outcome(a: &str, b: &str) -> Option<&'static str> {
     let rw = !matches!(a, "status" | "read_only" | "unmapped");
     match b {
         "refused_not_writable" if rw || a == "status" => Some("the register is writable"),
-        "taken" | "refused_illegal" if !rw && a != "status" => Some("a read-only or unmapped address is never written"),
-        "refused_illegal" if a == "status" => Some("a STATUS write clears flags and changes no parameter"),
+        "taken" | "refused_illegal" if !rw && a != "status" => {
+            Some("a read-only or unmapped address is never written")
+        }
+        "refused_illegal" if a == "status" => {
+            Some("a STATUS write clears flags and changes no parameter")
+        }
         _ => None,
     }
 }
@@ -591,46 +604,157 @@ fn rule_x_cnt_w(_: &str, _: &str) -> Option<&'static str> {
 
 fn shorten_x_t1(a: &str, b: &str) -> Option<&'static str> {
     match (a, b) {
-        ("low" | "mid" | "high", "one_step") => Some("T1 >= x - min takes any si <= x to min or below"),
-        ("high", "half_or_more") => Some("T1 >= (x - min)/2 takes any si <= x to min + span/2 or below"),
+        ("low" | "mid" | "high", "one_step") => {
+            Some("T1 >= x - min takes any si <= x to min or below")
+        }
+        ("high", "half_or_more") => {
+            Some("T1 >= (x - min)/2 takes any si <= x to min + span/2 or below")
+        }
         _ => None,
     }
 }
 
 fn expand_x_t2(a: &str, b: &str) -> Option<&'static str> {
     match (a, b) {
-        ("low" | "mid" | "high", "one_step") => Some("T2 >= x - min takes any si >= min to x or above"),
-        ("low", "half_or_more") => Some("T2 >= (x - min)/2 takes any si >= min to min + span/2 or above"),
+        ("low" | "mid" | "high", "one_step") => {
+            Some("T2 >= x - min takes any si >= min to x or above")
+        }
+        ("low", "half_or_more") => {
+            Some("T2 >= (x - min)/2 takes any si >= min to min + span/2 or above")
+        }
         _ => None,
     }
 }
 
 /// Every cross.
 pub static CROSSES: [Cross; 13] = [
-    Cross { name: "fig17_x_fig18", cite: "FIG. 17 x FIG. 18", meaning: "each FIG. 17 path with each FIG. 18 path that leads to it", rows: FIG17, columns: FIG18, unreachable: fig17_x_fig18 },
-    Cross { name: "rule_x_interval", cite: "[0096]-[0099] x [0216]-[0228]", meaning: "each counting rule at each interval class of the key-off sample that applied it", rows: RULE, columns: SI_AT_EDGE, unreachable: rule_x_interval },
-    Cross { name: "rule_x_mode", cite: "[0096]-[0099] x [0349]", meaning: "each counting rule with the key off and on", rows: RULE, columns: SAMPLE_MODE, unreachable: none },
-    Cross { name: "key_edge_x_phase", cite: "[0213] x [0319]-[0323], [0349]", meaning: "key edges in each phase of the output pulse window and of the on-key cycle", rows: KEY_EDGE, columns: KEY_PHASE, unreachable: key_edge_x_phase },
-    Cross { name: "wrap_x_cnt_w", cite: "docs/spec.md 2.5", meaning: "counter wraps at each class of CNT_W", rows: WRAP, columns: CFG_CNT_W, unreachable: none },
-    Cross { name: "rule_x_cnt_w", cite: "[0096]-[0099] x CNT_W", meaning: "each counting rule at each class of CNT_W", rows: RULE, columns: CFG_CNT_W, unreachable: rule_x_cnt_w },
-    Cross { name: "fig18_x_history", cite: "[0237]-[0241] x FIG. 18", meaning: "each FIG. 18 path from each state of the change history", rows: HIST, columns: FIG18, unreachable: hist_x_fig18 },
-    Cross { name: "fig17_x_cnt_r", cite: "FIG. 17 x [0248]", meaning: "each FIG. 17 path from each class of CNTr", rows: FIG17, columns: CNT_R_BEFORE, unreachable: fig17_x_cnt_r },
-    Cross { name: "preset_x_mode", cite: "[0092]-[0093] x [0349]", meaning: "the first-sample preset of each quadrant, key off and key on", rows: PRESET, columns: SAMPLE_MODE, unreachable: preset_x_mode },
-    Cross { name: "skip_x_interval", cite: "docs/spec.md 2.5 x [0216]-[0228]", meaning: "quadrant skips at each interval class (too fast for the interval in force)", rows: SKIP, columns: SI_AT_EDGE, unreachable: skip_x_interval },
-    Cross { name: "shorten_x_t1", cite: "[0224] x [0260]-[0262]", meaning: "where S6 lands for each class of T1", rows: SHORTEN_TO, columns: CFG_T1, unreachable: shorten_x_t1 },
-    Cross { name: "expand_x_t2", cite: "[0250] x [0260]", meaning: "where S10 lands for each class of T2", rows: EXPAND_TO, columns: CFG_T2, unreachable: expand_x_t2 },
-    Cross { name: "write_reg_x_outcome", cite: "docs/spec.md 2.8 and 4", meaning: "each register with each outcome of a write", rows: WRITE_REG, columns: WRITE_OUTCOME, unreachable: write_reg_x_outcome },
+    Cross {
+        name: "fig17_x_fig18",
+        cite: "FIG. 17 x FIG. 18",
+        meaning: "each FIG. 17 path with each FIG. 18 path that leads to it",
+        rows: FIG17,
+        columns: FIG18,
+        unreachable: fig17_x_fig18,
+    },
+    Cross {
+        name: "rule_x_interval",
+        cite: "[0096]-[0099] x [0216]-[0228]",
+        meaning: "each counting rule at each interval class of the key-off sample that applied it",
+        rows: RULE,
+        columns: SI_AT_EDGE,
+        unreachable: rule_x_interval,
+    },
+    Cross {
+        name: "rule_x_mode",
+        cite: "[0096]-[0099] x [0349]",
+        meaning: "each counting rule with the key off and on",
+        rows: RULE,
+        columns: SAMPLE_MODE,
+        unreachable: none,
+    },
+    Cross {
+        name: "key_edge_x_phase",
+        cite: "[0213] x [0319]-[0323], [0349]",
+        meaning: "key edges in each phase of the output pulse window and of the on-key cycle",
+        rows: KEY_EDGE,
+        columns: KEY_PHASE,
+        unreachable: key_edge_x_phase,
+    },
+    Cross {
+        name: "wrap_x_cnt_w",
+        cite: "docs/spec.md 2.5",
+        meaning: "counter wraps at each class of CNT_W",
+        rows: WRAP,
+        columns: CFG_CNT_W,
+        unreachable: none,
+    },
+    Cross {
+        name: "rule_x_cnt_w",
+        cite: "[0096]-[0099] x CNT_W",
+        meaning: "each counting rule at each class of CNT_W",
+        rows: RULE,
+        columns: CFG_CNT_W,
+        unreachable: rule_x_cnt_w,
+    },
+    Cross {
+        name: "fig18_x_history",
+        cite: "[0237]-[0241] x FIG. 18",
+        meaning: "each FIG. 18 path from each state of the change history",
+        rows: HIST,
+        columns: FIG18,
+        unreachable: hist_x_fig18,
+    },
+    Cross {
+        name: "fig17_x_cnt_r",
+        cite: "FIG. 17 x [0248]",
+        meaning: "each FIG. 17 path from each class of CNTr",
+        rows: FIG17,
+        columns: CNT_R_BEFORE,
+        unreachable: fig17_x_cnt_r,
+    },
+    Cross {
+        name: "preset_x_mode",
+        cite: "[0092]-[0093] x [0349]",
+        meaning: "the first-sample preset of each quadrant, key off and key on",
+        rows: PRESET,
+        columns: SAMPLE_MODE,
+        unreachable: preset_x_mode,
+    },
+    Cross {
+        name: "skip_x_interval",
+        cite: "docs/spec.md 2.5 x [0216]-[0228]",
+        meaning: "quadrant skips at each interval class (too fast for the interval in force)",
+        rows: SKIP,
+        columns: SI_AT_EDGE,
+        unreachable: skip_x_interval,
+    },
+    Cross {
+        name: "shorten_x_t1",
+        cite: "[0224] x [0260]-[0262]",
+        meaning: "where S6 lands for each class of T1",
+        rows: SHORTEN_TO,
+        columns: CFG_T1,
+        unreachable: shorten_x_t1,
+    },
+    Cross {
+        name: "expand_x_t2",
+        cite: "[0250] x [0260]",
+        meaning: "where S10 lands for each class of T2",
+        rows: EXPAND_TO,
+        columns: CFG_T2,
+        unreachable: expand_x_t2,
+    },
+    Cross {
+        name: "write_reg_x_outcome",
+        cite: "docs/spec.md 2.8 and 4",
+        meaning: "each register with each outcome of a write",
+        rows: WRITE_REG,
+        columns: WRITE_OUTCOME,
+        unreachable: write_reg_x_outcome,
+    },
 ];
 
 /// Fold the vs2 cross in as an extra declared cross of the fault group (kept separate from the
 /// table above so the table reads as the plan).
-pub static FAULT_CROSSES: [Cross; 1] = [Cross { name: "vs2_x_interval", cite: "[0209] x [0216]-[0228]", meaning: "a dead Vs2 rail at a key-off sample of each interval class", rows: VS2, columns: SI_AT_EDGE, unreachable: vs2_x_interval }];
+pub static FAULT_CROSSES: [Cross; 1] = [Cross {
+    name: "vs2_x_interval",
+    cite: "[0209] x [0216]-[0228]",
+    meaning: "a dead Vs2 rail at a key-off sample of each interval class",
+    rows: VS2,
+    columns: SI_AT_EDGE,
+    unreachable: vs2_x_interval,
+}];
 
 /// Bins only port-level stimuli reach (cocotb, a DPI bench, the stress vectors): a scenario's
 /// MPU reads the register map's addresses only, and `pmu50 check` refuses a scenario that writes
 /// a read-only or unmapped address. They count in the coverage; `pmu50 regress` reports its
 /// closure over the other bins too, and closes these when port-level coverage is merged in.
-pub const PORT_ONLY: [&str; 4] = ["bus.read.unmapped", "bus.write_reg.read_only", "bus.write_reg.unmapped", "bus.write_outcome.refused_not_writable"];
+pub const PORT_ONLY: [&str; 4] = [
+    "bus.read.unmapped",
+    "bus.write_reg.read_only",
+    "bus.write_reg.unmapped",
+    "bus.write_outcome.refused_not_writable",
+];
 
 /// One bin of the flattened model.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -675,10 +799,22 @@ impl Layout {
         for p in POINTS.iter() {
             point_offset.push(bins.len());
             for b in p.bins {
-                let unreachable = p.unreachable.iter().find(|(n, _)| *n == b.name).map(|(_, r)| *r);
+                let unreachable = p
+                    .unreachable
+                    .iter()
+                    .find(|(n, _)| *n == b.name)
+                    .map(|(_, r)| *r);
                 let name = format!("{}.{}.{}", p.group, p.name, b.name);
                 let port_only = PORT_ONLY.contains(&name.as_str());
-                bins.push(BinInfo { name, kind: Kind::Point, group: p.group, cite: p.cite, meaning: b.meaning.to_string(), unreachable, port_only });
+                bins.push(BinInfo {
+                    name,
+                    kind: Kind::Point,
+                    group: p.group,
+                    cite: p.cite,
+                    meaning: b.meaning.to_string(),
+                    unreachable,
+                    port_only,
+                });
             }
         }
         let mut cross_offset = Vec::new();
@@ -687,9 +823,15 @@ impl Layout {
             let (pa, pb) = (&POINTS[c.rows], &POINTS[c.columns]);
             for ba in pa.bins {
                 for bb in pb.bins {
-                    let own = |p: &Point, b: &str| p.unreachable.iter().find(|(n, _)| *n == b).map(|(_, r)| *r);
-                    let unreachable = (c.unreachable)(ba.name, bb.name).or(own(pa, ba.name)).or(own(pb, bb.name));
-                    let port_only = [(pa, ba), (pb, bb)].iter().any(|(p, b)| PORT_ONLY.contains(&format!("{}.{}.{}", p.group, p.name, b.name).as_str()));
+                    let own = |p: &Point, b: &str| {
+                        p.unreachable.iter().find(|(n, _)| *n == b).map(|(_, r)| *r)
+                    };
+                    let unreachable = (c.unreachable)(ba.name, bb.name)
+                        .or(own(pa, ba.name))
+                        .or(own(pb, bb.name));
+                    let port_only = [(pa, ba), (pb, bb)].iter().any(|(p, b)| {
+                        PORT_ONLY.contains(&format!("{}.{}.{}", p.group, p.name, b.name).as_str())
+                    });
                     bins.push(BinInfo {
                         port_only,
                         name: format!("cross.{}.{}*{}", c.name, ba.name, bb.name),
@@ -702,7 +844,11 @@ impl Layout {
                 }
             }
         }
-        Layout { bins, point_offset, cross_offset }
+        Layout {
+            bins,
+            point_offset,
+            cross_offset,
+        }
     }
 }
 

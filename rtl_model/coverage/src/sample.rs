@@ -91,7 +91,10 @@ impl Coverage {
             hits: vec![0; l.bins.len()],
             config: [NONE; N_POINTS],
             clock_ns,
-            structural: Structural { sync_depth: p.sync_depth, cnt_width: p.cnt_width },
+            structural: Structural {
+                sync_depth: p.sync_depth,
+                cnt_width: p.cnt_width,
+            },
             read_offset: l.point_offset[READ],
             journal: Vec::new(),
             last_period: Vec::new(),
@@ -148,7 +151,12 @@ impl Coverage {
         self.last_full = self.journal_full;
         self.journal_full = false;
         let reads = &self.hits[self.read_offset..self.read_offset + N_READ_BINS];
-        for ((last, at_mark), &now) in self.last_reads.iter_mut().zip(self.reads_at_mark.iter_mut()).zip(reads) {
+        for ((last, at_mark), &now) in self
+            .last_reads
+            .iter_mut()
+            .zip(self.reads_at_mark.iter_mut())
+            .zip(reads)
+        {
             *last = now.saturating_sub(*at_mark);
             *at_mark = now;
         }
@@ -167,7 +175,11 @@ impl Coverage {
             *h = h.saturating_add(times);
         }
         let reads = &mut self.hits[self.read_offset..self.read_offset + N_READ_BINS];
-        for ((h, &n), at_mark) in reads.iter_mut().zip(&self.last_reads).zip(self.reads_at_mark.iter_mut()) {
+        for ((h, &n), at_mark) in reads
+            .iter_mut()
+            .zip(&self.last_reads)
+            .zip(self.reads_at_mark.iter_mut())
+        {
             *h = h.saturating_add(n.saturating_mul(times));
             *at_mark = *h;
         }
@@ -188,20 +200,89 @@ impl Coverage {
     /// Sample the configuration in force (at the start of a run and after a parameter write).
     pub fn sample_config(&mut self, p: &Params) {
         let span = p.si_max - p.si_min;
-        let step = |t: u16| if t >= span { 0 } else if u32::from(t) * 2 >= u32::from(span) { 1 } else { 2 };
+        let step = |t: u16| {
+            if t >= span {
+                0
+            } else if u32::from(t) * 2 >= u32::from(span) {
+                1
+            } else {
+                2
+            }
+        };
         let wt = p.wt();
         let bins: [(usize, u8); 11] = [
-            (CFG_CTH, match p.cth { 0 | 1 => 0, 2..=4 => 1, 5..=8 => 2, _ => 3 }),
+            (
+                CFG_CTH,
+                match p.cth {
+                    0 | 1 => 0,
+                    2..=4 => 1,
+                    5..=8 => 2,
+                    _ => 3,
+                },
+            ),
             (CFG_T1, step(p.t1)),
             (CFG_T2, step(p.t2)),
-            (CFG_X, if span == 0 { 0 } else if p.si_max <= 300 { 1 } else if p.si_max <= 700 { 2 } else { 3 }),
-            (CFG_MIN, if u32::from(p.si_min) == wt + 1 { 0 } else if u32::from(p.si_min) <= 2 * wt { 1 } else { 2 }),
-            (CFG_WINDOW, if p.pw == 0 { 0 } else if p.pi == 0 { 1 } else if p.ps == 1 { 2 } else { 3 }),
-            (CFG_SMP_ON, match p.smp_on { 0 | 1 => 0, 2..=9 => 1, _ => 2 }),
-            (CFG_CNT_W, match p.cnt_width { 0..=2 => 0, 3..=7 => 1, 8..=15 => 2, _ => 3 }),
+            (
+                CFG_X,
+                if span == 0 {
+                    0
+                } else if p.si_max <= 300 {
+                    1
+                } else if p.si_max <= 700 {
+                    2
+                } else {
+                    3
+                },
+            ),
+            (
+                CFG_MIN,
+                if u32::from(p.si_min) == wt + 1 {
+                    0
+                } else if u32::from(p.si_min) <= 2 * wt {
+                    1
+                } else {
+                    2
+                },
+            ),
+            (
+                CFG_WINDOW,
+                if p.pw == 0 {
+                    0
+                } else if p.pi == 0 {
+                    1
+                } else if p.ps == 1 {
+                    2
+                } else {
+                    3
+                },
+            ),
+            (
+                CFG_SMP_ON,
+                match p.smp_on {
+                    0 | 1 => 0,
+                    2..=9 => 1,
+                    _ => 2,
+                },
+            ),
+            (
+                CFG_CNT_W,
+                match p.cnt_width {
+                    0..=2 => 0,
+                    3..=7 => 1,
+                    8..=15 => 2,
+                    _ => 3,
+                },
+            ),
             (CFG_SYNC, p.sync_depth.clamp(1, 4) - 1),
             (CFG_ADAPTIVE, u8::from(p.adaptive)),
-            (CFG_CLOCK, match self.clock_ns { 0..=9_999 => 0, 10_000 => 1, _ => 2 }),
+            (
+                CFG_CLOCK,
+                match self.clock_ns {
+                    0..=9_999 => 0,
+                    10_000 => 1,
+                    _ => 2,
+                },
+            ),
         ];
         let off = &layout().point_offset;
         for (point, bin) in bins {
@@ -224,7 +305,16 @@ impl Coverage {
         // sign change, or a strobe on a dead rail does.
         let moved = n.upd && (n.first || n.chg_s || n.chg_c);
         let dead = e.out.smp && !e.out.sr;
-        if i.bus_we || n.kon || n.koff || moved || n.fig17 != Fig17::Idle || n.skip_clr || dead || diag_rise || in_flight {
+        if i.bus_we
+            || n.kon
+            || n.koff
+            || moved
+            || n.fig17 != Fig17::Idle
+            || n.skip_clr
+            || dead
+            || diag_rise
+            || in_flight
+        {
             self.sample_rare(e, in_flight, diag_rise);
         }
     }
@@ -233,7 +323,9 @@ impl Coverage {
     #[inline(never)]
     fn sample_rare(&mut self, e: &Edge<'_>, in_flight: bool, diag_rise: bool) {
         let (b, a, out, i, n) = (e.before, e.after, e.out, e.inputs, e.internals);
-        let p = b.register_file.params(self.structural.sync_depth, self.structural.cnt_width);
+        let p = b
+            .register_file
+            .params(self.structural.sync_depth, self.structural.cnt_width);
         let mut sel = self.config;
         let mode = u8::from(out.sig);
 
@@ -243,9 +335,21 @@ impl Coverage {
             sel[SI_AT_EDGE] = thirds(b.drive_interval.si, p.si_min, p.si_max, true);
             let di = (&b.drive_interval, &a.drive_interval);
             match n.fig17 {
-                Fig17::S5AtMin | Fig17::S6Shorten | Fig17::S7AtMax | Fig17::S9Count | Fig17::S10Expand => {
+                Fig17::S5AtMin
+                | Fig17::S6Shorten
+                | Fig17::S7AtMax
+                | Fig17::S9Count
+                | Fig17::S10Expand => {
                     let r = di.0.cnt_r;
-                    sel[CNT_R_BEFORE] = if r == 255 { 3 } else if r == 0 { 0 } else if r < p.cth { 1 } else { 2 };
+                    sel[CNT_R_BEFORE] = if r == 255 {
+                        3
+                    } else if r == 0 {
+                        0
+                    } else if r < p.cth {
+                        1
+                    } else {
+                        2
+                    };
                 }
                 _ => {}
             }
@@ -253,7 +357,13 @@ impl Coverage {
                 Fig17::S6Shorten => {
                     let raw = i32::from(di.0.si) - i32::from(p.t1);
                     let min = i32::from(p.si_min);
-                    sel[SHORTEN_TO] = if raw < min { 0 } else if raw == min { 1 } else { 1 + thirds(di.1.si, p.si_min, p.si_max, false) };
+                    sel[SHORTEN_TO] = if raw < min {
+                        0
+                    } else if raw == min {
+                        1
+                    } else {
+                        1 + thirds(di.1.si, p.si_min, p.si_max, false)
+                    };
                     if raw < min {
                         sel[CLAMP] = 0;
                     }
@@ -261,7 +371,13 @@ impl Coverage {
                 Fig17::S10Expand => {
                     let raw = u32::from(di.0.si) + u32::from(p.t2);
                     let x = u32::from(p.si_max);
-                    sel[EXPAND_TO] = if raw > x { 4 } else if raw == x { 3 } else { thirds(di.1.si, p.si_min, p.si_max, false) - 1 };
+                    sel[EXPAND_TO] = if raw > x {
+                        4
+                    } else if raw == x {
+                        3
+                    } else {
+                        thirds(di.1.si, p.si_min, p.si_max, false) - 1
+                    };
                     if raw > x {
                         sel[CLAMP] = 1;
                     }
@@ -270,7 +386,17 @@ impl Coverage {
             }
             if matches!(n.fig17, Fig17::S9Count | Fig17::S10Expand) {
                 let (r0, r1) = (di.0.cnt_r, di.1.cnt_r);
-                sel[CNT_R] = if r0 == 255 { 4 } else if r1 == 1 { 0 } else if r1 < p.cth { 1 } else if r1 == p.cth { 2 } else { 3 };
+                sel[CNT_R] = if r0 == 255 {
+                    4
+                } else if r1 == 1 {
+                    0
+                } else if r1 < p.cth {
+                    1
+                } else if r1 == p.cth {
+                    2
+                } else {
+                    3
+                };
             }
         }
         if n.fig18 != Fig18::Idle {
@@ -315,7 +441,11 @@ impl Coverage {
                 sel[RULE] = rule;
                 let w = self.structural.cnt_width.clamp(2, 16);
                 let top = (1u16 << (w - 1)) - 1;
-                let v = if n.chg_s { b.updown_counter.cnt_s } else { b.updown_counter.cnt_c };
+                let v = if n.chg_s {
+                    b.updown_counter.cnt_s
+                } else {
+                    b.updown_counter.cnt_c
+                };
                 let base = if n.chg_s { 0 } else { 2 };
                 if up && v == top {
                     sel[WRAP] = base;
@@ -331,7 +461,11 @@ impl Coverage {
             let t = u32::from(b.timing_generator.tmr);
             let (pw, pi, wt) = (u32::from(p.pw), u32::from(p.pw) + u32::from(p.pi), p.wt());
             sel[KEY_PHASE] = if out.sig {
-                if t + 1 == u32::from(p.smp_on) { 5 } else { 6 }
+                if t + 1 == u32::from(p.smp_on) {
+                    5
+                } else {
+                    6
+                }
             } else if t < pw {
                 0
             } else if t < pi {
@@ -369,8 +503,15 @@ impl Coverage {
                 _ if READ_BIN[usize::from(a8)] < READ_ADDRS.len() as u8 => 11,
                 _ => 12,
             };
-            let rfi = rf::Inputs { bus_we: true, bus_addr: a8, bus_wdata: i.bus_wdata, sig: out.sig, ..Default::default() };
-            let block = rf::RegisterFile::new(self.structural.sync_depth, self.structural.cnt_width);
+            let rfi = rf::Inputs {
+                bus_we: true,
+                bus_addr: a8,
+                bus_wdata: i.bus_wdata,
+                sig: out.sig,
+                ..Default::default()
+            };
+            let block =
+                rf::RegisterFile::new(self.structural.sync_depth, self.structural.cnt_width);
             sel[WRITE_OUTCOME] = match block.bus_write(&b.register_file, &rfi) {
                 Ok(_) => 0,
                 Err(WriteRefusal::KeyOff) => 1,
@@ -388,9 +529,13 @@ impl Coverage {
             };
             if a8 == rf::addr::STATUS && out.sig {
                 let bit = |k: usize| (i.bus_wdata >> k) & 1 == 1;
-                sel[W1C] = u8::from(bit(rf::status::QUADRANT_SKIP)) | u8::from(bit(rf::status::BUS_ERR)) << 1;
+                sel[W1C] = u8::from(bit(rf::status::QUADRANT_SKIP))
+                    | u8::from(bit(rf::status::BUS_ERR)) << 1;
             }
-            params_changed = sel[WRITE_OUTCOME] == 0 && a.register_file.params(self.structural.sync_depth, self.structural.cnt_width) != p;
+            params_changed = sel[WRITE_OUTCOME] == 0
+                && a.register_file
+                    .params(self.structural.sync_depth, self.structural.cnt_width)
+                    != p;
         }
 
         let l = layout();
@@ -401,12 +546,18 @@ impl Coverage {
         }
         for (c, &off) in crosses().zip(&l.cross_offset) {
             let (x, y) = (sel[c.rows], sel[c.columns]);
-            if x != NONE && y != NONE && (POINTS[c.rows].sampled == Sampled::Edge || POINTS[c.columns].sampled == Sampled::Edge) {
+            if x != NONE
+                && y != NONE
+                && (POINTS[c.rows].sampled == Sampled::Edge
+                    || POINTS[c.columns].sampled == Sampled::Edge)
+            {
                 self.count(off + usize::from(x) * POINTS[c.columns].bins.len() + usize::from(y));
             }
         }
         if params_changed {
-            let np = a.register_file.params(self.structural.sync_depth, self.structural.cnt_width);
+            let np = a
+                .register_file
+                .params(self.structural.sync_depth, self.structural.cnt_width);
             self.sample_config(&np);
         }
     }

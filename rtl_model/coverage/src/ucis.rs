@@ -36,7 +36,9 @@ pub fn xml_escape(s: &str, full: bool) -> String {
             '>' => o.push_str("&gt;"),
             '"' => o.push_str("&quot;"),
             '\'' if full => o.push_str("&apos;"),
-            c if full && (c as u32) < 0x20 && !matches!(c, '\t' | '\n' | '\r') => o.push('\u{FFFD}'),
+            c if full && (c as u32) < 0x20 && !matches!(c, '\t' | '\n' | '\r') => {
+                o.push('\u{FFFD}')
+            }
             c => o.push(c),
         }
     }
@@ -53,7 +55,11 @@ fn bin_element(w: &mut dyn Write, tag: &str, attrs: &str, count: &str, unreachab
     let _ = writeln!(w, "          <{tag} {attrs}>");
     let _ = writeln!(w, "            {count}");
     if let Some(why) = unreachable {
-        let _ = writeln!(w, "            <userAttr key=\"unreachable\" type=\"str\">{}</userAttr>", esc(why));
+        let _ = writeln!(
+            w,
+            "            <userAttr key=\"unreachable\" type=\"str\">{}</userAttr>",
+            esc(why)
+        );
     }
     let _ = writeln!(w, "          </{tag}>");
 }
@@ -70,7 +76,10 @@ pub fn to_ucis_xml(f: &CoverageFile) -> String {
 pub fn write_ucis_xml(f: &CoverageFile, w: &mut dyn Write) -> std::fmt::Result {
     let _ = writeln!(w, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
     let _ = writeln!(w, "<UCIS xmlns:ucis=\"http://www.w3.org/2001/XMLSchema-instance\" ucisVersion=\"1.0\" writtenBy=\"pmu50-coverage\" writtenTime=\"{TIME}\">");
-    let _ = writeln!(w, "  <sourceFiles fileName=\"docs/verification.md\" id=\"1\"/>");
+    let _ = writeln!(
+        w,
+        "  <sourceFiles fileName=\"docs/verification.md\" id=\"1\"/>"
+    );
     let model = esc(&f.model);
     let node = |w: &mut dyn Write, k: usize, name: &str, pass: bool, comment: &str| {
         let _ = writeln!(
@@ -82,30 +91,66 @@ pub fn write_ucis_xml(f: &CoverageFile, w: &mut dyn Write) -> std::fmt::Result {
         );
     };
     if f.runs.is_empty() {
-        node(w, 0, "pmu50-coverage", true, "no run recorded in the coverage file");
+        node(
+            w,
+            0,
+            "pmu50-coverage",
+            true,
+            "no run recorded in the coverage file",
+        );
     }
     for (k, r) in f.runs.iter().enumerate() {
-        node(w, k, &r.id, r.verdict == "pass", &format!("verdict {}", r.verdict));
+        node(
+            w,
+            k,
+            &r.id,
+            r.verdict == "pass",
+            &format!("verdict {}", r.verdict),
+        );
     }
-    let _ = writeln!(w, "  <instanceCoverages name=\"pmu50\" key=\"0\" instanceId=\"0\" moduleName=\"pmu50\">");
+    let _ = writeln!(
+        w,
+        "  <instanceCoverages name=\"pmu50\" key=\"0\" instanceId=\"0\" moduleName=\"pmu50\">"
+    );
     let _ = writeln!(w, "    <id file=\"1\" line=\"1\" inlineCount=\"1\"/>");
     let _ = writeln!(w, "    <covergroupCoverage>");
     let _ = writeln!(w, "      <cgInstance name=\"pmu50\" key=\"0\">");
     let _ = writeln!(w, "        <options weight=\"1\" goal=\"100\" at_least=\"1\" per_instance=\"true\" merge_instances=\"true\"/>");
     let _ = writeln!(w, "        <cgId cgName=\"pmu50\" moduleName=\"pmu50\">");
-    let _ = writeln!(w, "          <cginstSourceId file=\"1\" line=\"1\" inlineCount=\"1\"/>");
-    let _ = writeln!(w, "          <cgSourceId file=\"1\" line=\"1\" inlineCount=\"1\"/>");
+    let _ = writeln!(
+        w,
+        "          <cginstSourceId file=\"1\" line=\"1\" inlineCount=\"1\"/>"
+    );
+    let _ = writeln!(
+        w,
+        "          <cgSourceId file=\"1\" line=\"1\" inlineCount=\"1\"/>"
+    );
     let _ = writeln!(w, "        </cgId>");
     let mut k = 0usize;
     for p in POINTS.iter() {
-        let _ = writeln!(w, "        <coverpoint name=\"{}.{}\" key=\"0\">", esc(p.group), esc(p.name));
-        let _ = writeln!(w, "          <options weight=\"1\" goal=\"100\" at_least=\"1\"/>");
+        let _ = writeln!(
+            w,
+            "        <coverpoint name=\"{}.{}\" key=\"0\">",
+            esc(p.group),
+            esc(p.name)
+        );
+        let _ = writeln!(
+            w,
+            "          <options weight=\"1\" goal=\"100\" at_least=\"1\"/>"
+        );
         for (j, _) in p.bins.iter().enumerate() {
             let b = &f.bins[k];
             let local = b.name.rsplit('.').next().unwrap_or(&b.name);
-            let ty = if b.unreachable.is_some() { "ignore" } else { "bins" };
+            let ty = if b.unreachable.is_some() {
+                "ignore"
+            } else {
+                "bins"
+            };
             let attrs = format!("name=\"{}\" type=\"{ty}\" key=\"{j}\"", esc(local));
-            let count = format!("<range from=\"{j}\" to=\"{j}\"><contents coverageCount=\"{}\"/></range>", b.hits);
+            let count = format!(
+                "<range from=\"{j}\" to=\"{j}\"><contents coverageCount=\"{}\"/></range>",
+                b.hits
+            );
             bin_element(w, "coverpointBin", &attrs, &count, b.unreachable.as_deref());
             k += 1;
         }
@@ -114,15 +159,39 @@ pub fn write_ucis_xml(f: &CoverageFile, w: &mut dyn Write) -> std::fmt::Result {
     for c in crosses() {
         let (pa, pb) = (&POINTS[c.rows], &POINTS[c.columns]);
         let _ = writeln!(w, "        <cross name=\"{}\" key=\"0\">", esc(c.name));
-        let _ = writeln!(w, "          <options weight=\"1\" goal=\"100\" at_least=\"1\"/>");
-        let _ = writeln!(w, "          <crossExpr>{}.{}</crossExpr>", esc(pa.group), esc(pa.name));
-        let _ = writeln!(w, "          <crossExpr>{}.{}</crossExpr>", esc(pb.group), esc(pb.name));
+        let _ = writeln!(
+            w,
+            "          <options weight=\"1\" goal=\"100\" at_least=\"1\"/>"
+        );
+        let _ = writeln!(
+            w,
+            "          <crossExpr>{}.{}</crossExpr>",
+            esc(pa.group),
+            esc(pa.name)
+        );
+        let _ = writeln!(
+            w,
+            "          <crossExpr>{}.{}</crossExpr>",
+            esc(pb.group),
+            esc(pb.name)
+        );
         for (ia, ba) in pa.bins.iter().enumerate() {
             for (ib, bb) in pb.bins.iter().enumerate() {
                 let b = &f.bins[k];
-                let ty = if b.unreachable.is_some() { "ignore" } else { "default" };
-                let attrs = format!("name=\"{}\" key=\"{}\" type=\"{ty}\"", esc(&format!("<{},{}>", ba.name, bb.name)), ia * pb.bins.len() + ib);
-                let count = format!("<index>{ia}</index><index>{ib}</index><contents coverageCount=\"{}\"/>", b.hits);
+                let ty = if b.unreachable.is_some() {
+                    "ignore"
+                } else {
+                    "default"
+                };
+                let attrs = format!(
+                    "name=\"{}\" key=\"{}\" type=\"{ty}\"",
+                    esc(&format!("<{},{}>", ba.name, bb.name)),
+                    ia * pb.bins.len() + ib
+                );
+                let count = format!(
+                    "<index>{ia}</index><index>{ib}</index><contents coverageCount=\"{}\"/>",
+                    b.hits
+                );
                 bin_element(w, "crossBin", &attrs, &count, b.unreachable.as_deref());
                 k += 1;
             }
@@ -145,12 +214,24 @@ mod tests {
     fn every_bin_appears_once_with_its_hits_and_names_are_escaped() {
         let n = layout().bins.len();
         let hits: Vec<u64> = (0..n as u64).map(|k| k * 7 + 1).collect();
-        let f = CoverageFile::from_coverage(&hits, vec![RunRecord { id: "a<&\"b'>".into(), verdict: "fail".into() }]);
+        let f = CoverageFile::from_coverage(
+            &hits,
+            vec![RunRecord {
+                id: "a<&\"b'>".into(),
+                verdict: "fail".into(),
+            }],
+        );
         let x = to_ucis_xml(&f);
         assert_eq!(x.matches("coverageCount=").count(), n);
-        let counts: Vec<u64> = x.split("coverageCount=\"").skip(1).map(|t| t[..t.find('"').unwrap()].parse().unwrap()).collect();
+        let counts: Vec<u64> = x
+            .split("coverageCount=\"")
+            .skip(1)
+            .map(|t| t[..t.find('"').unwrap()].parse().unwrap())
+            .collect();
         assert_eq!(counts, hits, "bins in the model's order");
-        assert!(x.contains("logicalName=\"a&lt;&amp;&quot;b&apos;&gt;\" kind=\"1\" testStatus=\"false\""));
+        assert!(x.contains(
+            "logicalName=\"a&lt;&amp;&quot;b&apos;&gt;\" kind=\"1\" testStatus=\"false\""
+        ));
         assert_eq!(x, to_ucis_xml(&f), "deterministic");
         let empty = to_ucis_xml(&CoverageFile::empty());
         assert_eq!(empty.matches("<historyNodes ").count(), 1);

@@ -11,7 +11,12 @@ use std::collections::BTreeMap;
 use pmu50_core::rng::SplitMix64 as Rng;
 
 fn hits_of(c: &Coverage) -> BTreeMap<String, u64> {
-    layout().bins.iter().zip(c.hits()).map(|(b, &h)| (b.name.clone(), h)).collect()
+    layout()
+        .bins
+        .iter()
+        .zip(c.hits())
+        .map(|(b, &h)| (b.name.clone(), h))
+        .collect()
 }
 
 fn run(seed: u64, p: Params, ticks: u64) -> (Coverage, BTreeMap<String, u64>) {
@@ -33,12 +38,30 @@ fn run(seed: u64, p: Params, ticks: u64) -> (Coverage, BTreeMap<String, u64>) {
             cc = !cc;
         }
         let we = r.percent(2);
-        let i = Inputs { ig, vs2_ok: !r.percent(5), cmp_s: cs, cmp_c: cc, bus_we: we, bus_addr: (r.next() % 0x16) as u8, bus_wdata: (r.next() % 700) as u16 };
+        let i = Inputs {
+            ig,
+            vs2_ok: !r.percent(5),
+            cmp_s: cs,
+            cmp_c: cc,
+            bus_we: we,
+            bus_addr: (r.next() % 0x16) as u8,
+            bus_wdata: (r.next() % 700) as u16,
+        };
         let before = *core.regs();
         let out = core.peek();
-        let TracedStep { internals: n, after: after_out, .. } = core.step_traced(&i);
+        let TracedStep {
+            internals: n,
+            after: after_out,
+            ..
+        } = core.step_traced(&i);
         let after = *core.regs();
-        cov.sample(&Edge { before: &before, after: &after, out: &out, inputs: &i, internals: &n });
+        cov.sample(&Edge {
+            before: &before,
+            after: &after,
+            out: &out,
+            inputs: &i,
+            internals: &n,
+        });
 
         // The reference: what the outputs show.
         if !out.sig && after_out.sig {
@@ -67,17 +90,37 @@ fn run(seed: u64, p: Params, ticks: u64) -> (Coverage, BTreeMap<String, u64>) {
         let s_moved = out.cs != after_out.cs;
         let c_moved = out.cc != after_out.cc;
         if n.upd && !n.first && s_moved != c_moved {
-            let rule = if s_moved { if out.cc { "0096" } else { "0097" } } else if out.cs { "0099" } else { "0098" };
+            let rule = if s_moved {
+                if out.cc {
+                    "0096"
+                } else {
+                    "0097"
+                }
+            } else if out.cs {
+                "0099"
+            } else {
+                "0098"
+            };
             let (who, d) = if s_moved { ("s", ds) } else { ("c", dc) };
-            assert!(d == 1 || d == -1, "a single sign change moves its counter by one");
-            bump(format!("counter.rule.{who}_{rule}_{}", if d == 1 { "up" } else { "down" }));
+            assert!(
+                d == 1 || d == -1,
+                "a single sign change moves its counter by one"
+            );
+            bump(format!(
+                "counter.rule.{who}_{rule}_{}",
+                if d == 1 { "up" } else { "down" }
+            ));
         }
         if n.upd && !n.first && s_moved && c_moved {
             assert_eq!((ds, dc), (0, 0), "a skip holds both counters");
-            bump(format!("counter.quadrant_skip.{}", if out.sig { "key_on" } else { "key_off" }));
+            bump(format!(
+                "counter.quadrant_skip.{}",
+                if out.sig { "key_on" } else { "key_off" }
+            ));
         }
         if we {
-            let taken = after.register_file.params(p.sync_depth, p.cnt_width) != before.register_file.params(p.sync_depth, p.cnt_width);
+            let taken = after.register_file.params(p.sync_depth, p.cnt_width)
+                != before.register_file.params(p.sync_depth, p.cnt_width);
             if taken {
                 bump("params_changed".into());
             }
@@ -90,14 +133,26 @@ fn run(seed: u64, p: Params, ticks: u64) -> (Coverage, BTreeMap<String, u64>) {
 fn event_bins_count_what_the_core_visibly_did() {
     let mut seen_rules = 0;
     for seed in 0..12 {
-        let p = Params { cnt_width: [16, 2, 3, 8][seed as usize % 4], sync_depth: 1 + (seed % 4) as u8, ..Params::default() };
+        let p = Params {
+            cnt_width: [16, 2, 3, 8][seed as usize % 4],
+            sync_depth: 1 + (seed % 4) as u8,
+            ..Params::default()
+        };
         let (cov, reference) = run(seed, p, 60_000);
         let got = hits_of(&cov);
         for (k, v) in &reference {
             if k == "params_changed" {
                 // every taken write that changed a parameter re-samples the configuration
-                let cfg: u64 = got.iter().filter(|(n, _)| n.starts_with("config.cth.")).map(|(_, h)| h).sum();
-                assert_eq!(cfg, v + 1, "seed {seed}: configuration samples = 1 + parameter changes");
+                let cfg: u64 = got
+                    .iter()
+                    .filter(|(n, _)| n.starts_with("config.cth."))
+                    .map(|(_, h)| h)
+                    .sum();
+                assert_eq!(
+                    cfg,
+                    v + 1,
+                    "seed {seed}: configuration samples = 1 + parameter changes"
+                );
                 continue;
             }
             assert_eq!(got.get(k), Some(v), "seed {seed}: bin {k}");
@@ -107,19 +162,32 @@ fn event_bins_count_what_the_core_visibly_did() {
         }
         // and nothing was counted that the reference did not see
         for (k, h) in &got {
-            if *h > 0 && (k.starts_with("fig17.path.") || k.starts_with("counter.rule.") || k.starts_with("key.edge.") || k.starts_with("counter.quadrant_skip.")) {
+            if *h > 0
+                && (k.starts_with("fig17.path.")
+                    || k.starts_with("counter.rule.")
+                    || k.starts_with("key.edge.")
+                    || k.starts_with("counter.quadrant_skip."))
+            {
                 assert_eq!(reference.get(k), Some(h), "seed {seed}: bin {k}");
             }
         }
     }
-    assert!(seen_rules >= 40, "the stimulus applied the counting rules ({seen_rules})");
+    assert!(
+        seen_rules >= 40,
+        "the stimulus applied the counting rules ({seen_rules})"
+    );
 }
 
 #[test]
 fn unreachable_bins_are_never_hit_by_random_port_stimuli() {
     let mut total = vec![0u64; layout().bins.len()];
     for seed in 100..112 {
-        let p = Params { cnt_width: [16, 2, 3, 8][seed as usize % 4], sync_depth: 1 + (seed % 4) as u8, adaptive: seed % 5 != 0, ..Params::default() };
+        let p = Params {
+            cnt_width: [16, 2, 3, 8][seed as usize % 4],
+            sync_depth: 1 + (seed % 4) as u8,
+            adaptive: seed % 5 != 0,
+            ..Params::default()
+        };
         let (cov, _) = run(seed, p, 50_000);
         for (t, h) in total.iter_mut().zip(cov.hits()) {
             *t += h;
@@ -128,9 +196,18 @@ fn unreachable_bins_are_never_hit_by_random_port_stimuli() {
     let l = layout();
     for (b, h) in l.bins.iter().zip(&total) {
         if let Some(why) = b.unreachable {
-            assert_eq!(*h, 0, "{} is declared unreachable ({why}) but was hit", b.name);
+            assert_eq!(
+                *h, 0,
+                "{} is declared unreachable ({why}) but was hit",
+                b.name
+            );
         }
     }
-    let hit = l.bins.iter().zip(&total).filter(|(b, h)| b.unreachable.is_none() && **h > 0).count();
+    let hit = l
+        .bins
+        .iter()
+        .zip(&total)
+        .filter(|(b, h)| b.unreachable.is_none() && **h > 0)
+        .count();
     assert!(hit > l.bins.len() / 3, "random port stimuli hit {hit} bins");
 }

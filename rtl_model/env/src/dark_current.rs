@@ -263,7 +263,13 @@ mod tests {
 
     /// Round figures the arithmetic below is written for (not the defaults).
     fn cfg() -> DarkCurrentConfig {
-        DarkCurrentConfig { i_vm_ma: 50.0, i_vs1_ma: 10.0, i_vs2_ma: 10.0, i_vp_ua: 5.0, i_q_ua: 20.0 }
+        DarkCurrentConfig {
+            i_vm_ma: 50.0,
+            i_vs1_ma: 10.0,
+            i_vs2_ma: 10.0,
+            i_vp_ua: 5.0,
+            i_q_ua: 20.0,
+        }
     }
 
     /// Key-off run with Vs2 on for the first `on_ticks` of every

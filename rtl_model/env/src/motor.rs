@@ -159,7 +159,11 @@ impl MotorProfile {
         let mut worst: f64 = 0.0;
         for (k, seg) in self.segments.iter().enumerate() {
             let start = self.seg_start_ns[k];
-            if let Segment::Move { duration_ns, delta_deg } = *seg {
+            if let Segment::Move {
+                duration_ns,
+                delta_deg,
+            } = *seg
+            {
                 if start < to_ns && start + duration_ns > from_ns {
                     worst = worst.max(delta_deg.abs() / duration_ns.max(1) as f64);
                 }
@@ -215,7 +219,11 @@ impl MotorProfile {
         loop {
             i += 1;
             if i == self.segments.len() {
-                return if self.end_deg.to_bits() == a { u64::MAX } else { self.end_ns - 1 };
+                return if self.end_deg.to_bits() == a {
+                    u64::MAX
+                } else {
+                    self.end_ns - 1
+                };
             }
             // Every later segment starts after t_ns (partition_point took the last start <= t_ns).
             if self.seg_start_deg[i].to_bits() != a {
@@ -339,9 +347,15 @@ mod tests {
                 Segment::Hold { duration_ns: 100 },
                 Segment::Hold { duration_ns: 0 },
                 Segment::Hold { duration_ns: 50 },
-                Segment::Move { duration_ns: 30, delta_deg: 2.5 },
+                Segment::Move {
+                    duration_ns: 30,
+                    delta_deg: 2.5,
+                },
                 Segment::Hold { duration_ns: 40 },
-                Segment::Move { duration_ns: 20, delta_deg: -2.5 },
+                Segment::Move {
+                    duration_ns: 20,
+                    delta_deg: -2.5,
+                },
             ],
         )
         .unwrap();
@@ -359,10 +373,17 @@ mod tests {
                 assert_eq!(p.angle_at(v).to_bits(), a, "t={t} v={v} until={u}");
             }
             if u < 300 {
-                assert_ne!(p.angle_at(u + 1).to_bits(), a, "t={t} until={u} is not the last");
+                assert_ne!(
+                    p.angle_at(u + 1).to_bits(),
+                    a,
+                    "t={t} until={u} is not the last"
+                );
             }
         }
-        assert_eq!(MotorProfile::constant(1.0).unwrap().constant_until_ns(0), u64::MAX);
+        assert_eq!(
+            MotorProfile::constant(1.0).unwrap().constant_until_ns(0),
+            u64::MAX
+        );
     }
 
     #[test]

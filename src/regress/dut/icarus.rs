@@ -47,47 +47,98 @@ impl IcarusDut {
     pub fn prepare(list: &Path, pins: Pins) -> Result<IcarusDut, DutError> {
         let fl = FileList::read(list)?;
         if !rtl::have_tool("iverilog") {
-            return Err(RtlError::NoTool { list: fl.list.clone(), tool: "iverilog", package: "iverilog" }.into());
+            return Err(RtlError::NoTool {
+                list: fl.list.clone(),
+                tool: "iverilog",
+                package: "iverilog",
+            }
+            .into());
         }
         // The analysis (ports, parameters, what the RTL fixes) is Verilator's.
         let v = VerilatorDut::prepare(list, None, pins)?;
         let (top_params, fixed, notes) = (v.top_param_names(), v.fixed().clone(), v.notes());
         drop(v);
-        let scratch = tempfile::Builder::new().prefix("pmu50-iv.").tempdir().map_err(|e| DutError::Tool(format!("a scratch folder: {e}")))?;
+        let scratch = tempfile::Builder::new()
+            .prefix("pmu50-iv.")
+            .tempdir()
+            .map_err(|e| DutError::Tool(format!("a scratch folder: {e}")))?;
         lockstep::register_scratch(scratch.path());
         let mut key = Vec::new();
         for f in &fl.files {
             key.push(f.as_os_str().as_encoded_bytes().to_vec());
-            key.push(std::fs::read(f).map_err(|e| DutError::Tool(format!("{}: {e}", f.display())))?);
+            key.push(
+                std::fs::read(f).map_err(|e| DutError::Tool(format!("{}: {e}", f.display())))?,
+            );
         }
         let refs: Vec<&[u8]> = key.iter().map(|v| v.as_slice()).collect();
-        let root = super::cache_dir().join("icarus").join(format!("{:016x}", fnv(&refs)));
-        std::fs::create_dir_all(&root).map_err(|e| DutError::Tool(format!("{}: {e}", root.display())))?;
-        let tb = root.join(format!("tb_vectors_{:016x}.v", fnv(&[TB_VECTORS.as_bytes()])));
+        let root = super::cache_dir()
+            .join("icarus")
+            .join(format!("{:016x}", fnv(&refs)));
+        std::fs::create_dir_all(&root)
+            .map_err(|e| DutError::Tool(format!("{}: {e}", root.display())))?;
+        let tb = root.join(format!(
+            "tb_vectors_{:016x}.v",
+            fnv(&[TB_VECTORS.as_bytes()])
+        ));
         if !tb.is_file() {
-            crate::atomic_file::write_atomic(&tb, TB_VECTORS.as_bytes()).and_then(|f| {
-                let mut b = crate::atomic_file::Batch::new();
-                b.add(f);
-                b.commit()
-            })
-            .map_err(|e| DutError::Tool(e.to_string()))?;
+            crate::atomic_file::write_atomic(&tb, TB_VECTORS.as_bytes())
+                .and_then(|f| {
+                    let mut b = crate::atomic_file::Batch::new();
+                    b.add(f);
+                    b.commit()
+                })
+                .map_err(|e| DutError::Tool(e.to_string()))?;
         }
-        let dut = IcarusDut { list: fl.clone(), top_params, fixed, root, tb, compiles: Mutex::new(HashMap::new()), scratch, notes };
+        let dut = IcarusDut {
+            list: fl.clone(),
+            top_params,
+            fixed,
+            root,
+            tb,
+            compiles: Mutex::new(HashMap::new()),
+            scratch,
+            notes,
+        };
         // Compiled once with the defaults: an RTL Icarus refuses fails now.
-        let p = dut.fixed.apply(&Params { sync_depth: pins.sync_depth.unwrap_or(Params::default().sync_depth), cnt_width: pins.cnt_width.unwrap_or(Params::default().cnt_width), ..Params::default() });
-        dut.compiled(&p, 10_000).map_err(|log| RtlError::Build { list: fl.list.clone(), tool: "iverilog", log })?;
+        let p = dut.fixed.apply(&Params {
+            sync_depth: pins.sync_depth.unwrap_or(Params::default().sync_depth),
+            cnt_width: pins.cnt_width.unwrap_or(Params::default().cnt_width),
+            ..Params::default()
+        });
+        dut.compiled(&p, 10_000).map_err(|log| RtlError::Build {
+            list: fl.list.clone(),
+            tool: "iverilog",
+            log,
+        })?;
         Ok(dut)
     }
 
     /// The bench compiled for these parameters and clock, from the cache or now (once).
     fn compiled(&self, p: &Params, clock_ns: u64) -> Result<PathBuf, String> {
-        let mut args: Vec<String> = p.hdl_parameters().iter().map(|(n, v)| format!("-Ptb_vectors.{n}={v}")).collect();
+        let mut args: Vec<String> = p
+            .hdl_parameters()
+            .iter()
+            .map(|(n, v)| format!("-Ptb_vectors.{n}={v}"))
+            .collect();
         args.push(format!("-Ptb_vectors.CLOCK_NS={clock_ns}"));
         if !clock_ns.is_multiple_of(2000) {
             args.push("-DTB_TIMESCALE_NS".into());
         }
-        let key = format!("{:016x}", fnv(&[args.join(" ").as_bytes(), self.top_params.join(",").as_bytes(), TB_VECTORS.as_bytes()]));
-        let slot = self.compiles.lock().unwrap_or_else(|e| e.into_inner()).entry(key.clone()).or_default().clone();
+        let key = format!(
+            "{:016x}",
+            fnv(&[
+                args.join(" ").as_bytes(),
+                self.top_params.join(",").as_bytes(),
+                TB_VECTORS.as_bytes()
+            ])
+        );
+        let slot = self
+            .compiles
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .entry(key.clone())
+            .or_default()
+            .clone();
         slot.get_or_init(|| self.compile_now(&key, args)).clone()
     }
 
@@ -97,12 +148,41 @@ impl IcarusDut {
         if vvp.is_file() && super::files_unchanged(&deps) {
             return Ok(vvp);
         }
-        let tmp = tempfile::Builder::new().prefix(".compile-").tempdir_in(&self.root).map_err(|e| format!("{}: {e}", self.root.display()))?;
+        let tmp = tempfile::Builder::new()
+            .prefix(".compile-")
+            .tempdir_in(&self.root)
+            .map_err(|e| format!("{}: {e}", self.root.display()))?;
         if self.top_params.len() < pmu50_core::params::HDL_NAMES.len() {
             // the instance with the parameters the top has
-            let ports: Vec<String> = ["clk", "rst_n"].iter().map(|s| s.to_string()).chain(pmu50_core::signals::INPUTS.iter().map(|s| s.name.to_string())).chain(pmu50_core::signals::OUTPUTS.iter().map(|s| s.name.to_string())).map(|n| format!(".{n}({n})")).collect();
-            let params: Vec<String> = self.top_params.iter().map(|n| format!(".{n}({n})")).collect();
-            let inst = if params.is_empty() { format!("    pmu50 dut (\n        {}\n    );\n", ports.join(", ")) } else { format!("    pmu50 #({}) dut (\n        {}\n    );\n", params.join(", "), ports.join(", ")) };
+            let ports: Vec<String> = ["clk", "rst_n"]
+                .iter()
+                .map(|s| s.to_string())
+                .chain(
+                    pmu50_core::signals::INPUTS
+                        .iter()
+                        .map(|s| s.name.to_string()),
+                )
+                .chain(
+                    pmu50_core::signals::OUTPUTS
+                        .iter()
+                        .map(|s| s.name.to_string()),
+                )
+                .map(|n| format!(".{n}({n})"))
+                .collect();
+            let params: Vec<String> = self
+                .top_params
+                .iter()
+                .map(|n| format!(".{n}({n})"))
+                .collect();
+            let inst = if params.is_empty() {
+                format!("    pmu50 dut (\n        {}\n    );\n", ports.join(", "))
+            } else {
+                format!(
+                    "    pmu50 #({}) dut (\n        {}\n    );\n",
+                    params.join(", "),
+                    ports.join(", ")
+                )
+            };
             std::fs::write(tmp.path().join("tb_dut_inst.vh"), inst).map_err(|e| e.to_string())?;
             args.push("-DTB_DUT_INST".into());
             args.push(format!("-I{}", tmp.path().display()));
@@ -113,7 +193,16 @@ impl IcarusDut {
         let out_vvp = tmp.path().join("tb.vvp");
         let depfile = tmp.path().join("deps.txt");
         let o = Command::new("iverilog")
-            .args(["-g2005", "-Wall", "-Wno-timescale", "-Wno-implicit-dimensions", "-Wno-portbind", "-s", "tb_vectors", "-o"])
+            .args([
+                "-g2005",
+                "-Wall",
+                "-Wno-timescale",
+                "-Wno-implicit-dimensions",
+                "-Wno-portbind",
+                "-s",
+                "tb_vectors",
+                "-o",
+            ])
             .arg(&out_vvp)
             .arg(format!("-M{}", depfile.display()))
             .args(&args)
@@ -121,13 +210,19 @@ impl IcarusDut {
             .args(&self.list.files)
             .output()
             .map_err(|e| format!("cannot run iverilog: {e}"))?;
-        let log = String::from_utf8_lossy(&o.stderr).into_owned() + &String::from_utf8_lossy(&o.stdout);
+        let log =
+            String::from_utf8_lossy(&o.stderr).into_owned() + &String::from_utf8_lossy(&o.stdout);
         if !o.status.success() || !out_vvp.is_file() {
             let lines: Vec<&str> = log.lines().filter(|l| !l.trim().is_empty()).collect();
             return Err(lines[lines.len().saturating_sub(12)..].join("\n"));
         }
         // every file iverilog read, with a hash of each
-        let mut files: Vec<PathBuf> = std::fs::read_to_string(&depfile).unwrap_or_default().lines().map(|l| PathBuf::from(l.trim())).filter(|p| p.is_file() && !p.starts_with(tmp.path())).collect();
+        let mut files: Vec<PathBuf> = std::fs::read_to_string(&depfile)
+            .unwrap_or_default()
+            .lines()
+            .map(|l| PathBuf::from(l.trim()))
+            .filter(|p| p.is_file() && !p.starts_with(tmp.path()))
+            .collect();
         files.extend(self.list.files.iter().cloned());
         super::write_record(&deps, &files);
         std::fs::rename(&out_vvp, &vvp).map_err(|e| e.to_string())?;
@@ -189,15 +284,27 @@ fn mismatches(text: &str) -> (u64, Vec<Mismatch>) {
     let mut tick = 0;
     let mut v = Vec::new();
     for l in text.lines().filter(|l| l.starts_with("MISMATCH ")) {
-        let field = |k: &str| l.split_whitespace().find_map(|w| w.strip_prefix(k)).unwrap_or("");
+        let field = |k: &str| {
+            l.split_whitespace()
+                .find_map(|w| w.strip_prefix(k))
+                .unwrap_or("")
+        };
         tick = field("tick=").parse().unwrap_or(0);
-        v.push(Mismatch { signal: field("signal=").to_string(), expected: u64::from_str_radix(field("expected="), 16).unwrap_or(0), got: u64::from_str_radix(field("got="), 16).unwrap_or(0) });
+        v.push(Mismatch {
+            signal: field("signal=").to_string(),
+            expected: u64::from_str_radix(field("expected="), 16).unwrap_or(0),
+            got: u64::from_str_radix(field("got="), 16).unwrap_or(0),
+        });
     }
     (tick, v)
 }
 
 impl InFlight for Running {
-    fn wait(mut self: Box<Self>, sc: &Scenario, timeout: Duration) -> Result<Option<Failure>, DutError> {
+    fn wait(
+        mut self: Box<Self>,
+        sc: &Scenario,
+        timeout: Duration,
+    ) -> Result<Option<Failure>, DutError> {
         let status = loop {
             match self.child.try_wait() {
                 Ok(Some(s)) => break s,
@@ -210,7 +317,11 @@ impl InFlight for Running {
             }
         };
         lockstep::unregister_child(self.child.id() as libc::pid_t);
-        let out = self.output.take().and_then(|h| h.join().ok()).unwrap_or_default();
+        let out = self
+            .output
+            .take()
+            .and_then(|h| h.join().ok())
+            .unwrap_or_default();
         let verdict = std::fs::read_to_string(&self.verdict).unwrap_or_default();
         if verdict.lines().any(|l| l.starts_with("PASS ticks=")) && status.success() {
             return Ok(None);
@@ -225,9 +336,20 @@ impl InFlight for Running {
             (_, Some(s)) => format!("the simulation crashed (signal {s})"),
             _ => "the simulation ended without a verdict".into(),
         };
-        let tail: Vec<&str> = out.lines().filter(|l| !l.trim().is_empty() && !l.starts_with("VCD info")).collect();
+        let tail: Vec<&str> = out
+            .lines()
+            .filter(|l| !l.trim().is_empty() && !l.starts_with("VCD info"))
+            .collect();
         let tail = tail[tail.len().saturating_sub(3)..].join(" | ");
-        Ok(Some(dut_failure(sc, None, if tail.is_empty() { how } else { format!("{how}: {tail}") })))
+        Ok(Some(dut_failure(
+            sc,
+            None,
+            if tail.is_empty() {
+                how
+            } else {
+                format!("{how}: {tail}")
+            },
+        )))
     }
 }
 
@@ -245,18 +367,38 @@ impl Dut for IcarusDut {
     }
 
     fn vector_file(&self, sc: &Scenario) -> Result<tempfile::NamedTempFile, DutError> {
-        tempfile::Builder::new().prefix(&format!("{}.", sc.name)).suffix(".vec").tempfile_in(self.scratch.path()).map_err(|e| DutError::Tool(format!("a scratch vector file in {}: {e}", self.scratch.path().display())))
+        tempfile::Builder::new()
+            .prefix(&format!("{}.", sc.name))
+            .suffix(".vec")
+            .tempfile_in(self.scratch.path())
+            .map_err(|e| {
+                DutError::Tool(format!(
+                    "a scratch vector file in {}: {e}",
+                    self.scratch.path().display()
+                ))
+            })
     }
 
-    fn send<'a>(&'a self, sc: &Scenario, rec: Recorded) -> Result<Box<dyn InFlight + 'a>, DutError> {
+    fn send<'a>(
+        &'a self,
+        sc: &Scenario,
+        rec: Recorded,
+    ) -> Result<Box<dyn InFlight + 'a>, DutError> {
         use std::os::unix::process::CommandExt;
         let Recorded::Vectors(vec) = rec else {
-            return Err(DutError::Tool("the Icarus DUT needs the seed's vector file".into()));
+            return Err(DutError::Tool(
+                "the Icarus DUT needs the seed's vector file".into(),
+            ));
         };
         if !self.fixed.holds(&sc.params) {
-            return Err(DutError::Usage(format!("the seed's parameters do not keep what the RTL fixes ({})", self.fixed.text())));
+            return Err(DutError::Usage(format!(
+                "the seed's parameters do not keep what the RTL fixes ({})",
+                self.fixed.text()
+            )));
         }
-        let vvp = self.compiled(&sc.params, sc.clock_ns()).map_err(|log| DutError::Tool(format!("iverilog failed for the seed's parameters:\n{log}")))?;
+        let vvp = self.compiled(&sc.params, sc.clock_ns()).map_err(|log| {
+            DutError::Tool(format!("iverilog failed for the seed's parameters:\n{log}"))
+        })?;
         let verdict = vec.path().with_extension("verdict");
         let mut child = Command::new("vvp")
             .arg("-n")
@@ -270,8 +412,17 @@ impl Dut for IcarusDut {
             .spawn()
             .map_err(|e| DutError::Tool(format!("cannot start vvp: {e}")))?;
         lockstep::register_child(child.id() as libc::pid_t);
-        let output = child.stdout.take().map(|o| std::thread::spawn(move || keep_tail(o)));
-        Ok(Box::new(Running { child, started: Instant::now(), output, verdict, _vec: vec }))
+        let output = child
+            .stdout
+            .take()
+            .map(|o| std::thread::spawn(move || keep_tail(o)));
+        Ok(Box::new(Running {
+            child,
+            started: Instant::now(),
+            output,
+            verdict,
+            _vec: vec,
+        }))
     }
 
     fn notes(&self) -> Vec<String> {

@@ -52,7 +52,10 @@ pub enum DutError {
 impl DutError {
     /// Bad input (exit 2 before any seed), rather than a failure of one seed.
     pub fn is_bad_input(&self) -> bool {
-        matches!(self, DutError::Rtl(_) | DutError::Map(_) | DutError::Usage(_))
+        matches!(
+            self,
+            DutError::Rtl(_) | DutError::Map(_) | DutError::Usage(_)
+        )
     }
 }
 
@@ -78,7 +81,8 @@ pub enum Recorded {
 pub trait InFlight: Send {
     /// The verdict within `timeout` from the send: `Ok(None)` equal, `Ok(Some)` the first
     /// divergence (or a hang, or a crash), `Err` a setup failure (the seed's verdict `error`).
-    fn wait(self: Box<Self>, sc: &Scenario, timeout: Duration) -> Result<Option<Failure>, DutError>;
+    fn wait(self: Box<Self>, sc: &Scenario, timeout: Duration)
+        -> Result<Option<Failure>, DutError>;
 }
 
 /// A design under test.
@@ -91,10 +95,14 @@ pub trait Dut: Send + Sync {
     fn fixed(&self) -> &Fixed;
     /// A scratch vector file for `sc` ([`Needs::Vectors`]), removed when dropped.
     fn vector_file(&self, _sc: &Scenario) -> Result<tempfile::NamedTempFile, DutError> {
-        Err(DutError::Tool(format!("the {} DUT takes no vector file", self.name())))
+        Err(DutError::Tool(format!(
+            "the {} DUT takes no vector file",
+            self.name()
+        )))
     }
     /// Hand a seed's recording to the DUT; it may run while the caller goes on.
-    fn send<'a>(&'a self, sc: &Scenario, rec: Recorded) -> Result<Box<dyn InFlight + 'a>, DutError>;
+    fn send<'a>(&'a self, sc: &Scenario, rec: Recorded)
+        -> Result<Box<dyn InFlight + 'a>, DutError>;
     /// What the report and the repro's command line say of this DUT beside the verdicts: the
     /// knobs not drawn, the fixed values, the map.
     fn notes(&self) -> Vec<String> {
@@ -102,7 +110,13 @@ pub trait Dut: Send + Sync {
     }
     /// The DUT's values after each edge `from..=to` of a recording (for the picture of a
     /// failure), where the backend can give them.
-    fn trace(&self, _sc: &Scenario, _rec: Recorded, _from: u64, _to: u64) -> Option<Result<DutTrace, DutError>> {
+    fn trace(
+        &self,
+        _sc: &Scenario,
+        _rec: Recorded,
+        _from: u64,
+        _to: u64,
+    ) -> Option<Result<DutTrace, DutError>> {
         None
     }
 }
@@ -120,7 +134,11 @@ pub struct DutTrace {
 pub struct Ready(pub Option<Failure>);
 
 impl InFlight for Ready {
-    fn wait(self: Box<Self>, _sc: &Scenario, _timeout: Duration) -> Result<Option<Failure>, DutError> {
+    fn wait(
+        self: Box<Self>,
+        _sc: &Scenario,
+        _timeout: Duration,
+    ) -> Result<Option<Failure>, DutError> {
         Ok(self.0)
     }
 }
@@ -139,11 +157,15 @@ pub fn prepare(spec: &RunSpec) -> Result<Box<dyn Dut>, DutError> {
     match spec.dut {
         DutKind::Model => {
             if map.is_some() {
-                return Err(DutError::Usage("--map needs an RTL simulator: add --dut verilator".into()));
+                return Err(DutError::Usage(
+                    "--map needs an RTL simulator: add --dut verilator".into(),
+                ));
             }
             Ok(Box::new(model::ModelDut::default()))
         }
-        DutKind::Verilator => Ok(Box::new(verilator::VerilatorDut::prepare(&list, map, spec.pins)?)),
+        DutKind::Verilator => Ok(Box::new(verilator::VerilatorDut::prepare(
+            &list, map, spec.pins,
+        )?)),
         DutKind::Icarus => {
             if map.is_some() {
                 return Err(DutError::Usage("--map is compared by the Verilator lockstep: use --dut verilator (the Icarus replay compares the ports)".into()));
@@ -161,7 +183,11 @@ pub fn hdl_dir() -> PathBuf {
 /// Where builds of RTL under test go: `PMU50_CACHE_DIR`, or `$XDG_CACHE_HOME/pmu50`, or
 /// `~/.cache/pmu50`, or `target/pmu50-cache` of this checkout.
 pub fn cache_dir() -> PathBuf {
-    let env = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty()).map(PathBuf::from);
+    let env = |k: &str| {
+        std::env::var_os(k)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
     env("PMU50_CACHE_DIR")
         .or_else(|| env("XDG_CACHE_HOME").map(|p| p.join("pmu50")))
         .or_else(|| env("HOME").map(|p| p.join(".cache/pmu50")))
@@ -184,7 +210,16 @@ pub fn write_record(record: &Path, files: &[PathBuf]) {
     let mut files: Vec<&PathBuf> = files.iter().filter(|f| f.is_file()).collect();
     files.sort();
     files.dedup();
-    let text: String = files.iter().map(|f| format!("{:016x} {}\n", std::fs::read(f).map(|b| fnv(&[&b])).unwrap_or(0), f.display())).collect();
+    let text: String = files
+        .iter()
+        .map(|f| {
+            format!(
+                "{:016x} {}\n",
+                std::fs::read(f).map(|b| fnv(&[&b])).unwrap_or(0),
+                f.display()
+            )
+        })
+        .collect();
     let tmp = record.with_extension("tmp");
     if std::fs::write(&tmp, text).is_ok() {
         let _ = std::fs::rename(&tmp, record);
@@ -193,10 +228,14 @@ pub fn write_record(record: &Path, files: &[PathBuf]) {
 
 /// Whether every file of a record still has its hash (an empty or missing record: no).
 pub fn files_unchanged(record: &Path) -> bool {
-    let Ok(text) = std::fs::read_to_string(record) else { return false };
+    let Ok(text) = std::fs::read_to_string(record) else {
+        return false;
+    };
     !text.is_empty()
         && text.lines().all(|l| match l.split_once(' ') {
-            Some((h, p)) => std::fs::read(p).map(|b| format!("{:016x}", fnv(&[&b])) == h).unwrap_or(false),
+            Some((h, p)) => std::fs::read(p)
+                .map(|b| format!("{:016x}", fnv(&[&b])) == h)
+                .unwrap_or(false),
             None => false,
         })
 }
@@ -209,7 +248,12 @@ fn block_of(signal: &str) -> Option<&'static str> {
         Some(("internals", "upd" | "first" | "chg_s" | "chg_c")) => "comparator_latch",
         Some(("internals", "skip_clr")) => "register_file",
         Some(("internals", _)) => return None,
-        Some((b, _)) => return pmu50_core::signals::REGISTERS.iter().find(|s| s.scope == b).map(|s| s.scope),
+        Some((b, _)) => {
+            return pmu50_core::signals::REGISTERS
+                .iter()
+                .find(|s| s.scope == b)
+                .map(|s| s.scope)
+        }
         None => return None,
     };
     Some(b)
@@ -219,13 +263,46 @@ fn block_of(signal: &str) -> Option<&'static str> {
 /// before the register that drives it), the block of the first divergent register, and the
 /// FIG. 17/18 path of the cycle.
 pub fn divergence(sc: &Scenario, tick: u64, combinational: bool, mm: &[Mismatch]) -> Failure {
-    let first = mm.first().cloned().unwrap_or(Mismatch { signal: "?".into(), expected: 0, got: 0 });
-    let block = mm.iter().find_map(|m| block_of(&m.signal)).unwrap_or("ports").to_string();
+    let first = mm.first().cloned().unwrap_or(Mismatch {
+        signal: "?".into(),
+        expected: 0,
+        got: 0,
+    });
+    let block = mm
+        .iter()
+        .find_map(|m| block_of(&m.signal))
+        .unwrap_or("ports")
+        .to_string();
     // internals are compared during cycle `tick`, the rest after edge `tick` (the end of cycle
     // `tick - 1`): the FIG. path of that cycle
-    let cycle = if combinational { Some(tick) } else { tick.checked_sub(1) };
-    let shown: Vec<String> = mm.iter().take(8).map(|m| format!("{} expected {:x} got {:x}", m.signal, m.expected, m.got)).collect();
-    let mut f = dut_failure(sc, cycle, format!("the RTL diverges from the model at tick {tick}{}: {}{}", if combinational { " (before its rising edge)" } else { "" }, shown.join(", "), if mm.len() > 8 { format!(" (and {} more)", mm.len() - 8) } else { String::new() }));
+    let cycle = if combinational {
+        Some(tick)
+    } else {
+        tick.checked_sub(1)
+    };
+    let shown: Vec<String> = mm
+        .iter()
+        .take(8)
+        .map(|m| format!("{} expected {:x} got {:x}", m.signal, m.expected, m.got))
+        .collect();
+    let mut f = dut_failure(
+        sc,
+        cycle,
+        format!(
+            "the RTL diverges from the model at tick {tick}{}: {}{}",
+            if combinational {
+                " (before its rising edge)"
+            } else {
+                ""
+            },
+            shown.join(", "),
+            if mm.len() > 8 {
+                format!(" (and {} more)", mm.len() - 8)
+            } else {
+                String::new()
+            }
+        ),
+    );
     f.tick = tick;
     f.signal = format!("pmu50.{}", first.signal);
     f.expected = format!("0x{:x}", first.expected);
@@ -237,12 +314,28 @@ pub fn divergence(sc: &Scenario, tick: u64, combinational: bool, mm: &[Mismatch]
 /// A DUT failure that names no signal (a hang, a crash), at bench cycle `cycle` when known.
 pub fn dut_failure(sc: &Scenario, cycle: Option<u64>, detail: String) -> Failure {
     let fig = cycle.map_or_else(|| "-".to_string(), |c| fig_at(sc, c));
-    Failure { kind: "dut".into(), tick: cycle.map_or(0, |c| c + 1), signal: "dut".into(), expected: "-".into(), got: "-".into(), block: "-".into(), fig, detail }
+    Failure {
+        kind: "dut".into(),
+        tick: cycle.map_or(0, |c| c + 1),
+        signal: "dut".into(),
+        expected: "-".into(),
+        got: "-".into(),
+        block: "-".into(),
+        fig,
+        detail,
+    }
 }
 
 /// The failure of a DUT that did not finish within the time limit.
 pub fn timed_out(sc: &Scenario, timeout: Duration) -> Failure {
-    dut_failure(sc, None, format!("the DUT did not finish within the per-seed time limit of {} s", timeout.as_secs_f64()))
+    dut_failure(
+        sc,
+        None,
+        format!(
+            "the DUT did not finish within the per-seed time limit of {} s",
+            timeout.as_secs_f64()
+        ),
+    )
 }
 
 /// The FIG. 17/18 path of bench cycle `cycle` (the edge at its end), from a run of the model.
@@ -279,15 +372,23 @@ pub fn record(dut: &dyn Dut, sc: &Scenario) -> Result<Recorded, DutError> {
         Needs::Nothing => Ok(Recorded::None),
         Needs::Inputs => {
             let mut rec = super::lockstep::InputRecorder::default();
-            sim::run(sc, SimOptions::default(), &mut [&mut rec]).map_err(|e| DutError::Tool(e.to_string()))?;
+            sim::run(sc, SimOptions::default(), &mut [&mut rec])
+                .map_err(|e| DutError::Tool(e.to_string()))?;
             Ok(Recorded::Inputs(rec.inputs))
         }
         Needs::Vectors => {
             let vec = dut.vector_file(sc)?;
-            let mut w = crate::observers::vectors::VectorWriter::new(std::io::BufWriter::new(vec.as_file()), sc).map_err(|e| DutError::Tool(e.to_string()))?;
-            sim::run(sc, SimOptions::default(), &mut [&mut w]).map_err(|e| DutError::Tool(e.to_string()))?;
+            let mut w = crate::observers::vectors::VectorWriter::new(
+                std::io::BufWriter::new(vec.as_file()),
+                sc,
+            )
+            .map_err(|e| DutError::Tool(e.to_string()))?;
+            sim::run(sc, SimOptions::default(), &mut [&mut w])
+                .map_err(|e| DutError::Tool(e.to_string()))?;
             use std::io::Write;
-            w.into_inner().flush().map_err(|e| DutError::Tool(format!("{}: {e}", vec.path().display())))?;
+            w.into_inner()
+                .flush()
+                .map_err(|e| DutError::Tool(format!("{}: {e}", vec.path().display())))?;
             Ok(Recorded::Vectors(vec))
         }
     }

@@ -24,7 +24,11 @@ impl Dut for ModelDut {
         &self.fixed
     }
 
-    fn send<'a>(&'a self, _sc: &Scenario, _rec: Recorded) -> Result<Box<dyn InFlight + 'a>, DutError> {
+    fn send<'a>(
+        &'a self,
+        _sc: &Scenario,
+        _rec: Recorded,
+    ) -> Result<Box<dyn InFlight + 'a>, DutError> {
         Ok(Box::new(Ready(None)))
     }
 }

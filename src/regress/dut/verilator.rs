@@ -12,7 +12,9 @@
 //! each, and a build whose files changed is built again. A precompiled header of the Verilator
 //! runtime makes a build about half a second.
 
-use super::{divergence, dut_failure, fnv, timed_out, Dut, DutError, DutTrace, InFlight, Needs, Recorded};
+use super::{
+    divergence, dut_failure, fnv, timed_out, Dut, DutError, DutTrace, InFlight, Needs, Recorded,
+};
 use crate::regress::check::Failure;
 use crate::regress::gen::{knobs_off, Pins};
 use crate::regress::lockstep::{self, Answer, Reply, Request, Worker};
@@ -31,11 +33,20 @@ use std::time::Duration;
 /// The library's C++ source, carried by the binary.
 const DUT_LIB_CPP: &str = include_str!("../../../hdl/tb/lockstep/dut_lib.cpp");
 /// Compiler flags of the library, its runtime and its precompiled header (they must agree).
-const CXXFLAGS: &[&str] = &["-std=c++17", "-O2", "-fPIC", "-fvisibility=hidden", "-DVM_TRACE=0", "-DVM_COVERAGE=0"];
+const CXXFLAGS: &[&str] = &[
+    "-std=c++17",
+    "-O2",
+    "-fPIC",
+    "-fvisibility=hidden",
+    "-DVM_TRACE=0",
+    "-DVM_COVERAGE=0",
+];
 
 /// The register bus addresses read back after reset to learn what an RTL fixes (docs/spec.md
 /// 2.8): CTRL, PW, PI, PS, SI_MAX, SI_MIN, T1, T2, CTH, SMP_ON, CFG.
-const PROBE_ADDRS: [u8; 11] = [0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0A, 0x0B, 0x0C];
+const PROBE_ADDRS: [u8; 11] = [
+    0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0A, 0x0B, 0x0C,
+];
 
 /// One build, shared by the jobs: built once, by the first job that needs it.
 type Slot = Arc<OnceLock<Result<PathBuf, String>>>;
@@ -66,13 +77,19 @@ fn tool_err(e: impl std::fmt::Display) -> DutError {
 
 /// Run a build step; its output (the end of it) in the error.
 fn step(cmd: &mut Command, what: &str) -> Result<(), String> {
-    let out = cmd.output().map_err(|e| format!("cannot run {what}: {e}"))?;
+    let out = cmd
+        .output()
+        .map_err(|e| format!("cannot run {what}: {e}"))?;
     if out.status.success() {
         return Ok(());
     }
-    let log = String::from_utf8_lossy(&out.stderr).into_owned() + &String::from_utf8_lossy(&out.stdout);
+    let log =
+        String::from_utf8_lossy(&out.stderr).into_owned() + &String::from_utf8_lossy(&out.stdout);
     let lines: Vec<&str> = log.lines().filter(|l| !l.trim().is_empty()).collect();
-    Err(format!("{what} failed:\n{}", lines[lines.len().saturating_sub(12)..].join("\n")))
+    Err(format!(
+        "{what} failed:\n{}",
+        lines[lines.len().saturating_sub(12)..].join("\n")
+    ))
 }
 
 impl VerilatorDut {
@@ -81,18 +98,27 @@ impl VerilatorDut {
     /// every way an RTL can be bad input fails here, before any seed.
     pub fn prepare(list: &Path, map: Option<RtlMap>, pins: Pins) -> Result<VerilatorDut, DutError> {
         let fl = FileList::read(list)?;
-        let scratch = tempfile::Builder::new().prefix("pmu50-dut.").tempdir().map_err(|e| tool_err(format!("a scratch folder: {e}")))?;
+        let scratch = tempfile::Builder::new()
+            .prefix("pmu50-dut.")
+            .tempdir()
+            .map_err(|e| tool_err(format!("a scratch folder: {e}")))?;
         lockstep::register_scratch(scratch.path());
         let mut key_parts: Vec<Vec<u8>> = Vec::new();
         for f in &fl.files {
             key_parts.push(f.as_os_str().as_encoded_bytes().to_vec());
-            key_parts.push(std::fs::read(f).map_err(|e| tool_err(format!("{}: {e}", f.display())))?);
+            key_parts
+                .push(std::fs::read(f).map_err(|e| tool_err(format!("{}: {e}", f.display())))?);
         }
         let refs: Vec<&[u8]> = key_parts.iter().map(|v| v.as_slice()).collect();
-        let root = super::cache_dir().join("verilator").join(format!("{:016x}", fnv(&refs)));
+        let root = super::cache_dir()
+            .join("verilator")
+            .join(format!("{:016x}", fnv(&refs)));
         std::fs::create_dir_all(&root).map_err(|e| tool_err(format!("{}: {e}", root.display())))?;
         let design = rtl::elaborate_cached(&fl, &[], &scratch.path().join("xml"), &root)?;
-        let top_params: Vec<(&'static str, u64)> = HDL_NAMES.iter().filter_map(|n| design.param(n).map(|v| (*n, v.max(0) as u64))).collect();
+        let top_params: Vec<(&'static str, u64)> = HDL_NAMES
+            .iter()
+            .filter_map(|n| design.param(n).map(|v| (*n, v.max(0) as u64)))
+            .collect();
         let mut dut = VerilatorDut {
             list: fl.clone(),
             top_params,
@@ -111,7 +137,13 @@ impl VerilatorDut {
         let missing = design.missing_params();
         let defaults = dut.defaults();
         if !missing.is_empty() {
-            let lib = dut.build(&dut.gparams(&defaults)).map_err(|log| RtlError::Build { list: fl.list.clone(), tool: "verilator", log })?;
+            let lib = dut
+                .build(&dut.gparams(&defaults))
+                .map_err(|log| RtlError::Build {
+                    list: fl.list.clone(),
+                    tool: "verilator",
+                    log,
+                })?;
             let rdata = dut.probe(&lib)?;
             let mut values = Vec::new();
             for name in HDL_NAMES.iter().filter(|n| missing.contains(n)) {
@@ -139,57 +171,99 @@ impl VerilatorDut {
                 return Err(RtlError::Fixed { list: fl.list.clone(), what: format!("its top lacks the parameters {}; read back through the bus after reset they are {} and make an illegal set: {e} (docs/spec.md section 4)", missing.join(", "), dut.fixed.text()) }.into());
             }
             if let Some(w) = dut.fixed.get("CNT_W") {
-                if design.port_width("cnt_s").is_some_and(|pw| u64::from(pw) != w) {
+                if design
+                    .port_width("cnt_s")
+                    .is_some_and(|pw| u64::from(pw) != w)
+                {
                     return Err(RtlError::Fixed { list: fl.list.clone(), what: format!("its CFG register (0x0C) reads CNT_W = {w}, but its port cnt_s is {} bit(s) wide", design.port_width("cnt_s").unwrap_or(0)) }.into());
                 }
             }
-            let off: Vec<String> = knobs_off(&dut.fixed).iter().map(|k| format!("{k:?}")).collect();
+            let off: Vec<String> = knobs_off(&dut.fixed)
+                .iter()
+                .map(|k| format!("{k:?}"))
+                .collect();
             dut.notes.push(format!("the RTL fixes {} (its top lacks these parameters; read back through the bus after reset): every seed keeps them", dut.fixed.text()));
             if !off.is_empty() {
-                dut.notes.push(format!("knobs not drawn, as they need another value of a fixed parameter: {}", off.join(", ")));
+                dut.notes.push(format!(
+                    "knobs not drawn, as they need another value of a fixed parameter: {}",
+                    off.join(", ")
+                ));
             }
         }
         // Pins against what the RTL fixes.
         for (pin, name) in [(pins.sync_depth, "SYNC_DEPTH"), (pins.cnt_width, "CNT_W")] {
             if let (Some(p), Some(f)) = (pin, dut.fixed.get(name)) {
                 if u64::from(p) != f {
-                    return Err(DutError::Usage(format!("--{} {p}: the RTL fixes {name} = {f} (its top has no parameter {name})", if name == "CNT_W" { "cnt-width" } else { "sync-depth" })));
+                    return Err(DutError::Usage(format!(
+                        "--{} {p}: the RTL fixes {name} = {f} (its top has no parameter {name})",
+                        if name == "CNT_W" {
+                            "cnt-width"
+                        } else {
+                            "sync-depth"
+                        }
+                    )));
                 }
             }
         }
         // The contract at the default structure (and its ports as elaborated).
-        let s0 = Structural { sync_depth: pins.sync_depth.unwrap_or(defaults.sync_depth), cnt_width: pins.cnt_width.unwrap_or(defaults.cnt_width) };
+        let s0 = Structural {
+            sync_depth: pins.sync_depth.unwrap_or(defaults.sync_depth),
+            cnt_width: pins.cnt_width.unwrap_or(defaults.cnt_width),
+        };
         if (s0.sync_depth, s0.cnt_width) == (defaults.sync_depth, defaults.cnt_width) {
             design.check_contract(&s0)?;
-            dut.checked.lock().unwrap_or_else(|e| e.into_inner()).insert((s0.sync_depth, s0.cnt_width), Ok(()));
+            dut.checked
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .insert((s0.sync_depth, s0.cnt_width), Ok(()));
         } else {
             dut.check_pair(s0.sync_depth, s0.cnt_width)?;
         }
         // The narrowest counter too, when CNT_W is a parameter the seeds draw.
-        if dut.fixed.get("CNT_W").is_none() && pins.cnt_width.is_none() && design.param("CNT_W").is_some() {
+        if dut.fixed.get("CNT_W").is_none()
+            && pins.cnt_width.is_none()
+            && design.param("CNT_W").is_some()
+        {
             dut.check_pair(s0.sync_depth, 2)?;
         }
         if let Some(m) = map {
             // the widths of the mapped signals in the structure the seeds start from
-            let at_s0 = if (s0.sync_depth, s0.cnt_width) == (defaults.sync_depth, defaults.cnt_width) {
-                design.clone()
-            } else {
-                let mut g = Vec::new();
-                if dut.top_params.iter().any(|(n, _)| *n == "SYNC_DEPTH") {
-                    g.push(("SYNC_DEPTH".to_string(), u64::from(s0.sync_depth)));
-                }
-                if dut.top_params.iter().any(|(n, _)| *n == "CNT_W") {
-                    g.push(("CNT_W".to_string(), u64::from(s0.cnt_width)));
-                }
-                rtl::elaborate_cached(&fl, &g, &dut.scratch.path().join("xml_map"), &dut.root)?
-            };
+            let at_s0 =
+                if (s0.sync_depth, s0.cnt_width) == (defaults.sync_depth, defaults.cnt_width) {
+                    design.clone()
+                } else {
+                    let mut g = Vec::new();
+                    if dut.top_params.iter().any(|(n, _)| *n == "SYNC_DEPTH") {
+                        g.push(("SYNC_DEPTH".to_string(), u64::from(s0.sync_depth)));
+                    }
+                    if dut.top_params.iter().any(|(n, _)| *n == "CNT_W") {
+                        g.push(("CNT_W".to_string(), u64::from(s0.cnt_width)));
+                    }
+                    rtl::elaborate_cached(&fl, &g, &dut.scratch.path().join("xml_map"), &dut.root)?
+                };
             dut.mapped = m.check(&at_s0, &s0)?;
             dut.map_key = m.key();
-            dut.notes.push(format!("map {}: {} register(s) and {} internal(s) compared beside the ports", m.path.as_ref().map_or(String::new(), |p| p.display().to_string()), m.registers.len(), m.internals.len()));
+            dut.notes.push(format!(
+                "map {}: {} register(s) and {} internal(s) compared beside the ports",
+                m.path
+                    .as_ref()
+                    .map_or(String::new(), |p| p.display().to_string()),
+                m.registers.len(),
+                m.internals.len()
+            ));
         }
         // The library of the default parameters: an RTL that does not build fails now.
-        let s0p = Params { sync_depth: s0.sync_depth, cnt_width: s0.cnt_width, ..dut.fixed.apply(&defaults) };
-        dut.build(&dut.gparams(&s0p)).map_err(|log| RtlError::Build { list: fl.list.clone(), tool: "verilator", log })?;
+        let s0p = Params {
+            sync_depth: s0.sync_depth,
+            cnt_width: s0.cnt_width,
+            ..dut.fixed.apply(&defaults)
+        };
+        dut.build(&dut.gparams(&s0p))
+            .map_err(|log| RtlError::Build {
+                list: fl.list.clone(),
+                tool: "verilator",
+                log,
+            })?;
         Ok(dut)
     }
 
@@ -209,13 +283,27 @@ impl VerilatorDut {
 
     /// The `-G` values of a build for `p`: the parameters the top has.
     fn gparams(&self, p: &Params) -> Vec<(String, u64)> {
-        p.hdl_parameters().iter().filter(|(n, _)| self.top_params.iter().any(|(t, _)| t == n)).map(|(n, v)| (n.to_string(), *v)).collect()
+        p.hdl_parameters()
+            .iter()
+            .filter(|(n, _)| self.top_params.iter().any(|(t, _)| t == n))
+            .map(|(n, v)| (n.to_string(), *v))
+            .collect()
     }
 
     /// Check the ports against the contract for structure (sd, w), once per pair.
     fn check_pair(&self, sd: u8, w: u8) -> Result<(), DutError> {
-        if let Some(r) = self.checked.lock().unwrap_or_else(|e| e.into_inner()).get(&(sd, w)) {
-            return r.clone().map_err(|e| DutError::Rtl(RtlError::Fixed { list: self.list.list.clone(), what: e }));
+        if let Some(r) = self
+            .checked
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&(sd, w))
+        {
+            return r.clone().map_err(|e| {
+                DutError::Rtl(RtlError::Fixed {
+                    list: self.list.list.clone(),
+                    what: e,
+                })
+            });
         }
         let mut g = Vec::new();
         if self.top_params.iter().any(|(n, _)| *n == "SYNC_DEPTH") {
@@ -225,17 +313,31 @@ impl VerilatorDut {
             g.push(("CNT_W".to_string(), u64::from(w)));
         }
         let work = self.scratch.path().join(format!("xml_{sd}_{w}"));
-        let r = rtl::elaborate_cached(&self.list, &g, &work, &self.root).and_then(|d| d.check_contract(&Structural { sync_depth: sd, cnt_width: w }));
+        let r = rtl::elaborate_cached(&self.list, &g, &work, &self.root).and_then(|d| {
+            d.check_contract(&Structural {
+                sync_depth: sd,
+                cnt_width: w,
+            })
+        });
         let _ = std::fs::remove_dir_all(&work);
-        let kept = r.as_ref().map(|_| ()).map_err(|e| format!("with SYNC_DEPTH={sd} CNT_W={w}: {e}"));
-        self.checked.lock().unwrap_or_else(|e| e.into_inner()).insert((sd, w), kept);
+        let kept = r
+            .as_ref()
+            .map(|_| ())
+            .map_err(|e| format!("with SYNC_DEPTH={sd} CNT_W={w}: {e}"));
+        self.checked
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert((sd, w), kept);
         r.map_err(DutError::Rtl)
     }
 
     /// The library for the seed's parameters, built on first use.
     fn library(&self, p: &Params) -> Result<PathBuf, DutError> {
         if !self.fixed.holds(p) {
-            return Err(DutError::Usage(format!("the seed's parameters do not keep what the RTL fixes ({})", self.fixed.text())));
+            return Err(DutError::Usage(format!(
+                "the seed's parameters do not keep what the RTL fixes ({})",
+                self.fixed.text()
+            )));
         }
         self.check_pair(p.sync_depth, p.cnt_width)?;
         self.build(&self.gparams(p)).map_err(DutError::Tool)
@@ -244,8 +346,22 @@ impl VerilatorDut {
     /// A build for these `-G` values: from the cache, or built now (once for all jobs).
     fn build(&self, g: &[(String, u64)]) -> Result<PathBuf, String> {
         let gtext: String = g.iter().map(|(n, v)| format!("{n}={v};")).collect();
-        let key = format!("{:016x}", fnv(&[gtext.as_bytes(), self.map_key.as_bytes(), DUT_LIB_CPP.as_bytes(), CXXFLAGS.join(" ").as_bytes()]));
-        let slot = self.builds.lock().unwrap_or_else(|e| e.into_inner()).entry(key.clone()).or_default().clone();
+        let key = format!(
+            "{:016x}",
+            fnv(&[
+                gtext.as_bytes(),
+                self.map_key.as_bytes(),
+                DUT_LIB_CPP.as_bytes(),
+                CXXFLAGS.join(" ").as_bytes()
+            ])
+        );
+        let slot = self
+            .builds
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .entry(key.clone())
+            .or_default()
+            .clone();
         slot.get_or_init(|| self.build_now(&key, g)).clone()
     }
 
@@ -257,23 +373,46 @@ impl VerilatorDut {
         }
         for tool in ["verilator", "g++"] {
             if !rtl::have_tool(tool) {
-                return Err(format!("`{tool}` is not installed (Debian package {tool}; `make deps` installs it)"));
+                return Err(format!(
+                    "`{tool}` is not installed (Debian package {tool}; `make deps` installs it)"
+                ));
             }
         }
         let vroot = self.vroot()?;
         let _ = std::fs::remove_dir_all(&dir);
         let (pch, runtime) = self.runtime()?;
-        let tmp = tempfile::Builder::new().prefix(".build-").tempdir_in(&self.root).map_err(|e| format!("{}: {e}", self.root.display()))?;
+        let tmp = tempfile::Builder::new()
+            .prefix(".build-")
+            .tempdir_in(&self.root)
+            .map_err(|e| format!("{}: {e}", self.root.display()))?;
         let obj = tmp.path().join("obj");
         std::fs::create_dir_all(&obj).map_err(|e| format!("{}: {e}", obj.display()))?;
         // the map: which signals Verilator keeps visible, and the accessors of dut_lib.cpp
         let mut vlt = String::from("`verilator_config\n");
         for (_, s) in &self.mapped {
-            vlt.push_str(&format!("public_flat_rd -module \"{}\" -var \"{}\"\n", s.module, s.var));
+            vlt.push_str(&format!(
+                "public_flat_rd -module \"{}\" -var \"{}\"\n",
+                s.module, s.var
+            ));
         }
         std::fs::write(obj.join("dut_map.vlt"), &vlt).map_err(|e| e.to_string())?;
         let mut cmd = Command::new("verilator");
-        cmd.args(["--cc", "-O3", "--x-assign", "fast", "--x-initial", "fast", "--top-module", "pmu50", "-Wno-fatal", "-Wno-lint", "-Wno-style", "--MMD", "-Mdir"]).arg(&obj);
+        cmd.args([
+            "--cc",
+            "-O3",
+            "--x-assign",
+            "fast",
+            "--x-initial",
+            "fast",
+            "--top-module",
+            "pmu50",
+            "-Wno-fatal",
+            "-Wno-lint",
+            "-Wno-style",
+            "--MMD",
+            "-Mdir",
+        ])
+        .arg(&obj);
         for d in self.list.include_dirs() {
             cmd.arg(format!("-I{}", d.display()));
         }
@@ -285,7 +424,12 @@ impl VerilatorDut {
         std::fs::write(obj.join("dut_map.h"), self.map_header(g)).map_err(|e| e.to_string())?;
         std::fs::write(obj.join("dut_lib.cpp"), DUT_LIB_CPP).map_err(|e| e.to_string())?;
         let mut unity = String::from("#include \"dut_lib.cpp\"\n");
-        let mut gen: Vec<String> = std::fs::read_dir(&obj).map_err(|e| e.to_string())?.filter_map(|e| e.ok()).map(|e| e.file_name().to_string_lossy().into_owned()).filter(|n| n.starts_with("Vpmu50") && n.ends_with(".cpp")).collect();
+        let mut gen: Vec<String> = std::fs::read_dir(&obj)
+            .map_err(|e| e.to_string())?
+            .filter_map(|e| e.ok())
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| n.starts_with("Vpmu50") && n.ends_with(".cpp"))
+            .collect();
         gen.sort();
         for f in gen {
             unity.push_str(&format!("#include \"{f}\"\n"));
@@ -293,14 +437,30 @@ impl VerilatorDut {
         std::fs::write(obj.join("unity.cpp"), unity).map_err(|e| e.to_string())?;
         let inc = vroot.join("include");
         let mut cc = Command::new("g++");
-        cc.args(CXXFLAGS).arg(format!("-I{}", inc.display())).arg(format!("-I{}", inc.join("vltstd").display())).arg(format!("-I{}", obj.display())).arg("-include").arg(&pch).arg("-c").arg(obj.join("unity.cpp")).arg("-o").arg(obj.join("unity.o"));
+        cc.args(CXXFLAGS)
+            .arg(format!("-I{}", inc.display()))
+            .arg(format!("-I{}", inc.join("vltstd").display()))
+            .arg(format!("-I{}", obj.display()))
+            .arg("-include")
+            .arg(&pch)
+            .arg("-c")
+            .arg(obj.join("unity.cpp"))
+            .arg("-o")
+            .arg(obj.join("unity.o"));
         step(&mut cc, "g++ (the Verilator model)")?;
         let mut ld = Command::new("g++");
-        ld.args(["-shared", "-Wl,--exclude-libs,ALL", "-o"]).arg(tmp.path().join("libpmu50_dut.so")).arg(obj.join("unity.o")).arg(&runtime).args(["-lpthread", "-ldl", "-lm"]);
+        ld.args(["-shared", "-Wl,--exclude-libs,ALL", "-o"])
+            .arg(tmp.path().join("libpmu50_dut.so"))
+            .arg(obj.join("unity.o"))
+            .arg(&runtime)
+            .args(["-lpthread", "-ldl", "-lm"]);
         step(&mut ld, "g++ (link)")?;
         // every file Verilator read, with a hash of each (`include`d files too)
         // (the configuration file of the map is in the build folder, and in the key)
-        let mut deps: Vec<PathBuf> = verilator_deps(&obj.join("Vpmu50__ver.d"), &vroot).into_iter().filter(|p| !p.starts_with(tmp.path())).collect();
+        let mut deps: Vec<PathBuf> = verilator_deps(&obj.join("Vpmu50__ver.d"), &vroot)
+            .into_iter()
+            .filter(|p| !p.starts_with(tmp.path()))
+            .collect();
         deps.extend(self.list.files.iter().cloned());
         super::write_record(&tmp.path().join("deps.txt"), &deps);
         let _ = std::fs::remove_dir_all(&obj);
@@ -341,22 +501,46 @@ impl VerilatorDut {
         static DONE: OnceLock<Result<(PathBuf, PathBuf), String>> = OnceLock::new();
         let vroot = self.vroot()?;
         DONE.get_or_init(|| {
-            let key = format!("{:016x}", fnv(&[vroot.as_os_str().as_encoded_bytes(), CXXFLAGS.join(" ").as_bytes(), &std::fs::metadata(vroot.join("include/verilated.h")).map(|m| m.len().to_le_bytes()).unwrap_or_default()]));
-            let dir = super::cache_dir().join("verilator").join(format!("_runtime_{key}"));
+            let key = format!(
+                "{:016x}",
+                fnv(&[
+                    vroot.as_os_str().as_encoded_bytes(),
+                    CXXFLAGS.join(" ").as_bytes(),
+                    &std::fs::metadata(vroot.join("include/verilated.h"))
+                        .map(|m| m.len().to_le_bytes())
+                        .unwrap_or_default()
+                ])
+            );
+            let dir = super::cache_dir()
+                .join("verilator")
+                .join(format!("_runtime_{key}"));
             let (pch, rt) = (dir.join("pre.h"), dir.join("libvlrt.a"));
             if dir.join("pre.h.gch").is_file() && rt.is_file() {
                 return Ok((pch, rt));
             }
-            std::fs::create_dir_all(super::cache_dir().join("verilator")).map_err(|e| e.to_string())?;
-            let tmp = tempfile::Builder::new().prefix(".runtime-").tempdir_in(super::cache_dir().join("verilator")).map_err(|e| e.to_string())?;
+            std::fs::create_dir_all(super::cache_dir().join("verilator"))
+                .map_err(|e| e.to_string())?;
+            let tmp = tempfile::Builder::new()
+                .prefix(".runtime-")
+                .tempdir_in(super::cache_dir().join("verilator"))
+                .map_err(|e| e.to_string())?;
             let inc = vroot.join("include");
             let flags = |c: &mut Command| {
-                c.args(CXXFLAGS).arg(format!("-I{}", inc.display())).arg(format!("-I{}", inc.join("vltstd").display()));
+                c.args(CXXFLAGS)
+                    .arg(format!("-I{}", inc.display()))
+                    .arg(format!("-I{}", inc.join("vltstd").display()));
             };
-            std::fs::write(tmp.path().join("pre.h"), "#include \"verilated.h\"\n#include <cstdint>\n#include <memory>\n").map_err(|e| e.to_string())?;
+            std::fs::write(
+                tmp.path().join("pre.h"),
+                "#include \"verilated.h\"\n#include <cstdint>\n#include <memory>\n",
+            )
+            .map_err(|e| e.to_string())?;
             let mut c = Command::new("g++");
             flags(&mut c);
-            c.args(["-x", "c++-header"]).arg(tmp.path().join("pre.h")).arg("-o").arg(tmp.path().join("pre.h.gch"));
+            c.args(["-x", "c++-header"])
+                .arg(tmp.path().join("pre.h"))
+                .arg("-o")
+                .arg(tmp.path().join("pre.h.gch"));
             step(&mut c, "g++ (precompiled header)")?;
             let mut objs = Vec::new();
             for f in ["verilated.cpp", "verilated_threads.cpp"] {
@@ -367,7 +551,13 @@ impl VerilatorDut {
                 step(&mut c, "g++ (the Verilator runtime)")?;
                 objs.push(o);
             }
-            step(Command::new("ar").arg("rcs").arg(tmp.path().join("libvlrt.a")).args(&objs), "ar")?;
+            step(
+                Command::new("ar")
+                    .arg("rcs")
+                    .arg(tmp.path().join("libvlrt.a"))
+                    .args(&objs),
+                "ar",
+            )?;
             for o in objs {
                 let _ = std::fs::remove_file(o);
             }
@@ -378,7 +568,10 @@ impl VerilatorDut {
             if dir.join("pre.h.gch").is_file() && rt.is_file() {
                 Ok((pch, rt))
             } else {
-                Err(format!("the Verilator runtime in {} is incomplete", dir.display()))
+                Err(format!(
+                    "the Verilator runtime in {} is incomplete",
+                    dir.display()
+                ))
             }
         })
         .clone()
@@ -400,7 +593,11 @@ impl VerilatorDut {
             for (e, s) in &self.mapped {
                 let is_reg = signals::REGISTERS.iter().any(|r| r.path() == e.model);
                 if is_reg == regs {
-                    h.push_str(&format!(" X(\"{}\", {})", e.model, verilator_member(&s.path)));
+                    h.push_str(&format!(
+                        " X(\"{}\", {})",
+                        e.model,
+                        verilator_member(&s.path)
+                    ));
                 }
             }
         };
@@ -418,7 +615,11 @@ impl VerilatorDut {
     fn probe(&self, lib: &Path) -> Result<Vec<u64>, DutError> {
         // kept beside the library, which is rebuilt (and the record removed) when the RTL changes
         let record = lib.with_file_name("probe.json");
-        if let Some(v) = std::fs::read_to_string(&record).ok().and_then(|t| serde_json::from_str::<Vec<u64>>(&t).ok()).filter(|v| v.len() == PROBE_ADDRS.len() + 1) {
+        if let Some(v) = std::fs::read_to_string(&record)
+            .ok()
+            .and_then(|t| serde_json::from_str::<Vec<u64>>(&t).ok())
+            .filter(|v| v.len() == PROBE_ADDRS.len() + 1)
+        {
             return Ok(v);
         }
         let v = self.probe_now(lib)?;
@@ -430,15 +631,45 @@ impl VerilatorDut {
     }
 
     fn probe_now(&self, lib: &Path) -> Result<Vec<u64>, DutError> {
-        let mut inputs: Vec<u32> = PROBE_ADDRS.iter().map(|&a| lockstep::pack(&pmu50_core::pmu50::Inputs { bus_addr: a, ..Default::default() })).collect();
+        let mut inputs: Vec<u32> = PROBE_ADDRS
+            .iter()
+            .map(|&a| {
+                lockstep::pack(&pmu50_core::pmu50::Inputs {
+                    bus_addr: a,
+                    ..Default::default()
+                })
+            })
+            .collect();
         inputs.push(0);
         let mut w = Worker::spawn(self.scratch.path()).map_err(tool_err)?;
-        match w.run(Request::Probe, lib, &Params::default(), &inputs, Duration::from_secs(60)).map_err(tool_err)? {
+        match w
+            .run(
+                Request::Probe,
+                lib,
+                &Params::default(),
+                &inputs,
+                Duration::from_secs(60),
+            )
+            .map_err(tool_err)?
+        {
             Answer::Reply(Reply::Probe { rdata }) if rdata.len() == inputs.len() => Ok(rdata),
-            Answer::Reply(Reply::Error { reason }) => Err(tool_err(format!("reading the RTL's registers after reset: {reason}"))),
-            Answer::Reply(_) => Err(tool_err("reading the RTL's registers after reset: an unexpected reply")),
-            Answer::TimedOut => Err(RtlError::Fixed { list: self.list.list.clone(), what: "reading its registers through the bus after reset did not end within 60 s".into() }.into()),
-            Answer::Died(how) => Err(RtlError::Fixed { list: self.list.list.clone(), what: format!("reading its registers through the bus after reset: {how}") }.into()),
+            Answer::Reply(Reply::Error { reason }) => Err(tool_err(format!(
+                "reading the RTL's registers after reset: {reason}"
+            ))),
+            Answer::Reply(_) => Err(tool_err(
+                "reading the RTL's registers after reset: an unexpected reply",
+            )),
+            Answer::TimedOut => Err(RtlError::Fixed {
+                list: self.list.list.clone(),
+                what: "reading its registers through the bus after reset did not end within 60 s"
+                    .into(),
+            }
+            .into()),
+            Answer::Died(how) => Err(RtlError::Fixed {
+                list: self.list.list.clone(),
+                what: format!("reading its registers through the bus after reset: {how}"),
+            }
+            .into()),
         }
     }
 }
@@ -446,8 +677,20 @@ impl VerilatorDut {
 /// The files a Verilator `--MMD` dependency file lists, less Verilator's own.
 fn verilator_deps(d: &Path, vroot: &Path) -> Vec<PathBuf> {
     let text = std::fs::read_to_string(d).unwrap_or_default();
-    let Some((_, deps)) = text.split_once(':') else { return Vec::new() };
-    let mut v: Vec<PathBuf> = deps.split_whitespace().map(PathBuf::from).filter(|p| p.is_file() && !p.starts_with(vroot) && !p.file_name().is_some_and(|n| n.to_string_lossy().starts_with("verilator"))).collect();
+    let Some((_, deps)) = text.split_once(':') else {
+        return Vec::new();
+    };
+    let mut v: Vec<PathBuf> = deps
+        .split_whitespace()
+        .map(PathBuf::from)
+        .filter(|p| {
+            p.is_file()
+                && !p.starts_with(vroot)
+                && !p
+                    .file_name()
+                    .is_some_and(|n| n.to_string_lossy().starts_with("verilator"))
+        })
+        .collect();
     v.sort();
     v.dedup();
     v
@@ -460,16 +703,31 @@ struct Running<'a> {
 }
 
 impl InFlight for Running<'_> {
-    fn wait(self: Box<Self>, sc: &Scenario, timeout: Duration) -> Result<Option<Failure>, DutError> {
+    fn wait(
+        self: Box<Self>,
+        sc: &Scenario,
+        timeout: Duration,
+    ) -> Result<Option<Failure>, DutError> {
         let Running { dut, mut worker } = *self;
         match worker.receive(timeout).map_err(tool_err)? {
             Answer::Reply(r) => {
-                dut.workers.lock().unwrap_or_else(|e| e.into_inner()).push(worker);
+                dut.workers
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .push(worker);
                 match r {
                     Reply::Pass { .. } => Ok(None),
-                    Reply::Diverged { tick, combinational, mismatches } => Ok(Some(divergence(sc, tick, combinational, &mismatches))),
-                    Reply::Error { reason } => Err(DutError::Tool(format!("the DUT's lockstep failed: {reason}"))),
-                    Reply::Probe { .. } | Reply::Trace { .. } => Err(DutError::Tool("the DUT worker answered another request than a lockstep".into())),
+                    Reply::Diverged {
+                        tick,
+                        combinational,
+                        mismatches,
+                    } => Ok(Some(divergence(sc, tick, combinational, &mismatches))),
+                    Reply::Error { reason } => Err(DutError::Tool(format!(
+                        "the DUT's lockstep failed: {reason}"
+                    ))),
+                    Reply::Probe { .. } | Reply::Trace { .. } => Err(DutError::Tool(
+                        "the DUT worker answered another request than a lockstep".into(),
+                    )),
                 }
             }
             Answer::TimedOut => Ok(Some(timed_out(sc, timeout))),
@@ -491,7 +749,11 @@ impl Dut for VerilatorDut {
         &self.fixed
     }
 
-    fn send<'a>(&'a self, sc: &Scenario, rec: Recorded) -> Result<Box<dyn InFlight + 'a>, DutError> {
+    fn send<'a>(
+        &'a self,
+        sc: &Scenario,
+        rec: Recorded,
+    ) -> Result<Box<dyn InFlight + 'a>, DutError> {
         let Recorded::Inputs(inputs) = rec else {
             return Err(tool_err("the Verilator DUT needs the seed's inputs"));
         };
@@ -509,19 +771,54 @@ impl Dut for VerilatorDut {
         self.notes.clone()
     }
 
-    fn trace(&self, sc: &Scenario, rec: Recorded, from: u64, to: u64) -> Option<Result<DutTrace, DutError>> {
-        let Recorded::Inputs(inputs) = rec else { return None };
+    fn trace(
+        &self,
+        sc: &Scenario,
+        rec: Recorded,
+        from: u64,
+        to: u64,
+    ) -> Option<Result<DutTrace, DutError>> {
+        let Recorded::Inputs(inputs) = rec else {
+            return None;
+        };
         let go = || -> Result<DutTrace, DutError> {
             let lib = self.library(&sc.params)?;
             let mut w = Worker::spawn(self.scratch.path()).map_err(tool_err)?;
-            match w.trace(&lib, &sc.params, &inputs, from, to, Duration::from_secs(120)).map_err(tool_err)? {
+            match w
+                .trace(
+                    &lib,
+                    &sc.params,
+                    &inputs,
+                    from,
+                    to,
+                    Duration::from_secs(120),
+                )
+                .map_err(tool_err)?
+            {
                 Answer::Reply(Reply::Trace { from, regs, values }) => {
-                    let mut names: Vec<String> = signals::OUTPUTS.iter().map(|s| s.name.to_string()).collect();
+                    let mut names: Vec<String> = signals::OUTPUTS
+                        .iter()
+                        .map(|s| s.name.to_string())
+                        .collect();
                     names.extend(regs);
-                    let signals = names.into_iter().enumerate().map(|(j, n)| (n, values.iter().map(|v| v.get(j).copied().unwrap_or(0)).collect())).collect();
+                    let signals = names
+                        .into_iter()
+                        .enumerate()
+                        .map(|(j, n)| {
+                            (
+                                n,
+                                values
+                                    .iter()
+                                    .map(|v| v.get(j).copied().unwrap_or(0))
+                                    .collect(),
+                            )
+                        })
+                        .collect();
                     Ok(DutTrace { from, signals })
                 }
-                Answer::Reply(_) => Err(tool_err("the DUT worker answered another request than a trace")),
+                Answer::Reply(_) => Err(tool_err(
+                    "the DUT worker answered another request than a trace",
+                )),
                 Answer::TimedOut => Err(tool_err("the DUT's trace did not end within 120 s")),
                 Answer::Died(how) => Err(tool_err(how)),
             }
@@ -532,7 +829,10 @@ impl Dut for VerilatorDut {
 
 impl Drop for VerilatorDut {
     fn drop(&mut self) {
-        self.workers.lock().unwrap_or_else(|e| e.into_inner()).clear();
+        self.workers
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clear();
         lockstep::unregister_scratch(self.scratch.path());
     }
 }
@@ -540,15 +840,25 @@ impl Drop for VerilatorDut {
 impl VerilatorDut {
     /// Step the model and the RTL on `inputs` with parameters `p` in a DUT worker (`pmu50
     /// lockstep`, the method 2 of hdl/cosim.sh): the worker's answer.
-    pub fn lockstep_inputs(&self, p: &Params, inputs: &[u32], timeout: Duration) -> Result<Answer, DutError> {
+    pub fn lockstep_inputs(
+        &self,
+        p: &Params,
+        inputs: &[u32],
+        timeout: Duration,
+    ) -> Result<Answer, DutError> {
         let lib = self.library(p)?;
         let mut w = Worker::spawn(self.scratch.path()).map_err(tool_err)?;
-        w.run(Request::Lockstep, &lib, p, inputs, timeout).map_err(tool_err)
+        w.run(Request::Lockstep, &lib, p, inputs, timeout)
+            .map_err(tool_err)
     }
 
     /// How many registers and internals the map compares.
     pub fn mapped_counts(&self) -> (usize, usize) {
-        let regs = self.mapped.iter().filter(|(e, _)| signals::REGISTERS.iter().any(|r| r.path() == e.model)).count();
+        let regs = self
+            .mapped
+            .iter()
+            .filter(|(e, _)| signals::REGISTERS.iter().any(|r| r.path() == e.model))
+            .count();
         (regs, self.mapped.len() - regs)
     }
 }

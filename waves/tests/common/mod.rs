@@ -70,7 +70,11 @@ pub fn vcd(ts: &str, scopes: &[&str], vars: &[(&str, &str)], body: &str) -> Stri
 
 /// The path of the program `name` on PATH.
 pub fn tool(name: &str) -> Option<std::path::PathBuf> {
-    std::env::var_os("PATH").and_then(|p| std::env::split_paths(&p).map(|d| d.join(name)).find(|f| f.is_file()))
+    std::env::var_os("PATH").and_then(|p| {
+        std::env::split_paths(&p)
+            .map(|d| d.join(name))
+            .find(|f| f.is_file())
+    })
 }
 
 /// The paths of the programs `names` for the test `test`; when one is missing, `None` after

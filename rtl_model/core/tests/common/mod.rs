@@ -20,7 +20,11 @@ pub fn random_inputs(rng: &mut Rng) -> Inputs {
         cmp_s: a & 4 == 4,
         cmp_c: a & 8 == 8,
         bus_we: a & 16 == 16,
-        bus_addr: if a & 32 == 32 { (a >> 8) as u8 } else { (a >> 8) as u8 % 0x15 },
+        bus_addr: if a & 32 == 32 {
+            (a >> 8) as u8
+        } else {
+            (a >> 8) as u8 % 0x15
+        },
         bus_wdata: (a >> 16) as u16,
     }
 }
@@ -31,7 +35,18 @@ pub fn random_inputs(rng: &mut Rng) -> Inputs {
 /// `pw + pi + ps` below the shortest interval (`si_min` if adaptive, else
 /// `si_max`).
 #[allow(clippy::too_many_arguments)]
-pub fn legal_set(adaptive: bool, pw: u16, pi: u16, ps: u16, si_max: u16, si_min: u16, t1: u16, t2: u16, cth: u16, smp_on: u16) -> bool {
+pub fn legal_set(
+    adaptive: bool,
+    pw: u16,
+    pi: u16,
+    ps: u16,
+    si_max: u16,
+    si_min: u16,
+    t1: u16,
+    t2: u16,
+    cth: u16,
+    smp_on: u16,
+) -> bool {
     let nonzero = [ps, si_max, si_min, t1, t2, smp_on].iter().all(|&v| v != 0);
     let cth_ok = (1..=255).contains(&cth);
     let order = si_min <= si_max;
@@ -44,30 +59,72 @@ pub fn legal_set(adaptive: bool, pw: u16, pi: u16, ps: u16, si_max: u16, si_min:
 pub fn legal(p: &Params) -> bool {
     (1..=4).contains(&p.sync_depth)
         && (2..=16).contains(&p.cnt_width)
-        && legal_set(p.adaptive, p.pw, p.pi, p.ps, p.si_max, p.si_min, p.t1, p.t2, u16::from(p.cth), p.smp_on)
+        && legal_set(
+            p.adaptive,
+            p.pw,
+            p.pi,
+            p.ps,
+            p.si_max,
+            p.si_min,
+            p.t1,
+            p.t2,
+            u16::from(p.cth),
+            p.smp_on,
+        )
 }
 
 /// Legal parameter sets with short periods (so that simulations of a few periods are cheap):
 /// Wt below ~70 ticks, `si_max` at most about `wt + 1 + gap + spread`.
 pub fn params(gap: u16, spread: u16) -> impl Strategy<Value = Params> {
     (
-        (1u8..=4, 2u8..=16, any::<bool>(), 0u16..=20, 0u16..=30, 1u16..=20),
+        (
+            1u8..=4,
+            2u8..=16,
+            any::<bool>(),
+            0u16..=20,
+            0u16..=30,
+            1u16..=20,
+        ),
         (0..=gap, 0..=spread, any::<bool>(), any::<u16>()),
-        (1u16..=600, 1u16..=600, prop_oneof![1u8..=6, 1u8..=255], 1u16..=40),
+        (
+            1u16..=600,
+            1u16..=600,
+            prop_oneof![1u8..=6, 1u8..=255],
+            1u16..=40,
+        ),
     )
-        .prop_map(|((sync_depth, cnt_width, adaptive, pw, pi, ps), (g, s, low_min, r), (t1, t2, cth, smp_on))| {
-            let pw = if pw + pi == 0 { 1 } else { pw }; // section 4: pw + pi >= 1
-            let wt = pw + pi + ps;
-            let mut si_min = wt + 1 + g;
-            let si_max = si_min + s;
-            if !adaptive && low_min {
-                // With the fixed cycle only x has to exceed Wt: the minimum may be anything legal.
-                si_min = 1 + r % si_max;
-            }
-            let p = Params { sync_depth, cnt_width, adaptive, pw, pi, ps, si_max, si_min, t1, t2, cth, smp_on };
-            assert!(legal(&p), "strategy produced an illegal set {p:?}");
-            p
-        })
+        .prop_map(
+            |(
+                (sync_depth, cnt_width, adaptive, pw, pi, ps),
+                (g, s, low_min, r),
+                (t1, t2, cth, smp_on),
+            )| {
+                let pw = if pw + pi == 0 { 1 } else { pw }; // section 4: pw + pi >= 1
+                let wt = pw + pi + ps;
+                let mut si_min = wt + 1 + g;
+                let si_max = si_min + s;
+                if !adaptive && low_min {
+                    // With the fixed cycle only x has to exceed Wt: the minimum may be anything legal.
+                    si_min = 1 + r % si_max;
+                }
+                let p = Params {
+                    sync_depth,
+                    cnt_width,
+                    adaptive,
+                    pw,
+                    pi,
+                    ps,
+                    si_max,
+                    si_min,
+                    t1,
+                    t2,
+                    cth,
+                    smp_on,
+                };
+                assert!(legal(&p), "strategy produced an illegal set {p:?}");
+                p
+            },
+        )
 }
 
 /// Quadrant index of the sign pair, docs/spec.md 2.5: 0 = (1,1), 1 = (1,0), 2 = (0,0), 3 = (0,1).
@@ -89,7 +146,11 @@ pub fn signs(q: u8) -> (bool, bool) {
 pub fn signed(v: u16, w: u8) -> i64 {
     let m = (1i64 << w) - 1;
     let x = i64::from(v) & m;
-    if x >= 1i64 << (w - 1) { x - (1i64 << w) } else { x }
+    if x >= 1i64 << (w - 1) {
+        x - (1i64 << w)
+    } else {
+        x
+    }
 }
 
 /// `v` reduced to `w` bits.
@@ -100,7 +161,11 @@ pub fn wrap(v: i64, w: u8) -> u16 {
 /// Proptest configuration with an explicit case count. Failures are not persisted to files next
 /// to the sources (the report shows the minimal failing input, seeds included).
 pub fn cases(n: u32) -> ProptestConfig {
-    ProptestConfig { cases: n, failure_persistence: None, ..ProptestConfig::default() }
+    ProptestConfig {
+        cases: n,
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    }
 }
 
 /// The programmable registers of the register file (docs/spec.md 2.8), written from the spec's
@@ -125,8 +190,30 @@ pub struct RefParams {
 impl RefParams {
     /// The reset values: the configured parameters.
     pub fn new(p: &Params) -> RefParams {
-        let (adaptive, pw, pi, ps, si_max, si_min, t1, t2, cth, smp_on) = (p.adaptive, p.pw, p.pi, p.ps, p.si_max, p.si_min, p.t1, p.t2, u16::from(p.cth), p.smp_on);
-        RefParams { adaptive, pw, pi, ps, si_max, si_min, t1, t2, cth, smp_on }
+        let (adaptive, pw, pi, ps, si_max, si_min, t1, t2, cth, smp_on) = (
+            p.adaptive,
+            p.pw,
+            p.pi,
+            p.ps,
+            p.si_max,
+            p.si_min,
+            p.t1,
+            p.t2,
+            u16::from(p.cth),
+            p.smp_on,
+        );
+        RefParams {
+            adaptive,
+            pw,
+            pi,
+            ps,
+            si_max,
+            si_min,
+            t1,
+            t2,
+            cth,
+            smp_on,
+        }
     }
 
     /// The values the model's registers hold.
@@ -173,7 +260,18 @@ impl RefParams {
 
     /// The rules of [`legal_set`].
     pub fn legal(&self) -> bool {
-        legal_set(self.adaptive, self.pw, self.pi, self.ps, self.si_max, self.si_min, self.t1, self.t2, self.cth, self.smp_on)
+        legal_set(
+            self.adaptive,
+            self.pw,
+            self.pi,
+            self.ps,
+            self.si_max,
+            self.si_min,
+            self.t1,
+            self.t2,
+            self.cth,
+            self.smp_on,
+        )
     }
 }
 
@@ -192,7 +290,12 @@ impl Driver {
         let mut rng = Rng(seed);
         let ig = rng.bit();
         let run = rng.range(0, 3000);
-        Driver { rng, ig, run, cmp: (true, true) }
+        Driver {
+            rng,
+            ig,
+            run,
+            cmp: (true, true),
+        }
     }
 
     /// The inputs of the next cycle, whose outputs are `o`.
@@ -201,16 +304,26 @@ impl Driver {
         if self.run == 0 {
             self.ig = !self.ig;
             // Mostly long phases; sometimes a glitch shorter than the synchronizer.
-            self.run = if rng.chance(1, 8) { rng.range(1, 3) } else { rng.range(50, 4000) };
+            self.run = if rng.chance(1, 8) {
+                rng.range(1, 3)
+            } else {
+                rng.range(50, 4000)
+            };
         }
         self.run -= 1;
         match rng.range(0, 99) {
-            0..=3 => self.cmp = (rng.bit(), rng.bit()),          // anything, also both signs
-            4..=11 => self.cmp.0 = !self.cmp.0,                  // one quadrant step through Cs
-            12..=19 => self.cmp.1 = !self.cmp.1,                 // one quadrant step through Cc
+            0..=3 => self.cmp = (rng.bit(), rng.bit()), // anything, also both signs
+            4..=11 => self.cmp.0 = !self.cmp.0,         // one quadrant step through Cs
+            12..=19 => self.cmp.1 = !self.cmp.1,        // one quadrant step through Cc
             _ => {}
         }
-        let mut i = Inputs { ig: self.ig, vs2_ok: o.vs2_en != rng.chance(1, 40), cmp_s: self.cmp.0, cmp_c: self.cmp.1, ..Default::default() };
+        let mut i = Inputs {
+            ig: self.ig,
+            vs2_ok: o.vs2_en != rng.chance(1, 40),
+            cmp_s: self.cmp.0,
+            cmp_c: self.cmp.1,
+            ..Default::default()
+        };
         if rng.chance(1, 60) {
             i.bus_we = true;
             i.bus_addr = match rng.range(0, 9) {
