@@ -184,6 +184,9 @@ fuzz:
 	done
 
 lint:
+	$(CARGO) fmt --all --check
+	cd python && $(CARGO) fmt --all --check
+	cd fuzz && $(CARGO) fmt --all --check
 	$(CARGO) clippy --workspace --all-targets -- -D warnings
 
 ## target/venv with maturin, cocotb and pytest (python/requirements-dev.txt); python3-venv if needed.
