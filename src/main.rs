@@ -884,6 +884,11 @@ struct RegressArgs {
     repro: Option<PathBuf>,
 }
 
+/// A regression's progress line, on a terminal.
+fn progress_line(line: &str) {
+    err!("{line}");
+}
+
 /// `pmu50 regress`.
 fn cmd_regress(a: RegressArgs) -> u8 {
     use pmu50::regress::{self, DutKind, RunSpec};
@@ -1069,7 +1074,9 @@ fn cmd_regress(a: RegressArgs) -> u8 {
         out: out_dir.clone(),
         timeout,
         triage: !a.no_triage,
-        progress: std::io::stderr().is_terminal(),
+        progress: std::io::stderr()
+            .is_terminal()
+            .then_some(progress_line as fn(&str)),
     };
     let stop = AtomicBool::new(false);
     match regress::run(&o, resume, &stop, d.as_ref()) {

@@ -1244,6 +1244,51 @@ mod tests {
     }
 
     #[test]
+    fn an_rtl_that_prints_without_end_fills_no_disk() {
+        let dir = tempfile::tempdir().unwrap();
+        // 3 MiB every 50 ms on stderr (the RTL's $display, about 180 MiB in 3 s), never a reply
+        let exe = fake_worker(
+            dir.path(),
+            "while :; do head -c 3145728 /dev/zero | tr '\\0' x >&2; sleep 0.05; done",
+        );
+        let mut w = Worker::spawn_exe(&exe, dir.path()).unwrap();
+        let log = w.log.clone();
+        let mut biggest = 0u64;
+        w.send(
+            Request::Lockstep,
+            Path::new("/nonexistent.so"),
+            &Params::default(),
+            &[0; 10],
+        );
+        // the log is cut back while the worker writes, at every poll
+        let a = w.receive(Duration::from_secs(3)).unwrap();
+        assert!(matches!(a, Answer::TimedOut));
+        biggest = biggest.max(std::fs::metadata(&log).map_or(0, |m| m.len()));
+        assert!(
+            biggest <= 32 << 20,
+            "the log stays bounded: {biggest} bytes"
+        );
+        drop(w);
+        assert!(!log.exists(), "a worker's log goes with it");
+    }
+
+    #[test]
+    fn a_simulator_output_is_kept_to_its_last_bytes() {
+        let big: Vec<u8> = (0..10_000_000u32).map(|i| b'a' + (i % 26) as u8).collect();
+        let kept = file_tail_of(&big);
+        assert_eq!(kept.len() as u64, LOG_KEEP);
+        assert!(big.ends_with(kept.as_bytes()));
+    }
+
+    /// [`file_tail`] of bytes written to a file.
+    fn file_tail_of(b: &[u8]) -> String {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("log");
+        std::fs::write(&p, b).unwrap();
+        file_tail(&p, LOG_KEEP)
+    }
+
+    #[test]
     fn a_worker_that_ends_reports_how_with_its_last_words() {
         let dir = tempfile::tempdir().unwrap();
         let exe = fake_worker(

@@ -56,8 +56,8 @@ pub struct Options {
     pub timeout: Duration,
     /// Shrink failures and write their repro folders.
     pub triage: bool,
-    /// Print a line per batch on stderr.
-    pub progress: bool,
+    /// Called with a line of progress after each batch (the CLI prints it on a terminal).
+    pub progress: Option<fn(&str)>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -162,7 +162,7 @@ pub fn run(
                 .iter()
                 .filter(|(r, _)| r.verdict != Verdict::Pass)
                 .count() as u64;
-            if o.progress {
+            if let Some(progress) = o.progress {
                 let l = layout();
                 let hit = l
                     .bins
@@ -171,9 +171,9 @@ pub fn run(
                     .filter(|(b, h)| **h > 0 && b.unreachable.is_none())
                     .count();
                 let all = l.bins.iter().filter(|b| b.unreachable.is_none()).count();
-                eprintln!(
+                progress(&format!(
                     "regress: {n_done}/{total_seeds} seeds, {fails} failing, coverage {hit}/{all}"
-                );
+                ));
             }
             Ok(())
         };

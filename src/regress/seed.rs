@@ -267,21 +267,7 @@ pub(crate) fn evaluate_model(
     }
     drop(writer);
     let hits = checks.coverage.hits().to_vec();
-    let mut failure = checks.failure.clone();
-    if failure.is_none() {
-        if let Some(c) = res.checks.iter().find(|c| !c.ok) {
-            failure = Some(Failure {
-                kind: "expect".into(),
-                tick: res.ticks,
-                signal: c.name.clone(),
-                expected: "-".into(),
-                got: "-".into(),
-                block: "-".into(),
-                fig: "-".into(),
-                detail: c.detail.clone(),
-            });
-        }
-    }
+    let failure = model_failure(&checks, &res);
     if failure.is_none() {
         let rec = match (recorder, vec) {
             (Some(r), _) => Some(dut::Recorded::Inputs(r.inputs)),
@@ -323,22 +309,28 @@ pub fn check_scenario(
 ) -> Result<Option<Failure>, dut::DutError> {
     let (checks, res) =
         run_model(sc, spec.check_spec, &mut []).map_err(|e| dut::DutError::Tool(e.to_string()))?;
-    if let Some(f) = checks.failure {
+    if let Some(f) = model_failure(&checks, &res) {
         return Ok(Some(f));
     }
-    if let Some(c) = res.checks.iter().find(|c| !c.ok) {
-        return Ok(Some(Failure {
-            kind: "expect".into(),
-            tick: res.ticks,
-            signal: c.name.clone(),
-            expected: "-".into(),
-            got: "-".into(),
-            block: "-".into(),
-            fig: "-".into(),
-            detail: c.detail.clone(),
-        }));
-    }
     dut::check(d, sc, timeout)
+}
+
+/// The model's verdict on a run: the first failure of its checks and invariants, else the first
+/// `[expect]` of the scenario that does not hold (the same for a seed, a shrink try and a repro).
+fn model_failure(checks: &SeedChecks, res: &sim::RunResult) -> Option<Failure> {
+    if let Some(f) = &checks.failure {
+        return Some(f.clone());
+    }
+    res.checks.iter().find(|c| !c.ok).map(|c| Failure {
+        kind: "expect".into(),
+        tick: res.ticks,
+        signal: c.name.clone(),
+        expected: "-".into(),
+        got: "-".into(),
+        block: "-".into(),
+        fig: "-".into(),
+        detail: c.detail.clone(),
+    })
 }
 
 /// The model's run of a scenario with the regression's checks and coverage.

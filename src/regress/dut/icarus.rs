@@ -435,3 +435,37 @@ impl Drop for IcarusDut {
         lockstep::unregister_scratch(self.scratch.path());
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_simulation_that_prints_without_end_is_kept_to_its_last_bytes() {
+        let big: Vec<u8> = (0..5_000_000u32).map(|i| b'a' + (i % 26) as u8).collect();
+        let kept = keep_tail(std::io::Cursor::new(big.clone()));
+        assert_eq!(kept.len() as u64, LOG_KEEP);
+        assert!(big.ends_with(kept.as_bytes()));
+    }
+
+    #[test]
+    fn the_verdict_file_names_tick_signal_and_values() {
+        let (tick, mm) = mismatches("MISMATCH tick=42 signal=cnt_c expected=0 got=2\nMISMATCH tick=42 signal=diag expected=0 got=1\n");
+        assert_eq!(tick, 42);
+        assert_eq!(
+            mm,
+            vec![
+                Mismatch {
+                    signal: "cnt_c".into(),
+                    expected: 0,
+                    got: 2
+                },
+                Mismatch {
+                    signal: "diag".into(),
+                    expected: 0,
+                    got: 1
+                }
+            ]
+        );
+    }
+}
