@@ -276,7 +276,7 @@ fn a_seed_present_twice_or_outside_the_range_is_refused() {
     expect(
         &pmu50(&["regress", "--resume", s(&odd)]),
         2,
-        &["line 1: field `verdict`: `fine`; valid is pass, fail or error"],
+        &["line 1: not a seed result: field `verdict`: `fine`; valid is pass, fail or error"],
     );
 }
 

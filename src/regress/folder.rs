@@ -597,7 +597,10 @@ mod tests {
                 line(1, "pass") + &line(500, "pass"),
                 "line 2: field `seed`: 500 is outside the seeds of this folder (1..=100)",
             ),
-            (line(1, "maybe"), "line 1: field `verdict`: `maybe`"),
+            (
+                line(1, "maybe"),
+                "line 1: not a seed result: field `verdict`: `maybe`; valid is pass, fail or error",
+            ),
             (
                 line(1, "pass").replace("\"cov\":\"0:1\"", "\"cov\":\"99999:1\""),
                 "line 1: coverage bin 99999",

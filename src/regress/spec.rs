@@ -192,8 +192,8 @@ pub fn sparse(hits: &[u64]) -> String {
     s
 }
 
-/// A seed's verdict.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+/// A seed's verdict: `pass`, `fail` or `error` in results.jsonl.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Verdict {
     Pass,
@@ -216,5 +216,17 @@ impl Verdict {
             Verdict::Fail => "fail",
             Verdict::Error => "error",
         }
+    }
+}
+
+impl<'de> Deserialize<'de> for Verdict {
+    /// One of the three words; another is refused naming the field and what is valid.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        Verdict::parse(&s).ok_or_else(|| {
+            serde::de::Error::custom(format!(
+                "field `verdict`: `{s}`; valid is pass, fail or error"
+            ))
+        })
     }
 }

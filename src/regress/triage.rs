@@ -305,6 +305,8 @@ mod tests {
                 "verilator",
                 "--rtl",
                 rtl,
+                "--map",
+                "/m $(x).toml",
                 "--check-spec"
             ],
             "{cmd}"
