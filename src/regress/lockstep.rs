@@ -1197,6 +1197,19 @@ mod tests {
         }
     }
 
+    /// A worker from a script just written: a test thread that forks meanwhile can hold the
+    /// script open for writing a moment (ETXTBSY), so the start is tried again.
+    fn spawn_fake(exe: &Path, dir: &Path) -> Worker {
+        for _ in 0..200 {
+            match Worker::spawn_exe(exe, dir) {
+                Ok(w) => return w,
+                Err(e) if e.contains("busy") => std::thread::sleep(Duration::from_millis(10)),
+                Err(e) => panic!("{e}"),
+            }
+        }
+        panic!("{} stays busy", exe.display())
+    }
+
     fn fake_worker(dir: &Path, body: &str) -> PathBuf {
         use std::os::unix::fs::PermissionsExt;
         let p = dir.join("fake");
@@ -1216,7 +1229,7 @@ mod tests {
             dir.path(),
             "sleep 60 & echo $! > \"$(dirname \"$0\")/child.pid\"; exec sleep 60",
         );
-        let mut w = Worker::spawn_exe(&exe, dir.path()).unwrap();
+        let mut w = spawn_fake(&exe, dir.path());
         let t = Instant::now();
         let a = w
             .run(
@@ -1251,7 +1264,7 @@ mod tests {
             dir.path(),
             "while :; do head -c 3145728 /dev/zero | tr '\\0' x >&2; sleep 0.05; done",
         );
-        let mut w = Worker::spawn_exe(&exe, dir.path()).unwrap();
+        let mut w = spawn_fake(&exe, dir.path());
         let log = w.log.clone();
         let mut biggest = 0u64;
         w.send(
@@ -1295,7 +1308,7 @@ mod tests {
             dir.path(),
             "head -c 4 > /dev/null; echo '%Error: planted: the RTL gave up' >&2; exit 3",
         );
-        let mut w = Worker::spawn_exe(&exe, dir.path()).unwrap();
+        let mut w = spawn_fake(&exe, dir.path());
         match w
             .run(
                 Request::Lockstep,
