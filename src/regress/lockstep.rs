@@ -614,40 +614,14 @@ fn lockstep(lib: &DutLib, params: Params, inputs: &[u32]) -> Reply {
     }
 }
 
-/// Step the RTL alone on `inputs` and return `bus_rdata` after each tick (the register bus
-/// read back after reset: what an RTL without parameters fixes).
-fn probe(lib: &DutLib, inputs: &[u32]) -> Reply {
-    let dut = Handle::new(lib);
-    let rdata = signals::OUTPUTS
-        .iter()
-        .position(|s| s.name == "bus_rdata")
-        .unwrap_or(0);
-    let (mut x, mut out, mut regs) = (
-        [0u64; signals::N_INTERNALS],
-        [0u64; signals::N_OUTPUTS],
-        [0u64; signals::N_REGISTERS],
-    );
-    let mut v = Vec::with_capacity(inputs.len());
-    for &w in inputs {
-        let (_, word) = input_words(w);
-        // SAFETY: arrays of at least the library's counts (checked at load).
-        unsafe {
-            (lib.tick)(
-                dut.1,
-                word.as_ptr(),
-                x.as_mut_ptr(),
-                out.as_mut_ptr(),
-                regs.as_mut_ptr(),
-            )
-        };
-        v.push(out[rdata]);
-    }
-    Reply::Probe { rdata: v }
-}
-
-/// Step the RTL alone on `inputs` and return its outputs and mapped registers after each edge
-/// `from..=to` (edge 0: after reset).
-fn trace(lib: &DutLib, inputs: &[u32], from: u64, to: u64) -> Reply {
+/// Step the RTL alone on `inputs` (at most `ticks` of them), calling `each` with the edge
+/// number and the outputs and mapped registers after it (edge 0: after reset).
+fn step_alone(
+    lib: &DutLib,
+    inputs: &[u32],
+    ticks: usize,
+    mut each: impl FnMut(u64, &[u64], &[u64]),
+) {
     let dut = Handle::new(lib);
     let (mut x, mut out, mut regs) = (
         [0u64; signals::N_INTERNALS],
@@ -655,19 +629,10 @@ fn trace(lib: &DutLib, inputs: &[u32], from: u64, to: u64) -> Reply {
         [0u64; signals::N_REGISTERS],
     );
     let nr = lib.regs.len();
-    let mut values = Vec::new();
-    let mut keep = |edge: u64, out: &[u64], regs: &[u64]| {
-        if (from..=to).contains(&edge) {
-            values.push(out.iter().chain(&regs[..nr]).copied().collect::<Vec<u64>>());
-        }
-    };
     // SAFETY: arrays of at least the library's counts (checked at load).
     unsafe { (lib.state)(dut.1, out.as_mut_ptr(), regs.as_mut_ptr()) };
-    keep(0, &out, &regs);
-    for (k, &w) in inputs.iter().enumerate() {
-        if k as u64 >= to {
-            break;
-        }
+    each(0, &out, &regs[..nr]);
+    for (k, &w) in inputs.iter().take(ticks).enumerate() {
         let (_, word) = input_words(w);
         // SAFETY: as above.
         unsafe {
@@ -679,8 +644,40 @@ fn trace(lib: &DutLib, inputs: &[u32], from: u64, to: u64) -> Reply {
                 regs.as_mut_ptr(),
             )
         };
-        keep(k as u64 + 1, &out, &regs);
+        each(k as u64 + 1, &out, &regs[..nr]);
     }
+}
+
+/// Step the RTL alone on `inputs` and return `bus_rdata` after each tick (the register bus
+/// read back after reset: what an RTL without parameters fixes).
+fn probe(lib: &DutLib, inputs: &[u32]) -> Reply {
+    let rdata = signals::OUTPUTS
+        .iter()
+        .position(|s| s.name == "bus_rdata")
+        .unwrap_or(0);
+    let mut v = Vec::with_capacity(inputs.len());
+    step_alone(lib, inputs, inputs.len(), |edge, out, _| {
+        if edge > 0 {
+            v.push(out[rdata]);
+        }
+    });
+    Reply::Probe { rdata: v }
+}
+
+/// Step the RTL alone on `inputs` and return its outputs and mapped registers after each edge
+/// `from..=to` (edge 0: after reset).
+fn trace(lib: &DutLib, inputs: &[u32], from: u64, to: u64) -> Reply {
+    let mut values = Vec::new();
+    step_alone(
+        lib,
+        inputs,
+        usize::try_from(to).unwrap_or(usize::MAX),
+        |edge, out, regs| {
+            if (from..=to).contains(&edge) {
+                values.push(out.iter().chain(regs).copied().collect::<Vec<u64>>());
+            }
+        },
+    );
     Reply::Trace {
         from,
         regs: lib

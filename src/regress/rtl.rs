@@ -141,6 +141,26 @@ pub fn contract_ports() -> Vec<ContractPort> {
     v
 }
 
+/// `pmu50 #(.P(P), ...) dut (.clk(clk), ...);`: an instance of the contract top with the
+/// parameters `params` (none: no parameter list), every contract port connected to a net of
+/// its name (the benches' instance of an RTL that lacks some parameters).
+pub fn instance(params: &[String]) -> String {
+    let ports: Vec<String> = contract_ports()
+        .iter()
+        .map(|p| format!(".{0}({0})", p.name))
+        .collect();
+    let params: Vec<String> = params.iter().map(|n| format!(".{n}({n})")).collect();
+    if params.is_empty() {
+        format!("    pmu50 dut (\n        {}\n    );\n", ports.join(", "))
+    } else {
+        format!(
+            "    pmu50 #({}) dut (\n        {}\n    );\n",
+            params.join(", "),
+            ports.join(", ")
+        )
+    }
+}
+
 /// The RTL's files, from a file list: one Verilog file per line, relative to the list's folder;
 /// blank lines and `//` or `#` comments skipped.
 #[derive(Clone, Debug)]

@@ -154,35 +154,7 @@ impl IcarusDut {
             .map_err(|e| format!("{}: {e}", self.root.display()))?;
         if self.top_params.len() < pmu50_core::params::HDL_NAMES.len() {
             // the instance with the parameters the top has
-            let ports: Vec<String> = ["clk", "rst_n"]
-                .iter()
-                .map(|s| s.to_string())
-                .chain(
-                    pmu50_core::signals::INPUTS
-                        .iter()
-                        .map(|s| s.name.to_string()),
-                )
-                .chain(
-                    pmu50_core::signals::OUTPUTS
-                        .iter()
-                        .map(|s| s.name.to_string()),
-                )
-                .map(|n| format!(".{n}({n})"))
-                .collect();
-            let params: Vec<String> = self
-                .top_params
-                .iter()
-                .map(|n| format!(".{n}({n})"))
-                .collect();
-            let inst = if params.is_empty() {
-                format!("    pmu50 dut (\n        {}\n    );\n", ports.join(", "))
-            } else {
-                format!(
-                    "    pmu50 #({}) dut (\n        {}\n    );\n",
-                    params.join(", "),
-                    ports.join(", ")
-                )
-            };
+            let inst = rtl::instance(&self.top_params);
             std::fs::write(tmp.path().join("tb_dut_inst.vh"), inst).map_err(|e| e.to_string())?;
             args.push("-DTB_DUT_INST".into());
             args.push(format!("-I{}", tmp.path().display()));
