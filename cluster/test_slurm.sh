@@ -49,7 +49,7 @@ part=()
 
 # 1. The scheduler: an array, one task cancelled while it runs.
 job=$(sbatch --parsable "${part[@]}" --array=0-2 --output="$tmp/a-%a.out" \
-  --wrap 'echo "start $SLURM_ARRAY_TASK_ID of $SLURM_ARRAY_TASK_COUNT"; [ "$SLURM_ARRAY_TASK_ID" = 1 ] && sleep 120; echo end') \
+  --wrap 'echo "start $SLURM_ARRAY_TASK_ID of $SLURM_ARRAY_TASK_COUNT"; [ "$SLURM_ARRAY_TASK_ID" = 1 ] && exec sleep 120; echo end') \
   || fail "sbatch failed"
 job=${job%%;*}
 for _ in $(seq 300); do
@@ -62,6 +62,9 @@ for _ in $(seq 300); do [ -n "$(squeue -h -j "$job" -o %i 2>/dev/null)" ] || bre
 [ -n "$(squeue -h -j "$job" -o %i 2>/dev/null)" ] && fail "array job $job still queued 30 s after the cancel"
 for t in 0 2; do grep -qx end "$tmp/a-$t.out" 2>/dev/null || fail "task $t did not finish: $(cat "$tmp/a-$t.out" 2>&1)"; done
 grep -qx "start 1 of 3" "$tmp/a-1.out" || fail "task 1 left no output: $(cat "$tmp/a-1.out" 2>&1)"
+# (task 1's shell is replaced by its sleep: a cancel that kills the sleep before the shell
+# cannot let the shell go on to `echo end`; the job leaving the queue within 30 s of the cancel,
+# long before the sleep's 120 s, is what shows the cancel)
 grep -qx end "$tmp/a-1.out" && fail "task 1 ran to its end despite scancel"
 echo "test_slurm: array job $job: tasks 0 and 2 finished, task 1 cancelled while running (scancel ${job}_1)"
 
