@@ -111,16 +111,12 @@ fn executable(path: &str) -> bool {
     path.ends_with(".sh") || path.ends_with(".py")
 }
 
-/// Where the HDL kit is: `PMU50_HDL_DIR`, the hdl/ folder of the checkout this binary was built
-/// from, or the carried kit unpacked into the cache folder (`PMU50_CACHE_DIR`,
-/// `$XDG_CACHE_HOME/pmu50`, `~/.cache/pmu50`).
+/// Where the HDL kit is: `PMU50_HDL_DIR`, or the carried kit unpacked into the cache folder
+/// (`PMU50_CACHE_DIR`, `$XDG_CACHE_HOME/pmu50`, `~/.cache/pmu50`), named by the hash of its
+/// contents. The binary never looks for the checkout it was built from.
 pub fn hdl_dir() -> PathBuf {
     if let Some(d) = std::env::var_os("PMU50_HDL_DIR").filter(|v| !v.is_empty()) {
         return PathBuf::from(d);
-    }
-    let checkout = Path::new(env!("CARGO_MANIFEST_DIR")).join("hdl");
-    if checkout.join("pmu50.f").is_file() {
-        return checkout;
     }
     let dir = crate::regress::dut::cache_dir().join(format!("hdl-{:016x}", key()));
     if !dir.join("pmu50.f").is_file() {
@@ -159,44 +155,6 @@ pub fn write(dir: &Path) -> Result<usize, crate::atomic_file::OutputError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The kit carries every file of the kit's folders that git tracks (a file added to hdl/
-    /// and not to [`FILES`] fails here), and each is the file on disk.
-    #[test]
-    fn the_kit_carries_every_tracked_file_of_hdl() {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let out = std::process::Command::new("git")
-            .args(["ls-files", "hdl"])
-            .current_dir(root)
-            .output();
-        let Ok(out) = out else { return };
-        if !out.status.success() {
-            return; // not a git checkout (a packaged source): nothing to compare with
-        }
-        let tracked: Vec<String> = String::from_utf8_lossy(&out.stdout)
-            .lines()
-            .map(|l| l.trim_start_matches("hdl/").to_string())
-            .filter(|p| {
-                !["ffi/", "cocotb/", "uvm/", "bench/"]
-                    .iter()
-                    .any(|x| p.starts_with(x))
-            })
-            .collect();
-        let carried: Vec<&str> = FILES.iter().map(|(p, _)| *p).collect();
-        for t in &tracked {
-            assert!(
-                carried.contains(&t.as_str()),
-                "hdl/{t} is tracked but not carried by src/hdl_kit.rs"
-            );
-        }
-        for (p, text) in FILES {
-            assert_eq!(
-                std::fs::read_to_string(root.join("hdl").join(p)).unwrap(),
-                *text,
-                "hdl/{p}"
-            );
-        }
-    }
 
     #[test]
     fn an_exported_kit_has_the_twin_and_executable_scripts() {

@@ -1142,10 +1142,16 @@ fn cmd_lockstep(
             .chain(fl.files.iter().cloned())
             .map(|f| format!("{}\n", f.display()))
             .collect();
-        if std::fs::write(scratch.path().join("defines.vh"), defs)
-            .and_then(|()| std::fs::write(scratch.path().join("rtl.f"), body))
-            .is_err()
-        {
+        let mut batch = pmu50::atomic_file::Batch::new();
+        let written =
+            pmu50::atomic_file::write_atomic(&scratch.path().join("defines.vh"), defs.as_bytes())
+                .map(|f| batch.add(f))
+                .and_then(|()| {
+                    pmu50::atomic_file::write_atomic(&scratch.path().join("rtl.f"), body.as_bytes())
+                })
+                .map(|f| batch.add(f))
+                .and_then(|()| batch.commit());
+        if written.is_err() {
             return fail("cannot write the file list with the defines".into());
         }
         scratch.path().join("rtl.f")

@@ -920,8 +920,8 @@ pub struct Worker {
     sent: Instant,
 }
 
-/// The `pmu50` executable that runs workers: this one, or the release build of this checkout
-/// (when the caller is a test binary), or `PMU50_EXE`.
+/// The `pmu50` executable that runs workers: `PMU50_EXE`, this one, or (when the caller is a
+/// test or bench binary of target/<profile>/deps/) the `pmu50` of the same target folder.
 fn worker_exe() -> Result<PathBuf, String> {
     if let Some(p) = std::env::var_os("PMU50_EXE") {
         return Ok(PathBuf::from(p));
@@ -930,7 +930,12 @@ fn worker_exe() -> Result<PathBuf, String> {
     if me.file_stem().is_some_and(|s| s == "pmu50") {
         return Ok(me);
     }
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/release/pmu50");
+    let beside = |up: usize, tail: &str| me.ancestors().nth(up).map(|d| d.join(tail));
+    let p = [beside(2, "pmu50"), beside(3, "release/pmu50")]
+        .into_iter()
+        .flatten()
+        .find(|p| p.is_file())
+        .unwrap_or_else(|| PathBuf::from("pmu50"));
     if p.is_file() {
         Ok(p)
     } else {

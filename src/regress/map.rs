@@ -473,18 +473,25 @@ mod tests {
         assert_eq!(c[0], "pmu50.timing_generator.tmr");
     }
 
+    /// A file written as the CLI writes: to a temporary file, renamed into place.
+    fn put(p: &Path, text: &str) {
+        let mut b = crate::atomic_file::Batch::new();
+        b.add(crate::atomic_file::write_atomic(p, text.as_bytes()).unwrap());
+        b.commit().unwrap();
+    }
+
     #[test]
     fn a_map_names_model_signals_only() {
         let d = tempfile::tempdir().unwrap();
         let p = d.path().join("m.toml");
-        std::fs::write(&p, "[registers]\n\"timing_generator.tmr\" = \"pmu50.t.q\"\n\"timing_generator.tmx\" = \"pmu50.t.x\"\n").unwrap();
+        put(&p, "[registers]\n\"timing_generator.tmr\" = \"pmu50.t.q\"\n\"timing_generator.tmx\" = \"pmu50.t.x\"\n");
         let e = RtlMap::read(&p).unwrap_err().to_string();
         assert!(
             e.contains(":3: `timing_generator.tmx` is not a model register")
                 && e.contains("timing_generator.tmr"),
             "{e}"
         );
-        std::fs::write(&p, "[registers]\n\"timing_generator.tmr\" = \"pmu50.t.q\"\n[internals]\nkon = \"pmu50.k\"\n").unwrap();
+        put(&p, "[registers]\n\"timing_generator.tmr\" = \"pmu50.t.q\"\n[internals]\nkon = \"pmu50.k\"\n");
         let m = RtlMap::read(&p).unwrap();
         assert_eq!(
             m.registers,
@@ -494,7 +501,7 @@ mod tests {
             }]
         );
         assert_eq!(m.internals.len(), 1);
-        std::fs::write(&p, "[regs]\n").unwrap();
+        put(&p, "[regs]\n");
         assert!(RtlMap::read(&p).unwrap_err().to_string().contains("line 1"));
     }
 }

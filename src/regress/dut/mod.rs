@@ -181,7 +181,7 @@ pub fn hdl_dir() -> PathBuf {
 }
 
 /// Where builds of RTL under test go: `PMU50_CACHE_DIR`, or `$XDG_CACHE_HOME/pmu50`, or
-/// `~/.cache/pmu50`, or `target/pmu50-cache` of this checkout.
+/// `~/.cache/pmu50`, or `pmu50-cache` in the temporary folder.
 pub fn cache_dir() -> PathBuf {
     let env = |k: &str| {
         std::env::var_os(k)
@@ -191,7 +191,7 @@ pub fn cache_dir() -> PathBuf {
     env("PMU50_CACHE_DIR")
         .or_else(|| env("XDG_CACHE_HOME").map(|p| p.join("pmu50")))
         .or_else(|| env("HOME").map(|p| p.join(".cache/pmu50")))
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target/pmu50-cache"))
+        .unwrap_or_else(|| std::env::temp_dir().join("pmu50-cache"))
 }
 
 /// A stable 64-bit hash (FNV-1a) for cache keys.
