@@ -199,8 +199,12 @@ $(VENV)/.ready: python/requirements-dev.txt
 	@touch $@
 
 ## The Python package pmu50 (python/, PyO3 + maturin), installed into target/venv (docs/python.md).
-python: $(VENV)/.ready
-	rm -rf $(PY_WHEELS)
+## The wheel carries the release `pmu50` command (its data folder scripts/pmu50): pip puts it
+## into the environment's bin/.
+PY_DATA := target/python/pmu50.data
+python: $(VENV)/.ready $(BIN)
+	rm -rf $(PY_WHEELS) $(PY_DATA)
+	mkdir -p $(PY_DATA)/scripts && cp $(BIN) $(PY_DATA)/scripts/pmu50
 	$(VENV)/bin/maturin build --release -i $(VPY) -m python/Cargo.toml --target-dir $(PY_TARGET) --out $(PY_WHEELS)
 	$(PIP) install -q --force-reinstall --no-deps $(PY_WHEELS)/pmu50-*.whl
 	@echo "pmu50 is installed in $(VENV); use it with:  . $(VENV)/bin/activate   (or $(VPY) directly)"
