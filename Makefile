@@ -23,7 +23,7 @@ PY_TARGET := target
 PY_WHEELS := target/python/wheels
 PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
 
-.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls test-install formal formal-quick formal-mutants regress-slurm test-slurm
+.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls test-install fusesoc formal formal-quick formal-mutants regress-slurm test-slurm
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -68,7 +68,7 @@ TEST_COCOTB_MAX_TICKS ?= 20000
 test-long: deps
 	PMU50_TEST_LONG=1 $(CARGO) test --workspace
 	$(MAKE) cosim COSIM_RANDOM=200
-	$(MAKE) regress-smoke test-slurm gls test-install
+	$(MAKE) regress-smoke test-slurm gls test-install fusesoc
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
 	$(MAKE) uvm UVM_MAX_TICKS=0 UVM_SEEDS=12 UVM_REGRESS_SEEDS=8
 	$(MAKE) formal formal-mutants
@@ -88,6 +88,11 @@ regress: deps $(BIN)
 ## --dut verilator from another folder.
 test-install: deps
 	bash hdl/install_test.sh
+
+## FuseSoC: the `sim` target of hdl/pmu50.core through `fusesoc run`, on Icarus and on Verilator
+## (hdl/fusesoc_sim.sh): three shipped scenarios' vector files pass, a flipped expected value fails.
+fusesoc: deps $(VENV)/.formal $(BIN)
+	bash hdl/fusesoc_sim.sh
 
 ## Gate-level simulation (hdl/gls.sh): yosys synthesizes the twin to generic gates (synth
 ## -flatten, default parameters); GLS_SEEDS directed seeds of the netlist against the model must

@@ -12,6 +12,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("README.md", include_str!("../hdl/README.md")),
     ("SYNTH.md", include_str!("../hdl/SYNTH.md")),
     ("cosim.sh", include_str!("../hdl/cosim.sh")),
+    ("fusesoc_sim.sh", include_str!("../hdl/fusesoc_sim.sh")),
     ("gls.sh", include_str!("../hdl/gls.sh")),
     ("install_test.sh", include_str!("../hdl/install_test.sh")),
     ("regress_smoke.sh", include_str!("../hdl/regress_smoke.sh")),
