@@ -332,26 +332,49 @@ fn a_map_compares_registers_and_refuses_names_that_do_not_exist() {
             x
         }
     });
+    // (triaged: the failures are shrunk into failures/<signature>/)
     let out = t.join("o3");
-    let o = regress(
-        &[
-            "--iterations",
-            "6",
-            "--dut",
-            "verilator",
-            "--rtl",
-            s(&list),
-            "--map",
-            s(&hdl().join("pmu50.map.toml")),
-        ],
-        &out,
-    );
+    let o = pmu50(&[
+        "regress",
+        "--out",
+        s(&out),
+        "--iterations",
+        "6",
+        "--dut",
+        "verilator",
+        "--rtl",
+        s(&list),
+        "--map",
+        s(&hdl().join("pmu50.map.toml")),
+    ]);
     expect(&o, 1, &["fail"]);
     let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
     assert!(
         results.contains("pmu50.timing_generator.tmr"),
         "the first divergence is the mapped timer register: {results}"
     );
+    // every failing seed's line carries the command that opens GTKWave on its signature's
+    // repro, whose files exist (run in the regression folder); passing lines carry none
+    let mut failing = 0;
+    for line in results.lines() {
+        let v: serde_json::Value = serde_json::from_str(line).unwrap();
+        if v["verdict"] == "fail" {
+            failing += 1;
+            let view = v["view"]
+                .as_str()
+                .expect("a failing seed's line has `view`");
+            let words: Vec<&str> = view.split(' ').collect();
+            assert_eq!(words.len(), 3, "{view}");
+            assert_eq!(words[0], "gtkwave");
+            assert!(words[1].ends_with("/repro.vcd") && words[2].ends_with("/repro.gtkw"));
+            for f in &words[1..] {
+                assert!(out.join(f).is_file(), "{view}: {f} missing");
+            }
+        } else {
+            assert!(v.get("view").is_none(), "{line}");
+        }
+    }
+    assert!(failing > 0);
 }
 
 #[test]

@@ -142,9 +142,17 @@ pub fn run(
         .filter(|e| e.verdict != folder::Verdict::Pass)
         .count() as u64;
     let mut write =
-        |out: Vec<(SeedResult, Vec<u64>)>, total: &mut Vec<u64>| -> Result<(), RegressError> {
+        |mut out: Vec<(SeedResult, Vec<u64>)>, total: &mut Vec<u64>| -> Result<(), RegressError> {
             let mut text = String::new();
-            for (r, hits) in &out {
+            for (r, hits) in &mut out {
+                // A failure triage will shrink: the command that opens its repro's waves.
+                if o.triage {
+                    r.view = r
+                        .failure
+                        .as_ref()
+                        .filter(|f| r.verdict == Verdict::Fail && f.kind != "error")
+                        .map(|f| triage::view_command(&Path::new("failures").join(f.signature())));
+                }
                 for (t, h) in total.iter_mut().zip(hits) {
                     *t = t.saturating_add(*h);
                 }

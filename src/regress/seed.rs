@@ -100,6 +100,7 @@ pub(crate) fn seed_result(seed: u64, start: Instant, e: Evaluated) -> (SeedResul
         evaluated,
         readouts_checked,
         wall_ms: (start.elapsed().as_secs_f64() * 1e4).round() / 10.0,
+        view: None,
         failure,
         place: Place::default(),
         cov: sparse(&hits),

@@ -138,6 +138,11 @@ pub struct SeedResult {
     pub wall_ms: f64,
     #[serde(default)]
     pub failure: Option<Failure>,
+    /// A failing seed (not an `error`): the command, run in the regression folder, that opens
+    /// GTKWave on the shrunk repro of its signature (`failures/<signature>/`), zoomed on the
+    /// divergence.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub view: Option<String>,
     #[serde(rename = "where")]
     pub place: Place,
     /// The seed's coverage, sparse: `bin:hits,bin:hits,...` (bin = index in the model).
