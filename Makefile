@@ -10,12 +10,11 @@ SCENARIO  ?= fig15a
 TOOLS := vcd2lxt2:gtkwave xvfb-run:xvfb xauth:xauth iverilog:iverilog verilator:verilator yosys:yosys chromium:chromium
 
 # Python: a project-local virtual environment (nothing is installed outside the project folder).
-# The extension builds in the workspace's target folder with the release profile, so it reuses
-# the model crates and dependencies `cargo build --release` compiled: python/Cargo.lock pins the
-# same versions as Cargo.lock (a differing version recompiles what depends on it), and the pmu50
-# crate asks for the features pyo3 turns on in syn and once_cell (Cargo.toml), so both builds have
-# one feature set and the extension's compiles only pyo3 and the bindings. Its wheel goes to
-# target/python/wheels.
+# The extension (python/, a member of the workspace) builds in the workspace's target folder with
+# the release profile, so it reuses the model crates and dependencies `cargo build --release`
+# compiled: one Cargo.lock, and the pmu50 crate asks for the features pyo3 turns on in syn and
+# once_cell (Cargo.toml), so both builds have one feature set and the extension's compiles only
+# pyo3 and the bindings. Its wheel goes to target/python/wheels.
 PYTHON3   ?= python3
 VENV      := target/venv
 VPY       := $(VENV)/bin/python
@@ -51,7 +50,7 @@ run: $(BIN)
 ## cocotb's replays of the shipped scenarios' vector files cut to their first 20 000 ticks (the
 ## whole files run in cosim's three methods; cocotb's mutants are caught by its random seeds).
 test: deps
-	$(CARGO) test --workspace
+	$(CARGO) test --workspace --exclude pmu50-python
 	$(MAKE) cosim COSIM_RANDOM=$(TEST_COSIM_RANDOM)
 	$(MAKE) regress-smoke test-slurm
 	$(MAKE) gls GLS_SEEDS=$(TEST_GLS_SEEDS)
@@ -66,7 +65,7 @@ TEST_COCOTB_MAX_TICKS ?= 20000
 ## The same suites at full size: a parked day instead of half, 200 random cosim scenarios, whole
 ## vector files in cocotb, the formal proof on both parameter sets and every mutant refuted.
 test-long: deps
-	PMU50_TEST_LONG=1 $(CARGO) test --workspace
+	PMU50_TEST_LONG=1 $(CARGO) test --workspace --exclude pmu50-python
 	$(MAKE) cosim COSIM_RANDOM=200
 	$(MAKE) regress-smoke test-slurm gls test-install fusesoc
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
@@ -190,9 +189,8 @@ fuzz:
 
 lint:
 	$(CARGO) fmt --all --check
-	cd python && $(CARGO) fmt --all --check
 	cd fuzz && $(CARGO) fmt --all --check
-	$(CARGO) clippy --workspace --all-targets -- -D warnings
+	$(CARGO) clippy --workspace --exclude pmu50-python --all-targets -- -D warnings
 
 ## target/venv with maturin, cocotb and pytest (python/requirements-dev.txt); python3-venv if needed.
 $(VENV)/.ready: python/requirements-dev.txt
