@@ -353,6 +353,20 @@ enum Cmd {
         force: bool,
         inputs: Vec<PathBuf>,
     },
+    /// The sign-off table of a regression folder (docs/verification.md "Sign-off"): functional
+    /// coverage of the reachable bins, bins proven unreachable and undecided, code line and
+    /// toggle coverage, formal properties proven, seeds passing, each against its threshold
+    /// (default 100 %, OpenTitan V3). Printed, written to DIR/signoff.json and at the top of
+    /// DIR/report.html.
+    /// Exit 0 every threshold met, 1 one missed, 2 bad input.
+    Signoff {
+        /// The regression folder.
+        dir: PathBuf,
+        /// TOML file with a table [thresholds]: functional, unreachable_proven, code_line,
+        /// code_toggle, properties, seeds (percent) and undecided (a count); any subset.
+        #[arg(long, value_name = "FILE.toml")]
+        thresholds: Option<PathBuf>,
+    },
     /// Draw the closure curves (coverage against seeds) of regression folders into one SVG.
     Closure {
         #[arg(short, long)]
@@ -819,6 +833,18 @@ fn main() -> ExitCode {
                 2
             }
         },
+        Cmd::Signoff { dir, thresholds } => {
+            match pmu50::regress::signoff::run(&dir, thresholds.as_deref()) {
+                Ok(so) => {
+                    out!("{}", so.text().trim_end());
+                    u8::from(!so.met())
+                }
+                Err(e) => {
+                    err!("error: {e}");
+                    2
+                }
+            }
+        }
         Cmd::Merge { out, force, inputs } => {
             match pmu50::regress::merge::merge(&inputs, &out, force) {
                 Ok(m) => {

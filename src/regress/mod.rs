@@ -26,6 +26,7 @@ pub mod report;
 pub mod rtl;
 pub mod seed;
 pub mod shard;
+pub mod signoff;
 pub mod spec;
 pub mod summary;
 pub mod triage;

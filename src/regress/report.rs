@@ -242,6 +242,7 @@ pub fn html(
     s: &Summary,
     extra: Option<&str>,
     repros: &std::collections::BTreeMap<String, Option<String>>,
+    signoff: Option<&str>,
 ) -> String {
     let l = layout();
     let c = &s.coverage;
@@ -259,6 +260,9 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
         spec.start_seed,
         spec.start_seed + spec.iterations.saturating_sub(1)
     );
+    if let Some(t) = signoff {
+        h.push_str(t);
+    }
     let pass = s.pass;
     let _ = writeln!(
         h,

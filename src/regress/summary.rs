@@ -237,9 +237,20 @@ impl Summary {
             );
         }
         let repros = self.repro_folders(dir)?;
+        // The sign-off table at the top, with what the folder holds so far (pmu50 signoff
+        // rewrites it once the proofs and the formal kit have run).
+        let signoff =
+            super::signoff::SignOff::evaluate(dir, self, &super::signoff::Thresholds::default())
+                .map(|t| t.html())
+                .unwrap_or_else(|e| {
+                    format!(
+                        "<h2>Sign-off</h2>\n<p class=\"bad\">{}</p>\n",
+                        crate::plot::svg::esc(&e.to_string())
+                    )
+                });
         batch.add(write_atomic(
             &dir.join("report.html"),
-            report::html(self, extra, &repros).as_bytes(),
+            report::html(self, extra, &repros, Some(&signoff)).as_bytes(),
         )?);
         let missing = dir.join("missing.txt");
         if self.missing.is_empty() {
