@@ -66,7 +66,7 @@ impl Thresholds {
         let f: ThresholdFile = toml::from_str(text).map_err(|e| {
             let line = e
                 .span()
-                .map(|s| text[..s.start.min(text.len())].lines().count().max(1) as u64)
+                .map(|s| text[..s.start.min(text.len())].matches('\n').count() as u64 + 1)
                 .unwrap_or(1);
             RegressError::Line {
                 path: path.to_path_buf(),
