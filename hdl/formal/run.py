@@ -530,7 +530,14 @@ def run_portfolio(tasks, timeout):
     t0 = time.time()
     pending = sorted(tasks, key=lambda t: t.after)
     running = {}  # label -> (task, Popen, log file, start time)
+    preparing = {}  # label -> (task, thread, [result or exception])
     res = {}
+
+    def prepare(t, box):
+        try:
+            box.append(t.prepare())
+        except Exception as e:  # noqa: BLE001 -- handed to the portfolio's thread
+            box.append(e)
 
     def stop_all():
         for lab, (_, q, qlog, _) in list(running.items()):
@@ -542,31 +549,46 @@ def run_portfolio(tasks, timeout):
             qlog.close()
             res[lab] = ("stopped", None, time.time() - t0)
         running.clear()
-        for t in pending:
+        for t in pending + [x[0] for x in preparing.values()]:
             res[t.label] = ("not started", None, 0.0)
         pending.clear()
+        preparing.clear()  # a model being built for them finishes in the background
+
+    def start(t):
+        lim = t.timeout if t.timeout is not None else timeout
+        log = open(os.path.join(t.d, t.engine.name + ".log"), "w")
+        try:
+            p = subprocess.Popen(t.engine.argv(t.aig, lim), cwd=t.d, stdout=log,
+                                 stderr=subprocess.STDOUT, start_new_session=True)
+        except OSError as err:
+            log.write(str(err))
+            log.close()
+            raise SetupError("%s could not start: %s" % (t.engine.name, err))
+        running[t.label] = (t, p, log, time.time())
 
     try:
-        while pending or running:
+        while pending or running or preparing:
             now = time.time() - t0
-            while pending and (pending[0].after <= now or not running):
+            while pending and (pending[0].after <= now or not (running or preparing)):
                 t = pending.pop(0)
-                if t.prepare:
-                    got = t.prepare()
-                    if got is None:  # nothing to run (e.g. the check holds there by scorr)
-                        res[t.label] = ("skipped", None, time.time() - t0)
-                        continue
-                    t.aig, t.d = got
-                lim = t.timeout if t.timeout is not None else timeout
-                log = open(os.path.join(t.d, t.engine.name + ".log"), "w")
-                try:
-                    p = subprocess.Popen(t.engine.argv(t.aig, lim), cwd=t.d, stdout=log,
-                                         stderr=subprocess.STDOUT, start_new_session=True)
-                except OSError as err:
-                    log.write(str(err))
-                    log.close()
-                    raise SetupError("%s could not start: %s" % (t.engine.name, err))
-                running[t.label] = (t, p, log, time.time())
+                if t.prepare:  # a cone cut (maybe a model built) off the polling thread
+                    box = []
+                    th = threading.Thread(target=prepare, args=(t, box), daemon=True)
+                    th.start()
+                    preparing[t.label] = (t, th, box)
+                else:
+                    start(t)
+            for lab, (t, th, box) in list(preparing.items()):
+                if th.is_alive():
+                    continue
+                del preparing[lab]
+                if isinstance(box[0], Exception):
+                    raise box[0]
+                if box[0] is None:  # nothing to run (e.g. the check holds there by scorr)
+                    res[lab] = ("skipped", None, time.time() - t0)
+                    continue
+                t.aig, t.d = box[0]
+                start(t)
             done = None
             for lab, (t, p, log, ts) in list(running.items()):
                 rc = p.poll()
@@ -594,7 +616,7 @@ def run_portfolio(tasks, timeout):
                 break
             time.sleep(0.02)
     finally:
-        if running or pending:
+        if running or pending or preparing:
             stop_all()
     return res
 
