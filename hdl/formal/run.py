@@ -16,7 +16,7 @@ proof of equivalent latches, unbounded) runs once over that model: an assertion 
 reduces to constant 0 is proven. Each remaining check is cut out of the reduced model (its cone
 of influence, hdl/formal/aiger.py) and given to the engines as a portfolio: rIC3 (IC3, built
 into target/tools by `make formal-tools`) and ABC `pdr`; the first answer wins. A check that
-neither decides within --refute-after seconds gets refuters beside them for the rest of
+neither decides within --refute-after CPU seconds gets refuters beside them for the rest of
 --timeout: a bounded search (ABC `bmc3` to --deep cycles) of the same cone, and both engines
 on the cone of each refuter set (REFUTERS: legal parameters, some inputs held, on which a
 deep behaviour such as CNTr's saturation is near). Only their counterexamples count. What is
@@ -79,7 +79,7 @@ SETS = {
     "sync1": dict(SYNC_DEPTH=1, CNT_W=2, ADAPTIVE=0, PW=0, PI=2, PS=1, SI_MAX=7, SI_MIN=7,
                   T1=1, T2=1, CTH=1, SMP_ON=2),
 }
-# Refuter sets: a check that its own set leaves open for --refute-after seconds is also tried
+# Refuter sets: a check that its own set leaves open for --refute-after CPU seconds is also tried
 # here, for a counterexample only (a proof here is not a proof of the kit: inputs are held).
 # `short` is the legal set on which CNTr saturates soonest: the shortest interval spec 4 allows
 # (Wt = Pw + Pi + Ps = 2 < SI_MIN = 3 ticks), Cth = 255 from reset and x one tick above the
@@ -103,7 +103,7 @@ OUTPUTS = ["sig", "vr_hi", "vm_en", "vs1_en", "vs2_en", "vp_en", "rail_hi", "st"
 OUT_DIGITS = {"cnt_s": 4, "cnt_c": 4, "cnt_r": 2, "si": 4, "bus_rdata": 4}
 IN_DIGITS = {"bus_addr": 2, "bus_wdata": 4}
 REACH_DEPTH = 150  # cycles of the bounded search tried first for a cover
-REFUTE_AFTER = 10  # seconds a property stays open before the deep search and the refuters join
+REFUTE_AFTER = 10  # CPU seconds the engines spend on a property before the refuters join
 KIT_COVERS = {"reach_reset_state": "the reset state",
               "reach_keyoff_period": "one whole key-off period"}
 
@@ -510,9 +510,20 @@ class Ric3Bmc(Ric3):
         return v, frame
 
 
+def cpu_seconds(pid):
+    """CPU time (user + system) of a running process so far, from /proc; None where unknown."""
+    try:
+        with open("/proc/%d/stat" % pid) as f:
+            fields = f.read().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        return None
+
+
 class Task:
-    """One engine run of a portfolio: `engine` on `aig` in folder `d`, started `after` seconds
-    into the portfolio (or as soon as nothing else runs); a verdict in `decides` ends the
+    """One engine run of a portfolio: `engine` on `aig` in folder `d`, started once the tasks
+    already running have spent `after` CPU seconds together (or as soon as nothing else runs:
+    CPU time, so that a loaded machine does not start it early); a verdict in `decides` ends the
     portfolio. `prepare` (optional) is called when the task starts and returns (aig, d), for a
     cone that is cut only if the task is needed. `label` names it in the result."""
 
@@ -532,6 +543,8 @@ def run_portfolio(tasks, timeout):
     running = {}  # label -> (task, Popen, log file, start time)
     preparing = {}  # label -> (task, thread, [result or exception])
     res = {}
+    spent = {}  # label -> CPU seconds of a started task (last reading)
+    wall = not os.path.exists("/proc/self/stat")  # no /proc: wall seconds instead
 
     def prepare(t, box):
         try:
@@ -568,7 +581,11 @@ def run_portfolio(tasks, timeout):
 
     try:
         while pending or running or preparing:
-            now = time.time() - t0
+            for lab, (_, p, _, _) in running.items():
+                c = cpu_seconds(p.pid)
+                if c is not None:
+                    spent[lab] = c
+            now = time.time() - t0 if wall else sum(spent.values())
             while pending and (pending[0].after <= now or not (running or preparing)):
                 t = pending.pop(0)
                 if t.prepare:  # a cone cut (maybe a model built) off the polling thread
@@ -714,7 +731,7 @@ class Kit:
         """kind "prop": (verdict, frame, how); kind "reach": (reached|unreachable|unknown, ...).
 
         A property: rIC3 and ABC pdr on its cone (unbounded); if neither has answered after
-        --refute-after seconds, a bounded search to --deep cycles on the same cone and the
+        --refute-after CPU seconds, a bounded search to --deep cycles on the same cone and the
         engines on each refuter set's cone join them, for a counterexample only. What is still
         open after --timeout is `unknown`, with what was tried."""
         m = self.model(s)
@@ -975,8 +992,8 @@ def main(argv=None):
                     help="refuter sets tried for a counterexample of a property left open "
                          "(%s; empty: none)" % ", ".join(REFUTERS))
     ap.add_argument("--refute-after", type=float, default=REFUTE_AFTER,
-                    help="seconds a property stays open before the deep search and the refuter "
-                         "sets join the engines")
+                    help="CPU seconds the engines spend on a property before the deep search "
+                         "and the refuter sets join them")
     ap.add_argument("--no-cache", action="store_true",
                     default=os.environ.get("FORMAL_CACHE", "1") == "0",
                     help="neither read nor write the result cache (env FORMAL_CACHE=0)")
