@@ -785,7 +785,7 @@ class Kit:
                 return v, frame, "%s at cycle %s on refuter set %s (%s; %s still open on %s at %.0f s)" % (
                     lab, max(frame - 1, 0) if frame is not None else "?", r, REFUTERS[r]["note"],
                     ", ".join(e.name for e in self.engines), s, secs)
-            return v, frame, lab
+            return v, frame, lab  # the replay note gives the shortest trace's failing cycle
         # undecided: say what each part reached
         parts = ["%s open after %d s" % (", ".join(e.name for e in self.engines), self.a.timeout)]
         b = res.get("bmc", ("not started", None, 0))
