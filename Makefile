@@ -132,7 +132,9 @@ cosim: deps $(BIN)
 ## Formal property kit (hdl/formal, docs/hdl-guide.md): every property of pmu50_formal.sv proven
 ## unbounded on the twin, parameter sets default and small, and none vacuous (the cover of its
 ## antecedent reached under the RTL's assumptions); one line per property with how it was decided
-## (ABC scorr, rIC3 or ABC pdr). MUTANT=MUT_x runs it on a mutant, RTL=path/to/list.f on any RTL
+## (ABC scorr, rIC3 or ABC pdr; for a property open 10 s, also bmc3 and both engines on the refuter
+## set short, whose counterexamples count; still open at the time limit: the run fails, saying
+## so). MUTANT=MUT_x runs it on a mutant, RTL=path/to/list.f on any RTL
 ## with the contract ports. Answers are cached by the hash of the files read (hdl/build/formal/
 ## cache); FORMAL_CACHE=0 runs cold. formal-quick: set small only, with the engines already built
 ## (ABC alone on a fresh machine: for make test); formal-mutants: every mutant refuted, both

@@ -58,6 +58,10 @@ pub const FILES: &[(&str, &str)] = &[
         include_str!("../hdl/scenarios/hdl_bus.toml"),
     ),
     (
+        "scenarios/hdl_cnt_r_sat.toml",
+        include_str!("../hdl/scenarios/hdl_cnt_r_sat.toml"),
+    ),
+    (
         "scripts/common.sh",
         include_str!("../hdl/scripts/common.sh"),
     ),

@@ -60,6 +60,36 @@ class Aiger:
             r0 = lhs - d0
             self.ands.append((r0, r0 - d1))
 
+    def held(self, bits):
+        """AIGER bytes of this model with some inputs held at constants: `bits` maps an input's
+        index (0-based) to 0 or 1. The inputs stay (unread), so a witness's input lines keep
+        their columns; the engines' constant propagation removes the logic that no longer
+        moves."""
+        for k, b in bits.items():
+            if not 0 <= k < self.i or b not in (0, 1):
+                raise AigerError("held input %r=%r: the model has inputs 0..%d, values 0 or 1"
+                                 % (k, b, self.i - 1))
+        const = {k + 1: b for k, b in bits.items()}
+
+        def sub(x):
+            v = x >> 1
+            return (const[v] ^ (x & 1)) if v in const else x
+
+        out = bytearray(b"aig %d %d %d %d %d %d %d\n" % (self.m, self.i, self.l, self.o, self.a,
+                                                          self.b, self.c))
+        for lt in self.latches:
+            out += b" ".join(b"%d" % x for x in [sub(lt[0])] + lt[1:]) + b"\n"
+        for x in self.outputs + self.bad + self.constraints:
+            out += b"%d\n" % sub(x)
+        first_and = self.i + self.l + 1
+        for k, (r0, r1) in enumerate(self.ands):
+            a0, a1 = sub(r0), sub(r1)
+            if a0 < a1:
+                a0, a1 = a1, a0
+            _put_varint(out, 2 * (first_and + k) - a0)
+            _put_varint(out, a0 - a1)
+        return bytes(out)
+
     def cone(self, lit):
         """(AIGER bytes with `lit` as its one bad-state property and every constraint kept,
         {old latch index: new latch index})."""

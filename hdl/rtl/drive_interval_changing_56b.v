@@ -52,7 +52,12 @@ module drive_interval_changing_56b #(
     wire [16:0] add      = {1'b0, si} + {1'b0, t2};
     wire [15:0] si_long  = (add > {1'b0, si_max}) ? si_max : add[15:0];
     // S9: saturating at 255.
+`ifdef MUT_CNT_R_NO_SAT
+    // MUTANT: the saturation at 255 is missing: CNTr wraps to 0.
+    wire [7:0]  cnt_r_inc = cnt_r + 8'd1;
+`else
     wire [7:0]  cnt_r_inc = (cnt_r == 8'hFF) ? 8'hFF : cnt_r + 8'd1;
+`endif
 
 `ifdef MUT_CTH_OFF_BY_ONE
     // MUTANT: "CNTr reaches Cth" checked with > instead of >= (one quiet pulse too many).

@@ -148,6 +148,8 @@ ALL_MUTANTS = [(m, "RandomTest", 1, 0) for m in COCOTB_MUTANTS] + [
     ("MUT_PW_PI_ZERO_OK", "RandomTest", 1, 0),
     ("MUT_WT_LEGAL_LE", "RandomTest", 1, 0),
     ("MUT_CNT_READ_ZERO_EXT", "RandomTest", 1, 1),
+    # CNTr's saturation is 255 quiet pulses deep: the directed scenario (config: its file)
+    ("MUT_CNT_R_NO_SAT", "ScenarioTest", None, "scenarios/hdl_cnt_r_sat.toml"),
 ]
 _which = os.environ.get("PMU50_UVM_MUTANTS") or "all"
 if _which not in ("all", "cocotb"):
@@ -304,12 +306,17 @@ def test_every_mutant_has_a_catcher():
 
 @twin_only
 @pytest.mark.parametrize("mutant,test,seed,config", MUTANTS, ids=[m[0] for m in MUTANTS])
-def test_mutant_is_caught(mutant: str, test: str, seed: int, config: int | None):
-    params = pmu50.Core(**({} if config is None else RANDOM_CONFIGS[config])).hdl_parameters
+def test_mutant_is_caught(mutant: str, test: str, seed: int | None, config: int | str | None):
+    if test == "ScenarioTest":  # config: a scenario of hdl/ (its parameters, its stimulus)
+        sc = pmu50.Scenario.load(HDL / config)
+        params, env = sc.hdl_parameters, {"PMU50_SCENARIO": str(HDL / config), "PMU50_MAX_TICKS": "0"}
+    else:
+        params = pmu50.Core(**({} if config is None else RANDOM_CONFIGS[config])).hdl_parameters
+        env = {"PMU50_SEED": str(seed), "PMU50_CYCLES": str(CYCLES)}
     d = build(TWIN, params, mutant)
     run_id = f"uvm/mutant/{mutant}/{test}/{seed}"
-    ok, msg, cov, failure = simulate(d, test, f"mutant_{mutant}", run_id, {"PMU50_SEED": str(seed), "PMU50_CYCLES": str(CYCLES)})
-    assert not ok, f"{mutant} escaped the scoreboard ({test}, seed {seed}, {CYCLES} cycles)"
+    ok, msg, cov, failure = simulate(d, test, f"mutant_{mutant}", run_id, env)
+    assert not ok, f"{mutant} escaped the scoreboard ({test}, seed {seed}, config {config}, {CYCLES} cycles)"
     # a failing run writes its coverage up to the failing edge, with verdict "fail"
     assert json.loads(cov.read_text())["runs"] == [{"id": run_id, "verdict": "fail"}]
     m = FAIL.search(msg)

@@ -112,9 +112,9 @@ def test_engines_disagreeing_is_reported():
 def test_mutant_table_runs_both_engines(tmp_path):
     if not run.Ric3().available():
         pytest.skip("rIC3 not built (make formal-tools)")
-    p = subprocess.run(RUN + ["--mutants", "--only", "MUT_SYNC_SHORT", "--sets", "small",
-                              "--out", str(tmp_path / "out")], capture_output=True, text=True,
-                       timeout=1200)
+    p = subprocess.run(RUN + ["--mutants", "--only", "MUT_SYNC_SHORT,MUT_CNT_R_NO_SAT",
+                              "--sets", "small", "--out", str(tmp_path / "out")],
+                       capture_output=True, text=True, timeout=1200)
     out = p.stdout + p.stderr
     assert p.returncode == 0, out
     row = next(l for l in out.splitlines() if l.startswith("MUT_SYNC_SHORT"))
@@ -122,7 +122,70 @@ def test_mutant_table_runs_both_engines(tmp_path):
     assert m, row
     # both bounded searches find the shortest trace: the same failing cycle
     assert m.group(2) == m.group(4), row
-    assert "1/1 mutants refuted, 0 engine disagreements" in out
+    # the deep one: each engine's IC3/PDR on the refuter set, 255 quiet pulses deep
+    row = next(l for l in out.splitlines() if l.startswith("MUT_CNT_R_NO_SAT"))
+    m = re.search(r"prop_si_expand\s+short\s+refuted abc-pdr @(\d+) .*refuted ric3 @(\d+)", row)
+    assert m and int(m.group(1)) >= 765 and int(m.group(2)) >= 765, row
+    assert "2/2 mutants refuted, 0 engine disagreements" in out
+
+
+def test_counter_saturation_bug_is_refuted_not_left_unknown(tmp_path):
+    # CNTr wraps from 255 to 0 (S9 without its saturation): 255 quiet key-off pulses deep, out
+    # of reach of the engines on the small set; the refuter set `short` shows it
+    rc, out = kit(tmp_path, "--mutant", "MUT_CNT_R_NO_SAT", "--props", "prop_si_expand")
+    assert rc == 1, out
+    assert verdict(out, "prop_si_expand") == "refuted", out
+    line = next(l for l in out.splitlines() if l.startswith("prop_si_expand"))
+    m = re.search(r"(ric3|abc-pdr)@short at cycle (\d+) on refuter set short", line)
+    assert m, line
+    # 255 counts at 3 ticks a pulse at the least: nothing shallower can show this bug
+    assert int(m.group(2)) >= 765, line
+    assert "unknown" not in re.findall(r"^prop_\w+\s+small\s+(\w+)", out, re.M)
+    # the counterexample replays: CNTr goes from 255 to 0 at the failing cycle
+    cycle = int(re.search(r"failing cycle (\d+)", line).group(1))
+    d = tmp_path / "out" / "short" / "prop_si_expand"
+    sigs, _ = run.read_vcd(str(d / "cex.vcd"))
+    cnt_r = sigs["pmu50_formal.cnt_r"][1]
+    assert run.value_at(cnt_r, (cycle - 1) * 10) == 255
+    assert run.value_at(cnt_r, cycle * 10) == 0
+    vec = (d / "cex.vec").read_text()
+    assert "// param CTH 255" in vec and "// param SI_MIN 3" in vec
+
+
+def test_undecided_property_fails_the_run_and_says_so(tmp_path):
+    rc, out = kit(tmp_path, "--mutant", "MUT_CNT_R_NO_SAT", "--props", "prop_si_expand",
+                  "--refuters", "", "--timeout", "4", "--refute-after", "1", "--deep", "30")
+    assert rc == 1, out
+    assert verdict(out, "prop_si_expand") == "unknown", out
+    # the line says what was tried: the engines' time and the bounded search's depth
+    assert re.search(r"^prop_si_expand .*open after 4 s; abc-bmc (no failure in \d+ cycles|\w+)",
+                     out, re.M), out
+    assert "formal: FAILED: 1 property undecided: prop_si_expand (small)" in out, out
+
+
+def test_refuter_sets_are_legal():
+    # spec 4: a counterexample on an illegal parameter set would show no bug of the RTL
+    for name, r in run.REFUTERS.items():
+        p = r["params"]
+        shortest = p["SI_MIN"] if p["ADAPTIVE"] else p["SI_MAX"]
+        assert all(p[k] > 0 for k in ("PS", "SI_MAX", "SI_MIN", "T1", "T2", "CTH", "SMP_ON")), name
+        assert p["SI_MIN"] <= p["SI_MAX"] and p["PW"] + p["PI"] >= 1, name
+        assert p["PW"] + p["PI"] + p["PS"] < shortest, name
+        assert 1 <= p["SYNC_DEPTH"] <= 4 and 2 <= p["CNT_W"] <= 16 and p["CTH"] <= 255, name
+        assert name not in run.SETS
+
+
+def test_held_inputs_become_constants():
+    # inputs 1, 2; output 0 = AND gate 3 of both
+    m = aiger.Aiger(bytes(b"aig 3 2 0 1 1\n6\n") + bytes([6 - 4, 4 - 2]))
+    assert m.ands == [(4, 2)]
+    assert aiger.Aiger(m.held({0: 0})).ands == [(4, 0)]
+    assert aiger.Aiger(m.held({0: 1})).ands == [(4, 1)]
+    assert aiger.Aiger(m.held({1: 1})).ands == [(2, 1)]
+    held = aiger.Aiger(m.held({0: 0, 1: 1}))
+    assert held.i == 2 and held.outputs == [6]  # the inputs stay: witness columns keep
+    with pytest.raises(aiger.AigerError):
+        m.held({2: 0})
 
 
 def test_cone_keeps_only_what_the_output_reads():
