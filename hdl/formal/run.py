@@ -998,6 +998,8 @@ def main(argv=None):
                     default=os.environ.get("FORMAL_CACHE", "1") == "0",
                     help="neither read nor write the result cache (env FORMAL_CACHE=0)")
     ap.add_argument("--out", default=os.path.join(HDL, "build", "formal"))
+    ap.add_argument("--json", default="", help="also write every verdict to this JSON file "
+                    "(pmu50 signoff reads it as DIR/formal.json)")
     ap.add_argument("--mutants", action="store_true", help="mutation table of hdl/mutants.txt")
     ap.add_argument("--only", default="", help="with --mutants: these mutants only")
     ap.add_argument("--bmc-depth", type=int, default=80,
@@ -1056,7 +1058,7 @@ def prove(a, sets, names, files, incs, defs):
             res[futs[f]] = f.result()
     # verdicts: a proof whose cover is unreachable (or whose set excludes the reset state or a
     # key-off period) is vacuous
-    final = {}
+    final, notes = {}, {}
     for s in sets:
         lost = [KIT_COVERS[c] for c in KIT_COVERS if res[(s, c)][0] != "reached"]
         for c in KIT_COVERS:
@@ -1086,6 +1088,7 @@ def prove(a, sets, names, files, incs, defs):
             if cached and (rcached or v != "proven"):
                 note += ", cached"
             final[(s, n)] = v
+            notes[(s, n)] = note
             print("%-28s %-8s %-11s %6.1f s  %s" % (n, s, v, secs + rsecs, note), flush=True)
     st = list(final.values())
     open_ = ["%s (%s)" % (n, s) for (s, n), v in final.items() if v == "unknown"]
@@ -1099,6 +1102,15 @@ def prove(a, sets, names, files, incs, defs):
                                 st.count("unknown"), time.time() - t0, ",".join(sets), a.jobs,
                                 ", ".join("%s %d" % kv for kv in sorted(engines.items())) or "none",
                                 (" mutant " + a.mutant) if a.mutant else ""), flush=True)
+    if a.json:
+        # the verdicts for `pmu50 signoff` (its "properties proven" row)
+        doc = {"format": "pmu50-formal", "version": 1, "rtl": a.rtl, "mutant": a.mutant or None,
+               "sets": sets,
+               "properties": [{"name": n, "set": s, "verdict": final[(s, n)], "how": notes[(s, n)]}
+                              for s in sets for n in names]}
+        d = os.path.dirname(os.path.abspath(a.json))
+        os.makedirs(d, exist_ok=True)
+        write_atomic(os.path.abspath(a.json), json.dumps(doc, indent=1) + "\n")
     if open_:
         # an undecided property is no answer: the run fails and says so
         print("formal: FAILED: %d propert%s undecided: %s. Neither engine proved or refuted %s "
