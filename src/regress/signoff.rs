@@ -230,14 +230,14 @@ impl Criterion for Functional {
     }
 }
 
-/// A bin's reachability, as the coverage proofs decided it.
+/// A bin's reachability, as the coverage proofs decided it (`hdl/formal/coverage.py`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum BinStatus {
-    /// `assert(!hit_<bin>)` proven unbounded.
+    /// `assert(!hit_<bin>)` proven unbounded on every parameter set it ran.
     ProvenUnreachable,
-    /// Declared unreachable, but the proof found a trace that hits it: a wrong declaration.
-    Refuted,
+    /// Declared unreachable, but the proof found a trace that hits it.
+    WrongDeclaration,
     /// `cover(hit_<bin>)` reached within the depth.
     Witnessed,
     /// Neither.
@@ -248,15 +248,14 @@ pub enum BinStatus {
 pub struct ProofBin {
     pub name: String,
     pub status: BinStatus,
-    /// Was it declared unreachable by the model.
-    pub declared_unreachable: bool,
+    /// The model's reason, for a bin it declares unreachable.
     #[serde(default)]
-    pub set: String,
+    pub declared_unreachable: Option<String>,
     #[serde(default)]
     pub property: String,
 }
 
-/// `coverage-proofs.json`: each bin's reachability decided by the formal kit.
+/// `coverage-proofs.json` (`make coverage-proofs`' coverage.json): each bin's reachability.
 #[derive(Clone, Debug, Deserialize)]
 pub struct Proofs {
     pub bins: Vec<ProofBin>,
@@ -290,12 +289,14 @@ impl Criterion for UnreachableProven {
         let proven = p
             .bins
             .iter()
-            .filter(|b| b.declared_unreachable && b.status == BinStatus::ProvenUnreachable)
+            .filter(|b| {
+                b.declared_unreachable.is_some() && b.status == BinStatus::ProvenUnreachable
+            })
             .count() as u64;
         let wrong: Vec<&str> = p
             .bins
             .iter()
-            .filter(|b| b.declared_unreachable && b.status == BinStatus::Refuted)
+            .filter(|b| b.status == BinStatus::WrongDeclaration)
             .map(|b| b.name.as_str())
             .collect();
         let mut r = share_row(
