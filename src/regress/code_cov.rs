@@ -584,6 +584,18 @@ pub fn compact(dir: &Path, all: bool) -> Result<(), RegressError> {
     Ok(())
 }
 
+/// Remove `dir/code/` (a new run without code coverage).
+pub fn remove(dir: &Path) -> Result<(), RegressError> {
+    let cd = code_dir(dir);
+    match std::fs::symlink_metadata(&cd) {
+        Ok(m) if m.is_dir() => std::fs::remove_dir_all(&cd).map_err(|e| RegressError::File {
+            path: cd,
+            reason: format!("cannot remove the code coverage of an earlier run: {e}"),
+        }),
+        _ => Ok(()),
+    }
+}
+
 /// Start the code coverage of a new run in `dir`: the parts of an earlier run removed, the
 /// waivers written.
 pub fn start(dir: &Path, waivers: &Waivers) -> Result<(), RegressError> {
@@ -1399,13 +1411,38 @@ pub fn render_html(r: &CodeReport) -> String {
             missed_t
         );
         // the bits that did not toggle
-        let untoggled: Vec<String> = pts
+        // by instance and signal, the bits as ranges: `cnt[15:12] (pmu50.u_cnt)`
+        let mut by_signal: BTreeMap<(&str, &str), Vec<Option<u32>>> = BTreeMap::new();
+        for (p, _, _) in pts
             .iter()
             .filter(|(p, n, by)| p.kind == Kind::Toggle && by.is_none() && !p.covered(*n))
-            .map(|(p, _, _)| format!("{} ({})", p.comment, p.hier))
-            .collect();
+        {
+            let (sig, bit) = p.signal();
+            by_signal.entry((&p.hier, sig)).or_default().push(bit);
+        }
+        let bits: usize = by_signal.values().map(Vec::len).sum();
+        let mut untoggled: Vec<String> = Vec::new();
+        for ((hier, sig), mut v) in by_signal {
+            v.sort_unstable_by(|a, b| b.cmp(a));
+            let mut i = 0;
+            while i < v.len() {
+                let mut j = i;
+                while let (Some(Some(a)), Some(Some(b))) = (v.get(j), v.get(j + 1)) {
+                    if *a != b + 1 {
+                        break;
+                    }
+                    j += 1;
+                }
+                untoggled.push(match (v[i], v[j]) {
+                    (Some(hi), Some(lo)) if hi != lo => format!("{sig}[{hi}:{lo}] ({hier})"),
+                    (Some(b), _) => format!("{sig}[{b}] ({hier})"),
+                    (None, _) => format!("{sig} ({hier})"),
+                });
+                i = j + 1;
+            }
+        }
         if !untoggled.is_empty() {
-            let _ = write!(h, "<p>Bits not toggled ({}): ", untoggled.len());
+            let _ = write!(h, "<p>Bits not toggled ({bits}): ");
             let shown: Vec<String> = untoggled
                 .iter()
                 .take(MISSES_SHOWN)

@@ -137,6 +137,9 @@ pub fn run(
         b.commit()?;
         if o.spec.code_coverage {
             code_cov::start(dir, &o.waivers.clone().unwrap_or_default())?;
+        } else {
+            // no code coverage of an earlier run into this folder stays to be taken for this one's
+            code_cov::remove(dir)?;
         }
     }
     // A last line torn by an interruption is cut before anything is appended after it.
