@@ -192,6 +192,29 @@ pub enum Kind {
     Other,
 }
 
+/// A name as the RTL spells it: Verilator writes a character other than a letter, a digit or
+/// `_` of a name as `__0` and two hex digits (a netlist's `\\drive_interval.si` is
+/// `drive_interval__02esi`).
+pub fn demangle(name: &str) -> String {
+    let b = name.as_bytes();
+    let mut out = String::with_capacity(name.len());
+    let mut i = 0;
+    while i < b.len() {
+        if b[i..].starts_with(b"__0") && i + 5 <= b.len() {
+            if let Ok(c) = u8::from_str_radix(&name[i + 3..i + 5], 16) {
+                if c.is_ascii_graphic() {
+                    out.push(char::from(c));
+                    i += 5;
+                    continue;
+                }
+            }
+        }
+        out.push(char::from(b[i]));
+        i += 1;
+    }
+    out
+}
+
 /// A point's key, read.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Point {
@@ -823,7 +846,7 @@ impl Waiver {
                     return false;
                 }
                 let (sig, bit) = p.signal();
-                sig == name
+                (sig == name || demangle(sig) == *name)
                     && match (bits, bit) {
                         (None, _) => true,
                         (Some((lo, hi)), Some(b)) => (*lo..=*hi).contains(&b),
@@ -1068,9 +1091,10 @@ impl Waivers {
                         }
                     }
                     Target::Signal { name, .. } => {
+                        // a name, or a netlist's escaped one (`\\drive_interval.si `)
                         let word = |t: &str| {
-                            t.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '$'))
-                                .any(|w| w == name)
+                            t.split(|c: char| !(c.is_ascii_alphanumeric() || "_$.\\".contains(c)))
+                                .any(|w| w == name || w.trim_start_matches(['\\', '.']) == name)
                         };
                         if !word(&source) {
                             return Err(field_err(
@@ -1412,13 +1436,16 @@ pub fn render_html(r: &CodeReport) -> String {
         );
         // the bits that did not toggle
         // by instance and signal, the bits as ranges: `cnt[15:12] (pmu50.u_cnt)`
-        let mut by_signal: BTreeMap<(&str, &str), Vec<Option<u32>>> = BTreeMap::new();
+        let mut by_signal: BTreeMap<(String, String), Vec<Option<u32>>> = BTreeMap::new();
         for (p, _, _) in pts
             .iter()
             .filter(|(p, n, by)| p.kind == Kind::Toggle && by.is_none() && !p.covered(*n))
         {
             let (sig, bit) = p.signal();
-            by_signal.entry((&p.hier, sig)).or_default().push(bit);
+            by_signal
+                .entry((p.hier.clone(), demangle(sig)))
+                .or_default()
+                .push(bit);
         }
         let bits: usize = by_signal.values().map(Vec::len).sum();
         let mut untoggled: Vec<String> = Vec::new();
@@ -1556,6 +1583,16 @@ mod tests {
         );
         assert_eq!(strip_param_suffix("v_toggle/pmu50"), "v_toggle/pmu50");
         assert_eq!(strip_param_suffix("v_toggle/my__mod"), "v_toggle/my__mod");
+    }
+
+    #[test]
+    fn netlist_names_read_as_written() {
+        assert_eq!(
+            demangle("drive_interval__02esi_max"),
+            "drive_interval.si_max"
+        );
+        assert_eq!(demangle("plain_name"), "plain_name");
+        assert_eq!(demangle("a__0"), "a__0");
     }
 
     #[test]
