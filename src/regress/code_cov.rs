@@ -1565,7 +1565,7 @@ fn source_html(r: &CodeReport, file: &str, pts: &[(Point, u64, Option<usize>)]) 
 }
 
 /// The style of the section (added to report.html's).
-pub const CSS: &str = "pre.src{font-size:12px;line-height:1.25;overflow-x:auto;background:#fafafa;padding:4px}pre.src span{display:block}pre.src .miss{background:#f4a6a6}pre.src .hit{background:#e5f5e0}pre.src .waived{background:#e0e0e0;color:#555}pre.src .gap{color:#888}.cc-ok{background:#e5f5e0}.cc-bad{background:#fbe3a0}";
+pub const CSS: &str = "pre.src{font-size:12px;line-height:1.25;overflow-x:auto;background:#fafafa;padding:4px}pre.src span{display:inline-block;width:100%}pre.src .miss{background:#f4a6a6}pre.src .hit{background:#e5f5e0}pre.src .waived{background:#e0e0e0;color:#555}pre.src .gap{color:#888}.cc-ok{background:#e5f5e0}.cc-bad{background:#fbe3a0}";
 
 #[cfg(test)]
 mod tests {
