@@ -19,6 +19,10 @@ pub const FILES: &[(&str, &str)] = &[
     ("mutants.txt", include_str!("../hdl/mutants.txt")),
     ("pmu50.core", include_str!("../hdl/pmu50.core")),
     ("pmu50.f", include_str!("../hdl/pmu50.f")),
+    (
+        "coverage-waivers.toml",
+        include_str!("../hdl/coverage-waivers.toml"),
+    ),
     ("pmu50.map.toml", include_str!("../hdl/pmu50.map.toml")),
     ("pmu50.v", include_str!("../hdl/pmu50.v")),
     (

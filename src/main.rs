@@ -279,8 +279,16 @@ enum Cmd {
         shard_count: Option<u64>,
         /// Continue the regression in DIR: run only the seeds its results.jsonl does not have.
         /// Its seed range, DUT and options are those of DIR/regress.json.
-        #[arg(long, value_name = "DIR", conflicts_with_all = ["start_seed", "iterations", "shard", "shard_count", "directed", "check_spec", "dut", "rtl", "map", "repro", "sync_depth", "cnt_width", "out"])]
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["start_seed", "iterations", "shard", "shard_count", "directed", "check_spec", "dut", "rtl", "map", "repro", "sync_depth", "cnt_width", "out", "code_coverage", "waivers"])]
         resume: Option<PathBuf>,
+        /// Measure the RTL's code coverage (Verilator line and toggle coverage; --dut verilator):
+        /// code/coverage.dat, code/lcov.info, code/summary.json and a section of report.html.
+        #[arg(long, conflicts_with = "repro")]
+        code_coverage: bool,
+        /// The waivers of the code coverage (TOML, docs/verification.md). Default: the twin's
+        /// hdl/coverage-waivers.toml for the twin, none for another RTL.
+        #[arg(long, value_name = "FILE.toml", requires = "code_coverage")]
+        waivers: Option<PathBuf>,
         /// Output folder [default: regress_out].
         #[arg(long)]
         out: Option<PathBuf>,
@@ -730,6 +738,8 @@ fn main() -> ExitCode {
             shard,
             shard_count,
             resume,
+            code_coverage,
+            waivers,
             out,
             timeout,
             no_triage,
@@ -752,6 +762,8 @@ fn main() -> ExitCode {
                 shard,
                 shard_count,
                 resume,
+                code_coverage,
+                waivers,
                 out,
                 timeout,
                 no_triage,
@@ -855,6 +867,9 @@ fn main() -> ExitCode {
                         out.display()
                     );
                     out!("{}", m.summary.text().trim_end());
+                    if let Some(code) = &m.summary.code {
+                        err!("{}", code.text().trim_end());
+                    }
                     u8::from(m.summary.failed() > 0 || !m.summary.missing.is_empty())
                 }
                 Err(e) => {
@@ -904,6 +919,8 @@ struct RegressArgs {
     shard: Option<String>,
     shard_count: Option<u64>,
     resume: Option<PathBuf>,
+    code_coverage: bool,
+    waivers: Option<PathBuf>,
     out: Option<PathBuf>,
     timeout: f64,
     no_triage: bool,
@@ -944,6 +961,36 @@ fn cmd_regress(a: RegressArgs) -> u8 {
     if a.rtl.is_some() && dut == DutKind::Model {
         return fail("--rtl needs an RTL simulator: add --dut verilator (or --dut icarus)".into());
     }
+    if a.code_coverage && dut != DutKind::Verilator {
+        return fail(format!("--code-coverage measures the RTL's code with Verilator's line and toggle coverage: use --dut verilator (not {dut_name})"));
+    }
+    // the waivers of the code coverage: --waivers, or the twin's own
+    let waivers = if a.code_coverage {
+        let list = a
+            .rtl
+            .clone()
+            .unwrap_or_else(|| pmu50::regress::dut::hdl_dir().join("pmu50.f"));
+        let file = match (&a.waivers, &a.rtl) {
+            (Some(w), _) => Some(w.clone()),
+            (None, None) => Some(pmu50::regress::dut::hdl_dir().join("coverage-waivers.toml")),
+            (None, Some(_)) => None,
+        };
+        match file {
+            None => Some(regress::code_cov::Waivers::default()),
+            Some(f) => {
+                let files = match regress::rtl::FileList::read(&list) {
+                    Ok(fl) => fl.files,
+                    Err(e) => return fail(e.to_string()),
+                };
+                match regress::code_cov::Waivers::read(&f, Some(&files)) {
+                    Ok(w) => Some(w),
+                    Err(e) => return fail(e.to_string()),
+                }
+            }
+        }
+    } else {
+        None
+    };
     let rtl = match &a.rtl {
         Some(r) => match regress::rtl::FileList::read(r) {
             Ok(fl) => Some(fl.list.display().to_string()),
@@ -985,6 +1032,7 @@ fn cmd_regress(a: RegressArgs) -> u8 {
             fixed: Default::default(),
             pins: a.pins,
             shard: None,
+            code_coverage: false,
         };
         let d = match regress::dut::prepare(&spec) {
             Ok(d) => d,
@@ -1069,6 +1117,7 @@ fn cmd_regress(a: RegressArgs) -> u8 {
                     fixed: Default::default(),
                     pins: a.pins,
                     shard,
+                    code_coverage: a.code_coverage,
                 },
                 false,
             )
@@ -1103,14 +1152,23 @@ fn cmd_regress(a: RegressArgs) -> u8 {
         progress: std::io::stderr()
             .is_terminal()
             .then_some(progress_line as fn(&str)),
+        waivers,
     };
     let stop = AtomicBool::new(false);
     match regress::run(&o, resume, &stop, d.as_ref()) {
         Ok(s) => {
             out!("{}", s.text().trim_end());
+            if let Some(code) = &s.code {
+                err!("{}", code.text().trim_end());
+            }
             out!(
-                "wrote {}/results.jsonl, coverage.json, report.html ({:.1} s, {} jobs)",
+                "wrote {}/results.jsonl, coverage.json, report.html{} ({:.1} s, {} jobs)",
                 out_dir.display(),
+                if s.code.is_some() {
+                    ", code/coverage.dat, code/lcov.info, code/summary.json"
+                } else {
+                    ""
+                },
                 t0.elapsed().as_secs_f64(),
                 jobs
             );

@@ -172,6 +172,11 @@ impl RunSpec {
         if self.map.is_some() && self.dut != super::DutKind::Verilator {
             return Err("field `map`: a map is compared by `dut` verilator".into());
         }
+        if self.code_coverage && self.dut != super::DutKind::Verilator {
+            return Err(
+                "field `code_coverage`: code coverage is measured by `dut` verilator".into(),
+            );
+        }
         for (n, v) in &self.fixed.values {
             let mut p = pmu50_core::Params::default();
             if let Err(e) = p.set_hdl_parameter(n, *v) {

@@ -18,7 +18,9 @@
 //! Protocol (pipes, little-endian): request = magic `PMU6`, the kind ([`Request`], one byte),
 //! path length (u32) and the library's path, the 12 HDL parameters (u64 each, in the order of
 //! [`Params::hdl_parameters`]), the tick count (u64) and one packed input word (u32, [`pack`])
-//! per tick (a trace request then the first and last edge, u64 each). Reply = one line of JSON,
+//! per tick (a trace request then the first and last edge, u64 each; a lockstep with code
+//! coverage then the length (u32) and the path of the file the seed's counts go to, written
+//! before the reply). Reply = one line of JSON,
 //! a [`Reply`]. The worker writes its replies on its own
 //! copy of stdout and sends the RTL's stdout (`$display`) to stderr, a log file kept to its last
 //! [`LOG_KEEP`] bytes: nothing the RTL prints can be taken for a verdict.
@@ -40,7 +42,7 @@ use std::time::{Duration, Instant};
 
 const MAGIC: &[u8; 4] = b"PMU6";
 /// Interface version of hdl/tb/lockstep/dut_lib.cpp this worker speaks.
-const DUT_ABI: u32 = 2;
+const DUT_ABI: u32 = 3;
 
 /// One tick's inputs as a word: `ig`, `vs2_ok`, `cmp_s`, `cmp_c`, `bus_we` in bits 0-4,
 /// `bus_addr` in bits 8-15, `bus_wdata` in bits 16-31.
@@ -228,6 +230,7 @@ type DutFree = unsafe extern "C" fn(*mut c_void);
 type DutState = unsafe extern "C" fn(*mut c_void, *mut u64, *mut u64);
 type DutTick = unsafe extern "C" fn(*mut c_void, *const u64, *mut u64, *mut u64, *mut u64);
 type DutStep = unsafe extern "C" fn(*mut c_void, *const u64, u64) -> u64;
+type DutCovWrite = unsafe extern "C" fn(*mut c_void, *const c_char) -> i32;
 
 /// A loaded RTL library and where each of its values is in the model's signal table.
 struct DutLib {
@@ -236,6 +239,9 @@ struct DutLib {
     state: DutState,
     tick: DutTick,
     step: DutStep,
+    /// Whether the library counts code coverage, and its writer.
+    has_coverage: bool,
+    cov_write: DutCovWrite,
     /// The Verilog parameters the library was built with (name, value).
     params: Vec<(String, u64)>,
     /// For each mapped register of the library, its index in [`signals::REGISTERS`].
@@ -345,6 +351,12 @@ impl DutLib {
                 state: std::mem::transmute::<*const c_void, DutState>(sym("pmu50_dut_state")?),
                 tick: std::mem::transmute::<*const c_void, DutTick>(sym("pmu50_dut_tick")?),
                 step: std::mem::transmute::<*const c_void, DutStep>(sym("pmu50_dut_step")?),
+                has_coverage: std::mem::transmute::<*const c_void, unsafe extern "C" fn() -> u32>(
+                    sym("pmu50_dut_has_coverage")?,
+                )() == 1,
+                cov_write: std::mem::transmute::<*const c_void, DutCovWrite>(sym(
+                    "pmu50_dut_cov_write",
+                )?),
                 params,
                 regs,
                 internals,
@@ -504,6 +516,34 @@ pub fn replay_alone(lib: &Path, inputs: &[u32]) -> Result<u64, String> {
 /// is compared at every tick, as whole arrays; a group that differs is compared value by value,
 /// which names the divergent signals.
 fn lockstep(lib: &DutLib, params: Params, inputs: &[u32]) -> Reply {
+    lockstep_on(lib, &Handle::new(lib), params, inputs)
+}
+
+/// [`lockstep`], then the code coverage of the RTL's run written to `out` (a Verilator
+/// coverage.dat; the library must be a build with code coverage).
+fn lockstep_coverage(lib: &DutLib, params: Params, inputs: &[u32], out: &Path) -> Reply {
+    if !lib.has_coverage {
+        return Reply::Error {
+            reason: "the library was built without code coverage (rebuild it)".into(),
+        };
+    }
+    let Ok(path) = std::ffi::CString::new(out.as_os_str().as_encoded_bytes()) else {
+        return Reply::Error {
+            reason: format!("{}: a path with a NUL byte", out.display()),
+        };
+    };
+    let dut = Handle::new(lib);
+    let r = lockstep_on(lib, &dut, params, inputs);
+    // SAFETY: a handle of this library and a NUL-terminated path.
+    if unsafe { (lib.cov_write)(dut.1, path.as_ptr()) } != 0 {
+        return Reply::Error {
+            reason: "the library was built without code coverage (rebuild it)".into(),
+        };
+    }
+    r
+}
+
+fn lockstep_on(lib: &DutLib, dut: &Handle<'_>, params: Params, inputs: &[u32]) -> Reply {
     if let Err(reason) = lib.check_params(&params) {
         return Reply::Error { reason };
     }
@@ -515,7 +555,6 @@ fn lockstep(lib: &DutLib, params: Params, inputs: &[u32]) -> Reply {
             }
         }
     };
-    let dut = Handle::new(lib);
     let (nr, nx) = (lib.regs.len(), lib.internals.len());
     let mut out = [0u64; signals::N_OUTPUTS];
     let mut regs = [0u64; signals::N_REGISTERS];
@@ -710,11 +749,20 @@ pub enum Request {
     /// Step the RTL alone and return its outputs and mapped registers after each edge of a
     /// window (the picture of a failure).
     Trace = 2,
+    /// A lockstep, then the RTL's code coverage of the run written to a file.
+    LockstepCoverage = 3,
 }
 
 /// A request as the worker read it: its kind, the library, the 12 HDL parameters, the inputs
 /// and the window of a trace.
-type Received = (Request, PathBuf, [u64; 12], Vec<u32>, (u64, u64));
+type Received = (
+    Request,
+    PathBuf,
+    [u64; 12],
+    Vec<u32>,
+    (u64, u64),
+    Option<PathBuf>,
+);
 
 /// `pmu50 dut-worker`: serve requests on stdin until it closes. Exit 0 at the end of the input,
 /// 2 on a broken request.
@@ -746,6 +794,7 @@ pub fn worker_main() -> i32 {
                 0 => Request::Lockstep,
                 1 => Request::Probe,
                 2 => Request::Trace,
+                3 => Request::LockstepCoverage,
                 k => return Err(std::io::Error::other(format!("unknown request kind {k}"))),
             };
             let len = u32::from_le_bytes(read_exact(&mut input, 4)?.try_into().unwrap_or([0; 4]))
@@ -775,9 +824,22 @@ pub fn worker_main() -> i32 {
             } else {
                 (0, 0)
             };
-            Ok((kind, path, hdl, inputs, window))
+            let cov = if kind == Request::LockstepCoverage {
+                let len =
+                    u32::from_le_bytes(read_exact(&mut input, 4)?.try_into().unwrap_or([0; 4]))
+                        as usize;
+                if len > 1 << 16 {
+                    return Err(std::io::Error::other("coverage path longer than 64 KiB"));
+                }
+                Some(PathBuf::from(std::ffi::OsString::from_vec(read_exact(
+                    &mut input, len,
+                )?)))
+            } else {
+                None
+            };
+            Ok((kind, path, hdl, inputs, window, cov))
         })();
-        let Ok((kind, path, hdl, inputs, (from, to))) = request else {
+        let Ok((kind, path, hdl, inputs, (from, to), cov)) = request else {
             return 2;
         };
         let answer = match (
@@ -792,6 +854,9 @@ pub fn worker_main() -> i32 {
                 trace(lib, &inputs, from, to.min(from.saturating_add(100_000)))
             }
             (Ok(lib), Ok(p), Request::Lockstep) => lockstep(lib, p, &inputs),
+            (Ok(lib), Ok(p), Request::LockstepCoverage) => {
+                lockstep_coverage(lib, p, &inputs, cov.as_deref().unwrap_or(Path::new("")))
+            }
             (Err(e), _, _) => Reply::Error { reason: e.clone() },
             (_, Err(e), _) => Reply::Error { reason: e },
         };
@@ -1023,6 +1088,15 @@ impl Worker {
         self.send_with(kind, lib, params, inputs, &[]);
     }
 
+    /// A lockstep whose code coverage the worker writes to `out` before its reply.
+    pub fn send_coverage(&mut self, lib: &Path, params: &Params, inputs: &[u32], out: &Path) {
+        let p = out.as_os_str().as_encoded_bytes();
+        let mut t = Vec::with_capacity(4 + p.len());
+        t.extend_from_slice(&(p.len() as u32).to_le_bytes());
+        t.extend_from_slice(p);
+        self.send_bytes(Request::LockstepCoverage, lib, params, inputs, &[], &t);
+    }
+
     fn send_with(
         &mut self,
         kind: Request,
@@ -1030,6 +1104,18 @@ impl Worker {
         params: &Params,
         inputs: &[u32],
         trailer: &[u64],
+    ) {
+        self.send_bytes(kind, lib, params, inputs, trailer, &[]);
+    }
+
+    fn send_bytes(
+        &mut self,
+        kind: Request,
+        lib: &Path,
+        params: &Params,
+        inputs: &[u32],
+        trailer: &[u64],
+        bytes: &[u8],
     ) {
         let _ = std::fs::OpenOptions::new()
             .write(true)
@@ -1051,6 +1137,7 @@ impl Worker {
         for t in trailer {
             req.extend_from_slice(&t.to_le_bytes());
         }
+        req.extend_from_slice(bytes);
         self.sent = Instant::now();
         // The worker reads a whole request before it works on it, so this write ends unless it
         // died (EPIPE), which `receive` reports.

@@ -67,6 +67,11 @@ pub fn differences(a: &RunSpec, b: &RunSpec) -> Vec<String> {
         }
     };
     cmp("fixed", fixed(&a.fixed), fixed(&b.fixed));
+    cmp(
+        "code_coverage",
+        a.code_coverage.to_string(),
+        b.code_coverage.to_string(),
+    );
     let pin = |p: Option<u8>| p.map_or_else(|| "(drawn per seed)".to_string(), |v| v.to_string());
     cmp(
         "pins.sync_depth",
@@ -225,6 +230,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path, force: bool) -> Result<Merged, Regr
             fixed: Default::default(),
             pins: super::gen::Pins::default(),
             shard: None,
+            code_coverage: false,
         };
         let mut sum = Summary::build(spec, &[])?;
         sum.coverage = cov;
@@ -241,9 +247,25 @@ pub fn merge(inputs: &[PathBuf], out: &Path, force: bool) -> Result<Merged, Regr
         }
         sum
     };
+    if let Some(code) = &summary.code {
+        if code.summary.seeds_unaccounted > 0 {
+            return Err(RegressError::Usage(format!("{} seed(s) of the input folders have a result but no code coverage counted (a folder interrupted and not resumed): run pmu50 regress --resume on each such input, then merge", code.summary.seeds_unaccounted)));
+        }
+    }
     crate::atomic_file::create_dir(out)?;
     let folders: Vec<&Path> = specs.iter().map(|(p, _)| p.as_path()).collect();
     copy_repros(&summary, &folders, out)?;
+    if let Some(code) = &summary.code {
+        // the merged folder's code coverage as one part of all its counted seeds, and the
+        // waivers of its inputs: it merges and resumes as a folder of one run does
+        let seeds: Vec<u64> = summary.store.entries.iter().map(|e| e.seed).collect();
+        let waivers = super::code_cov::folder_waivers(
+            &folders.iter().map(|p| p.to_path_buf()).collect::<Vec<_>>(),
+        )?
+        .unwrap_or_default();
+        super::code_cov::start(out, &waivers)?;
+        super::code_cov::write_part(out, &seeds, &code.total)?;
+    }
     summary.write(out, None)?;
     Ok(Merged {
         summary,

@@ -14,6 +14,7 @@
 //! `failures/<signature>/` (shrunk repro, command, waveform).
 
 pub mod check;
+pub mod code_cov;
 pub mod dut;
 pub mod folder;
 pub mod gen;
@@ -59,6 +60,9 @@ pub struct Options {
     pub triage: bool,
     /// Called with a line of progress after each batch (the CLI prints it on a terminal).
     pub progress: Option<fn(&str)>,
+    /// The waivers of the code coverage (`spec.code_coverage`) of a new run; a resumed run
+    /// keeps those of its folder.
+    pub waivers: Option<code_cov::Waivers>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -103,6 +107,10 @@ pub fn run(
     crate::atomic_file::create_dir(dir)?;
     let results_path = dir.join("results.jsonl");
     let range = o.spec.seeds();
+    if resume && o.spec.code_coverage {
+        // the code coverage of exactly the seeds with a result
+        code_cov::reconcile(dir, &range)?;
+    }
     let mut total = vec![0u64; layout().bins.len()];
     let (done, complete_len) = if resume {
         let s = folder::scan(&results_path, 0, &range, &mut total, |_, _| {})?;
@@ -128,6 +136,12 @@ pub fn run(
         )?);
         b.add(crate::atomic_file::write_atomic(&results_path, b"")?);
         b.commit()?;
+        if o.spec.code_coverage {
+            code_cov::start(dir, &o.waivers.clone().unwrap_or_default())?;
+        } else {
+            // no code coverage of an earlier run into this folder stays to be taken for this one's
+            code_cov::remove(dir)?;
+        }
     }
     // A last line torn by an interruption is cut before anything is appended after it.
     let mut appender = folder::open_regular(&results_path, true)?
@@ -144,6 +158,19 @@ pub fn run(
         .count() as u64;
     let mut write =
         |mut out: Vec<(SeedResult, Vec<u64>)>, total: &mut Vec<u64>| -> Result<(), RegressError> {
+            if o.spec.code_coverage {
+                // the batch's code coverage first: a part whose results an interruption tore
+                // is found by --resume
+                let mut part = code_cov::Total::default();
+                for (r, _) in &out {
+                    if let Some(c) = &r.code {
+                        part.add_seed(c);
+                    }
+                }
+                let seeds: Vec<u64> = out.iter().map(|(r, _)| r.seed).collect();
+                code_cov::write_part(dir, &seeds, &part)?;
+            }
+            let batch_seeds = out.len();
             let mut text = String::new();
             for (r, hits) in &mut out {
                 // A failure triage will shrink: the command that opens its repro's waves.
@@ -166,6 +193,9 @@ pub fn run(
                 .write_all(text.as_bytes())
                 .and_then(|_| appender.flush())
                 .map_err(|e| file_err(&results_path, e))?;
+            if o.spec.code_coverage && batch_seeds > 0 {
+                code_cov::compact(dir, false)?;
+            }
             n_done += out.len() as u64;
             fails += out
                 .iter()
@@ -247,6 +277,9 @@ pub fn run(
     }
     drop(appender);
     drop(done);
+    if o.spec.code_coverage {
+        code_cov::compact(dir, true)?;
+    }
     let summary = Summary::build(o.spec.clone(), &[Source::of(dir, &o.spec)])?;
     if o.triage && !stop.load(Ordering::Relaxed) {
         triage::write_repros(&summary, dir, d, o.timeout)?;

@@ -317,6 +317,11 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
         h.push_str("</table>\n");
     }
 
+    // Code coverage of the RTL (src/regress/code_cov.rs).
+    if let Some(code) = &s.code {
+        h.push_str(&super::code_cov::render_html(code));
+    }
+
     // Closure curve.
     let curve = s.curve.clone();
     if !curve.is_empty() {

@@ -47,7 +47,10 @@ impl<'a> Pending<'a> {
     /// The seed's result, with the verdict of the DUT (sent or not yet).
     pub(crate) fn finish(self, d: &'a dyn dut::Dut, timeout: Duration) -> (SeedResult, Vec<u64>) {
         let (seed, start) = (self.seed, self.start);
-        seed_result(seed, start, self.verdict(d, timeout))
+        let name = self.sc.name.clone();
+        let (mut r, hits) = seed_result(seed, start, self.verdict(d, timeout));
+        r.code = d.take_code_coverage(&name);
+        (r, hits)
     }
 
     /// The seed's result when its recording could not be handed to the DUT: `error`.
@@ -104,6 +107,7 @@ pub(crate) fn seed_result(seed: u64, start: Instant, e: Evaluated) -> (SeedResul
         failure,
         place: Place::default(),
         cov: sparse(&hits),
+        code: None,
     };
     (r, hits)
 }
@@ -217,7 +221,11 @@ pub fn evaluate(
                 readouts_checked,
                 hits,
             };
-            Ok(p.verdict(d, timeout))
+            let name = p.sc.name.clone();
+            let e = p.verdict(d, timeout);
+            // a shrink try's code coverage is not a seed's
+            let _ = d.take_code_coverage(&name);
+            Ok(e)
         }
     }
 }

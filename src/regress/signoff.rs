@@ -370,7 +370,10 @@ pub struct CodeSummary {
     pub line: CodeFigure,
     pub toggle: CodeFigure,
     #[serde(default)]
-    pub waived: u64,
+    pub waivers: Vec<serde_json::Value>,
+    /// Seeds with a result but no counted coverage (must be 0).
+    #[serde(default)]
+    pub seeds_unaccounted: u64,
 }
 
 impl CodeSummary {
@@ -402,13 +405,25 @@ impl Criterion for Code {
             ));
         };
         let fig = if self.toggle { &c.toggle } else { &c.line };
-        Ok(share_row(
+        let mut r = share_row(
             name,
             fig.hit,
             fig.total,
             min,
-            format!("{}: after {} waivers", CodeSummary::FILE, c.waived),
-        ))
+            format!(
+                "{}: after {} waivers (code/waivers.toml)",
+                CodeSummary::FILE,
+                c.waivers.len()
+            ),
+        );
+        if c.seeds_unaccounted > 0 {
+            r.met = false;
+            r.detail += &format!(
+                "; {} seeds have a result but no code coverage",
+                c.seeds_unaccounted
+            );
+        }
+        Ok(r)
     }
 }
 

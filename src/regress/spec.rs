@@ -46,6 +46,9 @@ pub struct RunSpec {
     /// This folder's part of the range (absent: the whole range).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shard: Option<Shard>,
+    /// `--code-coverage`: the RTL's line and toggle coverage is measured (`code/`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub code_coverage: bool,
 }
 
 impl RunSpec {
@@ -147,6 +150,10 @@ pub struct SeedResult {
     pub place: Place,
     /// The seed's coverage, sparse: `bin:hits,bin:hits,...` (bin = index in the model).
     pub cov: String,
+    /// The code coverage of the seed's RTL run (`--code-coverage`), on its way to the folder's
+    /// `code/parts/` (never in results.jsonl).
+    #[serde(skip)]
+    pub code: Option<super::code_cov::SeedCode>,
 }
 
 impl SeedResult {

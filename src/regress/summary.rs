@@ -61,6 +61,8 @@ pub struct Summary {
     pub missing: Vec<std::ops::Range<u64>>,
     /// The closure curve: (seeds, % of the bins scenario stimuli reach), where it changes.
     pub curve: Vec<(u64, f64)>,
+    /// The RTL's code coverage (`spec.code_coverage`), from the folders' `code/parts/`.
+    pub code: Option<code_cov::CodeReport>,
 }
 
 impl Summary {
@@ -138,7 +140,35 @@ impl Summary {
             curve.push(&scratch);
         }
         drop(reader);
+        let code = if spec.code_coverage {
+            let dirs: Vec<(PathBuf, std::collections::BTreeSet<u64>)> = sources
+                .iter()
+                .enumerate()
+                .map(|(k, s)| {
+                    (
+                        s.results.parent().unwrap_or(Path::new(".")).to_path_buf(),
+                        store
+                            .entries
+                            .iter()
+                            .filter(|e| usize::from(e.file) == k)
+                            .map(|e| e.seed)
+                            .collect(),
+                    )
+                })
+                .collect();
+            let collected = code_cov::collect(&dirs)?;
+            let folders: Vec<PathBuf> = dirs.iter().map(|(d, _)| d.clone()).collect();
+            let waivers = code_cov::folder_waivers(&folders)?.unwrap_or_default();
+            let base = match &spec.rtl {
+                Some(r) => Path::new(r).parent().map(Path::to_path_buf),
+                None => Some(dut::hdl_dir()),
+            };
+            Some(code_cov::CodeReport::build(&collected, &waivers, base))
+        } else {
+            None
+        };
         Ok(Summary {
+            code,
             coverage: CoverageFile::from_coverage(&hits, runs),
             spec,
             store,
@@ -235,6 +265,9 @@ impl Summary {
                     .into_inner()
                     .map_err(|e| werr(&path)(e.into_error()))?,
             );
+        }
+        if let Some(code) = &self.code {
+            code.write(dir, &mut batch)?;
         }
         let repros = self.repro_folders(dir)?;
         // The sign-off table at the top, with what the folder holds so far (pmu50 signoff

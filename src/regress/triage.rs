@@ -292,6 +292,7 @@ mod tests {
             fixed: Default::default(),
             pins: Default::default(),
             shard: None,
+            code_coverage: false,
         };
         let repro = Path::new("out dir/failures/dut-x-y/repro.toml");
         let cmd = command(&spec, repro);

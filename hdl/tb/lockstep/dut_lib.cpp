@@ -15,12 +15,19 @@
 //   DUT_PARAMS(X)     X("NAME", value) per Verilog parameter the build set
 // With no map, the register and internal lists are empty: nothing of the inside is read.
 //
+// A build with code coverage (Verilator's `--coverage-line --coverage-toggle`, VM_COVERAGE=1)
+// counts per DUT handle (each has its own VerilatedContext): pmu50_dut_cov_write writes the
+// counts of one handle, from its reset on, as a Verilator coverage.dat.
+//
 // A tick is two evaluations, as the Verilog bench's clock: the inputs of cycle k with clk low
 // (the mapped internals of the cycle settle), then the rising edge k+1 (outputs, registers).
 #include "Vpmu50.h"
 #include "Vpmu50___024root.h"
 #include "dut_map.h"
 #include "verilated.h"
+#if VM_COVERAGE
+#include "verilated_cov.h"
+#endif
 
 #include <cstdint>
 #include <memory>
@@ -31,7 +38,7 @@
 namespace {
 
 // Interface version: bump when a function or an array order changes.
-constexpr uint32_t kAbi = 2;
+constexpr uint32_t kAbi = 3;
 
 enum Group { kInputGroup = 0, kOutputGroup = 1, kRegisterGroup = 2, kInternalGroup = 3, kParamGroup = 4 };
 
@@ -175,4 +182,20 @@ PMU50_DUT_API void pmu50_dut_tick(void *d, const uint64_t *in, uint64_t *interna
     t.eval();
     outputs(t, out);
     registers(t, regs);
+}
+
+/// Whether this build counts code coverage (1) or not (0).
+PMU50_DUT_API uint32_t pmu50_dut_has_coverage() { return VM_COVERAGE ? 1 : 0; }
+
+/// Write the code coverage of this handle since its reset to `path` (a Verilator coverage.dat):
+/// 0 written, -1 not a coverage build.
+PMU50_DUT_API int pmu50_dut_cov_write(void *d, const char *path) {
+#if VM_COVERAGE
+    static_cast<Dut *>(d)->ctx.coveragep()->write(path);
+    return 0;
+#else
+    (void)d;
+    (void)path;
+    return -1;
+#endif
 }

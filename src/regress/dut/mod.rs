@@ -108,6 +108,12 @@ pub trait Dut: Send + Sync {
     fn notes(&self) -> Vec<String> {
         Vec::new()
     }
+    /// The code coverage of the RTL's last run of the scenario named `name` (`--code-coverage`),
+    /// taken once: the counts of a seed whose RTL run ended with a verdict (not a hang or a
+    /// crash).
+    fn take_code_coverage(&self, _name: &str) -> Option<super::code_cov::SeedCode> {
+        None
+    }
     /// The DUT's values after each edge `from..=to` of a recording (for the picture of a
     /// failure), where the backend can give them.
     fn trace(
@@ -156,6 +162,12 @@ pub fn prepare(spec: &RunSpec) -> Result<Box<dyn Dut>, DutError> {
     };
     match spec.dut {
         DutKind::Model => {
+            if spec.code_coverage {
+                return Err(DutError::Usage(
+                    "--code-coverage measures the code of an RTL under test: add --dut verilator"
+                        .into(),
+                ));
+            }
             if map.is_some() {
                 return Err(DutError::Usage(
                     "--map needs an RTL simulator: add --dut verilator".into(),
@@ -163,10 +175,26 @@ pub fn prepare(spec: &RunSpec) -> Result<Box<dyn Dut>, DutError> {
             }
             Ok(Box::new(model::ModelDut::default()))
         }
-        DutKind::Verilator => Ok(Box::new(verilator::VerilatorDut::prepare(
-            &list, map, spec.pins,
-        )?)),
+        DutKind::Verilator => {
+            if spec.code_coverage {
+                // the RTL's paths in point keys relative to the file list's folder
+                if let Some(dir) = list.canonicalize().ok().as_deref().and_then(Path::parent) {
+                    super::code_cov::set_base(dir);
+                }
+            }
+            Ok(Box::new(verilator::VerilatorDut::prepare_with(
+                &list,
+                map,
+                spec.pins,
+                spec.code_coverage,
+            )?))
+        }
         DutKind::Icarus => {
+            if spec.code_coverage {
+                return Err(DutError::Usage(
+                    "--code-coverage is measured by Verilator: use --dut verilator".into(),
+                ));
+            }
             if map.is_some() {
                 return Err(DutError::Usage("--map is compared by the Verilator lockstep: use --dut verilator (the Icarus replay compares the ports)".into()));
             }

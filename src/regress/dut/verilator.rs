@@ -16,6 +16,7 @@ use super::{
     divergence, dut_failure, fnv, timed_out, Dut, DutError, DutTrace, InFlight, Needs, Recorded,
 };
 use crate::regress::check::Failure;
+use crate::regress::code_cov;
 use crate::regress::gen::{knobs_off, Pins};
 use crate::regress::lockstep::{self, Answer, Reply, Request, Worker};
 use crate::regress::map::{verilator_member, Entry, RtlMap};
@@ -41,6 +42,20 @@ const CXXFLAGS: &[&str] = &[
     "-DVM_TRACE=0",
     "-DVM_COVERAGE=0",
 ];
+/// The same for a build with code coverage (`--code-coverage`): not optimised, as its
+/// counters make the generated code about 18 000 lines for the twin, which `-O2` compiles in a
+/// minute and `-O0` in a quarter of it, while a seed's RTL run stays well under a second; and a
+/// build is made for each set of the top's parameters a seed draws.
+const CXXFLAGS_COV: &[&str] = &[
+    "-std=c++17",
+    "-O0",
+    "-fPIC",
+    "-fvisibility=hidden",
+    "-DVM_TRACE=0",
+    "-DVM_COVERAGE=1",
+];
+/// Verilator's options of a build with code coverage.
+const VERILATOR_COV: &[&str] = &["--coverage-line", "--coverage-toggle"];
 
 /// The register bus addresses read back after reset to learn what an RTL fixes (docs/spec.md
 /// 2.8): CTRL, PW, PI, PS, SI_MAX, SI_MIN, T1, T2, CTH, SMP_ON, CFG.
@@ -69,6 +84,20 @@ pub struct VerilatorDut {
     workers: Mutex<Vec<Worker>>,
     scratch: tempfile::TempDir,
     notes: Vec<String>,
+    /// `--code-coverage`: the builds count line and toggle coverage, and each seed's counts are
+    /// read back ([`crate::regress::code_cov`]).
+    code: Option<CodeCollector>,
+}
+
+/// The code coverage of the seeds a DUT ran, each taken once by the seed's result.
+#[derive(Default)]
+struct CodeCollector {
+    /// By scenario name: the counts of its last RTL run.
+    got: Mutex<HashMap<String, code_cov::SeedCode>>,
+    /// The points of each library (all of them, hit or not), parsed once.
+    points: Mutex<HashMap<PathBuf, Arc<Vec<u32>>>>,
+    /// A number for each worker's coverage file.
+    next: std::sync::atomic::AtomicU64,
 }
 
 fn tool_err(e: impl std::fmt::Display) -> DutError {
@@ -97,6 +126,17 @@ impl VerilatorDut {
     /// learn what it fixes, check the map, and build the library of its default parameters:
     /// every way an RTL can be bad input fails here, before any seed.
     pub fn prepare(list: &Path, map: Option<RtlMap>, pins: Pins) -> Result<VerilatorDut, DutError> {
+        VerilatorDut::prepare_with(list, map, pins, false)
+    }
+
+    /// [`VerilatorDut::prepare`], with `code_coverage` the builds with Verilator's line and
+    /// toggle coverage (cached apart from the plain ones) and each seed's counts read back.
+    pub fn prepare_with(
+        list: &Path,
+        map: Option<RtlMap>,
+        pins: Pins,
+        code_coverage: bool,
+    ) -> Result<VerilatorDut, DutError> {
         let fl = FileList::read(list)?;
         let scratch = tempfile::Builder::new()
             .prefix("pmu50-dut.")
@@ -132,6 +172,7 @@ impl VerilatorDut {
             workers: Mutex::new(Vec::new()),
             scratch,
             notes: Vec::new(),
+            code: code_coverage.then(CodeCollector::default),
         };
         // What the RTL fixes: the parameters its top lacks, read back through the bus.
         let missing = design.missing_params();
@@ -346,13 +387,21 @@ impl VerilatorDut {
     /// A build for these `-G` values: from the cache, or built now (once for all jobs).
     fn build(&self, g: &[(String, u64)]) -> Result<PathBuf, String> {
         let gtext: String = g.iter().map(|(n, v)| format!("{n}={v};")).collect();
+        let cov = self.code.is_some();
         let key = format!(
-            "{:016x}",
+            "{}{:016x}",
+            if cov { "cov-" } else { "" },
             fnv(&[
                 gtext.as_bytes(),
                 self.map_key.as_bytes(),
                 DUT_LIB_CPP.as_bytes(),
-                CXXFLAGS.join(" ").as_bytes()
+                cxxflags(cov).join(" ").as_bytes(),
+                if cov {
+                    VERILATOR_COV.join(" ")
+                } else {
+                    String::new()
+                }
+                .as_bytes()
             ])
         );
         let slot = self
@@ -380,7 +429,8 @@ impl VerilatorDut {
         }
         let vroot = self.vroot()?;
         let _ = std::fs::remove_dir_all(&dir);
-        let (pch, runtime) = self.runtime()?;
+        let cov = self.code.is_some();
+        let (pch, runtime) = self.runtime(cov)?;
         let tmp = tempfile::Builder::new()
             .prefix(".build-")
             .tempdir_in(&self.root)
@@ -413,6 +463,9 @@ impl VerilatorDut {
             "-Mdir",
         ])
         .arg(&obj);
+        if cov {
+            cmd.args(VERILATOR_COV);
+        }
         for d in self.list.include_dirs() {
             cmd.arg(format!("-I{}", d.display()));
         }
@@ -437,7 +490,7 @@ impl VerilatorDut {
         std::fs::write(obj.join("unity.cpp"), unity).map_err(|e| e.to_string())?;
         let inc = vroot.join("include");
         let mut cc = Command::new("g++");
-        cc.args(CXXFLAGS)
+        cc.args(cxxflags(cov))
             .arg(format!("-I{}", inc.display()))
             .arg(format!("-I{}", inc.join("vltstd").display()))
             .arg(format!("-I{}", obj.display()))
@@ -497,84 +550,98 @@ impl VerilatorDut {
             .clone()
     }
 
-    fn runtime(&self) -> Result<(PathBuf, PathBuf), String> {
-        static DONE: OnceLock<Result<(PathBuf, PathBuf), String>> = OnceLock::new();
+    /// With `cov`, the runtime of the builds with code coverage (its own flags and
+    /// verilated_cov.cpp).
+    fn runtime(&self, cov: bool) -> Result<(PathBuf, PathBuf), String> {
+        static DONE: [OnceLock<Result<(PathBuf, PathBuf), String>>; 2] =
+            [OnceLock::new(), OnceLock::new()];
         let vroot = self.vroot()?;
-        DONE.get_or_init(|| {
-            let key = format!(
-                "{:016x}",
-                fnv(&[
-                    vroot.as_os_str().as_encoded_bytes(),
-                    CXXFLAGS.join(" ").as_bytes(),
-                    &std::fs::metadata(vroot.join("include/verilated.h"))
-                        .map(|m| m.len().to_le_bytes())
-                        .unwrap_or_default()
-                ])
-            );
-            let dir = super::cache_dir()
-                .join("verilator")
-                .join(format!("_runtime_{key}"));
-            let (pch, rt) = (dir.join("pre.h"), dir.join("libvlrt.a"));
-            if dir.join("pre.h.gch").is_file() && rt.is_file() {
-                return Ok((pch, rt));
-            }
-            std::fs::create_dir_all(super::cache_dir().join("verilator"))
+        let flags_now = cxxflags(cov);
+        DONE[usize::from(cov)]
+            .get_or_init(|| {
+                let key = format!(
+                    "{:016x}",
+                    fnv(&[
+                        vroot.as_os_str().as_encoded_bytes(),
+                        flags_now.join(" ").as_bytes(),
+                        &std::fs::metadata(vroot.join("include/verilated.h"))
+                            .map(|m| m.len().to_le_bytes())
+                            .unwrap_or_default()
+                    ])
+                );
+                let dir = super::cache_dir()
+                    .join("verilator")
+                    .join(format!("_runtime_{key}"));
+                let (pch, rt) = (dir.join("pre.h"), dir.join("libvlrt.a"));
+                if dir.join("pre.h.gch").is_file() && rt.is_file() {
+                    return Ok((pch, rt));
+                }
+                std::fs::create_dir_all(super::cache_dir().join("verilator"))
+                    .map_err(|e| e.to_string())?;
+                let tmp = tempfile::Builder::new()
+                    .prefix(".runtime-")
+                    .tempdir_in(super::cache_dir().join("verilator"))
+                    .map_err(|e| e.to_string())?;
+                let inc = vroot.join("include");
+                let flags = |c: &mut Command| {
+                    c.args(flags_now)
+                        .arg(format!("-I{}", inc.display()))
+                        .arg(format!("-I{}", inc.join("vltstd").display()));
+                };
+                std::fs::write(
+                    tmp.path().join("pre.h"),
+                    "#include \"verilated.h\"\n#include <cstdint>\n#include <memory>\n",
+                )
                 .map_err(|e| e.to_string())?;
-            let tmp = tempfile::Builder::new()
-                .prefix(".runtime-")
-                .tempdir_in(super::cache_dir().join("verilator"))
-                .map_err(|e| e.to_string())?;
-            let inc = vroot.join("include");
-            let flags = |c: &mut Command| {
-                c.args(CXXFLAGS)
-                    .arg(format!("-I{}", inc.display()))
-                    .arg(format!("-I{}", inc.join("vltstd").display()));
-            };
-            std::fs::write(
-                tmp.path().join("pre.h"),
-                "#include \"verilated.h\"\n#include <cstdint>\n#include <memory>\n",
-            )
-            .map_err(|e| e.to_string())?;
-            let mut c = Command::new("g++");
-            flags(&mut c);
-            c.args(["-x", "c++-header"])
-                .arg(tmp.path().join("pre.h"))
-                .arg("-o")
-                .arg(tmp.path().join("pre.h.gch"));
-            step(&mut c, "g++ (precompiled header)")?;
-            let mut objs = Vec::new();
-            for f in ["verilated.cpp", "verilated_threads.cpp"] {
-                let o = tmp.path().join(f.replace(".cpp", ".o"));
                 let mut c = Command::new("g++");
                 flags(&mut c);
-                c.arg("-c").arg(inc.join(f)).arg("-o").arg(&o);
-                step(&mut c, "g++ (the Verilator runtime)")?;
-                objs.push(o);
-            }
-            step(
-                Command::new("ar")
-                    .arg("rcs")
-                    .arg(tmp.path().join("libvlrt.a"))
-                    .args(&objs),
-                "ar",
-            )?;
-            for o in objs {
-                let _ = std::fs::remove_file(o);
-            }
-            let kept = tmp.keep();
-            if std::fs::rename(&kept, &dir).is_err() {
-                let _ = std::fs::remove_dir_all(&kept);
-            }
-            if dir.join("pre.h.gch").is_file() && rt.is_file() {
-                Ok((pch, rt))
-            } else {
-                Err(format!(
-                    "the Verilator runtime in {} is incomplete",
-                    dir.display()
-                ))
-            }
-        })
-        .clone()
+                c.args(["-x", "c++-header"])
+                    .arg(tmp.path().join("pre.h"))
+                    .arg("-o")
+                    .arg(tmp.path().join("pre.h.gch"));
+                step(&mut c, "g++ (precompiled header)")?;
+                let mut objs = Vec::new();
+                let sources: &[&str] = if cov {
+                    &[
+                        "verilated.cpp",
+                        "verilated_threads.cpp",
+                        "verilated_cov.cpp",
+                    ]
+                } else {
+                    &["verilated.cpp", "verilated_threads.cpp"]
+                };
+                for f in sources {
+                    let o = tmp.path().join(f.replace(".cpp", ".o"));
+                    let mut c = Command::new("g++");
+                    flags(&mut c);
+                    c.arg("-c").arg(inc.join(f)).arg("-o").arg(&o);
+                    step(&mut c, "g++ (the Verilator runtime)")?;
+                    objs.push(o);
+                }
+                step(
+                    Command::new("ar")
+                        .arg("rcs")
+                        .arg(tmp.path().join("libvlrt.a"))
+                        .args(&objs),
+                    "ar",
+                )?;
+                for o in objs {
+                    let _ = std::fs::remove_file(o);
+                }
+                let kept = tmp.keep();
+                if std::fs::rename(&kept, &dir).is_err() {
+                    let _ = std::fs::remove_dir_all(&kept);
+                }
+                if dir.join("pre.h.gch").is_file() && rt.is_file() {
+                    Ok((pch, rt))
+                } else {
+                    Err(format!(
+                        "the Verilator runtime in {} is incomplete",
+                        dir.display()
+                    ))
+                }
+            })
+            .clone()
     }
 
     /// dut_map.h of a build (hdl/tb/lockstep/dut_lib.cpp).
@@ -674,6 +741,15 @@ impl VerilatorDut {
     }
 }
 
+/// The compiler flags of a plain build or (`cov`) of one with code coverage.
+fn cxxflags(cov: bool) -> &'static [&'static str] {
+    if cov {
+        CXXFLAGS_COV
+    } else {
+        CXXFLAGS
+    }
+}
+
 /// The files a Verilator `--MMD` dependency file lists, less Verilator's own.
 fn verilator_deps(d: &Path, vroot: &Path) -> Vec<PathBuf> {
     let text = std::fs::read_to_string(d).unwrap_or_default();
@@ -700,6 +776,34 @@ fn verilator_deps(d: &Path, vroot: &Path) -> Vec<PathBuf> {
 struct Running<'a> {
     dut: &'a VerilatorDut,
     worker: Worker,
+    /// With code coverage: the library and the file the worker writes its counts to.
+    cov: Option<(PathBuf, PathBuf)>,
+}
+
+impl VerilatorDut {
+    /// Read the counts a worker wrote for scenario `sc` on library `lib` and keep them for the
+    /// seed's result ([`Dut::take_code_coverage`]).
+    fn collect(&self, sc: &Scenario, lib: &Path, file: &Path) -> Result<(), DutError> {
+        let Some(c) = &self.code else {
+            return Ok(());
+        };
+        let all = code_cov::read_counts(file).map_err(tool_err);
+        let _ = std::fs::remove_file(file);
+        let all = all?;
+        let points = c
+            .points
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .entry(lib.to_path_buf())
+            .or_insert_with(|| Arc::new(all.iter().map(|(p, _)| *p).collect()))
+            .clone();
+        let counts = all.into_iter().filter(|(_, n)| *n > 0).collect();
+        c.got
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(sc.name.clone(), code_cov::SeedCode { counts, points });
+        Ok(())
+    }
 }
 
 impl InFlight for Running<'_> {
@@ -708,13 +812,21 @@ impl InFlight for Running<'_> {
         sc: &Scenario,
         timeout: Duration,
     ) -> Result<Option<Failure>, DutError> {
-        let Running { dut, mut worker } = *self;
+        let Running {
+            dut,
+            mut worker,
+            cov,
+        } = *self;
         match worker.receive(timeout).map_err(tool_err)? {
             Answer::Reply(r) => {
                 dut.workers
                     .lock()
                     .unwrap_or_else(|e| e.into_inner())
                     .push(worker);
+                if let (Some((lib, file)), Reply::Pass { .. } | Reply::Diverged { .. }) = (&cov, &r)
+                {
+                    dut.collect(sc, lib, file)?;
+                }
                 match r {
                     Reply::Pass { .. } => Ok(None),
                     Reply::Diverged {
@@ -763,8 +875,32 @@ impl Dut for VerilatorDut {
             Some(w) => w,
             None => Worker::spawn(self.scratch.path()).map_err(tool_err)?,
         };
-        worker.send(Request::Lockstep, &lib, &sc.params, &inputs);
-        Ok(Box::new(Running { dut: self, worker }))
+        let cov = match &self.code {
+            Some(c) => {
+                let n = c.next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let file = self.scratch.path().join(format!("code.{n}.dat"));
+                worker.send_coverage(&lib, &sc.params, &inputs, &file);
+                Some((lib, file))
+            }
+            None => {
+                worker.send(Request::Lockstep, &lib, &sc.params, &inputs);
+                None
+            }
+        };
+        Ok(Box::new(Running {
+            dut: self,
+            worker,
+            cov,
+        }))
+    }
+
+    fn take_code_coverage(&self, name: &str) -> Option<code_cov::SeedCode> {
+        self.code
+            .as_ref()?
+            .got
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .remove(name)
     }
 
     fn notes(&self) -> Vec<String> {
