@@ -1,0 +1,123 @@
+//! `pmu50 signoff DIR`: the sign-off table of a regression folder, each figure against its
+//! threshold. A folder with every input and every figure at its threshold exits 0; one figure
+//! short, a wrong declaration, an undecided bin, a property not proven or an input missing
+//! exits 1 naming the row; a bad input exits 2 naming the file.
+
+use std::path::Path;
+
+mod common;
+use common::{expect, pmu50, s, tmp};
+
+fn write(p: &Path, text: &str) {
+    std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+    std::fs::write(p, text).unwrap();
+}
+
+/// The inputs beside a model regression: proofs, code coverage and formal verdicts, all met.
+fn complete(dir: &Path) {
+    write(
+        &dir.join("coverage-proofs.json"),
+        r#"{"bins": [
+  {"name": "fig17.path.fixed", "status": "witnessed", "property": "cover (hit_x)"},
+  {"name": "counter.difference.difference", "status": "proven_unreachable",
+   "declared_unreachable": "a reason", "property": "assert (!hit_y)"}
+]}"#,
+    );
+    write(
+        &dir.join("code/summary.json"),
+        r#"{"format": "pmu50-code-coverage-1", "seeds": 3, "seeds_unaccounted": 0,
+  "line": {"hit": 84, "total": 84}, "toggle": {"hit": 10, "total": 10}, "waivers": []}"#,
+    );
+    write(
+        &dir.join("formal.json"),
+        r#"{"format": "pmu50-formal", "version": 1, "properties": [
+  {"name": "prop_a", "set": "small", "verdict": "proven", "how": "scorr"}]}"#,
+    );
+}
+
+#[test]
+fn every_figure_at_its_threshold_passes_and_one_short_fails_naming_it() {
+    let t = tmp("signoff");
+    let dir = t.join("r");
+    let o = pmu50(&[
+        "regress",
+        "--iterations",
+        "3",
+        "--no-triage",
+        "--out",
+        s(&dir),
+    ]);
+    expect(&o, 0, &["pass"]);
+    // nothing but the regression: the missing inputs are missed rows that say what writes them
+    let o = pmu50(&["signoff", s(&dir)]);
+    let text = expect(&o, 1, &["coverage-proofs.json missing", "code/summary.json missing"]);
+    assert!(text.contains("formal.json missing"), "{text}");
+    complete(&dir);
+    // three seeds do not close the functional coverage: missed at V3, met at a threshold of 10 %
+    let o = pmu50(&["signoff", s(&dir)]);
+    let text = expect(&o, 1, &["signoff: 1 of 7 thresholds missed"]);
+    assert!(
+        text.lines()
+            .any(|l| l.starts_with("functional coverage") && l.contains("MISSED")),
+        "{text}"
+    );
+    let th = t.join("t.toml");
+    write(&th, "[thresholds]\nfunctional = 10\n");
+    let o = pmu50(&["signoff", s(&dir), "--thresholds", s(&th)]);
+    expect(&o, 0, &["signoff: every threshold met"]);
+    // the table is at the top of report.html, and in signoff.json
+    let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
+    let (signoff, regress) = (html.find("<h2>Sign-off</h2>"), html.find("<h2>Failures"));
+    assert!(signoff.is_some() && signoff < regress, "sign-off table first");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("signoff.json")).unwrap())
+            .unwrap();
+    assert_eq!(json["met"], true);
+    assert_eq!(json["rows"].as_array().unwrap().len(), 7);
+
+    // each input can miss its own row
+    let cases: [(&str, &str, &str, &str); 4] = [
+        (
+            "code/summary.json",
+            r#"{"line": {"hit": 83, "total": 84}, "toggle": {"hit": 10, "total": 10}}"#,
+            "code line coverage",
+            "83/84",
+        ),
+        (
+            "formal.json",
+            r#"{"properties": [{"name": "prop_a", "set": "small", "verdict": "unknown"}]}"#,
+            "properties proven",
+            "prop_a (small, unknown)",
+        ),
+        (
+            "coverage-proofs.json",
+            r#"{"bins": [{"name": "bus.read.unmapped", "status": "undecided"}]}"#,
+            "bins undecided",
+            "bus.read.unmapped",
+        ),
+        (
+            "coverage-proofs.json",
+            r#"{"bins": [{"name": "counter.difference.difference", "status": "wrong_declaration",
+                "declared_unreachable": "a reason"}]}"#,
+            "bins proven unreachable",
+            "wrong declarations: counter.difference.difference",
+        ),
+    ];
+    for (file, text, row, why) in cases {
+        complete(&dir);
+        write(&dir.join(file), text);
+        let o = pmu50(&["signoff", s(&dir), "--thresholds", s(&th)]);
+        let out = expect(&o, 1, &[row]);
+        let line = out.lines().find(|l| l.starts_with(row)).unwrap();
+        assert!(
+            line.contains("MISSED") && line.contains(why),
+            "{file}: {line}"
+        );
+    }
+
+    // a bad input: exit 2, the file and line
+    complete(&dir);
+    write(&dir.join("formal.json"), "{\"properties\": [\n{\"name\": 3}]}");
+    let o = pmu50(&["signoff", s(&dir)]);
+    expect(&o, 2, &["formal.json: line 2"]);
+}
