@@ -124,6 +124,10 @@ pub const FILES: &[(&str, &str)] = &[
         "formal/tests/test_formal.py",
         include_str!("../hdl/formal/tests/test_formal.py"),
     ),
+    (
+        "formal/tests/test_coverage.py",
+        include_str!("../hdl/formal/tests/test_coverage.py"),
+    ),
 ];
 
 /// Scripts, written executable.
