@@ -156,8 +156,11 @@ def design_script(setname, table, files, incs, defs):
             lines.append("connect -nounset -set cov.%s dut.%s" % (sig["name"], sig["source"]))
     for n, _, path in LEMMA_NETS:
         lines.append("connect -nounset -set %s dut.%s" % (n, path))
-    # every monitor input driven: a net the RTL does not have would otherwise be a free input
-    lines += ["prep -top %s" % TOP, "async2sync", "check -assert"]
+    # every monitor input driven: a net the RTL does not have would otherwise be a free input.
+    # No opt_merge (prep would run it): it merges checks of one net into one, and the labels
+    # of the others would be lost (a cross with a constant configuration class is its point's
+    # bin on a set)
+    lines += ["opt_expr -keepdc", "opt_clean", "async2sync", "check -assert"]
     return lines
 
 
@@ -171,6 +174,12 @@ def smt_model(d, setname, table, checks, files, incs, defs, lemmas):
         raise kit.SetupError("yosys could not read the monitor over the RTL for set %s: see %s "
                              "(a net of the monitor's table missing from the RTL?)"
                              % (setname, os.path.join(d, "smt2.log")))
+    text = open(os.path.join(d, "model.smt2")).read()
+    present = set(re.findall(r"^; yosys-smt2-(?:cover|assert) \d+ (\S+)$", text, re.M))
+    lost = [c[0] for c in checks if c[0] not in present]
+    if lost:
+        raise kit.SetupError("set %s: checks missing from %s: %s" % (
+            setname, os.path.join(d, "model.smt2"), ", ".join(lost[:5])))
 
 
 def smtbmc(d, args, log, timeout):
@@ -300,8 +309,9 @@ def main(argv=None):
                     + ", ".join(SETS))
     ap.add_argument("--timeout", type=int, default=600, help="seconds per yosys-smtbmc run of a proof")
     ap.add_argument("--induction-depth", type=int, default=3, help="k of the k-induction")
-    ap.add_argument("--cover-depth", type=int, default=40, help="steps of the covers' bounded search")
-    ap.add_argument("--cover-timeout", type=int, default=1800, help="seconds of the covers' search per set")
+    ap.add_argument("--cover-depth", type=int, default=24, help="steps of the covers' bounded search")
+    ap.add_argument("--cover-timeout", type=int, default=360,
+                    help="seconds of the covers' search per set (the covers reached by then count)")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--bins", default="", help="only bins whose name holds one of these strings (comma-separated)")
     ap.add_argument("--no-covers", action="store_true", help="the unreachable bins' proofs only")
