@@ -22,7 +22,7 @@ PY_TARGET := target
 PY_WHEELS := target/python/wheels
 PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
 
-.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls test-install fusesoc formal formal-quick formal-mutants regress-slurm test-slurm
+.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls test-install fusesoc formal formal-quick formal-mutants regress-slurm test-slurm coverage-proofs signoff
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -169,6 +169,22 @@ formal-mutants: deps $(VENV)/.formal formal-tools
 	$(MAKE) formal-test
 formal-test: deps $(VENV)/.formal
 	$(VPY) -m pytest -q hdl/formal/tests
+
+## Coverage proofs (hdl/formal/coverage.py): the coverage monitor generated from the model
+## (hdl/formal/pmu50_cov.sv, `pmu50 hdl coverage-monitor`) bound to the twin; every bin declared
+## unreachable proven unbounded (k-induction with the kit's lemmas) on the parameter sets small,
+## w8d4, sync1 and default, every other bin covered by a formal witness (small first), the
+## witnesses replayed on the model (a witness of a bin declared unreachable fails it).
+## Per-bin status: hdl/build/formal/coverage/coverage.json. COVERAGE_HITS=regress_out/x/coverage.json
+## also marks the bins a regression hit.
+.PHONY: coverage-proofs
+COVERAGE_OUT := hdl/build/formal/coverage
+coverage-proofs: deps $(VENV)/.formal
+	$(CARGO) run -q --release -- hdl coverage-monitor --check
+	rm -rf $(COVERAGE_OUT)/witness
+	nice $(VPY) hdl/formal/coverage.py --out $(COVERAGE_OUT) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
+	  COVERAGE_WITNESS_DIR=$(abspath $(COVERAGE_OUT))/witness $(CARGO) test -q -p pmu50-coverage --test witness || exit 1; \
+	  exit $$rc
 
 ## Fuzz each target for FUZZ_SECONDS (libFuzzer via cargo-fuzz, nightly toolchain; installs
 ## cargo-fuzz when missing): one process, no sanitizer (safe Rust), debug assertions on, a token

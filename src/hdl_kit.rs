@@ -108,10 +108,34 @@ pub const FILES: &[(&str, &str)] = &[
         include_str!("../hdl/formal/requirements.txt"),
     ),
     ("formal/run.py", include_str!("../hdl/formal/run.py")),
+    (
+        "formal/coverage.py",
+        include_str!("../hdl/formal/coverage.py"),
+    ),
+    (
+        "formal/pmu50_cov.sv",
+        include_str!("../hdl/formal/pmu50_cov.sv"),
+    ),
+    (
+        "formal/pmu50_cov_top.sv",
+        include_str!("../hdl/formal/pmu50_cov_top.sv"),
+    ),
+    (
+        "formal/pmu50_cov.json",
+        include_str!("../hdl/formal/pmu50_cov.json"),
+    ),
+    (
+        "tb/coverage/cov_main.cpp",
+        include_str!("../hdl/tb/coverage/cov_main.cpp"),
+    ),
     ("formal/aiger.py", include_str!("../hdl/formal/aiger.py")),
     (
         "formal/tests/test_formal.py",
         include_str!("../hdl/formal/tests/test_formal.py"),
+    ),
+    (
+        "formal/tests/test_coverage.py",
+        include_str!("../hdl/formal/tests/test_coverage.py"),
     ),
 ];
 

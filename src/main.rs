@@ -421,6 +421,17 @@ enum HdlCmd {
         #[arg(long)]
         force: bool,
     },
+    /// Write the coverage model as a Verilog monitor: DIR/pmu50_cov.sv (module pmu50_cov, one
+    /// hit_<bin> wire per bin), DIR/pmu50_cov_top.sv (the twin with the monitor bound to it) and
+    /// DIR/pmu50_cov.json (the bins and their wires). The repository keeps them in hdl/formal.
+    CoverageMonitor {
+        /// Folder to write into (made if missing).
+        #[arg(long, default_value = "hdl/formal")]
+        dir: PathBuf,
+        /// Write nothing: exit 1 if a file in DIR differs from what would be written.
+        #[arg(long)]
+        check: bool,
+    },
 }
 
 /// Progress bar on stderr, shown only when stderr is a terminal and the run has taken a second.
@@ -813,6 +824,9 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Cmd::Hdl {
+            cmd: HdlCmd::CoverageMonitor { dir, check },
+        } => cmd_coverage_monitor(&dir, check),
         Cmd::Lockstep {
             file,
             rtl,
@@ -1541,6 +1555,58 @@ fn cmd_run(
         }
     }
     code
+}
+
+/// `pmu50 hdl coverage-monitor`: the monitor generated from the coverage model.
+fn cmd_coverage_monitor(dir: &Path, check: bool) -> u8 {
+    use pmu50_coverage::monitor;
+    let files = [
+        ("pmu50_cov.sv", monitor::verilog()),
+        ("pmu50_cov_top.sv", monitor::verilog_top()),
+        ("pmu50_cov.json", monitor::table_json()),
+    ];
+    if check {
+        let stale: Vec<String> = files
+            .iter()
+            .filter(|(n, text)| std::fs::read_to_string(dir.join(n)).ok().as_deref() != Some(text))
+            .map(|(n, _)| dir.join(n).display().to_string())
+            .collect();
+        if stale.is_empty() {
+            out!("the coverage monitor in {} is up to date", dir.display());
+            return 0;
+        }
+        err!(
+            "the coverage monitor is stale: {} (run `pmu50 hdl coverage-monitor --dir {}`)",
+            stale.join(", "),
+            dir.display()
+        );
+        return 1;
+    }
+    if let Err(e) = std::fs::create_dir_all(dir) {
+        err!("error: {}: cannot make the folder: {e}", dir.display());
+        return 2;
+    }
+    // the three files renamed into place together
+    let mut batch = pmu50::atomic_file::Batch::default();
+    for (name, text) in &files {
+        match pmu50::atomic_file::write_atomic(&dir.join(name), text.as_bytes()) {
+            Ok(f) => batch.add(f),
+            Err(e) => {
+                err!("error: {e}");
+                return 2;
+            }
+        }
+    }
+    if let Err(e) = batch.commit() {
+        err!("error: {e}");
+        return 2;
+    }
+    out!(
+        "wrote the coverage monitor ({} bins) into {}: pmu50_cov.sv, pmu50_cov_top.sv, pmu50_cov.json",
+        pmu50_coverage::layout().bins.len(),
+        dir.display()
+    );
+    0
 }
 
 fn cmd_vectors(

@@ -9,6 +9,7 @@
 
 pub mod db;
 pub mod model;
+pub mod monitor;
 pub mod sample;
 pub mod ucis;
 

@@ -11,6 +11,10 @@
 pub struct Bin {
     pub name: &'static str,
     pub meaning: &'static str,
+    /// How the bin is classified, as a Verilog expression over the coverage monitor's signals
+    /// (hdl/formal/pmu50_cov.sv, [`crate::monitor`]): the first bin of its point, in
+    /// declaration order, whose expression holds at a sampled edge is the one hit.
+    pub sv: &'static str,
 }
 
 /// When a coverpoint is sampled.
@@ -31,6 +35,10 @@ pub struct Point {
     pub cite: &'static str,
     pub meaning: &'static str,
     pub sampled: Sampled,
+    /// When the point is sampled, as a Verilog expression over the monitor's signals (empty for
+    /// a [`Sampled::Config`] point: at the start of a run and at a write that changes the
+    /// parameters, with its bins' expressions over the parameter registers).
+    pub when: &'static str,
     pub bins: &'static [Bin],
     /// Bins that can never be hit: (bin name, reason).
     pub unreachable: &'static [(&'static str, &'static str)],
@@ -51,46 +59,49 @@ pub struct Cross {
 }
 
 macro_rules! bins {
-    ($($name:literal : $meaning:literal),* $(,)?) => { &[$(Bin { name: $name, meaning: $meaning }),*] };
+    ($($name:literal : $meaning:literal => $sv:literal),* $(,)?) => {
+        &[$(Bin { name: $name, meaning: $meaning, sv: $sv }),*]
+    };
 }
 
-// Point indices (the order of POINTS).
-pub const FIG17: usize = 0;
-pub const FIG18: usize = 1;
-pub const RULE: usize = 2;
-pub const SAMPLE_MODE: usize = 3;
-pub const WRAP: usize = 4;
-pub const PRESET: usize = 5;
-pub const SKIP: usize = 6;
-pub const SHORTEN_TO: usize = 7;
-pub const EXPAND_TO: usize = 8;
-pub const SI_AT_EDGE: usize = 9;
-pub const CLAMP: usize = 10;
-pub const CNT_R: usize = 11;
-pub const CNT_R_BEFORE: usize = 12;
-pub const HIST: usize = 13;
-pub const KEY_EDGE: usize = 14;
-pub const KEY_PHASE: usize = 15;
-pub const VS2: usize = 16;
-pub const SYNC_GLITCH: usize = 17;
-pub const DIAG: usize = 18;
-pub const SKIP_CLEAR: usize = 19;
-pub const READ: usize = 20;
-pub const WRITE_REG: usize = 21;
-pub const WRITE_OUTCOME: usize = 22;
-pub const ILLEGAL: usize = 23;
-pub const W1C: usize = 24;
-pub const CFG_CTH: usize = 25;
-pub const CFG_T1: usize = 26;
-pub const CFG_T2: usize = 27;
-pub const CFG_X: usize = 28;
-pub const CFG_MIN: usize = 29;
-pub const CFG_WINDOW: usize = 30;
-pub const CFG_SMP_ON: usize = 31;
-pub const CFG_CNT_W: usize = 32;
-pub const CFG_SYNC: usize = 33;
-pub const CFG_ADAPTIVE: usize = 34;
-pub const CFG_CLOCK: usize = 35;
+// Point indices, looked up in POINTS by name at compile time (a name that is not declared
+// does not compile).
+pub const FIG17: usize = point_index("fig17", "path");
+pub const FIG18: usize = point_index("fig18", "path");
+pub const RULE: usize = point_index("counter", "rule");
+pub const SAMPLE_MODE: usize = point_index("counter", "sample_mode");
+pub const WRAP: usize = point_index("counter", "wrap");
+pub const PRESET: usize = point_index("counter", "preset");
+pub const SKIP: usize = point_index("counter", "quadrant_skip");
+pub const SHORTEN_TO: usize = point_index("interval", "shorten_to");
+pub const EXPAND_TO: usize = point_index("interval", "expand_to");
+pub const SI_AT_EDGE: usize = point_index("interval", "at_edge");
+pub const CLAMP: usize = point_index("interval", "clamp");
+pub const CNT_R: usize = point_index("cnt_r", "value");
+pub const CNT_R_BEFORE: usize = point_index("cnt_r", "before");
+pub const HIST: usize = point_index("fig18", "history");
+pub const KEY_EDGE: usize = point_index("key", "edge");
+pub const KEY_PHASE: usize = point_index("key", "phase");
+pub const VS2: usize = point_index("faults", "vs2");
+pub const SYNC_GLITCH: usize = point_index("faults", "sync_glitch");
+pub const DIAG: usize = point_index("faults", "diag");
+pub const SKIP_CLEAR: usize = point_index("faults", "skip_clear");
+pub const READ: usize = point_index("bus", "read");
+pub const WRITE_REG: usize = point_index("bus", "write_reg");
+pub const WRITE_OUTCOME: usize = point_index("bus", "write_outcome");
+pub const ILLEGAL: usize = point_index("bus", "illegal_rule");
+pub const W1C: usize = point_index("bus", "w1c");
+pub const CFG_CTH: usize = point_index("config", "cth");
+pub const CFG_T1: usize = point_index("config", "t1");
+pub const CFG_T2: usize = point_index("config", "t2");
+pub const CFG_X: usize = point_index("config", "x");
+pub const CFG_MIN: usize = point_index("config", "min");
+pub const CFG_WINDOW: usize = point_index("config", "window");
+pub const CFG_SMP_ON: usize = point_index("config", "smp_on");
+pub const CFG_CNT_W: usize = point_index("config", "cnt_w");
+pub const CFG_SYNC: usize = point_index("config", "sync_depth");
+pub const CFG_ADAPTIVE: usize = point_index("config", "adaptive");
+pub const CFG_CLOCK: usize = point_index("config", "clock");
 
 /// The readable register addresses, in the order of the `bus.read` bins (the last bin is
 /// every other address).
@@ -100,21 +111,24 @@ pub const READ_ADDRS: [u8; 18] = [
 ];
 
 /// Every coverpoint.
-pub static POINTS: [Point; 36] = [
+pub static POINTS: [Point; 36] = POINT_TABLE;
+
+const POINT_TABLE: [Point; 36] = [
     Point {
         group: "fig17",
         name: "path",
         cite: "FIG. 17, [0216]-[0262]; docs/spec.md 2.6",
         meaning: "the branch the drive interval changing unit took at a key-off sampling strobe",
         sampled: Sampled::Edge,
+        when: "fig17 != 3'd0",
         bins: bins!(
-            "s1_no_rise": "S1: N, the activation signal Sr did not rise (Vs2 rail dead): nothing changes",
-            "s5_at_min": "S3: Y, S4, S5: Y: rotation at the minimum interval, cnt_r := 0, si held",
-            "s6_shorten": "S3: Y, S4, S5: N, S6: rotation, si shortened by T1",
-            "s7_at_max": "S3: N, S7: Y: quiet at the maximum interval x, nothing changes",
-            "s9_count": "S3: N, S7: N, S8: N, S9: quiet, cnt_r += 1",
-            "s10_expand": "S8: Y, S10, S11, S9: quiet for Cth pulses, si expanded by T2, history cleared",
-            "fixed": "adaptive = 0 (first embodiment): si := x",
+            "s1_no_rise": "S1: N, the activation signal Sr did not rise (Vs2 rail dead): nothing changes" => "fig17 == 3'd1",
+            "s5_at_min": "S3: Y, S4, S5: Y: rotation at the minimum interval, cnt_r := 0, si held" => "fig17 == 3'd2",
+            "s6_shorten": "S3: Y, S4, S5: N, S6: rotation, si shortened by T1" => "fig17 == 3'd3",
+            "s7_at_max": "S3: N, S7: Y: quiet at the maximum interval x, nothing changes" => "fig17 == 3'd4",
+            "s9_count": "S3: N, S7: N, S8: N, S9: quiet, cnt_r += 1" => "fig17 == 3'd5",
+            "s10_expand": "S8: Y, S10, S11, S9: quiet for Cth pulses, si expanded by T2, history cleared" => "fig17 == 3'd6",
+            "fixed": "adaptive = 0 (first embodiment): si := x" => "fig17 == 3'd7",
         ),
         unreachable: &[],
     },
@@ -124,12 +138,13 @@ pub static POINTS: [Point; 36] = [
         cite: "FIG. 18, [0263]-[0291]; docs/spec.md 2.6",
         meaning: "the branch of the rotation detection at a key-off sampling strobe",
         sampled: Sampled::Edge,
+        when: "fig18 != 3'd0",
         bins: bins!(
-            "s23_detected_cs": "S20: Y, S21: N, S22, S23: rotation detected through Cs",
-            "s21_cs_repeat": "S20: Y, S21: Y, S24: Cs changed again before Cc ([0232]-[0236])",
-            "s28_detected_cc": "S20: N, S25: Y, S26: N, S27, S28: rotation detected through Cc",
-            "s26_cc_repeat": "S25: Y, S26: Y, S24: Cc changed again before Cs",
-            "s25_no_change": "S20: N, S25: N, S24: no sign changed",
+            "s23_detected_cs": "S20: Y, S21: N, S22, S23: rotation detected through Cs" => "fig18 == 3'd1",
+            "s21_cs_repeat": "S20: Y, S21: Y, S24: Cs changed again before Cc ([0232]-[0236])" => "fig18 == 3'd2",
+            "s28_detected_cc": "S20: N, S25: Y, S26: N, S27, S28: rotation detected through Cc" => "fig18 == 3'd3",
+            "s26_cc_repeat": "S25: Y, S26: Y, S24: Cc changed again before Cs" => "fig18 == 3'd4",
+            "s25_no_change": "S20: N, S25: N, S24: no sign changed" => "fig18 == 3'd5",
         ),
         unreachable: &[],
     },
@@ -139,15 +154,16 @@ pub static POINTS: [Point; 36] = [
         cite: "[0096]-[0099]; docs/spec.md 2.5",
         meaning: "the counting rule applied at a sample where exactly one sign changed",
         sampled: Sampled::Edge,
+        when: "upd && !first && (chg_s != chg_c)",
         bins: bins!(
-            "s_0096_up": "[0096] Cs 0->1 while Cc = 1: cnt_s + 1",
-            "s_0096_down": "[0096] Cs 1->0 while Cc = 1: cnt_s - 1",
-            "s_0097_up": "[0097] Cs 1->0 while Cc = 0: cnt_s + 1",
-            "s_0097_down": "[0097] Cs 0->1 while Cc = 0: cnt_s - 1",
-            "c_0098_up": "[0098] Cc 0->1 while Cs = 0: cnt_c + 1",
-            "c_0098_down": "[0098] Cc 1->0 while Cs = 0: cnt_c - 1",
-            "c_0099_up": "[0099] Cc 1->0 while Cs = 1: cnt_c + 1",
-            "c_0099_down": "[0099] Cc 0->1 while Cs = 1: cnt_c - 1",
+            "s_0096_up": "[0096] Cs 0->1 while Cc = 1: cnt_s + 1" => "chg_s && !cs && cc",
+            "s_0096_down": "[0096] Cs 1->0 while Cc = 1: cnt_s - 1" => "chg_s && cs && cc",
+            "s_0097_up": "[0097] Cs 1->0 while Cc = 0: cnt_s + 1" => "chg_s && cs && !cc",
+            "s_0097_down": "[0097] Cs 0->1 while Cc = 0: cnt_s - 1" => "chg_s && !cs && !cc",
+            "c_0098_up": "[0098] Cc 0->1 while Cs = 0: cnt_c + 1" => "chg_c && !cc && !cs",
+            "c_0098_down": "[0098] Cc 1->0 while Cs = 0: cnt_c - 1" => "chg_c && cc && !cs",
+            "c_0099_up": "[0099] Cc 1->0 while Cs = 1: cnt_c + 1" => "chg_c && cc && cs",
+            "c_0099_down": "[0099] Cc 0->1 while Cs = 1: cnt_c - 1" => "chg_c && !cc && cs",
         ),
         unreachable: &[],
     },
@@ -157,7 +173,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0331]-[0349]; docs/spec.md 2.2",
         meaning: "whether a sample that moved the latches was taken with the key off (intermittent Vs2) or on (on-key sampling)",
         sampled: Sampled::Edge,
-        bins: bins!("key_off": "sample of a key-off output pulse", "key_on": "on-key sample, every smp_on ticks"),
+        when: "upd && (first || chg_s || chg_c)",
+        bins: bins!("key_off": "sample of a key-off output pulse" => "!sig", "key_on": "on-key sample, every smp_on ticks" => "sig"),
         unreachable: &[],
     },
     Point {
@@ -166,11 +183,12 @@ pub static POINTS: [Point; 36] = [
         cite: "docs/spec.md 2.5 (cnt_width bits, two's complement, wrapping like hardware)",
         meaning: "a counter stepping past its extreme value at the configured width",
         sampled: Sampled::Edge,
+        when: "upd && !first && (chg_s != chg_c)",
         bins: bins!(
-            "cnt_s_up": "cnt_s + 1 from the largest value 2^(W-1)-1 to -2^(W-1)",
-            "cnt_s_down": "cnt_s - 1 from -2^(W-1) to 2^(W-1)-1",
-            "cnt_c_up": "cnt_c + 1 from the largest value to the smallest",
-            "cnt_c_down": "cnt_c - 1 from the smallest value to the largest",
+            "cnt_s_up": "cnt_s + 1 from the largest value 2^(W-1)-1 to -2^(W-1)" => "chg_s && (cs != cc) && cnt_s == CNT_TOP",
+            "cnt_s_down": "cnt_s - 1 from -2^(W-1) to 2^(W-1)-1" => "chg_s && (cs == cc) && cnt_s == CNT_MIN",
+            "cnt_c_up": "cnt_c + 1 from the largest value to the smallest" => "chg_c && (cc == cs) && cnt_c == CNT_TOP",
+            "cnt_c_down": "cnt_c - 1 from the smallest value to the largest" => "chg_c && (cc != cs) && cnt_c == CNT_MIN",
         ),
         unreachable: &[],
     },
@@ -180,11 +198,12 @@ pub static POINTS: [Point; 36] = [
         cite: "[0092]-[0093]; docs/spec.md 2.5 (first sample after reset)",
         meaning: "the quadrant of the first sample, which presets the counters",
         sampled: Sampled::Edge,
+        when: "first",
         bins: bins!(
-            "q0": "Cs = 1, Cc = 1: (0, 0)",
-            "q1": "Cs = 1, Cc = 0: (0, 1)",
-            "q2": "Cs = 0, Cc = 0: (1, 1)",
-            "q3": "Cs = 0, Cc = 1: (1, 2)",
+            "q0": "Cs = 1, Cc = 1: (0, 0)" => "cmp_s && cmp_c",
+            "q1": "Cs = 1, Cc = 0: (0, 1)" => "cmp_s && !cmp_c",
+            "q2": "Cs = 0, Cc = 0: (1, 1)" => "!cmp_s && !cmp_c",
+            "q3": "Cs = 0, Cc = 1: (1, 2)" => "!cmp_s && cmp_c",
         ),
         unreachable: &[],
     },
@@ -194,7 +213,8 @@ pub static POINTS: [Point; 36] = [
         cite: "docs/spec.md 2.5 (both signs change in one sample)",
         meaning: "a sample where both signs changed: the counters hold and quadrant_skip is set",
         sampled: Sampled::Edge,
-        bins: bins!("key_off": "at a key-off sample", "key_on": "at an on-key sample"),
+        when: "upd && !first && chg_s && chg_c",
+        bins: bins!("key_off": "at a key-off sample" => "!sig", "key_on": "at an on-key sample" => "sig"),
         unreachable: &[],
     },
     Point {
@@ -203,12 +223,13 @@ pub static POINTS: [Point; 36] = [
         cite: "[0224]-[0228], [0260]-[0262]; docs/spec.md 2.6",
         meaning: "where S6 put the drive interval in [min, x] (thirds of the span)",
         sampled: Sampled::Edge,
+        when: "fig17 == 3'd3",
         bins: bins!(
-            "min_clamped": "si - T1 < min: clamped to min ([0260]-[0262])",
-            "min_exact": "si - T1 = min",
-            "low": "min < si' <= min + span/3",
-            "mid": "min + span/3 < si' <= min + 2 span/3",
-            "high": "si' > min + 2 span/3 (si' < x)",
+            "min_clamped": "si - T1 < min: clamped to min ([0260]-[0262])" => "{1'b0, si} < {1'b0, t1} + {1'b0, si_min}",
+            "min_exact": "si - T1 = min" => "{1'b0, si} == {1'b0, t1} + {1'b0, si_min}",
+            "low": "min < si' <= min + span/3" => "th_si_n == 3'd1",
+            "mid": "min + span/3 < si' <= min + 2 span/3" => "th_si_n == 3'd2",
+            "high": "si' > min + 2 span/3 (si' < x)" => "th_si_n == 3'd3",
         ),
         unreachable: &[],
     },
@@ -218,12 +239,13 @@ pub static POINTS: [Point; 36] = [
         cite: "[0250]-[0258], [0260]; docs/spec.md 2.6",
         meaning: "where S10 put the drive interval in [min, x] (thirds of the span)",
         sampled: Sampled::Edge,
+        when: "fig17 == 3'd6",
         bins: bins!(
-            "low": "si' <= min + span/3 (si' > min)",
-            "mid": "min + span/3 < si' <= min + 2 span/3",
-            "high": "min + 2 span/3 < si' < x",
-            "x_exact": "si + T2 = x",
-            "x_clamped": "si + T2 > x: clamped to x ([0260])",
+            "low": "si' <= min + span/3 (si' > min)" => "{1'b0, si} + {1'b0, t2} < {1'b0, si_max} && th_si_n == 3'd1",
+            "mid": "min + span/3 < si' <= min + 2 span/3" => "{1'b0, si} + {1'b0, t2} < {1'b0, si_max} && th_si_n == 3'd2",
+            "high": "min + 2 span/3 < si' < x" => "{1'b0, si} + {1'b0, t2} < {1'b0, si_max} && th_si_n == 3'd3",
+            "x_exact": "si + T2 = x" => "{1'b0, si} + {1'b0, t2} == {1'b0, si_max}",
+            "x_clamped": "si + T2 > x: clamped to x ([0260])" => "{1'b0, si} + {1'b0, t2} > {1'b0, si_max}",
         ),
         unreachable: &[],
     },
@@ -233,12 +255,13 @@ pub static POINTS: [Point; 36] = [
         cite: "[0216]-[0228]; docs/spec.md 2.6",
         meaning: "the drive interval in force at a key-off sample (thirds of [min, x])",
         sampled: Sampled::Edge,
+        when: "fig17 != 3'd0",
         bins: bins!(
-            "min": "si = min",
-            "low": "min < si <= min + span/3",
-            "mid": "min + span/3 < si <= min + 2 span/3",
-            "high": "min + 2 span/3 < si < x",
-            "x": "si = x",
+            "min": "si = min" => "th_si == 3'd0",
+            "low": "min < si <= min + span/3" => "th_si == 3'd1",
+            "mid": "min + span/3 < si <= min + 2 span/3" => "th_si == 3'd2",
+            "high": "min + 2 span/3 < si < x" => "th_si == 3'd3",
+            "x": "si = x" => "th_si == 3'd4",
         ),
         unreachable: &[],
     },
@@ -248,7 +271,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0260]-[0262]",
         meaning: "a step of the drive interval cut short by a limit",
         sampled: Sampled::Edge,
-        bins: bins!("min": "S6: si - T1 below min, clamped to min", "x": "S10: si + T2 above x, clamped to x"),
+        when: "fig17 == 3'd3 || fig17 == 3'd6",
+        bins: bins!("min": "S6: si - T1 below min, clamped to min" => "fig17 == 3'd3 && {1'b0, si} < {1'b0, t1} + {1'b0, si_min}", "x": "S10: si + T2 above x, clamped to x" => "fig17 == 3'd6 && {1'b0, si} + {1'b0, t2} > {1'b0, si_max}"),
         unreachable: &[],
     },
     Point {
@@ -257,12 +281,13 @@ pub static POINTS: [Point; 36] = [
         cite: "[0248]-[0250]; docs/spec.md 2.6",
         meaning: "the power supply count after a quiet key-off pulse (S9), by class up to its 8-bit saturation",
         sampled: Sampled::Edge,
+        when: "fig17 == 3'd5 || fig17 == 3'd6",
         bins: bins!(
-            "one": "cnt_r becomes 1",
-            "below_cth": "1 < cnt_r' < Cth",
-            "at_cth": "cnt_r' = Cth",
-            "above_cth": "Cth < cnt_r' < 255 (the interval could not expand further)",
-            "saturated": "cnt_r was 255 and stays 255 (8-bit saturation)",
+            "one": "cnt_r becomes 1" => "cnt_r != 8'hFF && cnt_r_n == 8'd1",
+            "below_cth": "1 < cnt_r' < Cth" => "cnt_r != 8'hFF && cnt_r_n < cth",
+            "at_cth": "cnt_r' = Cth" => "cnt_r != 8'hFF && cnt_r_n == cth",
+            "above_cth": "Cth < cnt_r' < 255 (the interval could not expand further)" => "cnt_r != 8'hFF",
+            "saturated": "cnt_r was 255 and stays 255 (8-bit saturation)" => "1'b1",
         ),
         unreachable: &[],
     },
@@ -272,11 +297,12 @@ pub static POINTS: [Point; 36] = [
         cite: "[0248], S4 of FIG. 17",
         meaning: "the power supply count at a key-off sample where the sensor answered",
         sampled: Sampled::Edge,
+        when: "fig17 >= 3'd2 && fig17 <= 3'd6",
         bins: bins!(
-            "zero": "cnt_r = 0",
-            "below_cth": "0 < cnt_r < Cth",
-            "at_or_above_cth": "Cth <= cnt_r < 255",
-            "saturated": "cnt_r = 255",
+            "zero": "cnt_r = 0" => "cnt_r == 8'd0",
+            "below_cth": "0 < cnt_r < Cth" => "cnt_r < cth",
+            "at_or_above_cth": "Cth <= cnt_r < 255" => "cnt_r != 8'hFF",
+            "saturated": "cnt_r = 255" => "1'b1",
         ),
         unreachable: &[],
     },
@@ -286,7 +312,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0237]-[0241]; docs/spec.md 2.6",
         meaning: "the change history flip-flops before a FIG. 18 evaluation",
         sampled: Sampled::Edge,
-        bins: bins!("none": "hist_s = 0, hist_c = 0", "s": "hist_s = 1", "c": "hist_c = 1", "both": "hist_s = 1 and hist_c = 1"),
+        when: "fig18 != 3'd0",
+        bins: bins!("none": "hist_s = 0, hist_c = 0" => "!hist_s && !hist_c", "s": "hist_s = 1" => "hist_s && !hist_c", "c": "hist_c = 1" => "!hist_s && hist_c", "both": "hist_s = 1 and hist_c = 1" => "hist_s && hist_c"),
         unreachable: &[("both", "S23 sets hist_s and clears hist_c, S28 the reverse, S11 and key-off clear both: no path sets both (docs/spec.md 2.6)")],
     },
     Point {
@@ -295,7 +322,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0196]-[0198], [0213]; docs/spec.md 2.1",
         meaning: "an edge of the synchronised key sig",
         sampled: Sampled::Edge,
-        bins: bins!("on": "sig rises (kon)", "off": "sig falls (koff): si reloads to x"),
+        when: "kon || koff",
+        bins: bins!("on": "sig rises (kon)" => "!koff", "off": "sig falls (koff): si reloads to x" => "koff"),
         unreachable: &[],
     },
     Point {
@@ -304,14 +332,15 @@ pub static POINTS: [Point; 36] = [
         cite: "[0319]-[0323], [0349]; docs/spec.md 2.2",
         meaning: "where in the timing generator's cycle a key edge fell",
         sampled: Sampled::Edge,
+        when: "kon || koff",
         bins: bins!(
-            "off_pw": "key off, inside the waiting period Pw of an output pulse",
-            "off_pi": "key off, inside the idle period Pi",
-            "off_ps": "key off, inside the sampling period Ps before its last tick",
-            "off_smp": "key off, the sampling tick (last tick of Ps)",
-            "off_gap": "key off, between two output pulses (Vs2 off)",
-            "on_smp": "key on, the on-key sampling tick",
-            "on_between": "key on, between on-key samples",
+            "off_pw": "key off, inside the waiting period Pw of an output pulse" => "!sig && t18 < pw18",
+            "off_pi": "key off, inside the idle period Pi" => "!sig && t18 < pw18 + pi18",
+            "off_ps": "key off, inside the sampling period Ps before its last tick" => "!sig && t18 + 18'd1 < wt18",
+            "off_smp": "key off, the sampling tick (last tick of Ps)" => "!sig && t18 + 18'd1 == wt18",
+            "off_gap": "key off, between two output pulses (Vs2 off)" => "!sig",
+            "on_smp": "key on, the on-key sampling tick" => "t18 + 18'd1 == {2'b00, smp_on}",
+            "on_between": "key on, between on-key samples" => "1'b1",
         ),
         unreachable: &[],
     },
@@ -321,7 +350,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0209], [0347]; docs/spec.md 2.3",
         meaning: "a sampling strobe with Vs2 enabled but its power-good low, so Sr is 0 and no sample is taken",
         sampled: Sampled::Edge,
-        bins: bins!("key_off": "a key-off strobe on a dead rail (FIG. 17 S1: N)", "key_on": "an on-key strobe on a dead rail"),
+        when: "smp && !sr",
+        bins: bins!("key_off": "a key-off strobe on a dead rail (FIG. 17 S1: N)" => "!sig", "key_on": "an on-key strobe on a dead rail" => "sig"),
         unreachable: &[],
     },
     Point {
@@ -330,7 +360,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0213]; docs/spec.md 2.1",
         meaning: "ig toggles again while its previous edge is still inside the synchronizer",
         sampled: Sampled::Edge,
-        bins: bins!("short_high": "a high pulse of ig shorter than the synchronizer", "short_low": "a low pulse of ig shorter than the synchronizer"),
+        when: "in_flight && (ig != sync[0])",
+        bins: bins!("short_high": "a high pulse of ig shorter than the synchronizer" => "ig", "short_low": "a low pulse of ig shorter than the synchronizer" => "!ig"),
         unreachable: &[],
     },
     Point {
@@ -339,7 +370,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0119]; docs/spec.md 2.7",
         meaning: "the count diagnosis flag rising, by cause",
         sampled: Sampled::Edge,
-        bins: bins!("skip": "a quadrant was skipped (counts equal but half a turn off)", "difference": "|cnt_s - cnt_c| >= 2 without a skip"),
+        when: "diag_n && !diag",
+        bins: bins!("skip": "a quadrant was skipped (counts equal but half a turn off)" => "skip_n", "difference": "|cnt_s - cnt_c| >= 2 without a skip" => "!skip_n"),
         unreachable: &[("difference", "cnt_s - cnt_c is 0 in quadrants 0 and 2 and -1 in 1 and 3 after every preset, counting rule and skip (each rule of [0096]-[0099] moves the counter that keeps it so, and a skip keeps the quadrant's parity): the difference guards against a corrupted counter, which no input can cause")],
     },
     Point {
@@ -348,7 +380,8 @@ pub static POINTS: [Point; 36] = [
         cite: "docs/spec.md 2.8 (STATUS.quadrant_skip is W1C)",
         meaning: "a write of 1 to STATUS.quadrant_skip while it is set",
         sampled: Sampled::Edge,
-        bins: bins!("cleared": "the sticky skip flag cleared by the MPU"),
+        when: "skip_clr && quadrant_skip",
+        bins: bins!("cleared": "the sticky skip flag cleared by the MPU" => "1'b1"),
         unreachable: &[],
     },
     Point {
@@ -357,11 +390,12 @@ pub static POINTS: [Point; 36] = [
         cite: "[0108], [0163]; docs/spec.md 2.8",
         meaning: "the address read by the MPU in a key-on cycle without a write",
         sampled: Sampled::Edge,
+        when: "sig && !bus_we",
         bins: bins!(
-            "id": "0x00 ID", "version": "0x01 VERSION", "ctrl": "0x02 CTRL", "pw": "0x03 PW", "pi": "0x04 PI", "ps": "0x05 PS",
-            "si_max": "0x06 SI_MAX", "si_min": "0x07 SI_MIN", "t1": "0x08 T1", "t2": "0x09 T2", "cth": "0x0A CTH", "smp_on": "0x0B SMP_ON",
-            "cfg": "0x0C CFG", "cnt_s": "0x10 CNT_S", "cnt_c": "0x11 CNT_C", "cnt_r": "0x12 CNT_R", "si": "0x13 SI", "status": "0x14 STATUS",
-            "unmapped": "any other address (reads 0)",
+            "id": "0x00 ID" => "bus_addr == 8'h00", "version": "0x01 VERSION" => "bus_addr == 8'h01", "ctrl": "0x02 CTRL" => "bus_addr == 8'h02", "pw": "0x03 PW" => "bus_addr == 8'h03", "pi": "0x04 PI" => "bus_addr == 8'h04", "ps": "0x05 PS" => "bus_addr == 8'h05",
+            "si_max": "0x06 SI_MAX" => "bus_addr == 8'h06", "si_min": "0x07 SI_MIN" => "bus_addr == 8'h07", "t1": "0x08 T1" => "bus_addr == 8'h08", "t2": "0x09 T2" => "bus_addr == 8'h09", "cth": "0x0A CTH" => "bus_addr == 8'h0A", "smp_on": "0x0B SMP_ON" => "bus_addr == 8'h0B",
+            "cfg": "0x0C CFG" => "bus_addr == 8'h0C", "cnt_s": "0x10 CNT_S" => "bus_addr == 8'h10", "cnt_c": "0x11 CNT_C" => "bus_addr == 8'h11", "cnt_r": "0x12 CNT_R" => "bus_addr == 8'h12", "si": "0x13 SI" => "bus_addr == 8'h13", "status": "0x14 STATUS" => "bus_addr == 8'h14",
+            "unmapped": "any other address (reads 0)" => "1'b1",
         ),
         unreachable: &[],
     },
@@ -371,9 +405,10 @@ pub static POINTS: [Point; 36] = [
         cite: "docs/spec.md 2.8 (register map)",
         meaning: "the register a bus write addressed",
         sampled: Sampled::Edge,
+        when: "bus_we",
         bins: bins!(
-            "ctrl": "CTRL", "pw": "PW", "pi": "PI", "ps": "PS", "si_max": "SI_MAX", "si_min": "SI_MIN", "t1": "T1", "t2": "T2",
-            "cth": "CTH", "smp_on": "SMP_ON", "status": "STATUS (W1C)", "read_only": "ID, VERSION, CFG, CNT_*, SI", "unmapped": "an address outside the map",
+            "ctrl": "CTRL" => "bus_addr == 8'h02", "pw": "PW" => "bus_addr == 8'h03", "pi": "PI" => "bus_addr == 8'h04", "ps": "PS" => "bus_addr == 8'h05", "si_max": "SI_MAX" => "bus_addr == 8'h06", "si_min": "SI_MIN" => "bus_addr == 8'h07", "t1": "T1" => "bus_addr == 8'h08", "t2": "T2" => "bus_addr == 8'h09",
+            "cth": "CTH" => "bus_addr == 8'h0A", "smp_on": "SMP_ON" => "bus_addr == 8'h0B", "status": "STATUS (W1C)" => "bus_addr == 8'h14", "read_only": "ID, VERSION, CFG, CNT_*, SI" => "readable", "unmapped": "an address outside the map" => "1'b1",
         ),
         unreachable: &[],
     },
@@ -383,11 +418,12 @@ pub static POINTS: [Point; 36] = [
         cite: "[0205], [0259]; docs/spec.md 2.8 and 4",
         meaning: "what the register file did with a bus write",
         sampled: Sampled::Edge,
+        when: "bus_we",
         bins: bins!(
-            "taken": "written (a parameter register, or a STATUS W1C)",
-            "refused_key_off": "refused: sig = 0, the MPU is not powered ([0205])",
-            "refused_not_writable": "refused: read-only or unmapped address",
-            "refused_illegal": "refused: the parameter set would become illegal (docs/spec.md 4)",
+            "taken": "written (a parameter register, or a STATUS W1C)" => "sig && (bus_addr == 8'h14 || (is_param && c_legal))",
+            "refused_key_off": "refused: sig = 0, the MPU is not powered ([0205])" => "!sig",
+            "refused_not_writable": "refused: read-only or unmapped address" => "!is_param",
+            "refused_illegal": "refused: the parameter set would become illegal (docs/spec.md 4)" => "1'b1",
         ),
         unreachable: &[],
     },
@@ -397,12 +433,13 @@ pub static POINTS: [Point; 36] = [
         cite: "docs/spec.md 4 (legality of the parameter set), [0319]",
         meaning: "the legality rule that refused a parameter write",
         sampled: Sampled::Edge,
+        when: "bus_we && sig && is_param && !c_legal",
         bins: bins!(
-            "zero_period": "a period of zero (Ps, x, min, T1, T2, smp_on)",
-            "min_above_max": "min above x",
-            "no_settling_tick": "pw + pi = 0",
-            "window_too_long": "Wt = pw + pi + ps not shorter than the shortest interval",
-            "cth_zero": "Cth = 0 (valid is 1..255; the other ranges are structural and not on the bus)",
+            "zero_period": "a period of zero (Ps, x, min, T1, T2, smp_on)" => "c_cth != 8'd0 && c_zero",
+            "min_above_max": "min above x" => "c_cth != 8'd0 && !c_no_settle && c_si_min > c_si_max",
+            "no_settling_tick": "pw + pi = 0" => "c_cth != 8'd0 && c_no_settle",
+            "window_too_long": "Wt = pw + pi + ps not shorter than the shortest interval" => "c_cth != 8'd0",
+            "cth_zero": "Cth = 0 (valid is 1..255; the other ranges are structural and not on the bus)" => "1'b1",
         ),
         unreachable: &[],
     },
@@ -412,7 +449,8 @@ pub static POINTS: [Point; 36] = [
         cite: "docs/spec.md 2.8 (STATUS bits 5 and 9 are write-1-to-clear)",
         meaning: "which sticky STATUS bits a STATUS write cleared (set or not)",
         sampled: Sampled::Edge,
-        bins: bins!("none": "no W1C bit written", "quadrant_skip": "bit 5 only", "bus_err": "bit 9 only", "both": "bits 5 and 9"),
+        when: "bus_we && sig && bus_addr == 8'h14",
+        bins: bins!("none": "no W1C bit written" => "!bus_wdata[5] && !bus_wdata[9]", "quadrant_skip": "bit 5 only" => "bus_wdata[5] && !bus_wdata[9]", "bus_err": "bit 9 only" => "!bus_wdata[5] && bus_wdata[9]", "both": "bits 5 and 9" => "1'b1"),
         unreachable: &[],
     },
     Point {
@@ -421,7 +459,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0250], [0259]",
         meaning: "the count threshold Cth in force",
         sampled: Sampled::Config,
-        bins: bins!("one": "Cth = 1", "2_4": "2..4 (the patent's 4)", "5_8": "5..8", "9_up": "9..255"),
+        when: "",
+        bins: bins!("one": "Cth = 1" => "cth <= 8'd1", "2_4": "2..4 (the patent's 4)" => "cth <= 8'd4", "5_8": "5..8" => "cth <= 8'd8", "9_up": "9..255" => "1'b1"),
         unreachable: &[],
     },
     Point {
@@ -430,7 +469,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0224], [0259]",
         meaning: "the shortening step T1 against the span x - min",
         sampled: Sampled::Config,
-        bins: bins!("one_step": "T1 >= x - min: one rotation takes si to min", "half_or_more": "(x - min)/2 <= T1 < x - min", "small": "T1 < (x - min)/2"),
+        when: "",
+        bins: bins!("one_step": "T1 >= x - min: one rotation takes si to min" => "t1 >= si_max - si_min", "half_or_more": "(x - min)/2 <= T1 < x - min" => "17'd2 * t1 >= si_max - si_min", "small": "T1 < (x - min)/2" => "1'b1"),
         unreachable: &[],
     },
     Point {
@@ -439,7 +479,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0250], [0259]",
         meaning: "the expanding step T2 against the span x - min",
         sampled: Sampled::Config,
-        bins: bins!("one_step": "T2 >= x - min", "half_or_more": "(x - min)/2 <= T2 < x - min", "small": "T2 < (x - min)/2"),
+        when: "",
+        bins: bins!("one_step": "T2 >= x - min" => "t2 >= si_max - si_min", "half_or_more": "(x - min)/2 <= T2 < x - min" => "17'd2 * t2 >= si_max - si_min", "small": "T2 < (x - min)/2" => "1'b1"),
         unreachable: &[],
     },
     Point {
@@ -448,7 +489,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0216], [0259]",
         meaning: "the maximum interval x, in ticks",
         sampled: Sampled::Config,
-        bins: bins!("equal_min": "x = min: the interval cannot move", "le_300": "x <= 300 ticks", "301_700": "301..700 (the patent's 660)", "above_700": "above 700"),
+        when: "",
+        bins: bins!("equal_min": "x = min: the interval cannot move" => "si_max == si_min", "le_300": "x <= 300 ticks" => "si_max <= 16'd300", "301_700": "301..700 (the patent's 660)" => "si_max <= 16'd700", "above_700": "above 700" => "1'b1"),
         unreachable: &[],
     },
     Point {
@@ -457,7 +499,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0228], [0319]",
         meaning: "the minimum interval against the output window Wt",
         sampled: Sampled::Config,
-        bins: bins!("wt_plus_1": "min = Wt + 1, the tightest legal", "le_2wt": "Wt + 1 < min <= 2 Wt", "above_2wt": "min > 2 Wt"),
+        when: "",
+        bins: bins!("wt_plus_1": "min = Wt + 1, the tightest legal" => "{2'b00, si_min} == 18'd1 + pw + pi + ps", "le_2wt": "Wt + 1 < min <= 2 Wt" => "{3'b000, si_min} <= 19'd2 * (pw + pi + ps)", "above_2wt": "min > 2 Wt" => "1'b1"),
         unreachable: &[],
     },
     Point {
@@ -466,7 +509,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0319]-[0323]",
         meaning: "the shape of the output window Pw, Pi, Ps",
         sampled: Sampled::Config,
-        bins: bins!("pw_zero": "Pw = 0", "pi_zero": "Pi = 0", "ps_one": "Ps = 1 tick", "all_nonzero": "Pw, Pi > 0 and Ps > 1"),
+        when: "",
+        bins: bins!("pw_zero": "Pw = 0" => "pw == 16'd0", "pi_zero": "Pi = 0" => "pi == 16'd0", "ps_one": "Ps = 1 tick" => "ps == 16'd1", "all_nonzero": "Pw, Pi > 0 and Ps > 1" => "1'b1"),
         unreachable: &[],
     },
     Point {
@@ -475,7 +519,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0349]",
         meaning: "the on-key sampling period",
         sampled: Sampled::Config,
-        bins: bins!("one": "smp_on = 1: every tick", "2_9": "2..9", "10_up": "10 and more (the default 10)"),
+        when: "",
+        bins: bins!("one": "smp_on = 1: every tick" => "smp_on <= 16'd1", "2_9": "2..9" => "smp_on <= 16'd9", "10_up": "10 and more (the default 10)" => "1'b1"),
         unreachable: &[],
     },
     Point {
@@ -484,7 +529,8 @@ pub static POINTS: [Point; 36] = [
         cite: "docs/spec.md 2.5 (CNT_W)",
         meaning: "the counter width CNT_W",
         sampled: Sampled::Config,
-        bins: bins!("2": "2 bits, the narrowest", "3_7": "3..7", "8_15": "8..15", "16": "16, the default"),
+        when: "",
+        bins: bins!("2": "2 bits, the narrowest" => "CNT_W <= 2", "3_7": "3..7" => "CNT_W <= 7", "8_15": "8..15" => "CNT_W <= 15", "16": "16, the default" => "1'b1"),
         unreachable: &[],
     },
     Point {
@@ -493,7 +539,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0213]; docs/spec.md 2.1 (SYNC_DEPTH)",
         meaning: "the synchronizer depth SYNC_DEPTH",
         sampled: Sampled::Config,
-        bins: bins!("1": "1 flop", "2": "2 flops, the default", "3": "3 flops", "4": "4 flops"),
+        when: "",
+        bins: bins!("1": "1 flop" => "SYNC_DEPTH <= 1", "2": "2 flops, the default" => "SYNC_DEPTH == 2", "3": "3 flops" => "SYNC_DEPTH == 3", "4": "4 flops" => "1'b1"),
         unreachable: &[],
     },
     Point {
@@ -502,7 +549,8 @@ pub static POINTS: [Point; 36] = [
         cite: "[0214], [0413]-[0414]",
         meaning: "the drive interval mode",
         sampled: Sampled::Config,
-        bins: bins!("fixed": "first embodiment: fixed cycle T = x", "adaptive": "second embodiment: FIG. 17/18"),
+        when: "",
+        bins: bins!("fixed": "first embodiment: fixed cycle T = x" => "!adaptive", "adaptive": "second embodiment: FIG. 17/18" => "1'b1"),
         unreachable: &[],
     },
     Point {
@@ -511,10 +559,60 @@ pub static POINTS: [Point; 36] = [
         cite: "docs/spec.md 6.1 (clock period)",
         meaning: "the clock period of the run",
         sampled: Sampled::Config,
-        bins: bins!("below_10us": "faster than 10 us", "10us": "10 us, the default", "above_10us": "slower than 10 us"),
+        when: "",
+        bins: bins!("below_10us": "faster than 10 us" => "CLOCK_NS < 10000", "10us": "10 us, the default" => "CLOCK_NS == 10000", "above_10us": "slower than 10 us" => "1'b1"),
         unreachable: &[],
     },
 ];
+
+const fn str_eq(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// The index in [`POINTS`] of the point `group.name` (compile-time; panics if undeclared).
+pub const fn point_index(group: &str, name: &str) -> usize {
+    let mut i = 0;
+    while i < POINT_TABLE.len() {
+        if str_eq(POINT_TABLE[i].group, group) && str_eq(POINT_TABLE[i].name, name) {
+            return i;
+        }
+        i += 1;
+    }
+    panic!("no such coverpoint")
+}
+
+/// The index of bin `name` in point `point` (compile-time; panics if undeclared).
+pub const fn bin_index(point: usize, name: &str) -> u8 {
+    let bins = POINT_TABLE[point].bins;
+    let mut i = 0;
+    while i < bins.len() {
+        if str_eq(bins[i].name, name) {
+            return i as u8;
+        }
+        i += 1;
+    }
+    panic!("no such bin")
+}
+
+/// The bin `name` of point `point` as a constant: `bin!(FIG17, "s6_shorten")`; a name that is not
+/// declared does not compile.
+#[macro_export]
+macro_rules! bin {
+    ($point:expr, $name:literal) => {
+        const { $crate::model::bin_index($point, $name) }
+    };
+}
 
 const DETECTED: [&str; 2] = ["s23_detected_cs", "s28_detected_cc"];
 

@@ -7,6 +7,7 @@
 //! write, a key edge, a sampling strobe, a diag rise, a W1C strobe, or an ig edge inside the
 //! synchronizer.
 
+use crate::bin;
 use crate::model::*;
 use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
 use pmu50_core::pmu50::Structural;
@@ -200,13 +201,14 @@ impl Coverage {
     /// Sample the configuration in force (at the start of a run and after a parameter write).
     pub fn sample_config(&mut self, p: &Params) {
         let span = p.si_max - p.si_min;
+        // T1 and T2 have the same bins.
         let step = |t: u16| {
             if t >= span {
-                0
+                bin!(CFG_T1, "one_step")
             } else if u32::from(t) * 2 >= u32::from(span) {
-                1
+                bin!(CFG_T1, "half_or_more")
             } else {
-                2
+                bin!(CFG_T1, "small")
             }
         };
         let wt = p.wt();
@@ -214,10 +216,10 @@ impl Coverage {
             (
                 CFG_CTH,
                 match p.cth {
-                    0 | 1 => 0,
-                    2..=4 => 1,
-                    5..=8 => 2,
-                    _ => 3,
+                    0 | 1 => bin!(CFG_CTH, "one"),
+                    2..=4 => bin!(CFG_CTH, "2_4"),
+                    5..=8 => bin!(CFG_CTH, "5_8"),
+                    _ => bin!(CFG_CTH, "9_up"),
                 },
             ),
             (CFG_T1, step(p.t1)),
@@ -225,62 +227,69 @@ impl Coverage {
             (
                 CFG_X,
                 if span == 0 {
-                    0
+                    bin!(CFG_X, "equal_min")
                 } else if p.si_max <= 300 {
-                    1
+                    bin!(CFG_X, "le_300")
                 } else if p.si_max <= 700 {
-                    2
+                    bin!(CFG_X, "301_700")
                 } else {
-                    3
+                    bin!(CFG_X, "above_700")
                 },
             ),
             (
                 CFG_MIN,
                 if u32::from(p.si_min) == wt + 1 {
-                    0
+                    bin!(CFG_MIN, "wt_plus_1")
                 } else if u32::from(p.si_min) <= 2 * wt {
-                    1
+                    bin!(CFG_MIN, "le_2wt")
                 } else {
-                    2
+                    bin!(CFG_MIN, "above_2wt")
                 },
             ),
             (
                 CFG_WINDOW,
                 if p.pw == 0 {
-                    0
+                    bin!(CFG_WINDOW, "pw_zero")
                 } else if p.pi == 0 {
-                    1
+                    bin!(CFG_WINDOW, "pi_zero")
                 } else if p.ps == 1 {
-                    2
+                    bin!(CFG_WINDOW, "ps_one")
                 } else {
-                    3
+                    bin!(CFG_WINDOW, "all_nonzero")
                 },
             ),
             (
                 CFG_SMP_ON,
                 match p.smp_on {
-                    0 | 1 => 0,
-                    2..=9 => 1,
-                    _ => 2,
+                    0 | 1 => bin!(CFG_SMP_ON, "one"),
+                    2..=9 => bin!(CFG_SMP_ON, "2_9"),
+                    _ => bin!(CFG_SMP_ON, "10_up"),
                 },
             ),
             (
                 CFG_CNT_W,
                 match p.cnt_width {
-                    0..=2 => 0,
-                    3..=7 => 1,
-                    8..=15 => 2,
-                    _ => 3,
+                    0..=2 => bin!(CFG_CNT_W, "2"),
+                    3..=7 => bin!(CFG_CNT_W, "3_7"),
+                    8..=15 => bin!(CFG_CNT_W, "8_15"),
+                    _ => bin!(CFG_CNT_W, "16"),
                 },
             ),
             (CFG_SYNC, p.sync_depth.clamp(1, 4) - 1),
-            (CFG_ADAPTIVE, u8::from(p.adaptive)),
+            (
+                CFG_ADAPTIVE,
+                if p.adaptive {
+                    bin!(CFG_ADAPTIVE, "adaptive")
+                } else {
+                    bin!(CFG_ADAPTIVE, "fixed")
+                },
+            ),
             (
                 CFG_CLOCK,
                 match self.clock_ns {
-                    0..=9_999 => 0,
-                    10_000 => 1,
-                    _ => 2,
+                    0..=9_999 => bin!(CFG_CLOCK, "below_10us"),
+                    10_000 => bin!(CFG_CLOCK, "10us"),
+                    _ => bin!(CFG_CLOCK, "above_10us"),
                 },
             ),
         ];
@@ -342,13 +351,13 @@ impl Coverage {
                 | Fig17::S10Expand => {
                     let r = di.0.cnt_r;
                     sel[CNT_R_BEFORE] = if r == 255 {
-                        3
+                        bin!(CNT_R_BEFORE, "saturated")
                     } else if r == 0 {
-                        0
+                        bin!(CNT_R_BEFORE, "zero")
                     } else if r < p.cth {
-                        1
+                        bin!(CNT_R_BEFORE, "below_cth")
                     } else {
-                        2
+                        bin!(CNT_R_BEFORE, "at_or_above_cth")
                     };
                 }
                 _ => {}
@@ -358,28 +367,30 @@ impl Coverage {
                     let raw = i32::from(di.0.si) - i32::from(p.t1);
                     let min = i32::from(p.si_min);
                     sel[SHORTEN_TO] = if raw < min {
-                        0
+                        bin!(SHORTEN_TO, "min_clamped")
                     } else if raw == min {
-                        1
+                        bin!(SHORTEN_TO, "min_exact")
                     } else {
-                        1 + thirds(di.1.si, p.si_min, p.si_max, false)
+                        // low, mid, high follow min_exact
+                        bin!(SHORTEN_TO, "min_exact") + thirds(di.1.si, p.si_min, p.si_max, false)
                     };
                     if raw < min {
-                        sel[CLAMP] = 0;
+                        sel[CLAMP] = bin!(CLAMP, "min");
                     }
                 }
                 Fig17::S10Expand => {
                     let raw = u32::from(di.0.si) + u32::from(p.t2);
                     let x = u32::from(p.si_max);
                     sel[EXPAND_TO] = if raw > x {
-                        4
+                        bin!(EXPAND_TO, "x_clamped")
                     } else if raw == x {
-                        3
+                        bin!(EXPAND_TO, "x_exact")
                     } else {
-                        thirds(di.1.si, p.si_min, p.si_max, false) - 1
+                        // low, mid, high are the first three
+                        bin!(EXPAND_TO, "low") + thirds(di.1.si, p.si_min, p.si_max, false) - 1
                     };
                     if raw > x {
-                        sel[CLAMP] = 1;
+                        sel[CLAMP] = bin!(CLAMP, "x");
                     }
                 }
                 _ => {}
@@ -387,15 +398,15 @@ impl Coverage {
             if matches!(n.fig17, Fig17::S9Count | Fig17::S10Expand) {
                 let (r0, r1) = (di.0.cnt_r, di.1.cnt_r);
                 sel[CNT_R] = if r0 == 255 {
-                    4
+                    bin!(CNT_R, "saturated")
                 } else if r1 == 1 {
-                    0
+                    bin!(CNT_R, "one")
                 } else if r1 < p.cth {
-                    1
+                    bin!(CNT_R, "below_cth")
                 } else if r1 == p.cth {
-                    2
+                    bin!(CNT_R, "at_cth")
                 } else {
-                    3
+                    bin!(CNT_R, "above_cth")
                 };
             }
         }
@@ -412,10 +423,10 @@ impl Coverage {
                 sel[SAMPLE_MODE] = mode;
                 let l = &a.comparator_latch;
                 sel[PRESET] = match (l.cs, l.cc) {
-                    (true, true) => 0,
-                    (true, false) => 1,
-                    (false, false) => 2,
-                    (false, true) => 3,
+                    (true, true) => bin!(PRESET, "q0"),
+                    (true, false) => bin!(PRESET, "q1"),
+                    (false, false) => bin!(PRESET, "q2"),
+                    (false, true) => bin!(PRESET, "q3"),
                 };
             } else if n.chg_s && n.chg_c {
                 sel[SAMPLE_MODE] = mode;
@@ -425,17 +436,17 @@ impl Coverage {
                 // (rule bin, counts up?)
                 let (rule, up) = if n.chg_s {
                     match (cs, cc) {
-                        (false, true) => (0, true),
-                        (true, true) => (1, false),
-                        (true, false) => (2, true),
-                        (false, false) => (3, false),
+                        (false, true) => (bin!(RULE, "s_0096_up"), true),
+                        (true, true) => (bin!(RULE, "s_0096_down"), false),
+                        (true, false) => (bin!(RULE, "s_0097_up"), true),
+                        (false, false) => (bin!(RULE, "s_0097_down"), false),
                     }
                 } else {
                     match (cc, cs) {
-                        (false, false) => (4, true),
-                        (true, false) => (5, false),
-                        (true, true) => (6, true),
-                        (false, true) => (7, false),
+                        (false, false) => (bin!(RULE, "c_0098_up"), true),
+                        (true, false) => (bin!(RULE, "c_0098_down"), false),
+                        (true, true) => (bin!(RULE, "c_0099_up"), true),
+                        (false, true) => (bin!(RULE, "c_0099_down"), false),
                     }
                 };
                 sel[RULE] = rule;
@@ -446,36 +457,47 @@ impl Coverage {
                 } else {
                     b.updown_counter.cnt_c
                 };
-                let base = if n.chg_s { 0 } else { 2 };
                 if up && v == top {
-                    sel[WRAP] = base;
+                    sel[WRAP] = if n.chg_s {
+                        bin!(WRAP, "cnt_s_up")
+                    } else {
+                        bin!(WRAP, "cnt_c_up")
+                    };
                 } else if !up && v == top + 1 {
-                    sel[WRAP] = base + 1;
+                    sel[WRAP] = if n.chg_s {
+                        bin!(WRAP, "cnt_s_down")
+                    } else {
+                        bin!(WRAP, "cnt_c_down")
+                    };
                 }
             }
         }
 
         // Key edges and where in the timer's cycle they fell.
         if n.kon || n.koff {
-            sel[KEY_EDGE] = u8::from(n.koff);
+            sel[KEY_EDGE] = if n.koff {
+                bin!(KEY_EDGE, "off")
+            } else {
+                bin!(KEY_EDGE, "on")
+            };
             let t = u32::from(b.timing_generator.tmr);
             let (pw, pi, wt) = (u32::from(p.pw), u32::from(p.pw) + u32::from(p.pi), p.wt());
             sel[KEY_PHASE] = if out.sig {
                 if t + 1 == u32::from(p.smp_on) {
-                    5
+                    bin!(KEY_PHASE, "on_smp")
                 } else {
-                    6
+                    bin!(KEY_PHASE, "on_between")
                 }
             } else if t < pw {
-                0
+                bin!(KEY_PHASE, "off_pw")
             } else if t < pi {
-                1
+                bin!(KEY_PHASE, "off_pi")
             } else if t + 1 < wt {
-                2
+                bin!(KEY_PHASE, "off_ps")
             } else if t + 1 == wt {
-                3
+                bin!(KEY_PHASE, "off_smp")
             } else {
-                4
+                bin!(KEY_PHASE, "off_gap")
             };
         }
 
@@ -484,13 +506,21 @@ impl Coverage {
             sel[VS2] = mode;
         }
         if in_flight && i.ig != (b.action_switching.sync & 1 == 1) {
-            sel[SYNC_GLITCH] = u8::from(!i.ig);
+            sel[SYNC_GLITCH] = if i.ig {
+                bin!(SYNC_GLITCH, "short_high")
+            } else {
+                bin!(SYNC_GLITCH, "short_low")
+            };
         }
         if diag_rise {
-            sel[DIAG] = if a.updown_counter.quadrant_skip { 0 } else { 1 };
+            sel[DIAG] = if a.updown_counter.quadrant_skip {
+                bin!(DIAG, "skip")
+            } else {
+                bin!(DIAG, "difference")
+            };
         }
         if n.skip_clr && b.updown_counter.quadrant_skip {
-            sel[SKIP_CLEAR] = 0;
+            sel[SKIP_CLEAR] = bin!(SKIP_CLEAR, "cleared");
         }
 
         // Bus writes.
@@ -498,10 +528,15 @@ impl Coverage {
         if i.bus_we {
             let a8 = i.bus_addr;
             sel[WRITE_REG] = match a8 {
-                rf::addr::CTRL..=rf::addr::SMP_ON => a8 - rf::addr::CTRL,
-                rf::addr::STATUS => 10,
-                _ if READ_BIN[usize::from(a8)] < READ_ADDRS.len() as u8 => 11,
-                _ => 12,
+                // the parameter registers in address order, CTRL first
+                rf::addr::CTRL..=rf::addr::SMP_ON => {
+                    bin!(WRITE_REG, "ctrl") + (a8 - rf::addr::CTRL)
+                }
+                rf::addr::STATUS => bin!(WRITE_REG, "status"),
+                _ if READ_BIN[usize::from(a8)] < READ_ADDRS.len() as u8 => {
+                    bin!(WRITE_REG, "read_only")
+                }
+                _ => bin!(WRITE_REG, "unmapped"),
             };
             let rfi = rf::Inputs {
                 bus_we: true,
@@ -513,18 +548,18 @@ impl Coverage {
             let block =
                 rf::RegisterFile::new(self.structural.sync_depth, self.structural.cnt_width);
             sel[WRITE_OUTCOME] = match block.bus_write(&b.register_file, &rfi) {
-                Ok(_) => 0,
-                Err(WriteRefusal::KeyOff) => 1,
-                Err(WriteRefusal::NotWritable) => 2,
+                Ok(_) => bin!(WRITE_OUTCOME, "taken"),
+                Err(WriteRefusal::KeyOff) => bin!(WRITE_OUTCOME, "refused_key_off"),
+                Err(WriteRefusal::NotWritable) => bin!(WRITE_OUTCOME, "refused_not_writable"),
                 Err(WriteRefusal::Illegal(err)) => {
                     sel[ILLEGAL] = match err {
-                        ParamError::Zero { .. } => 0,
-                        ParamError::MinAboveMax { .. } => 1,
-                        ParamError::NoSettlingTick => 2,
-                        ParamError::WindowTooLong { .. } => 3,
-                        ParamError::OutOfRange { .. } => 4,
+                        ParamError::Zero { .. } => bin!(ILLEGAL, "zero_period"),
+                        ParamError::MinAboveMax { .. } => bin!(ILLEGAL, "min_above_max"),
+                        ParamError::NoSettlingTick => bin!(ILLEGAL, "no_settling_tick"),
+                        ParamError::WindowTooLong { .. } => bin!(ILLEGAL, "window_too_long"),
+                        ParamError::OutOfRange { .. } => bin!(ILLEGAL, "cth_zero"),
                     };
-                    3
+                    bin!(WRITE_OUTCOME, "refused_illegal")
                 }
             };
             if a8 == rf::addr::STATUS && out.sig {
@@ -532,7 +567,7 @@ impl Coverage {
                 sel[W1C] = u8::from(bit(rf::status::QUADRANT_SKIP))
                     | u8::from(bit(rf::status::BUS_ERR)) << 1;
             }
-            params_changed = sel[WRITE_OUTCOME] == 0
+            params_changed = sel[WRITE_OUTCOME] == bin!(WRITE_OUTCOME, "taken")
                 && a.register_file
                     .params(self.structural.sync_depth, self.structural.cnt_width)
                     != p;

