@@ -15,13 +15,23 @@ fn write(p: &Path, text: &str) {
 
 /// The inputs beside a model regression: proofs, code coverage and formal verdicts, all met.
 fn complete(dir: &Path) {
+    // every bin the model declares unreachable proven so, one other witnessed
+    let cov: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("coverage.json")).unwrap()).unwrap();
+    let mut bins = vec![serde_json::json!(
+        {"name": "fig17.path.fixed", "status": "witnessed", "property": "cover (hit_x)"})];
+    for b in cov["bins"].as_array().unwrap() {
+        if let Some(why) = b.get("unreachable") {
+            bins.push(
+                serde_json::json!({"name": b["name"], "status": "proven_unreachable",
+                "declared_unreachable": why, "property": "assert (!hit_y)"}),
+            );
+        }
+    }
+    assert_eq!(bins.len(), 90);
     write(
         &dir.join("coverage-proofs.json"),
-        r#"{"bins": [
-  {"name": "fig17.path.fixed", "status": "witnessed", "property": "cover (hit_x)"},
-  {"name": "counter.difference.difference", "status": "proven_unreachable",
-   "declared_unreachable": "a reason", "property": "assert (!hit_y)"}
-]}"#,
+        &serde_json::json!({ "bins": bins }).to_string(),
     );
     write(
         &dir.join("code/summary.json"),
@@ -50,7 +60,11 @@ fn every_figure_at_its_threshold_passes_and_one_short_fails_naming_it() {
     expect(&o, 0, &["pass"]);
     // nothing but the regression: the missing inputs are missed rows that say what writes them
     let o = pmu50(&["signoff", s(&dir)]);
-    let text = expect(&o, 1, &["coverage-proofs.json missing", "code/summary.json missing"]);
+    let text = expect(
+        &o,
+        1,
+        &["coverage-proofs.json missing", "code/summary.json missing"],
+    );
     assert!(text.contains("formal.json missing"), "{text}");
     complete(&dir);
     // three seeds do not close the functional coverage: missed at V3, met at a threshold of 10 %
@@ -68,10 +82,12 @@ fn every_figure_at_its_threshold_passes_and_one_short_fails_naming_it() {
     // the table is at the top of report.html, and in signoff.json
     let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
     let (signoff, regress) = (html.find("<h2>Sign-off</h2>"), html.find("<h2>Failures"));
-    assert!(signoff.is_some() && signoff < regress, "sign-off table first");
+    assert!(
+        signoff.is_some() && signoff < regress,
+        "sign-off table first"
+    );
     let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("signoff.json")).unwrap())
-            .unwrap();
+        serde_json::from_str(&std::fs::read_to_string(dir.join("signoff.json")).unwrap()).unwrap();
     assert_eq!(json["met"], true);
     assert_eq!(json["rows"].as_array().unwrap().len(), 7);
 
@@ -97,10 +113,10 @@ fn every_figure_at_its_threshold_passes_and_one_short_fails_naming_it() {
         ),
         (
             "coverage-proofs.json",
-            r#"{"bins": [{"name": "counter.difference.difference", "status": "wrong_declaration",
+            r#"{"bins": [{"name": "fig18.history.both", "status": "wrong_declaration",
                 "declared_unreachable": "a reason"}]}"#,
             "bins proven unreachable",
-            "wrong declarations: counter.difference.difference",
+            "wrong declarations: fig18.history.both",
         ),
     ];
     for (file, text, row, why) in cases {
@@ -117,7 +133,10 @@ fn every_figure_at_its_threshold_passes_and_one_short_fails_naming_it() {
 
     // a bad input: exit 2, the file and line
     complete(&dir);
-    write(&dir.join("formal.json"), "{\"properties\": [\n{\"name\": 3}]}");
+    write(
+        &dir.join("formal.json"),
+        "{\"properties\": [\n{\"name\": 3}]}",
+    );
     let o = pmu50(&["signoff", s(&dir)]);
     expect(&o, 2, &["formal.json: line 2"]);
 }
