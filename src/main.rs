@@ -331,6 +331,11 @@ enum Cmd {
         /// Time limit, seconds.
         #[arg(long, default_value_t = 600.0)]
         timeout: f64,
+        /// On a pass, also write the functional coverage of the run (the model sampled at
+        /// every edge of the file's inputs) as a coverage.json, mergeable with `pmu50 merge`:
+        /// a formal witness replayed through the RTL closes its bin.
+        #[arg(long, value_name = "FILE.json")]
+        coverage: Option<PathBuf>,
     },
     /// The HDL kit this binary carries (the twin, its file list and map, the mutants, the FuseSoC
     /// core, the testbenches, the scripts, the formal kit).
@@ -833,7 +838,15 @@ fn main() -> ExitCode {
             map,
             defines,
             timeout,
-        } => cmd_lockstep(&file, rtl.as_deref(), map.as_deref(), &defines, timeout),
+            coverage,
+        } => cmd_lockstep(
+            &file,
+            rtl.as_deref(),
+            map.as_deref(),
+            &defines,
+            timeout,
+            coverage.as_deref(),
+        ),
         Cmd::RtlInfo { rtl } => match pmu50::regress::dut::verilator::VerilatorDut::prepare(
             &rtl,
             None,
@@ -1199,6 +1212,7 @@ fn cmd_lockstep(
     map: Option<&Path>,
     defines: &[String],
     timeout: f64,
+    coverage: Option<&Path>,
 ) -> u8 {
     use pmu50::regress::{dut::verilator::VerilatorDut, lockstep, map as m, rtl as r};
     let fail = |e: String| {
@@ -1270,6 +1284,28 @@ fn cmd_lockstep(
                 pmu50_core::signals::N_OUTPUTS,
                 v.scenario
             );
+            if let Some(path) = coverage {
+                let id = format!(
+                    "lockstep/{}",
+                    file.file_stem().unwrap_or_default().to_string_lossy()
+                );
+                let written = lockstep::model_coverage(&v)
+                    .map_err(|e| format!("{}: {e}", file.display()))
+                    .and_then(|c| {
+                        let text = pmu50_coverage::db::of_run(&c, &id, "pass").to_text();
+                        pmu50::atomic_file::write_atomic(path, text.as_bytes())
+                            .and_then(|f| {
+                                let mut b = pmu50::atomic_file::Batch::new();
+                                b.add(f);
+                                b.commit()
+                            })
+                            .map_err(|e| e.to_string())
+                    });
+                match written {
+                    Ok(()) => out!("coverage: {} (run {id})", path.display()),
+                    Err(e) => return fail(e),
+                }
+            }
             0
         }
         Ok(lockstep::Answer::Reply(lockstep::Reply::Diverged {

@@ -140,3 +140,54 @@ fn every_figure_at_its_threshold_passes_and_one_short_fails_naming_it() {
     let o = pmu50(&["signoff", s(&dir)]);
     expect(&o, 2, &["formal.json: line 2"]);
 }
+
+#[test]
+fn a_port_level_witness_replayed_through_the_rtl_closes_its_bin() {
+    let t = tmp("witness");
+    let w = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("rtl_model/coverage/tests/witness/bus.write_reg.unmapped.vec");
+    let cov = t.join("w.json");
+    let o = pmu50(&[
+        "lockstep",
+        s(&w),
+        "--map",
+        s(&Path::new(env!("CARGO_MANIFEST_DIR")).join("hdl/pmu50.map.toml")),
+        "--coverage",
+        s(&cov),
+    ]);
+    expect(&o, 0, &["PASS", "run lockstep/bus.write_reg.unmapped"]);
+    let c: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&cov).unwrap()).unwrap();
+    let bin = c["bins"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|b| b["name"] == "bus.write_reg.unmapped")
+        .unwrap();
+    assert!(bin["hits"].as_u64().unwrap() > 0, "{bin}");
+    // merged beside a regression, the bin counts as hit
+    let r = t.join("r");
+    let o = pmu50(&[
+        "regress",
+        "--iterations",
+        "2",
+        "--no-triage",
+        "--out",
+        s(&r),
+    ]);
+    expect(&o, 0, &["pass"]);
+    let m = t.join("m");
+    let o = pmu50(&["merge", "--out", s(&m), s(&r), s(&cov)]);
+    expect(
+        &o,
+        0,
+        &["merged 1 regression folder(s) and 1 coverage file(s)"],
+    );
+    let c: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(m.join("coverage.json")).unwrap()).unwrap();
+    assert!(c["bins"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|b| b["name"] == "bus.write_reg.unmapped" && b["hits"].as_u64().unwrap() > 0));
+}

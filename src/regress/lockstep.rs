@@ -130,6 +130,29 @@ pub struct VectorInputs {
     pub inputs: Vec<u32>,
 }
 
+/// The model's functional coverage over a vector file's inputs: every edge sampled (no
+/// skipping), as the regression samples a seed.
+pub fn model_coverage(v: &VectorInputs) -> Result<pmu50_coverage::Coverage, String> {
+    use pmu50_core::{Pmu50, TracedStep};
+    let mut core = Pmu50::new(v.params).map_err(|e| e.to_string())?;
+    let mut cov = pmu50_coverage::Coverage::new(&v.params, v.clock_ns);
+    for &w in &v.inputs {
+        let i = unpack(w);
+        let before = *core.regs();
+        let out = core.peek();
+        let TracedStep { internals, .. } = core.step_traced(&i);
+        let after = *core.regs();
+        cov.sample(&pmu50_coverage::Edge {
+            before: &before,
+            after: &after,
+            out: &out,
+            inputs: &i,
+            internals: &internals,
+        });
+    }
+    Ok(cov)
+}
+
 /// Read a vector file's header and input columns; an error names the line.
 pub fn read_vector_inputs(path: &Path) -> Result<VectorInputs, String> {
     use std::io::BufRead;
