@@ -186,6 +186,29 @@ coverage-proofs: deps $(VENV)/.formal
 	  COVERAGE_WITNESS_DIR=$(abspath $(COVERAGE_OUT))/witness $(CARGO) test -q -p pmu50-coverage --test witness || exit 1; \
 	  exit $$rc
 
+## Sign-off on the twin (docs/verification.md "Sign-off"), into regress_out/signoff/: a directed
+## regression of SIGNOFF_SEEDS seeds with the RTL's code coverage, the port-level bins' formal
+## witnesses replayed through the twin (pmu50 lockstep --coverage), both merged; beside them the
+## coverage proofs (coverage-proofs.json) and the formal kit's verdicts on both parameter sets
+## (formal.json); then `pmu50 signoff` prints the table and exits 0 only when every threshold is
+## met (OpenTitan V3: 100 %; THRESHOLDS=file.toml for others). Parts in regress_out/signoff-parts/.
+SIGNOFF_SEEDS ?= 400
+SIGNOFF_DIR   := regress_out/signoff
+SIGNOFF_PARTS := regress_out/signoff-parts
+signoff: deps $(BIN) $(VENV)/.formal formal-tools
+	rm -rf $(SIGNOFF_DIR) $(SIGNOFF_PARTS)
+	mkdir -p $(SIGNOFF_PARTS)/witness
+	$(BIN) regress --directed --iterations $(SIGNOFF_SEEDS) --dut verilator --map hdl/pmu50.map.toml \
+	  --code-coverage --out $(SIGNOFF_PARTS)/run; [ $$? -le 1 ]
+	for w in rtl_model/coverage/tests/witness/*.vec; do \
+	  $(BIN) lockstep $$w --map hdl/pmu50.map.toml --coverage $(SIGNOFF_PARTS)/witness/$$(basename $$w .vec).json || exit 1; \
+	done
+	$(BIN) merge --out $(SIGNOFF_DIR) $(SIGNOFF_PARTS)/run $(SIGNOFF_PARTS)/witness/*.json; [ $$? -le 1 ]
+	-$(MAKE) coverage-proofs COVERAGE_HITS=$(SIGNOFF_DIR)/coverage.json
+	cp $(COVERAGE_OUT)/coverage.json $(SIGNOFF_DIR)/coverage-proofs.json
+	-$(FORMAL) --json $(SIGNOFF_DIR)/formal.json
+	$(BIN) signoff $(SIGNOFF_DIR) $(if $(THRESHOLDS),--thresholds $(THRESHOLDS))
+
 ## Fuzz each target for FUZZ_SECONDS (libFuzzer via cargo-fuzz, nightly toolchain; installs
 ## cargo-fuzz when missing): one process, no sanitizer (safe Rust), debug assertions on, a token
 ## dictionary from fuzz/dicts/. New corpus entries go to fuzz/corpus/ (not committed), crashes to
