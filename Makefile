@@ -23,7 +23,7 @@ PY_TARGET := target
 PY_WHEELS := target/python/wheels
 PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
 
-.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls test-install formal formal-quick formal-mutants regress-slurm test-slurm
+.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls test-install formal formal-quick formal-mutants regress-slurm test-slurm mutation
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -64,11 +64,12 @@ TEST_GLS_SEEDS        ?= 100
 TEST_COCOTB_MAX_TICKS ?= 20000
 
 ## The same suites at full size: a parked day instead of half, 200 random cosim scenarios, whole
-## vector files in cocotb, the formal proof on both parameter sets and every mutant refuted.
+## vector files in cocotb, the formal proof on both parameter sets and every mutant refuted, and
+## the mutation table of the directed regression.
 test-long: deps
 	PMU50_TEST_LONG=1 $(CARGO) test --workspace
 	$(MAKE) cosim COSIM_RANDOM=200
-	$(MAKE) regress-smoke test-slurm gls test-install
+	$(MAKE) regress-smoke test-slurm gls test-install mutation
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
 	$(MAKE) uvm UVM_MAX_TICKS=0 UVM_SEEDS=12 UVM_REGRESS_SEEDS=8
 	$(MAKE) formal formal-mutants
@@ -82,6 +83,15 @@ SEEDS ?= 2000
 DUT   ?= verilator
 regress: deps $(BIN)
 	$(BIN) regress --directed --iterations $(SEEDS) --dut $(DUT) $(if $(RTL),--rtl $(RTL) $(if $(MAP),--map $(MAP)),$(if $(filter verilator,$(DUT)),--map hdl/pmu50.map.toml)) --out regress_out/$(if $(RTL),rtl,twin)
+
+## Mutation score of the directed regression (docs/verification.md, "Mutation score"): for each
+## mutant of hdl/mutants.txt, the directed seeds of `make regress` checked in order on the twin
+## built with the mutant's define, up to the first failure (at most MUTATION_SEEDS), mutants in
+## parallel on every core. Prints the table; regress_out/mutation/mutation.json and .txt. Fails
+## when a mutant escapes and is not declared proven equivalent. MUTANTS=A,B: only these.
+MUTATION_SEEDS ?= 400
+mutation: deps $(BIN)
+	PMU50_HDL_DIR=$(CURDIR)/hdl $(BIN) mutation --iterations $(MUTATION_SEEDS) $(if $(MUTANTS),--only $(MUTANTS)) --out regress_out/mutation
 
 ## An installed pmu50 without its checkout (hdl/install_test.sh): cargo install of a copy of the
 ## checkout into target/install-test/prefix, the copy deleted, then run, hdl export and regress
