@@ -60,18 +60,21 @@ fn table_counts_seeds_to_catch_and_escapes() {
 fn bad_input_is_refused() {
     let d = tmp("bad");
     let o = pmu50(&["mutation", "--only", "MUT_NOPE", "--out", s(&d)]);
-    let t = exited(&o, 2);
+    expect_code(&o, 2);
+    let t = text(&o);
     assert!(
         t.contains("--only MUT_NOPE") && t.contains("MUT_CNT_C_SIGN"),
         "{t}"
     );
     let list = write(&d, "m.txt", "MUT_A | rtl/a.v | ok\nMUT_B | rtl/b.v\n");
     let o = pmu50(&["mutation", "--mutants", s(&list), "--out", s(&d)]);
-    let t = exited(&o, 2);
+    expect_code(&o, 2);
+    let t = text(&o);
     assert!(
         t.contains("m.txt: line 2") && t.contains("NAME | file | description"),
         "{t}"
     );
     let o = pmu50(&["mutation", "--iterations", "0", "--out", s(&d)]);
-    assert!(exited(&o, 2).contains("--iterations 0"));
+    expect_code(&o, 2);
+    assert!(text(&o).contains("--iterations 0"), "{}", text(&o));
 }
