@@ -43,7 +43,7 @@ run: $(BIN)
 	$(BIN) run $(SCENARIOS) --out-dir vcd_out --log --svg
 
 ## Everything, sized for a fresh 2-core machine: unit, property, golden and system tests of all
-## crates, HDL co-simulation with every mutant, the regress smoke test, then the Python package's
+## crates, HDL co-simulation with every method-check mutant, the regress smoke test, then the Python package's
 ## tests and the cocotb testbench (in target/venv), the Slurm path on a local cluster, and the
 ## formal kit's unbounded proof on the small parameter set. The stochastic parts run smaller than in
 ## `make test-long`: 40 random cosim scenarios instead of 200 (every mutant is still caught by
@@ -64,7 +64,7 @@ TEST_GLS_SEEDS        ?= 100
 TEST_COCOTB_MAX_TICKS ?= 20000
 
 ## The same suites at full size: a parked day instead of half, 200 random cosim scenarios, whole
-## vector files in cocotb, the formal proof on both parameter sets and every mutant refuted, and
+## vector files in cocotb, the formal proof on both parameter sets and every method-check mutant refuted, and
 ## the mutation table of the directed regression.
 test-long: deps
 	PMU50_TEST_LONG=1 $(CARGO) test --workspace
@@ -141,7 +141,7 @@ cosim: deps $(BIN)
 ## (ABC scorr, rIC3 or ABC pdr). MUTANT=MUT_x runs it on a mutant, RTL=path/to/list.f on any RTL
 ## with the contract ports. Answers are cached by the hash of the files read (hdl/build/formal/
 ## cache); FORMAL_CACHE=0 runs cold. formal-quick: set small only, with the engines already built
-## (ABC alone on a fresh machine: for make test); formal-mutants: every mutant refuted, both
+## (ABC alone on a fresh machine: for make test); formal-mutants: every method-check mutant refuted, both
 ## engines side by side in one table, then formal-test: the kit's own tests (vacuity, engines
 ## agreeing, the counterexample's view).
 ## formal-tools: rIC3 built once into target/tools (its nightly features on the stable toolchain).
@@ -228,7 +228,7 @@ cocotb: deps python $(BIN)
 ## pyuvm bench (hdl/uvm, docs/python.md "UVM"): key, comparator/Vs2 and register bus agents,
 ## pmu50.Core as predictor, a scoreboard on every output after every edge, pmu50.Coverage as
 ## coverage subscriber; the shipped scenarios, `pmu50 regress` seeds, random and register
-## sequences, every mutant of hdl/mutants.txt (UVM_MUTANTS=cocotb: the six the cocotb bench
+## sequences, every method-check mutant of hdl/mutants.txt (no scope; UVM_MUTANTS=cocotb: the six the cocotb bench
 ## catches). SIM=icarus|verilator; RTL=path/to/list.f for your own RTL (built as it is: the env
 ## reads the top's parameters, else takes the model's defaults). UVM_MAX_TICKS=N replays only
 ## the first N ticks of each scenario and regression seed.

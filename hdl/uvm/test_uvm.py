@@ -8,7 +8,7 @@ the contract ports, on Icarus or Verilator through cocotb, against pmu50.Core (d
 - test_regress_seed[seed]: the stimulus `pmu50 regress` runs for a seed (`pmu50 random --regress`);
 - test_coverage_merges: every run's coverage.json merged by `pmu50 merge`, with a model
   regression of two seeds beside them;
-- test_mutant_is_caught[*]: every mutant of hdl/mutants.txt (the six the cocotb bench catches
+- test_mutant_is_caught[*]: every mutant of hdl/mutants.txt without a scope (the six the cocotb bench catches
   first), each failing the scoreboard with its first divergence (tick, signal, expected, got,
   FIG. path);
 - test_fixed_parameters: an RTL whose top has other parameter values, and one without
