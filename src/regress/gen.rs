@@ -524,13 +524,15 @@ impl Stimulus {
         // S10's si + T2 from min passes 65535 before its clamp to x.
         let past_16_bits = on(LongQuiet)
             && !saturate_at_min
-            && bias.fixed.get("SI_MAX").is_none()
-            && bias.fixed.get("SI_MIN").is_none()
-            && r.percent(40);
+            && ["SI_MAX", "SI_MIN", "ADAPTIVE"]
+                .iter()
+                .all(|n| bias.fixed.get(n).is_none())
+            && r.percent(70);
         if on(LongQuiet) {
             if saturate_at_min {
                 p.cth = 255;
             } else if past_16_bits {
+                p.adaptive = true;
                 p.si_max = (65_534 - r.range(0, 500)) as u16;
                 p.si_min = r.range(20_000, 40_000).max(u64::from(p.wt()) + 1) as u16;
                 p.t2 = (65_536 - u64::from(p.si_min) + r.range(0, 1_000)).min(65_535) as u16;
