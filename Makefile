@@ -22,7 +22,7 @@ PY_TARGET := target
 PY_WHEELS := target/python/wheels
 PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
 
-.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls test-install fusesoc formal formal-quick formal-mutants regress-slurm test-slurm coverage-proofs signoff
+.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls test-install fusesoc formal formal-quick formal-mutants regress-slurm test-slurm coverage-proofs signoff mutation
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -42,7 +42,7 @@ run: $(BIN)
 	$(BIN) run $(SCENARIOS) --out-dir vcd_out --log --svg
 
 ## Everything, sized for a fresh 2-core machine: unit, property, golden and system tests of all
-## crates, HDL co-simulation with every mutant, the regress smoke test, then the Python package's
+## crates, HDL co-simulation with every method-check mutant, the regress smoke test, then the Python package's
 ## tests and the cocotb testbench (in target/venv), the Slurm path on a local cluster, and the
 ## formal kit's unbounded proof on the small parameter set. The stochastic parts run smaller than in
 ## `make test-long`: 40 random cosim scenarios instead of 200 (every mutant is still caught by
@@ -63,11 +63,12 @@ TEST_GLS_SEEDS        ?= 100
 TEST_COCOTB_MAX_TICKS ?= 20000
 
 ## The same suites at full size: a parked day instead of half, 200 random cosim scenarios, whole
-## vector files in cocotb, the formal proof on both parameter sets and every mutant refuted.
+## vector files in cocotb, the formal proof on both parameter sets and every method-check mutant refuted, and
+## the mutation table of the directed regression.
 test-long: deps
 	PMU50_TEST_LONG=1 $(CARGO) test --workspace --exclude pmu50-python
 	$(MAKE) cosim COSIM_RANDOM=200
-	$(MAKE) regress-smoke test-slurm gls test-install fusesoc
+	$(MAKE) regress-smoke test-slurm gls test-install fusesoc mutation
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
 	$(MAKE) uvm UVM_MAX_TICKS=0 UVM_SEEDS=12 UVM_REGRESS_SEEDS=8
 	$(MAKE) formal formal-mutants
@@ -81,6 +82,15 @@ SEEDS ?= 2000
 DUT   ?= verilator
 regress: deps $(BIN)
 	$(BIN) regress --directed --iterations $(SEEDS) --dut $(DUT) $(if $(RTL),--rtl $(RTL) $(if $(MAP),--map $(MAP)),$(if $(filter verilator,$(DUT)),--map hdl/pmu50.map.toml)) --out regress_out/$(if $(RTL),rtl,twin)
+
+## Mutation score of the directed regression (docs/verification.md, "Mutation score"): for each
+## mutant of hdl/mutants.txt, the directed seeds of `make regress` checked in order on the twin
+## built with the mutant's define, up to the first failure (at most MUTATION_SEEDS), mutants in
+## parallel on every core. Prints the table; regress_out/mutation/mutation.json and .txt. Fails
+## when a mutant escapes and is not declared proven equivalent. MUTANTS=A,B: only these.
+MUTATION_SEEDS ?= 400
+mutation: deps $(BIN)
+	PMU50_HDL_DIR=$(CURDIR)/hdl $(BIN) mutation --iterations $(MUTATION_SEEDS) $(if $(MUTANTS),--only $(MUTANTS)) --out regress_out/mutation
 
 ## An installed pmu50 without its checkout (hdl/install_test.sh): cargo install of a copy of the
 ## checkout into target/install-test/prefix, the copy deleted, then run, hdl export and regress
@@ -137,7 +147,7 @@ cosim: deps $(BIN)
 ## so). MUTANT=MUT_x runs it on a mutant, RTL=path/to/list.f on any RTL
 ## with the contract ports. Answers are cached by the hash of the files read (hdl/build/formal/
 ## cache); FORMAL_CACHE=0 runs cold. formal-quick: set small only, with the engines already built
-## (ABC alone on a fresh machine: for make test); formal-mutants: every mutant refuted, both
+## (ABC alone on a fresh machine: for make test); formal-mutants: every method-check mutant refuted, both
 ## engines side by side in one table, then formal-test: the kit's own tests (vacuity, engines
 ## agreeing, the counterexample's view).
 ## formal-tools: rIC3 built once into target/tools (its nightly features on the stable toolchain).
@@ -266,7 +276,7 @@ cocotb: deps python $(BIN)
 ## pyuvm bench (hdl/uvm, docs/python.md "UVM"): key, comparator/Vs2 and register bus agents,
 ## pmu50.Core as predictor, a scoreboard on every output after every edge, pmu50.Coverage as
 ## coverage subscriber; the shipped scenarios, `pmu50 regress` seeds, random and register
-## sequences, every mutant of hdl/mutants.txt (UVM_MUTANTS=cocotb: the six the cocotb bench
+## sequences, every method-check mutant of hdl/mutants.txt (no scope; UVM_MUTANTS=cocotb: the six the cocotb bench
 ## catches). SIM=icarus|verilator; RTL=path/to/list.f for your own RTL (built as it is: the env
 ## reads the top's parameters, else takes the model's defaults). UVM_MAX_TICKS=N replays only
 ## the first N ticks of each scenario and regression seed.

@@ -314,7 +314,8 @@ fi
 
 MUT_FAIL=0
 if [ $MUTANTS_ON = 1 ]; then
-    mapfile -t ALLMUT < <(grep -v '^#' "$HDL/mutants.txt" | awk -F'|' 'NF >= 3 {gsub(/ /, "", $1); print $1}')
+    # the mutants without a scope (a `regress` or `equivalent` one is for `make mutation` only)
+    mapfile -t ALLMUT < <(grep -v '^#' "$HDL/mutants.txt" | awk -F'|' 'NF == 3 {gsub(/ /, "", $1); print $1}')
     if [ -n "$ONLY" ]; then IFS=',' read -r -a MUTS <<< "$ONLY"; else MUTS=("${ALLMUT[@]}"); fi
     stamp "mutation phase: ${#MUTS[@]} mutants x 3 methods"
     printf '%s\n' "${MUTS[@]}" | xargs -P "$JOBS" -n 1 "$SELF" __mutant

@@ -302,6 +302,34 @@ enum Cmd {
         #[arg(long, value_name = "FILE.toml", conflicts_with_all = ["iterations", "shard", "shard_count", "directed"])]
         repro: Option<PathBuf>,
     },
+    /// Mutation score of the directed regression: for each mutant of hdl/mutants.txt, the
+    /// directed seeds (`regress --directed --dut verilator --map hdl/pmu50.map.toml`) checked in
+    /// order on the twin built with the mutant's define, up to the first failure
+    /// (docs/verification.md). Writes DIR/mutation.json and mutation.txt. Exit 0 every mutant
+    /// caught or proven equivalent, 1 one escaped (or could not be checked), 2 bad input.
+    Mutation {
+        /// Directed seeds per mutant.
+        #[arg(long, default_value_t = 400)]
+        iterations: u64,
+        /// First seed.
+        #[arg(long, default_value_t = 1)]
+        start_seed: u64,
+        /// Mutants checked at once (default: every core).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Only these mutants (comma-separated names).
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+        /// The mutants' list [default: the kit's hdl/mutants.txt].
+        #[arg(long, value_name = "FILE")]
+        mutants: Option<PathBuf>,
+        /// Output folder.
+        #[arg(long, default_value = "regress_out/mutation")]
+        out: PathBuf,
+        /// Per-seed time limit for the DUT, seconds.
+        #[arg(long, default_value_t = 120.0)]
+        timeout: f64,
+    },
     /// Propose a map (`regress --map`) for an RTL: its signals matched to the model's registers
     /// and internals by name and width, from Verilator's elaboration. Review and edit it.
     RtlMap {
@@ -800,6 +828,15 @@ fn main() -> ExitCode {
         }
         Cmd::DutWorker => pmu50::regress::lockstep::worker_main() as u8,
         Cmd::RtlMap { rtl, output } => cmd_rtl_map(&rtl, output.as_deref()),
+        Cmd::Mutation {
+            iterations,
+            start_seed,
+            jobs,
+            only,
+            mutants,
+            out,
+            timeout,
+        } => cmd_mutation(iterations, start_seed, jobs, only, mutants, out, timeout),
         Cmd::Hdl {
             cmd: HdlCmd::Export { dir, force },
         } => {
@@ -1202,6 +1239,55 @@ fn cmd_regress(a: RegressArgs) -> u8 {
             u8::from(s.failed() > 0 || !s.missing.is_empty())
         }
         Err(e) => fail(e.to_string()),
+    }
+}
+
+/// `pmu50 mutation`: the mutation table of the directed regression.
+fn cmd_mutation(
+    iterations: u64,
+    start_seed: u64,
+    jobs: Option<usize>,
+    only: Vec<String>,
+    mutants: Option<PathBuf>,
+    out: PathBuf,
+    timeout: f64,
+) -> u8 {
+    use pmu50::regress::mutation;
+    if !(timeout.is_finite() && timeout > 0.0 && timeout <= 86_400.0) {
+        err!("error: --timeout {timeout}: give the per-seed time limit in seconds, 0 < T <= 86400");
+        return 2;
+    }
+    if jobs == Some(0) {
+        err!("error: --jobs 0: give at least 1 job");
+        return 2;
+    }
+    let hdl = pmu50::regress::dut::hdl_dir();
+    let o = mutation::Options {
+        mutants: mutants.unwrap_or_else(|| hdl.join("mutants.txt")),
+        twin: hdl.join("pmu50.f"),
+        map: Some(hdl.join("pmu50.map.toml")),
+        start_seed,
+        iterations,
+        jobs: jobs.unwrap_or_else(|| {
+            std::thread::available_parallelism()
+                .map(|n| n.get())
+                .unwrap_or(1)
+        }),
+        timeout: Duration::from_secs_f64(timeout),
+        only,
+        out: out.clone(),
+    };
+    let stop = AtomicBool::new(false);
+    match mutation::run(&o, &stop, progress_line) {
+        Ok(r) => {
+            out!("{}", r.text().trim_end());
+            out!("wrote {}/mutation.json, mutation.txt", out.display());
+            u8::from(!r.ok())
+        }
+        Err(e) => {
+            err!("error: {e}");
+            2
+        }
     }
 }
 

@@ -1166,16 +1166,18 @@ def mutants(a, sets, names, files, incs, defs):
     not prove, each checked on its reduced cone by both engines (ABC: bmc3 then pdr; rIC3: IC3) independently,
     until one is refuted. The table gives each engine's verdict, cycle and time; two engines
     disagreeing on a property fails the run."""
-    muts = []
+    muts, scoped = [], []
     for line in open(os.path.join(HDL, "mutants.txt")):
         line = line.strip()
         if line and not line.startswith("#"):
-            muts.append(line.split("|")[0].strip())
+            # a mutant with a scope (`regress`, `equivalent: ...`) is for `make mutation` only:
+            # run it here when --only names it
+            (scoped if len(line.split("|")) > 3 else muts).append(line.split("|")[0].strip())
     if a.only:
         want = a.only.split(",")
-        bad = [w for w in want if w not in muts]
+        bad = [w for w in want if w not in muts + scoped]
         if bad:
-            raise SetupError("unknown mutants %s (valid: %s)" % (", ".join(bad), ", ".join(muts)))
+            raise SetupError("unknown mutants %s (valid: %s)" % (", ".join(bad), ", ".join(muts + scoped)))
         muts = want
     pair = engine_pair(a)
     refuters = [r for r in a.refuters.split(",") if r and r not in sets]

@@ -42,7 +42,12 @@ module action_switching_56a #(
 
     assign sig     = sync[SIG_BIT];
     assign kon     = !sig &&  sig_nxt;
+`ifdef MUT_KOFF_RAW_IG
+    // MUTANT: koff decoded from the raw ig, not the synchronizer (one path without its flops).
+    assign koff    =  sig && !ig;
+`else
     assign koff    =  sig && !sig_nxt;
+`endif
     assign vr_hi   = sig;
     assign vm_en   = sig;
     assign vs1_en  = sig;
@@ -50,7 +55,12 @@ module action_switching_56a #(
     assign vp_en   = 1'b1;
 
     always @(posedge clk or negedge rst_n) begin
+`ifdef MUT_SYNC_RESET_ONES
+        // MUTANT: the synchronizer resets to all ones (the key reads on after reset).
+        if (!rst_n) sync <= {SYNC_DEPTH{1'b1}};
+`else
         if (!rst_n) sync <= {SYNC_DEPTH{1'b0}};
+`endif
         else        sync <= sync_nxt;
     end
 endmodule

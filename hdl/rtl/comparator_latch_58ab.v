@@ -22,11 +22,21 @@ module comparator_latch_58ab (
     output wire chg_s,
     output wire chg_c
 );
+`ifdef MUT_LATCH_NO_SR
+    // MUTANT: the latch takes a sample at every strobe, Sr not checked.
+    assign upd    = smp;
+`else
     assign upd    = smp && sr;
+`endif
     assign first  = upd && !vld;
     assign cs_new = upd ? cmp_s : cs;
     assign cc_new = upd ? cmp_c : cc;
+`ifdef MUT_CHG_NO_VLD
+    // MUTANT: a Cs change is flagged at the first sample too (vld not checked).
+    assign chg_s  = upd && (cs_new != cs);
+`else
     assign chg_s  = upd && vld && (cs_new != cs);
+`endif
     assign chg_c  = upd && vld && (cc_new != cc);
 
     always @(posedge clk or negedge rst_n) begin
@@ -37,7 +47,12 @@ module comparator_latch_58ab (
         end else begin
             cs  <= cs_new;
             cc  <= cc_new;
+`ifdef MUT_VLD_ON_SMP
+            // MUTANT: vld set by the strobe even when Sr = 0 (no sample taken).
+            vld <= vld || smp;
+`else
             vld <= vld || upd;
+`endif
         end
     end
 endmodule

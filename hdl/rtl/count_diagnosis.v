@@ -14,8 +14,18 @@ module count_diagnosis #(
     input  wire             skip_nxt,
     output reg              diag
 );
+`ifdef MUT_DIAG_NO_WRAP
+    // MUTANT: the difference is taken in 16 bits, not modulo 2^CNT_W.
+    wire [15:0] d = cnt_s_nxt - cnt_c_nxt;
+`else
     wire [CNT_W-1:0] d = cnt_s_nxt - cnt_c_nxt;
+`endif
+`ifdef MUT_DIAG_UNSIGNED
+    // MUTANT: |d| < 2 tested on the unsigned difference (not sign-extended): d = -1 is out of range.
+    wire in_range = (d < 2);
+`else
     wire in_range = (d == {CNT_W{1'b0}}) || (d == {{(CNT_W-1){1'b0}}, 1'b1}) || (d == {CNT_W{1'b1}});
+`endif
 
     always @(posedge clk or negedge rst_n) begin
         if (!rst_n) diag <= 1'b0;

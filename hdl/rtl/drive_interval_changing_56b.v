@@ -41,7 +41,12 @@ module drive_interval_changing_56b #(
 
     // S6: si - T1 saturating at 0, then clamped to the minimum [0260]-[0262].
     wire [16:0] sub      = {1'b0, si} - {1'b0, t1};
+`ifdef MUT_SI_SUB_NO_SAT
+    // MUTANT: si - T1 does not saturate at 0: T1 > si wraps to a large interval.
+    wire [15:0] si_dec   = sub[15:0];
+`else
     wire [15:0] si_dec   = sub[16] ? 16'd0 : sub[15:0];
+`endif
 `ifdef MUT_NO_CLAMP_MIN
     // MUTANT: the clamp of [0262] is missing: si - T1 may go below the minimum.
     wire [15:0] si_short = si_dec;
@@ -49,7 +54,12 @@ module drive_interval_changing_56b #(
     wire [15:0] si_short = (si_dec < si_min) ? si_min : si_dec;
 `endif
     // S10: si + T2 in 17 bits, clamped to x.
+`ifdef MUT_SI_ADD_16BIT
+    // MUTANT: si + T2 in 16 bits: a sum past 65535 wraps before the clamp to x.
+    wire [16:0] add      = {1'b0, si + t2};
+`else
     wire [16:0] add      = {1'b0, si} + {1'b0, t2};
+`endif
     wire [15:0] si_long  = (add > {1'b0, si_max}) ? si_max : add[15:0];
     // S9: saturating at 255.
 `ifdef MUT_CNT_R_NO_SAT
@@ -134,13 +144,23 @@ module drive_interval_changing_56b #(
 `ifndef MUT_CNT_R_NO_RESET
                 cnt_r_n = 8'd0;                      // S4
 `endif
+`ifdef MUT_S5_LT
+                // MUTANT: S5 "si is the minimum" tested with < (si = min goes to S6).
+                if (si < si_min) begin
+`else
                 if (si <= si_min) begin
+`endif
                     fig17 = F17_S5_AT_MIN;           // S5: Y
                 end else begin
                     si_n  = si_short;                // S6
                     fig17 = F17_S6_SHORTEN;
                 end
+`ifdef MUT_S7_GT
+            // MUTANT: S7 "si is x" tested with > (at x the quiet pulses go on to S8).
+            end else if (si > si_max) begin
+`else
             end else if (si >= si_max) begin
+`endif
                 fig17 = F17_S7_AT_MAX;               // S7: Y
             end else if (cth_reached) begin
                 si_n     = si_long;                  // S8: Y, S10

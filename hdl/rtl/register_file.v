@@ -130,8 +130,18 @@ module register_file #(
 `else
     wire key_ok = sig;
 `endif
+`ifdef MUT_STATUS_ADDR_4BIT
+    // MUTANT: STATUS decoded from the low 4 address bits: a write to PI (0x04) is a W1C.
+    wire status_w1c = bus_we && key_ok && (bus_addr[3:0] == A_STATUS[3:0]);
+`else
     wire status_w1c = bus_we && key_ok && (bus_addr == A_STATUS);
+`endif
+`ifdef MUT_W1C_WRONG_BIT
+    // MUTANT: the quadrant_skip W1C strobe is taken from bit 4 (diag) instead of bit 5.
+    assign skip_clr = status_w1c && bus_wdata[4];
+`else
     assign skip_clr = status_w1c && bus_wdata[5];
+`endif
     wire   err_clr  = status_w1c && bus_wdata[9];
 
     wire wr_ctrl   = (bus_addr == A_CTRL);
@@ -164,7 +174,12 @@ module register_file #(
     wire [15:0] c_shortest = c_adaptive ? c_si_min : c_si_max;
     wire c_legal = (c_ps != 16'd0) && (c_si_max != 16'd0) && (c_si_min != 16'd0) &&
                    (c_t1 != 16'd0) && (c_t2 != 16'd0) && (c_smp_on != 16'd0) &&
+`ifdef MUT_MIN_EQ_MAX_REFUSED
+                   // MUTANT: min = x refused (< instead of <=).
+                   (c_cth != 8'd0) && (c_si_min < c_si_max) &&
+`else
                    (c_cth != 8'd0) && (c_si_min <= c_si_max) &&
+`endif
 `ifndef MUT_PW_PI_ZERO_OK
                    ((c_pw != 16'd0) || (c_pi != 16'd0)) &&         // pw + pi >= 1
 `endif
@@ -208,7 +223,12 @@ module register_file #(
             A_PW:      rd = pw;
             A_PI:      rd = pi;
             A_PS:      rd = ps;
+`ifdef MUT_READ_SI_MAX_NEXT
+            // MUTANT: SI_MAX reads its next value (a write in the read's cycle shows at once).
+            A_SI_MAX:  rd = si_max_nxt;
+`else
             A_SI_MAX:  rd = si_max;
+`endif
             A_SI_MIN:  rd = si_min;
             A_T1:      rd = t1;
             A_T2:      rd = t2;
@@ -253,7 +273,12 @@ module register_file #(
                 smp_on   <= c_smp_on;
             end
             // Set wins over clear.
+`ifdef MUT_ERR_CLEAR_WINS
+            // MUTANT: the W1C clear of bus_err wins over a refusal on the same edge.
+            bus_err <= !err_clr && (refused || bus_err);
+`else
             bus_err <= refused || (bus_err && !err_clr);
+`endif
             rdata   <= rd;
         end
     end

@@ -12,10 +12,18 @@ module sensor_power_determination_57 (
     output reg  sr
 );
     always @(posedge clk or negedge rst_n) begin
+`ifdef MUT_SR_RESET_ONE
+        // MUTANT: Sr resets to 1.
+        if (!rst_n) sr <= 1'b1;
+`else
         if (!rst_n) sr <= 1'b0;
+`endif
 `ifdef MUT_SR_IGNORES_VS2_OK
         // MUTANT: the power-good of Vs2 is ignored (a dead rail still "rises").
         else        sr <= vs2_en;
+`elsif MUT_SR_PG_LATCHED
+        // MUTANT: the power-good is latched while Vs2 is on: a Vs2 fault after Sr rose is missed.
+        else        sr <= vs2_en && (vs2_ok || sr);
 `else
         else        sr <= vs2_en && vs2_ok;
 `endif

@@ -34,7 +34,12 @@ module timing_generator_56 (
 
     assign st     = !sig && (tmr == 16'd0);
     assign vs2_en =  sig || (t < wt);
+`ifdef MUT_PS_WIN_LE
+    // MUTANT: the Ps window ends one tick late (<= instead of <).
+    assign ps_win = !sig && (t >= ps_start) && (t <= wt);
+`else
     assign ps_win = !sig && (t >= ps_start) && (t < wt);
+`endif
 `ifdef MUT_SMP_LATE
     // MUTANT: the key-off sampling strobe comes one tick late (first tick after Ps).
     assign smp    =  sig ? (t_inc == {2'b00, smp_on}) : (t == wt);
@@ -42,7 +47,12 @@ module timing_generator_56 (
     assign smp    =  sig ? (t_inc == {2'b00, smp_on}) : (t_inc == wt);
 `endif
 
+`ifdef MUT_EOC_EQ
+    // MUTANT: the cycle ends at t + 1 == period only: a period written below the timer is missed.
+    wire end_of_cycle = (t_inc == period);
+`else
     wire end_of_cycle = (t_inc >= period);
+`endif
 
     always @(posedge clk or negedge rst_n) begin
         if (!rst_n)                          tmr <= 16'd0;

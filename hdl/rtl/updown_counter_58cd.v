@@ -61,15 +61,30 @@ module updown_counter_58cd #(
                 default: begin cnt_s_nxt = ONE;  cnt_c_nxt = TWO;  end
 `endif
             endcase
+`ifdef MUT_BOTH_COUNTS_S
+        // MUTANT: "both changed" left out of the sine counter's condition: CNTs counts at a skip.
+        end else if (chg_s) begin
+`else
         end else if (chg_s && !both) begin
+`endif
             cnt_s_nxt = up_s ? cnt_s + ONE : cnt_s - ONE;
         end else if (chg_c && !both) begin
+`ifdef MUT_CNT_C_SAT_MAX
+            // MUTANT: CNTc stops at its largest positive value instead of wrapping.
+            cnt_c_nxt = up_c ? ((cnt_c == {1'b0, {(CNT_W-1){1'b1}}}) ? cnt_c : cnt_c + ONE) : cnt_c - ONE;
+`else
             cnt_c_nxt = up_c ? cnt_c + ONE : cnt_c - ONE;
+`endif
         end
     end
 
     // Set wins over clear: a skip seen in the same cycle as the MPU's clear is not lost.
+`ifdef MUT_SKIP_CLR_WINS
+    // MUTANT: the W1C clear wins over a skip seen on the same edge (the skip is lost).
+    assign skip_nxt = (both || quadrant_skip) && !skip_clr;
+`else
     assign skip_nxt = both || (quadrant_skip && !skip_clr);
+`endif
 
     always @(posedge clk or negedge rst_n) begin
         if (!rst_n) begin

@@ -187,6 +187,9 @@ pub fn knobs_for(bin: &str) -> Vec<Knob> {
     k
 }
 
+/// The on-key sampling period of the skip-and-clear race (ticks).
+const RACE_SMP_ON: u64 = 40;
+
 /// How the knobs of a batch's seeds are drawn.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Bias {
@@ -516,9 +519,26 @@ impl Stimulus {
         // either at the minimum interval with Cth = 255 (S9 holds si), or climbing to x in T2 = 1
         // steps (S10 each pulse past Cth).
         let saturate_at_min = on(LongQuiet) && r.percent(50);
+        // Or at the top of the 16-bit range (docs/spec.md 2.6): x just below 65535, T1 = 65535
+        // so that S6's si - T1 saturates at 0 before its clamp to min, and T2 so large that
+        // S10's si + T2 from min passes 65535 before its clamp to x.
+        let past_16_bits = on(LongQuiet)
+            && !saturate_at_min
+            && ["SI_MAX", "SI_MIN", "ADAPTIVE"]
+                .iter()
+                .all(|n| bias.fixed.get(n).is_none())
+            && r.percent(70);
         if on(LongQuiet) {
             if saturate_at_min {
                 p.cth = 255;
+            } else if past_16_bits {
+                p.adaptive = true;
+                p.si_max = (65_534 - r.range(0, 500)) as u16;
+                p.si_min = r.range(20_000, 40_000).max(u64::from(p.wt()) + 1) as u16;
+                p.t2 = (65_536 - u64::from(p.si_min) + r.range(0, 1_000)).min(65_535) as u16;
+                p.cth = p.cth.min(4);
+                let (x, min) = (u64::from(p.si_max), u64::from(p.si_min));
+                ticks = 3 * x + (u64::from(p.cth) + 2) * min + u64::from(p.wt());
             } else {
                 p.t2 = 1;
                 p.cth = p.cth.min(4);
@@ -526,7 +546,11 @@ impl Stimulus {
                 ticks = 2 * u64::from(p.si_max) + (span + 2) * u64::from(p.si_max);
             }
             // one rotation takes si from x to min
-            p.t1 = p.si_max - p.si_min + 1;
+            p.t1 = if past_16_bits {
+                u16::MAX
+            } else {
+                p.si_max - p.si_min + 1
+            };
         }
         // A counter wraps at its width ([0096]-[0099], docs/spec.md 2.5): the key on, sampling
         // every tick (smp_on = 1), the shaft spinning one way at 20 deg a tick.
@@ -535,7 +559,36 @@ impl Stimulus {
             ticks = (1u64 << p.cnt_width) * 9 + 2_000;
         }
         let vr_err = (r.range(0, 200) as i64 - 100, r.range(0, 200) as i64 - 100);
-        let start_decideg = r.range(0, 3599);
+        let mut start_decideg = r.range(0, 3599);
+        // A skip and the MPU's W1C of STATUS.quadrant_skip on the same edge (docs/spec.md 2.5:
+        // the set wins), then a write of bit 4 alone while the flag is set (no effect) and a
+        // W1C of bit 5 while it is set: the key on from reset, on-key samples every
+        // RACE_SMP_ON ticks from the edge where sig rises (edge SYNC_DEPTH), the shaft half a
+        // turn between the first two of them, from the middle of a quadrant.
+        let race = !on(Spin)
+            && !on(LongQuiet)
+            && on(StatusWrites)
+            && on(FastMoves)
+            && bias.fixed.get("SMP_ON").is_none()
+            && r.percent(50);
+        let mut race_events = Vec::new();
+        let mut race_end = 0;
+        if race {
+            const S: u64 = RACE_SMP_ON;
+            p.smp_on = S as u16;
+            start_decideg = 450 + 900 * (start_decideg % 4);
+            let d = u64::from(p.sync_depth);
+            // samples at the edges d + n S; an event at tick t is the input of edge t + 1
+            for (t, value) in [
+                (d + 2 * S - 1, 1 << 5),
+                (d + 2 * S + 5, 1 << 4),
+                (d + 3 * S + 5, 1 << 5),
+            ] {
+                let reg = "STATUS";
+                race_events.push((t, Action::Write { reg, value }));
+            }
+            race_end = d + 3 * S + 10;
+        }
 
         // Motor: holds and moves; fast moves skip quadrants.
         let mut motion = Vec::new();
@@ -580,6 +633,23 @@ impl Stimulus {
             ticks = motion.iter().map(Motion::ticks).sum();
         } else {
             let mut t = 0;
+            if race {
+                // still through the first sample, half a turn, still through the second
+                let d = u64::from(p.sync_depth);
+                let dir = if start_decideg % 1800 < 900 { 1 } else { -1 };
+                motion.push(Motion::Hold {
+                    ticks: d + RACE_SMP_ON + 2,
+                });
+                motion.push(Motion::Move {
+                    ticks: RACE_SMP_ON / 2,
+                    milli_deg: dir * 180_000,
+                });
+                t = d + RACE_SMP_ON + 2 + RACE_SMP_ON / 2;
+                motion.push(Motion::Hold {
+                    ticks: race_end - t,
+                });
+                t = race_end;
+            }
             while t < ticks {
                 let d = r.range(100, 8_000).min(ticks - t);
                 let m = if r.percent(40) {
@@ -599,7 +669,7 @@ impl Stimulus {
 
         // Timeline.
         let mut events = Vec::new();
-        let mut ig = if on(Spin) {
+        let mut ig = if on(Spin) || race {
             true
         } else if on(LongQuiet) {
             false
@@ -632,8 +702,15 @@ impl Stimulus {
         } else {
             (50, 15_000)
         };
-        let mut at = 0u64;
+        let mut at = race_end;
+        events.extend(race_events);
         let mut fault = false;
+        if !race && on(Faults) && r.percent(25) {
+            // a dead Vs2 rail from power-on: the first strobes find Sr = 0, so the first sample
+            // (the counters' preset, docs/spec.md 2.4-2.5) comes later
+            fault = true;
+            events.push((0, Action::Fault(true)));
+        }
         loop {
             at += r.range(gap.0, gap.1);
             if at >= ticks.saturating_sub(2) {
@@ -642,8 +719,24 @@ impl Stimulus {
             let roll = r.range(0, 9);
             if on(Glitches) && r.percent(30) {
                 // a pulse of ig shorter than the synchronizer
+                let len = r.range(1, 2);
                 events.push((at, Action::Ig(!ig)));
-                events.push((at + r.range(1, 2), Action::Ig(ig)));
+                events.push((at + len, Action::Ig(ig)));
+                // A low pulse passes the synchronizer: sig falls at edge at + SYNC_DEPTH and
+                // rises one edge per tick of the pulse later. With ig back on before that edge,
+                // a write there is taken on the key-off edge, and an SI_MAX written there is the
+                // x that si starts the key-off period with (docs/spec.md 2.6, si_max_nxt).
+                let d = u64::from(p.sync_depth);
+                if ig && len < d && r.percent(50) {
+                    let value = write_value(&mut r, "SI_MAX", &p, false);
+                    events.push((
+                        at + d - 1,
+                        Action::Write {
+                            reg: "SI_MAX",
+                            value,
+                        },
+                    ));
+                }
                 at += 3;
                 continue;
             }
@@ -771,9 +864,14 @@ impl Stimulus {
     }
 }
 
-/// A value to write to `reg`: mostly legal for the parameters drawn, illegal on request.
+/// A value to write to `reg`: mostly legal for the parameters drawn, illegal on request. With
+/// `illegal`, half the writes aim at a legality rule: past it, or exactly at its bound (min = x
+/// and Wt = shortest - 1 are legal; Wt = shortest is not; docs/spec.md 4).
 fn write_value(r: &mut Rng, reg: &str, p: &Params, illegal: bool) -> u16 {
     let bad = illegal && r.percent(50);
+    // Wt without the written field, and the shortest interval (docs/spec.md 4)
+    let shortest = u64::from(p.shortest_interval());
+    let wt_without = |f: u16| u64::from(p.wt()) - u64::from(f);
     let v = match reg {
         "CTRL" => r.range(0, 1),
         "STATUS" => {
@@ -785,8 +883,12 @@ fn write_value(r: &mut Rng, reg: &str, p: &Params, illegal: bool) -> u16 {
             0,
             u64::from(p.si_max) + 1 + r.range(0, 50),
             u64::from(p.pw) + u64::from(p.pi),
-        ][r.range(0, 2) as usize],
-        "SI_MAX" if bad => u64::from(p.si_min).saturating_sub(1 + r.range(0, 20)),
+            u64::from(p.si_max),
+        ][r.range(0, 3) as usize],
+        "SI_MAX" if bad => [
+            u64::from(p.si_min).saturating_sub(1 + r.range(0, 20)),
+            u64::from(p.si_min),
+        ][r.range(0, 1) as usize],
         "SI_MIN" | "SI_MAX" => r.range(
             u64::from(p.si_min).saturating_sub(50),
             u64::from(p.si_max) + 50,
@@ -794,6 +896,15 @@ fn write_value(r: &mut Rng, reg: &str, p: &Params, illegal: bool) -> u16 {
         // Pw = Pi = 0 leaves no settling tick; a long one makes the window too long
         "PW" if bad && p.pi == 0 => 0,
         "PI" if bad && p.pw == 0 => 0,
+        "PW" | "PI" | "PS" if bad && r.percent(50) => {
+            // Wt = shortest - 1 (legal) or = shortest (refused), at equality
+            let f = match reg {
+                "PW" => p.pw,
+                "PI" => p.pi,
+                _ => p.ps,
+            };
+            (shortest - 1 + r.range(0, 1)).saturating_sub(wt_without(f))
+        }
         "PW" | "PI" if bad => u64::from(p.si_min) + r.range(0, 10),
         "PS" | "T1" | "T2" | "SMP_ON" if bad => 0,
         _ => r.range(0, 320),

@@ -21,6 +21,7 @@ pub mod gen;
 pub mod lockstep;
 pub mod map;
 pub mod merge;
+pub mod mutation;
 pub mod picture;
 pub mod pool;
 pub mod report;
