@@ -456,6 +456,7 @@ pub fn run(o: &Options, stop: &AtomicBool, progress: fn(&str)) -> Result<Report,
         fixed: Default::default(),
         pins: Pins::default(),
         shard: None,
+        code_coverage: false,
     };
     let twin = dut::prepare(&spec).map_err(|e| MutationError::Usage(e.to_string()))?;
     if !twin.fixed().is_empty() {
