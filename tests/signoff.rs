@@ -86,6 +86,16 @@ fn every_figure_at_its_threshold_passes_and_one_short_fails_naming_it() {
         signoff.is_some() && signoff < regress,
         "sign-off table first"
     );
+    // with every bin's reachability as the proofs decided it
+    assert!(
+        html.contains(
+            "Reachability of every bin, by the coverage proofs: 89 proven unreachable, 1 witnessed"
+        ),
+        "{html}"
+    );
+    assert!(html.contains(
+        "<code>fig18.history.both</code></td><td class=\"ok\">proven unreachable</td><td>assert (!hit_y)</td>"
+    ));
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("signoff.json")).unwrap()).unwrap();
     assert_eq!(json["met"], true);

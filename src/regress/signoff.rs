@@ -253,6 +253,50 @@ pub struct ProofBin {
     pub declared_unreachable: Option<String>,
     #[serde(default)]
     pub property: String,
+    /// Proven on these parameter sets.
+    #[serde(default)]
+    pub sets: Vec<String>,
+    /// Witnessed (or refuted) on this set, at this step.
+    #[serde(default)]
+    pub set: String,
+    #[serde(default)]
+    pub step: Option<u64>,
+    /// Undecided: what was tried.
+    #[serde(default)]
+    pub tried: String,
+    /// A witness or counterexample as a vector file.
+    #[serde(default)]
+    pub witness: Option<String>,
+}
+
+impl ProofBin {
+    fn status_text(&self) -> &'static str {
+        match self.status {
+            BinStatus::ProvenUnreachable => "proven unreachable",
+            BinStatus::WrongDeclaration => "WRONG DECLARATION",
+            BinStatus::Witnessed => "witnessed",
+            BinStatus::Undecided => "undecided",
+        }
+    }
+
+    fn how(&self) -> String {
+        let mut w = self.property.clone();
+        if !self.sets.is_empty() {
+            w += &format!(" on {}", self.sets.join(", "));
+        } else if !self.set.is_empty() {
+            w += &format!(" on {}", self.set);
+        }
+        if let Some(k) = self.step {
+            w += &format!(" at step {k}");
+        }
+        if !self.tried.is_empty() {
+            w += &format!("; tried: {}", self.tried);
+        }
+        if let Some(f) = &self.witness {
+            w += &format!("; trace {f}");
+        }
+        w
+    }
 }
 
 /// `coverage-proofs.json` (`make coverage-proofs`' coverage.json): each bin's reachability.
@@ -538,6 +582,48 @@ pub fn criteria() -> Vec<Box<dyn Criterion>> {
 #[derive(Clone, Debug, PartialEq)]
 pub struct SignOff {
     pub rows: Vec<Row>,
+    /// Every bin's reachability (when the folder has the coverage proofs): HTML.
+    pub reachability: Option<String>,
+}
+
+/// Every bin as the proofs and the regression decided it: status, how, hits.
+fn reachability_html(p: &Proofs, s: &Summary) -> String {
+    use crate::plot::svg::esc;
+    let hits: std::collections::BTreeMap<&str, u64> = s
+        .coverage
+        .bins
+        .iter()
+        .map(|b| (b.name.as_str(), b.hits))
+        .collect();
+    let mut counts = std::collections::BTreeMap::new();
+    for b in &p.bins {
+        *counts.entry(b.status_text()).or_insert(0u64) += 1;
+    }
+    let mut h = format!(
+        "<details><summary>Reachability of every bin, by the coverage proofs: {}</summary>\n\
+<table><tr><th>bin</th><th>status</th><th>how</th><th>hits in this regression</th></tr>\n",
+        counts
+            .iter()
+            .map(|(k, v)| format!("{v} {k}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    for b in &p.bins {
+        let n = hits.get(b.name.as_str()).copied();
+        h += &format!(
+            "<tr><td><code>{}</code></td><td class=\"{}\">{}</td><td>{}</td><td>{}</td></tr>\n",
+            esc(&b.name),
+            match b.status {
+                BinStatus::WrongDeclaration => "bad",
+                BinStatus::Undecided if n.unwrap_or(0) == 0 => "bad",
+                _ => "ok",
+            },
+            b.status_text(),
+            esc(&b.how()),
+            n.map(|n| n.to_string()).unwrap_or_else(|| "-".into())
+        );
+    }
+    h + "</table></details>\n"
 }
 
 impl SignOff {
@@ -547,7 +633,8 @@ impl SignOff {
             .iter()
             .map(|c| c.row(&f, t))
             .collect::<Result<_, _>>()?;
-        Ok(SignOff { rows })
+        let reachability = Proofs::read(dir)?.map(|p| reachability_html(&p, s));
+        Ok(SignOff { rows, reachability })
     }
 
     pub fn met(&self) -> bool {
@@ -600,6 +687,9 @@ impl SignOff {
             );
         }
         h += "</table>\n";
+        if let Some(r) = &self.reachability {
+            h += r;
+        }
         h
     }
 
