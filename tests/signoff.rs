@@ -96,6 +96,17 @@ fn every_figure_at_its_threshold_passes_and_one_short_fails_naming_it() {
     assert!(html.contains(
         "<code>fig18.history.both</code></td><td class=\"ok\">proven unreachable</td><td>assert (!hit_y)</td>"
     ));
+    // and each bin's decision in coverage.json and the UCIS export
+    let cov = std::fs::read_to_string(dir.join("coverage.json")).unwrap();
+    assert!(
+        cov.contains(r#""name":"fig17.path.fixed","#)
+            && cov.contains(r#""proof":"witnessed: cover (hit_x)"}"#),
+        "{cov}"
+    );
+    let ucis = std::fs::read_to_string(dir.join("coverage.ucis.xml")).unwrap();
+    assert!(ucis.contains(
+        r#"<userAttr key="proof" type="str">proven unreachable: assert (!hit_y)</userAttr>"#
+    ));
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("signoff.json")).unwrap()).unwrap();
     assert_eq!(json["met"], true);

@@ -11,6 +11,9 @@
 //! | properties         | `formal.json` (`hdl/formal/run.py --json`) | kit properties proven          |
 //! | seeds              | `results.jsonl`                          | seeds passing                  |
 //!
+//! With the proofs, each bin's decision also goes into `coverage.json` and `coverage.ucis.xml`
+//! (the bin's `proof`), and the report lists every bin's reachability.
+//!
 //! Each row is a [`Criterion`]: a new figure is a new type, not a new branch. A row whose input
 //! is absent is `missing` and misses its threshold (it says which command writes it); an input
 //! that is present but unreadable is an error naming the file.
@@ -742,7 +745,7 @@ pub fn run(dir: &Path, thresholds: Option<&Path>) -> Result<SignOff, RegressErro
         None => Thresholds::default(),
     };
     let spec = super::summary::read_spec(dir)?;
-    let s = Summary::build(spec.clone(), &[super::Source::of(dir, &spec)])?;
+    let mut s = Summary::build(spec.clone(), &[super::Source::of(dir, &spec)])?;
     let so = SignOff::evaluate(dir, &s, &t)?;
     let repros = s.repro_folders(dir)?;
     let mut b = crate::atomic_file::Batch::new();
@@ -750,6 +753,29 @@ pub fn run(dir: &Path, thresholds: Option<&Path>) -> Result<SignOff, RegressErro
         &dir.join("signoff.json"),
         so.json().as_bytes(),
     )?);
+    // each bin's decision into coverage.json and the UCIS export
+    if let Some(p) = Proofs::read(dir)? {
+        let by_name: std::collections::BTreeMap<&str, &ProofBin> =
+            p.bins.iter().map(|b| (b.name.as_str(), b)).collect();
+        for r in &mut s.coverage.bins {
+            r.proof = by_name
+                .get(r.name.as_str())
+                .map(|b| format!("{}: {}", b.status_text(), b.how()));
+        }
+        b.add(crate::atomic_file::write_atomic(
+            &dir.join("coverage.json"),
+            s.coverage.to_text().as_bytes(),
+        )?);
+        let mut x = String::new();
+        pmu50_coverage::write_ucis_xml(&s.coverage, &mut x).map_err(|_| RegressError::File {
+            path: dir.join("coverage.ucis.xml"),
+            reason: "formatting failed".into(),
+        })?;
+        b.add(crate::atomic_file::write_atomic(
+            &dir.join("coverage.ucis.xml"),
+            x.as_bytes(),
+        )?);
+    }
     b.add(crate::atomic_file::write_atomic(
         &dir.join("report.html"),
         super::report::html(&s, None, &repros, Some(&so.html())).as_bytes(),

@@ -29,6 +29,10 @@ pub struct BinRecord {
     pub cite: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub unreachable: Option<String>,
+    /// How the coverage proofs decided the bin (`pmu50 signoff` writes it): `proven
+    /// unreachable: <property> on <sets>`, `witnessed: ...`, `undecided: ...`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub proof: Option<String>,
 }
 
 /// One run counted in the hits: its id (unique across every merged file) and its verdict.
@@ -109,6 +113,7 @@ impl CoverageFile {
                 hits: h,
                 cite: b.cite.to_string(),
                 unreachable: b.unreachable.map(str::to_string),
+                proof: None,
             })
             .collect();
         let mut runs = runs;

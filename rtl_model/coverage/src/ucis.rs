@@ -10,7 +10,8 @@
 //! - one instance `pmu50` holding one covergroup `pmu50` with one instance `pmu50`;
 //! - each coverpoint of the model is a `coverpoint` named `group.point` (`fig17.path`), each of
 //!   its bins a `coverpointBin` named as in the model, of type `bins`, or `ignore` for a bin
-//!   that can never be hit (with the reason in a `userAttr`);
+//!   that can never be hit (with the reason in a `userAttr`; how the coverage proofs decided
+//!   the bin, when `pmu50 signoff` knows it, in a `userAttr` `proof`);
 //! - each cross is a `cross` named after it (`fig17_x_fig18`) over its two coverpoints, each of
 //!   its bins a `crossBin` named `<a,b>` with the bins' indices, of type `default` or `ignore`.
 //!
@@ -51,15 +52,17 @@ fn esc(s: &str) -> String {
 
 /// One bin element (`coverpointBin` or `crossBin`): its attributes, its count line and, for a bin
 /// that cannot be hit, the reason.
-fn bin_element(w: &mut dyn Write, tag: &str, attrs: &str, count: &str, unreachable: Option<&str>) {
+fn bin_element(w: &mut dyn Write, tag: &str, attrs: &str, count: &str, b: &crate::db::BinRecord) {
     let _ = writeln!(w, "          <{tag} {attrs}>");
     let _ = writeln!(w, "            {count}");
-    if let Some(why) = unreachable {
-        let _ = writeln!(
-            w,
-            "            <userAttr key=\"unreachable\" type=\"str\">{}</userAttr>",
-            esc(why)
-        );
+    for (key, v) in [("unreachable", &b.unreachable), ("proof", &b.proof)] {
+        if let Some(v) = v {
+            let _ = writeln!(
+                w,
+                "            <userAttr key=\"{key}\" type=\"str\">{}</userAttr>",
+                esc(v)
+            );
+        }
     }
     let _ = writeln!(w, "          </{tag}>");
 }
@@ -151,7 +154,7 @@ pub fn write_ucis_xml(f: &CoverageFile, w: &mut dyn Write) -> std::fmt::Result {
                 "<range from=\"{j}\" to=\"{j}\"><contents coverageCount=\"{}\"/></range>",
                 b.hits
             );
-            bin_element(w, "coverpointBin", &attrs, &count, b.unreachable.as_deref());
+            bin_element(w, "coverpointBin", &attrs, &count, b);
             k += 1;
         }
         let _ = writeln!(w, "        </coverpoint>");
@@ -192,7 +195,7 @@ pub fn write_ucis_xml(f: &CoverageFile, w: &mut dyn Write) -> std::fmt::Result {
                     "<index>{ia}</index><index>{ib}</index><contents coverageCount=\"{}\"/>",
                     b.hits
                 );
-                bin_element(w, "crossBin", &attrs, &count, b.unreachable.as_deref());
+                bin_element(w, "crossBin", &attrs, &count, b);
                 k += 1;
             }
         }
