@@ -7,8 +7,8 @@
 //! vector file would hold 260 million ticks).
 
 use pmu50_core::rng::{ParamRanges, SplitMix64};
-use pmu50_core::{Inputs, Params, Pmu50, TracedStep};
-use pmu50_coverage::{layout, Coverage, Edge};
+use pmu50_core::{Inputs, Params, Pmu50};
+use pmu50_coverage::{layout, Coverage};
 use std::collections::hash_map::DefaultHasher;
 use std::hash::{Hash, Hasher};
 use std::io::{BufRead, BufReader, Write};
@@ -139,17 +139,7 @@ fn model_hits(p: &Params, clock_ns: u64, rows: &[Row]) -> Vec<Vec<usize>> {
             bus_addr: r[5] as u8,
             bus_wdata: r[6] as u16,
         };
-        let before = *core.regs();
-        let out = core.peek();
-        let TracedStep { internals, .. } = core.step_traced(&i);
-        let after = *core.regs();
-        cov.sample(&Edge {
-            before: &before,
-            after: &after,
-            out: &out,
-            inputs: &i,
-            internals: &internals,
-        });
+        cov.step(&mut core, &i);
         let now = cov.hits();
         all.push((0..now.len()).filter(|&k| now[k] != last[k]).collect());
         last.copy_from_slice(now);

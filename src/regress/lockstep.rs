@@ -133,22 +133,10 @@ pub struct VectorInputs {
 /// The model's functional coverage over a vector file's inputs: every edge sampled (no
 /// skipping), as the regression samples a seed.
 pub fn model_coverage(v: &VectorInputs) -> Result<pmu50_coverage::Coverage, String> {
-    use pmu50_core::{Pmu50, TracedStep};
-    let mut core = Pmu50::new(v.params).map_err(|e| e.to_string())?;
+    let mut core = pmu50_core::Pmu50::new(v.params).map_err(|e| e.to_string())?;
     let mut cov = pmu50_coverage::Coverage::new(&v.params, v.clock_ns);
     for &w in &v.inputs {
-        let i = unpack(w);
-        let before = *core.regs();
-        let out = core.peek();
-        let TracedStep { internals, .. } = core.step_traced(&i);
-        let after = *core.regs();
-        cov.sample(&pmu50_coverage::Edge {
-            before: &before,
-            after: &after,
-            out: &out,
-            inputs: &i,
-            internals: &internals,
-        });
+        cov.step(&mut core, &unpack(w));
     }
     Ok(cov)
 }

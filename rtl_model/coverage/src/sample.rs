@@ -111,6 +111,22 @@ impl Coverage {
         c
     }
 
+    /// Step `core` one edge on `i` (the non-skipping step) and sample that edge: a vector file
+    /// or a witness replayed edge by edge.
+    pub fn step(&mut self, core: &mut pmu50_core::Pmu50, i: &Inputs) {
+        let before = *core.regs();
+        let out = core.peek();
+        let pmu50_core::TracedStep { internals, .. } = core.step_traced(i);
+        let after = *core.regs();
+        self.sample(&Edge {
+            before: &before,
+            after: &after,
+            out: &out,
+            inputs: i,
+            internals: &internals,
+        });
+    }
+
     /// Hit counts in the model's storage order ([`Layout::bins`]).
     pub fn hits(&self) -> &[u64] {
         &self.hits

@@ -7,8 +7,8 @@
 //! The committed witnesses (tests/witness/) are the port-level bins' covers on the small set;
 //! `COVERAGE_WITNESS_DIR` adds a folder of them (`make coverage-proofs` passes the run's).
 
-use pmu50_core::{Inputs, Params, Pmu50, TracedStep};
-use pmu50_coverage::{layout, Coverage, Edge};
+use pmu50_core::{Inputs, Params, Pmu50};
+use pmu50_coverage::{layout, Coverage};
 use std::path::{Path, PathBuf};
 
 struct Witness {
@@ -60,17 +60,7 @@ fn replay(w: &Witness) -> Vec<u64> {
             bus_addr: r[5] as u8,
             bus_wdata: r[6] as u16,
         };
-        let before = *core.regs();
-        let out = core.peek();
-        let TracedStep { internals, .. } = core.step_traced(&i);
-        let after = *core.regs();
-        cov.sample(&Edge {
-            before: &before,
-            after: &after,
-            out: &out,
-            inputs: &i,
-            internals: &internals,
-        });
+        cov.step(&mut core, &i);
     }
     cov.hits().to_vec()
 }
