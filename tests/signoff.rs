@@ -211,4 +211,14 @@ fn a_port_level_witness_replayed_through_the_rtl_closes_its_bin() {
         .unwrap()
         .iter()
         .any(|b| b["name"] == "bus.write_reg.unmapped" && b["hits"].as_u64().unwrap() > 0));
+    // pmu50 signoff counts the merged coverage, not the seeds' alone, run after run
+    for _ in 0..2 {
+        let o = pmu50(&["signoff", s(&m)]);
+        expect(&o, 1, &["(3 runs)"]);
+        let c = std::fs::read_to_string(m.join("coverage.json")).unwrap();
+        assert!(
+            c.contains(r#""name":"bus.write_reg.unmapped","kind":"point","hits":1"#),
+            "{c}"
+        );
+    }
 }

@@ -746,6 +746,24 @@ pub fn run(dir: &Path, thresholds: Option<&Path>) -> Result<SignOff, RegressErro
     };
     let spec = super::summary::read_spec(dir)?;
     let mut s = Summary::build(spec.clone(), &[super::Source::of(dir, &spec)])?;
+    // The folder's coverage.json is the whole coverage: a merge adds coverage files (formal
+    // witnesses replayed through the RTL) to what the seeds of results.jsonl hit.
+    let cov_path = dir.join("coverage.json");
+    if cov_path.is_file() {
+        let c = pmu50_coverage::CoverageFile::read(&cov_path).map_err(|e| RegressError::File {
+            path: cov_path.clone(),
+            reason: e.to_string(),
+        })?;
+        // it holds at least the seeds' hits (else it is stale, and the seeds' count stands)
+        if c.bins.len() == s.coverage.bins.len()
+            && c.bins
+                .iter()
+                .zip(&s.coverage.bins)
+                .all(|(a, b)| a.hits >= b.hits)
+        {
+            s.coverage = c;
+        }
+    }
     let so = SignOff::evaluate(dir, &s, &t)?;
     let repros = s.repro_folders(dir)?;
     let mut b = crate::atomic_file::Batch::new();
