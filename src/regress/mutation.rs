@@ -588,24 +588,35 @@ mod tests {
 
     #[test]
     fn shipped_list_parses_with_two_mutants_in_each_block() {
-        let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("hdl/mutants.txt");
-        let m = parse_mutants(&std::fs::read_to_string(&p).unwrap(), &p).unwrap();
-        let rtl = Path::new(env!("CARGO_MANIFEST_DIR")).join("hdl/rtl");
-        for e in std::fs::read_dir(&rtl).unwrap() {
-            let f = e.unwrap().file_name().to_string_lossy().into_owned();
-            let stem = f.trim_end_matches(".v");
+        // the kit the binary carries (src/hdl_kit.rs): what an installed pmu50 runs
+        let kit = |f: &str| {
+            crate::hdl_kit::FILES
+                .iter()
+                .find(|(n, _)| *n == f)
+                .map(|(_, t)| *t)
+                .unwrap_or_else(|| panic!("{f}: not in the HDL kit"))
+        };
+        let p = Path::new("hdl/mutants.txt");
+        let m = parse_mutants(kit("mutants.txt"), p).unwrap();
+        let blocks: Vec<&str> = crate::hdl_kit::FILES
+            .iter()
+            .map(|(n, _)| *n)
+            .filter(|n| n.starts_with("rtl/") && n.ends_with(".v"))
+            .collect();
+        assert_eq!(blocks.len(), 8, "the twin's eight block files");
+        for f in blocks {
+            let stem = f.trim_start_matches("rtl/").trim_end_matches(".v");
             let n = m.iter().filter(|x| x.block() == stem).count();
             assert!(n >= 2, "{f}: {n} mutant(s), at least 2 wanted");
         }
         // every mutant's define is in the file it names
         for x in &m {
-            let src = std::fs::read_to_string(
-                Path::new(env!("CARGO_MANIFEST_DIR"))
-                    .join("hdl")
-                    .join(&x.file),
-            )
-            .unwrap();
-            assert!(src.contains(&x.name), "{}: not in {}", x.name, x.file);
+            assert!(
+                kit(&x.file).contains(&x.name),
+                "{}: not in {}",
+                x.name,
+                x.file
+            );
         }
     }
 }

@@ -12,6 +12,7 @@ use pmu50_ffi::mirror::c_structs;
 fn header_structs_are_generated_from_the_signal_table() {
     let markers = ("/* BEGIN GENERATED", "/* END GENERATED */");
     check_generated(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."),
         "hdl/ffi/include/pmu50.h",
         markers,
         &c_structs(),

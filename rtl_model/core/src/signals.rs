@@ -1145,16 +1145,16 @@ pub fn regenerate(path: &std::path::Path, want: &str) -> bool {
 /// The check of a file of the workspace whose part between the lines `begin` and `end` is
 /// generated from the signal table (`body`): with `PMU50_REGENERATE` set the part is rewritten
 /// ([`regenerate`]); otherwise the file must hold it already. `file` is the file's path from the
-/// workspace root (as the message names it), `command` the command that regenerates it.
+/// workspace root `root` (the test passes its checkout's; the message names `file`), `command`
+/// the command that regenerates it.
 pub fn check_generated(
+    root: &std::path::Path,
     file: &str,
     (begin, end): (&str, &str),
     body: &str,
     command: &str,
 ) -> Result<(), String> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join(file);
+    let path = root.join(file);
     let text = std::fs::read_to_string(&path).map_err(|e| format!("{file}: {e}"))?;
     let want = splice(&text, begin, end, body)
         .ok_or_else(|| format!("{file} lost its BEGIN/END GENERATED markers"))?;

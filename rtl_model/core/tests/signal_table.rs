@@ -16,6 +16,7 @@ use pmu50_core::{Params, Pmu50};
 fn signals_md_tables_are_generated_from_the_signal_table() {
     let markers = ("<!-- BEGIN GENERATED", "<!-- END GENERATED -->");
     check_generated(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."),
         "docs/signals.md",
         markers,
         &markdown_tables(),
