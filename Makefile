@@ -42,7 +42,8 @@ run: $(BIN)
 	$(BIN) run $(SCENARIOS) --out-dir vcd_out --log --svg
 
 ## Everything, sized for a fresh 2-core machine: unit, property, golden and system tests of all
-## crates, HDL co-simulation with every method-check mutant, the regress smoke test, then the Python package's
+## crates (on the release profile, overflow checks on: that one build also makes the command, the
+## C library and the example the later suites use; Cargo.toml), HDL co-simulation with every method-check mutant, the regress smoke test, then the Python package's
 ## tests and the cocotb testbench (in target/venv), the Slurm path on a local cluster, and the
 ## formal kit's unbounded proof on the small parameter set. The stochastic parts run smaller than in
 ## `make test-long`: 40 random cosim scenarios instead of 200 (every mutant is still caught by
@@ -50,7 +51,7 @@ run: $(BIN)
 ## cocotb's replays of the shipped scenarios' vector files cut to their first 20 000 ticks (the
 ## whole files run in cosim's three methods; cocotb's mutants are caught by its random seeds).
 test: deps
-	$(CARGO) test --workspace --exclude pmu50-python
+	$(CARGO) test --release --workspace --exclude pmu50-python
 	$(MAKE) cosim COSIM_RANDOM=$(TEST_COSIM_RANDOM)
 	$(MAKE) regress-smoke test-slurm
 	$(MAKE) gls GLS_SEEDS=$(TEST_GLS_SEEDS)
@@ -66,7 +67,7 @@ TEST_COCOTB_MAX_TICKS ?= 20000
 ## vector files in cocotb, the formal proof on both parameter sets and every method-check mutant refuted, and
 ## the mutation table of the directed regression.
 test-long: deps
-	PMU50_TEST_LONG=1 $(CARGO) test --workspace --exclude pmu50-python
+	PMU50_TEST_LONG=1 $(CARGO) test --release --workspace --exclude pmu50-python
 	$(MAKE) cosim COSIM_RANDOM=200
 	$(MAKE) regress-smoke test-slurm gls test-install fusesoc mutation
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
