@@ -13,7 +13,9 @@
 # 3. cargo bench --bench compare runs every harness and prints the table; exit 1 when the output
 #    checksums of the harnesses differ;
 # 4. cargo bench --bench regress_speed: what a regression seed costs (coverage and checks against
-#    the bench and the kernel) and pmu50 regress's seeds per second on every core.
+#    the bench and the kernel) and pmu50 regress's seeds per second on every core;
+# 5. benches/formal_time.py: make formal and make formal-quick cold, against their goals and
+#    against ABC alone (FORMAL_SKIP=1 leaves this part out).
 # Needs verilator and iverilog (installed with apt-get when missing, as `make deps` does).
 set -euo pipefail
 . "$(dirname "${BASH_SOURCE[0]}")/../hdl/scripts/common.sh"
@@ -51,3 +53,4 @@ rtl_files "$HDL/pmu50.f"
 iverilog -g2005 -Wall -Wno-timescale "${ARGS[@]}" -s tb_vectors -o "$B/iv_keyoff_turns.vvp" "$HDL/tb/tb_vectors.v" "${RTL[@]}"
 cargo bench --bench compare -- --dir "$B" --stim keyoff_turns --stim "random_$SEED" --icarus keyoff_turns "${SECONDS_ARG[@]}"
 cargo bench --bench regress_speed
+[ "${FORMAL_SKIP:-0}" = 1 ] || python3 "$ROOT/benches/formal_time.py"
