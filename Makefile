@@ -114,7 +114,7 @@ gls: deps $(BIN)
 ## pmu50 regress against an RTL in a few seeds: the twin passes, a planted bug is found, shrunk
 ## and reproduced, the report renders in headless Chromium (hdl/regress_smoke.sh).
 regress-smoke: deps $(BIN)
-	$(CARGO) build --release -p pmu50-ffi
+	$(CARGO) build --release -p pmu50 -p pmu50-ffi
 	bash hdl/regress_smoke.sh
 
 ## Open one scenario in GTKWave with its save file: make view SCENARIO=fig15a
