@@ -17,6 +17,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("install_test.sh", include_str!("../hdl/install_test.sh")),
     ("regress_smoke.sh", include_str!("../hdl/regress_smoke.sh")),
     ("mutants.txt", include_str!("../hdl/mutants.txt")),
+    ("cosim_first.txt", include_str!("../hdl/cosim_first.txt")),
     ("pmu50.core", include_str!("../hdl/pmu50.core")),
     ("pmu50.f", include_str!("../hdl/pmu50.f")),
     (
