@@ -5,6 +5,16 @@
 //! the whole run succeeded ([`Batch::commit`]). rename(2) replaces whatever is at the final path,
 //! a symlink included: the link itself is replaced, its target is never written.
 //!
+//! Durability: before the renames every file's data is flushed to the disk (`fdatasync`), so
+//! that after a crash of the operating system or a power loss the final path holds the old file
+//! or the complete new one, on any file system. `PMU50_SYNC=0` in the environment
+//! ([`SYNC_VAR`]) leaves out that flush (the renames stay): an interrupted run still leaves the
+//! previous files as they were, but a crash of the system within seconds of the run can leave
+//! a new file empty or incomplete where the file system does not order a replacing rename
+//! after the file's data (ext4's default `auto_da_alloc` does). A run on a disk shared with
+//! other writers then waits for no journal commit: 2-40 ms of wall time for `pmu50 run --trace
+//! all` on a busy machine (docs/performance.md).
+//!
 //! Interruptions:
 //! - an error (disk full, a refused write) drops the temporary files, the previous outputs stay;
 //! - SIGINT/SIGTERM ([`install_signal_cleanup`]): a thread removes every live temporary file and
@@ -76,6 +86,22 @@ pub enum OutputError {
     },
 }
 
+/// The environment variable that says whether output files are flushed to the disk before they
+/// are renamed into place: `1` (unset: the default) or `0` (see the module documentation).
+pub const SYNC_VAR: &str = "PMU50_SYNC";
+
+/// Whether output files are flushed to the disk before the rename ([`SYNC_VAR`]); an error
+/// message for a value other than `0` or `1`.
+pub fn sync_to_disk() -> Result<bool, String> {
+    match std::env::var(SYNC_VAR) {
+        Ok(v) if v == "0" => Ok(false),
+        Ok(v) if v == "1" => Ok(true),
+        Ok(v) => Err(format!("{SYNC_VAR}={v:?}: use 1 (flush output files to the disk before renaming them into place, the default) or 0 (rename without the flush)")),
+        Err(std::env::VarError::NotPresent) => Ok(true),
+        Err(std::env::VarError::NotUnicode(v)) => Err(format!("{SYNC_VAR}={v:?}: use 1 or 0")),
+    }
+}
+
 /// Bytes written since the last write-back was started before the next one is
 /// ([`AtomicFile`]'s writes).
 const WRITE_BEHIND: u64 = 256 << 10;
@@ -96,6 +122,9 @@ pub struct AtomicFile {
     written: u64,
     /// Bytes whose write-back was started.
     started: u64,
+    /// Whether the file is flushed before the rename ([`sync_to_disk`]), so its write-back is
+    /// started on the way.
+    behind: bool,
 }
 
 impl AtomicFile {
@@ -137,6 +166,7 @@ impl AtomicFile {
             tmp,
             written: 0,
             started: 0,
+            behind: sync_to_disk().unwrap_or(true),
         })
     }
 
@@ -160,7 +190,7 @@ impl AtomicFile {
     /// start once that is [`WRITE_BEHIND`] bytes or more.
     fn wrote(&mut self, n: usize) {
         self.written += n as u64;
-        if self.written - self.started >= WRITE_BEHIND {
+        if self.behind && self.written - self.started >= WRITE_BEHIND {
             self.start_write_back();
         }
     }
@@ -452,10 +482,14 @@ impl Batch {
         // `fdatasync` on a thread of each measured no faster on a busy machine: the threads
         // waited for a core.)
         let mut all: Vec<AtomicFile> = files.into_iter().chain(last).collect();
-        for f in all.iter_mut() {
-            f.start_write_back();
+        // A bad value was refused when the command started (`pmu50`'s main); here it syncs.
+        let sync = sync_to_disk().unwrap_or(true);
+        if sync {
+            for f in all.iter_mut() {
+                f.start_write_back();
+            }
         }
-        if let Err(e) = sync_all(&all) {
+        if let Err(e) = if sync { sync_all(&all) } else { Ok(()) } {
             for f in all {
                 f.discard(&mut reg);
             }
