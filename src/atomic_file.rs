@@ -685,7 +685,7 @@ mod tests {
         while want.len() < 3 * WRITE_BEHIND as usize + 17 {
             // uneven pieces, through write_all and write
             let piece: Vec<u8> = (0..(k * 7919) % 70_001).map(|i| (i ^ k) as u8).collect();
-            if k % 2 == 0 {
+            if k.is_multiple_of(2) {
                 f.write_all(&piece).unwrap();
                 want.extend_from_slice(&piece);
             } else {
