@@ -5,6 +5,16 @@
 //! the whole run succeeded ([`Batch::commit`]). rename(2) replaces whatever is at the final path,
 //! a symlink included: the link itself is replaced, its target is never written.
 //!
+//! Durability: before the renames every file's data is flushed to the disk (`fdatasync`), so
+//! that after a crash of the operating system or a power loss the final path holds the old file
+//! or the complete new one, on any file system. `PMU50_SYNC=0` in the environment
+//! ([`SYNC_VAR`]) leaves out that flush (the renames stay): an interrupted run still leaves the
+//! previous files as they were, but a crash of the system within seconds of the run can leave
+//! a new file empty or incomplete where the file system does not order a replacing rename
+//! after the file's data (ext4's default `auto_da_alloc` does). A run on a disk shared with
+//! other writers then waits for no journal commit: 2-40 ms of wall time for `pmu50 run --trace
+//! all` on a busy machine (docs/performance.md).
+//!
 //! Interruptions:
 //! - an error (disk full, a refused write) drops the temporary files, the previous outputs stay;
 //! - SIGINT/SIGTERM ([`install_signal_cleanup`]): a thread removes every live temporary file and
@@ -76,12 +86,45 @@ pub enum OutputError {
     },
 }
 
+/// The environment variable that says whether output files are flushed to the disk before they
+/// are renamed into place: `1` (unset: the default) or `0` (see the module documentation).
+pub const SYNC_VAR: &str = "PMU50_SYNC";
+
+/// Whether output files are flushed to the disk before the rename ([`SYNC_VAR`]); an error
+/// message for a value other than `0` or `1`.
+pub fn sync_to_disk() -> Result<bool, String> {
+    match std::env::var(SYNC_VAR) {
+        Ok(v) if v == "0" => Ok(false),
+        Ok(v) if v == "1" => Ok(true),
+        Ok(v) => Err(format!("{SYNC_VAR}={v:?}: use 1 (flush output files to the disk before renaming them into place, the default) or 0 (rename without the flush)")),
+        Err(std::env::VarError::NotPresent) => Ok(true),
+        Err(std::env::VarError::NotUnicode(v)) => Err(format!("{SYNC_VAR}={v:?}: use 1 or 0")),
+    }
+}
+
+/// Bytes written since the last write-back was started before the next one is
+/// ([`AtomicFile`]'s writes).
+const WRITE_BEHIND: u64 = 256 << 10;
+
 /// An output file being written: a temporary file beside `dest`.
+///
+/// Its data goes to the disk while the run goes on: every [`WRITE_BEHIND`] bytes written, the
+/// write-back of those bytes is started without waiting for it (`sync_file_range` with
+/// `SYNC_FILE_RANGE_WRITE`, Linux), so the `fdatasync` before the rename ([`Batch::commit`])
+/// finds little left to write. This changes nothing in what is durable when: the rename still
+/// waits for the whole file's `fdatasync`.
 #[derive(Debug)]
 pub struct AtomicFile {
     file: Option<tempfile::NamedTempFile>,
     dest: PathBuf,
     tmp: PathBuf,
+    /// Bytes written through [`Write`].
+    written: u64,
+    /// Bytes whose write-back was started.
+    started: u64,
+    /// Whether the file is flushed before the rename ([`sync_to_disk`]), so its write-back is
+    /// started on the way.
+    behind: bool,
 }
 
 impl AtomicFile {
@@ -121,6 +164,9 @@ impl AtomicFile {
             file: Some(file),
             dest: dest.to_path_buf(),
             tmp,
+            written: 0,
+            started: 0,
+            behind: sync_to_disk().unwrap_or(true),
         })
     }
 
@@ -140,22 +186,65 @@ impl AtomicFile {
             .ok_or_else(|| io::Error::other("output file already committed"))
     }
 
-    /// Flush to disk and rename into place; the caller holds the registry lock (so this never
-    /// locks it: on every path the temporary file is taken out before `self` is dropped).
-    fn persist(mut self, reg: &mut Vec<PathBuf>) -> Result<(), OutputError> {
+    /// Note `n` more bytes written; start the write-back of what was written since the last
+    /// start once that is [`WRITE_BEHIND`] bytes or more.
+    fn wrote(&mut self, n: usize) {
+        self.written += n as u64;
+        if self.behind && self.written - self.started >= WRITE_BEHIND {
+            self.start_write_back();
+        }
+    }
+
+    /// Start writing the bytes written since the last start to the disk, without waiting.
+    /// Advisory: a file system that refuses it (or another OS) writes them at the `fdatasync`
+    /// before the rename, which reports any error.
+    fn start_write_back(&mut self) {
+        if self.written == self.started {
+            return;
+        }
+        #[cfg(target_os = "linux")]
+        if let Some(f) = &self.file {
+            use std::os::unix::io::AsRawFd;
+            let (from, len) = (self.started, self.written - self.started);
+            // SAFETY: sync_file_range only reads its arguments; the descriptor is open (owned
+            // by `f`), and a failure is harmless (see above).
+            unsafe {
+                libc::sync_file_range(
+                    f.as_file().as_raw_fd(),
+                    from as libc::off64_t,
+                    len as libc::off64_t,
+                    libc::SYNC_FILE_RANGE_WRITE,
+                );
+            }
+        }
+        self.started = self.written;
+    }
+
+    /// Flush the file's data to the disk (`fdatasync`).
+    fn sync(&self) -> Result<(), OutputError> {
+        let file = self.file.as_ref().ok_or_else(|| OutputError::Write {
+            path: self.dest.clone(),
+            source: io::Error::other("output file already committed"),
+        })?;
+        file.as_file()
+            .sync_data()
+            .map_err(|source| OutputError::Write {
+                path: self.dest.clone(),
+                source,
+            })
+    }
+
+    /// Rename into place (after [`AtomicFile::sync`]); the caller holds the registry lock (so
+    /// this never locks it: on every path the temporary file is taken out before `self` is
+    /// dropped).
+    fn rename_into_place(mut self, reg: &mut Vec<PathBuf>) -> Result<(), OutputError> {
         let dest = self.dest.clone();
         reg.retain(|p| p != &self.tmp);
+        // On an error the temporary file is dropped (deleted) on return.
         let file = self.file.take().ok_or_else(|| OutputError::Write {
             path: dest.clone(),
             source: io::Error::other("output file already committed"),
         })?;
-        // On an error the temporary file is dropped (deleted) on return.
-        file.as_file()
-            .sync_data()
-            .map_err(|source| OutputError::Write {
-                path: dest.clone(),
-                source,
-            })?;
         if is_real_dir(&dest) {
             return Err(OutputError::IsDir { path: dest });
         }
@@ -178,10 +267,14 @@ impl AtomicFile {
 
 impl Write for AtomicFile {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        self.inner()?.write(buf)
+        let n = self.inner()?.write(buf)?;
+        self.wrote(n);
+        Ok(n)
     }
     fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
-        self.inner()?.write_all(buf)
+        self.inner()?.write_all(buf)?;
+        self.wrote(buf.len());
+        Ok(())
     }
     fn flush(&mut self) -> io::Result<()> {
         self.inner()?.flush()
@@ -383,10 +476,29 @@ impl Batch {
     pub fn commit(self) -> Result<(), OutputError> {
         let mut reg = live();
         let Batch { files, last, stale } = self;
+        // Every file's remaining bytes on their way to the disk at once, then every file's
+        // `fdatasync` (the later ones mostly find their data written and their metadata in the
+        // journal commit of the first); nothing is renamed before all are on the disk. (An
+        // `fdatasync` on a thread of each measured no faster on a busy machine: the threads
+        // waited for a core.)
+        let mut all: Vec<AtomicFile> = files.into_iter().chain(last).collect();
+        // A bad value was refused when the command started (`pmu50`'s main); here it syncs.
+        let sync = sync_to_disk().unwrap_or(true);
+        if sync {
+            for f in all.iter_mut() {
+                f.start_write_back();
+            }
+        }
+        if let Err(e) = if sync { sync_all(&all) } else { Ok(()) } {
+            for f in all {
+                f.discard(&mut reg);
+            }
+            return Err(e);
+        }
         let mut result = Ok(());
-        for f in files.into_iter().chain(last) {
+        for f in all {
             if result.is_ok() {
-                result = f.persist(&mut reg);
+                result = f.rename_into_place(&mut reg);
             } else {
                 // A file failed: the ones after it (the `.gtkw` among them) stay as they were.
                 f.discard(&mut reg);
@@ -402,6 +514,11 @@ impl Batch {
         }
         Ok(())
     }
+}
+
+/// `fdatasync` every file, in order; the first error.
+fn sync_all(files: &[AtomicFile]) -> Result<(), OutputError> {
+    files.iter().try_for_each(AtomicFile::sync)
 }
 
 /// Create `dir` (and parents) for outputs.
@@ -554,6 +671,37 @@ mod tests {
             "a live process's and another output's are kept"
         );
         drop(f);
+        std::fs::remove_dir_all(&d).ok();
+    }
+
+    #[test]
+    fn write_behind_starts_on_the_way_and_keeps_every_byte() {
+        let d = dir("behind");
+        let p = d.join("a.vcd");
+        std::fs::write(&p, "old").unwrap();
+        let mut f = AtomicFile::stage(&p).unwrap();
+        let mut want = Vec::new();
+        let mut k = 0u32;
+        while want.len() < 3 * WRITE_BEHIND as usize + 17 {
+            // uneven pieces, through write_all and write
+            let piece: Vec<u8> = (0..(k * 7919) % 70_001).map(|i| (i ^ k) as u8).collect();
+            if k.is_multiple_of(2) {
+                f.write_all(&piece).unwrap();
+                want.extend_from_slice(&piece);
+            } else {
+                let n = f.write(&piece).unwrap();
+                want.extend_from_slice(&piece[..n]);
+            }
+            assert_eq!(f.written, want.len() as u64);
+            assert!(f.written - f.started < WRITE_BEHIND, "write-back started");
+            k += 1;
+        }
+        assert!(f.started > 0 && f.started < f.written);
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "old");
+        let mut b = Batch::new();
+        b.add(f);
+        b.commit().unwrap();
+        assert_eq!(std::fs::read(&p).unwrap(), want);
         std::fs::remove_dir_all(&d).ok();
     }
 

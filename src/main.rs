@@ -605,6 +605,10 @@ fn main() -> ExitCode {
             };
         }
     };
+    if let Err(e) = atomic_file::sync_to_disk() {
+        err!("error: {e}");
+        return with_streams(2);
+    }
     if let Err(e) = atomic_file::install_signal_cleanup() {
         err!("error: cannot install the SIGINT/SIGTERM handler that removes temporary files: {e}");
         return with_streams(2);

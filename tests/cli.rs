@@ -277,3 +277,56 @@ fn key_on_polling_exercises_the_registered_read_path() {
         "counts and STATUS are polled"
     );
 }
+
+/// `PMU50_SYNC=0` leaves out the flush before the renames and nothing else: the same files,
+/// every old file replaced; any other value than 0 or 1 is refused before anything runs.
+#[test]
+fn without_the_flush_the_files_are_the_same() {
+    let d = tmp("nosync");
+    let synced = d.join("synced");
+    let unsynced = d.join("unsynced");
+    std::fs::create_dir_all(&unsynced).unwrap();
+    for ext in ["vcd", "gtkw", "log"] {
+        std::fs::write(unsynced.join(format!("threshold_error.{ext}")), "old").unwrap();
+    }
+    let run = |dir: &Path, sync: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_pmu50"))
+            .args([
+                "run",
+                "scenarios/threshold_error.toml",
+                "--trace",
+                "all",
+                "--log",
+            ])
+            .arg("--out-dir")
+            .arg(dir)
+            .env("PMU50_SYNC", sync)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .unwrap()
+    };
+    expect_code(&run(&synced, "1"), 0);
+    expect_code(&run(&unsynced, "0"), 0);
+    for ext in ["vcd", "gtkw", "log"] {
+        let name = format!("threshold_error.{ext}");
+        let a = std::fs::read(synced.join(&name)).unwrap();
+        assert!(a.len() > 100, "{name} written");
+        assert!(
+            a == std::fs::read(unsynced.join(&name)).unwrap(),
+            "{name} differs"
+        );
+    }
+    let names: Vec<String> = std::fs::read_dir(&unsynced)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names.len(), 3, "no temporary file is left: {names:?}");
+    let bad = run(&d.join("bad"), "yes");
+    expect_code(&bad, 2);
+    let t = text(&bad);
+    assert!(
+        t.contains("PMU50_SYNC=\"yes\"") && t.contains("use 1"),
+        "{t}"
+    );
+    assert!(!d.join("bad").exists(), "nothing ran");
+}

@@ -100,6 +100,35 @@ pub struct MotorProfile {
     seg_start_deg: Vec<f64>,
     end_ns: u64,
     end_deg: f64,
+    /// The segment the last [`MotorProfile::angle_at`] found: a bench asks tick after tick,
+    /// mostly inside the same segment or the next.
+    hint: SegmentHint,
+}
+
+/// The index of a segment, a guess only ([`MotorProfile::segment_of`] checks it): part of no
+/// comparison and kept by a clone. Atomic (relaxed) so a profile can be shared by threads.
+#[derive(Debug, Default)]
+struct SegmentHint(std::sync::atomic::AtomicUsize);
+
+impl SegmentHint {
+    fn get(&self) -> usize {
+        self.0.load(std::sync::atomic::Ordering::Relaxed)
+    }
+    fn set(&self, i: usize) {
+        self.0.store(i, std::sync::atomic::Ordering::Relaxed);
+    }
+}
+
+impl Clone for SegmentHint {
+    fn clone(&self) -> Self {
+        SegmentHint(self.get().into())
+    }
+}
+
+impl PartialEq for SegmentHint {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 impl MotorProfile {
@@ -145,6 +174,7 @@ impl MotorProfile {
             seg_start_deg,
             end_ns: t,
             end_deg: a,
+            hint: SegmentHint::default(),
         })
     }
 
@@ -182,10 +212,7 @@ impl MotorProfile {
         if t_ns >= self.end_ns {
             return self.end_deg;
         }
-        // Last segment whose start <= t_ns. Zero-length Holds share a start
-        // time with their successor; the successor (the one actually active)
-        // is chosen because partition_point skips all starts <= t_ns.
-        let i = self.seg_start_ns.partition_point(|&s| s <= t_ns) - 1;
+        let i = self.segment_of(t_ns);
         let elapsed = t_ns - self.seg_start_ns[i];
         match self.segments[i] {
             Segment::Hold { .. } => self.seg_start_deg[i],
@@ -200,6 +227,32 @@ impl MotorProfile {
                 }
             }
         }
+    }
+
+    /// The last segment whose start is <= `t_ns` (`t_ns < end_ns`, so there is one). Zero-length
+    /// Holds share a start time with their successor; the successor (the one actually active)
+    /// is the one. The hint's segment or the next when either is it, else a binary search:
+    /// always the index `partition_point(|s| s <= t_ns) - 1`.
+    #[inline]
+    fn segment_of(&self, t_ns: u64) -> usize {
+        let starts = &self.seg_start_ns;
+        let h = self.hint.get();
+        if h < starts.len() && starts[h] <= t_ns {
+            // `h` is the last start <= t_ns when the next one is later (or there is none)
+            match starts.get(h + 1) {
+                None => return h,
+                Some(&n) if n > t_ns => return h,
+                Some(_) => {
+                    if starts.get(h + 2).is_none_or(|&n| n > t_ns) {
+                        self.hint.set(h + 1);
+                        return h + 1;
+                    }
+                }
+            }
+        }
+        let i = starts.partition_point(|&s| s <= t_ns) - 1;
+        self.hint.set(i);
+        i
     }
 
     /// "No change before t": the last time up to which the angle stays exactly (bit for bit)
@@ -337,6 +390,56 @@ mod tests {
             a += s.delta_deg();
         }
         assert_eq!(p.angle_at(t), a);
+    }
+
+    /// The angle by a binary search, as before the segment hint.
+    fn searched(p: &MotorProfile, t_ns: u64) -> f64 {
+        if t_ns >= p.end_ns {
+            return p.end_deg;
+        }
+        let i = p.seg_start_ns.partition_point(|&s| s <= t_ns) - 1;
+        let elapsed = t_ns - p.seg_start_ns[i];
+        match p.segments[i] {
+            Segment::Hold { .. } => p.seg_start_deg[i],
+            Segment::Move {
+                duration_ns,
+                delta_deg,
+            } => {
+                if elapsed == 0 {
+                    p.seg_start_deg[i]
+                } else {
+                    p.seg_start_deg[i] + delta_deg * (elapsed as f64 / duration_ns as f64)
+                }
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// Whatever the hint holds (times forwards, backwards, at and around the boundaries,
+        /// zero-length segments), `angle_at` is the binary search's angle, bit for bit.
+        #[test]
+        fn the_segment_hint_never_changes_an_angle(
+            segs in proptest::collection::vec((0u64..4, 0u64..50, -400.0f64..400.0), 0..12),
+            times in proptest::collection::vec(0u64..400, 1..200),
+        ) {
+            let segments: Vec<Segment> = segs
+                .iter()
+                .map(|&(kind, d, delta)| match kind {
+                    0 => Segment::Hold { duration_ns: d },
+                    _ => Segment::Move { duration_ns: d + 1, delta_deg: delta },
+                })
+                .collect();
+            let p = MotorProfile::new(3.25, segments).unwrap();
+            // a sweep forwards tick by tick, then the random times, then a clone's
+            for t in (0..p.end_ns + 3).chain(times.iter().copied()) {
+                proptest::prop_assert_eq!(p.angle_at(t).to_bits(), searched(&p, t).to_bits(), "t = {}", t);
+            }
+            let q = p.clone();
+            proptest::prop_assert_eq!(&q, &p);
+            for &t in times.iter().rev() {
+                proptest::prop_assert_eq!(q.angle_at(t).to_bits(), searched(&p, t).to_bits(), "t = {}", t);
+            }
+        }
     }
 
     #[test]
