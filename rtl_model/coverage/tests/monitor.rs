@@ -125,3 +125,36 @@ fn configuration_bins_are_rewritten_to_the_candidate_set() {
     assert!(v.contains("wire config__t1__nxt_m1 = 17'd2 * c_t1 >= c_si_max - c_si_min;"));
     assert!(v.contains("wire config__x__nxt_m1 = c_si_max <= 16'd300;"));
 }
+
+#[test]
+fn every_reachable_bin_declares_how_the_generator_aims_at_it() {
+    use pmu50_coverage::model::Hint;
+    use pmu50_coverage::Aim;
+    for p in POINTS.iter() {
+        for b in p.bins {
+            let declared = p.unreachable.iter().any(|(n, _)| *n == b.name);
+            assert_eq!(
+                b.hint == Hint::Never,
+                declared,
+                "{}.{}.{}: Hint::Never exactly on the bins declared unreachable",
+                p.group,
+                p.name,
+                b.name
+            );
+        }
+    }
+    for b in &layout().bins {
+        assert_eq!(
+            b.aim == Aim::Never,
+            b.unreachable.is_some(),
+            "{}: a reachable bin without a hint, or an unreachable one with one",
+            b.name
+        );
+        assert_eq!(
+            b.aim == Aim::PortLevel,
+            b.port_only && b.unreachable.is_none(),
+            "{}",
+            b.name
+        );
+    }
+}
