@@ -124,6 +124,15 @@ pub const WRITE_REG: usize = point_index("bus", "write_reg");
 pub const WRITE_OUTCOME: usize = point_index("bus", "write_outcome");
 pub const ILLEGAL: usize = point_index("bus", "illegal_rule");
 pub const W1C: usize = point_index("bus", "w1c");
+pub const LEGAL_AT_BOUND: usize = point_index("bus", "legal_at_bound");
+pub const WRITE_CHANGES: usize = point_index("bus", "write_changes");
+pub const DEAD_STROBE: usize = point_index("faults", "dead_strobe");
+pub const PG_DROP: usize = point_index("faults", "pg_drop");
+pub const PG_UNPOWERED: usize = point_index("faults", "pg_unpowered");
+pub const OFF_EDGE_WRITE: usize = point_index("key", "off_edge_write");
+pub const KEY_START: usize = point_index("key", "start");
+pub const PERIOD_WRITE: usize = point_index("timer", "period_write");
+pub const DIFFERENCE: usize = point_index("counter", "difference");
 pub const CFG_CTH: usize = point_index("config", "cth");
 pub const CFG_T1: usize = point_index("config", "t1");
 pub const CFG_T2: usize = point_index("config", "t2");
@@ -144,9 +153,9 @@ pub const READ_ADDRS: [u8; 18] = [
 ];
 
 /// Every coverpoint.
-pub static POINTS: [Point; 36] = POINT_TABLE;
+pub static POINTS: [Point; 45] = POINT_TABLE;
 
-const POINT_TABLE: [Point; 36] = [
+const POINT_TABLE: [Point; 45] = [
     Point {
         group: "fig17",
         name: "path",
@@ -247,7 +256,11 @@ const POINT_TABLE: [Point; 36] = [
         meaning: "a sample where both signs changed: the counters hold and quadrant_skip is set",
         sampled: Sampled::Edge,
         when: "upd && !first && chg_s && chg_c",
-        bins: bins!("key_off": "at a key-off sample" => "!sig"; knobs!(FastMoves), "key_on": "at an on-key sample" => "sig"; knobs!(FastMoves)),
+        bins: bins!(
+            "key_off": "at a key-off sample" => "!sig"; knobs!(FastMoves),
+            "key_on_w1c": "at an on-key sample on the edge of the MPU's W1C of STATUS.quadrant_skip: the set wins" => "skip_clr"; knobs!(StatusWrites, FastMoves),
+            "key_on": "at an on-key sample" => "1'b1"; knobs!(FastMoves),
+        ),
         unreachable: &[],
     },
     Point {
@@ -305,7 +318,12 @@ const POINT_TABLE: [Point; 36] = [
         meaning: "a step of the drive interval cut short by a limit",
         sampled: Sampled::Edge,
         when: "fig17 == 3'd3 || fig17 == 3'd6",
-        bins: bins!("min": "S6: si - T1 below min, clamped to min" => "fig17 == 3'd3 && {1'b0, si} < {1'b0, t1} + {1'b0, si_min}"; knobs!(FastMoves), "x": "S10: si + T2 above x, clamped to x" => "fig17 == 3'd6 && {1'b0, si} + {1'b0, t2} > {1'b0, si_max}"; knobs!(FastMoves)),
+        bins: bins!(
+            "min_below_zero": "S6: si - T1 below 0, saturated at 0 before the clamp to min (16-bit arithmetic)" => "fig17 == 3'd3 && si < t1"; knobs!(LongQuiet),
+            "min": "S6: si - T1 in [0, min), clamped to min" => "fig17 == 3'd3 && {1'b0, si} < {1'b0, t1} + {1'b0, si_min}"; knobs!(FastMoves),
+            "x_past_16_bits": "S10: si + T2 past 65535 (the 17th bit) before the clamp to x" => "fig17 == 3'd6 && {1'b0, si} + {1'b0, t2} > 17'h0FFFF"; knobs!(LongQuiet),
+            "x": "S10: si + T2 in (x, 65535], clamped to x" => "fig17 == 3'd6 && {1'b0, si} + {1'b0, t2} > {1'b0, si_max}"; knobs!(FastMoves),
+        ),
         unreachable: &[],
     },
     Point {
@@ -411,10 +429,15 @@ const POINT_TABLE: [Point; 36] = [
         group: "faults",
         name: "skip_clear",
         cite: "docs/spec.md 2.8 (STATUS.quadrant_skip is W1C)",
-        meaning: "a write of 1 to STATUS.quadrant_skip while it is set",
+        meaning: "a STATUS write that writes bit 5 (W1C of quadrant_skip) or finds the flag set, by the flag's state",
         sampled: Sampled::Edge,
-        when: "skip_clr && quadrant_skip",
-        bins: bins!("cleared": "the sticky skip flag cleared by the MPU" => "1'b1"; knobs!(StatusWrites, FastMoves)),
+        when: "sig && bus_we && bus_addr == 8'h14 && (bus_wdata[5] || quadrant_skip)",
+        bins: bins!(
+            "set_wins": "W1C of bit 5 on the edge a skip sets the flag: the set wins (docs/spec.md 2.5)" => "skip_clr && upd && !first && chg_s && chg_c"; knobs!(StatusWrites, FastMoves),
+            "cleared": "W1C of bit 5 while the flag is set: the sticky skip flag cleared by the MPU" => "skip_clr && quadrant_skip"; knobs!(StatusWrites, FastMoves),
+            "while_clear": "W1C of bit 5 while the flag is clear: nothing changes" => "skip_clr"; knobs!(StatusWrites),
+            "other_bit_while_set": "a STATUS write without bit 5 (bit 4, say) while the flag is set: it stays set" => "1'b1"; knobs!(StatusWrites, FastMoves),
+        ),
         unreachable: &[],
     },
     Point {
@@ -469,9 +492,12 @@ const POINT_TABLE: [Point; 36] = [
         when: "bus_we && sig && is_param && !c_legal",
         bins: bins!(
             "zero_period": "a period of zero (Ps, x, min, T1, T2, smp_on)" => "c_cth != 8'd0 && c_zero"; knobs!(IllegalWrites),
-            "min_above_max": "min above x" => "c_cth != 8'd0 && !c_no_settle && c_si_min > c_si_max"; knobs!(IllegalWrites),
+            "min_above_max_by_one": "min = x + 1: the rule at its bound (min = x is legal)" => "c_cth != 8'd0 && !c_no_settle && {1'b0, c_si_min} == {1'b0, c_si_max} + 17'd1"; knobs!(IllegalWrites),
+            "min_above_max": "min above x + 1" => "c_cth != 8'd0 && !c_no_settle && c_si_min > c_si_max"; knobs!(IllegalWrites),
             "no_settling_tick": "pw + pi = 0" => "c_cth != 8'd0 && c_no_settle"; knobs!(PiZero, IllegalWrites),
-            "window_too_long": "Wt = pw + pi + ps not shorter than the shortest interval" => "c_cth != 8'd0"; knobs!(IllegalWrites),
+            "window_at_shortest": "Wt = pw + pi + ps equal to the shortest interval: the rule at its bound (Wt = shortest - 1 is legal)" => "c_cth != 8'd0 && c_wt18 == c_short"; knobs!(IllegalWrites),
+            "window_too_long": "Wt = pw + pi + ps longer than the shortest interval" => "c_cth != 8'd0"; knobs!(IllegalWrites),
+            "cth_zero_high_bits": "Cth = 0 in the register's 8 bits with high bits set in the written word (the register's width is taken before the check, spec 2.8); port-level only: a scenario's write must fit the register" => "bus_wdata[15:8] != 8'd0"; PORT,
             "cth_zero": "Cth = 0 (valid is 1..255; the other ranges are structural and not on the bus)" => "1'b1"; knobs!(IllegalWrites),
         ),
         unreachable: &[],
@@ -480,10 +506,127 @@ const POINT_TABLE: [Point; 36] = [
         group: "bus",
         name: "w1c",
         cite: "docs/spec.md 2.8 (STATUS bits 5 and 9 are write-1-to-clear)",
-        meaning: "which sticky STATUS bits a STATUS write cleared (set or not)",
+        meaning: "which sticky STATUS bits a STATUS write cleared, and whether the bit was set",
         sampled: Sampled::Edge,
         when: "bus_we && sig && bus_addr == 8'h14",
-        bins: bins!("none": "no W1C bit written" => "!bus_wdata[5] && !bus_wdata[9]"; knobs!(StatusWrites), "quadrant_skip": "bit 5 only" => "bus_wdata[5] && !bus_wdata[9]"; knobs!(StatusWrites), "bus_err": "bit 9 only" => "!bus_wdata[5] && bus_wdata[9]"; knobs!(StatusWrites), "both": "bits 5 and 9" => "1'b1"; knobs!(StatusWrites)),
+        bins: bins!(
+            "none": "no W1C bit written" => "!bus_wdata[5] && !bus_wdata[9]"; knobs!(StatusWrites),
+            "quadrant_skip_set": "bit 5 only, while quadrant_skip is set: cleared" => "bus_wdata[5] && !bus_wdata[9] && quadrant_skip"; knobs!(StatusWrites, FastMoves),
+            "quadrant_skip_clear": "bit 5 only, while quadrant_skip is clear" => "bus_wdata[5] && !bus_wdata[9]"; knobs!(StatusWrites),
+            "bus_err_set": "bit 9 only, while bus_err is set: cleared" => "!bus_wdata[5] && bus_wdata[9] && bus_err"; knobs!(StatusWrites, IllegalWrites),
+            "bus_err_clear": "bit 9 only, while bus_err is clear" => "!bus_wdata[5] && bus_wdata[9]"; knobs!(StatusWrites),
+            "both": "bits 5 and 9" => "1'b1"; knobs!(StatusWrites),
+        ),
+        unreachable: &[],
+    },
+    Point {
+        group: "bus",
+        name: "legal_at_bound",
+        cite: "docs/spec.md 4 (legality of the parameter set), [0319]",
+        meaning: "a taken parameter write whose set sits at a legality rule's bound (the first that holds)",
+        sampled: Sampled::Edge,
+        when: "param_wr && (c_si_min == c_si_max || c_wt18 + 18'd1 == c_short || {1'b0, c_pw} + {1'b0, c_pi} == 17'd1)",
+        bins: bins!(
+            "min_eq_max": "min = x: legal (min > x is refused)" => "c_si_min == c_si_max"; knobs!(XEqualMin),
+            "wt_shortest_minus_one": "Wt = the shortest interval - 1: legal (Wt = shortest is refused)" => "c_wt18 + 18'd1 == c_short"; knobs!(MinTight),
+            "settle_one": "pw + pi = 1: legal (pw + pi = 0 is refused)" => "1'b1"; knobs!(PiZero),
+        ),
+        unreachable: &[],
+    },
+    Point {
+        group: "bus",
+        name: "write_changes",
+        cite: "docs/spec.md 2.8 (register map; the read mux sees the registers before the edge)",
+        meaning: "a taken write that changes its register: the MPU's bus cycle reads the address written, and must see the value before the edge",
+        sampled: Sampled::Edge,
+        when: "cfg_change",
+        bins: bins!(
+            "ctrl": "CTRL" => "bus_addr == 8'h02"; knobs!(KeyStorm), "pw": "PW" => "bus_addr == 8'h03"; knobs!(KeyStorm), "pi": "PI" => "bus_addr == 8'h04"; knobs!(KeyStorm), "ps": "PS" => "bus_addr == 8'h05"; knobs!(KeyStorm), "si_max": "SI_MAX" => "bus_addr == 8'h06"; knobs!(KeyStorm),
+            "si_min": "SI_MIN" => "bus_addr == 8'h07"; knobs!(KeyStorm), "t1": "T1" => "bus_addr == 8'h08"; knobs!(KeyStorm), "t2": "T2" => "bus_addr == 8'h09"; knobs!(KeyStorm), "cth": "CTH" => "bus_addr == 8'h0A"; knobs!(KeyStorm), "smp_on": "SMP_ON" => "1'b1"; knobs!(KeyStorm),
+        ),
+        unreachable: &[],
+    },
+    Point {
+        group: "faults",
+        name: "dead_strobe",
+        cite: "[0209], [0347]; docs/spec.md 2.3-2.4 (vld marks the first sample)",
+        meaning: "a sampling strobe on a dead rail (Sr = 0), by whether a first sample was taken before it",
+        sampled: Sampled::Edge,
+        when: "smp && !sr",
+        bins: bins!(
+            "before_first": "no sample since reset (vld = 0): the strobe must leave vld at 0" => "!vld"; knobs!(Faults),
+            "after_first": "after the first sample" => "1'b1"; knobs!(Faults),
+        ),
+        unreachable: &[],
+    },
+    Point {
+        group: "faults",
+        name: "pg_drop",
+        cite: "[0209]; docs/spec.md 2.3 (Sr = vs2_en && vs2_ok, registered)",
+        meaning: "Vs2's power-good dropping while Sr = 1 and Vs2 is enabled: Sr must fall at this edge",
+        sampled: Sampled::Edge,
+        when: "sr && vs2_en && !vs2_ok",
+        bins: bins!("sr_falls": "Sr falls on the power-good, not on the enable" => "1'b1"; knobs!(Faults)),
+        unreachable: &[],
+    },
+    Point {
+        group: "faults",
+        name: "pg_unpowered",
+        cite: "[0209]; docs/spec.md 2.3",
+        meaning: "Vs2's power-good high while Vs2 is off: Sr must stay 0 (port-level only: the bench's power-good follows the enable)",
+        sampled: Sampled::Edge,
+        when: "vs2_ok && !vs2_en",
+        bins: bins!("high": "power-good high with Vs2 off" => "1'b1"; PORT),
+        unreachable: &[],
+    },
+    Point {
+        group: "key",
+        name: "off_edge_write",
+        cite: "[0213]; docs/spec.md 2.6 (the key-off reload takes si_max_nxt)",
+        meaning: "an SI_MAX write taken on the edge sig falls (ig back on after a low pulse the synchronizer passes)",
+        sampled: Sampled::Edge,
+        when: "koff && param_wr && bus_addr == 8'h06",
+        bins: bins!("si_max": "si reloads to the x written on this edge" => "1'b1"; knobs!(Glitches)),
+        unreachable: &[],
+    },
+    Point {
+        group: "key",
+        name: "start",
+        cite: "[0213]; docs/spec.md 2.1 (the synchronizer resets to 0)",
+        meaning: "the key at the first edge out of reset",
+        sampled: Sampled::Edge,
+        when: "cfg_start",
+        bins: bins!(
+            "on": "ig = 1 from reset: sig rises SYNC_DEPTH edges later" => "ig"; ANY,
+            "off": "ig = 0 from reset" => "1'b1"; ANY,
+        ),
+        unreachable: &[],
+    },
+    Point {
+        group: "timer",
+        name: "period_write",
+        cite: "[0349]; docs/spec.md 2.2 (the cycle ends when the timer reaches its period)",
+        meaning: "a taken SMP_ON write with the key on, against the running timer",
+        sampled: Sampled::Edge,
+        when: "param_wr && sig && bus_addr == 8'h0B",
+        bins: bins!(
+            "behind_timer": "SMP_ON written at or below the timer, which runs on past it: the cycle must still end" => "{2'b00, c_smp_on} <= t18 && t18 + 18'd1 < {2'b00, smp_on}"; knobs!(KeyStorm),
+            "ahead": "any other SMP_ON write" => "1'b1"; knobs!(KeyStorm),
+        ),
+        unreachable: &[],
+    },
+    Point {
+        group: "counter",
+        name: "difference",
+        cite: "[0119]; docs/spec.md 2.7 (cnt_s - cnt_c modulo 2^CNT_W)",
+        meaning: "cnt_s - cnt_c after a sample that moved the latches, as the count diagnosis compares it",
+        sampled: Sampled::Edge,
+        when: "upd && (first || chg_s || chg_c)",
+        bins: bins!(
+            "minus_one_wrap": "cnt_s = -1, cnt_c = 0: -1 across the counters' wrap" => "cnt_s_n == {CNT_W{1'b1}} && cnt_c_n == {CNT_W{1'b0}}"; ANY,
+            "minus_one": "cnt_s = cnt_c - 1 (quadrants 1 and 3), cnt_s below cnt_c as unsigned numbers" => "cnt_s_n + {{(CNT_W-1){1'b0}}, 1'b1} == cnt_c_n"; ANY,
+            "zero": "cnt_s = cnt_c (quadrants 0 and 2)" => "1'b1"; ANY,
+        ),
         unreachable: &[],
     },
     Point {
@@ -744,7 +887,7 @@ fn preset_x_mode(_: &str, _: &str) -> Option<&'static str> {
 }
 
 fn skip_x_interval(a: &str, _: &str) -> Option<&'static str> {
-    (a == "key_on").then_some("interval.at_edge is sampled at key-off samples only")
+    a.starts_with("key_on").then_some("interval.at_edge is sampled at key-off samples only")
 }
 
 fn vs2_x_interval(a: &str, _: &str) -> Option<&'static str> {
@@ -780,7 +923,7 @@ fn expand_x_t2(a: &str, b: &str) -> Option<&'static str> {
 }
 
 /// Every cross.
-pub static CROSSES: [Cross; 13] = [
+pub static CROSSES: [Cross; 15] = [
     Cross {
         name: "fig17_x_fig18",
         cite: "FIG. 17 x FIG. 18",
@@ -896,6 +1039,24 @@ pub static CROSSES: [Cross; 13] = [
         rows: WRITE_REG,
         columns: WRITE_OUTCOME,
         unreachable: write_reg_x_outcome,
+        hint: no_extra,
+    },
+    Cross {
+        name: "difference_x_cnt_w",
+        cite: "[0119] x docs/spec.md 2.5 (CNT_W)",
+        meaning: "the counters' difference, as the diagnosis compares it modulo 2^CNT_W, at each class of CNT_W",
+        rows: DIFFERENCE,
+        columns: CFG_CNT_W,
+        unreachable: none,
+        hint: no_extra,
+    },
+    Cross {
+        name: "start_x_sync_depth",
+        cite: "[0213] x SYNC_DEPTH",
+        meaning: "the key from reset through each depth of the synchronizer",
+        rows: KEY_START,
+        columns: CFG_SYNC,
+        unreachable: none,
         hint: no_extra,
     },
 ];
