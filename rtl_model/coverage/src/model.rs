@@ -492,10 +492,10 @@ const POINT_TABLE: [Point; 45] = [
         when: "bus_we && sig && is_param && !c_legal",
         bins: bins!(
             "zero_period": "a period of zero (Ps, x, min, T1, T2, smp_on)" => "c_cth != 8'd0 && c_zero"; knobs!(IllegalWrites),
-            "min_above_max_by_one": "min = x + 1: the rule at its bound (min = x is legal)" => "c_cth != 8'd0 && !c_no_settle && {1'b0, c_si_min} == {1'b0, c_si_max} + 17'd1"; knobs!(IllegalWrites),
+            "min_above_max_by_one": "min = x + 1: the rule at its bound (min = x is legal)" => "c_cth != 8'd0 && !c_no_settle && {1'b0, c_si_min} == {1'b0, c_si_max} + 17'd1"; knobs!(IllegalWrites, KeyStorm),
             "min_above_max": "min above x + 1" => "c_cth != 8'd0 && !c_no_settle && c_si_min > c_si_max"; knobs!(IllegalWrites),
             "no_settling_tick": "pw + pi = 0" => "c_cth != 8'd0 && c_no_settle"; knobs!(PiZero, IllegalWrites),
-            "window_at_shortest": "Wt = pw + pi + ps equal to the shortest interval: the rule at its bound (Wt = shortest - 1 is legal)" => "c_cth != 8'd0 && c_wt18 == c_short"; knobs!(IllegalWrites),
+            "window_at_shortest": "Wt = pw + pi + ps equal to the shortest interval: the rule at its bound (Wt = shortest - 1 is legal)" => "c_cth != 8'd0 && c_wt18 == c_short"; knobs!(IllegalWrites, KeyStorm),
             "window_too_long": "Wt = pw + pi + ps longer than the shortest interval" => "c_cth != 8'd0"; knobs!(IllegalWrites),
             "cth_zero_high_bits": "Cth = 0 in the register's 8 bits with high bits set in the written word (the register's width is taken before the check, spec 2.8); port-level only: a scenario's write must fit the register" => "bus_wdata[15:8] != 8'd0"; PORT,
             "cth_zero": "Cth = 0 (valid is 1..255; the other ranges are structural and not on the bus)" => "1'b1"; knobs!(IllegalWrites),
