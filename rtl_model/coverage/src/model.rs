@@ -887,7 +887,8 @@ fn preset_x_mode(_: &str, _: &str) -> Option<&'static str> {
 }
 
 fn skip_x_interval(a: &str, _: &str) -> Option<&'static str> {
-    a.starts_with("key_on").then_some("interval.at_edge is sampled at key-off samples only")
+    a.starts_with("key_on")
+        .then_some("interval.at_edge is sampled at key-off samples only")
 }
 
 fn vs2_x_interval(a: &str, _: &str) -> Option<&'static str> {

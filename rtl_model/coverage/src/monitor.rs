@@ -150,7 +150,12 @@ pub const SIGNALS: &[Signal] = &[
         "drive_interval.cnt_r_n",
         "CNTr after the edge",
     ),
-    net("vld", "1", "comparator_latch.vld", "a first sample was taken"),
+    net(
+        "vld",
+        "1",
+        "comparator_latch.vld",
+        "a first sample was taken",
+    ),
     net(
         "cnt_s_n",
         "CNT_W",

@@ -518,10 +518,7 @@ impl Coverage {
         if n.upd && (n.first || n.chg_s || n.chg_c) {
             let w = self.structural.cnt_width.clamp(2, 16);
             let mask = ((1u32 << w) - 1) as u16;
-            let (s, c) = (
-                a.updown_counter.cnt_s & mask,
-                a.updown_counter.cnt_c & mask,
-            );
+            let (s, c) = (a.updown_counter.cnt_s & mask, a.updown_counter.cnt_c & mask);
             sel[DIFFERENCE] = if s == mask && c == 0 {
                 bin!(DIFFERENCE, "minus_one_wrap")
             } else if s.wrapping_add(1) & mask == c {
@@ -647,12 +644,12 @@ impl Coverage {
                 }
                 if a8 == rf::addr::SMP_ON {
                     let t = u32::from(b.timing_generator.tmr);
-                    sel[PERIOD_WRITE] =
-                        if u32::from(np.smp_on) <= t && t + 1 < u32::from(p.smp_on) {
-                            bin!(PERIOD_WRITE, "behind_timer")
-                        } else {
-                            bin!(PERIOD_WRITE, "ahead")
-                        };
+                    sel[PERIOD_WRITE] = if u32::from(np.smp_on) <= t && t + 1 < u32::from(p.smp_on)
+                    {
+                        bin!(PERIOD_WRITE, "behind_timer")
+                    } else {
+                        bin!(PERIOD_WRITE, "ahead")
+                    };
                 }
             }
             sel[WRITE_OUTCOME] = match result {

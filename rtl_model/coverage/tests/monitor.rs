@@ -99,7 +99,13 @@ fn every_bin_is_declared_with_its_classification() {
             if path.starts_with("internals.") || !path.contains(".c_") && !path.ends_with("_n") {
                 let mapped = map.contains(&format!("\"pmu50.{path}\""));
                 let next_state = [
-                    "si_n", "cnt_r_n", "in_range", "skip_nxt", "param_wr", "c_legal", "cnt_s_nxt",
+                    "si_n",
+                    "cnt_r_n",
+                    "in_range",
+                    "skip_nxt",
+                    "param_wr",
+                    "c_legal",
+                    "cnt_s_nxt",
                     "cnt_c_nxt",
                 ]
                 .iter()
