@@ -494,7 +494,7 @@ const POINT_TABLE: [Point; 45] = [
             "zero_period": "a period of zero (Ps, x, min, T1, T2, smp_on)" => "c_cth != 8'd0 && c_zero"; knobs!(IllegalWrites),
             "min_above_max_by_one": "min = x + 1: the rule at its bound (min = x is legal)" => "c_cth != 8'd0 && !c_no_settle && {1'b0, c_si_min} == {1'b0, c_si_max} + 17'd1"; knobs!(IllegalWrites, KeyStorm),
             "min_above_max": "min above x + 1" => "c_cth != 8'd0 && !c_no_settle && c_si_min > c_si_max"; knobs!(IllegalWrites),
-            "no_settling_tick": "pw + pi = 0" => "c_cth != 8'd0 && c_no_settle"; knobs!(PiZero, IllegalWrites),
+            "no_settling_tick": "pw + pi = 0" => "c_cth != 8'd0 && c_no_settle"; knobs!(PiZero, IllegalWrites, KeyStorm),
             "window_at_shortest": "Wt = pw + pi + ps equal to the shortest interval: the rule at its bound (Wt = shortest - 1 is legal)" => "c_cth != 8'd0 && c_wt18 == c_short"; knobs!(IllegalWrites, KeyStorm),
             "window_too_long": "Wt = pw + pi + ps longer than the shortest interval" => "c_cth != 8'd0"; knobs!(IllegalWrites),
             "cth_zero_high_bits": "Cth = 0 in the register's 8 bits with high bits set in the written word (the register's width is taken before the check, spec 2.8); port-level only: a scenario's write must fit the register" => "bus_wdata[15:8] != 8'd0"; PORT,
@@ -529,7 +529,7 @@ const POINT_TABLE: [Point; 45] = [
         bins: bins!(
             "min_eq_max": "min = x: legal (min > x is refused)" => "c_si_min == c_si_max"; knobs!(XEqualMin),
             "wt_shortest_minus_one": "Wt = the shortest interval - 1: legal (Wt = shortest is refused)" => "c_wt18 + 18'd1 == c_short"; knobs!(MinTight),
-            "settle_one": "pw + pi = 1: legal (pw + pi = 0 is refused)" => "1'b1"; knobs!(PiZero),
+            "settle_one": "pw + pi = 1: legal (pw + pi = 0 is refused)" => "1'b1"; knobs!(PiZero, KeyStorm),
         ),
         unreachable: &[],
     },
