@@ -4,8 +4,8 @@
 //! cycle before it (the Moore outputs the environment saw), the inputs applied at it and the
 //! core's combinational internals. It costs a table lookup on an ordinary edge (a key-on cycle
 //! counts the MPU's read) and decodes the rest only on the rare edges that can hit a bin: a bus
-//! write, a key edge, a sampling strobe, a diag rise, a W1C strobe, or an ig edge inside the
-//! synchronizer.
+//! write, a key edge, a sampling strobe, a diag rise, a W1C strobe, an ig edge inside the
+//! synchronizer, the first edge out of reset, or Vs2's power-good disagreeing with its enable.
 
 use crate::bin;
 use crate::model::*;
