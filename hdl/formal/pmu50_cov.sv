@@ -39,6 +39,9 @@ module pmu50_cov #(
     input  wire                 hist_c,        // port: change history of Cc
     input  wire                 diag,          // port: count diagnosis flag
     input  wire                 quadrant_skip, // port: sticky skip flag
+    input  wire                 bus_err,       // port: sticky refusal flag
+    input  wire                 vs2_ok,        // port: Vs2 power-good, applied at the edge
+    input  wire                 vs2_en,        // port: Vs2 enable
     input  wire [SYNC_DEPTH-1:0] sync,          // action_switching.sync: synchronizer flops
     input  wire [15:0]          tmr,           // timing_generator.tmr: timer of the output cycle
     input  wire                 adaptive,      // register_file.adaptive: CTRL.adaptive
@@ -62,6 +65,9 @@ module pmu50_cov #(
     input  wire [2:0]           fig18,         // internals.fig18: FIG. 18 path
     input  wire [15:0]          si_n,          // drive_interval.si_n: drive interval after the edge
     input  wire [7:0]           cnt_r_n,       // drive_interval.cnt_r_n: CNTr after the edge
+    input  wire                 vld,           // comparator_latch.vld: a first sample was taken
+    input  wire [CNT_W-1:0]     cnt_s_n,       // updown_counter.cnt_s_nxt: sine counter after the edge
+    input  wire [CNT_W-1:0]     cnt_c_n,       // updown_counter.cnt_c_nxt: cosine counter after the edge
     input  wire                 in_range_n,    // count_diagnosis.in_range: |cnt_s - cnt_c| < 2 after the edge
     input  wire                 skip_n,        // updown_counter.skip_nxt: quadrant_skip after the edge
     input  wire                 param_wr,      // register_file.param_wr: a legal parameter write is taken
@@ -76,7 +82,7 @@ module pmu50_cov #(
     input  wire [15:0]          c_t2,          // register_file.c_t2: candidate T2
     input  wire [7:0]           c_cth,         // register_file.c_cth: candidate Cth
     input  wire [15:0]          c_smp_on,      // register_file.c_smp_on: candidate smp_on
-    output wire [470:0] hits  // bit i: bin i of the model (pmu50_cov.json)
+    output wire [531:0] hits  // bit i: bin i of the model (pmu50_cov.json)
 );
 
     // ---- helpers
@@ -108,6 +114,9 @@ module pmu50_cov #(
     wire c_zero = (c_ps == 16'd0) || (c_si_max == 16'd0) || (c_si_min == 16'd0) ||
                   (c_t1 == 16'd0) || (c_t2 == 16'd0) || (c_smp_on == 16'd0);
     wire c_no_settle = (c_pw == 16'd0) && (c_pi == 16'd0);
+    // the candidate's window Wt and shortest interval, in 18 bits
+    wire [17:0] c_wt18  = {2'b00, c_pw} + {2'b00, c_pi} + {2'b00, c_ps};
+    wire [17:0] c_short = {2'b00, c_adaptive ? c_si_min : c_si_max};
     // thirds of [min, x]: th_si with the ends (0 = min, 1-3, 4 = x), th_si_n of the interval
     // after the edge without them
     wire [16:0] th_span  = (si_max > si_min) ? {1'b0, si_max - si_min} : 17'd1;
@@ -230,11 +239,14 @@ module pmu50_cov #(
     // ---- counter.quadrant_skip (docs/spec.md 2.5 (both signs change in one sample)): a sample where both signs changed: the counters hold and quadrant_skip is set
     wire counter__quadrant_skip__sel = rst_n && (upd && !first && chg_s && chg_c);
     wire counter__quadrant_skip__b_m0 = !sig;
-    wire counter__quadrant_skip__b_m1 = sig;
+    wire counter__quadrant_skip__b_m1 = skip_clr;
+    wire counter__quadrant_skip__b_m2 = 1'b1;
     wire counter__quadrant_skip__b_0 = counter__quadrant_skip__b_m0;
     wire counter__quadrant_skip__b_1 = counter__quadrant_skip__b_m1 && !counter__quadrant_skip__b_m0;
+    wire counter__quadrant_skip__b_2 = counter__quadrant_skip__b_m2 && !counter__quadrant_skip__b_m0 && !counter__quadrant_skip__b_m1;
     wire hit_counter__quadrant_skip__key_off = counter__quadrant_skip__sel && counter__quadrant_skip__b_0;
-    wire hit_counter__quadrant_skip__key_on = counter__quadrant_skip__sel && counter__quadrant_skip__b_1;
+    wire hit_counter__quadrant_skip__key_on_w1c = counter__quadrant_skip__sel && counter__quadrant_skip__b_1;
+    wire hit_counter__quadrant_skip__key_on = counter__quadrant_skip__sel && counter__quadrant_skip__b_2;
 
     // ---- interval.shorten_to ([0224]-[0228], [0260]-[0262]; docs/spec.md 2.6): where S6 put the drive interval in [min, x] (thirds of the span)
     wire interval__shorten_to__sel = rst_n && (fig17 == 3'd3);
@@ -292,12 +304,18 @@ module pmu50_cov #(
 
     // ---- interval.clamp ([0260]-[0262]): a step of the drive interval cut short by a limit
     wire interval__clamp__sel = rst_n && (fig17 == 3'd3 || fig17 == 3'd6);
-    wire interval__clamp__b_m0 = fig17 == 3'd3 && {1'b0, si} < {1'b0, t1} + {1'b0, si_min};
-    wire interval__clamp__b_m1 = fig17 == 3'd6 && {1'b0, si} + {1'b0, t2} > {1'b0, si_max};
+    wire interval__clamp__b_m0 = fig17 == 3'd3 && si < t1;
+    wire interval__clamp__b_m1 = fig17 == 3'd3 && {1'b0, si} < {1'b0, t1} + {1'b0, si_min};
+    wire interval__clamp__b_m2 = fig17 == 3'd6 && {1'b0, si} + {1'b0, t2} > 17'h0FFFF;
+    wire interval__clamp__b_m3 = fig17 == 3'd6 && {1'b0, si} + {1'b0, t2} > {1'b0, si_max};
     wire interval__clamp__b_0 = interval__clamp__b_m0;
     wire interval__clamp__b_1 = interval__clamp__b_m1 && !interval__clamp__b_m0;
-    wire hit_interval__clamp__min = interval__clamp__sel && interval__clamp__b_0;
-    wire hit_interval__clamp__x = interval__clamp__sel && interval__clamp__b_1;
+    wire interval__clamp__b_2 = interval__clamp__b_m2 && !interval__clamp__b_m0 && !interval__clamp__b_m1;
+    wire interval__clamp__b_3 = interval__clamp__b_m3 && !interval__clamp__b_m0 && !interval__clamp__b_m1 && !interval__clamp__b_m2;
+    wire hit_interval__clamp__min_below_zero = interval__clamp__sel && interval__clamp__b_0;
+    wire hit_interval__clamp__min = interval__clamp__sel && interval__clamp__b_1;
+    wire hit_interval__clamp__x_past_16_bits = interval__clamp__sel && interval__clamp__b_2;
+    wire hit_interval__clamp__x = interval__clamp__sel && interval__clamp__b_3;
 
     // ---- cnt_r.value ([0248]-[0250]; docs/spec.md 2.6): the power supply count after a quiet key-off pulse (S9), by class up to its 8-bit saturation
     wire cnt_r__value__sel = rst_n && (fig17 == 3'd5 || fig17 == 3'd6);
@@ -407,11 +425,20 @@ module pmu50_cov #(
     wire hit_faults__diag__skip = faults__diag__sel && faults__diag__b_0;
     wire hit_faults__diag__difference = faults__diag__sel && faults__diag__b_1;
 
-    // ---- faults.skip_clear (docs/spec.md 2.8 (STATUS.quadrant_skip is W1C)): a write of 1 to STATUS.quadrant_skip while it is set
-    wire faults__skip_clear__sel = rst_n && (skip_clr && quadrant_skip);
-    wire faults__skip_clear__b_m0 = 1'b1;
+    // ---- faults.skip_clear (docs/spec.md 2.8 (STATUS.quadrant_skip is W1C)): a STATUS write that writes bit 5 (W1C of quadrant_skip) or finds the flag set, by the flag's state
+    wire faults__skip_clear__sel = rst_n && (sig && bus_we && bus_addr == 8'h14 && (bus_wdata[5] || quadrant_skip));
+    wire faults__skip_clear__b_m0 = skip_clr && upd && !first && chg_s && chg_c;
+    wire faults__skip_clear__b_m1 = skip_clr && quadrant_skip;
+    wire faults__skip_clear__b_m2 = skip_clr;
+    wire faults__skip_clear__b_m3 = 1'b1;
     wire faults__skip_clear__b_0 = faults__skip_clear__b_m0;
-    wire hit_faults__skip_clear__cleared = faults__skip_clear__sel && faults__skip_clear__b_0;
+    wire faults__skip_clear__b_1 = faults__skip_clear__b_m1 && !faults__skip_clear__b_m0;
+    wire faults__skip_clear__b_2 = faults__skip_clear__b_m2 && !faults__skip_clear__b_m0 && !faults__skip_clear__b_m1;
+    wire faults__skip_clear__b_3 = faults__skip_clear__b_m3 && !faults__skip_clear__b_m0 && !faults__skip_clear__b_m1 && !faults__skip_clear__b_m2;
+    wire hit_faults__skip_clear__set_wins = faults__skip_clear__sel && faults__skip_clear__b_0;
+    wire hit_faults__skip_clear__cleared = faults__skip_clear__sel && faults__skip_clear__b_1;
+    wire hit_faults__skip_clear__while_clear = faults__skip_clear__sel && faults__skip_clear__b_2;
+    wire hit_faults__skip_clear__other_bit_while_set = faults__skip_clear__sel && faults__skip_clear__b_3;
 
     // ---- bus.read ([0108], [0163]; docs/spec.md 2.8): the address read by the MPU in a key-on cycle without a write
     wire bus__read__sel = rst_n && (sig && !bus_we);
@@ -533,35 +560,152 @@ module pmu50_cov #(
     // ---- bus.illegal_rule (docs/spec.md 4 (legality of the parameter set), [0319]): the legality rule that refused a parameter write
     wire bus__illegal_rule__sel = rst_n && (bus_we && sig && is_param && !c_legal);
     wire bus__illegal_rule__b_m0 = c_cth != 8'd0 && c_zero;
-    wire bus__illegal_rule__b_m1 = c_cth != 8'd0 && !c_no_settle && c_si_min > c_si_max;
-    wire bus__illegal_rule__b_m2 = c_cth != 8'd0 && c_no_settle;
-    wire bus__illegal_rule__b_m3 = c_cth != 8'd0;
-    wire bus__illegal_rule__b_m4 = 1'b1;
+    wire bus__illegal_rule__b_m1 = c_cth != 8'd0 && !c_no_settle && {1'b0, c_si_min} == {1'b0, c_si_max} + 17'd1;
+    wire bus__illegal_rule__b_m2 = c_cth != 8'd0 && !c_no_settle && c_si_min > c_si_max;
+    wire bus__illegal_rule__b_m3 = c_cth != 8'd0 && c_no_settle;
+    wire bus__illegal_rule__b_m4 = c_cth != 8'd0 && c_wt18 == c_short;
+    wire bus__illegal_rule__b_m5 = c_cth != 8'd0;
+    wire bus__illegal_rule__b_m6 = bus_wdata[15:8] != 8'd0;
+    wire bus__illegal_rule__b_m7 = 1'b1;
     wire bus__illegal_rule__b_0 = bus__illegal_rule__b_m0;
     wire bus__illegal_rule__b_1 = bus__illegal_rule__b_m1 && !bus__illegal_rule__b_m0;
     wire bus__illegal_rule__b_2 = bus__illegal_rule__b_m2 && !bus__illegal_rule__b_m0 && !bus__illegal_rule__b_m1;
     wire bus__illegal_rule__b_3 = bus__illegal_rule__b_m3 && !bus__illegal_rule__b_m0 && !bus__illegal_rule__b_m1 && !bus__illegal_rule__b_m2;
     wire bus__illegal_rule__b_4 = bus__illegal_rule__b_m4 && !bus__illegal_rule__b_m0 && !bus__illegal_rule__b_m1 && !bus__illegal_rule__b_m2 && !bus__illegal_rule__b_m3;
+    wire bus__illegal_rule__b_5 = bus__illegal_rule__b_m5 && !bus__illegal_rule__b_m0 && !bus__illegal_rule__b_m1 && !bus__illegal_rule__b_m2 && !bus__illegal_rule__b_m3 && !bus__illegal_rule__b_m4;
+    wire bus__illegal_rule__b_6 = bus__illegal_rule__b_m6 && !bus__illegal_rule__b_m0 && !bus__illegal_rule__b_m1 && !bus__illegal_rule__b_m2 && !bus__illegal_rule__b_m3 && !bus__illegal_rule__b_m4 && !bus__illegal_rule__b_m5;
+    wire bus__illegal_rule__b_7 = bus__illegal_rule__b_m7 && !bus__illegal_rule__b_m0 && !bus__illegal_rule__b_m1 && !bus__illegal_rule__b_m2 && !bus__illegal_rule__b_m3 && !bus__illegal_rule__b_m4 && !bus__illegal_rule__b_m5 && !bus__illegal_rule__b_m6;
     wire hit_bus__illegal_rule__zero_period = bus__illegal_rule__sel && bus__illegal_rule__b_0;
-    wire hit_bus__illegal_rule__min_above_max = bus__illegal_rule__sel && bus__illegal_rule__b_1;
-    wire hit_bus__illegal_rule__no_settling_tick = bus__illegal_rule__sel && bus__illegal_rule__b_2;
-    wire hit_bus__illegal_rule__window_too_long = bus__illegal_rule__sel && bus__illegal_rule__b_3;
-    wire hit_bus__illegal_rule__cth_zero = bus__illegal_rule__sel && bus__illegal_rule__b_4;
+    wire hit_bus__illegal_rule__min_above_max_by_one = bus__illegal_rule__sel && bus__illegal_rule__b_1;
+    wire hit_bus__illegal_rule__min_above_max = bus__illegal_rule__sel && bus__illegal_rule__b_2;
+    wire hit_bus__illegal_rule__no_settling_tick = bus__illegal_rule__sel && bus__illegal_rule__b_3;
+    wire hit_bus__illegal_rule__window_at_shortest = bus__illegal_rule__sel && bus__illegal_rule__b_4;
+    wire hit_bus__illegal_rule__window_too_long = bus__illegal_rule__sel && bus__illegal_rule__b_5;
+    wire hit_bus__illegal_rule__cth_zero_high_bits = bus__illegal_rule__sel && bus__illegal_rule__b_6;
+    wire hit_bus__illegal_rule__cth_zero = bus__illegal_rule__sel && bus__illegal_rule__b_7;
 
-    // ---- bus.w1c (docs/spec.md 2.8 (STATUS bits 5 and 9 are write-1-to-clear)): which sticky STATUS bits a STATUS write cleared (set or not)
+    // ---- bus.w1c (docs/spec.md 2.8 (STATUS bits 5 and 9 are write-1-to-clear)): which sticky STATUS bits a STATUS write cleared, and whether the bit was set
     wire bus__w1c__sel = rst_n && (bus_we && sig && bus_addr == 8'h14);
     wire bus__w1c__b_m0 = !bus_wdata[5] && !bus_wdata[9];
-    wire bus__w1c__b_m1 = bus_wdata[5] && !bus_wdata[9];
-    wire bus__w1c__b_m2 = !bus_wdata[5] && bus_wdata[9];
-    wire bus__w1c__b_m3 = 1'b1;
+    wire bus__w1c__b_m1 = bus_wdata[5] && !bus_wdata[9] && quadrant_skip;
+    wire bus__w1c__b_m2 = bus_wdata[5] && !bus_wdata[9];
+    wire bus__w1c__b_m3 = !bus_wdata[5] && bus_wdata[9] && bus_err;
+    wire bus__w1c__b_m4 = !bus_wdata[5] && bus_wdata[9];
+    wire bus__w1c__b_m5 = 1'b1;
     wire bus__w1c__b_0 = bus__w1c__b_m0;
     wire bus__w1c__b_1 = bus__w1c__b_m1 && !bus__w1c__b_m0;
     wire bus__w1c__b_2 = bus__w1c__b_m2 && !bus__w1c__b_m0 && !bus__w1c__b_m1;
     wire bus__w1c__b_3 = bus__w1c__b_m3 && !bus__w1c__b_m0 && !bus__w1c__b_m1 && !bus__w1c__b_m2;
+    wire bus__w1c__b_4 = bus__w1c__b_m4 && !bus__w1c__b_m0 && !bus__w1c__b_m1 && !bus__w1c__b_m2 && !bus__w1c__b_m3;
+    wire bus__w1c__b_5 = bus__w1c__b_m5 && !bus__w1c__b_m0 && !bus__w1c__b_m1 && !bus__w1c__b_m2 && !bus__w1c__b_m3 && !bus__w1c__b_m4;
     wire hit_bus__w1c__none = bus__w1c__sel && bus__w1c__b_0;
-    wire hit_bus__w1c__quadrant_skip = bus__w1c__sel && bus__w1c__b_1;
-    wire hit_bus__w1c__bus_err = bus__w1c__sel && bus__w1c__b_2;
-    wire hit_bus__w1c__both = bus__w1c__sel && bus__w1c__b_3;
+    wire hit_bus__w1c__quadrant_skip_set = bus__w1c__sel && bus__w1c__b_1;
+    wire hit_bus__w1c__quadrant_skip_clear = bus__w1c__sel && bus__w1c__b_2;
+    wire hit_bus__w1c__bus_err_set = bus__w1c__sel && bus__w1c__b_3;
+    wire hit_bus__w1c__bus_err_clear = bus__w1c__sel && bus__w1c__b_4;
+    wire hit_bus__w1c__both = bus__w1c__sel && bus__w1c__b_5;
+
+    // ---- bus.legal_at_bound (docs/spec.md 4 (legality of the parameter set), [0319]): a taken parameter write whose set sits at a legality rule's bound (the first that holds)
+    wire bus__legal_at_bound__sel = rst_n && (param_wr && (c_si_min == c_si_max || c_wt18 + 18'd1 == c_short || {1'b0, c_pw} + {1'b0, c_pi} == 17'd1));
+    wire bus__legal_at_bound__b_m0 = c_si_min == c_si_max;
+    wire bus__legal_at_bound__b_m1 = c_wt18 + 18'd1 == c_short;
+    wire bus__legal_at_bound__b_m2 = 1'b1;
+    wire bus__legal_at_bound__b_0 = bus__legal_at_bound__b_m0;
+    wire bus__legal_at_bound__b_1 = bus__legal_at_bound__b_m1 && !bus__legal_at_bound__b_m0;
+    wire bus__legal_at_bound__b_2 = bus__legal_at_bound__b_m2 && !bus__legal_at_bound__b_m0 && !bus__legal_at_bound__b_m1;
+    wire hit_bus__legal_at_bound__min_eq_max = bus__legal_at_bound__sel && bus__legal_at_bound__b_0;
+    wire hit_bus__legal_at_bound__wt_shortest_minus_one = bus__legal_at_bound__sel && bus__legal_at_bound__b_1;
+    wire hit_bus__legal_at_bound__settle_one = bus__legal_at_bound__sel && bus__legal_at_bound__b_2;
+
+    // ---- bus.write_changes (docs/spec.md 2.8 (register map; the read mux sees the registers before the edge)): a taken write that changes its register: the MPU's bus cycle reads the address written, and must see the value before the edge
+    wire bus__write_changes__sel = rst_n && (cfg_change);
+    wire bus__write_changes__b_m0 = bus_addr == 8'h02;
+    wire bus__write_changes__b_m1 = bus_addr == 8'h03;
+    wire bus__write_changes__b_m2 = bus_addr == 8'h04;
+    wire bus__write_changes__b_m3 = bus_addr == 8'h05;
+    wire bus__write_changes__b_m4 = bus_addr == 8'h06;
+    wire bus__write_changes__b_m5 = bus_addr == 8'h07;
+    wire bus__write_changes__b_m6 = bus_addr == 8'h08;
+    wire bus__write_changes__b_m7 = bus_addr == 8'h09;
+    wire bus__write_changes__b_m8 = bus_addr == 8'h0A;
+    wire bus__write_changes__b_m9 = 1'b1;
+    wire bus__write_changes__b_0 = bus__write_changes__b_m0;
+    wire bus__write_changes__b_1 = bus__write_changes__b_m1 && !bus__write_changes__b_m0;
+    wire bus__write_changes__b_2 = bus__write_changes__b_m2 && !bus__write_changes__b_m0 && !bus__write_changes__b_m1;
+    wire bus__write_changes__b_3 = bus__write_changes__b_m3 && !bus__write_changes__b_m0 && !bus__write_changes__b_m1 && !bus__write_changes__b_m2;
+    wire bus__write_changes__b_4 = bus__write_changes__b_m4 && !bus__write_changes__b_m0 && !bus__write_changes__b_m1 && !bus__write_changes__b_m2 && !bus__write_changes__b_m3;
+    wire bus__write_changes__b_5 = bus__write_changes__b_m5 && !bus__write_changes__b_m0 && !bus__write_changes__b_m1 && !bus__write_changes__b_m2 && !bus__write_changes__b_m3 && !bus__write_changes__b_m4;
+    wire bus__write_changes__b_6 = bus__write_changes__b_m6 && !bus__write_changes__b_m0 && !bus__write_changes__b_m1 && !bus__write_changes__b_m2 && !bus__write_changes__b_m3 && !bus__write_changes__b_m4 && !bus__write_changes__b_m5;
+    wire bus__write_changes__b_7 = bus__write_changes__b_m7 && !bus__write_changes__b_m0 && !bus__write_changes__b_m1 && !bus__write_changes__b_m2 && !bus__write_changes__b_m3 && !bus__write_changes__b_m4 && !bus__write_changes__b_m5 && !bus__write_changes__b_m6;
+    wire bus__write_changes__b_8 = bus__write_changes__b_m8 && !bus__write_changes__b_m0 && !bus__write_changes__b_m1 && !bus__write_changes__b_m2 && !bus__write_changes__b_m3 && !bus__write_changes__b_m4 && !bus__write_changes__b_m5 && !bus__write_changes__b_m6 && !bus__write_changes__b_m7;
+    wire bus__write_changes__b_9 = bus__write_changes__b_m9 && !bus__write_changes__b_m0 && !bus__write_changes__b_m1 && !bus__write_changes__b_m2 && !bus__write_changes__b_m3 && !bus__write_changes__b_m4 && !bus__write_changes__b_m5 && !bus__write_changes__b_m6 && !bus__write_changes__b_m7 && !bus__write_changes__b_m8;
+    wire hit_bus__write_changes__ctrl = bus__write_changes__sel && bus__write_changes__b_0;
+    wire hit_bus__write_changes__pw = bus__write_changes__sel && bus__write_changes__b_1;
+    wire hit_bus__write_changes__pi = bus__write_changes__sel && bus__write_changes__b_2;
+    wire hit_bus__write_changes__ps = bus__write_changes__sel && bus__write_changes__b_3;
+    wire hit_bus__write_changes__si_max = bus__write_changes__sel && bus__write_changes__b_4;
+    wire hit_bus__write_changes__si_min = bus__write_changes__sel && bus__write_changes__b_5;
+    wire hit_bus__write_changes__t1 = bus__write_changes__sel && bus__write_changes__b_6;
+    wire hit_bus__write_changes__t2 = bus__write_changes__sel && bus__write_changes__b_7;
+    wire hit_bus__write_changes__cth = bus__write_changes__sel && bus__write_changes__b_8;
+    wire hit_bus__write_changes__smp_on = bus__write_changes__sel && bus__write_changes__b_9;
+
+    // ---- faults.dead_strobe ([0209], [0347]; docs/spec.md 2.3-2.4 (vld marks the first sample)): a sampling strobe on a dead rail (Sr = 0), by whether a first sample was taken before it
+    wire faults__dead_strobe__sel = rst_n && (smp && !sr);
+    wire faults__dead_strobe__b_m0 = !vld;
+    wire faults__dead_strobe__b_m1 = 1'b1;
+    wire faults__dead_strobe__b_0 = faults__dead_strobe__b_m0;
+    wire faults__dead_strobe__b_1 = faults__dead_strobe__b_m1 && !faults__dead_strobe__b_m0;
+    wire hit_faults__dead_strobe__before_first = faults__dead_strobe__sel && faults__dead_strobe__b_0;
+    wire hit_faults__dead_strobe__after_first = faults__dead_strobe__sel && faults__dead_strobe__b_1;
+
+    // ---- faults.pg_drop ([0209]; docs/spec.md 2.3 (Sr = vs2_en && vs2_ok, registered)): Vs2's power-good dropping while Sr = 1 and Vs2 is enabled: Sr must fall at this edge
+    wire faults__pg_drop__sel = rst_n && (sr && vs2_en && !vs2_ok);
+    wire faults__pg_drop__b_m0 = 1'b1;
+    wire faults__pg_drop__b_0 = faults__pg_drop__b_m0;
+    wire hit_faults__pg_drop__sr_falls = faults__pg_drop__sel && faults__pg_drop__b_0;
+
+    // ---- faults.pg_unpowered ([0209]; docs/spec.md 2.3): Vs2's power-good high while Vs2 is off: Sr must stay 0 (port-level only: the bench's power-good follows the enable)
+    wire faults__pg_unpowered__sel = rst_n && (vs2_ok && !vs2_en);
+    wire faults__pg_unpowered__b_m0 = 1'b1;
+    wire faults__pg_unpowered__b_0 = faults__pg_unpowered__b_m0;
+    wire hit_faults__pg_unpowered__high = faults__pg_unpowered__sel && faults__pg_unpowered__b_0;
+
+    // ---- key.off_edge_write ([0213]; docs/spec.md 2.6 (the key-off reload takes si_max_nxt)): an SI_MAX write taken on the edge sig falls (ig back on after a low pulse the synchronizer passes)
+    wire key__off_edge_write__sel = rst_n && (koff && param_wr && bus_addr == 8'h06);
+    wire key__off_edge_write__b_m0 = 1'b1;
+    wire key__off_edge_write__b_0 = key__off_edge_write__b_m0;
+    wire hit_key__off_edge_write__si_max = key__off_edge_write__sel && key__off_edge_write__b_0;
+
+    // ---- key.start ([0213]; docs/spec.md 2.1 (the synchronizer resets to 0)): the key at the first edge out of reset
+    wire key__start__sel = rst_n && (cfg_start);
+    wire key__start__b_m0 = ig;
+    wire key__start__b_m1 = 1'b1;
+    wire key__start__b_0 = key__start__b_m0;
+    wire key__start__b_1 = key__start__b_m1 && !key__start__b_m0;
+    wire hit_key__start__on = key__start__sel && key__start__b_0;
+    wire hit_key__start__off = key__start__sel && key__start__b_1;
+
+    // ---- timer.period_write ([0349]; docs/spec.md 2.2 (the cycle ends when the timer reaches its period)): a taken SMP_ON write with the key on, against the running timer
+    wire timer__period_write__sel = rst_n && (param_wr && sig && bus_addr == 8'h0B);
+    wire timer__period_write__b_m0 = {2'b00, c_smp_on} <= t18 && t18 + 18'd1 < {2'b00, smp_on};
+    wire timer__period_write__b_m1 = 1'b1;
+    wire timer__period_write__b_0 = timer__period_write__b_m0;
+    wire timer__period_write__b_1 = timer__period_write__b_m1 && !timer__period_write__b_m0;
+    wire hit_timer__period_write__behind_timer = timer__period_write__sel && timer__period_write__b_0;
+    wire hit_timer__period_write__ahead = timer__period_write__sel && timer__period_write__b_1;
+
+    // ---- counter.difference ([0119]; docs/spec.md 2.7 (cnt_s - cnt_c modulo 2^CNT_W)): cnt_s - cnt_c after a sample that moved the latches, as the count diagnosis compares it
+    wire counter__difference__sel = rst_n && (upd && (first || chg_s || chg_c));
+    wire counter__difference__b_m0 = cnt_s_n == {CNT_W{1'b1}} && cnt_c_n == {CNT_W{1'b0}};
+    wire counter__difference__b_m1 = cnt_s_n + {{(CNT_W-1){1'b0}}, 1'b1} == cnt_c_n;
+    wire counter__difference__b_m2 = 1'b1;
+    wire counter__difference__b_0 = counter__difference__b_m0;
+    wire counter__difference__b_1 = counter__difference__b_m1 && !counter__difference__b_m0;
+    wire counter__difference__b_2 = counter__difference__b_m2 && !counter__difference__b_m0 && !counter__difference__b_m1;
+    wire hit_counter__difference__minus_one_wrap = counter__difference__sel && counter__difference__b_0;
+    wire hit_counter__difference__minus_one = counter__difference__sel && counter__difference__b_1;
+    wire hit_counter__difference__zero = counter__difference__sel && counter__difference__b_2;
 
     // ---- config.cth ([0250], [0259]): the count threshold Cth in force
     wire config__cth__lvl_m0 = cth <= 8'd1;
@@ -1003,6 +1147,11 @@ module pmu50_cov #(
     wire hit_cross__skip_x_interval__key_off__X__mid = hit_counter__quadrant_skip__key_off && hit_interval__at_edge__mid;
     wire hit_cross__skip_x_interval__key_off__X__high = hit_counter__quadrant_skip__key_off && hit_interval__at_edge__high;
     wire hit_cross__skip_x_interval__key_off__X__x = hit_counter__quadrant_skip__key_off && hit_interval__at_edge__x;
+    wire hit_cross__skip_x_interval__key_on_w1c__X__min = hit_counter__quadrant_skip__key_on_w1c && hit_interval__at_edge__min;
+    wire hit_cross__skip_x_interval__key_on_w1c__X__low = hit_counter__quadrant_skip__key_on_w1c && hit_interval__at_edge__low;
+    wire hit_cross__skip_x_interval__key_on_w1c__X__mid = hit_counter__quadrant_skip__key_on_w1c && hit_interval__at_edge__mid;
+    wire hit_cross__skip_x_interval__key_on_w1c__X__high = hit_counter__quadrant_skip__key_on_w1c && hit_interval__at_edge__high;
+    wire hit_cross__skip_x_interval__key_on_w1c__X__x = hit_counter__quadrant_skip__key_on_w1c && hit_interval__at_edge__x;
     wire hit_cross__skip_x_interval__key_on__X__min = hit_counter__quadrant_skip__key_on && hit_interval__at_edge__min;
     wire hit_cross__skip_x_interval__key_on__X__low = hit_counter__quadrant_skip__key_on && hit_interval__at_edge__low;
     wire hit_cross__skip_x_interval__key_on__X__mid = hit_counter__quadrant_skip__key_on && hit_interval__at_edge__mid;
@@ -1097,6 +1246,30 @@ module pmu50_cov #(
     wire hit_cross__write_reg_x_outcome__unmapped__X__refused_not_writable = hit_bus__write_reg__unmapped && hit_bus__write_outcome__refused_not_writable;
     wire hit_cross__write_reg_x_outcome__unmapped__X__refused_illegal = hit_bus__write_reg__unmapped && hit_bus__write_outcome__refused_illegal;
 
+    // ---- cross difference_x_cnt_w ([0119] x docs/spec.md 2.5 (CNT_W)): the counters' difference, as the diagnosis compares it modulo 2^CNT_W, at each class of CNT_W
+    wire hit_cross__difference_x_cnt_w__minus_one_wrap__X__2 = hit_counter__difference__minus_one_wrap && config__cnt_w__lvl_0;
+    wire hit_cross__difference_x_cnt_w__minus_one_wrap__X__3_7 = hit_counter__difference__minus_one_wrap && config__cnt_w__lvl_1;
+    wire hit_cross__difference_x_cnt_w__minus_one_wrap__X__8_15 = hit_counter__difference__minus_one_wrap && config__cnt_w__lvl_2;
+    wire hit_cross__difference_x_cnt_w__minus_one_wrap__X__16 = hit_counter__difference__minus_one_wrap && config__cnt_w__lvl_3;
+    wire hit_cross__difference_x_cnt_w__minus_one__X__2 = hit_counter__difference__minus_one && config__cnt_w__lvl_0;
+    wire hit_cross__difference_x_cnt_w__minus_one__X__3_7 = hit_counter__difference__minus_one && config__cnt_w__lvl_1;
+    wire hit_cross__difference_x_cnt_w__minus_one__X__8_15 = hit_counter__difference__minus_one && config__cnt_w__lvl_2;
+    wire hit_cross__difference_x_cnt_w__minus_one__X__16 = hit_counter__difference__minus_one && config__cnt_w__lvl_3;
+    wire hit_cross__difference_x_cnt_w__zero__X__2 = hit_counter__difference__zero && config__cnt_w__lvl_0;
+    wire hit_cross__difference_x_cnt_w__zero__X__3_7 = hit_counter__difference__zero && config__cnt_w__lvl_1;
+    wire hit_cross__difference_x_cnt_w__zero__X__8_15 = hit_counter__difference__zero && config__cnt_w__lvl_2;
+    wire hit_cross__difference_x_cnt_w__zero__X__16 = hit_counter__difference__zero && config__cnt_w__lvl_3;
+
+    // ---- cross start_x_sync_depth ([0213] x SYNC_DEPTH): the key from reset through each depth of the synchronizer
+    wire hit_cross__start_x_sync_depth__on__X__1 = hit_key__start__on && config__sync_depth__lvl_0;
+    wire hit_cross__start_x_sync_depth__on__X__2 = hit_key__start__on && config__sync_depth__lvl_1;
+    wire hit_cross__start_x_sync_depth__on__X__3 = hit_key__start__on && config__sync_depth__lvl_2;
+    wire hit_cross__start_x_sync_depth__on__X__4 = hit_key__start__on && config__sync_depth__lvl_3;
+    wire hit_cross__start_x_sync_depth__off__X__1 = hit_key__start__off && config__sync_depth__lvl_0;
+    wire hit_cross__start_x_sync_depth__off__X__2 = hit_key__start__off && config__sync_depth__lvl_1;
+    wire hit_cross__start_x_sync_depth__off__X__3 = hit_key__start__off && config__sync_depth__lvl_2;
+    wire hit_cross__start_x_sync_depth__off__X__4 = hit_key__start__off && config__sync_depth__lvl_3;
+
     // ---- cross vs2_x_interval ([0209] x [0216]-[0228]): a dead Vs2 rail at a key-off sample of each interval class
     wire hit_cross__vs2_x_interval__key_off__X__min = hit_faults__vs2__key_off && hit_interval__at_edge__min;
     wire hit_cross__vs2_x_interval__key_off__X__low = hit_faults__vs2__key_off && hit_interval__at_edge__low;
@@ -1112,7 +1285,12 @@ module pmu50_cov #(
     assign hits = {
         hit_cross__vs2_x_interval__key_on__X__x, hit_cross__vs2_x_interval__key_on__X__high, hit_cross__vs2_x_interval__key_on__X__mid, hit_cross__vs2_x_interval__key_on__X__low,
         hit_cross__vs2_x_interval__key_on__X__min, hit_cross__vs2_x_interval__key_off__X__x, hit_cross__vs2_x_interval__key_off__X__high, hit_cross__vs2_x_interval__key_off__X__mid,
-        hit_cross__vs2_x_interval__key_off__X__low, hit_cross__vs2_x_interval__key_off__X__min, hit_cross__write_reg_x_outcome__unmapped__X__refused_illegal, hit_cross__write_reg_x_outcome__unmapped__X__refused_not_writable,
+        hit_cross__vs2_x_interval__key_off__X__low, hit_cross__vs2_x_interval__key_off__X__min, hit_cross__start_x_sync_depth__off__X__4, hit_cross__start_x_sync_depth__off__X__3,
+        hit_cross__start_x_sync_depth__off__X__2, hit_cross__start_x_sync_depth__off__X__1, hit_cross__start_x_sync_depth__on__X__4, hit_cross__start_x_sync_depth__on__X__3,
+        hit_cross__start_x_sync_depth__on__X__2, hit_cross__start_x_sync_depth__on__X__1, hit_cross__difference_x_cnt_w__zero__X__16, hit_cross__difference_x_cnt_w__zero__X__8_15,
+        hit_cross__difference_x_cnt_w__zero__X__3_7, hit_cross__difference_x_cnt_w__zero__X__2, hit_cross__difference_x_cnt_w__minus_one__X__16, hit_cross__difference_x_cnt_w__minus_one__X__8_15,
+        hit_cross__difference_x_cnt_w__minus_one__X__3_7, hit_cross__difference_x_cnt_w__minus_one__X__2, hit_cross__difference_x_cnt_w__minus_one_wrap__X__16, hit_cross__difference_x_cnt_w__minus_one_wrap__X__8_15,
+        hit_cross__difference_x_cnt_w__minus_one_wrap__X__3_7, hit_cross__difference_x_cnt_w__minus_one_wrap__X__2, hit_cross__write_reg_x_outcome__unmapped__X__refused_illegal, hit_cross__write_reg_x_outcome__unmapped__X__refused_not_writable,
         hit_cross__write_reg_x_outcome__unmapped__X__refused_key_off, hit_cross__write_reg_x_outcome__unmapped__X__taken, hit_cross__write_reg_x_outcome__read_only__X__refused_illegal, hit_cross__write_reg_x_outcome__read_only__X__refused_not_writable,
         hit_cross__write_reg_x_outcome__read_only__X__refused_key_off, hit_cross__write_reg_x_outcome__read_only__X__taken, hit_cross__write_reg_x_outcome__status__X__refused_illegal, hit_cross__write_reg_x_outcome__status__X__refused_not_writable,
         hit_cross__write_reg_x_outcome__status__X__refused_key_off, hit_cross__write_reg_x_outcome__status__X__taken, hit_cross__write_reg_x_outcome__smp_on__X__refused_illegal, hit_cross__write_reg_x_outcome__smp_on__X__refused_not_writable,
@@ -1134,100 +1312,110 @@ module pmu50_cov #(
         hit_cross__shorten_x_t1__low__X__half_or_more, hit_cross__shorten_x_t1__low__X__one_step, hit_cross__shorten_x_t1__min_exact__X__small, hit_cross__shorten_x_t1__min_exact__X__half_or_more,
         hit_cross__shorten_x_t1__min_exact__X__one_step, hit_cross__shorten_x_t1__min_clamped__X__small, hit_cross__shorten_x_t1__min_clamped__X__half_or_more, hit_cross__shorten_x_t1__min_clamped__X__one_step,
         hit_cross__skip_x_interval__key_on__X__x, hit_cross__skip_x_interval__key_on__X__high, hit_cross__skip_x_interval__key_on__X__mid, hit_cross__skip_x_interval__key_on__X__low,
-        hit_cross__skip_x_interval__key_on__X__min, hit_cross__skip_x_interval__key_off__X__x, hit_cross__skip_x_interval__key_off__X__high, hit_cross__skip_x_interval__key_off__X__mid,
-        hit_cross__skip_x_interval__key_off__X__low, hit_cross__skip_x_interval__key_off__X__min, hit_cross__preset_x_mode__q3__X__key_on, hit_cross__preset_x_mode__q3__X__key_off,
-        hit_cross__preset_x_mode__q2__X__key_on, hit_cross__preset_x_mode__q2__X__key_off, hit_cross__preset_x_mode__q1__X__key_on, hit_cross__preset_x_mode__q1__X__key_off,
-        hit_cross__preset_x_mode__q0__X__key_on, hit_cross__preset_x_mode__q0__X__key_off, hit_cross__fig17_x_cnt_r__fixed__X__saturated, hit_cross__fig17_x_cnt_r__fixed__X__at_or_above_cth,
-        hit_cross__fig17_x_cnt_r__fixed__X__below_cth, hit_cross__fig17_x_cnt_r__fixed__X__zero, hit_cross__fig17_x_cnt_r__s10_expand__X__saturated, hit_cross__fig17_x_cnt_r__s10_expand__X__at_or_above_cth,
-        hit_cross__fig17_x_cnt_r__s10_expand__X__below_cth, hit_cross__fig17_x_cnt_r__s10_expand__X__zero, hit_cross__fig17_x_cnt_r__s9_count__X__saturated, hit_cross__fig17_x_cnt_r__s9_count__X__at_or_above_cth,
-        hit_cross__fig17_x_cnt_r__s9_count__X__below_cth, hit_cross__fig17_x_cnt_r__s9_count__X__zero, hit_cross__fig17_x_cnt_r__s7_at_max__X__saturated, hit_cross__fig17_x_cnt_r__s7_at_max__X__at_or_above_cth,
-        hit_cross__fig17_x_cnt_r__s7_at_max__X__below_cth, hit_cross__fig17_x_cnt_r__s7_at_max__X__zero, hit_cross__fig17_x_cnt_r__s6_shorten__X__saturated, hit_cross__fig17_x_cnt_r__s6_shorten__X__at_or_above_cth,
-        hit_cross__fig17_x_cnt_r__s6_shorten__X__below_cth, hit_cross__fig17_x_cnt_r__s6_shorten__X__zero, hit_cross__fig17_x_cnt_r__s5_at_min__X__saturated, hit_cross__fig17_x_cnt_r__s5_at_min__X__at_or_above_cth,
-        hit_cross__fig17_x_cnt_r__s5_at_min__X__below_cth, hit_cross__fig17_x_cnt_r__s5_at_min__X__zero, hit_cross__fig17_x_cnt_r__s1_no_rise__X__saturated, hit_cross__fig17_x_cnt_r__s1_no_rise__X__at_or_above_cth,
-        hit_cross__fig17_x_cnt_r__s1_no_rise__X__below_cth, hit_cross__fig17_x_cnt_r__s1_no_rise__X__zero, hit_cross__fig18_x_history__both__X__s25_no_change, hit_cross__fig18_x_history__both__X__s26_cc_repeat,
-        hit_cross__fig18_x_history__both__X__s28_detected_cc, hit_cross__fig18_x_history__both__X__s21_cs_repeat, hit_cross__fig18_x_history__both__X__s23_detected_cs, hit_cross__fig18_x_history__c__X__s25_no_change,
-        hit_cross__fig18_x_history__c__X__s26_cc_repeat, hit_cross__fig18_x_history__c__X__s28_detected_cc, hit_cross__fig18_x_history__c__X__s21_cs_repeat, hit_cross__fig18_x_history__c__X__s23_detected_cs,
-        hit_cross__fig18_x_history__s__X__s25_no_change, hit_cross__fig18_x_history__s__X__s26_cc_repeat, hit_cross__fig18_x_history__s__X__s28_detected_cc, hit_cross__fig18_x_history__s__X__s21_cs_repeat,
-        hit_cross__fig18_x_history__s__X__s23_detected_cs, hit_cross__fig18_x_history__none__X__s25_no_change, hit_cross__fig18_x_history__none__X__s26_cc_repeat, hit_cross__fig18_x_history__none__X__s28_detected_cc,
-        hit_cross__fig18_x_history__none__X__s21_cs_repeat, hit_cross__fig18_x_history__none__X__s23_detected_cs, hit_cross__rule_x_cnt_w__c_0099_down__X__16, hit_cross__rule_x_cnt_w__c_0099_down__X__8_15,
-        hit_cross__rule_x_cnt_w__c_0099_down__X__3_7, hit_cross__rule_x_cnt_w__c_0099_down__X__2, hit_cross__rule_x_cnt_w__c_0099_up__X__16, hit_cross__rule_x_cnt_w__c_0099_up__X__8_15,
-        hit_cross__rule_x_cnt_w__c_0099_up__X__3_7, hit_cross__rule_x_cnt_w__c_0099_up__X__2, hit_cross__rule_x_cnt_w__c_0098_down__X__16, hit_cross__rule_x_cnt_w__c_0098_down__X__8_15,
-        hit_cross__rule_x_cnt_w__c_0098_down__X__3_7, hit_cross__rule_x_cnt_w__c_0098_down__X__2, hit_cross__rule_x_cnt_w__c_0098_up__X__16, hit_cross__rule_x_cnt_w__c_0098_up__X__8_15,
-        hit_cross__rule_x_cnt_w__c_0098_up__X__3_7, hit_cross__rule_x_cnt_w__c_0098_up__X__2, hit_cross__rule_x_cnt_w__s_0097_down__X__16, hit_cross__rule_x_cnt_w__s_0097_down__X__8_15,
-        hit_cross__rule_x_cnt_w__s_0097_down__X__3_7, hit_cross__rule_x_cnt_w__s_0097_down__X__2, hit_cross__rule_x_cnt_w__s_0097_up__X__16, hit_cross__rule_x_cnt_w__s_0097_up__X__8_15,
-        hit_cross__rule_x_cnt_w__s_0097_up__X__3_7, hit_cross__rule_x_cnt_w__s_0097_up__X__2, hit_cross__rule_x_cnt_w__s_0096_down__X__16, hit_cross__rule_x_cnt_w__s_0096_down__X__8_15,
-        hit_cross__rule_x_cnt_w__s_0096_down__X__3_7, hit_cross__rule_x_cnt_w__s_0096_down__X__2, hit_cross__rule_x_cnt_w__s_0096_up__X__16, hit_cross__rule_x_cnt_w__s_0096_up__X__8_15,
-        hit_cross__rule_x_cnt_w__s_0096_up__X__3_7, hit_cross__rule_x_cnt_w__s_0096_up__X__2, hit_cross__wrap_x_cnt_w__cnt_c_down__X__16, hit_cross__wrap_x_cnt_w__cnt_c_down__X__8_15,
-        hit_cross__wrap_x_cnt_w__cnt_c_down__X__3_7, hit_cross__wrap_x_cnt_w__cnt_c_down__X__2, hit_cross__wrap_x_cnt_w__cnt_c_up__X__16, hit_cross__wrap_x_cnt_w__cnt_c_up__X__8_15,
-        hit_cross__wrap_x_cnt_w__cnt_c_up__X__3_7, hit_cross__wrap_x_cnt_w__cnt_c_up__X__2, hit_cross__wrap_x_cnt_w__cnt_s_down__X__16, hit_cross__wrap_x_cnt_w__cnt_s_down__X__8_15,
-        hit_cross__wrap_x_cnt_w__cnt_s_down__X__3_7, hit_cross__wrap_x_cnt_w__cnt_s_down__X__2, hit_cross__wrap_x_cnt_w__cnt_s_up__X__16, hit_cross__wrap_x_cnt_w__cnt_s_up__X__8_15,
-        hit_cross__wrap_x_cnt_w__cnt_s_up__X__3_7, hit_cross__wrap_x_cnt_w__cnt_s_up__X__2, hit_cross__key_edge_x_phase__off__X__on_between, hit_cross__key_edge_x_phase__off__X__on_smp,
-        hit_cross__key_edge_x_phase__off__X__off_gap, hit_cross__key_edge_x_phase__off__X__off_smp, hit_cross__key_edge_x_phase__off__X__off_ps, hit_cross__key_edge_x_phase__off__X__off_pi,
-        hit_cross__key_edge_x_phase__off__X__off_pw, hit_cross__key_edge_x_phase__on__X__on_between, hit_cross__key_edge_x_phase__on__X__on_smp, hit_cross__key_edge_x_phase__on__X__off_gap,
-        hit_cross__key_edge_x_phase__on__X__off_smp, hit_cross__key_edge_x_phase__on__X__off_ps, hit_cross__key_edge_x_phase__on__X__off_pi, hit_cross__key_edge_x_phase__on__X__off_pw,
-        hit_cross__rule_x_mode__c_0099_down__X__key_on, hit_cross__rule_x_mode__c_0099_down__X__key_off, hit_cross__rule_x_mode__c_0099_up__X__key_on, hit_cross__rule_x_mode__c_0099_up__X__key_off,
-        hit_cross__rule_x_mode__c_0098_down__X__key_on, hit_cross__rule_x_mode__c_0098_down__X__key_off, hit_cross__rule_x_mode__c_0098_up__X__key_on, hit_cross__rule_x_mode__c_0098_up__X__key_off,
-        hit_cross__rule_x_mode__s_0097_down__X__key_on, hit_cross__rule_x_mode__s_0097_down__X__key_off, hit_cross__rule_x_mode__s_0097_up__X__key_on, hit_cross__rule_x_mode__s_0097_up__X__key_off,
-        hit_cross__rule_x_mode__s_0096_down__X__key_on, hit_cross__rule_x_mode__s_0096_down__X__key_off, hit_cross__rule_x_mode__s_0096_up__X__key_on, hit_cross__rule_x_mode__s_0096_up__X__key_off,
-        hit_cross__rule_x_interval__c_0099_down__X__x, hit_cross__rule_x_interval__c_0099_down__X__high, hit_cross__rule_x_interval__c_0099_down__X__mid, hit_cross__rule_x_interval__c_0099_down__X__low,
-        hit_cross__rule_x_interval__c_0099_down__X__min, hit_cross__rule_x_interval__c_0099_up__X__x, hit_cross__rule_x_interval__c_0099_up__X__high, hit_cross__rule_x_interval__c_0099_up__X__mid,
-        hit_cross__rule_x_interval__c_0099_up__X__low, hit_cross__rule_x_interval__c_0099_up__X__min, hit_cross__rule_x_interval__c_0098_down__X__x, hit_cross__rule_x_interval__c_0098_down__X__high,
-        hit_cross__rule_x_interval__c_0098_down__X__mid, hit_cross__rule_x_interval__c_0098_down__X__low, hit_cross__rule_x_interval__c_0098_down__X__min, hit_cross__rule_x_interval__c_0098_up__X__x,
-        hit_cross__rule_x_interval__c_0098_up__X__high, hit_cross__rule_x_interval__c_0098_up__X__mid, hit_cross__rule_x_interval__c_0098_up__X__low, hit_cross__rule_x_interval__c_0098_up__X__min,
-        hit_cross__rule_x_interval__s_0097_down__X__x, hit_cross__rule_x_interval__s_0097_down__X__high, hit_cross__rule_x_interval__s_0097_down__X__mid, hit_cross__rule_x_interval__s_0097_down__X__low,
-        hit_cross__rule_x_interval__s_0097_down__X__min, hit_cross__rule_x_interval__s_0097_up__X__x, hit_cross__rule_x_interval__s_0097_up__X__high, hit_cross__rule_x_interval__s_0097_up__X__mid,
-        hit_cross__rule_x_interval__s_0097_up__X__low, hit_cross__rule_x_interval__s_0097_up__X__min, hit_cross__rule_x_interval__s_0096_down__X__x, hit_cross__rule_x_interval__s_0096_down__X__high,
-        hit_cross__rule_x_interval__s_0096_down__X__mid, hit_cross__rule_x_interval__s_0096_down__X__low, hit_cross__rule_x_interval__s_0096_down__X__min, hit_cross__rule_x_interval__s_0096_up__X__x,
-        hit_cross__rule_x_interval__s_0096_up__X__high, hit_cross__rule_x_interval__s_0096_up__X__mid, hit_cross__rule_x_interval__s_0096_up__X__low, hit_cross__rule_x_interval__s_0096_up__X__min,
-        hit_cross__fig17_x_fig18__fixed__X__s25_no_change, hit_cross__fig17_x_fig18__fixed__X__s26_cc_repeat, hit_cross__fig17_x_fig18__fixed__X__s28_detected_cc, hit_cross__fig17_x_fig18__fixed__X__s21_cs_repeat,
-        hit_cross__fig17_x_fig18__fixed__X__s23_detected_cs, hit_cross__fig17_x_fig18__s10_expand__X__s25_no_change, hit_cross__fig17_x_fig18__s10_expand__X__s26_cc_repeat, hit_cross__fig17_x_fig18__s10_expand__X__s28_detected_cc,
-        hit_cross__fig17_x_fig18__s10_expand__X__s21_cs_repeat, hit_cross__fig17_x_fig18__s10_expand__X__s23_detected_cs, hit_cross__fig17_x_fig18__s9_count__X__s25_no_change, hit_cross__fig17_x_fig18__s9_count__X__s26_cc_repeat,
-        hit_cross__fig17_x_fig18__s9_count__X__s28_detected_cc, hit_cross__fig17_x_fig18__s9_count__X__s21_cs_repeat, hit_cross__fig17_x_fig18__s9_count__X__s23_detected_cs, hit_cross__fig17_x_fig18__s7_at_max__X__s25_no_change,
-        hit_cross__fig17_x_fig18__s7_at_max__X__s26_cc_repeat, hit_cross__fig17_x_fig18__s7_at_max__X__s28_detected_cc, hit_cross__fig17_x_fig18__s7_at_max__X__s21_cs_repeat, hit_cross__fig17_x_fig18__s7_at_max__X__s23_detected_cs,
-        hit_cross__fig17_x_fig18__s6_shorten__X__s25_no_change, hit_cross__fig17_x_fig18__s6_shorten__X__s26_cc_repeat, hit_cross__fig17_x_fig18__s6_shorten__X__s28_detected_cc, hit_cross__fig17_x_fig18__s6_shorten__X__s21_cs_repeat,
-        hit_cross__fig17_x_fig18__s6_shorten__X__s23_detected_cs, hit_cross__fig17_x_fig18__s5_at_min__X__s25_no_change, hit_cross__fig17_x_fig18__s5_at_min__X__s26_cc_repeat, hit_cross__fig17_x_fig18__s5_at_min__X__s28_detected_cc,
-        hit_cross__fig17_x_fig18__s5_at_min__X__s21_cs_repeat, hit_cross__fig17_x_fig18__s5_at_min__X__s23_detected_cs, hit_cross__fig17_x_fig18__s1_no_rise__X__s25_no_change, hit_cross__fig17_x_fig18__s1_no_rise__X__s26_cc_repeat,
-        hit_cross__fig17_x_fig18__s1_no_rise__X__s28_detected_cc, hit_cross__fig17_x_fig18__s1_no_rise__X__s21_cs_repeat, hit_cross__fig17_x_fig18__s1_no_rise__X__s23_detected_cs, hit_config__clock__above_10us,
-        hit_config__clock__10us, hit_config__clock__below_10us, hit_config__adaptive__adaptive, hit_config__adaptive__fixed,
-        hit_config__sync_depth__4, hit_config__sync_depth__3, hit_config__sync_depth__2, hit_config__sync_depth__1,
-        hit_config__cnt_w__16, hit_config__cnt_w__8_15, hit_config__cnt_w__3_7, hit_config__cnt_w__2,
-        hit_config__smp_on__10_up, hit_config__smp_on__2_9, hit_config__smp_on__one, hit_config__window__all_nonzero,
-        hit_config__window__ps_one, hit_config__window__pi_zero, hit_config__window__pw_zero, hit_config__min__above_2wt,
-        hit_config__min__le_2wt, hit_config__min__wt_plus_1, hit_config__x__above_700, hit_config__x__301_700,
-        hit_config__x__le_300, hit_config__x__equal_min, hit_config__t2__small, hit_config__t2__half_or_more,
-        hit_config__t2__one_step, hit_config__t1__small, hit_config__t1__half_or_more, hit_config__t1__one_step,
-        hit_config__cth__9_up, hit_config__cth__5_8, hit_config__cth__2_4, hit_config__cth__one,
-        hit_bus__w1c__both, hit_bus__w1c__bus_err, hit_bus__w1c__quadrant_skip, hit_bus__w1c__none,
-        hit_bus__illegal_rule__cth_zero, hit_bus__illegal_rule__window_too_long, hit_bus__illegal_rule__no_settling_tick, hit_bus__illegal_rule__min_above_max,
-        hit_bus__illegal_rule__zero_period, hit_bus__write_outcome__refused_illegal, hit_bus__write_outcome__refused_not_writable, hit_bus__write_outcome__refused_key_off,
-        hit_bus__write_outcome__taken, hit_bus__write_reg__unmapped, hit_bus__write_reg__read_only, hit_bus__write_reg__status,
-        hit_bus__write_reg__smp_on, hit_bus__write_reg__cth, hit_bus__write_reg__t2, hit_bus__write_reg__t1,
-        hit_bus__write_reg__si_min, hit_bus__write_reg__si_max, hit_bus__write_reg__ps, hit_bus__write_reg__pi,
-        hit_bus__write_reg__pw, hit_bus__write_reg__ctrl, hit_bus__read__unmapped, hit_bus__read__status,
-        hit_bus__read__si, hit_bus__read__cnt_r, hit_bus__read__cnt_c, hit_bus__read__cnt_s,
-        hit_bus__read__cfg, hit_bus__read__smp_on, hit_bus__read__cth, hit_bus__read__t2,
-        hit_bus__read__t1, hit_bus__read__si_min, hit_bus__read__si_max, hit_bus__read__ps,
-        hit_bus__read__pi, hit_bus__read__pw, hit_bus__read__ctrl, hit_bus__read__version,
-        hit_bus__read__id, hit_faults__skip_clear__cleared, hit_faults__diag__difference, hit_faults__diag__skip,
-        hit_faults__sync_glitch__short_low, hit_faults__sync_glitch__short_high, hit_faults__vs2__key_on, hit_faults__vs2__key_off,
-        hit_key__phase__on_between, hit_key__phase__on_smp, hit_key__phase__off_gap, hit_key__phase__off_smp,
-        hit_key__phase__off_ps, hit_key__phase__off_pi, hit_key__phase__off_pw, hit_key__edge__off,
-        hit_key__edge__on, hit_fig18__history__both, hit_fig18__history__c, hit_fig18__history__s,
-        hit_fig18__history__none, hit_cnt_r__before__saturated, hit_cnt_r__before__at_or_above_cth, hit_cnt_r__before__below_cth,
-        hit_cnt_r__before__zero, hit_cnt_r__value__saturated, hit_cnt_r__value__above_cth, hit_cnt_r__value__at_cth,
-        hit_cnt_r__value__below_cth, hit_cnt_r__value__one, hit_interval__clamp__x, hit_interval__clamp__min,
+        hit_cross__skip_x_interval__key_on__X__min, hit_cross__skip_x_interval__key_on_w1c__X__x, hit_cross__skip_x_interval__key_on_w1c__X__high, hit_cross__skip_x_interval__key_on_w1c__X__mid,
+        hit_cross__skip_x_interval__key_on_w1c__X__low, hit_cross__skip_x_interval__key_on_w1c__X__min, hit_cross__skip_x_interval__key_off__X__x, hit_cross__skip_x_interval__key_off__X__high,
+        hit_cross__skip_x_interval__key_off__X__mid, hit_cross__skip_x_interval__key_off__X__low, hit_cross__skip_x_interval__key_off__X__min, hit_cross__preset_x_mode__q3__X__key_on,
+        hit_cross__preset_x_mode__q3__X__key_off, hit_cross__preset_x_mode__q2__X__key_on, hit_cross__preset_x_mode__q2__X__key_off, hit_cross__preset_x_mode__q1__X__key_on,
+        hit_cross__preset_x_mode__q1__X__key_off, hit_cross__preset_x_mode__q0__X__key_on, hit_cross__preset_x_mode__q0__X__key_off, hit_cross__fig17_x_cnt_r__fixed__X__saturated,
+        hit_cross__fig17_x_cnt_r__fixed__X__at_or_above_cth, hit_cross__fig17_x_cnt_r__fixed__X__below_cth, hit_cross__fig17_x_cnt_r__fixed__X__zero, hit_cross__fig17_x_cnt_r__s10_expand__X__saturated,
+        hit_cross__fig17_x_cnt_r__s10_expand__X__at_or_above_cth, hit_cross__fig17_x_cnt_r__s10_expand__X__below_cth, hit_cross__fig17_x_cnt_r__s10_expand__X__zero, hit_cross__fig17_x_cnt_r__s9_count__X__saturated,
+        hit_cross__fig17_x_cnt_r__s9_count__X__at_or_above_cth, hit_cross__fig17_x_cnt_r__s9_count__X__below_cth, hit_cross__fig17_x_cnt_r__s9_count__X__zero, hit_cross__fig17_x_cnt_r__s7_at_max__X__saturated,
+        hit_cross__fig17_x_cnt_r__s7_at_max__X__at_or_above_cth, hit_cross__fig17_x_cnt_r__s7_at_max__X__below_cth, hit_cross__fig17_x_cnt_r__s7_at_max__X__zero, hit_cross__fig17_x_cnt_r__s6_shorten__X__saturated,
+        hit_cross__fig17_x_cnt_r__s6_shorten__X__at_or_above_cth, hit_cross__fig17_x_cnt_r__s6_shorten__X__below_cth, hit_cross__fig17_x_cnt_r__s6_shorten__X__zero, hit_cross__fig17_x_cnt_r__s5_at_min__X__saturated,
+        hit_cross__fig17_x_cnt_r__s5_at_min__X__at_or_above_cth, hit_cross__fig17_x_cnt_r__s5_at_min__X__below_cth, hit_cross__fig17_x_cnt_r__s5_at_min__X__zero, hit_cross__fig17_x_cnt_r__s1_no_rise__X__saturated,
+        hit_cross__fig17_x_cnt_r__s1_no_rise__X__at_or_above_cth, hit_cross__fig17_x_cnt_r__s1_no_rise__X__below_cth, hit_cross__fig17_x_cnt_r__s1_no_rise__X__zero, hit_cross__fig18_x_history__both__X__s25_no_change,
+        hit_cross__fig18_x_history__both__X__s26_cc_repeat, hit_cross__fig18_x_history__both__X__s28_detected_cc, hit_cross__fig18_x_history__both__X__s21_cs_repeat, hit_cross__fig18_x_history__both__X__s23_detected_cs,
+        hit_cross__fig18_x_history__c__X__s25_no_change, hit_cross__fig18_x_history__c__X__s26_cc_repeat, hit_cross__fig18_x_history__c__X__s28_detected_cc, hit_cross__fig18_x_history__c__X__s21_cs_repeat,
+        hit_cross__fig18_x_history__c__X__s23_detected_cs, hit_cross__fig18_x_history__s__X__s25_no_change, hit_cross__fig18_x_history__s__X__s26_cc_repeat, hit_cross__fig18_x_history__s__X__s28_detected_cc,
+        hit_cross__fig18_x_history__s__X__s21_cs_repeat, hit_cross__fig18_x_history__s__X__s23_detected_cs, hit_cross__fig18_x_history__none__X__s25_no_change, hit_cross__fig18_x_history__none__X__s26_cc_repeat,
+        hit_cross__fig18_x_history__none__X__s28_detected_cc, hit_cross__fig18_x_history__none__X__s21_cs_repeat, hit_cross__fig18_x_history__none__X__s23_detected_cs, hit_cross__rule_x_cnt_w__c_0099_down__X__16,
+        hit_cross__rule_x_cnt_w__c_0099_down__X__8_15, hit_cross__rule_x_cnt_w__c_0099_down__X__3_7, hit_cross__rule_x_cnt_w__c_0099_down__X__2, hit_cross__rule_x_cnt_w__c_0099_up__X__16,
+        hit_cross__rule_x_cnt_w__c_0099_up__X__8_15, hit_cross__rule_x_cnt_w__c_0099_up__X__3_7, hit_cross__rule_x_cnt_w__c_0099_up__X__2, hit_cross__rule_x_cnt_w__c_0098_down__X__16,
+        hit_cross__rule_x_cnt_w__c_0098_down__X__8_15, hit_cross__rule_x_cnt_w__c_0098_down__X__3_7, hit_cross__rule_x_cnt_w__c_0098_down__X__2, hit_cross__rule_x_cnt_w__c_0098_up__X__16,
+        hit_cross__rule_x_cnt_w__c_0098_up__X__8_15, hit_cross__rule_x_cnt_w__c_0098_up__X__3_7, hit_cross__rule_x_cnt_w__c_0098_up__X__2, hit_cross__rule_x_cnt_w__s_0097_down__X__16,
+        hit_cross__rule_x_cnt_w__s_0097_down__X__8_15, hit_cross__rule_x_cnt_w__s_0097_down__X__3_7, hit_cross__rule_x_cnt_w__s_0097_down__X__2, hit_cross__rule_x_cnt_w__s_0097_up__X__16,
+        hit_cross__rule_x_cnt_w__s_0097_up__X__8_15, hit_cross__rule_x_cnt_w__s_0097_up__X__3_7, hit_cross__rule_x_cnt_w__s_0097_up__X__2, hit_cross__rule_x_cnt_w__s_0096_down__X__16,
+        hit_cross__rule_x_cnt_w__s_0096_down__X__8_15, hit_cross__rule_x_cnt_w__s_0096_down__X__3_7, hit_cross__rule_x_cnt_w__s_0096_down__X__2, hit_cross__rule_x_cnt_w__s_0096_up__X__16,
+        hit_cross__rule_x_cnt_w__s_0096_up__X__8_15, hit_cross__rule_x_cnt_w__s_0096_up__X__3_7, hit_cross__rule_x_cnt_w__s_0096_up__X__2, hit_cross__wrap_x_cnt_w__cnt_c_down__X__16,
+        hit_cross__wrap_x_cnt_w__cnt_c_down__X__8_15, hit_cross__wrap_x_cnt_w__cnt_c_down__X__3_7, hit_cross__wrap_x_cnt_w__cnt_c_down__X__2, hit_cross__wrap_x_cnt_w__cnt_c_up__X__16,
+        hit_cross__wrap_x_cnt_w__cnt_c_up__X__8_15, hit_cross__wrap_x_cnt_w__cnt_c_up__X__3_7, hit_cross__wrap_x_cnt_w__cnt_c_up__X__2, hit_cross__wrap_x_cnt_w__cnt_s_down__X__16,
+        hit_cross__wrap_x_cnt_w__cnt_s_down__X__8_15, hit_cross__wrap_x_cnt_w__cnt_s_down__X__3_7, hit_cross__wrap_x_cnt_w__cnt_s_down__X__2, hit_cross__wrap_x_cnt_w__cnt_s_up__X__16,
+        hit_cross__wrap_x_cnt_w__cnt_s_up__X__8_15, hit_cross__wrap_x_cnt_w__cnt_s_up__X__3_7, hit_cross__wrap_x_cnt_w__cnt_s_up__X__2, hit_cross__key_edge_x_phase__off__X__on_between,
+        hit_cross__key_edge_x_phase__off__X__on_smp, hit_cross__key_edge_x_phase__off__X__off_gap, hit_cross__key_edge_x_phase__off__X__off_smp, hit_cross__key_edge_x_phase__off__X__off_ps,
+        hit_cross__key_edge_x_phase__off__X__off_pi, hit_cross__key_edge_x_phase__off__X__off_pw, hit_cross__key_edge_x_phase__on__X__on_between, hit_cross__key_edge_x_phase__on__X__on_smp,
+        hit_cross__key_edge_x_phase__on__X__off_gap, hit_cross__key_edge_x_phase__on__X__off_smp, hit_cross__key_edge_x_phase__on__X__off_ps, hit_cross__key_edge_x_phase__on__X__off_pi,
+        hit_cross__key_edge_x_phase__on__X__off_pw, hit_cross__rule_x_mode__c_0099_down__X__key_on, hit_cross__rule_x_mode__c_0099_down__X__key_off, hit_cross__rule_x_mode__c_0099_up__X__key_on,
+        hit_cross__rule_x_mode__c_0099_up__X__key_off, hit_cross__rule_x_mode__c_0098_down__X__key_on, hit_cross__rule_x_mode__c_0098_down__X__key_off, hit_cross__rule_x_mode__c_0098_up__X__key_on,
+        hit_cross__rule_x_mode__c_0098_up__X__key_off, hit_cross__rule_x_mode__s_0097_down__X__key_on, hit_cross__rule_x_mode__s_0097_down__X__key_off, hit_cross__rule_x_mode__s_0097_up__X__key_on,
+        hit_cross__rule_x_mode__s_0097_up__X__key_off, hit_cross__rule_x_mode__s_0096_down__X__key_on, hit_cross__rule_x_mode__s_0096_down__X__key_off, hit_cross__rule_x_mode__s_0096_up__X__key_on,
+        hit_cross__rule_x_mode__s_0096_up__X__key_off, hit_cross__rule_x_interval__c_0099_down__X__x, hit_cross__rule_x_interval__c_0099_down__X__high, hit_cross__rule_x_interval__c_0099_down__X__mid,
+        hit_cross__rule_x_interval__c_0099_down__X__low, hit_cross__rule_x_interval__c_0099_down__X__min, hit_cross__rule_x_interval__c_0099_up__X__x, hit_cross__rule_x_interval__c_0099_up__X__high,
+        hit_cross__rule_x_interval__c_0099_up__X__mid, hit_cross__rule_x_interval__c_0099_up__X__low, hit_cross__rule_x_interval__c_0099_up__X__min, hit_cross__rule_x_interval__c_0098_down__X__x,
+        hit_cross__rule_x_interval__c_0098_down__X__high, hit_cross__rule_x_interval__c_0098_down__X__mid, hit_cross__rule_x_interval__c_0098_down__X__low, hit_cross__rule_x_interval__c_0098_down__X__min,
+        hit_cross__rule_x_interval__c_0098_up__X__x, hit_cross__rule_x_interval__c_0098_up__X__high, hit_cross__rule_x_interval__c_0098_up__X__mid, hit_cross__rule_x_interval__c_0098_up__X__low,
+        hit_cross__rule_x_interval__c_0098_up__X__min, hit_cross__rule_x_interval__s_0097_down__X__x, hit_cross__rule_x_interval__s_0097_down__X__high, hit_cross__rule_x_interval__s_0097_down__X__mid,
+        hit_cross__rule_x_interval__s_0097_down__X__low, hit_cross__rule_x_interval__s_0097_down__X__min, hit_cross__rule_x_interval__s_0097_up__X__x, hit_cross__rule_x_interval__s_0097_up__X__high,
+        hit_cross__rule_x_interval__s_0097_up__X__mid, hit_cross__rule_x_interval__s_0097_up__X__low, hit_cross__rule_x_interval__s_0097_up__X__min, hit_cross__rule_x_interval__s_0096_down__X__x,
+        hit_cross__rule_x_interval__s_0096_down__X__high, hit_cross__rule_x_interval__s_0096_down__X__mid, hit_cross__rule_x_interval__s_0096_down__X__low, hit_cross__rule_x_interval__s_0096_down__X__min,
+        hit_cross__rule_x_interval__s_0096_up__X__x, hit_cross__rule_x_interval__s_0096_up__X__high, hit_cross__rule_x_interval__s_0096_up__X__mid, hit_cross__rule_x_interval__s_0096_up__X__low,
+        hit_cross__rule_x_interval__s_0096_up__X__min, hit_cross__fig17_x_fig18__fixed__X__s25_no_change, hit_cross__fig17_x_fig18__fixed__X__s26_cc_repeat, hit_cross__fig17_x_fig18__fixed__X__s28_detected_cc,
+        hit_cross__fig17_x_fig18__fixed__X__s21_cs_repeat, hit_cross__fig17_x_fig18__fixed__X__s23_detected_cs, hit_cross__fig17_x_fig18__s10_expand__X__s25_no_change, hit_cross__fig17_x_fig18__s10_expand__X__s26_cc_repeat,
+        hit_cross__fig17_x_fig18__s10_expand__X__s28_detected_cc, hit_cross__fig17_x_fig18__s10_expand__X__s21_cs_repeat, hit_cross__fig17_x_fig18__s10_expand__X__s23_detected_cs, hit_cross__fig17_x_fig18__s9_count__X__s25_no_change,
+        hit_cross__fig17_x_fig18__s9_count__X__s26_cc_repeat, hit_cross__fig17_x_fig18__s9_count__X__s28_detected_cc, hit_cross__fig17_x_fig18__s9_count__X__s21_cs_repeat, hit_cross__fig17_x_fig18__s9_count__X__s23_detected_cs,
+        hit_cross__fig17_x_fig18__s7_at_max__X__s25_no_change, hit_cross__fig17_x_fig18__s7_at_max__X__s26_cc_repeat, hit_cross__fig17_x_fig18__s7_at_max__X__s28_detected_cc, hit_cross__fig17_x_fig18__s7_at_max__X__s21_cs_repeat,
+        hit_cross__fig17_x_fig18__s7_at_max__X__s23_detected_cs, hit_cross__fig17_x_fig18__s6_shorten__X__s25_no_change, hit_cross__fig17_x_fig18__s6_shorten__X__s26_cc_repeat, hit_cross__fig17_x_fig18__s6_shorten__X__s28_detected_cc,
+        hit_cross__fig17_x_fig18__s6_shorten__X__s21_cs_repeat, hit_cross__fig17_x_fig18__s6_shorten__X__s23_detected_cs, hit_cross__fig17_x_fig18__s5_at_min__X__s25_no_change, hit_cross__fig17_x_fig18__s5_at_min__X__s26_cc_repeat,
+        hit_cross__fig17_x_fig18__s5_at_min__X__s28_detected_cc, hit_cross__fig17_x_fig18__s5_at_min__X__s21_cs_repeat, hit_cross__fig17_x_fig18__s5_at_min__X__s23_detected_cs, hit_cross__fig17_x_fig18__s1_no_rise__X__s25_no_change,
+        hit_cross__fig17_x_fig18__s1_no_rise__X__s26_cc_repeat, hit_cross__fig17_x_fig18__s1_no_rise__X__s28_detected_cc, hit_cross__fig17_x_fig18__s1_no_rise__X__s21_cs_repeat, hit_cross__fig17_x_fig18__s1_no_rise__X__s23_detected_cs,
+        hit_config__clock__above_10us, hit_config__clock__10us, hit_config__clock__below_10us, hit_config__adaptive__adaptive,
+        hit_config__adaptive__fixed, hit_config__sync_depth__4, hit_config__sync_depth__3, hit_config__sync_depth__2,
+        hit_config__sync_depth__1, hit_config__cnt_w__16, hit_config__cnt_w__8_15, hit_config__cnt_w__3_7,
+        hit_config__cnt_w__2, hit_config__smp_on__10_up, hit_config__smp_on__2_9, hit_config__smp_on__one,
+        hit_config__window__all_nonzero, hit_config__window__ps_one, hit_config__window__pi_zero, hit_config__window__pw_zero,
+        hit_config__min__above_2wt, hit_config__min__le_2wt, hit_config__min__wt_plus_1, hit_config__x__above_700,
+        hit_config__x__301_700, hit_config__x__le_300, hit_config__x__equal_min, hit_config__t2__small,
+        hit_config__t2__half_or_more, hit_config__t2__one_step, hit_config__t1__small, hit_config__t1__half_or_more,
+        hit_config__t1__one_step, hit_config__cth__9_up, hit_config__cth__5_8, hit_config__cth__2_4,
+        hit_config__cth__one, hit_counter__difference__zero, hit_counter__difference__minus_one, hit_counter__difference__minus_one_wrap,
+        hit_timer__period_write__ahead, hit_timer__period_write__behind_timer, hit_key__start__off, hit_key__start__on,
+        hit_key__off_edge_write__si_max, hit_faults__pg_unpowered__high, hit_faults__pg_drop__sr_falls, hit_faults__dead_strobe__after_first,
+        hit_faults__dead_strobe__before_first, hit_bus__write_changes__smp_on, hit_bus__write_changes__cth, hit_bus__write_changes__t2,
+        hit_bus__write_changes__t1, hit_bus__write_changes__si_min, hit_bus__write_changes__si_max, hit_bus__write_changes__ps,
+        hit_bus__write_changes__pi, hit_bus__write_changes__pw, hit_bus__write_changes__ctrl, hit_bus__legal_at_bound__settle_one,
+        hit_bus__legal_at_bound__wt_shortest_minus_one, hit_bus__legal_at_bound__min_eq_max, hit_bus__w1c__both, hit_bus__w1c__bus_err_clear,
+        hit_bus__w1c__bus_err_set, hit_bus__w1c__quadrant_skip_clear, hit_bus__w1c__quadrant_skip_set, hit_bus__w1c__none,
+        hit_bus__illegal_rule__cth_zero, hit_bus__illegal_rule__cth_zero_high_bits, hit_bus__illegal_rule__window_too_long, hit_bus__illegal_rule__window_at_shortest,
+        hit_bus__illegal_rule__no_settling_tick, hit_bus__illegal_rule__min_above_max, hit_bus__illegal_rule__min_above_max_by_one, hit_bus__illegal_rule__zero_period,
+        hit_bus__write_outcome__refused_illegal, hit_bus__write_outcome__refused_not_writable, hit_bus__write_outcome__refused_key_off, hit_bus__write_outcome__taken,
+        hit_bus__write_reg__unmapped, hit_bus__write_reg__read_only, hit_bus__write_reg__status, hit_bus__write_reg__smp_on,
+        hit_bus__write_reg__cth, hit_bus__write_reg__t2, hit_bus__write_reg__t1, hit_bus__write_reg__si_min,
+        hit_bus__write_reg__si_max, hit_bus__write_reg__ps, hit_bus__write_reg__pi, hit_bus__write_reg__pw,
+        hit_bus__write_reg__ctrl, hit_bus__read__unmapped, hit_bus__read__status, hit_bus__read__si,
+        hit_bus__read__cnt_r, hit_bus__read__cnt_c, hit_bus__read__cnt_s, hit_bus__read__cfg,
+        hit_bus__read__smp_on, hit_bus__read__cth, hit_bus__read__t2, hit_bus__read__t1,
+        hit_bus__read__si_min, hit_bus__read__si_max, hit_bus__read__ps, hit_bus__read__pi,
+        hit_bus__read__pw, hit_bus__read__ctrl, hit_bus__read__version, hit_bus__read__id,
+        hit_faults__skip_clear__other_bit_while_set, hit_faults__skip_clear__while_clear, hit_faults__skip_clear__cleared, hit_faults__skip_clear__set_wins,
+        hit_faults__diag__difference, hit_faults__diag__skip, hit_faults__sync_glitch__short_low, hit_faults__sync_glitch__short_high,
+        hit_faults__vs2__key_on, hit_faults__vs2__key_off, hit_key__phase__on_between, hit_key__phase__on_smp,
+        hit_key__phase__off_gap, hit_key__phase__off_smp, hit_key__phase__off_ps, hit_key__phase__off_pi,
+        hit_key__phase__off_pw, hit_key__edge__off, hit_key__edge__on, hit_fig18__history__both,
+        hit_fig18__history__c, hit_fig18__history__s, hit_fig18__history__none, hit_cnt_r__before__saturated,
+        hit_cnt_r__before__at_or_above_cth, hit_cnt_r__before__below_cth, hit_cnt_r__before__zero, hit_cnt_r__value__saturated,
+        hit_cnt_r__value__above_cth, hit_cnt_r__value__at_cth, hit_cnt_r__value__below_cth, hit_cnt_r__value__one,
+        hit_interval__clamp__x, hit_interval__clamp__x_past_16_bits, hit_interval__clamp__min, hit_interval__clamp__min_below_zero,
         hit_interval__at_edge__x, hit_interval__at_edge__high, hit_interval__at_edge__mid, hit_interval__at_edge__low,
         hit_interval__at_edge__min, hit_interval__expand_to__x_clamped, hit_interval__expand_to__x_exact, hit_interval__expand_to__high,
         hit_interval__expand_to__mid, hit_interval__expand_to__low, hit_interval__shorten_to__high, hit_interval__shorten_to__mid,
         hit_interval__shorten_to__low, hit_interval__shorten_to__min_exact, hit_interval__shorten_to__min_clamped, hit_counter__quadrant_skip__key_on,
-        hit_counter__quadrant_skip__key_off, hit_counter__preset__q3, hit_counter__preset__q2, hit_counter__preset__q1,
-        hit_counter__preset__q0, hit_counter__wrap__cnt_c_down, hit_counter__wrap__cnt_c_up, hit_counter__wrap__cnt_s_down,
-        hit_counter__wrap__cnt_s_up, hit_counter__sample_mode__key_on, hit_counter__sample_mode__key_off, hit_counter__rule__c_0099_down,
-        hit_counter__rule__c_0099_up, hit_counter__rule__c_0098_down, hit_counter__rule__c_0098_up, hit_counter__rule__s_0097_down,
-        hit_counter__rule__s_0097_up, hit_counter__rule__s_0096_down, hit_counter__rule__s_0096_up, hit_fig18__path__s25_no_change,
-        hit_fig18__path__s26_cc_repeat, hit_fig18__path__s28_detected_cc, hit_fig18__path__s21_cs_repeat, hit_fig18__path__s23_detected_cs,
-        hit_fig17__path__fixed, hit_fig17__path__s10_expand, hit_fig17__path__s9_count, hit_fig17__path__s7_at_max,
-        hit_fig17__path__s6_shorten, hit_fig17__path__s5_at_min, hit_fig17__path__s1_no_rise
+        hit_counter__quadrant_skip__key_on_w1c, hit_counter__quadrant_skip__key_off, hit_counter__preset__q3, hit_counter__preset__q2,
+        hit_counter__preset__q1, hit_counter__preset__q0, hit_counter__wrap__cnt_c_down, hit_counter__wrap__cnt_c_up,
+        hit_counter__wrap__cnt_s_down, hit_counter__wrap__cnt_s_up, hit_counter__sample_mode__key_on, hit_counter__sample_mode__key_off,
+        hit_counter__rule__c_0099_down, hit_counter__rule__c_0099_up, hit_counter__rule__c_0098_down, hit_counter__rule__c_0098_up,
+        hit_counter__rule__s_0097_down, hit_counter__rule__s_0097_up, hit_counter__rule__s_0096_down, hit_counter__rule__s_0096_up,
+        hit_fig18__path__s25_no_change, hit_fig18__path__s26_cc_repeat, hit_fig18__path__s28_detected_cc, hit_fig18__path__s21_cs_repeat,
+        hit_fig18__path__s23_detected_cs, hit_fig17__path__fixed, hit_fig17__path__s10_expand, hit_fig17__path__s9_count,
+        hit_fig17__path__s7_at_max, hit_fig17__path__s6_shorten, hit_fig17__path__s5_at_min, hit_fig17__path__s1_no_rise
     };
 endmodule
 /* verilator lint_on UNUSEDSIGNAL */

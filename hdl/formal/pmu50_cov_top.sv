@@ -51,7 +51,7 @@ module pmu50_cov_top #(
     output wire             quadrant_skip,
     output wire [15:0]      bus_rdata,
     output wire             bus_err,
-    output wire [470:0] hits
+    output wire [531:0] hits
 );
     pmu50 #(
         .SYNC_DEPTH(SYNC_DEPTH), .CNT_W(CNT_W), .ADAPTIVE(ADAPTIVE), .PW(PW), .PI(PI), .PS(PS),
@@ -113,6 +113,9 @@ module pmu50_cov_top #(
         .hist_c(hist_c),
         .diag(diag),
         .quadrant_skip(quadrant_skip),
+        .bus_err(bus_err),
+        .vs2_ok(vs2_ok),
+        .vs2_en(vs2_en),
         .sync(dut.action_switching.sync),
         .tmr(dut.timing_generator.tmr),
         .adaptive(dut.register_file.adaptive),
@@ -136,6 +139,9 @@ module pmu50_cov_top #(
         .fig18(dut.internals.fig18),
         .si_n(dut.drive_interval.si_n),
         .cnt_r_n(dut.drive_interval.cnt_r_n),
+        .vld(dut.comparator_latch.vld),
+        .cnt_s_n(dut.updown_counter.cnt_s_nxt),
+        .cnt_c_n(dut.updown_counter.cnt_c_nxt),
         .in_range_n(dut.count_diagnosis.in_range),
         .skip_n(dut.updown_counter.skip_nxt),
         .param_wr(dut.register_file.param_wr),

@@ -98,90 +98,24 @@ pub const KNOBS: [(Knob, u64); 35] = [
     (ExactStep, 5),
 ];
 
-/// The knobs that make a coverpoint's bin likely (`group.point`, `bin`).
-fn knobs_for_point(point: &str, bin: &str) -> Vec<Knob> {
-    match (point, bin) {
-        ("config.cnt_w", "2") => vec![NarrowCounter],
-        ("config.cnt_w", "3_7") => vec![Width3To7],
-        ("config.cnt_w", "8_15") => vec![Width8To15],
-        ("config.sync_depth", "1") => vec![Sync1],
-        ("config.sync_depth", "3") => vec![Sync3],
-        ("config.sync_depth", "4") => vec![Sync4],
-        ("config.adaptive", "fixed") | ("fig17.path", "fixed") => vec![Fixed],
-        ("config.cth", "one") => vec![CthOne],
-        ("config.cth", "9_up") => vec![CthHigh],
-        ("config.t1", "one_step") => vec![T1OneStep],
-        ("config.t1", "half_or_more") => vec![T1Half],
-        ("config.t2", "one_step") => vec![T2OneStep],
-        ("config.t2", "half_or_more") => vec![T2Half],
-        ("config.x", "equal_min") => vec![XEqualMin],
-        ("config.x", "le_300") => vec![XShort],
-        ("config.x", "above_700") => vec![XLong],
-        ("config.min", "wt_plus_1") => vec![MinTight],
-        ("config.min", "above_2wt") => vec![MinFar],
-        ("config.window", "pw_zero") => vec![PwZero],
-        ("config.window", "pi_zero") => vec![PiZero],
-        ("config.window", "ps_one") => vec![PsOne],
-        ("config.smp_on", "one") => vec![SmpOnOne],
-        ("config.smp_on", "2_9") => vec![SmpOnShort],
-        ("config.clock", "below_10us") => vec![ClockFast],
-        ("config.clock", "above_10us") => vec![ClockSlow],
-        ("counter.wrap", _) => vec![Spin],
-        ("counter.quadrant_skip", _)
-        | ("faults.diag", _)
-        | ("fig18.path", _)
-        | ("fig18.history", _)
-        | ("interval.clamp", _) => vec![FastMoves],
-        ("interval.shorten_to", "min_exact") | ("interval.expand_to", "x_exact") => {
-            vec![ExactStep, FastMoves]
-        }
-        ("interval.shorten_to" | "interval.expand_to" | "interval.at_edge", _) => vec![FastMoves],
-        ("cnt_r.value", "saturated" | "above_cth") | ("cnt_r.before", "saturated") => {
-            vec![LongQuiet]
-        }
-        ("faults.vs2", _) | ("fig17.path", "s1_no_rise") => vec![Faults],
-        ("faults.sync_glitch", _) => vec![Glitches],
-        ("faults.skip_clear", _) => vec![StatusWrites, FastMoves],
-        ("key.edge" | "key.phase", _) => vec![KeyStorm],
-        ("bus.write_outcome", "refused_key_off") => vec![EarlyWrites],
-        ("bus.write_outcome", "refused_illegal") => vec![IllegalWrites],
-        ("bus.illegal_rule", "no_settling_tick") => vec![PiZero, IllegalWrites],
-        ("bus.illegal_rule", _) => vec![IllegalWrites],
-        ("bus.w1c", _) | ("bus.write_reg", "status") => vec![StatusWrites],
-        _ => vec![],
-    }
+/// The knob a coverage hint names (rtl_model/coverage/src/model.rs names knobs as the
+/// variants of [`Knob`] are spelt).
+pub fn knob_named(name: &str) -> Option<Knob> {
+    KNOBS
+        .iter()
+        .map(|&(k, _)| k)
+        .find(|k| format!("{k:?}") == name)
 }
 
-/// The knobs that make a coverage bin likely, by the bin's full name (a cross: the knobs of
-/// both of its bins).
+/// The knobs that make a coverage bin likely, by the bin's full name: the hint declared with
+/// the bin in the coverage model (a cross: the knobs of both of its bins and the cross's own).
+/// None for a bin that seeds hit without a knob, that only port-level stimuli reach, that is
+/// declared unreachable, or that the model does not have.
 pub fn knobs_for(bin: &str) -> Vec<Knob> {
-    let mut k = Vec::new();
-    if let Some(rest) = bin.strip_prefix("cross.") {
-        let Some((name, pair)) = rest.split_once('.') else {
-            return k;
-        };
-        let Some(c) = pmu50_coverage::model::crosses().find(|c| c.name == name) else {
-            return k;
-        };
-        let Some((a, b)) = pair.split_once('*') else {
-            return k;
-        };
-        let (pa, pb) = (
-            &pmu50_coverage::model::POINTS[c.rows],
-            &pmu50_coverage::model::POINTS[c.columns],
-        );
-        k.extend(knobs_for_point(&format!("{}.{}", pa.group, pa.name), a));
-        k.extend(knobs_for_point(&format!("{}.{}", pb.group, pb.name), b));
-        // FIG. 18 runs at x only when x = min (a detection at x shortens the interval)
-        if name == "fig17_x_fig18" && a == "s7_at_max" && b != "s25_no_change" {
-            k.push(XEqualMin);
-        }
-        if name == "key_edge_x_phase" && b == "off_smp" {
-            k.push(PsOne);
-        }
-    } else if let Some((point, b)) = bin.rsplit_once('.') {
-        k.extend(knobs_for_point(point, b));
-    }
+    let Some(b) = pmu50_coverage::layout().bins.iter().find(|b| b.name == bin) else {
+        return Vec::new();
+    };
+    let mut k: Vec<Knob> = b.aim.knobs().iter().filter_map(|n| knob_named(n)).collect();
     k.sort();
     k.dedup();
     k
@@ -910,4 +844,103 @@ fn write_value(r: &mut Rng, reg: &str, p: &Params, illegal: bool) -> u16 {
         _ => r.range(0, 320),
     };
     v.min(u64::from(u16::MAX)) as u16
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pmu50_coverage::model::{Hint, Sampled, POINTS};
+    use pmu50_coverage::{layout, Aim, Coverage};
+
+    #[test]
+    fn every_knob_a_coverage_hint_names_is_a_knob_of_the_generator() {
+        let mut bad = Vec::new();
+        for p in POINTS.iter() {
+            for b in p.bins {
+                if let Hint::Knobs(k) = b.hint {
+                    assert!(
+                        !k.is_empty(),
+                        "{}.{}.{}: an empty knob list",
+                        p.group,
+                        p.name,
+                        b.name
+                    );
+                    for n in k {
+                        if knob_named(n).is_none() {
+                            bad.push(format!("{}.{}.{}: {n}", p.group, p.name, b.name));
+                        }
+                    }
+                }
+            }
+        }
+        // the crosses' own knobs, through every cross bin
+        for b in &layout().bins {
+            for n in b.aim.knobs() {
+                if knob_named(n).is_none() {
+                    bad.push(format!("{}: {n}", b.name));
+                }
+            }
+        }
+        assert!(
+            bad.is_empty(),
+            "hints name knobs the generator lacks:\n{}",
+            bad.join("\n")
+        );
+        assert_eq!(knob_named("NoSuchKnob"), None);
+        assert_eq!(knob_named("LongQuiet"), Some(LongQuiet));
+    }
+
+    #[test]
+    fn a_directed_seed_aimed_at_a_missing_bin_draws_that_bins_knobs() {
+        let l = layout();
+        let mut aimed = 0;
+        for (i, b) in l.bins.iter().enumerate() {
+            let want = knobs_for(&b.name);
+            if b.unreachable.is_some() || b.port_only {
+                assert!(
+                    want.is_empty(),
+                    "{}: a bin nothing aims at has knobs",
+                    b.name
+                );
+                continue;
+            }
+            assert_eq!(
+                want.len(),
+                b.aim.knobs().len(),
+                "{}: a hint's knob is not drawn",
+                b.name
+            );
+            if want.is_empty() {
+                assert_eq!(b.aim, Aim::AnySeed, "{}", b.name);
+                continue;
+            }
+            aimed += 1;
+            let bias = Bias::from_missing([b.name.as_str()]);
+            assert_eq!(bias.targets, vec![want.clone()], "{}", b.name);
+            // a configuration bin: the scenario's parameters fall in it (a seed's own random
+            // draws may take a knob of the same parameter first, so one of a few seeds)
+            let config = POINTS.iter().any(|p| {
+                p.sampled == Sampled::Config
+                    && b.name.starts_with(&format!("{}.{}.", p.group, p.name))
+            });
+            let mut in_bin = false;
+            for seed in 0..8 {
+                let s = Stimulus::generate(seed, &bias);
+                for k in &want {
+                    assert!(
+                        s.knobs.contains(k),
+                        "seed {seed} aimed at {} lacks {k:?}",
+                        b.name
+                    );
+                }
+                in_bin |= Coverage::new(&s.params, s.clock_us * 1000).hits()[i] > 0;
+            }
+            assert!(
+                !config || in_bin,
+                "no seed aimed at {} has its configuration",
+                b.name
+            );
+        }
+        assert!(aimed > 200, "only {aimed} bins have knobs");
+    }
 }

@@ -170,7 +170,7 @@ macro_rules! parameter_registers {
 
         /// The register set after a parameter write, or `None` when the address is not a
         /// parameter.
-        fn with_write(r: &Regs, a: u8, d: u16) -> Option<Regs> {
+        pub fn with_write(r: &Regs, a: u8, d: u16) -> Option<Regs> {
             let mut n = *r;
             match a {
                 $(addr::$a => n.$f = ParamValue::from_bus(d),)*

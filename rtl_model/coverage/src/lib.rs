@@ -14,6 +14,6 @@ pub mod sample;
 pub mod ucis;
 
 pub use db::{merge, CoverageFile, DbError, RunRecord};
-pub use model::{model_id, BinInfo, Kind, Layout};
+pub use model::{model_id, Aim, BinInfo, Hint, Kind, Layout};
 pub use sample::{layout, Coverage, Edge};
 pub use ucis::{to_ucis_xml, write_ucis_xml};

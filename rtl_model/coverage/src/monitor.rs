@@ -84,6 +84,9 @@ pub const SIGNALS: &[Signal] = &[
     port("hist_c", "1", "change history of Cc"),
     port("diag", "1", "count diagnosis flag"),
     port("quadrant_skip", "1", "sticky skip flag"),
+    port("bus_err", "1", "sticky refusal flag"),
+    port("vs2_ok", "1", "Vs2 power-good, applied at the edge"),
+    port("vs2_en", "1", "Vs2 enable"),
     net(
         "sync",
         "SYNC_DEPTH",
@@ -146,6 +149,24 @@ pub const SIGNALS: &[Signal] = &[
         "8",
         "drive_interval.cnt_r_n",
         "CNTr after the edge",
+    ),
+    net(
+        "vld",
+        "1",
+        "comparator_latch.vld",
+        "a first sample was taken",
+    ),
+    net(
+        "cnt_s_n",
+        "CNT_W",
+        "updown_counter.cnt_s_nxt",
+        "sine counter after the edge",
+    ),
+    net(
+        "cnt_c_n",
+        "CNT_W",
+        "updown_counter.cnt_c_nxt",
+        "cosine counter after the edge",
     ),
     net(
         "in_range_n",
@@ -495,6 +516,9 @@ const HELPERS: &str = "
     wire c_zero = (c_ps == 16'd0) || (c_si_max == 16'd0) || (c_si_min == 16'd0) ||
                   (c_t1 == 16'd0) || (c_t2 == 16'd0) || (c_smp_on == 16'd0);
     wire c_no_settle = (c_pw == 16'd0) && (c_pi == 16'd0);
+    // the candidate's window Wt and shortest interval, in 18 bits
+    wire [17:0] c_wt18  = {2'b00, c_pw} + {2'b00, c_pi} + {2'b00, c_ps};
+    wire [17:0] c_short = {2'b00, c_adaptive ? c_si_min : c_si_max};
     // thirds of [min, x]: th_si with the ends (0 = min, 1-3, 4 = x), th_si_n of the interval
     // after the edge without them
     wire [16:0] th_span  = (si_max > si_min) ? {1'b0, si_max - si_min} : 17'd1;

@@ -4,8 +4,8 @@
 //! cycle before it (the Moore outputs the environment saw), the inputs applied at it and the
 //! core's combinational internals. It costs a table lookup on an ordinary edge (a key-on cycle
 //! counts the MPU's read) and decodes the rest only on the rare edges that can hit a bin: a bus
-//! write, a key edge, a sampling strobe, a diag rise, a W1C strobe, or an ig edge inside the
-//! synchronizer.
+//! write, a key edge, a sampling strobe, a diag rise, a W1C strobe, an ig edge inside the
+//! synchronizer, the first edge out of reset, or Vs2's power-good disagreeing with its enable.
 
 use crate::bin;
 use crate::model::*;
@@ -78,6 +78,8 @@ pub struct Coverage {
     /// The ticks of the last two period boundaries.
     mark_at: Option<u64>,
     prev_at: Option<u64>,
+    /// The first edge out of reset was sampled (`key.start`).
+    started: bool,
 }
 
 /// Entries a period's journal keeps; a repeated period hits a few dozen bins.
@@ -106,6 +108,7 @@ impl Coverage {
             sync_full: ((1u16 << p.sync_depth) - 1) as u8,
             mark_at: None,
             prev_at: None,
+            started: false,
         };
         c.sample_config(p);
         c
@@ -330,7 +333,11 @@ impl Coverage {
         // sign change, or a strobe on a dead rail does.
         let moved = n.upd && (n.first || n.chg_s || n.chg_c);
         let dead = e.out.smp && !e.out.sr;
+        // Vs2's power-good against its enable and Sr
+        let pg = (e.out.sr && e.out.vs2_en && !i.vs2_ok) || (i.vs2_ok && !e.out.vs2_en);
         if i.bus_we
+            || !self.started
+            || pg
             || n.kon
             || n.koff
             || moved
@@ -353,6 +360,14 @@ impl Coverage {
             .params(self.structural.sync_depth, self.structural.cnt_width);
         let mut sel = self.config;
         let mode = u8::from(out.sig);
+        if !self.started {
+            self.started = true;
+            sel[KEY_START] = if i.ig {
+                bin!(KEY_START, "on")
+            } else {
+                bin!(KEY_START, "off")
+            };
+        }
 
         // FIG. 17 / FIG. 18 at a key-off sampling strobe.
         if n.fig17 != Fig17::Idle {
@@ -390,7 +405,9 @@ impl Coverage {
                         // low, mid, high follow min_exact
                         bin!(SHORTEN_TO, "min_exact") + thirds(di.1.si, p.si_min, p.si_max, false)
                     };
-                    if raw < min {
+                    if raw < 0 {
+                        sel[CLAMP] = bin!(CLAMP, "min_below_zero");
+                    } else if raw < min {
                         sel[CLAMP] = bin!(CLAMP, "min");
                     }
                 }
@@ -405,7 +422,9 @@ impl Coverage {
                         // low, mid, high are the first three
                         bin!(EXPAND_TO, "low") + thirds(di.1.si, p.si_min, p.si_max, false) - 1
                     };
-                    if raw > x {
+                    if raw > u32::from(u16::MAX) {
+                        sel[CLAMP] = bin!(CLAMP, "x_past_16_bits");
+                    } else if raw > x {
                         sel[CLAMP] = bin!(CLAMP, "x");
                     }
                 }
@@ -446,7 +465,13 @@ impl Coverage {
                 };
             } else if n.chg_s && n.chg_c {
                 sel[SAMPLE_MODE] = mode;
-                sel[SKIP] = mode;
+                sel[SKIP] = if !out.sig {
+                    bin!(SKIP, "key_off")
+                } else if n.skip_clr {
+                    bin!(SKIP, "key_on_w1c")
+                } else {
+                    bin!(SKIP, "key_on")
+                };
             } else if n.chg_s || n.chg_c {
                 sel[SAMPLE_MODE] = mode;
                 // (rule bin, counts up?)
@@ -489,6 +514,20 @@ impl Coverage {
             }
         }
 
+        // The counters' difference after a sample that moved the latches, modulo 2^CNT_W.
+        if n.upd && (n.first || n.chg_s || n.chg_c) {
+            let w = self.structural.cnt_width.clamp(2, 16);
+            let mask = ((1u32 << w) - 1) as u16;
+            let (s, c) = (a.updown_counter.cnt_s & mask, a.updown_counter.cnt_c & mask);
+            sel[DIFFERENCE] = if s == mask && c == 0 {
+                bin!(DIFFERENCE, "minus_one_wrap")
+            } else if s.wrapping_add(1) & mask == c {
+                bin!(DIFFERENCE, "minus_one")
+            } else {
+                bin!(DIFFERENCE, "zero")
+            };
+        }
+
         // Key edges and where in the timer's cycle they fell.
         if n.kon || n.koff {
             sel[KEY_EDGE] = if n.koff {
@@ -520,6 +559,17 @@ impl Coverage {
         // Faults.
         if out.smp && !out.sr {
             sel[VS2] = mode;
+            sel[DEAD_STROBE] = if b.comparator_latch.vld {
+                bin!(DEAD_STROBE, "after_first")
+            } else {
+                bin!(DEAD_STROBE, "before_first")
+            };
+        }
+        if out.sr && out.vs2_en && !i.vs2_ok {
+            sel[PG_DROP] = bin!(PG_DROP, "sr_falls");
+        }
+        if i.vs2_ok && !out.vs2_en {
+            sel[PG_UNPOWERED] = bin!(PG_UNPOWERED, "high");
         }
         if in_flight && i.ig != (b.action_switching.sync & 1 == 1) {
             sel[SYNC_GLITCH] = if i.ig {
@@ -535,8 +585,18 @@ impl Coverage {
                 bin!(DIAG, "difference")
             };
         }
-        if n.skip_clr && b.updown_counter.quadrant_skip {
-            sel[SKIP_CLEAR] = bin!(SKIP_CLEAR, "cleared");
+        let status_write = i.bus_we && out.sig && i.bus_addr == rf::addr::STATUS;
+        let skip_set = b.updown_counter.quadrant_skip;
+        if status_write && ((i.bus_wdata >> rf::status::QUADRANT_SKIP) & 1 == 1 || skip_set) {
+            sel[SKIP_CLEAR] = if n.skip_clr && n.upd && !n.first && n.chg_s && n.chg_c {
+                bin!(SKIP_CLEAR, "set_wins")
+            } else if n.skip_clr && skip_set {
+                bin!(SKIP_CLEAR, "cleared")
+            } else if n.skip_clr {
+                bin!(SKIP_CLEAR, "while_clear")
+            } else {
+                bin!(SKIP_CLEAR, "other_bit_while_set")
+            };
         }
 
         // Bus writes.
@@ -561,18 +621,63 @@ impl Coverage {
                 sig: out.sig,
                 ..Default::default()
             };
-            let block =
-                rf::RegisterFile::new(self.structural.sync_depth, self.structural.cnt_width);
-            sel[WRITE_OUTCOME] = match block.bus_write(&b.register_file, &rfi) {
+            let (sd, cw) = (self.structural.sync_depth, self.structural.cnt_width);
+            let block = rf::RegisterFile::new(sd, cw);
+            let result = block.bus_write(&b.register_file, &rfi);
+            if let Ok(Some(cand)) = &result {
+                // a taken parameter write
+                let np = cand.params(sd, cw);
+                sel[LEGAL_AT_BOUND] = if np.si_min == np.si_max {
+                    bin!(LEGAL_AT_BOUND, "min_eq_max")
+                } else if np.wt() + 1 == u32::from(np.shortest_interval()) {
+                    bin!(LEGAL_AT_BOUND, "wt_shortest_minus_one")
+                } else if u32::from(np.pw) + u32::from(np.pi) == 1 {
+                    bin!(LEGAL_AT_BOUND, "settle_one")
+                } else {
+                    NONE
+                };
+                if np != p {
+                    sel[WRITE_CHANGES] = bin!(WRITE_CHANGES, "ctrl") + (a8 - rf::addr::CTRL);
+                }
+                if n.koff && a8 == rf::addr::SI_MAX {
+                    sel[OFF_EDGE_WRITE] = bin!(OFF_EDGE_WRITE, "si_max");
+                }
+                if a8 == rf::addr::SMP_ON {
+                    let t = u32::from(b.timing_generator.tmr);
+                    sel[PERIOD_WRITE] = if u32::from(np.smp_on) <= t && t + 1 < u32::from(p.smp_on)
+                    {
+                        bin!(PERIOD_WRITE, "behind_timer")
+                    } else {
+                        bin!(PERIOD_WRITE, "ahead")
+                    };
+                }
+            }
+            sel[WRITE_OUTCOME] = match result {
                 Ok(_) => bin!(WRITE_OUTCOME, "taken"),
                 Err(WriteRefusal::KeyOff) => bin!(WRITE_OUTCOME, "refused_key_off"),
                 Err(WriteRefusal::NotWritable) => bin!(WRITE_OUTCOME, "refused_not_writable"),
                 Err(WriteRefusal::Illegal(err)) => {
                     sel[ILLEGAL] = match err {
                         ParamError::Zero { .. } => bin!(ILLEGAL, "zero_period"),
+                        ParamError::MinAboveMax { min, max }
+                            if u32::from(min) == u32::from(max) + 1 =>
+                        {
+                            bin!(ILLEGAL, "min_above_max_by_one")
+                        }
                         ParamError::MinAboveMax { .. } => bin!(ILLEGAL, "min_above_max"),
                         ParamError::NoSettlingTick => bin!(ILLEGAL, "no_settling_tick"),
-                        ParamError::WindowTooLong { .. } => bin!(ILLEGAL, "window_too_long"),
+                        ParamError::WindowTooLong { wt, .. } => {
+                            let shortest = rf::with_write(&b.register_file, a8, i.bus_wdata)
+                                .map(|c| c.params(sd, cw).shortest_interval());
+                            if shortest.map(u32::from) == Some(wt) {
+                                bin!(ILLEGAL, "window_at_shortest")
+                            } else {
+                                bin!(ILLEGAL, "window_too_long")
+                            }
+                        }
+                        ParamError::OutOfRange { .. } if i.bus_wdata >> 8 != 0 => {
+                            bin!(ILLEGAL, "cth_zero_high_bits")
+                        }
                         ParamError::OutOfRange { .. } => bin!(ILLEGAL, "cth_zero"),
                     };
                     bin!(WRITE_OUTCOME, "refused_illegal")
@@ -580,8 +685,14 @@ impl Coverage {
             };
             if a8 == rf::addr::STATUS && out.sig {
                 let bit = |k: usize| (i.bus_wdata >> k) & 1 == 1;
-                sel[W1C] = u8::from(bit(rf::status::QUADRANT_SKIP))
-                    | u8::from(bit(rf::status::BUS_ERR)) << 1;
+                sel[W1C] = match (bit(rf::status::QUADRANT_SKIP), bit(rf::status::BUS_ERR)) {
+                    (false, false) => bin!(W1C, "none"),
+                    (true, false) if out.quadrant_skip => bin!(W1C, "quadrant_skip_set"),
+                    (true, false) => bin!(W1C, "quadrant_skip_clear"),
+                    (false, true) if out.bus_err => bin!(W1C, "bus_err_set"),
+                    (false, true) => bin!(W1C, "bus_err_clear"),
+                    (true, true) => bin!(W1C, "both"),
+                };
             }
             params_changed = sel[WRITE_OUTCOME] == bin!(WRITE_OUTCOME, "taken")
                 && a.register_file
