@@ -164,11 +164,13 @@ fn the_c_abi_called_from_rust_samples_the_same_hits() {
     }
 }
 
-/// The static library built with this test (target/<profile>/libpmu50_ffi.a).
+/// The static library built with this test: target/<profile>/deps/libpmu50_ffi.a first, where
+/// `cargo test` builds it; target/<profile>/libpmu50_ffi.a is the copy of the last `cargo build`,
+/// older than the test when the crate changed since.
 fn static_lib() -> PathBuf {
     let exe = std::env::current_exe().unwrap();
     let deps = exe.parent().unwrap();
-    for d in [deps.parent().unwrap(), deps] {
+    for d in [deps, deps.parent().unwrap()] {
         let lib = d.join("libpmu50_ffi.a");
         if lib.exists() {
             return lib;
