@@ -32,6 +32,8 @@
 //! [[events]]                       # in time order; exactly one action each
 //! at = "0 ms"
 //! ig = true                        # or: write = { reg = "T2", value = 110 }  or: vs2_fault = true
+//!                                  # or: read = 0xE0 (the MPU reads any 8-bit bus address this
+//!                                  # tick instead of its polling; the key must be on)
 //!
 //! [expect]                         # checks; `pmu50 run` exits 1 when one fails
 //! si_sequence_ms = [6.6, 4.4, 2.2] # successive distinct drive intervals at key-off pulses
@@ -217,6 +219,7 @@ struct RawEvent {
     at: Spanned<String>,
     ig: Option<bool>,
     write: Option<Spanned<RawWrite>>,
+    read: Option<Spanned<i64>>,
     vs2_fault: Option<bool>,
 }
 
@@ -270,6 +273,9 @@ pub enum Action {
     Write { addr: u8, name: String, value: u16 },
     /// Fault injection: the Vs2 rail does not come up (power-good stays low) while true.
     Vs2Fault(bool),
+    /// The MPU reads a bus address (any of the 8-bit `bus_addr`, mapped or not) in this tick
+    /// instead of its polling; the key must be on.
+    Read { addr: u8 },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -768,8 +774,8 @@ impl Cx<'_> {
         let mut events = Vec::new();
         let mut last_tick = 0u64;
         let mut ig = false;
-        // (tick, line) of the last write: the bus takes one write per tick.
-        let mut last_write: Option<(u64, usize)> = None;
+        // (tick, line, what) of the last bus access (a write or a read): the bus takes one a tick.
+        let mut last_write: Option<(u64, usize, &str)> = None;
         for (k, ev) in raw.events.iter().enumerate() {
             let field = format!("events[{k}]");
             let r = ev.get_ref();
@@ -791,15 +797,39 @@ impl Cx<'_> {
             last_tick = tick;
             let given = usize::from(r.ig.is_some())
                 + usize::from(r.write.is_some())
+                + usize::from(r.read.is_some())
                 + usize::from(r.vs2_fault.is_some());
             if given != 1 {
-                return Err(self.err(ev.span(), &field, format!("an event has exactly one action (ig, write or vs2_fault); this one has {given}")));
+                return Err(self.err(ev.span(), &field, format!("an event has exactly one action (ig, write, read or vs2_fault); this one has {given}")));
             }
             let action = if let Some(v) = r.ig {
                 ig = v;
                 Action::Ig(v)
             } else if let Some(v) = r.vs2_fault {
                 Action::Vs2Fault(v)
+            } else if let Some(a) = &r.read {
+                let rf = format!("{field}.read");
+                let v = *a.get_ref();
+                let Ok(addr) = u8::try_from(v) else {
+                    return Err(self.err(
+                        a.span(),
+                        &rf,
+                        format!("bus address {v} does not fit the 8-bit bus_addr; valid is 0..=255 (0x00..=0xFF)"),
+                    ));
+                };
+                if !ig {
+                    return Err(self.err(r.at.span(), &rf, "the key is off at this time: the MPU is not powered and cannot read ([0205]); turn ig on first"));
+                }
+                let line = self.line_col(a.span().start).0;
+                if let Some((t, l, what)) = last_write.filter(|(t, ..)| *t == tick) {
+                    return Err(self.err(
+                        a.span(),
+                        &rf,
+                        format!("a read at {} (the {what} of line {l} is at the same time); the bus takes one access per clock tick; move it at least one tick ({clock}) later", Dur(t * clock.0)),
+                    ));
+                }
+                last_write = Some((tick, line, "read"));
+                Action::Read { addr }
             } else {
                 let w_span = r.write.as_ref().map_or(r.at.span(), |w| w.span());
                 let w = r
@@ -843,27 +873,30 @@ impl Cx<'_> {
                     return Err(self.err(r.at.span(), &format!("{field}.write"), "the key is off at this time: the MPU is not powered and cannot write ([0205]); turn ig on first"));
                 }
                 let line = self.line_col(w_span.start).0;
-                if let Some((t, l)) = last_write.filter(|(t, _)| *t == tick) {
+                if let Some((t, l, what)) = last_write.filter(|(t, ..)| *t == tick) {
                     return Err(self.err(
                         w_span,
                         &format!("{field}.write"),
-                        format!("a second write at {} (the write of line {l} is at the same time); the bus takes one write per clock tick, so only the last would happen; move it at least one tick ({clock}) later", Dur(t * clock.0)),
+                        format!("a second {} at {} (the {what} of line {l} is at the same time); the bus takes one access per clock tick, so only the last would happen; move it at least one tick ({clock}) later", if what == "write" { "write" } else { "bus access" }, Dur(t * clock.0)),
                     ));
                 }
-                last_write = Some((tick, line));
+                last_write = Some((tick, line, "write"));
                 Action::Write {
                     addr,
                     name,
                     value: v as u16,
                 }
             };
-            // Messages point at the action's line (`write = ...`), else at `at`.
+            // Messages point at the action's line (`write = ...`, `read = ...`), else at `at`.
             let line = self
-                .line_col(
-                    r.write
-                        .as_ref()
-                        .map_or(r.at.span().start, |w| w.span().start),
-                )
+                .line_col(r.write.as_ref().map_or_else(
+                    || {
+                        r.read
+                            .as_ref()
+                            .map_or(r.at.span().start, |a| a.span().start)
+                    },
+                    |w| w.span().start,
+                ))
                 .0;
             events.push(Event { tick, action, line });
         }

@@ -67,6 +67,13 @@ const CASES: &[(&str, &[&str])] = &[
     ("duration = \"10 ms\"\n[env]\nvcc1_v = 5.0\ntheta_t_deg = 91.0", &["bad.toml:4:", "env.theta_t_deg", "-90 to 90 degrees"]),
     // two writes at the same time: only the last would happen
     ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"2 ms\"\nwrite = { reg = \"T2\", value = 100 }\n[[events]]\nat = \"2 ms\"\nwrite = { reg = \"T1\", value = 100 }", &["bad.toml:10:", "events[2].write", "a second write at 2 ms (the write of line 7 is at the same time)"]),
+    // a read: an 8-bit address, the key on, one bus access a tick
+    ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"2 ms\"\nread = 256", &["bad.toml:7:", "events[1].read", "bus address 256 does not fit the 8-bit bus_addr; valid is 0..=255"]),
+    ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"2 ms\"\nread = -1", &["bad.toml:7:", "events[1].read", "valid is 0..=255"]),
+    ("duration = \"10 ms\"\n[[events]]\nat = \"2 ms\"\nread = 224", &["bad.toml:3:", "events[0].read", "the key is off at this time"]),
+    ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"2 ms\"\nwrite = { reg = \"T2\", value = 100 }\n[[events]]\nat = \"2 ms\"\nread = 224", &["bad.toml:10:", "events[2].read", "a read at 2 ms (the write of line 7 is at the same time)"]),
+    ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"2 ms\"\nread = 224\n[[events]]\nat = \"2 ms\"\nwrite = { reg = \"T1\", value = 100 }", &["bad.toml:10:", "events[2].write", "a second bus access at 2 ms (the read of line 7 is at the same time)"]),
+    ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\nread = 224", &["bad.toml:2:", "events[0]", "exactly one action (ig, write, read or vs2_fault); this one has 2"]),
     // expectations and defaults that no longer fit name their line
     ("duration = \"10 ms\"\n[expect]\ndiag = false\nreadout_within_deg = -1.0", &["bad.toml:4:", "expect.readout_within_deg", "positive angle"]),
     ("duration = \"10 ms\"\n[expect]\n\nsi_sequence_ms = [6.6, 0.0]", &["bad.toml:4:", "expect.si_sequence_ms"]),

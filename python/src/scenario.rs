@@ -510,8 +510,8 @@ impl Scenario {
         crate::config::hdl_parameters(py, &self.sc.params)
     }
 
-    /// The timeline: `[(tick, action, value), ...]`, action "ig", "vs2_fault" or "write" (value:
-    /// bool, or `(register, address, data)` for a write).
+    /// The timeline: `[(tick, action, value), ...]`, action "ig", "vs2_fault", "write" or "read"
+    /// (value: bool, `(register, address, data)` for a write, the address for a read).
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Vec<(u64, &'static str, Py<PyAny>)>> {
         let mut out = Vec::new();
         for e in &self.sc.events {
@@ -520,6 +520,10 @@ impl Scenario {
                 Action::Vs2Fault(b) => (
                     "vs2_fault",
                     b.into_pyobject(py)?.to_owned().into_any().unbind(),
+                ),
+                Action::Read { addr } => (
+                    "read",
+                    addr.into_pyobject(py)?.to_owned().into_any().unbind(),
                 ),
                 Action::Write { addr, name, value } => (
                     "write",

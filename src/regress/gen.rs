@@ -55,12 +55,18 @@ pub enum Knob {
     StatusWrites,
     EarlyWrites,
     ExactStep,
+    /// Durations up to the 16-bit top of their registers (reset values and writes).
+    LongDurations,
+    /// Cth from 64 to 255 (reset value and writes).
+    CthTop,
+    /// The MPU reads bus addresses outside the register map.
+    UnmappedReads,
 }
 
 use Knob::*;
 
 /// Every knob with its base probability in percent (uniform random).
-pub const KNOBS: [(Knob, u64); 35] = [
+pub const KNOBS: [(Knob, u64); 38] = [
     (NarrowCounter, 8),
     (Width3To7, 10),
     (Width8To15, 10),
@@ -96,7 +102,19 @@ pub const KNOBS: [(Knob, u64); 35] = [
     (StatusWrites, 20),
     (EarlyWrites, 5),
     (ExactStep, 5),
+    (LongDurations, 8),
+    (CthTop, 8),
+    (UnmappedReads, 8),
 ];
+
+/// The knobs drawn from a stream of their own (`seed`, knob): adding one leaves the other
+/// knobs, and so the scenarios of the seeds that do not draw it, as they were.
+const OWN_STREAM: [Knob; 3] = [LongDurations, CthTop, UnmappedReads];
+
+/// The stream of the corner draws of the [`OWN_STREAM`] knobs.
+fn own_stream(seed: u64, what: u64) -> Rng {
+    Rng::new(seed ^ 0x434f_524e_4552_5300 ^ what.wrapping_mul(0x9e37_79b9_7f4a_7c15))
+}
 
 /// The knob a coverage hint names (rtl_model/coverage/src/model.rs names knobs as the
 /// variants of [`Knob`] are spelt).
@@ -155,6 +173,10 @@ pub fn knob_params(k: Knob) -> &'static [&'static str] {
         PiZero => &["PI"],
         PsOne => &["PS"],
         SmpOnOne | SmpOnShort | Spin => &["SMP_ON"],
+        LongDurations => &[
+            "PW", "PI", "PS", "SI_MAX", "SI_MIN", "T1", "T2", "SMP_ON", "ADAPTIVE",
+        ],
+        CthTop => &["CTH"],
         ExactStep => &["SI_MAX", "T1", "T2"],
         LongQuiet => &["CTH", "T1", "T2"],
         _ => &[],
@@ -256,7 +278,13 @@ impl Bias {
         let mut k: Vec<Knob> = self
             .percent
             .iter()
-            .filter(|&&(_, p)| r.percent(p))
+            .filter(|&&(k, p)| {
+                if let Some(i) = OWN_STREAM.iter().position(|&o| o == k) {
+                    own_stream(seed, i as u64).percent(p)
+                } else {
+                    r.percent(p)
+                }
+            })
             .map(|&(k, _)| k)
             .collect();
         if !self.targets.is_empty() {
@@ -292,7 +320,14 @@ impl Motion {
 pub enum Action {
     Ig(bool),
     Fault(bool),
-    Write { reg: &'static str, value: u16 },
+    Write {
+        reg: &'static str,
+        value: u16,
+    },
+    /// A read of any bus address (the MPU's poll is replaced for the tick).
+    Read {
+        addr: u8,
+    },
 }
 
 /// A generated scenario, structured.
@@ -492,6 +527,22 @@ impl Stimulus {
             p.smp_on = 1;
             ticks = (1u64 << p.cnt_width) * 9 + 2_000;
         }
+        // The corners of the register ranges (docs/spec.md 4: every duration up to 65535 ticks,
+        // Cth up to 255), drawn from streams of their own. Long durations: the key off from
+        // reset for longer than x, so the timing generator counts past 32768 to x, then the usual
+        // timeline with writes over each register's whole legal range.
+        let long = on(LongDurations) && !on(Spin) && !on(LongQuiet);
+        let mut first_off = 0;
+        if long {
+            let mut c = own_stream(seed, 16);
+            long_durations(&mut c, &mut p);
+            let x = u64::from(p.si_max);
+            first_off = c.range(x + 100, x + 20_000);
+            ticks = first_off + c.range(50_000, 150_000);
+        }
+        if on(CthTop) && !on(LongQuiet) {
+            p.cth = own_stream(seed, 17).range(64, 255) as u8;
+        }
         let vr_err = (r.range(0, 200) as i64 - 100, r.range(0, 200) as i64 - 100);
         let mut start_decideg = r.range(0, 3599);
         // A skip and the MPU's W1C of STATUS.quadrant_skip on the same edge (docs/spec.md 2.5:
@@ -501,6 +552,7 @@ impl Stimulus {
         // turn between the first two of them, from the middle of a quadrant.
         let race = !on(Spin)
             && !on(LongQuiet)
+            && !long
             && on(StatusWrites)
             && on(FastMoves)
             && bias.fixed.get("SMP_ON").is_none()
@@ -605,7 +657,7 @@ impl Stimulus {
         let mut events = Vec::new();
         let mut ig = if on(Spin) || race {
             true
-        } else if on(LongQuiet) {
+        } else if on(LongQuiet) || long {
             false
         } else {
             r.percent(50)
@@ -636,7 +688,21 @@ impl Stimulus {
         } else {
             (50, 15_000)
         };
-        let mut at = race_end;
+        let mut at = race_end.max(first_off);
+        // The register values in force as the timeline goes (for writes over the legal range).
+        let mut cur = p;
+        if long {
+            // the key on after the long key-off stretch, then, once sig is up, a sweep of writes
+            // that raises and lowers every bit of every duration register and of Cth
+            events.push((at, Action::Ig(true)));
+            ig = true;
+            at += u64::from(p.sync_depth) + 2;
+            for (reg, value) in SWEEP {
+                events.push((at, Action::Write { reg, value }));
+                written(&mut cur, reg, value);
+                at += 1;
+            }
+        }
         events.extend(race_events);
         let mut fault = false;
         if !race && on(Faults) && r.percent(25) {
@@ -649,6 +715,16 @@ impl Stimulus {
             at += r.range(gap.0, gap.1);
             if at >= ticks.saturating_sub(2) {
                 break;
+            }
+            if on(UnmappedReads) && ig && r.percent(25) {
+                // the MPU reads addresses outside the register map, one to three ticks in a row
+                // (the register file's read mux default; bus_addr bits 7:5 rise and fall)
+                for i in 0..r.range(1, 3) {
+                    let addr = unmapped_addr(&mut r);
+                    events.push((at + i, Action::Read { addr }));
+                }
+                at += 3;
+                continue;
             }
             let roll = r.range(0, 9);
             if on(Glitches) && r.percent(30) {
@@ -692,19 +768,31 @@ impl Stimulus {
                 _ if ig => {
                     let reg = if on(StatusWrites) && r.percent(40) {
                         "STATUS"
+                    } else if on(CthTop) && r.percent(25) {
+                        "CTH"
                     } else {
                         WRITABLE[r.range(0, WRITABLE.len() as u64 - 2) as usize]
                     };
-                    let value = write_value(&mut r, reg, &p, on(IllegalWrites));
+                    let wide = (long || on(CthTop) && reg == "CTH") && r.percent(80);
+                    let value = match wide.then(|| wide_value(&mut r, reg, &cur, on(IllegalWrites)))
+                    {
+                        Some(Some(v)) => v,
+                        _ => write_value(&mut r, reg, &p, on(IllegalWrites)),
+                    };
+                    written(&mut cur, reg, value);
                     events.push((at, Action::Write { reg, value }));
                 }
                 _ => {}
             }
         }
-        // One event of a kind per tick: a write shares its tick only with ig.
-        events.sort_by_key(|(t, a)| (*t, matches!(a, Action::Write { .. })));
+        // One event of a kind per tick: a bus access (a write or a read) shares its tick only
+        // with ig.
+        let bus = |a: &Action| matches!(a, Action::Write { .. } | Action::Read { .. });
+        events.sort_by_key(|(t, a)| (*t, bus(a)));
         events.dedup_by(|b, a| {
-            a.0 == b.0 && std::mem::discriminant(&a.1) == std::mem::discriminant(&b.1)
+            a.0 == b.0
+                && (std::mem::discriminant(&a.1) == std::mem::discriminant(&b.1)
+                    || bus(&a.1) && bus(&b.1))
         });
         Stimulus {
             seed,
@@ -792,6 +880,7 @@ impl Stimulus {
                 Action::Write { reg, value } => {
                     writeln!(s, "write = {{ reg = \"{reg}\", value = {value} }}")
                 }
+                Action::Read { addr } => writeln!(s, "read = {addr}"),
             };
         }
         s
@@ -844,6 +933,161 @@ fn write_value(r: &mut Rng, reg: &str, p: &Params, illegal: bool) -> u16 {
         _ => r.range(0, 320),
     };
     v.min(u64::from(u16::MAX)) as u16
+}
+
+/// A, B, A (0xAAAA, 0x5555, 0xAAAA) raise and lower every bit of a 16-bit register; 0xAA, 0x55,
+/// 0xAA every bit of Cth.
+const SWEEP_A: u16 = 0xAAAA;
+const SWEEP_B: u16 = 0x5555;
+
+/// The writes of the long-durations sweep, one a tick, each legal when it comes (docs/spec.md 4)
+/// but one: the window made one tick each way (Wt = 2), x and min at the top so that each window
+/// field can take A = 43690 (Wt < min = 65535), each field then back to its least; min and x over A and
+/// B (min = x = B is legal) and min back to A; T1, T2, smp_on and Cth; and one refused
+/// Pw = 65535, whose candidate Wt passes 16 bits.
+const SWEEP: [(&str, u16); 36] = [
+    ("PW", 1),
+    ("PI", 0),
+    ("PS", 1),
+    ("SI_MAX", 65_535),
+    ("SI_MIN", 65_535),
+    ("PW", SWEEP_A),
+    ("PW", SWEEP_B),
+    ("PW", SWEEP_A),
+    ("PW", 1),
+    ("PI", SWEEP_A),
+    ("PI", SWEEP_B),
+    ("PI", SWEEP_A),
+    ("PI", 0),
+    ("PS", SWEEP_A),
+    ("PS", SWEEP_B),
+    ("PS", SWEEP_A),
+    ("PS", 1),
+    ("PW", 65_535),
+    ("SI_MIN", SWEEP_A),
+    ("SI_MIN", SWEEP_B),
+    ("SI_MAX", SWEEP_A),
+    ("SI_MAX", SWEEP_B),
+    ("SI_MAX", SWEEP_A),
+    ("SI_MIN", SWEEP_A),
+    ("T1", SWEEP_A),
+    ("T1", SWEEP_B),
+    ("T1", SWEEP_A),
+    ("T2", SWEEP_A),
+    ("T2", SWEEP_B),
+    ("T2", SWEEP_A),
+    ("SMP_ON", SWEEP_A),
+    ("SMP_ON", SWEEP_B),
+    ("SMP_ON", SWEEP_A),
+    ("CTH", 0xAA),
+    ("CTH", 0x55),
+    ("CTH", 0xAA),
+];
+
+/// Long durations: the reset values of the duration registers drawn up to their 16-bit top,
+/// legal (docs/spec.md 4: every duration up to 65535 ticks, Wt below the shortest interval).
+/// Half the seeds take a window of 40000 ticks or more (so that Pw, Pi and Ps can be written
+/// past bit 15), the other half a short min under an x of 40000 or more (si, its sums and the
+/// timing generator's count cross every bit); T1, T2 and smp_on anywhere in 1..=65535.
+fn long_durations(c: &mut Rng, p: &mut Params) {
+    if c.percent(50) {
+        p.si_min = c.range(40_000, 62_000) as u16;
+        p.si_max = c.range(u64::from(p.si_min), 65_535) as u16;
+        let third = (u64::from(p.shortest_interval()) - 1) / 3;
+        p.pw = c.range(1, third) as u16;
+        p.pi = c.range(0, third) as u16;
+        p.ps = c.range(1, third) as u16;
+    } else {
+        let wt = u64::from(p.wt());
+        p.si_min = c.range(wt + 1, (wt + 1).max(3_000)) as u16;
+        p.si_max = c.range(40_000, 65_535) as u16;
+    }
+    p.t1 = c.range(1, 65_535) as u16;
+    p.t2 = c.range(1, 65_535) as u16;
+    if c.percent(50) {
+        p.smp_on = c.range(1, 65_535) as u16;
+    }
+}
+
+/// A value for `reg` over its whole legal range given the registers in force `p` (one of the
+/// bounds a time in five), or a window field that takes Wt past 16 bits (refused) for half the
+/// illegal ones; `None` for a register without a range (CTRL, STATUS).
+fn wide_value(r: &mut Rng, reg: &str, p: &Params, illegal: bool) -> Option<u16> {
+    let span = |r: &mut Rng, lo: u64, hi: u64| match r.range(0, 9) {
+        _ if hi <= lo => lo,
+        0 => lo,
+        1 => hi,
+        _ => r.range(lo, hi),
+    };
+    let wt = u64::from(p.wt());
+    let shortest = u64::from(p.shortest_interval());
+    let v = match reg {
+        "PW" | "PI" | "PS" if illegal && r.percent(50) => 65_535 - r.range(0, 3),
+        "PW" | "PI" | "PS" => {
+            let f = match reg {
+                "PW" => p.pw,
+                "PI" => p.pi,
+                _ => p.ps,
+            };
+            // Pw + Pi >= 1 and Ps >= 1; Wt < the shortest interval
+            let lo = match reg {
+                "PW" => u64::from(p.pi == 0),
+                "PI" => u64::from(p.pw == 0),
+                _ => 1,
+            };
+            let others = wt - u64::from(f);
+            span(r, lo, (shortest - 1).saturating_sub(others))
+        }
+        "SI_MIN" => span(r, if p.adaptive { wt + 1 } else { 1 }, u64::from(p.si_max)),
+        "SI_MAX" => {
+            let lo = u64::from(p.si_min);
+            span(r, if p.adaptive { lo } else { lo.max(wt + 1) }, 65_535)
+        }
+        "T1" | "T2" | "SMP_ON" => span(r, 1, 65_535),
+        "CTH" => span(r, 1, 255),
+        _ => return None,
+    };
+    Some(v.min(65_535) as u16)
+}
+
+/// The registers after a write of `value` to `reg` when the register file takes it (the
+/// parameter set stays legal); unchanged when it refuses it.
+fn written(p: &mut Params, reg: &str, value: u16) {
+    let mut n = *p;
+    match reg {
+        "CTRL" => n.adaptive = value & 1 == 1,
+        "PW" => n.pw = value,
+        "PI" => n.pi = value,
+        "PS" => n.ps = value,
+        "SI_MAX" => n.si_max = value,
+        "SI_MIN" => n.si_min = value,
+        "T1" => n.t1 = value,
+        "T2" => n.t2 = value,
+        "CTH" => n.cth = value as u8,
+        "SMP_ON" => n.smp_on = value,
+        _ => return,
+    }
+    if n.validate().is_ok() {
+        *p = n;
+    }
+}
+
+/// A bus address outside the register map: a hole of the map (below 0x20) half the time, else
+/// one of 0x20..=0xFF.
+fn unmapped_addr(r: &mut Rng) -> u8 {
+    use pmu50_core::register_file::MAP;
+    let mapped = |a: u64| MAP.iter().any(|m| u64::from(m.1) == a);
+    for _ in 0..16 {
+        let a = if r.percent(50) {
+            r.range(0, 0x1F)
+        } else {
+            r.range(0x20, 0xFF)
+        };
+        if !mapped(a) {
+            return a as u8;
+        }
+    }
+    0xFF
 }
 
 #[cfg(test)]

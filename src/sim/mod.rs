@@ -396,9 +396,11 @@ struct Timeline<'a> {
 
 impl Timeline<'_> {
     /// Apply the events of tick `k`; returns this tick's inputs with the key level and any
-    /// register write (the analog inputs are filled in by the front).
-    fn apply(&mut self, k: u64, front: &mut AnalogFront) -> Inputs {
+    /// register write or read (the analog inputs are filled in by the front), and whether the
+    /// timeline drives the bus this tick (a write or a read: the MPU does not poll then).
+    fn apply(&mut self, k: u64, front: &mut AnalogFront) -> (Inputs, bool) {
         let mut inputs = Inputs::default();
+        let mut bus = false;
         while let Some(e) = self.events.get(self.next).filter(|e| e.tick == k) {
             match &e.action {
                 Action::Ig(v) => self.ig = *v,
@@ -407,12 +409,17 @@ impl Timeline<'_> {
                     inputs.bus_we = true;
                     inputs.bus_addr = *addr;
                     inputs.bus_wdata = *value;
+                    bus = true;
+                }
+                Action::Read { addr } => {
+                    inputs.bus_addr = *addr;
+                    bus = true;
                 }
             }
             self.next += 1;
         }
         inputs.ig = self.ig;
-        inputs
+        (inputs, bus)
     }
 
     fn next_tick(&self) -> Option<u64> {
@@ -566,11 +573,13 @@ pub fn run_with(
             }
         }
 
-        let mut inputs = timeline.apply(k, &mut front);
-        mpu.poll_bus(k, &out, &mut inputs);
+        let (mut inputs, bus) = timeline.apply(k, &mut front);
+        if !bus {
+            mpu.poll_bus(k, &out, &mut inputs);
+        }
 
         // Fast-forward an idle key-off gap: Vs2 off, nothing scheduled, nobody watching.
-        if idle_gaps && !out.sig && !out.vs2_en && !out.sr && !inputs.bus_we && mpu.idle() {
+        if idle_gaps && !out.sig && !out.vs2_en && !out.sr && !bus && mpu.idle() {
             let tmr = u64::from(core.regs().timing_generator.tmr);
             let si = u64::from(core.regs().drive_interval.si);
             if tmr >= wt && tmr < si {

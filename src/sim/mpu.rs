@@ -86,7 +86,8 @@ impl Mpu {
         self.st.boot_at.is_none()
     }
 
-    /// Bus polling: while powered and the timeline does not write, read the next map address.
+    /// Bus polling: while powered and the timeline does not drive the bus, read the next map
+    /// address.
     /// The round of polls repeats every [`POLL_CYCLE`] ticks.
     pub fn poll_bus(&self, k: u64, out: &Outputs, inputs: &mut Inputs) {
         if out.sig && !inputs.bus_we {
