@@ -23,6 +23,17 @@ fn parse(s: &Stimulus) -> Scenario {
         .unwrap_or_else(|e| panic!("seed {}: {e}\n{text}", s.seed))
 }
 
+/// The reads of a scenario: (tick, bus address).
+fn reads_of(sc: &Scenario) -> Vec<(u64, u8)> {
+    sc.events
+        .iter()
+        .filter_map(|e| match e.action {
+            scenario::Action::Read { addr } => Some((e.tick, addr)),
+            _ => None,
+        })
+        .collect()
+}
+
 /// The registers whose every bit must toggle, by name, with their width.
 fn registers(r: &Regs) -> [(&'static str, u16, u32); 11] {
     let f = &r.register_file;
@@ -143,14 +154,7 @@ fn unmapped_reads_reach_every_address_bit() {
     let (mut holes, mut high) = (0, 0u8);
     for s in &seeds {
         let sc = parse(s);
-        let reads: Vec<(u64, u8)> = sc
-            .events
-            .iter()
-            .filter_map(|e| match e.action {
-                scenario::Action::Read { addr } => Some((e.tick, addr)),
-                _ => None,
-            })
-            .collect();
+        let reads = reads_of(&sc);
         let mut rec = InputRecorder::default();
         sim::run_with(&sc, Stepping::Periods, &mut [&mut rec]).unwrap();
         for &(tick, addr) in &reads {
@@ -223,13 +227,6 @@ fn a_read_round_trips_through_the_scenario_file() {
             _ => None,
         })
         .collect();
-    let got: Vec<(u64, u8)> = sc
-        .events
-        .iter()
-        .filter_map(|e| match e.action {
-            scenario::Action::Read { addr } => Some((e.tick, addr)),
-            _ => None,
-        })
-        .collect();
+    let got = reads_of(&sc);
     assert_eq!(want, got);
 }
