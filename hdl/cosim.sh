@@ -213,7 +213,7 @@ stamp "cargo build --release (pmu50, pmu50-ffi, stress_vectors)"
 
 stamp "C ABI smoke test (hdl/ffi/tests/smoke.c)"
 if ! cc -std=c99 -Wall -Wextra -pedantic -Werror -I "$HDL/ffi/include" "$HDL/ffi/tests/smoke.c" \
-        "$ROOT/target/release/libpmu50_ffi.a" -lpthread -ldl -lm -o "$HDL/build/smoke" > "$HDL/build/smoke.log" 2>&1 \
+        "$PMU50_FFI_LIB" -lpthread -ldl -lm -o "$HDL/build/smoke" > "$HDL/build/smoke.log" 2>&1 \
         || ! "$HDL/build/smoke" >> "$HDL/build/smoke.log" 2>&1; then
     cat "$HDL/build/smoke.log"; log "cosim: C ABI smoke test failed"; exit 1
 fi

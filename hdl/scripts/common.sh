@@ -13,6 +13,11 @@
 HDL="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 ROOT="$(cd "$HDL/.." && pwd)"
 PMU50="$ROOT/target/release/pmu50"
+# The model's C library (crate pmu50-ffi). cargo writes it to target/release/deps/ whenever it
+# compiles the crate, `cargo test` included; the copy in target/release/ is made only by a `cargo
+# build` that compiled it, so after the tests' build it may be missing or older.
+PMU50_FFI_LIB="$ROOT/target/release/deps/libpmu50_ffi.a"
+[ -f "$PMU50_FFI_LIB" ] || PMU50_FFI_LIB="$ROOT/target/release/libpmu50_ffi.a"
 
 vec_params() {
     local file="$1" prefix="$2" line

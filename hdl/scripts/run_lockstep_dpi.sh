@@ -26,7 +26,7 @@ while [ $# -gt 0 ]; do
     esac
 done
 [ -n "$COV" ] && PLUS+=("+coverage=$COV" "+run_id=$RUN_ID")
-LIB="$ROOT/target/release/libpmu50_ffi.a"
+LIB="$PMU50_FFI_LIB"
 [ -f "$LIB" ] || { echo "run_lockstep_dpi: $LIB missing (cargo build -p pmu50-ffi --release)" >&2; exit 2; }
 ARGS=()
 vec_params "$VEC" -G
