@@ -212,7 +212,12 @@ impl MotorProfile {
         if t_ns >= self.end_ns {
             return self.end_deg;
         }
-        let i = self.segment_of(t_ns);
+        self.angle_in(self.segment_of(t_ns), t_ns)
+    }
+
+    /// The angle at `t_ns` inside segment `i` (the segment active at `t_ns`).
+    #[inline]
+    fn angle_in(&self, i: usize, t_ns: u64) -> f64 {
         let elapsed = t_ns - self.seg_start_ns[i];
         match self.segments[i] {
             Segment::Hold { .. } => self.seg_start_deg[i],
@@ -397,21 +402,7 @@ mod tests {
         if t_ns >= p.end_ns {
             return p.end_deg;
         }
-        let i = p.seg_start_ns.partition_point(|&s| s <= t_ns) - 1;
-        let elapsed = t_ns - p.seg_start_ns[i];
-        match p.segments[i] {
-            Segment::Hold { .. } => p.seg_start_deg[i],
-            Segment::Move {
-                duration_ns,
-                delta_deg,
-            } => {
-                if elapsed == 0 {
-                    p.seg_start_deg[i]
-                } else {
-                    p.seg_start_deg[i] + delta_deg * (elapsed as f64 / duration_ns as f64)
-                }
-            }
-        }
+        p.angle_in(p.seg_start_ns.partition_point(|&s| s <= t_ns) - 1, t_ns)
     }
 
     proptest::proptest! {
