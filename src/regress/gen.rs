@@ -1051,24 +1051,18 @@ fn wide_value(r: &mut Rng, reg: &str, p: &Params, illegal: bool) -> Option<u16> 
 }
 
 /// The registers after a write of `value` to `reg` when the register file takes it (the
-/// parameter set stays legal); unchanged when it refuses it.
+/// parameter set stays legal); unchanged when it refuses it. The register file's own write
+/// (`register_file::with_write`: the register's width taken from the bus word) and legality check.
 fn written(p: &mut Params, reg: &str, value: u16) {
-    let mut n = *p;
-    match reg {
-        "CTRL" => n.adaptive = value & 1 == 1,
-        "PW" => n.pw = value,
-        "PI" => n.pi = value,
-        "PS" => n.ps = value,
-        "SI_MAX" => n.si_max = value,
-        "SI_MIN" => n.si_min = value,
-        "T1" => n.t1 = value,
-        "T2" => n.t2 = value,
-        "CTH" => n.cth = value as u8,
-        "SMP_ON" => n.smp_on = value,
-        _ => return,
-    }
-    if n.validate().is_ok() {
-        *p = n;
+    use pmu50_core::register_file::{reset, with_write, MAP};
+    let Some(&(_, a, ..)) = MAP.iter().find(|m| m.0 == reg) else {
+        return;
+    };
+    if let Some(n) = with_write(&reset(p), a, value) {
+        let n = n.params(p.sync_depth, p.cnt_width);
+        if n.validate().is_ok() {
+            *p = n;
+        }
     }
 }
 
