@@ -996,14 +996,19 @@ pub struct Worker {
     sent: Instant,
 }
 
-/// The `pmu50` executable that runs workers: `PMU50_EXE`, this one, or (when the caller is a
-/// test or bench binary of target/<profile>/deps/) the `pmu50` of the same target folder.
+/// The `pmu50` executable that runs workers: `PMU50_EXE`, this one (under any name: a copy
+/// renamed `pmu50-1.2` is still the command), or (when the caller is a test, bench or example
+/// binary of target/<profile>/{deps,examples}/) the `pmu50` of the same target folder.
 fn worker_exe() -> Result<PathBuf, String> {
     if let Some(p) = std::env::var_os("PMU50_EXE") {
         return Ok(PathBuf::from(p));
     }
     let me = std::env::current_exe().map_err(|e| format!("cannot find this executable: {e}"))?;
-    if me.file_stem().is_some_and(|s| s == "pmu50") {
+    let in_target = me
+        .parent()
+        .and_then(|d| d.file_name())
+        .is_some_and(|d| d == "deps" || d == "examples");
+    if me.file_stem().is_some_and(|s| s == "pmu50") || !in_target {
         return Ok(me);
     }
     let beside = |up: usize, tail: &str| me.ancestors().nth(up).map(|d| d.join(tail));
