@@ -164,8 +164,15 @@ pub enum ParamError {
     MinAboveMax { min: u16, max: u16 },
     #[error("pw + pi is 0 ticks: the sample would be taken in the tick Vs2 rises, before the registered activation signal sr is 1, so no key-off sample would ever be taken; pw + pi must be at least 1 tick ([0321] waiting period)")]
     NoSettlingTick,
-    #[error("the output window Wt = pw + pi + ps = {wt} ticks is not shorter than the shortest drive interval core.min = {min} ticks (core.x = {max} ticks when adaptive = false); Vs2 must switch off between two pulses")]
-    WindowTooLong { wt: u32, min: u16, max: u16 },
+    #[error("the output window Wt = pw + pi + ps = {wt} ticks is not shorter than the shortest drive interval, {shortest} = {interval} ticks (core.min when adaptive, core.x when adaptive = false; here core.min = {min}, core.x = {max}); Vs2 must switch off between two pulses")]
+    WindowTooLong {
+        wt: u32,
+        min: u16,
+        max: u16,
+        /// The interval the rule compares with: `core.min`, or `core.x` with the fixed interval.
+        shortest: &'static str,
+        interval: u16,
+    },
 }
 
 impl Params {
@@ -226,6 +233,8 @@ impl Params {
                 wt: self.wt(),
                 min: self.si_min,
                 max: self.si_max,
+                shortest: if self.adaptive { "core.min" } else { "core.x" },
+                interval: self.shortest_interval(),
             });
         }
         Ok(())
@@ -339,9 +348,28 @@ mod tests {
             pi: 100,
             ..Params::default()
         };
+        let e = p.validate().unwrap_err();
         assert!(matches!(
-            p.validate(),
-            Err(ParamError::WindowTooLong { .. })
+            e,
+            ParamError::WindowTooLong {
+                shortest: "core.min",
+                interval: 10,
+                ..
+            }
         ));
+        // the message names the interval the rule used
+        assert!(e.to_string().contains("core.min = 10 ticks"), "{e}");
+        let p = Params {
+            adaptive: false,
+            si_max: 100,
+            si_min: 10,
+            pi: 100,
+            ..Params::default()
+        };
+        let e = p.validate().unwrap_err();
+        assert!(
+            e.to_string().contains("interval, core.x = 100 ticks"),
+            "{e}"
+        );
     }
 }
