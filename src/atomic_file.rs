@@ -91,8 +91,14 @@ pub enum OutputError {
 pub const SYNC_VAR: &str = "PMU50_SYNC";
 
 /// Whether output files are flushed to the disk before the rename ([`SYNC_VAR`]); an error
-/// message for a value other than `0` or `1`.
+/// message for a value other than `0` or `1`. Read once per process: every file of a run is
+/// written the same way.
 pub fn sync_to_disk() -> Result<bool, String> {
+    static ONCE: std::sync::OnceLock<Result<bool, String>> = std::sync::OnceLock::new();
+    ONCE.get_or_init(read_sync_var).clone()
+}
+
+fn read_sync_var() -> Result<bool, String> {
     match std::env::var(SYNC_VAR) {
         Ok(v) if v == "0" => Ok(false),
         Ok(v) if v == "1" => Ok(true),
