@@ -178,23 +178,25 @@ formal-quick: deps $(VENV)/.formal
 formal-mutants: deps $(VENV)/.formal formal-tools
 	$(VPY) hdl/formal/run.py --mutants --sets small --timeout 120
 	$(MAKE) formal-test
-formal-test: deps $(VENV)/.formal
-	$(VPY) -m pytest -q hdl/formal/tests
+formal-test: deps $(VENV)/.formal $(BIN)
+	PMU50=$(abspath $(BIN)) $(VPY) -m pytest -q hdl/formal/tests
 
 ## Coverage proofs (hdl/formal/coverage.py): the coverage monitor generated from the model
 ## (hdl/formal/pmu50_cov.sv, `pmu50 hdl coverage-monitor`) bound to the twin; every bin declared
 ## unreachable proven unbounded (k-induction with the kit's lemmas) on the parameter sets small,
-## w8d4, sync1 and default, every other bin covered by a formal witness (small first), the
-## witnesses replayed on the model (a witness of a bin declared unreachable fails it).
+## w8d4, sync1 and default, every other bin covered by a formal witness (small first) or, beyond
+## the bounded search, hit by a witness scenario of hdl/formal/deep replayed through the twin
+## with the monitor; the formal witnesses replayed on the model (a witness of a bin declared
+## unreachable fails it). Exit 0 only when no bin is left undecided.
 ## Per-bin status: hdl/build/formal/coverage/coverage.json. COVERAGE_HITS=regress_out/x/coverage.json
 ## also marks the bins a regression hit.
 .PHONY: coverage-proofs
 COVERAGE_OUT := hdl/build/formal/coverage
-coverage-proofs: deps $(VENV)/.formal
-	$(CARGO) run -q --release -- hdl coverage-monitor --check
+coverage-proofs: deps $(VENV)/.formal $(BIN)
+	$(BIN) hdl coverage-monitor --check
 	rm -rf $(COVERAGE_OUT)/witness
-	nice $(VPY) hdl/formal/coverage.py --out $(COVERAGE_OUT) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
-	  COVERAGE_WITNESS_DIR=$(abspath $(COVERAGE_OUT))/witness $(CARGO) test -q -p pmu50-coverage --test witness || exit 1; \
+	nice $(VPY) hdl/formal/coverage.py --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
+	  COVERAGE_WITNESS_DIR=$(abspath $(COVERAGE_OUT))/witness $(CARGO) test --release -q -p pmu50-coverage --test witness || exit 1; \
 	  exit $$rc
 
 ## Sign-off on the twin (docs/verification.md "Sign-off"), into regress_out/signoff/: a directed

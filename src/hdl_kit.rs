@@ -131,6 +131,26 @@ pub const FILES: &[(&str, &str)] = &[
     ),
     ("formal/aiger.py", include_str!("../hdl/formal/aiger.py")),
     (
+        "formal/deep/cnt_r_sat_at_min.toml",
+        include_str!("../hdl/formal/deep/cnt_r_sat_at_min.toml"),
+    ),
+    (
+        "formal/deep/cnt_r_sat_expanding.toml",
+        include_str!("../hdl/formal/deep/cnt_r_sat_expanding.toml"),
+    ),
+    (
+        "formal/deep/wrap_w16.toml",
+        include_str!("../hdl/formal/deep/wrap_w16.toml"),
+    ),
+    (
+        "formal/deep/wrap_w4_clock5us.toml",
+        include_str!("../hdl/formal/deep/wrap_w4_clock5us.toml"),
+    ),
+    (
+        "formal/deep/wrap_w8_clock20us.toml",
+        include_str!("../hdl/formal/deep/wrap_w8_clock20us.toml"),
+    ),
+    (
         "formal/tests/test_formal.py",
         include_str!("../hdl/formal/tests/test_formal.py"),
     ),

@@ -4,7 +4,8 @@
     hdl/formal/coverage.py [--rtl FILELIST.f] [--sets small,w8d4,sync1,default]
                            [--induction-depth K] [--cover-depth N] [--jobs 2]
                            [--bins SUBSTR,..] [--no-covers] [--all-witnesses]
-                           [--hits coverage.json] [--out DIR]
+                           [--hits coverage.json] [--pmu50 BIN]
+                           [--deep-scenarios NAME,..] [--no-deep] [--out DIR]
 
 The coverage monitor hdl/formal/pmu50_cov.sv (generated from the model by `pmu50 hdl
 coverage-monitor`: one `hit_<bin>` per bin, the table hdl/formal/pmu50_cov.json) is bound to the
@@ -27,6 +28,14 @@ the structural classes no kit set has), the formal top resets the twin in cycle 
   port-level bins' witnesses (and with --all-witnesses every cover's) are written as vector
   files too.
 
+- for the covers still open, the witness scenarios hdl/formal/deep/*.toml (a bin beyond any
+  bounded search: a 16-bit counter wraps after 32768 counts, CNTr saturates after 255 quiet
+  pulses, a clock class is a run's clock period): each one's vectors (`pmu50 vectors`, the
+  binary of --pmu50) are replayed through the RTL with the monitor, built by Verilator
+  (pmu50_cov_top.sv, hdl/tb/coverage/cov_main.cpp, the vector file's parameters and clock); a
+  bin the replay hits is witnessed there, at its first tick. A trace from reset that hits the
+  bin proves it reachable, however long.
+
 A bin neither proven nor witnessed is `undecided`. With --hits (a regression's coverage.json)
 each bin also says whether the regression hit it.
 
@@ -38,6 +47,8 @@ undecided; 1: a wrong declaration or an undecided bin; 2: setup or tool failure.
 """
 import argparse
 import concurrent.futures as cf
+import glob
+import hashlib
 import json
 import os
 import re
@@ -55,6 +66,11 @@ ROOT = kit.ROOT
 TABLE = os.path.join(HERE, "pmu50_cov.json")
 MONITOR = os.path.join(HERE, "pmu50_cov.sv")
 TOP = "pmu50_cov_formal"
+# witness scenarios of the bins beyond the bounded cover search, and the simulation harness that
+# replays their vectors through the RTL with the monitor
+DEEP = os.path.join(HERE, "deep")
+COV_TOP = os.path.join(HERE, "pmu50_cov_top.sv")
+COV_MAIN = os.path.join(HDL, "tb", "coverage", "cov_main.cpp")
 # Parameter sets of the kit, and one with the structural classes no kit set has (CNT_W in
 # 8..15, SYNC_DEPTH 4), short like `small`.
 SETS = dict(kit.SETS)
@@ -301,6 +317,105 @@ def covers(setname, table, labels, files, incs, defs, a, by_label):
     return reached
 
 
+def vec_header(path):
+    """({Verilog parameter: value}, clock period in ns, ticks) of a vector file's header."""
+    params, clock, ticks = {}, 10000, None
+    with open(path) as f:
+        for line in f:
+            if not line.startswith("//"):
+                break
+            w = line[2:].split()
+            if len(w) == 3 and w[0] == "param":
+                params[w[1]] = int(w[2])
+            elif len(w) == 2 and w[0] == "clock_ns":
+                clock = int(w[1])
+            elif len(w) == 2 and w[0] == "ticks":
+                ticks = int(w[1])
+    return params, clock, ticks
+
+
+def harness(out, params, clock_ns, files, incs, defs, nbins, timeout):
+    """The Verilator build of pmu50_cov_top (the RTL of the file list with the monitor over it)
+    for these parameters and clock, under OUT/deep/build/<digest>/ (reused while the sources
+    are unchanged). Returns the executable."""
+    h = hashlib.sha256()
+    for f in files + [MONITOR, COV_TOP, COV_MAIN]:
+        h.update(f.encode() + b"\0" + open(f, "rb").read())
+    gflags = ["-G%s=%d" % kv for kv in sorted(params.items())] + ["-GCLOCK_NS=%d" % clock_ns]
+    h.update(" ".join(gflags + incs + defs).encode())
+    d = os.path.join(out, "deep", "build", h.hexdigest()[:16])
+    exe = os.path.join(d, "obj", "Vpmu50_cov_top")
+    if os.path.exists(exe):
+        return exe
+    tmp = d + ".tmp"
+    shutil.rmtree(tmp, ignore_errors=True)
+    os.makedirs(tmp)
+    cmd = (["verilator", "--cc", "--exe", "--build", "-O1", "-j", "1", "-Wno-fatal", "-Wno-lint",
+            "-Wno-style", "--top-module", "pmu50_cov_top", "-Mdir", "obj", "-CFLAGS", "-O1",
+            "-CFLAGS", "-DHITS_BITS=%d" % nbins] + gflags + ["-I" + i for i in incs]
+           + ["-D" + x for x in defs] + files + [MONITOR, COV_TOP, COV_MAIN])
+    if kit.run(cmd, tmp, "verilator.log", timeout=timeout) != 0:
+        raise kit.SetupError("verilator could not build the monitor over the RTL: see %s"
+                             % os.path.join(tmp, "verilator.log"))
+    shutil.rmtree(d, ignore_errors=True)
+    os.replace(tmp, d)
+    return exe
+
+
+def deep_witnesses(a, files, incs, defs, nbins, want):
+    """Replay each witness scenario of DEEP through the RTL with the monitor. Returns
+    {bin index: (scenario path, first tick, ticks, vector file)} of the bins in `want` hit."""
+    scen = sorted(glob.glob(os.path.join(DEEP, "*.toml")))
+    names = [os.path.splitext(os.path.basename(s))[0] for s in scen]
+    if a.deep_scenarios:
+        only = a.deep_scenarios.split(",")
+        bad = [n for n in only if n not in names]
+        if bad:
+            raise kit.SetupError("--deep-scenarios: no witness scenario %s in %s (valid: %s)"
+                                 % (", ".join(bad), DEEP, ", ".join(names)))
+        scen = [s for s, n in zip(scen, names) if n in only]
+    if not scen:
+        raise kit.SetupError("no witness scenarios in %s" % DEEP)
+    pmu50 = a.pmu50 or shutil.which("pmu50")
+    if not pmu50 or not os.access(pmu50, os.X_OK):
+        raise kit.SetupError("the pmu50 command is needed to write the witness scenarios' vectors "
+                             "(--pmu50 BIN, or pmu50 on PATH; `cargo build --release` builds it)")
+    pmu50 = os.path.abspath(pmu50)
+    if not shutil.which("verilator"):
+        raise kit.SetupError("verilator not found (Debian package verilator; make deps)")
+    d = os.path.join(a.out, "deep")
+    os.makedirs(d, exist_ok=True)
+    got = {}
+    for s in scen:
+        if len(got) == len(want):
+            break
+        t1 = time.time()
+        name = os.path.splitext(os.path.basename(s))[0]
+        vec = os.path.join(d, name + ".vec")
+        if kit.run([pmu50, "vectors", s, "-o", vec], d, name + ".vectors.log") != 0:
+            raise kit.SetupError("pmu50 vectors %s failed: see %s" % (s, os.path.join(d, name + ".vectors.log")))
+        params, clock_ns, ticks = vec_header(vec)
+        exe = harness(a.out, params, clock_ns, files, incs, defs, nbins, a.timeout)
+        log = os.path.join(d, name + ".hits")
+        with open(vec) as fin, open(log, "w") as fout:
+            try:
+                rc = subprocess.run([exe, "--first-hits"], stdin=fin, stdout=fout,
+                                    stderr=subprocess.PIPE, timeout=a.timeout).returncode
+            except subprocess.TimeoutExpired:
+                rc = None
+        if rc != 0:
+            raise kit.SetupError("the replay of %s through the monitor failed (rc %s)" % (vec, rc))
+        new = []
+        for line in open(log):
+            i, tick = (int(x) for x in line.split())
+            if i in want and i not in got:
+                got[i] = (os.path.relpath(s, ROOT), tick, ticks, os.path.relpath(vec, ROOT))
+                new.append(i)
+        print("deep %-22s %7d ticks, %d bins witnessed; %.0f s" % (name, ticks or 0, len(new),
+                                                                    time.time() - t1), flush=True)
+    return got
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rtl", default=os.path.join(HDL, "pmu50.f"))
@@ -318,6 +433,13 @@ def main(argv=None):
     ap.add_argument("--all-witnesses", action="store_true",
                     help="write every cover's witness (default: the port-level bins' only)")
     ap.add_argument("--hits", default="", help="a regression's coverage.json: its hit bins")
+    ap.add_argument("--pmu50", default=os.environ.get("PMU50", ""),
+                    help="the pmu50 command that writes the witness scenarios' vectors "
+                    "(default: $PMU50, or pmu50 on PATH)")
+    ap.add_argument("--deep-scenarios", default="",
+                    help="only these witness scenarios of hdl/formal/deep (names, comma-separated)")
+    ap.add_argument("--no-deep", action="store_true",
+                    help="leave out the witness scenarios' replay (hdl/formal/deep)")
     ap.add_argument("--out", default=os.path.join(HDL, "build", "formal", "coverage"))
     a = ap.parse_args(argv)
     t0 = time.time()
@@ -403,9 +525,25 @@ def main(argv=None):
             todo = [l for l in todo if l not in got]
             print("covers %-8s %d reached within %d steps, %d left; %.0f s" % (
                 s, len(got), a.cover_depth, len(todo), time.time() - t1), flush=True)
+        # 3. the covers left: the witness scenarios' long traces, replayed through the RTL
+        if todo and not a.no_deep:
+            got = deep_witnesses(a, files, incs, defs, len(table["bins"]),
+                                 {by_name[l]["index"] for l in todo})
+            for l in todo:
+                b = by_name[l]
+                if b["index"] in got:
+                    scen, tick, ticks, vec = got[b["index"]]
+                    status[b["name"]] = {"status": "witnessed", "by": "simulation",
+                                         "set": "replay of %s (%d ticks, Verilator)" % (scen, ticks or 0),
+                                         "step": tick, "witness": vec, "scenario": scen,
+                                         "property": "cover (%s)" % b["wire"]}
+            todo = [l for l in todo if by_name[l]["index"] not in got]
         for l in todo:
             status[by_name[l]["name"]] = {"status": "undecided",
-                                          "tried": "no cover trace within %d steps on %s" % (a.cover_depth, ",".join(sets))}
+                                          "tried": "no cover trace within %d steps on %s%s" % (
+                                              a.cover_depth, ",".join(sets),
+                                              "" if a.no_deep else "; no witness scenario of %s hits it"
+                                              % os.path.relpath(DEEP, ROOT))}
         for b in bins:
             st = status.setdefault(b["name"], {"status": "undecided", "tried": "covers not searched (--no-covers)"})
             st["hit"] = b["name"] in hit

@@ -73,3 +73,42 @@ def test_a_port_level_cover_gets_a_witness(tmp_path):
     assert rows[-1][4] == "0" and int(rows[-1][5], 16) not in (
         list(range(0x00, 0x0D)) + list(range(0x10, 0x15))), rows[-1]
     assert rc == 0, out
+
+
+def pmu50_bin():
+    """The pmu50 command the witness scenarios need ($PMU50, else the checkout's release build)."""
+    b = os.environ.get("PMU50") or os.path.join(os.path.dirname(HDL), "target", "release", "pmu50")
+    assert os.access(b, os.X_OK), "%s missing: cargo build --release (make formal-test builds it)" % b
+    return b
+
+
+def test_a_bin_beyond_the_cover_depth_is_witnessed_by_its_scenario(tmp_path):
+    # a 4-bit counter wraps after 8 counts: far beyond 4 steps; the witness scenario's replay
+    # through the twin with the monitor hits it, at its first tick
+    rc, out, d = run(tmp_path, "--bins", "cross.wrap_x_cnt_w.cnt_s_up*3_7", "--cover-depth", "4",
+                     "--pmu50", pmu50_bin(), "--deep-scenarios", "wrap_w4_clock5us")
+    doc = json.load(open(d / "coverage.json"))
+    b = {b["name"]: b for b in doc["bins"]}["cross.wrap_x_cnt_w.cnt_s_up*3_7"]
+    assert b["status"] == "witnessed" and b["by"] == "simulation", out
+    assert b["scenario"] == "hdl/formal/deep/wrap_w4_clock5us.toml"
+    assert 8 < b["step"] < 400, b
+    assert re.search(r"^deep wrap_w4_clock5us\s+400 ticks, 1 bins witnessed", out, re.M), out
+    assert rc == 0, out
+
+
+def test_a_bin_no_scenario_hits_is_undecided(tmp_path):
+    # the CNTr scenario never wraps a counter: the bin stays undecided and the run fails
+    rc, out, d = run(tmp_path, "--bins", "cross.wrap_x_cnt_w.cnt_s_up*3_7", "--cover-depth", "4",
+                     "--pmu50", pmu50_bin(), "--deep-scenarios", "cnt_r_sat_at_min")
+    doc = json.load(open(d / "coverage.json"))
+    b = {b["name"]: b for b in doc["bins"]}["cross.wrap_x_cnt_w.cnt_s_up*3_7"]
+    assert b["status"] == "undecided", out
+    assert "no witness scenario of hdl/formal/deep hits it" in b["tried"]
+    assert rc == 1, out
+
+
+def test_an_unknown_witness_scenario_is_a_setup_error(tmp_path):
+    rc, out, _ = run(tmp_path, "--bins", "cross.wrap_x_cnt_w.cnt_s_up*3_7", "--cover-depth", "2",
+                     "--pmu50", pmu50_bin(), "--deep-scenarios", "nope")
+    assert rc == 2, out
+    assert "no witness scenario nope" in out and "wrap_w16" in out, out

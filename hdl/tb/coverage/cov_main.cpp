@@ -7,6 +7,10 @@
 // stdout: one line per tick, the monitor's `hits` before that edge (bit i = bin i of the model,
 // hdl/formal/pmu50_cov.json), hex, most significant digit first.
 //
+// With --first-hits: one line per bin hit at least once, at the end instead: the bin's index and
+// the first tick (0 = the first line) before whose edge it was hit, decimal
+// (hdl/formal/coverage.py replays its long witnesses so).
+//
 // Reset: rst_n falls and is held low for one evaluation, then released; the first line is the first edge out of reset,
 // as the model's first step.
 #include "Vpmu50_cov_top.h"
@@ -16,6 +20,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <vector>
 
 int main(int argc, char **argv) {
     auto ctx = std::make_unique<VerilatedContext>();
@@ -31,6 +36,11 @@ int main(int argc, char **argv) {
     top->eval();
     const int words = static_cast<int>(sizeof(top->hits) / sizeof(top->hits[0]));
     const int bits = static_cast<int>(HITS_BITS);
+    bool first_hits = false;
+    for (int a = 1; a < argc; ++a) {
+        if (std::strcmp(argv[a], "--first-hits") == 0) first_hits = true;
+    }
+    std::vector<long> first(bits, -1);
     char line[4096];
     std::string out;
     unsigned long tick = 0;
@@ -49,6 +59,20 @@ int main(int argc, char **argv) {
         top->bus_addr = addr & 0xff;
         top->bus_wdata = data & 0xffff;
         top->eval();
+        if (first_hits) {
+            for (int w = 0; w < words; ++w) {
+                if (!top->hits[w]) continue;
+                for (int b = 0; b < 32 && w * 32 + b < bits; ++b) {
+                    if (((top->hits[w] >> b) & 1) && first[w * 32 + b] < 0) first[w * 32 + b] = static_cast<long>(tick);
+                }
+            }
+            top->clk = 1;
+            top->eval();
+            top->clk = 0;
+            top->eval();
+            ++tick;
+            continue;
+        }
         out.clear();
         for (int d = (bits + 3) / 4 - 1; d >= 0; --d) {
             const int w = (d * 4) / 32;
@@ -64,5 +88,10 @@ int main(int argc, char **argv) {
         ++tick;
     }
     top->final();
+    if (first_hits) {
+        for (int b = 0; b < bits; ++b) {
+            if (first[b] >= 0) std::printf("%d %ld\n", b, first[b]);
+        }
+    }
     return 0;
 }
