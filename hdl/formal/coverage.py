@@ -442,6 +442,7 @@ def main(argv=None):
                     help="leave out the witness scenarios' replay (hdl/formal/deep)")
     ap.add_argument("--out", default=os.path.join(HDL, "build", "formal", "coverage"))
     a = ap.parse_args(argv)
+    a.out = os.path.abspath(a.out)  # the tools run in folders of their own
     t0 = time.time()
     try:
         for tool, where in (("yosys", "Debian package yosys"), ("yosys-smtbmc", "Debian package yosys"),

@@ -84,9 +84,13 @@ def pmu50_bin():
 
 def test_a_bin_beyond_the_cover_depth_is_witnessed_by_its_scenario(tmp_path):
     # a 4-bit counter wraps after 8 counts: far beyond 4 steps; the witness scenario's replay
-    # through the twin with the monitor hits it, at its first tick
-    rc, out, d = run(tmp_path, "--bins", "cross.wrap_x_cnt_w.cnt_s_up*3_7", "--cover-depth", "4",
-                     "--pmu50", pmu50_bin(), "--deep-scenarios", "wrap_w4_clock5us")
+    # through the twin with the monitor hits it, at its first tick. The output folder is given
+    # relative to the working folder, as the make target does.
+    p = subprocess.run(RUN + ["--sets", "small", "--out", "rel/out", "--bins",
+                              "cross.wrap_x_cnt_w.cnt_s_up*3_7", "--cover-depth", "4", "--pmu50",
+                              pmu50_bin(), "--deep-scenarios", "wrap_w4_clock5us"],
+                       capture_output=True, text=True, timeout=1200, cwd=tmp_path)
+    rc, out, d = p.returncode, p.stdout + p.stderr, tmp_path / "rel" / "out"
     doc = json.load(open(d / "coverage.json"))
     b = {b["name"]: b for b in doc["bins"]}["cross.wrap_x_cnt_w.cnt_s_up*3_7"]
     assert b["status"] == "witnessed" and b["by"] == "simulation", out
