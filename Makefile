@@ -194,7 +194,7 @@ formal-test: deps $(VENV)/.formal $(BIN)
 COVERAGE_OUT := hdl/build/formal/coverage
 coverage-proofs: deps $(VENV)/.formal $(BIN)
 	$(BIN) hdl coverage-monitor --check
-	rm -rf $(COVERAGE_OUT)/witness
+	rm -rf $(COVERAGE_OUT)/witness $(COVERAGE_OUT)/coverage.json
 	nice $(VPY) hdl/formal/coverage.py --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
 	  COVERAGE_WITNESS_DIR=$(abspath $(COVERAGE_OUT))/witness $(CARGO) test --release -q -p pmu50-coverage --test witness || exit 1; \
 	  exit $$rc
@@ -220,7 +220,7 @@ signoff: deps $(BIN) $(VENV)/.formal formal-tools
 	done
 	$(BIN) merge --out $(SIGNOFF_DIR) $(SIGNOFF_PARTS)/run $(SIGNOFF_PARTS)/witness/*.json; [ $$? -le 1 ]
 	-$(MAKE) coverage-proofs COVERAGE_HITS=$(SIGNOFF_DIR)/coverage.json
-	cp $(COVERAGE_OUT)/coverage.json $(SIGNOFF_DIR)/coverage-proofs.json
+	-cp $(COVERAGE_OUT)/coverage.json $(SIGNOFF_DIR)/coverage-proofs.json
 	-$(FORMAL) --json $(SIGNOFF_DIR)/formal.json
 	$(BIN) signoff $(SIGNOFF_DIR) $(if $(THRESHOLDS),--thresholds $(THRESHOLDS))
 

@@ -160,6 +160,36 @@ fn every_figure_at_its_threshold_passes_and_one_short_fails_naming_it() {
     );
     let o = pmu50(&["signoff", s(&dir)]);
     expect(&o, 2, &["formal.json: line 2"]);
+
+    // proofs left from another coverage model (before bins were split): refused, not counted
+    complete(&dir);
+    let cur = std::fs::read_to_string(dir.join("coverage-proofs.json")).unwrap();
+    write(
+        &dir.join("coverage-proofs.json"),
+        &cur.replacen(
+            "{",
+            r#"{"model_id": "pmu50-coverage/471/0123456789abcdef","#,
+            1,
+        ),
+    );
+    let o = pmu50(&["signoff", s(&dir)]);
+    expect(
+        &o,
+        2,
+        &[
+            "coverage-proofs.json",
+            "another coverage model",
+            "make coverage-proofs",
+        ],
+    );
+    // and this model's id is accepted
+    let id = pmu50_coverage::model_id(pmu50_coverage::layout());
+    write(
+        &dir.join("coverage-proofs.json"),
+        &cur.replacen("{", &format!(r#"{{"model_id": "{id}","#), 1),
+    );
+    let o = pmu50(&["signoff", s(&dir), "--thresholds", s(&th)]);
+    expect(&o, 0, &["signoff: every threshold met"]);
 }
 
 #[test]

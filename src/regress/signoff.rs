@@ -305,13 +305,34 @@ impl ProofBin {
 /// `coverage-proofs.json` (`make coverage-proofs`' coverage.json): each bin's reachability.
 #[derive(Clone, Debug, Deserialize)]
 pub struct Proofs {
+    /// The coverage model the proofs are of (`pmu50-coverage/<bins>/<hash>`); hdl/formal/
+    /// coverage.py always writes it.
+    #[serde(default)]
+    pub model_id: Option<String>,
     pub bins: Vec<ProofBin>,
 }
 
 impl Proofs {
     pub const FILE: &'static str = "coverage-proofs.json";
+    /// The folder's proofs; an error when they are of another coverage model than this
+    /// pmu50's (proofs left from before the model changed would decide the wrong bins).
     pub fn read(dir: &Path) -> Result<Option<Proofs>, RegressError> {
-        read_json(&dir.join(Proofs::FILE))
+        let path = dir.join(Proofs::FILE);
+        let p: Option<Proofs> = read_json(&path)?;
+        if let Some(id) = p.as_ref().and_then(|p| p.model_id.as_deref()) {
+            let ours = pmu50_coverage::model_id(pmu50_coverage::layout());
+            if id != ours {
+                return Err(RegressError::File {
+                    path,
+                    reason: format!(
+                        "model_id {id:?}: the proofs are of another coverage model than this \
+                         pmu50's ({ours:?}); run `make coverage-proofs` again with this \
+                         pmu50's monitor (pmu50 hdl coverage-monitor)"
+                    ),
+                });
+            }
+        }
+        Ok(p)
     }
 }
 
