@@ -233,6 +233,10 @@ fn a_bad_waivers_file_is_refused_with_its_file_line_and_field() {
             "\n[[waiver]]\nfile = \"rtl/timing_generator_56.v\"\nline = 3\n",
             ":2: field `reason`: missing",
         ),
+        (
+            "[[waiver]]\nfile = \"rtl/timing_generator_56.v\"\nline = 3\nreason = \"a reason long enough\"\nholds = \" \"\n",
+            ":5: field `holds`: empty",
+        ),
     ];
     for (i, (text, want)) in cases.iter().enumerate() {
         let w = t.join(format!("bad{i}.toml"));
@@ -302,5 +306,11 @@ fn the_twins_waivers_are_valid_and_give_each_its_reason() {
     .unwrap();
     for x in &w.list {
         assert!(x.reason.len() >= 10, "waiver at line {} says why", x.at);
+        // and states the claim behind it, which make coverage-proofs proves
+        assert!(
+            x.holds.as_deref().is_some_and(|h| !h.is_empty()),
+            "waiver at line {} states its claim (holds)",
+            x.at
+        );
     }
 }

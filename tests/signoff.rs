@@ -190,6 +190,43 @@ fn every_figure_at_its_threshold_passes_and_one_short_fails_naming_it() {
     );
     let o = pmu50(&["signoff", s(&dir), "--thresholds", s(&th)]);
     expect(&o, 0, &["signoff: every threshold met"]);
+
+    // a waiver whose claim the proofs refute misses the toggle row; proven, it is met and counted
+    write(
+        &dir.join("code/summary.json"),
+        r#"{"line": {"hit": 84, "total": 84}, "toggle": {"hit": 10, "total": 10},
+  "waivers": [{"file": "rtl/a.v", "what": "signal x[3]", "reason": "constant", "at": 2, "points": 2, "covered": 0}]}"#,
+    );
+    for (status, code, want) in [
+        (
+            "refuted",
+            1,
+            "claims not proven: rtl/a.v signal x[3]: `x[3] == 1'b0` refuted",
+        ),
+        (
+            "proven",
+            0,
+            "after 1 waivers (code/waivers.toml), 1 of their 1 claims proven",
+        ),
+    ] {
+        write(
+            &dir.join("coverage-proofs.json"),
+            &cur.replacen(
+                "{",
+                &format!(
+                    r#"{{"model_id": "{id}", "waivers": [{{"file": "rtl/a.v", "what": "signal x[3]", "holds": "x[3] == 1'b0", "status": "{status}"}}],"#
+                ),
+                1,
+            ),
+        );
+        let o = pmu50(&["signoff", s(&dir), "--thresholds", s(&th)]);
+        let out = expect(&o, code, &[want]);
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("code toggle coverage"))
+            .unwrap();
+        assert_eq!(line.contains("MISSED"), code == 1, "{line}");
+    }
 }
 
 #[test]

@@ -5,7 +5,8 @@
                            [--induction-depth K] [--cover-depth N] [--jobs 2]
                            [--bins SUBSTR,..] [--no-covers] [--all-witnesses]
                            [--hits coverage.json] [--pmu50 BIN]
-                           [--deep-scenarios NAME,..] [--no-deep] [--out DIR]
+                           [--deep-scenarios NAME,..] [--no-deep]
+                           [--waivers FILE | --no-waivers] [--out DIR]
 
 The coverage monitor hdl/formal/pmu50_cov.sv (generated from the model by `pmu50 hdl
 coverage-monitor`: one `hit_<bin>` per bin, the table hdl/formal/pmu50_cov.json) is bound to the
@@ -23,11 +24,14 @@ the structural classes no kit set has), the formal top resets the twin in cycle 
   (`COVERAGE_WITNESS_DIR=OUT/witness cargo test -p pmu50-coverage --test witness` fails,
   naming the bin). One failing only the inductive step is left undecided, and the others are
   proven again without it;
+- for each code-coverage waiver of --waivers (hdl/coverage-waivers.toml) that states its claim
+  (`holds`, a Verilog expression over the waived file's module), a clocked assertion at the end
+  of a copy of that file, proven with the lemmas on every set: a waiver whose claim is refuted
+  or not proven fails the run;
 - for every other bin, `cover (hit_<bin>)`: yosys-smtbmc's cover mode searches traces to
   --cover-depth steps on the first set, then the covers not reached on the next set. The
   port-level bins' witnesses (and with --all-witnesses every cover's) are written as vector
-  files too.
-
+  files too;
 - for the covers still open, the witness scenarios hdl/formal/deep/*.toml (a bin beyond any
   bounded search: a 16-bit counter wraps after 32768 counts, CNTr saturates after 255 quiet
   pulses, a clock class is a run's clock period): each one's vectors (`pmu50 vectors`, the
@@ -41,9 +45,10 @@ each bin also says whether the regression hit it.
 
 Output: OUT/coverage.json: per bin its status (proven_unreachable with the property and the
 sets; witnessed with the set and the step; wrong_declaration with the witness file; undecided
-with what was tried) and the totals; one line per lemma and per declared-unreachable bin and a
-summary on stdout. Exit 0: every declared-unreachable bin proven on every set and no bin
-undecided; 1: a wrong declaration or an undecided bin; 2: setup or tool failure.
+with what was tried), the totals and `waivers` (each claim's verdict per set); one line per
+lemma, per claim and per declared-unreachable bin and a summary on stdout. Exit 0: every declared-unreachable bin proven on every set and no bin
+undecided and every waiver's claim proven; 1: a wrong declaration, an undecided bin or a claim
+not proven; 2: setup or tool failure.
 """
 import argparse
 import concurrent.futures as cf
@@ -71,6 +76,8 @@ TOP = "pmu50_cov_formal"
 DEEP = os.path.join(HERE, "deep")
 COV_TOP = os.path.join(HERE, "pmu50_cov_top.sv")
 COV_MAIN = os.path.join(HDL, "tb", "coverage", "cov_main.cpp")
+# the code-coverage waivers; a waiver's `holds` is its claim, proven here with the lemmas
+WAIVERS = os.path.join(HDL, "coverage-waivers.toml")
 # Parameter sets of the kit, and one with the structural classes no kit set has (CNT_W in
 # 8..15, SYNC_DEPTH 4), short like `small`.
 SETS = dict(kit.SETS)
@@ -112,6 +119,57 @@ def load_table(path=TABLE):
         raise kit.SetupError("cannot read the monitor's table %s: %s (pmu50 hdl coverage-monitor "
                              "writes it)" % (path, e))
     return t
+
+
+def load_claims(path, files):
+    """The waivers of `path` that state a claim (`holds`): [{label, file, what, holds, src}],
+    src the RTL file of the file list it is in."""
+    import tomllib
+    try:
+        with open(path, "rb") as f:
+            doc = tomllib.load(f)
+    except (OSError, ValueError) as e:
+        raise kit.SetupError("cannot read the waivers %s: %s" % (path, e))
+    out = []
+    for k, w in enumerate(doc.get("waiver", [])):
+        if not isinstance(w, dict) or not str(w.get("holds", "")).strip():
+            continue
+        name = str(w.get("file", ""))
+        src = [f for f in files if f == name or f.endswith("/" + name)]
+        if len(src) != 1:
+            raise kit.SetupError("%s: waiver %d: file %r names %d files of the RTL (one is valid)"
+                                 % (path, k + 1, name, len(src)))
+        what = ("signal " + w["signal"]) if "signal" in w else ("line %s" % w.get("line"))
+        out.append(dict(label="waiver_%d" % (k + 1), file=name, what=what,
+                        holds=str(w["holds"]).strip(), src=src[0]))
+    return out
+
+
+def with_claims(files, claims, d):
+    """The file list with a copy (in d) of each file that has claims, each claim a clocked
+    assertion at its end, out of reset. The copies keep the originals' names."""
+    by = {}
+    for c in claims:
+        by.setdefault(c["src"], []).append(c)
+    out = []
+    for f in files:
+        if f not in by:
+            out.append(f)
+            continue
+        text = open(f).read()
+        end = text.rfind("endmodule")
+        if end < 0:
+            raise kit.SetupError("%s has no endmodule to put the waivers' claims before" % f)
+        add = ["    // the claims of hdl/coverage-waivers.toml (hdl/formal/coverage.py)",
+               "    always @(posedge clk) if (rst_n) begin"]
+        add += ["        %s: assert (%s);" % (c["label"], c["holds"]) for c in by[f]]
+        add += ["    end", ""]
+        sub = os.path.join(d, "claims", "%d" % len(out))
+        os.makedirs(sub, exist_ok=True)
+        g = os.path.join(sub, os.path.basename(f))
+        kit.write_atomic(g, text[:end] + "\n".join(add) + text[end:])
+        out.append(g)
+    return out
 
 
 def formal_top(table, checks, assume_lemmas=False, lemmas=None):
@@ -226,14 +284,21 @@ def vcd_to_vec(vcd, setname, binname, steps, out):
     return f
 
 
-def induct(setname, table, labels, files, incs, defs, a, by_label):
-    """Prove the lemmas and the assertions `labels` (u_<bin index>) on one set by k-induction
-    (yosys-smtbmc, yices): a bounded base case and the inductive step, every assertion assumed
-    in the k steps before. An assertion failing the base case is refuted (its trace is the
-    witness); one failing only the inductive step is set aside and the rest tried again.
-    Returns {label: (verdict, how, witness vcd or None, step)}."""
+def failed_labels(log):
+    """The labels of the assertions a yosys-smtbmc log reports failed (a claim inside the RTL
+    is reported by its path, dut.<instance>.waiver_N: its last part)."""
+    return [x.rsplit(".", 1)[-1] for x in re.findall(r"Assert failed in %s: (\S+)" % TOP, log)]
+
+
+def induct(setname, table, labels, files, incs, defs, a, by_label, claims=()):
+    """Prove the lemmas, the waivers' claims and the assertions `labels` (u_<bin index>) on one
+    set by k-induction (yosys-smtbmc, yices): a bounded base case and the inductive step, every
+    assertion assumed in the k steps before. An assertion failing the base case is refuted (its
+    trace is the witness); one failing only the inductive step is set aside and the rest tried
+    again. Returns {label: (verdict, how, witness vcd or None, step)}."""
     res = {}
-    todo = list(LEMMAS) + list(labels)
+    by_claim = {c["label"]: c for c in claims}
+    todo = list(LEMMAS) + list(by_claim) + list(labels)
     k = a.induction_depth
     rnd = 0
     while todo:
@@ -241,9 +306,10 @@ def induct(setname, table, labels, files, incs, defs, a, by_label):
         d = os.path.join(a.out, setname, "induction-%d" % rnd)
         shutil.rmtree(d, ignore_errors=True)
         checks = [(l, "assert", by_label[l]) for l in todo if l in by_label]
-        smt_model(d, setname, table, checks, files, incs, defs, lemmas=[l for l in todo if l in LEMMAS])
+        rfiles = with_claims(files, [by_claim[l] for l in todo if l in by_claim], d)
+        smt_model(d, setname, table, checks, rfiles, incs, defs, lemmas=[l for l in todo if l in LEMMAS])
         rc, log = smtbmc(d, ["-t", str(k), "--dump-vcd", "base.vcd"], "base.log", a.timeout)
-        failed = re.findall(r"Assert failed in %s: (\w+)" % TOP, log)
+        failed = failed_labels(log)
         if failed:
             step = re.findall(r"Checking assertions in step (\d+)", log)
             for l in failed:
@@ -261,7 +327,7 @@ def induct(setname, table, labels, files, incs, defs, a, by_label):
                 res[l] = ("proven", "%d-induction (yosys-smtbmc, yices) with %s" % (
                     k, ", ".join(x for x in todo if x in LEMMAS) or "no lemma"), None, None)
             break
-        failed = re.findall(r"Assert failed in %s: (\w+)" % TOP, log)
+        failed = failed_labels(log)
         if not failed:
             for l in todo:
                 res[l] = ("unknown", "inductive step: yosys-smtbmc rc %s (%s/step.log)" % (rc, d), None, None)
@@ -279,7 +345,7 @@ def induct(setname, table, labels, files, incs, defs, a, by_label):
         smt_model(d, setname, table, [(l, "assert", by_label[l]) for l in todo], files, incs, defs,
                   lemmas=[])
         rc, log = smtbmc(d, ["-t", str(a.cover_depth), "--dump-vcd", "bmc.vcd"], "bmc.log", a.timeout)
-        failed = re.findall(r"Assert failed in %s: (\w+)" % TOP, log)
+        failed = failed_labels(log)
         if not failed:
             for l in todo:
                 res[l] = ("unknown", res[l][1] + "; no failure within %d steps" % a.cover_depth, None, None)
@@ -436,6 +502,10 @@ def main(argv=None):
     ap.add_argument("--pmu50", default=os.environ.get("PMU50", ""),
                     help="the pmu50 command that writes the witness scenarios' vectors "
                     "(default: $PMU50, or pmu50 on PATH)")
+    ap.add_argument("--waivers", default=WAIVERS,
+                    help="code-coverage waivers whose claims (`holds`) are proven with the lemmas "
+                    "(default hdl/coverage-waivers.toml)")
+    ap.add_argument("--no-waivers", action="store_true", help="leave out the waivers' claims")
     ap.add_argument("--deep-scenarios", default="",
                     help="only these witness scenarios of hdl/formal/deep (names, comma-separated)")
     ap.add_argument("--no-deep", action="store_true",
@@ -473,18 +543,37 @@ def main(argv=None):
         by_label = {"u_%d" % b["index"]: b["index"] for b in unreach}
         by_label.update({"c_%d" % b["index"]: b["index"] for b in reach})
         status = {}
-        # 1. proofs: the lemmas and every declared-unreachable bin, on every set (in parallel)
+        claims = [] if a.no_waivers else load_claims(a.waivers, files)
+        # 1. proofs: the lemmas, the waivers' claims and every declared-unreachable bin, on
+        # every set (in parallel)
         proofs = {}
-        if unreach:
+        if unreach or claims:
             with cf.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
                 futs = {ex.submit(induct, s, table, ["u_%d" % b["index"] for b in unreach], files,
-                                  incs, defs, a, by_label): s for s in sets}
+                                  incs, defs, a, by_label, claims): s for s in sets}
                 for f in cf.as_completed(futs):
                     proofs[futs[f]] = f.result()
             for s in sets:
                 for n in LEMMAS:
                     v = proofs[s][n]
                     print("%-58s %-8s %s (%s)" % (n, s, v[0], v[1]), flush=True)
+        # the waivers' claims: proven on every set, or the waiver's reason is not shown to hold
+        claim_status = []
+        for c in claims:
+            per = {s: proofs[s][c["label"]] for s in sets}
+            proven = all(per[s][0] == "proven" for s in sets)
+            refuted = [s for s in sets if per[s][0] == "refuted"]
+            st = dict(file=c["file"], what=c["what"], holds=c["holds"],
+                      status="proven" if proven else "refuted" if refuted else "undecided",
+                      proofs={s: {"verdict": per[s][0], "how": per[s][1]} for s in sets})
+            if refuted:
+                st["step"] = per[refuted[0]][3]
+            claim_status.append(st)
+            print("waiver %-51s %-18s %s" % ("%s %s: %s" % (c["file"], c["what"], c["holds"]),
+                                              "claim " + st["status"],
+                                              ", ".join("%s %s" % (s, per[s][0]) for s in sets)),
+                  flush=True)
+        bad_claims = [c for c in claim_status if c["status"] != "proven"]
         wrong = []
         for b in unreach:
             label = "u_%d" % b["index"]
@@ -555,6 +644,7 @@ def main(argv=None):
         undecided_not_hit = sorted(n for n, st in status.items() if st["status"] == "undecided" and not st["hit"])
         doc = {"model_id": table["model_id"], "sets": {s: SETS[s] for s in sets},
                "cover_depth": a.cover_depth, "timeout": a.timeout, "counts": counts,
+               "waivers": claim_status,
                "seconds": round(time.time() - t0, 1),
                "bins": [dict(name=b["name"], index=b["index"], **status[b["name"]]) for b in bins]}
         os.makedirs(a.out, exist_ok=True)
@@ -563,9 +653,14 @@ def main(argv=None):
               % (len(bins), ", ".join("%s %d" % kv for kv in sorted(counts.items())), len(wrong),
                  (" (" + ", ".join(wrong) + ")") if wrong else "", time.time() - t0, ",".join(sets),
                  a.jobs, os.path.relpath(os.path.join(a.out, "coverage.json"), ROOT)), flush=True)
+        if claims:
+            print("coverage-proofs: %d of %d waivers' claims proven on every set%s" % (
+                len(claims) - len(bad_claims), len(claims),
+                "; not: " + ", ".join("%s %s (%s)" % (c["file"], c["what"], c["status"])
+                                      for c in bad_claims) if bad_claims else ""), flush=True)
         if hit:
             print("coverage-proofs: %d undecided bins not hit by the regression" % len(undecided_not_hit))
-        ok = not wrong and counts.get("undecided", 0) == 0
+        ok = not wrong and counts.get("undecided", 0) == 0 and not bad_claims
         return 0 if ok else 1
     except kit.SetupError as e:
         print("coverage-proofs: %s" % e, file=sys.stderr)

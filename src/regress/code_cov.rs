@@ -812,6 +812,11 @@ pub struct Waiver {
     pub file: String,
     pub target: Target,
     pub reason: String,
+    /// The claim behind the reason as a Verilog expression over the file's module (`holds`):
+    /// an invariant of every reachable state after reset, which `make coverage-proofs` proves
+    /// on the twin (hdl/formal/coverage.py). `$past(x)` names the value one edge before.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub holds: Option<String>,
     /// Its line in the waivers file.
     pub at: usize,
 }
@@ -886,6 +891,7 @@ struct RawWaiver {
     line: Option<toml::Spanned<toml::Value>>,
     signal: Option<toml::Spanned<String>>,
     reason: Option<toml::Spanned<String>>,
+    holds: Option<toml::Spanned<String>>,
 }
 
 /// The line (from 1) of byte `at` of `text`.
@@ -1106,10 +1112,22 @@ impl Waivers {
                     }
                 }
             }
+            let holds = match w.holds {
+                Some(h) if h.get_ref().trim().is_empty() => {
+                    return Err(field_err(
+                        line_at(text, h.span().start),
+                        "holds",
+                        "empty: give the claim as a Verilog expression over the file's module (\"t[17:16] == 2'b00\"), or leave the field out".into(),
+                    ))
+                }
+                Some(h) => Some(h.into_inner().trim().to_string()),
+                None => None,
+            };
             list.push(Waiver {
                 file,
                 target,
                 reason: reason.trim().to_string(),
+                holds,
                 at,
             });
         }
@@ -1219,7 +1237,13 @@ impl CodeReport {
             .map(|w| WaiverUse {
                 file: w.file.clone(),
                 what: w.what(),
-                reason: w.reason.clone(),
+                reason: match &w.holds {
+                    Some(h) => format!(
+                        "{} (the claim `{h}` is proven by make coverage-proofs)",
+                        w.reason
+                    ),
+                    None => w.reason.clone(),
+                },
                 at: w.at,
                 points: 0,
                 covered: 0,

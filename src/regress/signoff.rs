@@ -310,6 +310,20 @@ pub struct Proofs {
     #[serde(default)]
     pub model_id: Option<String>,
     pub bins: Vec<ProofBin>,
+    /// The code-coverage waivers' claims (`holds`) and their verdicts.
+    #[serde(default)]
+    pub waivers: Vec<ProofWaiver>,
+}
+
+/// A waiver's claim as the coverage proofs decided it: `proven` on every set, `refuted` or
+/// `undecided`.
+#[derive(Clone, Debug, Deserialize)]
+pub struct ProofWaiver {
+    pub file: String,
+    /// `signal t[17:16]` or `line 40`, as the waiver's `what`.
+    pub what: String,
+    pub holds: String,
+    pub status: String,
 }
 
 impl Proofs {
@@ -473,17 +487,49 @@ impl Criterion for Code {
             ));
         };
         let fig = if self.toggle { &c.toggle } else { &c.line };
+        // the waivers of this row's kind whose claims the coverage proofs decided
+        let kind = if self.toggle { "signal " } else { "line" };
+        let proofs = Proofs::read(f.dir)?.map(|p| p.waivers).unwrap_or_default();
+        let (mut claimed, mut unproven) = (0, Vec::new());
+        for w in &c.waivers {
+            let (file, what) = (
+                w.get("file").and_then(|x| x.as_str()).unwrap_or(""),
+                w.get("what").and_then(|x| x.as_str()).unwrap_or(""),
+            );
+            if !what.starts_with(kind) {
+                continue;
+            }
+            if let Some(p) = proofs.iter().find(|p| p.file == file && p.what == what) {
+                claimed += 1;
+                if p.status != "proven" {
+                    unproven.push(format!("{file} {what}: `{}` {}", p.holds, p.status));
+                }
+            }
+        }
         let mut r = share_row(
             name,
             fig.hit,
             fig.total,
             min,
             format!(
-                "{}: after {} waivers (code/waivers.toml)",
+                "{}: after {} waivers (code/waivers.toml){}",
                 CodeSummary::FILE,
-                c.waivers.len()
+                c.waivers.len(),
+                if claimed > 0 {
+                    format!(
+                        ", {} of their {claimed} claims proven",
+                        claimed - unproven.len()
+                    )
+                } else {
+                    String::new()
+                }
             ),
         );
+        if !unproven.is_empty() {
+            // a waiver whose claim does not hold excludes points it should not
+            r.met = false;
+            r.detail += &format!("; claims not proven: {}", unproven.join(", "));
+        }
         if c.seeds_unaccounted > 0 {
             r.met = false;
             r.detail += &format!(

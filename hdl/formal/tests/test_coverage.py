@@ -116,3 +116,24 @@ def test_an_unknown_witness_scenario_is_a_setup_error(tmp_path):
                      "--pmu50", pmu50_bin(), "--deep-scenarios", "nope")
     assert rc == 2, out
     assert "no witness scenario nope" in out and "wrap_w16" in out, out
+
+
+def test_the_twins_waiver_claims_are_proven(tmp_path):
+    # every waiver of hdl/coverage-waivers.toml states its claim, proven with the lemmas
+    rc, out, d = run(tmp_path, "--no-covers", "--bins", "history.both")
+    doc = json.load(open(d / "coverage.json"))
+    assert len(doc["waivers"]) == 14 and all(w["status"] == "proven" for w in doc["waivers"]), out
+    assert "14 of 14 waivers' claims proven on every set" in out
+    assert rc == 0, out
+
+
+def test_a_false_waiver_claim_fails_the_run(tmp_path):
+    # a waiver whose reason does not hold (t's top bits are zero, not 01) is refuted
+    w = tmp_path / "w.toml"
+    w.write_text('[[waiver]]\nfile = "rtl/timing_generator_56.v"\nsignal = "t[17:16]"\n'
+                 'reason = "a claim that is false"\nholds = "t[17:16] == 2\'b01"\n')
+    rc, out, d = run(tmp_path, "--no-covers", "--bins", "history.both", "--waivers", str(w))
+    doc = json.load(open(d / "coverage.json"))
+    assert doc["waivers"][0]["status"] == "refuted", out
+    assert "0 of 1 waivers' claims proven" in out and "t[17:16] (refuted)" in out, out
+    assert rc == 1, out
