@@ -183,7 +183,8 @@ formal-test: deps $(VENV)/.formal $(BIN)
 
 ## Coverage proofs (hdl/formal/coverage.py): the coverage monitor generated from the model
 ## (hdl/formal/pmu50_cov.sv, `pmu50 hdl coverage-monitor`) bound to the twin; every bin declared
-## unreachable proven unbounded (k-induction with the kit's lemmas) on the parameter sets small,
+## unreachable proven unbounded (k-induction with the kit's lemmas, and with the claims of
+## hdl/coverage-waivers.toml, which are proven too) on the parameter sets small,
 ## w8d4, sync1 and default, every other bin covered by a formal witness (small first) or, beyond
 ## the bounded search, hit by a witness scenario of hdl/formal/deep replayed through the twin
 ## with the monitor; the formal witnesses replayed on the model (a witness of a bin declared
