@@ -245,9 +245,19 @@ def smt_model(d, setname, table, checks, files, incs, defs, lemmas):
     lines = design_script(setname, table, files, incs, defs) + ["dffunmap", "write_smt2 -wires model.smt2"]
     kit.write_atomic(os.path.join(d, "smt2.ys"), "\n".join(lines) + "\n")
     if kit.run(["yosys", "-q", "smt2.ys"], d, "smt2.log") != 0:
-        raise kit.SetupError("yosys could not read the monitor over the RTL for set %s: see %s "
+        log = os.path.join(d, "smt2.log")
+        lines = open(log, errors="replace").read().splitlines()
+        err = next((l.strip() for l in lines if l.startswith("ERROR")), "")
+        claim = next((l.strip() for l in lines if "/claims/" in l), "")
+        if claim:
+            err = claim if "/claims/" not in err else err
+            # the copy of an RTL file with the waivers' claims at its end
+            raise kit.SetupError("a waiver's claim (holds) does not elaborate: %s (the claims are "
+                                 "the assertions waiver_N at the end of the copy; N counts the "
+                                 "waivers of the waivers file from 1); see %s" % (err, log))
+        raise kit.SetupError("yosys could not read the monitor over the RTL for set %s: %s; see %s "
                              "(a net of the monitor's table missing from the RTL?)"
-                             % (setname, os.path.join(d, "smt2.log")))
+                             % (setname, err or "no ERROR line", log))
     text = open(os.path.join(d, "model.smt2")).read()
     present = set(re.findall(r"^; yosys-smt2-(?:cover|assert) \d+ (\S+)$", text, re.M))
     lost = [c[0] for c in checks if c[0] not in present]

@@ -137,3 +137,12 @@ def test_a_false_waiver_claim_fails_the_run(tmp_path):
     assert doc["waivers"][0]["status"] == "refuted", out
     assert "0 of 1 waivers' claims proven" in out and "t[17:16] (refuted)" in out, out
     assert rc == 1, out
+
+
+def test_a_claim_that_does_not_elaborate_is_a_setup_error(tmp_path):
+    w = tmp_path / "w.toml"
+    w.write_text('[[waiver]]\nfile = "rtl/timing_generator_56.v"\nsignal = "t[17:16]"\n'
+                 'reason = "a claim naming no net"\nholds = "no_such_net == 1\'b0"\n')
+    rc, out, _ = run(tmp_path, "--no-covers", "--bins", "history.both", "--waivers", str(w))
+    assert rc == 2, out
+    assert "a waiver's claim (holds) does not elaborate" in out and "no_such_net" in out, out
