@@ -55,8 +55,10 @@ test: deps
 	$(MAKE) cosim COSIM_RANDOM=$(TEST_COSIM_RANDOM)
 	$(MAKE) regress-smoke test-slurm
 	$(MAKE) gls GLS_SEEDS=$(TEST_GLS_SEEDS)
-	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=$(TEST_COCOTB_MAX_TICKS)
-	$(MAKE) uvm UVM_MAX_TICKS=$(TEST_UVM_MAX_TICKS) UVM_SCENARIOS=$(TEST_UVM_SCENARIOS) UVM_SEEDS=$(TEST_UVM_SEEDS) UVM_MUTANTS=cocotb
+	@# the three Python suites are single-threaded simulations: two at a time, each one's output
+	@# printed whole when it ends (-Otarget); the wheel and pyuvm are installed once, first
+	$(MAKE) -j2 -Otarget pytest cocotb uvm COCOTB_MAX_TICKS=$(TEST_COCOTB_MAX_TICKS) \
+	  UVM_MAX_TICKS=$(TEST_UVM_MAX_TICKS) UVM_SCENARIOS=$(TEST_UVM_SCENARIOS) UVM_SEEDS=$(TEST_UVM_SEEDS) UVM_MUTANTS=cocotb
 	$(MAKE) formal-quick
 
 TEST_COSIM_RANDOM     ?= 40
@@ -295,7 +297,7 @@ UVM_MUTANTS       ?= all
 TEST_UVM_MAX_TICKS ?= 3000
 TEST_UVM_SCENARIOS ?= fig15a,fig16
 TEST_UVM_SEEDS     ?= 2
-$(VENV)/.uvm: hdl/uvm/requirements.txt $(VENV)/.ready
+$(VENV)/.uvm: hdl/uvm/requirements.txt $(VENV)/.ready | python
 	$(PIP) install -q --no-deps -r hdl/uvm/requirements.txt
 	@touch $@
 uvm: deps python $(BIN) $(VENV)/.uvm
