@@ -127,12 +127,17 @@ def test_the_twins_waiver_claims_are_proven(tmp_path):
     assert rc == 0, out
 
 
-def test_a_false_waiver_claim_fails_the_run(tmp_path):
-    # a waiver whose reason does not hold (t's top bits are zero, not 01) is refuted
+def run_claim(tmp_path, holds):
+    """The history bins' proofs with one waiver of t[17:16] claiming `holds`."""
     w = tmp_path / "w.toml"
     w.write_text('[[waiver]]\nfile = "rtl/timing_generator_56.v"\nsignal = "t[17:16]"\n'
-                 'reason = "a claim that is false"\nholds = "t[17:16] == 2\'b01"\n')
-    rc, out, d = run(tmp_path, "--no-covers", "--bins", "history.both", "--waivers", str(w))
+                 'reason = "a claim under test"\nholds = "%s"\n' % holds)
+    return run(tmp_path, "--no-covers", "--bins", "history.both", "--waivers", str(w))
+
+
+def test_a_false_waiver_claim_fails_the_run(tmp_path):
+    # a waiver whose reason does not hold (t's top bits are zero, not 01) is refuted
+    rc, out, d = run_claim(tmp_path, "t[17:16] == 2'b01")
     doc = json.load(open(d / "coverage.json"))
     assert doc["waivers"][0]["status"] == "refuted", out
     assert "0 of 1 waivers' claims proven" in out and "t[17:16] (refuted)" in out, out
@@ -140,9 +145,6 @@ def test_a_false_waiver_claim_fails_the_run(tmp_path):
 
 
 def test_a_claim_that_does_not_elaborate_is_a_setup_error(tmp_path):
-    w = tmp_path / "w.toml"
-    w.write_text('[[waiver]]\nfile = "rtl/timing_generator_56.v"\nsignal = "t[17:16]"\n'
-                 'reason = "a claim naming no net"\nholds = "no_such_net == 1\'b0"\n')
-    rc, out, _ = run(tmp_path, "--no-covers", "--bins", "history.both", "--waivers", str(w))
+    rc, out, _ = run_claim(tmp_path, "no_such_net == 1'b0")
     assert rc == 2, out
     assert "a waiver's claim (holds) does not elaborate" in out and "no_such_net" in out, out
