@@ -86,11 +86,11 @@ impl Mpu {
         self.st.boot_at.is_none()
     }
 
-    /// Bus polling: while powered and the timeline does not drive the bus, read the next map
-    /// address.
+    /// Bus polling: while powered, read the next map address. The caller polls only in ticks
+    /// the timeline leaves the bus alone (no write, no read of its own).
     /// The round of polls repeats every [`POLL_CYCLE`] ticks.
     pub fn poll_bus(&self, k: u64, out: &Outputs, inputs: &mut Inputs) {
-        if out.sig && !inputs.bus_we {
+        if out.sig {
             inputs.bus_addr = MAP[(k % MAP.len() as u64) as usize].1;
         }
     }

@@ -666,10 +666,9 @@ impl Coverage {
                         }
                         ParamError::MinAboveMax { .. } => bin!(ILLEGAL, "min_above_max"),
                         ParamError::NoSettlingTick => bin!(ILLEGAL, "no_settling_tick"),
-                        ParamError::WindowTooLong { wt, .. } => {
-                            let shortest = rf::with_write(&b.register_file, a8, i.bus_wdata)
-                                .map(|c| c.params(sd, cw).shortest_interval());
-                            if shortest.map(u32::from) == Some(wt) {
+                        // the refusal names the interval it compared Wt with
+                        ParamError::WindowTooLong { wt, interval, .. } => {
+                            if u32::from(interval) == wt {
                                 bin!(ILLEGAL, "window_at_shortest")
                             } else {
                                 bin!(ILLEGAL, "window_too_long")
