@@ -66,21 +66,16 @@ int main(int argc, char **argv) {
                     if (((top->hits[w] >> b) & 1) && first[w * 32 + b] < 0) first[w * 32 + b] = static_cast<long>(tick);
                 }
             }
-            top->clk = 1;
-            top->eval();
-            top->clk = 0;
-            top->eval();
-            ++tick;
-            continue;
+        } else {
+            out.clear();
+            for (int d = (bits + 3) / 4 - 1; d >= 0; --d) {
+                const int w = (d * 4) / 32;
+                const unsigned nib = w < words ? (top->hits[w] >> ((d * 4) % 32)) & 0xf : 0;
+                out.push_back("0123456789abcdef"[nib]);
+            }
+            out.push_back('\n');
+            std::fputs(out.c_str(), stdout);
         }
-        out.clear();
-        for (int d = (bits + 3) / 4 - 1; d >= 0; --d) {
-            const int w = (d * 4) / 32;
-            const unsigned nib = w < words ? (top->hits[w] >> ((d * 4) % 32)) & 0xf : 0;
-            out.push_back("0123456789abcdef"[nib]);
-        }
-        out.push_back('\n');
-        std::fputs(out.c_str(), stdout);
         top->clk = 1;
         top->eval();
         top->clk = 0;
