@@ -775,7 +775,7 @@ impl Cx<'_> {
         let mut last_tick = 0u64;
         let mut ig = false;
         // (tick, line, what) of the last bus access (a write or a read): the bus takes one a tick.
-        let mut last_write: Option<(u64, usize, &str)> = None;
+        let mut last_access: Option<(u64, usize, &str)> = None;
         for (k, ev) in raw.events.iter().enumerate() {
             let field = format!("events[{k}]");
             let r = ev.get_ref();
@@ -821,14 +821,14 @@ impl Cx<'_> {
                     return Err(self.err(r.at.span(), &rf, "the key is off at this time: the MPU is not powered and cannot read ([0205]); turn ig on first"));
                 }
                 let line = self.line_col(a.span().start).0;
-                if let Some((t, l, what)) = last_write.filter(|(t, ..)| *t == tick) {
+                if let Some((t, l, what)) = last_access.filter(|(t, ..)| *t == tick) {
                     return Err(self.err(
                         a.span(),
                         &rf,
                         format!("a read at {} (the {what} of line {l} is at the same time); the bus takes one access per clock tick; move it at least one tick ({clock}) later", Dur(t * clock.0)),
                     ));
                 }
-                last_write = Some((tick, line, "read"));
+                last_access = Some((tick, line, "read"));
                 Action::Read { addr }
             } else {
                 let w_span = r.write.as_ref().map_or(r.at.span(), |w| w.span());
@@ -873,14 +873,14 @@ impl Cx<'_> {
                     return Err(self.err(r.at.span(), &format!("{field}.write"), "the key is off at this time: the MPU is not powered and cannot write ([0205]); turn ig on first"));
                 }
                 let line = self.line_col(w_span.start).0;
-                if let Some((t, l, what)) = last_write.filter(|(t, ..)| *t == tick) {
+                if let Some((t, l, what)) = last_access.filter(|(t, ..)| *t == tick) {
                     return Err(self.err(
                         w_span,
                         &format!("{field}.write"),
                         format!("a second {} at {} (the {what} of line {l} is at the same time); the bus takes one access per clock tick, so only the last would happen; move it at least one tick ({clock}) later", if what == "write" { "write" } else { "bus access" }, Dur(t * clock.0)),
                     ));
                 }
-                last_write = Some((tick, line, "write"));
+                last_access = Some((tick, line, "write"));
                 Action::Write {
                     addr,
                     name,
@@ -889,14 +889,13 @@ impl Cx<'_> {
             };
             // Messages point at the action's line (`write = ...`, `read = ...`), else at `at`.
             let line = self
-                .line_col(r.write.as_ref().map_or_else(
-                    || {
-                        r.read
-                            .as_ref()
-                            .map_or(r.at.span().start, |a| a.span().start)
-                    },
-                    |w| w.span().start,
-                ))
+                .line_col(
+                    r.write
+                        .as_ref()
+                        .map(|w| w.span().start)
+                        .or_else(|| r.read.as_ref().map(|a| a.span().start))
+                        .unwrap_or(r.at.span().start),
+                )
                 .0;
             events.push(Event { tick, action, line });
         }
