@@ -315,15 +315,26 @@ pub struct Proofs {
     pub waivers: Vec<ProofWaiver>,
 }
 
-/// A waiver's claim as the coverage proofs decided it: `proven` on every set, `refuted` or
-/// `undecided`.
+/// A waiver's claim as the coverage proofs decided it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ClaimStatus {
+    /// Proven on every parameter set.
+    Proven,
+    /// A trace from reset breaks it.
+    Refuted,
+    /// Neither.
+    Undecided,
+}
+
+/// A waiver's claim and its verdict (hdl/formal/coverage.py `waivers`).
 #[derive(Clone, Debug, Deserialize)]
 pub struct ProofWaiver {
     pub file: String,
     /// `signal t[17:16]` or `line 40`, as the waiver's `what`.
     pub what: String,
     pub holds: String,
-    pub status: String,
+    pub status: ClaimStatus,
 }
 
 impl Proofs {
@@ -501,8 +512,14 @@ impl Criterion for Code {
             }
             if let Some(p) = proofs.iter().find(|p| p.file == file && p.what == what) {
                 claimed += 1;
-                if p.status != "proven" {
-                    unproven.push(format!("{file} {what}: `{}` {}", p.holds, p.status));
+                match p.status {
+                    ClaimStatus::Proven => {}
+                    ClaimStatus::Refuted => {
+                        unproven.push(format!("{file} {what}: `{}` refuted", p.holds))
+                    }
+                    ClaimStatus::Undecided => {
+                        unproven.push(format!("{file} {what}: `{}` undecided", p.holds))
+                    }
                 }
             }
         }
