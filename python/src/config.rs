@@ -6,7 +6,7 @@
 //! through `Scenario.from_str`). The rules themselves are `CoreConfig::to_params` and
 //! `Params::validate` of the core; nothing here restates a limit.
 
-use crate::ConfigError;
+use crate::errors::ConfigError;
 use pmu50_core::{ConfigError as CoreConfigError, CoreConfig, Dur, Params};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;

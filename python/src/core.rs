@@ -6,7 +6,7 @@
 //! so a testbench may `peek()` before it decides this tick's inputs.
 
 use crate::config;
-use crate::guard;
+use crate::errors::guard;
 use crate::signals;
 use pmu50_core::pmu50::Structural;
 use pmu50_core::{CoreConfig, Inputs, Params, Pmu50};
@@ -228,7 +228,7 @@ pub fn signal_table(kind: Option<&str>, sync_depth: u8, cnt_width: u8) -> PyResu
         ..Params::default()
     };
     p.validate()
-        .map_err(|e| crate::ConfigError::new_err(e.to_string()))?;
+        .map_err(|e| crate::errors::ConfigError::new_err(e.to_string()))?;
     table(&p, kind)
 }
 
@@ -363,7 +363,8 @@ impl Core {
     fn new(params: Option<&Bound<'_, PyDict>>) -> PyResult<Core> {
         guard("Core()", || {
             let (cfg, p) = config::from_kwargs(params)?;
-            let m = Pmu50::new(p).map_err(|e| crate::ConfigError::new_err(e.to_string()))?;
+            let m =
+                Pmu50::new(p).map_err(|e| crate::errors::ConfigError::new_err(e.to_string()))?;
             Ok(Core {
                 model: m,
                 cfg,

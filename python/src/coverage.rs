@@ -9,7 +9,7 @@
 //! `pmu50_coverage::db::of_run(..).to_text()`, to a temporary file renamed into place.
 
 use crate::core::{Core, Outputs, Trace};
-use crate::guard;
+use crate::errors::guard;
 use pmu50_core::pmu50::Structural;
 use pmu50_core::Params;
 use pmu50_coverage::db::{self, CoverageFile, DbError};
@@ -127,7 +127,7 @@ impl Coverage {
             None => {
                 let (cfg, p) = crate::config::from_kwargs(config)?;
                 p.validate()
-                    .map_err(|e| crate::ConfigError::new_err(e.to_string()))?;
+                    .map_err(|e| crate::errors::ConfigError::new_err(e.to_string()))?;
                 Ok(Coverage::of(&p, cfg.clock.0))
             }
         })

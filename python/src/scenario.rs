@@ -1,7 +1,7 @@
 //! `pmu50.Scenario`: a scenario file (src/scenario.rs) run with its environment (src/sim.rs) to
 //! the summary `pmu50 run` prints, as Python objects.
 
-use crate::{guard, ScenarioError, SimulationError};
+use crate::errors::{guard, ScenarioError, SimulationError};
 use pmu50::output::{run_to_files, summary, FileOptions};
 use pmu50::scenario::{Action, Scenario as RsScenario, ScenarioError as RsScenarioError};
 use pmu50::sim::{self, KeyOffRow, KeyOnRow, PulseRow, RunResult as RsRunResult, SimOptions};

@@ -33,7 +33,7 @@ use crate::scenario::{Action, Event, Scenario};
 use front::AnalogFront;
 use mpu::Mpu;
 use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
-use pmu50_core::pmu50::FastForwardError;
+use pmu50_core::unit::FastForwardError;
 use pmu50_core::{Inputs, Internals, Outputs, ParamError, Pmu50, Regs};
 use pmu50_env::{
     DarkCurrentMeter, DarkCurrentReport, EnvError, KeyOnReadout, RailStates, RotationAngles,

@@ -3,10 +3,11 @@
 //! The same rules as the rest of the boundary (crate root): no panic crosses it, NULL pointers
 //! and strings that are not UTF-8 give an error code with the reason in `pmu50_last_error()`.
 
-use crate::{
-    guard, null, pmu50_inputs, pmu50_internals, pmu50_outputs, pmu50_params, pmu50_t, set_error,
-    PMU50_ERR_NAME, PMU50_ERR_PARAM, PMU50_ERR_RANGE, PMU50_OK,
+use crate::core_abi::{
+    guard, null, pmu50_params, pmu50_t, set_error, PMU50_ERR_NAME, PMU50_ERR_PARAM,
+    PMU50_ERR_RANGE, PMU50_OK,
 };
+use crate::mirror::{pmu50_inputs, pmu50_internals, pmu50_outputs};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::Inputs;
 use pmu50_coverage::db::{self, DbError};
@@ -93,7 +94,7 @@ pub unsafe extern "C" fn pmu50_coverage_new(
 ) -> *mut pmu50_coverage_t {
     // SAFETY: forwarded contract.
     unsafe {
-        crate::new_handle("pmu50_coverage_new", p, |params| {
+        crate::core_abi::new_handle("pmu50_coverage_new", p, |params| {
             params.validate().map_err(|e| e.to_string())?;
             let structural = Structural {
                 sync_depth: params.sync_depth,
@@ -115,7 +116,7 @@ pub unsafe extern "C" fn pmu50_coverage_new(
 #[no_mangle]
 pub unsafe extern "C" fn pmu50_coverage_free(c: *mut pmu50_coverage_t) {
     // SAFETY: forwarded contract.
-    unsafe { crate::free_handle(c) }
+    unsafe { crate::core_abi::free_handle(c) }
 }
 
 /// One rising edge of core `m` with inputs `i`, sampled into `c` (`pmu50_step` plus sampling).

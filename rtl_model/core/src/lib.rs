@@ -13,7 +13,7 @@
 //! small value built once with it (`ActionSwitching::new(sync_depth)`, ...), whose `outputs` and
 //! `eval` take `&self`; the parameters are never per-tick inputs. [`pmu50`] is the top level
 //! (the specification; [`reference::Pmu50Spec`] steps it) and [`kernel`] the fast path that
-//! [`Pmu50::step`] runs, proven equal to it by tests; [`signals`] is the table of every port,
+//! [`unit::Pmu50::step`] runs, proven equal to it by tests; [`signals`] is the table of every port,
 //! register and internal signal. See docs/spec.md for
 //! the specification and docs/glossary.md for the names.
 #![forbid(unsafe_code)]
@@ -32,12 +32,14 @@ pub mod rng;
 pub mod sensor_power_determination_57;
 pub mod signals;
 pub mod timing_generator_56;
+pub mod unit;
 pub mod updown_counter_58cd;
 
 pub use config::{ConfigError, CoreConfig, Dur};
 pub use params::{ParamError, Params};
-pub use pmu50::{Inputs, Internals, Outputs, Pmu50, Regs, TracedStep};
+pub use pmu50::{Inputs, Internals, Outputs, Regs, TracedStep};
 pub use reference::Pmu50Spec;
+pub use unit::{FastForwardError, Pmu50};
 
 /// The message of a caught panic (`catch_unwind`'s payload): the text of `panic!`, or `None`
 /// for a payload that is not a string. The C ABI and the Python module both turn a panic at

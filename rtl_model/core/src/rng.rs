@@ -3,7 +3,7 @@
 //! a seed means the same draws everywhere; and the random legal parameter sets of `pmu50 random`
 //! and the stress vectors. It drives the core from outside; no block uses it.
 
-use crate::Params;
+use crate::params::Params;
 
 /// SplitMix64 (Steele, Lea and Flood): tiny, deterministic, good enough to spread stimuli.
 /// The field is the state; [`SplitMix64::new`] mixes a seed into it.

@@ -1164,6 +1164,73 @@ pub fn check_generated(
     Err(format!("{file} differs from the signal table (rtl_model/core/src/signals.rs); regenerate with PMU50_REGENERATE=1 {command} and review the diff"))
 }
 
+// The values of the core's ports, registers and internals in the order of the tables above.
+
+/// One register of the core, for waveforms, change logs and lockstep read-back.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RegValue {
+    /// Block instance name (the field of [`Regs`]).
+    pub block: &'static str,
+    pub name: &'static str,
+    pub width: u8,
+    pub value: u64,
+}
+
+impl Regs {
+    /// Every register with its width and value, in a fixed order (block order of [`eval`]):
+    /// [`REGISTERS`].
+    pub fn values(&self, s: &Structural) -> Vec<RegValue> {
+        REGISTERS
+            .iter()
+            .map(|r| RegValue {
+                block: r.scope,
+                name: r.name,
+                width: r.bits(s),
+                value: (r.get)(self),
+            })
+            .collect()
+    }
+}
+
+impl Outputs {
+    /// Every output port as (name, width, value), in the order of [`OUTPUTS`].
+    pub fn values(&self, s: &Structural) -> [(&'static str, u8, u64); N_OUTPUTS] {
+        std::array::from_fn(|k| {
+            let o = &OUTPUTS[k];
+            (o.name, o.bits(s), (o.get)(self))
+        })
+    }
+}
+
+impl Inputs {
+    /// Every input port as (name, width, value), in the order of [`INPUTS`].
+    pub fn values(&self) -> [(&'static str, u8, u64); N_INPUTS] {
+        // Inputs have no structural width.
+        let s = Structural {
+            sync_depth: 1,
+            cnt_width: 16,
+        };
+        std::array::from_fn(|k| {
+            let i = &INPUTS[k];
+            (i.name, i.bits(&s), (i.get)(self))
+        })
+    }
+}
+
+impl Internals {
+    /// Every internal signal as (name, width, value), in the order of [`INTERNALS`].
+    pub fn values(&self) -> [(&'static str, u8, u64); N_INTERNALS] {
+        let s = Structural {
+            sync_depth: 1,
+            cnt_width: 16,
+        };
+        std::array::from_fn(|k| {
+            let x = &INTERNALS[k];
+            (x.name, x.bits(&s), (x.get)(self))
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
