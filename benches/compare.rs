@@ -14,7 +14,7 @@
 //! | fast kernel | `Pmu50::step`: `rtl_model/core/src/kernel.rs` |
 //! | Verilator -O3 | `DIR/vl_NAME/bench` (hdl/bench/bench.cpp), untraced |
 //! | Verilator -O3 --trace | `DIR/vlt_NAME/bench --trace`: VCD of the twin's counterparts of the Rust tracer's 65 signals (hdl/bench/trace.vlt); the note says how many `$var`s it dumps and names any of the 65 without a counterpart |
-//! | Rust tracer VCD / FST | `pmu50::observers::tracer::CoreTracer` in one run (VCD: `CoreTracer::text_run`, the checked `pmu50_waves` writer's text buffer lent to the tracer's frame, each changed value's line written at once; FST: `CoreTracer::run`, the writer lent to the frame; both comparing only what the edge can have changed) of the model's signals: ports, registers, internals, as `pmu50 run` declares them (without the analog `env` reals, which the twin does not have). Before timing, the run checks that its VCD is byte for byte the one of `Writer::dump_frame` with every value of every tick |
+//! | Rust tracer VCD / FST | `pmu50_testbench::observers::tracer::CoreTracer` in one run (VCD: `CoreTracer::text_run`, the checked `pmu50_waves` writer's text buffer lent to the tracer's frame, each changed value's line written at once; FST: `CoreTracer::run`, the writer lent to the frame; both comparing only what the edge can have changed) of the model's signals: ports, registers, internals, as `pmu50 run` declares them (without the analog `env` reals, which the twin does not have). Before timing, the run checks that its VCD is byte for byte the one of `Writer::dump_frame` with every value of every tick |
 //! | ... to /dev/null | the same two VCD harnesses (Verilator --trace, Rust tracer VCD) writing to `/dev/null`: the same writes, which the kernel throws away, so the row is the tracer's own cost without the page cache's (both sides write the same 8 MB of keyoff_turns to a file, a large part of the Rust tracer's time) |
 //! | Verilator -O3 --trace, every variable | `DIR/vla_NAME/bench --trace` (build.sh --trace-all): the VCD of all 371 `$var`s of the twin, as `verilator --trace` dumps without a configuration file |
 //! | pmu50 run --trace all | `target/release/pmu50 run SCENARIO --trace all` as a user runs it (SCENARIO: `DIR/NAME.toml`, else `scenarios/NAME.toml`): the child process's whole CPU time (start, scenario, environment models, the VCD of every signal with the analog `env` reals, the save file); its ratio to both Verilator --trace rows is printed after the table |
@@ -57,14 +57,14 @@
 //!
 //! Park figures (docs/spec.md 5.1): a parked car, key off, motor still, for 1 h, 1 d and 30 d, and
 //! `scenarios/park_30d.toml` (30 days with a disturbance every 6 h), through the simulator with
-//! fast-forward and period skip (`pmu50::sim::run` as `pmu50 run` with trace = none), each in a
+//! fast-forward and period skip (`pmu50_testbench::sim::run` as `pmu50 run` with trace = none), each in a
 //! child process for its CPU time and peak memory.
 
-use pmu50::observers::tracer::CoreTracer;
-use pmu50::scenario::Scenario;
-use pmu50::sim::{run, SimOptions};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::{Inputs, Internals, Outputs, Params, Pmu50, Pmu50Spec, Regs};
+use pmu50_testbench::observers::tracer::CoreTracer;
+use pmu50_testbench::scenario::Scenario;
+use pmu50_testbench::sim::{run, SimOptions};
 use pmu50_waves::fst::start_fst;
 use pmu50_waves::writer::{BitType, Emitter, Frame, SigId, VcdBuilder, VcdWriter, Writer};
 use pmu50_waves::{TimeUnit, Timescale};

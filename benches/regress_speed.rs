@@ -27,11 +27,11 @@
 //!
 //!   cargo bench --bench regress_speed [-- --seeds N --rounds R --regress-seeds M --dut-seeds D --dut-rounds K]
 
-use pmu50::regress::check::SeedChecks;
-use pmu50::regress::gen::{Bias, Stimulus};
-use pmu50::scenario::Scenario;
-use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
 use pmu50_core::{Inputs, Pmu50};
+use pmu50_testbench::scenario::Scenario;
+use pmu50_testbench::sim::{self, Observer, SimError, SimOptions, TickView};
+use pmu50_verif::check::SeedChecks;
+use pmu50_verif::gen::{Bias, Stimulus};
 use std::path::Path;
 use std::time::Instant;
 
@@ -203,7 +203,7 @@ fn main() {
 
 /// `regress --dut verilator` against Verilator alone on the same stimuli (module documentation).
 fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
-    use pmu50::regress::lockstep::{replay_alone, InputRecorder};
+    use pmu50_verif::lockstep::{replay_alone, InputRecorder};
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let have = |tool: &str| {
         std::process::Command::new(tool)
@@ -219,22 +219,20 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
     // serves every seed, as for a netlist, so both rows step the same library.
     let fixed_dir = tempfile::tempdir().expect("temp dir");
     let list = fixed_twin(root, fixed_dir.path());
-    let lib =
-        match pmu50::regress::dut::verilator::library_for(&list, &pmu50_core::Params::default()) {
-            Ok(l) => l,
-            Err(e) => {
-                println!(
-                    "regress --dut verilator rows skipped: the RTL library did not build: {e}"
-                );
-                return;
-            }
-        };
+    let lib = match pmu50_verif::dut::verilator::library_for(&list, &pmu50_core::Params::default())
+    {
+        Ok(l) => l,
+        Err(e) => {
+            println!("regress --dut verilator rows skipped: the RTL library did not build: {e}");
+            return;
+        }
+    };
     let all: Vec<(String, u64)> = pmu50_core::Params::default()
         .hdl_parameters()
         .iter()
         .map(|(n, v)| (n.to_string(), *v))
         .collect();
-    let bias = Bias::uniform().fixing(&pmu50::regress::rtl::Fixed { values: all });
+    let bias = Bias::uniform().fixing(&pmu50_verif::rtl::Fixed { values: all });
     let stimuli: Vec<(pmu50_core::Params, Vec<u32>)> = (1..=seeds)
         .map(|s| {
             let text = Stimulus::generate(s, &bias).to_toml(&format!("regress_{s}"));
@@ -264,8 +262,8 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
                 .expect("a generated scenario parses");
             let path = files.path().join(format!("regress_{s}.vec"));
             let f = std::io::BufWriter::new(std::fs::File::create(&path).expect("a vector file"));
-            let mut w =
-                pmu50::observers::vectors::VectorWriter::new(f, &sc).expect("vector header");
+            let mut w = pmu50_testbench::observers::vectors::VectorWriter::new(f, &sc)
+                .expect("vector header");
             sim::run(&sc, SimOptions::default(), &mut [&mut w]).expect("bench runs");
             path
         })

@@ -2,9 +2,9 @@
 //! without fast-forward of idle key-off gaps. Throughput is reported in ticks per second.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use pmu50::scenario::Scenario;
-use pmu50::sim::{run, SimOptions};
 use pmu50_core::{Inputs, Params, Pmu50};
+use pmu50_testbench::scenario::Scenario;
+use pmu50_testbench::sim::{run, SimOptions};
 use std::hint::black_box;
 use std::path::Path;
 

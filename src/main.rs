@@ -4,17 +4,17 @@
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use pmu50::atomic_file::{self, Batch};
-use pmu50::observers::refusals::RefusalWatch;
-use pmu50::observers::vectors::VectorWriter;
-use pmu50::observers::waveform::{Level, WaveFormat};
-use pmu50::output::{
+use pmu50_core::Dur;
+use pmu50_testbench::atomic_file::{self, Batch};
+use pmu50_testbench::observers::refusals::RefusalWatch;
+use pmu50_testbench::observers::vectors::VectorWriter;
+use pmu50_testbench::observers::waveform::{Level, WaveFormat};
+use pmu50_testbench::output::{
     choose_trace, dumped_ticks, estimate_run_bytes, human_bytes as human, output_paths,
     run_to_batch, run_to_batch_as, summary, FileOptions, RunError, TraceChoice,
 };
-use pmu50::scenario::{Scenario, Trace};
-use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
-use pmu50_core::Dur;
+use pmu50_testbench::scenario::{Scenario, Trace};
+use pmu50_testbench::sim::{self, Observer, SimError, SimOptions, TickView};
 use pmu50_waves::diff::{diff_files, DiffOptions, Sample, XPolicy};
 use pmu50_waves::reader::{ReadLimits, DEFAULT_MAX_FILE_BYTES};
 use std::collections::BTreeMap;
@@ -47,8 +47,8 @@ macro_rules! err {
     }};
 }
 
-// Default limit of one VCD (`--max-vcd-bytes`), with the other limits in pmu50::limits.
-use pmu50::limits::DEFAULT_MAX_VCD_BYTES;
+// Default limit of one VCD (`--max-vcd-bytes`), with the other limits in pmu50_testbench::limits.
+use pmu50_testbench::limits::DEFAULT_MAX_VCD_BYTES;
 
 /// Bad command-line values.
 #[derive(Debug, thiserror::Error)]
@@ -154,7 +154,7 @@ enum Cmd {
         /// only; repeated key-off periods are then skipped, docs/spec.md 5.1).
         /// Default: the scenario's `[vcd] trace`, else all when a waveform of every signal
         /// is estimated within 256 MiB, else ports.
-        #[arg(long, value_parser = pmu50::scenario::TRACE_WORDS)]
+        #[arg(long, value_parser = pmu50_testbench::scenario::TRACE_WORDS)]
         trace: Option<String>,
         /// Waveform format: vcd (text) or fst (compressed, for long runs; GTKWave and Surfer
         /// read it, and so does `pmu50 diff`). The .gtkw save file points at the file written.
@@ -252,9 +252,9 @@ enum Cmd {
         #[arg(long)]
         check_spec: bool,
         /// Design under test: the model alone, or an RTL on verilator (lockstep) or icarus
-        /// (vector replay), compared with the model on every seed.
-        /// [default: model]
-        #[arg(long, value_parser = ["model", "verilator", "icarus"])]
+        /// (vector replay), compared with the model on every seed (the backends of the
+        /// registry, docs/architecture.md). [default: model]
+        #[arg(long, value_parser = dut_names())]
         dut: Option<String>,
         /// The RTL's Verilog file list (paths relative to the list's folder; top `pmu50` with the
         /// ports and parameters of docs/signals.md). Default: the twin, hdl/pmu50.f.
@@ -443,6 +443,11 @@ enum Cmd {
         #[arg(long, default_value_t = DEFAULT_MAX_FILE_BYTES)]
         max_bytes: u64,
     },
+}
+
+/// `--dut`: the names of the registry's backends.
+fn dut_names() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(pmu50_verif::dut::BACKENDS.iter().map(|b| b.name))
 }
 
 #[derive(Subcommand)]
@@ -700,10 +705,10 @@ fn main() -> ExitCode {
             output,
         } => {
             let text = if regress {
-                pmu50::regress::gen::Stimulus::generate(seed, &pmu50::regress::gen::Bias::uniform())
+                pmu50_verif::gen::Stimulus::generate(seed, &pmu50_verif::gen::Bias::uniform())
                     .to_toml(&format!("regress_{seed}"))
             } else {
-                pmu50::random::random_scenario(seed)
+                pmu50_testbench::random::random_scenario(seed)
             };
             // `-o -`: standard output (atomic_file::Sink); a device or a FIFO is refused.
             let r = atomic_file::Sink::open(&output).and_then(|mut f| {
@@ -744,7 +749,7 @@ fn main() -> ExitCode {
                 ),
             };
             match sc {
-                Ok(sc) => report(pmu50::analysis::speed::run_cli(
+                Ok(sc) => report(pmu50_testbench::analysis::speed::run_cli(
                     &sc, &out_dir, step, from, to, !no_grid, max_points, max_ticks,
                 )),
                 Err(e) => {
@@ -759,8 +764,12 @@ fn main() -> ExitCode {
             max_ticks,
         } => match Scenario::load(&scenario) {
             Ok(sc) => {
-                match pmu50::limits::check_ticks(&sc, pmu50::analysis::budget::RUNS, max_ticks) {
-                    Ok(()) => report(pmu50::analysis::budget::run_cli(&sc, &out_dir)),
+                match pmu50_testbench::limits::check_ticks(
+                    &sc,
+                    pmu50_testbench::analysis::budget::RUNS,
+                    max_ticks,
+                ) {
+                    Ok(()) => report(pmu50_testbench::analysis::budget::run_cli(&sc, &out_dir)),
                     Err(e) => {
                         err!("error: {e}");
                         2
@@ -793,7 +802,7 @@ fn main() -> ExitCode {
             no_triage,
             repro,
         } => {
-            let pins = pmu50::regress::gen::Pins {
+            let pins = pmu50_verif::gen::Pins {
                 sync_depth,
                 cnt_width,
             };
@@ -818,19 +827,17 @@ fn main() -> ExitCode {
                 repro,
             })
         }
-        Cmd::Closure { output, dirs } => {
-            match pmu50::regress::report::closure_cli(&dirs, &output) {
-                Ok(text) => {
-                    out!("{}", text.trim_end());
-                    0
-                }
-                Err(e) => {
-                    err!("error: {e}");
-                    2
-                }
+        Cmd::Closure { output, dirs } => match pmu50_verif::report::closure_cli(&dirs, &output) {
+            Ok(text) => {
+                out!("{}", text.trim_end());
+                0
             }
-        }
-        Cmd::DutWorker => pmu50::regress::lockstep::worker_main() as u8,
+            Err(e) => {
+                err!("error: {e}");
+                2
+            }
+        },
+        Cmd::DutWorker => pmu50_verif::lockstep::worker_main() as u8,
         Cmd::RtlMap { rtl, output } => cmd_rtl_map(&rtl, output.as_deref()),
         Cmd::Mutation {
             iterations,
@@ -844,7 +851,7 @@ fn main() -> ExitCode {
         Cmd::Hdl {
             cmd: HdlCmd::Export { dir, force },
         } => {
-            if let Some(kind) = pmu50::atomic_file::special_kind(&dir) {
+            if let Some(kind) = pmu50_testbench::atomic_file::special_kind(&dir) {
                 err!("error: {}: is {kind}, not a folder", dir.display());
                 2
             } else if dir.exists() && !dir.is_dir() {
@@ -858,7 +865,7 @@ fn main() -> ExitCode {
                 err!("error: {}: the folder holds files; give --force to write the kit into it (files of the kit are replaced, others kept)", dir.display());
                 2
             } else {
-                match pmu50::hdl_kit::write(&dir) {
+                match pmu50_verif::hdl_kit::write(&dir) {
                     Ok(n) => {
                         out!("wrote the HDL kit ({n} files) into {}: the twin (pmu50.f), its map, the testbenches, the FuseSoC core pmu50.core, the formal kit", dir.display());
                         0
@@ -888,33 +895,32 @@ fn main() -> ExitCode {
             timeout,
             coverage.as_deref(),
         ),
-        Cmd::RtlInfo { rtl } => match pmu50::regress::dut::verilator::VerilatorDut::prepare(
-            &rtl,
-            None,
-            Default::default(),
-        ) {
-            Ok(d) => {
-                use pmu50::regress::dut::Dut;
-                let fixed: serde_json::Map<String, serde_json::Value> = d
-                    .fixed()
-                    .values
-                    .iter()
-                    .map(|(n, v)| (n.clone(), serde_json::Value::from(*v)))
-                    .collect();
-                let info = serde_json::json!({ "rtl": rtl.display().to_string(), "parameters": d.top_param_names(), "fixed": fixed, "contract": "ok" });
-                out!(
-                    "{}",
-                    serde_json::to_string_pretty(&info).unwrap_or_default()
-                );
-                0
+        Cmd::RtlInfo { rtl } => {
+            match pmu50_verif::dut::verilator::VerilatorDut::prepare(&rtl, None, Default::default())
+            {
+                Ok(d) => {
+                    use pmu50_verif::dut::Dut;
+                    let fixed: serde_json::Map<String, serde_json::Value> = d
+                        .fixed()
+                        .values
+                        .iter()
+                        .map(|(n, v)| (n.clone(), serde_json::Value::from(*v)))
+                        .collect();
+                    let info = serde_json::json!({ "rtl": rtl.display().to_string(), "parameters": d.top_param_names(), "fixed": fixed, "contract": "ok" });
+                    out!(
+                        "{}",
+                        serde_json::to_string_pretty(&info).unwrap_or_default()
+                    );
+                    0
+                }
+                Err(e) => {
+                    err!("error: {e}");
+                    2
+                }
             }
-            Err(e) => {
-                err!("error: {e}");
-                2
-            }
-        },
+        }
         Cmd::Signoff { dir, thresholds } => {
-            match pmu50::regress::signoff::run(&dir, thresholds.as_deref()) {
+            match pmu50_verif::signoff::run(&dir, thresholds.as_deref()) {
                 Ok(so) => {
                     out!("{}", so.text().trim_end());
                     u8::from(!so.met())
@@ -926,7 +932,7 @@ fn main() -> ExitCode {
             }
         }
         Cmd::Merge { out, force, inputs } => {
-            match pmu50::regress::merge::merge(&inputs, &out, force) {
+            match pmu50_verif::merge::merge(&inputs, &out, force) {
                 Ok(m) => {
                     out!(
                         "merged {} regression folder(s) and {} coverage file(s) into {}",
@@ -983,7 +989,7 @@ struct RegressArgs {
     dut: Option<String>,
     rtl: Option<PathBuf>,
     map: Option<PathBuf>,
-    pins: pmu50::regress::gen::Pins,
+    pins: pmu50_verif::gen::Pins,
     shard: Option<String>,
     shard_count: Option<u64>,
     resume: Option<PathBuf>,
@@ -1002,7 +1008,7 @@ fn progress_line(line: &str) {
 
 /// `pmu50 regress`.
 fn cmd_regress(a: RegressArgs) -> u8 {
-    use pmu50::regress::{self, DutKind, RunSpec};
+    use pmu50_verif::{self as regress, DutKind, RunSpec};
     let fail = |m: String| {
         err!("error: {m}");
         2
@@ -1021,26 +1027,23 @@ fn cmd_regress(a: RegressArgs) -> u8 {
             .unwrap_or(1),
     };
     let dut_name = a.dut.clone().unwrap_or_else(|| "model".into());
-    let dut = match dut_name.as_str() {
-        "verilator" => DutKind::Verilator,
-        "icarus" => DutKind::Icarus,
-        _ => DutKind::Model,
+    let backend = match regress::dut::registry::find(&dut_name) {
+        Ok(b) => b,
+        Err(e) => return fail(format!("--dut: {e}")),
     };
-    if a.rtl.is_some() && dut == DutKind::Model {
-        return fail("--rtl needs an RTL simulator: add --dut verilator (or --dut icarus)".into());
-    }
-    if a.code_coverage && dut != DutKind::Verilator {
-        return fail(format!("--code-coverage measures the RTL's code with Verilator's line and toggle coverage: use --dut verilator (not {dut_name})"));
+    let dut = DutKind::new(backend.name);
+    if let Err(e) = backend.check(a.rtl.is_some(), a.map.is_some(), a.code_coverage) {
+        return fail(e.to_string());
     }
     // the waivers of the code coverage: --waivers, or the twin's own
     let waivers = if a.code_coverage {
         let list = a
             .rtl
             .clone()
-            .unwrap_or_else(|| pmu50::regress::dut::hdl_dir().join("pmu50.f"));
+            .unwrap_or_else(|| pmu50_verif::hdl_kit::hdl_dir().join("pmu50.f"));
         let file = match (&a.waivers, &a.rtl) {
             (Some(w), _) => Some(w.clone()),
-            (None, None) => Some(pmu50::regress::dut::hdl_dir().join("coverage-waivers.toml")),
+            (None, None) => Some(pmu50_verif::hdl_kit::hdl_dir().join("coverage-waivers.toml")),
             (None, Some(_)) => None,
         };
         match file {
@@ -1114,7 +1117,7 @@ fn cmd_regress(a: RegressArgs) -> u8 {
                 out!(
                     "PASS {}: the model's checks{} hold",
                     file.display(),
-                    if dut == DutKind::Model {
+                    if !backend.caps.rtl {
                         String::new()
                     } else {
                         format!(" and the {dut_name} DUT")
@@ -1211,7 +1214,7 @@ fn cmd_regress(a: RegressArgs) -> u8 {
     for n in d.notes() {
         err!("regress: {n}");
     }
-    let o = regress::Options {
+    let o = regress::regress::Options {
         spec,
         jobs,
         out: out_dir.clone(),
@@ -1223,7 +1226,7 @@ fn cmd_regress(a: RegressArgs) -> u8 {
         waivers,
     };
     let stop = AtomicBool::new(false);
-    match regress::run(&o, resume, &stop, d.as_ref()) {
+    match regress::regress::run(&o, resume, &stop, d.as_ref()) {
         Ok(s) => {
             out!("{}", s.text().trim_end());
             if let Some(code) = &s.code {
@@ -1256,7 +1259,7 @@ fn cmd_mutation(
     out: PathBuf,
     timeout: f64,
 ) -> u8 {
-    use pmu50::regress::mutation;
+    use pmu50_verif::mutation;
     if !(timeout.is_finite() && timeout > 0.0 && timeout <= 86_400.0) {
         err!("error: --timeout {timeout}: give the per-seed time limit in seconds, 0 < T <= 86400");
         return 2;
@@ -1265,7 +1268,7 @@ fn cmd_mutation(
         err!("error: --jobs 0: give at least 1 job");
         return 2;
     }
-    let hdl = pmu50::regress::dut::hdl_dir();
+    let hdl = pmu50_verif::hdl_kit::hdl_dir();
     let o = mutation::Options {
         mutants: mutants.unwrap_or_else(|| hdl.join("mutants.txt")),
         twin: hdl.join("pmu50.f"),
@@ -1304,7 +1307,7 @@ fn cmd_lockstep(
     timeout: f64,
     coverage: Option<&Path>,
 ) -> u8 {
-    use pmu50::regress::{dut::verilator::VerilatorDut, lockstep, map as m, rtl as r};
+    use pmu50_verif::{dut::verilator::VerilatorDut, lockstep, map as m, rtl as r};
     let fail = |e: String| {
         err!("LOCKSTEP ERROR: {e}");
         2
@@ -1318,7 +1321,7 @@ fn cmd_lockstep(
     };
     let list = rtl
         .map(Path::to_path_buf)
-        .unwrap_or_else(|| pmu50::regress::dut::hdl_dir().join("pmu50.f"));
+        .unwrap_or_else(|| pmu50_verif::hdl_kit::hdl_dir().join("pmu50.f"));
     // defines: a file list with a file of `define lines first
     let scratch = match tempfile::tempdir() {
         Ok(d) => d,
@@ -1344,15 +1347,20 @@ fn cmd_lockstep(
             .chain(fl.files.iter().cloned())
             .map(|f| format!("{}\n", f.display()))
             .collect();
-        let mut batch = pmu50::atomic_file::Batch::new();
-        let written =
-            pmu50::atomic_file::write_atomic(&scratch.path().join("defines.vh"), defs.as_bytes())
-                .map(|f| batch.add(f))
-                .and_then(|()| {
-                    pmu50::atomic_file::write_atomic(&scratch.path().join("rtl.f"), body.as_bytes())
-                })
-                .map(|f| batch.add(f))
-                .and_then(|()| batch.commit());
+        let mut batch = pmu50_testbench::atomic_file::Batch::new();
+        let written = pmu50_testbench::atomic_file::write_atomic(
+            &scratch.path().join("defines.vh"),
+            defs.as_bytes(),
+        )
+        .map(|f| batch.add(f))
+        .and_then(|()| {
+            pmu50_testbench::atomic_file::write_atomic(
+                &scratch.path().join("rtl.f"),
+                body.as_bytes(),
+            )
+        })
+        .map(|f| batch.add(f))
+        .and_then(|()| batch.commit());
         if written.is_err() {
             return fail("cannot write the file list with the defines".into());
         }
@@ -1383,9 +1391,9 @@ fn cmd_lockstep(
                     .map_err(|e| format!("{}: {e}", file.display()))
                     .and_then(|c| {
                         let text = pmu50_coverage::db::of_run(&c, &id, "pass").to_text();
-                        pmu50::atomic_file::write_atomic(path, text.as_bytes())
+                        pmu50_testbench::atomic_file::write_atomic(path, text.as_bytes())
                             .and_then(|f| {
-                                let mut b = pmu50::atomic_file::Batch::new();
+                                let mut b = pmu50_testbench::atomic_file::Batch::new();
                                 b.add(f);
                                 b.commit()
                             })
@@ -1445,7 +1453,7 @@ fn cmd_lockstep(
 
 /// `pmu50 rtl-map`: a proposed map for an RTL.
 fn cmd_rtl_map(rtl: &Path, output: Option<&Path>) -> u8 {
-    use pmu50::regress::{map, rtl as r};
+    use pmu50_verif::{map, rtl as r};
     let go = || -> Result<String, String> {
         let fl = r::FileList::read(rtl).map_err(|e| e.to_string())?;
         let work = tempfile::tempdir().map_err(|e| format!("a scratch folder: {e}"))?;
@@ -1465,11 +1473,13 @@ fn cmd_rtl_map(rtl: &Path, output: Option<&Path>) -> u8 {
     match go() {
         Ok(text) => match output {
             Some(path) => {
-                match pmu50::atomic_file::write_atomic(path, text.as_bytes()).and_then(|f| {
-                    let mut b = pmu50::atomic_file::Batch::new();
-                    b.add(f);
-                    b.commit()
-                }) {
+                match pmu50_testbench::atomic_file::write_atomic(path, text.as_bytes()).and_then(
+                    |f| {
+                        let mut b = pmu50_testbench::atomic_file::Batch::new();
+                        b.add(f);
+                        b.commit()
+                    },
+                ) {
                     Ok(()) => {
                         out!("wrote {}", path.display());
                         0
@@ -1492,7 +1502,7 @@ fn cmd_rtl_map(rtl: &Path, output: Option<&Path>) -> u8 {
     }
 }
 
-fn report(r: Result<String, pmu50::analysis::AnalysisError>) -> u8 {
+fn report(r: Result<String, pmu50_testbench::analysis::AnalysisError>) -> u8 {
     match r {
         Ok(text) => {
             out!("{}", text.trim_end());
@@ -1516,7 +1526,7 @@ struct RunFlags {
     trace: Option<Trace>,
     /// `--format`: the waveform file's format.
     format: WaveFormat,
-    /// `--max-ticks`: simulated key-on ticks (pmu50::limits).
+    /// `--max-ticks`: simulated key-on ticks (pmu50_testbench::limits).
     max_ticks: Option<u64>,
 }
 
@@ -1558,7 +1568,7 @@ fn cmd_run(
                 continue;
             }
         };
-        if let Err(e) = pmu50::limits::check_ticks(&sc, 1, flags.max_ticks) {
+        if let Err(e) = pmu50_testbench::limits::check_ticks(&sc, 1, flags.max_ticks) {
             err!("error: {e}");
             code = 2;
             continue;
@@ -1713,9 +1723,9 @@ fn cmd_coverage_monitor(dir: &Path, check: bool) -> u8 {
         return 2;
     }
     // the three files renamed into place together
-    let mut batch = pmu50::atomic_file::Batch::default();
+    let mut batch = pmu50_testbench::atomic_file::Batch::default();
     for (name, text) in &files {
-        match pmu50::atomic_file::write_atomic(&dir.join(name), text.as_bytes()) {
+        match pmu50_testbench::atomic_file::write_atomic(&dir.join(name), text.as_bytes()) {
             Ok(f) => batch.add(f),
             Err(e) => {
                 err!("error: {e}");
@@ -1745,7 +1755,7 @@ fn cmd_vectors(
         Ok(s) => s,
         Err(_) => return 2,
     };
-    if let Err(e) = pmu50::limits::check_vector_bytes(&sc, max_vector_bytes) {
+    if let Err(e) = pmu50_testbench::limits::check_vector_bytes(&sc, max_vector_bytes) {
         err!("error: {e}");
         return 2;
     }

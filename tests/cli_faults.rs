@@ -335,7 +335,7 @@ fn vcd_size_estimate_is_an_upper_bound() {
         let size = std::fs::metadata(d.join(format!("{name}.vcd")))
             .unwrap()
             .len();
-        let est = pmu50::output::estimate_vcd_bytes(ticks);
+        let est = pmu50_testbench::output::estimate_vcd_bytes(ticks);
         assert!(
             size <= est && est <= 4 * size,
             "{name}: {size} bytes, estimate {est}"

@@ -298,8 +298,8 @@ fn code_coverage_is_refused_for_a_dut_that_cannot_measure_it() {
 
 #[test]
 fn the_twins_waivers_are_valid_and_give_each_its_reason() {
-    let list = pmu50::regress::rtl::FileList::read(&hdl().join("pmu50.f")).unwrap();
-    let w = pmu50::regress::code_cov::Waivers::read(
+    let list = pmu50_verif::rtl::FileList::read(&hdl().join("pmu50.f")).unwrap();
+    let w = pmu50_verif::code_cov::Waivers::read(
         &hdl().join("coverage-waivers.toml"),
         Some(&list.files),
     )

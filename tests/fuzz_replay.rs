@@ -2,7 +2,7 @@
 //! crash reproducer (fuzz/regressions/<target>/) through the target bodies, then runs a bounded,
 //! seeded random pass that mutates those inputs (bit flips, byte edits, deletions, insertions,
 //! splices and format tokens), a few thousand inputs per target. The bodies are the same library
-//! functions the cargo-fuzz targets call (`pmu50::fuzzing`, `pmu50_waves::fuzzing`), so a crash
+//! functions the cargo-fuzz targets call (`pmu50_testbench::fuzzing`, `pmu50_waves::fuzzing`), so a crash
 //! found by `make fuzz` and fixed stays fixed under `make test`. `FUZZ_REPLAY_SEED=N` picks
 //! another random pass; a failing input is written to target/fuzz-replay-failures/.
 
@@ -15,11 +15,15 @@ type Body = fn(&[u8]);
 
 /// (target name, body, random-pass iterations)
 const TARGETS: [(&str, Body, u32); 5] = [
-    ("scenario", pmu50::fuzzing::scenario, 20_000),
-    ("duration", pmu50::fuzzing::duration, 200_000),
+    ("scenario", pmu50_testbench::fuzzing::scenario, 20_000),
+    ("duration", pmu50_testbench::fuzzing::duration, 200_000),
     ("vcd_diff", pmu50_waves::fuzzing::vcd, 20_000),
     ("fst_read", pmu50_waves::fuzzing::fst, 10_000),
-    ("regress_folder", pmu50::fuzzing::regress_folder, 3_000),
+    (
+        "regress_folder",
+        pmu50_verif::fuzzing::regress_folder,
+        3_000,
+    ),
 ];
 
 const VCD_TOKENS: &[&str] = &[

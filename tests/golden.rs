@@ -7,9 +7,9 @@
 //! Review changed snapshots with `make golden` (cargo insta review); never accept blindly: the
 //! patent's numbers are asserted directly in tests/patent_sequences.rs as well.
 
-use pmu50::output::{run_to_files, FileOptions};
-use pmu50::scenario::Scenario;
-use pmu50::sim::{Observer, SimError, TickView};
+use pmu50_testbench::output::{run_to_files, FileOptions};
+use pmu50_testbench::scenario::Scenario;
+use pmu50_testbench::sim::{Observer, SimError, TickView};
 use pmu50_waves::reader::Waveform;
 use pmu50_waves::Value;
 use std::collections::BTreeMap;
@@ -145,7 +145,7 @@ fn golden_fig16() {
 fn golden_svg(name: &str) {
     let sc = scenario(name);
     let dir = tmp(&format!("svg-{name}"));
-    let (res, w) = pmu50::output::run_to_files(
+    let (res, w) = pmu50_testbench::output::run_to_files(
         &sc,
         &dir,
         FileOptions {

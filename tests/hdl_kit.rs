@@ -24,14 +24,17 @@ fn the_kit_carries_every_tracked_file_of_hdl() {
                 .any(|x| p.starts_with(x))
         })
         .collect();
-    let carried: Vec<&str> = pmu50::hdl_kit::FILES.iter().map(|(p, _)| *p).collect();
+    let carried: Vec<&str> = pmu50_verif::hdl_kit::FILES
+        .iter()
+        .map(|(p, _)| *p)
+        .collect();
     for t in &tracked {
         assert!(
             carried.contains(&t.as_str()),
             "hdl/{t} is tracked but not carried by src/hdl_kit.rs"
         );
     }
-    for (p, text) in pmu50::hdl_kit::FILES {
+    for (p, text) in pmu50_verif::hdl_kit::FILES {
         assert_eq!(
             std::fs::read_to_string(root.join("hdl").join(p)).unwrap(),
             *text,

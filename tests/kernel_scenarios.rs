@@ -1,14 +1,14 @@
 //! The fast kernel (`Pmu50::step`) against the per-block specification (`Pmu50Spec`) on the
 //! scenarios of the co-simulation: every shipped scenario, the HDL directed scenarios, and the 200
 //! seeded random scenarios of `hdl/cosim.sh` (seeds 1..=200, generated in-process with
-//! `pmu50::random::random_scenario`). The simulator runs the scenario on `Pmu50` (the kernel); an
+//! `pmu50_testbench::random::random_scenario`). The simulator runs the scenario on `Pmu50` (the kernel); an
 //! observer steps `Pmu50Spec` with the same inputs and compares, on every tick, every register
 //! before the edge, every output, every internal signal of the cycle, and the final registers.
 
-use pmu50::random::random_scenario;
-use pmu50::scenario::Scenario;
-use pmu50::sim::{run, Observer, SimError, SimOptions, TickView};
 use pmu50_core::Pmu50Spec;
+use pmu50_testbench::random::random_scenario;
+use pmu50_testbench::scenario::Scenario;
+use pmu50_testbench::sim::{run, Observer, SimError, SimOptions, TickView};
 use std::path::Path;
 
 /// Longest scenario stepped here (10 s at a 10 us clock).

@@ -1,9 +1,9 @@
 //! The patent's numbers, asserted directly on full-system runs (core + environment), so that a
 //! golden snapshot accepted by mistake cannot hide a regression.
 
-use pmu50::scenario::Scenario;
-use pmu50::sim::{run, PulseRow, RunResult, SimOptions};
 use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
+use pmu50_testbench::scenario::Scenario;
+use pmu50_testbench::sim::{run, PulseRow, RunResult, SimOptions};
 use std::path::Path;
 
 fn load(name: &str) -> Scenario {

@@ -3,11 +3,11 @@
 //! the analytic bound 90 deg / min (docs/analysis.md), the budget's totals are the sums of its
 //! parts, and the fixed cycle's Vs2 duty is Wt / x ([0229]-[0231]).
 
-use pmu50::analysis::budget::{self, Variant};
-use pmu50::analysis::speed::{self, Bounds, Sweep, SweepSpec};
-use pmu50::output::{run_to_files, FileOptions};
-use pmu50::scenario::Scenario;
 use pmu50_core::Dur;
+use pmu50_testbench::analysis::budget::{self, Variant};
+use pmu50_testbench::analysis::speed::{self, Bounds, Sweep, SweepSpec};
+use pmu50_testbench::output::{run_to_files, FileOptions};
+use pmu50_testbench::scenario::Scenario;
 use std::path::{Path, PathBuf};
 
 fn root() -> &'static Path {
@@ -169,7 +169,7 @@ fn budget_totals_are_the_sum_of_the_parts_and_fixed_duty_is_wt_over_x() {
             "{name}"
         );
         // the meter's own total (DarkCurrentMeter::report) agrees with the sum of the rails
-        let run = pmu50::analysis::run(&sc).unwrap();
+        let run = pmu50_testbench::analysis::run(&sc).unwrap();
         assert!((run.dark.avg_current_ua.unwrap() - a.total_ua).abs() <= 1e-9 * a.total_ua);
         // fixed cycle: every output is Wt long, and the duty is Wt / x up to one output
         let f = b.rows.iter().find(|r| r.variant == Variant::Fixed).unwrap();

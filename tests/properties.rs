@@ -9,8 +9,8 @@
 //! - The drive interval stays within [minimum, x].
 //! - Fast-forwarding idle gaps changes nothing.
 
-use pmu50::scenario::Scenario;
-use pmu50::sim::{run, RunResult, SimOptions};
+use pmu50_testbench::scenario::Scenario;
+use pmu50_testbench::sim::{run, RunResult, SimOptions};
 use proptest::prelude::*;
 use std::fmt::Write;
 use std::path::Path;

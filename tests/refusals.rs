@@ -2,9 +2,9 @@
 //! scenarios (legal and refused writes, key edges, rail faults), a timeline write is reported as
 //! refused exactly when the register file raises `bus_err` at the edge that takes it.
 
-use pmu50::observers::refusals::RefusalWatch;
-use pmu50::scenario::{Action, Scenario};
-use pmu50::sim::{self, Observer, SimError, SimOptions, TickView};
+use pmu50_testbench::observers::refusals::RefusalWatch;
+use pmu50_testbench::scenario::{Action, Scenario};
+use pmu50_testbench::sim::{self, Observer, SimError, SimOptions, TickView};
 use std::path::Path;
 
 /// Records, for every tick with a bus write, bus_err before and after its edge.
@@ -41,7 +41,7 @@ impl Observer for BusErr {
 fn reported_refusals_are_exactly_the_chips() {
     let (mut refused_seen, mut taken_seen) = (0, 0);
     for seed in 0..120 {
-        let text = pmu50::random::random_scenario(seed);
+        let text = pmu50_testbench::random::random_scenario(seed);
         let sc = Scenario::parse(&text, "random.toml", "random", Path::new("random.toml")).unwrap();
         let mut watch = RefusalWatch::new(&sc);
         let mut be = BusErr::default();

@@ -401,8 +401,8 @@ fn a_repro_runs_the_seed_checks_on_any_scenario() {
 /// The scenarios of seeds 1-12 (uniform) and 1-4 (biased towards long parking), each given to
 /// `check` with its seed; returns the ticks the bench skipped over all of them (at the default
 /// stepping, `check`'s first run).
-fn skip_scenarios(mut check: impl FnMut(u64, &pmu50::scenario::Scenario) -> u64) -> u64 {
-    use pmu50::regress::gen::{Bias, Stimulus};
+fn skip_scenarios(mut check: impl FnMut(u64, &pmu50_testbench::scenario::Scenario) -> u64) -> u64 {
+    use pmu50_verif::gen::{Bias, Stimulus};
     let parked = Bias::from_missing(["cnt_r.value.saturated"]);
     let mut skipped = 0;
     for (seed, bias) in (1..=12)
@@ -410,7 +410,8 @@ fn skip_scenarios(mut check: impl FnMut(u64, &pmu50::scenario::Scenario) -> u64)
         .chain((1..=4).map(|s| (s, parked.clone())))
     {
         let text = Stimulus::generate(seed, &bias).to_toml("t");
-        let sc = pmu50::scenario::Scenario::parse(&text, "t", "t", Path::new("t.toml")).unwrap();
+        let sc = pmu50_testbench::scenario::Scenario::parse(&text, "t", "t", Path::new("t.toml"))
+            .unwrap();
         skipped += check(seed, &sc);
     }
     skipped
@@ -420,8 +421,8 @@ fn skip_scenarios(mut check: impl FnMut(u64, &pmu50::scenario::Scenario) -> u64)
 /// equals the coverage of stepping every tick, bin by bin; the skip is taken.
 #[test]
 fn coverage_of_skipped_periods_equals_every_tick() {
-    use pmu50::regress::check::SeedChecks;
-    use pmu50::sim::{self, Stepping};
+    use pmu50_testbench::sim::{self, Stepping};
+    use pmu50_verif::check::SeedChecks;
     let skipped = skip_scenarios(|seed, sc| {
         let mut fast = SeedChecks::new(&sc.params, sc.clock_ns(), false);
         let mut slow = SeedChecks::new(&sc.params, sc.clock_ns(), false);
@@ -439,8 +440,8 @@ fn coverage_of_skipped_periods_equals_every_tick() {
 /// tick, tick by tick; the skip is taken.
 #[test]
 fn the_lockstep_stimulus_of_skipped_periods_equals_every_tick() {
-    use pmu50::regress::lockstep::InputRecorder;
-    use pmu50::sim::{self, Stepping};
+    use pmu50_testbench::sim::{self, Stepping};
+    use pmu50_verif::lockstep::InputRecorder;
     let skipped = skip_scenarios(|seed, sc| {
         let (mut fast, mut slow) = (InputRecorder::default(), InputRecorder::default());
         let rf = sim::run_with(sc, Stepping::Periods, &mut [&mut fast]).unwrap();

@@ -5,12 +5,12 @@
 //! every bit of each register must rise and fall within one seed's run, as Verilator's toggle
 //! coverage counts it.
 
-use pmu50::regress::gen::{Action, Bias, Knob, Stimulus, KNOBS};
-use pmu50::regress::lockstep::InputRecorder;
-use pmu50::scenario::{self, Scenario};
-use pmu50::sim::{self, Observer, SimError, Stepping, TickView};
 use pmu50_core::register_file::MAP;
 use pmu50_core::Regs;
+use pmu50_testbench::scenario::{self, Scenario};
+use pmu50_testbench::sim::{self, Observer, SimError, Stepping, TickView};
+use pmu50_verif::gen::{Action, Bias, Knob, Stimulus, KNOBS};
+use pmu50_verif::lockstep::InputRecorder;
 use std::collections::BTreeMap;
 use std::path::Path;
 

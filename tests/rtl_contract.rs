@@ -241,9 +241,9 @@ fn a_top_without_parameters_fixes_its_values_and_every_seed_keeps_them() {
     );
     // every seed's scenario has the fixed values
     for seed in 1..=4 {
-        let sc = pmu50::regress::gen::Stimulus::generate(
+        let sc = pmu50_verif::gen::Stimulus::generate(
             seed,
-            &pmu50::regress::gen::Bias::uniform()
+            &pmu50_verif::gen::Bias::uniform()
                 .fixing(&serde_json::from_value(spec["fixed"].clone()).unwrap()),
         );
         assert_eq!(sc.params, pmu50_core::Params::default(), "seed {seed}");

@@ -1,6 +1,6 @@
 //! Bad input is a clear error naming the file, the line and the field, never a panic.
 
-use pmu50::scenario::{Scenario, ScenarioError};
+use pmu50_testbench::scenario::{Scenario, ScenarioError};
 use proptest::prelude::*;
 use std::path::Path;
 
@@ -166,7 +166,7 @@ proptest! {
         s.replace_range(p..end, &ins);
         if let Ok(sc) = Scenario::parse(&s, "fuzz.toml", "fuzz", Path::new("fuzz.toml")) {
             if sc.ticks < 20_000 {
-                let _ = pmu50::sim::run(&sc, pmu50::sim::SimOptions::default(), &mut []);
+                let _ = pmu50_testbench::sim::run(&sc, pmu50_testbench::sim::SimOptions::default(), &mut []);
             }
         }
     }
@@ -174,7 +174,7 @@ proptest! {
 
 #[test]
 fn model_errors_keep_their_typed_source() {
-    use pmu50::scenario::ModelError;
+    use pmu50_testbench::scenario::ModelError;
     use std::error::Error;
     type IsKind = fn(&ModelError) -> bool;
     let cases: [(&str, IsKind); 4] = [

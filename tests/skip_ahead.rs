@@ -16,14 +16,14 @@
 //! ([`Stepping::IdleGaps`]), itself proven equal to stepping every tick in tests/properties.rs
 //! and below: stepping every one of its 8.6e9 ticks would take CI an hour.
 
-use pmu50::observers::changelog::ChangeLog;
-use pmu50::observers::markers::{Marker, MarkerObserver};
-use pmu50::observers::timing::TimingRecorder;
-use pmu50::observers::waveform::{Level, VcdObserver, WaveFormat};
-use pmu50::output::summary;
-use pmu50::scenario::Scenario;
-use pmu50::sim::{run_with, OnBegin, RunResult, Stepping, TickView};
 use pmu50_core::pmu50::Structural;
+use pmu50_testbench::observers::changelog::ChangeLog;
+use pmu50_testbench::observers::markers::{Marker, MarkerObserver};
+use pmu50_testbench::observers::timing::TimingRecorder;
+use pmu50_testbench::observers::waveform::{Level, VcdObserver, WaveFormat};
+use pmu50_testbench::output::summary;
+use pmu50_testbench::scenario::Scenario;
+use pmu50_testbench::sim::{run_with, OnBegin, RunResult, Stepping, TickView};
 use proptest::prelude::*;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -318,16 +318,25 @@ struct Ends {
     finish: Option<(u64, pmu50_core::Regs)>,
 }
 
-impl pmu50::sim::Observer for Ends {
-    fn begin(&mut self, v: &pmu50::sim::TickView<'_>) -> Result<(), pmu50::sim::SimError> {
+impl pmu50_testbench::sim::Observer for Ends {
+    fn begin(
+        &mut self,
+        v: &pmu50_testbench::sim::TickView<'_>,
+    ) -> Result<(), pmu50_testbench::sim::SimError> {
         self.begin = Some((v.tick, *v.regs));
         Ok(())
     }
-    fn tick(&mut self, _: &pmu50::sim::TickView<'_>) -> Result<(), pmu50::sim::SimError> {
+    fn tick(
+        &mut self,
+        _: &pmu50_testbench::sim::TickView<'_>,
+    ) -> Result<(), pmu50_testbench::sim::SimError> {
         self.ticks += 1;
         Ok(())
     }
-    fn finish(&mut self, v: &pmu50::sim::TickView<'_>) -> Result<(), pmu50::sim::SimError> {
+    fn finish(
+        &mut self,
+        v: &pmu50_testbench::sim::TickView<'_>,
+    ) -> Result<(), pmu50_testbench::sim::SimError> {
         self.finish = Some((v.tick, *v.regs));
         Ok(())
     }
@@ -352,7 +361,10 @@ fn sim_errors_are_typed_with_their_source() {
     let mut sc = parse("duration = \"1 ms\"\n", "bad");
     sc.params.si_min = 0; // not legal: the core refuses it
     let e = run_with(&sc, Stepping::Periods, &mut []).unwrap_err();
-    assert!(matches!(e, pmu50::sim::SimError::Core { .. }), "{e:?}");
+    assert!(
+        matches!(e, pmu50_testbench::sim::SimError::Core { .. }),
+        "{e:?}"
+    );
     let src = std::error::Error::source(&e).expect("a source");
     assert!(src.downcast_ref::<pmu50_core::ParamError>().is_some());
     assert!(e.to_string().contains("scenario bad"), "{e}");
@@ -600,8 +612,8 @@ struct Picky {
     replayed: u64,
 }
 
-impl pmu50::sim::Observer for Picky {
-    fn tick(&mut self, v: &TickView<'_>) -> Result<(), pmu50::sim::SimError> {
+impl pmu50_testbench::sim::Observer for Picky {
+    fn tick(&mut self, v: &TickView<'_>) -> Result<(), pmu50_testbench::sim::SimError> {
         assert_eq!(
             v.tick, self.next,
             "ticks in order, none twice, none left out"
@@ -609,7 +621,7 @@ impl pmu50::sim::Observer for Picky {
         self.next += 1;
         Ok(())
     }
-    fn finish(&mut self, v: &TickView<'_>) -> Result<(), pmu50::sim::SimError> {
+    fn finish(&mut self, v: &TickView<'_>) -> Result<(), pmu50_testbench::sim::SimError> {
         assert_eq!(v.tick, self.next);
         Ok(())
     }
@@ -621,11 +633,16 @@ impl pmu50::sim::Observer for Picky {
         // Boundaries seen so far (a skip is offered at a boundary).
         self.offers > self.decline
     }
-    fn period_boundary(&mut self, _k: u64) -> Result<(), pmu50::sim::SimError> {
+    fn period_boundary(&mut self, _k: u64) -> Result<(), pmu50_testbench::sim::SimError> {
         self.offers += 1;
         Ok(())
     }
-    fn replay(&mut self, k: u64, periods: u64, len: u64) -> Result<(), pmu50::sim::SimError> {
+    fn replay(
+        &mut self,
+        k: u64,
+        periods: u64,
+        len: u64,
+    ) -> Result<(), pmu50_testbench::sim::SimError> {
         assert_eq!(k, self.next);
         assert!(periods > 0 && len > 0);
         self.next += periods * len;

@@ -4,13 +4,13 @@
 //! signals of the file; the default is chosen from the run's length; bad values are refused with
 //! exit 2; the size estimate behind `--max-vcd-bytes` depends on the level and the format.
 
-use pmu50::observers::waveform::{Level, WaveFormat};
-use pmu50::output::{
+use pmu50_core::signals;
+use pmu50_testbench::observers::waveform::{Level, WaveFormat};
+use pmu50_testbench::output::{
     choose_trace, estimate_run_bytes, estimate_wave_bytes, parked_ticks, TraceFrom,
     DEFAULT_ALL_MAX_BYTES,
 };
-use pmu50::scenario::{Scenario, Trace};
-use pmu50_core::signals;
+use pmu50_testbench::scenario::{Scenario, Trace};
 use pmu50_waves::reader::Waveform;
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -287,7 +287,7 @@ fn the_default_is_all_up_to_the_threshold_and_ports_beyond() {
     ));
     assert_eq!(
         choose_trace(&keyed, None, None, WaveFormat::Vcd),
-        pmu50::output::TraceChoice {
+        pmu50_testbench::output::TraceChoice {
             trace: Trace::Wave(Level::Registers),
             from: TraceFrom::Scenario
         }

@@ -1,11 +1,11 @@
-//! `pmu50::observers::tracer::CoreTracer` (after a narrow edge it compares only what such an edge can
+//! `pmu50_testbench::observers::tracer::CoreTracer` (after a narrow edge it compares only what such an edge can
 //! change) writes the same file as `Writer::dump_frame` with every value of every tick: on random
 //! runs with key edges, samples and bus writes, with other changes to the writer in between, and
 //! after a step that failed half way.
 
-use pmu50::observers::tracer::{CoreTracer, FrameSizeError, NARROW_REGISTERS, N_SIGNALS};
 use pmu50_core::pmu50::{Inputs, Outputs, Structural};
 use pmu50_core::{Params, Pmu50};
+use pmu50_testbench::observers::tracer::{CoreTracer, FrameSizeError, NARROW_REGISTERS, N_SIGNALS};
 use pmu50_waves::writer::{BitType, Logic, SigId, VcdBuilder, WriteError};
 use pmu50_waves::{TimeUnit, Timescale};
 use proptest::prelude::*;
@@ -107,9 +107,9 @@ enum Between {
 }
 
 /// Both writers over one run: (the tracer's file, dump_frame's file with every value). With
-/// `mode` 1 the tracer steps in a [`pmu50::observers::tracer::TracerRun`] from one `SingleChanges` to the
+/// `mode` 1 the tracer steps in a [`pmu50_testbench::observers::tracer::TracerRun`] from one `SingleChanges` to the
 /// next (direct steps, written when the next begins), with 2 in a
-/// [`pmu50::observers::tracer::TracerTextRun`] (written at once), with 0 each step is a run of its own.
+/// [`pmu50_testbench::observers::tracer::TracerTextRun`] (written at once), with 0 each step is a run of its own.
 fn both(p: Params, run: &[(Inputs, Between)], mode: usize, decl: Decl) -> (String, String) {
     let (b1, ids1, extra1) = declare(&p, decl);
     let (b2, ids2, extra2) = declare(&p, decl);

@@ -1,13 +1,15 @@
-//! The waveform written on a thread of its own (`VcdObserver`, `pmu50::observers::thread`) is the
+//! The waveform written on a thread of its own (`VcdObserver`, `pmu50_testbench::observers::thread`) is the
 //! one written on the bench's thread, byte for byte, for the shipped scenarios in both formats
 //! at every trace level; and an observer's error or panic on its thread ends the run with that
 //! error.
 
-use pmu50::observers::markers::MarkerObserver;
-use pmu50::observers::thread::{Threaded, BATCH};
-use pmu50::observers::waveform::{Level, VcdObserver, WaveFormat};
-use pmu50::scenario::Scenario;
-use pmu50::sim::{run, run_with, Observer, OnBegin, SimError, SimOptions, Stepping, TickView};
+use pmu50_testbench::observers::markers::MarkerObserver;
+use pmu50_testbench::observers::thread::{Threaded, BATCH};
+use pmu50_testbench::observers::waveform::{Level, VcdObserver, WaveFormat};
+use pmu50_testbench::scenario::Scenario;
+use pmu50_testbench::sim::{
+    run, run_with, Observer, OnBegin, SimError, SimOptions, Stepping, TickView,
+};
 use std::path::Path;
 
 /// The waveform of `sc` (with the markers' observer beside it, as `pmu50 run`), written on its

@@ -1,3 +1,3 @@
-//! Scenario parser (TOML text -> validated `Scenario`); body: `pmu50::fuzzing::scenario`.
+//! Scenario parser (TOML text -> validated `Scenario`); body: `pmu50_testbench::fuzzing::scenario`.
 #![no_main]
-libfuzzer_sys::fuzz_target!(|data: &[u8]| pmu50::fuzzing::scenario(data));
+libfuzzer_sys::fuzz_target!(|data: &[u8]| pmu50_testbench::fuzzing::scenario(data));

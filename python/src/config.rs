@@ -58,7 +58,7 @@ fn repr(v: &Bound<'_, PyAny>) -> String {
 }
 
 /// An integer field's value as the field's Rust type, or the CLI's out-of-range message (the
-/// same table and words, `pmu50::scenario::CORE_INTS`).
+/// same table and words, `pmu50_testbench::scenario::CORE_INTS`).
 fn int_value(field: &'static str, v: &Bound<'_, PyAny>) -> PyResult<Result<u32, String>> {
     if v.is_instance_of::<PyBool>() || !v.is_instance_of::<PyInt>() {
         return Err(PyTypeError::new_err(format!(
@@ -69,13 +69,14 @@ fn int_value(field: &'static str, v: &Bound<'_, PyAny>) -> PyResult<Result<u32, 
     }
     let out_of_range = |msg: String| Ok(Err(format!("`core.{field}`: {msg}")));
     match v.extract::<i64>() {
-        Ok(x) => match pmu50::scenario::core_int_out_of_range(field, &x.to_string(), x) {
+        Ok(x) => match pmu50_testbench::scenario::core_int_out_of_range(field, &x.to_string(), x) {
             Some(msg) => out_of_range(msg),
             None => Ok(Ok(x as u32)),
         },
         // Beyond any i64: out of range whatever the field.
         Err(_) => out_of_range(
-            pmu50::scenario::core_int_out_of_range(field, &repr(v), i64::MAX).unwrap_or_default(),
+            pmu50_testbench::scenario::core_int_out_of_range(field, &repr(v), i64::MAX)
+                .unwrap_or_default(),
         ),
     }
 }

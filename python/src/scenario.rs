@@ -2,11 +2,13 @@
 //! the summary `pmu50 run` prints, as Python objects.
 
 use crate::errors::{guard, ScenarioError, SimulationError};
-use pmu50::output::{run_to_files, summary, FileOptions};
-use pmu50::scenario::{Action, Scenario as RsScenario, ScenarioError as RsScenarioError};
-use pmu50::sim::{self, KeyOffRow, KeyOnRow, PulseRow, RunResult as RsRunResult, SimOptions};
 use pmu50_core::pmu50::Structural;
 use pmu50_env::DarkCurrentReport;
+use pmu50_testbench::output::{run_to_files, summary, FileOptions};
+use pmu50_testbench::scenario::{Action, Scenario as RsScenario, ScenarioError as RsScenarioError};
+use pmu50_testbench::sim::{
+    self, KeyOffRow, KeyOnRow, PulseRow, RunResult as RsRunResult, SimOptions,
+};
 use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -276,7 +278,7 @@ pub struct PulseTable {
 }
 
 impl PulseTable {
-    fn new(log: &pmu50::sim::PulseLog, clock_ns: u64) -> PulseTable {
+    fn new(log: &pmu50_testbench::sim::PulseLog, clock_ns: u64) -> PulseTable {
         let mut starts = Vec::new();
         let mut runs = Vec::new();
         let mut n = 0u64;
@@ -549,11 +551,11 @@ impl Scenario {
             guard("Scenario.run()", || {
                 // A scenario with `[vcd] trace = "none"` (days of parking) writes no files, as
                 // with `pmu50 run`; otherwise the level is chosen as `pmu50 run` chooses it.
-                let level = pmu50::output::choose_trace(
+                let level = pmu50_testbench::output::choose_trace(
                     &sc,
                     None,
                     None,
-                    pmu50::observers::waveform::WaveFormat::Vcd,
+                    pmu50_testbench::observers::waveform::WaveFormat::Vcd,
                 )
                 .trace
                 .level();
@@ -601,7 +603,7 @@ fn result(
     s: Structural,
     summary: String,
     r: &RsRunResult,
-    w: Option<pmu50::output::Written>,
+    w: Option<pmu50_testbench::output::Written>,
 ) -> PyResult<RunResult> {
     let regs = register_dict(py, signals::register_values(&s, &r.final_regs))?;
     Ok(RunResult {

@@ -1,0 +1,341 @@
+//! What every regression seed is checked against, and the coverage it samples, as one observer
+//! of the bench.
+//!
+//! Checks (the first failure of a seed is its verdict):
+//! - the model's invariants at every edge: a skipped quadrant raises `diag` ([0119], docs/spec.md
+//!   2.7); `bus_err` rises only at a bus write the register file refuses, for the reason it
+//!   gives (docs/spec.md 2.8);
+//! - at the end: every key-on read-out equals the true angle within [`READOUT_TOL_DEG`] whenever
+//!   the shaft stayed under the tracking bound of docs/analysis.md since the first sample (no Vs2
+//!   fault, no parameter write, speed below 0.8 x 90 deg per sampling period), modulo the
+//!   counters' range of 2^CNT_W quadrants, where every sample sees a settled sensor (Wt and the
+//!   on-key period at least the 99 % settling time);
+//! - with `--check-spec`: the readable per-block model (`Pmu50Spec`) stepped beside the kernel,
+//!   every register and every output compared after every edge.
+
+use pmu50_core::drive_interval_changing_56b::{Fig17, Fig18};
+use pmu50_core::register_file as rf;
+use pmu50_core::{Pmu50Spec, Regs};
+use pmu50_coverage::Coverage;
+use pmu50_testbench::scenario::{Action, Scenario};
+use pmu50_testbench::sim::{Observer, RunResult, SimError, TickView};
+use serde::{Deserialize, Serialize};
+
+/// A read-out under the tracking bound must be this close to the true angle (docs/analysis.md
+/// uses the same 0.5 deg for `pmu50 speed-limit`).
+pub const READOUT_TOL_DEG: f64 = 0.5;
+
+/// The first failure of a seed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Failure {
+    /// `invariant`, `spec`, `dut`, `expect` or `error`.
+    pub kind: String,
+    /// Edge number (clock ticks from reset).
+    pub tick: u64,
+    /// Full signal path (`pmu50.diag`, `pmu50.drive_interval.si`), or the check's name.
+    pub signal: String,
+    pub expected: String,
+    pub got: String,
+    /// The block the signal belongs to.
+    pub block: String,
+    /// FIG. 17 / FIG. 18 path of the edge (`s6_shorten/s23_detected_cs`, or `-`).
+    pub fig: String,
+    pub detail: String,
+}
+
+impl Failure {
+    /// What groups failures: the kind, the first divergent signal and the FIG. path.
+    pub fn signature(&self) -> String {
+        let raw = format!(
+            "{}-{}-{}",
+            self.kind,
+            self.signal.trim_start_matches("pmu50."),
+            self.fig.replace('/', "_")
+        );
+        raw.chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect()
+    }
+}
+
+/// FIG. 17/18 path of an edge, by the coverage bins' names (`s6_shorten/s23_detected_cs`, or
+/// `-` where FIG. 17 did not run).
+pub fn fig_path(f17: Fig17, f18: Fig18) -> String {
+    use pmu50_coverage::model::{FIG17, FIG18, POINTS};
+    if f17 == Fig17::Idle {
+        return "-".into();
+    }
+    let a = POINTS[FIG17].bins[f17 as usize - 1].name;
+    if f18 == Fig18::Idle {
+        a.to_string()
+    } else {
+        format!("{a}/{}", POINTS[FIG18].bins[f18 as usize - 1].name)
+    }
+}
+
+/// The observer of one seed: coverage, invariants, and optionally the per-block model.
+pub struct SeedChecks {
+    pub coverage: Coverage,
+    spec: Option<Pmu50Spec>,
+    pub failure: Option<Failure>,
+    /// Tick of the first sample (the counters' origin).
+    pub first_sample: Option<u64>,
+    /// Ticks where a bus write changed the parameters.
+    pub param_writes: Vec<u64>,
+    /// Key-on read-outs the tracking invariant applied to.
+    pub readouts_checked: u64,
+    cnt_width: u8,
+    sync_depth: u8,
+}
+
+impl SeedChecks {
+    pub fn new(p: &pmu50_core::Params, clock_ns: u64, check_spec: bool) -> SeedChecks {
+        SeedChecks {
+            coverage: Coverage::new(p, clock_ns),
+            spec: if check_spec {
+                Pmu50Spec::new(*p).ok()
+            } else {
+                None
+            },
+            failure: None,
+            first_sample: None,
+            param_writes: Vec::new(),
+            readouts_checked: 0,
+            cnt_width: p.cnt_width,
+            sync_depth: p.sync_depth,
+        }
+    }
+
+    fn fail(&mut self, f: Failure) {
+        if self.failure.is_none() {
+            self.failure = Some(f);
+        }
+    }
+
+    /// The end-of-run checks: read-outs under the tracking bound. The counters accumulate from
+    /// the first sample, so a read-out is checked only when the whole history since then stayed
+    /// under the bound: no Vs2 fault, no parameter write, the shaft below 0.8 x 90 deg per
+    /// sampling period, and within the turns the counters' width can tell apart.
+    pub fn finish_checks(&mut self, r: &RunResult, sc: &Scenario) {
+        let Some(first) = self.first_sample else {
+            return;
+        };
+        let p = &sc.params;
+        // Every sample must see a settled sensor (99 %, tau ln 100): the key-off window Wt and
+        // the on-key period both at least that long ([0321]: Pw lets the sensor stabilise).
+        let settle_ns = sc.env.sensor2.tau_us * 1e3 * 100f64.ln();
+        let clk_f = sc.clock_ns() as f64;
+        if (f64::from(p.wt()) * clk_f) < settle_ns || (f64::from(p.smp_on) * clk_f) < settle_ns {
+            return;
+        }
+        let period = u64::from(p.si_max.max(p.smp_on));
+        let bound = 0.8 * 90.0 / period as f64;
+        let clk = sc.clock_ns();
+        let faults: Vec<(u64, bool)> = sc
+            .events
+            .iter()
+            .filter_map(|e| {
+                if let Action::Vs2Fault(v) = e.action {
+                    Some((e.tick, v))
+                } else {
+                    None
+                }
+            })
+            .collect();
+        let faulted_before = faults
+            .iter()
+            .filter(|(t, _)| *t <= first)
+            .map(|(_, v)| *v)
+            .next_back()
+            .unwrap_or(false);
+        // Each counter holds 2^W values, read sign-extended: the read-out is the angle modulo
+        // 2^W quadrants (docs/spec.md 2.5), 360 deg at W = 2.
+        let modulus = f64::from(1u32 << p.cnt_width) * 90.0;
+        for k in r.keyons.iter().filter(|k| k.tick > first) {
+            let window = first..=k.tick;
+            let faulted = faulted_before || faults.iter().any(|(t, v)| window.contains(t) && *v);
+            let wrote = self.param_writes.iter().any(|t| window.contains(t));
+            let speed = sc
+                .motor
+                .max_speed_deg_per_ns(first * clk, (k.tick + 1) * clk)
+                * clk as f64;
+            if faulted || wrote || speed >= bound {
+                return;
+            }
+            let error = k.error_deg - (k.error_deg / modulus).round() * modulus;
+            self.readouts_checked += 1;
+            if error.abs() > READOUT_TOL_DEG {
+                self.fail(Failure {
+                    kind: "invariant".into(),
+                    tick: k.tick,
+                    signal: "readout".into(),
+                    expected: format!("{:.3} deg", k.true_deg),
+                    got: format!("{:.3} deg", k.true_deg + k.error_deg),
+                    block: "updown_counter".into(),
+                    fig: "-".into(),
+                    detail: format!(
+                        "key-on read-out {:.3} deg off the true angle (modulo the counters' range of {modulus} deg) although since the first sample (tick {first}) the shaft stayed under the tracking bound (at most {speed:.4} deg/tick, bound {bound:.4}: 0.8 x 90 deg / {period} ticks) without a Vs2 fault or a parameter write",
+                        error
+                    ),
+                });
+                return;
+            }
+        }
+    }
+}
+
+impl Observer for SeedChecks {
+    fn tick(&mut self, v: &TickView<'_>) -> Result<(), SimError> {
+        self.coverage.tick(v)?;
+        let (b, a, i, n) = (v.regs, v.after, v.inputs, v.internals);
+        if n.first && self.first_sample.is_none() {
+            self.first_sample = Some(v.tick);
+        }
+        if self.failure.is_some() {
+            return Ok(());
+        }
+        let fig = || fig_path(n.fig17, n.fig18);
+        if a.updown_counter.quadrant_skip && !a.count_diagnosis.diag {
+            self.fail(Failure {
+                kind: "invariant".into(),
+                tick: v.tick,
+                signal: "pmu50.diag".into(),
+                expected: "1".into(),
+                got: "0".into(),
+                block: "count_diagnosis".into(),
+                fig: fig(),
+                detail: "quadrant_skip is set but diag is not: a skipped quadrant must raise the count diagnosis ([0119], docs/spec.md 2.7)".into(),
+            });
+        }
+        if i.bus_we {
+            let block = rf::RegisterFile::new(self.sync_depth, self.cnt_width);
+            let rfi = rf::Inputs {
+                bus_we: true,
+                bus_addr: i.bus_addr,
+                bus_wdata: i.bus_wdata,
+                sig: v.ports.sig,
+                ..Default::default()
+            };
+            let refused = block.bus_write(&b.register_file, &rfi).is_err();
+            if !refused
+                && a.register_file.params(self.sync_depth, self.cnt_width)
+                    != b.register_file.params(self.sync_depth, self.cnt_width)
+            {
+                self.param_writes.push(v.tick);
+            }
+            if refused != a.register_file.bus_err && !b.register_file.bus_err {
+                self.fail(refusal_failure(v.tick, refused, fig()));
+            }
+        } else if a.register_file.bus_err && !b.register_file.bus_err {
+            self.fail(refusal_failure(v.tick, false, fig()));
+        }
+        if let Some(spec) = self.spec.as_mut() {
+            spec.step(i);
+            if let Some((signal, block, want, got)) = first_difference(spec.regs(), a) {
+                let f = Failure {
+                    kind: "spec".into(),
+                    tick: v.tick,
+                    signal,
+                    expected: want,
+                    got,
+                    block,
+                    fig: fig(),
+                    detail: "the fast kernel and the readable per-block model (Pmu50Spec) differ after this edge".into(),
+                };
+                self.fail(f);
+            }
+        }
+        Ok(())
+    }
+
+    fn needs_every_tick(&self) -> bool {
+        true
+    }
+
+    /// Skipped repeated key-off periods add their coverage; the per-block model must see every
+    /// tick, so with it nothing is skipped.
+    fn replays_periods(&self) -> bool {
+        self.spec.is_none()
+    }
+
+    fn period_boundary(&mut self, k: u64) -> Result<(), SimError> {
+        Observer::period_boundary(&mut self.coverage, k)
+    }
+
+    fn can_replay(&self, k: u64, len: u64) -> bool {
+        Observer::can_replay(&self.coverage, k, len)
+    }
+
+    fn replay(&mut self, k: u64, periods: u64, len: u64) -> Result<(), SimError> {
+        Observer::replay(&mut self.coverage, k, periods, len)
+    }
+}
+
+fn refusal_failure(tick: u64, refused: bool, fig: String) -> Failure {
+    Failure {
+        kind: "invariant".into(),
+        tick,
+        signal: "pmu50.bus_err".into(),
+        expected: if refused { "1" } else { "0" }.into(),
+        got: if refused { "0" } else { "1" }.into(),
+        block: "register_file".into(),
+        fig,
+        detail: if refused {
+            "the register file's rules refuse this write, but bus_err did not rise (docs/spec.md 2.8)".into()
+        } else {
+            "bus_err rose without a write the register file's rules refuse: an unexplained refusal (docs/spec.md 2.8)".into()
+        },
+    }
+}
+
+/// The first register that differs, as (path, block, expected, got).
+fn first_difference(want: &Regs, got: &Regs) -> Option<(String, String, String, String)> {
+    macro_rules! cmp {
+        ($($block:ident . $reg:ident),* $(,)?) => {$(
+            if want.$block.$reg != got.$block.$reg {
+                return Some((
+                    concat!("pmu50.", stringify!($block), ".", stringify!($reg)).to_string(),
+                    stringify!($block).to_string(),
+                    format!("{:?}", want.$block.$reg),
+                    format!("{:?}", got.$block.$reg),
+                ));
+            }
+        )*};
+    }
+    cmp!(
+        action_switching.sync,
+        register_file.adaptive,
+        register_file.pw,
+        register_file.pi,
+        register_file.ps,
+        register_file.si_max,
+        register_file.si_min,
+        register_file.t1,
+        register_file.t2,
+        register_file.cth,
+        register_file.smp_on,
+        register_file.bus_err,
+        register_file.rdata,
+        timing_generator.tmr,
+        sensor_power_determination.sr,
+        comparator_latch.cs,
+        comparator_latch.cc,
+        comparator_latch.vld,
+        updown_counter.cnt_s,
+        updown_counter.cnt_c,
+        updown_counter.quadrant_skip,
+        drive_interval.si,
+        drive_interval.hist_s,
+        drive_interval.hist_c,
+        drive_interval.cnt_r,
+        count_diagnosis.diag,
+    );
+    debug_assert!(want == got, "every register is compared");
+    None
+}

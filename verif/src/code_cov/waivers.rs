@@ -1,0 +1,366 @@
+//! Waivers of code coverage points (`waivers.toml`): what each waives, why, and its claim.
+
+use super::points::*;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// A waivers file that is not valid: where, which field, what is valid.
+#[derive(Debug, thiserror::Error)]
+pub enum WaiverError {
+    #[error("{}: {reason}", path.display())]
+    File { path: PathBuf, reason: String },
+    #[error("{}:{line}: field `{field}`: {reason}", path.display())]
+    Field {
+        path: PathBuf,
+        line: usize,
+        field: &'static str,
+        reason: String,
+    },
+}
+
+/// What a waiver excludes.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Target {
+    /// The line and branch points starting on these lines (first, last).
+    Lines(u32, u32),
+    /// The toggle points of a signal, all its bits or bits `lo..=hi`.
+    Signal {
+        name: String,
+        bits: Option<(u32, u32)>,
+    },
+}
+
+/// One waiver.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Waiver {
+    /// The RTL file: its path as the file list names it, or a trailing part of it.
+    pub file: String,
+    pub target: Target,
+    pub reason: String,
+    /// The claim behind the reason as a Verilog expression over the file's module (`holds`):
+    /// an invariant of every reachable state after reset, which `make coverage-proofs` proves
+    /// on the twin (hdl/formal/coverage.py). `$past(x)` names the value one edge before.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub holds: Option<String>,
+    /// Its line in the waivers file.
+    pub at: usize,
+}
+
+impl Waiver {
+    /// The target as written: `40`, `40-45`, `cnt`, `cnt[15:4]`.
+    pub fn what(&self) -> String {
+        match &self.target {
+            Target::Lines(a, b) if a == b => format!("line {a}"),
+            Target::Lines(a, b) => format!("lines {a}-{b}"),
+            Target::Signal { name, bits: None } => format!("signal {name}"),
+            Target::Signal {
+                name,
+                bits: Some((lo, hi)),
+            } if lo == hi => format!("signal {name}[{lo}]"),
+            Target::Signal {
+                name,
+                bits: Some((lo, hi)),
+            } => format!("signal {name}[{hi}:{lo}]"),
+        }
+    }
+
+    /// Whether this waiver excludes point `p`.
+    pub fn covers(&self, p: &Point) -> bool {
+        if !file_matches(&p.file, &self.file) {
+            return false;
+        }
+        match &self.target {
+            Target::Lines(a, b) => p.is_line() && (*a..=*b).contains(&p.line),
+            Target::Signal { name, bits } => {
+                if p.kind != Kind::Toggle {
+                    return false;
+                }
+                let (sig, bit) = p.signal();
+                (sig == name || demangle(sig) == *name)
+                    && match (bits, bit) {
+                        (None, _) => true,
+                        (Some((lo, hi)), Some(b)) => (*lo..=*hi).contains(&b),
+                        (Some(_), None) => false,
+                    }
+            }
+        }
+    }
+}
+
+/// Whether `path` is `file` or ends with it on a folder boundary.
+pub(super) fn file_matches(path: &str, file: &str) -> bool {
+    path == file || path.ends_with(&format!("/{file}"))
+}
+
+/// The waivers of a run: `hdl/coverage-waivers.toml` for the twin, `--waivers FILE` for any RTL.
+#[derive(Clone, Debug, Default)]
+pub struct Waivers {
+    pub list: Vec<Waiver>,
+    /// The file's text (kept in the folder as `code/waivers.toml`).
+    pub text: String,
+    /// Where it was read from.
+    pub origin: String,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawFile {
+    #[serde(default)]
+    pub(super) waiver: Vec<toml::Spanned<RawWaiver>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawWaiver {
+    pub(super) file: Option<toml::Spanned<String>>,
+    pub(super) line: Option<toml::Spanned<toml::Value>>,
+    pub(super) signal: Option<toml::Spanned<String>>,
+    pub(super) reason: Option<toml::Spanned<String>>,
+    pub(super) holds: Option<toml::Spanned<String>>,
+}
+
+/// The line (from 1) of byte `at` of `text`.
+pub(super) fn line_at(text: &str, at: usize) -> usize {
+    text.as_bytes()[..at.min(text.len())]
+        .iter()
+        .filter(|b| **b == b'\n')
+        .count()
+        + 1
+}
+
+/// `name`, `name[3]` or `name[15:4]`.
+pub(super) fn parse_signal(s: &str) -> Option<(String, Option<(u32, u32)>)> {
+    let ident = |n: &str| {
+        !n.is_empty()
+            && n.chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '$' || c == '.')
+            && !n.starts_with(|c: char| c.is_ascii_digit())
+    };
+    match s.split_once('[') {
+        None => ident(s).then(|| (s.to_string(), None)),
+        Some((n, rest)) => {
+            let inner = rest.strip_suffix(']')?;
+            let bits = match inner.split_once(':') {
+                Some((hi, lo)) => {
+                    let (hi, lo): (u32, u32) = (hi.trim().parse().ok()?, lo.trim().parse().ok()?);
+                    (lo.min(hi), lo.max(hi))
+                }
+                None => {
+                    let b: u32 = inner.trim().parse().ok()?;
+                    (b, b)
+                }
+            };
+            ident(n).then(|| (n.to_string(), Some(bits)))
+        }
+    }
+}
+
+impl Waivers {
+    /// Read and check a waivers file. With `rtl` (the file list's files), each waiver's file
+    /// must name exactly one of them, its lines must be in that file and its signal must appear
+    /// in it.
+    pub fn read(path: &Path, rtl: Option<&[PathBuf]>) -> Result<Waivers, WaiverError> {
+        let text = std::fs::read_to_string(path).map_err(|e| WaiverError::File {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        })?;
+        Waivers::parse(&text, path, rtl)
+    }
+
+    pub fn parse(text: &str, path: &Path, rtl: Option<&[PathBuf]>) -> Result<Waivers, WaiverError> {
+        let raw: RawFile = toml::from_str(text).map_err(|e| match e.span() {
+            Some(s) => WaiverError::Field {
+                path: path.to_path_buf(),
+                line: line_at(text, s.start),
+                field: "waiver",
+                reason: e.message().to_string(),
+            },
+            None => WaiverError::File {
+                path: path.to_path_buf(),
+                reason: e.message().to_string(),
+            },
+        })?;
+        let mut list = Vec::new();
+        for w in raw.waiver {
+            let at = line_at(text, w.span().start);
+            let w = w.into_inner();
+            let field_err = |line: usize, field: &'static str, reason: String| WaiverError::Field {
+                path: path.to_path_buf(),
+                line,
+                field,
+                reason,
+            };
+            let file = w
+                .file
+                .ok_or_else(|| field_err(at, "file", "missing: the RTL file the waiver is in (its path as the file list names it, or the end of it)".into()))?;
+            let file_line = line_at(text, file.span().start);
+            let file = file.into_inner();
+            if file.trim().is_empty() {
+                return Err(field_err(
+                    file_line,
+                    "file",
+                    "empty: name the RTL file".into(),
+                ));
+            }
+            let reason = w.reason.ok_or_else(|| {
+                field_err(
+                    at,
+                    "reason",
+                    "missing: every waiver says why the point cannot or need not be covered".into(),
+                )
+            })?;
+            let reason_line = line_at(text, reason.span().start);
+            let reason = reason.into_inner();
+            if reason.trim().len() < 10 {
+                return Err(field_err(reason_line, "reason", format!("`{reason}` is too short: say why the point cannot or need not be covered (at least 10 characters)")));
+            }
+            let target_line;
+            let target = match (w.line, w.signal) {
+                (Some(_), Some(s)) => {
+                    return Err(field_err(
+                        line_at(text, s.span().start),
+                        "signal",
+                        "a waiver has either `line` or `signal`, not both".into(),
+                    ))
+                }
+                (None, None) => {
+                    return Err(field_err(at, "line", "missing: give `line` (a line, 42, or a range, \"40-45\") or `signal` (a toggled signal, \"cnt\" or \"cnt[15:4]\")".into()))
+                }
+                (Some(l), None) => {
+                    let ll = line_at(text, l.span().start);
+                    target_line = ll;
+                    let bad = || {
+                        field_err(
+                            ll,
+                            "line",
+                            format!("{}: valid is a line number (42) or a range (\"40-45\") from 1", l.get_ref()),
+                        )
+                    };
+                    let (a, b) = match l.get_ref() {
+                        toml::Value::Integer(n) if *n >= 1 && *n <= i64::from(u32::MAX) => {
+                            (*n as u32, *n as u32)
+                        }
+                        toml::Value::String(s) => {
+                            let (a, b) = s.split_once('-').unwrap_or((s, s));
+                            let a: u32 = a.trim().parse().map_err(|_| bad())?;
+                            let b: u32 = b.trim().parse().map_err(|_| bad())?;
+                            if a == 0 || b < a {
+                                return Err(bad());
+                            }
+                            (a, b)
+                        }
+                        _ => return Err(bad()),
+                    };
+                    Target::Lines(a, b)
+                }
+                (None, Some(s)) => {
+                    let sl = line_at(text, s.span().start);
+                    target_line = sl;
+                    let (name, bits) = parse_signal(s.get_ref()).ok_or_else(|| {
+                        field_err(
+                            sl,
+                            "signal",
+                            format!(
+                                "`{}`: valid is a signal name, with a bit (\"cnt[3]\") or bits (\"cnt[15:4]\")",
+                                s.get_ref()
+                            ),
+                        )
+                    })?;
+                    Target::Signal { name, bits }
+                }
+            };
+            if let Some(files) = rtl {
+                let matching: Vec<&PathBuf> = files
+                    .iter()
+                    .filter(|f| file_matches(&f.display().to_string(), &file))
+                    .collect();
+                let src = match matching.as_slice() {
+                    [one] => *one,
+                    [] => {
+                        return Err(field_err(
+                            file_line,
+                            "file",
+                            format!(
+                                "`{file}` is none of the RTL's files ({})",
+                                files
+                                    .iter()
+                                    .filter_map(|f| f.file_name())
+                                    .map(|n| n.to_string_lossy().into_owned())
+                                    .collect::<Vec<_>>()
+                                    .join(", ")
+                            ),
+                        ))
+                    }
+                    many => {
+                        return Err(field_err(
+                            file_line,
+                            "file",
+                            format!(
+                                "`{file}` names {} of the RTL's files ({}): give more of its path",
+                                many.len(),
+                                many.iter()
+                                    .map(|f| f.display().to_string())
+                                    .collect::<Vec<_>>()
+                                    .join(", ")
+                            ),
+                        ))
+                    }
+                };
+                let source = std::fs::read_to_string(src).unwrap_or_default();
+                match &target {
+                    Target::Lines(_, b) => {
+                        let n = source.lines().count() as u32;
+                        if *b > n {
+                            return Err(field_err(
+                                target_line,
+                                "line",
+                                format!(
+                                    "line {b} is past the end of {} ({n} lines)",
+                                    src.display()
+                                ),
+                            ));
+                        }
+                    }
+                    Target::Signal { name, .. } => {
+                        // a name, or a netlist's escaped one (`\\drive_interval.si `)
+                        let word = |t: &str| {
+                            t.split(|c: char| !(c.is_ascii_alphanumeric() || "_$.\\".contains(c)))
+                                .any(|w| w == name || w.trim_start_matches(['\\', '.']) == name)
+                        };
+                        if !word(&source) {
+                            return Err(field_err(
+                                target_line,
+                                "signal",
+                                format!("`{name}` does not appear in {}", src.display()),
+                            ));
+                        }
+                    }
+                }
+            }
+            let holds = match w.holds {
+                Some(h) if h.get_ref().trim().is_empty() => {
+                    return Err(field_err(
+                        line_at(text, h.span().start),
+                        "holds",
+                        "empty: give the claim as a Verilog expression over the file's module (\"t[17:16] == 2'b00\"), or leave the field out".into(),
+                    ))
+                }
+                Some(h) => Some(h.into_inner().trim().to_string()),
+                None => None,
+            };
+            list.push(Waiver {
+                file,
+                target,
+                reason: reason.trim().to_string(),
+                holds,
+                at,
+            });
+        }
+        Ok(Waivers {
+            list,
+            text: text.to_string(),
+            origin: path.display().to_string(),
+        })
+    }
+}

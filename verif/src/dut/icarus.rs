@@ -1,0 +1,458 @@
+//! `--dut icarus`: an RTL with the contract ports on Icarus Verilog, replaying the model's vector
+//! file of each seed (hdl/tb/tb_vectors.v, verification method 1), which compares every output
+//! after every edge.
+//!
+//! The RTL is analysed as for Verilator ([`super::verilator::VerilatorDut::prepare`]: ports,
+//! parameters, what it fixes) and compiled once with its default parameters before any seed: an
+//! RTL that does not compile is bad input. Each seed's parameter set is compiled once (`-P`, the
+//! reset values too) and cached on disk with the list of every file iverilog read (`-M`), so an
+//! edited `` `include ``d file is compiled again. A top that lacks some parameters gets an
+//! instance with the ones it has. The verdict comes from a file the bench writes (`+verdict`),
+//! never from the simulator's output, which the RTL can print on; that output is kept to its
+//! last [`LOG_KEEP`] bytes.
+
+use super::api::{Backend, Build, Caps, Dut, DutError, InFlight, Needs, Recorded};
+use super::failure::{divergence, dut_failure, timed_out};
+use super::verilator::VerilatorDut;
+use crate::cache::fnv;
+use crate::check::Failure;
+use crate::gen::Pins;
+use crate::lockstep::{self, Mismatch, LOG_KEEP};
+use crate::rtl::{self, FileList, Fixed, RtlError};
+use pmu50_core::params::Params;
+use pmu50_testbench::scenario::Scenario;
+use std::collections::HashMap;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex, OnceLock};
+use std::time::{Duration, Instant};
+
+/// The bench, carried by the binary.
+const TB_VECTORS: &str = include_str!("../../../hdl/tb/tb_vectors.v");
+
+type Slot = Arc<OnceLock<Result<PathBuf, String>>>;
+
+pub struct IcarusDut {
+    list: FileList,
+    /// The parameters the top has (the others are fixed).
+    top_params: Vec<String>,
+    fixed: Fixed,
+    root: PathBuf,
+    tb: PathBuf,
+    compiles: Mutex<HashMap<String, Slot>>,
+    scratch: tempfile::TempDir,
+    notes: Vec<String>,
+}
+
+impl IcarusDut {
+    pub fn prepare(list: &Path, pins: Pins) -> Result<IcarusDut, DutError> {
+        let fl = FileList::read(list)?;
+        if !rtl::have_tool("iverilog") {
+            return Err(RtlError::NoTool {
+                list: fl.list.clone(),
+                tool: "iverilog",
+                package: "iverilog",
+            }
+            .into());
+        }
+        // The analysis (ports, parameters, what the RTL fixes) is Verilator's.
+        let v = VerilatorDut::prepare(list, None, pins)?;
+        let (top_params, fixed, notes) = (v.top_param_names(), v.fixed().clone(), v.notes());
+        drop(v);
+        let scratch = tempfile::Builder::new()
+            .prefix("pmu50-iv.")
+            .tempdir()
+            .map_err(|e| DutError::Tool(format!("a scratch folder: {e}")))?;
+        lockstep::register_scratch(scratch.path());
+        let mut key = Vec::new();
+        for f in &fl.files {
+            key.push(f.as_os_str().as_encoded_bytes().to_vec());
+            key.push(
+                std::fs::read(f).map_err(|e| DutError::Tool(format!("{}: {e}", f.display())))?,
+            );
+        }
+        let refs: Vec<&[u8]> = key.iter().map(|v| v.as_slice()).collect();
+        let root = crate::cache::cache_dir()
+            .join("icarus")
+            .join(format!("{:016x}", fnv(&refs)));
+        std::fs::create_dir_all(&root)
+            .map_err(|e| DutError::Tool(format!("{}: {e}", root.display())))?;
+        let tb = root.join(format!(
+            "tb_vectors_{:016x}.v",
+            fnv(&[TB_VECTORS.as_bytes()])
+        ));
+        if !tb.is_file() {
+            pmu50_testbench::atomic_file::write_atomic(&tb, TB_VECTORS.as_bytes())
+                .and_then(|f| {
+                    let mut b = pmu50_testbench::atomic_file::Batch::new();
+                    b.add(f);
+                    b.commit()
+                })
+                .map_err(|e| DutError::Tool(e.to_string()))?;
+        }
+        let dut = IcarusDut {
+            list: fl.clone(),
+            top_params,
+            fixed,
+            root,
+            tb,
+            compiles: Mutex::new(HashMap::new()),
+            scratch,
+            notes,
+        };
+        // Compiled once with the defaults: an RTL Icarus refuses fails now.
+        let p = dut.fixed.apply(&Params {
+            sync_depth: pins.sync_depth.unwrap_or(Params::default().sync_depth),
+            cnt_width: pins.cnt_width.unwrap_or(Params::default().cnt_width),
+            ..Params::default()
+        });
+        dut.compiled(&p, 10_000).map_err(|log| RtlError::Build {
+            list: fl.list.clone(),
+            tool: "iverilog",
+            log,
+        })?;
+        Ok(dut)
+    }
+
+    /// The bench compiled for these parameters and clock, from the cache or now (once).
+    fn compiled(&self, p: &Params, clock_ns: u64) -> Result<PathBuf, String> {
+        let mut args: Vec<String> = p
+            .hdl_parameters()
+            .iter()
+            .map(|(n, v)| format!("-Ptb_vectors.{n}={v}"))
+            .collect();
+        args.push(format!("-Ptb_vectors.CLOCK_NS={clock_ns}"));
+        if !clock_ns.is_multiple_of(2000) {
+            args.push("-DTB_TIMESCALE_NS".into());
+        }
+        let key = format!(
+            "{:016x}",
+            fnv(&[
+                args.join(" ").as_bytes(),
+                self.top_params.join(",").as_bytes(),
+                TB_VECTORS.as_bytes()
+            ])
+        );
+        let slot = self
+            .compiles
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .entry(key.clone())
+            .or_default()
+            .clone();
+        slot.get_or_init(|| self.compile_now(&key, args)).clone()
+    }
+
+    fn compile_now(&self, key: &str, mut args: Vec<String>) -> Result<PathBuf, String> {
+        let vvp = self.root.join(format!("{key}.vvp"));
+        let deps = self.root.join(format!("{key}.deps"));
+        if vvp.is_file() && crate::cache::files_unchanged(&deps) {
+            return Ok(vvp);
+        }
+        let tmp = tempfile::Builder::new()
+            .prefix(".compile-")
+            .tempdir_in(&self.root)
+            .map_err(|e| format!("{}: {e}", self.root.display()))?;
+        if self.top_params.len() < pmu50_core::params::HDL_NAMES.len() {
+            // the instance with the parameters the top has
+            let inst = rtl::instance(&self.top_params);
+            std::fs::write(tmp.path().join("tb_dut_inst.vh"), inst).map_err(|e| e.to_string())?;
+            args.push("-DTB_DUT_INST".into());
+            args.push(format!("-I{}", tmp.path().display()));
+        }
+        for d in self.list.include_dirs() {
+            args.push(format!("-I{}", d.display()));
+        }
+        let out_vvp = tmp.path().join("tb.vvp");
+        let depfile = tmp.path().join("deps.txt");
+        let o = Command::new("iverilog")
+            .args([
+                "-g2005",
+                "-Wall",
+                "-Wno-timescale",
+                "-Wno-implicit-dimensions",
+                "-Wno-portbind",
+                "-s",
+                "tb_vectors",
+                "-o",
+            ])
+            .arg(&out_vvp)
+            .arg(format!("-M{}", depfile.display()))
+            .args(&args)
+            .arg(&self.tb)
+            .args(&self.list.files)
+            .output()
+            .map_err(|e| format!("cannot run iverilog: {e}"))?;
+        let log =
+            String::from_utf8_lossy(&o.stderr).into_owned() + &String::from_utf8_lossy(&o.stdout);
+        if !o.status.success() || !out_vvp.is_file() {
+            let lines: Vec<&str> = log.lines().filter(|l| !l.trim().is_empty()).collect();
+            return Err(lines[lines.len().saturating_sub(12)..].join("\n"));
+        }
+        // every file iverilog read, with a hash of each
+        let mut files: Vec<PathBuf> = std::fs::read_to_string(&depfile)
+            .unwrap_or_default()
+            .lines()
+            .map(|l| PathBuf::from(l.trim()))
+            .filter(|p| p.is_file() && !p.starts_with(tmp.path()))
+            .collect();
+        files.extend(self.list.files.iter().cloned());
+        crate::cache::write_record(&deps, &files);
+        std::fs::rename(&out_vvp, &vvp).map_err(|e| e.to_string())?;
+        Ok(vvp)
+    }
+}
+
+/// A seed's vvp run.
+struct Running {
+    child: Child,
+    started: Instant,
+    output: Option<std::thread::JoinHandle<String>>,
+    verdict: PathBuf,
+    _vec: tempfile::NamedTempFile,
+}
+
+impl Running {
+    fn kill(&mut self) {
+        let g = self.child.id() as libc::pid_t;
+        // SAFETY: kill(2) with the negated id of the group the child leads.
+        unsafe { libc::kill(-g, libc::SIGKILL) };
+        let _ = self.child.wait();
+        lockstep::unregister_child(g);
+    }
+}
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        self.kill();
+        let _ = std::fs::remove_file(&self.verdict);
+    }
+}
+
+/// Read a child's output to its end, keeping the last [`LOG_KEEP`] bytes.
+fn keep_tail(mut r: impl Read) -> String {
+    let mut kept: Vec<u8> = Vec::new();
+    let mut chunk = [0u8; 65536];
+    loop {
+        match r.read(&mut chunk) {
+            Ok(0) | Err(_) => break,
+            Ok(n) => {
+                kept.extend_from_slice(&chunk[..n]);
+                let keep = LOG_KEEP as usize;
+                if kept.len() > 2 * keep {
+                    kept.drain(..kept.len() - keep);
+                }
+            }
+        }
+    }
+    let keep = LOG_KEEP as usize;
+    if kept.len() > keep {
+        kept.drain(..kept.len() - keep);
+    }
+    String::from_utf8_lossy(&kept).into_owned()
+}
+
+/// The verdict file's `MISMATCH tick=<k> signal=<name> expected=<hex> got=<hex>` lines.
+fn mismatches(text: &str) -> (u64, Vec<Mismatch>) {
+    let mut tick = 0;
+    let mut v = Vec::new();
+    for l in text.lines().filter(|l| l.starts_with("MISMATCH ")) {
+        let field = |k: &str| {
+            l.split_whitespace()
+                .find_map(|w| w.strip_prefix(k))
+                .unwrap_or("")
+        };
+        tick = field("tick=").parse().unwrap_or(0);
+        v.push(Mismatch {
+            signal: field("signal=").to_string(),
+            expected: u64::from_str_radix(field("expected="), 16).unwrap_or(0),
+            got: u64::from_str_radix(field("got="), 16).unwrap_or(0),
+        });
+    }
+    (tick, v)
+}
+
+impl InFlight for Running {
+    fn wait(
+        mut self: Box<Self>,
+        sc: &Scenario,
+        timeout: Duration,
+    ) -> Result<Option<Failure>, DutError> {
+        let status = loop {
+            match self.child.try_wait() {
+                Ok(Some(s)) => break s,
+                Ok(None) if self.started.elapsed() > timeout => {
+                    self.kill();
+                    return Ok(Some(timed_out(sc, timeout)));
+                }
+                Ok(None) => std::thread::sleep(Duration::from_millis(2)),
+                Err(e) => return Err(DutError::Tool(format!("waiting for vvp: {e}"))),
+            }
+        };
+        lockstep::unregister_child(self.child.id() as libc::pid_t);
+        let out = self
+            .output
+            .take()
+            .and_then(|h| h.join().ok())
+            .unwrap_or_default();
+        let verdict = std::fs::read_to_string(&self.verdict).unwrap_or_default();
+        if verdict.lines().any(|l| l.starts_with("PASS ticks=")) && status.success() {
+            return Ok(None);
+        }
+        let (tick, mm) = mismatches(&verdict);
+        if !mm.is_empty() {
+            return Ok(Some(divergence(sc, tick, false, &mm)));
+        }
+        use std::os::unix::process::ExitStatusExt;
+        let how = match (status.code(), status.signal()) {
+            (Some(c), _) => format!("the simulation ended without a verdict (vvp exit {c})"),
+            (_, Some(s)) => format!("the simulation crashed (signal {s})"),
+            _ => "the simulation ended without a verdict".into(),
+        };
+        let tail: Vec<&str> = out
+            .lines()
+            .filter(|l| !l.trim().is_empty() && !l.starts_with("VCD info"))
+            .collect();
+        let tail = tail[tail.len().saturating_sub(3)..].join(" | ");
+        Ok(Some(dut_failure(
+            sc,
+            None,
+            if tail.is_empty() {
+                how
+            } else {
+                format!("{how}: {tail}")
+            },
+        )))
+    }
+}
+
+impl Dut for IcarusDut {
+    fn name(&self) -> &'static str {
+        "icarus"
+    }
+
+    fn needs(&self) -> Needs {
+        Needs::Vectors
+    }
+
+    fn fixed(&self) -> &Fixed {
+        &self.fixed
+    }
+
+    fn vector_file(&self, sc: &Scenario) -> Result<tempfile::NamedTempFile, DutError> {
+        tempfile::Builder::new()
+            .prefix(&format!("{}.", sc.name))
+            .suffix(".vec")
+            .tempfile_in(self.scratch.path())
+            .map_err(|e| {
+                DutError::Tool(format!(
+                    "a scratch vector file in {}: {e}",
+                    self.scratch.path().display()
+                ))
+            })
+    }
+
+    fn send<'a>(
+        &'a self,
+        sc: &Scenario,
+        rec: Recorded,
+    ) -> Result<Box<dyn InFlight + 'a>, DutError> {
+        use std::os::unix::process::CommandExt;
+        let Recorded::Vectors(vec) = rec else {
+            return Err(DutError::Tool(
+                "the Icarus DUT needs the seed's vector file".into(),
+            ));
+        };
+        if !self.fixed.holds(&sc.params) {
+            return Err(DutError::Usage(format!(
+                "the seed's parameters do not keep what the RTL fixes ({})",
+                self.fixed.text()
+            )));
+        }
+        let vvp = self.compiled(&sc.params, sc.clock_ns()).map_err(|log| {
+            DutError::Tool(format!("iverilog failed for the seed's parameters:\n{log}"))
+        })?;
+        let verdict = vec.path().with_extension("verdict");
+        let mut child = Command::new("vvp")
+            .arg("-n")
+            .arg(&vvp)
+            .arg(format!("+vec={}", vec.path().display()))
+            .arg(format!("+verdict={}", verdict.display()))
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .process_group(0)
+            .spawn()
+            .map_err(|e| DutError::Tool(format!("cannot start vvp: {e}")))?;
+        lockstep::register_child(child.id() as libc::pid_t);
+        let output = child
+            .stdout
+            .take()
+            .map(|o| std::thread::spawn(move || keep_tail(o)));
+        Ok(Box::new(Running {
+            child,
+            started: Instant::now(),
+            output,
+            verdict,
+            _vec: vec,
+        }))
+    }
+
+    fn notes(&self) -> Vec<String> {
+        self.notes.clone()
+    }
+}
+
+impl Drop for IcarusDut {
+    fn drop(&mut self) {
+        lockstep::unregister_scratch(self.scratch.path());
+    }
+}
+
+/// The registry's row of Icarus Verilog: the RTL replaying the model's vector file, four-state.
+pub static BACKEND: Backend = Backend {
+    name: "icarus",
+    about: "an RTL on Icarus Verilog, replaying the model's vector file (four-state)",
+    caps: Caps {
+        rtl: true,
+        map: false,
+        code_coverage: false,
+        four_state: true,
+    },
+    make: |b: &Build<'_>| Ok(Box::new(IcarusDut::prepare(b.list, b.pins)?)),
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_simulation_that_prints_without_end_is_kept_to_its_last_bytes() {
+        let big: Vec<u8> = (0..5_000_000u32).map(|i| b'a' + (i % 26) as u8).collect();
+        let kept = keep_tail(std::io::Cursor::new(big.clone()));
+        assert_eq!(kept.len() as u64, LOG_KEEP);
+        assert!(big.ends_with(kept.as_bytes()));
+    }
+
+    #[test]
+    fn the_verdict_file_names_tick_signal_and_values() {
+        let (tick, mm) = mismatches("MISMATCH tick=42 signal=cnt_c expected=0 got=2\nMISMATCH tick=42 signal=diag expected=0 got=1\n");
+        assert_eq!(tick, 42);
+        assert_eq!(
+            mm,
+            vec![
+                Mismatch {
+                    signal: "cnt_c".into(),
+                    expected: 0,
+                    got: 2
+                },
+                Mismatch {
+                    signal: "diag".into(),
+                    expected: 0,
+                    got: 1
+                }
+            ]
+        );
+    }
+}

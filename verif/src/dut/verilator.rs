@@ -1,0 +1,1034 @@
+//! `--dut verilator`: an RTL with the contract ports, built by Verilator as a shared library
+//! (hdl/tb/lockstep/dut_lib.cpp) and stepped by DUT workers in lockstep with the core
+//! ([`crate::lockstep`]).
+//!
+//! Builds: one per set of the top's Verilog parameters. The parameters the top has go in with
+//! `-G` (the reset values too: nothing is deposited into a register); the ones it lacks are
+//! fixed by the RTL, read back through the register bus after reset ([`VerilatorDut::prepare`]),
+//! and kept by every seed. A build is shared by the jobs (the first job that needs it builds,
+//! the others wait for it) and cached on disk under [`super::cache_dir`]`/verilator/`: its key
+//! is the RTL's files, the parameters, the map and the library's source; its record lists every
+//! file Verilator read (its `--MMD` dependency file: `` `include ``d files too) with a hash of
+//! each, and a build whose files changed is built again. A precompiled header of the Verilator
+//! runtime makes a build about half a second.
+
+use super::api::{Backend, Build, Caps, Dut, DutError, DutTrace, InFlight, Needs, Recorded};
+use super::failure::{divergence, dut_failure, timed_out};
+use crate::cache::fnv;
+use crate::check::Failure;
+use crate::code_cov::points as code_cov;
+use crate::gen::{knobs_off, Pins};
+use crate::lockstep::{self, Answer, Reply, Request, Worker};
+use crate::map::{verilator_member, Entry, RtlMap};
+use crate::rtl::{self, FileList, Fixed, HierSignal, RtlError};
+use pmu50_core::params::{Params, HDL_NAMES};
+use pmu50_core::pmu50::Structural;
+use pmu50_core::signals;
+use pmu50_testbench::scenario::Scenario;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::{Arc, Mutex, OnceLock};
+use std::time::Duration;
+
+/// The library's C++ source, carried by the binary.
+const DUT_LIB_CPP: &str = include_str!("../../../hdl/tb/lockstep/dut_lib.cpp");
+/// Compiler flags of the library, its runtime and its precompiled header (they must agree).
+const CXXFLAGS: &[&str] = &[
+    "-std=c++17",
+    "-O2",
+    "-fPIC",
+    "-fvisibility=hidden",
+    "-DVM_TRACE=0",
+    "-DVM_COVERAGE=0",
+];
+/// The same for a build with code coverage (`--code-coverage`): not optimised, as its
+/// counters make the generated code about 18 000 lines for the twin, which `-O2` compiles in a
+/// minute and `-O0` in a quarter of it, while a seed's RTL run stays well under a second; and a
+/// build is made for each set of the top's parameters a seed draws.
+const CXXFLAGS_COV: &[&str] = &[
+    "-std=c++17",
+    "-O0",
+    "-fPIC",
+    "-fvisibility=hidden",
+    "-DVM_TRACE=0",
+    "-DVM_COVERAGE=1",
+];
+/// Verilator's options of a build with code coverage.
+const VERILATOR_COV: &[&str] = &["--coverage-line", "--coverage-toggle"];
+
+/// The register bus addresses read back after reset to learn what an RTL fixes (docs/spec.md
+/// 2.8): CTRL, PW, PI, PS, SI_MAX, SI_MIN, T1, T2, CTH, SMP_ON, CFG.
+const PROBE_ADDRS: [u8; 11] = [
+    0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0A, 0x0B, 0x0C,
+];
+
+/// One build, shared by the jobs: built once, by the first job that needs it.
+type Slot = Arc<OnceLock<Result<PathBuf, String>>>;
+
+pub struct VerilatorDut {
+    list: FileList,
+    /// The parameters of [`HDL_NAMES`] the top has, with their default values.
+    top_params: Vec<(&'static str, u64)>,
+    fixed: Fixed,
+    /// Mapped model values and the RTL signals that hold them.
+    mapped: Vec<(Entry, HierSignal)>,
+    map_key: String,
+    /// The cache folder of this RTL (its files' paths and contents).
+    root: PathBuf,
+    /// Verilator's installation (its runtime's sources), looked up at the first build.
+    verilator_root: OnceLock<Result<PathBuf, String>>,
+    builds: Mutex<HashMap<String, Slot>>,
+    /// Structural pairs whose ports were checked against the contract.
+    checked: Mutex<HashMap<(u8, u8), Result<(), String>>>,
+    workers: Mutex<Vec<Worker>>,
+    scratch: tempfile::TempDir,
+    notes: Vec<String>,
+    /// `--code-coverage`: the builds count line and toggle coverage, and each seed's counts are
+    /// read back ([`crate::code_cov`]).
+    code: Option<CodeCollector>,
+}
+
+/// The code coverage of the seeds a DUT ran, each taken once by the seed's result.
+#[derive(Default)]
+struct CodeCollector {
+    /// By scenario name: the counts of its last RTL run.
+    got: Mutex<HashMap<String, code_cov::SeedCode>>,
+    /// The points of each library (all of them, hit or not), parsed once.
+    points: Mutex<HashMap<PathBuf, Arc<Vec<u32>>>>,
+    /// A number for each worker's coverage file.
+    next: std::sync::atomic::AtomicU64,
+}
+
+fn tool_err(e: impl std::fmt::Display) -> DutError {
+    DutError::Tool(e.to_string())
+}
+
+/// Run a build step; its output (the end of it) in the error.
+fn step(cmd: &mut Command, what: &str) -> Result<(), String> {
+    let out = cmd
+        .output()
+        .map_err(|e| format!("cannot run {what}: {e}"))?;
+    if out.status.success() {
+        return Ok(());
+    }
+    let log =
+        String::from_utf8_lossy(&out.stderr).into_owned() + &String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = log.lines().filter(|l| !l.trim().is_empty()).collect();
+    Err(format!(
+        "{what} failed:\n{}",
+        lines[lines.len().saturating_sub(12)..].join("\n")
+    ))
+}
+
+impl VerilatorDut {
+    /// Analyse the RTL of `list` (ports, parameters, hierarchy), check it against the contract,
+    /// learn what it fixes, check the map, and build the library of its default parameters:
+    /// every way an RTL can be bad input fails here, before any seed.
+    pub fn prepare(list: &Path, map: Option<RtlMap>, pins: Pins) -> Result<VerilatorDut, DutError> {
+        VerilatorDut::prepare_with(list, map, pins, false)
+    }
+
+    /// [`VerilatorDut::prepare`], with `code_coverage` the builds with Verilator's line and
+    /// toggle coverage (cached apart from the plain ones) and each seed's counts read back.
+    pub fn prepare_with(
+        list: &Path,
+        map: Option<RtlMap>,
+        pins: Pins,
+        code_coverage: bool,
+    ) -> Result<VerilatorDut, DutError> {
+        let fl = FileList::read(list)?;
+        let scratch = tempfile::Builder::new()
+            .prefix("pmu50-dut.")
+            .tempdir()
+            .map_err(|e| tool_err(format!("a scratch folder: {e}")))?;
+        lockstep::register_scratch(scratch.path());
+        let mut key_parts: Vec<Vec<u8>> = Vec::new();
+        for f in &fl.files {
+            key_parts.push(f.as_os_str().as_encoded_bytes().to_vec());
+            key_parts
+                .push(std::fs::read(f).map_err(|e| tool_err(format!("{}: {e}", f.display())))?);
+        }
+        let refs: Vec<&[u8]> = key_parts.iter().map(|v| v.as_slice()).collect();
+        let root = crate::cache::cache_dir()
+            .join("verilator")
+            .join(format!("{:016x}", fnv(&refs)));
+        std::fs::create_dir_all(&root).map_err(|e| tool_err(format!("{}: {e}", root.display())))?;
+        let design = rtl::elaborate_cached(&fl, &[], &scratch.path().join("xml"), &root)?;
+        let top_params: Vec<(&'static str, u64)> = HDL_NAMES
+            .iter()
+            .filter_map(|n| design.param(n).map(|v| (*n, v.max(0) as u64)))
+            .collect();
+        let mut dut = VerilatorDut {
+            list: fl.clone(),
+            top_params,
+            fixed: Fixed::default(),
+            mapped: Vec::new(),
+            map_key: String::new(),
+            root,
+            verilator_root: OnceLock::new(),
+            builds: Mutex::new(HashMap::new()),
+            checked: Mutex::new(HashMap::new()),
+            workers: Mutex::new(Vec::new()),
+            scratch,
+            notes: Vec::new(),
+            code: code_coverage.then(CodeCollector::default),
+        };
+        // What the RTL fixes: the parameters its top lacks, read back through the bus.
+        let missing = design.missing_params();
+        let defaults = dut.defaults();
+        if !missing.is_empty() {
+            let lib = dut
+                .build(&dut.gparams(&defaults))
+                .map_err(|log| RtlError::Build {
+                    list: fl.list.clone(),
+                    tool: "verilator",
+                    log,
+                })?;
+            let rdata = dut.probe(&lib)?;
+            let mut values = Vec::new();
+            for name in HDL_NAMES.iter().filter(|n| missing.contains(n)) {
+                let at = |a: u8| rdata[PROBE_ADDRS.iter().position(|&x| x == a).unwrap_or(0)];
+                let v = match *name {
+                    "ADAPTIVE" => at(0x02) & 1,
+                    "PW" => at(0x03),
+                    "PI" => at(0x04),
+                    "PS" => at(0x05),
+                    "SI_MAX" => at(0x06),
+                    "SI_MIN" => at(0x07),
+                    "T1" => at(0x08),
+                    "T2" => at(0x09),
+                    "CTH" => at(0x0A) & 0xff,
+                    "SMP_ON" => at(0x0B),
+                    "SYNC_DEPTH" => at(0x0C) & 7,
+                    "CNT_W" => (at(0x0C) >> 8) & 0x1f,
+                    _ => 0,
+                };
+                values.push((name.to_string(), v));
+            }
+            dut.fixed = Fixed { values };
+            let p = dut.fixed.apply(&defaults);
+            if let Err(e) = p.validate() {
+                return Err(RtlError::Fixed { list: fl.list.clone(), what: format!("its top lacks the parameters {}; read back through the bus after reset they are {} and make an illegal set: {e} (docs/spec.md section 4)", missing.join(", "), dut.fixed.text()) }.into());
+            }
+            if let Some(w) = dut.fixed.get("CNT_W") {
+                if design
+                    .port_width("cnt_s")
+                    .is_some_and(|pw| u64::from(pw) != w)
+                {
+                    return Err(RtlError::Fixed { list: fl.list.clone(), what: format!("its CFG register (0x0C) reads CNT_W = {w}, but its port cnt_s is {} bit(s) wide", design.port_width("cnt_s").unwrap_or(0)) }.into());
+                }
+            }
+            let off: Vec<String> = knobs_off(&dut.fixed)
+                .iter()
+                .map(|k| format!("{k:?}"))
+                .collect();
+            dut.notes.push(format!("the RTL fixes {} (its top lacks these parameters; read back through the bus after reset): every seed keeps them", dut.fixed.text()));
+            if !off.is_empty() {
+                dut.notes.push(format!(
+                    "knobs not drawn, as they need another value of a fixed parameter: {}",
+                    off.join(", ")
+                ));
+            }
+        }
+        // Pins against what the RTL fixes.
+        for (pin, name) in [(pins.sync_depth, "SYNC_DEPTH"), (pins.cnt_width, "CNT_W")] {
+            if let (Some(p), Some(f)) = (pin, dut.fixed.get(name)) {
+                if u64::from(p) != f {
+                    return Err(DutError::Usage(format!(
+                        "--{} {p}: the RTL fixes {name} = {f} (its top has no parameter {name})",
+                        if name == "CNT_W" {
+                            "cnt-width"
+                        } else {
+                            "sync-depth"
+                        }
+                    )));
+                }
+            }
+        }
+        // The contract at the default structure (and its ports as elaborated).
+        let s0 = Structural {
+            sync_depth: pins.sync_depth.unwrap_or(defaults.sync_depth),
+            cnt_width: pins.cnt_width.unwrap_or(defaults.cnt_width),
+        };
+        if (s0.sync_depth, s0.cnt_width) == (defaults.sync_depth, defaults.cnt_width) {
+            design.check_contract(&s0)?;
+            dut.checked
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .insert((s0.sync_depth, s0.cnt_width), Ok(()));
+        } else {
+            dut.check_pair(s0.sync_depth, s0.cnt_width)?;
+        }
+        // The narrowest counter too, when CNT_W is a parameter the seeds draw.
+        if dut.fixed.get("CNT_W").is_none()
+            && pins.cnt_width.is_none()
+            && design.param("CNT_W").is_some()
+        {
+            dut.check_pair(s0.sync_depth, 2)?;
+        }
+        if let Some(m) = map {
+            // the widths of the mapped signals in the structure the seeds start from
+            let at_s0 =
+                if (s0.sync_depth, s0.cnt_width) == (defaults.sync_depth, defaults.cnt_width) {
+                    design.clone()
+                } else {
+                    let mut g = Vec::new();
+                    if dut.top_params.iter().any(|(n, _)| *n == "SYNC_DEPTH") {
+                        g.push(("SYNC_DEPTH".to_string(), u64::from(s0.sync_depth)));
+                    }
+                    if dut.top_params.iter().any(|(n, _)| *n == "CNT_W") {
+                        g.push(("CNT_W".to_string(), u64::from(s0.cnt_width)));
+                    }
+                    rtl::elaborate_cached(&fl, &g, &dut.scratch.path().join("xml_map"), &dut.root)?
+                };
+            dut.mapped = m.check(&at_s0, &s0)?;
+            dut.map_key = m.key();
+            dut.notes.push(format!(
+                "map {}: {} register(s) and {} internal(s) compared beside the ports",
+                m.path
+                    .as_ref()
+                    .map_or(String::new(), |p| p.display().to_string()),
+                m.registers.len(),
+                m.internals.len()
+            ));
+        }
+        // The library of the default parameters: an RTL that does not build fails now.
+        let s0p = Params {
+            sync_depth: s0.sync_depth,
+            cnt_width: s0.cnt_width,
+            ..dut.fixed.apply(&defaults)
+        };
+        dut.build(&dut.gparams(&s0p))
+            .map_err(|log| RtlError::Build {
+                list: fl.list.clone(),
+                tool: "verilator",
+                log,
+            })?;
+        Ok(dut)
+    }
+
+    /// The names of the parameters the top has.
+    pub fn top_param_names(&self) -> Vec<String> {
+        self.top_params.iter().map(|(n, _)| n.to_string()).collect()
+    }
+
+    /// The top's default parameter values (the model's defaults where the top lacks one).
+    fn defaults(&self) -> Params {
+        let mut p = Params::default();
+        for (n, v) in &self.top_params {
+            let _ = p.set_hdl_parameter(n, *v);
+        }
+        p
+    }
+
+    /// The `-G` values of a build for `p`: the parameters the top has.
+    fn gparams(&self, p: &Params) -> Vec<(String, u64)> {
+        p.hdl_parameters()
+            .iter()
+            .filter(|(n, _)| self.top_params.iter().any(|(t, _)| t == n))
+            .map(|(n, v)| (n.to_string(), *v))
+            .collect()
+    }
+
+    /// Check the ports against the contract for structure (sd, w), once per pair.
+    fn check_pair(&self, sd: u8, w: u8) -> Result<(), DutError> {
+        if let Some(r) = self
+            .checked
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&(sd, w))
+        {
+            return r.clone().map_err(|e| {
+                DutError::Rtl(RtlError::Fixed {
+                    list: self.list.list.clone(),
+                    what: e,
+                })
+            });
+        }
+        let mut g = Vec::new();
+        if self.top_params.iter().any(|(n, _)| *n == "SYNC_DEPTH") {
+            g.push(("SYNC_DEPTH".to_string(), u64::from(sd)));
+        }
+        if self.top_params.iter().any(|(n, _)| *n == "CNT_W") {
+            g.push(("CNT_W".to_string(), u64::from(w)));
+        }
+        let work = self.scratch.path().join(format!("xml_{sd}_{w}"));
+        let r = rtl::elaborate_cached(&self.list, &g, &work, &self.root).and_then(|d| {
+            d.check_contract(&Structural {
+                sync_depth: sd,
+                cnt_width: w,
+            })
+        });
+        let _ = std::fs::remove_dir_all(&work);
+        let kept = r
+            .as_ref()
+            .map(|_| ())
+            .map_err(|e| format!("with SYNC_DEPTH={sd} CNT_W={w}: {e}"));
+        self.checked
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert((sd, w), kept);
+        r.map_err(DutError::Rtl)
+    }
+
+    /// The library for the seed's parameters, built on first use.
+    fn library(&self, p: &Params) -> Result<PathBuf, DutError> {
+        if !self.fixed.holds(p) {
+            return Err(DutError::Usage(format!(
+                "the seed's parameters do not keep what the RTL fixes ({})",
+                self.fixed.text()
+            )));
+        }
+        self.check_pair(p.sync_depth, p.cnt_width)?;
+        self.build(&self.gparams(p)).map_err(DutError::Tool)
+    }
+
+    /// A build for these `-G` values: from the cache, or built now (once for all jobs).
+    fn build(&self, g: &[(String, u64)]) -> Result<PathBuf, String> {
+        let gtext: String = g.iter().map(|(n, v)| format!("{n}={v};")).collect();
+        let cov = self.code.is_some();
+        let key = format!(
+            "{}{:016x}",
+            if cov { "cov-" } else { "" },
+            fnv(&[
+                gtext.as_bytes(),
+                self.map_key.as_bytes(),
+                DUT_LIB_CPP.as_bytes(),
+                cxxflags(cov).join(" ").as_bytes(),
+                if cov {
+                    VERILATOR_COV.join(" ")
+                } else {
+                    String::new()
+                }
+                .as_bytes()
+            ])
+        );
+        let slot = self
+            .builds
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .entry(key.clone())
+            .or_default()
+            .clone();
+        slot.get_or_init(|| self.build_now(&key, g)).clone()
+    }
+
+    fn build_now(&self, key: &str, g: &[(String, u64)]) -> Result<PathBuf, String> {
+        let dir = self.root.join(key);
+        let lib = dir.join("libpmu50_dut.so");
+        if lib.is_file() && crate::cache::files_unchanged(&dir.join("deps.txt")) {
+            return Ok(lib);
+        }
+        for tool in ["verilator", "g++"] {
+            if !rtl::have_tool(tool) {
+                return Err(format!(
+                    "`{tool}` is not installed (Debian package {tool}; `make deps` installs it)"
+                ));
+            }
+        }
+        let vroot = self.vroot()?;
+        let _ = std::fs::remove_dir_all(&dir);
+        let cov = self.code.is_some();
+        let (pch, runtime) = self.runtime(cov)?;
+        let tmp = tempfile::Builder::new()
+            .prefix(".build-")
+            .tempdir_in(&self.root)
+            .map_err(|e| format!("{}: {e}", self.root.display()))?;
+        let obj = tmp.path().join("obj");
+        std::fs::create_dir_all(&obj).map_err(|e| format!("{}: {e}", obj.display()))?;
+        // the map: which signals Verilator keeps visible, and the accessors of dut_lib.cpp
+        let mut vlt = String::from("`verilator_config\n");
+        for (_, s) in &self.mapped {
+            vlt.push_str(&format!(
+                "public_flat_rd -module \"{}\" -var \"{}\"\n",
+                s.module, s.var
+            ));
+        }
+        std::fs::write(obj.join("dut_map.vlt"), &vlt).map_err(|e| e.to_string())?;
+        let mut cmd = Command::new("verilator");
+        cmd.args([
+            "--cc",
+            "-O3",
+            "--x-assign",
+            "fast",
+            "--x-initial",
+            "fast",
+            "--top-module",
+            "pmu50",
+            "-Wno-fatal",
+            "-Wno-lint",
+            "-Wno-style",
+            "--MMD",
+            "-Mdir",
+        ])
+        .arg(&obj);
+        if cov {
+            cmd.args(VERILATOR_COV);
+        }
+        for d in self.list.include_dirs() {
+            cmd.arg(format!("-I{}", d.display()));
+        }
+        for (n, v) in g {
+            cmd.arg(format!("-G{n}={v}"));
+        }
+        cmd.arg(obj.join("dut_map.vlt")).args(&self.list.files);
+        step(&mut cmd, "verilator")?;
+        std::fs::write(obj.join("dut_map.h"), self.map_header(g)).map_err(|e| e.to_string())?;
+        std::fs::write(obj.join("dut_lib.cpp"), DUT_LIB_CPP).map_err(|e| e.to_string())?;
+        let mut unity = String::from("#include \"dut_lib.cpp\"\n");
+        let mut gen: Vec<String> = std::fs::read_dir(&obj)
+            .map_err(|e| e.to_string())?
+            .filter_map(|e| e.ok())
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| n.starts_with("Vpmu50") && n.ends_with(".cpp"))
+            .collect();
+        gen.sort();
+        for f in gen {
+            unity.push_str(&format!("#include \"{f}\"\n"));
+        }
+        std::fs::write(obj.join("unity.cpp"), unity).map_err(|e| e.to_string())?;
+        let inc = vroot.join("include");
+        let mut cc = Command::new("g++");
+        cc.args(cxxflags(cov))
+            .arg(format!("-I{}", inc.display()))
+            .arg(format!("-I{}", inc.join("vltstd").display()))
+            .arg(format!("-I{}", obj.display()))
+            .arg("-include")
+            .arg(&pch)
+            .arg("-c")
+            .arg(obj.join("unity.cpp"))
+            .arg("-o")
+            .arg(obj.join("unity.o"));
+        step(&mut cc, "g++ (the Verilator model)")?;
+        let mut ld = Command::new("g++");
+        ld.args(["-shared", "-Wl,--exclude-libs,ALL", "-o"])
+            .arg(tmp.path().join("libpmu50_dut.so"))
+            .arg(obj.join("unity.o"))
+            .arg(&runtime)
+            .args(["-lpthread", "-ldl", "-lm"]);
+        step(&mut ld, "g++ (link)")?;
+        // every file Verilator read, with a hash of each (`include`d files too)
+        // (the configuration file of the map is in the build folder, and in the key)
+        let mut deps: Vec<PathBuf> = verilator_deps(&obj.join("Vpmu50__ver.d"), &vroot)
+            .into_iter()
+            .filter(|p| !p.starts_with(tmp.path()))
+            .collect();
+        deps.extend(self.list.files.iter().cloned());
+        crate::cache::write_record(&tmp.path().join("deps.txt"), &deps);
+        let _ = std::fs::remove_dir_all(&obj);
+        let kept = tmp.keep();
+        match std::fs::rename(&kept, &dir) {
+            Ok(()) => Ok(lib),
+            // another process built the same key meanwhile
+            Err(_) if lib.is_file() => {
+                let _ = std::fs::remove_dir_all(&kept);
+                Ok(lib)
+            }
+            Err(e) => {
+                let _ = std::fs::remove_dir_all(&kept);
+                Err(format!("{}: {e}", dir.display()))
+            }
+        }
+    }
+
+    /// The precompiled header of the Verilator runtime and the runtime itself (compiled once
+    /// per Verilator installation and flags).
+    /// Verilator's installation folder (`verilator --getenv VERILATOR_ROOT`, once).
+    fn vroot(&self) -> Result<PathBuf, String> {
+        self.verilator_root
+            .get_or_init(|| {
+                Command::new("verilator")
+                    .arg("--getenv")
+                    .arg("VERILATOR_ROOT")
+                    .output()
+                    .ok()
+                    .map(|o| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()))
+                    .filter(|p| p.join("include/verilated.cpp").is_file())
+                    .ok_or_else(|| "verilator --getenv VERILATOR_ROOT names no folder with include/verilated.cpp".to_string())
+            })
+            .clone()
+    }
+
+    /// With `cov`, the runtime of the builds with code coverage (its own flags and
+    /// verilated_cov.cpp).
+    fn runtime(&self, cov: bool) -> Result<(PathBuf, PathBuf), String> {
+        static DONE: [OnceLock<Result<(PathBuf, PathBuf), String>>; 2] =
+            [OnceLock::new(), OnceLock::new()];
+        let vroot = self.vroot()?;
+        let flags_now = cxxflags(cov);
+        DONE[usize::from(cov)]
+            .get_or_init(|| {
+                let key = format!(
+                    "{:016x}",
+                    fnv(&[
+                        vroot.as_os_str().as_encoded_bytes(),
+                        flags_now.join(" ").as_bytes(),
+                        &std::fs::metadata(vroot.join("include/verilated.h"))
+                            .map(|m| m.len().to_le_bytes())
+                            .unwrap_or_default()
+                    ])
+                );
+                let dir = crate::cache::cache_dir()
+                    .join("verilator")
+                    .join(format!("_runtime_{key}"));
+                let (pch, rt) = (dir.join("pre.h"), dir.join("libvlrt.a"));
+                if dir.join("pre.h.gch").is_file() && rt.is_file() {
+                    return Ok((pch, rt));
+                }
+                std::fs::create_dir_all(crate::cache::cache_dir().join("verilator"))
+                    .map_err(|e| e.to_string())?;
+                let tmp = tempfile::Builder::new()
+                    .prefix(".runtime-")
+                    .tempdir_in(crate::cache::cache_dir().join("verilator"))
+                    .map_err(|e| e.to_string())?;
+                let inc = vroot.join("include");
+                let flags = |c: &mut Command| {
+                    c.args(flags_now)
+                        .arg(format!("-I{}", inc.display()))
+                        .arg(format!("-I{}", inc.join("vltstd").display()));
+                };
+                std::fs::write(
+                    tmp.path().join("pre.h"),
+                    "#include \"verilated.h\"\n#include <cstdint>\n#include <memory>\n",
+                )
+                .map_err(|e| e.to_string())?;
+                let mut c = Command::new("g++");
+                flags(&mut c);
+                c.args(["-x", "c++-header"])
+                    .arg(tmp.path().join("pre.h"))
+                    .arg("-o")
+                    .arg(tmp.path().join("pre.h.gch"));
+                step(&mut c, "g++ (precompiled header)")?;
+                let mut objs = Vec::new();
+                let sources: &[&str] = if cov {
+                    &[
+                        "verilated.cpp",
+                        "verilated_threads.cpp",
+                        "verilated_cov.cpp",
+                    ]
+                } else {
+                    &["verilated.cpp", "verilated_threads.cpp"]
+                };
+                for f in sources {
+                    let o = tmp.path().join(f.replace(".cpp", ".o"));
+                    let mut c = Command::new("g++");
+                    flags(&mut c);
+                    c.arg("-c").arg(inc.join(f)).arg("-o").arg(&o);
+                    step(&mut c, "g++ (the Verilator runtime)")?;
+                    objs.push(o);
+                }
+                step(
+                    Command::new("ar")
+                        .arg("rcs")
+                        .arg(tmp.path().join("libvlrt.a"))
+                        .args(&objs),
+                    "ar",
+                )?;
+                for o in objs {
+                    let _ = std::fs::remove_file(o);
+                }
+                let kept = tmp.keep();
+                if std::fs::rename(&kept, &dir).is_err() {
+                    let _ = std::fs::remove_dir_all(&kept);
+                }
+                if dir.join("pre.h.gch").is_file() && rt.is_file() {
+                    Ok((pch, rt))
+                } else {
+                    Err(format!(
+                        "the Verilator runtime in {} is incomplete",
+                        dir.display()
+                    ))
+                }
+            })
+            .clone()
+    }
+
+    /// dut_map.h of a build (hdl/tb/lockstep/dut_lib.cpp).
+    fn map_header(&self, g: &[(String, u64)]) -> String {
+        let mut h = String::from("// generated by pmu50 regress (src/regress/dut/verilator.rs): the contract ports, the map, the parameters\n#pragma once\n");
+        h.push_str("#define DUT_INPUTS(X)");
+        for s in signals::INPUTS {
+            h.push_str(&format!(" X({})", s.name));
+        }
+        h.push_str("\n#define DUT_OUTPUTS(X)");
+        for s in signals::OUTPUTS {
+            h.push_str(&format!(" X({})", s.name));
+        }
+        let group = |h: &mut String, name: &str, regs: bool| {
+            h.push_str(&format!("\n#define {name}(X)"));
+            for (e, s) in &self.mapped {
+                let is_reg = signals::REGISTERS.iter().any(|r| r.path() == e.model);
+                if is_reg == regs {
+                    h.push_str(&format!(
+                        " X(\"{}\", {})",
+                        e.model,
+                        verilator_member(&s.path)
+                    ));
+                }
+            }
+        };
+        group(&mut h, "DUT_REGISTERS", true);
+        group(&mut h, "DUT_INTERNALS", false);
+        h.push_str("\n#define DUT_PARAMS(X)");
+        for (n, v) in g {
+            h.push_str(&format!(" X(\"{n}\", {v}ull)"));
+        }
+        h.push('\n');
+        h
+    }
+
+    /// `bus_rdata` after reading each of [`PROBE_ADDRS`] (one read a tick, key off, no write).
+    fn probe(&self, lib: &Path) -> Result<Vec<u64>, DutError> {
+        // kept beside the library, which is rebuilt (and the record removed) when the RTL changes
+        let record = lib.with_file_name("probe.json");
+        if let Some(v) = std::fs::read_to_string(&record)
+            .ok()
+            .and_then(|t| serde_json::from_str::<Vec<u64>>(&t).ok())
+            .filter(|v| v.len() == PROBE_ADDRS.len() + 1)
+        {
+            return Ok(v);
+        }
+        let v = self.probe_now(lib)?;
+        let tmp = record.with_extension("tmp");
+        if std::fs::write(&tmp, serde_json::to_string(&v).unwrap_or_default()).is_ok() {
+            let _ = std::fs::rename(&tmp, &record);
+        }
+        Ok(v)
+    }
+
+    fn probe_now(&self, lib: &Path) -> Result<Vec<u64>, DutError> {
+        let mut inputs: Vec<u32> = PROBE_ADDRS
+            .iter()
+            .map(|&a| {
+                lockstep::pack(&pmu50_core::pmu50::Inputs {
+                    bus_addr: a,
+                    ..Default::default()
+                })
+            })
+            .collect();
+        inputs.push(0);
+        let mut w = Worker::spawn(self.scratch.path()).map_err(tool_err)?;
+        match w
+            .run(
+                Request::Probe,
+                lib,
+                &Params::default(),
+                &inputs,
+                Duration::from_secs(60),
+            )
+            .map_err(tool_err)?
+        {
+            Answer::Reply(Reply::Probe { rdata }) if rdata.len() == inputs.len() => Ok(rdata),
+            Answer::Reply(Reply::Error { reason }) => Err(tool_err(format!(
+                "reading the RTL's registers after reset: {reason}"
+            ))),
+            Answer::Reply(_) => Err(tool_err(
+                "reading the RTL's registers after reset: an unexpected reply",
+            )),
+            Answer::TimedOut => Err(RtlError::Fixed {
+                list: self.list.list.clone(),
+                what: "reading its registers through the bus after reset did not end within 60 s"
+                    .into(),
+            }
+            .into()),
+            Answer::Died(how) => Err(RtlError::Fixed {
+                list: self.list.list.clone(),
+                what: format!("reading its registers through the bus after reset: {how}"),
+            }
+            .into()),
+        }
+    }
+}
+
+/// The compiler flags of a plain build or (`cov`) of one with code coverage.
+fn cxxflags(cov: bool) -> &'static [&'static str] {
+    if cov {
+        CXXFLAGS_COV
+    } else {
+        CXXFLAGS
+    }
+}
+
+/// The files a Verilator `--MMD` dependency file lists, less Verilator's own.
+fn verilator_deps(d: &Path, vroot: &Path) -> Vec<PathBuf> {
+    let text = std::fs::read_to_string(d).unwrap_or_default();
+    let Some((_, deps)) = text.split_once(':') else {
+        return Vec::new();
+    };
+    let mut v: Vec<PathBuf> = deps
+        .split_whitespace()
+        .map(PathBuf::from)
+        .filter(|p| {
+            p.is_file()
+                && !p.starts_with(vroot)
+                && !p
+                    .file_name()
+                    .is_some_and(|n| n.to_string_lossy().starts_with("verilator"))
+        })
+        .collect();
+    v.sort();
+    v.dedup();
+    v
+}
+
+/// A seed in a DUT worker.
+struct Running<'a> {
+    dut: &'a VerilatorDut,
+    worker: Worker,
+    /// With code coverage: the library and the file the worker writes its counts to.
+    cov: Option<(PathBuf, PathBuf)>,
+}
+
+impl VerilatorDut {
+    /// Read the counts a worker wrote for scenario `sc` on library `lib` and keep them for the
+    /// seed's result ([`Dut::take_code_coverage`]).
+    fn collect(&self, sc: &Scenario, lib: &Path, file: &Path) -> Result<(), DutError> {
+        let Some(c) = &self.code else {
+            return Ok(());
+        };
+        let all = code_cov::read_counts(file).map_err(tool_err);
+        let _ = std::fs::remove_file(file);
+        let all = all?;
+        let points = c
+            .points
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .entry(lib.to_path_buf())
+            .or_insert_with(|| Arc::new(all.iter().map(|(p, _)| *p).collect()))
+            .clone();
+        let counts = all.into_iter().filter(|(_, n)| *n > 0).collect();
+        c.got
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(sc.name.clone(), code_cov::SeedCode { counts, points });
+        Ok(())
+    }
+}
+
+impl InFlight for Running<'_> {
+    fn wait(
+        self: Box<Self>,
+        sc: &Scenario,
+        timeout: Duration,
+    ) -> Result<Option<Failure>, DutError> {
+        let Running {
+            dut,
+            mut worker,
+            cov,
+        } = *self;
+        match worker.receive(timeout).map_err(tool_err)? {
+            Answer::Reply(r) => {
+                dut.workers
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .push(worker);
+                if let (Some((lib, file)), Reply::Pass { .. } | Reply::Diverged { .. }) = (&cov, &r)
+                {
+                    dut.collect(sc, lib, file)?;
+                }
+                match r {
+                    Reply::Pass { .. } => Ok(None),
+                    Reply::Diverged {
+                        tick,
+                        combinational,
+                        mismatches,
+                    } => Ok(Some(divergence(sc, tick, combinational, &mismatches))),
+                    Reply::Error { reason } => Err(DutError::Tool(format!(
+                        "the DUT's lockstep failed: {reason}"
+                    ))),
+                    Reply::Probe { .. } | Reply::Trace { .. } => Err(DutError::Tool(
+                        "the DUT worker answered another request than a lockstep".into(),
+                    )),
+                }
+            }
+            Answer::TimedOut => Ok(Some(timed_out(sc, timeout))),
+            Answer::Died(how) => Ok(Some(dut_failure(sc, None, how))),
+        }
+    }
+}
+
+impl Dut for VerilatorDut {
+    fn name(&self) -> &'static str {
+        "verilator"
+    }
+
+    fn needs(&self) -> Needs {
+        Needs::Inputs
+    }
+
+    fn fixed(&self) -> &Fixed {
+        &self.fixed
+    }
+
+    fn send<'a>(
+        &'a self,
+        sc: &Scenario,
+        rec: Recorded,
+    ) -> Result<Box<dyn InFlight + 'a>, DutError> {
+        let Recorded::Inputs(inputs) = rec else {
+            return Err(tool_err("the Verilator DUT needs the seed's inputs"));
+        };
+        let lib = self.library(&sc.params)?;
+        let idle = self.workers.lock().unwrap_or_else(|e| e.into_inner()).pop();
+        let mut worker = match idle {
+            Some(w) => w,
+            None => Worker::spawn(self.scratch.path()).map_err(tool_err)?,
+        };
+        let cov = match &self.code {
+            Some(c) => {
+                let n = c.next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let file = self.scratch.path().join(format!("code.{n}.dat"));
+                worker.send_coverage(&lib, &sc.params, &inputs, &file);
+                Some((lib, file))
+            }
+            None => {
+                worker.send(Request::Lockstep, &lib, &sc.params, &inputs);
+                None
+            }
+        };
+        Ok(Box::new(Running {
+            dut: self,
+            worker,
+            cov,
+        }))
+    }
+
+    fn take_code_coverage(&self, name: &str) -> Option<code_cov::SeedCode> {
+        self.code
+            .as_ref()?
+            .got
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .remove(name)
+    }
+
+    fn notes(&self) -> Vec<String> {
+        self.notes.clone()
+    }
+
+    fn trace(
+        &self,
+        sc: &Scenario,
+        rec: Recorded,
+        from: u64,
+        to: u64,
+    ) -> Option<Result<DutTrace, DutError>> {
+        let Recorded::Inputs(inputs) = rec else {
+            return None;
+        };
+        let go = || -> Result<DutTrace, DutError> {
+            let lib = self.library(&sc.params)?;
+            let mut w = Worker::spawn(self.scratch.path()).map_err(tool_err)?;
+            match w
+                .trace(
+                    &lib,
+                    &sc.params,
+                    &inputs,
+                    from,
+                    to,
+                    Duration::from_secs(120),
+                )
+                .map_err(tool_err)?
+            {
+                Answer::Reply(Reply::Trace { from, regs, values }) => {
+                    let mut names: Vec<String> = signals::OUTPUTS
+                        .iter()
+                        .map(|s| s.name.to_string())
+                        .collect();
+                    names.extend(regs);
+                    let signals = names
+                        .into_iter()
+                        .enumerate()
+                        .map(|(j, n)| {
+                            (
+                                n,
+                                values
+                                    .iter()
+                                    .map(|v| v.get(j).copied().unwrap_or(0))
+                                    .collect(),
+                            )
+                        })
+                        .collect();
+                    Ok(DutTrace { from, signals })
+                }
+                Answer::Reply(_) => Err(tool_err(
+                    "the DUT worker answered another request than a trace",
+                )),
+                Answer::TimedOut => Err(tool_err("the DUT's trace did not end within 120 s")),
+                Answer::Died(how) => Err(tool_err(how)),
+            }
+        };
+        Some(go())
+    }
+}
+
+impl Drop for VerilatorDut {
+    fn drop(&mut self) {
+        self.workers
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clear();
+        lockstep::unregister_scratch(self.scratch.path());
+    }
+}
+
+impl VerilatorDut {
+    /// Step the model and the RTL on `inputs` with parameters `p` in a DUT worker (`pmu50
+    /// lockstep`, the method 2 of hdl/cosim.sh): the worker's answer.
+    pub fn lockstep_inputs(
+        &self,
+        p: &Params,
+        inputs: &[u32],
+        timeout: Duration,
+    ) -> Result<Answer, DutError> {
+        let lib = self.library(p)?;
+        let mut w = Worker::spawn(self.scratch.path()).map_err(tool_err)?;
+        w.run(Request::Lockstep, &lib, p, inputs, timeout)
+            .map_err(tool_err)
+    }
+
+    /// How many registers and internals the map compares.
+    pub fn mapped_counts(&self) -> (usize, usize) {
+        let regs = self
+            .mapped
+            .iter()
+            .filter(|(e, _)| signals::REGISTERS.iter().any(|r| r.path() == e.model))
+            .count();
+        (regs, self.mapped.len() - regs)
+    }
+}
+
+/// The library of an RTL for one parameter set, built (or taken from the cache) as a regression
+/// would: for `make bench`'s peer row and the tests.
+pub fn library_for(list: &Path, p: &Params) -> Result<PathBuf, DutError> {
+    let d = VerilatorDut::prepare(list, None, Pins::default())?;
+    d.library(&d.fixed.apply(p))
+}
+
+/// The registry's row of Verilator: the RTL in lockstep with the core, mapped internals,
+/// code coverage.
+pub static BACKEND: Backend = Backend {
+    name: "verilator",
+    about: "an RTL built by Verilator, stepped in lockstep with the model",
+    caps: Caps {
+        rtl: true,
+        map: true,
+        code_coverage: true,
+        four_state: false,
+    },
+    make: |b: &Build<'_>| {
+        if b.code_coverage {
+            // the RTL's paths in point keys relative to the file list's folder
+            if let Some(dir) = b.list.canonicalize().ok().as_deref().and_then(Path::parent) {
+                code_cov::set_base(dir);
+            }
+        }
+        Ok(Box::new(VerilatorDut::prepare_with(
+            b.list,
+            b.map.clone(),
+            b.pins,
+            b.code_coverage,
+        )?))
+    },
+};

@@ -1,0 +1,507 @@
+//! `--map FILE`: the opt-in deeper compare. A map names, for model registers and internals,
+//! the hierarchical signal of the RTL under test that holds the same value; the regression then
+//! compares each mapped pair after every edge (registers) or before it (internals), as it
+//! compares the ports. Any entry may be left out: an RTL is checked on its ports alone by
+//! default (docs/hdl-guide.md, "Your RTL").
+//!
+//! ```toml
+//! # model register (block.register, docs/signals.md) = RTL signal (hierarchical, from pmu50)
+//! [registers]
+//! "timing_generator.tmr" = "pmu50.u_timing.timer_q"
+//! [internals]
+//! kon = "pmu50.key_on_pulse"
+//! ```
+//!
+//! `pmu50 rtl-map --rtl FILELIST` proposes a map by matching the RTL's signals to the model's
+//! registers and internals by name and width ([`propose`]); the user edits it.
+
+use crate::rtl::{Design, HierSignal};
+use pmu50_core::pmu50::Structural;
+use pmu50_core::signals::{self, Width};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A map that cannot be used: what, where, and what is valid.
+#[derive(Debug, thiserror::Error)]
+pub enum MapError {
+    #[error("--map {path}: {reason}")]
+    File { path: PathBuf, reason: String },
+    #[error("--map {path}:{line}: `{key}` is not a model {group} (valid: {valid})")]
+    UnknownModel {
+        path: PathBuf,
+        line: usize,
+        key: String,
+        group: &'static str,
+        valid: String,
+    },
+    #[error("--map {path}:{line}: `{key}` = `{name}`: the RTL has no signal `{name}`{closest}")]
+    NoSignal {
+        path: PathBuf,
+        line: usize,
+        key: String,
+        name: String,
+        closest: String,
+    },
+    #[error("--map {path}:{line}: `{key}` = `{name}`: the RTL signal is {actual} bit(s) wide, the model's {key} is {expected}{why}")]
+    Width {
+        path: PathBuf,
+        line: usize,
+        key: String,
+        name: String,
+        expected: u32,
+        actual: u32,
+        why: String,
+    },
+    #[error(
+        "--map {path}:{line}: `{key}` = `{name}`: signals wider than 64 bits cannot be compared"
+    )]
+    TooWide {
+        path: PathBuf,
+        line: usize,
+        key: String,
+        name: String,
+    },
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MapFile {
+    #[serde(default)]
+    registers: BTreeMap<String, String>,
+    #[serde(default)]
+    internals: BTreeMap<String, String>,
+}
+
+/// One mapped pair.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Entry {
+    /// The model's name: `timing_generator.tmr` (register) or `kon` (internal).
+    pub model: String,
+    /// The RTL's hierarchical name, from `pmu50`.
+    pub rtl: String,
+}
+
+/// A map, in the order of the model's signal table.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RtlMap {
+    pub path: Option<PathBuf>,
+    pub registers: Vec<Entry>,
+    pub internals: Vec<Entry>,
+}
+
+fn line_of(text: &str, key: &str) -> usize {
+    let quoted = format!("\"{key}\"");
+    text.lines()
+        .position(|l| {
+            let t = l.trim_start();
+            t.starts_with(&quoted) || t.split(['=', ' ']).next() == Some(key)
+        })
+        .map_or(0, |i| i + 1)
+}
+
+impl RtlMap {
+    /// Read and check a map file's syntax and model names (the RTL names are checked by
+    /// [`RtlMap::check`] once the RTL is elaborated).
+    pub fn read(path: &Path) -> Result<RtlMap, MapError> {
+        let file = |reason: String| MapError::File {
+            path: path.to_path_buf(),
+            reason,
+        };
+        if let Some(kind) = pmu50_testbench::atomic_file::special_kind(path) {
+            return Err(file(format!("is {kind}, not a map file")));
+        }
+        let meta = std::fs::metadata(path).map_err(|e| file(e.to_string()))?;
+        if meta.len() > 1 << 20 {
+            return Err(file(format!(
+                "{} bytes: a map is at most 1 MiB",
+                meta.len()
+            )));
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| file(e.to_string()))?;
+        let raw: MapFile = toml::from_str(&text).map_err(|e| {
+            let line = e.span().map_or(0, |s| {
+                text[..s.start.min(text.len())].lines().count().max(1)
+            });
+            file(format!("line {line}: {}", e.message()))
+        })?;
+        let regs: Vec<String> = signals::REGISTERS.iter().map(|s| s.path()).collect();
+        let ints: Vec<String> = signals::INTERNALS
+            .iter()
+            .map(|s| s.name.to_string())
+            .collect();
+        let mut map = RtlMap {
+            path: Some(path.to_path_buf()),
+            ..RtlMap::default()
+        };
+        for (group, given, valid, out) in [
+            ("register", &raw.registers, &regs, &mut map.registers),
+            ("internal", &raw.internals, &ints, &mut map.internals),
+        ] {
+            for k in given.keys() {
+                if !valid.contains(k) {
+                    return Err(MapError::UnknownModel {
+                        path: path.to_path_buf(),
+                        line: line_of(&text, k),
+                        key: k.clone(),
+                        group,
+                        valid: valid.join(", "),
+                    });
+                }
+            }
+            for v in valid {
+                if let Some(r) = given.get(v) {
+                    let rtl = r.trim().to_string();
+                    if rtl.is_empty() {
+                        return Err(file(format!(
+                            "line {}: `{v}` maps to an empty name",
+                            line_of(&text, v)
+                        )));
+                    }
+                    out.push(Entry {
+                        model: v.clone(),
+                        rtl,
+                    });
+                }
+            }
+        }
+        Ok(map)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.registers.is_empty() && self.internals.is_empty()
+    }
+
+    fn line(&self, key: &str) -> usize {
+        self.path
+            .as_ref()
+            .and_then(|p| std::fs::read_to_string(p).ok())
+            .map_or(0, |t| line_of(&t, key))
+    }
+
+    /// Check every mapped name against the elaborated RTL (structure `s`): it exists, and has
+    /// the model's width. A name that does not exist is refused with the closest names.
+    pub fn check(&self, d: &Design, s: &Structural) -> Result<Vec<(Entry, HierSignal)>, MapError> {
+        let path = self.path.clone().unwrap_or_default();
+        let mut out = Vec::new();
+        let widths: Vec<(String, Width)> = signals::REGISTERS
+            .iter()
+            .map(|x| (x.path(), x.width))
+            .chain(
+                signals::INTERNALS
+                    .iter()
+                    .map(|x| (x.name.to_string(), x.width)),
+            )
+            .collect();
+        for e in self.registers.iter().chain(&self.internals) {
+            let line = self.line(&e.model);
+            let Some(sig) = d.signal(&e.rtl) else {
+                let closest = closest(&e.rtl, d.signals.iter().map(|x| x.path.as_str()), 5);
+                let closest = if closest.is_empty() {
+                    String::new()
+                } else {
+                    format!("; closest: {}", closest.join(", "))
+                };
+                return Err(MapError::NoSignal {
+                    path,
+                    line,
+                    key: e.model.clone(),
+                    name: e.rtl.clone(),
+                    closest,
+                });
+            };
+            if sig.width > 64 {
+                return Err(MapError::TooWide {
+                    path,
+                    line,
+                    key: e.model.clone(),
+                    name: e.rtl.clone(),
+                });
+            }
+            let w = widths
+                .iter()
+                .find(|(n, _)| *n == e.model)
+                .map(|(_, w)| *w)
+                .unwrap_or(Width::Bits(0));
+            let expected = u32::from(w.bits(s));
+            if sig.width != expected {
+                let why = match w {
+                    Width::CntWidth => format!(" (CNT_W = {})", s.cnt_width),
+                    Width::SyncDepth => format!(" (SYNC_DEPTH = {})", s.sync_depth),
+                    Width::Bits(_) => String::new(),
+                };
+                return Err(MapError::Width {
+                    path,
+                    line,
+                    key: e.model.clone(),
+                    name: e.rtl.clone(),
+                    expected,
+                    actual: sig.width,
+                    why,
+                });
+            }
+            out.push((e.clone(), sig.clone()));
+        }
+        Ok(out)
+    }
+
+    /// The map as TOML, in the model's order.
+    pub fn to_toml(&self) -> String {
+        let mut s = String::from("# pmu50 rtl-map: model registers and internals (docs/signals.md) -> hierarchical signals of the\n# RTL under test. `pmu50 regress --map FILE` compares each pair after every edge (registers) or\n# before it (internals), beside the ports. Any entry may be left out.\n\n[registers]\n");
+        for e in &self.registers {
+            s.push_str(&format!("\"{}\" = \"{}\"\n", e.model, e.rtl));
+        }
+        s.push_str("\n[internals]\n");
+        for e in &self.internals {
+            s.push_str(&format!("{} = \"{}\"\n", e.model, e.rtl));
+        }
+        s
+    }
+
+    /// A text that changes whenever the map does (for the build cache key).
+    pub fn key(&self) -> String {
+        self.registers
+            .iter()
+            .chain(&self.internals)
+            .map(|e| format!("{}={};", e.model, e.rtl))
+            .collect()
+    }
+}
+
+/// The `n` names closest to `name` (Jaro-Winkler on the whole path and on its last part).
+pub fn closest<'a>(name: &str, names: impl Iterator<Item = &'a str>, n: usize) -> Vec<String> {
+    let last = |s: &str| s.rsplit('.').next().unwrap_or(s).to_string();
+    let mut scored: Vec<(f64, &str)> = names
+        .map(|c| {
+            (
+                strsim::jaro_winkler(name, c)
+                    .max(strsim::jaro_winkler(&last(name), &last(c)) * 0.95),
+                c,
+            )
+        })
+        .collect();
+    scored.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(b.1)));
+    scored
+        .into_iter()
+        .take(n)
+        .map(|(_, c)| c.to_string())
+        .collect()
+}
+
+/// How a proposed entry was found, for the comment beside it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Proposal {
+    pub entry: Entry,
+    /// 0..1: 1 for the same name in an instance named like the model's block.
+    pub score: f64,
+    /// Other candidates of the same width, best first.
+    pub others: Vec<String>,
+}
+
+/// Propose a map for an elaborated RTL (structure `s`): for each model register, the signal of
+/// the model's width whose variable name and instance best match `block.register`; for each
+/// internal, the signal of its width whose name best matches. Ports of the top are never
+/// proposed (they are compared anyway). Entries below a score of 0.75 are left out.
+pub fn propose(d: &Design, s: &Structural) -> (RtlMap, Vec<Proposal>) {
+    let inner: Vec<&HierSignal> = d
+        .signals
+        .iter()
+        .filter(|x| {
+            x.path.matches('.').count() >= 1 && !(x.is_port && x.path.matches('.').count() == 1)
+        })
+        .collect();
+    let mut props: Vec<Proposal> = Vec::new();
+    let mut taken: Vec<String> = Vec::new();
+    let mut pick = |model: String, block: &str, var: &str, width: u32| -> Option<Proposal> {
+        let mut cands: Vec<(f64, &HierSignal)> = inner
+            .iter()
+            .filter(|x| x.width == width && !taken.contains(&x.path))
+            .map(|x| {
+                let parts: Vec<&str> = x.path.split('.').collect();
+                let leaf = parts[parts.len() - 1];
+                let scope = if parts.len() >= 3 {
+                    parts[parts.len() - 2]
+                } else {
+                    ""
+                };
+                let name_score = if leaf == var {
+                    1.0
+                } else {
+                    strsim::jaro_winkler(leaf, var) * 0.9
+                };
+                let scope_score = if block.is_empty() || scope == block {
+                    1.0
+                } else {
+                    strsim::jaro_winkler(scope, block).max(strsim::jaro_winkler(&x.module, block))
+                };
+                // a port of a sub-block is a copy of a register elsewhere: prefer the register
+                let port_penalty = if x.is_port { 0.9 } else { 1.0 };
+                (name_score * (0.6 + 0.4 * scope_score) * port_penalty, *x)
+            })
+            .collect();
+        cands.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.path.cmp(&b.1.path)));
+        let (score, best) = cands.first()?;
+        if *score < 0.75 {
+            return None;
+        }
+        taken.push(best.path.clone());
+        let others = cands
+            .iter()
+            .skip(1)
+            .take(3)
+            .map(|(_, c)| c.path.clone())
+            .collect();
+        Some(Proposal {
+            entry: Entry {
+                model,
+                rtl: best.path.clone(),
+            },
+            score: *score,
+            others,
+        })
+    };
+    let mut map = RtlMap::default();
+    for r in signals::REGISTERS {
+        if let Some(p) = pick(r.path(), r.scope, r.name, u32::from(r.width.bits(s))) {
+            map.registers.push(p.entry.clone());
+            props.push(p);
+        }
+    }
+    for x in signals::INTERNALS {
+        if let Some(p) = pick(x.name.to_string(), "", x.name, u32::from(x.width.bits(s))) {
+            map.internals.push(p.entry.clone());
+            props.push(p);
+        }
+    }
+    (map, props)
+}
+
+/// The proposal as TOML, each entry with its score and the other candidates, and the model
+/// names that found no candidate listed as comments.
+pub fn proposal_toml(map: &RtlMap, props: &[Proposal]) -> String {
+    let mut s = String::from("# pmu50 rtl-map: a proposed map (model registers and internals -> RTL signals), matched by name\n# and width. Review it: `pmu50 regress --map FILE` compares every entry after every edge.\n\n[registers]\n");
+    let note = |model: &str| -> String {
+        props
+            .iter()
+            .find(|p| p.entry.model == model)
+            .map_or(String::new(), |p| {
+                let others = if p.others.is_empty() {
+                    String::new()
+                } else {
+                    format!("; also {}", p.others.join(", "))
+                };
+                format!("  # score {:.2}{others}", p.score)
+            })
+    };
+    for r in signals::REGISTERS {
+        let k = r.path();
+        match map.registers.iter().find(|e| e.model == k) {
+            Some(e) => s.push_str(&format!("\"{}\" = \"{}\"{}\n", e.model, e.rtl, note(&k))),
+            None => s.push_str(&format!(
+                "# \"{k}\" = ?  (no signal of {} bit(s) with a matching name)\n",
+                r.width.bits(&Structural {
+                    sync_depth: 2,
+                    cnt_width: 16
+                })
+            )),
+        }
+    }
+    s.push_str("\n[internals]\n");
+    for x in signals::INTERNALS {
+        match map.internals.iter().find(|e| e.model == x.name) {
+            Some(e) => s.push_str(&format!("{} = \"{}\"{}\n", e.model, e.rtl, note(x.name))),
+            None => s.push_str(&format!(
+                "# {} = ?  (no signal with a matching name and width)\n",
+                x.name
+            )),
+        }
+    }
+    s
+}
+
+/// Verilator's name of a hierarchical signal as a member of the root class: `pmu50.a.b` ->
+/// `pmu50__DOT__a__DOT__b`, other characters encoded as Verilator encodes them.
+pub fn verilator_member(path: &str) -> String {
+    let mut out = String::new();
+    for (i, part) in path.split('.').enumerate() {
+        if i > 0 {
+            out.push_str("__DOT__");
+        }
+        let part = part.trim_start_matches('\\').trim_end();
+        let mut prev_us = false;
+        for c in part.chars() {
+            if c.is_ascii_alphanumeric() {
+                out.push(c);
+                prev_us = false;
+            } else if c == '_' && !prev_us {
+                out.push('_');
+                prev_us = true;
+            } else {
+                out.push_str(&format!("__0{:X}", c as u32));
+                prev_us = false;
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn member_names_follow_verilator() {
+        assert_eq!(
+            verilator_member("pmu50.timing_generator.tmr"),
+            "pmu50__DOT__timing_generator__DOT__tmr"
+        );
+        assert_eq!(
+            verilator_member("pmu50.internals.kon"),
+            "pmu50__DOT__internals__DOT__kon"
+        );
+        assert_eq!(verilator_member("pmu50.a__b"), "pmu50__DOT__a___05Fb");
+    }
+
+    #[test]
+    fn closest_names_rank_the_leaf() {
+        let names = [
+            "pmu50.timing_generator.tmr",
+            "pmu50.timing_generator.timer",
+            "pmu50.register_file.pw",
+        ];
+        let c = closest("pmu50.timing_generator.tmrr", names.iter().copied(), 2);
+        assert_eq!(c[0], "pmu50.timing_generator.tmr");
+    }
+
+    /// A file written as the CLI writes: to a temporary file, renamed into place.
+    fn put(p: &Path, text: &str) {
+        let mut b = pmu50_testbench::atomic_file::Batch::new();
+        b.add(pmu50_testbench::atomic_file::write_atomic(p, text.as_bytes()).unwrap());
+        b.commit().unwrap();
+    }
+
+    #[test]
+    fn a_map_names_model_signals_only() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("m.toml");
+        put(&p, "[registers]\n\"timing_generator.tmr\" = \"pmu50.t.q\"\n\"timing_generator.tmx\" = \"pmu50.t.x\"\n");
+        let e = RtlMap::read(&p).unwrap_err().to_string();
+        assert!(
+            e.contains(":3: `timing_generator.tmx` is not a model register")
+                && e.contains("timing_generator.tmr"),
+            "{e}"
+        );
+        put(&p, "[registers]\n\"timing_generator.tmr\" = \"pmu50.t.q\"\n[internals]\nkon = \"pmu50.k\"\n");
+        let m = RtlMap::read(&p).unwrap();
+        assert_eq!(
+            m.registers,
+            vec![Entry {
+                model: "timing_generator.tmr".into(),
+                rtl: "pmu50.t.q".into()
+            }]
+        );
+        assert_eq!(m.internals.len(), 1);
+        put(&p, "[regs]\n");
+        assert!(RtlMap::read(&p).unwrap_err().to_string().contains("line 1"));
+    }
+}
