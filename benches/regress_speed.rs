@@ -219,8 +219,7 @@ fn dut_rows(bin: &Path, seeds: u64, rounds: u64) {
     // serves every seed, as for a netlist, so both rows step the same library.
     let fixed_dir = tempfile::tempdir().expect("temp dir");
     let list = fixed_twin(root, fixed_dir.path());
-    let lib = match pmu50_verif::dut::verilator::library_for(&list, &pmu50_core::Params::default())
-    {
+    let lib = match pmu50_verif::dut::library_for(&list, &pmu50_core::Params::default()) {
         Ok(l) => l,
         Err(e) => {
             println!("regress --dut verilator rows skipped: the RTL library did not build: {e}");

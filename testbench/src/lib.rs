@@ -13,4 +13,5 @@ pub mod output;
 pub mod plot;
 pub mod random;
 pub mod scenario;
+pub mod scenario_text;
 pub mod sim;

@@ -15,7 +15,7 @@
 use crate::rtl::Fixed;
 use pmu50_core::Params;
 use pmu50_testbench::random::Rng;
-use std::fmt::Write;
+use pmu50_testbench::scenario_text::{EventText, ScenarioText, Segment};
 
 /// The corners a seed may visit. Each is a yes/no decision of the seed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -809,81 +809,53 @@ impl Stimulus {
 
     /// The scenario as TOML (what `pmu50 run` reads).
     pub fn to_toml(&self, name: &str) -> String {
-        let p = &self.params;
-        let us = |t: u64| format!("\"{} us\"", t * self.clock_us);
-        let mut s = String::new();
         let knobs: Vec<String> = self.knobs.iter().map(|k| format!("{k:?}")).collect();
-        let _ = writeln!(
-            s,
-            "# pmu50 regress, seed {}: knobs {}",
-            self.seed,
-            if knobs.is_empty() {
-                "none".into()
-            } else {
-                knobs.join(", ")
-            }
-        );
-        let _ = writeln!(s, "name = \"{name}\"");
-        let _ = writeln!(s, "description = \"regression seed {}\"", self.seed);
-        let _ = writeln!(s, "duration = {}\n", us(self.ticks));
-        let _ = writeln!(s, "[core]\nclock = \"{} us\"", self.clock_us);
-        let _ = writeln!(
-            s,
-            "sync_depth = {}\ncnt_width = {}\nadaptive = {}",
-            p.sync_depth, p.cnt_width, p.adaptive
-        );
-        for (n, v) in [
-            ("pw", p.pw),
-            ("pi", p.pi),
-            ("ps", p.ps),
-            ("x", p.si_max),
-            ("min", p.si_min),
-            ("t1", p.t1),
-            ("t2", p.t2),
-            ("smp_on", p.smp_on),
-        ] {
-            let _ = writeln!(s, "{n} = {}", us(u64::from(v)));
-        }
-        let _ = writeln!(s, "cth = {}\n", p.cth);
-        let _ = writeln!(
-            s,
-            "[env.comparator]\nvr_err_s = {:.3}\nvr_err_c = {:.3}\n",
-            self.vr_err.0 as f64 / 1000.0,
-            self.vr_err.1 as f64 / 1000.0
-        );
-        let _ = writeln!(
-            s,
-            "[motor]\nstart_deg = {:.1}\nsegments = [",
-            self.start_decideg as f64 / 10.0
-        );
-        for m in &self.motion {
-            match *m {
-                Motion::Hold { ticks } => {
-                    let _ = writeln!(s, "  {{ kind = \"hold\", duration = {} }},", us(ticks));
+        let mut t = ScenarioText::new(
+            &format!(
+                "pmu50 regress, seed {}: knobs {}",
+                self.seed,
+                if knobs.is_empty() {
+                    "none".into()
+                } else {
+                    knobs.join(", ")
                 }
-                Motion::Move { ticks, milli_deg } => {
-                    let _ = writeln!(
-                        s,
-                        "  {{ kind = \"move\", duration = {}, delta_deg = {:.3} }},",
-                        us(ticks),
-                        milli_deg as f64 / 1000.0
-                    );
-                }
-            }
+            ),
+            name,
+            &format!("regression seed {}", self.seed),
+            self.ticks,
+            self.clock_us,
+        );
+        t.core(&self.params);
+        t.comparator(self.vr_err.0 as f64 / 1000.0, self.vr_err.1 as f64 / 1000.0);
+        let segments: Vec<Segment> = self
+            .motion
+            .iter()
+            .map(|m| match *m {
+                Motion::Hold { ticks } => Segment::Hold { ticks },
+                Motion::Move { ticks, milli_deg } => Segment::Move {
+                    ticks,
+                    delta_deg: milli_deg as f64 / 1000.0,
+                },
+            })
+            .collect();
+        t.motor(self.start_decideg as f64 / 10.0, &segments);
+        for (at, a) in &self.events {
+            t.event(
+                *at,
+                &match a {
+                    Action::Ig(v) => EventText::Ig(*v),
+                    Action::Fault(v) => EventText::Vs2Fault(*v),
+                    Action::Write { reg, value } => EventText::Write {
+                        reg: reg.to_string(),
+                        value: u64::from(*value),
+                    },
+                    Action::Read { addr } => EventText::Read {
+                        addr: u64::from(*addr),
+                    },
+                },
+            );
         }
-        let _ = writeln!(s, "]");
-        for (t, a) in &self.events {
-            let _ = write!(s, "\n[[events]]\nat = {}\n", us(*t));
-            let _ = match a {
-                Action::Ig(v) => writeln!(s, "ig = {v}"),
-                Action::Fault(v) => writeln!(s, "vs2_fault = {v}"),
-                Action::Write { reg, value } => {
-                    writeln!(s, "write = {{ reg = \"{reg}\", value = {value} }}")
-                }
-                Action::Read { addr } => writeln!(s, "read = {addr}"),
-            };
-        }
-        s
+        t.finish()
     }
 }
 

@@ -2,11 +2,17 @@
 //! lockstep, checks, functional coverage per seed, code coverage of the RTL), merge, shards,
 //! triage to a repro, the HTML report, sign-off, mutation, RTL maps, and the HDL kit the binary
 //! carries. docs/architecture.md draws where it stands: above the testbench, below the CLI.
+//!
+//! The public face: a module per command the CLI runs (`regress`, `merge`, `signoff`,
+//! `mutation`, `report`, `map`, `lockstep`), the generator (`gen`), the DUT backends behind
+//! their registry (`dut`), the RTL's file list and elaboration (`rtl`), code coverage
+//! (`code_cov`), the HDL kit (`hdl_kit`), and the records of a run re-exported below. The
+//! implementation (a seed's run, the pool, the build cache, triage, a folder's files) is private.
 
-pub mod cache;
+mod cache;
 pub mod check;
 pub mod code_cov;
-pub mod curve;
+mod curve;
 pub mod dut;
 pub mod error;
 pub mod folder;
@@ -17,19 +23,19 @@ pub mod lockstep;
 pub mod map;
 pub mod merge;
 pub mod mutation;
-pub mod picture;
-pub mod pool;
-pub mod publish;
+mod picture;
+mod pool;
+mod publish;
 pub mod regress;
 pub mod report;
 pub mod rtl;
-pub mod seed;
+mod seed;
 pub mod shard;
 pub mod signoff;
-pub mod spec;
-pub mod summary;
-pub mod triage;
-pub mod wave;
+mod spec;
+mod summary;
+mod triage;
+mod wave;
 
 pub use curve::pct;
 pub use pool::run_pool;

@@ -18,6 +18,7 @@
 //! is absent is `missing` and misses its threshold (it says which command writes it); an input
 //! that is present but unreadable is an error naming the file.
 
+use crate::code_cov::figures::CodeSummary;
 use crate::error::RegressError;
 use crate::summary::Summary;
 use serde::Deserialize;
@@ -452,28 +453,26 @@ impl Criterion for Undecided {
     }
 }
 
-#[derive(Clone, Debug, Deserialize)]
-pub struct CodeFigure {
-    pub hit: u64,
-    pub total: u64,
-}
-
-/// `code/summary.json`: the RTL's line and toggle coverage, after waivers.
-#[derive(Clone, Debug, Deserialize)]
-pub struct CodeSummary {
-    pub line: CodeFigure,
-    pub toggle: CodeFigure,
-    #[serde(default)]
-    pub waivers: Vec<serde_json::Value>,
-    /// Seeds with a result but no counted coverage (must be 0).
-    #[serde(default)]
-    pub seeds_unaccounted: u64,
-}
-
+/// `code/summary.json`, read with the type that writes it.
 impl CodeSummary {
     pub const FILE: &'static str = "code/summary.json";
+    /// The summary of a folder (`None` when it has none); another format is refused.
     pub fn read(dir: &Path) -> Result<Option<CodeSummary>, RegressError> {
-        read_json(&dir.join(CodeSummary::FILE))
+        let path = dir.join(CodeSummary::FILE);
+        let c: Option<CodeSummary> = read_json(&path)?;
+        if let Some(c) = &c {
+            if c.format != crate::code_cov::figures::SUMMARY_FORMAT {
+                return Err(RegressError::File {
+                    path,
+                    reason: format!(
+                        "field `format`: `{}`; valid is `{}`",
+                        c.format,
+                        crate::code_cov::figures::SUMMARY_FORMAT
+                    ),
+                });
+            }
+        }
+        Ok(c)
     }
 }
 
@@ -504,10 +503,7 @@ impl Criterion for Code {
         let proofs = Proofs::read(f.dir)?.map(|p| p.waivers).unwrap_or_default();
         let (mut claimed, mut unproven) = (0, Vec::new());
         for w in &c.waivers {
-            let (file, what) = (
-                w.get("file").and_then(|x| x.as_str()).unwrap_or(""),
-                w.get("what").and_then(|x| x.as_str()).unwrap_or(""),
-            );
+            let (file, what) = (w.file.as_str(), w.what.as_str());
             if !what.starts_with(kind) {
                 continue;
             }

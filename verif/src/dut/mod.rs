@@ -21,13 +21,14 @@
 
 mod api;
 mod failure;
-pub mod icarus;
-pub mod model;
+mod icarus;
+mod model;
 pub mod registry;
 mod run;
-pub mod verilator;
+mod verilator;
 
 pub use api::{Backend, Build, Caps, Dut, DutError, DutTrace, InFlight, Needs, Ready, Recorded};
 pub use failure::{divergence, dut_failure, fig_at, timed_out};
 pub use registry::{prepare, BACKENDS};
 pub use run::{check, record};
+pub use verilator::{library_for, VerilatorDut};

@@ -68,33 +68,48 @@ pub fn of(kind: &DutKind) -> Result<&'static Backend, String> {
     find(kind.name())
 }
 
+/// An option and the capability it needs.
+#[derive(Clone, Copy)]
+struct Rule {
+    option: &'static str,
+    field: &'static str,
+    needs: &'static str,
+    cap: fn(&Caps) -> bool,
+}
+
+/// The options a backend may not honour, in the order of [`Backend::check`]'s arguments.
+const RULES: &[Rule] = &[
+    Rule {
+        option: "--rtl",
+        field: "rtl",
+        needs: "needs an RTL simulator",
+        cap: |c| c.rtl,
+    },
+    Rule {
+        option: "--map",
+        field: "map",
+        needs: "needs a backend that compares the mapped registers and internals",
+        cap: |c| c.map,
+    },
+    Rule {
+        option: "--code-coverage",
+        field: "code_coverage",
+        needs: "measures the RTL's code with Verilator's line and toggle coverage",
+        cap: |c| c.code_coverage,
+    },
+];
+
 impl Backend {
     /// Whether this backend can honour the options: an RTL, a map, code coverage.
     pub fn check(&self, rtl: bool, map: bool, code_coverage: bool) -> Result<(), Refusal> {
-        let rules: [(
-            bool,
-            &'static str,
-            &'static str,
-            &'static str,
-            fn(&Caps) -> bool,
-        ); 3] = [
-            (rtl, "--rtl", "rtl", "needs an RTL simulator", |c| c.rtl),
-            (
-                map,
-                "--map",
-                "map",
-                "needs a backend that compares the mapped registers and internals",
-                |c| c.map,
-            ),
-            (
-                code_coverage,
-                "--code-coverage",
-                "code_coverage",
-                "measures the RTL's code with Verilator's line and toggle coverage",
-                |c| c.code_coverage,
-            ),
-        ];
-        for (asked, option, field, needs, cap) in rules {
+        let asked = [rtl, map, code_coverage];
+        for (&asked, rule) in asked.iter().zip(RULES) {
+            let Rule {
+                option,
+                field,
+                needs,
+                cap,
+            } = *rule;
             if asked && !cap(&self.caps) {
                 return Err(Refusal {
                     option,
