@@ -32,6 +32,7 @@ pub mod rtl;
 mod seed;
 pub mod shard;
 pub mod signoff;
+mod sink;
 mod spec;
 mod summary;
 mod triage;

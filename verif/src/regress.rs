@@ -59,9 +59,9 @@ pub fn run(
     pmu50_testbench::atomic_file::create_dir(dir)?;
     let results_path = dir.join("results.jsonl");
     let range = o.spec.seeds();
-    if resume && o.spec.code_coverage {
-        // the code coverage of exactly the seeds with a result
-        code_cov::reconcile(dir, &range)?;
+    let mut sink = code_cov::sink::sink(o.spec.code_coverage, o.waivers.clone());
+    if resume {
+        sink.resume(dir, &range)?;
     }
     let mut total = vec![0u64; layout().bins.len()];
     let (done, complete_len) = if resume {
@@ -91,12 +91,7 @@ pub fn run(
             b"",
         )?);
         b.commit()?;
-        if o.spec.code_coverage {
-            code_cov::start(dir, &o.waivers.clone().unwrap_or_default())?;
-        } else {
-            // no code coverage of an earlier run into this folder stays to be taken for this one's
-            code_cov::remove(dir)?;
-        }
+        sink.start(dir)?;
     }
     // A last line torn by an interruption is cut before anything is appended after it.
     let mut appender = folder::open_regular(&results_path, true)?
@@ -113,18 +108,9 @@ pub fn run(
         .count() as u64;
     let mut write =
         |mut out: Vec<(SeedResult, Vec<u64>)>, total: &mut Vec<u64>| -> Result<(), RegressError> {
-            if o.spec.code_coverage {
-                // the batch's code coverage first: a part whose results an interruption tore
-                // is found by --resume
-                let mut part = code_cov::Total::default();
-                for (r, _) in &out {
-                    if let Some(c) = &r.code {
-                        part.add_seed(c);
-                    }
-                }
-                let seeds: Vec<u64> = out.iter().map(|(r, _)| r.seed).collect();
-                code_cov::write_part(dir, &seeds, &part)?;
-            }
+            // the sinks first: a batch whose results an interruption tore is found by --resume
+            let results: Vec<&SeedResult> = out.iter().map(|(r, _)| r).collect();
+            sink.batch(dir, &results)?;
             let batch_seeds = out.len();
             let mut text = String::new();
             for (r, hits) in &mut out {
@@ -148,8 +134,8 @@ pub fn run(
                 .write_all(text.as_bytes())
                 .and_then(|_| appender.flush())
                 .map_err(|e| file_err(&results_path, e))?;
-            if o.spec.code_coverage && batch_seeds > 0 {
-                code_cov::compact(dir, false)?;
+            if batch_seeds > 0 {
+                sink.after_batch(dir)?;
             }
             n_done += out.len() as u64;
             fails += out
@@ -232,9 +218,7 @@ pub fn run(
     }
     drop(appender);
     drop(done);
-    if o.spec.code_coverage {
-        code_cov::compact(dir, true)?;
-    }
+    sink.finish(dir)?;
     let summary = Summary::build(o.spec.clone(), &[Source::of(dir, &o.spec)])?;
     if o.triage && !stop.load(Ordering::Relaxed) {
         triage::write_repros(&summary, dir, d, o.timeout)?;

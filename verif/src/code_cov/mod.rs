@@ -33,6 +33,7 @@ pub(crate) mod figures;
 pub(crate) mod html;
 pub(crate) mod parts;
 pub(crate) mod points;
+pub(crate) mod sink;
 pub(crate) mod sums;
 pub(crate) mod waivers;
 

@@ -2,7 +2,7 @@
 //! numbered once per process, and a seed's counts read from its `coverage.dat`.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// The first line of a Verilator coverage file.
@@ -56,25 +56,16 @@ pub struct SeedCode {
     pub points: Arc<Vec<u32>>,
 }
 
-/// The folder the RTL's paths are made relative to in point keys (the file list's folder), set
-/// once by the regression.
-pub(super) static BASE: OnceLock<PathBuf> = OnceLock::new();
-
-/// Make the file paths of the points this process reads relative to `dir` (the file list's
-/// folder), so that the keys of one RTL are the same on every machine.
-pub fn set_base(dir: &Path) {
-    let _ = BASE.set(dir.to_path_buf());
-}
-
-/// A key as the folder keeps it: its `f` field relative to the base folder, and its `page`
+/// A key as the folder keeps it: its `f` field relative to `base` (the file list's folder, so
+/// that the keys of one RTL are the same on every machine), and its `page`
 /// without the suffix Verilator gives a module per parameter set (`updown_counter_58cd__C10`,
 /// `register_file__pi1`), so that a source line's point is one point whatever the parameters
 /// of the build that counted it.
-pub fn normalise(key: &str) -> String {
+pub fn normalise(key: &str, base: Option<&Path>) -> String {
     key.split('\u{1}')
         .map(|field| {
             if let Some(f) = field.strip_prefix("f\u{2}") {
-                if let Some(rel) = BASE.get().and_then(|b| Path::new(f).strip_prefix(b).ok()) {
+                if let Some(rel) = base.and_then(|b| Path::new(f).strip_prefix(b).ok()) {
                     return format!("f\u{2}{}", rel.display());
                 }
             } else if let Some(page) = field.strip_prefix("page\u{2}") {
@@ -113,8 +104,9 @@ pub(super) fn dat_line(line: &str) -> Option<(&str, u64)> {
     Some((&rest[..end], count))
 }
 
-/// The counts of a Verilator coverage.dat a worker wrote: (point, count) for every point.
-pub fn read_counts(path: &Path) -> Result<Vec<(u32, u64)>, String> {
+/// The counts of a Verilator coverage.dat a worker wrote: (point, count) for every point, the
+/// points' files relative to `base` ([`normalise`]).
+pub fn read_counts(path: &Path, base: Option<&Path>) -> Result<Vec<(u32, u64)>, String> {
     let text = std::fs::read_to_string(path).map_err(|e| {
         format!(
             "the code coverage of the RTL's run ({}): {e}",
@@ -139,7 +131,7 @@ pub fn read_counts(path: &Path) -> Result<Vec<(u32, u64)>, String> {
         } else {
             c
         };
-        v.push((intern(&normalise(k)), c));
+        v.push((intern(&normalise(k, base)), c));
     }
     Ok(v)
 }

@@ -92,6 +92,8 @@ pub struct VerilatorDut {
 /// The code coverage of the seeds a DUT ran, each taken once by the seed's result.
 #[derive(Default)]
 struct CodeCollector {
+    /// The file list's folder: the points' files are named relative to it.
+    base: Option<PathBuf>,
     /// By scenario name: the counts of its last RTL run.
     got: Mutex<HashMap<String, code_cov::SeedCode>>,
     /// The points of each library (all of them, hit or not), parsed once.
@@ -172,7 +174,10 @@ impl VerilatorDut {
             workers: Mutex::new(Vec::new()),
             scratch,
             notes: Vec::new(),
-            code: code_coverage.then(CodeCollector::default),
+            code: code_coverage.then(|| CodeCollector {
+                base: fl.list.parent().map(Path::to_path_buf),
+                ..Default::default()
+            }),
         };
         // What the RTL fixes: the parameters its top lacks, read back through the bus.
         let missing = design.missing_params();
@@ -787,7 +792,7 @@ impl VerilatorDut {
         let Some(c) = &self.code else {
             return Ok(());
         };
-        let all = code_cov::read_counts(file).map_err(tool_err);
+        let all = code_cov::read_counts(file, c.base.as_deref()).map_err(tool_err);
         let _ = std::fs::remove_file(file);
         let all = all?;
         let points = c
@@ -1018,12 +1023,6 @@ pub static BACKEND: Backend = Backend {
         four_state: false,
     },
     make: |b: &Build<'_>| {
-        if b.code_coverage {
-            // the RTL's paths in point keys relative to the file list's folder
-            if let Some(dir) = b.list.canonicalize().ok().as_deref().and_then(Path::parent) {
-                code_cov::set_base(dir);
-            }
-        }
         Ok(Box::new(VerilatorDut::prepare_with(
             b.list,
             b.map.clone(),
