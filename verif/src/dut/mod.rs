@@ -1,6 +1,6 @@
 //! The design under test of `pmu50 regress --dut NAME [--rtl FILELIST] [--map FILE]`: one type
-//! per backend behind the [`Dut`] trait, each a file of this folder and a row of the registry
-//! ([`registry::BACKENDS`]: its name, its capabilities and its constructor).
+//! per backend behind the [`Dut`] trait, each a file of this folder and a row of [`BACKENDS`]: its name, its
+//! capabilities and its constructor ([`registry`] checks options against them).
 //!
 //! - [`model::ModelDut`]: the model alone (its checks and invariants, no RTL).
 //! - [`verilator::VerilatorDut`]: an RTL with the contract ports of docs/signals.md as a
@@ -21,14 +21,30 @@
 
 mod api;
 mod failure;
-mod icarus;
-mod model;
 pub mod registry;
 mod run;
-mod verilator;
+
+/// The backends: a file of this folder each, and a row here. The macro declares each file's
+/// module and lists its `BACKEND` row in [`BACKENDS`], in this order (the order `--help` shows).
+macro_rules! backends {
+    ($($(#[$attr:meta])* $name:ident),* $(,)?) => {
+        $($(#[$attr])* mod $name;)*
+        /// Every backend: its name, its capabilities and its constructor.
+        pub static BACKENDS: &[&Backend] = &[$($(#[$attr])* &$name::BACKEND),*];
+    };
+}
+
+backends! {
+    model,
+    verilator,
+    icarus,
+    // the per-block specification as a DUT: a backend of the tests (dut/spec_model.rs)
+    #[cfg(test)]
+    spec_model,
+}
 
 pub use api::{Backend, Build, Caps, Dut, DutError, DutTrace, InFlight, Needs, Ready, Recorded};
 pub use failure::{divergence, dut_failure, fig_at, timed_out};
-pub use registry::{prepare, BACKENDS};
+pub use registry::prepare;
 pub use run::{check, record};
 pub use verilator::{library_for, VerilatorDut};

@@ -2,19 +2,13 @@
 //! constructor. Every rule about what a backend can do is checked here, from its capabilities,
 //! once ([`Backend::check`]): `--rtl` needs a backend that runs an RTL, `--map` one that compares
 //! mapped internals, `--code-coverage` one that measures the RTL's code. A new backend is a file
-//! of this folder with its `BACKEND` row, and that row in [`BACKENDS`].
+//! of this folder with its `BACKEND` row, and its name in the table of `super` ([`BACKENDS`]).
 
 use super::api::{Backend, Build, Caps, Dut, DutError};
+use super::BACKENDS;
 use crate::map::RtlMap;
 use crate::spec::{DutKind, RunSpec};
 use std::path::{Path, PathBuf};
-
-/// Every backend, in the order `--help` lists them.
-pub static BACKENDS: &[&Backend] = &[
-    &super::model::BACKEND,
-    &super::verilator::BACKEND,
-    &super::icarus::BACKEND,
-];
 
 /// An option that the chosen backend cannot honour, with the backends that can.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
