@@ -662,3 +662,89 @@ fn the_checker_sees_a_circle() {
         "{ps:?}"
     );
 }
+
+/// The workspace crates a `Cargo.toml` names under `[dependencies]`.
+fn workspace_deps(toml: &str, crates: &[String]) -> Vec<String> {
+    let mut deps = Vec::new();
+    let mut on = false;
+    for l in toml.lines() {
+        let t = l.trim();
+        if t.starts_with('[') {
+            on = t == "[dependencies]";
+            continue;
+        }
+        if on {
+            if let Some(name) = t.split(['=', '.', ' ']).next() {
+                if crates.iter().any(|c| c == name) {
+                    deps.push(name.to_string());
+                }
+            }
+        }
+    }
+    deps.sort();
+    deps
+}
+
+#[test]
+fn docs_architecture_table_is_the_crates_dependencies() {
+    let r = root();
+    let doc = std::fs::read_to_string(r.join("docs/architecture.md")).unwrap();
+    let svg = std::fs::read_to_string(r.join("docs/img/architecture.svg")).unwrap();
+    // | `crate` | `folder/` ... | `dep`, `dep` |
+    let rows: Vec<(String, String, Vec<String>)> = doc
+        .lines()
+        .filter(|l| l.starts_with("| `"))
+        .map(|l| {
+            let cells: Vec<&str> = l.split('|').map(str::trim).collect();
+            let tick = |s: &str| -> Vec<String> {
+                s.split('`')
+                    .enumerate()
+                    .filter(|(i, _)| i % 2 == 1)
+                    .map(|(_, x)| x.to_string())
+                    .collect()
+            };
+            let mut deps = tick(cells[3]);
+            deps.sort();
+            (tick(cells[1])[0].clone(), tick(cells[2])[0].clone(), deps)
+        })
+        .collect();
+    let names: Vec<String> = rows.iter().map(|r| r.0.clone()).collect();
+    let mut dirs: Vec<PathBuf> = workspace_members();
+    dirs.push(r.join("fuzz"));
+    assert_eq!(
+        rows.len(),
+        dirs.len(),
+        "one row per crate of the workspace and fuzz/"
+    );
+    for dir in dirs {
+        let toml = std::fs::read_to_string(dir.join("Cargo.toml")).unwrap();
+        let c = load_crate(&dir).unwrap();
+        let row = rows
+            .iter()
+            .find(|x| x.0 == c.name)
+            .unwrap_or_else(|| panic!("docs/architecture.md has no row for {}", c.name));
+        let folder = dir.strip_prefix(&r).unwrap().display().to_string();
+        let folder = if folder.is_empty() {
+            "src".into()
+        } else {
+            folder
+        };
+        assert_eq!(
+            row.1.trim_end_matches('/'),
+            folder,
+            "the folder of {} in docs/architecture.md",
+            c.name
+        );
+        assert_eq!(
+            row.2,
+            workspace_deps(&toml, &names),
+            "docs/architecture.md: what {} may import is what its Cargo.toml names",
+            c.name
+        );
+        assert!(
+            svg.contains(&format!(">{}<", c.name)),
+            "docs/img/architecture.svg does not draw {}",
+            c.name
+        );
+    }
+}

@@ -92,8 +92,8 @@ pub fn run(a: Args) -> CmdResult {
     let timeout = timeout(a.timeout)?;
     let jobs = jobs(a.jobs)?;
     let dut_name = a.dut.clone().unwrap_or_else(|| "model".into());
-    let backend = regress::dut::registry::find(&dut_name)
-        .map_err(|e| CliError::Usage(format!("--dut: {e}")))?;
+    let backend =
+        regress::dut::find(&dut_name).map_err(|e| CliError::Usage(format!("--dut: {e}")))?;
     backend
         .check(a.rtl.is_some(), a.map.is_some(), a.code_coverage)
         .map_err(|e| CliError::Usage(e.to_string()))?;

@@ -168,8 +168,7 @@ impl RunSpec {
                 return Err("fields `shard` and `directed`: a directed regression is never sharded (each batch steers by the seeds before it)".into());
             }
         }
-        let backend =
-            crate::dut::registry::of(&self.dut).map_err(|e| format!("field `dut`: {e}"))?;
+        let backend = crate::dut::of(&self.dut).map_err(|e| format!("field `dut`: {e}"))?;
         backend
             .check(self.rtl.is_some(), self.map.is_some(), self.code_coverage)
             .map_err(|e| e.as_field())?;

@@ -158,7 +158,7 @@ fn dut_notes(spec: &crate::spec::RunSpec) -> String {
             "; registers and internals of the map {} compared beside the ports",
             esc(m)
         ));
-    } else if crate::dut::registry::of(&spec.dut).is_ok_and(|b| b.caps.rtl) {
+    } else if crate::dut::of(&spec.dut).is_ok_and(|b| b.caps.rtl) {
         n.push_str("; the output ports compared after every edge");
     }
     if !spec.fixed.is_empty() {

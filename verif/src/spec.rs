@@ -10,7 +10,7 @@ use pmu50_coverage::layout;
 use serde::{Deserialize, Serialize};
 
 /// Where the regression's verdicts come from: a DUT backend, by its name in the registry
-/// (`crate::dut::registry`: `model`, `verilator`, `icarus`).
+/// (`crate::dut::BACKENDS`: `model`, `verilator`, `icarus`).
 #[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(transparent)]
 pub struct DutKind(String);

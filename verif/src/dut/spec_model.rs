@@ -84,7 +84,7 @@ pub static BACKEND: Backend = Backend {
 
 #[cfg(test)]
 mod tests {
-    use crate::dut::{registry, BACKENDS};
+    use crate::dut::{self as registry, BACKENDS};
     use crate::gen::{Bias, Stimulus};
     use crate::spec::{DutKind, RunSpec};
 
