@@ -374,7 +374,7 @@ fn frame_values(v: &mut [u64; NSIG], i: &Inputs, o: &Outputs, r: &Regs, x: &Inte
     ];
 }
 
-/// Declarations of the model's VCD (src/observers/waveform.rs) without the `env` reals.
+/// Declarations of the model's VCD (testbench/src/observers/waveform.rs) without the `env` reals.
 fn declare(st: &Stim) -> (VcdBuilder, Vec<SigId>, u64) {
     let s = Structural {
         sync_depth: st.params.sync_depth,

@@ -1,4 +1,4 @@
-//! The HDL kit the binary carries (src/hdl_kit.rs) is the checkout's hdl/, file for file.
+//! The HDL kit the binary carries (verif/src/hdl_kit.rs) is the checkout's hdl/, file for file.
 
 use std::path::Path;
 
@@ -31,7 +31,7 @@ fn the_kit_carries_every_tracked_file_of_hdl() {
     for t in &tracked {
         assert!(
             carried.contains(&t.as_str()),
-            "hdl/{t} is tracked but not carried by src/hdl_kit.rs"
+            "hdl/{t} is tracked but not carried by verif/src/hdl_kit.rs"
         );
     }
     for (p, text) in pmu50_verif::hdl_kit::FILES {

@@ -1,4 +1,4 @@
-//! Pictures and analyses (src/plot, src/analysis): the SVGs parse, reruns are byte-identical, and
+//! Pictures and analyses (testbench/src/plot, testbench/src/analysis): the SVGs parse, reruns are byte-identical, and
 //! their numbers are right: the steady-state speed limit of the sweep is within one sweep step of
 //! the analytic bound 90 deg / min (docs/analysis.md), the budget's totals are the sums of its
 //! parts, and the fixed cycle's Vs2 duty is Wt / x ([0229]-[0231]).

@@ -1,4 +1,4 @@
-//! The refused-write report (src/observers/refusals.rs) against the chip itself: over seeded random
+//! The refused-write report (testbench/src/observers/refusals.rs) against the chip itself: over seeded random
 //! scenarios (legal and refused writes, key edges, rail faults), a timeline write is reported as
 //! refused exactly when the register file raises `bus_err` at the edge that takes it.
 

@@ -356,7 +356,7 @@ fn parked_ticks_are_key_off_still_and_unfaulted() {
 
 #[test]
 fn parked_estimates_are_upper_bounds() {
-    // Parks that pulse more than the defaults (src/output.rs `estimate_run_bytes` has 5 s
+    // Parks that pulse more than the defaults (testbench/src/output.rs `estimate_run_bytes` has 5 s
     // measurements of these and more): a fixed 1 ms cycle; a fast turn then a hold at a short
     // si_min; key on, a turn and a Vs2 fault in the middle of a park.
     let d = tmp("parked");

@@ -147,7 +147,7 @@ pub fn from_kwargs(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<(CoreConfig, 
     Ok((core, params))
 }
 
-/// The message of `src/scenario.rs` for a core error, without `file:line: `: the involved field
+/// The message of `testbench/src/scenario.rs` for a core error, without `file:line: `: the involved field
 /// given last names it (the scenario takes the one written last in the file).
 fn message(e: &CoreConfigError, given: &[&'static str]) -> String {
     match given.iter().rev().find(|n| e.fields().contains(n)) {

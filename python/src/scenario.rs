@@ -1,4 +1,4 @@
-//! `pmu50.Scenario`: a scenario file (src/scenario.rs) run with its environment (src/sim.rs) to
+//! `pmu50.Scenario`: a scenario file (testbench/src/scenario.rs) run with its environment (testbench/src/sim/mod.rs) to
 //! the summary `pmu50 run` prints, as Python objects.
 
 use crate::errors::{guard, ScenarioError, SimulationError};
@@ -437,7 +437,7 @@ impl RunResult {
     }
 }
 
-/// A validated scenario (docs/spec.md, src/scenario.rs): `Scenario.load(path)` or
+/// A validated scenario (docs/spec.md, testbench/src/scenario.rs): `Scenario.load(path)` or
 /// `Scenario.from_str(text)`; invalid input raises `pmu50.ScenarioError` (a ValueError) whose
 /// message is the CLI's, `file:line: `field`: what is wrong and what is valid`.
 #[pyclass(module = "pmu50", name = "Scenario", frozen)]

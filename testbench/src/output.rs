@@ -25,7 +25,7 @@ pub struct FileOptions {
     /// Dump window in ticks (overrides the scenario's `[vcd] window`).
     pub window: Option<(u64, u64)>,
     /// Also write `<name>.svg`, a timing diagram in the style of the patent's FIG. 15/16 of the
-    /// whole run or of the window, with its numbers in `<name>_timing.csv` (src/observers/timing.rs).
+    /// whole run or of the window, with its numbers in `<name>_timing.csv` (testbench/src/observers/timing.rs).
     pub svg: bool,
     /// The signals of the waveform (`--trace`, `[vcd] trace`; default `all`).
     pub level: Level,

@@ -592,7 +592,7 @@ mod tests {
 
     #[test]
     fn shipped_list_parses_with_two_mutants_in_each_block() {
-        // the kit the binary carries (src/hdl_kit.rs): what an installed pmu50 runs
+        // the kit the binary carries (verif/src/hdl_kit.rs): what an installed pmu50 runs
         let kit = |f: &str| {
             crate::hdl_kit::FILES
                 .iter()

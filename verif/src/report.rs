@@ -258,7 +258,7 @@ th{{background:#f2f2f2}}.bin{{display:inline-block;min-width:7em;margin:1px;padd
         h.push_str("</table>\n");
     }
 
-    // Code coverage of the RTL (src/regress/code_cov.rs).
+    // Code coverage of the RTL (verif/src/code_cov/).
     if let Some(code) = &s.code {
         h.push_str(&crate::code_cov::render_html(code));
     }

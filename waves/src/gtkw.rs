@@ -515,7 +515,7 @@ impl GtkwSave {
     /// Render and write to `path`: to a temporary file beside it, renamed into place when
     /// complete (an interrupted write never leaves a cut save file; a symlink at `path` is
     /// replaced, not followed). The `pmu50` CLI stages its save files with its own output batch
-    /// instead (src/atomic_file.rs), so that the `.gtkw` lands after the VCD.
+    /// instead (testbench/src/atomic_file.rs), so that the `.gtkw` lands after the VCD.
     pub fn write(&self, path: impl AsRef<Path>) -> Result<(), GtkwError> {
         let text = self.render()?;
         let path = path.as_ref();

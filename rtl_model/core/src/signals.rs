@@ -4,9 +4,9 @@
 //! [`Inputs`], [`Outputs`], [`Regs`] or [`Internals`].
 //!
 //! Everything that lists signals is generated from these four lists: the `values()` lists of
-//! [`crate::pmu50`], the VCD declarations and GTKWave display formats (`src/observers/waveform.rs`), the
-//! change log's signedness (`src/observers/changelog.rs`), the vector file's `columns` header
-//! (`src/observers/vectors.rs`), the C ABI mirror and its widths (`hdl/ffi`, whose header
+//! [`crate::pmu50`], the VCD declarations and GTKWave display formats (`testbench/src/observers/waveform.rs`), the
+//! change log's signedness (`testbench/src/observers/changelog.rs`), the vector file's `columns` header
+//! (`testbench/src/observers/vectors.rs`), the C ABI mirror and its widths (`hdl/ffi`, whose header
 //! `hdl/ffi/include/pmu50.h` is checked against this table by a test) and the tables of
 //! `docs/signals.md` (checked by `rtl_model/core/tests/signal_table.rs`; regenerate both with
 //! `PMU50_REGENERATE=1 cargo test -p pmu50-core --test signal_table` and

@@ -15,16 +15,16 @@ pub struct Bin {
     /// (hdl/formal/pmu50_cov.sv, [`crate::monitor`]): the first bin of its point, in
     /// declaration order, whose expression holds at a sampled edge is the one hit.
     pub sv: &'static str,
-    /// How the directed generator aims at the bin (src/regress/gen.rs).
+    /// How the directed generator aims at the bin (verif/src/gen.rs).
     pub hint: Hint,
 }
 
-/// How the regression's directed generator (src/regress/gen.rs) aims at a bin that is still
+/// How the regression's directed generator (verif/src/gen.rs) aims at a bin that is still
 /// empty. Every bin declares one; a test fails when a reachable bin has none, or when a knob
 /// named here is not one of the generator's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Hint {
-    /// The generator's knobs (`Knob` of src/regress/gen.rs, by name) that make the bin likely:
+    /// The generator's knobs (`Knob` of verif/src/gen.rs, by name) that make the bin likely:
     /// a directed seed aimed at the bin forces them all.
     Knobs(&'static [&'static str]),
     /// Seeds hit it without any knob: a default class of the configuration, or a path that

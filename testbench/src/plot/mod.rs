@@ -1,5 +1,5 @@
 //! Pictures: the SVG writer the timing diagram of a run (crate::observers::timing) and the
-//! analyses (src/analysis) draw their charts with. Every picture is also written as CSV.
+//! analyses (testbench/src/analysis) draw their charts with. Every picture is also written as CSV.
 //!
 //! Every file is written to a temporary file in the same folder and renamed into place.
 
