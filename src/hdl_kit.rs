@@ -126,6 +126,10 @@ pub const FILES: &[(&str, &str)] = &[
         include_str!("../hdl/formal/pmu50_cov.json"),
     ),
     (
+        "formal/pmu50_contract.json",
+        include_str!("../hdl/formal/pmu50_contract.json"),
+    ),
+    (
         "tb/coverage/cov_main.cpp",
         include_str!("../hdl/tb/coverage/cov_main.cpp"),
     ),

@@ -456,7 +456,9 @@ enum HdlCmd {
     },
     /// Write the coverage model as a Verilog monitor: DIR/pmu50_cov.sv (module pmu50_cov, one
     /// hit_<bin> wire per bin), DIR/pmu50_cov_top.sv (the twin with the monitor bound to it) and
-    /// DIR/pmu50_cov.json (the bins and their wires). The repository keeps them in hdl/formal.
+    /// DIR/pmu50_cov.json (the bins and their wires); and the top's contract
+    /// DIR/pmu50_contract.json (its ports and parameters). The repository keeps them in
+    /// hdl/formal.
     CoverageMonitor {
         /// Folder to write into (made if missing).
         #[arg(long, default_value = "hdl/formal")]
@@ -1685,12 +1687,7 @@ fn cmd_run(
 
 /// `pmu50 hdl coverage-monitor`: the monitor generated from the coverage model.
 fn cmd_coverage_monitor(dir: &Path, check: bool) -> u8 {
-    use pmu50_coverage::monitor;
-    let files = [
-        ("pmu50_cov.sv", monitor::verilog()),
-        ("pmu50_cov_top.sv", monitor::verilog_top()),
-        ("pmu50_cov.json", monitor::table_json()),
-    ];
+    let files = pmu50_coverage::monitor::files();
     if check {
         let stale: Vec<String> = files
             .iter()
@@ -1728,9 +1725,10 @@ fn cmd_coverage_monitor(dir: &Path, check: bool) -> u8 {
         return 2;
     }
     out!(
-        "wrote the coverage monitor ({} bins) into {}: pmu50_cov.sv, pmu50_cov_top.sv, pmu50_cov.json",
+        "wrote the coverage monitor ({} bins) into {}: {}",
         pmu50_coverage::layout().bins.len(),
-        dir.display()
+        dir.display(),
+        files.map(|(n, _)| n).join(", ")
     );
     0
 }
