@@ -158,7 +158,10 @@ cosim: deps $(BIN)
 FORMAL_CACHE ?= 1
 RIC3_VERSION := 1.5.1
 RIC3         := target/tools/bin/rIC3
-FORMAL := FORMAL_CACHE=$(FORMAL_CACHE) $(VPY) hdl/formal/run.py $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
+# the kit's package (hdl/formal/pmu50_formal) run as a module: hdl/formal/run.py and
+# hdl/formal/coverage.py are the same commands
+FORMAL_PY := PYTHONPATH=$(CURDIR)/hdl/formal $(VPY) -m
+FORMAL := FORMAL_CACHE=$(FORMAL_CACHE) $(FORMAL_PY) pmu50_formal.kit $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
 $(VENV)/.formal: hdl/formal/requirements.txt $(VENV)/.ready
 	$(PIP) install -q -r hdl/formal/requirements.txt
 	@touch $@
@@ -178,7 +181,7 @@ formal: deps $(VENV)/.formal formal-tools
 formal-quick: deps $(VENV)/.formal
 	$(FORMAL) --sets small
 formal-mutants: deps $(VENV)/.formal formal-tools
-	$(VPY) hdl/formal/run.py --mutants --sets small --timeout 120
+	$(FORMAL_PY) pmu50_formal.kit --mutants --sets small --timeout 120
 	$(MAKE) formal-test
 formal-test: deps $(VENV)/.formal $(BIN)
 	PMU50=$(abspath $(BIN)) $(VPY) -m pytest -q hdl/formal/tests
@@ -198,7 +201,7 @@ COVERAGE_OUT := hdl/build/formal/coverage
 coverage-proofs: deps $(VENV)/.formal $(BIN)
 	$(BIN) hdl coverage-monitor --check
 	rm -rf $(COVERAGE_OUT)/witness $(COVERAGE_OUT)/coverage.json
-	nice $(VPY) hdl/formal/coverage.py --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
+	nice $(FORMAL_PY) pmu50_formal.coverage --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
 	  COVERAGE_WITNESS_DIR=$(abspath $(COVERAGE_OUT))/witness $(CARGO) test --release -q -p pmu50-coverage --test witness || exit 1; \
 	  exit $$rc
 

@@ -1,7 +1,7 @@
 """Binary AIGER (1.9) models of the formal kit: read once per parameter set, cut per check.
 
 yosys writes one model per parameter set in which every check (assertion or reachability cover)
-is an output (hdl/formal/run.py turns each `$assert`/`$cover` cell into an output first).
+is an output (kit.py turns each `$assert`/`$cover` cell into an output first).
 `Aiger.cone(k)` keeps the logic that output k and the invariant constraints (the `assume`s of
 the RTL) depend on, and returns a model whose only bad-state property is that output: what
 yosys' `opt_clean` did per property before, in milliseconds instead of a yosys run.
