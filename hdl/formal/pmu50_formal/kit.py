@@ -589,7 +589,9 @@ def witness_inputs(d, engine):
     `engine` left in folder d, or None: ABC pdr's write_cex file, rIC3's --witness output."""
     try:
         if engine in ("abc-pdr", "abc-bmc"):
-            lines = open(os.path.join(d, engine + ".aiw")).read().split()
+            # ABC ends the file with a comment on the last frame's line (`0101 # DONE`)
+            text = open(os.path.join(d, engine + ".aiw")).read()
+            lines = [w for ln in text.splitlines() for w in ln.split("#")[0].split()]
             return lines[1:] if len(lines) > 1 else None  # first line: the latches
         if engine in ("ric3", "ric3-bmc"):
             log = open(os.path.join(d, engine + ".log")).read()

@@ -175,6 +175,13 @@ def test_refuter_sets_are_legal():
         assert name not in common.parameter_sets()
 
 
+def test_an_abc_witness_is_its_frames_without_the_comment(tmp_path):
+    # write_cex -a: the latches, one line per frame, ABC's comment on the last frame's line
+    (tmp_path / "abc-pdr.aiw").write_text("000\n0101\n1100 # DONE\n")
+    assert kit.witness_inputs(str(tmp_path), "abc-pdr") == ["0101", "1100"]
+    assert kit.witness_inputs(str(tmp_path), "abc-bmc") is None  # no file
+
+
 def test_held_inputs_become_constants():
     # inputs 1, 2; output 0 = AND gate 3 of both
     m = aiger.Aiger(bytes(b"aig 3 2 0 1 1\n6\n") + bytes([6 - 4, 4 - 2]))
