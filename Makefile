@@ -249,18 +249,30 @@ fuzz:
 	  if [ $$rc -ne 0 ]; then tail -n 40 fuzz/logs/$$t.log; echo "fuzz: $$t FAILED (reproducer in fuzz/artifacts/$$t/)" >&2; exit 1; fi; \
 	done
 
-lint:
+## Rust: rustfmt and clippy (warnings are errors). Python (hdl/, python/, cluster/, benches/): ruff's
+## lint and format check (ruff.toml; ruff pinned in requirements-lint.txt, installed into target/venv).
+lint: $(VENV)/.lint
 	$(CARGO) fmt --all --check
 	cd fuzz && $(CARGO) fmt --all --check
 	$(CARGO) clippy --workspace --exclude pmu50-python --all-targets -- -D warnings
+	$(VENV)/bin/ruff check
+	$(VENV)/bin/ruff format --check
 
-## target/venv with maturin, cocotb and pytest (python/requirements-dev.txt); python3-venv if needed.
-$(VENV)/.ready: python/requirements-dev.txt
+## target/venv itself; python3-venv if needed.
+$(VPY):
 	@$(PYTHON3) -m venv $(VENV) 2>/dev/null || { \
 	  echo "installing Debian package python3-venv"; rm -rf $(VENV); \
 	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends python3-venv >/dev/null && \
 	  $(PYTHON3) -m venv $(VENV); }
+
+## target/venv with maturin, cocotb and pytest (python/requirements-dev.txt).
+$(VENV)/.ready: python/requirements-dev.txt | $(VPY)
 	$(PIP) install -q -r python/requirements-dev.txt
+	@touch $@
+
+## target/venv with ruff (requirements-lint.txt).
+$(VENV)/.lint: requirements-lint.txt | $(VPY)
+	$(PIP) install -q -r requirements-lint.txt
 	@touch $@
 
 ## The Python package pmu50 (python/, PyO3 + maturin), installed into target/venv (docs/python.md).

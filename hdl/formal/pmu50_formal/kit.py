@@ -32,8 +32,9 @@ check, the engines, the parameter set and the tool versions; an answer from ther
 
 A refuted property leaves in OUT/<set>/<prop>/ (the refuter set's folder when one refuted it):
 cex.vcd (yosys `sim` replay of a bmc3 witness of the unreduced cone, or of the refuting
-engine's own witness for deep ones), cex.gtkw (GTKWave opened on the failing cycle with the cycles before
-it, marker on it; the inputs that drove it, the property's outputs and the kit's shadows) and
+engine's own witness for deep ones), cex.gtkw (GTKWave opened on the failing cycle with the
+cycles before it, marker on it; the inputs that drove it, the property's outputs and the kit's
+shadows) and
 cex.vec (the stimulus as a vector file of docs/spec.md 6.2; the model replays it with
 `cargo run -p pmu50-ffi --example formal_replay -- cex.vec`).
 
@@ -41,6 +42,7 @@ Output: one line per check: property, set, verdict, seconds, how it was decided.
 Exit 0: all proven and not vacuous; 1: a property refuted, unknown or vacuous (or, with
 --mutants, a mutant not refuted or two engines disagreeing); 2: tool or setup failure.
 """
+
 import argparse
 import concurrent.futures as cf
 import hashlib
@@ -94,15 +96,31 @@ KIT_FILES = [
 # the other registers keep their reset values and fold away, and IC3/PDR reach that depth in
 # seconds.
 REFUTERS = {
-    "short": dict(params=dict(SYNC_DEPTH=1, CNT_W=2, ADAPTIVE=1, PW=0, PI=1, PS=1, SI_MAX=4,
-                              SI_MIN=3, T1=1, T2=1, CTH=255, SMP_ON=1),
-                  held={"bus_addr": 0x0A},
-                  note="bus address held at CTH, Cth = 255, 3-tick interval"),
+    "short": dict(
+        params=dict(
+            SYNC_DEPTH=1,
+            CNT_W=2,
+            ADAPTIVE=1,
+            PW=0,
+            PI=1,
+            PS=1,
+            SI_MAX=4,
+            SI_MIN=3,
+            T1=1,
+            T2=1,
+            CTH=255,
+            SMP_ON=1,
+        ),
+        held={"bus_addr": 0x0A},
+        note="bus address held at CTH, Cth = 255, 3-tick interval",
+    ),
 }
 REACH_DEPTH = 150  # cycles of the bounded search tried first for a cover
 REFUTE_AFTER = 10  # CPU seconds the engines spend on a property before the refuters join
-KIT_COVERS = {"reach_reset_state": "the reset state",
-              "reach_keyoff_period": "one whole key-off period"}
+KIT_COVERS = {
+    "reach_reset_state": "the reset state",
+    "reach_keyoff_period": "one whole key-off period",
+}
 
 
 def parse_props(path=PROPS_SV):
@@ -115,8 +133,9 @@ def parse_props(path=PROPS_SV):
         if not re.search(r"\b%s\s*:\s*assert\b" % re.escape(name), text):
             raise SetupError("%s: @prop %s has no assertion labelled %s" % (path, name, name))
         if not re.search(r"\b%s\s*:\s*cover\b" % re.escape(reach_of(name)), text):
-            raise SetupError("%s: @prop %s has no reachability cover labelled %s"
-                             % (path, name, reach_of(name)))
+            raise SetupError(
+                "%s: @prop %s has no reachability cover labelled %s" % (path, name, reach_of(name))
+            )
         props.append((name, m.group(2).strip(), m.group(3).strip()))
     labels = re.findall(r"\b(prop_\w+)\s*:\s*assert\b", text)
     missing = sorted(set(labels) - {p[0] for p in props})
@@ -129,7 +148,7 @@ def parse_props(path=PROPS_SV):
 
 
 def reach_of(prop):
-    return "reach_" + prop[len("prop_"):]
+    return "reach_" + prop[len("prop_") :]
 
 
 # ------------------------------------------------------------------ result cache
@@ -169,8 +188,11 @@ def sources_digest(files, incs, defs, mutant):
     read = list(files)
     for d in incs:
         for root, _, names in os.walk(d):
-            read += [os.path.join(root, n) for n in sorted(names)
-                     if n.endswith((".v", ".vh", ".sv", ".svh", ".inc"))]
+            read += [
+                os.path.join(root, n)
+                for n in sorted(names)
+                if n.endswith((".v", ".vh", ".sv", ".svh", ".inc"))
+            ]
     for f in read + KIT_FILES:
         h.update(os.path.basename(f).encode() + b"\0")
         with open(f, "rb") as fh:
@@ -182,9 +204,12 @@ def sources_digest(files, incs, defs, mutant):
 def tool_versions(engines):
     out = []
     for cmd in (["yosys", "-V"], ["yosys-abc", "-c", "version"]) + (
-            ([RIC3, "--version"],) if "ric3" in engines else ()):
+        ([RIC3, "--version"],) if "ric3" in engines else ()
+    ):
         try:
-            out.append(subprocess.run(cmd, capture_output=True, text=True, timeout=30).stdout.strip())
+            out.append(
+                subprocess.run(cmd, capture_output=True, text=True, timeout=30).stdout.strip()
+            )
         except (OSError, subprocess.TimeoutExpired) as e:
             out.append(str(e))
     return out
@@ -226,17 +251,36 @@ def checks_to_outputs(il, top="pmu50_formal"):
         a = conn["A"]
         if kind == "assert":
             decl.append("  wire $chk_n_%s" % name)
-            out += ["  cell $not $chk_not_%s" % name, "    parameter \\A_SIGNED 0",
-                    "    parameter \\A_WIDTH 1", "    parameter \\Y_WIDTH 1",
-                    "    connect \\A %s" % a, "    connect \\Y $chk_n_%s" % name, "  end"]
+            out += [
+                "  cell $not $chk_not_%s" % name,
+                "    parameter \\A_SIGNED 0",
+                "    parameter \\A_WIDTH 1",
+                "    parameter \\Y_WIDTH 1",
+                "    connect \\A %s" % a,
+                "    connect \\Y $chk_n_%s" % name,
+                "  end",
+            ]
             a = "$chk_n_%s" % name
-        out += ["  cell $and $chk_and_%s" % name, "    parameter \\A_SIGNED 0",
-                "    parameter \\A_WIDTH 1", "    parameter \\B_SIGNED 0", "    parameter \\B_WIDTH 1",
-                "    parameter \\Y_WIDTH 1", "    connect \\A %s" % a, "    connect \\B %s" % conn["EN"],
-                "    connect \\Y %s" % o, "  end"]
+        out += [
+            "  cell $and $chk_and_%s" % name,
+            "    parameter \\A_SIGNED 0",
+            "    parameter \\A_WIDTH 1",
+            "    parameter \\B_SIGNED 0",
+            "    parameter \\B_WIDTH 1",
+            "    parameter \\Y_WIDTH 1",
+            "    connect \\A %s" % a,
+            "    connect \\B %s" % conn["EN"],
+            "    connect \\Y %s" % o,
+            "  end",
+        ]
     text = "\n".join(out)
-    text, n = re.subn(r"^(module \\%s\n)" % top, lambda m: m.group(1) + "\n".join(decl) + "\n",
-                      text, count=1, flags=re.M)
+    text, n = re.subn(
+        r"^(module \\%s\n)" % top,
+        lambda m: m.group(1) + "\n".join(decl) + "\n",
+        text,
+        count=1,
+        flags=re.M,
+    )
     if n != 1:
         raise SetupError("module %s not found in the elaborated design" % top)
     return text, names
@@ -293,8 +337,10 @@ def build_model(setname, params, files, incs, defs, mutant, out, timeout, scorr=
     open(os.path.join(d, "design.ys"), "w").write("\n".join(lines) + "\n")
     rc = run(["yosys", "-q", "design.ys"], d, "design.log")
     if rc != 0:
-        raise SetupError("yosys could not read the design for set %s (rc %s): see %s"
-                         % (setname, rc, os.path.join(d, "design.log")))
+        raise SetupError(
+            "yosys could not read the design for set %s (rc %s): see %s"
+            % (setname, rc, os.path.join(d, "design.log"))
+        )
     text, names = checks_to_outputs(open(os.path.join(d, "design.il")).read())
     open(os.path.join(d, "checks.il"), "w").write(text)
     # bit-level AIG of the whole design (the engines optimise it themselves)
@@ -313,8 +359,10 @@ write_aiger -zinit -map model.aim model.aig
     open(os.path.join(d, "model.ys"), "w").write(ys)
     rc = run(["yosys", "-q", "model.ys"], d, "model.log")
     if rc != 0:
-        raise SetupError("yosys could not map the design for set %s (rc %s): see %s"
-                         % (setname, rc, os.path.join(d, "model.log")))
+        raise SetupError(
+            "yosys could not map the design for set %s (rc %s): see %s"
+            % (setname, rc, os.path.join(d, "model.log"))
+        )
     aim = open(os.path.join(d, "model.aim")).read()
     index = {}  # checks of one net (equal covers) share an output
     for line in aim.splitlines():
@@ -323,8 +371,10 @@ write_aiger -zinit -map model.aim model.aig
             index[f[3][5:]] = int(f[1])
     missing = sorted(set(names) - set(index))
     if missing:
-        raise SetupError("set %s: checks missing from the model: %s (see %s)"
-                         % (setname, ", ".join(missing), os.path.join(d, "model.aim")))
+        raise SetupError(
+            "set %s: checks missing from the model: %s (see %s)"
+            % (setname, ", ".join(missing), os.path.join(d, "model.aim"))
+        )
     bits = {}
     if held:
         try:
@@ -333,12 +383,20 @@ write_aiger -zinit -map model.aim model.aig
             os.replace(os.path.join(d, "model.aig"), os.path.join(d, "model_free.aig"))
             write_atomic(os.path.join(d, "model.aig"), free.held(bits))
         except (AigerError, ValueError) as e:
-            raise SetupError("set %s: unreadable AIGER model: %s" % (setname, e))
+            raise SetupError("set %s: unreadable AIGER model: %s" % (setname, e)) from e
     # signal correspondence over every check at once: an inductive, unbounded proof
     if os.path.exists(os.path.join(d, "scorr.aig")):
         os.remove(os.path.join(d, "scorr.aig"))
-    rc = run(["yosys-abc", "-c", "read_aiger model.aig; fold; strash; scorr; write_aiger scorr.aig"],
-             d, "scorr.log", timeout=timeout) if scorr else None
+    rc = (
+        run(
+            ["yosys-abc", "-c", "read_aiger model.aig; fold; strash; scorr; write_aiger scorr.aig"],
+            d,
+            "scorr.log",
+            timeout=timeout,
+        )
+        if scorr
+        else None
+    )
     try:
         model = Aiger(open(os.path.join(d, "model.aig"), "rb").read())
         if rc == 0 and os.path.exists(os.path.join(d, "scorr.aig")):
@@ -346,10 +404,12 @@ write_aiger -zinit -map model.aim model.aig
         else:
             reduced = model  # scorr ran out of time: the engines get the unreduced cones
     except (AigerError, ValueError) as e:
-        raise SetupError("set %s: unreadable AIGER model: %s" % (setname, e))
+        raise SetupError("set %s: unreadable AIGER model: %s" % (setname, e)) from e
     if len(reduced.outputs) != len(model.outputs) or max(index.values()) >= len(model.outputs):
-        raise SetupError("set %s: ABC changed the number of outputs (see %s)"
-                         % (setname, os.path.join(d, "scorr.log")))
+        raise SetupError(
+            "set %s: ABC changed the number of outputs (see %s)"
+            % (setname, os.path.join(d, "scorr.log"))
+        )
     sm = SetModel(d, index, model, reduced, aim)
     sm.held = bits
     return sm
@@ -358,6 +418,7 @@ write_aiger -zinit -map model.aim model.aig
 # ------------------------------------------------------------------ engines
 class Engine:
     """A model checker run on one AIGER file with one bad-state property."""
+
     name = ""
 
     def available(self):
@@ -376,8 +437,12 @@ class AbcPdr(Engine):
 
     def argv(self, aig, timeout):
         # the counterexample (input lines per frame) for a replay without a second search
-        return ["yosys-abc", "-c", "read_aiger %s; fold; strash; pdr -T %d; write_cex -a %s.aiw"
-                % (aig, max(1, timeout), self.name)]
+        return [
+            "yosys-abc",
+            "-c",
+            "read_aiger %s; fold; strash; pdr -T %d; write_cex -a %s.aiw"
+            % (aig, max(1, timeout), self.name),
+        ]
 
     def verdict(self, rc, log):
         m = re.search(r"was asserted in frame (\d+)", log)
@@ -398,8 +463,11 @@ class AbcBmc(Engine):
         # line-buffered with per-frame progress (-v): a run stopped at its time limit still
         # tells how deep it got
         return (["stdbuf", "-oL"] if shutil.which("stdbuf") else []) + [
-            "yosys-abc", "-c", "read_aiger %s; fold; strash; bmc3 -v -F %d -T %d; write_cex -a %s.aiw"
-            % (aig, self.depth, max(1, timeout), self.name)]
+            "yosys-abc",
+            "-c",
+            "read_aiger %s; fold; strash; bmc3 -v -F %d -T %d; write_cex -a %s.aiw"
+            % (aig, self.depth, max(1, timeout), self.name),
+        ]
 
     def verdict(self, rc, log):
         m = re.search(r"was asserted in frame (\d+)", log)
@@ -428,10 +496,10 @@ class Ric3(Engine):
         if rc == 20 or "RESULT: UNSAT" in log:
             return "proven", None
         if rc == 10 or "RESULT: SAT" in log:
-            w = log[log.find("RESULT: SAT"):].splitlines()
+            w = log[log.find("RESULT: SAT") :].splitlines()
             try:
-                i = next(k for k, l in enumerate(w) if re.fullmatch(r"b\d+", l.strip()))
-                j = next(k for k, l in enumerate(w) if l.strip() == "." and k > i)
+                i = next(k for k, ln in enumerate(w) if re.fullmatch(r"b\d+", ln.strip()))
+                j = next(k for k, ln in enumerate(w) if ln.strip() == "." and k > i)
                 return "refuted", j - i - 3  # b line, latch line, one line per frame
             except StopIteration:
                 return "refuted", None
@@ -473,8 +541,17 @@ class Task:
     portfolio. `prepare` (optional) is called when the task starts and returns (aig, d), for a
     cone that is cut only if the task is needed. `label` names it in the result."""
 
-    def __init__(self, engine, aig=None, d=None, after=0.0, decides=("proven", "refuted"),
-                 label=None, prepare=None, timeout=None):
+    def __init__(
+        self,
+        engine,
+        aig=None,
+        d=None,
+        after=0.0,
+        decides=("proven", "refuted"),
+        label=None,
+        prepare=None,
+        timeout=None,
+    ):
         self.engine, self.aig, self.d, self.after, self.decides = engine, aig, d, after, decides
         self.label, self.prepare, self.timeout = label or engine.name, prepare, timeout
 
@@ -517,12 +594,17 @@ def run_portfolio(tasks, timeout):
         lim = t.timeout if t.timeout is not None else timeout
         log = open(os.path.join(t.d, t.engine.name + ".log"), "w")
         try:
-            p = subprocess.Popen(t.engine.argv(t.aig, lim), cwd=t.d, stdout=log,
-                                 stderr=subprocess.STDOUT, start_new_session=True)
+            p = subprocess.Popen(
+                t.engine.argv(t.aig, lim),
+                cwd=t.d,
+                stdout=log,
+                stderr=subprocess.STDOUT,
+                start_new_session=True,
+            )
         except OSError as err:
             log.write(str(err))
             log.close()
-            raise SetupError("%s could not start: %s" % (t.engine.name, err))
+            raise SetupError("%s could not start: %s" % (t.engine.name, err)) from err
         running[t.label] = (t, p, log, time.time())
 
     try:
@@ -595,10 +677,10 @@ def witness_inputs(d, engine):
             return lines[1:] if len(lines) > 1 else None  # first line: the latches
         if engine in ("ric3", "ric3-bmc"):
             log = open(os.path.join(d, engine + ".log")).read()
-            w = [x.strip() for x in log[log.find("RESULT: SAT"):].splitlines()]
+            w = [x.strip() for x in log[log.find("RESULT: SAT") :].splitlines()]
             i = next(k for k, x in enumerate(w) if re.fullmatch(r"b\d+", x))
             j = next(k for k, x in enumerate(w) if x == "." and k > i)
-            return w[i + 2:j] or None  # after the b line and the latch line
+            return w[i + 2 : j] or None  # after the b line and the latch line
     except (OSError, StopIteration):
         return None
     return None
@@ -625,18 +707,37 @@ class Kit:
     """The checks of one RTL (and mutant): models built once per set, answers cached."""
 
     def __init__(self, a, files, incs, defs, mutant, out):
-        self.a, self.files, self.incs, self.defs, self.mutant, self.out = a, files, incs, defs, mutant, out
-        self.engines = [e for e in (Ric3(), AbcPdr()) if e.name.split("-")[0] in a.engines.split(",")
-                        and e.available()]
+        self.a, self.files, self.incs, self.defs, self.mutant, self.out = (
+            a,
+            files,
+            incs,
+            defs,
+            mutant,
+            out,
+        )
+        self.engines = [
+            e
+            for e in (Ric3(), AbcPdr())
+            if e.name.split("-")[0] in a.engines.split(",") and e.available()
+        ]
         if not self.engines:
-            raise SetupError("no engine available (asked for %s; rIC3 at %s: %s)"
-                             % (a.engines, RIC3, "found" if Ric3().available() else "missing"))
+            raise SetupError(
+                "no engine available (asked for %s; rIC3 at %s: %s)"
+                % (a.engines, RIC3, "found" if Ric3().available() else "missing")
+            )
         self.cache = Cache(os.path.join(a.out, "cache"), not a.no_cache)
         names = ",".join(e.name for e in self.engines)
         self.refuters = [r for r in getattr(a, "refuters", "").split(",") if r]
         self.refute_after = getattr(a, "refute_after", REFUTE_AFTER)
-        self.salt = (sources_digest(files, incs, defs, mutant), names, a.timeout, a.deep,
-                     tool_versions(names), self.refuters, [REFUTERS[r] for r in self.refuters])
+        self.salt = (
+            sources_digest(files, incs, defs, mutant),
+            names,
+            a.timeout,
+            a.deep,
+            tool_versions(names),
+            self.refuters,
+            [REFUTERS[r] for r in self.refuters],
+        )
         self.models = {}
         self.locks = {}
         self.lock = threading.Lock()
@@ -650,9 +751,18 @@ class Kit:
         with lock:  # one build per set, however many checks ask for it at once
             if s not in self.models:
                 held = REFUTERS[s]["held"] if s in REFUTERS else None
-                self.models[s] = build_model(s, set_params(s), self.files, self.incs, self.defs,
-                                             self.mutant, self.out, self.a.timeout,
-                                             scorr=self.scorr, held=held)
+                self.models[s] = build_model(
+                    s,
+                    set_params(s),
+                    self.files,
+                    self.incs,
+                    self.defs,
+                    self.mutant,
+                    self.out,
+                    self.a.timeout,
+                    scorr=self.scorr,
+                    held=held,
+                )
         return self.models[s]
 
     def key(self, s, name):
@@ -705,18 +815,28 @@ class Kit:
             return v, frame, how
         tasks = [Task(e, "cone.aig", d) for e in self.engines]
         deep = AbcBmc(self.a.deep)
-        tasks.append(Task(deep, "cone.aig", d, after=self.refute_after, decides=("refuted",),
-                          label="bmc"))
+        tasks.append(
+            Task(deep, "cone.aig", d, after=self.refute_after, decides=("refuted",), label="bmc")
+        )
         for r in self.refuters:
             if r == s:
                 continue
             for e in self.engines:
-                tasks.append(Task(e, after=self.refute_after, decides=("refuted",),
-                                  label="%s@%s" % (e.name, r),
-                                  prepare=lambda r=r: self.refuter_cone(r, name, s)))
+                tasks.append(
+                    Task(
+                        e,
+                        after=self.refute_after,
+                        decides=("refuted",),
+                        label="%s@%s" % (e.name, r),
+                        prepare=lambda r=r: self.refuter_cone(r, name, s),
+                    )
+                )
         res = run_portfolio(tasks, self.a.timeout)
-        win = [(x[2], lab) for lab, x in res.items()
-               if x[0] == "refuted" or (x[0] == "proven" and "@" not in lab and lab != "bmc")]
+        win = [
+            (x[2], lab)
+            for lab, x in res.items()
+            if x[0] == "refuted" or (x[0] == "proven" and "@" not in lab and lab != "bmc")
+        ]
         if win:
             lab = min(win)[1]
             v, frame, secs = res[lab]
@@ -725,27 +845,46 @@ class Kit:
             if lab == "bmc":
                 if frame is not None and frame > REACH_DEPTH:  # replay its own witness
                     self.refuted_on[(s, name)] = (s, witness_inputs(d, "abc-bmc"))
-                return v, frame, "abc-bmc at cycle %d (%s open after %.0f s)" % (
-                    max(frame - 1, 0), ", ".join(e.name for e in self.engines), secs)
+                return (
+                    v,
+                    frame,
+                    "abc-bmc at cycle %d (%s open after %.0f s)"
+                    % (max(frame - 1, 0), ", ".join(e.name for e in self.engines), secs),
+                )
             if "@" in lab:
                 eng, r = lab.split("@")
                 self.refuted_on[(s, name)] = (r, witness_inputs(self.refuter_dir(r, name, s), eng))
-                return v, frame, "%s at cycle %s on refuter set %s (%s; %s still open on %s at %.0f s)" % (
-                    lab, max(frame - 1, 0) if frame is not None else "?", r, REFUTERS[r]["note"],
-                    ", ".join(e.name for e in self.engines), s, secs)
+                return (
+                    v,
+                    frame,
+                    "%s at cycle %s on refuter set %s (%s; %s still open on %s at %.0f s)"
+                    % (
+                        lab,
+                        max(frame - 1, 0) if frame is not None else "?",
+                        r,
+                        REFUTERS[r]["note"],
+                        ", ".join(e.name for e in self.engines),
+                        s,
+                        secs,
+                    ),
+                )
             return v, frame, lab  # the replay note gives the shortest trace's failing cycle
         # undecided: say what each part reached
         parts = ["%s open after %d s" % (", ".join(e.name for e in self.engines), self.a.timeout)]
         b = res.get("bmc", ("not started", None, 0))
-        parts.append("abc-bmc %s" % ("no failure in %d cycles" % b[1] if b[0] == "bounded" and b[1]
-                                     else b[0]))
+        parts.append(
+            "abc-bmc %s"
+            % ("no failure in %d cycles" % b[1] if b[0] == "bounded" and b[1] else b[0])
+        )
         for r in self.refuters:
             if r == s:
                 continue
             got = sorted({res[lab][0] for lab in res if lab.endswith("@" + r)})
             hold = [x for x in got if x in ("proven", "skipped")]
-            parts.append("refuter set %s: %s" % (
-                r, "no counterexample (holds there)" if hold else "/".join(got) or "not run"))
+            parts.append(
+                "refuter set %s: %s"
+                % (r, "no counterexample (holds there)" if hold else "/".join(got) or "not run")
+            )
         return "unknown", None, "; ".join(parts)
 
     def check(self, s, name, kind="prop"):
@@ -760,7 +899,9 @@ class Kit:
         v, frame, how = self.decide(s, name, kind)
         if v != "unknown":
             on = self.refuted_on.get((s, name), (None, None))
-            self.cache.put(k, dict(verdict=v, frame=frame, how=how, refuted_on=on[0], witness=on[1]))
+            self.cache.put(
+                k, dict(verdict=v, frame=frame, how=how, refuted_on=on[0], witness=on[1])
+            )
         return v, time.time() - t0, frame, how, False
 
 
@@ -777,10 +918,16 @@ def gtkw_view(fail_t, step, before=8, after=2, pane=800):
 
 def write_gtkw(path, vcd, sigs, groups, fail_t, step, label):
     start, zoom = gtkw_view(fail_t, step)
-    g = ["[*]", "[*] pmu50 formal counterexample: %s" % label, "[*]",
-         "[dumpfile] \"%s\"" % os.path.abspath(vcd), "[timestart] %d" % start, "[size] 1400 800",
-         "*%.6f -1 %d %s" % (zoom, fail_t, " ".join(["-1"] * 25)),
-         "[markername] A%s" % label]
+    g = [
+        "[*]",
+        "[*] pmu50 formal counterexample: %s" % label,
+        "[*]",
+        '[dumpfile] "%s"' % os.path.abspath(vcd),
+        "[timestart] %d" % start,
+        "[size] 1400 800",
+        "*%.6f -1 %d %s" % (zoom, fail_t, " ".join(["-1"] * 25)),
+        "[markername] A%s" % label,
+    ]
     for title, names in groups:
         names = [s for s in names if s in sigs]
         if not names:
@@ -813,7 +960,9 @@ def replay(m, s, prop, depth, witness=None):
                     row[k] = str(b)
             frames.append("".join(row))
         # every latch of the yosys model starts at 0 (write_aiger -zinit)
-        write_atomic(os.path.join(d, "trace.aiw"), "\n".join(["0" * len(latch_map)] + frames) + "\n")
+        write_atomic(
+            os.path.join(d, "trace.aiw"), "\n".join(["0" * len(latch_map)] + frames) + "\n"
+        )
         depth = len(frames) - 1
     else:
         abc = "read_aiger cex.aig; fold; strash; bmc3 -F %d; write_cex -a trace.aiw" % (depth + 1)
@@ -825,15 +974,19 @@ def replay(m, s, prop, depth, witness=None):
         depth = int(mm.group(1))
     # yosys' simulator drives the design with the witness (seconds for hundreds of cycles,
     # where an SMT replay took minutes) and checks the one assertion left in it
-    ys = ("read_rtlil ../design.il\nchformal -cover -remove\n"
-          "chformal -assert -remove t:$assert */%s %%d\nselect -assert-count 1 t:$assert\n"
-          "sim -clock clk -r trace.aiw -map cex.aim -vcd cex.vcd -n %d\n" % (prop, depth + 1))
+    ys = (
+        "read_rtlil ../design.il\nchformal -cover -remove\n"
+        "chformal -assert -remove t:$assert */%s %%d\nselect -assert-count 1 t:$assert\n"
+        "sim -clock clk -r trace.aiw -map cex.aim -vcd cex.vcd -n %d\n" % (prop, depth + 1)
+    )
     open(os.path.join(d, "replay.ys"), "w").write(ys)
     rc = run(["yosys", "-q", "replay.ys"], d, "replay.log", timeout=600)
     vcd = os.path.join(d, "cex.vcd")
     if rc != 0 or not os.path.exists(vcd):
         return "no VCD (replay failed: %s/replay.log)" % d
-    failed = re.findall(r"Assert pmu50_formal\.(\w+) .*failed", open(os.path.join(d, "replay.log")).read())
+    failed = re.findall(
+        r"Assert pmu50_formal\.(\w+) .*failed", open(os.path.join(d, "replay.log")).read()
+    )
     if prop not in failed:
         return "witness did not replay (%s/replay.log)" % d
     sigs, tend = common.read_vcd(vcd)
@@ -853,8 +1006,11 @@ def replay(m, s, prop, depth, witness=None):
     lines = ["// pmu50 vectors v1", "// scenario formal_%s" % prop, "// clock_ns 10000"]
     lines += ["// param %s %d" % (k, v) for k, v in params.items()]
     nt = max(ncyc - 2, 0)
-    lines += ["// ticks %d" % nt, "// fields %d" % (len(ins_) + len(outs_)),
-              "// columns " + " ".join(n for n, _ in ins_) + " | " + " ".join(outs_)]
+    lines += [
+        "// ticks %d" % nt,
+        "// fields %d" % (len(ins_) + len(outs_)),
+        "// columns " + " ".join(n for n, _ in ins_) + " | " + " ".join(outs_),
+    ]
     for j in range(nt):
         ins = ["%0*x" % (digits(n), at(n, j + 1)) for n, _ in ins_]
         outs = ["%0*x" % (digits(n), at(n, j + 2)) for n in outs_]
@@ -866,16 +1022,28 @@ def replay(m, s, prop, depth, witness=None):
     words = set(re.findall(r"\b[a-z_][a-z0-9_]*\b", mm.group(1) if mm else ""))
     t = "pmu50_formal."
     c = common.contract()
-    groups = [("inputs", [t + c["clock"], t + c["reset"]] + [t + n for n, _ in ins_]),
-              ("outputs of %s" % prop, [t + "sig"] + [t + n for n in outs_ if n in words and n != "sig"]),
-              ("kit shadows", sorted(t + w for w in words if w.startswith("f_")))]
+    groups = [
+        ("inputs", [t + c["clock"], t + c["reset"]] + [t + n for n, _ in ins_]),
+        ("outputs of %s" % prop, [t + "sig"] + [t + n for n in outs_ if n in words and n != "sig"]),
+        ("kit shadows", sorted(t + w for w in words if w.startswith("f_"))),
+    ]
     # yosys checks an assertion of an `always @(posedge clk)` block one step after the values
     # it reads: a failure reported at step N is about the values of cycle N - 1
     fail_cycle = max(depth - 1, 0)
-    write_gtkw(os.path.join(d, "cex.gtkw"), vcd, sigs, groups, fail_cycle * step, step,
-               "%s fails (cycle %d)" % (prop, fail_cycle))
+    write_gtkw(
+        os.path.join(d, "cex.gtkw"),
+        vcd,
+        sigs,
+        groups,
+        fail_cycle * step,
+        step,
+        "%s fails (cycle %d)" % (prop, fail_cycle),
+    )
     return "cex: %s/cex.{vcd,gtkw,vec}, failing cycle %d (vector tick %d)" % (
-        os.path.relpath(d, ROOT), fail_cycle, fail_cycle - 1)
+        os.path.relpath(d, ROOT),
+        fail_cycle,
+        fail_cycle - 1,
+    )
 
 
 # ------------------------------------------------------------------ main
@@ -883,35 +1051,61 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rtl", default=os.path.join(HDL, "pmu50.f"), help="file list of the RTL")
     ap.add_argument("--mutant", default="", help="define of a mutant of hdl/mutants.txt")
-    ap.add_argument("--sets", default="default,small", help="parameter sets: " + ", ".join(SET_NAMES))
+    ap.add_argument(
+        "--sets", default="default,small", help="parameter sets: " + ", ".join(SET_NAMES)
+    )
     ap.add_argument("--props", default="", help="comma-separated property names (default all)")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--timeout", type=int, default=120, help="seconds per engine run")
-    ap.add_argument("--deep", type=int, default=400,
-                    help="depth of the bounded search for a check the engines left open")
+    ap.add_argument(
+        "--deep",
+        type=int,
+        default=400,
+        help="depth of the bounded search for a check the engines left open",
+    )
     ap.add_argument("--engines", default="ric3,abc", help="ric3, abc or both (default)")
-    ap.add_argument("--refuters", default=",".join(REFUTERS),
-                    help="refuter sets tried for a counterexample of a property left open "
-                         "(%s; empty: none)" % ", ".join(REFUTERS))
-    ap.add_argument("--refute-after", type=float, default=REFUTE_AFTER,
-                    help="CPU seconds the engines spend on a property before the deep search "
-                         "and the refuter sets join them")
-    ap.add_argument("--no-cache", action="store_true",
-                    default=os.environ.get("FORMAL_CACHE", "1") == "0",
-                    help="neither read nor write the result cache (env FORMAL_CACHE=0)")
+    ap.add_argument(
+        "--refuters",
+        default=",".join(REFUTERS),
+        help="refuter sets tried for a counterexample of a property left open "
+        "(%s; empty: none)" % ", ".join(REFUTERS),
+    )
+    ap.add_argument(
+        "--refute-after",
+        type=float,
+        default=REFUTE_AFTER,
+        help="CPU seconds the engines spend on a property before the deep search "
+        "and the refuter sets join them",
+    )
+    ap.add_argument(
+        "--no-cache",
+        action="store_true",
+        default=os.environ.get("FORMAL_CACHE", "1") == "0",
+        help="neither read nor write the result cache (env FORMAL_CACHE=0)",
+    )
     ap.add_argument("--out", default=os.path.join(HDL, "build", "formal"))
-    ap.add_argument("--json", default="", help="also write every verdict to this JSON file "
-                    "(pmu50 signoff reads it as DIR/formal.json)")
+    ap.add_argument(
+        "--json",
+        default="",
+        help="also write every verdict to this JSON file "
+        "(pmu50 signoff reads it as DIR/formal.json)",
+    )
     ap.add_argument("--mutants", action="store_true", help="mutation table of hdl/mutants.txt")
     ap.add_argument("--only", default="", help="with --mutants: these mutants only")
-    ap.add_argument("--bmc-depth", type=int, default=80,
-                    help="with --mutants: depth of ABC's bounded search before its pdr")
+    ap.add_argument(
+        "--bmc-depth",
+        type=int,
+        default=80,
+        help="with --mutants: depth of ABC's bounded search before its pdr",
+    )
     a = ap.parse_args(argv)
     common.use_project_tools()
     try:
         for tool in ("yosys", "yosys-abc"):
             if not shutil.which(tool):
-                raise SetupError("%s not found (Debian package yosys: make formal installs it)" % tool)
+                raise SetupError(
+                    "%s not found (Debian package yosys: make formal installs it)" % tool
+                )
         for e in a.engines.split(","):
             if e not in ("ric3", "abc"):
                 raise SetupError("unknown engine %s (valid: ric3, abc)" % e)
@@ -921,21 +1115,34 @@ def main(argv=None):
             want = a.props.split(",")
             bad = [w for w in want if w not in names]
             if bad:
-                raise SetupError("unknown properties %s (valid: %s)" % (", ".join(bad), ", ".join(names)))
+                raise SetupError(
+                    "unknown properties %s (valid: %s)" % (", ".join(bad), ", ".join(names))
+                )
             names = want
         sets = a.sets.split(",")
         bad = [s for s in sets if s not in SET_NAMES]
         if bad:
-            raise SetupError("unknown parameter sets %s (valid: %s%s)" % (
-                ", ".join(bad), ", ".join(SET_NAMES), "; %s: refuter sets, see --refuters"
-                % ", ".join(REFUTERS) if any(b in REFUTERS for b in bad) else ""))
+            raise SetupError(
+                "unknown parameter sets %s (valid: %s%s)"
+                % (
+                    ", ".join(bad),
+                    ", ".join(SET_NAMES),
+                    "; %s: refuter sets, see --refuters" % ", ".join(REFUTERS)
+                    if any(b in REFUTERS for b in bad)
+                    else "",
+                )
+            )
         bad = [r for r in a.refuters.split(",") if r and r not in REFUTERS]
         if bad:
-            raise SetupError("unknown refuter sets %s (valid: %s)" % (", ".join(bad), ", ".join(REFUTERS)))
+            raise SetupError(
+                "unknown refuter sets %s (valid: %s)" % (", ".join(bad), ", ".join(REFUTERS))
+            )
         files, incs, defs = parse_filelist(a.rtl)
         if not Ric3().available() and "ric3" in a.engines:
-            print("formal: rIC3 not built (%s): ABC alone (make formal-tools builds it)" % RIC3,
-                  flush=True)
+            print(
+                "formal: rIC3 not built (%s): ABC alone (make formal-tools builds it)" % RIC3,
+                flush=True,
+            )
         if a.mutants:
             return mutants(a, sets, names, files, incs, defs)
         return prove(a, sets, names, files, incs, defs)
@@ -966,15 +1173,27 @@ def prove(a, sets, names, files, incs, defs):
         lost = [KIT_COVERS[c] for c in KIT_COVERS if res[(s, c)][0] != "reached"]
         for c in KIT_COVERS:
             v, secs, frame, how, cached = res[(s, c)]
-            print("%-28s %-8s %-11s %6.1f s  %s%s" % (c, s, v, secs, how + (" at cycle %d" % (frame - 1) if frame else ""),
-                                                  ", cached" if cached else ""), flush=True)
+            print(
+                "%-28s %-8s %-11s %6.1f s  %s%s"
+                % (
+                    c,
+                    s,
+                    v,
+                    secs,
+                    how + (" at cycle %d" % (frame - 1) if frame else ""),
+                    ", cached" if cached else "",
+                ),
+                flush=True,
+            )
         for n in names:
             v, secs, frame, how, cached = res[(s, n)]
             rv, rsecs, rframe, rhow, rcached = res[(s, reach_of(n))]
             note = how
             if v == "proven":
                 if rv == "reached" and not lost:
-                    note += "; antecedent reached at cycle %d" % max(rframe - 1, 0) if rframe else ""
+                    note += (
+                        "; antecedent reached at cycle %d" % max(rframe - 1, 0) if rframe else ""
+                    )
                 elif rv == "reached":
                     v, note = "vacuous", "%s not reached under the assumptions" % " and ".join(lost)
                 elif rv == "unreachable":
@@ -984,10 +1203,13 @@ def prove(a, sets, names, files, incs, defs):
             elif v == "refuted":
                 r, witness = kit.refuted_on.get((s, n), (None, None))
                 if r:
-                    note += "; " + replay(kit.model(r), r, n, frame if frame is not None else a.deep,
-                                          witness)
+                    note += "; " + replay(
+                        kit.model(r), r, n, frame if frame is not None else a.deep, witness
+                    )
                 else:
-                    note += "; " + replay(kit.model(s), s, n, frame if frame is not None else a.deep)
+                    note += "; " + replay(
+                        kit.model(s), s, n, frame if frame is not None else a.deep
+                    )
             if cached and (rcached or v != "proven"):
                 note += ", cached"
             final[(s, n)] = v
@@ -996,32 +1218,62 @@ def prove(a, sets, names, files, incs, defs):
     st = list(final.values())
     open_ = ["%s (%s)" % (n, s) for (s, n), v in final.items() if v == "unknown"]
     engines = {}
-    for (s, n), r in res.items():
+    for (_, n), r in res.items():
         if n.startswith("prop_") and r[0] in ("proven", "refuted"):
             e = r[3].split(" ")[0].split(";")[0]
             engines[e] = engines.get(e, 0) + 1
-    print("formal: %d/%d proven, %d refuted, %d vacuous, %d unknown; %.0f s wall (%s, %d jobs; "
-          "decided by %s)%s" % (st.count("proven"), len(st), st.count("refuted"), st.count("vacuous"),
-                                st.count("unknown"), time.time() - t0, ",".join(sets), a.jobs,
-                                ", ".join("%s %d" % kv for kv in sorted(engines.items())) or "none",
-                                (" mutant " + a.mutant) if a.mutant else ""), flush=True)
+    print(
+        "formal: %d/%d proven, %d refuted, %d vacuous, %d unknown; %.0f s wall (%s, %d jobs; "
+        "decided by %s)%s"
+        % (
+            st.count("proven"),
+            len(st),
+            st.count("refuted"),
+            st.count("vacuous"),
+            st.count("unknown"),
+            time.time() - t0,
+            ",".join(sets),
+            a.jobs,
+            ", ".join("%s %d" % kv for kv in sorted(engines.items())) or "none",
+            (" mutant " + a.mutant) if a.mutant else "",
+        ),
+        flush=True,
+    )
     if a.json:
         # the verdicts for `pmu50 signoff` (its "properties proven" row)
-        doc = {"format": "pmu50-formal", "version": 1, "rtl": a.rtl, "mutant": a.mutant or None,
-               "sets": sets,
-               "properties": [{"name": n, "set": s, "verdict": final[(s, n)], "how": notes[(s, n)]}
-                              for s in sets for n in names]}
+        doc = {
+            "format": "pmu50-formal",
+            "version": 1,
+            "rtl": a.rtl,
+            "mutant": a.mutant or None,
+            "sets": sets,
+            "properties": [
+                {"name": n, "set": s, "verdict": final[(s, n)], "how": notes[(s, n)]}
+                for s in sets
+                for n in names
+            ],
+        }
         d = os.path.dirname(os.path.abspath(a.json))
         os.makedirs(d, exist_ok=True)
         write_atomic(os.path.abspath(a.json), json.dumps(doc, indent=1) + "\n")
     if open_:
         # an undecided property is no answer: the run fails and says so
-        print("formal: FAILED: %d propert%s undecided: %s. Neither engine proved or refuted %s "
-              "within --timeout %d s, the bounded search (--deep %d) found no failure and no "
-              "refuter set (--refuters %s) gave a counterexample: see each line above for what "
-              "was tried" % (len(open_), "y" if len(open_) == 1 else "ies", ", ".join(open_),
-                             "it" if len(open_) == 1 else "them", a.timeout, a.deep,
-                             a.refuters or "none"), flush=True)
+        print(
+            "formal: FAILED: %d propert%s undecided: %s. Neither engine proved or refuted %s "
+            "within --timeout %d s, the bounded search (--deep %d) found no failure and no "
+            "refuter set (--refuters %s) gave a counterexample: see each line above for what "
+            "was tried"
+            % (
+                len(open_),
+                "y" if len(open_) == 1 else "ies",
+                ", ".join(open_),
+                "it" if len(open_) == 1 else "them",
+                a.timeout,
+                a.deep,
+                a.refuters or "none",
+            ),
+            flush=True,
+        )
     return 0 if all(v == "proven" for v in st) else 1
 
 
@@ -1066,9 +1318,9 @@ def disagreement(verdicts):
 
 def mutants(a, sets, names, files, incs, defs):
     """Each mutant of hdl/mutants.txt: its properties (the expected one first) that scorr did
-    not prove, each checked on its reduced cone by both engines (ABC: bmc3 then pdr; rIC3: IC3) independently,
-    until one is refuted. The table gives each engine's verdict, cycle and time; two engines
-    disagreeing on a property fails the run."""
+    not prove, each checked on its reduced cone by both engines (ABC: bmc3 then pdr; rIC3: IC3)
+    independently, until one is refuted. The table gives each engine's verdict, cycle and time;
+    two engines disagreeing on a property fails the run."""
     muts, scoped = [], []
     for line in open(os.path.join(HDL, "mutants.txt")):
         line = line.strip()
@@ -1080,13 +1332,18 @@ def mutants(a, sets, names, files, incs, defs):
         want = a.only.split(",")
         bad = [w for w in want if w not in muts + scoped]
         if bad:
-            raise SetupError("unknown mutants %s (valid: %s)" % (", ".join(bad), ", ".join(muts + scoped)))
+            raise SetupError(
+                "unknown mutants %s (valid: %s)" % (", ".join(bad), ", ".join(muts + scoped))
+            )
         muts = want
     pair = engine_pair(a)
     refuters = [r for r in a.refuters.split(",") if r and r not in sets]
     t_all = time.time()
-    print("%-30s %-26s %-6s %-24s %-24s %s" % ("mutant", "property", "set", "abc (bmc3, pdr)",
-                                                "ric3 (bmc, ic3)", "time"), flush=True)
+    print(
+        "%-30s %-26s %-6s %-24s %-24s %s"
+        % ("mutant", "property", "set", "abc (bmc3, pdr)", "ric3 (bmc, ic3)", "time"),
+        flush=True,
+    )
 
     def one(m):
         t0 = time.time()
@@ -1120,9 +1377,15 @@ def mutants(a, sets, names, files, incs, defs):
                         row[ename] = (v, frame, e.name, time.time() - te)
                         break
                 else:
-                    row[ename] = ("unknown", None, "+".join(e.name for e in chain), time.time() - te)
+                    row[ename] = (
+                        "unknown",
+                        None,
+                        "+".join(e.name for e in chain),
+                        time.time() - te,
+                    )
             if any(r[0] == "refuted" for r in row.values()) or disagreement(
-                    {k: r[0] for k, r in row.items()}):
+                {k: r[0] for k, r in row.items()}
+            ):
                 return m, prop, s, row, time.time() - t0
         return m, None, ",".join(sets), {}, time.time() - t0
 
@@ -1135,19 +1398,38 @@ def mutants(a, sets, names, files, incs, defs):
                     cells.append("-" if ename not in pair else "not run")
                     continue
                 v, frame, how, es = row[ename]
-                cells.append("%s %s%s %.1fs" % (v, how, " @%d" % max(frame - 1, 0) if frame is not None
-                                                and v == "refuted" else "", es))
+                cells.append(
+                    "%s %s%s %.1fs"
+                    % (
+                        v,
+                        how,
+                        " @%d" % max(frame - 1, 0) if frame is not None and v == "refuted" else "",
+                        es,
+                    )
+                )
             bad = disagreement({k: r[0] for k, r in row.items()})
             if prop is None or not all(r[0] == "refuted" for r in row.values()):
                 missed += 1
             if bad:
                 split += 1
-            print("%-30s %-26s %-6s %-24s %-24s %.0f s%s" % (
-                m, prop or "NOT REFUTED", s, cells[0], cells[1], secs,
-                "  ENGINES DISAGREE" if bad else ""), flush=True)
-    print("formal-mutants: %d/%d mutants refuted, %d engine disagreements; %.0f s wall "
-          "(%s; @cycle = failing cycle of that engine's trace)" % (
-              len(muts) - missed, len(muts), split, time.time() - t_all, ",".join(sets)))
+            print(
+                "%-30s %-26s %-6s %-24s %-24s %.0f s%s"
+                % (
+                    m,
+                    prop or "NOT REFUTED",
+                    s,
+                    cells[0],
+                    cells[1],
+                    secs,
+                    "  ENGINES DISAGREE" if bad else "",
+                ),
+                flush=True,
+            )
+    print(
+        "formal-mutants: %d/%d mutants refuted, %d engine disagreements; %.0f s wall "
+        "(%s; @cycle = failing cycle of that engine's trace)"
+        % (len(muts) - missed, len(muts), split, time.time() - t_all, ",".join(sets))
+    )
     return 0 if missed == 0 and split == 0 else 1
 
 

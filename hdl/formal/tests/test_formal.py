@@ -1,6 +1,7 @@
 """Tests of the formal kit (hdl/formal/run.py, the package pmu50_formal): vacuity, engine
 agreement, the AIGER cones, the result cache, the counterexample's GTKWave view and the top's
 contract it reads. Run with `make formal-test`."""
+
 import os
 import re
 import shutil
@@ -30,8 +31,12 @@ def rtl_copy(tmp_path, extra_in_top):
 
 
 def run_kit(tmp_path, *args):
-    p = subprocess.run(RUN + ["--sets", "small", "--no-cache", "--out", str(tmp_path / "out")]
-                       + list(args), capture_output=True, text=True, timeout=1200)
+    p = subprocess.run(
+        RUN + ["--sets", "small", "--no-cache", "--out", str(tmp_path / "out")] + list(args),
+        capture_output=True,
+        text=True,
+        timeout=1200,
+    )
     return p.returncode, p.stdout + p.stderr
 
 
@@ -45,8 +50,15 @@ def test_contradictory_assume_makes_a_mutant_vacuous_not_proven(tmp_path):
     # a contradiction in the RTL under test: no state satisfies it, so every assertion holds
     # trivially; MUT_CNT_C_SIGN would otherwise be refuted by prop_cnt_c_0099
     f = rtl_copy(tmp_path, "    always @(posedge clk) assume (cnt_c == 1 && cnt_c == 2);")
-    rc, out = run_kit(tmp_path, "--rtl", f, "--mutant", "MUT_CNT_C_SIGN", "--props",
-                  "prop_cnt_c_0099,prop_sig_sync")
+    rc, out = run_kit(
+        tmp_path,
+        "--rtl",
+        f,
+        "--mutant",
+        "MUT_CNT_C_SIGN",
+        "--props",
+        "prop_cnt_c_0099,prop_sig_sync",
+    )
     assert rc == 1, out
     assert verdict(out, "prop_cnt_c_0099") == "vacuous", out
     assert verdict(out, "prop_sig_sync") == "vacuous", out
@@ -58,8 +70,15 @@ def test_assume_excluding_an_antecedent_makes_that_proof_vacuous(tmp_path):
     # legal-looking environment assumption that forbids exactly the case rule [0099] is about
     # (a Cc change while Cs = 1): the mutant's property is then proven, but vacuously
     f = rtl_copy(tmp_path, "    always @(posedge clk) assume (!(cs && cmp_c != cc));")
-    rc, out = run_kit(tmp_path, "--rtl", f, "--mutant", "MUT_CNT_C_SIGN", "--props",
-                  "prop_cnt_c_0099,prop_cnt_c_0098")
+    rc, out = run_kit(
+        tmp_path,
+        "--rtl",
+        f,
+        "--mutant",
+        "MUT_CNT_C_SIGN",
+        "--props",
+        "prop_cnt_c_0099,prop_cnt_c_0098",
+    )
     assert rc == 1, out
     assert verdict(out, "prop_cnt_c_0099") == "vacuous", out
     assert "reach_cnt_c_0099 unreachable" in out, out
@@ -82,12 +101,22 @@ def test_refuted_property_gtkw_opens_on_the_failing_cycle(tmp_path):
     marker = int(re.search(r"^\*\S+ -1 (\d+)", g, re.M).group(1))
     assert marker == cycle * 10
     # the failing cycle and up to 8 cycles before it are in view (wave pane 800 px)
-    span = 800 * 2 ** -zoom / 200
+    span = 800 * 2**-zoom / 200
     assert start == max(cycle - 8, 0) * 10
     assert start < marker < start + span
     assert "[markername] Aprop_cnt_c_0099 fails" in g
-    for sig in ["ig", "vs2_ok", "cmp_s", "cmp_c", "bus_we", "bus_addr[7:0]", "bus_wdata[15:0]",
-                "cnt_c[3:0]", "cs", "cc"]:
+    for sig in [
+        "ig",
+        "vs2_ok",
+        "cmp_s",
+        "cmp_c",
+        "bus_we",
+        "bus_addr[7:0]",
+        "bus_wdata[15:0]",
+        "cnt_c[3:0]",
+        "cs",
+        "cc",
+    ]:
         assert re.search(r"^pmu50_formal\.%s$" % re.escape(sig), g, re.M), sig
     # the VCD reaches past the marker and the vector file has the stimulus
     assert (d / "cex.vcd").stat().st_size > 0
@@ -97,7 +126,7 @@ def test_refuted_property_gtkw_opens_on_the_failing_cycle(tmp_path):
 def test_gtkw_view_shows_cycles_before_the_failure():
     start, zoom = kit.gtkw_view(560, 10)
     assert start == 480
-    span = 800 * 2 ** -zoom / 200
+    span = 800 * 2**-zoom / 200
     assert 560 + 10 <= start + span < 560 + 60
     assert kit.gtkw_view(20, 10)[0] == 0
 
@@ -112,18 +141,30 @@ def test_engines_disagreeing_is_reported():
 def test_mutant_table_runs_both_engines(tmp_path):
     if not kit.Ric3().available():
         pytest.skip("rIC3 not built (make formal-tools)")
-    p = subprocess.run(RUN + ["--mutants", "--only", "MUT_SYNC_SHORT,MUT_CNT_R_NO_SAT",
-                              "--sets", "small", "--out", str(tmp_path / "out")],
-                       capture_output=True, text=True, timeout=1200)
+    p = subprocess.run(
+        RUN
+        + [
+            "--mutants",
+            "--only",
+            "MUT_SYNC_SHORT,MUT_CNT_R_NO_SAT",
+            "--sets",
+            "small",
+            "--out",
+            str(tmp_path / "out"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=1200,
+    )
     out = p.stdout + p.stderr
     assert p.returncode == 0, out
-    row = next(l for l in out.splitlines() if l.startswith("MUT_SYNC_SHORT"))
+    row = next(ln for ln in out.splitlines() if ln.startswith("MUT_SYNC_SHORT"))
     m = re.search(r"refuted abc-(bmc|pdr) @(\d+) .*refuted ric3(-bmc)? @(\d+)", row)
     assert m, row
     # both bounded searches find the shortest trace: the same failing cycle
     assert m.group(2) == m.group(4), row
     # the deep one: each engine's IC3/PDR on the refuter set, 255 quiet pulses deep
-    row = next(l for l in out.splitlines() if l.startswith("MUT_CNT_R_NO_SAT"))
+    row = next(ln for ln in out.splitlines() if ln.startswith("MUT_CNT_R_NO_SAT"))
     m = re.search(r"prop_si_expand\s+short\s+refuted abc-pdr @(\d+) .*refuted ric3 @(\d+)", row)
     assert m and int(m.group(1)) >= 765 and int(m.group(2)) >= 765, row
     assert "2/2 mutants refuted, 0 engine disagreements" in out
@@ -135,7 +176,7 @@ def test_counter_saturation_bug_is_refuted_not_left_unknown(tmp_path):
     rc, out = run_kit(tmp_path, "--mutant", "MUT_CNT_R_NO_SAT", "--props", "prop_si_expand")
     assert rc == 1, out
     assert verdict(out, "prop_si_expand") == "refuted", out
-    line = next(l for l in out.splitlines() if l.startswith("prop_si_expand"))
+    line = next(ln for ln in out.splitlines() if ln.startswith("prop_si_expand"))
     m = re.search(r"(ric3|abc-pdr)@short at cycle (\d+) on refuter set short", line)
     assert m, line
     # 255 counts at 3 ticks a pulse at the least: nothing shallower can show this bug
@@ -153,13 +194,27 @@ def test_counter_saturation_bug_is_refuted_not_left_unknown(tmp_path):
 
 
 def test_undecided_property_fails_the_run_and_says_so(tmp_path):
-    rc, out = run_kit(tmp_path, "--mutant", "MUT_CNT_R_NO_SAT", "--props", "prop_si_expand",
-                  "--refuters", "", "--timeout", "4", "--refute-after", "1", "--deep", "30")
+    rc, out = run_kit(
+        tmp_path,
+        "--mutant",
+        "MUT_CNT_R_NO_SAT",
+        "--props",
+        "prop_si_expand",
+        "--refuters",
+        "",
+        "--timeout",
+        "4",
+        "--refute-after",
+        "1",
+        "--deep",
+        "30",
+    )
     assert rc == 1, out
     assert verdict(out, "prop_si_expand") == "unknown", out
     # the line says what was tried: the engines' time and the bounded search's depth
-    assert re.search(r"^prop_si_expand .*open after 4 s; abc-bmc (no failure in \d+ cycles|\w+)",
-                     out, re.M), out
+    assert re.search(
+        r"^prop_si_expand .*open after 4 s; abc-bmc (no failure in \d+ cycles|\w+)", out, re.M
+    ), out
     assert "formal: FAILED: 1 property undecided: prop_si_expand (small)" in out, out
 
 
@@ -184,7 +239,7 @@ def test_an_abc_witness_is_its_frames_without_the_comment(tmp_path):
 
 def test_held_inputs_become_constants():
     # inputs 1, 2; output 0 = AND gate 3 of both
-    m = aiger.Aiger(bytes(b"aig 3 2 0 1 1\n6\n") + bytes([6 - 4, 4 - 2]))
+    m = aiger.Aiger(b"aig 3 2 0 1 1\n6\n" + bytes([6 - 4, 4 - 2]))
     assert m.ands == [(4, 2)]
     assert aiger.Aiger(m.held({0: 0})).ands == [(4, 0)]
     assert aiger.Aiger(m.held({0: 1})).ands == [(4, 1)]
@@ -198,7 +253,7 @@ def test_held_inputs_become_constants():
 def test_cone_keeps_only_what_the_output_reads():
     # inputs 1,2; latches 3 (next = input 1) and 4 (next = latch 4 AND input 2);
     # output 0 = latch 3, output 1 = AND gate 5
-    m = aiger.Aiger(bytes(b"aig 5 2 2 2 1\n2\n10\n6\n10\n") + bytes([10 - 8, 8 - 4]))
+    m = aiger.Aiger(b"aig 5 2 2 2 1\n2\n10\n6\n10\n" + bytes([10 - 8, 8 - 4]))
     data, latches = m.cone(m.outputs[0])
     assert data.startswith(b"aig 3 2 1 0 0 1 0\n") and latches == {0: 0}
     data, latches = m.cone(m.outputs[1])

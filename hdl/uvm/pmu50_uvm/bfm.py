@@ -84,12 +84,16 @@ class Pmu50Bfm:
         try:
             core = pmu50.Core(**self.config)
         except pmu50.ConfigError as e:
-            raise ConfigurationError(f"the top's parameters {self.params} are not a legal configuration: {e}") from None
+            raise ConfigurationError(
+                f"the top's parameters {self.params} are not a legal configuration: {e}"
+            ) from None
         # what the top's parameters turn into must come back unchanged (ticks, flags, widths)
         got = core.hdl_parameters
         off = {p: (v, got[p]) for p, v in self.params.items() if got.get(p) != v}
         if off:
-            raise ConfigurationError(f"the top's parameters {off} (value, model) do not map onto pmu50.Core")
+            raise ConfigurationError(
+                f"the top's parameters {off} (value, model) do not map onto pmu50.Core"
+            )
         self.hdl_parameters = got
         self.period_ns = core.clock_ns
         self.half_ns = self.period_ns // 2
