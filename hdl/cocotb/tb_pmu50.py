@@ -38,19 +38,11 @@ from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
 import pmu50
+from pmu50.hdl import read_value
 
 
 class Mismatch(AssertionError):
     """The twin and the model disagree."""
-
-
-def read_value(handle) -> int | str:
-    """The integer value of a signal, or its text when it holds x or z."""
-    v = handle.value
-    try:
-        return int(v)
-    except ValueError:
-        return str(v)
 
 
 def vector_inputs(path: str, names: list[str], max_ticks: int = 0):

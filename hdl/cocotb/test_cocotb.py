@@ -34,6 +34,7 @@ import pytest
 from cocotb_tools.runner import get_runner
 
 import pmu50
+from pmu50.hdl import core_config
 
 HERE = Path(__file__).resolve().parent
 HDL = HERE.parent
@@ -72,23 +73,6 @@ def rtl_info() -> dict:
     return json.loads(out.stdout)
 
 
-# HDL parameter -> pmu50.Core keyword (durations in ticks of the default 10 us clock)
-CORE_KEYS = {
-    "SYNC_DEPTH": "sync_depth",
-    "CNT_W": "cnt_width",
-    "ADAPTIVE": "adaptive",
-    "PW": "pw",
-    "PI": "pi",
-    "PS": "ps",
-    "SI_MAX": "x",
-    "SI_MIN": "min",
-    "T1": "t1",
-    "T2": "t2",
-    "CTH": "cth",
-    "SMP_ON": "smp_on",
-}
-
-
 def fixing(cfg: dict) -> dict:
     """A core configuration with the values the RTL fixes put in (the defaults where the result
     would be illegal)."""
@@ -96,18 +80,12 @@ def fixing(cfg: dict) -> dict:
     if not fixed:
         return cfg
 
+    # the fixed values as Core keywords (durations in ticks of the default 10 us clock)
+    keywords = core_config(fixed)
+    del keywords["clock"]
+
     def put(c: dict) -> dict:
-        c = dict(c)
-        for name, v in fixed.items():
-            key = CORE_KEYS[name]
-            c[key] = (
-                bool(v)
-                if key == "adaptive"
-                else v
-                if key in ("sync_depth", "cnt_width", "cth")
-                else f"{v * 10} us"
-            )
-        return c
+        return {**c, **keywords}
 
     try:
         pmu50.Core(**put(cfg))

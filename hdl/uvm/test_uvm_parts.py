@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 import pmu50
-from pmu50_uvm.bfm import PARAMETERS, core_config
+from pmu50.hdl import PARAMETERS, core_config
 from pmu50_uvm.env import fig_path
 from pmu50_uvm.sequences import (
     INPUTS,
