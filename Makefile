@@ -160,7 +160,8 @@ RIC3_VERSION := 1.5.1
 RIC3         := target/tools/bin/rIC3
 # the kit's package (hdl/formal/pmu50_formal) run as a module: hdl/formal/run.py and
 # hdl/formal/coverage.py are the same commands
-FORMAL_PY := PYTHONPATH=$(CURDIR)/hdl/formal $(VPY) -m
+FORMAL_ENV := PYTHONPATH=$(CURDIR)/hdl/formal
+FORMAL_PY  := $(FORMAL_ENV) $(VPY) -m
 FORMAL := FORMAL_CACHE=$(FORMAL_CACHE) $(FORMAL_PY) pmu50_formal.kit $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
 $(VENV)/.formal: hdl/formal/requirements.txt $(VENV)/.ready
 	$(PIP) install -q -r hdl/formal/requirements.txt
@@ -201,7 +202,7 @@ COVERAGE_OUT := hdl/build/formal/coverage
 coverage-proofs: deps $(VENV)/.formal $(BIN)
 	$(BIN) hdl coverage-monitor --check
 	rm -rf $(COVERAGE_OUT)/witness $(COVERAGE_OUT)/coverage.json
-	nice $(FORMAL_PY) pmu50_formal.coverage --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
+	$(FORMAL_ENV) nice $(VPY) -m pmu50_formal.coverage --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
 	  COVERAGE_WITNESS_DIR=$(abspath $(COVERAGE_OUT))/witness $(CARGO) test --release -q -p pmu50-coverage --test witness || exit 1; \
 	  exit $$rc
 
