@@ -158,7 +158,11 @@ cosim: deps $(BIN)
 FORMAL_CACHE ?= 1
 RIC3_VERSION := 1.5.1
 RIC3         := target/tools/bin/rIC3
-FORMAL := FORMAL_CACHE=$(FORMAL_CACHE) $(VPY) hdl/formal/run.py $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
+# the kit's package (hdl/formal/pmu50_formal) run as a module: hdl/formal/run.py and
+# hdl/formal/coverage.py are the same commands
+FORMAL_ENV := PYTHONPATH=$(CURDIR)/hdl/formal
+FORMAL_PY  := $(FORMAL_ENV) $(VPY) -m
+FORMAL := FORMAL_CACHE=$(FORMAL_CACHE) $(FORMAL_PY) pmu50_formal.kit $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
 $(VENV)/.formal: hdl/formal/requirements.txt $(VENV)/.ready
 	$(PIP) install -q -r hdl/formal/requirements.txt
 	@touch $@
@@ -178,7 +182,7 @@ formal: deps $(VENV)/.formal formal-tools
 formal-quick: deps $(VENV)/.formal
 	$(FORMAL) --sets small
 formal-mutants: deps $(VENV)/.formal formal-tools
-	$(VPY) hdl/formal/run.py --mutants --sets small --timeout 120
+	$(FORMAL_PY) pmu50_formal.kit --mutants --sets small --timeout 120
 	$(MAKE) formal-test
 formal-test: deps $(VENV)/.formal $(BIN)
 	PMU50=$(abspath $(BIN)) $(VPY) -m pytest -q hdl/formal/tests
@@ -198,7 +202,7 @@ COVERAGE_OUT := hdl/build/formal/coverage
 coverage-proofs: deps $(VENV)/.formal $(BIN)
 	$(BIN) hdl coverage-monitor --check
 	rm -rf $(COVERAGE_OUT)/witness $(COVERAGE_OUT)/coverage.json
-	nice $(VPY) hdl/formal/coverage.py --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
+	$(FORMAL_ENV) nice $(VPY) -m pmu50_formal.coverage --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
 	  COVERAGE_WITNESS_DIR=$(abspath $(COVERAGE_OUT))/witness $(CARGO) test --release -q -p pmu50-coverage --test witness || exit 1; \
 	  exit $$rc
 
@@ -246,18 +250,30 @@ fuzz:
 	  if [ $$rc -ne 0 ]; then tail -n 40 fuzz/logs/$$t.log; echo "fuzz: $$t FAILED (reproducer in fuzz/artifacts/$$t/)" >&2; exit 1; fi; \
 	done
 
-lint:
+## Rust: rustfmt and clippy (warnings are errors). Python (hdl/, python/, cluster/, benches/): ruff's
+## lint and format check (ruff.toml; ruff pinned in requirements-lint.txt, installed into target/venv).
+lint: $(VENV)/.lint
 	$(CARGO) fmt --all --check
 	cd fuzz && $(CARGO) fmt --all --check
 	$(CARGO) clippy --workspace --exclude pmu50-python --all-targets -- -D warnings
+	$(VENV)/bin/ruff check
+	$(VENV)/bin/ruff format --check
 
-## target/venv with maturin, cocotb and pytest (python/requirements-dev.txt); python3-venv if needed.
-$(VENV)/.ready: python/requirements-dev.txt
+## target/venv itself; python3-venv if needed.
+$(VPY):
 	@$(PYTHON3) -m venv $(VENV) 2>/dev/null || { \
 	  echo "installing Debian package python3-venv"; rm -rf $(VENV); \
 	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends python3-venv >/dev/null && \
 	  $(PYTHON3) -m venv $(VENV); }
+
+## target/venv with maturin, cocotb and pytest (python/requirements-dev.txt).
+$(VENV)/.ready: python/requirements-dev.txt | $(VPY)
 	$(PIP) install -q -r python/requirements-dev.txt
+	@touch $@
+
+## target/venv with ruff (requirements-lint.txt).
+$(VENV)/.lint: requirements-lint.txt | $(VPY)
+	$(PIP) install -q -r requirements-lint.txt
 	@touch $@
 
 ## The Python package pmu50 (python/, PyO3 + maturin), installed into target/venv (docs/python.md).

@@ -13,6 +13,7 @@ and prints one table: wall time, CPU time of every child process (user + system)
 line of each run, and the goal (60 s and 30 s wall, docs/performance.md). The tools are built
 first (make formal-tools), untimed. Exit 1 when a run fails.
 """
+
 import os
 import resource
 import subprocess
@@ -26,11 +27,13 @@ VPY = os.path.join(ROOT, "target", "venv", "bin", "python")
 def timed(cmd, env):
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.monotonic()
-    p = subprocess.run(cmd, cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    p = subprocess.run(
+        cmd, cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
+    )
     wall = time.monotonic() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    verdict = next((l for l in reversed(p.stdout.splitlines()) if l.startswith("formal:")), "")
+    verdict = next((ln for ln in reversed(p.stdout.splitlines()) if ln.startswith("formal:")), "")
     return p.returncode, wall, cpu, verdict, p.stdout
 
 
@@ -44,8 +47,11 @@ def main():
     runs = [
         ("make formal (portfolio, sets default + small)", ["make", "-s", "formal"], 60),
         ("make formal-quick (portfolio, set small)", ["make", "-s", "formal-quick"], 30),
-        ("ABC alone (run.py --engines abc, both sets)",
-         [VPY, "hdl/formal/run.py", "--engines", "abc"], None),
+        (
+            "ABC alone (run.py --engines abc, both sets)",
+            [VPY, "hdl/formal/run.py", "--engines", "abc"],
+            None,
+        ),
     ]
     rows, failed = [], False
     for name, cmd, goal in runs:
@@ -54,17 +60,24 @@ def main():
             failed = True
             sys.stdout.write(out[-2000:])
         rows.append((name, wall, cpu, goal, rc, verdict))
-    print(f"\nformal kit, cold (FORMAL_CACHE=0), one run after the other; machine: {os.cpu_count()} CPUs, "
-          f"load average {load:.2f} at the start\n")
+    print(
+        "\nformal kit, cold (FORMAL_CACHE=0), one run after the other; "
+        f"machine: {os.cpu_count()} CPUs, "
+        f"load average {load:.2f} at the start\n"
+    )
     print(f"| {'run':<48} | {'wall s':>7} | {'CPU s':>7} | {'goal':>6} | verdict")
     print(f"|{'-' * 50}|{'-' * 9}|{'-' * 9}|{'-' * 8}|---")
     for name, wall, cpu, goal, rc, verdict in rows:
         g = f"{goal} s" if goal else "peer"
         mark = "" if rc == 0 else f" (exit {rc})"
-        print(f"| {name:<48} | {wall:7.1f} | {cpu:7.1f} | {g:>6} | {verdict.removeprefix('formal: ')}{mark}")
+        verdict = verdict.removeprefix("formal: ")
+        print(f"| {name:<48} | {wall:7.1f} | {cpu:7.1f} | {g:>6} | {verdict}{mark}")
     full, abc = rows[0], rows[2]
-    print(f"\nmake formal: {full[1]:.1f} s wall against its 60 s goal ({'met' if full[1] <= 60 else 'MISSED'}); "
-          f"ABC alone {abc[1]:.1f} s, {abc[1] / max(full[1], 1e-9):.2f}x the portfolio's wall time")
+    met = "met" if full[1] <= 60 else "MISSED"
+    print(
+        f"\nmake formal: {full[1]:.1f} s wall against its 60 s goal ({met}); "
+        f"ABC alone {abc[1]:.1f} s, {abc[1] / max(full[1], 1e-9):.2f}x the portfolio's wall time"
+    )
     return 1 if failed else 0
 
 

@@ -15,8 +15,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python" / "tests"))
 
-import pmu50  # noqa: E402
 from test_coverage import CONFIG, stimulus  # noqa: E402
+
+import pmu50  # noqa: E402
 
 
 def main() -> None:

@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """Compare pmu50 regression folders (standard library only).
 
-  compare.py runs A B        the verdict of every seed and the coverage of run A equal run B's
-                             (exit 0), or say what differs (exit 1)
-  compare.py complete SHARD  every seed of SHARD has a result line (exit 0), or not (exit 1)
-  compare.py missing SHARD MISSING_TXT
-                             the seeds listed in MISSING_TXT are exactly SHARD's seeds that
-                             have no result line (exit 0), or say which differ (exit 1)
+compare.py runs A B        the verdict of every seed and the coverage of run A equal run B's
+                           (exit 0), or say what differs (exit 1)
+compare.py complete SHARD  every seed of SHARD has a result line (exit 0), or not (exit 1)
+compare.py missing SHARD MISSING_TXT
+                           the seeds listed in MISSING_TXT are exactly SHARD's seeds that
+                           have no result line (exit 0), or say which differ (exit 1)
 """
+
 import json
 import os
 import sys
@@ -41,7 +42,10 @@ def runs(a, b):
     only_a, only_b = sorted(set(ra) - set(rb)), sorted(set(rb) - set(ra))
     if only_a or only_b:
         ok = False
-        print(f"  seeds: {len(only_a)} only in {a} (first {only_a[:5]}), {len(only_b)} only in {b} (first {only_b[:5]})")
+        print(
+            f"  seeds: {len(only_a)} only in {a} (first {only_a[:5]}), "
+            f"{len(only_b)} only in {b} (first {only_b[:5]})"
+        )
     diff = [s for s in sorted(set(ra) & set(rb)) if outcome(ra[s]) != outcome(rb[s])]
     verdicts = {}
     for rec in ra.values():
@@ -50,7 +54,10 @@ def runs(a, b):
     if diff:
         ok = False
         s = diff[0]
-        print(f"  verdicts: {len(diff)} seeds differ, first {s}: {outcome(ra[s])} against {outcome(rb[s])}")
+        print(
+            f"  verdicts: {len(diff)} seeds differ, "
+            f"first {s}: {outcome(ra[s])} against {outcome(rb[s])}"
+        )
     else:
         print(f"  verdicts:    identical, {len(ra)} seeds ({tally})")
     ca = open(os.path.join(a, "coverage.json"), "rb").read()
@@ -60,14 +67,28 @@ def runs(a, b):
     else:
         ok = False
         ja, jb = json.loads(ca), json.loads(cb)
-        keys = sorted(k for k in set(ja) | set(jb) if ja.get(k) != jb.get(k)) if isinstance(ja, dict) and isinstance(jb, dict) else ["(top level)"]
+        keys = (
+            sorted(k for k in set(ja) | set(jb) if ja.get(k) != jb.get(k))
+            if isinstance(ja, dict) and isinstance(jb, dict)
+            else ["(top level)"]
+        )
         print(f"  coverage:    DIFFERENT, fields {keys[:10]}")
     wa = sum(r.get("wall_ms", 0) for r in ra.values())
     wb = sum(r.get("wall_ms", 0) for r in rb.values())
     hosts = sorted({(r.get("where") or {}).get("host", "?") for r in ra.values()})
     shards = sorted({(r.get("where") or {}).get("shard") for r in ra.values()}, key=str)
-    print(f"  seeds' wall_ms summed: {wa / 1000:.2f} s in {len(shards)} shards on {', '.join(map(str, hosts))}; {wb / 1000:.2f} s in one process")
-    print("  => " + ("the merged run equals the one-process run" if ok else "the merged run DIFFERS from the one-process run"))
+    print(
+        f"  seeds' wall_ms summed: {wa / 1000:.2f} s in {len(shards)} shards on "
+        f"{', '.join(map(str, hosts))}; {wb / 1000:.2f} s in one process"
+    )
+    print(
+        "  => "
+        + (
+            "the merged run equals the one-process run"
+            if ok
+            else "the merged run DIFFERS from the one-process run"
+        )
+    )
     return 0 if ok else 1
 
 
@@ -80,9 +101,16 @@ def missing(shard, listing):
         listed = {int(tok) for line in f for tok in line.replace(",", " ").split()}
     want = seeds - done
     if listed == want:
-        print(f"  missing:     exactly the cancelled shard's {len(want)} unfinished seeds ({len(done)} of its {len(seeds)} finished)")
+        print(
+            f"  missing:     exactly the cancelled shard's {len(want)} unfinished seeds "
+            f"({len(done)} of its {len(seeds)} finished)"
+        )
         return 0
-    print(f"  missing:     listed {len(listed)}, expected {len(want)}; listed not expected {sorted(listed - want)[:10]}, expected not listed {sorted(want - listed)[:10]}")
+    print(
+        f"  missing:     listed {len(listed)}, expected {len(want)}; "
+        f"listed not expected {sorted(listed - want)[:10]}, "
+        f"expected not listed {sorted(want - listed)[:10]}"
+    )
     return 1
 
 

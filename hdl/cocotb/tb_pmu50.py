@@ -38,19 +38,11 @@ from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
 import pmu50
+from pmu50.hdl import read_value
 
 
 class Mismatch(AssertionError):
     """The twin and the model disagree."""
-
-
-def read_value(handle) -> int | str:
-    """The integer value of a signal, or its text when it holds x or z."""
-    v = handle.value
-    try:
-        return int(v)
-    except ValueError:
-        return str(v)
 
 
 def vector_inputs(path: str, names: list[str], max_ticks: int = 0):
@@ -78,7 +70,9 @@ def random_inputs(seed: int, cycles: int, core: pmu50.Core):
     writable = [n for n, (_, _, acc) in rmap.items() if "RW" in acc or "W1C" in acc]
     hdl = core.hdl_parameters
     # timing registers and the Verilog parameter of their reset value
-    timing = [n for n in ("PW", "PI", "PS", "SI_MAX", "SI_MIN", "T1", "T2", "CTH", "SMP_ON") if n in rmap]
+    timing = [
+        n for n in ("PW", "PI", "PS", "SI_MAX", "SI_MIN", "T1", "T2", "CTH", "SMP_ON") if n in rmap
+    ]
     ig = 0
     fault = 0
     cmp_s = rng.getrandbits(1)
@@ -94,8 +88,12 @@ def random_inputs(seed: int, cycles: int, core: pmu50.Core):
             fault ^= 1
         # the shaft turns: comparator bits step through the quadrants (Gray order), sometimes noisy
         if rng.random() < 0.05:
-            q = (cmp_s << 1 | cmp_c)
-            q = {0b11: 0b10, 0b10: 0b00, 0b00: 0b01, 0b01: 0b11}[q] if rng.random() < 0.7 else {0b10: 0b11, 0b00: 0b10, 0b01: 0b00, 0b11: 0b01}[q]
+            q = cmp_s << 1 | cmp_c
+            q = (
+                {0b11: 0b10, 0b10: 0b00, 0b00: 0b01, 0b01: 0b11}[q]
+                if rng.random() < 0.7
+                else {0b10: 0b11, 0b00: 0b10, 0b01: 0b00, 0b11: 0b01}[q]
+            )
             cmp_s, cmp_c = q >> 1, q & 1
         noise = rng.random() < 0.02
         inp = {
@@ -147,7 +145,8 @@ async def run(dut, stimulus_factory, state: dict):
     period_ns = model.clock_ns
     half = period_ns // 2
 
-    # Reset: inputs 0, rst_n low for half a period, released 3/4 period before the first rising edge.
+    # Reset: inputs 0, rst_n low for half a period, released 3/4 period before the first rising
+    # edge.
     for h in in_h:
         h.value = 0
     dut.rst_n.value = 0
@@ -160,8 +159,15 @@ async def run(dut, stimulus_factory, state: dict):
         got = {n: read_value(h) for n, h in zip(out_names, out_h)}
         bad = expected.mismatches(got)
         if bad:
-            lines = [f"MISMATCH tick={tick} signal={s} expected={e:#x} got={g if isinstance(g, str) else hex(g)}" for s, e, g in bad]
-            raise Mismatch("\n".join(lines) + f"\nFAIL: the twin differs from pmu50.Core at tick {tick} ({len(bad)} signal(s)), time {tick * period_ns} ns")
+            lines = [
+                f"MISMATCH tick={tick} signal={s} expected={e:#x} "
+                f"got={g if isinstance(g, str) else hex(g)}"
+                for s, e, g in bad
+            ]
+            raise Mismatch(
+                "\n".join(lines) + f"\nFAIL: the twin differs from pmu50.Core at tick {tick} "
+                f"({len(bad)} signal(s)), time {tick * period_ns} ns"
+            )
 
     # Tick 0: the reset values.
     check(0, model.peek())
@@ -195,7 +201,9 @@ def save_coverage(cov: pmu50.Coverage, verdict: str) -> None:
     """Write the run's coverage.json (PMU50_COVERAGE, run id PMU50_RUN_ID), atomically."""
     path = os.environ.get("PMU50_COVERAGE")
     if path:
-        cov.write(path, os.environ.get("PMU50_RUN_ID") or f"cocotb/{os.path.basename(path)}", verdict)
+        cov.write(
+            path, os.environ.get("PMU50_RUN_ID") or f"cocotb/{os.path.basename(path)}", verdict
+        )
 
 
 @cocotb.test()
@@ -209,7 +217,9 @@ async def twin_matches_model(dut):
             names = [s.name for s in pmu50.signal_table("input")]
             limit = int(os.environ.get("PMU50_MAX_TICKS", "0"))
             ticks, cov = await run(dut, lambda core: vector_inputs(vec, names, limit), state)
-            dut._log.info("PASS %s: %d ticks, 23 outputs each; %s", os.path.basename(vec), ticks, cov)
+            dut._log.info(
+                "PASS %s: %d ticks, 23 outputs each; %s", os.path.basename(vec), ticks, cov
+            )
         else:
             seed = int(os.environ["PMU50_SEED"])
             cycles = int(os.environ.get("PMU50_CYCLES", "2000"))

@@ -34,6 +34,7 @@ import pytest
 from cocotb_tools.runner import get_runner
 
 import pmu50
+from pmu50.hdl import core_config
 
 HERE = Path(__file__).resolve().parent
 HDL = HERE.parent
@@ -65,14 +66,11 @@ def rtl_info() -> dict:
     """The top's parameters and the values the RTL fixes (`pmu50 rtl-info`)."""
     if TWIN:
         return {"parameters": list(pmu50.Core().hdl_parameters), "fixed": {}}
-    out = subprocess.run([str(PMU50_BIN), "rtl-info", "--rtl", str(RTL)], capture_output=True, text=True)
+    out = subprocess.run(
+        [str(PMU50_BIN), "rtl-info", "--rtl", str(RTL)], capture_output=True, text=True
+    )
     assert out.returncode == 0, f"{RTL}: {out.stderr.strip()}"
     return json.loads(out.stdout)
-
-
-# HDL parameter -> pmu50.Core keyword (durations in ticks of the default 10 us clock)
-CORE_KEYS = {"SYNC_DEPTH": "sync_depth", "CNT_W": "cnt_width", "ADAPTIVE": "adaptive", "PW": "pw", "PI": "pi", "PS": "ps",
-             "SI_MAX": "x", "SI_MIN": "min", "T1": "t1", "T2": "t2", "CTH": "cth", "SMP_ON": "smp_on"}
 
 
 def fixing(cfg: dict) -> dict:
@@ -82,12 +80,12 @@ def fixing(cfg: dict) -> dict:
     if not fixed:
         return cfg
 
+    # the fixed values as Core keywords (durations in ticks of the default 10 us clock)
+    keywords = core_config(fixed)
+    del keywords["clock"]
+
     def put(c: dict) -> dict:
-        c = dict(c)
-        for name, v in fixed.items():
-            key = CORE_KEYS[name]
-            c[key] = bool(v) if key == "adaptive" else v if key in ("sync_depth", "cnt_width", "cth") else f"{v * 10} us"
-        return c
+        return {**c, **keywords}
 
     try:
         pmu50.Core(**put(cfg))
@@ -99,10 +97,20 @@ def fixing(cfg: dict) -> dict:
 def clash(hdl_parameters: dict) -> str | None:
     """Why a run with these parameters cannot run on the RTL (it fixes other values), or None."""
     fixed = rtl_info()["fixed"]
-    bad = [f"{n}={fixed[n]} (the run needs {hdl_parameters[n]})" for n in fixed if hdl_parameters.get(n) != fixed[n]]
+    bad = [
+        f"{n}={fixed[n]} (the run needs {hdl_parameters[n]})"
+        for n in fixed
+        if hdl_parameters.get(n) != fixed[n]
+    ]
     return f"the RTL {RTL} fixes {', '.join(bad)}" if bad else None
+
+
 # every shipped scenario but days of parking (scenarios/park_30d.toml: 2.6e11 ticks, no vectors)
-SHIPPED = [p for p in sorted((ROOT / "scenarios").glob("*.toml")) if pmu50.Scenario.load(p).ticks <= 1_000_000_000]
+SHIPPED = [
+    p
+    for p in sorted((ROOT / "scenarios").glob("*.toml"))
+    if pmu50.Scenario.load(p).ticks <= 1_000_000_000
+]
 
 SEEDS = int(os.environ.get("PMU50_COCOTB_SEEDS", "12"))
 # Plant a mutant of hdl/mutants.txt into the twin of the vector and random runs, to see the
@@ -116,9 +124,44 @@ CYCLES = int(os.environ.get("PMU50_COCOTB_CYCLES", "3000"))
 # Core configurations of the random runs: short windows and intervals (ticks of 10 us), all three
 # structural corners, both embodiments.
 RANDOM_CONFIGS = [
-    dict(pw="10 us", pi="20 us", ps="10 us", min="100 us", x="300 us", t1="100 us", t2="50 us", cth=2, smp_on="30 us"),
-    dict(sync_depth=1, cnt_width=4, pw="10 us", pi="10 us", ps="20 us", min="80 us", x="240 us", t1="60 us", t2="40 us", cth=1, smp_on="20 us"),
-    dict(sync_depth=4, cnt_width=8, adaptive=False, pw="20 us", pi="10 us", ps="10 us", min="60 us", x="200 us", t1="60 us", t2="30 us", cth=3, smp_on="50 us"),
+    dict(
+        pw="10 us",
+        pi="20 us",
+        ps="10 us",
+        min="100 us",
+        x="300 us",
+        t1="100 us",
+        t2="50 us",
+        cth=2,
+        smp_on="30 us",
+    ),
+    dict(
+        sync_depth=1,
+        cnt_width=4,
+        pw="10 us",
+        pi="10 us",
+        ps="20 us",
+        min="80 us",
+        x="240 us",
+        t1="60 us",
+        t2="40 us",
+        cth=1,
+        smp_on="20 us",
+    ),
+    dict(
+        sync_depth=4,
+        cnt_width=8,
+        adaptive=False,
+        pw="20 us",
+        pi="10 us",
+        ps="10 us",
+        min="60 us",
+        x="200 us",
+        t1="60 us",
+        t2="30 us",
+        cth=3,
+        smp_on="50 us",
+    ),
 ]
 
 # Mutants the scoreboard must catch, with the random seed and configuration that exercise them.
@@ -137,7 +180,9 @@ MISMATCH = re.compile(r"MISMATCH tick=(\d+) signal=(\w+) expected=(0x[0-9a-f]+) 
 def build(params: dict, mutant: str | None = None) -> Path:
     """The RTL compiled with the Verilog parameters its top has (and mutant), cached per set."""
     params = {k: v for k, v in params.items() if k in rtl_info()["parameters"]}
-    key = hashlib.sha1(json.dumps([sorted(params.items()), mutant, [str(p) for p in SOURCES]]).encode()).hexdigest()[:12]
+    key = hashlib.sha1(
+        json.dumps([sorted(params.items()), mutant, [str(p) for p in SOURCES]]).encode()
+    ).hexdigest()[:12]
     d = WORK / "build" / f"{mutant or 'none'}_{key}"
     runner = get_runner("icarus")
     runner.build(
@@ -179,7 +224,9 @@ def simulate(build_dir: Path, env: dict, results: Path) -> tuple[bool, str]:
     return passed, "" if fail is None else (fail.get("message") or "") + (fail.text or "")
 
 
-def run_twin(hdl_parameters: dict, mutant: str, name: str, core: dict, run_id: str, **stimulus: str) -> tuple[bool, str, Path]:
+def run_twin(
+    hdl_parameters: dict, mutant: str, name: str, core: dict, run_id: str, **stimulus: str
+) -> tuple[bool, str, Path]:
     """Build the twin (or `mutant`) for `hdl_parameters` and run tb_pmu50 on it against the model
     configured with `core`, the stimulus given by the PMU50_* variables `stimulus`, the coverage
     sampled into results/NAME.coverage.json under `run_id`: (passed, failure message, that file)."""
@@ -187,7 +234,12 @@ def run_twin(hdl_parameters: dict, mutant: str, name: str, core: dict, run_id: s
     cov = WORK / "results" / f"{name}.coverage.json"
     cov.parent.mkdir(parents=True, exist_ok=True)
     cov.unlink(missing_ok=True)
-    env = {"PMU50_CORE": json.dumps(core), **stimulus, "PMU50_COVERAGE": str(cov), "PMU50_RUN_ID": run_id}
+    env = {
+        "PMU50_CORE": json.dumps(core),
+        **stimulus,
+        "PMU50_COVERAGE": str(cov),
+        "PMU50_RUN_ID": run_id,
+    }
     ok, msg = simulate(d, env, WORK / "results" / f"{name}.xml")
     return ok, msg, cov
 
@@ -197,9 +249,15 @@ def vectors() -> Path:
     """Vector files of the shipped scenarios, written by the CLI."""
     d = WORK / "vec"
     d.mkdir(parents=True, exist_ok=True)
-    assert PMU50_BIN.exists(), f"{PMU50_BIN} missing: build it with `cargo build --release --bin pmu50` (make does)"
+    assert PMU50_BIN.exists(), (
+        f"{PMU50_BIN} missing: build it with `cargo build --release --bin pmu50` (make does)"
+    )
     for sc in SHIPPED:
-        subprocess.run([str(PMU50_BIN), "vectors", str(sc), "-o", str(d / f"{sc.stem}.vec")], check=True, stdout=subprocess.DEVNULL)
+        subprocess.run(
+            [str(PMU50_BIN), "vectors", str(sc), "-o", str(d / f"{sc.stem}.vec")],
+            check=True,
+            stdout=subprocess.DEVNULL,
+        )
     return d
 
 
@@ -214,11 +272,18 @@ def test_scenario_vectors(scenario: Path, vectors: Path):
     if why:
         pytest.skip(why)
     ok, msg, cov = run_twin(
-        sc.hdl_parameters, PLANTED, f"vec_{scenario.stem}", sc.core, f"cocotb/vectors/{scenario.stem}",
-        PMU50_VEC=str(vectors / f"{scenario.stem}.vec"), PMU50_MAX_TICKS=str(MAX_TICKS),
+        sc.hdl_parameters,
+        PLANTED,
+        f"vec_{scenario.stem}",
+        sc.core,
+        f"cocotb/vectors/{scenario.stem}",
+        PMU50_VEC=str(vectors / f"{scenario.stem}.vec"),
+        PMU50_MAX_TICKS=str(MAX_TICKS),
     )
     assert ok, msg
-    assert json.loads(cov.read_text())["runs"] == [{"id": f"cocotb/vectors/{scenario.stem}", "verdict": "pass"}]
+    assert json.loads(cov.read_text())["runs"] == [
+        {"id": f"cocotb/vectors/{scenario.stem}", "verdict": "pass"}
+    ]
 
 
 @functools.cache
@@ -226,8 +291,13 @@ def random_run(seed: int) -> tuple[bool, str, Path]:
     """One seeded random run on the clean twin: (passed, failure message, its coverage.json)."""
     cfg = fixing(RANDOM_CONFIGS[seed % len(RANDOM_CONFIGS)])
     return run_twin(
-        pmu50.Core(**cfg).hdl_parameters, PLANTED, f"random_{seed}", cfg, f"cocotb/random/{seed}",
-        PMU50_SEED=str(seed), PMU50_CYCLES=str(CYCLES),
+        pmu50.Core(**cfg).hdl_parameters,
+        PLANTED,
+        f"random_{seed}",
+        cfg,
+        f"cocotb/random/{seed}",
+        PMU50_SEED=str(seed),
+        PMU50_CYCLES=str(CYCLES),
     )
 
 
@@ -243,7 +313,10 @@ def test_random_coverage():
     turns the key on and off, presets the counters, writes registers (some refused), and provokes
     a quadrant skip and a diagnosis."""
     if rtl_info()["fixed"]:
-        pytest.skip(f"the coverage goal is for the short timing of the random configurations; the RTL fixes {rtl_info()['fixed']}")
+        pytest.skip(
+            "the coverage goal is for the short timing of the random configurations; "
+            f"the RTL fixes {rtl_info()['fixed']}"
+        )
     files = []
     for seed in range(1, SEEDS + 1):
         ok, msg, cov = random_run(seed)
@@ -257,7 +330,10 @@ def test_random_coverage():
     def total(prefix: str) -> int:
         return sum(v for k, v in hits.items() if k.startswith(prefix))
 
-    print(f"random coverage over {SEEDS} seeds x {CYCLES} cycles: {hit} of {reachable} reachable bins hit ({merged})")
+    print(
+        f"random coverage over {SEEDS} seeds x {CYCLES} cycles: "
+        f"{hit} of {reachable} reachable bins hit ({merged})"
+    )
     fig17 = {k for k, v in hits.items() if k.startswith("fig17.path.") and v}
     fig18 = {k for k, v in hits.items() if k.startswith("fig18.path.") and v}
     assert len(fig17) == 7, f"FIG. 17 branches taken: {sorted(fig17)} of 7"
@@ -282,12 +358,22 @@ def test_mutant_is_caught(mutant: str, seed: int, config: int):
     assert re.search(rf"^{mutant}\s*\|", listed, re.M), f"{mutant} is not in hdl/mutants.txt"
     cfg = RANDOM_CONFIGS[config]
     ok, msg, cov = run_twin(
-        pmu50.Core(**cfg).hdl_parameters, mutant, f"mutant_{mutant}", cfg, f"cocotb/mutant/{mutant}/{seed}",
-        PMU50_SEED=str(seed), PMU50_CYCLES=str(CYCLES),
+        pmu50.Core(**cfg).hdl_parameters,
+        mutant,
+        f"mutant_{mutant}",
+        cfg,
+        f"cocotb/mutant/{mutant}/{seed}",
+        PMU50_SEED=str(seed),
+        PMU50_CYCLES=str(CYCLES),
     )
     assert not ok, f"{mutant} escaped the scoreboard ({CYCLES} random cycles, seed {seed})"
     # a failing run still writes its coverage, up to the failing edge, with verdict "fail"
-    assert json.loads(cov.read_text())["runs"] == [{"id": f"cocotb/mutant/{mutant}/{seed}", "verdict": "fail"}]
+    assert json.loads(cov.read_text())["runs"] == [
+        {"id": f"cocotb/mutant/{mutant}/{seed}", "verdict": "fail"}
+    ]
     m = MISMATCH.search(msg)
     assert m, f"{mutant}: the failure does not name tick and signal:\n{msg}"
-    print(f"{mutant}: caught at tick {m.group(1)}, signal {m.group(2)} (expected {m.group(3)}, got {m.group(4)})")
+    print(
+        f"{mutant}: caught at tick {m.group(1)}, signal {m.group(2)} "
+        f"(expected {m.group(3)}, got {m.group(4)})"
+    )

@@ -5,5 +5,11 @@ import pyuvm
 
 from pmu50_uvm import tests
 
-for _cls in (tests.RandomTest, tests.VectorTest, tests.ScenarioTest, tests.RegressSeedTest, tests.RegisterTest):
+for _cls in (
+    tests.RandomTest,
+    tests.VectorTest,
+    tests.ScenarioTest,
+    tests.RegressSeedTest,
+    tests.RegisterTest,
+):
     pyuvm.test()(_cls)

@@ -9,9 +9,20 @@ from pathlib import Path
 import pytest
 
 import pmu50
-from pmu50_uvm.bfm import PARAMETERS, core_config
+from pmu50.hdl import PARAMETERS, core_config
 from pmu50_uvm.env import fig_path
-from pmu50_uvm.sequences import INPUTS, RandomSeq, RegisterSeq, StimulusError, VectorSeq, bus_random, cmp_random, key_random, runs
+from pmu50_uvm.sequences import (
+    INPUTS,
+    RandomSeq,
+    RegisterSeq,
+    StimulusError,
+    VectorSeq,
+    bus_random,
+    cmp_random,
+    key_random,
+    runs,
+)
+
 from test_uvm import RANDOM_CONFIGS
 
 
@@ -54,16 +65,31 @@ def test_a_vector_file_splits_into_the_three_agents(tmp_path: Path):
     rng = random.Random(5)
     rows = []
     for _ in range(300):
-        rows.append([rng.getrandbits(1) if rng.random() < 0.1 else (rows[-1][i] if rows else 0) for i in range(4)] + [rng.getrandbits(1), rng.getrandbits(8), rng.getrandbits(16)])
+        rows.append(
+            [
+                rng.getrandbits(1) if rng.random() < 0.1 else (rows[-1][i] if rows else 0)
+                for i in range(4)
+            ]
+            + [rng.getrandbits(1), rng.getrandbits(8), rng.getrandbits(16)]
+        )
     path = tmp_path / "t.vec"
-    path.write_text("// " + " ".join(INPUTS) + " outputs...\n" + "".join(" ".join(f"{v:x}" for v in r) + " 0 0\n" for r in rows))
+    path.write_text(
+        "// "
+        + " ".join(INPUTS)
+        + " outputs...\n"
+        + "".join(" ".join(f"{v:x}" for v in r) + " 0 0\n" for r in rows)
+    )
     seq = VectorSeq(path)
     key, cmp_, bus = seq.make(pmu50.Core().hdl_parameters)
     assert seq.ticks == 300
     col = {n: i for i, n in enumerate(INPUTS)}
     assert expand(key, ["ig"]) == [(r[col["ig"]],) for r in rows]
-    assert expand(cmp_, ["cmp_s", "cmp_c", "vs2_ok"]) == [(r[col["cmp_s"]], r[col["cmp_c"]], r[col["vs2_ok"]]) for r in rows]
-    assert expand(bus, ["we", "addr", "wdata"]) == [(r[col["bus_we"]], r[col["bus_addr"]], r[col["bus_wdata"]]) for r in rows]
+    assert expand(cmp_, ["cmp_s", "cmp_c", "vs2_ok"]) == [
+        (r[col["cmp_s"]], r[col["cmp_c"]], r[col["vs2_ok"]]) for r in rows
+    ]
+    assert expand(bus, ["we", "addr", "wdata"]) == [
+        (r[col["bus_we"]], r[col["bus_addr"]], r[col["bus_wdata"]]) for r in rows
+    ]
     assert sum(i.cycles for i in key) == 300 and len(key) < 300
     cut = VectorSeq(path, max_ticks=50)
     k2, _, _ = cut.make({})

@@ -3,7 +3,7 @@
 from collections.abc import Iterator, Mapping
 from os import PathLike
 from pathlib import Path
-from typing import Literal, Optional, TypedDict, Union, overload
+from typing import Literal, TypedDict, overload
 
 from typing_extensions import Unpack
 
@@ -43,7 +43,7 @@ class Signal:
     width: int
     signed: bool
     """Two's complement (cnt_s, cnt_c)."""
-    reset: Optional[int]
+    reset: int | None
     """A register's reset value in this configuration; None for ports and internals."""
     meaning: str
     patent: str
@@ -128,7 +128,7 @@ class Trace:
     after: Outputs
     inputs: InputValues
 
-_Bit = Union[bool, int]
+_Bit = bool | int
 
 class _Config(TypedDict, total=False):
     """The keyword arguments of :class:`Core` (the scenario ``[core]`` table); each one left out
@@ -141,7 +141,8 @@ class _Config(TypedDict, total=False):
     cnt_width: int
     """Width of cnt_s and cnt_c (structural), 2 to 16. Default ``16``."""
     adaptive: bool
-    """Adaptive interval (``False``: the fixed cycle ``x`` of the first embodiment). Default ``True``."""
+    """Adaptive interval (``False``: the fixed cycle ``x`` of the first embodiment).
+    Default ``True``."""
     pw: str
     """Waiting period Pw of one intermittent output. Default ``"50 us"``."""
     pi: str
@@ -197,20 +198,22 @@ class Core:
     def tick(self) -> int:
         """Edges taken since reset."""
     @property
-    def config(self) -> dict[str, Union[str, int, bool]]:
+    def config(self) -> dict[str, str | int | bool]:
         """The configuration as keyword arguments of ``Core()``."""
     @property
     def hdl_parameters(self) -> dict[str, int]:
         """The Verilog parameters of the twin (SYNC_DEPTH, CNT_W, ADAPTIVE, PW, ... in ticks)."""
     @property
     def clock_ns(self) -> int: ...
-    def signals(self, kind: Optional[SignalKind] = None) -> list[Signal]:
+    def signals(self, kind: SignalKind | None = None) -> list[Signal]:
         """The signal table of this core (names and widths from the Rust side)."""
-    def copy(self) -> "Core": ...
-    def __copy__(self) -> "Core": ...
-    def __deepcopy__(self, memo: object) -> "Core": ...
+    def copy(self) -> Core: ...
+    def __copy__(self) -> Core: ...
+    def __deepcopy__(self, memo: object) -> Core: ...
 
-def signal_table(kind: Optional[SignalKind] = None, *, sync_depth: int = 2, cnt_width: int = 16) -> list[Signal]:
+def signal_table(
+    kind: SignalKind | None = None, *, sync_depth: int = 2, cnt_width: int = 16
+) -> list[Signal]:
     """The signal table for a structural configuration."""
 
 class Coverage:
@@ -221,7 +224,7 @@ class Coverage:
     ``core.step(**inputs)`` with the edge sampled.
     """
 
-    def __init__(self, core: Optional[Core] = None, **config: Unpack[_Config]) -> None: ...
+    def __init__(self, core: Core | None = None, **config: Unpack[_Config]) -> None: ...
     def step(self, core: Core, **inputs: Unpack[_Inputs]) -> Outputs:
         """``core.step(**inputs)`` with the edge sampled; the outputs after the edge."""
     def step_traced(self, core: Core, **inputs: Unpack[_Inputs]) -> Trace:
@@ -237,21 +240,23 @@ class Coverage:
     def clock_ns(self) -> int: ...
     def to_json(self, run_id: str, verdict: str = "pass") -> str:
         """The text of ``coverage.json`` for this run."""
-    def write(self, path: Union[str, PathLike[str]], run_id: str, verdict: str = "pass") -> None:
+    def write(self, path: str | PathLike[str], run_id: str, verdict: str = "pass") -> None:
         """Write ``coverage.json`` (a temporary file renamed into place)."""
     @staticmethod
-    def bins() -> list[tuple[str, Literal["point", "cross"], str, Optional[str]]]:
+    def bins() -> list[tuple[str, Literal["point", "cross"], str, str | None]]:
         """Every bin: (name, kind, cite, reason it can never be hit or None)."""
     @staticmethod
     def model() -> str:
         """The model's identity, carried by every coverage file."""
-    def __copy__(self) -> "Coverage": ...
+    def __copy__(self) -> Coverage: ...
 
-def merge_coverage(paths: list[Union[str, PathLike[str]]], out: Union[str, PathLike[str]]) -> tuple[int, int, int]:
+def merge_coverage(
+    paths: list[str | PathLike[str]], out: str | PathLike[str]
+) -> tuple[int, int, int]:
     """Merge coverage files into ``out`` as ``pmu50 merge``; (bins hit, reachable bins, runs).
     :class:`CoverageError` (file and reason) or ``OSError``, and nothing is written."""
 
-def export_ucis(path: Union[str, PathLike[str]], out: Union[str, PathLike[str]]) -> None:
+def export_ucis(path: str | PathLike[str], out: str | PathLike[str]) -> None:
     """Export a ``coverage.json`` file to UCIS 1.0 XML."""
 
 class Pulse:
@@ -335,9 +340,9 @@ class DarkCurrent:
     vs1_on_ns: int
     vs2_on_ns: int
     vp_on_ns: int
-    vs2_duty: Optional[float]
+    vs2_duty: float | None
     charge_uc: float
-    avg_current_ua: Optional[float]
+    avg_current_ua: float | None
 
 class RunResult:
     """What ``pmu50 run`` prints, as objects; ``str(result)`` is the printed summary."""
@@ -357,18 +362,18 @@ class RunResult:
     final_outputs: Outputs
     final_regs: dict[str, dict[str, int]]
     summary: str
-    vcd_path: Optional[Path]
-    gtkw_path: Optional[Path]
-    log_path: Optional[Path]
+    vcd_path: Path | None
+    gtkw_path: Path | None
+    log_path: Path | None
 
 class Scenario:
     """A validated scenario file."""
 
     @staticmethod
-    def load(path: Union[str, PathLike[str]]) -> "Scenario":
+    def load(path: str | PathLike[str]) -> Scenario:
         """Read and validate a file; :class:`ScenarioError` (``file:line: ...``) or ``OSError``."""
     @staticmethod
-    def from_str(text: str, filename: str = "scenario.toml") -> "Scenario":
+    def from_str(text: str, filename: str = "scenario.toml") -> Scenario:
         """Validate scenario text; ``filename`` appears in errors, its stem is the default name."""
     @property
     def name(self) -> str: ...
@@ -379,11 +384,12 @@ class Scenario:
     @property
     def clock_ns(self) -> int: ...
     @property
-    def core(self) -> dict[str, Union[str, int, bool]]:
+    def core(self) -> dict[str, str | int | bool]:
         """The ``[core]`` configuration: ``Core(**scenario.core)`` is the scenario's core."""
     @property
     def hdl_parameters(self) -> dict[str, int]: ...
     def events(self) -> list[tuple[int, str, object]]:
-        """``[(tick, "ig" | "vs2_fault" | "write", value)]``; a write's value is (register, address, data)."""
-    def run(self, out_dir: Union[str, PathLike[str], None] = None, *, log: bool = False) -> RunResult:
+        """``[(tick, "ig" | "vs2_fault" | "write", value)]``; a write's value is (register,
+        address, data)."""
+    def run(self, out_dir: str | PathLike[str] | None = None, *, log: bool = False) -> RunResult:
         """Run with the environment; with ``out_dir`` also write the VCD, .gtkw (and .log)."""

@@ -7,27 +7,11 @@
 //! `Params::validate` of the core; nothing here restates a limit.
 
 use crate::errors::ConfigError;
+use pmu50_core::config::FIELDS;
 use pmu50_core::{ConfigError as CoreConfigError, CoreConfig, Dur, Params};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyInt, PyString};
-
-/// The `[core]` field names, in the order of docs/spec.md.
-pub const FIELDS: [&str; 13] = [
-    "clock",
-    "sync_depth",
-    "cnt_width",
-    "adaptive",
-    "pw",
-    "pi",
-    "ps",
-    "x",
-    "min",
-    "t1",
-    "t2",
-    "cth",
-    "smp_on",
-];
 
 /// Which Python type a field takes.
 enum Ty {

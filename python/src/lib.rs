@@ -75,7 +75,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     }
     m.add_function(wrap_pyfunction!(core::signal_table, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
-    m.add("CORE_PARAMETERS", config::FIELDS.to_vec())?;
+    m.add("CORE_PARAMETERS", pmu50_core::config::FIELDS.to_vec())?;
     // The register map of docs/spec.md: (name, address, width, access).
     let map: Vec<(&str, u8, u8, &str)> = pmu50_core::register_file::MAP.to_vec();
     m.add("REGISTER_MAP", map)?;

@@ -26,7 +26,9 @@ PMU50_BIN = ROOT / "target" / "release" / "pmu50"
 
 def cli(*args: str, check: bool = True) -> subprocess.CompletedProcess:
     """Run the `pmu50` CLI (built by `make`: cargo build --release --bin pmu50)."""
-    assert PMU50_BIN.exists(), f"{PMU50_BIN} missing: `cargo build --release --bin pmu50` (make pytest does it)"
+    assert PMU50_BIN.exists(), (
+        f"{PMU50_BIN} missing: `cargo build --release --bin pmu50` (make pytest does it)"
+    )
     return subprocess.run([str(PMU50_BIN), *args], capture_output=True, text=True, check=check)
 
 

@@ -53,7 +53,9 @@ def test_reset_and_copy():
 def test_signal_table_matches_every_view():
     c = pmu50.Core(cnt_width=6, sync_depth=3)
     table = c.signals()
-    kinds = {k: [s for s in table if s.kind == k] for k in ("input", "output", "register", "internal")}
+    kinds = {
+        k: [s for s in table if s.kind == k] for k in ("input", "output", "register", "internal")
+    }
     assert [s.name for s in kinds["input"]] == INPUTS
     out = c.peek()
     assert [s.name for s in kinds["output"]] == out.names() and len(out) == 23
@@ -73,7 +75,12 @@ def test_signal_table_matches_every_view():
     assert by_name["cnt_s"].signed and not by_name["si"].signed
     assert by_name["cnt_s"].patent == "[0096]-[0097]" and by_name["cnt_s"].meaning
     assert by_name["drive_interval.si"].reset == 660 and by_name["si"].reset is None
-    assert pmu50.Core(x="5 ms").signals("register")[[s.name for s in kinds["register"]].index("drive_interval.si")].reset == 500
+    assert (
+        pmu50.Core(x="5 ms")
+        .signals("register")[[s.name for s in kinds["register"]].index("drive_interval.si")]
+        .reset
+        == 500
+    )
 
 
 def test_every_input_reaches_its_own_port():
@@ -98,19 +105,27 @@ class Index:
 def test_bools_ints_and_integer_likes_are_the_same_input():
     a, b, c = pmu50.Core(), pmu50.Core(), pmu50.Core()
     for _ in range(10):
-        assert a.step(ig=True, vs2_ok=True) == b.step(ig=1, vs2_ok=1) == c.step(ig=Index(1), vs2_ok=Index(1))
+        assert (
+            a.step(ig=True, vs2_ok=True)
+            == b.step(ig=1, vs2_ok=1)
+            == c.step(ig=Index(1), vs2_ok=Index(1))
+        )
     assert c.step_traced(bus_addr=Index(0x13)).inputs.bus_addr == 0x13
 
 
 def test_bad_inputs():
     c = pmu50.Core()
-    with pytest.raises(ValueError, match=r"input `bus_addr` = 256 does not fit its 8 bit\(s\); valid is 0..=255"):
+    with pytest.raises(
+        ValueError, match=r"input `bus_addr` = 256 does not fit its 8 bit\(s\); valid is 0..=255"
+    ):
         c.step(bus_addr=256)
     with pytest.raises(ValueError, match="input `ig` = 2"):
         c.step(ig=2)
     with pytest.raises(ValueError, match="input `bus_wdata` = -1"):
         c.step(bus_wdata=-1)
-    with pytest.raises(TypeError, match="unexpected keyword argument `clk`; the inputs are ig, vs2_ok"):
+    with pytest.raises(
+        TypeError, match="unexpected keyword argument `clk`; the inputs are ig, vs2_ok"
+    ):
         c.step(clk=1)
     with pytest.raises(TypeError, match="input `ig` takes an int or a bool, got str"):
         c.step(ig="1")
@@ -152,7 +167,7 @@ def test_outputs_compare_with_a_mapping():
     with pytest.raises(KeyError, match="no value for signal `sig`"):
         out.mismatches({})
     with pytest.raises(AttributeError, match="Outputs has no signal `sgi`; signals are sig, vr_hi"):
-        out.sgi
+        _ = out.sgi
     assert out["si"] == out.si == 660 and "si" in out and "clk" not in out
 
 
@@ -160,12 +175,17 @@ def test_config_round_trip_and_hdl_parameters():
     c = pmu50.Core(x="5 ms", t2="0.5 ms", cth=7, adaptive=False)
     assert c.config["x"] == "5 ms" and c.config["t2"] == "500 us" and c.config["adaptive"] is False
     assert pmu50.Core(**c.config).hdl_parameters == c.hdl_parameters
-    assert c.hdl_parameters["SI_MAX"] == 500 and c.hdl_parameters["T2"] == 50 and c.hdl_parameters["CTH"] == 7
+    assert (
+        c.hdl_parameters["SI_MAX"] == 500
+        and c.hdl_parameters["T2"] == 50
+        and c.hdl_parameters["CTH"] == 7
+    )
     assert c.clock_ns == 10_000
     assert pmu50.CORE_PARAMETERS == list(c.config)
 
 
-# (keyword arguments, the same value as TOML) -> the message must equal the CLI's after `file:line: `
+# (keyword arguments, the same value as TOML) -> the message must equal the CLI's after
+# `file:line: `
 BAD = [
     (dict(t2="1.105 ms"), 't2 = "1.105 ms"'),
     (dict(pw="5"), 'pw = "5"'),
@@ -200,23 +220,42 @@ def test_config_errors_are_the_clis(kwargs, toml):
 
 
 def test_config_errors_outside_the_storage_of_the_field():
-    """Values no register could hold get the CLI's words too (the range of pmu50::scenario::CORE_INTS)."""
-    with pytest.raises(pmu50.ConfigError, match=r"^`core.sync_depth`: 300 is out of range; valid is a whole number of flip-flops from 1 to 4$"):
+    """Values no register could hold get the CLI's words too (the range of
+    pmu50::scenario::CORE_INTS)."""
+    with pytest.raises(
+        pmu50.ConfigError,
+        match=r"^`core.sync_depth`: 300 is out of range; "
+        r"valid is a whole number of flip-flops from 1 to 4$",
+    ):
         pmu50.Core(sync_depth=300)
-    with pytest.raises(pmu50.ConfigError, match=r"^`core.cth`: -1 is out of range; valid is a whole number of quiet pulses from 1 to 255$"):
+    with pytest.raises(
+        pmu50.ConfigError,
+        match=r"^`core.cth`: -1 is out of range; "
+        r"valid is a whole number of quiet pulses from 1 to 255$",
+    ):
         pmu50.Core(cth=-1)
-    with pytest.raises(pmu50.ConfigError, match=r"^`core.cth`: 99999999999999999999999 is out of range; valid is a whole number of quiet pulses from 1 to 255$"):
+    with pytest.raises(
+        pmu50.ConfigError,
+        match=r"^`core.cth`: 99999999999999999999999 is out of range; "
+        r"valid is a whole number of quiet pulses from 1 to 255$",
+    ):
         pmu50.Core(cth=99999999999999999999999)
 
 
 def test_config_type_errors():
-    with pytest.raises(TypeError, match=r"`core.pw` takes a duration string with a unit, e.g. \"2.2 ms\".*got int 5"):
+    with pytest.raises(
+        TypeError,
+        match=r"`core.pw` takes a duration string with a unit, e.g. \"2.2 ms\".*got int 5",
+    ):
         pmu50.Core(pw=5)
     with pytest.raises(TypeError, match="`core.adaptive` takes True or False, got int 1"):
         pmu50.Core(adaptive=1)
     with pytest.raises(TypeError, match="`core.sync_depth` takes an integer, got bool True"):
         pmu50.Core(sync_depth=True)
-    with pytest.raises(TypeError, match="unexpected keyword argument `t3`; the \\[core\\] parameters are clock, sync_depth"):
+    with pytest.raises(
+        TypeError,
+        match="unexpected keyword argument `t3`; the \\[core\\] parameters are clock, sync_depth",
+    ):
         pmu50.Core(t3="1 ms")
 
 
@@ -228,5 +267,7 @@ def test_register_map():
 
 
 def test_signal_table_checks_its_structural_parameters():
-    with pytest.raises(pmu50.ConfigError, match="core.cnt_width = 1 is out of range; valid is 2..=16"):
+    with pytest.raises(
+        pmu50.ConfigError, match="core.cnt_width = 1 is out of range; valid is 2..=16"
+    ):
         pmu50.signal_table(cnt_width=1)

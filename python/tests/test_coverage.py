@@ -15,11 +15,22 @@ from pathlib import Path
 import pytest
 
 import pmu50
+
 from conftest import ROOT
 
 GOLDEN = ROOT / "hdl" / "ffi" / "tests" / "coverage_stimulus.json"
 # The stimulus configuration: short windows and intervals, ticks of 10 us (coverage.rs `params`).
-CONFIG = dict(pw="10 us", pi="20 us", ps="10 us", min="100 us", x="300 us", t1="100 us", t2="50 us", cth=2, smp_on="30 us")
+CONFIG = dict(
+    pw="10 us",
+    pi="20 us",
+    ps="10 us",
+    min="100 us",
+    x="300 us",
+    t1="100 us",
+    t2="50 us",
+    cth=2,
+    smp_on="30 us",
+)
 M64 = (1 << 64) - 1
 
 
@@ -51,7 +62,9 @@ def stimulus(n: int):
 @pytest.fixture(scope="module")
 def golden() -> dict:
     g = json.loads(GOLDEN.read_text())
-    assert g["model"] == pmu50.Coverage.model(), f"{GOLDEN} is of another model: cargo test -p pmu50-ffi --test coverage regenerates it"
+    assert g["model"] == pmu50.Coverage.model(), (
+        f"{GOLDEN} is of another model: cargo test -p pmu50-ffi --test coverage regenerates it"
+    )
     return g
 
 
@@ -94,7 +107,9 @@ def test_write_is_the_merge_format_and_merges_like_the_cli(tmp_path: Path, golde
     cov.write(a, "py/stimulus/a")
     cov.write(b, "py/stimulus/b", verdict="fail")
     assert a.read_text() == cov.to_json("py/stimulus/a")
-    assert [p.name for p in tmp_path.iterdir()] and not list(tmp_path.glob(".*tmp")), "no temporary file is left"
+    assert [p.name for p in tmp_path.iterdir()] and not list(tmp_path.glob(".*tmp")), (
+        "no temporary file is left"
+    )
     data = json.loads(a.read_text())
     assert data["runs"] == [{"id": "py/stimulus/a", "verdict": "pass"}]
     assert {x["name"]: x["hits"] for x in data["bins"]} == cov.hits()
@@ -103,7 +118,9 @@ def test_write_is_the_merge_format_and_merges_like_the_cli(tmp_path: Path, golde
     out = tmp_path / "merged.json"
     assert pmu50.merge_coverage([a, b], out) == (*cov.closure(), 2)
     merged = json.loads(out.read_text())
-    assert {x["name"]: x["hits"] for x in merged["bins"]} == {k: 2 * v for k, v in cov.hits().items()}
+    assert {x["name"]: x["hits"] for x in merged["bins"]} == {
+        k: 2 * v for k, v in cov.hits().items()
+    }
     assert [r["id"] for r in merged["runs"]] == ["py/stimulus/a", "py/stimulus/b"]
 
 
@@ -116,7 +133,9 @@ def test_merge_errors_are_value_errors_naming_the_file(tmp_path: Path):
     with pytest.raises(pmu50.CoverageError, match=r"run \"run/1\" is counted twice"):
         pmu50.merge_coverage([a, a], out)
     bad = tmp_path / "bad.json"
-    bad.write_text('{"format": "pmu50-coverage", "version": 1, "model": "x", "bins": [], "runs": []}')
+    bad.write_text(
+        '{"format": "pmu50-coverage", "version": 1, "model": "x", "bins": [], "runs": []}'
+    )
     with pytest.raises(ValueError, match=r"bad\.json: sampled with coverage model x"):
         pmu50.merge_coverage([a, bad], out)
     bad.write_text("{ not json")

@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 
 import pmu50
+
 from conftest import DAYS, PER_TICK, ROOT, SCENARIOS, cli
 
 
@@ -72,7 +73,12 @@ def test_pulse_table_rows_are_its_runs():
         for j in range(run.count):
             row = rows[k]
             assert row.tick == run.first.tick + j * run.stride
-            assert (row.si, row.cnt_s, row.cnt_c, row.fig17) == (run.first.si, run.first.cnt_s, run.first.cnt_c, run.first.fig17)
+            assert (row.si, row.cnt_s, row.cnt_c, row.fig17) == (
+                run.first.si,
+                run.first.cnt_s,
+                run.first.cnt_c,
+                run.first.fig17,
+            )
             k += 1
     assert [p.tick for p in r.pulses[3:9:2]] == [p.tick for p in rows[3:9:2]]
     assert r.pulses[-1].tick == rows[-1].tick
@@ -86,7 +92,15 @@ def test_fig15a_pulses_and_intervals():
     assert r.intervals_ms[0] == pytest.approx(6.6)
     p = r.pulses[0]
     assert p.si_ms == pytest.approx(p.si * r.clock_ns / 1e6)
-    assert p.fig17 in ("S1NoRise", "S5AtMin", "S6Shorten", "S7AtMax", "S9Count", "S10Expand", "Fixed")
+    assert p.fig17 in (
+        "S1NoRise",
+        "S5AtMin",
+        "S6Shorten",
+        "S7AtMax",
+        "S9Count",
+        "S10Expand",
+        "Fixed",
+    )
     assert [q.tick for q in r.pulses] == sorted(q.tick for q in r.pulses)
     assert r.final_outputs.si == r.final_regs["drive_interval"]["si"]
     assert r.evaluated_ticks <= r.ticks
@@ -113,7 +127,9 @@ def test_run_writes_the_clis_files(tmp_path: Path):
     assert r.gtkw_path.exists() and r.log_path.exists()
     cli("run", str(sc), "--out-dir", str(tmp_path / "cli"), "--log")
     for ext in ("vcd", "log"):
-        assert (tmp_path / "py" / f"fig15a.{ext}").read_bytes() == (tmp_path / "cli" / f"fig15a.{ext}").read_bytes(), ext
+        assert (tmp_path / "py" / f"fig15a.{ext}").read_bytes() == (
+            tmp_path / "cli" / f"fig15a.{ext}"
+        ).read_bytes(), ext
     # without files: the same figures (fast-forward on)
     plain = pmu50.Scenario.load(sc).run()
     assert plain.vcd_path is None and plain.summary == r.summary
@@ -129,10 +145,20 @@ def test_from_str_default_name_and_filename():
 
 
 BAD = [
-    ('duration = "10 ms"\n[core]\nt2 = "1.105 ms"\n', "bad.toml:3: `core.t2`: core.t2 = 1.105 ms is not a whole number of clock ticks"),
-    ('duration = "10 ms"\n[[events]]\nat = "1 ms"\nwrite = { reg = "T2", value = 110 }\n', "bad.toml:3: `events[0].write`: the key is off at this time"),
-    ('duration = "10 ms"\n[[events]]\nat = "1 ms"\nig = true\n[[events]]\nat = "2 ms"\nwrite = { reg = "T9", value = 1 }\n', "bad.toml:7: `events[1].write.reg`: unknown register `T9`; registers are ID, VERSION"),
-    ('duration = 10\n', "bad.toml:1:12: invalid type: integer `10`, expected a string"),
+    (
+        'duration = "10 ms"\n[core]\nt2 = "1.105 ms"\n',
+        "bad.toml:3: `core.t2`: core.t2 = 1.105 ms is not a whole number of clock ticks",
+    ),
+    (
+        'duration = "10 ms"\n[[events]]\nat = "1 ms"\nwrite = { reg = "T2", value = 110 }\n',
+        "bad.toml:3: `events[0].write`: the key is off at this time",
+    ),
+    (
+        'duration = "10 ms"\n[[events]]\nat = "1 ms"\nig = true\n'
+        '[[events]]\nat = "2 ms"\nwrite = { reg = "T9", value = 1 }\n',
+        "bad.toml:7: `events[1].write.reg`: unknown register `T9`; registers are ID, VERSION",
+    ),
+    ("duration = 10\n", "bad.toml:1:12: invalid type: integer `10`, expected a string"),
     ('duration = "10 ms"\nfoo = 1\n', "bad.toml:2:1: unknown field `foo`"),
 ]
 

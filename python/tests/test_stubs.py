@@ -6,13 +6,18 @@ import ast
 import inspect
 import re
 from pathlib import Path
-from typing import Optional
 
 import pmu50
 from pmu50 import _native
 
 STUB = Path(pmu50.__file__).with_name("_native.pyi")
-PRIVATE_STUB = {"_Values", "_Bit", "_Config", "_Inputs", "SignalKind"}  # typing helpers of the stub only
+PRIVATE_STUB = {
+    "_Values",
+    "_Bit",
+    "_Config",
+    "_Inputs",
+    "SignalKind",
+}  # typing helpers of the stub only
 PRIVATE_RUNTIME = {"_panic_for_test"}  # test hook (tests/test_errors.py)
 
 
@@ -39,13 +44,19 @@ def top_level(tree: ast.Module) -> dict[str, ast.AST]:
 def members(cls: ast.ClassDef) -> tuple[list[str], list[str]]:
     """(methods and properties, annotated attributes) of a stub class."""
     funcs = [n.name for n in cls.body if isinstance(n, ast.FunctionDef)]
-    attrs = [n.target.id for n in cls.body if isinstance(n, ast.AnnAssign) and isinstance(n.target, ast.Name)]
+    attrs = [
+        n.target.id
+        for n in cls.body
+        if isinstance(n, ast.AnnAssign) and isinstance(n.target, ast.Name)
+    ]
     return funcs, attrs
 
 
 def test_stub_names_are_the_modules():
     stub = set(top_level(stub_tree())) - PRIVATE_STUB
-    runtime = {n for n in dir(_native) if not n.startswith("__") or n == "__version__"} - PRIVATE_RUNTIME
+    runtime = {
+        n for n in dir(_native) if not n.startswith("__") or n == "__version__"
+    } - PRIVATE_RUNTIME
     assert stub == runtime
     assert set(pmu50.__all__) == runtime
 
@@ -67,31 +78,43 @@ def test_stub_classes_match_the_runtime_classes():
         for a in attrs:
             assert hasattr(cls, a), f"{name}.{a} is in the stub but not in the module"
         runtime = {n for n in dir(cls) if not n.startswith("_")}
-        assert runtime <= set(funcs) | set(attrs), f"{name}: undocumented in the stub: {runtime - set(funcs) - set(attrs)}"
+        assert runtime <= set(funcs) | set(attrs), (
+            f"{name}: undocumented in the stub: {runtime - set(funcs) - set(attrs)}"
+        )
 
 
 def test_signal_attributes_in_the_stub_are_the_table():
     tree = top_level(stub_tree())
     t = pmu50.Core().step_traced()
-    for cls, values in (("Outputs", t.after), ("Internals", t.internals), ("InputValues", t.inputs)):
+    for cls, values in (
+        ("Outputs", t.after),
+        ("Internals", t.internals),
+        ("InputValues", t.inputs),
+    ):
         _, attrs = members(tree[cls])
         assert attrs == values.names(), cls
 
 
-def typed_dict_fields(cls: ast.ClassDef) -> dict[str, Optional[str]]:
+def typed_dict_fields(cls: ast.ClassDef) -> dict[str, str | None]:
     """{field: its docstring or None} of a TypedDict of the stub, in order."""
-    out: dict[str, Optional[str]] = {}
+    out: dict[str, str | None] = {}
     for i, n in enumerate(cls.body):
         if isinstance(n, ast.AnnAssign) and isinstance(n.target, ast.Name):
             nxt = cls.body[i + 1] if i + 1 < len(cls.body) else None
-            doc = nxt.value.value if isinstance(nxt, ast.Expr) and isinstance(nxt.value, ast.Constant) else None
+            doc = (
+                nxt.value.value
+                if isinstance(nxt, ast.Expr) and isinstance(nxt.value, ast.Constant)
+                else None
+            )
             out[n.target.id] = doc
     return out
 
 
 def kwargs_type(fn: ast.FunctionDef) -> str:
     """The ``Unpack[...]`` type of a function's ``**kwargs``, as source text."""
-    assert fn.args.kwarg is not None and not fn.args.kwonlyargs, f"{fn.name}: expected **kwargs only"
+    assert fn.args.kwarg is not None and not fn.args.kwonlyargs, (
+        f"{fn.name}: expected **kwargs only"
+    )
     return ast.unparse(fn.args.kwarg.annotation)
 
 
@@ -128,4 +151,6 @@ def test_everything_public_has_a_docstring():
     for cls in (pmu50.Core, pmu50.Scenario):
         for name, member in vars(cls).items():
             if not name.startswith("_"):
-                assert (getattr(member, "__doc__", None) or "").strip(), f"{cls.__name__}.{name} has no docstring"
+                assert (getattr(member, "__doc__", None) or "").strip(), (
+                    f"{cls.__name__}.{name} has no docstring"
+                )

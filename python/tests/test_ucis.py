@@ -11,8 +11,6 @@ import json
 from pathlib import Path
 
 import pytest
-
-import pmu50
 from test_coverage import CONFIG, stimulus
 
 # pyucis (python/requirements-dev.txt, installed into target/venv by `make python`)
@@ -25,12 +23,15 @@ from ucis.xml import validate_ucis_xml
 from ucis.xml.xml_reader import XmlReader
 from ucis.xml.xml_writer import XmlWriter
 
+import pmu50
+
 BINS = CoverTypeT.CVGBIN | CoverTypeT.IGNOREBIN | CoverTypeT.ILLEGALBIN
 
 
 def ucis_hits(db) -> dict[str, int]:
     """Hits by coverage.json bin name, from the covergroup type scopes of a pyucis database
-    (coverpoint `group.point`, bin `b` -> `group.point.b`; cross `c`, bin `<a,b>` -> `cross.c.a*b`)."""
+    (coverpoint `group.point`, bin `b` -> `group.point.b`; cross `c`, bin `<a,b>` ->
+    `cross.c.a*b`)."""
     out: dict[str, int] = {}
     for inst in db.scopes(ScopeTypeT.INSTANCE):
         for cg in inst.scopes(ScopeTypeT.COVERGROUP):
@@ -80,7 +81,9 @@ def test_pyucis_reads_every_bin_with_its_hits(runs):
         assert ucis_hits(db) == want
         assert sum(1 for v in want.values() if v) > 100
         nodes = list(db.historyNodes(HistoryNodeKind.ALL))
-        assert [(n.getLogicalName(), n.getTestStatus()) for n in nodes] == [(f"py/ucis/{r.name}", r.name == "a")]
+        assert [(n.getLogicalName(), n.getTestStatus()) for n in nodes] == [
+            (f"py/ucis/{r.name}", r.name == "a")
+        ]
 
 
 def test_unreachable_bins_are_ignore_bins(runs):
@@ -89,7 +92,10 @@ def test_unreachable_bins_are_ignore_bins(runs):
     for inst in db.scopes(ScopeTypeT.INSTANCE):
         for cg in inst.scopes(ScopeTypeT.COVERGROUP):
             for cp in cg.scopes(ScopeTypeT.COVERPOINT):
-                ignored |= {f"{cp.getScopeName()}.{b.getName()}" for b in cp.coverItems(CoverTypeT.IGNOREBIN)}
+                ignored |= {
+                    f"{cp.getScopeName()}.{b.getName()}"
+                    for b in cp.coverItems(CoverTypeT.IGNOREBIN)
+                }
     declared = {n for n, kind, _, why in pmu50.Coverage.bins() if why and kind == "point"}
     assert ignored == declared and "fig18.history.both" in ignored
 
@@ -131,7 +137,16 @@ def test_regression_shards_merged_by_pyucis_equal_pmu50_merge(tmp_path: Path):
     from conftest import cli
 
     for i in (0, 1):
-        cli("regress", "--iterations", "24", "--shard", f"{i}/2", "--no-triage", "--out", str(tmp_path / f"s{i}"))
+        cli(
+            "regress",
+            "--iterations",
+            "24",
+            "--shard",
+            f"{i}/2",
+            "--no-triage",
+            "--out",
+            str(tmp_path / f"s{i}"),
+        )
     cli("merge", "--out", str(tmp_path / "m"), str(tmp_path / "s0"), str(tmp_path / "s1"))
     dbs = [XmlReader().read(open(tmp_path / f"s{i}" / "coverage.ucis.xml")) for i in (0, 1)]
     out = MemFactory.create()

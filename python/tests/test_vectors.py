@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 
 import pmu50
+
 from conftest import PER_TICK, SCENARIOS
 
 
@@ -54,7 +55,9 @@ def test_core_step_agrees_with_the_vector_file(scenario: Path, vector_dir: Path)
     for k, row in enumerate(rows):
         got = core.step(**dict(zip(ins, row[:n]))).values()
         if got != row[n:]:
-            bad = [f"{s}: expected {e:#x} got {g:#x}" for s, e, g in zip(outs, row[n:], got) if e != g]
+            bad = [
+                f"{s}: expected {e:#x} got {g:#x}" for s, e, g in zip(outs, row[n:], got) if e != g
+            ]
             pytest.fail(f"{scenario.stem}: line {k} (after edge {k + 1}): " + "; ".join(bad))
     assert core.tick == sc.ticks
 
@@ -67,4 +70,4 @@ def test_a_wrong_row_is_noticed(vector_dir: Path):
     ins = [s.name for s in core.signals("input")]
     row = rows[0][:]
     row[len(ins) + 16] ^= 1  # si
-    assert core.step(**dict(zip(ins, row[: len(ins)]))).values() != row[len(ins):]
+    assert core.step(**dict(zip(ins, row[: len(ins)]))).values() != row[len(ins) :]

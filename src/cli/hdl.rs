@@ -25,7 +25,9 @@ pub enum HdlCmd {
     },
     /// Write the coverage model as a Verilog monitor: DIR/pmu50_cov.sv (module pmu50_cov, one
     /// hit_<bin> wire per bin), DIR/pmu50_cov_top.sv (the twin with the monitor bound to it) and
-    /// DIR/pmu50_cov.json (the bins and their wires). The repository keeps them in hdl/formal.
+    /// DIR/pmu50_cov.json (the bins and their wires); and the top's contract
+    /// DIR/pmu50_contract.json (its ports and parameters). The repository keeps them in
+    /// hdl/formal.
     CoverageMonitor {
         /// Folder to write into (made if missing).
         #[arg(long, default_value = "hdl/formal")]
@@ -71,12 +73,7 @@ fn export(dir: &Path, force: bool) -> CmdResult {
 
 /// `pmu50 hdl coverage-monitor`: the monitor generated from the coverage model.
 fn coverage_monitor(dir: &Path, check: bool) -> CmdResult {
-    use pmu50_coverage::monitor;
-    let files = [
-        ("pmu50_cov.sv", monitor::verilog()),
-        ("pmu50_cov_top.sv", monitor::verilog_top()),
-        ("pmu50_cov.json", monitor::table_json()),
-    ];
+    let files = pmu50_coverage::monitor::files();
     if check {
         let stale: Vec<String> = files
             .iter()
@@ -96,16 +93,17 @@ fn coverage_monitor(dir: &Path, check: bool) -> CmdResult {
     }
     std::fs::create_dir_all(dir)
         .map_err(|e| CliError::Usage(format!("{}: cannot make the folder: {e}", dir.display())))?;
-    // the three files renamed into place together
+    // the files renamed into place together
     let mut batch = Batch::default();
     for (name, text) in &files {
         batch.add(atomic_file::write_atomic(&dir.join(name), text.as_bytes())?);
     }
     batch.commit()?;
     out!(
-        "wrote the coverage monitor ({} bins) into {}: pmu50_cov.sv, pmu50_cov_top.sv, pmu50_cov.json",
+        "wrote the coverage monitor ({} bins) into {}: {}",
         pmu50_coverage::layout().bins.len(),
-        dir.display()
+        dir.display(),
+        files.map(|(n, _)| n).join(", ")
     );
     Ok(Outcome::Pass)
 }

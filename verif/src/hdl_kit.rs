@@ -132,10 +132,37 @@ pub const FILES: &[(&str, &str)] = &[
         include_str!("../../hdl/formal/pmu50_cov.json"),
     ),
     (
+        "formal/pmu50_contract.json",
+        include_str!("../../hdl/formal/pmu50_contract.json"),
+    ),
+    (
         "tb/coverage/cov_main.cpp",
         include_str!("../../hdl/tb/coverage/cov_main.cpp"),
     ),
-    ("formal/aiger.py", include_str!("../../hdl/formal/aiger.py")),
+    (
+        "formal/pmu50_formal/__init__.py",
+        include_str!("../../hdl/formal/pmu50_formal/__init__.py"),
+    ),
+    (
+        "formal/pmu50_formal/common.py",
+        include_str!("../../hdl/formal/pmu50_formal/common.py"),
+    ),
+    (
+        "formal/pmu50_formal/aiger.py",
+        include_str!("../../hdl/formal/pmu50_formal/aiger.py"),
+    ),
+    (
+        "formal/pmu50_formal/kit.py",
+        include_str!("../../hdl/formal/pmu50_formal/kit.py"),
+    ),
+    (
+        "formal/pmu50_formal/coverage.py",
+        include_str!("../../hdl/formal/pmu50_formal/coverage.py"),
+    ),
+    (
+        "formal/conftest.py",
+        include_str!("../../hdl/formal/conftest.py"),
+    ),
     (
         "formal/deep/cnt_r_sat_at_min.toml",
         include_str!("../../hdl/formal/deep/cnt_r_sat_at_min.toml"),

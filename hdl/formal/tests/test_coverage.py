@@ -1,6 +1,7 @@
 """Tests of the coverage proofs (hdl/formal/coverage.py): a bin declared unreachable that the
 RTL can reach is reported as a wrong declaration with a witness the model can replay, and a
 cover's witness becomes a vector file. Run with `make formal-test`."""
+
 import json
 import os
 import re
@@ -28,8 +29,12 @@ def rtl_copy(tmp_path, block, old, new):
 
 
 def run(tmp_path, *args):
-    p = subprocess.run(RUN + ["--sets", "small", "--out", str(tmp_path / "out")] + list(args),
-                       capture_output=True, text=True, timeout=1200)
+    p = subprocess.run(
+        RUN + ["--sets", "small", "--out", str(tmp_path / "out")] + list(args),
+        capture_output=True,
+        text=True,
+        timeout=1200,
+    )
     return p.returncode, p.stdout + p.stderr, tmp_path / "out"
 
 
@@ -45,9 +50,12 @@ def test_the_twin_proves_its_declared_history_bins_unreachable(tmp_path):
 def test_a_wrong_declaration_is_refuted_with_a_witness(tmp_path):
     # S23 without clearing hist_c: a Cs detection after a Cc one sets both history flops, so
     # the bin fig18.history.both, declared unreachable, can be hit
-    f = rtl_copy(tmp_path, "drive_interval_changing_56b.v",
-                 "hist_s_n = 1'b1;\n                    hist_c_n = 1'b0;",
-                 "hist_s_n = 1'b1;")
+    f = rtl_copy(
+        tmp_path,
+        "drive_interval_changing_56b.v",
+        "hist_s_n = 1'b1;\n                    hist_c_n = 1'b0;",
+        "hist_s_n = 1'b1;",
+    )
     rc, out, d = run(tmp_path, "--no-covers", "--bins", "history.both", "--rtl", f)
     assert rc == 1, out
     assert re.search(r"^fig18\.history\.both\s+wrong_declaration", out, re.M), out
@@ -56,7 +64,7 @@ def test_a_wrong_declaration_is_refuted_with_a_witness(tmp_path):
     assert b["status"] == "wrong_declaration"
     vec = open(os.path.join(os.path.dirname(HDL), b["witness"])).read()
     assert "// bin fig18.history.both" in vec and "// param CNT_W 4" in vec
-    rows = [l for l in vec.splitlines() if not l.startswith("//")]
+    rows = [ln for ln in vec.splitlines() if not ln.startswith("//")]
     assert len(rows) == b["step"] and all(len(r.split()) == 7 for r in rows)
     # the cross bins of a wrong point declaration are refuted with it
     assert b["proofs"]["small"]["verdict"] == "refuted"
@@ -68,17 +76,20 @@ def test_a_port_level_cover_gets_a_witness(tmp_path):
     b = {b["name"]: b for b in doc["bins"]}["bus.read.unmapped"]
     assert b["status"] == "witnessed", out
     vec = open(os.path.join(os.path.dirname(HDL), b["witness"])).read()
-    rows = [l.split() for l in vec.splitlines() if not l.startswith("//")]
+    rows = [ln.split() for ln in vec.splitlines() if not ln.startswith("//")]
     # the last edge reads an unmapped address with the key on and no write
     assert rows[-1][4] == "0" and int(rows[-1][5], 16) not in (
-        list(range(0x00, 0x0D)) + list(range(0x10, 0x15))), rows[-1]
+        list(range(0x00, 0x0D)) + list(range(0x10, 0x15))
+    ), rows[-1]
     assert rc == 0, out
 
 
 def pmu50_bin():
     """The pmu50 command the witness scenarios need ($PMU50, else the checkout's release build)."""
     b = os.environ.get("PMU50") or os.path.join(os.path.dirname(HDL), "target", "release", "pmu50")
-    assert os.access(b, os.X_OK), "%s missing: cargo build --release (make formal-test builds it)" % b
+    assert os.access(b, os.X_OK), (
+        "%s missing: cargo build --release (make formal-test builds it)" % b
+    )
     return b
 
 
@@ -86,10 +97,27 @@ def test_a_bin_beyond_the_cover_depth_is_witnessed_by_its_scenario(tmp_path):
     # a 4-bit counter wraps after 8 counts: far beyond 4 steps; the witness scenario's replay
     # through the twin with the monitor hits it, at its first tick. The output folder is given
     # relative to the working folder, as the make target does.
-    p = subprocess.run(RUN + ["--sets", "small", "--out", "rel/out", "--bins",
-                              "cross.wrap_x_cnt_w.cnt_s_up*3_7", "--cover-depth", "4", "--pmu50",
-                              pmu50_bin(), "--deep-scenarios", "wrap_w4_clock5us"],
-                       capture_output=True, text=True, timeout=1200, cwd=tmp_path)
+    p = subprocess.run(
+        RUN
+        + [
+            "--sets",
+            "small",
+            "--out",
+            "rel/out",
+            "--bins",
+            "cross.wrap_x_cnt_w.cnt_s_up*3_7",
+            "--cover-depth",
+            "4",
+            "--pmu50",
+            pmu50_bin(),
+            "--deep-scenarios",
+            "wrap_w4_clock5us",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=1200,
+        cwd=tmp_path,
+    )
     rc, out, d = p.returncode, p.stdout + p.stderr, tmp_path / "rel" / "out"
     doc = json.load(open(d / "coverage.json"))
     b = {b["name"]: b for b in doc["bins"]}["cross.wrap_x_cnt_w.cnt_s_up*3_7"]
@@ -102,8 +130,17 @@ def test_a_bin_beyond_the_cover_depth_is_witnessed_by_its_scenario(tmp_path):
 
 def test_a_bin_no_scenario_hits_is_undecided(tmp_path):
     # the CNTr scenario never wraps a counter: the bin stays undecided and the run fails
-    rc, out, d = run(tmp_path, "--bins", "cross.wrap_x_cnt_w.cnt_s_up*3_7", "--cover-depth", "4",
-                     "--pmu50", pmu50_bin(), "--deep-scenarios", "cnt_r_sat_at_min")
+    rc, out, d = run(
+        tmp_path,
+        "--bins",
+        "cross.wrap_x_cnt_w.cnt_s_up*3_7",
+        "--cover-depth",
+        "4",
+        "--pmu50",
+        pmu50_bin(),
+        "--deep-scenarios",
+        "cnt_r_sat_at_min",
+    )
     doc = json.load(open(d / "coverage.json"))
     b = {b["name"]: b for b in doc["bins"]}["cross.wrap_x_cnt_w.cnt_s_up*3_7"]
     assert b["status"] == "undecided", out
@@ -112,8 +149,17 @@ def test_a_bin_no_scenario_hits_is_undecided(tmp_path):
 
 
 def test_an_unknown_witness_scenario_is_a_setup_error(tmp_path):
-    rc, out, _ = run(tmp_path, "--bins", "cross.wrap_x_cnt_w.cnt_s_up*3_7", "--cover-depth", "2",
-                     "--pmu50", pmu50_bin(), "--deep-scenarios", "nope")
+    rc, out, _ = run(
+        tmp_path,
+        "--bins",
+        "cross.wrap_x_cnt_w.cnt_s_up*3_7",
+        "--cover-depth",
+        "2",
+        "--pmu50",
+        pmu50_bin(),
+        "--deep-scenarios",
+        "nope",
+    )
     assert rc == 2, out
     assert "no witness scenario nope" in out and "wrap_w16" in out, out
 
@@ -130,8 +176,10 @@ def test_the_twins_waiver_claims_are_proven(tmp_path):
 def run_claim(tmp_path, holds):
     """The history bins' proofs with one waiver of t[17:16] claiming `holds`."""
     w = tmp_path / "w.toml"
-    w.write_text('[[waiver]]\nfile = "rtl/timing_generator_56.v"\nsignal = "t[17:16]"\n'
-                 'reason = "a claim under test"\nholds = "%s"\n' % holds)
+    w.write_text(
+        '[[waiver]]\nfile = "rtl/timing_generator_56.v"\nsignal = "t[17:16]"\n'
+        'reason = "a claim under test"\nholds = "%s"\n' % holds
+    )
     return run(tmp_path, "--no-covers", "--bins", "history.both", "--waivers", str(w))
 
 

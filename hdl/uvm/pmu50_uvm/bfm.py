@@ -13,52 +13,11 @@ from cocotb.triggers import Event, Timer
 from cocotb.utils import get_sim_time
 
 import pmu50
-
-# Verilog parameter of the twin -> keyword argument of pmu50.Core (docs/hdl-guide.md, section 0).
-# The timing parameters are in ticks; Core takes durations.
-PARAMETERS = {
-    "SYNC_DEPTH": "sync_depth",
-    "CNT_W": "cnt_width",
-    "ADAPTIVE": "adaptive",
-    "PW": "pw",
-    "PI": "pi",
-    "PS": "ps",
-    "SI_MAX": "x",
-    "SI_MIN": "min",
-    "T1": "t1",
-    "T2": "t2",
-    "CTH": "cth",
-    "SMP_ON": "smp_on",
-}
-_COUNTS = {"sync_depth", "cnt_width", "cth"}
+from pmu50.hdl import PARAMETERS, core_config, read_value
 
 
 class ConfigurationError(RuntimeError):
     """The top's parameters do not make a legal pmu50.Core configuration."""
-
-
-def read_value(handle) -> int | str:
-    """The integer value of a signal, or its text when it holds x or z."""
-    v = handle.value
-    try:
-        return int(v)
-    except ValueError:
-        return str(v)
-
-
-def core_config(values: dict[str, int], clock_us: int = 10) -> dict:
-    """``pmu50.Core`` keyword arguments for these Verilog parameter values (ticks); a parameter
-    left out takes the model's default."""
-    cfg: dict = {"clock": f"{clock_us} us"}
-    for param, value in values.items():
-        name = PARAMETERS[param]
-        if name == "adaptive":
-            cfg[name] = bool(value)
-        elif name in _COUNTS:
-            cfg[name] = int(value)
-        else:
-            cfg[name] = f"{int(value) * clock_us} us"
-    return cfg
 
 
 class Pmu50Bfm:
@@ -84,12 +43,16 @@ class Pmu50Bfm:
         try:
             core = pmu50.Core(**self.config)
         except pmu50.ConfigError as e:
-            raise ConfigurationError(f"the top's parameters {self.params} are not a legal configuration: {e}") from None
+            raise ConfigurationError(
+                f"the top's parameters {self.params} are not a legal configuration: {e}"
+            ) from None
         # what the top's parameters turn into must come back unchanged (ticks, flags, widths)
         got = core.hdl_parameters
         off = {p: (v, got[p]) for p, v in self.params.items() if got.get(p) != v}
         if off:
-            raise ConfigurationError(f"the top's parameters {off} (value, model) do not map onto pmu50.Core")
+            raise ConfigurationError(
+                f"the top's parameters {off} (value, model) do not map onto pmu50.Core"
+            )
         self.hdl_parameters = got
         self.period_ns = core.clock_ns
         self.half_ns = self.period_ns // 2

@@ -13,7 +13,15 @@ import json
 import os
 
 from cocotb.triggers import Event
-from pyuvm import ConfigDB, uvm_analysis_export, uvm_analysis_port, uvm_component, uvm_env, uvm_scoreboard, uvm_subscriber
+from pyuvm import (
+    ConfigDB,
+    uvm_analysis_export,
+    uvm_analysis_port,
+    uvm_component,
+    uvm_env,
+    uvm_scoreboard,
+    uvm_subscriber,
+)
 
 import pmu50
 
@@ -77,7 +85,11 @@ class Predictor(uvm_component):
                 out.extend([tuple(getattr(it, f) for f in fields)] * it.cycles)
             return out
 
-        self._sent = [expand(key, ("ig",)), expand(cmp_, ("cmp_s", "cmp_c", "vs2_ok")), expand(bus, ("we", "addr", "wdata"))]
+        self._sent = [
+            expand(key, ("ig",)),
+            expand(cmp_, ("cmp_s", "cmp_c", "vs2_ok")),
+            expand(bus, ("we", "addr", "wdata")),
+        ]
 
     def reset_state(self):
         """The prediction of tick 0 (after reset)."""
@@ -95,8 +107,9 @@ class Predictor(uvm_component):
         if t.tick != self.core.tick + 1:
             raise RuntimeError(f"predictor: edge {t.tick} arrived after edge {self.core.tick}")
         tr = self.core.step_traced(**inputs)
-        self.ap.write(Prediction(t.tick, inputs, tr.after, fig_path(tr.internals.fig17, tr.internals.fig18)))
-
+        self.ap.write(
+            Prediction(t.tick, inputs, tr.after, fig_path(tr.internals.fig17, tr.internals.fig18))
+        )
 
     def _check_sent(self, tick: int, inputs: dict) -> None:
         k = tick - 1
@@ -112,7 +125,10 @@ class Predictor(uvm_component):
             want.update(bus_we=bus[0], bus_addr=bus[1], bus_wdata=bus[2])
         off = {n: (v, inputs[n]) for n, v in want.items() if inputs[n] != v}
         if off:
-            self.stimulus_error = f"edge {tick} sampled inputs other than the sequences sent (pin: (sent, sampled)): {off}"
+            self.stimulus_error = (
+                f"edge {tick} sampled inputs other than the sequences sent "
+                f"(pin: (sent, sampled)): {off}"
+            )
             self.logger.error(self.stimulus_error)
 
 
@@ -155,7 +171,9 @@ class Scoreboard(uvm_scoreboard):
         if not bad:
             return
         fmt = lambda g: g if isinstance(g, str) else hex(g)  # noqa: E731
-        lines = [f"MISMATCH tick={p.tick} signal={s} expected={e:#x} got={fmt(g)}" for s, e, g in bad]
+        lines = [
+            f"MISMATCH tick={p.tick} signal={s} expected={e:#x} got={fmt(g)}" for s, e, g in bad
+        ]
         s, e, g = bad[0]
         self.failure = {
             "kind": "dut",

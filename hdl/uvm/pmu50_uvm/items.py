@@ -29,7 +29,15 @@ class CmpItem(uvm_sequence_item):
     enabled), forced low when ``fault``; 0 or 1: driven as given (a vector file's column).
     """
 
-    def __init__(self, name: str = "cmp", cmp_s: int = 0, cmp_c: int = 0, vs2_ok: int | None = None, fault: bool = False, cycles: int = 1):
+    def __init__(
+        self,
+        name: str = "cmp",
+        cmp_s: int = 0,
+        cmp_c: int = 0,
+        vs2_ok: int | None = None,
+        fault: bool = False,
+        cycles: int = 1,
+    ):
         super().__init__(name)
         self.cmp_s = cmp_s
         self.cmp_c = cmp_c
@@ -39,14 +47,19 @@ class CmpItem(uvm_sequence_item):
 
     def __str__(self) -> str:
         rail = "follow" if self.vs2_ok is None else self.vs2_ok
-        return f"CmpItem(cmp_s={self.cmp_s}, cmp_c={self.cmp_c}, vs2_ok={rail}, fault={self.fault}, cycles={self.cycles})"
+        return (
+            f"CmpItem(cmp_s={self.cmp_s}, cmp_c={self.cmp_c}, vs2_ok={rail}, "
+            f"fault={self.fault}, cycles={self.cycles})"
+        )
 
 
 class BusItem(uvm_sequence_item):
     """One register bus cycle held for ``cycles`` edges: a write (``we`` = 1) or a read of
     ``addr`` (the read data is registered: ``bus_rdata`` shows it after the edge)."""
 
-    def __init__(self, name: str = "bus", we: int = 0, addr: int = 0, wdata: int = 0, cycles: int = 1):
+    def __init__(
+        self, name: str = "bus", we: int = 0, addr: int = 0, wdata: int = 0, cycles: int = 1
+    ):
         super().__init__(name)
         self.we = we
         self.addr = addr
@@ -54,11 +67,11 @@ class BusItem(uvm_sequence_item):
         self.cycles = cycles
 
     @classmethod
-    def write(cls, addr: int, data: int) -> "BusItem":
+    def write(cls, addr: int, data: int) -> BusItem:
         return cls("write", 1, addr, data, 1)
 
     @classmethod
-    def read(cls, addr: int, cycles: int = 1) -> "BusItem":
+    def read(cls, addr: int, cycles: int = 1) -> BusItem:
         return cls("read", 0, addr, 0, cycles)
 
     def __str__(self) -> str:

@@ -36,16 +36,25 @@ class StimulusError(RuntimeError):
 
 def pmu50_bin() -> str:
     """The `pmu50` command: ``PMU50_BIN``, else the checkout's release build, else PATH."""
-    for cand in (os.environ.get("PMU50_BIN"), str(REPO / "target" / "release" / "pmu50"), shutil.which("pmu50")):
+    for cand in (
+        os.environ.get("PMU50_BIN"),
+        str(REPO / "target" / "release" / "pmu50"),
+        shutil.which("pmu50"),
+    ):
         if cand and Path(cand).is_file():
             return cand
-    raise StimulusError("the `pmu50` command was not found: set PMU50_BIN, or build it with `cargo build --release --bin pmu50`")
+    raise StimulusError(
+        "the `pmu50` command was not found: set PMU50_BIN, or build it with "
+        "`cargo build --release --bin pmu50`"
+    )
 
 
 def run_cli(*args: str) -> None:
     r = subprocess.run([pmu50_bin(), *args], capture_output=True, text=True)
     if r.returncode != 0:
-        raise StimulusError(f"`pmu50 {' '.join(args)}` failed (exit {r.returncode}): {r.stderr.strip()}")
+        raise StimulusError(
+            f"`pmu50 {' '.join(args)}` failed (exit {r.returncode}): {r.stderr.strip()}"
+        )
 
 
 REG = {name: (addr, width, access) for name, addr, width, access in pmu50.REGISTER_MAP}
@@ -128,7 +137,10 @@ class VectorSeq(Pmu50VirtualSeq):
                         break
                     fields = line.split()
                     if len(fields) < len(INPUTS):
-                        raise StimulusError(f"{self.path}:{n}: {len(fields)} fields, expected at least the {len(INPUTS)} inputs {INPUTS}")
+                        raise StimulusError(
+                            f"{self.path}:{n}: {len(fields)} fields, expected at least the "
+                            f"{len(INPUTS)} inputs {INPUTS}"
+                        )
                     out.append([int(x, 16) for x in fields[: len(INPUTS)]])
         except (OSError, ValueError) as e:
             raise StimulusError(f"{self.path}: {e}") from None
@@ -139,8 +151,14 @@ class VectorSeq(Pmu50VirtualSeq):
         self.ticks = len(rows)
         col = {n: i for i, n in enumerate(INPUTS)}
         key = runs([(r[col["ig"]],) for r in rows], lambda v, n: KeyItem("key", v[0], n))
-        cmp_ = runs([(r[col["cmp_s"]], r[col["cmp_c"]], r[col["vs2_ok"]]) for r in rows], lambda v, n: CmpItem("cmp", v[0], v[1], v[2], False, n))
-        bus = runs([(r[col["bus_we"]], r[col["bus_addr"]], r[col["bus_wdata"]]) for r in rows], lambda v, n: BusItem("bus", v[0], v[1], v[2], n))
+        cmp_ = runs(
+            [(r[col["cmp_s"]], r[col["cmp_c"]], r[col["vs2_ok"]]) for r in rows],
+            lambda v, n: CmpItem("cmp", v[0], v[1], v[2], False, n),
+        )
+        bus = runs(
+            [(r[col["bus_we"]], r[col["bus_addr"]], r[col["bus_wdata"]]) for r in rows],
+            lambda v, n: BusItem("bus", v[0], v[1], v[2], n),
+        )
         return key, cmp_, bus
 
 
@@ -149,7 +167,9 @@ class ScenarioSeq(VectorSeq):
 
     def __init__(self, scenario: str | Path, max_ticks: int = 0):
         self.scenario = Path(scenario)
-        super().__init__(self.scenario.with_suffix(".vec"), max_ticks, name=f"scenario_{self.scenario.stem}")
+        super().__init__(
+            self.scenario.with_suffix(".vec"), max_ticks, name=f"scenario_{self.scenario.stem}"
+        )
 
     def make(self, cfg):
         with tempfile.TemporaryDirectory(prefix="pmu50_uvm_") as d:
@@ -251,12 +271,22 @@ def bus_random(rng: random.Random, cycles: int, hdl: dict) -> list[BusItem]:
     the key off and must be refused."""
     mapped = [a for a, _, _ in REG.values()]
     writable = [n for n, (_, _, acc) in REG.items() if "RW" in acc]
-    timing = [n for n in ("PW", "PI", "PS", "SI_MAX", "SI_MIN", "T1", "T2", "CTH", "SMP_ON") if n in REG and n in hdl]
+    timing = [
+        n
+        for n in ("PW", "PI", "PS", "SI_MAX", "SI_MIN", "T1", "T2", "CTH", "SMP_ON")
+        if n in REG and n in hdl
+    ]
     items, total = [], 0
     counters = [REG[n][0] for n in ("CNT_S", "CNT_C", "CNT_R", "SI", "STATUS") if n in REG]
     while total < cycles:
         r = rng.random()
-        addr = rng.choice(counters) if r < 0.3 else rng.choice(mapped) if r < 0.9 else rng.getrandbits(8)
+        addr = (
+            rng.choice(counters)
+            if r < 0.3
+            else rng.choice(mapped)
+            if r < 0.9
+            else rng.getrandbits(8)
+        )
         n = rng.randint(1, 40)
         items.append(BusItem.read(addr, n))
         total += n
@@ -264,12 +294,19 @@ def bus_random(rng: random.Random, cycles: int, hdl: dict) -> list[BusItem]:
             w = rng.random()
             if w < 0.45:
                 name = rng.choice(timing)
-                item = BusItem.write(REG[name][0], max(0, min(0xFFFF, hdl[name] + rng.randint(-3, 3))))
+                item = BusItem.write(
+                    REG[name][0], max(0, min(0xFFFF, hdl[name] + rng.randint(-3, 3)))
+                )
             elif w < 0.65:
                 name = rng.choice(writable)
-                item = BusItem.write(REG[name][0], rng.getrandbits(16) if rng.random() < 0.3 else rng.getrandbits(3))
+                item = BusItem.write(
+                    REG[name][0], rng.getrandbits(16) if rng.random() < 0.3 else rng.getrandbits(3)
+                )
             elif w < 0.8:
-                item = BusItem.write(REG["STATUS"][0], rng.choice([1 << 5, 1 << 9, (1 << 5) | (1 << 9), rng.getrandbits(10)]))
+                item = BusItem.write(
+                    REG["STATUS"][0],
+                    rng.choice([1 << 5, 1 << 9, (1 << 5) | (1 << 9), rng.getrandbits(10)]),
+                )
             else:
                 item = BusItem.write(rng.getrandbits(8), rng.getrandbits(16))
             items.append(item)
@@ -323,28 +360,56 @@ class RegisterSeq(Pmu50VirtualSeq):
         rd = lambda a: BusItem.read(a, 2)  # noqa: E731
         status = REG["STATUS"][0]
         clear = BusItem.write(status, 1 << 9)
-        for name, (addr, _, _) in REG.items():
+        for addr, _, _ in REG.values():
             bus.append(rd(addr))
         bus += [rd(a) for a in (0x0D, 0x0F, 0x15, 0x80, 0xFF)]
-        params = {"PW": "PW", "PI": "PI", "PS": "PS", "SI_MAX": "SI_MAX", "SI_MIN": "SI_MIN", "T1": "T1", "T2": "T2", "CTH": "CTH", "SMP_ON": "SMP_ON"}
+        params = {
+            "PW": "PW",
+            "PI": "PI",
+            "PS": "PS",
+            "SI_MAX": "SI_MAX",
+            "SI_MIN": "SI_MIN",
+            "T1": "T1",
+            "T2": "T2",
+            "CTH": "CTH",
+            "SMP_ON": "SMP_ON",
+        }
         for name, p in params.items():
             if name in REG:
                 bus += [BusItem.write(REG[name][0], cfg[p]), rd(REG[name][0])]
         if "CTRL" in REG:
             bus += [BusItem.write(REG["CTRL"][0], cfg["ADAPTIVE"]), rd(REG["CTRL"][0])]
-        illegal = [("CTH", 0), ("CTH", 0x100), ("PS", 0), ("SI_MIN", cfg["SI_MAX"] + 1), ("SI_MAX", max(cfg["SI_MIN"] - 1, 0)), ("T1", 0)]
+        illegal = [
+            ("CTH", 0),
+            ("CTH", 0x100),
+            ("PS", 0),
+            ("SI_MIN", cfg["SI_MAX"] + 1),
+            ("SI_MAX", max(cfg["SI_MIN"] - 1, 0)),
+            ("T1", 0),
+        ]
         for name, v in illegal:
             bus += [BusItem.write(REG[name][0], v), rd(status), rd(REG[name][0]), clear, rd(status)]
         for addr in (REG["ID"][0], REG["SI"][0], 0x0D, 0xFF):
             bus += [BusItem.write(addr, 0xA5A5), rd(status), clear, rd(status)]
-        bus += [BusItem.write(REG["CTH"][0], cfg["CTH"] + 1), rd(REG["CTH"][0]), BusItem.write(REG["SMP_ON"][0], cfg["SMP_ON"] + 2), rd(REG["SMP_ON"][0])]
+        bus += [
+            BusItem.write(REG["CTH"][0], cfg["CTH"] + 1),
+            rd(REG["CTH"][0]),
+            BusItem.write(REG["SMP_ON"][0], cfg["SMP_ON"] + 2),
+            rd(REG["SMP_ON"][0]),
+        ]
         bus += [BusItem.write(status, (1 << 5) | (1 << 9)), rd(status)]
         on = sum(b.cycles for b in bus)
         # key off: SI_MAX written with a new value at every edge until sig has fallen (the write
         # of the key-off edge itself is accepted, and the interval starts at the new x), then
         # a refused write
         bus += [BusItem.write(REG["SI_MAX"][0], cfg["SI_MAX"] + 1 + k) for k in range(sd + 2)]
-        bus += [rd(REG["SI_MAX"][0]), rd(REG["SI"][0]), BusItem.write(REG["PW"][0], cfg["PW"]), rd(status), rd(REG["PW"][0])]
+        bus += [
+            rd(REG["SI_MAX"][0]),
+            rd(REG["SI"][0]),
+            BusItem.write(REG["PW"][0], cfg["PW"]),
+            rd(status),
+            rd(REG["PW"][0]),
+        ]
         total = sum(b.cycles for b in bus)
         self.ticks = total
         key = [KeyItem("key", 1, on), KeyItem("key", 0, total - on)]

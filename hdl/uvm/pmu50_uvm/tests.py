@@ -3,12 +3,16 @@
 Knobs (environment variables, set by test_uvm.py or by hand):
   PMU50_SEED, PMU50_CYCLES   RandomTest: seed and length; RegressSeedTest: the regression seed
   PMU50_VEC                  VectorTest: the vector file to replay
-  PMU50_SCENARIO             ScenarioTest: the scenario file (its vectors are made by `pmu50 vectors`)
-  PMU50_MAX_TICKS            vector, scenario and regress-seed tests: only the first N ticks (0: all)
+  PMU50_SCENARIO             ScenarioTest: the scenario file (its vectors are made by
+                             `pmu50 vectors`)
+  PMU50_MAX_TICKS            vector, scenario and regress-seed tests: only the first N ticks
+                             (0: all)
   PMU50_CLOCK_US             clock period of the model, microseconds (default 10)
-  PMU50_COVERAGE             the run's coverage.json (merge format of `pmu50 merge`), run id PMU50_RUN_ID
+  PMU50_COVERAGE             the run's coverage.json (merge format of `pmu50 merge`), run id
+                             PMU50_RUN_ID
   PMU50_FAILURE              where a failing run writes its first divergence as JSON (the fields
-                             of a `pmu50 regress` failure: kind, tick, signal, expected, got, block, fig, detail)
+                             of a `pmu50 regress` failure: kind, tick, signal, expected, got,
+                             block, fig, detail)
 """
 
 from __future__ import annotations
@@ -16,13 +20,20 @@ from __future__ import annotations
 import os
 
 import cocotb
-from cocotb.triggers import select
-from cocotb.triggers import Timer
+from cocotb.triggers import Timer, select
 from pyuvm import ConfigDB, uvm_test
 
 from .bfm import Pmu50Bfm
 from .env import Mismatch, Pmu50Env
-from .sequences import ItemListSeq, Pmu50VirtualSeq, RandomSeq, RegisterSeq, RegressSeedSeq, ScenarioSeq, VectorSeq
+from .sequences import (
+    ItemListSeq,
+    Pmu50VirtualSeq,
+    RandomSeq,
+    RegisterSeq,
+    RegressSeedSeq,
+    ScenarioSeq,
+    VectorSeq,
+)
 
 
 def _env_int(name: str, default: int) -> int:
@@ -51,7 +62,9 @@ class Pmu50Test(uvm_test):
     def end_of_elaboration_phase(self):
         b = self.bfm
         given = ", ".join(f"{k}={v}" for k, v in b.params.items()) or "none"
-        self.logger.info(f"DUT parameters: {given}; model defaults for: {', '.join(b.defaulted) or 'none'}")
+        self.logger.info(
+            f"DUT parameters: {given}; model defaults for: {', '.join(b.defaulted) or 'none'}"
+        )
 
     async def run_phase(self):
         self.raise_objection()
@@ -68,12 +81,18 @@ class Pmu50Test(uvm_test):
         if ended == 2 and sb.failure is None:
             self.error = f"the sequence did not end within {ticks + 4} ticks"
         elif sb.failure is None and sb.compared != ticks + 1:
-            self.error = f"the scoreboard compared {sb.compared} ticks, expected {ticks + 1} (tick 0 and {ticks} edges)"
+            self.error = (
+                f"the scoreboard compared {sb.compared} ticks, expected {ticks + 1} "
+                f"(tick 0 and {ticks} edges)"
+            )
         run_id = os.environ.get("PMU50_RUN_ID") or f"uvm/{seq.get_name()}"
         self.env.finish(run_id)
         if sb.failure is None and self.error is None:
             hit, reachable = self.env.coverage.cov.closure()
-            self.logger.info(f"PASS {seq.get_name()}: {ticks} ticks, 23 outputs each; coverage {hit} of {reachable} reachable bins")
+            self.logger.info(
+                f"PASS {seq.get_name()}: {ticks} ticks, 23 outputs each; "
+                f"coverage {hit} of {reachable} reachable bins"
+            )
         self.drop_objection()
 
     def check_phase(self):
@@ -114,4 +133,12 @@ class RegisterTest(Pmu50Test):
         return RegisterSeq()
 
 
-__all__ = ["Mismatch", "Pmu50Test", "RandomTest", "RegisterTest", "RegressSeedTest", "ScenarioTest", "VectorTest"]
+__all__ = [
+    "Mismatch",
+    "Pmu50Test",
+    "RandomTest",
+    "RegisterTest",
+    "RegressSeedTest",
+    "ScenarioTest",
+    "VectorTest",
+]

@@ -233,29 +233,30 @@ impl ConfigError {
     }
 }
 
-/// A static one-element list for a field name.
+/// The `[core]` field names of a scenario file and of `pmu50.Core(**kwargs)`, in the order of
+/// docs/spec.md (the fields of [`CoreConfig`]).
+pub const FIELDS: [&str; 13] = [
+    "clock",
+    "sync_depth",
+    "cnt_width",
+    "adaptive",
+    "pw",
+    "pi",
+    "ps",
+    "x",
+    "min",
+    "t1",
+    "t2",
+    "cth",
+    "smp_on",
+];
+
+/// A static one-element list for a field name: the field of [`FIELDS`], else `core`.
 fn field_list(field: &str) -> &'static [&'static str] {
-    const ALL: [&str; 14] = [
-        "clock",
-        "sync_depth",
-        "cnt_width",
-        "adaptive",
-        "pw",
-        "pi",
-        "ps",
-        "x",
-        "min",
-        "t1",
-        "t2",
-        "cth",
-        "smp_on",
-        "core",
-    ];
-    let i = ALL
-        .iter()
-        .position(|f| *f == field)
-        .unwrap_or(ALL.len() - 1);
-    &ALL[i..=i]
+    match FIELDS.iter().position(|f| *f == field) {
+        Some(i) => &FIELDS[i..=i],
+        None => &["core"],
+    }
 }
 
 impl CoreConfig {
@@ -410,6 +411,29 @@ mod tests {
             assert_eq!(d.to_string(), s);
             assert_eq!(Dur::parse(&d.to_string()), Ok(d));
         }
+    }
+
+    #[test]
+    fn fields_are_the_config_struct_in_order() {
+        // the names of the struct's Debug form: `CoreConfig { clock: Dur(..), sync_depth: 2, ..`
+        let debug = format!("{:?}", CoreConfig::default());
+        let body = debug
+            .strip_prefix("CoreConfig { ")
+            .and_then(|b| b.strip_suffix(" }"))
+            .unwrap();
+        let names: Vec<&str> = body
+            .split(", ")
+            .filter_map(|part| part.split_once(": ").map(|(n, _)| n))
+            .collect();
+        assert_eq!(names, FIELDS);
+    }
+
+    #[test]
+    fn an_error_names_a_field_of_the_table() {
+        assert_eq!(field_list("t2"), ["t2"]);
+        assert_eq!(field_list("nope"), ["core"]);
+        let e = ConfigError::Param(ParamError::Zero { field: "smp_on" });
+        assert_eq!(e.fields(), ["smp_on"]);
     }
 
     #[test]

@@ -121,6 +121,14 @@ macro_rules! params_struct {
 
         /// The Verilog parameter names, in table order.
         pub const HDL_NAMES: &[&str] = &[$($sh,)* $($h,)*];
+
+        /// The bits of each parameter's register, in table order (as [`HDL_NAMES`]).
+        pub const HDL_BITS: &[u32] = &[
+            $(<$st as ParamValue>::BITS,)* $(<$t as ParamValue>::BITS,)*
+        ];
+
+        /// Each parameter's default, in table order (as [`HDL_NAMES`]).
+        pub const HDL_DEFAULTS: &[u64] = &[$($sd as u64,)* $($d as u64,)*];
     };
 }
 
@@ -128,6 +136,66 @@ param_table!(params_struct);
 
 /// Number of parameters (structural and programmable).
 pub const PARAM_COUNT: usize = HDL_NAMES.len();
+
+/// What values one parameter may take on its own (docs/spec.md 4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rule {
+    /// `min..=max`.
+    Range { min: u64, max: u64 },
+    /// Any value of its register but 0.
+    NotZero,
+    /// Any value of its register.
+    Any,
+}
+
+/// The legal values of one parameter on its own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Legal {
+    /// The `[core]` field that sets it, as the errors name it (`x` for `SI_MAX`).
+    pub field: &'static str,
+    /// Its Verilog parameter name.
+    pub hdl: &'static str,
+    pub rule: Rule,
+}
+
+impl Legal {
+    /// The least and the greatest legal value (`Rule::NotZero` and `Rule::Any` up to the
+    /// largest value of the register).
+    pub fn range(&self) -> (u64, u64) {
+        let bits = HDL_NAMES
+            .iter()
+            .position(|n| *n == self.hdl)
+            .map_or(16, |i| HDL_BITS[i]);
+        let top = (1u64 << bits) - 1;
+        match self.rule {
+            Rule::Range { min, max } => (min, max),
+            Rule::NotZero => (1, top),
+            Rule::Any => (0, top),
+        }
+    }
+}
+
+/// Every parameter's legal values on its own, in the order [`Params::validate`] checks them.
+/// The rules between parameters (pw + pi >= 1, min <= x, Wt shorter than the shortest
+/// interval) are `validate`'s own.
+pub const LEGAL: [Legal; PARAM_COUNT] = [
+    legal("sync_depth", "SYNC_DEPTH", Rule::Range { min: 1, max: 4 }),
+    legal("cnt_width", "CNT_W", Rule::Range { min: 2, max: 16 }),
+    legal("cth", "CTH", Rule::Range { min: 1, max: 255 }),
+    legal("ps", "PS", Rule::NotZero),
+    legal("x", "SI_MAX", Rule::NotZero),
+    legal("min", "SI_MIN", Rule::NotZero),
+    legal("t1", "T1", Rule::NotZero),
+    legal("t2", "T2", Rule::NotZero),
+    legal("smp_on", "SMP_ON", Rule::NotZero),
+    legal("adaptive", "ADAPTIVE", Rule::Any),
+    legal("pw", "PW", Rule::Any),
+    legal("pi", "PI", Rule::Any),
+];
+
+const fn legal(field: &'static str, hdl: &'static str, rule: Rule) -> Legal {
+    Legal { field, hdl, rule }
+}
 
 /// A Verilog parameter that [`Params::set_hdl_parameter`] cannot take.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -204,19 +272,13 @@ impl Params {
                 Ok(())
             }
         };
-        range("sync_depth", self.sync_depth.into(), 1, 4)?;
-        range("cnt_width", self.cnt_width.into(), 2, 16)?;
-        range("cth", self.cth.into(), 1, 255)?;
-        for (field, v) in [
-            ("ps", self.ps),
-            ("x", self.si_max),
-            ("min", self.si_min),
-            ("t1", self.t1),
-            ("t2", self.t2),
-            ("smp_on", self.smp_on),
-        ] {
-            if v == 0 {
-                return Err(ParamError::Zero { field });
+        let values = self.hdl_parameters();
+        for l in &LEGAL {
+            let value = values.iter().find(|(n, _)| *n == l.hdl).map_or(0, |p| p.1);
+            match l.rule {
+                Rule::Range { min, max } => range(l.field, value, min, max)?,
+                Rule::NotZero if value == 0 => return Err(ParamError::Zero { field: l.field }),
+                Rule::NotZero | Rule::Any => {}
             }
         }
         if u32::from(self.pw) + u32::from(self.pi) == 0 {
@@ -272,6 +334,55 @@ mod tests {
             let e = p.validate().unwrap_err();
             assert!(e.to_string().contains(word), "{word}: {e}");
         }
+    }
+
+    #[test]
+    fn the_legal_table_names_every_parameter_once_and_holds_the_defaults() {
+        let mut names: Vec<&str> = LEGAL.iter().map(|l| l.hdl).collect();
+        names.sort_unstable();
+        let mut want = HDL_NAMES.to_vec();
+        want.sort_unstable();
+        assert_eq!(names, want);
+        for (k, name) in HDL_NAMES.iter().enumerate() {
+            let l = LEGAL.iter().find(|l| l.hdl == *name).unwrap();
+            let (min, max) = l.range();
+            assert!(min <= HDL_DEFAULTS[k] && HDL_DEFAULTS[k] <= max, "{name}");
+            assert!(max < 1 << HDL_BITS[k], "{name}: {max} beyond its register");
+        }
+    }
+
+    #[test]
+    fn a_value_outside_its_legal_range_is_refused_naming_its_field() {
+        for l in &LEGAL {
+            let (min, max) = l.range();
+            let k = HDL_NAMES.iter().position(|n| *n == l.hdl).unwrap();
+            let mut outside = vec![];
+            if min > 0 {
+                outside.push(min - 1);
+            }
+            if max + 1 < 1 << HDL_BITS[k] {
+                outside.push(max + 1);
+            }
+            for v in outside {
+                let mut p = Params::default();
+                p.set_hdl_parameter(l.hdl, v).unwrap();
+                let e = p.validate().unwrap_err();
+                assert!(
+                    e.to_string().contains(&format!("core.{} ", l.field)),
+                    "{} = {v}: {e}",
+                    l.hdl
+                );
+            }
+        }
+        // each bound of a range is itself legal
+        let p = Params {
+            sync_depth: 4,
+            cnt_width: 2,
+            cth: 255,
+            pw: 0,
+            ..Params::default()
+        };
+        assert_eq!(p.validate(), Ok(()));
     }
 
     #[test]

@@ -7,6 +7,7 @@
 //! never be hit are declared with the reason. docs/verification.md is the verification plan
 //! built on it.
 
+pub mod contract;
 pub mod db;
 pub mod model;
 pub mod monitor;

@@ -2,7 +2,7 @@
 //! generator's output, every bin has a wire of its own, and the model's identity did not move.
 
 use pmu50_coverage::model::{Sampled, POINTS};
-use pmu50_coverage::monitor::{table_json, verilog, verilog_top, wire_name, Source, SIGNALS};
+use pmu50_coverage::monitor::{files, verilog, wire_name, Source, SIGNALS};
 use pmu50_coverage::{layout, model_id};
 use std::collections::BTreeSet;
 
@@ -10,11 +10,8 @@ const FORMAL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../hdl/formal/");
 
 #[test]
 fn committed_monitor_is_the_generated_one() {
-    for (name, text) in [
-        ("pmu50_cov.sv", verilog()),
-        ("pmu50_cov_top.sv", verilog_top()),
-        ("pmu50_cov.json", table_json()),
-    ] {
+    // the monitor, its top, its table and the top's contract
+    for (name, text) in files() {
         let on_disk = std::fs::read_to_string(format!("{FORMAL}{name}")).unwrap();
         assert!(
             on_disk == text,

