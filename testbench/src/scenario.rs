@@ -281,16 +281,29 @@ struct RawVcd {
 
 /// The integer fields of `[core]`: name, legal range, and what they count (for messages). The
 /// Python binding checks its keyword arguments with the same table and words.
-pub const CORE_INTS: [(&str, i64, i64, &str); 3] = [
-    ("cth", 1, 255, "a whole number of quiet pulses"),
-    ("sync_depth", 1, 4, "a whole number of flip-flops"),
-    ("cnt_width", 2, 16, "a whole number of bits"),
+pub const CORE_INTS: [(&str, &str); 3] = [
+    ("cth", "a whole number of quiet pulses"),
+    ("sync_depth", "a whole number of flip-flops"),
+    ("cnt_width", "a whole number of bits"),
 ];
+
+/// The range of an integer field of `[core]`: the core's legality table
+/// ([`pmu50_core::params::LEGAL`]), written once there.
+fn core_int_range(field: &str) -> Option<(i64, i64)> {
+    pmu50_core::params::LEGAL
+        .iter()
+        .find(|l| l.field == field)
+        .and_then(|l| match l.rule {
+            pmu50_core::params::Rule::Range { min, max } => Some((min as i64, max as i64)),
+            _ => None,
+        })
+}
 
 /// The message for the integer field `field` of `[core]` ([`CORE_INTS`]) when `value` (shown as
 /// `shown`) is out of its range; `None` when it is in range or the field is not an integer field.
 pub fn core_int_out_of_range(field: &str, shown: &str, value: i64) -> Option<String> {
-    let &(_, lo, hi, what) = CORE_INTS.iter().find(|f| f.0 == field)?;
+    let &(_, what) = CORE_INTS.iter().find(|f| f.0 == field)?;
+    let (lo, hi) = core_int_range(field)?;
     (value < lo || value > hi)
         .then(|| format!("{shown} is out of range; valid is {what} from {lo} to {hi}"))
 }
