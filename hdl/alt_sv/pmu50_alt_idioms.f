@@ -1,0 +1,10 @@
+pmu50_alt_pkg.sv
+pmu_keysync.sv
+pmu_regbank.sv
+pmu_wake_timer.sv
+idioms/pmu_rail_monitor.sv
+pmu_sign_latch.sv
+pmu_quad_counter.sv
+pmu_interval_adapt.sv
+pmu_count_check.sv
+pmu50.sv
