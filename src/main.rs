@@ -63,6 +63,10 @@ enum Cmd {
     /// The HDL kit this binary carries (the twin, its file list and map, the mutants, the FuseSoC
     /// core, the testbenches, the scripts, the formal kit).
     Hdl(cli::hdl::Args),
+    /// An RTL's file list as the kit reads it (`+incdir+`, `+define+`, nested `-f`, libraries),
+    /// resolved to absolute paths, with the RTL's content hash (`--json`): for the scripts that
+    /// build the RTL with another tool.
+    RtlFiles(cli::rtl_files::Args),
     /// What the regression reads of an RTL, as JSON: the top's parameters, the values it fixes
     /// (read back through the bus after reset) and the contract check. Exit 2 on a bad RTL.
     RtlInfo(cli::rtl_info::Args),
@@ -127,6 +131,7 @@ fn main() -> ExitCode {
         Cmd::RtlMap(a) => cli::rtl_map::run(a),
         Cmd::Lockstep(a) => cli::lockstep::run(a),
         Cmd::Hdl(a) => cli::hdl::run(a),
+        Cmd::RtlFiles(a) => cli::rtl_files::run(a),
         Cmd::RtlInfo(a) => cli::rtl_info::run(a),
         Cmd::Merge(a) => cli::merge::run(a),
         Cmd::Signoff(a) => cli::signoff::run(a),

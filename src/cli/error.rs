@@ -58,6 +58,8 @@ pub enum CliError {
     #[error(transparent)]
     Rtl(#[from] pmu50_verif::rtl::RtlError),
     #[error(transparent)]
+    FileList(#[from] pmu50_verif::filelist::FileListError),
+    #[error(transparent)]
     Map(#[from] pmu50_verif::map::MapError),
     #[error(transparent)]
     Waivers(#[from] pmu50_verif::code_cov::WaiverError),

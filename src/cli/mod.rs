@@ -17,6 +17,7 @@ pub mod merge;
 pub mod mutation;
 pub mod random;
 pub mod regress;
+pub mod rtl_files;
 pub mod rtl_info;
 pub mod rtl_map;
 pub mod run;

@@ -15,6 +15,7 @@
 //! the register bus after reset ([`crate::dut::verilator`]'s probe), which every RTL with the
 //! contract ports answers.
 
+pub use crate::filelist::FileList;
 use pmu50_core::params::{Params, HDL_NAMES};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::signals::{self, Width};
@@ -27,21 +28,8 @@ const LOG_TAIL: usize = 4096;
 /// A bad RTL: what is wrong, where, and what is valid. Every variant is bad input (exit 2).
 #[derive(Debug, thiserror::Error)]
 pub enum RtlError {
-    #[error("--rtl {list}: {reason}")]
-    FileList { list: PathBuf, reason: String },
-    #[error("--rtl {list}:{line}: `{entry}` is not a readable file ({path} does not exist); entries are Verilog file paths relative to the list's folder")]
-    MissingFile {
-        list: PathBuf,
-        line: usize,
-        entry: String,
-        path: PathBuf,
-    },
-    #[error("--rtl {list}:{line}: `{entry}`: a file list here holds Verilog file paths only (relative to the list's folder), no tool options")]
-    Option {
-        list: PathBuf,
-        line: usize,
-        entry: String,
-    },
+    #[error(transparent)]
+    FileList(#[from] crate::filelist::FileListError),
     #[error("--rtl {list}: `{tool}` is not installed (Debian package {package}; `make deps` installs it)")]
     NoTool {
         list: PathBuf,
@@ -161,90 +149,6 @@ pub fn instance(params: &[String]) -> String {
     }
 }
 
-/// The RTL's files, from a file list: one Verilog file per line, relative to the list's folder;
-/// blank lines and `//` or `#` comments skipped.
-#[derive(Clone, Debug)]
-pub struct FileList {
-    pub list: PathBuf,
-    pub files: Vec<PathBuf>,
-}
-
-impl FileList {
-    pub fn read(list: &Path) -> Result<FileList, RtlError> {
-        let fl = |reason: String| RtlError::FileList {
-            list: list.to_path_buf(),
-            reason,
-        };
-        if let Some(kind) = pmu50_testbench::atomic_file::special_kind(list) {
-            return Err(fl(format!("is {kind}, not a file list")));
-        }
-        let meta = std::fs::metadata(list).map_err(|e| fl(e.to_string()))?;
-        if !meta.is_file() {
-            return Err(fl("is not a regular file".into()));
-        }
-        if meta.len() > 1 << 20 {
-            return Err(fl(format!(
-                "{} bytes: a file list is at most 1 MiB",
-                meta.len()
-            )));
-        }
-        let text = std::fs::read_to_string(list).map_err(|e| fl(e.to_string()))?;
-        let list_abs = list.canonicalize().map_err(|e| fl(e.to_string()))?;
-        let dir = list_abs.parent().unwrap_or(Path::new("/")).to_path_buf();
-        let mut files = Vec::new();
-        for (n, line) in text.lines().enumerate() {
-            let entry = line
-                .split("//")
-                .next()
-                .unwrap_or("")
-                .split('#')
-                .next()
-                .unwrap_or("")
-                .trim();
-            if entry.is_empty() {
-                continue;
-            }
-            if entry.starts_with('+') || entry.starts_with('-') {
-                return Err(RtlError::Option {
-                    list: list.to_path_buf(),
-                    line: n + 1,
-                    entry: entry.into(),
-                });
-            }
-            let p = dir.join(entry);
-            if !p.is_file() || pmu50_testbench::atomic_file::special_kind(&p).is_some() {
-                return Err(RtlError::MissingFile {
-                    list: list.to_path_buf(),
-                    line: n + 1,
-                    entry: entry.into(),
-                    path: p,
-                });
-            }
-            files.push(p.canonicalize().unwrap_or(p));
-        }
-        if files.is_empty() {
-            return Err(fl("the file list names no Verilog file".into()));
-        }
-        Ok(FileList {
-            list: list_abs,
-            files,
-        })
-    }
-
-    /// The folders of the files, for `` `include `` (each file's own folder, in list order).
-    pub fn include_dirs(&self) -> Vec<PathBuf> {
-        let mut dirs: Vec<PathBuf> = Vec::new();
-        for f in &self.files {
-            if let Some(d) = f.parent() {
-                if !dirs.iter().any(|x| x == d) {
-                    dirs.push(d.to_path_buf());
-                }
-            }
-        }
-        dirs
-    }
-}
-
 /// One signal of the elaborated hierarchy.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct HierSignal {
@@ -328,9 +232,7 @@ pub fn elaborate(
             "-Wno-lint",
             "-Wno-style",
         ]);
-    for d in fl.include_dirs() {
-        cmd.arg(format!("-I{}", d.display()));
-    }
+    cmd.args(fl.verilator_args());
     for (n, v) in gparams {
         cmd.arg(format!("-G{n}={v}"));
     }

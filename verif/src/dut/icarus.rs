@@ -47,7 +47,7 @@ pub struct IcarusDut {
 
 impl IcarusDut {
     pub fn prepare(list: &Path, pins: Pins) -> Result<IcarusDut, DutError> {
-        let fl = FileList::read(list)?;
+        let fl = FileList::read(list).map_err(RtlError::from)?;
         if !rtl::have_tool("iverilog") {
             return Err(RtlError::NoTool {
                 list: fl.list.clone(),
@@ -72,6 +72,8 @@ impl IcarusDut {
                 std::fs::read(f).map_err(|e| DutError::Tool(format!("{}: {e}", f.display())))?,
             );
         }
+        // the defines, libraries and included files of the list too
+        key.push(fl.content_hash().map_err(RtlError::from)?.into_bytes());
         let refs: Vec<&[u8]> = key.iter().map(|v| v.as_slice()).collect();
         let root = crate::cache::cache_dir()
             .join("icarus")
@@ -161,9 +163,7 @@ impl IcarusDut {
             args.push("-DTB_DUT_INST".into());
             args.push(format!("-I{}", tmp.path().display()));
         }
-        for d in self.list.include_dirs() {
-            args.push(format!("-I{}", d.display()));
-        }
+        args.extend(self.list.iverilog_args());
         let out_vvp = tmp.path().join("tb.vvp");
         let depfile = tmp.path().join("deps.txt");
         let o = Command::new("iverilog")

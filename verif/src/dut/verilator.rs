@@ -139,7 +139,7 @@ impl VerilatorDut {
         pins: Pins,
         code_coverage: bool,
     ) -> Result<VerilatorDut, DutError> {
-        let fl = FileList::read(list)?;
+        let fl = FileList::read(list).map_err(RtlError::from)?;
         let scratch = tempfile::Builder::new()
             .prefix("pmu50-dut.")
             .tempdir()
@@ -151,6 +151,8 @@ impl VerilatorDut {
             key_parts
                 .push(std::fs::read(f).map_err(|e| tool_err(format!("{}: {e}", f.display())))?);
         }
+        // the defines, libraries and included files of the list too
+        key_parts.push(fl.content_hash().map_err(RtlError::from)?.into_bytes());
         let refs: Vec<&[u8]> = key_parts.iter().map(|v| v.as_slice()).collect();
         let root = crate::cache::cache_dir()
             .join("verilator")
@@ -471,9 +473,7 @@ impl VerilatorDut {
         if cov {
             cmd.args(VERILATOR_COV);
         }
-        for d in self.list.include_dirs() {
-            cmd.arg(format!("-I{}", d.display()));
-        }
+        cmd.args(self.list.verilator_args());
         for (n, v) in g {
             cmd.arg(format!("-G{n}={v}"));
         }
