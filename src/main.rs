@@ -67,6 +67,9 @@ enum Cmd {
     /// resolved to absolute paths, with the RTL's content hash (`--json`): for the scripts that
     /// build the RTL with another tool.
     RtlFiles(cli::rtl_files::Args),
+    /// Write the provenance and digest of a JSON file of evidence (for the scripts that make
+    /// them), or verify one (`--check`).
+    Seal(cli::seal::Args),
     /// What the regression reads of an RTL, as JSON: the top's parameters, the values it fixes
     /// (read back through the bus after reset) and the contract check. Exit 2 on a bad RTL.
     RtlInfo(cli::rtl_info::Args),
@@ -133,6 +136,7 @@ fn main() -> ExitCode {
         Cmd::Hdl(a) => cli::hdl::run(a),
         Cmd::RtlFiles(a) => cli::rtl_files::run(a),
         Cmd::RtlInfo(a) => cli::rtl_info::run(a),
+        Cmd::Seal(a) => cli::seal::run(a),
         Cmd::Merge(a) => cli::merge::run(a),
         Cmd::Signoff(a) => cli::signoff::run(a),
         Cmd::Closure(a) => cli::closure::run(a),

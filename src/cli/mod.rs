@@ -21,6 +21,7 @@ pub mod rtl_files;
 pub mod rtl_info;
 pub mod rtl_map;
 pub mod run;
+pub mod seal;
 pub mod signoff;
 pub mod speed_limit;
 pub mod vectors;

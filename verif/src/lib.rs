@@ -27,6 +27,7 @@ pub mod merge;
 pub mod mutation;
 mod picture;
 mod pool;
+pub mod provenance;
 mod publish;
 pub mod regress;
 pub mod report;
