@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `make bench`: the Rust model and the Verilog twin side by side, same stimulus, one run, one table
-# (benches/compare.rs prints it; docs/performance.md explains it).
+# (benches/compare/main.rs prints it; docs/performance.md explains it).
 #
 #   benches/compare.sh [--seconds S]     (CPU seconds per untraced harness and stimulus, default 1)
 #

@@ -1,6 +1,9 @@
 //! The house's layering, kept by a test (docs/architecture.md): in every crate of the workspace
 //! and in every Python package of the project, the files import each other without a circle.
 //!
+//! The crates are the workspace's packages (their src/ trees) and their bench targets of several
+//! files (benches/NAME/, whose main.rs is the crate's root).
+//!
 //! A Rust file's arrows are the module paths it names (`use crate::a::b`, `super::x`, a child
 //! module's `m::f()`, the paths inside `use` trees with braces), each resolved to the file of the
 //! longest module prefix; `mod x;` declarations are not arrows, `pub use` re-exports are (a facade
@@ -315,15 +318,41 @@ fn load_crate(dir: &Path) -> Option<RustCrate> {
         .trim_matches('"')
         .to_string();
     let src = dir.join("src");
-    let mut files = Vec::new();
-    rs_files(&src, &mut files);
-    let mut modules = BTreeMap::new();
-    let mut macros = BTreeMap::new();
     // a package with a library: src/main.rs is a crate of its own, that names the library by its
     // name; it is checked as one file (its `mod` children would be listed here)
-    let has_lib = src.join("lib.rs").is_file();
+    let skip = src.join("lib.rs").is_file().then(|| src.join("main.rs"));
+    Some(load_tree(name, &src, skip.as_deref()))
+}
+
+/// The bench targets of a package made of several files: each `benches/NAME/main.rs` is the root
+/// of a crate of its own, whose modules are the files of its folder.
+fn load_benches(dir: &Path) -> Vec<RustCrate> {
+    let Ok(rd) = std::fs::read_dir(dir.join("benches")) else {
+        return Vec::new();
+    };
+    let mut roots: Vec<PathBuf> = rd
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.join("main.rs").is_file())
+        .collect();
+    roots.sort();
+    roots
+        .into_iter()
+        .map(|r| {
+            let rel = r.strip_prefix(root()).unwrap_or(&r).display().to_string();
+            load_tree(format!("bench {rel}"), &r, None)
+        })
+        .collect()
+}
+
+/// The module tree of the crate whose root file (lib.rs or main.rs) is in `src`, `skip` left out.
+fn load_tree(name: String, src: &Path, skip: Option<&Path>) -> RustCrate {
+    let mut files = Vec::new();
+    rs_files(src, &mut files);
+    let mut modules = BTreeMap::new();
+    let mut macros = BTreeMap::new();
     for f in files {
-        if has_lib && f == src.join("main.rs") {
+        if skip == Some(f.as_path()) {
             continue;
         }
         let code = strip_rust(&std::fs::read_to_string(&f).unwrap());
@@ -333,13 +362,13 @@ fn load_crate(dir: &Path) -> Option<RustCrate> {
                 macros.insert(w[2].clone(), f.clone());
             }
         }
-        modules.insert(module_path(&src, &f), f);
+        modules.insert(module_path(src, &f), f);
     }
-    Some(RustCrate {
+    RustCrate {
         name,
         modules,
         macros,
-    })
+    }
 }
 
 /// The file a path from module `here` names, if it is of this crate.
@@ -603,18 +632,27 @@ fn report(g: &Graph) -> Vec<String> {
 #[test]
 fn rust_files_import_without_circles() {
     let mut problems = Vec::new();
-    let mut crates = 0;
+    let (mut crates, mut benches) = (0, 0);
     for m in workspace_members()
         .iter()
         .chain([root().join("fuzz")].iter())
     {
-        let Some(c) = load_crate(m) else { continue };
-        crates += 1;
-        for p in report(&rust_graph(&c)) {
-            problems.push(format!("{}: {p}", c.name));
+        let mut trees: Vec<RustCrate> = load_crate(m).into_iter().collect();
+        crates += trees.len();
+        let bench_trees = load_benches(m);
+        benches += bench_trees.len();
+        trees.extend(bench_trees);
+        for c in trees {
+            for p in report(&rust_graph(&c)) {
+                problems.push(format!("{}: {p}", c.name));
+            }
         }
     }
     assert!(crates >= 5, "found only {crates} crates");
+    assert!(
+        benches >= 1,
+        "found no bench target of several files (benches/NAME/main.rs)"
+    );
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 

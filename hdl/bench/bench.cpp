@@ -7,8 +7,9 @@
 //
 //   ticks=<REPS x lines> cpu_s=<process CPU seconds of the replay loop> checksum=<hex>
 //
-// The checksum folds the 23 outputs after every edge exactly as benches/compare.rs does for the
-// Rust model (pack and mix below), over the last repetition; equal checksums mean equal outputs.
+// The checksum folds the 23 outputs after every edge exactly as benches/compare/stim.rs does for
+// the Rust model (pack and mix below), over the last repetition; equal checksums mean equal
+// outputs.
 // With --trace (a build with `verilator --trace`) the traced signals of the twin are dumped once
 // per tick (after the rising edge, time = tick x clock period) into OUT.vcd: build.sh passes
 // hdl/bench/trace.vlt, which traces the counterparts of the Rust tracer's 65 signals only.
@@ -44,7 +45,7 @@ double cpu_now() {
     return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-// The 23 outputs after an edge, packed into two words (the same packing as benches/compare.rs).
+// The 23 outputs after an edge, packed into two words (the same packing as benches/compare/stim.rs).
 inline uint64_t mix(uint64_t h, const Vpmu50 *t) {
     uint64_t flags = uint64_t(t->sig) | uint64_t(t->vr_hi) << 1 | uint64_t(t->vm_en) << 2 | uint64_t(t->vs1_en) << 3 |
                      uint64_t(t->vs2_en) << 4 | uint64_t(t->vp_en) << 5 | uint64_t(t->rail_hi) << 6 | uint64_t(t->st) << 7 |
