@@ -220,6 +220,16 @@ pub fn run(a: Args) -> CmdResult {
         return Err(CliError::Usage(format!("--resume {}: the regression was run on an RTL that fixes {}, this RTL fixes {}: the RTL changed", out_dir.display(), if spec.fixed.is_empty() { "nothing".into() } else { spec.fixed.text() }, if d.fixed().is_empty() { "nothing".into() } else { d.fixed().text() })));
     }
     spec.fixed = d.fixed().clone();
+    // what makes the folder: the RTL's content hash and every file's, the tools, the command
+    let evidence = if resume {
+        None
+    } else {
+        Some(regress::evidence::for_run(
+            &spec,
+            "pmu50 regress",
+            regress::evidence::command_line(),
+        )?)
+    };
     for n in d.notes() {
         err!("regress: {n}");
     }
@@ -233,6 +243,7 @@ pub fn run(a: Args) -> CmdResult {
             .is_terminal()
             .then_some(progress_line as fn(&str)),
         waivers,
+        evidence,
     };
     let stop = AtomicBool::new(false);
     let s = regress::regress::run(&o, resume, &stop, d.as_ref())?;
@@ -262,6 +273,11 @@ fn repro(
     timeout: Duration,
 ) -> CmdResult {
     let sc = Scenario::load(file)?;
+    // the RTL of the failure, when the repro lies in its regression folder
+    // (DIR/failures/<signature>/repro.toml): an RTL changed since is said before the run
+    if let Some(note) = regress::evidence::repro_rtl_note(file, spec)? {
+        err!("regress: {note}");
+    }
     let d = regress::dut::prepare(spec)?;
     if !d.fixed().holds(&sc.params) {
         return Err(CliError::Usage(format!(

@@ -16,7 +16,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let so = pmu50_verif::signoff::run(&a.dir, a.thresholds.as_deref())?;
+    let so = pmu50_verif::signoff::run(&a.dir, a.thresholds.as_deref(), None)?;
     out!("{}", so.text().trim_end());
     Ok(Outcome::of(so.met()))
 }

@@ -16,6 +16,7 @@ mod curve;
 pub mod digest;
 pub mod dut;
 pub mod error;
+pub mod evidence;
 pub mod filelist;
 pub mod folder;
 pub mod fuzzing;
