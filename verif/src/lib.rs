@@ -12,6 +12,7 @@
 mod cache;
 pub mod check;
 pub mod code_cov;
+pub mod criterion;
 mod curve;
 pub mod digest;
 pub mod dut;
@@ -28,6 +29,7 @@ pub mod merge;
 pub mod mutation;
 mod picture;
 mod pool;
+pub mod proofs;
 pub mod provenance;
 mod publish;
 pub mod regress;

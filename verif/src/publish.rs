@@ -105,7 +105,7 @@ pub fn write(s: &Summary, dir: &Path, extra: Option<&str>) -> Result<(), Regress
     let signoff = crate::signoff::SignOff::evaluate(
         dir,
         s,
-        &crate::signoff::Thresholds::default(),
+        &crate::criterion::Thresholds::default(),
         if s.missing.is_empty() {
             Ok(())
         } else {
