@@ -134,7 +134,7 @@ pub struct Folder<'a> {
     /// regress.json match), or why not.
     pub complete: Result<(), String>,
     /// The history database, for the soak row (`--history`, `PMU50_HISTORY`).
-    pub history: Option<&'a Path>,
+    pub history: Option<&'a crate::history::Location>,
 }
 
 /// A file of evidence as a row gets it.

@@ -422,6 +422,7 @@ pub fn criteria() -> Vec<Box<dyn Criterion>> {
         Box::new(Code { toggle: true }),
         Box::new(Properties),
         Box::new(Seeds),
+        Box::new(crate::signoff_soak::Soak),
     ]
 }
 
@@ -484,7 +485,7 @@ impl SignOff {
         s: &Summary,
         t: &Thresholds,
         complete: Result<(), String>,
-        history: Option<&Path>,
+        history: Option<&crate::history::Location>,
     ) -> Result<SignOff, RegressError> {
         let reference = match &s.evidence {
             None => Err(format!(
@@ -674,8 +675,8 @@ fn check_files(
 pub fn run(
     dir: &Path,
     thresholds: Option<&Path>,
-    history: Option<&Path>,
-) -> Result<SignOff, RegressError> {
+    history: Option<&crate::history::Location>,
+) -> Result<(SignOff, Summary), RegressError> {
     let t = match thresholds {
         Some(p) => Thresholds::read(p)?,
         None => Thresholds::default(),
@@ -769,5 +770,24 @@ pub fn run(
         crate::report::html(&s, None, &repros, Some(&so.html())).as_bytes(),
     )?);
     b.commit()?;
-    Ok(so)
+    Ok((so, s))
+}
+
+impl SignOff {
+    /// The history's record of this sign-off of the folder `dir` (`s`: its summary).
+    pub fn record(&self, s: &Summary, dir: &Path) -> crate::history::Record {
+        let mut r = crate::history::record_of(s, "signoff", dir);
+        r.rows = self
+            .rows
+            .iter()
+            .map(|row| crate::history::RowRecord {
+                name: row.name.to_string(),
+                figure: figure_text(&row.figure),
+                met: row.met,
+                detail: row.detail.clone(),
+            })
+            .collect();
+        r.signoff_met = Some(self.met());
+        r
+    }
 }
