@@ -389,7 +389,11 @@ pub fn repro_rtl_note(repro: &Path, spec: &RunSpec) -> Result<Option<String>, Re
     if !dir.join("regress.json").is_file() {
         return Ok(None);
     }
-    let Ok(sf) = crate::folder::read_spec_file(dir) else {
+    let spec_path = dir.join("regress.json");
+    let Ok(text) = std::fs::read_to_string(&spec_path) else {
+        return Ok(None);
+    };
+    let Ok(sf) = parse_spec_file(&text, &spec_path) else {
         return Ok(None);
     };
     let (Some(ev), Some(list)) = (sf.evidence, rtl_list(spec)) else {

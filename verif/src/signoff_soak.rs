@@ -26,9 +26,9 @@ impl Criterion for Soak {
         };
         let runs = loc
             .open()
-            .and_then(|mut db| crate::history::runs(db.as_mut()))
+            .and_then(|mut db| crate::history::query::runs(db.as_mut()))
             .map_err(|e| RegressError::Usage(e.to_string()))?;
-        let (days, last) = crate::history::soak(&runs, hash);
+        let (days, last) = crate::history::query::soak(&runs, hash);
         Ok(Row {
             name,
             figure: Figure::Count(days),

@@ -3,7 +3,8 @@
 //! and last day it was seen; a row per test-plan area (the FIG. or paragraph the bins cite) with
 //! its coverage run by run; and the runs.
 
-use super::{HistoryError, Run, Sql};
+use super::db::{HistoryError, Sql};
+use super::query::Run;
 use pmu50_testbench::plot::svg::esc;
 
 fn pct(h: u64, t: u64) -> f64 {
@@ -113,9 +114,9 @@ fn bars(v: &[(String, u64, u64)]) -> String {
 
 /// The dashboard of the history in `db`.
 pub fn dashboard(db: &mut dyn Sql, title: &str) -> Result<String, HistoryError> {
-    let runs = super::runs(db)?;
-    let sigs = super::signatures(db)?;
-    let areas = super::areas(db)?;
+    let runs = super::query::runs(db)?;
+    let sigs = super::query::signatures(db)?;
+    let areas = super::query::areas(db)?;
     let mut h = format!(
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>pmu50 history</title><style>\
 body{{font-family:sans-serif;margin:2em;max-width:1100px}} table{{border-collapse:collapse;margin:1em 0}} \
@@ -139,7 +140,7 @@ code{{font-size:12px}}</style></head><body>\n<h1>pmu50 history</h1>\n<p>{} runs 
         if rs.is_empty() {
             continue;
         }
-        let (soak, last) = super::soak(&runs, hash);
+        let (soak, last) = super::query::soak(&runs, hash);
         h += &format!(
             "<h3>RTL <code>{}</code></h3>\n<p>{} regressions; soak: {soak} consecutive day(s) at 100 % up to {}</p>\n{}",
             esc(hash),

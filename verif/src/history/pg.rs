@@ -6,7 +6,7 @@
 //! URL: `postgres://USER[:PASSWORD]@HOST[:PORT]/DB`; an empty HOST, or `?host=/dir`, is the Unix
 //! socket in that folder (default `/var/run/postgresql`).
 
-use super::{HistoryError, Sql};
+use super::db::{HistoryError, Sql};
 use sha2::{Digest, Sha256};
 use std::io::{Read, Write};
 

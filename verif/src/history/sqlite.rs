@@ -1,7 +1,7 @@
 //! The history in an SQLite file (rusqlite, SQLite compiled in): a writer waits for another's
 //! transaction (`BEGIN IMMEDIATE`, a busy timeout) instead of failing.
 
-use super::{HistoryError, Sql};
+use super::db::{HistoryError, Sql};
 use std::path::Path;
 use std::time::Duration;
 
