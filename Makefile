@@ -198,37 +198,56 @@ formal-test: deps $(VENV)/.formal $(BIN)
 ## Per-bin status: hdl/build/formal/coverage/coverage.json. COVERAGE_HITS=regress_out/x/coverage.json
 ## also marks the bins a regression hit.
 .PHONY: coverage-proofs
-COVERAGE_OUT := hdl/build/formal/coverage
+COVERAGE_OUT ?= hdl/build/formal/coverage
 coverage-proofs: deps $(VENV)/.formal $(BIN)
 	$(BIN) hdl coverage-monitor --check
 	rm -rf $(COVERAGE_OUT)/witness $(COVERAGE_OUT)/coverage.json
-	$(FORMAL_ENV) nice $(VPY) -m pmu50_formal.coverage --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
+	$(FORMAL_ENV) nice $(VPY) -m pmu50_formal.coverage --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)) \
+	  $(if $(RTL),--rtl $(abspath $(RTL)) $(if $(WAIVERS),--waivers $(abspath $(WAIVERS)),--no-waivers)); rc=$$?; \
 	  COVERAGE_WITNESS_DIR=$(abspath $(COVERAGE_OUT))/witness $(CARGO) test --release -q -p pmu50-coverage --test witness || exit 1; \
 	  exit $$rc
 
-## Sign-off on the twin (docs/verification.md "Sign-off"), into regress_out/signoff/: a directed
-## regression of SIGNOFF_SEEDS seeds with the RTL's code coverage, the port-level bins' formal
-## witnesses replayed through the twin (pmu50 lockstep --coverage), both merged; beside them the
-## coverage proofs (coverage-proofs.json) and the formal kit's verdicts on both parameter sets
-## (formal.json); then `pmu50 signoff` prints the table and exits 0 only when every threshold is
-## met (OpenTitan V3: 100 %; THRESHOLDS=file.toml for others). Parts in regress_out/signoff-parts/.
-## The twin is the checkout's hdl/ (PMU50_HDL_DIR), not the kit the binary carries: the code
-## coverage names the checkout's files, and its builds stay cached when the kit's other files change.
+## Sign-off (docs/verification.md "Sign-off"), every row computed on one RTL: the twin by
+## default, into regress_out/signoff/; `RTL=your.f [MAP=your.map.toml] [WAIVERS=file.toml]` signs
+## off your RTL into regress_out/signoff-<list name>/ (the twin's map and waivers never apply to
+## it). The chain: a directed regression of SIGNOFF_SEEDS seeds on Verilator with the RTL's code
+## coverage; the port-level bins' formal witnesses replayed through the RTL (pmu50 lockstep
+## --coverage), merged; the coverage proofs (make coverage-proofs RTL= MAP= WAIVERS=) and the
+## formal kit (formal.json) on the RTL; the lint and X-propagation rows where this pmu50 has
+## those commands; then `pmu50 signoff` prints the table, exit 0 only when every threshold is
+## met (OpenTitan V3: 100 %; THRESHOLDS=file.toml for others). Every input is sealed with its
+## provenance; a script's JSON not sealed by the script itself is sealed here, right after the
+## script wrote it afresh. Parts in <folder>-parts/. The twin is the checkout's hdl/
+## (PMU50_HDL_DIR): the code coverage names the checkout's files, and its builds stay cached
+## when the kit's other files change.
 SIGNOFF_SEEDS ?= 400
-SIGNOFF_DIR   := regress_out/signoff
-SIGNOFF_PARTS := regress_out/signoff-parts
+SIGNOFF_NAME  := $(if $(RTL),signoff-$(basename $(notdir $(RTL))),signoff)
+SIGNOFF_DIR   := regress_out/$(SIGNOFF_NAME)
+SIGNOFF_PARTS := regress_out/$(SIGNOFF_NAME)-parts
+SIGNOFF_RTL   := $(if $(RTL),$(RTL),hdl/pmu50.f)
+SIGNOFF_MAP   := $(if $(RTL),$(MAP),hdl/pmu50.map.toml)
+SIGNOFF_WAIV  := $(if $(RTL),$(WAIVERS),$(if $(WAIVERS),$(WAIVERS),hdl/coverage-waivers.toml))
+SIGNOFF_ENV   := PMU50_HDL_DIR=$(CURDIR)/hdl
+SIGNOFF_OPTS  := $(if $(RTL),--rtl $(RTL)) $(if $(SIGNOFF_MAP),--map $(SIGNOFF_MAP))
+# seal a script's JSON with the RTL it ran on, unless the script sealed it (pmu50 seal --check)
+SIGNOFF_SEAL   = if [ -f $(1) ] && ! $(BIN) seal --check $(1) >/dev/null 2>&1; then $(BIN) seal $(1) --made-by $(2) --rtl $(SIGNOFF_RTL); fi
 signoff: deps $(BIN) $(VENV)/.formal formal-tools
 	rm -rf $(SIGNOFF_DIR) $(SIGNOFF_PARTS)
 	mkdir -p $(SIGNOFF_PARTS)/witness
-	PMU50_HDL_DIR=$(CURDIR)/hdl $(BIN) regress --directed --iterations $(SIGNOFF_SEEDS) --dut verilator \
-	  --map hdl/pmu50.map.toml --code-coverage --out $(SIGNOFF_PARTS)/run; [ $$? -le 1 ]
+	$(SIGNOFF_ENV) $(BIN) regress --directed --iterations $(SIGNOFF_SEEDS) --dut verilator $(SIGNOFF_OPTS) \
+	  --code-coverage $(if $(SIGNOFF_WAIV),--waivers $(SIGNOFF_WAIV)) --out $(SIGNOFF_PARTS)/run; [ $$? -le 1 ]
 	for w in rtl_model/coverage/tests/witness/*.vec; do \
-	  PMU50_HDL_DIR=$(CURDIR)/hdl $(BIN) lockstep $$w --map hdl/pmu50.map.toml --coverage $(SIGNOFF_PARTS)/witness/$$(basename $$w .vec).json || exit 1; \
+	  $(SIGNOFF_ENV) $(BIN) lockstep $$w $(SIGNOFF_OPTS) --coverage $(SIGNOFF_PARTS)/witness/$$(basename $$w .vec).json || exit 1; \
 	done
-	$(BIN) merge --out $(SIGNOFF_DIR) $(SIGNOFF_PARTS)/run $(SIGNOFF_PARTS)/witness/*.json; [ $$? -le 1 ]
-	-$(MAKE) coverage-proofs COVERAGE_HITS=$(SIGNOFF_DIR)/coverage.json
-	-cp $(COVERAGE_OUT)/coverage.json $(SIGNOFF_DIR)/coverage-proofs.json
-	-$(FORMAL) --json $(SIGNOFF_DIR)/formal.json
+	$(SIGNOFF_ENV) $(BIN) merge --out $(SIGNOFF_DIR) $(SIGNOFF_PARTS)/run $(SIGNOFF_PARTS)/witness/*.json; [ $$? -le 1 ]
+	-$(MAKE) coverage-proofs COVERAGE_OUT=$(SIGNOFF_PARTS)/coverage-proofs COVERAGE_HITS=$(SIGNOFF_DIR)/coverage.json \
+	  RTL=$(SIGNOFF_RTL) $(if $(SIGNOFF_MAP),MAP=$(SIGNOFF_MAP)) WAIVERS=$(SIGNOFF_WAIV)
+	-cp $(SIGNOFF_PARTS)/coverage-proofs/coverage.json $(SIGNOFF_DIR)/coverage-proofs.json
+	$(call SIGNOFF_SEAL,$(SIGNOFF_DIR)/coverage-proofs.json,hdl/formal/coverage.py)
+	-$(FORMAL) --rtl $(SIGNOFF_RTL) --json $(SIGNOFF_DIR)/formal.json
+	$(call SIGNOFF_SEAL,$(SIGNOFF_DIR)/formal.json,hdl/formal/run.py)
+	-if $(BIN) lint --help >/dev/null 2>&1; then $(BIN) lint --rtl $(SIGNOFF_RTL) $(if $(LINT_WAIVERS),--waivers $(LINT_WAIVERS)) --out $(SIGNOFF_DIR)/lint.json; fi
+	-if $(BIN) xprop --help >/dev/null 2>&1; then $(BIN) xprop --rtl $(SIGNOFF_RTL) $(if $(X_WAIVERS),--waivers $(X_WAIVERS)) --out $(SIGNOFF_DIR)/xprop.json; fi
 	$(BIN) signoff $(SIGNOFF_DIR) $(if $(THRESHOLDS),--thresholds $(THRESHOLDS))
 
 ## Fuzz each target for FUZZ_SECONDS (libFuzzer via cargo-fuzz, nightly toolchain; installs

@@ -88,6 +88,12 @@ enum Cmd {
     /// DIR/report.html.
     /// Exit 0 every threshold met, 1 one missed, 2 bad input.
     Signoff(cli::signoff::Args),
+    /// The history of regressions, merges and sign-offs (a SQLite file or a PostgreSQL
+    /// database): the runs, and a static HTML dashboard (`--html`).
+    History(cli::history::Args),
+    /// Rank a regression's seeds by the coverage each adds (greedy set cover): the shortest
+    /// list that keeps every bin hit, DIR/graded.json; rerun it with `regress --seeds-from`.
+    Grade(cli::grade::Args),
     /// Draw the closure curves (coverage against seeds) of regression folders into one SVG.
     Closure(cli::closure::Args),
     /// Compare two VCD files; exit 0 equal, 1 different, 2 bad input.
@@ -140,6 +146,8 @@ fn main() -> ExitCode {
         Cmd::Merge(a) => cli::merge::run(a),
         Cmd::Signoff(a) => cli::signoff::run(a),
         Cmd::Closure(a) => cli::closure::run(a),
+        Cmd::History(a) => cli::history::run(a),
+        Cmd::Grade(a) => cli::grade::run(a),
         Cmd::Diff(a) => cli::diff::run(a),
         Cmd::DutWorker => return exit_code(pmu50_verif::lockstep::worker_main() as u8),
     };

@@ -1,30 +1,22 @@
 //! `pmu50 signoff DIR`: the sign-off table of a regression folder, each figure against its
-//! threshold. A folder with every input and every figure at its threshold exits 0; one figure
-//! short, a wrong declaration, an undecided bin, a property not proven or an input missing
-//! exits 1 naming the row; a bad input exits 2 naming the file.
+//! threshold, every input sealed with its provenance. An honest folder with every figure at its
+//! threshold exits 0; one figure short, an input missing or without provenance, or nothing to
+//! count exits 1 naming the row; an edited input, inputs of another RTL, model or seed range, a
+//! regression that ran no RTL, and a bin or property listed twice exit 2 naming the file and
+//! both values. Each trick below once gave "every threshold met".
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 mod common;
 use common::{expect, pmu50, s, tmp};
 
-/// A `code/summary.json` as `pmu50 regress --code-coverage` writes it, with these figures.
-fn code_summary(line: (u64, u64), toggle: (u64, u64), waivers: &str) -> String {
-    let count = |(hit, total): (u64, u64)| {
-        format!(
-            r#"{{"hit": {hit}, "total": {total}, "waived": 0, "pct": {}}}"#,
-            if total == 0 {
-                100.0
-            } else {
-                100.0 * hit as f64 / total as f64
-            }
-        )
-    };
-    format!(
-        r#"{{"format": "pmu50-code-coverage-1", "seeds": 3, "seeds_unaccounted": 0, "line": {}, "toggle": {}, "files": [], "waivers": {waivers}, "waivers_file": "code/waivers.toml"}}"#,
-        count(line),
-        count(toggle)
-    )
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The twin's file list (its content hash is the one a regression of the twin records).
+fn twin() -> String {
+    root().join("hdl/pmu50.f").display().to_string()
 }
 
 fn write(p: &Path, text: &str) {
@@ -32,281 +24,447 @@ fn write(p: &Path, text: &str) {
     std::fs::write(p, text).unwrap();
 }
 
-/// The inputs beside a model regression: proofs, code coverage and formal verdicts, all met.
-fn complete(dir: &Path) {
-    // every bin the model declares unreachable proven so, one other witnessed
-    let cov: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("coverage.json")).unwrap()).unwrap();
-    let mut bins = vec![serde_json::json!(
-        {"name": "fig17.path.fixed", "status": "witnessed", "property": "cover (hit_x)"})];
-    for b in cov["bins"].as_array().unwrap() {
-        if let Some(why) = b.get("unreachable") {
-            bins.push(
-                serde_json::json!({"name": b["name"], "status": "proven_unreachable",
-                "declared_unreachable": why, "property": "assert (!hit_y)"}),
-            );
-        }
+/// `text` written to `p` and sealed by `pmu50 seal`, as the tool `made_by` writes it.
+fn sealed(p: &Path, text: &str, made_by: &str, rtl: &str, seeds: Option<&str>) {
+    write(p, text);
+    let mut args = vec!["seal", s(p), "--made-by", made_by, "--rtl", rtl];
+    if let Some(x) = seeds {
+        args.extend(["--seeds", x]);
     }
-    assert_eq!(bins.len(), 95);
-    write(
+    expect(&pmu50(&args), 0, &[]);
+}
+
+/// A `code/summary.json` with these figures.
+fn code_summary(line: (u64, u64), toggle: (u64, u64)) -> String {
+    let count = |(hit, total): (u64, u64)| {
+        format!(r#"{{"hit": {hit}, "total": {total}, "waived": 0, "pct": 100.0}}"#)
+    };
+    format!(
+        r#"{{"format": "pmu50-code-coverage-1", "seeds": 3, "seeds_unaccounted": 0, "line": {}, "toggle": {}, "files": [], "waivers": [], "waivers_file": ""}}"#,
+        count(line),
+        count(toggle)
+    )
+}
+
+/// Proofs: every bin the model declares unreachable proven, every other bin witnessed.
+fn proofs_text() -> String {
+    let mut bins = Vec::new();
+    for b in &pmu50_coverage::layout().bins {
+        bins.push(match b.unreachable {
+            Some(why) => serde_json::json!({"name": b.name, "status": "proven_unreachable",
+                "declared_unreachable": why, "property": "assert (!hit_y)"}),
+            None => serde_json::json!({"name": b.name, "status": "witnessed", "property": "cover (hit_x)"}),
+        });
+    }
+    serde_json::json!({ "bins": bins }).to_string()
+}
+
+const FORMAL: &str = r#"{"format": "pmu50-formal", "version": 1, "properties": [
+  {"name": "prop_a", "set": "small", "verdict": "proven", "how": "scorr"}]}"#;
+
+/// The inputs beside a regression of the twin, sealed as their tools seal them, all met.
+fn complete(dir: &Path) {
+    sealed(
         &dir.join("coverage-proofs.json"),
-        &serde_json::json!({ "bins": bins }).to_string(),
+        &proofs_text(),
+        "hdl/formal/coverage.py",
+        &twin(),
+        None,
     );
-    write(
+    sealed(
         &dir.join("code/summary.json"),
-        &code_summary((84, 84), (10, 10), "[]"),
+        &code_summary((84, 84), (10, 10)),
+        "pmu50 regress --code-coverage",
+        &twin(),
+        Some("1:3"),
     );
-    write(
+    sealed(
         &dir.join("formal.json"),
-        r#"{"format": "pmu50-formal", "version": 1, "properties": [
-  {"name": "prop_a", "set": "small", "verdict": "proven", "how": "scorr"}]}"#,
+        FORMAL,
+        "hdl/formal/run.py",
+        &twin(),
+        None,
     );
 }
 
-#[test]
-fn every_figure_at_its_threshold_passes_and_one_short_fails_naming_it() {
-    let t = tmp("signoff");
-    let dir = t.join("r");
+/// A regression of the twin on Verilator, three directed seeds, ports only.
+fn regress_twin(dir: &Path) {
     let o = pmu50(&[
         "regress",
+        "--directed",
         "--iterations",
         "3",
+        "--dut",
+        "verilator",
         "--no-triage",
+        "--jobs",
+        "2",
+        "--history",
+        "off",
         "--out",
-        s(&dir),
+        s(dir),
     ]);
-    expect(&o, 0, &["pass"]);
+    expect(&o, 0, &["3 pass"]);
+}
+
+/// `pmu50 signoff DIR --thresholds TH` with a history beside DIR (no regression in it: with
+/// `soak_days = 0` the soak row is met).
+fn signoff(dir: &Path, th: &Path) -> std::process::Output {
+    let h = dir.parent().unwrap().join("h.sqlite");
+    pmu50(&["signoff", s(dir), "--thresholds", s(th), "--history", s(&h)])
+}
+
+fn row<'a>(out: &'a str, name: &str) -> &'a str {
+    out.lines()
+        .find(|l| l.starts_with(name))
+        .unwrap_or_else(|| panic!("no row {name}: {out}"))
+}
+
+#[test]
+fn an_honest_folder_signs_off_and_every_trick_is_refused_or_missing() {
+    let t = tmp("signoff");
+    let dir = t.join("r");
+    regress_twin(&dir);
+    // the regression's record: provenance, command line, every RTL file's digest
+    let spec: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("regress.json")).unwrap()).unwrap();
+    assert_eq!(spec["provenance"]["dut"], "verilator");
+    assert!(spec["provenance"]["rtl"]["hash"]
+        .as_str()
+        .unwrap()
+        .starts_with("sha256:"));
+    assert!(spec["provenance"]["tools"]["verilator"]
+        .as_str()
+        .unwrap()
+        .contains("Verilator"));
+    assert!(spec["provenance"]["tool"]
+        .as_str()
+        .unwrap()
+        .contains("git "));
+    assert_eq!(spec["record"]["command"][1], "regress");
+    assert!(spec["record"]["rtl_files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|f| f["file"] == "rtl/register_file.v"));
+    assert!(spec["files"]["results.jsonl"]
+        .as_str()
+        .unwrap()
+        .starts_with("sha256:"));
+
     // nothing but the regression: the missing inputs are missed rows that say what writes them
-    let o = pmu50(&["signoff", s(&dir)]);
+    let o = pmu50(&["signoff", s(&dir), "--history", "off"]);
     let text = expect(
         &o,
         1,
         &["coverage-proofs.json missing", "code/summary.json missing"],
     );
     assert!(text.contains("formal.json missing"), "{text}");
-    complete(&dir);
-    // three seeds do not close the functional coverage: missed at V3, met at a threshold of 10 %
-    let o = pmu50(&["signoff", s(&dir)]);
-    let text = expect(&o, 1, &["signoff: 1 of 7 thresholds missed"]);
     assert!(
-        text.lines()
-            .any(|l| l.starts_with("functional coverage") && l.contains("MISSED")),
+        text.contains("every row computed on the RTL") && text.contains("sha256:"),
         "{text}"
     );
+    complete(&dir);
     let th = t.join("t.toml");
-    write(&th, "[thresholds]\nfunctional = 10\n");
-    let o = pmu50(&["signoff", s(&dir), "--thresholds", s(&th)]);
+    write(&th, "[thresholds]\nfunctional = 10\nsoak_days = 0\n");
+    let o = pmu50(&[
+        "signoff",
+        s(&dir),
+        "--thresholds",
+        s(&th),
+        "--history",
+        "off",
+    ]);
+    let out = expect(&o, 1, &["soak"]);
+    // no history: the soak row is missing, whatever its threshold
+    assert!(row(&out, "soak").contains("MISSED"), "{out}");
+    let hist = t.join("h.sqlite");
+    let ok = || {
+        pmu50(&[
+            "signoff",
+            s(&dir),
+            "--thresholds",
+            s(&th),
+            "--history",
+            s(&hist),
+        ])
+    };
+    let o = ok();
     expect(&o, 0, &["signoff: every threshold met"]);
-    // the table is at the top of report.html, and in signoff.json
-    let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
-    let (signoff, regress) = (html.find("<h2>Sign-off</h2>"), html.find("<h2>Failures"));
-    assert!(
-        signoff.is_some() && signoff < regress,
-        "sign-off table first"
-    );
-    // with every bin's reachability as the proofs decided it
-    assert!(
-        html.contains(
-            "Reachability of every bin, by the coverage proofs: 94 proven unreachable, 1 witnessed"
-        ),
-        "{html}"
-    );
-    assert!(html.contains(
-        "<code>fig18.history.both</code></td><td class=\"ok\">proven unreachable</td><td>assert (!hit_y)</td>"
-    ));
-    // and each bin's decision in coverage.json and the UCIS export
-    let cov = std::fs::read_to_string(dir.join("coverage.json")).unwrap();
-    assert!(
-        cov.contains(r#""name":"fig17.path.fixed","#)
-            && cov.contains(r#""proof":"witnessed: cover (hit_x)"}"#),
-        "{cov}"
-    );
-    let ucis = std::fs::read_to_string(dir.join("coverage.ucis.xml")).unwrap();
-    assert!(ucis.contains(
-        r#"<userAttr key="proof" type="str">proven unreachable: assert (!hit_y)</userAttr>"#
-    ));
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("signoff.json")).unwrap()).unwrap();
     assert_eq!(json["met"], true);
-    assert_eq!(json["rows"].as_array().unwrap().len(), 7);
+    assert!(json["rtl"]["hash"].as_str().unwrap().starts_with("sha256:"));
+    // every bin's decision written into coverage.json, whose new digest regress.json holds
+    let cov = std::fs::read_to_string(dir.join("coverage.json")).unwrap();
+    assert!(
+        cov.contains(r#""proof":"witnessed: cover (hit_x)"}"#),
+        "{cov}"
+    );
+    expect(&ok(), 0, &["signoff: every threshold met"]);
 
-    // each input can miss its own row
-    let cases: [(&str, &str, &str, &str); 4] = [
-        (
-            "code/summary.json",
-            &code_summary((83, 84), (10, 10), "[]"),
-            "code line coverage",
-            "83/84",
-        ),
-        (
-            "formal.json",
-            r#"{"properties": [{"name": "prop_a", "set": "small", "verdict": "unknown"}]}"#,
-            "properties proven",
-            "prop_a (small, unknown)",
-        ),
-        (
-            "coverage-proofs.json",
-            r#"{"bins": [{"name": "bus.read.unmapped", "status": "undecided"}]}"#,
-            "bins undecided",
-            "bus.read.unmapped",
-        ),
-        (
-            "coverage-proofs.json",
-            r#"{"bins": [{"name": "fig18.history.both", "status": "wrong_declaration",
-                "declared_unreachable": "a reason"}]}"#,
-            "bins proven unreachable",
-            "wrong declarations: fig18.history.both",
-        ),
-    ];
-    for (file, text, row, why) in cases {
-        complete(&dir);
-        write(&dir.join(file), text);
-        let o = pmu50(&["signoff", s(&dir), "--thresholds", s(&th)]);
-        let out = expect(&o, 1, &[row]);
-        let line = out.lines().find(|l| l.starts_with(row)).unwrap();
-        assert!(
-            line.contains("MISSED") && line.contains(why),
-            "{file}: {line}"
-        );
-    }
+    let saved: Vec<(PathBuf, Vec<u8>)> = [
+        "regress.json",
+        "results.jsonl",
+        "coverage.json",
+        "coverage-proofs.json",
+        "code/summary.json",
+        "formal.json",
+    ]
+    .iter()
+    .map(|f| (dir.join(f), std::fs::read(dir.join(f)).unwrap()))
+    .collect();
+    let restore = || {
+        for (p, b) in &saved {
+            std::fs::write(p, b).unwrap();
+        }
+    };
 
-    // a bad input: exit 2, the file and line
-    complete(&dir);
-    write(
-        &dir.join("formal.json"),
-        "{\"properties\": [\n{\"name\": 3}]}",
-    );
-    let o = pmu50(&["signoff", s(&dir)]);
-    expect(&o, 2, &["formal.json: line 2"]);
-
-    // proofs left from another coverage model (before bins were split): refused, not counted
-    complete(&dir);
-    let cur = std::fs::read_to_string(dir.join("coverage-proofs.json")).unwrap();
-    write(
-        &dir.join("coverage-proofs.json"),
-        &cur.replacen(
-            "{",
-            r#"{"model_id": "pmu50-coverage/471/0123456789abcdef","#,
-            1,
-        ),
-    );
-    let o = pmu50(&["signoff", s(&dir)]);
-    expect(
-        &o,
-        2,
-        &[
-            "coverage-proofs.json",
-            "another coverage model",
-            "make coverage-proofs",
-        ],
-    );
-    // and this model's id is accepted
-    let id = pmu50_coverage::model_id(pmu50_coverage::layout());
-    write(
-        &dir.join("coverage-proofs.json"),
-        &cur.replacen("{", &format!(r#"{{"model_id": "{id}","#), 1),
-    );
-    let o = pmu50(&["signoff", s(&dir), "--thresholds", s(&th)]);
-    expect(&o, 0, &["signoff: every threshold met"]);
-
-    // a waiver whose claim the proofs refute misses the toggle row; proven, it is met and counted
-    write(
-        &dir.join("code/summary.json"),
-        &code_summary(
-            (84, 84),
-            (10, 10),
-            r#"[{"file": "rtl/a.v", "what": "signal x[3]", "reason": "constant", "at": 2, "points": 2, "covered": 0}]"#,
-        ),
-    );
-    for (status, code, want) in [
-        (
-            "refuted",
-            1,
-            "claims not proven: rtl/a.v signal x[3]: `x[3] == 1'b0` refuted",
-        ),
-        (
-            "proven",
-            0,
-            "after 1 waivers (code/waivers.toml), 1 of their 1 claims proven",
-        ),
+    // (1) hand-written inputs without provenance: missing, never met
+    write(&dir.join("coverage-proofs.json"), &proofs_text());
+    write(&dir.join("formal.json"), FORMAL);
+    let o = signoff(&dir, &th);
+    let out = expect(&o, 1, &["has no provenance"]);
+    for r in [
+        "bins proven unreachable",
+        "bins undecided",
+        "properties proven",
     ] {
-        write(
-            &dir.join("coverage-proofs.json"),
-            &cur.replacen(
-                "{",
-                &format!(
-                    r#"{{"model_id": "{id}", "waivers": [{{"file": "rtl/a.v", "what": "signal x[3]", "holds": "x[3] == 1'b0", "status": "{status}"}}],"#
-                ),
-                1,
-            ),
-        );
-        let o = pmu50(&["signoff", s(&dir), "--thresholds", s(&th)]);
-        let out = expect(&o, code, &[want]);
-        let line = out
-            .lines()
-            .find(|l| l.starts_with("code toggle coverage"))
-            .unwrap();
-        assert_eq!(line.contains("MISSED"), code == 1, "{line}");
+        assert!(row(&out, r).contains("missing"), "{r}: {out}");
     }
+    restore();
+
+    // (2) an input edited after it was written: exit 2, the file and both digests
+    for (file, from, to) in [
+        ("formal.json", "\"proven\"", "\"proven\" "),
+        ("formal.json", "scorr", "pdr"),
+        ("code/summary.json", "\"hit\": 84", "\"hit\": 85"),
+        ("coverage-proofs.json", "\"witnessed\"", "\"undecided\""),
+    ] {
+        let p = dir.join(file);
+        let text = std::fs::read_to_string(&p).unwrap();
+        assert!(text.contains(from), "{file}: {from}");
+        write(&p, &text.replacen(from, to, 1));
+        let o = signoff(&dir, &th);
+        if from.trim() == to.trim() {
+            // white space is not content: the digest is over the canonical text
+            expect(&o, 0, &["every threshold met"]);
+        } else {
+            expect(&o, 2, &[file, "edited"]);
+        }
+        restore();
+    }
+    // results.jsonl and coverage.json: a byte changed after the run
+    for file in ["results.jsonl", "coverage.json"] {
+        let p = dir.join(file);
+        let mut b = std::fs::read(&p).unwrap();
+        let k = b.iter().position(|c| c.is_ascii_digit()).unwrap();
+        b[k] = if b[k] == b'9' { b'8' } else { b[k] + 1 };
+        std::fs::write(&p, b).unwrap();
+        expect(
+            &signoff(&dir, &th),
+            2,
+            &[file, "edited after the run wrote it"],
+        );
+        restore();
+    }
+
+    // (3) inputs of another RTL or seed range: exit 2 naming both values
+    let alt = root().join("hdl/alt_sv/pmu50_alt.f").display().to_string();
+    sealed(
+        &dir.join("formal.json"),
+        FORMAL,
+        "hdl/formal/run.py",
+        &alt,
+        None,
+    );
+    let out = expect(&signoff(&dir, &th), 2, &["formal.json", "another RTL"]);
+    assert!(
+        out.contains("pmu50_alt.f") && out.contains("pmu50.f"),
+        "{out}"
+    );
+    restore();
+    sealed(
+        &dir.join("code/summary.json"),
+        &code_summary((84, 84), (10, 10)),
+        "pmu50 regress --code-coverage",
+        &twin(),
+        Some("1:2"),
+    );
+    expect(
+        &signoff(&dir, &th),
+        2,
+        &["code/summary.json", "seeds 1:3 against 1:2"],
+    );
+    restore();
+
+    // (4) nothing to count is missing: a formal kit that proved no property
+    sealed(
+        &dir.join("formal.json"),
+        r#"{"properties": []}"#,
+        "hdl/formal/run.py",
+        &twin(),
+        None,
+    );
+    let out = expect(&signoff(&dir, &th), 1, &["properties proven"]);
+    assert!(
+        row(&out, "properties proven").contains("0 of 0") && out.contains("hdl/formal/run.py"),
+        "{out}"
+    );
+    restore();
+
+    // (5) one bin listed many times counts once: bad input
+    let mut v: serde_json::Value = serde_json::from_str(&proofs_text()).unwrap();
+    let first = v["bins"][0].clone();
+    v["bins"].as_array_mut().unwrap().push(first);
+    sealed(
+        &dir.join("coverage-proofs.json"),
+        &v.to_string(),
+        "hdl/formal/coverage.py",
+        &twin(),
+        None,
+    );
+    expect(&signoff(&dir, &th), 2, &["is listed twice"]);
+    // (6) a bin absent from the proofs file is undecided, not decided
+    let mut v: serde_json::Value = serde_json::from_str(&proofs_text()).unwrap();
+    v["bins"]
+        .as_array_mut()
+        .unwrap()
+        .retain(|b| b["name"] != "bus.write_reg.unmapped");
+    sealed(
+        &dir.join("coverage-proofs.json"),
+        &v.to_string(),
+        "hdl/formal/coverage.py",
+        &twin(),
+        None,
+    );
+    let out = expect(&signoff(&dir, &th), 1, &["bins undecided"]);
+    assert!(
+        row(&out, "bins undecided").contains("bus.write_reg.unmapped"),
+        "{out}"
+    );
+    restore();
+
+    // (7) a regress.json without its provenance: the rows that need it are missing
+    let plain: serde_json::Value = serde_json::from_slice(&saved[0].1).unwrap();
+    let mut m = plain.as_object().unwrap().clone();
+    for k in ["provenance", "digest", "record", "files", "coverage_inputs"] {
+        m.remove(k);
+    }
+    write(
+        &dir.join("regress.json"),
+        &serde_json::to_string_pretty(&m).unwrap(),
+    );
+    let out = expect(&signoff(&dir, &th), 1, &["has no provenance"]);
+    assert!(row(&out, "seeds passing").contains("missing"), "{out}");
+    restore();
+
+    // (8) a regression of the model alone, with every other input in place: exit 2
+    let model = t.join("model");
+    let o = pmu50(&[
+        "regress",
+        "--iterations",
+        "3",
+        "--no-triage",
+        "--history",
+        "off",
+        "--out",
+        s(&model),
+    ]);
+    expect(&o, 0, &["pass"]);
+    complete(&model);
+    expect(&signoff(&model, &th), 2, &["ran no RTL (dut = model)"]);
 }
 
 #[test]
 fn a_port_level_witness_replayed_through_the_rtl_closes_its_bin() {
     let t = tmp("witness");
-    let w = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("rtl_model/coverage/tests/witness/bus.write_reg.unmapped.vec");
+    let w = root().join("rtl_model/coverage/tests/witness/bus.write_reg.unmapped.vec");
     let cov = t.join("w.json");
     let o = pmu50(&[
         "lockstep",
         s(&w),
         "--map",
-        s(&Path::new(env!("CARGO_MANIFEST_DIR")).join("hdl/pmu50.map.toml")),
+        s(&root().join("hdl/pmu50.map.toml")),
         "--coverage",
         s(&cov),
     ]);
     expect(&o, 0, &["PASS", "run lockstep/bus.write_reg.unmapped"]);
-    let c: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&cov).unwrap()).unwrap();
-    let bin = c["bins"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|b| b["name"] == "bus.write_reg.unmapped")
-        .unwrap();
-    assert!(bin["hits"].as_u64().unwrap() > 0, "{bin}");
-    // merged beside a regression, the bin counts as hit
+    // sealed with the RTL it ran on
+    expect(
+        &pmu50(&["seal", "--check", s(&cov)]),
+        0,
+        &["pmu50 lockstep"],
+    );
     let r = t.join("r");
-    let o = pmu50(&[
-        "regress",
-        "--iterations",
-        "2",
-        "--no-triage",
-        "--out",
-        s(&r),
-    ]);
-    expect(&o, 0, &["pass"]);
+    regress_twin(&r);
     let m = t.join("m");
-    let o = pmu50(&["merge", "--out", s(&m), s(&r), s(&cov)]);
+    let o = pmu50(&["merge", "--history", "off", "--out", s(&m), s(&r), s(&cov)]);
     expect(
         &o,
         0,
         &["merged 1 regression folder(s) and 1 coverage file(s)"],
     );
-    let c: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(m.join("coverage.json")).unwrap()).unwrap();
-    assert!(c["bins"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .any(|b| b["name"] == "bus.write_reg.unmapped" && b["hits"].as_u64().unwrap() > 0));
-    // pmu50 signoff counts the merged coverage, not the seeds' alone, run after run
+    let c = std::fs::read_to_string(m.join("coverage.json")).unwrap();
+    assert!(
+        c.contains(r#""name":"bus.write_reg.unmapped","kind":"point","hits":1"#),
+        "{c}"
+    );
+    // pmu50 signoff counts the merged coverage, run after run
     for _ in 0..2 {
-        let o = pmu50(&["signoff", s(&m)]);
-        expect(&o, 1, &["(3 runs)"]);
-        let c = std::fs::read_to_string(m.join("coverage.json")).unwrap();
-        assert!(
-            c.contains(r#""name":"bus.write_reg.unmapped","kind":"point","hits":1"#),
-            "{c}"
-        );
+        let o = pmu50(&["signoff", s(&m), "--history", "off"]);
+        expect(&o, 1, &["(4 runs)"]);
     }
+    // a coverage file without provenance, merged in: the functional row is missing
+    let plain = t.join("plain.json");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&cov).unwrap()).unwrap();
+    let mut o = v.as_object().unwrap().clone();
+    o.remove("provenance");
+    o.remove("digest");
+    write(&plain, &serde_json::to_string(&o).unwrap());
+    let m2 = t.join("m2");
+    let o = pmu50(&[
+        "merge",
+        "--history",
+        "off",
+        "--out",
+        s(&m2),
+        s(&r),
+        s(&plain),
+    ]);
+    expect(&o, 0, &["merged"]);
+    let o = pmu50(&["signoff", s(&m2), "--history", "off"]);
+    let out = expect(&o, 1, &["which has no provenance"]);
+    assert!(
+        row(&out, "functional coverage").contains("missing"),
+        "{out}"
+    );
+    // a witness of another RTL is refused by the merge, naming both
+    let other = t.join("other.json");
+    std::fs::copy(&cov, &other).unwrap();
+    expect(
+        &pmu50(&[
+            "seal",
+            s(&other),
+            "--made-by",
+            "pmu50 lockstep --coverage",
+            "--dut",
+            "verilator",
+            "--rtl",
+            s(&root().join("hdl/alt_sv/pmu50_alt.f")),
+        ]),
+        0,
+        &[],
+    );
+    let o = pmu50(&[
+        "merge",
+        "--history",
+        "off",
+        "--out",
+        s(&t.join("m3")),
+        s(&r),
+        s(&other),
+    ]);
+    expect(&o, 2, &["different RTLs", "pmu50_alt.f"]);
 }

@@ -90,3 +90,16 @@ pub fn jobs(jobs: Option<usize>) -> Result<usize, CliError> {
             .unwrap_or(1)),
     }
 }
+
+/// Append a run's record to the history (`--history`, `PMU50_HISTORY`, else history.sqlite
+/// beside the folder): a line on stderr says where; a history that cannot be written is a
+/// warning, the run's own result stands.
+pub fn record_history(given: Option<&str>, folder: &Path, r: &pmu50_verif::history::Record) {
+    let Some(loc) = pmu50_verif::history::Location::choose(given, folder) else {
+        return;
+    };
+    match pmu50_verif::history::append(&loc, r) {
+        Ok(()) => super::io::err!("history: {} record appended to {}", r.kind, loc.text()),
+        Err(e) => super::io::err!("warning: {e}: this run is not in the history"),
+    }
+}

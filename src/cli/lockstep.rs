@@ -68,6 +68,15 @@ pub fn run(a: Args) -> CmdResult {
         .lockstep_inputs(&v.params, &v.inputs, Duration::from_secs_f64(a.timeout))
         .map_err(fail)?;
     match answer {
+        lockstep::Answer::Reply(lockstep::Reply::Pass { ticks })
+            if ticks != v.inputs.len() as u64 =>
+        {
+            Err(fail(format!(
+                "{}: the RTL's run ended after {ticks} ticks, the vector file has {}: a run that ends early or late is not a pass",
+                a.file.display(),
+                v.inputs.len()
+            )))
+        }
         lockstep::Answer::Reply(lockstep::Reply::Pass { ticks }) => {
             out!(
                 "PASS ticks={ticks} outputs={} registers={nr} internals={nx} (scenario {})",
@@ -81,7 +90,18 @@ pub fn run(a: Args) -> CmdResult {
                 );
                 let c = lockstep::model_coverage(&v)
                     .map_err(|e| fail(format!("{}: {e}", a.file.display())))?;
-                let text = pmu50_coverage::db::of_run(&c, &id, "pass").to_text();
+                // sealed with the RTL it ran on: `pmu50 merge` and the sign-off check it
+                let (rtl, _) = pmu50_verif::evidence::rtl_of(&list).map_err(fail)?;
+                let p = pmu50_verif::provenance::Provenance::now(
+                    "pmu50 lockstep --coverage",
+                    Some(rtl),
+                    "verilator",
+                    None,
+                );
+                let text = pmu50_verif::evidence::sealed_coverage(
+                    &pmu50_coverage::db::of_run(&c, &id, "pass"),
+                    &p,
+                );
                 let f = atomic_file::write_atomic(path, text.as_bytes()).map_err(fail)?;
                 let mut b = Batch::new();
                 b.add(f);

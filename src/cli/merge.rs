@@ -14,6 +14,10 @@ pub struct Args {
     #[arg(long)]
     pub force: bool,
     pub inputs: Vec<PathBuf>,
+    /// The history database this merge is appended to [default: $PMU50_HISTORY, else
+    /// history.sqlite beside --out; `off`: none].
+    #[arg(long, value_name = "FILE|URL")]
+    pub history: Option<String>,
 }
 
 pub fn run(a: Args) -> CmdResult {
@@ -27,6 +31,13 @@ pub fn run(a: Args) -> CmdResult {
     out!("{}", m.summary.text().trim_end());
     if let Some(code) = &m.summary.code {
         err!("{}", code.text().trim_end());
+    }
+    if m.folders > 0 {
+        super::common::record_history(
+            a.history.as_deref(),
+            &a.out,
+            &pmu50_verif::history::record_of(&m.summary, "merge", &a.out),
+        );
     }
     Ok(Outcome::of(
         m.summary.failed() == 0 && m.summary.missing.is_empty(),

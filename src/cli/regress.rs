@@ -81,6 +81,16 @@ pub struct Args {
     /// Check one scenario file (a shrunk repro) the way a seed is checked; prints the failure.
     #[arg(long, value_name = "FILE.toml", conflicts_with_all = ["iterations", "shard", "shard_count", "directed"])]
     pub repro: Option<PathBuf>,
+    /// Rerun only the seeds of a graded list (`pmu50 grade DIR`'s DIR/graded.json), each with
+    /// the stimulus it had in DIR's regression, into --out: results.jsonl and coverage.json;
+    /// exit 0 when every seed passes and every bin DIR hit is hit again.
+    #[arg(long, value_name = "GRADED.json", conflicts_with_all = ["iterations", "shard", "shard_count", "directed", "resume", "repro", "start_seed", "dut", "rtl", "map", "code_coverage"])]
+    pub seeds_from: Option<PathBuf>,
+    /// The history database this regression is appended to: a SQLite file or
+    /// postgres://USER[:PASSWORD]@HOST[:PORT]/DB [default: $PMU50_HISTORY, else history.sqlite
+    /// beside --out; `off`: none].
+    #[arg(long, value_name = "FILE|URL")]
+    pub history: Option<String>,
 }
 
 /// `--dut`: the names of the registry's backends.
@@ -141,6 +151,9 @@ pub fn run(a: Args) -> CmdResult {
     };
     let model = pmu50_coverage::model_id(pmu50_coverage::layout());
     let tool = format!("pmu50 {}", env!("CARGO_PKG_VERSION"));
+    if let Some(list) = &a.seeds_from {
+        return seeds_from(list, a.out.as_deref(), jobs, timeout);
+    }
     if let Some(file) = &a.repro {
         let spec = RunSpec {
             tool,
@@ -220,6 +233,16 @@ pub fn run(a: Args) -> CmdResult {
         return Err(CliError::Usage(format!("--resume {}: the regression was run on an RTL that fixes {}, this RTL fixes {}: the RTL changed", out_dir.display(), if spec.fixed.is_empty() { "nothing".into() } else { spec.fixed.text() }, if d.fixed().is_empty() { "nothing".into() } else { d.fixed().text() })));
     }
     spec.fixed = d.fixed().clone();
+    // what makes the folder: the RTL's content hash and every file's, the tools, the command
+    let evidence = if resume {
+        None
+    } else {
+        Some(regress::evidence::for_run(
+            &spec,
+            "pmu50 regress",
+            regress::evidence::command_line(),
+        )?)
+    };
     for n in d.notes() {
         err!("regress: {n}");
     }
@@ -233,6 +256,7 @@ pub fn run(a: Args) -> CmdResult {
             .is_terminal()
             .then_some(progress_line as fn(&str)),
         waivers,
+        evidence,
     };
     let stop = AtomicBool::new(false);
     let s = regress::regress::run(&o, resume, &stop, d.as_ref())?;
@@ -240,6 +264,11 @@ pub fn run(a: Args) -> CmdResult {
     if let Some(code) = &s.code {
         err!("{}", code.text().trim_end());
     }
+    super::common::record_history(
+        a.history.as_deref(),
+        &out_dir,
+        &regress::history::record_of(&s, "regress", &out_dir),
+    );
     out!(
         "wrote {}/results.jsonl, coverage.json, report.html{} ({:.1} s, {} jobs)",
         out_dir.display(),
@@ -262,6 +291,11 @@ fn repro(
     timeout: Duration,
 ) -> CmdResult {
     let sc = Scenario::load(file)?;
+    // the RTL of the failure, when the repro lies in its regression folder
+    // (DIR/failures/<signature>/repro.toml): an RTL changed since is said before the run
+    if let Some(note) = regress::evidence::repro_rtl_note(file, spec)? {
+        err!("regress: {note}");
+    }
     let d = regress::dut::prepare(spec)?;
     if !d.fixed().holds(&sc.params) {
         return Err(CliError::Usage(format!(
@@ -300,4 +334,39 @@ fn repro(
             Ok(Outcome::Fail)
         }
     }
+}
+
+/// `--seeds-from GRADED.json`: the graded seeds rerun on their regression's DUT and stimulus.
+fn seeds_from(
+    list: &std::path::Path,
+    out_dir: Option<&std::path::Path>,
+    jobs: usize,
+    timeout: Duration,
+) -> CmdResult {
+    let Some(out_dir) = out_dir else {
+        return Err(CliError::Usage(
+            "--seeds-from needs --out DIR for the rerun's results".into(),
+        ));
+    };
+    let g = regress::grade::Graded::read(list)?;
+    let spec = regress::read_spec(std::path::Path::new(&g.folder))?;
+    let d = regress::dut::prepare(&spec)?;
+    let stop = AtomicBool::new(false);
+    let r = regress::grade::rerun(list, out_dir, d.as_ref(), jobs, timeout, &stop)?;
+    out!(
+        "rerun: {} graded seeds of {}, {} failing; coverage {} bins, the regression's {} seeds hit {}{}",
+        r.seeds,
+        g.folder,
+        r.failed,
+        r.bins_hit,
+        g.seeds,
+        r.original_hit,
+        if r.lost.is_empty() {
+            String::new()
+        } else {
+            format!("; not hit again: {}", r.lost.join(", "))
+        }
+    );
+    out!("wrote {}/results.jsonl, coverage.json", out_dir.display());
+    Ok(Outcome::of(r.failed == 0 && r.lost.is_empty()))
 }

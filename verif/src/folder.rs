@@ -112,6 +112,11 @@ pub fn open_regular(path: &Path, write: bool) -> Result<Option<File>, RegressErr
 
 /// Read `regress.json` of `dir`, checked ([`parse_spec`]).
 pub fn read_spec(dir: &Path) -> Result<RunSpec, RegressError> {
+    Ok(read_spec_file(dir)?.spec)
+}
+
+/// `regress.json` of `dir` with its evidence (when sealed; an edited byte is an error).
+pub fn read_spec_file(dir: &Path) -> Result<crate::evidence::SpecFile, RegressError> {
     let p = dir.join("regress.json");
     let Some(f) = open_regular(&p, false)? else {
         return Err(file_err(
@@ -129,19 +134,24 @@ pub fn read_spec(dir: &Path) -> Result<RunSpec, RegressError> {
             format!("larger than {MAX_SPEC_BYTES} bytes: not the regress.json pmu50 writes"),
         ));
     }
-    parse_spec(&text, &p)
+    parse_spec_file(&text, &p)
 }
 
 /// Parse and check the text of a `regress.json` (`path` names it in errors).
 pub fn parse_spec(text: &str, path: &Path) -> Result<RunSpec, RegressError> {
-    let spec: RunSpec =
-        serde_json::from_str(text).map_err(|e| line_err(path, e.line() as u64, e))?;
+    Ok(parse_spec_file(text, path)?.spec)
+}
+
+/// Parse and check the text of a `regress.json`, sealed or plain, with its evidence.
+pub fn parse_spec_file(text: &str, path: &Path) -> Result<crate::evidence::SpecFile, RegressError> {
+    let sf = crate::evidence::parse_spec_file(text, path)?;
+    let spec = &sf.spec;
     spec.validate().map_err(|reason| file_err(path, reason))?;
     let model = pmu50_coverage::model_id(layout());
     if spec.model != model {
         return Err(file_err(path, format!("field `model`: sampled with coverage model {}, this pmu50 has {model}: merge and resume with the same version", spec.model)));
     }
-    Ok(spec)
+    Ok(sf)
 }
 
 impl RunSpec {

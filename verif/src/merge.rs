@@ -16,9 +16,11 @@
 //! only those.
 
 use crate::error::RegressError;
+use crate::evidence::{CoverageInput, RunEvidence};
 use crate::folder;
+use crate::folder::read_spec_file;
+use crate::provenance::Provenance;
 use crate::spec::RunSpec;
-use crate::summary::read_spec;
 use crate::summary::Source;
 use crate::summary::Summary;
 use crate::triage;
@@ -206,17 +208,22 @@ pub fn merge(inputs: &[PathBuf], out: &Path, force: bool) -> Result<Merged, Regr
     }
     check_output(inputs, out, force)?;
     let mut specs: Vec<(PathBuf, RunSpec)> = Vec::new();
+    let mut evidence: Vec<(PathBuf, Option<RunEvidence>)> = Vec::new();
     let mut extra: Vec<(String, CoverageFile)> = Vec::new();
+    let mut extra_inputs: Vec<CoverageInput> = Vec::new();
     for p in inputs {
         let meta = std::fs::metadata(p).map_err(|e| RegressError::File {
             path: p.clone(),
             reason: e.to_string(),
         })?;
         if meta.is_dir() {
-            specs.push((p.clone(), read_spec(p)?));
+            let sf = read_spec_file(p)?;
+            specs.push((p.clone(), sf.spec));
+            evidence.push((p.clone(), sf.evidence));
         } else {
-            let cf = CoverageFile::read(p).map_err(|e| RegressError::Usage(e.to_string()))?;
+            let (cf, input) = crate::evidence::read_coverage_input(p)?;
             extra.push((p.display().to_string(), cf));
+            extra_inputs.push(input);
         }
     }
     let summary = if specs.is_empty() {
@@ -244,7 +251,8 @@ pub fn merge(inputs: &[PathBuf], out: &Path, force: bool) -> Result<Merged, Regr
     } else {
         let whole = plan(&specs)?;
         let sources: Vec<Source> = specs.iter().map(|(p, s)| Source::of(p, s)).collect();
-        let mut sum = Summary::build(whole, &sources)?;
+        let mut sum = Summary::build(whole.clone(), &sources)?;
+        sum.evidence = merged_evidence(&whole, &evidence, extra_inputs)?;
         if !extra.is_empty() {
             let mut files: Vec<(&str, &CoverageFile)> =
                 vec![("the regression folders", &sum.coverage)];
@@ -345,4 +353,78 @@ fn copy_repros(s: &Summary, folders: &[&Path], out: &Path) -> Result<(), Regress
         batch.commit()?;
     }
     Ok(())
+}
+
+/// The evidence of a merged folder: the inputs' common RTL and coverage model (refused when two
+/// disagree, naming both), the merged seed range, and every coverage file merged with its own
+/// provenance. `None` when an input folder has none: a merge never makes provenance up.
+fn merged_evidence(
+    whole: &RunSpec,
+    inputs: &[(PathBuf, Option<RunEvidence>)],
+    extra: Vec<CoverageInput>,
+) -> Result<Option<RunEvidence>, RegressError> {
+    let mut first: Option<(&Path, &RunEvidence)> = None;
+    let mut coverage_inputs = Vec::new();
+    for (p, ev) in inputs {
+        let Some(ev) = ev else { return Ok(None) };
+        match first {
+            None => first = Some((p, ev)),
+            Some((p0, e0)) => {
+                let d = crate::evidence::disagreements(
+                    &Provenance {
+                        seeds: None,
+                        ..e0.provenance.clone()
+                    },
+                    &ev.provenance,
+                );
+                if !d.is_empty() {
+                    return Err(RegressError::Usage(format!(
+                        "{} and {} were run on different RTLs or models ({}): merge folders of one RTL",
+                        p0.display(),
+                        p.display(),
+                        d.join(", ")
+                    )));
+                }
+            }
+        }
+        coverage_inputs.extend(ev.coverage_inputs.iter().cloned());
+    }
+    let Some((p0, e0)) = first else {
+        return Ok(None);
+    };
+    for c in &extra {
+        if let Some(cp) = &c.provenance {
+            let d = crate::evidence::disagreements(
+                &Provenance {
+                    seeds: None,
+                    ..e0.provenance.clone()
+                },
+                cp,
+            );
+            if !d.is_empty() {
+                return Err(RegressError::Usage(format!(
+                    "{} and {} are of different RTLs or models ({}): merge coverage of the RTL the regression ran",
+                    p0.display(),
+                    c.file,
+                    d.join(", ")
+                )));
+            }
+        }
+    }
+    coverage_inputs.extend(extra);
+    let mut provenance = Provenance::now(
+        "pmu50 merge",
+        e0.provenance.rtl.clone(),
+        &e0.provenance.dut,
+        Some(crate::evidence::seeds_of(whole)),
+    );
+    provenance.tools = e0.provenance.tools.clone();
+    Ok(Some(RunEvidence {
+        provenance,
+        record: crate::evidence::Record {
+            command: crate::evidence::command_line(),
+            rtl_files: e0.record.rtl_files.clone(),
+        },
+        coverage_inputs,
+    }))
 }

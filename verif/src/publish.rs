@@ -32,10 +32,8 @@ impl<W: std::io::Write> std::fmt::Write for IoText<W> {
 pub fn write(s: &Summary, dir: &Path, extra: Option<&str>) -> Result<(), RegressError> {
     use pmu50_testbench::atomic_file::{write_atomic, AtomicFile, OutputError};
     let mut batch = pmu50_testbench::atomic_file::Batch::new();
-    let spec = serde_json::to_string_pretty(&s.spec)
-        .map_err(|e| RegressError::Usage(e.to_string()))?
-        + "\n";
-    batch.add(write_atomic(&dir.join("regress.json"), spec.as_bytes())?);
+    // the digests of the completed files, sealed into regress.json (renamed last)
+    let mut digests = std::collections::BTreeMap::new();
     let results = dir.join("results.jsonl");
     let werr = |path: &Path| {
         let path = path.to_path_buf();
@@ -55,7 +53,12 @@ pub fn write(s: &Summary, dir: &Path, extra: Option<&str>) -> Result<(), Regress
                 .and_then(|_| w.write_all(b"\n"))
                 .map_err(werr(&results))?;
         }
-        batch.add(w.into_inner().map_err(|e| werr(&results)(e.into_error()))?);
+        let f = w.into_inner().map_err(|e| werr(&results)(e.into_error()))?;
+        digests.insert(
+            "results.jsonl".to_string(),
+            crate::evidence::file_digest(f.temp_path())?,
+        );
+        batch.add(f);
     }
     // Written a line at a time: the run list of a million seeds is 330 MB of UCIS text.
     type Text = fn(&CoverageFile, &mut dyn std::fmt::Write) -> std::fmt::Result;
@@ -77,26 +80,48 @@ pub fn write(s: &Summary, dir: &Path, extra: Option<&str>) -> Result<(), Regress
                     .unwrap_or_else(|| std::io::Error::other("formatting failed")),
             ));
         }
-        batch.add(
-            w.out
-                .into_inner()
-                .map_err(|e| werr(&path)(e.into_error()))?,
+        let f = w
+            .out
+            .into_inner()
+            .map_err(|e| werr(&path)(e.into_error()))?;
+        digests.insert(
+            name.to_string(),
+            crate::evidence::file_digest(f.temp_path())?,
         );
+        batch.add(f);
     }
     if let Some(code) = &s.code {
-        code.write(dir, &mut batch)?;
+        // the regression's code coverage, whether one run wrote it or a merge of its parts:
+        // the same bytes either way
+        let prov = s.evidence.as_ref().map(|e| crate::provenance::Provenance {
+            made_by: "pmu50 regress --code-coverage".into(),
+            ..e.provenance.clone()
+        });
+        code.write(dir, &mut batch, prov.as_ref())?;
     }
+    let spec = crate::evidence::spec_text(&s.spec, s.evidence.as_ref(), &digests)?;
+    batch.set_last(write_atomic(&dir.join("regress.json"), spec.as_bytes())?);
     let repros = s.repro_folders(dir)?;
     // The sign-off table at the top, with what the folder holds so far (pmu50 signoff
     // rewrites it once the proofs and the formal kit have run).
-    let signoff = crate::signoff::SignOff::evaluate(dir, s, &crate::signoff::Thresholds::default())
-        .map(|t| t.html())
-        .unwrap_or_else(|e| {
-            format!(
-                "<h2>Sign-off</h2>\n<p class=\"bad\">{}</p>\n",
-                pmu50_testbench::plot::svg::esc(&e.to_string())
-            )
-        });
+    let signoff = crate::signoff::SignOff::evaluate(
+        dir,
+        s,
+        &crate::criterion::Thresholds::default(),
+        if s.missing.is_empty() {
+            Ok(())
+        } else {
+            Err("the regression did not complete: pmu50 regress --resume".into())
+        },
+        None,
+    )
+    .map(|t| t.html())
+    .unwrap_or_else(|e| {
+        format!(
+            "<h2>Sign-off</h2>\n<p class=\"bad\">{}</p>\n",
+            pmu50_testbench::plot::svg::esc(&e.to_string())
+        )
+    });
     batch.add(write_atomic(
         &dir.join("report.html"),
         crate::report::html(s, extra, &repros, Some(&signoff)).as_bytes(),

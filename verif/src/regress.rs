@@ -40,6 +40,9 @@ pub struct Options {
     /// The waivers of the code coverage (`spec.code_coverage`) of a new run; a resumed run
     /// keeps those of its folder.
     pub waivers: Option<code_cov::Waivers>,
+    /// What makes the folder (`crate::evidence::for_run`), sealed into its regress.json; a
+    /// resumed run keeps its folder's, after checking that the RTL has not changed.
+    pub evidence: Option<crate::evidence::RunEvidence>,
 }
 
 /// Seeds of a random regression handed to the pool at once: what the pool holds in memory (a
@@ -60,7 +63,13 @@ pub fn run(
     let results_path = dir.join("results.jsonl");
     let range = o.spec.seeds();
     let mut sink = code_cov::sink::sink(o.spec.code_coverage, o.waivers.clone());
+    let mut evidence = o.evidence.clone();
     if resume {
+        let sf = folder::read_spec_file(dir)?;
+        if let Some(ev) = &sf.evidence {
+            check_same_rtl(dir, ev, &o.spec)?;
+        }
+        evidence = sf.evidence;
         sink.resume(dir, &range)?;
     }
     let mut total = vec![0u64; layout().bins.len()];
@@ -78,9 +87,11 @@ pub fn run(
     };
     if !resume {
         // A new run: the folder's previous results are replaced when this run writes them.
-        let spec = serde_json::to_string_pretty(&o.spec)
-            .map_err(|e| RegressError::Usage(e.to_string()))?
-            + "\n";
+        let spec = crate::evidence::spec_text(
+            &o.spec,
+            evidence.as_ref(),
+            &std::collections::BTreeMap::new(),
+        )?;
         let mut b = pmu50_testbench::atomic_file::Batch::new();
         b.add(pmu50_testbench::atomic_file::write_atomic(
             &dir.join("regress.json"),
@@ -219,10 +230,35 @@ pub fn run(
     drop(appender);
     drop(done);
     sink.finish(dir)?;
-    let summary = Summary::build(o.spec.clone(), &[Source::of(dir, &o.spec)])?;
+    let mut summary = Summary::build(o.spec.clone(), &[Source::of(dir, &o.spec)])?;
+    summary.evidence = evidence;
     if o.triage && !stop.load(Ordering::Relaxed) {
         triage::write_repros(&summary, dir, d, o.timeout)?;
     }
     crate::publish::write(&summary, dir, None)?;
     Ok(summary)
+}
+
+/// A resumed run continues on the RTL its folder was started on: refused when any file of it
+/// changed (naming the file, or both content hashes).
+fn check_same_rtl(
+    dir: &Path,
+    ev: &crate::evidence::RunEvidence,
+    spec: &crate::spec::RunSpec,
+) -> Result<(), RegressError> {
+    let (Some(was), Some(list)) = (&ev.provenance.rtl, crate::evidence::rtl_list(spec)) else {
+        return Ok(());
+    };
+    let (now, files) = crate::evidence::rtl_of(&list)?;
+    if now.hash == was.hash {
+        return Ok(());
+    }
+    Err(RegressError::Usage(format!(
+        "--resume {}: the regression was started on RTL {} ({}), the RTL is now {}{}: resume on the RTL it was started on, or start a new regression",
+        dir.display(),
+        was.hash,
+        was.list,
+        now.hash,
+        crate::evidence::changed_files(&ev.record.rtl_files, &files)
+    )))
 }

@@ -15,377 +15,104 @@
 //! (the bin's `proof`), and the report lists every bin's reachability.
 //!
 //! Each row is a [`Criterion`]: a new figure is a new type, not a new branch. A row whose input
-//! is absent is `missing` and misses its threshold (it says which command writes it); an input
-//! that is present but unreadable is an error naming the file.
+//! is absent, or has no provenance, is `missing` and misses its threshold (it says which command
+//! writes it); so is a row with nothing to count (0 of 0). An input that is present but
+//! unreadable, edited after it was written (its digest), or made on another RTL, coverage model
+//! or seed range than the regression's, is an error naming the file and both values (exit 2);
+//! so is a regression that ran no RTL. Every input is read through [`Folder::open`]
+//! (crate::evidence, crate::provenance).
 
 use crate::code_cov::figures::CodeSummary;
+use crate::criterion::{
+    content_as, fmt_pct, missing, share_row, Criterion, Figure, Folder, Input, Row, Thresholds,
+};
 use crate::error::RegressError;
+use crate::proofs::{BinStatus, ClaimStatus, ProofBin, Proofs};
+use crate::provenance::RtlId;
 use crate::summary::Summary;
 use serde::Deserialize;
+use std::collections::BTreeSet;
 use std::path::Path;
 
-/// The thresholds, in percent (`undecided`: a count). Defaults: OpenTitan's V3.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct Thresholds {
-    pub functional: f64,
-    pub unreachable_proven: f64,
-    pub undecided: u64,
-    pub code_line: f64,
-    pub code_toggle: f64,
-    pub properties: f64,
-    pub seeds: f64,
-}
-
-impl Default for Thresholds {
-    fn default() -> Thresholds {
-        Thresholds {
-            functional: 100.0,
-            unreachable_proven: 100.0,
-            undecided: 0,
-            code_line: 100.0,
-            code_toggle: 100.0,
-            properties: 100.0,
-            seeds: 100.0,
-        }
-    }
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct ThresholdFile {
-    thresholds: Thresholds,
-}
-
-impl Thresholds {
-    /// A TOML file with one table `[thresholds]` (any subset of the keys; percentages 0-100).
-    pub fn read(path: &Path) -> Result<Thresholds, RegressError> {
-        let text = std::fs::read_to_string(path).map_err(|e| RegressError::File {
-            path: path.to_path_buf(),
-            reason: e.to_string(),
-        })?;
-        Thresholds::parse(&text, path)
-    }
-
-    pub fn parse(text: &str, path: &Path) -> Result<Thresholds, RegressError> {
-        let f: ThresholdFile = toml::from_str(text).map_err(|e| {
-            let line = e
-                .span()
-                .map(|s| text[..s.start.min(text.len())].matches('\n').count() as u64 + 1)
-                .unwrap_or(1);
-            RegressError::Line {
-                path: path.to_path_buf(),
-                line,
-                reason: format!(
-                    "{}; valid: a table [thresholds] with functional, unreachable_proven, \
-                     code_line, code_toggle, properties, seeds (percent, 0-100) and undecided \
-                     (a count)",
-                    e.message()
-                ),
-            }
-        })?;
-        let t = f.thresholds;
-        for (k, v) in [
-            ("functional", t.functional),
-            ("unreachable_proven", t.unreachable_proven),
-            ("code_line", t.code_line),
-            ("code_toggle", t.code_toggle),
-            ("properties", t.properties),
-            ("seeds", t.seeds),
-        ] {
-            if !(0.0..=100.0).contains(&v) {
-                let line = text
-                    .lines()
-                    .position(|l| l.trim_start().starts_with(k))
-                    .map(|i| i as u64 + 1)
-                    .unwrap_or(1);
-                return Err(RegressError::Line {
-                    path: path.to_path_buf(),
-                    line,
-                    reason: format!("`{k}` = {v}: a percentage, valid 0 to 100"),
-                });
-            }
-        }
-        Ok(t)
-    }
-}
-
-/// One row's figure.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Figure {
-    /// `hit` of `total` (a share, against a percentage).
-    Share { hit: u64, total: u64 },
-    /// A count, against a maximum.
-    Count(u64),
-    /// The input is absent: what writes it.
-    Missing(String),
-}
-
-/// One row of the table.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Row {
-    pub name: &'static str,
-    pub figure: Figure,
-    /// The threshold, printed (`100 %`, `<= 0`).
-    pub threshold: String,
-    pub met: bool,
-    /// Where the figure comes from, and what is behind it.
-    pub detail: String,
-}
-
-/// What a criterion reads: the folder and its regression summary.
-pub struct Folder<'a> {
-    pub dir: &'a Path,
-    pub summary: &'a Summary,
-}
-
-/// A sign-off figure.
-pub trait Criterion {
-    fn row(&self, f: &Folder, t: &Thresholds) -> Result<Row, RegressError>;
-}
-
-fn share_row(name: &'static str, hit: u64, total: u64, min_pct: f64, detail: String) -> Row {
-    let pct = if total == 0 {
-        100.0
-    } else {
-        hit as f64 * 100.0 / total as f64
-    };
-    Row {
-        name,
-        figure: Figure::Share { hit, total },
-        threshold: format!("{} %", fmt_pct(min_pct)),
-        // compare on the counts where the threshold is 100 %: no rounding lets 99.999 pass
-        met: if min_pct >= 100.0 {
-            hit >= total
-        } else {
-            pct + 1e-9 >= min_pct
-        },
-        detail,
-    }
-}
-
-fn missing(name: &'static str, threshold: String, what: String) -> Row {
-    Row {
-        name,
-        figure: Figure::Missing(what.clone()),
-        threshold,
-        met: false,
-        detail: what,
-    }
-}
-
-fn fmt_pct(p: f64) -> String {
-    if p.fract() == 0.0 {
-        format!("{p:.0}")
-    } else {
-        format!("{p}")
-    }
-}
-
-fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Option<T>, RegressError> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => {
-            return Err(RegressError::File {
-                path: path.to_path_buf(),
-                reason: e.to_string(),
-            })
-        }
-    };
-    serde_json::from_str(&text)
-        .map(Some)
-        .map_err(|e| RegressError::Line {
-            path: path.to_path_buf(),
-            line: e.line() as u64,
-            reason: e.to_string(),
-        })
-}
+/// What writes a regression folder's results and coverage.
+const REGRESS: &str = "pmu50 regress --dut verilator [--rtl LIST] --code-coverage (make signoff)";
 
 /// Reachable bins hit (`coverage.json`): the bins the model does not declare unreachable,
 /// less those the coverage proofs prove unreachable.
 pub struct Functional;
 impl Criterion for Functional {
     fn row(&self, f: &Folder, t: &Thresholds) -> Result<Row, RegressError> {
+        let th = format!("{} %", fmt_pct(t.functional));
+        let name = "functional coverage";
+        if let Err(why) = f.reference.as_ref().and(f.complete.as_ref()) {
+            return Ok(missing(name, th, why.clone()));
+        }
+        // every coverage file merged into the folder carries the provenance of this RTL
+        let ev = f.summary.evidence.as_ref();
+        for c in ev.map(|e| e.coverage_inputs.as_slice()).unwrap_or_default() {
+            if c.provenance.is_none() {
+                return Ok(missing(
+                    name,
+                    th,
+                    format!(
+                        "coverage.json counts {}, which has no provenance: replay the witness with pmu50 lockstep --coverage and merge again",
+                        c.file
+                    ),
+                ));
+            }
+        }
         let c = &f.summary.coverage;
-        let proofs = Proofs::read(f.dir)?;
-        let proven: std::collections::BTreeSet<&str> = proofs
-            .as_ref()
-            .map(|p| {
-                p.bins
-                    .iter()
-                    .filter(|b| b.status == BinStatus::ProvenUnreachable)
-                    .map(|b| b.name.as_str())
-                    .collect()
-            })
-            .unwrap_or_default();
+        let proven: BTreeSet<String> = match Proofs::read(f)? {
+            Ok(p) => p
+                .bins
+                .iter()
+                .filter(|b| b.status == BinStatus::ProvenUnreachable)
+                .map(|b| b.name.clone())
+                .collect(),
+            Err(_) => BTreeSet::new(),
+        };
         let reach: Vec<_> = c
             .bins
             .iter()
-            .filter(|b| b.unreachable.is_none() && !proven.contains(b.name.as_str()))
+            .filter(|b| b.unreachable.is_none() && !proven.contains(&b.name))
             .collect();
         let hit = reach.iter().filter(|b| b.hits > 0).count() as u64;
         Ok(share_row(
-            "functional coverage",
+            name,
             hit,
             reach.len() as u64,
             t.functional,
             format!("coverage.json: reachable bins hit ({} runs)", c.runs.len()),
+            REGRESS,
         ))
     }
 }
 
-/// A bin's reachability, as the coverage proofs decided it (`hdl/formal/coverage.py`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum BinStatus {
-    /// `assert(!hit_<bin>)` proven unbounded on every parameter set it ran.
-    ProvenUnreachable,
-    /// Declared unreachable, but the proof found a trace that hits it.
-    WrongDeclaration,
-    /// `cover(hit_<bin>)` reached within the depth.
-    Witnessed,
-    /// Neither.
-    Undecided,
-}
-
-#[derive(Clone, Debug, Deserialize)]
-pub struct ProofBin {
-    pub name: String,
-    pub status: BinStatus,
-    /// The model's reason, for a bin it declares unreachable.
-    #[serde(default)]
-    pub declared_unreachable: Option<String>,
-    #[serde(default)]
-    pub property: String,
-    /// Proven on these parameter sets.
-    #[serde(default)]
-    pub sets: Vec<String>,
-    /// Witnessed (or refuted) on this set, at this step.
-    #[serde(default)]
-    pub set: String,
-    #[serde(default)]
-    pub step: Option<u64>,
-    /// Undecided: what was tried.
-    #[serde(default)]
-    pub tried: String,
-    /// A witness or counterexample as a vector file.
-    #[serde(default)]
-    pub witness: Option<String>,
-}
-
-impl ProofBin {
-    fn status_text(&self) -> &'static str {
-        match self.status {
-            BinStatus::ProvenUnreachable => "proven unreachable",
-            BinStatus::WrongDeclaration => "WRONG DECLARATION",
-            BinStatus::Witnessed => "witnessed",
-            BinStatus::Undecided => "undecided",
-        }
-    }
-
-    fn how(&self) -> String {
-        let mut w = self.property.clone();
-        if !self.sets.is_empty() {
-            w += &format!(" on {}", self.sets.join(", "));
-        } else if !self.set.is_empty() {
-            w += &format!(" on {}", self.set);
-        }
-        if let Some(k) = self.step {
-            w += &format!(" at step {k}");
-        }
-        if !self.tried.is_empty() {
-            w += &format!("; tried: {}", self.tried);
-        }
-        if let Some(f) = &self.witness {
-            w += &format!("; trace {f}");
-        }
-        w
-    }
-}
-
-/// `coverage-proofs.json` (`make coverage-proofs`' coverage.json): each bin's reachability.
-#[derive(Clone, Debug, Deserialize)]
-pub struct Proofs {
-    /// The coverage model the proofs are of (`pmu50-coverage/<bins>/<hash>`); hdl/formal/
-    /// coverage.py always writes it.
-    #[serde(default)]
-    pub model_id: Option<String>,
-    pub bins: Vec<ProofBin>,
-    /// The code-coverage waivers' claims (`holds`) and their verdicts.
-    #[serde(default)]
-    pub waivers: Vec<ProofWaiver>,
-}
-
-/// A waiver's claim as the coverage proofs decided it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ClaimStatus {
-    /// Proven on every parameter set.
-    Proven,
-    /// A trace from reset breaks it.
-    Refuted,
-    /// Neither.
-    Undecided,
-}
-
-/// A waiver's claim and its verdict (hdl/formal/coverage.py `waivers`).
-#[derive(Clone, Debug, Deserialize)]
-pub struct ProofWaiver {
-    pub file: String,
-    /// `signal t[17:16]` or `line 40`, as the waiver's `what`.
-    pub what: String,
-    pub holds: String,
-    pub status: ClaimStatus,
-}
-
-impl Proofs {
-    pub const FILE: &'static str = "coverage-proofs.json";
-    /// The folder's proofs; an error when they are of another coverage model than this
-    /// pmu50's (proofs left from before the model changed would decide the wrong bins).
-    pub fn read(dir: &Path) -> Result<Option<Proofs>, RegressError> {
-        let path = dir.join(Proofs::FILE);
-        let p: Option<Proofs> = read_json(&path)?;
-        if let Some(id) = p.as_ref().and_then(|p| p.model_id.as_deref()) {
-            let ours = pmu50_coverage::model_id(pmu50_coverage::layout());
-            if id != ours {
-                return Err(RegressError::File {
-                    path,
-                    reason: format!(
-                        "model_id {id:?}: the proofs are of another coverage model than this \
-                         pmu50's ({ours:?}); run `make coverage-proofs` again with this \
-                         pmu50's monitor (pmu50 hdl coverage-monitor)"
-                    ),
-                });
-            }
-        }
-        Ok(p)
-    }
-}
-
-/// Bins declared unreachable that the proofs prove so.
+/// Bins declared unreachable that the proofs prove so (each bin once).
 pub struct UnreachableProven;
 impl Criterion for UnreachableProven {
     fn row(&self, f: &Folder, t: &Thresholds) -> Result<Row, RegressError> {
-        let Some(p) = Proofs::read(f.dir)? else {
-            return Ok(missing(
-                "bins proven unreachable",
-                format!("{} %", fmt_pct(t.unreachable_proven)),
-                format!("{} missing: make coverage-proofs", Proofs::FILE),
-            ));
+        let p = match Proofs::read(f)? {
+            Ok(p) => p,
+            Err(why) => {
+                return Ok(missing(
+                    "bins proven unreachable",
+                    format!("{} %", fmt_pct(t.unreachable_proven)),
+                    why,
+                ))
+            }
         };
-        let declared = f
-            .summary
-            .coverage
+        let declared: BTreeSet<&str> = pmu50_coverage::layout()
             .bins
             .iter()
             .filter(|b| b.unreachable.is_some())
-            .count() as u64;
+            .map(|b| b.name.as_str())
+            .collect();
         let proven = p
             .bins
             .iter()
             .filter(|b| {
-                b.declared_unreachable.is_some() && b.status == BinStatus::ProvenUnreachable
+                declared.contains(b.name.as_str()) && b.status == BinStatus::ProvenUnreachable
             })
             .count() as u64;
         let wrong: Vec<&str> = p
@@ -397,12 +124,13 @@ impl Criterion for UnreachableProven {
         let mut r = share_row(
             "bins proven unreachable",
             proven,
-            declared,
+            declared.len() as u64,
             t.unreachable_proven,
             format!(
                 "{}: of the bins the model declares unreachable",
                 Proofs::FILE
             ),
+            Proofs::REMEDY,
         );
         if !wrong.is_empty() {
             r.met = false;
@@ -412,33 +140,55 @@ impl Criterion for UnreachableProven {
     }
 }
 
-/// Bins neither proven unreachable nor hit or witnessed.
+/// Bins decided by nothing: the model's declared bins less the distinct bins the proofs prove
+/// unreachable or witness, and those the regression hit.
 pub struct Undecided;
 impl Criterion for Undecided {
     fn row(&self, f: &Folder, t: &Thresholds) -> Result<Row, RegressError> {
-        let Some(p) = Proofs::read(f.dir)? else {
-            return Ok(missing(
-                "bins undecided",
-                format!("<= {}", t.undecided),
-                format!("{} missing: make coverage-proofs", Proofs::FILE),
-            ));
+        let p = match Proofs::read(f)? {
+            Ok(p) => p,
+            Err(why) => {
+                return Ok(missing(
+                    "bins undecided",
+                    format!("<= {}", t.undecided),
+                    why,
+                ))
+            }
         };
-        let hit: std::collections::BTreeSet<&str> = f
-            .summary
-            .coverage
+        let mut decided: BTreeSet<&str> = p
             .bins
             .iter()
-            .filter(|b| b.hits > 0)
+            .filter(|b| {
+                matches!(
+                    b.status,
+                    BinStatus::ProvenUnreachable | BinStatus::Witnessed
+                )
+            })
             .map(|b| b.name.as_str())
             .collect();
-        let undecided: Vec<&str> = p
+        // the regression's hits count only when its results are the completed, sealed ones
+        if f.reference.is_ok() && f.complete.is_ok() {
+            decided.extend(
+                f.summary
+                    .coverage
+                    .bins
+                    .iter()
+                    .filter(|b| b.hits > 0)
+                    .map(|b| b.name.as_str()),
+            );
+        }
+        let undecided: Vec<&str> = pmu50_coverage::layout()
             .bins
             .iter()
-            .filter(|b| b.status == BinStatus::Undecided && !hit.contains(b.name.as_str()))
             .map(|b| b.name.as_str())
+            .filter(|n| !decided.contains(n))
             .collect();
         let n = undecided.len() as u64;
-        let mut detail = format!("{}: neither proven nor witnessed, nor hit", Proofs::FILE);
+        let mut detail = format!(
+            "{}: of the model's {} bins, neither proven unreachable nor witnessed, nor hit",
+            Proofs::FILE,
+            pmu50_coverage::layout().bins.len()
+        );
         if !undecided.is_empty() {
             let shown: Vec<&str> = undecided.iter().take(8).copied().collect();
             detail += &format!(": {}{}", shown.join(", "), if n > 8 { ", ..." } else { "" });
@@ -456,23 +206,26 @@ impl Criterion for Undecided {
 /// `code/summary.json`, read with the type that writes it.
 impl CodeSummary {
     pub const FILE: &'static str = "code/summary.json";
-    /// The summary of a folder (`None` when it has none); another format is refused.
-    pub fn read(dir: &Path) -> Result<Option<CodeSummary>, RegressError> {
-        let path = dir.join(CodeSummary::FILE);
-        let c: Option<CodeSummary> = read_json(&path)?;
-        if let Some(c) = &c {
-            if c.format != crate::code_cov::figures::SUMMARY_FORMAT {
-                return Err(RegressError::File {
-                    path,
-                    reason: format!(
-                        "field `format`: `{}`; valid is `{}`",
-                        c.format,
-                        crate::code_cov::figures::SUMMARY_FORMAT
-                    ),
-                });
-            }
+    pub const REMEDY: &'static str = "pmu50 regress --dut verilator --code-coverage";
+    /// The folder's summary (`Err`: why it is missing): sealed, of the regression's RTL, model
+    /// and seeds; another format is refused.
+    pub fn read(f: &Folder) -> Result<Result<CodeSummary, String>, RegressError> {
+        let content = match f.open(CodeSummary::FILE, CodeSummary::REMEDY, true)? {
+            Input::Missing(why) => return Ok(Err(why)),
+            Input::Sealed { content, .. } => content,
+        };
+        let c: CodeSummary = content_as(f.dir, CodeSummary::FILE, content)?;
+        if c.format != crate::code_cov::figures::SUMMARY_FORMAT {
+            return Err(crate::error::file_err(
+                &f.dir.join(CodeSummary::FILE),
+                format!(
+                    "field `format`: `{}`; valid is `{}`",
+                    c.format,
+                    crate::code_cov::figures::SUMMARY_FORMAT
+                ),
+            ));
         }
-        Ok(c)
+        Ok(Ok(c))
     }
 }
 
@@ -487,20 +240,14 @@ impl Criterion for Code {
         } else {
             ("code line coverage", t.code_line)
         };
-        let Some(c) = CodeSummary::read(f.dir)? else {
-            return Ok(missing(
-                name,
-                format!("{} %", fmt_pct(min)),
-                format!(
-                    "{} missing: pmu50 regress --dut verilator --code-coverage",
-                    CodeSummary::FILE
-                ),
-            ));
+        let c = match CodeSummary::read(f)? {
+            Ok(c) => c,
+            Err(why) => return Ok(missing(name, format!("{} %", fmt_pct(min)), why)),
         };
         let fig = if self.toggle { &c.toggle } else { &c.line };
         // the waivers of this row's kind whose claims the coverage proofs decided
         let kind = if self.toggle { "signal " } else { "line" };
-        let proofs = Proofs::read(f.dir)?.map(|p| p.waivers).unwrap_or_default();
+        let proofs = Proofs::read(f)?.map(|p| p.waivers).unwrap_or_default();
         let (mut claimed, mut unproven) = (0, Vec::new());
         for w in &c.waivers {
             let (file, what) = (w.file.as_str(), w.what.as_str());
@@ -538,6 +285,7 @@ impl Criterion for Code {
                     String::new()
                 }
             ),
+            CodeSummary::REMEDY,
         );
         if !unproven.is_empty() {
             // a waiver whose claim does not hold excludes points it should not
@@ -572,23 +320,32 @@ pub struct FormalResults {
 
 impl FormalResults {
     pub const FILE: &'static str = "formal.json";
+    pub const REMEDY: &'static str =
+        "hdl/formal/run.py --rtl LIST --json DIR/formal.json (make signoff)";
 }
 
 /// Properties of the formal kit proven (every parameter set it ran).
 pub struct Properties;
 impl Criterion for Properties {
     fn row(&self, f: &Folder, t: &Thresholds) -> Result<Row, RegressError> {
-        let Some(r) = read_json::<FormalResults>(&f.dir.join(FormalResults::FILE))? else {
-            return Ok(missing(
-                "properties proven",
-                format!("{} %", fmt_pct(t.properties)),
-                format!(
-                    "{} missing: hdl/formal/run.py --json DIR/{}",
-                    FormalResults::FILE,
-                    FormalResults::FILE
-                ),
-            ));
+        let th = format!("{} %", fmt_pct(t.properties));
+        let r: FormalResults = match f.open(FormalResults::FILE, FormalResults::REMEDY, false)? {
+            Input::Missing(why) => return Ok(missing("properties proven", th, why)),
+            Input::Sealed { content, .. } => content_as(f.dir, FormalResults::FILE, content)?,
         };
+        // a property proven twice on one set counts once
+        let mut seen = BTreeSet::new();
+        for p in &r.properties {
+            if !seen.insert((p.name.as_str(), p.set.as_str())) {
+                return Err(crate::error::file_err(
+                    &f.dir.join(FormalResults::FILE),
+                    format!(
+                        "property `{}` on set `{}` is listed twice: each is decided once",
+                        p.name, p.set
+                    ),
+                ));
+            }
+        }
         let proven = r
             .properties
             .iter()
@@ -617,6 +374,7 @@ impl Criterion for Properties {
             r.properties.len() as u64,
             t.properties,
             detail,
+            FormalResults::REMEDY,
         ))
     }
 }
@@ -625,6 +383,10 @@ impl Criterion for Properties {
 pub struct Seeds;
 impl Criterion for Seeds {
     fn row(&self, f: &Folder, t: &Thresholds) -> Result<Row, RegressError> {
+        let th = format!("{} %", fmt_pct(t.seeds));
+        if let Err(why) = f.reference.as_ref().and(f.complete.as_ref()) {
+            return Ok(missing("seeds passing", th, why.clone()));
+        }
         let s = f.summary;
         let mut r = share_row(
             "seeds passing",
@@ -641,8 +403,9 @@ impl Criterion for Seeds {
                     String::new()
                 }
             ),
+            REGRESS,
         );
-        if s.missing_count() > 0 || s.seeds() == 0 {
+        if s.missing_count() > 0 {
             r.met = false;
         }
         Ok(r)
@@ -659,6 +422,7 @@ pub fn criteria() -> Vec<Box<dyn Criterion>> {
         Box::new(Code { toggle: true }),
         Box::new(Properties),
         Box::new(Seeds),
+        Box::new(crate::signoff_soak::Soak),
     ]
 }
 
@@ -668,6 +432,8 @@ pub struct SignOff {
     pub rows: Vec<Row>,
     /// Every bin's reachability (when the folder has the coverage proofs): HTML.
     pub reachability: Option<String>,
+    /// The RTL every row was computed on (the regression's; every input agrees with it).
+    pub rtl: Option<RtlId>,
 }
 
 /// Every bin as the proofs and the regression decided it: status, how, hits.
@@ -711,23 +477,70 @@ fn reachability_html(p: &Proofs, s: &Summary) -> String {
 }
 
 impl SignOff {
-    pub fn evaluate(dir: &Path, s: &Summary, t: &Thresholds) -> Result<SignOff, RegressError> {
-        let f = Folder { dir, summary: s };
+    /// The table of the folder `dir` whose regression is `s` (its evidence: `s.evidence`),
+    /// whose results and coverage are complete or not (`complete`). A regression that ran no
+    /// RTL is refused.
+    pub fn evaluate(
+        dir: &Path,
+        s: &Summary,
+        t: &Thresholds,
+        complete: Result<(), String>,
+        history: Option<&crate::history::Location>,
+    ) -> Result<SignOff, RegressError> {
+        let reference = match &s.evidence {
+            None => Err(format!(
+                "{} has no provenance (a folder of a version before it): run the regression again ({REGRESS})",
+                dir.join("regress.json").display()
+            )),
+            Some(e) => {
+                if e.provenance.rtl.is_none() || !crate::dut::of(&s.spec.dut).is_ok_and(|b| b.caps.rtl) {
+                    return Err(RegressError::Usage(format!(
+                        "{}: the regression ran no RTL (dut = {}): a sign-off is of an RTL; run {REGRESS}",
+                        dir.join("regress.json").display(),
+                        s.spec.dut.name()
+                    )));
+                }
+                Ok(&e.provenance)
+            }
+        };
+        let f = Folder {
+            dir,
+            summary: s,
+            reference,
+            complete,
+            history,
+        };
         let rows = criteria()
             .iter()
             .map(|c| c.row(&f, t))
             .collect::<Result<_, _>>()?;
-        let reachability = Proofs::read(dir)?.map(|p| reachability_html(&p, s));
-        Ok(SignOff { rows, reachability })
+        let reachability = Proofs::read(&f)?.ok().map(|p| reachability_html(&p, s));
+        Ok(SignOff {
+            rows,
+            reachability,
+            rtl: f.reference.ok().and_then(|p| p.rtl.clone()),
+        })
     }
 
     pub fn met(&self) -> bool {
         self.rows.iter().all(|r| r.met)
     }
 
+    /// Which RTL the rows were computed on.
+    pub fn rtl_line(&self) -> String {
+        match &self.rtl {
+            Some(r) => format!(
+                "every row computed on the RTL {} ({}); inputs of another RTL, model or seed range are refused",
+                r.list, r.hash
+            ),
+            None => "the regression has no provenance: the rows that need its RTL are missing".into(),
+        }
+    }
+
     /// The table as text (stdout of `pmu50 signoff`).
     pub fn text(&self) -> String {
-        let mut s = format!(
+        let mut s = format!("{}\n", self.rtl_line());
+        s += &format!(
             "{:<26} {:>22} {:>10}  {:<6} {}\n",
             "sign-off", "figure", "threshold", "", "from"
         );
@@ -756,8 +569,9 @@ impl SignOff {
     /// The table as HTML (the top of report.html).
     pub fn html(&self) -> String {
         use pmu50_testbench::plot::svg::esc;
-        let mut h = String::from(
-            "<h2>Sign-off</h2>\n<table><tr><th>figure</th><th>value</th><th>threshold</th><th></th><th>from</th></tr>\n",
+        let mut h = format!(
+            "<h2>Sign-off</h2>\n<p>{}</p>\n<table><tr><th>figure</th><th>value</th><th>threshold</th><th></th><th>from</th></tr>\n",
+            esc(&self.rtl_line())
         );
         for r in &self.rows {
             h += &format!(
@@ -796,7 +610,8 @@ impl SignOff {
             })
             .collect();
         serde_json::to_string_pretty(&serde_json::json!({
-            "format": "pmu50-signoff", "version": 1, "met": self.met(), "rows": rows
+            "format": "pmu50-signoff", "version": 1, "met": self.met(), "rows": rows,
+            "rtl": self.rtl,
         }))
         .expect("JSON values serialise")
             + "\n"
@@ -818,42 +633,108 @@ fn figure_text(f: &Figure) -> String {
     }
 }
 
+/// Whether `results.jsonl` and `coverage.json` of `dir` are those its run completed: `Ok` when
+/// their digests match those sealed into regress.json, `Err(why)` when the run has not
+/// completed (no digests yet); an error (exit 2) when a file was edited.
+fn check_files(
+    dir: &Path,
+    sf: &crate::evidence::SpecFile,
+) -> Result<Result<(), String>, RegressError> {
+    if sf.evidence.is_none() {
+        return Ok(Err("regress.json has no provenance".into()));
+    }
+    for name in ["results.jsonl", "coverage.json"] {
+        let path = dir.join(name);
+        let Some(want) = sf.files.get(name) else {
+            return Ok(Err(format!(
+                "{name}: the regression did not complete (regress.json holds no digest of it): pmu50 regress --resume {}",
+                dir.display()
+            )));
+        };
+        if crate::folder::open_regular(&path, false)?.is_none() {
+            return Err(crate::error::file_err(
+                &path,
+                "missing, though regress.json holds its digest",
+            ));
+        }
+        let got = crate::evidence::file_digest(&path)?;
+        if &got != want {
+            return Err(crate::error::file_err(
+                &path,
+                format!(
+                    "the digest does not match the one sealed into regress.json: the file was edited after the run wrote it (recorded {want}, computed {got})"
+                ),
+            ));
+        }
+    }
+    Ok(Ok(()))
+}
+
 /// `pmu50 signoff DIR`: the table of a regression folder, printed, written as `signoff.json`
-/// and at the top of `report.html` (rewritten).
-pub fn run(dir: &Path, thresholds: Option<&Path>) -> Result<SignOff, RegressError> {
+/// and at the top of `report.html` (rewritten). `history`: the database the soak row reads.
+pub fn run(
+    dir: &Path,
+    thresholds: Option<&Path>,
+    history: Option<&crate::history::Location>,
+) -> Result<(SignOff, Summary), RegressError> {
     let t = match thresholds {
         Some(p) => Thresholds::read(p)?,
         None => Thresholds::default(),
     };
-    let spec = crate::summary::read_spec(dir)?;
+    let sf = crate::folder::read_spec_file(dir)?;
+    let complete = check_files(dir, &sf)?;
+    let spec = sf.spec.clone();
     let mut s = Summary::build(spec.clone(), &[crate::summary::Source::of(dir, &spec)])?;
+    s.evidence = sf.evidence.clone();
     // The folder's coverage.json is the whole coverage: a merge adds coverage files (formal
-    // witnesses replayed through the RTL) to what the seeds of results.jsonl hit.
+    // witnesses replayed through the RTL) to what the seeds of results.jsonl hit. Sealed by
+    // regress.json's digest, it holds at least the seeds' hits.
     let cov_path = dir.join("coverage.json");
-    if cov_path.is_file() {
+    if complete.is_ok() {
         let c = pmu50_coverage::CoverageFile::read(&cov_path).map_err(|e| RegressError::File {
             path: cov_path.clone(),
             reason: e.to_string(),
         })?;
-        // it holds at least the seeds' hits (else it is stale, and the seeds' count stands)
-        if c.bins.len() == s.coverage.bins.len()
-            && c.bins
-                .iter()
-                .zip(&s.coverage.bins)
-                .all(|(a, b)| a.hits >= b.hits)
+        if let Some((a, b)) = c
+            .bins
+            .iter()
+            .zip(&s.coverage.bins)
+            .find(|(a, b)| a.hits < b.hits)
         {
-            s.coverage = c;
+            return Err(crate::error::file_err(
+                &cov_path,
+                format!(
+                    "bin {}: {} hits, fewer than the {} of the seeds of results.jsonl: not the coverage of this regression",
+                    a.name, a.hits, b.hits
+                ),
+            ));
         }
+        s.coverage = c;
     }
-    let so = SignOff::evaluate(dir, &s, &t)?;
+    let so = SignOff::evaluate(dir, &s, &t, complete.clone(), history)?;
     let repros = s.repro_folders(dir)?;
     let mut b = pmu50_testbench::atomic_file::Batch::new();
     b.add(pmu50_testbench::atomic_file::write_atomic(
         &dir.join("signoff.json"),
         so.json().as_bytes(),
     )?);
-    // each bin's decision into coverage.json and the UCIS export
-    if let Some(p) = Proofs::read(dir)? {
+    // each bin's decision into coverage.json and the UCIS export (coverage.json's new digest
+    // sealed into regress.json)
+    let proofs = {
+        let f = Folder {
+            dir,
+            summary: &s,
+            reference: s
+                .evidence
+                .as_ref()
+                .map(|e| &e.provenance)
+                .ok_or_else(String::new),
+            complete: complete.clone(),
+            history,
+        };
+        Proofs::read(&f)?.ok()
+    };
+    if let (Some(p), Ok(())) = (proofs, &complete) {
         let by_name: std::collections::BTreeMap<&str, &ProofBin> =
             p.bins.iter().map(|b| (b.name.as_str(), b)).collect();
         for r in &mut s.coverage.bins {
@@ -861,10 +742,14 @@ pub fn run(dir: &Path, thresholds: Option<&Path>) -> Result<SignOff, RegressErro
                 .get(r.name.as_str())
                 .map(|b| format!("{}: {}", b.status_text(), b.how()));
         }
-        b.add(pmu50_testbench::atomic_file::write_atomic(
-            &dir.join("coverage.json"),
-            s.coverage.to_text().as_bytes(),
-        )?);
+        let text = s.coverage.to_text();
+        let cov = pmu50_testbench::atomic_file::write_atomic(&cov_path, text.as_bytes())?;
+        let mut files = sf.files.clone();
+        files.insert(
+            "coverage.json".into(),
+            format!("sha256:{}", crate::digest::sha256_hex(text.as_bytes())),
+        );
+        b.add(cov);
         let mut x = String::new();
         pmu50_coverage::write_ucis_xml(&s.coverage, &mut x).map_err(|_| RegressError::File {
             path: dir.join("coverage.ucis.xml"),
@@ -874,55 +759,35 @@ pub fn run(dir: &Path, thresholds: Option<&Path>) -> Result<SignOff, RegressErro
             &dir.join("coverage.ucis.xml"),
             x.as_bytes(),
         )?);
+        let spec_text = crate::evidence::spec_text(&sf.spec, sf.evidence.as_ref(), &files)?;
+        b.set_last(pmu50_testbench::atomic_file::write_atomic(
+            &dir.join("regress.json"),
+            spec_text.as_bytes(),
+        )?);
     }
     b.add(pmu50_testbench::atomic_file::write_atomic(
         &dir.join("report.html"),
         crate::report::html(&s, None, &repros, Some(&so.html())).as_bytes(),
     )?);
     b.commit()?;
-    Ok(so)
+    Ok((so, s))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn thresholds_default_to_v3_and_a_file_sets_a_subset() {
-        assert_eq!(Thresholds::default().functional, 100.0);
-        let t = Thresholds::parse(
-            "[thresholds]\nfunctional = 90\ncode_toggle = 90.5\n",
-            Path::new("t.toml"),
-        )
-        .unwrap();
-        assert_eq!(t.functional, 90.0);
-        assert_eq!(t.code_toggle, 90.5);
-        assert_eq!(t.code_line, 100.0);
-    }
-
-    #[test]
-    fn a_bad_threshold_file_names_file_line_and_what_is_valid() {
-        let e = Thresholds::parse("[thresholds]\nfunctional = 120\n", Path::new("t.toml"))
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.contains("t.toml: line 2") && e.contains("valid 0 to 100"),
-            "{e}"
-        );
-        let e = Thresholds::parse("[thresholds]\nfunctionl = 90\n", Path::new("t.toml"))
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.contains("t.toml: line 2") && e.contains("functionl") && e.contains("valid:"),
-            "{e}"
-        );
-    }
-
-    #[test]
-    fn a_share_at_100_percent_compares_counts() {
-        assert!(share_row("x", 10, 10, 100.0, String::new()).met);
-        assert!(!share_row("x", 99_999, 100_000, 100.0, String::new()).met);
-        assert!(share_row("x", 9, 10, 90.0, String::new()).met);
-        assert!(!share_row("x", 8, 10, 90.0, String::new()).met);
+impl SignOff {
+    /// The history's record of this sign-off of the folder `dir` (`s`: its summary).
+    pub fn record(&self, s: &Summary, dir: &Path) -> crate::history::Record {
+        let mut r = crate::history::record_of(s, "signoff", dir);
+        r.rows = self
+            .rows
+            .iter()
+            .map(|row| crate::history::RowRecord {
+                name: row.name.to_string(),
+                figure: figure_text(&row.figure),
+                met: row.met,
+                detail: row.detail.clone(),
+            })
+            .collect();
+        r.signoff_met = Some(self.met());
+        r
     }
 }

@@ -48,6 +48,9 @@ pub struct Summary {
     pub curve: Vec<(u64, f64)>,
     /// The RTL's code coverage (`spec.code_coverage`), from the folders' `code/parts/`.
     pub code: Option<code_cov::CodeReport>,
+    /// What made the folder (sealed into its regress.json when written); `None` for a folder
+    /// without provenance.
+    pub evidence: Option<crate::evidence::RunEvidence>,
 }
 
 impl Summary {
@@ -154,6 +157,7 @@ impl Summary {
         };
         Ok(Summary {
             code,
+            evidence: None,
             coverage: CoverageFile::from_coverage(&hits, runs),
             spec,
             store,

@@ -172,11 +172,13 @@ impl CodeReport {
         }
     }
 
-    /// coverage.dat, lcov.info and summary.json of `dir/code/`, added to `batch`.
+    /// coverage.dat, lcov.info and summary.json of `dir/code/`, added to `batch`; the summary
+    /// sealed with `prov` (crate::provenance) when given.
     pub fn write(
         &self,
         dir: &Path,
         batch: &mut pmu50_testbench::atomic_file::Batch,
+        prov: Option<&crate::provenance::Provenance>,
     ) -> Result<(), RegressError> {
         use pmu50_testbench::atomic_file::write_atomic;
         let cd = code_dir(dir);
@@ -191,9 +193,14 @@ impl CodeReport {
             &cd.join("lcov.info"),
             self.total.lcov().as_bytes(),
         )?);
-        let json = serde_json::to_string_pretty(&self.summary)
-            .map_err(|e| RegressError::Usage(e.to_string()))?
-            + "\n";
+        let json = match (prov, serde_json::to_value(&self.summary)) {
+            (Some(p), Ok(serde_json::Value::Object(m))) => crate::provenance::seal(m, p),
+            _ => {
+                serde_json::to_string_pretty(&self.summary)
+                    .map_err(|e| RegressError::Usage(e.to_string()))?
+                    + "\n"
+            }
+        };
         batch.add(write_atomic(&cd.join("summary.json"), json.as_bytes())?);
         Ok(())
     }

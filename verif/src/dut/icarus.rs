@@ -211,6 +211,8 @@ struct Running {
     output: Option<std::thread::JoinHandle<String>>,
     verdict: PathBuf,
     _vec: tempfile::NamedTempFile,
+    /// The vector lines of the seed's file: a pass must have replayed exactly these.
+    expect_ticks: u64,
 }
 
 impl Running {
@@ -251,6 +253,30 @@ fn keep_tail(mut r: impl Read) -> String {
         kept.drain(..kept.len() - keep);
     }
     String::from_utf8_lossy(&kept).into_owned()
+}
+
+/// The ticks of a `PASS ticks=<n>` line of the verdict file (the last one), if any.
+fn passed_ticks(text: &str) -> Option<u64> {
+    text.lines()
+        .filter_map(|l| l.strip_prefix("PASS ticks="))
+        .filter_map(|t| t.trim().parse().ok())
+        .next_back()
+}
+
+/// The vector lines of a vector file (the lines that are not `/` headers or blank): one per
+/// tick of the stimulus.
+fn vector_lines(path: &Path) -> std::io::Result<u64> {
+    use std::io::BufRead;
+    let f = std::io::BufReader::with_capacity(1 << 16, std::fs::File::open(path)?);
+    let mut n = 0u64;
+    for l in f.split(b'\n') {
+        let l = l?;
+        let t = l.trim_ascii();
+        if !t.is_empty() && !t.starts_with(b"/") {
+            n += 1;
+        }
+    }
+    Ok(n)
 }
 
 /// The verdict file's `MISMATCH tick=<k> signal=<name> expected=<hex> got=<hex>` lines.
@@ -297,8 +323,20 @@ impl InFlight for Running {
             .and_then(|h| h.join().ok())
             .unwrap_or_default();
         let verdict = std::fs::read_to_string(&self.verdict).unwrap_or_default();
-        if verdict.lines().any(|l| l.starts_with("PASS ticks=")) && status.success() {
-            return Ok(None);
+        if let Some(ran) = passed_ticks(&verdict) {
+            if status.success() && ran == self.expect_ticks {
+                return Ok(None);
+            }
+            if ran != self.expect_ticks {
+                return Ok(Some(dut_failure(
+                    sc,
+                    None,
+                    format!(
+                        "the simulation reported a pass after {ran} ticks, the seed's vector file has {}: a run that ends early or late is not a pass",
+                        self.expect_ticks
+                    ),
+                )));
+            }
         }
         let (tick, mm) = mismatches(&verdict);
         if !mm.is_empty() {
@@ -374,6 +412,8 @@ impl Dut for IcarusDut {
             DutError::Tool(format!("iverilog failed for the seed's parameters:\n{log}"))
         })?;
         let verdict = vec.path().with_extension("verdict");
+        let expect_ticks = vector_lines(vec.path())
+            .map_err(|e| DutError::Tool(format!("{}: {e}", vec.path().display())))?;
         let mut child = Command::new("vvp")
             .arg("-n")
             .arg(&vvp)
@@ -396,6 +436,7 @@ impl Dut for IcarusDut {
             output,
             verdict,
             _vec: vec,
+            expect_ticks,
         }))
     }
 
@@ -433,6 +474,17 @@ mod tests {
         let kept = keep_tail(std::io::Cursor::new(big.clone()));
         assert_eq!(kept.len() as u64, LOG_KEEP);
         assert!(big.ends_with(kept.as_bytes()));
+    }
+
+    #[test]
+    fn a_pass_counts_only_with_its_tick_count() {
+        assert_eq!(passed_ticks("PASS ticks=120\n"), Some(120));
+        assert_eq!(passed_ticks("MISMATCH tick=3 signal=x expected=0 got=1\n"), None);
+        assert_eq!(passed_ticks("PASS ticks=oops\n"), None);
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.vec");
+        std::fs::write(&p, "/ pmu50 vectors\n/ clock_ns 10000\n1 0 0\n\n0 1 1\n0 0 0").unwrap();
+        assert_eq!(vector_lines(&p).unwrap(), 3);
     }
 
     #[test]

@@ -783,6 +783,8 @@ struct Running<'a> {
     worker: Worker,
     /// With code coverage: the library and the file the worker writes its counts to.
     cov: Option<(PathBuf, PathBuf)>,
+    /// The seed's ticks (its inputs): a pass must have run exactly these.
+    expect_ticks: u64,
 }
 
 impl VerilatorDut {
@@ -821,6 +823,7 @@ impl InFlight for Running<'_> {
             dut,
             mut worker,
             cov,
+            expect_ticks,
         } = *self;
         match worker.receive(timeout).map_err(tool_err)? {
             Answer::Reply(r) => {
@@ -833,6 +836,13 @@ impl InFlight for Running<'_> {
                     dut.collect(sc, lib, file)?;
                 }
                 match r {
+                    Reply::Pass { ticks } if ticks != expect_ticks => Ok(Some(dut_failure(
+                        sc,
+                        None,
+                        format!(
+                            "the DUT worker reported a pass after {ticks} ticks, the seed has {expect_ticks}: a run that ends early or late is not a pass"
+                        ),
+                    ))),
                     Reply::Pass { .. } => Ok(None),
                     Reply::Diverged {
                         tick,
@@ -874,6 +884,7 @@ impl Dut for VerilatorDut {
         let Recorded::Inputs(inputs) = rec else {
             return Err(tool_err("the Verilator DUT needs the seed's inputs"));
         };
+        let expect_ticks = inputs.len() as u64;
         let lib = self.library(&sc.params)?;
         let idle = self.workers.lock().unwrap_or_else(|e| e.into_inner()).pop();
         let mut worker = match idle {
@@ -896,6 +907,7 @@ impl Dut for VerilatorDut {
             dut: self,
             worker,
             cov,
+            expect_ticks,
         }))
     }
 
