@@ -300,6 +300,7 @@ fn pg_bin() -> Option<PathBuf> {
 fn server(dir: &Path) -> Result<Server, String> {
     let root = unsafe { libc::geteuid() } == 0;
     if pg_bin().is_none() && root {
+        let _ = Command::new("apt-get").args(["update", "-qq"]).output();
         let _ = Command::new("apt-get")
             .args(["install", "-y", "-qq", "postgresql"])
             .env("DEBIAN_FRONTEND", "noninteractive")

@@ -145,7 +145,7 @@ pub enum Input {
     /// (without `provenance` and `digest`) and what made it.
     Sealed {
         content: Map<String, Value>,
-        provenance: Provenance,
+        provenance: Box<Provenance>,
     },
 }
 
@@ -212,7 +212,7 @@ impl Folder<'_> {
         }
         Ok(Input::Sealed {
             content,
-            provenance,
+            provenance: Box::new(provenance),
         })
     }
 }

@@ -212,17 +212,14 @@ pub fn record_of(s: &Summary, kind: &str, folder: &Path) -> Record {
         a.1 += 1;
     }
     let host = crate::spec::Place::here(None).host;
-    let id = format!(
-        "{}",
-        crate::digest::sha256_hex(
-            format!(
-                "{host}/{}/{at}/{:?}/{}",
-                std::process::id(),
-                std::time::SystemTime::now(),
-                folder.display()
-            )
-            .as_bytes()
+    let id = crate::digest::sha256_hex(
+        format!(
+            "{host}/{}/{at}/{:?}/{}",
+            std::process::id(),
+            std::time::SystemTime::now(),
+            folder.display()
         )
+        .as_bytes(),
     )[..24]
         .to_string();
     Record {

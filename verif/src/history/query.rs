@@ -105,13 +105,16 @@ pub fn signatures(db: &mut dyn Sql) -> Result<Vec<(String, String, String, u64)>
         .collect())
 }
 
-/// Per area, the coverage of each regression run in time order: (area, [(day, hit, total)]).
-pub fn areas(db: &mut dyn Sql) -> Result<Vec<(String, Vec<(String, u64, u64)>)>, HistoryError> {
+/// One test-plan area's coverage over time: (area, [(day, hit, total)]).
+pub type AreaSeries = (String, Vec<(String, u64, u64)>);
+
+/// Per area, the coverage of each regression run in time order.
+pub fn areas(db: &mut dyn Sql) -> Result<Vec<AreaSeries>, HistoryError> {
     let rows = db.query(
         "SELECT a.area, r.day, a.hit, a.total FROM pmu50_areas a JOIN pmu50_runs r ON r.id = a.run_id \
          WHERE r.kind <> 'signoff' ORDER BY a.area, r.at_unix, r.id",
     )?;
-    let mut out: Vec<(String, Vec<(String, u64, u64)>)> = Vec::new();
+    let mut out: Vec<AreaSeries> = Vec::new();
     for r in rows {
         let s = |i: usize| r.get(i).cloned().flatten().unwrap_or_default();
         let area = s(0);
