@@ -145,12 +145,14 @@ fn shards_merged_and_a_resumed_run_give_the_bytes_of_one_run() {
     // line, branch and toggle points, their files relative to the file list's folder
     for want in [
         "\u{1}f\u{2}rtl/timing_generator_56.v\u{1}",
-        "\u{1}page\u{2}v_line/",
-        "\u{1}page\u{2}v_branch/",
-        "\u{1}page\u{2}v_toggle/",
+        "\u{1}page\u{2}v_line\u{1}",
+        "\u{1}page\u{2}v_branch\u{1}",
+        "\u{1}page\u{2}v_toggle\u{1}",
     ] {
         assert!(dat.contains(want), "coverage.dat has {want:?}");
     }
+    // a point is its source construct: no module copy, no instance
+    assert!(!dat.contains("\u{1}h\u{2}") && !dat.contains("v_line/"));
     let sum: serde_json::Value = serde_json::from_str(&read(&code.join("summary.json"))).unwrap();
     assert_eq!(sum["format"], "pmu50-code-coverage-1");
     assert_eq!(sum["seeds"], 4);

@@ -64,7 +64,9 @@ fn fold(text: &str, base: &Path, raw: bool) -> (BTreeMap<Key, u64>, BTreeMap<Key
         let key = &l[3..end];
         let (up, down) = (key.contains(":0->1\u{1}"), key.contains(":1->0\u{1}"));
         if raw && (up || down) {
-            let k = key.replace(":0->1\u{1}", "\u{1}").replace(":1->0\u{1}", "\u{1}");
+            let k = key
+                .replace(":0->1\u{1}", "\u{1}")
+                .replace(":1->0\u{1}", "\u{1}");
             let e = dirs.entry(k.clone()).or_insert((0, 0, String::new()));
             if up {
                 e.0 += n;

@@ -8,8 +8,8 @@
 //!   a finding, with the output and the tick. An RTL Icarus 11 cannot read is not checked: the
 //!   row is missing with the reason.
 //! - [`structural`]: every flip-flop of the RTL is reset: yosys (`hierarchy -top pmu50; proc;
-//!   flatten; opt`) lists the `$dff`/`$dffe` cells (no reset, neither asynchronous nor
-//!   synchronous), each a finding named by its register and source line, unless a waiver says
+//!   flatten; opt`) lists the flip-flops without an asynchronous reset (nor a synchronous one by
+//!   `rst_n`), each a finding named by its register and source line, unless a waiver says
 //!   why it needs none. An RTL yosys 0.23 cannot read is not checked, with the reason.
 //!
 //! The output is sealed with its provenance; the sign-off row (`signoff_xprop`) reads it.
@@ -173,7 +173,7 @@ pub fn structural(list: &FileList, work: &Path) -> Result<CheckRun, String> {
         .arg("-q")
         .arg("-p")
         .arg(format!(
-            "{read}; hierarchy -top pmu50; proc; flatten; opt; select -set ff t:$dff t:$dffe; write_json -selected {}",
+            "{read}; hierarchy -top pmu50; proc; flatten; opt; write_json {}",
             json.display()
         ))
         .output()
@@ -207,8 +207,14 @@ pub fn structural(list: &FileList, work: &Path) -> Result<CheckRun, String> {
     })
 }
 
-/// The `$dff`/`$dffe` cells of a yosys JSON netlist, each by the register its Q drives (the
-/// netname holding its bits, a visible one first) and the cell's `src` (file:line).
+/// The flip-flop cells of yosys without an asynchronous reset. After `opt`, a register that
+/// is cleared on a condition is a `$sdff` (a synchronous reset): it counts as reset only when
+/// the condition is the reset port `rst_n`.
+const NO_ASYNC_RESET: [&str; 5] = ["$dff", "$dffe", "$sdff", "$sdffe", "$sdffce"];
+
+/// The flip-flops of a yosys JSON netlist without a reset (neither asynchronous nor by
+/// `rst_n`), each by the register its Q drives (the netname holding its bits, a visible one
+/// first) and the cell's `src` (file:line).
 pub fn unreset_flops(v: &serde_json::Value) -> Vec<Finding> {
     let mut out = std::collections::BTreeSet::new();
     let Some(mods) = v.get("modules").and_then(|m| m.as_object()) else {
@@ -219,9 +225,20 @@ pub fn unreset_flops(v: &serde_json::Value) -> Vec<Finding> {
         let Some(cells) = m.get("cells").and_then(|c| c.as_object()) else {
             continue;
         };
+        // the reset port's bit: a synchronous reset by it is a reset
+        let rst_bit = nets
+            .and_then(|n| n.get("rst_n"))
+            .and_then(|d| d.pointer("/bits/0"))
+            .cloned();
         for c in cells.values() {
             let ty = c.get("type").and_then(|t| t.as_str()).unwrap_or("");
-            if ty != "$dff" && ty != "$dffe" {
+            if !NO_ASYNC_RESET.contains(&ty) {
+                continue;
+            }
+            if ty.starts_with("$sdff")
+                && rst_bit.is_some()
+                && c.pointer("/connections/SRST/0").cloned() == rst_bit
+            {
                 continue;
             }
             let q = c.pointer("/connections/Q").cloned().unwrap_or_default();
@@ -237,7 +254,11 @@ pub fn unreset_flops(v: &serde_json::Value) -> Vec<Finding> {
                         })
                         .map(|(k, d)| (k, d.get("hide_name").and_then(|h| h.as_u64()) == Some(1)))
                         .collect();
-                    names.sort_by_key(|(k, hidden)| (*hidden, k.len()));
+                    // the register itself (its bits are Q's), a visible name, the shortest
+                    names.sort_by_key(|(k, hidden)| {
+                        let exact = n[k.as_str()].get("bits") != Some(&q);
+                        (exact, *hidden, k.len())
+                    });
                     names.first().map(|(k, _)| k.to_string())
                 })
                 .unwrap_or_default();
@@ -246,7 +267,7 @@ pub fn unreset_flops(v: &serde_json::Value) -> Vec<Finding> {
                 .and_then(|s| s.as_str())
                 .unwrap_or("")
                 .split('|')
-                .next()
+                .next_back()
                 .unwrap_or("")
                 .to_string();
             let (file, line) = src

@@ -297,7 +297,8 @@ mod tests {
             format!("\u{1}f\u{2}/r/m.sv\u{1}l\u{2}40\u{1}n\u{2}3\u{1}page\u{2}{page}\u{1}o\u{2}cnt[3]\u{1}h\u{2}{h}")
         };
         let base = Some(Path::new("/r"));
-        let want = "\u{1}f\u{2}m.sv\u{1}l\u{2}40\u{1}n\u{2}3\u{1}page\u{2}v_toggle\u{1}o\u{2}cnt[3]";
+        let want =
+            "\u{1}f\u{2}m.sv\u{1}l\u{2}40\u{1}n\u{2}3\u{1}page\u{2}v_toggle\u{1}o\u{2}cnt[3]";
         for page in [
             "v_toggle/m",
             "v_toggle/m__S1_Cc_CBz1",
@@ -336,7 +337,10 @@ mod tests {
             .map(|(id, n)| (Point::parse(&key_of(id)).comment, n))
             .collect();
         assert_eq!(got["x"], 0);
-        assert_eq!(got["y"], 0, "a change in each of two instances is no toggle");
+        assert_eq!(
+            got["y"], 0,
+            "a change in each of two instances is no toggle"
+        );
         assert_eq!(got["z"], 1);
     }
 }
