@@ -183,11 +183,7 @@ fn a_lint_waiver_waives_its_warning_until_its_line_changes() {
     });
     let f = t.join("rtl/rtl/timing_generator_56.v");
     let src = std::fs::read_to_string(&f).unwrap();
-    let line = src
-        .lines()
-        .position(|l| l.contains("spare_net"))
-        .unwrap() as u32
-        + 1;
+    let line = src.lines().position(|l| l.contains("spare_net")).unwrap() as u32 + 1;
     let out = expect(
         &pmu50(&["lint", "--rtl", s(&rtl), "--out", s(&t.join("l.json"))]),
         1,
@@ -251,11 +247,7 @@ fn a_lint_waiver_waives_its_warning_until_its_line_changes() {
         &["0 warning(s) not waived"],
     );
     // the waived line edited: stale, the warning counts again
-    std::fs::write(
-        &f,
-        src.replace("spare_net = sig;", "spare_net = !sig;"),
-    )
-    .unwrap();
+    std::fs::write(&f, src.replace("spare_net = sig;", "spare_net = !sig;")).unwrap();
     let out = expect(
         &pmu50(&[
             "lint",
