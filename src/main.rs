@@ -70,6 +70,17 @@ enum Cmd {
     /// Write the provenance and digest of a JSON file of evidence (for the scripts that make
     /// them), or verify one (`--check`).
     Seal(cli::seal::Args),
+    /// Lint of an RTL (Verilator -Wall --lint-only and yosys check), each warning waived with a
+    /// reviewed reason or counted; a sealed report for the sign-off. Exit 0 clean, 1 warnings
+    /// not waived (or a check could not run), 2 bad input
+    Lint(cli::lint::Args),
+    /// X-propagation of an RTL: a 4-state simulation (Icarus) of regression seeds with inputs X
+    /// while they may float, no output X after reset; and every flip-flop reset (yosys). A
+    /// sealed report for the sign-off. Exit 0 clean, 1 findings (or a check could not run), 2
+    /// bad input
+    Xprop(cli::xprop::Args),
+    /// Waivers (code coverage, lint, X): `refresh` writes the checksums of those checked again
+    Waivers(cli::waivers::Args),
     /// What the regression reads of an RTL, as JSON: the top's parameters, the values it fixes
     /// (read back through the bus after reset) and the contract check. Exit 2 on a bad RTL.
     RtlInfo(cli::rtl_info::Args),
@@ -143,6 +154,9 @@ fn main() -> ExitCode {
         Cmd::RtlFiles(a) => cli::rtl_files::run(a),
         Cmd::RtlInfo(a) => cli::rtl_info::run(a),
         Cmd::Seal(a) => cli::seal::run(a),
+        Cmd::Lint(a) => cli::lint::run(a),
+        Cmd::Xprop(a) => cli::xprop::run(a),
+        Cmd::Waivers(a) => cli::waivers::run(a),
         Cmd::Merge(a) => cli::merge::run(a),
         Cmd::Signoff(a) => cli::signoff::run(a),
         Cmd::Closure(a) => cli::closure::run(a),

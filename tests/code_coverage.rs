@@ -94,12 +94,24 @@ fn read(p: &Path) -> String {
     std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
-const WAIVERS: &str = r#"# the wrapper's register, renamed
+/// The waivers of the renamed twin in `rtl`: the timer's high bits, reviewed on its source as
+/// it is (the checksum of the lines naming `timer_q`).
+fn waivers(rtl: &Path) -> String {
+    let src = read(&rtl.join("rtl/timing_generator_56.v"));
+    let lines = pmu50_verif::waiver::lines_naming(&src, "timer_q");
+    format!(
+        r#"# the wrapper's register, renamed
 [[waiver]]
 file = "rtl/timing_generator_56.v"
 signal = "timer_q[15:8]"
 reason = "high bits of the timer: the seeds' intervals stay below 256 ticks"
-"#;
+kind = "LOW_RISK"
+reviewer = "the test"
+checksum = "{}"
+"#,
+        pmu50_verif::waiver::checksum(&src, &lines)
+    )
+}
 
 #[test]
 fn shards_merged_and_a_resumed_run_give_the_bytes_of_one_run() {
@@ -107,7 +119,7 @@ fn shards_merged_and_a_resumed_run_give_the_bytes_of_one_run() {
     let cache = t.join("cache");
     let list = other_rtl(&t.join("rtl"));
     let w = t.join("waivers.toml");
-    std::fs::write(&w, WAIVERS).unwrap();
+    std::fs::write(&w, waivers(&t.join("rtl"))).unwrap();
     let base = [
         "--dut",
         "verilator",
@@ -133,12 +145,14 @@ fn shards_merged_and_a_resumed_run_give_the_bytes_of_one_run() {
     // line, branch and toggle points, their files relative to the file list's folder
     for want in [
         "\u{1}f\u{2}rtl/timing_generator_56.v\u{1}",
-        "\u{1}page\u{2}v_line/",
-        "\u{1}page\u{2}v_branch/",
-        "\u{1}page\u{2}v_toggle/",
+        "\u{1}page\u{2}v_line\u{1}",
+        "\u{1}page\u{2}v_branch\u{1}",
+        "\u{1}page\u{2}v_toggle\u{1}",
     ] {
         assert!(dat.contains(want), "coverage.dat has {want:?}");
     }
+    // a point is its source construct: no module copy, no instance
+    assert!(!dat.contains("\u{1}h\u{2}") && !dat.contains("v_line/"));
     let sum: serde_json::Value = serde_json::from_str(&read(&code.join("summary.json"))).unwrap();
     assert_eq!(sum["format"], "pmu50-code-coverage-1");
     assert_eq!(sum["seeds"], 4);
@@ -237,6 +251,18 @@ fn a_bad_waivers_file_is_refused_with_its_file_line_and_field() {
             "[[waiver]]\nfile = \"rtl/timing_generator_56.v\"\nline = 3\nreason = \"a reason long enough\"\nholds = \" \"\n",
             ":5: field `holds`: empty",
         ),
+        (
+            "[[waiver]]\nfile = \"rtl/timing_generator_56.v\"\nline = 3\nreason = \"a reason long enough\"\nreviewer = \"me\"\n",
+            ":1: field `kind`: missing: the kind of waiver, one of UNR, NON_RTL, UNSUPPORTED, EXTERNAL, LOW_RISK",
+        ),
+        (
+            "[[waiver]]\nfile = \"rtl/timing_generator_56.v\"\nline = 3\nreason = \"a reason long enough\"\nkind = \"unr\"\nreviewer = \"me\"\n",
+            ":5: field `kind`: `unr` is not a kind of waiver",
+        ),
+        (
+            "[[waiver]]\nfile = \"rtl/timing_generator_56.v\"\nline = 3\nreason = \"a reason long enough\"\nkind = \"UNR\"\n",
+            ":1: field `reviewer`: missing",
+        ),
     ];
     for (i, (text, want)) in cases.iter().enumerate() {
         let w = t.join(format!("bad{i}.toml"));
@@ -313,4 +339,83 @@ fn the_twins_waivers_are_valid_and_give_each_its_reason() {
             x.at
         );
     }
+}
+
+#[test]
+fn editing_a_waived_line_makes_its_waiver_stale_in_the_next_signoff() {
+    let t = tmp("stale");
+    let cache = t.join("cache");
+    let list = other_rtl(&t.join("rtl"));
+    let w = t.join("waivers.toml");
+    std::fs::write(&w, waivers(&t.join("rtl"))).unwrap();
+    let args = |out: &Path| {
+        let o = regress(
+            &[
+                "--dut",
+                "verilator",
+                "--code-coverage",
+                "--rtl",
+                s(&list),
+                "--waivers",
+                s(&w),
+                "--iterations",
+                "1",
+            ],
+            out,
+            &cache,
+        );
+        expect(&o, 0, &["1 seeds, 1 pass"])
+    };
+    let before = t.join("before");
+    let said = args(&before);
+    assert!(
+        said.contains("waived rtl/timing_generator_56.v signal timer_q[15:8]: 8 point(s)"),
+        "{said}"
+    );
+    let so = expect(
+        &pmu50(&["signoff", s(&before)]),
+        1,
+        &["code toggle coverage"],
+    );
+    assert!(!so.contains("stale"), "{so}");
+    // its claim is not proven (no coverage proofs), and the row says so, naming the waiver
+    assert!(
+        so.contains("waivers.toml:2 (rtl/timing_generator_56.v signal timer_q[15:8], LOW_RISK)"),
+        "{so}"
+    );
+    // an edit of a line naming the waived signal: the waiver no longer applies
+    let f = t.join("rtl/rtl/timing_generator_56.v");
+    let src = read(&f);
+    let at = src.find("timer_q <= 16'd0;").expect("the timer's reset");
+    std::fs::write(
+        &f,
+        format!(
+            "{}timer_q <= 16'h0000;{}",
+            &src[..at],
+            &src[at + "timer_q <= 16'd0;".len()..]
+        ),
+    )
+    .unwrap();
+    let after = t.join("after");
+    let said = args(&after);
+    assert!(
+        said.contains("does not apply, stale: its lines changed since its review"),
+        "{said}"
+    );
+    let so = expect(
+        &pmu50(&["signoff", s(&after)]),
+        1,
+        &["code toggle coverage"],
+    );
+    let row = so
+        .lines()
+        .find(|l| l.starts_with("code toggle coverage"))
+        .unwrap();
+    assert!(
+        row.contains("MISSED") && row.contains("stale") && row.contains("timing_generator_56.v"),
+        "{row}"
+    );
+    let sum: serde_json::Value =
+        serde_json::from_str(&read(&after.join("code/summary.json"))).unwrap();
+    assert_eq!(sum["toggle"]["waived"], 0, "a stale waiver waives nothing");
 }

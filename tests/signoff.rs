@@ -40,9 +40,10 @@ fn code_summary(line: (u64, u64), toggle: (u64, u64)) -> String {
         format!(r#"{{"hit": {hit}, "total": {total}, "waived": 0, "pct": 100.0}}"#)
     };
     format!(
-        r#"{{"format": "pmu50-code-coverage-1", "seeds": 3, "seeds_unaccounted": 0, "line": {}, "toggle": {}, "files": [], "waivers": [], "waivers_file": ""}}"#,
+        r#"{{"format": "pmu50-code-coverage-1", "seeds": 3, "seeds_unaccounted": 0, "line": {}, "toggle": {}, "expr": {}, "expr_measured": true, "files": [], "waivers": [], "waivers_file": ""}}"#,
         count(line),
-        count(toggle)
+        count(toggle),
+        count((40, 40))
     )
 }
 
@@ -82,6 +83,32 @@ fn complete(dir: &Path) {
         &dir.join("formal.json"),
         FORMAL,
         "hdl/formal/run.py",
+        &twin(),
+        None,
+    );
+    // lint and X: clean reports of the twin, as `pmu50 lint` and `pmu50 xprop` write them
+    // (tests/xprop_lint.rs runs the commands themselves)
+    let clean =
+        |tool: &str| format!(r#"{{"tool": "{tool}", "ran": true, "reason": "", "findings": []}}"#);
+    sealed(
+        &dir.join("lint.json"),
+        &format!(
+            r#"{{"format": "pmu50-lint-1", "checks": [{}, {}], "unwaived": [], "waivers": [], "waivers_file": ""}}"#,
+            clean("verilator -Wall --lint-only"),
+            clean("yosys check")
+        ),
+        "pmu50 lint",
+        &twin(),
+        None,
+    );
+    sealed(
+        &dir.join("xprop.json"),
+        &format!(
+            r#"{{"format": "pmu50-xprop-1", "seeds": 1, "checks": [{}, {}], "unwaived": [], "waivers": [], "waivers_file": ""}}"#,
+            clean("icarus 4-state"),
+            clean("yosys flip-flop reset")
+        ),
+        "pmu50 xprop",
         &twin(),
         None,
     );

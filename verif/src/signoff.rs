@@ -27,7 +27,7 @@ use crate::criterion::{
     content_as, fmt_pct, missing, share_row, Criterion, Figure, Folder, Input, Row, Thresholds,
 };
 use crate::error::RegressError;
-use crate::proofs::{BinStatus, ClaimStatus, ProofBin, Proofs};
+use crate::proofs::{BinStatus, ProofBin, Proofs};
 use crate::provenance::RtlId;
 use crate::summary::Summary;
 use serde::Deserialize;
@@ -245,28 +245,15 @@ impl Criterion for Code {
             Err(why) => return Ok(missing(name, format!("{} %", fmt_pct(min)), why)),
         };
         let fig = if self.toggle { &c.toggle } else { &c.line };
-        // the waivers of this row's kind whose claims the coverage proofs decided
+        // the waivers of this row's kind, each shown to hold (crate::signoff_waivers)
         let kind = if self.toggle { "signal " } else { "line" };
-        let proofs = Proofs::read(f)?.map(|p| p.waivers).unwrap_or_default();
-        let (mut claimed, mut unproven) = (0, Vec::new());
-        for w in &c.waivers {
-            let (file, what) = (w.file.as_str(), w.what.as_str());
-            if !what.starts_with(kind) {
-                continue;
-            }
-            if let Some(p) = proofs.iter().find(|p| p.file == file && p.what == what) {
-                claimed += 1;
-                match p.status {
-                    ClaimStatus::Proven => {}
-                    ClaimStatus::Refuted => {
-                        unproven.push(format!("{file} {what}: `{}` refuted", p.holds))
-                    }
-                    ClaimStatus::Undecided => {
-                        unproven.push(format!("{file} {what}: `{}` undecided", p.holds))
-                    }
-                }
-            }
-        }
+        let proofs = Proofs::read(f)?.ok().map(|p| p.waivers);
+        let unproven = crate::signoff_waivers::problems(&c, kind, proofs.as_deref());
+        let claimed = c
+            .waivers
+            .iter()
+            .filter(|w| w.what.starts_with(kind) && w.holds.is_some())
+            .count();
         let mut r = share_row(
             name,
             fig.hit,
@@ -279,7 +266,7 @@ impl Criterion for Code {
                 if claimed > 0 {
                     format!(
                         ", {} of their {claimed} claims proven",
-                        claimed - unproven.len()
+                        claimed.saturating_sub(unproven.len())
                     )
                 } else {
                     String::new()
@@ -290,7 +277,7 @@ impl Criterion for Code {
         if !unproven.is_empty() {
             // a waiver whose claim does not hold excludes points it should not
             r.met = false;
-            r.detail += &format!("; claims not proven: {}", unproven.join(", "));
+            r.detail += &format!("; waivers not shown to hold: {}", unproven.join("; "));
         }
         if c.seeds_unaccounted > 0 {
             r.met = false;
@@ -420,6 +407,9 @@ pub fn criteria() -> Vec<Box<dyn Criterion>> {
         Box::new(Undecided),
         Box::new(Code { toggle: false }),
         Box::new(Code { toggle: true }),
+        Box::new(crate::signoff_expr::Expression),
+        Box::new(crate::signoff_lint::Lint),
+        Box::new(crate::signoff_xprop::XProp),
         Box::new(Properties),
         Box::new(Seeds),
         Box::new(crate::signoff_soak::Soak),

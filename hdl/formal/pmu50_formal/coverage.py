@@ -164,7 +164,13 @@ def load_claims(path, files):
                 "%s: waiver %d: file %r names %d files of the RTL (one is valid)"
                 % (path, k + 1, name, len(src))
             )
-        what = ("signal " + w["signal"]) if "signal" in w else ("line %s" % w.get("line"))
+        what = (
+            ("signal " + w["signal"])
+            if "signal" in w
+            else ("expr %s" % w["expr"])
+            if "expr" in w
+            else ("line %s" % w.get("line"))
+        )
         out.append(
             dict(
                 label="waiver_%d" % (k + 1),

@@ -15,9 +15,10 @@
 //   DUT_PARAMS(X)     X("NAME", value) per Verilog parameter the build set
 // With no map, the register and internal lists are empty: nothing of the inside is read.
 //
-// A build with code coverage (Verilator's `--coverage-line --coverage-toggle`, VM_COVERAGE=1)
-// counts per DUT handle (each has its own VerilatedContext): pmu50_dut_cov_write writes the
-// counts of one handle, from its reset on, as a Verilator coverage.dat.
+// A build with code coverage (Verilator's `--coverage-line --coverage-toggle`, and
+// `--coverage-expr` with a Verilator that has it; VM_COVERAGE=1) counts per DUT handle (each has
+// its own VerilatedContext): pmu50_dut_cov_write writes the counts of one handle, from its reset
+// on, as a Verilator coverage.dat, a record per instance.
 //
 // A tick is two evaluations, as the Verilog bench's clock: the inputs of cycle k with clk low
 // (the mapped internals of the cycle settle), then the rising edge k+1 (outputs, registers).
@@ -191,6 +192,9 @@ PMU50_DUT_API uint32_t pmu50_dut_has_coverage() { return VM_COVERAGE ? 1 : 0; }
 /// 0 written, -1 not a coverage build.
 PMU50_DUT_API int pmu50_dut_cov_write(void *d, const char *path) {
 #if VM_COVERAGE
+    // a record per instance: a toggle is the changes of one instance's bit (the kit halves each
+    // record before it adds the instances of a module), not the sum of two instances' changes
+    static_cast<Dut *>(d)->ctx.coveragep()->forcePerInstance(true);
     static_cast<Dut *>(d)->ctx.coveragep()->write(path);
     return 0;
 #else

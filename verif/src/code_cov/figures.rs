@@ -48,6 +48,8 @@ pub struct FileFigures {
     pub file: String,
     pub line: Count,
     pub toggle: Count,
+    #[serde(default)]
+    pub expr: Count,
 }
 
 /// A waiver and what it excluded.
@@ -63,6 +65,23 @@ pub struct WaiverUse {
     /// Of those, points the seeds covered all the same (a toggle waived as constant that
     /// toggled: the waiver's reason is wrong).
     pub covered: u64,
+    /// Its kind (`UNR`, `NON_RTL`, `UNSUPPORTED`, `EXTERNAL`, `LOW_RISK`) and reviewer.
+    #[serde(default)]
+    pub kind: String,
+    #[serde(default)]
+    pub reviewer: String,
+    /// Its claim (`holds`), proven by the coverage proofs.
+    #[serde(default)]
+    pub holds: Option<String>,
+    /// The source lines it covers (`12-14,40`) and their checksum now.
+    #[serde(default)]
+    pub lines: String,
+    #[serde(default)]
+    pub checksum: String,
+    /// Why it does not apply (stale: its lines changed since its review; or no checksum): its
+    /// points count as not waived.
+    #[serde(default)]
+    pub stale: Option<String>,
 }
 
 /// `code/summary.json`: the code coverage of a folder after its waivers.
@@ -80,6 +99,15 @@ pub struct CodeSummary {
     pub line: Count,
     /// Toggle points (one bit of a signal): rose and fell within one seed's run.
     pub toggle: Count,
+    /// Expression terms (Verilator's `--coverage-expr`, `v_expr`: one row of an expression's
+    /// truth table, continuous `assign`s included): seen at least once. A build without
+    /// expression coverage has none (`expr_measured` false).
+    #[serde(default)]
+    pub expr: Count,
+    /// Whether the builds measured expression coverage (a Verilator with `--coverage-expr` on
+    /// continuous assignments: the coverage builds' Verilator, docs/verification.md).
+    #[serde(default)]
+    pub expr_measured: bool,
     pub files: Vec<FileFigures>,
     pub waivers: Vec<WaiverUse>,
     /// The waivers file the figures apply: `code/waivers.toml` of the folder (a copy of the
@@ -102,10 +130,56 @@ impl CodeReport {
     pub fn build(c: &Collected, waivers: &Waivers, base: Option<PathBuf>) -> CodeReport {
         let mut files: BTreeMap<String, FileFigures> = BTreeMap::new();
         let mut points: BTreeMap<String, Vec<(Point, u64, Option<usize>)>> = BTreeMap::new();
+        // the file each waiver is in, as the points name it, and its source now
+        let point_files: std::collections::BTreeSet<String> = c
+            .total
+            .counts
+            .keys()
+            .map(|k| Point::parse(k).file)
+            .filter(|f| !f.is_empty())
+            .collect();
+        let review = |w: &Waiver| -> (String, String, Option<String>) {
+            let found = point_files.iter().find(|f| file_matches(f, &w.file));
+            let source = found.and_then(|f| {
+                let p = Path::new(f);
+                let p = match &base {
+                    Some(b) if p.is_relative() => b.join(p),
+                    _ => p.to_path_buf(),
+                };
+                std::fs::read_to_string(p).ok()
+            });
+            match source {
+                None => (
+                    String::new(),
+                    String::new(),
+                    Some(format!(
+                        "stale: its file {} is not a file of the run's RTL that can be read",
+                        w.file
+                    )),
+                ),
+                Some(src) => {
+                    let lines = w.lines(&src);
+                    let now = crate::waiver::checksum(&src, &lines);
+                    let stale = crate::waiver::current(&w.review, &src, &lines)
+                        .err()
+                        .map(|e| {
+                            format!(
+                                "{e}; lines {} of {}",
+                                crate::waiver::ranges(&lines),
+                                found.map_or("", |f| f.as_str())
+                            )
+                        });
+                    (crate::waiver::ranges(&lines), now, stale)
+                }
+            }
+        };
+        let reviews: Vec<(String, String, Option<String>)> =
+            waivers.list.iter().map(review).collect();
         let mut uses: Vec<WaiverUse> = waivers
             .list
             .iter()
-            .map(|w| WaiverUse {
+            .zip(&reviews)
+            .map(|(w, (lines, checksum, stale))| WaiverUse {
                 file: w.file.clone(),
                 what: w.what(),
                 reason: match &w.holds {
@@ -118,40 +192,63 @@ impl CodeReport {
                 at: w.at,
                 points: 0,
                 covered: 0,
+                kind: w.review.kind.name().to_string(),
+                reviewer: w.review.reviewer.clone(),
+                holds: w.holds.clone(),
+                lines: lines.clone(),
+                checksum: checksum.clone(),
+                stale: stale.clone(),
             })
             .collect();
-        let (mut line, mut toggle) = (Count::default(), Count::default());
+        let (mut line, mut toggle, mut expr) =
+            (Count::default(), Count::default(), Count::default());
         for (k, &n) in &c.total.counts {
             let p = Point::parse(k);
             if p.kind == Kind::Other {
                 continue;
             }
-            let by = waivers.list.iter().position(|w| w.covers(&p));
+            // a stale waiver does not apply: its points count
+            let matching = waivers.list.iter().position(|w| w.covers(&p));
             let covered = p.covered(n);
-            if let Some(i) = by {
+            if let Some(i) = matching {
                 uses[i].points += 1;
                 uses[i].covered += u64::from(covered);
             }
+            let by = matching.filter(|&i| reviews[i].2.is_none());
             let f = files.entry(p.file.clone()).or_insert_with(|| FileFigures {
                 file: p.file.clone(),
                 ..Default::default()
             });
-            if p.kind == Kind::Toggle {
-                f.toggle.add(covered, by.is_some());
-                toggle.add(covered, by.is_some());
-            } else {
-                f.line.add(covered, by.is_some());
-                line.add(covered, by.is_some());
+            match p.kind {
+                Kind::Toggle => {
+                    f.toggle.add(covered, by.is_some());
+                    toggle.add(covered, by.is_some());
+                }
+                Kind::Expr => {
+                    f.expr.add(covered, by.is_some());
+                    expr.add(covered, by.is_some());
+                }
+                _ => {
+                    f.line.add(covered, by.is_some());
+                    line.add(covered, by.is_some());
+                }
             }
             points.entry(p.file.clone()).or_default().push((p, n, by));
         }
         line.finish();
         toggle.finish();
+        expr.finish();
+        let expr_measured = c
+            .total
+            .counts
+            .keys()
+            .any(|k| k.contains("\u{1}page\u{2}v_expr"));
         let files: Vec<FileFigures> = files
             .into_values()
             .map(|mut f| {
                 f.line.finish();
                 f.toggle.finish();
+                f.expr.finish();
                 f
             })
             .collect();
@@ -163,6 +260,8 @@ impl CodeReport {
                 seeds_unaccounted: c.unaccounted,
                 line,
                 toggle,
+                expr,
+                expr_measured,
                 files,
                 waivers: uses,
                 waivers_file: waivers.origin.clone(),
@@ -209,20 +308,33 @@ impl CodeReport {
     pub fn text(&self) -> String {
         let s = &self.summary;
         let mut t = format!(
-            "code coverage: line {}/{} ({:.2} %), toggle {}/{} ({:.2} %) over {} seed(s); {} line and {} toggle point(s) waived by {} waiver(s) of {}\n",
+            "code coverage: line {}/{} ({:.2} %), toggle {}/{} ({:.2} %), {} over {} seed(s); {} line, {} toggle and {} expression point(s) waived by {} waiver(s) of {}\n",
             s.line.hit,
             s.line.total,
             s.line.pct,
             s.toggle.hit,
             s.toggle.total,
             s.toggle.pct,
+            if s.expr_measured {
+                format!("expression {}/{} ({:.2} %)", s.expr.hit, s.expr.total, s.expr.pct)
+            } else {
+                "expression not measured (a Verilator without --coverage-expr on continuous assignments)".to_string()
+            },
             s.seeds,
             s.line.waived,
             s.toggle.waived,
+            s.expr.waived,
             s.waivers.len(),
             if s.waivers_file.is_empty() { "(none)" } else { &s.waivers_file },
         );
         for w in &s.waivers {
+            if let Some(st) = &w.stale {
+                t.push_str(&format!(
+                    "  waiver {}:{} ({} {}) does not apply, {st}\n",
+                    s.waivers_file, w.at, w.file, w.what
+                ));
+                continue;
+            }
             t.push_str(&format!(
                 "  waived {} {}: {} point(s){}: {}\n",
                 w.file,

@@ -92,21 +92,21 @@ pub fn render_html(r: &CodeReport) -> String {
             missed_t
         );
         // the bits that did not toggle
-        // by instance and signal, the bits as ranges: `cnt[15:12] (pmu50.u_cnt)`
-        let mut by_signal: BTreeMap<(String, String), Vec<Option<u32>>> = BTreeMap::new();
+        // by signal (and its declaration's line), the bits as ranges: `cnt[15:12] (line 40)`
+        let mut by_signal: BTreeMap<(u32, String), Vec<Option<u32>>> = BTreeMap::new();
         for (p, _, _) in pts
             .iter()
             .filter(|(p, n, by)| p.kind == Kind::Toggle && by.is_none() && !p.covered(*n))
         {
             let (sig, bit) = p.signal();
             by_signal
-                .entry((p.hier.clone(), demangle(sig)))
+                .entry((p.line, demangle(sig)))
                 .or_default()
                 .push(bit);
         }
         let bits: usize = by_signal.values().map(Vec::len).sum();
         let mut untoggled: Vec<String> = Vec::new();
-        for ((hier, sig), mut v) in by_signal {
+        for ((at, sig), mut v) in by_signal {
             v.sort_unstable_by(|a, b| b.cmp(a));
             let mut i = 0;
             while i < v.len() {
@@ -118,9 +118,9 @@ pub fn render_html(r: &CodeReport) -> String {
                     j += 1;
                 }
                 untoggled.push(match (v[i], v[j]) {
-                    (Some(hi), Some(lo)) if hi != lo => format!("{sig}[{hi}:{lo}] ({hier})"),
-                    (Some(b), _) => format!("{sig}[{b}] ({hier})"),
-                    (None, _) => format!("{sig} ({hier})"),
+                    (Some(hi), Some(lo)) if hi != lo => format!("{sig}[{hi}:{lo}] (line {at})"),
+                    (Some(b), _) => format!("{sig}[{b}] (line {at})"),
+                    (None, _) => format!("{sig} (line {at})"),
                 });
                 i = j + 1;
             }
@@ -135,6 +135,27 @@ pub fn render_html(r: &CodeReport) -> String {
             h.push_str(&shown.join(", "));
             if untoggled.len() > MISSES_SHOWN {
                 let _ = write!(h, " and {} more", untoggled.len() - MISSES_SHOWN);
+            }
+            h.push_str("</p>\n");
+        }
+        // the expression terms never seen
+        let terms: Vec<String> = pts
+            .iter()
+            .filter(|(p, n, by)| p.kind == Kind::Expr && by.is_none() && !p.covered(*n))
+            .map(|(p, _, _)| format!("<code>{}: {}</code>", p.line, esc(&p.comment)))
+            .collect();
+        if !terms.is_empty() {
+            let _ = write!(h, "<p>Expression terms not seen ({}): ", terms.len());
+            h.push_str(
+                &terms
+                    .iter()
+                    .take(MISSES_SHOWN)
+                    .cloned()
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            );
+            if terms.len() > MISSES_SHOWN {
+                let _ = write!(h, " and {} more", terms.len() - MISSES_SHOWN);
             }
             h.push_str("</p>\n");
         }

@@ -7,8 +7,9 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 /// The first line of a Verilator coverage file.
 pub(super) const DAT_HEADER: &str = "# SystemC::Coverage-3";
-/// The changes Verilator counts for one rise-and-fall of a bit (a toggle point's count in the
-/// folder is a seed's changes divided by this, summed over the seeds).
+/// The changes Verilator (before 5.038) counts for one rise-and-fall of a bit (a toggle point's
+/// count in the folder is a seed's changes divided by this, summed over the seeds; a newer
+/// Verilator counts rises and falls apart, and the count is the smaller of the two).
 pub const TOGGLE_CHANGES: u64 = 2;
 
 /// The point keys of this process, each numbered once: a seed's counts are (number, count).
@@ -56,20 +57,24 @@ pub struct SeedCode {
     pub points: Arc<Vec<u32>>,
 }
 
-/// A key as the folder keeps it: its `f` field relative to `base` (the file list's folder, so
-/// that the keys of one RTL are the same on every machine), and its `page`
-/// without the suffix Verilator gives a module per parameter set (`updown_counter_58cd__C10`,
-/// `register_file__pi1`), so that a source line's point is one point whatever the parameters
-/// of the build that counted it.
+/// A key as the folder keeps it, one point per source construct whatever the build that
+/// counted it: its `f` field relative to `base` (the file list's folder, so that the keys of one
+/// RTL are the same on every machine); its `page` cut to the kind (`v_line`, `v_branch`,
+/// `v_toggle`, `v_expr`), without the module Verilator names the page after, whose name carries
+/// the parameters of the copy (`pmu_regbank__S1_Cc_CBz1`, `updown_counter__C10`, `m__pi3`,
+/// `m__Dz2`, a generate block's copy); and without the instance (`h`). A point is so the file,
+/// line, column, kind and comment (the block kind, the signal and bit of a toggle, the
+/// condition of an expression term) Verilator gives it, with the source lines it covers (`S`).
 pub fn normalise(key: &str, base: Option<&Path>) -> String {
     key.split('\u{1}')
+        .filter(|field| !field.starts_with("h\u{2}"))
         .map(|field| {
             if let Some(f) = field.strip_prefix("f\u{2}") {
                 if let Some(rel) = base.and_then(|b| Path::new(f).strip_prefix(b).ok()) {
                     return format!("f\u{2}{}", rel.display());
                 }
             } else if let Some(page) = field.strip_prefix("page\u{2}") {
-                return format!("page\u{2}{}", strip_param_suffix(page));
+                return format!("page\u{2}{}", page_kind(page));
             }
             field.to_string()
         })
@@ -77,23 +82,9 @@ pub fn normalise(key: &str, base: Option<&Path>) -> String {
         .join("\u{1}")
 }
 
-/// `v_line/m__C10` and `v_line/m__pi3` are `v_line/m`.
-pub(super) fn strip_param_suffix(page: &str) -> &str {
-    if let Some(i) = page.rfind("__") {
-        let tail = &page[i + 2..];
-        let param = tail
-            .strip_prefix("pi")
-            .filter(|t| !t.is_empty() && t.chars().all(|c| c.is_ascii_digit()))
-            .is_some()
-            || tail
-                .strip_prefix('C')
-                .filter(|t| !t.is_empty() && t.chars().all(|c| c.is_ascii_alphanumeric()))
-                .is_some();
-        if param {
-            return &page[..i];
-        }
-    }
-    page
+/// `v_line/m__S1_Cc` is `v_line`.
+pub(super) fn page_kind(page: &str) -> &str {
+    page.split_once('/').map_or(page, |(k, _)| k)
 }
 
 /// One line of a coverage.dat: `C '<key>' <count>`.
@@ -113,7 +104,12 @@ pub fn read_counts(path: &Path, base: Option<&Path>) -> Result<Vec<(u32, u64)>, 
             path.display()
         )
     })?;
-    let mut v = Vec::new();
+    // the records of several instances, and of several copies of a module, fold into one point
+    let mut v: std::collections::BTreeMap<u32, u64> = std::collections::BTreeMap::new();
+    // a Verilator from 5.038 counts a bit's rises and falls apart (`o` = `cnt[3]:0->1`,
+    // `cnt[3]:1->0`): by instance record, (rises, falls)
+    let mut directed: std::collections::BTreeMap<String, (u64, u64)> =
+        std::collections::BTreeMap::new();
     for (n, l) in text.lines().enumerate() {
         if l.is_empty() || l.starts_with('#') {
             continue;
@@ -125,15 +121,53 @@ pub fn read_counts(path: &Path, base: Option<&Path>) -> Result<Vec<(u32, u64)>, 
                 n + 1
             )
         })?;
-        // a toggle point: rise-and-fall pairs, not changes
-        let c = if k.contains("\u{1}page\u{2}v_toggle/") {
+        // a toggle point: rise-and-fall pairs of one instance's bit, not changes (the DUT
+        // writes a record per instance)
+        let c = if k.contains("\u{1}page\u{2}v_toggle") {
+            if let Some((bit, rise)) = direction(k) {
+                let e = directed.entry(bit).or_insert((0, 0));
+                if rise {
+                    e.0 = e.0.saturating_add(c);
+                } else {
+                    e.1 = e.1.saturating_add(c);
+                }
+                continue;
+            }
             c / TOGGLE_CHANGES
         } else {
             c
         };
-        v.push((intern(&normalise(k, base)), c));
+        let e = v.entry(intern(&normalise(k, base))).or_insert(0);
+        *e = e.saturating_add(c);
     }
-    Ok(v)
+    for (k, (rise, fall)) in directed {
+        let e = v.entry(intern(&normalise(&k, base))).or_insert(0);
+        *e = e.saturating_add(rise.min(fall));
+    }
+    Ok(v.into_iter().collect())
+}
+
+/// A toggle record of one direction (`o` = `cnt[3]:0->1` or `cnt[3]:1->0`): the key of the bit
+/// (`o` = `cnt[3]`) and whether it counts rises.
+pub(super) fn direction(key: &str) -> Option<(String, bool)> {
+    let mut rise = None;
+    let fields: Vec<String> = key
+        .split('\u{1}')
+        .map(|f| {
+            if let Some(o) = f.strip_prefix("o\u{2}") {
+                if let Some(b) = o.strip_suffix(":0->1") {
+                    rise = Some(true);
+                    return format!("o\u{2}{b}");
+                }
+                if let Some(b) = o.strip_suffix(":1->0") {
+                    rise = Some(false);
+                    return format!("o\u{2}{b}");
+                }
+            }
+            f.to_string()
+        })
+        .collect();
+    rise.map(|r| (fields.join("\u{1}"), r))
 }
 
 /// The kind of a point (its `page`).
@@ -145,6 +179,9 @@ pub enum Kind {
     Branch,
     /// One bit of a signal (`v_toggle`).
     Toggle,
+    /// One term of an expression's truth table (`v_expr`, Verilator's `--coverage-expr`): the
+    /// inputs' values that decide the result, and the result.
+    Expr,
     /// Anything else (user coverage): counted in coverage.dat, not in the figures.
     Other,
 }
@@ -180,8 +217,6 @@ pub struct Point {
     pub kind: Kind,
     /// The block kind (`block`, `if`, `else`, `case`) or the signal and bit (`cnt[3]`).
     pub comment: String,
-    /// The instance.
-    pub hier: String,
     /// The source lines of a block (`S`), as ranges; the point's line when absent.
     pub lines: Vec<(u32, u32)>,
 }
@@ -193,7 +228,6 @@ impl Point {
             line: 0,
             kind: Kind::Other,
             comment: String::new(),
-            hier: String::new(),
             lines: Vec::new(),
         };
         for field in key.split('\u{1}') {
@@ -204,18 +238,15 @@ impl Point {
                 "f" => p.file = value.to_string(),
                 "l" => p.line = value.parse().unwrap_or(0),
                 "page" => {
-                    p.kind = if value.starts_with("v_line/") {
-                        Kind::Line
-                    } else if value.starts_with("v_branch/") {
-                        Kind::Branch
-                    } else if value.starts_with("v_toggle/") {
-                        Kind::Toggle
-                    } else {
-                        Kind::Other
+                    p.kind = match page_kind(value) {
+                        "v_line" => Kind::Line,
+                        "v_branch" => Kind::Branch,
+                        "v_toggle" => Kind::Toggle,
+                        "v_expr" => Kind::Expr,
+                        _ => Kind::Other,
                     }
                 }
                 "o" => p.comment = value.to_string(),
-                "h" => p.hier = value.to_string(),
                 "S" => {
                     p.lines = value
                         .split(',')
@@ -253,5 +284,63 @@ impl Point {
             }
         }
         (c, None)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn copies_and_instances_of_a_module_fold_into_one_point() {
+        let k = |page: &str, h: &str| {
+            format!("\u{1}f\u{2}/r/m.sv\u{1}l\u{2}40\u{1}n\u{2}3\u{1}page\u{2}{page}\u{1}o\u{2}cnt[3]\u{1}h\u{2}{h}")
+        };
+        let base = Some(Path::new("/r"));
+        let want =
+            "\u{1}f\u{2}m.sv\u{1}l\u{2}40\u{1}n\u{2}3\u{1}page\u{2}v_toggle\u{1}o\u{2}cnt[3]";
+        for page in [
+            "v_toggle/m",
+            "v_toggle/m__S1_Cc_CBz1",
+            "v_toggle/m__C10",
+            "v_toggle/m__pi3",
+            "v_toggle/m__Dz2",
+        ] {
+            assert_eq!(normalise(&k(page, "top.u_a"), base), want, "{page}");
+        }
+        assert_eq!(normalise(&k("v_toggle/m", "top.g[1].u_b"), base), want);
+    }
+
+    #[test]
+    fn toggles_are_paired_per_instance_record() {
+        let dir = tempfile::tempdir().unwrap();
+        let rec = |o: &str, h: &str, n: u64| {
+            format!("C '\u{1}f\u{2}m.sv\u{1}l\u{2}4\u{1}page\u{2}v_toggle/m\u{1}o\u{2}{o}\u{1}h\u{2}{h}' {n}\n")
+        };
+        // instance a only rises, instance b only falls: no toggle, though the module's bit
+        // rose and fell; instance c rose twice and fell once: one
+        let text = format!(
+            "{DAT_HEADER}\n{}{}{}{}{}{}",
+            rec("x:0->1", "t.a", 1),
+            rec("x:1->0", "t.a", 0),
+            rec("x:0->1", "t.b", 0),
+            rec("x:1->0", "t.b", 1),
+            rec("y", "t.a", 1),
+            rec("y", "t.b", 1),
+        ) + &rec("z:0->1", "t.c", 2)
+            + &rec("z:1->0", "t.c", 1);
+        let p = dir.path().join("c.dat");
+        std::fs::write(&p, text).unwrap();
+        let got: std::collections::BTreeMap<String, u64> = read_counts(&p, None)
+            .unwrap()
+            .into_iter()
+            .map(|(id, n)| (Point::parse(&key_of(id)).comment, n))
+            .collect();
+        assert_eq!(got["x"], 0);
+        assert_eq!(
+            got["y"], 0,
+            "a change in each of two instances is no toggle"
+        );
+        assert_eq!(got["z"], 1);
     }
 }

@@ -86,8 +86,9 @@ impl Total {
 
     /// LCOV tracefile data: per file, `DA:<line>,<count>` for each source line of a block or
     /// branch (the largest count of the points holding the line), `BRDA:<line>,0,<n>,<count>`
-    /// for each branch and `BRDA:<line>,1,<n>,<count>` for each toggle bit (block 1: toggles,
-    /// `<count>` the bit's rise-and-fall pairs), with the LF/LH/BRF/BRH totals. Waivers are not
+    /// for each branch, `BRDA:<line>,1,<n>,<count>` for each toggle bit (block 1: toggles,
+    /// `<count>` the bit's rise-and-fall pairs) and `BRDA:<line>,2,<n>,<count>` for each
+    /// expression term (block 2), with the LF/LH/BRF/BRH totals. Waivers are not
     /// applied.
     pub fn lcov(&self) -> String {
         struct F {
@@ -117,6 +118,7 @@ impl Total {
                     }
                 }
                 Kind::Toggle => f.br.push((p.line, 1, n)),
+                Kind::Expr => f.br.push((p.line, 2, n)),
                 Kind::Other => {}
             }
         }

@@ -1,4 +1,5 @@
-//! Waivers of code coverage points (`waivers.toml`): what each waives, why, and its claim.
+//! Waivers of code coverage points (`waivers.toml`): what each waives, why, its claim, and its
+//! review ([`crate::waiver::Review`]: kind, reviewer, the checksum of the lines it covers).
 
 use super::points::*;
 use serde::{Deserialize, Serialize};
@@ -29,6 +30,8 @@ pub enum Target {
         name: String,
         bits: Option<(u32, u32)>,
     },
+    /// The expression terms (`v_expr`) of these lines (first, last).
+    Expr(u32, u32),
 }
 
 /// One waiver.
@@ -45,14 +48,26 @@ pub struct Waiver {
     pub holds: Option<String>,
     /// Its line in the waivers file.
     pub at: usize,
+    /// Kind, reviewer and the checksum of its lines as reviewed.
+    pub review: crate::waiver::Review,
 }
 
 impl Waiver {
+    /// The source lines it covers in `source` (its file): its lines, or those naming its signal.
+    pub fn lines(&self, source: &str) -> Vec<u32> {
+        match &self.target {
+            Target::Lines(a, b) | Target::Expr(a, b) => (*a..=*b).collect(),
+            Target::Signal { name, .. } => crate::waiver::lines_naming(source, name),
+        }
+    }
+
     /// The target as written: `40`, `40-45`, `cnt`, `cnt[15:4]`.
     pub fn what(&self) -> String {
         match &self.target {
             Target::Lines(a, b) if a == b => format!("line {a}"),
             Target::Lines(a, b) => format!("lines {a}-{b}"),
+            Target::Expr(a, b) if a == b => format!("expr {a}"),
+            Target::Expr(a, b) => format!("expr {a}-{b}"),
             Target::Signal { name, bits: None } => format!("signal {name}"),
             Target::Signal {
                 name,
@@ -72,6 +87,7 @@ impl Waiver {
         }
         match &self.target {
             Target::Lines(a, b) => p.is_line() && (*a..=*b).contains(&p.line),
+            Target::Expr(a, b) => p.kind == Kind::Expr && (*a..=*b).contains(&p.line),
             Target::Signal { name, bits } => {
                 if p.kind != Kind::Toggle {
                     return false;
@@ -118,6 +134,10 @@ pub(super) struct RawWaiver {
     pub(super) signal: Option<toml::Spanned<String>>,
     pub(super) reason: Option<toml::Spanned<String>>,
     pub(super) holds: Option<toml::Spanned<String>>,
+    pub(super) expr: Option<toml::Spanned<toml::Value>>,
+    pub(super) kind: Option<toml::Spanned<String>>,
+    pub(super) reviewer: Option<toml::Spanned<String>>,
+    pub(super) checksum: Option<toml::Spanned<String>>,
 }
 
 /// The line (from 1) of byte `at` of `text`.
@@ -216,16 +236,28 @@ impl Waivers {
                 return Err(field_err(reason_line, "reason", format!("`{reason}` is too short: say why the point cannot or need not be covered (at least 10 characters)")));
             }
             let target_line;
-            let target = match (w.line, w.signal) {
+            let (line_field, is_expr) = match (w.line, w.expr) {
+                (Some(_), Some(e)) => {
+                    return Err(field_err(
+                        line_at(text, e.span().start),
+                        "expr",
+                        "a waiver has one of `line`, `expr` or `signal`".into(),
+                    ))
+                }
+                (Some(l), None) => (Some(l), false),
+                (None, Some(e)) => (Some(e), true),
+                (None, None) => (None, false),
+            };
+            let target = match (line_field, w.signal) {
                 (Some(_), Some(s)) => {
                     return Err(field_err(
                         line_at(text, s.span().start),
                         "signal",
-                        "a waiver has either `line` or `signal`, not both".into(),
+                        "a waiver has one of `line`, `expr` or `signal`".into(),
                     ))
                 }
                 (None, None) => {
-                    return Err(field_err(at, "line", "missing: give `line` (a line, 42, or a range, \"40-45\") or `signal` (a toggled signal, \"cnt\" or \"cnt[15:4]\")".into()))
+                    return Err(field_err(at, "line", "missing: give `line` (a line, 42, or a range, \"40-45\"), `expr` (the expression terms of a line or range) or `signal` (a toggled signal, \"cnt\" or \"cnt[15:4]\")".into()))
                 }
                 (Some(l), None) => {
                     let ll = line_at(text, l.span().start);
@@ -252,7 +284,11 @@ impl Waivers {
                         }
                         _ => return Err(bad()),
                     };
-                    Target::Lines(a, b)
+                    if is_expr {
+                        Target::Expr(a, b)
+                    } else {
+                        Target::Lines(a, b)
+                    }
                 }
                 (None, Some(s)) => {
                     let sl = line_at(text, s.span().start);
@@ -309,7 +345,7 @@ impl Waivers {
                 };
                 let source = std::fs::read_to_string(src).unwrap_or_default();
                 match &target {
-                    Target::Lines(_, b) => {
+                    Target::Lines(_, b) | Target::Expr(_, b) => {
                         let n = source.lines().count() as u32;
                         if *b > n {
                             return Err(field_err(
@@ -349,12 +385,47 @@ impl Waivers {
                 Some(h) => Some(h.into_inner().trim().to_string()),
                 None => None,
             };
+            let kind = w.kind.ok_or_else(|| {
+                field_err(
+                    at,
+                    "kind",
+                    format!(
+                        "missing: the kind of waiver, one of {}",
+                        crate::waiver::Kind::ALL
+                            .map(crate::waiver::Kind::name)
+                            .join(", ")
+                    ),
+                )
+            })?;
+            let kind = crate::waiver::Kind::parse(kind.get_ref())
+                .map_err(|e| field_err(line_at(text, kind.span().start), "kind", e))?;
+            let reviewer = w
+                .reviewer
+                .map(|r| r.into_inner().trim().to_string())
+                .filter(|r| !r.is_empty())
+                .ok_or_else(|| {
+                    field_err(
+                        at,
+                        "reviewer",
+                        "missing: who reviewed the waiver (a name or a handle)".into(),
+                    )
+                })?;
+            let checksum = w
+                .checksum
+                .map(|c| c.into_inner().trim().to_string())
+                .unwrap_or_default();
             list.push(Waiver {
                 file,
                 target,
                 reason: reason.trim().to_string(),
                 holds,
                 at,
+                review: crate::waiver::Review {
+                    kind,
+                    reason: reason.trim().to_string(),
+                    reviewer,
+                    checksum,
+                },
             });
         }
         Ok(Waivers {

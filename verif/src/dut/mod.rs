@@ -25,6 +25,7 @@
 mod api;
 mod failure;
 mod run;
+pub mod vtool;
 
 /// The backends: a file of this folder each, and a row here. The macro declares each file's
 /// module and lists its `BACKEND` row in [`BACKENDS`], in this order (the order `--help` shows).

