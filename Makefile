@@ -363,4 +363,4 @@ regress-slurm: $(BIN)
 ## Kubernetes manifest's command per JOB_COMPLETION_INDEX; says in one line why it skips (not root).
 test-slurm: $(BIN)
 	cluster/test_slurm.sh $(BIN)
-	$(PYTHON3) cluster/k8s/test_manifest.py $(BIN)
+	PYTHONPATH=cluster $(PYTHON3) cluster/k8s/test_manifest.py $(BIN)

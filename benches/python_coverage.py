@@ -1,6 +1,8 @@
 """Cost of sampling the coverage model from Python, per edge (docs/python.md, "Coverage").
 
-    target/venv/bin/python benches/python_coverage.py [EDGES]     (after `make python`)
+    PYTHONPATH=python/tests target/venv/bin/python benches/python_coverage.py [EDGES]
+
+(after `make python`; python/tests holds the shared stimulus).
 
 Steps a core EDGES times (default 100 000) with the shared stimulus of
 python/tests/test_coverage.py, four ways: Core.step, Coverage.step, Core.step_traced and
@@ -11,13 +13,10 @@ from __future__ import annotations
 
 import sys
 import time
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python" / "tests"))
+from test_coverage import CONFIG, stimulus
 
-from test_coverage import CONFIG, stimulus  # noqa: E402
-
-import pmu50  # noqa: E402
+import pmu50
 
 
 def main() -> None:

@@ -9,7 +9,7 @@ one-process run of the same seeds, and every result line must name its index.
 A pod run again for an index (after a failure) resumes that index's folder, and an index past
 the last one must be refused (exit 2).
 
-  python3 cluster/k8s/test_manifest.py [PMU50_BIN]     exit 0 pass, 1 fail
+  PYTHONPATH=cluster python3 cluster/k8s/test_manifest.py [PMU50_BIN]     exit 0 pass, 1 fail
 """
 
 import os
@@ -19,10 +19,10 @@ import subprocess
 import sys
 import tempfile
 
+import compare  # cluster/compare.py (PYTHONPATH=cluster)
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 MANIFEST = os.path.join(HERE, "pmu50-regress-job.yaml")
-sys.path.insert(0, os.path.dirname(HERE))
-import compare  # noqa: E402  (cluster/compare.py)
 
 
 def fail(msg):
