@@ -155,6 +155,10 @@ pub struct Bias {
     pub pins: Pins,
     /// Parameters the RTL under test fixes itself (its top lacks them): every seed keeps them.
     pub fixed: Fixed,
+    /// The regression's pool of parameter sets (`--param-sets`): every seed takes its reset
+    /// values, structure and clock from one of them ([`ParamSet::pick`]). Empty: each seed
+    /// draws its own.
+    pub pool: Vec<ParamSet>,
 }
 
 /// The Verilog parameters a knob draws (or sets): a knob is not drawn when the RTL under test
@@ -201,6 +205,218 @@ pub struct Pins {
     pub cnt_width: Option<u8>,
 }
 
+/// The length of a long quiet run that does not saturate CNTr at the minimum: at the top of the
+/// 16-bit range (`past_16_bits`), or climbing to x in T2 = 1 steps.
+fn quiet_ticks(p: &Params, past_16_bits: bool) -> u64 {
+    let (x, min) = (u64::from(p.si_max), u64::from(p.si_min));
+    if past_16_bits {
+        3 * x + (u64::from(p.cth) + 2) * min + u64::from(p.wt())
+    } else {
+        2 * x + (x.saturating_sub(min) + 2) * x
+    }
+}
+
+/// What a stimulus that starts from reset needs of the reset values: the long quiet runs and the
+/// long durations have the key off from the first tick (no write can set a register before
+/// them), and the skip-and-clear race counts its samples from reset. A regression's pool holds a
+/// set of each shape any of its seeds could want (`crate::param_pool`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Shape {
+    /// CNTr saturated at the minimum interval: Cth = 255, adaptive, x above min.
+    QuietSat,
+    /// The interval at the top of the 16-bit range: x just below 65535, T1 = 65535, min + T2
+    /// past 65535, Cth <= 4, adaptive.
+    Quiet16,
+    /// The interval climbing to x in T2 = 1 steps past Cth <= 4, after one rotation that takes
+    /// it from x to min (adaptive, T1 > x - min), over a span of 300 ticks or more, so that
+    /// CNTr passes its 8-bit saturation on the way.
+    QuietT2,
+    /// Long durations, the window of 40000 ticks or more (min >= 40000).
+    LongWindow,
+    /// Long durations, x of 40000 or more above a short min.
+    LongSpan,
+    /// The skip-and-clear race: smp_on = 40 from reset.
+    Race,
+}
+
+impl Shape {
+    pub const ALL: [Shape; 6] = [
+        Shape::QuietSat,
+        Shape::Quiet16,
+        Shape::QuietT2,
+        Shape::LongWindow,
+        Shape::LongSpan,
+        Shape::Race,
+    ];
+
+    /// Whether the reset values `p` have this shape.
+    pub fn holds(self, p: &Params) -> bool {
+        let (x, min) = (u64::from(p.si_max), u64::from(p.si_min));
+        match self {
+            Shape::QuietSat => p.cth == 255 && p.adaptive && x > min,
+            Shape::Quiet16 => {
+                p.adaptive
+                    && x >= 65_034
+                    && p.t1 == u16::MAX
+                    && min + u64::from(p.t2) > 65_535
+                    && p.cth <= 4
+            }
+            Shape::QuietT2 => {
+                p.adaptive && p.t2 == 1 && p.cth <= 4 && x >= min + 300 && u64::from(p.t1) > x - min
+            }
+            Shape::LongWindow => min >= 40_000,
+            Shape::LongSpan => x >= 40_000 && min < 40_000,
+            Shape::Race => u64::from(p.smp_on) == RACE_SMP_ON,
+        }
+    }
+}
+
+/// One parameter set of a regression's pool: the reset values and structure (one build of the
+/// RTL) and the clock period of the seeds that draw it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ParamSet {
+    pub params: Params,
+    pub clock_us: u64,
+}
+
+impl ParamSet {
+    /// The indices of the configuration bins (`config.*`) this set hits from reset.
+    pub fn config_bins(&self) -> Vec<usize> {
+        let cov = pmu50_coverage::Coverage::new(&self.params, self.clock_us * 1000);
+        config_indices()
+            .iter()
+            .copied()
+            .filter(|&i| cov.hits()[i] > 0)
+            .collect()
+    }
+
+    /// The shapes of [`Shape::ALL`] it has.
+    pub fn shapes(&self) -> Vec<Shape> {
+        Shape::ALL
+            .into_iter()
+            .filter(|s| s.holds(&self.params))
+            .collect()
+    }
+
+    /// One line: `SYNC_DEPTH=2 CNT_W=16 ... clock 10 us`.
+    pub fn text(&self) -> String {
+        let mut t: Vec<String> = self
+            .params
+            .hdl_parameters()
+            .iter()
+            .map(|(n, v)| format!("{n}={v}"))
+            .collect();
+        t.push(format!("clock {} us", self.clock_us));
+        t.join(" ")
+    }
+
+    /// The set of `pool` a seed draws: one with the shape its stimulus needs from reset (when
+    /// one has it), then the one that has most of the configuration bins its knobs asked for;
+    /// between sets that tie, one chosen by the seed, so the seeds spread over the pool.
+    pub fn pick<'a>(
+        pool: &'a [ParamSet],
+        seed: u64,
+        want: &Params,
+        clock_us: u64,
+        knobs: &[Knob],
+        shape: Option<Shape>,
+    ) -> &'a ParamSet {
+        let l = pmu50_coverage::layout();
+        let wanted = ParamSet {
+            params: *want,
+            clock_us,
+        };
+        // the configuration bins the seed's knobs asked for
+        let asked: Vec<usize> = wanted
+            .config_bins()
+            .into_iter()
+            .filter(|&i| {
+                l.bins[i]
+                    .aim
+                    .knobs()
+                    .iter()
+                    .any(|n| knob_named(n).is_some_and(|k| knobs.contains(&k)))
+            })
+            .collect();
+        let score = |s: &ParamSet| -> u64 {
+            let bins = s.config_bins();
+            let shaped = shape.is_some_and(|h| h.holds(&s.params));
+            u64::from(shaped) * 1000 + asked.iter().filter(|i| bins.contains(i)).count() as u64
+        };
+        let scores: Vec<u64> = pool.iter().map(score).collect();
+        let best = scores.iter().copied().max().unwrap_or(0);
+        let ties: Vec<&ParamSet> = pool
+            .iter()
+            .zip(&scores)
+            .filter(|(_, &sc)| sc == best)
+            .map(|(s, _)| s)
+            .collect();
+        let mut r = Rng::new(seed ^ 0x504f_4f4c_5345_5400);
+        ties[r.range(0, ties.len() as u64 - 1) as usize]
+    }
+}
+
+/// The indices (in the model's order) of the bins of the configuration points.
+pub fn config_indices() -> &'static [usize] {
+    static IDX: std::sync::OnceLock<Vec<usize>> = std::sync::OnceLock::new();
+    IDX.get_or_init(|| {
+        use pmu50_coverage::model::{Sampled, POINTS};
+        let l = pmu50_coverage::layout();
+        POINTS
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.sampled == Sampled::Config)
+            .flat_map(|(k, p)| (0..p.bins.len()).map(move |b| l.point_offset[k] + b))
+            .collect()
+    })
+}
+
+impl serde::Serialize for ParamSet {
+    /// `{"SYNC_DEPTH": 2, ..., "SMP_ON": 10, "clock_us": 10}`.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(None)?;
+        for (n, v) in self.params.hdl_parameters() {
+            m.serialize_entry(n, &v)?;
+        }
+        m.serialize_entry("clock_us", &self.clock_us)?;
+        m.end()
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for ParamSet {
+    /// Every parameter of the table and `clock_us`, a legal set; another field, a missing one or
+    /// an illegal set is refused with the reason.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let m = std::collections::BTreeMap::<String, u64>::deserialize(d)?;
+        let mut p = Params::default();
+        let mut clock_us = None;
+        for (k, v) in &m {
+            if k == "clock_us" {
+                clock_us = Some(*v);
+            } else {
+                p.set_hdl_parameter(k, *v)
+                    .map_err(|e| D::Error::custom(format!("a parameter set: {e}")))?;
+            }
+        }
+        for n in pmu50_core::params::HDL_NAMES {
+            if !m.contains_key(*n) {
+                return Err(D::Error::custom(format!("a parameter set lacks `{n}`")));
+            }
+        }
+        let clock_us = clock_us
+            .filter(|c| (1..=1_000_000).contains(c))
+            .ok_or_else(|| D::Error::custom("a parameter set needs `clock_us` in 1..=1000000"))?;
+        p.validate()
+            .map_err(|e| D::Error::custom(format!("a parameter set is illegal: {e}")))?;
+        Ok(ParamSet {
+            params: p,
+            clock_us,
+        })
+    }
+}
+
 impl Bias {
     /// Uniform random: every knob at its base probability.
     pub fn uniform() -> Bias {
@@ -209,6 +425,7 @@ impl Bias {
             targets: Vec::new(),
             pins: Pins::default(),
             fixed: Fixed::default(),
+            pool: Vec::new(),
         }
     }
 
@@ -229,6 +446,14 @@ impl Bias {
     /// The same bias with these structural parameters held.
     pub fn pinned(self, pins: Pins) -> Bias {
         Bias { pins, ..self }
+    }
+
+    /// The same bias drawing every seed's parameters from `pool` (empty: each seed its own).
+    pub fn pooled(self, pool: &[ParamSet]) -> Bias {
+        Bias {
+            pool: pool.to_vec(),
+            ..self
+        }
     }
 
     /// The same bias for an RTL that fixes these parameters: the knobs that need one of them
@@ -254,6 +479,7 @@ impl Bias {
             targets,
             pins: self.pins,
             fixed: fixed.clone(),
+            pool: self.pool,
         }
     }
 
@@ -271,6 +497,7 @@ impl Bias {
             targets: sets,
             pins: Pins::default(),
             fixed: Fixed::default(),
+            pool: Vec::new(),
         }
     }
 
@@ -476,7 +703,7 @@ impl Stimulus {
         // held structural parameters (they do not take part in legality)
         p.sync_depth = bias.pins.sync_depth.unwrap_or(p.sync_depth);
         p.cnt_width = bias.pins.cnt_width.unwrap_or(p.cnt_width);
-        let clock_us = if on(ClockFast) {
+        let mut clock_us = if on(ClockFast) {
             5
         } else if on(ClockSlow) {
             20
@@ -487,11 +714,11 @@ impl Stimulus {
         // CNTr up to its saturation ([0248]): after a rotation, quiet pulses with the key off,
         // either at the minimum interval with Cth = 255 (S9 holds si), or climbing to x in T2 = 1
         // steps (S10 each pulse past Cth).
-        let saturate_at_min = on(LongQuiet) && r.percent(50);
+        let mut saturate_at_min = on(LongQuiet) && r.percent(50);
         // Or at the top of the 16-bit range (docs/spec.md 2.6): x just below 65535, T1 = 65535
         // so that S6's si - T1 saturates at 0 before its clamp to min, and T2 so large that
         // S10's si + T2 from min passes 65535 before its clamp to x.
-        let past_16_bits = on(LongQuiet)
+        let mut past_16_bits = on(LongQuiet)
             && !saturate_at_min
             && ["SI_MAX", "SI_MIN", "ADAPTIVE"]
                 .iter()
@@ -506,13 +733,11 @@ impl Stimulus {
                 p.si_min = r.range(20_000, 40_000).max(u64::from(p.wt()) + 1) as u16;
                 p.t2 = (65_536 - u64::from(p.si_min) + r.range(0, 1_000)).min(65_535) as u16;
                 p.cth = p.cth.min(4);
-                let (x, min) = (u64::from(p.si_max), u64::from(p.si_min));
-                ticks = 3 * x + (u64::from(p.cth) + 2) * min + u64::from(p.wt());
+                ticks = quiet_ticks(&p, true);
             } else {
                 p.t2 = 1;
                 p.cth = p.cth.min(4);
-                let span = u64::from(p.si_max - p.si_min);
-                ticks = 2 * u64::from(p.si_max) + (span + 2) * u64::from(p.si_max);
+                ticks = quiet_ticks(&p, false);
             }
             // one rotation takes si from x to min
             p.t1 = if past_16_bits {
@@ -543,6 +768,72 @@ impl Stimulus {
         if on(CthTop) && !on(LongQuiet) {
             p.cth = own_stream(seed, 17).range(64, 255) as u8;
         }
+        // A seed that races a skip against its W1C (below) wants its on-key period from reset.
+        let race_knobs = !on(Spin) && !on(LongQuiet) && !long && on(StatusWrites) && on(FastMoves);
+        let mut spin_write = None;
+        // What a seed whose knobs asked for register values writes at its first key-on, when
+        // its set of the pool has others.
+        let mut config_to: Option<Params> = None;
+        if !bias.pool.is_empty() {
+            let drawn = p;
+            // Build modes: the reset values, structure and clock come from the regression's pool,
+            // the set nearest to what the knobs drew; the modes that need values from reset
+            // follow the set, and a spin writes its sampling period at run time.
+            let want = if on(LongQuiet) {
+                Some(if saturate_at_min {
+                    Shape::QuietSat
+                } else if past_16_bits {
+                    Shape::Quiet16
+                } else {
+                    Shape::QuietT2
+                })
+            } else if long {
+                Some(if Shape::LongWindow.holds(&p) {
+                    Shape::LongWindow
+                } else {
+                    Shape::LongSpan
+                })
+            } else if race_knobs {
+                Some(Shape::Race)
+            } else {
+                None
+            };
+            let set = ParamSet::pick(&bias.pool, seed, &p, clock_us, &knobs, want);
+            p = set.params;
+            clock_us = set.clock_us;
+            let asks = knobs.iter().any(|&k| {
+                knob_params(k)
+                    .iter()
+                    .any(|n| !matches!(*n, "CNT_W" | "SYNC_DEPTH"))
+            });
+            let drawn = Params {
+                sync_depth: p.sync_depth,
+                cnt_width: p.cnt_width,
+                ..drawn
+            };
+            if asks && want.is_none() && drawn != p && drawn.validate().is_ok() {
+                config_to = Some(drawn);
+            }
+            if on(LongQuiet) {
+                saturate_at_min = Shape::QuietSat.holds(&p);
+                past_16_bits = !saturate_at_min && Shape::Quiet16.holds(&p);
+                if !saturate_at_min {
+                    ticks = quiet_ticks(&p, past_16_bits);
+                }
+            }
+            if on(Spin) {
+                ticks = (1u64 << p.cnt_width) * 9 + 2_000;
+                if p.smp_on != 1 {
+                    spin_write = Some(u64::from(p.sync_depth) + 1);
+                }
+            }
+            if long {
+                let mut c = own_stream(seed, 18);
+                let x = u64::from(p.si_max);
+                first_off = c.range(x + 100, x + 20_000);
+                ticks = first_off + c.range(50_000, 150_000);
+            }
+        }
         let vr_err = (r.range(0, 200) as i64 - 100, r.range(0, 200) as i64 - 100);
         let mut start_decideg = r.range(0, 3599);
         // A skip and the MPU's W1C of STATUS.quadrant_skip on the same edge (docs/spec.md 2.5:
@@ -550,12 +841,12 @@ impl Stimulus {
         // W1C of bit 5 while it is set: the key on from reset, on-key samples every
         // RACE_SMP_ON ticks from the edge where sig rises (edge SYNC_DEPTH), the shaft half a
         // turn between the first two of them, from the middle of a quadrant.
-        let race = !on(Spin)
-            && !on(LongQuiet)
-            && !long
-            && on(StatusWrites)
-            && on(FastMoves)
-            && bias.fixed.get("SMP_ON").is_none()
+        let race = race_knobs
+            && if bias.pool.is_empty() {
+                bias.fixed.get("SMP_ON").is_none()
+            } else {
+                Shape::Race.holds(&p)
+            }
             && r.percent(50);
         let mut race_events = Vec::new();
         let mut race_end = 0;
@@ -663,6 +954,16 @@ impl Stimulus {
             r.percent(50)
         };
         events.push((0, Action::Ig(ig)));
+        if let Some(at) = spin_write {
+            // the set's sampling period from reset: every tick from the edge after sig rises
+            events.push((
+                at,
+                Action::Write {
+                    reg: "SMP_ON",
+                    value: 1,
+                },
+            ));
+        }
         if on(Spin) || on(LongQuiet) {
             // nothing else: the key and the parameters hold for the whole run
             // the middle of a quadrant, so that each quarter turn crosses exactly one boundary
@@ -691,6 +992,16 @@ impl Stimulus {
         let mut at = race_end.max(first_off);
         // The register values in force as the timeline goes (for writes over the legal range).
         let mut cur = p;
+        // The values the writes are drawn against: the reset values, or those of the seed's
+        // first key-on writes.
+        let mut live = p;
+        if let Some(to) = config_to.filter(|_| ig) {
+            config_to = None;
+            let (w, end, after) = config_writes(&p, &to, u64::from(p.sync_depth) + 2);
+            events.extend(w);
+            (cur, live) = (after, to);
+            at = at.max(end);
+        }
         if long {
             // the key on after the long key-off stretch, then, once sig is up, a sweep of writes
             // that raises and lowers every bit of every duration register and of Cth
@@ -738,7 +1049,7 @@ impl Stimulus {
                 // x that si starts the key-off period with (docs/spec.md 2.6, si_max_nxt).
                 let d = u64::from(p.sync_depth);
                 if ig && len < d && r.percent(50) {
-                    let value = write_value(&mut r, "SI_MAX", &p, false);
+                    let value = write_value(&mut r, "SI_MAX", &live, false);
                     events.push((
                         at + d - 1,
                         Action::Write {
@@ -757,8 +1068,16 @@ impl Stimulus {
                     if ig && on(EarlyWrites) && r.percent(50) {
                         // a write in the tick the key turns on: sig is still 0 ([0205])
                         let reg = WRITABLE[r.range(0, WRITABLE.len() as u64 - 1) as usize];
-                        let value = write_value(&mut r, reg, &p, false);
+                        let value = write_value(&mut r, reg, &live, false);
                         events.push((at, Action::Write { reg, value }));
+                    }
+                    if let Some(to) = config_to.filter(|_| ig) {
+                        config_to = None;
+                        let from_at = at + u64::from(p.sync_depth) + 2;
+                        let (w, end, after) = config_writes(&cur, &to, from_at);
+                        events.extend(w);
+                        (cur, live) = (after, to);
+                        at = end;
                     }
                 }
                 5 if on(Faults) || r.percent(30) => {
@@ -777,7 +1096,7 @@ impl Stimulus {
                     let value = match wide.then(|| wide_value(&mut r, reg, &cur, on(IllegalWrites)))
                     {
                         Some(Some(v)) => v,
-                        _ => write_value(&mut r, reg, &p, on(IllegalWrites)),
+                        _ => write_value(&mut r, reg, &live, on(IllegalWrites)),
                     };
                     written(&mut cur, reg, value);
                     events.push((at, Action::Write { reg, value }));
@@ -1036,6 +1355,53 @@ fn written(p: &mut Params, reg: &str, value: u16) {
             *p = n;
         }
     }
+}
+
+/// The parameter registers in the order a seed's first key-on writes them.
+const CONFIG_REGS: [(&str, &str); 10] = [
+    ("CTRL", "ADAPTIVE"),
+    ("PW", "PW"),
+    ("PI", "PI"),
+    ("PS", "PS"),
+    ("SI_MAX", "SI_MAX"),
+    ("SI_MIN", "SI_MIN"),
+    ("T1", "T1"),
+    ("T2", "T2"),
+    ("CTH", "CTH"),
+    ("SMP_ON", "SMP_ON"),
+];
+
+/// The writes that take the registers from `from` to `to`, one a tick from tick `at`, each
+/// legal when it comes (a write the legality rules would refuse in between waits for the
+/// others: docs/spec.md 4); the tick after the last and the registers after them.
+fn config_writes(from: &Params, to: &Params, at: u64) -> (Vec<(u64, Action)>, u64, Params) {
+    let value = |p: &Params, hdl: &str| {
+        p.hdl_parameters()
+            .iter()
+            .find(|(n, _)| *n == hdl)
+            .map_or(0, |(_, v)| *v as u16)
+    };
+    let (mut cur, mut t, mut out) = (*from, at, Vec::new());
+    for _ in 0..CONFIG_REGS.len() {
+        let mut moved = false;
+        for (reg, hdl) in CONFIG_REGS {
+            let v = value(to, hdl);
+            if value(&cur, hdl) == v {
+                continue;
+            }
+            let before = cur;
+            written(&mut cur, reg, v);
+            if cur != before {
+                out.push((t, Action::Write { reg, value: v }));
+                t += 1;
+                moved = true;
+            }
+        }
+        if !moved {
+            break;
+        }
+    }
+    (out, t, cur)
 }
 
 /// A bus address outside the register map: a hole of the map (below 0x20) half the time, else

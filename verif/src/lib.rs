@@ -25,6 +25,7 @@ pub mod lockstep;
 pub mod map;
 pub mod merge;
 pub mod mutation;
+pub mod param_pool;
 mod picture;
 mod pool;
 pub mod provenance;

@@ -353,6 +353,26 @@ impl Dut for IcarusDut {
             })
     }
 
+    fn prebuild(&self, sets: &[crate::gen::ParamSet], jobs: usize) {
+        let mut todo: Vec<(Params, u64)> = Vec::new();
+        for s in sets {
+            let k = (self.fixed.apply(&s.params), s.clock_us * 1000);
+            if !todo.contains(&k) {
+                todo.push(k);
+            }
+        }
+        let next = std::sync::atomic::AtomicUsize::new(0);
+        std::thread::scope(|s| {
+            for _ in 0..jobs.max(1).min(todo.len()) {
+                s.spawn(|| loop {
+                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some((p, clock_ns)) = todo.get(k) else { break };
+                    let _ = self.compiled(p, *clock_ns);
+                });
+            }
+        });
+    }
+
     fn send<'a>(
         &'a self,
         sc: &Scenario,

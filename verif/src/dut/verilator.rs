@@ -899,6 +899,26 @@ impl Dut for VerilatorDut {
         }))
     }
 
+    fn prebuild(&self, sets: &[crate::gen::ParamSet], jobs: usize) {
+        let mut todo: Vec<Params> = Vec::new();
+        for s in sets {
+            let p = self.fixed.apply(&s.params);
+            if !todo.contains(&p) {
+                todo.push(p);
+            }
+        }
+        let next = std::sync::atomic::AtomicUsize::new(0);
+        std::thread::scope(|s| {
+            for _ in 0..jobs.max(1).min(todo.len()) {
+                s.spawn(|| loop {
+                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(p) = todo.get(k) else { break };
+                    let _ = self.library(p);
+                });
+            }
+        });
+    }
+
     fn take_code_coverage(&self, name: &str) -> Option<code_cov::SeedCode> {
         self.code
             .as_ref()?
