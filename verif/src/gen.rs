@@ -61,12 +61,17 @@ pub enum Knob {
     CthTop,
     /// The MPU reads bus addresses outside the register map.
     UnmappedReads,
+    /// Port-level stimuli that the bench's MPU and analog front never make: raw bus writes to
+    /// read-only and unmapped addresses (some in the tick the key turns on), words with high
+    /// bits past a register's width (a CTH write of 0x01xx), and Vs2's power-good leaking high
+    /// while the rail is off.
+    PortLevel,
 }
 
 use Knob::*;
 
 /// Every knob with its base probability in percent (uniform random).
-pub const KNOBS: [(Knob, u64); 38] = [
+pub const KNOBS: [(Knob, u64); 39] = [
     (NarrowCounter, 8),
     (Width3To7, 10),
     (Width8To15, 10),
@@ -105,11 +110,12 @@ pub const KNOBS: [(Knob, u64); 38] = [
     (LongDurations, 8),
     (CthTop, 8),
     (UnmappedReads, 8),
+    (PortLevel, 6),
 ];
 
 /// The knobs drawn from a stream of their own (`seed`, knob): adding one leaves the other
 /// knobs, and so the scenarios of the seeds that do not draw it, as they were.
-const OWN_STREAM: [Knob; 3] = [LongDurations, CthTop, UnmappedReads];
+const OWN_STREAM: [Knob; 4] = [LongDurations, CthTop, UnmappedReads, PortLevel];
 
 /// The stream of the corner draws of the [`OWN_STREAM`] knobs.
 fn own_stream(seed: u64, what: u64) -> Rng {
@@ -126,13 +132,16 @@ pub fn knob_named(name: &str) -> Option<Knob> {
 }
 
 /// The knobs that make a coverage bin likely, by the bin's full name: the hint declared with
-/// the bin in the coverage model (a cross: the knobs of both of its bins and the cross's own).
-/// None for a bin that seeds hit without a knob, that only port-level stimuli reach, that is
-/// declared unreachable, or that the model does not have.
+/// the bin in the coverage model (a cross: the knobs of both of its bins and the cross's own);
+/// [`Knob::PortLevel`] for a bin only port-level stimuli reach. None for a bin that seeds hit
+/// without a knob, that is declared unreachable, or that the model does not have.
 pub fn knobs_for(bin: &str) -> Vec<Knob> {
     let Some(b) = pmu50_coverage::layout().bins.iter().find(|b| b.name == bin) else {
         return Vec::new();
     };
+    if b.port_only && b.unreachable.is_none() {
+        return vec![PortLevel];
+    }
     let mut k: Vec<Knob> = b.aim.knobs().iter().filter_map(|n| knob_named(n)).collect();
     k.sort();
     k.dedup();
@@ -430,14 +439,14 @@ impl Bias {
     }
 
     /// Directed, from the coverage so far (hits in the model's order): every bin still empty
-    /// that can be hit and that scenario stimuli reach.
+    /// that can be hit.
     pub fn directed(hits: &[u64], pins: Pins) -> Bias {
         let l = pmu50_coverage::layout();
         Bias::from_missing(
             l.bins
                 .iter()
                 .zip(hits)
-                .filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only)
+                .filter(|(b, h)| **h == 0 && b.unreachable.is_none())
                 .map(|(b, _)| b.name.as_str()),
         )
         .pinned(pins)
@@ -555,6 +564,13 @@ pub enum Action {
     Read {
         addr: u8,
     },
+    /// A raw bus write: any address, any 16-bit word (port level).
+    BusWrite {
+        addr: u8,
+        data: u16,
+    },
+    /// Vs2's power-good leaks high while the rail is off (port level).
+    PgLeak(bool),
 }
 
 /// A generated scenario, structured.
@@ -1015,6 +1031,7 @@ impl Stimulus {
             }
         }
         events.extend(race_events);
+        let mut port = own_stream(seed, 19);
         let mut fault = false;
         if !race && on(Faults) && r.percent(25) {
             // a dead Vs2 rail from power-on: the first strobes find Sr = 0, so the first sample
@@ -1035,6 +1052,11 @@ impl Stimulus {
                     events.push((at + i, Action::Read { addr }));
                 }
                 at += 3;
+                continue;
+            }
+            if on(PortLevel) && port.percent(30) {
+                // what only a port-level bench does (own stream: the other draws stay)
+                at += port_level(&mut port, at, ticks.saturating_sub(2), &mut ig, &mut events);
                 continue;
             }
             let roll = r.range(0, 9);
@@ -1106,7 +1128,12 @@ impl Stimulus {
         }
         // One event of a kind per tick: a bus access (a write or a read) shares its tick only
         // with ig.
-        let bus = |a: &Action| matches!(a, Action::Write { .. } | Action::Read { .. });
+        let bus = |a: &Action| {
+            matches!(
+                a,
+                Action::Write { .. } | Action::Read { .. } | Action::BusWrite { .. }
+            )
+        };
         events.sort_by_key(|(t, a)| (*t, bus(a)));
         events.dedup_by(|b, a| {
             a.0 == b.0
@@ -1171,6 +1198,11 @@ impl Stimulus {
                     Action::Read { addr } => EventText::Read {
                         addr: u64::from(*addr),
                     },
+                    Action::BusWrite { addr, data } => EventText::BusWrite {
+                        addr: u64::from(*addr),
+                        data: u64::from(*data),
+                    },
+                    Action::PgLeak(v) => EventText::Vs2PgLeak(*v),
                 },
             );
         }
@@ -1357,6 +1389,80 @@ fn written(p: &mut Params, reg: &str, value: u16) {
     }
 }
 
+/// The read-only addresses of the register map (ID, VERSION, CFG, CNT_S, CNT_C, CNT_R, SI).
+const READ_ONLY: [u8; 7] = [0x00, 0x01, 0x0C, 0x10, 0x11, 0x12, 0x13];
+
+/// One port-level stimulus from tick `at` (`ig` the key's level, updated): a raw bus write to
+/// a read-only or an unmapped address (with the key on, or in the tick it turns on, when sig is
+/// still 0), a word with high bits past a register's width (CTH: 0x01xx, low byte 0 half the
+/// time, docs/spec.md 2.8; CTRL and STATUS likewise), or a stretch of Vs2's power-good leaking
+/// high while the rail is off; every event before tick `end`. Returns the ticks it takes.
+fn port_level(
+    r: &mut Rng,
+    at: u64,
+    end: u64,
+    ig: &mut bool,
+    events: &mut Vec<(u64, Action)>,
+) -> u64 {
+    if at + 12 >= end {
+        return 1;
+    }
+    match r.range(0, 3) {
+        0 => {
+            let len = r.range(50, 5_000).min(end - at - 1);
+            events.push((at, Action::PgLeak(true)));
+            events.push((at + len, Action::PgLeak(false)));
+            len + 1
+        }
+        k => {
+            if !*ig || r.percent(25) {
+                // in the tick the key turns on, sig still 0: refused, the key is off for the
+                // register file ([0205]); the key off long enough first for sig to fall
+                let on_at = if *ig {
+                    events.push((at, Action::Ig(false)));
+                    at + 10
+                } else {
+                    at
+                };
+                events.push((on_at, Action::Ig(true)));
+                *ig = true;
+                let addr = if r.percent(50) {
+                    READ_ONLY[r.range(0, READ_ONLY.len() as u64 - 1) as usize]
+                } else {
+                    unmapped_addr(r)
+                };
+                let data = r.range(0, 0xFFFF) as u16;
+                events.push((on_at, Action::BusWrite { addr, data }));
+                return on_at - at + 2;
+            }
+            let (addr, data) = match k {
+                1 if r.percent(50) => (
+                    READ_ONLY[r.range(0, READ_ONLY.len() as u64 - 1) as usize],
+                    r.range(0, 0xFFFF) as u16,
+                ),
+                1 => (unmapped_addr(r), r.range(0, 0xFFFF) as u16),
+                _ => {
+                    let high = (r.range(1, 0xFF) as u16) << 8;
+                    match r.range(0, 3) {
+                        0 | 1 => (
+                            0x0A,
+                            high | if r.percent(50) {
+                                0
+                            } else {
+                                r.range(1, 0xFF) as u16
+                            },
+                        ),
+                        2 => (0x02, high | r.range(0, 1) as u16),
+                        _ => (0x14, (high & 0xFC00) | r.range(0, 0x3FF) as u16),
+                    }
+                }
+            };
+            events.push((at, Action::BusWrite { addr, data }));
+            2
+        }
+    }
+}
+
 /// The parameter registers in the order a seed's first key-on writes them.
 const CONFIG_REGS: [(&str, &str); 10] = [
     ("CTRL", "ADAPTIVE"),
@@ -1472,12 +1578,16 @@ mod tests {
         let mut aimed = 0;
         for (i, b) in l.bins.iter().enumerate() {
             let want = knobs_for(&b.name);
-            if b.unreachable.is_some() || b.port_only {
+            if b.unreachable.is_some() {
                 assert!(
                     want.is_empty(),
                     "{}: a bin nothing aims at has knobs",
                     b.name
                 );
+                continue;
+            }
+            if b.port_only {
+                assert_eq!(want, vec![PortLevel], "{}", b.name);
                 continue;
             }
             assert_eq!(
