@@ -9,7 +9,7 @@
 //! (`code_cov`), the HDL kit (`hdl_kit`), and the records of a run re-exported below. The
 //! implementation (a seed's run, the pool, the build cache, triage, a folder's files) is private.
 
-mod cache;
+pub mod cache;
 pub mod check;
 pub mod code_cov;
 mod curve;

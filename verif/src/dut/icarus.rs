@@ -43,6 +43,9 @@ pub struct IcarusDut {
     compiles: Mutex<HashMap<String, Slot>>,
     scratch: tempfile::TempDir,
     notes: Vec<String>,
+    /// The leases of this RTL's cache folder and of every compile this run uses
+    /// ([`crate::cache`]).
+    leases: Mutex<Vec<std::fs::File>>,
 }
 
 impl IcarusDut {
@@ -80,6 +83,8 @@ impl IcarusDut {
             .join(format!("{:016x}", fnv(&refs)));
         std::fs::create_dir_all(&root)
             .map_err(|e| DutError::Tool(format!("{}: {e}", root.display())))?;
+        let rtl_lease = crate::cache::rtl_lease(&root, &fl.list)
+            .map_err(|e| DutError::Tool(format!("{}: {e}", root.display())))?;
         let tb = root.join(format!(
             "tb_vectors_{:016x}.v",
             fnv(&[TB_VECTORS.as_bytes()])
@@ -102,6 +107,7 @@ impl IcarusDut {
             compiles: Mutex::new(HashMap::new()),
             scratch,
             notes,
+            leases: Mutex::new(vec![rtl_lease]),
         };
         // Compiled once with the defaults: an RTL Icarus refuses fails now.
         let p = dut.fixed.apply(&Params {
@@ -143,17 +149,33 @@ impl IcarusDut {
             .entry(key.clone())
             .or_default()
             .clone();
-        slot.get_or_init(|| self.compile_now(&key, args)).clone()
+        slot.get_or_init(|| {
+            // leased, and compiled once under its lock (another process compiling it
+            // meanwhile is waited for)
+            let vvp = self.root.join(format!("{key}.vvp"));
+            let deps = self.root.join(format!("{key}.deps"));
+            let (lease, vvp) = crate::cache::obtain(
+                &vvp,
+                || (vvp.is_file() && crate::cache::files_unchanged(&deps)).then(|| vvp.clone()),
+                || self.compile_now(&key, args.clone()),
+            )?;
+            self.leases
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(lease);
+            crate::cache::trim_to_cap();
+            Ok(vvp)
+        })
+        .clone()
     }
 
-    fn compile_now(&self, key: &str, mut args: Vec<String>) -> Result<PathBuf, String> {
+    /// Compile `key` now into `<key>.vvp`, its record of the files read in `<key>.deps`.
+    fn compile_now(&self, key: &str, mut args: Vec<String>) -> Result<(), String> {
         let vvp = self.root.join(format!("{key}.vvp"));
         let deps = self.root.join(format!("{key}.deps"));
-        if vvp.is_file() && crate::cache::files_unchanged(&deps) {
-            return Ok(vvp);
-        }
+        std::fs::create_dir_all(&self.root).map_err(|e| format!("{}: {e}", self.root.display()))?;
         let tmp = tempfile::Builder::new()
-            .prefix(".compile-")
+            .prefix(&format!(".compile-{key}-"))
             .tempdir_in(&self.root)
             .map_err(|e| format!("{}: {e}", self.root.display()))?;
         if self.top_params.len() < pmu50_core::params::HDL_NAMES.len() {
@@ -198,9 +220,11 @@ impl IcarusDut {
             .filter(|p| p.is_file() && !p.starts_with(tmp.path()))
             .collect();
         files.extend(self.list.files.iter().cloned());
-        crate::cache::write_record(&deps, &files);
+        // the compile, then its record: a compile killed between leaves a record that does
+        // not match, never an old compile with a new record
         std::fs::rename(&out_vvp, &vvp).map_err(|e| e.to_string())?;
-        Ok(vvp)
+        crate::cache::write_record(&deps, &files);
+        Ok(())
     }
 }
 
