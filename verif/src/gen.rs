@@ -11,6 +11,10 @@
 //!
 //! The scenario is kept structured ([`Stimulus`]) so that a failing one can be shrunk (fewer
 //! events, a shorter run) and written back as TOML.
+//!
+//! Build modes: with a pool of parameter sets ([`Bias::pooled`], `crate::param_pool`), a seed's
+//! reset values, structure and clock are those of a set of the pool ([`ParamSet::pick`]), and a
+//! seed whose knobs asked for register values writes what it drew at its first key-on.
 
 use crate::rtl::Fixed;
 use pmu50_core::Params;
