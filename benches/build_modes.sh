@@ -53,10 +53,10 @@ r = resource.getrusage(resource.RUSAGE_CHILDREN)
 print(f"{wall:.1f} {r.ru_utime + r.ru_stime:.1f} {load:.1f}")
 PY
 }
-regress() { "$PMU50" regress --directed --iterations "$SEEDS" --dut verilator --rtl "$W/rtl/pmu50.f" \
-    --map "$ROOT/hdl/pmu50.map.toml" --jobs 2 --no-triage "$@"; }
-R1=$(row plain regress --out "$W/plain")
-R2=$(row code regress --code-coverage --out "$W/code")
+REGRESS=("$PMU50" regress --directed --iterations "$SEEDS" --dut verilator --rtl "$W/rtl/pmu50.f"
+    --map "$ROOT/hdl/pmu50.map.toml" --jobs 2 --no-triage)
+R1=$(row plain "${REGRESS[@]}" --out "$W/plain")
+R2=$(row code "${REGRESS[@]}" --code-coverage --out "$W/code")
 python3 - "$W" "$SEEDS" "$R1" "$R2" <<'EOF'
 import json, sys, glob, os, statistics
 w, seeds, r1, r2 = sys.argv[1], int(sys.argv[2]), sys.argv[3].split(), sys.argv[4].split()
