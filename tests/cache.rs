@@ -166,3 +166,21 @@ fn two_regressions_at_once_build_each_library_once() {
         );
     }
 }
+
+/// A cap that is not a size is refused with what is valid (exit 2), by `pmu50 cache` and before
+/// any build of a run.
+#[test]
+fn a_cap_that_is_not_a_size_is_refused() {
+    let t = tmp("badcap");
+    let cache = t.join("cache");
+    for args in [vec!["cache"], vec!["rtl-info", "--rtl", "hdl/pmu50.f"]] {
+        let o = pmu50_with(&cache, Some("lots"), &args).output().unwrap();
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o));
+        assert!(
+            text(&o).contains("PMU50_CACHE_MAX=lots: not a size"),
+            "{}",
+            text(&o)
+        );
+    }
+    assert!(!cache.join("verilator").exists(), "nothing built");
+}

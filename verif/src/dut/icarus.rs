@@ -81,6 +81,8 @@ impl IcarusDut {
         let root = crate::cache::cache_dir()
             .join("icarus")
             .join(format!("{:016x}", fnv(&refs)));
+        // a cap that is not a size is refused before any build
+        crate::cache::cache_max().map_err(DutError::Tool)?;
         std::fs::create_dir_all(&root)
             .map_err(|e| DutError::Tool(format!("{}: {e}", root.display())))?;
         let rtl_lease = crate::cache::rtl_lease(&root, &fl.list)

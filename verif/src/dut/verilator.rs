@@ -161,6 +161,8 @@ impl VerilatorDut {
         let root = crate::cache::cache_dir()
             .join("verilator")
             .join(format!("{:016x}", fnv(&refs)));
+        // a cap that is not a size is refused before any build
+        crate::cache::cache_max().map_err(tool_err)?;
         std::fs::create_dir_all(&root).map_err(|e| tool_err(format!("{}: {e}", root.display())))?;
         let rtl_lease = crate::cache::rtl_lease(&root, &fl.list)
             .map_err(|e| tool_err(format!("{}: {e}", root.display())))?;
