@@ -82,7 +82,7 @@ use std::time::SystemTime;
 
 /// The default cap of the cache (`PMU50_CACHE_MAX`): 1 GiB. A plain build of the twin is about
 /// 0.25 MB and the Verilator runtime, built once and shared by every RTL, 57 MB, so 1 GiB holds
-/// the runtimes and the pools of a few hundred edits before the least recently used builds go.
+/// the runtimes and the pools of about a hundred edits before the least recently used builds go.
 pub const DEFAULT_MAX: u64 = 1 << 30;
 
 /// The cap: `PMU50_CACHE_MAX` in bytes, with an optional suffix K, M or G (powers of 1024), or
