@@ -184,3 +184,68 @@ fn a_cap_that_is_not_a_size_is_refused() {
     }
     assert!(!cache.join("verilator").exists(), "nothing built");
 }
+
+/// A build killed half-way (SIGKILL while its library compiles) leaves nothing a later run
+/// takes for complete: the next run builds the library and passes, and a trim removes the
+/// killed build's temporary folder.
+#[test]
+fn a_build_killed_half_way_is_made_again_and_its_leftover_removed() {
+    let t = tmp("killed");
+    let cache = t.join("cache");
+    let rtl = t.join("rtl");
+    twin_copy(&rtl, "killed");
+    let list = rtl.join("pmu50.f");
+    let info = || pmu50_with(&cache, None, &["rtl-info", "--rtl", list.to_str().unwrap()]);
+    let leftovers = || -> Vec<std::path::PathBuf> {
+        let Ok(d) = std::fs::read_dir(cache.join("verilator")) else {
+            return Vec::new();
+        };
+        d.flatten()
+            .filter(|e| e.path().is_dir())
+            .flat_map(|e| std::fs::read_dir(e.path()).unwrap().flatten())
+            .map(|e| e.path())
+            .filter(|p| {
+                p.file_name()
+                    .is_some_and(|n| n.to_string_lossy().starts_with(".build-"))
+            })
+            .collect()
+    };
+    let mut child = info().spawn().unwrap();
+    let t0 = std::time::Instant::now();
+    while leftovers().is_empty() {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before its build started"
+        );
+        assert!(t0.elapsed().as_secs() < 600, "no build started");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let killed = leftovers();
+    assert_eq!(killed.len(), 1, "{killed:?}");
+    // the key's place holds no library
+    let name = killed[0]
+        .file_name()
+        .unwrap()
+        .to_string_lossy()
+        .into_owned();
+    let key = name["build-".len() + 1..].rsplit_once('-').unwrap().0;
+    assert!(!killed[0]
+        .with_file_name(key)
+        .join("libpmu50_dut.so")
+        .exists());
+    // a later run builds it and passes
+    let o = info().output().unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(killed[0]
+        .with_file_name(key)
+        .join("libpmu50_dut.so")
+        .is_file());
+    // and a trim removes the leftover, under the cap or not
+    let o = pmu50_with(&cache, None, &["cache", "clean", "--to-cap"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(leftovers(), Vec::<std::path::PathBuf>::new());
+}
