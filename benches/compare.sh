@@ -14,7 +14,10 @@
 #    checksums of the harnesses differ;
 # 4. cargo bench --bench regress_speed: what a regression seed costs (coverage and checks against
 #    the bench and the kernel) and pmu50 regress's seeds per second on every core;
-# 5. benches/formal_time.py: make formal and make formal-quick cold, against their goals and
+# 5. benches/build_modes.sh: a directed regression after a one-line RTL edit, cold cache, with
+#    and without code coverage, against the goals of build modes (BUILD_MODES_SKIP=1 leaves it
+#    out; BUILD_MODES_ARGS="--signoff --mutation" adds a cold make signoff and the mutation table);
+# 6. benches/formal_time.py: make formal and make formal-quick cold, against their goals and
 #    against ABC alone (FORMAL_SKIP=1 leaves this part out).
 # Needs verilator and iverilog (installed with apt-get when missing, as `make deps` does).
 set -euo pipefail
@@ -53,4 +56,6 @@ rtl_files "$HDL/pmu50.f"
 iverilog -g2005 -Wall -Wno-timescale "${ARGS[@]}" -s tb_vectors -o "$B/iv_keyoff_turns.vvp" "$HDL/tb/tb_vectors.v" "${RTL[@]}"
 cargo bench --bench compare -- --dir "$B" --stim keyoff_turns --stim "random_$SEED" --icarus keyoff_turns "${SECONDS_ARG[@]}"
 cargo bench --bench regress_speed
+# shellcheck disable=SC2086
+[ "${BUILD_MODES_SKIP:-0}" = 1 ] || "$ROOT/benches/build_modes.sh" ${BUILD_MODES_ARGS:-}
 [ "${FORMAL_SKIP:-0}" = 1 ] || python3 "$ROOT/benches/formal_time.py"

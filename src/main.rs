@@ -84,6 +84,9 @@ enum Cmd {
     /// What the regression reads of an RTL, as JSON: the top's parameters, the values it fixes
     /// (read back through the bus after reset) and the contract check. Exit 2 on a bad RTL.
     RtlInfo(cli::rtl_info::Args),
+    /// The build cache of RTL under test: its size against its cap (PMU50_CACHE_MAX), its
+    /// builds per RTL and their last use; `cache clean` empties it or (`--to-cap`) trims it.
+    Cache(cli::cache::Args),
     /// The DUT worker of `regress --dut verilator` (started by the regression itself): steps a
     /// Verilator library and the core in lockstep for each request on stdin.
     #[command(hide = true)]
@@ -153,6 +156,7 @@ fn main() -> ExitCode {
         Cmd::Hdl(a) => cli::hdl::run(a),
         Cmd::RtlFiles(a) => cli::rtl_files::run(a),
         Cmd::RtlInfo(a) => cli::rtl_info::run(a),
+        Cmd::Cache(a) => cli::cache::run(a),
         Cmd::Seal(a) => cli::seal::run(a),
         Cmd::Lint(a) => cli::lint::run(a),
         Cmd::Xprop(a) => cli::xprop::run(a),

@@ -455,3 +455,61 @@ fn the_lockstep_stimulus_of_skipped_periods_equals_every_tick() {
     });
     assert!(skipped > 50_000, "periods were skipped ({skipped} ticks)");
 }
+
+/// Build modes: a regression that draws its parameters from a pool of sets (`--param-sets`)
+/// gives the one-process results through shards and a merge, an interrupted directed run
+/// resumes to the same files, and every shard records the one pool of the seed range.
+#[test]
+fn a_pooled_regression_merges_and_resumes_to_the_one_process_run() {
+    let t = tmp();
+    let run = |out: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "regress",
+            "--start-seed",
+            "3",
+            "--iterations",
+            "30",
+            "--param-sets",
+            "8",
+            "--no-triage",
+            "--out",
+            s(out),
+        ];
+        args.extend_from_slice(extra);
+        expect_code(&pmu50(&args), 0);
+    };
+    let pool = |dir: &Path| -> serde_json::Value {
+        let v: serde_json::Value = serde_json::from_str(&read(dir.join("regress.json"))).unwrap();
+        v["pool"].clone()
+    };
+    let one = t.path().join("one");
+    run(&one, &[]);
+    assert!(
+        pool(&one)
+            .as_array()
+            .is_some_and(|p| !p.is_empty() && p.len() <= 8),
+        "{}",
+        pool(&one)
+    );
+    let shard = |i: usize| t.path().join(format!("shard{i}"));
+    for i in 0..2 {
+        run(&shard(i), &["--shard", &format!("{i}/2")]);
+        assert_eq!(pool(&shard(i)), pool(&one), "shard {i} drew another pool");
+    }
+    let merged = t.path().join("merged");
+    expect_code(
+        &pmu50(&["merge", "--out", s(&merged), s(&shard(1)), s(&shard(0))]),
+        0,
+    );
+    assert_same_results(&merged, &one);
+
+    let full = t.path().join("full");
+    run(&full, &["--directed"]);
+    let cut = t.path().join("cut");
+    std::fs::create_dir(&cut).unwrap();
+    std::fs::copy(full.join("regress.json"), cut.join("regress.json")).unwrap();
+    let all = read(full.join("results.jsonl"));
+    let lines: Vec<&str> = all.lines().collect();
+    std::fs::write(cut.join("results.jsonl"), lines[..11].join("\n") + "\n").unwrap();
+    resume_to(&cut, &full);
+}

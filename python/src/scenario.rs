@@ -512,7 +512,8 @@ impl Scenario {
         crate::config::hdl_parameters(py, &self.sc.params)
     }
 
-    /// The timeline: `[(tick, action, value), ...]`, action "ig", "vs2_fault", "write" or "read"
+    /// The timeline: `[(tick, action, value), ...]`, action "ig", "vs2_fault", "vs2_pg_leak",
+    /// "write" (a register write or a raw bus write) or "read"
     /// (value: bool, `(register, address, data)` for a write, the address for a read).
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Vec<(u64, &'static str, Py<PyAny>)>> {
         let mut out = Vec::new();
@@ -521,6 +522,10 @@ impl Scenario {
                 Action::Ig(b) => ("ig", b.into_pyobject(py)?.to_owned().into_any().unbind()),
                 Action::Vs2Fault(b) => (
                     "vs2_fault",
+                    b.into_pyobject(py)?.to_owned().into_any().unbind(),
+                ),
+                Action::Vs2PgLeak(b) => (
+                    "vs2_pg_leak",
                     b.into_pyobject(py)?.to_owned().into_any().unbind(),
                 ),
                 Action::Read { addr } => (

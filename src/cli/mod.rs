@@ -7,6 +7,7 @@ pub mod error;
 pub mod io;
 
 pub mod budget;
+pub mod cache;
 pub mod check;
 pub mod closure;
 pub mod diff;

@@ -31,6 +31,14 @@ pub struct Args {
     /// Per-seed time limit for the DUT, seconds.
     #[arg(long, default_value_t = 120.0)]
     pub timeout: f64,
+    /// Compare the contract's ports only, as a regression of an RTL without a map does (the
+    /// default compares the twin's map too).
+    #[arg(long)]
+    pub ports_only: bool,
+    /// The pool of parameter sets the directed seeds draw from, as `pmu50 regress
+    /// --param-sets` (0: each seed its own) [default: regress's default for an RTL].
+    #[arg(long, value_name = "P")]
+    pub param_sets: Option<u32>,
 }
 
 pub fn run(a: Args) -> CmdResult {
@@ -40,13 +48,16 @@ pub fn run(a: Args) -> CmdResult {
     let o = mutation::Options {
         mutants: a.mutants.unwrap_or_else(|| hdl.join("mutants.txt")),
         twin: hdl.join("pmu50.f"),
-        map: Some(hdl.join("pmu50.map.toml")),
+        map: (!a.ports_only).then(|| hdl.join("pmu50.map.toml")),
         start_seed: a.start_seed,
         iterations: a.iterations,
         jobs,
         timeout,
         only: a.only,
         out: a.out.clone(),
+        param_sets: a
+            .param_sets
+            .unwrap_or(pmu50_verif::param_pool::DEFAULT_SETS),
     };
     let stop = AtomicBool::new(false);
     let r = mutation::run(&o, &stop, progress_line)?;

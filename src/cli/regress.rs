@@ -59,7 +59,7 @@ pub struct Args {
     pub shard_count: Option<u64>,
     /// Continue the regression in DIR: run only the seeds its results.jsonl does not have.
     /// Its seed range, DUT and options are those of DIR/regress.json.
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["start_seed", "iterations", "shard", "shard_count", "directed", "check_spec", "dut", "rtl", "map", "repro", "sync_depth", "cnt_width", "out", "code_coverage", "waivers"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["start_seed", "iterations", "shard", "shard_count", "directed", "check_spec", "dut", "rtl", "map", "repro", "sync_depth", "cnt_width", "out", "code_coverage", "waivers", "param_sets"])]
     pub resume: Option<PathBuf>,
     /// Measure the RTL's code coverage (Verilator line and toggle coverage; --dut verilator):
     /// code/coverage.dat, code/lcov.info, code/summary.json and a section of report.html.
@@ -69,6 +69,12 @@ pub struct Args {
     /// hdl/coverage-waivers.toml for the twin, none for another RTL.
     #[arg(long, value_name = "FILE.toml", requires = "code_coverage")]
     pub waivers: Option<PathBuf>,
+    /// Build modes: the seeds draw their reset values, structure and clock from a pool of at
+    /// most P parameter sets, fixed from the seed range by a greedy cover of the configuration
+    /// bins and built once each; 0 gives each seed its own set (a build per seed on an RTL).
+    /// [default: 10 with an RTL (--dut verilator or icarus), 0 with the model]
+    #[arg(long, value_name = "P")]
+    pub param_sets: Option<u32>,
     /// Output folder [default: regress_out].
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -169,6 +175,8 @@ pub fn run(a: Args) -> CmdResult {
             pins,
             shard: None,
             code_coverage: false,
+            param_sets: 0,
+            pool: Vec::new(),
         };
         return repro(file, &spec, backend, timeout);
     }
@@ -214,6 +222,8 @@ pub fn run(a: Args) -> CmdResult {
                     pins,
                     shard,
                     code_coverage: a.code_coverage,
+                    param_sets: 0,
+                    pool: Vec::new(),
                 },
                 false,
             )
@@ -233,6 +243,35 @@ pub fn run(a: Args) -> CmdResult {
         return Err(CliError::Usage(format!("--resume {}: the regression was run on an RTL that fixes {}, this RTL fixes {}: the RTL changed", out_dir.display(), if spec.fixed.is_empty() { "nothing".into() } else { spec.fixed.text() }, if d.fixed().is_empty() { "nothing".into() } else { d.fixed().text() })));
     }
     spec.fixed = d.fixed().clone();
+    if !resume {
+        // the pool of parameter sets, fixed from the seed range (and what the RTL fixes)
+        spec.param_sets = a.param_sets.unwrap_or(if backend.caps.rtl {
+            pmu50_verif::param_pool::DEFAULT_SETS
+        } else {
+            0
+        });
+        spec.pool = pmu50_verif::param_pool::choose(
+            spec.start_seed,
+            spec.iterations,
+            spec.param_sets,
+            spec.pins,
+            &spec.fixed,
+        )
+        .map_err(|e| CliError::Usage(e.to_string()))?;
+        if !spec.pool.is_empty() {
+            let builds: std::collections::BTreeSet<String> = spec
+                .pool
+                .iter()
+                .map(|s| format!("{:?}", s.params))
+                .collect();
+            err!(
+                "regress: {} parameter set(s) of at most {} ({} build(s) of the RTL), the seeds spread over them",
+                spec.pool.len(),
+                spec.param_sets,
+                builds.len()
+            );
+        }
+    }
     // what makes the folder: the RTL's content hash and every file's, the tools, the command
     let evidence = if resume {
         None

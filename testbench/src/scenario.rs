@@ -34,6 +34,11 @@
 //! ig = true                        # or: write = { reg = "T2", value = 110 }  or: vs2_fault = true
 //!                                  # or: read = 0xE0 (the MPU reads any 8-bit bus address this
 //!                                  # tick instead of its polling; the key must be on)
+//!                                  # or: bus_write = { addr = 0x10, data = 0x0100 } (a raw bus
+//!                                  # cycle: any address, any 16-bit word; the register file
+//!                                  # refuses or takes it; the key must be on)
+//!                                  # or: vs2_pg_leak = true (Vs2's power-good reads high while
+//!                                  # the rail is off; with the rail on it follows the rail)
 //!
 //! [expect]                         # checks; `pmu50 run` exits 1 when one fails
 //! si_sequence_ms = [6.6, 4.4, 2.2] # successive distinct drive intervals at key-off pulses
@@ -254,6 +259,15 @@ struct RawEvent {
     write: Option<Spanned<RawWrite>>,
     read: Option<Spanned<i64>>,
     vs2_fault: Option<bool>,
+    bus_write: Option<Spanned<RawBusWrite>>,
+    vs2_pg_leak: Option<bool>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBusWrite {
+    addr: Spanned<i64>,
+    data: Spanned<i64>,
 }
 
 #[derive(Deserialize)]
@@ -319,6 +333,10 @@ pub enum Action {
     Write { addr: u8, name: String, value: u16 },
     /// Fault injection: the Vs2 rail does not come up (power-good stays low) while true.
     Vs2Fault(bool),
+    /// Fault injection: Vs2's power-good reads high while the rail is off (a leaking or stuck
+    /// power-good), while true; with the rail on it follows the rail. Sr must stay 0
+    /// ([0209], docs/spec.md 2.3).
+    Vs2PgLeak(bool),
     /// The MPU reads a bus address (any of the 8-bit `bus_addr`, mapped or not) in this tick
     /// instead of its polling; the key must be on.
     Read { addr: u8 },
@@ -844,15 +862,57 @@ impl Cx<'_> {
             let given = usize::from(r.ig.is_some())
                 + usize::from(r.write.is_some())
                 + usize::from(r.read.is_some())
-                + usize::from(r.vs2_fault.is_some());
+                + usize::from(r.vs2_fault.is_some())
+                + usize::from(r.bus_write.is_some())
+                + usize::from(r.vs2_pg_leak.is_some());
             if given != 1 {
-                return Err(self.err(ev.span(), &field, format!("an event has exactly one action (ig, write, read or vs2_fault); this one has {given}")));
+                return Err(self.err(ev.span(), &field, format!("an event has exactly one action (ig, write, read, bus_write, vs2_fault or vs2_pg_leak); this one has {given}")));
             }
             let action = if let Some(v) = r.ig {
                 ig = v;
                 Action::Ig(v)
             } else if let Some(v) = r.vs2_fault {
                 Action::Vs2Fault(v)
+            } else if let Some(v) = r.vs2_pg_leak {
+                Action::Vs2PgLeak(v)
+            } else if let Some(b) = &r.bus_write {
+                // a raw cycle of the register bus, as a port-level bench drives it
+                let bf = format!("{field}.bus_write");
+                let b_span = b.span();
+                let b = b.get_ref();
+                let a = *b.addr.get_ref();
+                let Ok(addr) = u8::try_from(a) else {
+                    return Err(self.err(
+                        b.addr.span(),
+                        &format!("{bf}.addr"),
+                        format!("bus address {a} does not fit the 8-bit bus_addr; valid is 0..=255 (0x00..=0xFF)"),
+                    ));
+                };
+                let d = *b.data.get_ref();
+                let Ok(value) = u16::try_from(d) else {
+                    return Err(self.err(
+                        b.data.span(),
+                        &format!("{bf}.data"),
+                        format!("{d} does not fit the 16-bit bus_wdata; valid is 0..=65535 (0x0000..=0xFFFF)"),
+                    ));
+                };
+                if !ig {
+                    return Err(self.err(r.at.span(), &bf, "the key is off at this time: the MPU is not powered and cannot write ([0205]); turn ig on first"));
+                }
+                let line = self.line_col(b_span.start).0;
+                if let Some((t, l, what)) = last_access.filter(|(t, ..)| *t == tick) {
+                    return Err(self.err(
+                        b_span,
+                        &bf,
+                        format!("a bus write at {} (the {what} of line {l} is at the same time); the bus takes one access per clock tick; move it at least one tick ({clock}) later", Dur(t * clock.0)),
+                    ));
+                }
+                last_access = Some((tick, line, "write"));
+                let name = MAP
+                    .iter()
+                    .find(|(_, a, ..)| *a == addr)
+                    .map_or_else(|| format!("0x{addr:02X}"), |(n, ..)| n.to_string());
+                Action::Write { addr, name, value }
             } else if let Some(a) = &r.read {
                 let rf = format!("{field}.read");
                 let v = *a.get_ref();
@@ -940,6 +1000,7 @@ impl Cx<'_> {
                         .as_ref()
                         .map(|w| w.span().start)
                         .or_else(|| r.read.as_ref().map(|a| a.span().start))
+                        .or_else(|| r.bus_write.as_ref().map(|b| b.span().start))
                         .unwrap_or(r.at.span().start),
                 )
                 .0;

@@ -17,8 +17,19 @@ pub enum Segment {
 pub enum EventText {
     Ig(bool),
     Vs2Fault(bool),
-    Write { reg: String, value: u64 },
-    Read { addr: u64 },
+    Write {
+        reg: String,
+        value: u64,
+    },
+    Read {
+        addr: u64,
+    },
+    /// A raw cycle of the register bus: any address, any 16-bit word.
+    BusWrite {
+        addr: u64,
+        data: u64,
+    },
+    Vs2PgLeak(bool),
 }
 
 /// A scenario file being written, table by table in the order the format documents.
@@ -112,6 +123,10 @@ impl ScenarioText {
                 writeln!(self.s, "write = {{ reg = \"{reg}\", value = {value} }}")
             }
             EventText::Read { addr } => writeln!(self.s, "read = {addr}"),
+            EventText::BusWrite { addr, data } => {
+                writeln!(self.s, "bus_write = {{ addr = {addr}, data = {data} }}")
+            }
+            EventText::Vs2PgLeak(v) => writeln!(self.s, "vs2_pg_leak = {v}"),
         };
     }
 

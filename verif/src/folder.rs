@@ -188,6 +188,9 @@ impl RunSpec {
                 return Err(format!("field `fixed`: {e}"));
             }
         }
+        if (self.param_sets == 0) != self.pool.is_empty() {
+            return Err(format!("fields `param_sets` and `pool`: {} set(s) in the pool of a regression of `param_sets` {}; valid is a pool with `param_sets` above 0, none with 0", self.pool.len(), self.param_sets));
+        }
         if let Some(d) = self.pins.sync_depth {
             if !(1..=4).contains(&d) {
                 return Err(format!("field `pins.sync_depth`: {d}; valid is 1 to 4"));

@@ -11,6 +11,10 @@
 //!
 //! The scenario is kept structured ([`Stimulus`]) so that a failing one can be shrunk (fewer
 //! events, a shorter run) and written back as TOML.
+//!
+//! Build modes: with a pool of parameter sets ([`Bias::pooled`], `crate::param_pool`), a seed's
+//! reset values, structure and clock are those of a set of the pool ([`ParamSet::pick`]), and a
+//! seed whose knobs asked for register values writes what it drew at its first key-on.
 
 use crate::rtl::Fixed;
 use pmu50_core::Params;
@@ -61,12 +65,17 @@ pub enum Knob {
     CthTop,
     /// The MPU reads bus addresses outside the register map.
     UnmappedReads,
+    /// Port-level stimuli that the bench's MPU and analog front never make: raw bus writes to
+    /// read-only and unmapped addresses (some in the tick the key turns on), words with high
+    /// bits past a register's width (a CTH write of 0x01xx), and Vs2's power-good leaking high
+    /// while the rail is off.
+    PortLevel,
 }
 
 use Knob::*;
 
 /// Every knob with its base probability in percent (uniform random).
-pub const KNOBS: [(Knob, u64); 38] = [
+pub const KNOBS: [(Knob, u64); 39] = [
     (NarrowCounter, 8),
     (Width3To7, 10),
     (Width8To15, 10),
@@ -105,11 +114,12 @@ pub const KNOBS: [(Knob, u64); 38] = [
     (LongDurations, 8),
     (CthTop, 8),
     (UnmappedReads, 8),
+    (PortLevel, 6),
 ];
 
 /// The knobs drawn from a stream of their own (`seed`, knob): adding one leaves the other
 /// knobs, and so the scenarios of the seeds that do not draw it, as they were.
-const OWN_STREAM: [Knob; 3] = [LongDurations, CthTop, UnmappedReads];
+const OWN_STREAM: [Knob; 4] = [LongDurations, CthTop, UnmappedReads, PortLevel];
 
 /// The stream of the corner draws of the [`OWN_STREAM`] knobs.
 fn own_stream(seed: u64, what: u64) -> Rng {
@@ -126,13 +136,16 @@ pub fn knob_named(name: &str) -> Option<Knob> {
 }
 
 /// The knobs that make a coverage bin likely, by the bin's full name: the hint declared with
-/// the bin in the coverage model (a cross: the knobs of both of its bins and the cross's own).
-/// None for a bin that seeds hit without a knob, that only port-level stimuli reach, that is
-/// declared unreachable, or that the model does not have.
+/// the bin in the coverage model (a cross: the knobs of both of its bins and the cross's own);
+/// [`Knob::PortLevel`] for a bin only port-level stimuli reach. None for a bin that seeds hit
+/// without a knob, that is declared unreachable, or that the model does not have.
 pub fn knobs_for(bin: &str) -> Vec<Knob> {
     let Some(b) = pmu50_coverage::layout().bins.iter().find(|b| b.name == bin) else {
         return Vec::new();
     };
+    if b.port_only && b.unreachable.is_none() {
+        return vec![PortLevel];
+    }
     let mut k: Vec<Knob> = b.aim.knobs().iter().filter_map(|n| knob_named(n)).collect();
     k.sort();
     k.dedup();
@@ -155,6 +168,10 @@ pub struct Bias {
     pub pins: Pins,
     /// Parameters the RTL under test fixes itself (its top lacks them): every seed keeps them.
     pub fixed: Fixed,
+    /// The regression's pool of parameter sets (`--param-sets`): every seed takes its reset
+    /// values, structure and clock from one of them ([`ParamSet::pick`]). Empty: each seed
+    /// draws its own.
+    pub pool: Vec<ParamSet>,
 }
 
 /// The Verilog parameters a knob draws (or sets): a knob is not drawn when the RTL under test
@@ -201,6 +218,218 @@ pub struct Pins {
     pub cnt_width: Option<u8>,
 }
 
+/// The length of a long quiet run that does not saturate CNTr at the minimum: at the top of the
+/// 16-bit range (`past_16_bits`), or climbing to x in T2 = 1 steps.
+fn quiet_ticks(p: &Params, past_16_bits: bool) -> u64 {
+    let (x, min) = (u64::from(p.si_max), u64::from(p.si_min));
+    if past_16_bits {
+        3 * x + (u64::from(p.cth) + 2) * min + u64::from(p.wt())
+    } else {
+        2 * x + (x.saturating_sub(min) + 2) * x
+    }
+}
+
+/// What a stimulus that starts from reset needs of the reset values: the long quiet runs and the
+/// long durations have the key off from the first tick (no write can set a register before
+/// them), and the skip-and-clear race counts its samples from reset. A regression's pool holds a
+/// set of each shape any of its seeds could want (`crate::param_pool`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Shape {
+    /// CNTr saturated at the minimum interval: Cth = 255, adaptive, x above min.
+    QuietSat,
+    /// The interval at the top of the 16-bit range: x just below 65535, T1 = 65535, min + T2
+    /// past 65535, Cth <= 4, adaptive.
+    Quiet16,
+    /// The interval climbing to x in T2 = 1 steps past Cth <= 4, after one rotation that takes
+    /// it from x to min (adaptive, T1 > x - min), over a span of 300 ticks or more, so that
+    /// CNTr passes its 8-bit saturation on the way.
+    QuietT2,
+    /// Long durations, the window of 40000 ticks or more (min >= 40000).
+    LongWindow,
+    /// Long durations, x of 40000 or more above a short min.
+    LongSpan,
+    /// The skip-and-clear race: smp_on = 40 from reset.
+    Race,
+}
+
+impl Shape {
+    pub const ALL: [Shape; 6] = [
+        Shape::QuietSat,
+        Shape::Quiet16,
+        Shape::QuietT2,
+        Shape::LongWindow,
+        Shape::LongSpan,
+        Shape::Race,
+    ];
+
+    /// Whether the reset values `p` have this shape.
+    pub fn holds(self, p: &Params) -> bool {
+        let (x, min) = (u64::from(p.si_max), u64::from(p.si_min));
+        match self {
+            Shape::QuietSat => p.cth == 255 && p.adaptive && x > min,
+            Shape::Quiet16 => {
+                p.adaptive
+                    && x >= 65_034
+                    && p.t1 == u16::MAX
+                    && min + u64::from(p.t2) > 65_535
+                    && p.cth <= 4
+            }
+            Shape::QuietT2 => {
+                p.adaptive && p.t2 == 1 && p.cth <= 4 && x >= min + 300 && u64::from(p.t1) > x - min
+            }
+            Shape::LongWindow => min >= 40_000,
+            Shape::LongSpan => x >= 40_000 && min < 40_000,
+            Shape::Race => u64::from(p.smp_on) == RACE_SMP_ON,
+        }
+    }
+}
+
+/// One parameter set of a regression's pool: the reset values and structure (one build of the
+/// RTL) and the clock period of the seeds that draw it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ParamSet {
+    pub params: Params,
+    pub clock_us: u64,
+}
+
+impl ParamSet {
+    /// The indices of the configuration bins (`config.*`) this set hits from reset.
+    pub fn config_bins(&self) -> Vec<usize> {
+        let cov = pmu50_coverage::Coverage::new(&self.params, self.clock_us * 1000);
+        config_indices()
+            .iter()
+            .copied()
+            .filter(|&i| cov.hits()[i] > 0)
+            .collect()
+    }
+
+    /// The shapes of [`Shape::ALL`] it has.
+    pub fn shapes(&self) -> Vec<Shape> {
+        Shape::ALL
+            .into_iter()
+            .filter(|s| s.holds(&self.params))
+            .collect()
+    }
+
+    /// One line: `SYNC_DEPTH=2 CNT_W=16 ... clock 10 us`.
+    pub fn text(&self) -> String {
+        let mut t: Vec<String> = self
+            .params
+            .hdl_parameters()
+            .iter()
+            .map(|(n, v)| format!("{n}={v}"))
+            .collect();
+        t.push(format!("clock {} us", self.clock_us));
+        t.join(" ")
+    }
+
+    /// The set of `pool` a seed draws: one with the shape its stimulus needs from reset (when
+    /// one has it), then the one that has most of the configuration bins its knobs asked for;
+    /// between sets that tie, one chosen by the seed, so the seeds spread over the pool.
+    pub fn pick<'a>(
+        pool: &'a [ParamSet],
+        seed: u64,
+        want: &Params,
+        clock_us: u64,
+        knobs: &[Knob],
+        shape: Option<Shape>,
+    ) -> &'a ParamSet {
+        let l = pmu50_coverage::layout();
+        let wanted = ParamSet {
+            params: *want,
+            clock_us,
+        };
+        // the configuration bins the seed's knobs asked for
+        let asked: Vec<usize> = wanted
+            .config_bins()
+            .into_iter()
+            .filter(|&i| {
+                l.bins[i]
+                    .aim
+                    .knobs()
+                    .iter()
+                    .any(|n| knob_named(n).is_some_and(|k| knobs.contains(&k)))
+            })
+            .collect();
+        let score = |s: &ParamSet| -> u64 {
+            let bins = s.config_bins();
+            let shaped = shape.is_some_and(|h| h.holds(&s.params));
+            u64::from(shaped) * 1000 + asked.iter().filter(|i| bins.contains(i)).count() as u64
+        };
+        let scores: Vec<u64> = pool.iter().map(score).collect();
+        let best = scores.iter().copied().max().unwrap_or(0);
+        let ties: Vec<&ParamSet> = pool
+            .iter()
+            .zip(&scores)
+            .filter(|(_, &sc)| sc == best)
+            .map(|(s, _)| s)
+            .collect();
+        let mut r = Rng::new(seed ^ 0x504f_4f4c_5345_5400);
+        ties[r.range(0, ties.len() as u64 - 1) as usize]
+    }
+}
+
+/// The indices (in the model's order) of the bins of the configuration points.
+pub fn config_indices() -> &'static [usize] {
+    static IDX: std::sync::OnceLock<Vec<usize>> = std::sync::OnceLock::new();
+    IDX.get_or_init(|| {
+        use pmu50_coverage::model::{Sampled, POINTS};
+        let l = pmu50_coverage::layout();
+        POINTS
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.sampled == Sampled::Config)
+            .flat_map(|(k, p)| (0..p.bins.len()).map(move |b| l.point_offset[k] + b))
+            .collect()
+    })
+}
+
+impl serde::Serialize for ParamSet {
+    /// `{"SYNC_DEPTH": 2, ..., "SMP_ON": 10, "clock_us": 10}`.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(None)?;
+        for (n, v) in self.params.hdl_parameters() {
+            m.serialize_entry(n, &v)?;
+        }
+        m.serialize_entry("clock_us", &self.clock_us)?;
+        m.end()
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for ParamSet {
+    /// Every parameter of the table and `clock_us`, a legal set; another field, a missing one or
+    /// an illegal set is refused with the reason.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let m = std::collections::BTreeMap::<String, u64>::deserialize(d)?;
+        let mut p = Params::default();
+        let mut clock_us = None;
+        for (k, v) in &m {
+            if k == "clock_us" {
+                clock_us = Some(*v);
+            } else {
+                p.set_hdl_parameter(k, *v)
+                    .map_err(|e| D::Error::custom(format!("a parameter set: {e}")))?;
+            }
+        }
+        for n in pmu50_core::params::HDL_NAMES {
+            if !m.contains_key(*n) {
+                return Err(D::Error::custom(format!("a parameter set lacks `{n}`")));
+            }
+        }
+        let clock_us = clock_us
+            .filter(|c| (1..=1_000_000).contains(c))
+            .ok_or_else(|| D::Error::custom("a parameter set needs `clock_us` in 1..=1000000"))?;
+        p.validate()
+            .map_err(|e| D::Error::custom(format!("a parameter set is illegal: {e}")))?;
+        Ok(ParamSet {
+            params: p,
+            clock_us,
+        })
+    }
+}
+
 impl Bias {
     /// Uniform random: every knob at its base probability.
     pub fn uniform() -> Bias {
@@ -209,18 +438,19 @@ impl Bias {
             targets: Vec::new(),
             pins: Pins::default(),
             fixed: Fixed::default(),
+            pool: Vec::new(),
         }
     }
 
     /// Directed, from the coverage so far (hits in the model's order): every bin still empty
-    /// that can be hit and that scenario stimuli reach.
+    /// that can be hit.
     pub fn directed(hits: &[u64], pins: Pins) -> Bias {
         let l = pmu50_coverage::layout();
         Bias::from_missing(
             l.bins
                 .iter()
                 .zip(hits)
-                .filter(|(b, h)| **h == 0 && b.unreachable.is_none() && !b.port_only)
+                .filter(|(b, h)| **h == 0 && b.unreachable.is_none())
                 .map(|(b, _)| b.name.as_str()),
         )
         .pinned(pins)
@@ -229,6 +459,14 @@ impl Bias {
     /// The same bias with these structural parameters held.
     pub fn pinned(self, pins: Pins) -> Bias {
         Bias { pins, ..self }
+    }
+
+    /// The same bias drawing every seed's parameters from `pool` (empty: each seed its own).
+    pub fn pooled(self, pool: &[ParamSet]) -> Bias {
+        Bias {
+            pool: pool.to_vec(),
+            ..self
+        }
     }
 
     /// The same bias for an RTL that fixes these parameters: the knobs that need one of them
@@ -254,6 +492,7 @@ impl Bias {
             targets,
             pins: self.pins,
             fixed: fixed.clone(),
+            pool: self.pool,
         }
     }
 
@@ -271,6 +510,7 @@ impl Bias {
             targets: sets,
             pins: Pins::default(),
             fixed: Fixed::default(),
+            pool: Vec::new(),
         }
     }
 
@@ -328,6 +568,13 @@ pub enum Action {
     Read {
         addr: u8,
     },
+    /// A raw bus write: any address, any 16-bit word (port level).
+    BusWrite {
+        addr: u8,
+        data: u16,
+    },
+    /// Vs2's power-good leaks high while the rail is off (port level).
+    PgLeak(bool),
 }
 
 /// A generated scenario, structured.
@@ -476,7 +723,7 @@ impl Stimulus {
         // held structural parameters (they do not take part in legality)
         p.sync_depth = bias.pins.sync_depth.unwrap_or(p.sync_depth);
         p.cnt_width = bias.pins.cnt_width.unwrap_or(p.cnt_width);
-        let clock_us = if on(ClockFast) {
+        let mut clock_us = if on(ClockFast) {
             5
         } else if on(ClockSlow) {
             20
@@ -487,11 +734,11 @@ impl Stimulus {
         // CNTr up to its saturation ([0248]): after a rotation, quiet pulses with the key off,
         // either at the minimum interval with Cth = 255 (S9 holds si), or climbing to x in T2 = 1
         // steps (S10 each pulse past Cth).
-        let saturate_at_min = on(LongQuiet) && r.percent(50);
+        let mut saturate_at_min = on(LongQuiet) && r.percent(50);
         // Or at the top of the 16-bit range (docs/spec.md 2.6): x just below 65535, T1 = 65535
         // so that S6's si - T1 saturates at 0 before its clamp to min, and T2 so large that
         // S10's si + T2 from min passes 65535 before its clamp to x.
-        let past_16_bits = on(LongQuiet)
+        let mut past_16_bits = on(LongQuiet)
             && !saturate_at_min
             && ["SI_MAX", "SI_MIN", "ADAPTIVE"]
                 .iter()
@@ -506,13 +753,11 @@ impl Stimulus {
                 p.si_min = r.range(20_000, 40_000).max(u64::from(p.wt()) + 1) as u16;
                 p.t2 = (65_536 - u64::from(p.si_min) + r.range(0, 1_000)).min(65_535) as u16;
                 p.cth = p.cth.min(4);
-                let (x, min) = (u64::from(p.si_max), u64::from(p.si_min));
-                ticks = 3 * x + (u64::from(p.cth) + 2) * min + u64::from(p.wt());
+                ticks = quiet_ticks(&p, true);
             } else {
                 p.t2 = 1;
                 p.cth = p.cth.min(4);
-                let span = u64::from(p.si_max - p.si_min);
-                ticks = 2 * u64::from(p.si_max) + (span + 2) * u64::from(p.si_max);
+                ticks = quiet_ticks(&p, false);
             }
             // one rotation takes si from x to min
             p.t1 = if past_16_bits {
@@ -543,6 +788,72 @@ impl Stimulus {
         if on(CthTop) && !on(LongQuiet) {
             p.cth = own_stream(seed, 17).range(64, 255) as u8;
         }
+        // A seed that races a skip against its W1C (below) wants its on-key period from reset.
+        let race_knobs = !on(Spin) && !on(LongQuiet) && !long && on(StatusWrites) && on(FastMoves);
+        let mut spin_write = None;
+        // What a seed whose knobs asked for register values writes at its first key-on, when
+        // its set of the pool has others.
+        let mut config_to: Option<Params> = None;
+        if !bias.pool.is_empty() {
+            let drawn = p;
+            // Build modes: the reset values, structure and clock come from the regression's pool,
+            // the set nearest to what the knobs drew; the modes that need values from reset
+            // follow the set, and a spin writes its sampling period at run time.
+            let want = if on(LongQuiet) {
+                Some(if saturate_at_min {
+                    Shape::QuietSat
+                } else if past_16_bits {
+                    Shape::Quiet16
+                } else {
+                    Shape::QuietT2
+                })
+            } else if long {
+                Some(if Shape::LongWindow.holds(&p) {
+                    Shape::LongWindow
+                } else {
+                    Shape::LongSpan
+                })
+            } else if race_knobs {
+                Some(Shape::Race)
+            } else {
+                None
+            };
+            let set = ParamSet::pick(&bias.pool, seed, &p, clock_us, &knobs, want);
+            p = set.params;
+            clock_us = set.clock_us;
+            let asks = knobs.iter().any(|&k| {
+                knob_params(k)
+                    .iter()
+                    .any(|n| !matches!(*n, "CNT_W" | "SYNC_DEPTH"))
+            });
+            let drawn = Params {
+                sync_depth: p.sync_depth,
+                cnt_width: p.cnt_width,
+                ..drawn
+            };
+            if asks && want.is_none() && drawn != p && drawn.validate().is_ok() {
+                config_to = Some(drawn);
+            }
+            if on(LongQuiet) {
+                saturate_at_min = Shape::QuietSat.holds(&p);
+                past_16_bits = !saturate_at_min && Shape::Quiet16.holds(&p);
+                if !saturate_at_min {
+                    ticks = quiet_ticks(&p, past_16_bits);
+                }
+            }
+            if on(Spin) {
+                ticks = (1u64 << p.cnt_width) * 9 + 2_000;
+                if p.smp_on != 1 {
+                    spin_write = Some(u64::from(p.sync_depth) + 1);
+                }
+            }
+            if long {
+                let mut c = own_stream(seed, 18);
+                let x = u64::from(p.si_max);
+                first_off = c.range(x + 100, x + 20_000);
+                ticks = first_off + c.range(50_000, 150_000);
+            }
+        }
         let vr_err = (r.range(0, 200) as i64 - 100, r.range(0, 200) as i64 - 100);
         let mut start_decideg = r.range(0, 3599);
         // A skip and the MPU's W1C of STATUS.quadrant_skip on the same edge (docs/spec.md 2.5:
@@ -550,12 +861,12 @@ impl Stimulus {
         // W1C of bit 5 while it is set: the key on from reset, on-key samples every
         // RACE_SMP_ON ticks from the edge where sig rises (edge SYNC_DEPTH), the shaft half a
         // turn between the first two of them, from the middle of a quadrant.
-        let race = !on(Spin)
-            && !on(LongQuiet)
-            && !long
-            && on(StatusWrites)
-            && on(FastMoves)
-            && bias.fixed.get("SMP_ON").is_none()
+        let race = race_knobs
+            && if bias.pool.is_empty() {
+                bias.fixed.get("SMP_ON").is_none()
+            } else {
+                Shape::Race.holds(&p)
+            }
             && r.percent(50);
         let mut race_events = Vec::new();
         let mut race_end = 0;
@@ -663,6 +974,16 @@ impl Stimulus {
             r.percent(50)
         };
         events.push((0, Action::Ig(ig)));
+        if let Some(at) = spin_write {
+            // the set's sampling period from reset: every tick from the edge after sig rises
+            events.push((
+                at,
+                Action::Write {
+                    reg: "SMP_ON",
+                    value: 1,
+                },
+            ));
+        }
         if on(Spin) || on(LongQuiet) {
             // nothing else: the key and the parameters hold for the whole run
             // the middle of a quadrant, so that each quarter turn crosses exactly one boundary
@@ -691,6 +1012,16 @@ impl Stimulus {
         let mut at = race_end.max(first_off);
         // The register values in force as the timeline goes (for writes over the legal range).
         let mut cur = p;
+        // The values the writes are drawn against: the reset values, or those of the seed's
+        // first key-on writes.
+        let mut live = p;
+        if let Some(to) = config_to.filter(|_| ig) {
+            config_to = None;
+            let (w, end, after) = config_writes(&p, &to, u64::from(p.sync_depth) + 2);
+            events.extend(w);
+            (cur, live) = (after, to);
+            at = at.max(end);
+        }
         if long {
             // the key on after the long key-off stretch, then, once sig is up, a sweep of writes
             // that raises and lowers every bit of every duration register and of Cth
@@ -704,6 +1035,7 @@ impl Stimulus {
             }
         }
         events.extend(race_events);
+        let mut port = own_stream(seed, 19);
         let mut fault = false;
         if !race && on(Faults) && r.percent(25) {
             // a dead Vs2 rail from power-on: the first strobes find Sr = 0, so the first sample
@@ -726,6 +1058,11 @@ impl Stimulus {
                 at += 3;
                 continue;
             }
+            if on(PortLevel) && port.percent(30) {
+                // what only a port-level bench does (own stream: the other draws stay)
+                at += port_level(&mut port, at, ticks.saturating_sub(2), &mut ig, &mut events);
+                continue;
+            }
             let roll = r.range(0, 9);
             if on(Glitches) && r.percent(30) {
                 // a pulse of ig shorter than the synchronizer
@@ -738,7 +1075,7 @@ impl Stimulus {
                 // x that si starts the key-off period with (docs/spec.md 2.6, si_max_nxt).
                 let d = u64::from(p.sync_depth);
                 if ig && len < d && r.percent(50) {
-                    let value = write_value(&mut r, "SI_MAX", &p, false);
+                    let value = write_value(&mut r, "SI_MAX", &live, false);
                     events.push((
                         at + d - 1,
                         Action::Write {
@@ -757,8 +1094,16 @@ impl Stimulus {
                     if ig && on(EarlyWrites) && r.percent(50) {
                         // a write in the tick the key turns on: sig is still 0 ([0205])
                         let reg = WRITABLE[r.range(0, WRITABLE.len() as u64 - 1) as usize];
-                        let value = write_value(&mut r, reg, &p, false);
+                        let value = write_value(&mut r, reg, &live, false);
                         events.push((at, Action::Write { reg, value }));
+                    }
+                    if let Some(to) = config_to.filter(|_| ig) {
+                        config_to = None;
+                        let from_at = at + u64::from(p.sync_depth) + 2;
+                        let (w, end, after) = config_writes(&cur, &to, from_at);
+                        events.extend(w);
+                        (cur, live) = (after, to);
+                        at = end;
                     }
                 }
                 5 if on(Faults) || r.percent(30) => {
@@ -777,7 +1122,7 @@ impl Stimulus {
                     let value = match wide.then(|| wide_value(&mut r, reg, &cur, on(IllegalWrites)))
                     {
                         Some(Some(v)) => v,
-                        _ => write_value(&mut r, reg, &p, on(IllegalWrites)),
+                        _ => write_value(&mut r, reg, &live, on(IllegalWrites)),
                     };
                     written(&mut cur, reg, value);
                     events.push((at, Action::Write { reg, value }));
@@ -787,7 +1132,12 @@ impl Stimulus {
         }
         // One event of a kind per tick: a bus access (a write or a read) shares its tick only
         // with ig.
-        let bus = |a: &Action| matches!(a, Action::Write { .. } | Action::Read { .. });
+        let bus = |a: &Action| {
+            matches!(
+                a,
+                Action::Write { .. } | Action::Read { .. } | Action::BusWrite { .. }
+            )
+        };
         events.sort_by_key(|(t, a)| (*t, bus(a)));
         events.dedup_by(|b, a| {
             a.0 == b.0
@@ -852,6 +1202,11 @@ impl Stimulus {
                     Action::Read { addr } => EventText::Read {
                         addr: u64::from(*addr),
                     },
+                    Action::BusWrite { addr, data } => EventText::BusWrite {
+                        addr: u64::from(*addr),
+                        data: u64::from(*data),
+                    },
+                    Action::PgLeak(v) => EventText::Vs2PgLeak(*v),
                 },
             );
         }
@@ -1038,6 +1393,127 @@ fn written(p: &mut Params, reg: &str, value: u16) {
     }
 }
 
+/// The read-only addresses of the register map (ID, VERSION, CFG, CNT_S, CNT_C, CNT_R, SI).
+const READ_ONLY: [u8; 7] = [0x00, 0x01, 0x0C, 0x10, 0x11, 0x12, 0x13];
+
+/// One port-level stimulus from tick `at` (`ig` the key's level, updated): a raw bus write to
+/// a read-only or an unmapped address (with the key on, or in the tick it turns on, when sig is
+/// still 0), a word with high bits past a register's width (CTH: 0x01xx, low byte 0 half the
+/// time, docs/spec.md 2.8; CTRL and STATUS likewise), or a stretch of Vs2's power-good leaking
+/// high while the rail is off; every event before tick `end`. Returns the ticks it takes.
+fn port_level(
+    r: &mut Rng,
+    at: u64,
+    end: u64,
+    ig: &mut bool,
+    events: &mut Vec<(u64, Action)>,
+) -> u64 {
+    if at + 12 >= end {
+        return 1;
+    }
+    match r.range(0, 3) {
+        0 => {
+            let len = r.range(50, 5_000).min(end - at - 1);
+            events.push((at, Action::PgLeak(true)));
+            events.push((at + len, Action::PgLeak(false)));
+            len + 1
+        }
+        k => {
+            if !*ig || r.percent(25) {
+                // in the tick the key turns on, sig still 0: refused, the key is off for the
+                // register file ([0205]); the key off long enough first for sig to fall
+                let on_at = if *ig {
+                    events.push((at, Action::Ig(false)));
+                    at + 10
+                } else {
+                    at
+                };
+                events.push((on_at, Action::Ig(true)));
+                *ig = true;
+                let addr = if r.percent(50) {
+                    READ_ONLY[r.range(0, READ_ONLY.len() as u64 - 1) as usize]
+                } else {
+                    unmapped_addr(r)
+                };
+                let data = r.range(0, 0xFFFF) as u16;
+                events.push((on_at, Action::BusWrite { addr, data }));
+                return on_at - at + 2;
+            }
+            let (addr, data) = match k {
+                1 if r.percent(50) => (
+                    READ_ONLY[r.range(0, READ_ONLY.len() as u64 - 1) as usize],
+                    r.range(0, 0xFFFF) as u16,
+                ),
+                1 => (unmapped_addr(r), r.range(0, 0xFFFF) as u16),
+                _ => {
+                    let high = (r.range(1, 0xFF) as u16) << 8;
+                    match r.range(0, 3) {
+                        0 | 1 => (
+                            0x0A,
+                            high | if r.percent(50) {
+                                0
+                            } else {
+                                r.range(1, 0xFF) as u16
+                            },
+                        ),
+                        2 => (0x02, high | r.range(0, 1) as u16),
+                        _ => (0x14, (high & 0xFC00) | r.range(0, 0x3FF) as u16),
+                    }
+                }
+            };
+            events.push((at, Action::BusWrite { addr, data }));
+            2
+        }
+    }
+}
+
+/// The parameter registers in the order a seed's first key-on writes them.
+const CONFIG_REGS: [(&str, &str); 10] = [
+    ("CTRL", "ADAPTIVE"),
+    ("PW", "PW"),
+    ("PI", "PI"),
+    ("PS", "PS"),
+    ("SI_MAX", "SI_MAX"),
+    ("SI_MIN", "SI_MIN"),
+    ("T1", "T1"),
+    ("T2", "T2"),
+    ("CTH", "CTH"),
+    ("SMP_ON", "SMP_ON"),
+];
+
+/// The writes that take the registers from `from` to `to`, one a tick from tick `at`, each
+/// legal when it comes (a write the legality rules would refuse in between waits for the
+/// others: docs/spec.md 4); the tick after the last and the registers after them.
+fn config_writes(from: &Params, to: &Params, at: u64) -> (Vec<(u64, Action)>, u64, Params) {
+    let value = |p: &Params, hdl: &str| {
+        p.hdl_parameters()
+            .iter()
+            .find(|(n, _)| *n == hdl)
+            .map_or(0, |(_, v)| *v as u16)
+    };
+    let (mut cur, mut t, mut out) = (*from, at, Vec::new());
+    for _ in 0..CONFIG_REGS.len() {
+        let mut moved = false;
+        for (reg, hdl) in CONFIG_REGS {
+            let v = value(to, hdl);
+            if value(&cur, hdl) == v {
+                continue;
+            }
+            let before = cur;
+            written(&mut cur, reg, v);
+            if cur != before {
+                out.push((t, Action::Write { reg, value: v }));
+                t += 1;
+                moved = true;
+            }
+        }
+        if !moved {
+            break;
+        }
+    }
+    (out, t, cur)
+}
+
 /// A bus address outside the register map: a hole of the map (below 0x20) half the time, else
 /// one of 0x20..=0xFF.
 fn unmapped_addr(r: &mut Rng) -> u8 {
@@ -1106,12 +1582,16 @@ mod tests {
         let mut aimed = 0;
         for (i, b) in l.bins.iter().enumerate() {
             let want = knobs_for(&b.name);
-            if b.unreachable.is_some() || b.port_only {
+            if b.unreachable.is_some() {
                 assert!(
                     want.is_empty(),
                     "{}: a bin nothing aims at has knobs",
                     b.name
                 );
+                continue;
+            }
+            if b.port_only {
+                assert_eq!(want, vec![PortLevel], "{}", b.name);
                 continue;
             }
             assert_eq!(

@@ -9,7 +9,7 @@
 //! (`code_cov`), the HDL kit (`hdl_kit`), and the records of a run re-exported below. The
 //! implementation (a seed's run, the pool, the build cache, triage, a folder's files) is private.
 
-mod cache;
+pub mod cache;
 pub mod check;
 pub mod code_cov;
 pub mod criterion;
@@ -30,6 +30,7 @@ pub mod lockstep;
 pub mod map;
 pub mod merge;
 pub mod mutation;
+pub mod param_pool;
 mod picture;
 mod pool;
 pub mod proofs;

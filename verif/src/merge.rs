@@ -80,6 +80,11 @@ pub fn differences(a: &RunSpec, b: &RunSpec) -> Vec<String> {
         a.code_coverage.to_string(),
         b.code_coverage.to_string(),
     );
+    cmp(
+        "param_sets",
+        a.param_sets.to_string(),
+        b.param_sets.to_string(),
+    );
     let pin = |p: Option<u8>| p.map_or_else(|| "(drawn per seed)".to_string(), |v| v.to_string());
     cmp(
         "pins.sync_depth",
@@ -91,6 +96,10 @@ pub fn differences(a: &RunSpec, b: &RunSpec) -> Vec<String> {
         pin(a.pins.cnt_width),
         pin(b.pins.cnt_width),
     );
+    if (a.start_seed, a.iterations) == (b.start_seed, b.iterations) && a.pool != b.pool {
+        // parts of one seed range draw from one pool
+        d.push("pool (the parameter sets differ)".to_string());
+    }
     d
 }
 
@@ -161,10 +170,20 @@ pub fn plan(specs: &[(PathBuf, RunSpec)]) -> Result<RunSpec, RegressError> {
         }
     }
     let (start, end) = (whole[0].0 .0, whole[whole.len() - 1].0 .1);
+    // Adjacent seed ranges each drew from their own pool: the merged record lists them all.
+    let mut pool = first.pool.clone();
+    for (_, s) in specs {
+        for set in &s.pool {
+            if !pool.contains(set) {
+                pool.push(*set);
+            }
+        }
+    }
     let merged = RunSpec {
         start_seed: start,
         iterations: end - start,
         shard: None,
+        pool,
         ..first.clone()
     };
     merged.validate().map_err(|e| {
@@ -244,6 +263,8 @@ pub fn merge(inputs: &[PathBuf], out: &Path, force: bool) -> Result<Merged, Regr
             pins: crate::gen::Pins::default(),
             shard: None,
             code_coverage: false,
+            param_sets: 0,
+            pool: Vec::new(),
         };
         let mut sum = Summary::build(spec, &[])?;
         sum.coverage = cov;

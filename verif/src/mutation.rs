@@ -142,6 +142,8 @@ pub struct Options {
     /// Only these mutants (empty: all).
     pub only: Vec<String>,
     pub out: PathBuf,
+    /// The pool of parameter sets the seeds draw from (`--param-sets`, 0: a set per seed).
+    pub param_sets: u32,
 }
 
 /// What the regression did to one mutant.
@@ -182,6 +184,14 @@ pub struct Report {
     pub format: &'static str,
     pub start_seed: u64,
     pub iterations: u64,
+    /// What the seeds compare: `ports` (the contract's ports only, as for an RTL without a
+    /// map) or `map` (the ports and the twin's mapped registers and internals).
+    pub compare: &'static str,
+    /// `--param-sets` of the regression whose seeds are checked.
+    pub param_sets: u32,
+    /// Seeds to catch over the caught mutants: the median and the most.
+    pub median_seeds: u64,
+    pub max_seeds: u64,
     pub rows: Vec<Row>,
     pub caught: usize,
     pub escaped: usize,
@@ -224,6 +234,21 @@ impl Report {
         }
         let run = self.rows.len() - self.equivalent;
         s.push_str(&format!(
+            "compared: {}; parameter sets: {}; seeds to catch: median {}, most {}\n",
+            if self.compare == "ports" {
+                "the ports only"
+            } else {
+                "the ports and the twin's map"
+            },
+            if self.param_sets == 0 {
+                "one per seed".to_string()
+            } else {
+                format!("a pool of {}", self.param_sets)
+            },
+            self.median_seeds,
+            self.max_seeds
+        ));
+        s.push_str(&format!(
             "mutation score: {}/{} caught within {} directed seeds ({:.1} %), {} escaped, {} proven equivalent, {} error(s); {:.0} s wall\n",
             self.caught, run, self.iterations, self.score_percent, self.escaped, self.equivalent, self.errors, self.wall_s
         ));
@@ -242,7 +267,9 @@ fn directed_biases(spec: &RunSpec, model: &dyn Dut) -> Result<Vec<Bias>, Mutatio
     let mut lo = start;
     while lo < end {
         let hi = (lo + BATCH).min(end);
-        let bias = Bias::directed(&before, spec.pins).fixing(&spec.fixed);
+        let bias = Bias::directed(&before, spec.pins)
+            .fixing(&spec.fixed)
+            .pooled(&spec.pool);
         let seeds: Vec<u64> = (lo..hi).collect();
         let out = run_pool(
             spec,
@@ -461,6 +488,19 @@ pub fn run(o: &Options, stop: &AtomicBool, progress: fn(&str)) -> Result<Report,
         pins: Pins::default(),
         shard: None,
         code_coverage: false,
+        param_sets: o.param_sets,
+        pool: Vec::new(),
+    };
+    let spec = RunSpec {
+        pool: crate::param_pool::choose(
+            spec.start_seed,
+            spec.iterations,
+            o.param_sets,
+            spec.pins,
+            &spec.fixed,
+        )
+        .map_err(|e| MutationError::Usage(e.to_string()))?,
+        ..spec
     };
     let twin = dut::prepare(&spec).map_err(|e| MutationError::Usage(e.to_string()))?;
     if !twin.fixed().is_empty() {
@@ -525,10 +565,22 @@ pub fn run(o: &Options, stop: &AtomicBool, progress: fn(&str)) -> Result<Report,
     let equivalent = count(|o| matches!(o, Outcome::Equivalent { .. }));
     let errors = count(|o| matches!(o, Outcome::Error { .. }));
     let run_n = rows.len() - equivalent;
+    let mut catches: Vec<u64> = rows
+        .iter()
+        .filter_map(|r| match r.outcome {
+            Outcome::Caught { seeds, .. } => Some(seeds),
+            _ => None,
+        })
+        .collect();
+    catches.sort_unstable();
     let report = Report {
         format: "pmu50-mutation/1",
         start_seed: o.start_seed,
         iterations: o.iterations,
+        compare: if o.map.is_some() { "map" } else { "ports" },
+        param_sets: o.param_sets,
+        median_seeds: catches.get(catches.len() / 2).copied().unwrap_or(0),
+        max_seeds: catches.last().copied().unwrap_or(0),
         caught,
         escaped,
         equivalent,

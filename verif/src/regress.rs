@@ -110,6 +110,9 @@ pub fn run(
     appender
         .set_len(complete_len)
         .map_err(|e| file_err(&results_path, e))?;
+    // Build modes: every parameter set of the pool built once, before any seed, as many at
+    // once as the jobs allow (a set that does not build fails the seeds that draw it).
+    d.prebuild(&o.spec.pool, o.jobs);
     let total_seeds = range.end - range.start;
     let mut n_done = done.len() as u64;
     let mut fails = done
@@ -184,7 +187,9 @@ pub fn run(
                     .map_err(RegressError::Usage)?;
                 cursor += 1;
             }
-            let bias = Bias::directed(&before, o.spec.pins).fixing(&o.spec.fixed);
+            let bias = Bias::directed(&before, o.spec.pins)
+                .fixing(&o.spec.fixed)
+                .pooled(&o.spec.pool);
             let todo: Vec<u64> = (lo..hi).filter(|s| !done.contains(*s)).collect();
             let out = run_pool(
                 &o.spec,
@@ -208,7 +213,10 @@ pub fn run(
         // One queue over each chunk of the range: no core waits for the slowest seed of a
         // batch; the results are written in seed order as soon as every seed before them has
         // finished.
-        let bias = Bias::uniform().pinned(o.spec.pins).fixing(&o.spec.fixed);
+        let bias = Bias::uniform()
+            .pinned(o.spec.pins)
+            .fixing(&o.spec.fixed)
+            .pooled(&o.spec.pool);
         let mut pending: Vec<(SeedResult, Vec<u64>)> = Vec::new();
         let mut last = std::time::Instant::now();
         let mut lo = range.start;

@@ -161,6 +161,18 @@ fn dut_notes(spec: &crate::spec::RunSpec) -> String {
     } else if crate::dut::of(&spec.dut).is_ok_and(|b| b.caps.rtl) {
         n.push_str("; the output ports compared after every edge");
     }
+    if !spec.pool.is_empty() {
+        // build modes: the pool of parameter sets the seeds drew from
+        n.push_str(&format!(
+            "<br>parameter sets: a pool of {} (at most {}, <code>--param-sets</code>), each built once, the seeds spread over them:<ol style=\"margin:0\">",
+            spec.pool.len(),
+            spec.param_sets
+        ));
+        for set in &spec.pool {
+            n.push_str(&format!("<li><code>{}</code></li>", esc(&set.text())));
+        }
+        n.push_str("</ol>");
+    }
     if !spec.fixed.is_empty() {
         let off: Vec<String> = crate::gen::knobs_off(&spec.fixed)
             .iter()

@@ -58,6 +58,14 @@ pub struct RunSpec {
     /// `--code-coverage`: the RTL's line and toggle coverage is measured (`code/`).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub code_coverage: bool,
+    /// `--param-sets P`: the seeds draw their parameters from a pool of at most P sets (one
+    /// build each); absent or 0, each seed draws its own.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub param_sets: u32,
+    /// The pool itself, fixed from the seed range when the run started
+    /// ([`crate::param_pool::choose`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pool: Vec<gen::ParamSet>,
 }
 
 impl RunSpec {
@@ -89,6 +97,10 @@ impl RunSpec {
             format!("random/{seed}")
         }
     }
+}
+
+fn is_zero(n: &u32) -> bool {
+    *n == 0
 }
 
 pub(crate) fn is_default(p: &gen::Pins) -> bool {

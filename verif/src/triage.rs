@@ -25,11 +25,16 @@ use std::time::Duration;
 pub fn bias_for(s: &Summary, seed: u64) -> Result<Bias, RegressError> {
     let spec = &s.spec;
     if !spec.directed {
-        return Ok(Bias::uniform().pinned(spec.pins).fixing(&spec.fixed));
+        return Ok(Bias::uniform()
+            .pinned(spec.pins)
+            .fixing(&spec.fixed)
+            .pooled(&spec.pool));
     }
     let start = spec.seeds().start;
     let lo = start + (seed - start) / BATCH * BATCH;
-    Ok(Bias::directed(&s.hits_before(lo)?, spec.pins).fixing(&spec.fixed))
+    Ok(Bias::directed(&s.hits_before(lo)?, spec.pins)
+        .fixing(&spec.fixed)
+        .pooled(&spec.pool))
 }
 
 /// Shrink a failing stimulus; returns the smallest one found that fails with `sig`, its
@@ -301,6 +306,8 @@ mod tests {
             pins: Default::default(),
             shard: None,
             code_coverage: false,
+            param_sets: 0,
+            pool: Vec::new(),
         };
         let repro = Path::new("out dir/failures/dut-x-y/repro.toml");
         let cmd = command(&spec, repro);

@@ -34,6 +34,7 @@ pub struct FrontSample {
 pub struct FrontState {
     pub sensor2: Sensor2,
     pub fault: bool,
+    pub pg_leak: bool,
 }
 
 /// Rail, second sensor and comparators.
@@ -45,6 +46,9 @@ pub struct AnalogFront {
     vcc2_v: f64,
     /// Injected Vs2 fault: the rail does not come up while true (scenario `vs2_fault`).
     fault: bool,
+    /// Injected power-good leak: power-good reads high while the rail is off (scenario
+    /// `vs2_pg_leak`).
+    pg_leak: bool,
 }
 
 impl AnalogFront {
@@ -55,11 +59,28 @@ impl AnalogFront {
             vcc1_v: env.vcc1_v,
             vcc2_v: env.vcc2_v,
             fault: false,
+            pg_leak: false,
         })
     }
 
     pub fn set_fault(&mut self, on: bool) {
         self.fault = on;
+    }
+
+    pub fn set_pg_leak(&mut self, on: bool) {
+        self.pg_leak = on;
+    }
+
+    /// Vs2's power-good this tick (input `vs2_ok`): the rail is up, or it is off (not enabled)
+    /// while the power-good leaks.
+    pub fn power_good(&self, f: &FrontSample, out: &Outputs) -> bool {
+        f.vs2_v > 0.0 || (self.pg_leak && !out.vs2_en)
+    }
+
+    /// Whether the power-good leaks now (the bench then steps every tick: an idle key-off
+    /// stretch has `vs2_ok` low).
+    pub fn pg_leak(&self) -> bool {
+        self.pg_leak
     }
 
     /// One tick: rail from the core's outputs, sensor settling towards `theta_deg` over
@@ -106,6 +127,7 @@ impl AnalogFront {
         FrontState {
             sensor2: self.sensor2.clone(),
             fault: self.fault,
+            pg_leak: self.pg_leak,
         }
     }
 }

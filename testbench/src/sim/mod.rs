@@ -358,6 +358,7 @@ impl Timeline<'_> {
             match &e.action {
                 Action::Ig(v) => self.ig = *v,
                 Action::Vs2Fault(v) => front.set_fault(*v),
+                Action::Vs2PgLeak(v) => front.set_pg_leak(*v),
                 Action::Write { addr, value, .. } => {
                     inputs.bus_we = true;
                     inputs.bus_addr = *addr;
@@ -542,7 +543,7 @@ pub fn run_with(
                     ig: timeline.ig,
                     ..Inputs::default()
                 };
-                if n > 1 && core.quiet_ticks(&idle) >= n {
+                if n > 1 && !front.pg_leak() && core.quiet_ticks(&idle) >= n {
                     front.unpowered(clk).map_err(|e| env_err(k, e))?;
                     meter.tick(
                         out.sig,
@@ -570,7 +571,7 @@ pub fn run_with(
         // Analog front of this tick; the shaft angle is the one at the end of the tick.
         let theta = sc.motor.angle_at(t_ns + clk);
         let f = front.sample(&out, theta, clk).map_err(|e| env_err(k, e))?;
-        inputs.vs2_ok = f.vs2_v > 0.0;
+        inputs.vs2_ok = front.power_good(&f, &out);
         inputs.cmp_s = f.bits.cs;
         inputs.cmp_c = f.bits.cc;
 

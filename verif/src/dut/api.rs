@@ -80,6 +80,10 @@ pub trait Dut: Send + Sync {
     /// Hand a seed's recording to the DUT; it may run while the caller goes on.
     fn send<'a>(&'a self, sc: &Scenario, rec: Recorded)
         -> Result<Box<dyn InFlight + 'a>, DutError>;
+    /// Build the RTL for each of these parameter sets now, `jobs` builds at once (build modes:
+    /// a regression's pool is built before any seed). A set that does not build is left to
+    /// the seeds that draw it, which fail with the reason.
+    fn prebuild(&self, _sets: &[crate::gen::ParamSet], _jobs: usize) {}
     /// What the report and the repro's command line say of this DUT beside the verdicts: the
     /// knobs not drawn, the fixed values, the map.
     fn notes(&self) -> Vec<String> {

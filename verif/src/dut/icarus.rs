@@ -43,6 +43,9 @@ pub struct IcarusDut {
     compiles: Mutex<HashMap<String, Slot>>,
     scratch: tempfile::TempDir,
     notes: Vec<String>,
+    /// The leases of this RTL's cache folder and of every compile this run uses
+    /// ([`crate::cache`]).
+    leases: Mutex<Vec<std::fs::File>>,
 }
 
 impl IcarusDut {
@@ -78,7 +81,11 @@ impl IcarusDut {
         let root = crate::cache::cache_dir()
             .join("icarus")
             .join(format!("{:016x}", fnv(&refs)));
+        // a cap that is not a size is refused before any build
+        crate::cache::cache_max().map_err(DutError::Tool)?;
         std::fs::create_dir_all(&root)
+            .map_err(|e| DutError::Tool(format!("{}: {e}", root.display())))?;
+        let rtl_lease = crate::cache::rtl_lease(&root, &fl.list)
             .map_err(|e| DutError::Tool(format!("{}: {e}", root.display())))?;
         let tb = root.join(format!(
             "tb_vectors_{:016x}.v",
@@ -102,6 +109,7 @@ impl IcarusDut {
             compiles: Mutex::new(HashMap::new()),
             scratch,
             notes,
+            leases: Mutex::new(vec![rtl_lease]),
         };
         // Compiled once with the defaults: an RTL Icarus refuses fails now.
         let p = dut.fixed.apply(&Params {
@@ -143,17 +151,33 @@ impl IcarusDut {
             .entry(key.clone())
             .or_default()
             .clone();
-        slot.get_or_init(|| self.compile_now(&key, args)).clone()
+        slot.get_or_init(|| {
+            // leased, and compiled once under its lock (another process compiling it
+            // meanwhile is waited for)
+            let vvp = self.root.join(format!("{key}.vvp"));
+            let deps = self.root.join(format!("{key}.deps"));
+            let (lease, vvp) = crate::cache::obtain(
+                &vvp,
+                || (vvp.is_file() && crate::cache::files_unchanged(&deps)).then(|| vvp.clone()),
+                || self.compile_now(&key, args.clone()),
+            )?;
+            self.leases
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(lease);
+            crate::cache::trim_to_cap();
+            Ok(vvp)
+        })
+        .clone()
     }
 
-    fn compile_now(&self, key: &str, mut args: Vec<String>) -> Result<PathBuf, String> {
+    /// Compile `key` now into `<key>.vvp`, its record of the files read in `<key>.deps`.
+    fn compile_now(&self, key: &str, mut args: Vec<String>) -> Result<(), String> {
         let vvp = self.root.join(format!("{key}.vvp"));
         let deps = self.root.join(format!("{key}.deps"));
-        if vvp.is_file() && crate::cache::files_unchanged(&deps) {
-            return Ok(vvp);
-        }
+        std::fs::create_dir_all(&self.root).map_err(|e| format!("{}: {e}", self.root.display()))?;
         let tmp = tempfile::Builder::new()
-            .prefix(".compile-")
+            .prefix(&format!(".compile-{key}-"))
             .tempdir_in(&self.root)
             .map_err(|e| format!("{}: {e}", self.root.display()))?;
         if self.top_params.len() < pmu50_core::params::HDL_NAMES.len() {
@@ -198,9 +222,11 @@ impl IcarusDut {
             .filter(|p| p.is_file() && !p.starts_with(tmp.path()))
             .collect();
         files.extend(self.list.files.iter().cloned());
-        crate::cache::write_record(&deps, &files);
+        // the compile, then its record: a compile killed between leaves a record that does
+        // not match, never an old compile with a new record
         std::fs::rename(&out_vvp, &vvp).map_err(|e| e.to_string())?;
-        Ok(vvp)
+        crate::cache::write_record(&deps, &files);
+        Ok(())
     }
 }
 
@@ -389,6 +415,26 @@ impl Dut for IcarusDut {
                     self.scratch.path().display()
                 ))
             })
+    }
+
+    fn prebuild(&self, sets: &[crate::gen::ParamSet], jobs: usize) {
+        let mut todo: Vec<(Params, u64)> = Vec::new();
+        for s in sets {
+            let k = (self.fixed.apply(&s.params), s.clock_us * 1000);
+            if !todo.contains(&k) {
+                todo.push(k);
+            }
+        }
+        let next = std::sync::atomic::AtomicUsize::new(0);
+        std::thread::scope(|s| {
+            for _ in 0..jobs.max(1).min(todo.len()) {
+                s.spawn(|| loop {
+                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some((p, clock_ns)) = todo.get(k) else { break };
+                    let _ = self.compiled(p, *clock_ns);
+                });
+            }
+        });
     }
 
     fn send<'a>(

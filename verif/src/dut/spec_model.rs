@@ -103,6 +103,8 @@ mod tests {
             pins: Default::default(),
             shard: None,
             code_coverage: false,
+            param_sets: 0,
+            pool: Vec::new(),
         }
     }
 
