@@ -91,6 +91,18 @@ pub trait Dut: Send + Sync {
     fn take_code_coverage(&self, _name: &str) -> Option<crate::code_cov::points::SeedCode> {
         None
     }
+    /// The RTL's own waveform of ticks `window.0..=window.1` of a recording, written to `out`
+    /// (VCD, every signal of the RTL, time in ns from reset), where the backend can give it:
+    /// the RTL's side of a failure folder.
+    fn rtl_wave(
+        &self,
+        _sc: &Scenario,
+        _rec: Recorded,
+        _window: (u64, u64),
+        _out: &Path,
+    ) -> Option<Result<(), DutError>> {
+        None
+    }
     /// The DUT's values after each edge `from..=to` of a recording (for the picture of a
     /// failure), where the backend can give them.
     fn trace(
