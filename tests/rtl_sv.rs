@@ -137,6 +137,7 @@ fn entries(map: &str) -> Vec<String> {
 fn a_map_names_fields_of_packed_structs_and_elements_of_arrays() {
     let t = tmp("fields");
     let alt = hdl().join("alt_sv");
+    let list = alt.join("pmu50_alt.f");
     let map = alt.join("pmu50_alt.map.toml");
     let text = std::fs::read_to_string(&map).unwrap();
     assert_eq!(
@@ -159,7 +160,7 @@ fn a_map_names_fields_of_packed_structs_and_elements_of_arrays() {
             "--dut",
             "verilator",
             "--rtl",
-            s(&alt.join("pmu50_alt.f")),
+            s(&list),
             "--map",
             s(&map),
         ];
@@ -207,7 +208,7 @@ fn a_map_names_fields_of_packed_structs_and_elements_of_arrays() {
                 "--dut",
                 "verilator",
                 "--rtl",
-                s(&alt.join("pmu50_alt.f")),
+                s(&list),
                 "--map",
                 s(&bad),
             ],
@@ -299,7 +300,7 @@ fn a_failure_folder_shows_the_model_and_the_rtl_of_every_diverging_signal() {
             "--start-seed",
             "4",
             "--iterations",
-            "2",
+            "4",
             "--directed",
             "--dut",
             "verilator",
@@ -308,7 +309,12 @@ fn a_failure_folder_shows_the_model_and_the_rtl_of_every_diverging_signal() {
         ],
         &out,
     );
-    let msg = expect(&o, 1, &["fail dut-cnt_r+si-s10_expand"]);
+    // seeds 4 and 7 fail (at different ticks, with different values): one signature
+    let msg = expect(
+        &o,
+        1,
+        &["fail dut-cnt_r+si-s10_expand_s25_no_change: 2 seed(s), smallest 4"],
+    );
     assert_eq!(
         msg.matches("  fail dut-").count(),
         1,
@@ -370,8 +376,8 @@ fn a_failure_folder_shows_the_model_and_the_rtl_of_every_diverging_signal() {
     for line in [
         "[dumpfile] \"compare.vcd\"",
         "-si: model / RTL",
-        "model.si[15:0]",
-        "rtl.si[15:0]",
+        "+{model si} model.si[15:0]",
+        "+{RTL si} rtl.si[15:0]",
         "-cnt_r: model / RTL",
         "[markername] Adivergence at tick",
     ] {

@@ -1,11 +1,13 @@
 //! `pmu50 rtl-map`: a map proposed from what the RTL does, not only from what it is called.
 //!
 //! The RTL (a Verilator build with tracing) and the model are run on the same discovery runs:
-//! one that writes each parameter register through the bus and back, reads every address and
-//! makes the register bank refuse illegal values, then directed regression seeds at the RTL's default
-//! parameters (key cycles, the shaft turning both ways, Vs2 faults, the interval adapting). The
-//! RTL's own waveform of every run (every signal Verilator keeps, `rtl.vcd` of a failure) is read
-//! back, one sample a tick: the registers after edge k, the combinational values of cycle k.
+//! one that writes each parameter register through the bus and back, reads every address, makes
+//! the register bank refuse illegal values, and lets Vs2 fail through key-off strobes; then
+//! directed regression seeds at the RTL's default parameters (key cycles, the shaft turning both
+//! ways, Vs2 faults, the interval adapting), some aimed at the quadrant-skip clear and at dead
+//! strobes. The RTL's own waveform of every run (every signal Verilator keeps, as in a failure's
+//! `rtl.vcd`) is read back, one sample a tick: the registers after edge k, the combinational
+//! values of cycle k.
 //!
 //! For each model register and internal, the candidates are the RTL's signals of its width, the
 //! fields of packed structs (`cfg_q.pw`), the elements of small arrays and, for a one-bit value,
@@ -30,9 +32,9 @@ use pmu50_testbench::sim::{self, Observer, SimError, SimOptions, TickView};
 use std::path::Path;
 
 /// Directed regression seeds run beside the bus run.
-const SEEDS: u64 = 5;
-/// Seeds aimed at the clear of the quadrant skip flag.
-const AIMED: u64 = 2;
+const SEEDS: u64 = 4;
+/// Seeds aimed at the bins that tell similar values apart.
+const AIMED: u64 = 4;
 /// Ticks of a discovery run at most.
 const MAX_TICKS: u64 = 20_000;
 
@@ -171,8 +173,13 @@ fn runs(p: &Params) -> Vec<Stimulus> {
         },
     ));
     t += 20;
+    // key off: the sampling strobes, with Vs2 failing through a few of them (a strobe with Sr
+    // low takes no sample), then working again
     ev.push((t, Action::Ig(false)));
-    t += 40;
+    let every = u64::from(p.si_max.max(p.smp_on)).max(1);
+    ev.push((t + 10, Action::Fault(true)));
+    ev.push((t + 10 + 3 * every, Action::Fault(false)));
+    t += 10 + 6 * every;
     bus.events = ev;
     bus.ticks = t;
     bus.motion = vec![crate::gen::Motion::Hold { ticks: t }];
@@ -184,18 +191,23 @@ fn runs(p: &Params) -> Vec<Stimulus> {
         let ticks = s.ticks.min(MAX_TICKS);
         v.push(crate::triage::truncate(&s, ticks));
     }
-    // seeds aimed at the W1C of STATUS.quadrant_skip (a skip, then the MPU's clear): the one
-    // behaviour that tells the skip flag from the count diagnosis
-    let skip_clear: Vec<&str> = pmu50_coverage::layout()
+    // seeds aimed at what tells similar values apart: the W1C of STATUS.quadrant_skip (a skip,
+    // then the MPU's clear), strobes while Vs2 is dead or its power-good drops (a strobe that
+    // takes no sample)
+    let aims: Vec<&str> = pmu50_coverage::layout()
         .bins
         .iter()
-        .filter(|b| b.name.contains("skip_clear"))
+        .filter(|b| {
+            ["skip_clear", "dead_strobe", "pg_drop"]
+                .iter()
+                .any(|a| b.name.contains(a))
+        })
         .map(|b| b.name.as_str())
         .collect();
     for seed in 1..=AIMED {
         let s = Stimulus::generate(
             seed,
-            &Bias::from_missing(skip_clear.iter().copied()).fixing(&fixed),
+            &Bias::from_missing(aims.iter().copied()).fixing(&fixed),
         );
         let ticks = s.ticks.min(MAX_TICKS);
         v.push(crate::triage::truncate(&s, ticks));
@@ -297,7 +309,7 @@ fn candidates(vcd: &Path, d: &Design, ticks: u64) -> Result<Vec<Candidate>, Stri
             out.push(Candidate {
                 name: format!("{path}{suffix}"),
                 module: sig.map(|s| s.module.clone()).unwrap_or_default(),
-                is_port: sig.is_some_and(|s| s.is_port) && suffix.is_empty(),
+                is_port: sig.is_some_and(|s| s.is_port),
                 width,
                 values,
             });

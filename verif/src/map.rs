@@ -54,26 +54,23 @@ pub enum MapError {
         actual: u32,
         why: String,
     },
-    #[error("--map {path}:{line}: `{key}` = `{name}`: {reason}{closest}")]
+    /// A field, element or part the signal does not have (`reason` ends with the closest names).
+    #[error("--map {path}:{line}: `{key}` = `{name}`: {reason}")]
     NoField {
         path: PathBuf,
         line: usize,
         key: String,
         name: String,
         reason: String,
-        closest: String,
     },
-    #[error(
-        "--map {path}:{line}: `{key}` = `{name}`: {width} bits ({what}); a map compares at most 64 bits: name a field, an element or a part of it{fields}"
-    )]
+    /// A value wider than 64 bits (`what`: its width and shape, then the fields to name).
+    #[error("--map {path}:{line}: `{key}` = `{name}`: {what}")]
     TooWide {
         path: PathBuf,
         line: usize,
         key: String,
         name: String,
-        width: u32,
         what: String,
-        fields: String,
     },
 }
 
@@ -269,11 +266,10 @@ impl RtlMap {
                         line,
                         key: e.model.clone(),
                         name: e.rtl.clone(),
-                        reason: format!("`{}`: {reason}", sig.path),
-                        closest: if c.is_empty() {
-                            String::new()
+                        reason: if c.is_empty() {
+                            format!("`{}`: {reason}", sig.path)
                         } else {
-                            format!("; closest: {}", c.join(", "))
+                            format!("`{}`: {reason}; closest: {}", sig.path, c.join(", "))
                         },
                     });
                 }
@@ -291,13 +287,16 @@ impl RtlMap {
                     line,
                     key: e.model.clone(),
                     name: e.rtl.clone(),
-                    width: sel.width,
-                    what: sel.shape.describe(),
-                    fields: if fields.is_empty() {
-                        String::new()
-                    } else {
-                        format!(": {}", fields.join(", "))
-                    },
+                    what: format!(
+                        "{} bits ({}); a map compares at most 64 bits: name a field, an element or a part of it{}",
+                        sel.width,
+                        sel.shape.describe(),
+                        if fields.is_empty() {
+                            String::new()
+                        } else {
+                            format!(": {}", fields.join(", "))
+                        }
+                    ),
                 });
             }
             let w = widths

@@ -287,7 +287,7 @@ fn render(sc: &Scenario, f: &Failure, from: u64, to: u64, rows: &[Row], note: &s
         sc.name, f.tick, f.signal, f.expected, f.got, note
     );
     svg.text(8.0, 18.0, 13.0, Anchor::Start, "#000000", &title);
-    svg.text(8.0, 36.0, 11.0, Anchor::Start, "#444444", &format!("block {}, FIG. path {}; one column per rising edge k (values after edge k, inputs sampled by it)", f.block, f.fig));
+    svg.text(8.0, 36.0, 11.0, Anchor::Start, "#444444", &format!("block {}, FIG. path {}; one column per rising edge k (values after edge k, inputs sampled by it), values in decimal", f.block, f.fig));
     let x_of = |edge: u64| left + (edge - from) as f64 * col_w;
     // the divergence column
     if (from..=to).contains(&f.tick) {
@@ -366,7 +366,7 @@ fn render(sc: &Scenario, f: &Failure, from: u64, to: u64, rows: &[Row], note: &s
                             9.5,
                             Anchor::Start,
                             colour,
-                            &format!("{v:x}"),
+                            &v.to_string(),
                         );
                     }
                 }

@@ -269,10 +269,7 @@ impl Shape {
 
 /// Split `pmu50.u.cfg_q.pw[3]` where the signal's name ends: the longest prefix, at a `.` or a
 /// `[`, for which `is_signal` holds; the prefix and what follows it.
-pub fn split_signal<'a>(
-    path: &'a str,
-    is_signal: impl Fn(&str) -> bool,
-) -> Option<(&'a str, &'a str)> {
+pub fn split_signal(path: &str, is_signal: impl Fn(&str) -> bool) -> Option<(&str, &str)> {
     let mut cuts: Vec<usize> = path
         .char_indices()
         .filter(|(_, c)| *c == '.' || *c == '[')

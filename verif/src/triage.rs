@@ -202,6 +202,7 @@ fn both_sides(
         pmu50_testbench::scenario::Scenario::parse(toml, &path.display().to_string(), name, &path)
             .map_err(|e| e.to_string())?;
     let (from, to) = crate::wave::compare_window(f.tick, sc.ticks);
+    let (rtl_from, rtl_to) = crate::wave::rtl_window(f.tick, sc.ticks);
     let mut notes = Vec::new();
     if f.kind != "dut" || f.signal == "dut" {
         // not a divergence from an RTL (a check of the model, a crash, a hang): the model's side
@@ -223,7 +224,7 @@ fn both_sides(
         }
     };
     if let Ok(rec) = crate::dut::record(dut, &sc) {
-        match dut.rtl_wave(&sc, rec, (from, to), &folder.join("rtl.vcd")) {
+        match dut.rtl_wave(&sc, rec, (rtl_from, rtl_to), &folder.join("rtl.vcd")) {
             Some(Ok(())) => {}
             Some(Err(e)) => notes.push(format!("rtl.vcd: {e}")),
             None => notes.push(format!(

@@ -22,8 +22,10 @@ pub fn write(folder: &Path, toml: &str, name: &str, f: &Failure) -> Result<(), R
     // holds the 400 ticks before it and 40 after (GTKWave opens a file at its first time).
     let tick = f.tick.min(sc.ticks);
     let window = (
-        tick.saturating_sub(400),
-        (tick + 40).min(sc.ticks).max(tick.saturating_sub(400) + 1),
+        tick.saturating_sub(BEFORE),
+        (tick + AFTER)
+            .min(sc.ticks)
+            .max(tick.saturating_sub(BEFORE) + 1),
     );
     let fo = FileOptions {
         level: Level::All,
@@ -37,8 +39,8 @@ pub fn write(folder: &Path, toml: &str, name: &str, f: &Failure) -> Result<(), R
             f.signal.trim_start_matches("pmu50.")
         )
         .to_lowercase(),
-        before: 400,
-        after: 40,
+        before: BEFORE,
+        after: AFTER,
     };
     let (_, _, batch) =
         run_to_batch_focused(&sc, folder, fo, WaveFormat::Vcd, &mut [], Some(&focus)).map_err(
@@ -51,11 +53,21 @@ pub fn write(folder: &Path, toml: &str, name: &str, f: &Failure) -> Result<(), R
     Ok(())
 }
 
-/// Ticks of `compare.vcd` before and after the divergence (as `repro.vcd`).
-const COMPARE_BEFORE: u64 = 400;
-const COMPARE_AFTER: u64 = 40;
+/// Ticks of `repro.vcd` and `rtl.vcd` before and after the divergence.
+const BEFORE: u64 = 400;
+const AFTER: u64 = 40;
+/// Ticks of `compare.vcd` before and after the divergence: what GTKWave shows when it opens
+/// (it opens a file at its first time, whatever the save file's `[timestart]` says).
+const COMPARE_BEFORE: u64 = 40;
+const COMPARE_AFTER: u64 = 8;
 
-/// The window of ticks of a failure's waveforms (`repro.vcd`, `rtl.vcd`, `compare.vcd`).
+/// The window of ticks of a failure's `repro.vcd` and of the RTL's own `rtl.vcd`.
+pub fn rtl_window(tick: u64, ticks: u64) -> (u64, u64) {
+    let from = tick.saturating_sub(BEFORE);
+    (from, (tick + AFTER).min(ticks).max(from))
+}
+
+/// The window of ticks of a failure's `compare.vcd` (and of the DUT's trace it is drawn from).
 pub fn compare_window(tick: u64, ticks: u64) -> (u64, u64) {
     let from = tick.saturating_sub(COMPARE_BEFORE);
     (from, (tick + COMPARE_AFTER).min(ticks).max(from))
@@ -82,7 +94,7 @@ pub fn write_compare(
     let cap = crate::picture::Capture::run(sc, from, to)
         .map_err(|e| err("compare.vcd", e.to_string()))?;
     // time as in repro.vcd: microseconds when the clock period is a whole number of them
-    let (unit, ns) = if sc.clock_ns() % 1000 == 0 && sc.clock_ns() > 0 {
+    let (unit, ns) = if sc.clock_ns().is_multiple_of(1000) && sc.clock_ns() > 0 {
         (TimeUnit::Us, sc.clock_ns() / 1000)
     } else {
         (TimeUnit::Ns, sc.clock_ns().max(1))
@@ -194,22 +206,20 @@ pub fn write_compare(
             .enumerate()
             .filter(|(_, r)| r.0 != "inputs" && r.1 == name)
         {
-            let colour = if rows[k].0 == "model" {
-                Color::Green
+            // both rows of a pair are called `<p>` in the VCD: the alias says whose it is
+            let (colour, side) = if rows[k].0 == "model" {
+                (Color::Green, "model")
             } else {
-                Color::Red
+                (Color::Red, "RTL")
             };
             if let Some(t) = trace_of(k, Some(colour)) {
-                g.trace(t).map_err(gerr)?;
+                g.trace(t.alias(format!("{side} {p}"))).map_err(gerr)?;
             }
         }
         g.end_group().map_err(gerr)?;
     }
     let tick = f.tick.clamp(from, to);
-    g.fit(
-        tick.saturating_sub(24).max(from) * ns,
-        (tick + 4).min(to).max(from + 1) * ns,
-    );
+    g.fit(from * ns, to.max(from + 1) * ns);
     g.marker(
         tick * ns,
         &format!("divergence at tick {}: {}", f.tick, pairs_text(f)),

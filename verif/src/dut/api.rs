@@ -16,14 +16,21 @@ pub enum DutError {
     /// The RTL is bad input: it does not elaborate, lacks a contract port, ...
     #[error(transparent)]
     Rtl(#[from] RtlError),
+    /// A map that does not fit the RTL (boxed: its messages carry several names).
     #[error(transparent)]
-    Map(#[from] MapError),
+    Map(Box<MapError>),
     /// Options that do not fit the RTL (`--cnt-width` against an RTL that fixes CNT_W, ...).
     #[error("{0}")]
     Usage(String),
     /// A tool or the machine failed (a build, a process, a file).
     #[error("{0}")]
     Tool(String),
+}
+
+impl From<MapError> for DutError {
+    fn from(e: MapError) -> Self {
+        DutError::Map(Box::new(e))
+    }
 }
 
 impl DutError {

@@ -51,7 +51,7 @@ pub fn divergence(sc: &Scenario, tick: u64, combinational: bool, mm: &[Mismatch]
     let shown: Vec<String> = mm
         .iter()
         .take(8)
-        .map(|m| format!("{} expected {:x} got {:x}", m.signal, m.expected, m.got))
+        .map(|m| format!("{} expected {:#x} got {:#x}", m.signal, m.expected, m.got))
         .collect();
     let mut f = dut_failure(
         sc,

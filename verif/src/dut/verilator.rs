@@ -130,6 +130,9 @@ const PROBE_ADDRS: [u8; 11] = [
 /// One build, shared by the jobs: built once, by the first job that needs it.
 type Slot = Arc<OnceLock<Result<PathBuf, String>>>;
 
+/// The mapped model values and the RTL signals that hold them, at one structure.
+type MappedAt = Vec<(Entry, Mapped)>;
+
 pub struct VerilatorDut {
     list: FileList,
     /// The parameters of [`HDL_NAMES`] the top has, with their default values.
@@ -137,11 +140,11 @@ pub struct VerilatorDut {
     fixed: Fixed,
     /// Mapped model values and the RTL signals that hold them, at the structure the seeds
     /// start from.
-    mapped: Vec<(Entry, Mapped)>,
+    mapped: MappedAt,
     /// The map, resolved again for each other structure (SYNC_DEPTH, CNT_W) a seed draws: a
     /// signal's width, and a field's place in a struct, may follow them.
     map: Option<RtlMap>,
-    mapped_at: Mutex<HashMap<(u8, u8), Vec<(Entry, Mapped)>>>,
+    mapped_at: Mutex<HashMap<(u8, u8), MappedAt>>,
     map_key: String,
     /// The cache folder of this RTL (its files' paths and contents).
     root: PathBuf,
