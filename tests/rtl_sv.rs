@@ -50,6 +50,33 @@ fn delays_initial_blocks_and_display_in_the_rtl_pass_on_every_backend() {
         &t.join("alt"),
     );
     expect(&o, 0, &["4 seeds, 4 pass"]);
+    // the coverage build takes the same options: the delayed flop's lines are counted
+    let o = regress(
+        &[
+            "--iterations",
+            "1",
+            "--directed",
+            "--no-triage",
+            "--code-coverage",
+            "--dut",
+            "verilator",
+            "--rtl",
+            s(&hdl().join("alt_sv/pmu50_alt_idioms.f")),
+        ],
+        &t.join("alt_cov"),
+    );
+    expect(&o, 0, &["1 seeds, 1 pass", "code coverage: line"]);
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(t.join("alt_cov/code/summary.json")).unwrap(),
+    )
+    .unwrap();
+    let idioms = summary["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["file"] == "idioms/pmu_rail_monitor.sv")
+        .expect("the file with the delays is covered");
+    assert!(idioms["line"]["hit"].as_u64().unwrap() > 0, "{idioms}");
     // the twin with the same idioms, on Verilator and on Icarus (which honours the delay)
     let list = twin_copy(&t.join("rtl"), |f, x| {
         if f.ends_with("sensor_power_determination_57.v") {
@@ -146,12 +173,48 @@ fn a_map_names_fields_of_packed_structs_and_elements_of_arrays() {
         "one map with every entry"
     );
     assert!(text.contains("\"pmu50.u_regs.cfg_q.pw\""));
+    // a copy whose registers are also read as elements of an unpacked array and bits of a
+    // vector: `view_q[2]` (declared [1:3]) holds the interval, `hist_v[1:0]` the history bits
+    let copy = t.join("copy");
+    std::fs::create_dir_all(&copy).unwrap();
+    for e in std::fs::read_dir(&alt).unwrap().flatten() {
+        if e.path().is_file() {
+            let mut text = std::fs::read_to_string(e.path()).unwrap();
+            if e.file_name() == "pmu_interval_adapt.sv" {
+                let end = text.rfind("endmodule").unwrap();
+                text.insert_str(
+                    end,
+                    "  logic [15:0] view_q [1:3];\n  logic [7:0] hist_v;\n  always_comb begin\n    view_q[1] = 16'd0;\n    view_q[2] = interval_q;\n    view_q[3] = 16'hffff;\n    hist_v = {6'd0, hist_c_q, hist_s_q};\n  end\n",
+                );
+            }
+            std::fs::write(copy.join(e.file_name()), text).unwrap();
+        }
+    }
+    let mut copy_map = text.clone();
+    for (from, to) in [
+        ("pmu50.u_adapt.interval_q\"", "pmu50.u_adapt.view_q[2]\""),
+        ("pmu50.u_adapt.hist_s_q\"", "pmu50.u_adapt.hist_v[0]\""),
+        ("pmu50.u_adapt.hist_c_q\"", "pmu50.u_adapt.hist_v[1]\""),
+        ("pmu50.u_latch.sign_s_o\"", "pmu50.u_latch.sign_q[0]\""),
+        ("pmu50.u_latch.sign_c_o\"", "pmu50.u_latch.sign_q[1]\""),
+    ] {
+        assert!(copy_map.contains(from), "{from}");
+        copy_map = copy_map.replacen(from, to, 1);
+    }
+    let copy_map = write(&t, "copy.map.toml", copy_map);
     // every entry compared (the parameter registers are fields of the 137-bit cfg_q), and at
     // another structure than the default (the fields and widths resolved again)
-    for (tag, extra) in [
-        ("default", vec!["--directed", "--iterations", "4"]),
+    for (tag, rtl, map, extra) in [
+        (
+            "default",
+            &list,
+            &map,
+            vec!["--directed", "--iterations", "4"],
+        ),
         (
             "narrow",
+            &copy.join("pmu50_alt.f"),
+            &copy_map,
             vec!["--iterations", "2", "--sync-depth", "3", "--cnt-width", "5"],
         ),
     ] {
@@ -160,9 +223,9 @@ fn a_map_names_fields_of_packed_structs_and_elements_of_arrays() {
             "--dut",
             "verilator",
             "--rtl",
-            s(&list),
+            s(rtl),
             "--map",
-            s(&map),
+            s(map),
         ];
         a.extend(extra);
         let o = regress(&a, &t.join(tag));
