@@ -275,6 +275,13 @@ pub fn divergence_svg(
     Ok(render(sc, f, from, to, &rows, &note))
 }
 
+/// A row of the register bus (`in bus_addr`, `bus_rdata (DUT)`, ...): its words are shown in hex.
+pub(crate) fn is_bus(name: &str) -> bool {
+    ["bus_addr", "bus_wdata", "bus_rdata"]
+        .iter()
+        .any(|b| name.contains(b))
+}
+
 fn render(sc: &Scenario, f: &Failure, from: u64, to: u64, rows: &[Row], note: &str) -> String {
     let n = (to - from + 1) as f64;
     let (left, top, row_h, col_w) = (190.0, 58.0, 24.0, 30.0);
@@ -287,7 +294,7 @@ fn render(sc: &Scenario, f: &Failure, from: u64, to: u64, rows: &[Row], note: &s
         sc.name, f.tick, f.signal, f.expected, f.got, note
     );
     svg.text(8.0, 18.0, 13.0, Anchor::Start, "#000000", &title);
-    svg.text(8.0, 36.0, 11.0, Anchor::Start, "#444444", &format!("block {}, FIG. path {}; one column per rising edge k (values after edge k, inputs sampled by it), values in decimal", f.block, f.fig));
+    svg.text(8.0, 36.0, 11.0, Anchor::Start, "#444444", &format!("block {}, FIG. path {}; one column per rising edge k (values after edge k, inputs sampled by it), values in decimal, the bus in hex", f.block, f.fig));
     let x_of = |edge: u64| left + (edge - from) as f64 * col_w;
     // the divergence column
     if (from..=to).contains(&f.tick) {
@@ -325,6 +332,8 @@ fn render(sc: &Scenario, f: &Failure, from: u64, to: u64, rows: &[Row], note: &s
     }
     for (r, row) in rows.iter().enumerate() {
         let y0 = top + r as f64 * row_h;
+        // the bus (addresses, data words) in hex as in docs/spec.md, counts and times in decimal
+        let hex = is_bus(&row.name);
         let (hi, lo) = (y0 + 4.0, y0 + row_h - 6.0);
         svg.text(
             left - 8.0,
@@ -360,13 +369,25 @@ fn render(sc: &Scenario, f: &Failure, from: u64, to: u64, rows: &[Row], note: &s
                     svg.line(x, lo, x + col_w, lo, colour, 1.2, None);
                     if changed {
                         svg.line(x, hi, x, lo, colour, 1.2, None);
+                        let label = if hex {
+                            format!("0x{v:x}")
+                        } else {
+                            v.to_string()
+                        };
+                        // the columns the value holds for: a label that would run into the
+                        // next value is drawn smaller (digits are about 0.62 em wide)
+                        let run = row.values[c..]
+                            .iter()
+                            .take_while(|x| **x == Some(*v))
+                            .count() as f64;
+                        let fits = (run * col_w - 5.0) / (0.62 * label.len() as f64);
                         svg.text(
                             x + 3.0,
                             lo - 3.0,
-                            9.5,
+                            fits.clamp(6.5, 9.5),
                             Anchor::Start,
                             colour,
-                            &v.to_string(),
+                            &label,
                         );
                     }
                 }
@@ -467,6 +488,9 @@ mod tests {
         ] {
             assert!(svg.contains(row), "{row}: {svg}");
         }
+        // the address read in hex (as docs/spec.md writes it), the DUT's interval in decimal
+        assert!(svg.contains(">0x13</text>"), "{svg}");
+        assert!(svg.contains(">7</text>"), "{svg}");
         // a run that never touches the bus (the key stays off: no MPU) draws no bus rows
         stim.events = vec![(0, Action::Ig(false))];
         let text = stim.to_toml("t");

@@ -182,7 +182,9 @@ pub fn write_compare(
     let name_of = |k: usize| names.iter().find(|(j, _)| *j == k).map(|(_, n)| n.clone());
     let trace_of = |k: usize, colour: Option<Color>| -> Option<Trace> {
         let mut t = Trace::new(name_of(k)?);
-        if rows[k].2 > 1 {
+        if crate::picture::is_bus(&rows[k].1) {
+            t = t.format(Format::Hex);
+        } else if rows[k].2 > 1 {
             t = t.format(Format::Decimal);
         }
         if let Some(c) = colour {
