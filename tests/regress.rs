@@ -309,7 +309,7 @@ fn bad_input_is_refused_with_the_reason() {
                 "--rtl",
                 s(&list),
             ],
-            "missing.v` is not a readable file",
+            "rtl.f:1: `rtl/missing.v` names",
         ),
         (
             vec!["regress", "--iterations", "5", "--timeout", "0"],
