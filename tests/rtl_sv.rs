@@ -436,6 +436,28 @@ fn a_failure_folder_shows_the_model_and_the_rtl_of_every_diverging_signal() {
         "si differs at the failing tick"
     );
     assert_ne!(at("model.cnt_r"), at("rtl.cnt_r"));
+    // the RTL's own trace holds the same divergence, at the same time: its interval register
+    // reads what compare.vcd shows as the RTL's si (compare.vcd in us, rtl.vcd in ns)
+    use pmu50_waves::{TimeUnit, Timescale};
+    assert_eq!(w.timescale(), Some(Timescale::new(1, TimeUnit::Us)));
+    let rv = pmu50_waves::reader::Waveform::open(f.join("rtl.vcd")).unwrap();
+    assert_eq!(rv.timescale(), Some(Timescale::new(1, TimeUnit::Ns)));
+    let q = rv
+        .signals()
+        .iter()
+        .find(|x| x.path.ends_with("u_adapt.interval_q"))
+        .unwrap()
+        .path
+        .clone();
+    let own = rv
+        .changes(&q)
+        .unwrap()
+        .iter()
+        .rev()
+        .find(|(t, _)| *t <= marker * 1000)
+        .map(|(_, v)| v.to_string())
+        .unwrap();
+    assert_eq!(own, at("rtl.si"), "rtl.vcd's interval_q at the divergence");
     for line in [
         "[dumpfile] \"compare.vcd\"",
         "-si: model / RTL",
