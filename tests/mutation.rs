@@ -28,10 +28,12 @@ fn table_counts_seeds_to_catch_and_escapes() {
             .unwrap_or_else(|| panic!("no row of {m}:\n{t}"))
             .to_string()
     };
-    // Sr resets to 1: the first seed sees it after reset (tick 0)
+    // Sr resets to 1: the first seed sees it after reset (tick 0), on the mapped register and
+    // the port it drives at once (one signature names the set)
     let r = row("MUT_SR_RESET_ONE");
     assert!(
-        r.contains("sensor_power_determination_57") && r.contains(" 1  1: dut-sr-"),
+        r.contains("sensor_power_determination_57")
+            && r.contains(" 1  1: dut-sensor_power_determination.sr+sr-"),
         "{r}"
     );
     // a same-cycle SI_MAX write at key-off is not in seed 1

@@ -1,9 +1,9 @@
-//! `pmu50 rtl-map`: a proposed map for an RTL, for review.
+//! `pmu50 rtl-map`: a proposed map for an RTL, found by running it beside the model, for review.
 
 use super::common::write_file;
-use super::error::{CliError, CmdResult, Outcome};
+use super::error::{CmdResult, Outcome};
 use super::io::out;
-use pmu50_verif::{map, rtl as r};
+use pmu50_verif::behaviour;
 use std::path::PathBuf;
 
 /// The options of `pmu50 rtl-map`.
@@ -18,25 +18,17 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let fl = r::FileList::read(&a.rtl)?;
-    let work =
-        tempfile::tempdir().map_err(|e| CliError::Usage(format!("a scratch folder: {e}")))?;
-    let d = r::elaborate(&fl, &[], work.path())?;
-    let p = pmu50_core::Params::default();
-    let s = pmu50_core::pmu50::Structural {
-        sync_depth: d.param("SYNC_DEPTH").map_or(p.sync_depth, |v| v as u8),
-        cnt_width: d.param("CNT_W").map_or_else(
-            || d.port_width("cnt_s").map_or(p.cnt_width, |w| w as u8),
-            |v| v as u8,
-        ),
-    };
-    d.check_contract(&s)?;
-    let (m, props) = map::propose(&d, &s);
-    let text = map::proposal_toml(&m, &props);
+    let (m, found) = behaviour::propose(&a.rtl)?;
+    let text = behaviour::proposal_toml(&m, &found);
     match &a.output {
         Some(path) => {
             write_file(path, &text)?;
-            out!("wrote {}", path.display());
+            out!(
+                "wrote {} ({} of {} entries)",
+                path.display(),
+                m.registers.len() + m.internals.len(),
+                pmu50_core::signals::N_REGISTERS + pmu50_core::signals::N_INTERNALS
+            );
         }
         None => out!("{}", text.trim_end()),
     }

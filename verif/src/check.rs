@@ -40,21 +40,44 @@ pub struct Failure {
     pub block: String,
     /// FIG. 17 / FIG. 18 path of the edge (`s6_shorten/s23_detected_cs`, or `-`).
     pub fig: String,
+    /// A divergence: every signal that differs at its tick (full paths, sorted), of which
+    /// `signal` is the first the DUT reported. Empty for the other kinds.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub diverging: Vec<String>,
     pub detail: String,
 }
 
+/// Diverging signals named in a signature before the rest is counted and hashed.
+const SIGNATURE_SIGNALS: usize = 4;
+
 impl Failure {
-    /// What groups failures: the kind, the first divergent signal and the FIG. path.
+    /// What groups failures: the kind, the set of signals that differ at the failing tick (the
+    /// first divergent signal where only one does) and the FIG. path. A root cause that shows on
+    /// two signals at once, whichever the DUT lists first, is one signature.
     pub fn signature(&self) -> String {
-        let raw = format!(
-            "{}-{}-{}",
-            self.kind,
-            self.signal.trim_start_matches("pmu50."),
-            self.fig.replace('/', "_")
-        );
+        let what = if self.diverging.len() > 1 {
+            let names: Vec<&str> = self
+                .diverging
+                .iter()
+                .map(|s| s.trim_start_matches("pmu50."))
+                .collect();
+            if names.len() > SIGNATURE_SIGNALS {
+                format!(
+                    "{}+{}more_{:08x}",
+                    names[..SIGNATURE_SIGNALS].join("+"),
+                    names.len() - SIGNATURE_SIGNALS,
+                    crate::cache::fnv(&[names.join(",").as_bytes()]) as u32
+                )
+            } else {
+                names.join("+")
+            }
+        } else {
+            self.signal.trim_start_matches("pmu50.").to_string()
+        };
+        let raw = format!("{}-{}-{}", self.kind, what, self.fig.replace('/', "_"));
         raw.chars()
             .map(|c| {
-                if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' {
+                if c.is_ascii_alphanumeric() || "_-.+".contains(c) {
                     c
                 } else {
                     '_'
@@ -179,6 +202,7 @@ impl SeedChecks {
                     got: format!("{:.3} deg", k.true_deg + k.error_deg),
                     block: "updown_counter".into(),
                     fig: "-".into(),
+                    diverging: Vec::new(),
                     detail: format!(
                         "key-on read-out {:.3} deg off the true angle (modulo the counters' range of {modulus} deg) although since the first sample (tick {first}) the shaft stayed under the tracking bound (at most {speed:.4} deg/tick, bound {bound:.4}: 0.8 x 90 deg / {period} ticks) without a Vs2 fault or a parameter write",
                         error
@@ -210,6 +234,7 @@ impl Observer for SeedChecks {
                 got: "0".into(),
                 block: "count_diagnosis".into(),
                 fig: fig(),
+                diverging: Vec::new(),
                 detail: "quadrant_skip is set but diag is not: a skipped quadrant must raise the count diagnosis ([0119], docs/spec.md 2.7)".into(),
             });
         }
@@ -246,6 +271,7 @@ impl Observer for SeedChecks {
                     got,
                     block,
                     fig: fig(),
+                    diverging: Vec::new(),
                     detail: "the fast kernel and the readable per-block model (Pmu50Spec) differ after this edge".into(),
                 };
                 self.fail(f);
@@ -286,6 +312,7 @@ fn refusal_failure(tick: u64, refused: bool, fig: String) -> Failure {
         got: if refused { "0" } else { "1" }.into(),
         block: "register_file".into(),
         fig,
+        diverging: Vec::new(),
         detail: if refused {
             "the register file's rules refuse this write, but bus_err did not rise (docs/spec.md 2.8)".into()
         } else {
@@ -338,4 +365,45 @@ fn first_difference(want: &Regs, got: &Regs) -> Option<(String, String, String, 
     );
     debug_assert!(want == got, "every register is compared");
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn diverged(first: &str, all: &[&str]) -> Failure {
+        Failure {
+            kind: "dut".into(),
+            tick: 9,
+            signal: first.into(),
+            expected: "0x0".into(),
+            got: "0x1".into(),
+            block: "ports".into(),
+            fig: "s10_expand/s25_no_change".into(),
+            diverging: all.iter().map(|s| s.to_string()).collect(),
+            detail: String::new(),
+        }
+    }
+
+    #[test]
+    fn one_root_cause_on_two_signals_is_one_signature() {
+        // the same set, whichever signal the DUT listed first
+        let a = diverged("pmu50.cnt_r", &["pmu50.cnt_r", "pmu50.si"]);
+        let b = diverged("pmu50.si", &["pmu50.cnt_r", "pmu50.si"]);
+        assert_eq!(a.signature(), b.signature());
+        assert_eq!(a.signature(), "dut-cnt_r+si-s10_expand_s25_no_change");
+        // one signal: the first divergent signal, as before
+        assert_eq!(
+            diverged("pmu50.si", &["pmu50.si"]).signature(),
+            "dut-si-s10_expand_s25_no_change"
+        );
+        // many: four named, the rest counted and hashed, the name stays short
+        let many: Vec<String> = (0..9).map(|i| format!("pmu50.s{i}")).collect();
+        let refs: Vec<&str> = many.iter().map(String::as_str).collect();
+        let s = diverged("pmu50.s0", &refs).signature();
+        assert!(
+            s.starts_with("dut-s0+s1+s2+s3+5more_") && s.len() < 80,
+            "{s}"
+        );
+    }
 }

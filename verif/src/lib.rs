@@ -9,6 +9,7 @@
 //! (`code_cov`), the HDL kit (`hdl_kit`), and the records of a run re-exported below. The
 //! implementation (a seed's run, the pool, the build cache, triage, a folder's files) is private.
 
+pub mod behaviour;
 pub mod cache;
 pub mod check;
 pub mod code_cov;
@@ -40,6 +41,7 @@ pub mod regress;
 pub mod report;
 pub mod rtl;
 mod seed;
+pub mod shape;
 pub mod shard;
 pub mod signoff;
 mod signoff_expr;

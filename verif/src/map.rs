@@ -16,6 +16,7 @@
 //! registers and internals by name and width ([`propose`]); the user edits it.
 
 use crate::rtl::{Design, HierSignal};
+use crate::shape::Selection;
 use pmu50_core::pmu50::Structural;
 use pmu50_core::signals::{self, Width};
 use serde::Deserialize;
@@ -53,15 +54,46 @@ pub enum MapError {
         actual: u32,
         why: String,
     },
-    #[error(
-        "--map {path}:{line}: `{key}` = `{name}`: signals wider than 64 bits cannot be compared"
-    )]
+    /// A field, element or part the signal does not have (`reason` ends with the closest names).
+    #[error("--map {path}:{line}: `{key}` = `{name}`: {reason}")]
+    NoField {
+        path: PathBuf,
+        line: usize,
+        key: String,
+        name: String,
+        reason: String,
+    },
+    /// A value wider than 64 bits (`what`: its width and shape, then the fields to name).
+    #[error("--map {path}:{line}: `{key}` = `{name}`: {what}")]
     TooWide {
         path: PathBuf,
         line: usize,
         key: String,
         name: String,
+        what: String,
     },
+}
+
+/// A mapped RTL value: the signal, and the bits of it the map's name selects (the whole
+/// signal, a field of a packed struct, an element of an array, a part).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Mapped {
+    pub signal: HierSignal,
+    pub sel: Selection,
+}
+
+impl Mapped {
+    /// The C++ expression of hdl/tb/lockstep/dut_lib.cpp that reads the value from the root
+    /// `R` of a Verilator build: `dut_bits(R->member[2], lsb, width)` (`VlWide` too).
+    pub fn accessor(&self) -> String {
+        let idx: String = self.sel.elements.iter().map(|e| format!("[{e}]")).collect();
+        format!(
+            "dut_bits(R->{}{idx}, {}, {})",
+            verilator_member(&self.signal.path),
+            self.sel.lsb,
+            self.sel.width
+        )
+    }
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -181,7 +213,7 @@ impl RtlMap {
 
     /// Check every mapped name against the elaborated RTL (structure `s`): it exists, and has
     /// the model's width. A name that does not exist is refused with the closest names.
-    pub fn check(&self, d: &Design, s: &Structural) -> Result<Vec<(Entry, HierSignal)>, MapError> {
+    pub fn check(&self, d: &Design, s: &Structural) -> Result<Vec<(Entry, Mapped)>, MapError> {
         let path = self.path.clone().unwrap_or_default();
         let mut out = Vec::new();
         let widths: Vec<(String, Width)> = signals::REGISTERS
@@ -195,8 +227,17 @@ impl RtlMap {
             .collect();
         for e in self.registers.iter().chain(&self.internals) {
             let line = self.line(&e.model);
-            let Some(sig) = d.signal(&e.rtl) else {
-                let closest = closest(&e.rtl, d.signals.iter().map(|x| x.path.as_str()), 5);
+            let Some((sig, sel)) = d.resolve(&e.rtl) else {
+                let all = d.signals.iter().flat_map(|x| {
+                    std::iter::once(x.path.clone()).chain(
+                        x.shape
+                            .fields(8)
+                            .into_iter()
+                            .map(move |(f, _)| format!("{}{f}", x.path)),
+                    )
+                });
+                let all: Vec<String> = all.collect();
+                let closest = closest(&e.rtl, all.iter().map(String::as_str), 5);
                 let closest = if closest.is_empty() {
                     String::new()
                 } else {
@@ -210,12 +251,52 @@ impl RtlMap {
                     closest,
                 });
             };
-            if sig.width > 64 {
+            let sel = match sel {
+                Ok(sel) => sel,
+                Err(reason) => {
+                    let names: Vec<String> = sig
+                        .shape
+                        .fields(8)
+                        .into_iter()
+                        .map(|(f, _)| format!("{}{f}", sig.path))
+                        .collect();
+                    let c = closest(&e.rtl, names.iter().map(String::as_str), 3);
+                    return Err(MapError::NoField {
+                        path,
+                        line,
+                        key: e.model.clone(),
+                        name: e.rtl.clone(),
+                        reason: if c.is_empty() {
+                            format!("`{}`: {reason}", sig.path)
+                        } else {
+                            format!("`{}`: {reason}; closest: {}", sig.path, c.join(", "))
+                        },
+                    });
+                }
+            };
+            if sel.width > 64 || sel.width == 0 {
+                let fields: Vec<String> = sel
+                    .shape
+                    .fields(8)
+                    .into_iter()
+                    .filter(|(f, _)| f.matches(['.', '[']).count() == 1)
+                    .map(|(f, x)| format!("{}{f} ({} bits)", e.rtl, x.width))
+                    .collect();
                 return Err(MapError::TooWide {
                     path,
                     line,
                     key: e.model.clone(),
                     name: e.rtl.clone(),
+                    what: format!(
+                        "{} bits ({}); a map compares at most 64 bits: name a field, an element or a part of it{}",
+                        sel.width,
+                        sel.shape.describe(),
+                        if fields.is_empty() {
+                            String::new()
+                        } else {
+                            format!(": {}", fields.join(", "))
+                        }
+                    ),
                 });
             }
             let w = widths
@@ -224,7 +305,7 @@ impl RtlMap {
                 .map(|(_, w)| *w)
                 .unwrap_or(Width::Bits(0));
             let expected = u32::from(w.bits(s));
-            if sig.width != expected {
+            if sel.width != expected {
                 let why = match w {
                     Width::CntWidth => format!(" (CNT_W = {})", s.cnt_width),
                     Width::SyncDepth => format!(" (SYNC_DEPTH = {})", s.sync_depth),
@@ -236,11 +317,17 @@ impl RtlMap {
                     key: e.model.clone(),
                     name: e.rtl.clone(),
                     expected,
-                    actual: sig.width,
+                    actual: sel.width,
                     why,
                 });
             }
-            out.push((e.clone(), sig.clone()));
+            out.push((
+                e.clone(),
+                Mapped {
+                    signal: sig.clone(),
+                    sel,
+                },
+            ));
         }
         Ok(out)
     }
@@ -298,6 +385,48 @@ pub struct Proposal {
     pub others: Vec<String>,
 }
 
+/// How well an RTL name matches a model register `block.var` (`block` empty for an internal):
+/// 1 for the same leaf name in an instance named like the block; a port of a sub-block (a
+/// copy of a register elsewhere) scores less than the register.
+pub(crate) fn name_score(path: &str, module: &str, is_port: bool, block: &str, var: &str) -> f64 {
+    let parts: Vec<&str> = path.split('.').collect();
+    let leaf = parts[parts.len() - 1];
+    let scope = if parts.len() >= 3 {
+        parts[parts.len() - 2]
+    } else {
+        ""
+    };
+    // the leaf without the suffixes teams give registers and ports, and without a bit index
+    let bare = leaf.split('[').next().unwrap_or(leaf);
+    let stem = ["_q", "_o", "_i", "_r", "_reg", "_ff"]
+        .iter()
+        .find_map(|x| bare.strip_suffix(x))
+        .unwrap_or(bare);
+    // `qskip` for `quadrant_skip`: the stem's letters in order in the name, the first alike
+    let abbreviates = |short: &str, long: &str| {
+        let mut it = long.chars();
+        short.len() >= 2
+            && short.chars().next() == long.chars().next()
+            && short.chars().all(|c| it.any(|l| l == c))
+    };
+    let name_score = if leaf == var {
+        1.0
+    } else if stem == var {
+        0.98
+    } else if abbreviates(stem, var) {
+        0.95
+    } else {
+        strsim::jaro_winkler(leaf, var) * 0.9
+    };
+    let scope_score = if block.is_empty() || scope == block {
+        1.0
+    } else {
+        strsim::jaro_winkler(scope, block).max(strsim::jaro_winkler(module, block))
+    };
+    let port_penalty = if is_port { 0.9 } else { 1.0 };
+    name_score * (0.6 + 0.4 * scope_score) * port_penalty
+}
+
 /// Propose a map for an elaborated RTL (structure `s`): for each model register, the signal of
 /// the model's width whose variable name and instance best match `block.register`; for each
 /// internal, the signal of its width whose name best matches. Ports of the top are never
@@ -316,28 +445,7 @@ pub fn propose(d: &Design, s: &Structural) -> (RtlMap, Vec<Proposal>) {
         let mut cands: Vec<(f64, &HierSignal)> = inner
             .iter()
             .filter(|x| x.width == width && !taken.contains(&x.path))
-            .map(|x| {
-                let parts: Vec<&str> = x.path.split('.').collect();
-                let leaf = parts[parts.len() - 1];
-                let scope = if parts.len() >= 3 {
-                    parts[parts.len() - 2]
-                } else {
-                    ""
-                };
-                let name_score = if leaf == var {
-                    1.0
-                } else {
-                    strsim::jaro_winkler(leaf, var) * 0.9
-                };
-                let scope_score = if block.is_empty() || scope == block {
-                    1.0
-                } else {
-                    strsim::jaro_winkler(scope, block).max(strsim::jaro_winkler(&x.module, block))
-                };
-                // a port of a sub-block is a copy of a register elsewhere: prefer the register
-                let port_penalty = if x.is_port { 0.9 } else { 1.0 };
-                (name_score * (0.6 + 0.4 * scope_score) * port_penalty, *x)
-            })
+            .map(|x| (name_score(&x.path, &x.module, x.is_port, block, var), *x))
             .collect();
         cands.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.path.cmp(&b.1.path)));
         let (score, best) = cands.first()?;
@@ -460,6 +568,51 @@ mod tests {
             "pmu50__DOT__internals__DOT__kon"
         );
         assert_eq!(verilator_member("pmu50.a__b"), "pmu50__DOT__a___05Fb");
+    }
+
+    #[test]
+    fn a_register_named_by_its_stem_or_an_abbreviation_scores_above_another_name() {
+        let q = name_score(
+            "pmu50.u_count.qskip_q",
+            "pmu_quad_counter",
+            false,
+            "updown_counter",
+            "quadrant_skip",
+        );
+        let d = name_score(
+            "pmu50.u_check.diag_q",
+            "pmu_count_check",
+            false,
+            "updown_counter",
+            "quadrant_skip",
+        );
+        assert!(q > d, "{q} {d}");
+        let r = name_score(
+            "pmu50.u_check.diag_q",
+            "pmu_count_check",
+            false,
+            "count_diagnosis",
+            "diag",
+        );
+        let p = name_score(
+            "pmu50.u_regs.diag_i",
+            "pmu_regbank",
+            true,
+            "count_diagnosis",
+            "diag",
+        );
+        assert!(r > p, "{r} {p}");
+        // the same name in the block's own instance stays first
+        assert_eq!(
+            name_score(
+                "pmu50.drive_interval.si",
+                "drive_interval_changing_56b",
+                false,
+                "drive_interval",
+                "si"
+            ),
+            1.0
+        );
     }
 
     #[test]

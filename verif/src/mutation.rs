@@ -395,6 +395,7 @@ fn one(
             got: "-".into(),
             block: "-".into(),
             fig: "-".into(),
+            diverging: Vec::new(),
             detail: "no failure given".into(),
         });
         // the control: the twin passes the seed that caught the mutant

@@ -16,6 +16,7 @@
 //! contract ports answers.
 
 pub use crate::filelist::FileList;
+use crate::shape::Shape;
 use pmu50_core::params::{Params, HDL_NAMES};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::signals::{self, Width};
@@ -24,6 +25,18 @@ use std::process::Command;
 
 /// Most bytes of a tool's log kept for an error message.
 const LOG_TAIL: usize = 4096;
+
+/// How Verilator reads an RTL's delays and timing controls (`q <= #1 d`, `initial #5
+/// $display(...)`): ignored (`--no-timing`), as synthesis ignores them. The same options for the
+/// port check ([`elaborate`]) and every build of [`crate::dut::verilator`] (the coverage build
+/// too), so an RTL that elaborates also builds. `--timing` would schedule each delay on
+/// Verilator's timing wheel, which the library, stepped one evaluation per clock level and never
+/// advancing time, would have to drive; it needs C++20 coroutines and slows every tick, for a
+/// delay that the cycle-level contract (docs/hdl-guide.md) cannot observe: a delay is shorter
+/// than the clock period, and what it changes is when, inside a cycle, a flop's new value
+/// appears. Lint warnings these idioms raise (`ASSIGNDLY`, `STMTDLY`) do not stop a build
+/// (`-Wno-fatal`): they are the lint's business.
+pub const VERILATOR_TIMING: &[&str] = &["--no-timing"];
 
 /// A bad RTL: what is wrong, where, and what is valid. Every variant is bad input (exit 2).
 #[derive(Debug, thiserror::Error)]
@@ -40,6 +53,16 @@ pub enum RtlError {
     Build {
         list: PathBuf,
         tool: &'static str,
+        log: String,
+    },
+    /// Verilator elaborates the RTL, another simulator cannot read it (a SystemVerilog construct
+    /// beyond it): where it stopped, and the advice.
+    #[error("{at}: {tool} cannot read this ({what}), though Verilator elaborates the RTL: the simulator reads only part of SystemVerilog (docs/hdl-guide.md, \"SystemVerilog\"). Use `--dut verilator` for this RTL.\nits output:\n{log}")]
+    Unsupported {
+        /// `file:line` the simulator names, or the file list when it names none.
+        at: String,
+        tool: String,
+        what: String,
         log: String,
     },
     #[error("--rtl {list}: the design has no module `pmu50` (the contract's top, docs/signals.md); modules: {modules}")]
@@ -161,6 +184,8 @@ pub struct HierSignal {
     pub var: String,
     /// A port of its module, or a parameter.
     pub is_port: bool,
+    /// Its data type: a map may name a field or an element of it ([`Shape::select`]).
+    pub shape: Shape,
 }
 
 /// The elaborated RTL, as Verilator's XML shows it.
@@ -231,7 +256,8 @@ pub fn elaborate(
             "-Wno-fatal",
             "-Wno-lint",
             "-Wno-style",
-        ]);
+        ])
+        .args(VERILATOR_TIMING);
     cmd.args(fl.verilator_args());
     for (n, v) in gparams {
         cmd.arg(format!("-G{n}={v}"));
@@ -349,27 +375,18 @@ pub fn parse_xml(text: &str) -> Result<Design, String> {
         .children()
         .find(|n| n.has_tag_name("netlist"))
         .ok_or("no <netlist>")?;
-    // widths of the data types
-    let mut widths = std::collections::HashMap::new();
+    // the data types, resolved to their shapes (widths, struct members, arrays)
+    let mut type_nodes = std::collections::HashMap::new();
     if let Some(tt) = netlist.children().find(|n| n.has_tag_name("typetable")) {
         for t in tt.children().filter(|n| n.is_element()) {
-            let Some(id) = t.attribute("id") else {
-                continue;
-            };
-            let w = match (
-                t.attribute("left").and_then(|s| s.parse::<i64>().ok()),
-                t.attribute("right").and_then(|s| s.parse::<i64>().ok()),
-            ) {
-                (Some(l), Some(r)) => (l - r).unsigned_abs() as u32 + 1,
-                _ if t.has_tag_name("basicdtype") => match t.attribute("name") {
-                    Some("integer" | "int") => 32,
-                    Some("logic" | "bit" | "reg" | "wire") | None => 1,
-                    _ => 0,
-                },
-                _ => 0,
-            };
-            widths.insert(id.to_string(), w);
+            if let Some(id) = t.attribute("id") {
+                type_nodes.insert(id.to_string(), t);
+            }
         }
+    }
+    let mut shapes: std::collections::HashMap<String, Shape> = std::collections::HashMap::new();
+    for id in type_nodes.keys() {
+        shapes.insert(id.clone(), shape_of(id, &type_nodes, 0));
     }
     let modules: std::collections::HashMap<&str, roxmltree::Node> = netlist
         .children()
@@ -397,12 +414,13 @@ pub fn parse_xml(text: &str) -> Result<Design, String> {
         let line = it.next().and_then(|s| s.parse().ok()).unwrap_or(0);
         (file, line)
     };
-    let width_of = |n: &roxmltree::Node| {
+    let shape_of_var = |n: &roxmltree::Node| -> Shape {
         n.attribute("dtype_id")
-            .and_then(|d| widths.get(d))
-            .copied()
-            .unwrap_or(0)
+            .and_then(|d| shapes.get(d))
+            .cloned()
+            .unwrap_or_else(|| Shape::Other("?".into()))
     };
+    let width_of = |n: &roxmltree::Node| shape_of_var(n).width();
     let mut ports = Vec::new();
     let mut params = Vec::new();
     for v in top.children().filter(|n| n.has_tag_name("var")) {
@@ -456,7 +474,7 @@ pub fn parse_xml(text: &str) -> Result<Design, String> {
             continue;
         };
         let orig = m.attribute("origName").unwrap_or(mname).to_string();
-        collect_vars(*m, hier, &orig, &width_of, &mut signals);
+        collect_vars(*m, hier, &orig, &shape_of_var, &mut signals);
     }
     Ok(Design {
         ports,
@@ -471,7 +489,7 @@ fn collect_vars(
     node: roxmltree::Node,
     prefix: &str,
     module: &str,
-    width_of: &dyn Fn(&roxmltree::Node) -> u32,
+    shape_of: &dyn Fn(&roxmltree::Node) -> Shape,
     out: &mut Vec<HierSignal>,
 ) {
     for c in node.children().filter(|n| n.is_element()) {
@@ -484,11 +502,11 @@ fn collect_vars(
                 .or(c.attribute("name"))
                 .unwrap_or("")
                 .to_string();
-            let local = prefix.split_once('.').map_or("", |(_, r)| r);
-            let _ = local;
+            let shape = shape_of(&c);
             out.push(HierSignal {
                 path: format!("{prefix}.{name}"),
-                width: width_of(&c),
+                width: shape.width(),
+                shape,
                 module: module.to_string(),
                 var: c.attribute("name").unwrap_or("").to_string(),
                 is_port: c.attribute("dir").is_some(),
@@ -496,13 +514,77 @@ fn collect_vars(
         } else if c.has_tag_name("begin") {
             match c.attribute("name") {
                 Some(n) if !n.is_empty() => {
-                    collect_vars(c, &format!("{prefix}.{n}"), module, width_of, out)
+                    collect_vars(c, &format!("{prefix}.{n}"), module, shape_of, out)
                 }
-                _ => collect_vars(c, prefix, module, width_of, out),
+                _ => collect_vars(c, prefix, module, shape_of, out),
             }
         } else if c.has_tag_name("func") || c.has_tag_name("task") || c.has_tag_name("instance") {
             continue;
         }
+    }
+}
+
+/// The shape of data type `id` of Verilator's type table (`basicdtype`, `refdtype`,
+/// `enumdtype`, `structdtype`, `uniondtype`, `packarraydtype`, `unpackarraydtype`).
+fn shape_of(
+    id: &str,
+    nodes: &std::collections::HashMap<String, roxmltree::Node>,
+    depth: u32,
+) -> Shape {
+    let Some(t) = nodes.get(id) else {
+        return Shape::Other(format!("type {id}"));
+    };
+    if depth > 64 {
+        return Shape::Other("a type nested too deep".into());
+    }
+    let sub = |t: &roxmltree::Node| {
+        t.attribute("sub_dtype_id")
+            .map_or(Shape::Other("?".into()), |s| shape_of(s, nodes, depth + 1))
+    };
+    // an array's range: its <range> child's two constants
+    let range = |t: &roxmltree::Node| -> Option<(i64, i64)> {
+        let r = t.children().find(|n| n.has_tag_name("range"))?;
+        let mut c = r
+            .children()
+            .filter(|n| n.has_tag_name("const"))
+            .filter_map(|n| n.attribute("name").and_then(verilog_int));
+        Some((c.next()?, c.next()?))
+    };
+    let attr = |n: &str| t.attribute(n).and_then(|s| s.parse::<i64>().ok());
+    match t.tag_name().name() {
+        "basicdtype" => match (attr("left"), attr("right")) {
+            (Some(left), Some(right)) => Shape::Bits { left, right },
+            _ => match t.attribute("name") {
+                Some("logic" | "bit" | "reg" | "wire") | None => Shape::bit(),
+                Some("int" | "integer") => Shape::Bits { left: 31, right: 0 },
+                Some("byte") => Shape::Bits { left: 7, right: 0 },
+                Some("shortint") => Shape::Bits { left: 15, right: 0 },
+                Some("longint") => Shape::Bits { left: 63, right: 0 },
+                Some(other) => Shape::Other(other.to_string()),
+            },
+        },
+        "refdtype" | "enumdtype" | "typedefdtype" | "constdtype" => sub(t),
+        "structdtype" | "uniondtype" => Shape::Struct {
+            name: t.attribute("name").unwrap_or("").to_string(),
+            union: t.has_tag_name("uniondtype"),
+            members: t
+                .children()
+                .filter(|n| n.has_tag_name("memberdtype"))
+                .map(|m| (m.attribute("name").unwrap_or("").to_string(), sub(&m)))
+                .collect(),
+        },
+        "packarraydtype" | "unpackarraydtype" => {
+            let (left, right) = range(t)
+                .or_else(|| Some((attr("left")?, attr("right")?)))
+                .unwrap_or((0, 0));
+            let elem = Box::new(sub(t));
+            if t.has_tag_name("packarraydtype") {
+                Shape::Packed { left, right, elem }
+            } else {
+                Shape::Unpacked { left, right, elem }
+            }
+        }
+        other => Shape::Other(other.to_string()),
     }
 }
 
@@ -595,6 +677,18 @@ impl Design {
     /// A signal of the hierarchy by its path.
     pub fn signal(&self, path: &str) -> Option<&HierSignal> {
         self.signals.iter().find(|s| s.path == path)
+    }
+
+    /// A map's name resolved: the signal it starts with (the longest path of the hierarchy
+    /// that begins it) and the bits of it that the rest selects (`.field`, `[i]`, `[hi:lo]`).
+    /// `None`: no signal begins the name; `Some(Err)`: the signal has no such field or index.
+    pub fn resolve(
+        &self,
+        name: &str,
+    ) -> Option<(&HierSignal, Result<crate::shape::Selection, String>)> {
+        let (sig, rest) = crate::shape::split_signal(name, |p| self.signal(p).is_some())?;
+        let s = self.signal(sig)?;
+        Some((s, s.shape.select(rest)))
     }
 }
 

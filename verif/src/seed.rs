@@ -178,6 +178,7 @@ pub(crate) fn error_failure(tick: u64, detail: String) -> Box<Failure> {
         got: "-".into(),
         block: "-".into(),
         fig: "-".into(),
+        diverging: Vec::new(),
         detail,
     })
 }
@@ -346,6 +347,7 @@ fn model_failure(checks: &SeedChecks, res: &sim::RunResult) -> Option<Failure> {
         got: "-".into(),
         block: "-".into(),
         fig: "-".into(),
+        diverging: Vec::new(),
         detail: c.detail.clone(),
     })
 }

@@ -7,6 +7,11 @@
 //!   `--rtl`, `--map`, `--check-spec`) reproduces the failure, printed in `command.txt`;
 //! - `repro.vcd` and `repro.gtkw`: the model's waveform of the shrunk run, GTKWave zoomed on the
 //!   first divergence with a named marker there;
+//! - `rtl.vcd` (a backend that gives it: Verilator): the RTL's own waveform of the same ticks,
+//!   every signal of the RTL by its own names (a `--trace` build replaying the repro);
+//! - `compare.vcd` and `compare.gtkw`: each signal that differs at the failing tick, the model's
+//!   and the RTL's side by side, with the inputs and the register bus;
+//! - `divergence.svg`: the picture of the same (crate::picture);
 //! - `failure.txt`: what failed, where, and how the seed was shrunk.
 
 use crate::check::Failure;
@@ -95,7 +100,7 @@ pub fn shrink(
 }
 
 /// The stimulus cut to `ticks` (events and motion past the end dropped).
-fn truncate(s: &Stimulus, ticks: u64) -> Stimulus {
+pub(crate) fn truncate(s: &Stimulus, ticks: u64) -> Stimulus {
     let ticks = ticks.clamp(1, s.ticks);
     let mut c = s.clone();
     c.ticks = ticks;
@@ -167,6 +172,15 @@ pub fn command(spec: &RunSpec, repro: &Path) -> String {
     c
 }
 
+/// The command that opens GTKWave on a repro folder's model and RTL side by side.
+pub fn compare_command(folder: &Path) -> String {
+    format!(
+        "gtkwave {} {}",
+        shell_quote(&folder.join("compare.vcd").display().to_string()),
+        shell_quote(&folder.join("compare.gtkw").display().to_string())
+    )
+}
+
 /// The command that opens GTKWave on a repro folder's waveform, zoomed on the divergence.
 pub fn view_command(folder: &Path) -> String {
     format!(
@@ -176,25 +190,59 @@ pub fn view_command(folder: &Path) -> String {
     )
 }
 
-/// The SVG picture of a repro's divergence (crate::picture), with the DUT's trace where its
-/// backend gives one.
-fn picture(
+/// The pictures and waveforms of a repro's divergence beside the model's `repro.vcd`: the RTL's
+/// own waveform (`rtl.vcd`, where the backend gives one), the model and the RTL side by side
+/// (`compare.vcd`, `compare.gtkw`) and the SVG picture (crate::picture), with the DUT's trace
+/// where its backend gives one. Returns the SVG and what could not be written (the files a
+/// backend cannot give are left out, and said so in failure.txt).
+fn both_sides(
     folder: &Path,
     toml: &str,
     name: &str,
     f: &Failure,
     dut: &dyn Dut,
-) -> Result<String, String> {
+) -> Result<(String, Vec<String>), String> {
     let path = folder.join("repro.toml");
     let sc =
         pmu50_testbench::scenario::Scenario::parse(toml, &path.display().to_string(), name, &path)
             .map_err(|e| e.to_string())?;
-    let (from, to) = crate::picture::window(f.tick, sc.ticks);
+    let (from, to) = crate::wave::compare_window(f.tick, sc.ticks);
+    let (rtl_from, rtl_to) = crate::wave::rtl_window(f.tick, sc.ticks);
+    let mut notes = Vec::new();
+    if f.kind != "dut" || f.signal == "dut" {
+        // not a divergence from an RTL (a check of the model, a crash, a hang): the model's side
+        let svg = crate::picture::divergence_svg(&sc, f, None).map_err(|e| e.to_string())?;
+        return Ok((svg, notes));
+    }
     let trace = match crate::dut::record(dut, &sc) {
-        Ok(rec) => dut.trace(&sc, rec, from, to).and_then(Result::ok),
-        Err(_) => None,
+        Ok(rec) => match dut.trace(&sc, rec, from, to) {
+            Some(Ok(t)) => Some(t),
+            Some(Err(e)) => {
+                notes.push(format!("the DUT's trace: {e}"));
+                None
+            }
+            None => None,
+        },
+        Err(e) => {
+            notes.push(format!("the DUT's trace: {e}"));
+            None
+        }
     };
-    crate::picture::divergence_svg(&sc, f, trace.as_ref()).map_err(|e| e.to_string())
+    if let Ok(rec) = crate::dut::record(dut, &sc) {
+        match dut.rtl_wave(&sc, rec, (rtl_from, rtl_to), &folder.join("rtl.vcd")) {
+            Some(Ok(())) => {}
+            Some(Err(e)) => notes.push(format!("rtl.vcd: {e}")),
+            None => notes.push(format!(
+                "rtl.vcd: the {} backend gives no waveform of the RTL (--dut verilator does)",
+                dut.name()
+            )),
+        }
+    }
+    if let Err(e) = crate::wave::write_compare(folder, &sc, f, trace.as_ref()) {
+        notes.push(e.to_string());
+    }
+    let svg = crate::picture::divergence_svg(&sc, f, trace.as_ref()).map_err(|e| e.to_string())?;
+    Ok((svg, notes))
 }
 
 /// Shrink the smallest failing seed of each signature and write its folder.
@@ -219,8 +267,40 @@ pub fn write_repros(
         let repro = folder.join("repro.toml");
         let cmd = command(&s.spec, &repro);
         let view = view_command(&folder);
+        let both = compare_command(&folder);
+        // the RTL's side and the pictures first: what they could not give is said below
+        crate::wave::write(&folder, &toml, &name, &f)?;
+        let (svg, notes) =
+            both_sides(&folder, &toml, &name, &f, dut).map_err(|e| RegressError::File {
+                path: folder.join("divergence.svg"),
+                reason: e,
+            })?;
+        let rtl_wave = if folder.join("rtl.vcd").is_file() {
+            "\nthe RTL's own waveform of the same ticks (its signals by its names):\n  rtl.vcd"
+                .to_string()
+        } else {
+            String::new()
+        };
+        let notes = if notes.is_empty() {
+            String::new()
+        } else {
+            format!("\nnot written: {}", notes.join("; "))
+        };
+        let diverging = if f.diverging.len() > 1 {
+            format!(
+                "\nsignals that differ at tick {}: {}",
+                f.tick,
+                f.diverging
+                    .iter()
+                    .map(|s| s.trim_start_matches("pmu50."))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        } else {
+            String::new()
+        };
         let text = format!(
-            "signature: {sig}\nseeds failing with it: {} (smallest {seed})\nfirst failure of seed {seed}: tick {} {} expected {} got {} ({})\nshrunk in {tries} runs: {} -> {} ticks, {} -> {} events\nafter shrinking: tick {} {} expected {} got {} (block {}, FIG. path {})\n{}\n\nreproduce:\n  {cmd}\nwaves around the divergence:\n  {view}\npicture: divergence.svg\n",
+            "signature: {sig}\nseeds failing with it: {} (smallest {seed})\nfirst failure of seed {seed}: tick {} {} expected {} got {} ({})\nshrunk in {tries} runs: {} -> {} ticks, {} -> {} events\nafter shrinking: tick {} {} expected {} got {} (block {}, FIG. path {}){diverging}\n{}\n\nreproduce:\n  {cmd}\nwaves around the divergence (the model):\n  {view}\nthe model and the RTL side by side:\n  {both}{rtl_wave}\npicture: divergence.svg{notes}\n",
             g.count,
             first.tick,
             first.signal,
@@ -253,12 +333,6 @@ pub fn write_repros(
             text.as_bytes(),
         )?);
         b.commit()?;
-        crate::wave::write(&folder, &toml, &name, &f)?;
-        // the picture: the model's values around the divergence beside the DUT's trace
-        let svg = picture(&folder, &toml, &name, &f, dut).map_err(|e| RegressError::File {
-            path: folder.join("divergence.svg"),
-            reason: e,
-        })?;
         let mut b = pmu50_testbench::atomic_file::Batch::new();
         b.add(pmu50_testbench::atomic_file::write_atomic(
             &folder.join("divergence.svg"),

@@ -141,6 +141,7 @@ pub struct Trace {
     format: Format,
     analog: Option<(Analog, u32)>,
     color: Option<Color>,
+    alias: Option<String>,
 }
 
 impl Trace {
@@ -152,7 +153,15 @@ impl Trace {
             format: Format::Binary,
             analog: None,
             color: None,
+            alias: None,
         }
+    }
+
+    /// The name GTKWave shows for the trace instead of the signal's (`+{alias} name`), e.g.
+    /// `model si` and `RTL si` for two signals both called `si`. One line, without `{` or `}`.
+    pub fn alias(mut self, alias: impl Into<String>) -> Self {
+        self.alias = Some(alias.into());
+        self
     }
 
     /// Number format (for `real` variables GTKWave always shows the real value).
@@ -401,6 +410,16 @@ impl GtkwSave {
                 why: "it must be a GTKWave signal name: no whitespace and not starting with one of @ - * [ # : + ( > ^ ! ? %",
             });
         }
+        if let Some(a) = &trace.alias {
+            check_line("trace alias", a, false)?;
+            if a.contains(['{', '}']) {
+                return Err(GtkwError::InvalidText {
+                    what: "trace alias",
+                    text: a.clone(),
+                    why: "it must not contain `{` or `}`",
+                });
+            }
+        }
         if let Some((_, 0)) = trace.analog {
             return Err(GtkwError::ZeroHeight {
                 name: trace.name.clone(),
@@ -498,6 +517,9 @@ impl GtkwSave {
                     set_flags(s, t.flags())?;
                     if let Some(c) = t.color {
                         writeln!(s, "[color] {}", c.index())?;
+                    }
+                    if let Some(a) = &t.alias {
+                        write!(s, "+{{{a}}} ")?;
                     }
                     writeln!(s, "{}", t.name)?;
                     if let Some((_, rows)) = t.analog {

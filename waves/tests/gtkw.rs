@@ -23,8 +23,12 @@ fn sample_save(dumpfile: &str) -> GtkwSave {
             .color(Color::Green),
     )
     .unwrap();
-    s.trace(Trace::new("pmu50.drive_interval.si[15:0]").format(Format::Decimal))
-        .unwrap();
+    s.trace(
+        Trace::new("pmu50.drive_interval.si[15:0]")
+            .format(Format::Decimal)
+            .alias("si decimal"),
+    )
+    .unwrap();
     s.end_group().unwrap();
     s.trace(
         Trace::new("pmu50.drive_interval.si[15:0]")
@@ -60,7 +64,7 @@ pmu50.en
 [color] 4
 pmu50.drive_interval.si[15:0]
 @24
-pmu50.drive_interval.si[15:0]
++{si decimal} pmu50.drive_interval.si[15:0]
 @1401200
 -drive_interval
 @8420
@@ -150,6 +154,18 @@ fn rejects_invalid_input() {
         s.begin_group("a\nb", false),
         Err(GtkwError::InvalidText { .. })
     ));
+    for bad in ["", "a}b", "a\nb"] {
+        assert!(
+            matches!(
+                s.trace(Trace::new("t.a").alias(bad)),
+                Err(GtkwError::InvalidText {
+                    what: "trace alias",
+                    ..
+                })
+            ),
+            "{bad:?}"
+        );
+    }
     assert!(matches!(
         s.trace(Trace::new("t.a").analog(Analog::Step, 0)),
         Err(GtkwError::ZeroHeight { .. })

@@ -9,9 +9,11 @@
 // (src/regress/dut/verilator.rs) from the contract and from an optional `--map` file:
 //   DUT_INPUTS(X)     X(port) per contract input, in the order of the model's signal table
 //   DUT_OUTPUTS(X)    X(port) per contract output, in the same order
-//   DUT_REGISTERS(X)  X("block.register", member) per mapped register (member of the root
-//                     class, made visible by the build's Verilator configuration file)
-//   DUT_INTERNALS(X)  X("name", member) per mapped internal
+//   DUT_REGISTERS(X)  X("block.register", value) per mapped register: `value` reads it from the
+//                     root class `R` (a member made visible by the build's Verilator
+//                     configuration file), `dut_bits(R->member[element], lsb, width)`: the whole
+//                     signal, a field of a packed struct, an element of an array, a part
+//   DUT_INTERNALS(X)  X("name", value) per mapped internal
 //   DUT_PARAMS(X)     X("NAME", value) per Verilog parameter the build set
 // With no map, the register and internal lists are empty: nothing of the inside is read.
 //
@@ -19,6 +21,11 @@
 // `--coverage-expr` with a Verilator that has it; VM_COVERAGE=1) counts per DUT handle (each has
 // its own VerilatedContext): pmu50_dut_cov_write writes the counts of one handle, from its reset
 // on, as a Verilator coverage.dat, a record per instance.
+//
+// A build with tracing (Verilator's `--trace`, VM_TRACE=1) writes the RTL's own waveform:
+// pmu50_dut_vcd_open starts a VCD of one handle, one sample a tick (after the evaluation with the
+// clock low: the registers after edge k, the inputs of tick k and what they drive, at time k x
+// the clock period), every signal Verilator keeps; pmu50_dut_vcd_close ends it.
 //
 // A tick is two evaluations, as the Verilog bench's clock: the inputs of cycle k with clk low
 // (the mapped internals of the cycle settle), then the rising edge k+1 (outputs, registers).
@@ -28,6 +35,9 @@
 #include "verilated.h"
 #if VM_COVERAGE
 #include "verilated_cov.h"
+#endif
+#if VM_TRACE
+#include "verilated_vcd_c.h"
 #endif
 
 #include <cstdint>
@@ -39,7 +49,25 @@
 namespace {
 
 // Interface version: bump when a function or an array order changes.
-constexpr uint32_t kAbi = 3;
+constexpr uint32_t kAbi = 4;
+
+// Bits lsb..lsb+width-1 (width <= 64) of a value of a Verilator build: an integer of up to 64
+// bits, or a VlWide of 32-bit words (a packed struct or vector of more than 64 bits).
+template <typename T>
+inline uint64_t dut_bits(const T &v, uint32_t lsb, uint32_t width) {
+    const uint64_t x = lsb >= 64 ? 0 : static_cast<uint64_t>(v) >> lsb;
+    return width >= 64 ? x : x & ((1ull << width) - 1);
+}
+
+template <std::size_t N>
+inline uint64_t dut_bits(const VlWide<N> &v, uint32_t lsb, uint32_t width) {
+    const uint32_t w = lsb / 32, s = lsb % 32;
+    unsigned __int128 acc = 0;
+    for (uint32_t k = 0; k < 3 && w + k < N; ++k)
+        acc |= static_cast<unsigned __int128>(v[w + k]) << (32 * k);
+    const uint64_t x = static_cast<uint64_t>(acc >> s);
+    return width >= 64 ? x : x & ((1ull << width) - 1);
+}
 
 enum Group { kInputGroup = 0, kOutputGroup = 1, kRegisterGroup = 2, kInternalGroup = 3, kParamGroup = 4 };
 
@@ -60,7 +88,19 @@ const uint64_t kParamValues[kParams + 1] = {DUT_PARAMS(DUT_SECOND) 0};
 struct Dut {
     VerilatedContext ctx;
     std::unique_ptr<Vpmu50> top;
-    Dut() : top(new Vpmu50(&ctx, "pmu50")) {}
+    // ticks stepped since reset
+    uint64_t ticks = 0;
+#if VM_TRACE
+    std::unique_ptr<VerilatedVcdC> vcd;
+    uint64_t ns_per_tick = 1;
+#endif
+    Dut() : top(make(ctx)) {}
+    static Vpmu50 *make(VerilatedContext &c) {
+#if VM_TRACE
+        c.traceEverOn(true);  // before the model is built
+#endif
+        return new Vpmu50(&c, "pmu50");
+    }
 };
 
 inline void set_inputs(Vpmu50 &t, const uint64_t *in) {
@@ -80,7 +120,7 @@ inline void outputs(const Vpmu50 &t, uint64_t *o) {
 
 inline void registers(const Vpmu50 &t, uint64_t *r) {
     const Vpmu50___024root *R = t.rootp;
-#define DUT_GET(n, m) *r++ = static_cast<uint64_t>(R->m);
+#define DUT_GET(n, m) *r++ = (m);
     DUT_REGISTERS(DUT_GET)
 #undef DUT_GET
     (void)R;
@@ -89,7 +129,7 @@ inline void registers(const Vpmu50 &t, uint64_t *r) {
 
 inline void internals(const Vpmu50 &t, uint64_t *x) {
     const Vpmu50___024root *R = t.rootp;
-#define DUT_GET(n, m) *x++ = static_cast<uint64_t>(R->m);
+#define DUT_GET(n, m) *x++ = (m);
     DUT_INTERNALS(DUT_GET)
 #undef DUT_GET
     (void)R;
@@ -174,15 +214,53 @@ PMU50_DUT_API uint64_t pmu50_dut_step(void *d, const uint64_t *in, uint64_t acc)
 /// One tick: the inputs of cycle k with clk low (mapped `internals` of the cycle), then rising
 /// edge k+1 (`out` and mapped `regs` after it).
 PMU50_DUT_API void pmu50_dut_tick(void *d, const uint64_t *in, uint64_t *internals_out, uint64_t *out, uint64_t *regs) {
-    Vpmu50 &t = *static_cast<Dut *>(d)->top;
+    Dut &u = *static_cast<Dut *>(d);
+    Vpmu50 &t = *u.top;
     t.clk = 0;
     set_inputs(t, in);
     t.eval();
     internals(t, internals_out);
+#if VM_TRACE
+    if (u.vcd) u.vcd->dump(static_cast<uint64_t>(u.ticks * u.ns_per_tick));
+#endif
+    ++u.ticks;
     t.clk = 1;
     t.eval();
     outputs(t, out);
     registers(t, regs);
+}
+
+/// Start the VCD of this handle at `path` (a build with tracing), a tick `ns_per_tick` ns long:
+/// 0 started, -1 not a build with tracing.
+PMU50_DUT_API int pmu50_dut_vcd_open(void *d, const char *path, uint64_t ns_per_tick) {
+#if VM_TRACE
+    Dut &u = *static_cast<Dut *>(d);
+    u.vcd.reset(new VerilatedVcdC);
+    u.top->trace(u.vcd.get(), 99);
+    u.vcd->set_time_unit("1ns");
+    u.vcd->set_time_resolution("1ns");
+    u.vcd->open(path);
+    u.ns_per_tick = ns_per_tick ? ns_per_tick : 1;
+    return 0;
+#else
+    (void)d;
+    (void)path;
+    (void)ns_per_tick;
+    return -1;
+#endif
+}
+
+/// End the VCD of this handle (written and closed).
+PMU50_DUT_API void pmu50_dut_vcd_close(void *d) {
+#if VM_TRACE
+    Dut &u = *static_cast<Dut *>(d);
+    if (u.vcd) {
+        u.vcd->close();
+        u.vcd.reset();
+    }
+#else
+    (void)d;
+#endif
 }
 
 /// Whether this build counts code coverage (1) or not (0).

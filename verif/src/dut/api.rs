@@ -16,14 +16,21 @@ pub enum DutError {
     /// The RTL is bad input: it does not elaborate, lacks a contract port, ...
     #[error(transparent)]
     Rtl(#[from] RtlError),
+    /// A map that does not fit the RTL (boxed: its messages carry several names).
     #[error(transparent)]
-    Map(#[from] MapError),
+    Map(Box<MapError>),
     /// Options that do not fit the RTL (`--cnt-width` against an RTL that fixes CNT_W, ...).
     #[error("{0}")]
     Usage(String),
     /// A tool or the machine failed (a build, a process, a file).
     #[error("{0}")]
     Tool(String),
+}
+
+impl From<MapError> for DutError {
+    fn from(e: MapError) -> Self {
+        DutError::Map(Box::new(e))
+    }
 }
 
 impl DutError {
@@ -93,6 +100,18 @@ pub trait Dut: Send + Sync {
     /// taken once: the counts of a seed whose RTL run ended with a verdict (not a hang or a
     /// crash).
     fn take_code_coverage(&self, _name: &str) -> Option<crate::code_cov::points::SeedCode> {
+        None
+    }
+    /// The RTL's own waveform of ticks `window.0..=window.1` of a recording, written to `out`
+    /// (VCD, every signal of the RTL, time in ns from reset), where the backend can give it:
+    /// the RTL's side of a failure folder.
+    fn rtl_wave(
+        &self,
+        _sc: &Scenario,
+        _rec: Recorded,
+        _window: (u64, u64),
+        _out: &Path,
+    ) -> Option<Result<(), DutError>> {
         None
     }
     /// The DUT's values after each edge `from..=to` of a recording (for the picture of a

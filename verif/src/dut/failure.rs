@@ -51,7 +51,7 @@ pub fn divergence(sc: &Scenario, tick: u64, combinational: bool, mm: &[Mismatch]
     let shown: Vec<String> = mm
         .iter()
         .take(8)
-        .map(|m| format!("{} expected {:x} got {:x}", m.signal, m.expected, m.got))
+        .map(|m| format!("{} expected {:#x} got {:#x}", m.signal, m.expected, m.got))
         .collect();
     let mut f = dut_failure(
         sc,
@@ -76,6 +76,10 @@ pub fn divergence(sc: &Scenario, tick: u64, combinational: bool, mm: &[Mismatch]
     f.expected = format!("0x{:x}", first.expected);
     f.got = format!("0x{:x}", first.got);
     f.block = block;
+    let mut all: Vec<String> = mm.iter().map(|m| format!("pmu50.{}", m.signal)).collect();
+    all.sort();
+    all.dedup();
+    f.diverging = all;
     f
 }
 
@@ -90,6 +94,7 @@ pub fn dut_failure(sc: &Scenario, cycle: Option<u64>, detail: String) -> Failure
         got: "-".into(),
         block: "-".into(),
         fig,
+        diverging: Vec::new(),
         detail,
     }
 }

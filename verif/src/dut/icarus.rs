@@ -4,7 +4,9 @@
 //!
 //! The RTL is analysed as for Verilator ([`super::verilator::VerilatorDut::prepare`]: ports,
 //! parameters, what it fixes) and compiled once with its default parameters before any seed: an
-//! RTL that does not compile is bad input. Each seed's parameter set is compiled once (`-P`, the
+//! RTL that does not compile is bad input. It is compiled as SystemVerilog (`-g2012`); what
+//! Verilator elaborates and Icarus cannot read is refused with the file and line Icarus names and
+//! the advice to use `--dut verilator`. Each seed's parameter set is compiled once (`-P`, the
 //! reset values too) and cached on disk with the list of every file iverilog read (`-M`), so an
 //! edited `` `include ``d file is compiled again. A top that lacks some parameters gets an
 //! instance with the ones it has. The verdict comes from a file the bench writes (`+verdict`),
@@ -117,11 +119,9 @@ impl IcarusDut {
             cnt_width: pins.cnt_width.unwrap_or(Params::default().cnt_width),
             ..Params::default()
         });
-        dut.compiled(&p, 10_000).map_err(|log| RtlError::Build {
-            list: fl.list.clone(),
-            tool: "iverilog",
-            log,
-        })?;
+        // Verilator elaborated the RTL above: what Icarus refuses is beyond Icarus.
+        dut.compiled(&p, 10_000)
+            .map_err(|log| unsupported(&log, &fl.list))?;
         Ok(dut)
     }
 
@@ -192,7 +192,7 @@ impl IcarusDut {
         let depfile = tmp.path().join("deps.txt");
         let o = Command::new("iverilog")
             .args([
-                "-g2005",
+                "-g2012",
                 "-Wall",
                 "-Wno-timescale",
                 "-Wno-implicit-dimensions",
@@ -227,6 +227,51 @@ impl IcarusDut {
         std::fs::rename(&out_vvp, &vvp).map_err(|e| e.to_string())?;
         crate::cache::write_record(&deps, &files);
         Ok(())
+    }
+}
+
+/// The error of an RTL that Verilator elaborates and Icarus does not compile: the first
+/// `file:line` of Icarus's output that names a file of the RTL (not Icarus's own source, as an
+/// internal assertion does), what it says there, and the advice to use Verilator.
+fn unsupported(log: &str, list: &Path) -> RtlError {
+    let version = Command::new("iverilog")
+        .arg("-V")
+        .output()
+        .ok()
+        .and_then(|o| {
+            String::from_utf8_lossy(&o.stdout)
+                .lines()
+                .next()
+                .map(|l| l.trim().to_string())
+        })
+        .filter(|l| l.starts_with("Icarus Verilog"))
+        .map(|l| {
+            // `Icarus Verilog version 11.0 (stable) ()` -> `Icarus Verilog 11.0`
+            let v = l.split_whitespace().nth(3).unwrap_or("");
+            format!("Icarus Verilog {v}").trim_end().to_string()
+        })
+        .unwrap_or_else(|| "Icarus Verilog".into());
+    let found = log.lines().find_map(|l| {
+        let mut it = l.splitn(3, ':');
+        let (file, line, rest) = (it.next()?, it.next()?, it.next().unwrap_or(""));
+        let line: u32 = line.trim().parse().ok()?;
+        let is_rtl = !file.ends_with(".cc") && !file.ends_with(".h") && Path::new(file).is_file();
+        is_rtl.then(|| (format!("{file}:{line}"), rest.trim().to_string()))
+    });
+    let what = if log.contains("Assertion") {
+        "Icarus stopped on an internal assertion".to_string()
+    } else {
+        found
+            .as_ref()
+            .map(|(_, w)| w.clone())
+            .filter(|w| !w.is_empty())
+            .unwrap_or_else(|| "it does not compile".into())
+    };
+    RtlError::Unsupported {
+        at: found.map_or_else(|| format!("--rtl {}", list.display()), |(at, _)| at),
+        tool: version,
+        what,
+        log: log.to_string(),
     }
 }
 
@@ -489,6 +534,42 @@ impl Dut for IcarusDut {
     fn notes(&self) -> Vec<String> {
         self.notes.clone()
     }
+
+    fn rtl_wave(
+        &self,
+        sc: &Scenario,
+        rec: Recorded,
+        _window: (u64, u64),
+        out: &Path,
+    ) -> Option<Result<(), DutError>> {
+        // the bench's own dump of `tb_vectors.dut` (+vcd), the whole repro replayed unchecked
+        let Recorded::Vectors(vec) = rec else {
+            return None;
+        };
+        let go = || -> Result<(), DutError> {
+            let vvp = self
+                .compiled(&sc.params, sc.clock_ns())
+                .map_err(DutError::Tool)?;
+            let o = Command::new("vvp")
+                .arg("-n")
+                .arg(&vvp)
+                .arg(format!("+vec={}", vec.path().display()))
+                .arg(format!("+vcd={}", out.display()))
+                .arg("+nocheck")
+                .stdin(Stdio::null())
+                .output()
+                .map_err(|e| DutError::Tool(format!("cannot start vvp: {e}")))?;
+            if o.status.success() && out.is_file() {
+                Ok(())
+            } else {
+                Err(DutError::Tool(format!(
+                    "vvp wrote no waveform: {}",
+                    String::from_utf8_lossy(&o.stdout).lines().last().unwrap_or("")
+                )))
+            }
+        };
+        Some(go())
+    }
 }
 
 impl Drop for IcarusDut {
@@ -531,6 +612,28 @@ mod tests {
         let p = dir.path().join("a.vec");
         std::fs::write(&p, "/ pmu50 vectors\n/ clock_ns 10000\n1 0 0\n\n0 1 1\n0 0 0").unwrap();
         assert_eq!(vector_lines(&p).unwrap(), 3);
+    }
+
+    #[test]
+    fn what_icarus_cannot_read_is_named_by_file_and_line_with_the_advice() {
+        let d = tempfile::tempdir().unwrap();
+        let pkg = d.path().join("pkg.sv");
+        std::fs::write(&pkg, "package p;\n").unwrap();
+        let log = format!("{}:13: syntax error\nI give up.\n", pkg.display());
+        let e = unsupported(&log, &d.path().join("rtl.f")).to_string();
+        assert!(
+            e.starts_with(&format!("{}:13: ", pkg.display()))
+                && e.contains("(syntax error)")
+                && e.contains("Use `--dut verilator`"),
+            "{e}"
+        );
+        // an internal assertion names Icarus's source, not the RTL: the list is named
+        let log = "ivl: elab_type.cc:86: virtual ivl_type_s* data_type_t::elaborate_type_raw(Design*, NetScope*) const: Assertion `0' failed.\n";
+        let e = unsupported(log, Path::new("/x/rtl.f")).to_string();
+        assert!(
+            e.starts_with("--rtl /x/rtl.f: ") && e.contains("internal assertion"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -20,8 +20,8 @@ use crate::check::Failure;
 use crate::code_cov::points as code_cov;
 use crate::gen::{knobs_off, Pins};
 use crate::lockstep::{self, Answer, Reply, Request, Worker};
-use crate::map::{verilator_member, Entry, RtlMap};
-use crate::rtl::{self, FileList, Fixed, HierSignal, RtlError};
+use crate::map::{Entry, Mapped, RtlMap};
+use crate::rtl::{self, FileList, Fixed, RtlError};
 use pmu50_core::params::{Params, HDL_NAMES};
 use pmu50_core::pmu50::Structural;
 use pmu50_core::signals;
@@ -68,6 +68,70 @@ const VERILATOR_COV: &[&str] = &["--coverage-line", "--coverage-toggle", "-O0", 
 /// With a Verilator whose expression coverage counts continuous assignments
 /// ([`vtool::EXPR_ASSIGN_VERSION`]): expression coverage too.
 const VERILATOR_EXPR: &str = "--coverage-expr";
+/// The same for a build that writes the RTL's own waveform (a failure's `rtl.vcd`, `pmu50
+/// rtl-map`): not optimised either, as it runs short windows.
+const CXXFLAGS_TRACE: &[&str] = &[
+    "-std=c++17",
+    "-O0",
+    "-fPIC",
+    "-fvisibility=hidden",
+    "-DVM_TRACE=1",
+    "-DVM_COVERAGE=0",
+];
+/// Verilator's options of a build with tracing.
+const VERILATOR_TRACE: &[&str] = &["--trace"];
+
+/// What a build is for: the lockstep, the lockstep with code coverage, or the RTL's waveform.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Flavour {
+    Plain,
+    Coverage,
+    Trace,
+}
+
+impl Flavour {
+    fn index(self) -> usize {
+        self as usize
+    }
+    /// The prefix of its builds' cache folders.
+    fn prefix(self) -> &'static str {
+        match self {
+            Flavour::Plain => "",
+            Flavour::Coverage => "cov-",
+            Flavour::Trace => "trace-",
+        }
+    }
+    fn cxxflags(self) -> &'static [&'static str] {
+        match self {
+            Flavour::Plain => CXXFLAGS,
+            Flavour::Coverage => CXXFLAGS_COV,
+            Flavour::Trace => CXXFLAGS_TRACE,
+        }
+    }
+    fn verilator_args(self) -> &'static [&'static str] {
+        match self {
+            Flavour::Plain => &[],
+            Flavour::Coverage => VERILATOR_COV,
+            Flavour::Trace => VERILATOR_TRACE,
+        }
+    }
+    /// The Verilator runtime's sources it links.
+    fn runtime_sources(self) -> &'static [&'static str] {
+        match self {
+            Flavour::Plain => &["verilated.cpp", "verilated_threads.cpp"],
+            Flavour::Coverage => &[
+                "verilated.cpp",
+                "verilated_threads.cpp",
+                "verilated_cov.cpp",
+            ],
+            Flavour::Trace => &[
+                "verilated.cpp",
+                "verilated_threads.cpp",
+                "verilated_vcd_c.cpp",
+            ],
+        }
+    }
+}
 
 /// The register bus addresses read back after reset to learn what an RTL fixes (docs/spec.md
 /// 2.8): CTRL, PW, PI, PS, SI_MAX, SI_MIN, T1, T2, CTH, SMP_ON, CFG.
@@ -78,13 +142,21 @@ const PROBE_ADDRS: [u8; 11] = [
 /// One build, shared by the jobs: built once, by the first job that needs it.
 type Slot = Arc<OnceLock<Result<PathBuf, String>>>;
 
+/// The mapped model values and the RTL signals that hold them, at one structure.
+type MappedAt = Vec<(Entry, Mapped)>;
+
 pub struct VerilatorDut {
     list: FileList,
     /// The parameters of [`HDL_NAMES`] the top has, with their default values.
     top_params: Vec<(&'static str, u64)>,
     fixed: Fixed,
-    /// Mapped model values and the RTL signals that hold them.
-    mapped: Vec<(Entry, HierSignal)>,
+    /// Mapped model values and the RTL signals that hold them, at the structure the seeds
+    /// start from.
+    mapped: MappedAt,
+    /// The map, resolved again for each other structure (SYNC_DEPTH, CNT_W) a seed draws: a
+    /// signal's width, and a field's place in a struct, may follow them.
+    map: Option<RtlMap>,
+    mapped_at: Mutex<HashMap<(u8, u8), MappedAt>>,
     map_key: String,
     /// The cache folder of this RTL (its files' paths and contents).
     root: PathBuf,
@@ -215,6 +287,8 @@ impl VerilatorDut {
             top_params,
             fixed: Fixed::default(),
             mapped: Vec::new(),
+            map: None,
+            mapped_at: Mutex::new(HashMap::new()),
             map_key: String::new(),
             root,
             verilator_root: OnceLock::new(),
@@ -236,7 +310,7 @@ impl VerilatorDut {
         let defaults = dut.defaults();
         if !missing.is_empty() {
             let lib = dut
-                .build(&dut.gparams(&defaults))
+                .build(&dut.gparams(&defaults), &[])
                 .map_err(|log| RtlError::Build {
                     list: fl.list.clone(),
                     tool: "verilator",
@@ -340,7 +414,12 @@ impl VerilatorDut {
                     rtl::elaborate_cached(&fl, &g, &dut.scratch.path().join("xml_map"), &dut.root)?
                 };
             dut.mapped = m.check(&at_s0, &s0)?;
+            dut.mapped_at
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .insert((s0.sync_depth, s0.cnt_width), dut.mapped.clone());
             dut.map_key = m.key();
+            dut.map = Some(m.clone());
             dut.notes.push(format!(
                 "map {}: {} register(s) and {} internal(s) compared beside the ports",
                 m.path
@@ -356,7 +435,7 @@ impl VerilatorDut {
             cnt_width: s0.cnt_width,
             ..dut.fixed.apply(&defaults)
         };
-        dut.build(&dut.gparams(&s0p))
+        dut.build(&dut.gparams(&s0p), &dut.mapped)
             .map_err(|log| RtlError::Build {
                 list: fl.list.clone(),
                 tool: "verilator",
@@ -368,6 +447,11 @@ impl VerilatorDut {
     /// The names of the parameters the top has.
     pub fn top_param_names(&self) -> Vec<String> {
         self.top_params.iter().map(|(n, _)| n.to_string()).collect()
+    }
+
+    /// The parameters of a run at the RTL's defaults: the top's defaults and what the RTL fixes.
+    pub fn default_params(&self) -> Params {
+        self.fixed.apply(&self.defaults())
     }
 
     /// The top's default parameter values (the model's defaults where the top lacks one).
@@ -438,25 +522,81 @@ impl VerilatorDut {
             )));
         }
         self.check_pair(p.sync_depth, p.cnt_width)?;
-        self.build(&self.gparams(p)).map_err(DutError::Tool)
+        let mapped = self.mapped_for(p.sync_depth, p.cnt_width)?;
+        self.build(&self.gparams(p), &mapped)
+            .map_err(DutError::Tool)
+    }
+
+    /// The map resolved for structure (sd, w) (elaborated once per pair).
+    fn mapped_for(&self, sd: u8, w: u8) -> Result<Vec<(Entry, Mapped)>, DutError> {
+        let Some(m) = &self.map else {
+            return Ok(Vec::new());
+        };
+        if let Some(v) = self
+            .mapped_at
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&(sd, w))
+        {
+            return Ok(v.clone());
+        }
+        let mut g = Vec::new();
+        if self.top_params.iter().any(|(n, _)| *n == "SYNC_DEPTH") {
+            g.push(("SYNC_DEPTH".to_string(), u64::from(sd)));
+        }
+        if self.top_params.iter().any(|(n, _)| *n == "CNT_W") {
+            g.push(("CNT_W".to_string(), u64::from(w)));
+        }
+        let work = self.scratch.path().join(format!("xml_map_{sd}_{w}"));
+        let d = rtl::elaborate_cached(&self.list, &g, &work, &self.root);
+        let _ = std::fs::remove_dir_all(&work);
+        let v = m.check(
+            &d?,
+            &Structural {
+                sync_depth: sd,
+                cnt_width: w,
+            },
+        )?;
+        self.mapped_at
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert((sd, w), v.clone());
+        Ok(v)
     }
 
     /// A build for these `-G` values: from the cache, or built now (once for all jobs).
-    fn build(&self, g: &[(String, u64)]) -> Result<PathBuf, String> {
+    fn build(&self, g: &[(String, u64)], mapped: &[(Entry, Mapped)]) -> Result<PathBuf, String> {
+        let flavour = if self.code.is_some() {
+            Flavour::Coverage
+        } else {
+            Flavour::Plain
+        };
+        self.build_as(g, mapped, flavour)
+    }
+
+    /// [`VerilatorDut::build`] of a flavour.
+    fn build_as(
+        &self,
+        g: &[(String, u64)],
+        mapped: &[(Entry, Mapped)],
+        flavour: Flavour,
+    ) -> Result<PathBuf, String> {
+        let header = self.map_header(g, mapped);
         let gtext: String = g.iter().map(|(n, v)| format!("{n}={v};")).collect();
-        let cov = self.code.is_some();
         let key = format!(
             "{}{:016x}",
-            if cov { "cov-" } else { "" },
+            flavour.prefix(),
             fnv(&[
                 gtext.as_bytes(),
+                rtl::VERILATOR_TIMING.join(" ").as_bytes(),
                 self.map_key.as_bytes(),
+                header.as_bytes(),
                 DUT_LIB_CPP.as_bytes(),
-                cxxflags(cov).join(" ").as_bytes(),
-                if cov {
+                flavour.cxxflags().join(" ").as_bytes(),
+                flavour.verilator_args().join(" ").as_bytes(),
+                if flavour == Flavour::Coverage {
                     format!(
-                        "{} {} {}",
-                        VERILATOR_COV.join(" "),
+                        "{} {}",
                         if self.expr { VERILATOR_EXPR } else { "" },
                         self.tool.describe()
                     )
@@ -483,7 +623,7 @@ impl VerilatorDut {
                     (lib.is_file() && crate::cache::files_unchanged(&dir.join("deps.txt")))
                         .then(|| lib.clone())
                 },
-                || self.build_logged(&key, g),
+                || self.build_logged(&key, g, mapped, &header, flavour),
             )?;
             self.leases
                 .lock()
@@ -498,9 +638,16 @@ impl VerilatorDut {
 
     /// Build `key` now (under its lock, [`crate::cache::obtain`]) and record it in the RTL's
     /// `builds.log`: what `pmu50 cache` and the build-modes bench read, and a test counts.
-    fn build_logged(&self, key: &str, g: &[(String, u64)]) -> Result<(), String> {
+    fn build_logged(
+        &self,
+        key: &str,
+        g: &[(String, u64)],
+        mapped: &[(Entry, Mapped)],
+        header: &str,
+        flavour: Flavour,
+    ) -> Result<(), String> {
         let t0 = std::time::Instant::now();
-        self.build_now(key, g)?;
+        self.build_now(key, g, mapped, header, flavour)?;
         use std::io::Write;
         if let Ok(mut f) = std::fs::OpenOptions::new()
             .create(true)
@@ -512,7 +659,14 @@ impl VerilatorDut {
         Ok(())
     }
 
-    fn build_now(&self, key: &str, g: &[(String, u64)]) -> Result<PathBuf, String> {
+    fn build_now(
+        &self,
+        key: &str,
+        g: &[(String, u64)],
+        mapped: &[(Entry, Mapped)],
+        header: &str,
+        flavour: Flavour,
+    ) -> Result<PathBuf, String> {
         let dir = self.root.join(key);
         let lib = dir.join("libpmu50_dut.so");
         for tool in ["verilator", "g++"] {
@@ -524,8 +678,7 @@ impl VerilatorDut {
         }
         let vroot = self.vroot()?;
         let _ = std::fs::remove_dir_all(&dir);
-        let cov = self.code.is_some();
-        let (pch, runtime) = self.runtime(cov)?;
+        let (pch, runtime) = self.runtime(flavour)?;
         std::fs::create_dir_all(&self.root).map_err(|e| format!("{}: {e}", self.root.display()))?;
         let tmp = tempfile::Builder::new()
             .prefix(&format!(".build-{key}-"))
@@ -535,10 +688,10 @@ impl VerilatorDut {
         std::fs::create_dir_all(&obj).map_err(|e| format!("{}: {e}", obj.display()))?;
         // the map: which signals Verilator keeps visible, and the accessors of dut_lib.cpp
         let mut vlt = String::from("`verilator_config\n");
-        for (_, s) in &self.mapped {
+        for (_, m) in mapped {
             vlt.push_str(&format!(
                 "public_flat_rd -module \"{}\" -var \"{}\"\n",
-                s.module, s.var
+                m.signal.module, m.signal.var
             ));
         }
         std::fs::write(obj.join("dut_map.vlt"), &vlt).map_err(|e| e.to_string())?;
@@ -558,12 +711,11 @@ impl VerilatorDut {
             "--MMD",
             "-Mdir",
         ])
-        .arg(&obj);
-        if cov {
-            cmd.args(VERILATOR_COV);
-            if self.expr {
-                cmd.arg(VERILATOR_EXPR);
-            }
+        .arg(&obj)
+        .args(rtl::VERILATOR_TIMING);
+        cmd.args(flavour.verilator_args());
+        if flavour == Flavour::Coverage && self.expr {
+            cmd.arg(VERILATOR_EXPR);
         }
         cmd.args(self.list.verilator_args());
         for (n, v) in g {
@@ -571,7 +723,7 @@ impl VerilatorDut {
         }
         cmd.arg(obj.join("dut_map.vlt")).args(&self.list.files);
         step(&mut cmd, "verilator")?;
-        std::fs::write(obj.join("dut_map.h"), self.map_header(g)).map_err(|e| e.to_string())?;
+        std::fs::write(obj.join("dut_map.h"), header).map_err(|e| e.to_string())?;
         std::fs::write(obj.join("dut_lib.cpp"), DUT_LIB_CPP).map_err(|e| e.to_string())?;
         let mut unity = String::from("#include \"dut_lib.cpp\"\n");
         let mut gen: Vec<String> = std::fs::read_dir(&obj)
@@ -587,7 +739,7 @@ impl VerilatorDut {
         std::fs::write(obj.join("unity.cpp"), unity).map_err(|e| e.to_string())?;
         let inc = vroot.join("include");
         let mut cc = Command::new("g++");
-        cc.args(cxxflags(cov))
+        cc.args(flavour.cxxflags())
             .arg(format!("-I{}", inc.display()))
             .arg(format!("-I{}", inc.join("vltstd").display()))
             .arg(format!("-I{}", obj.display()))
@@ -638,14 +790,14 @@ impl VerilatorDut {
             .clone()
     }
 
-    /// With `cov`, the runtime of the builds with code coverage (its own flags and
-    /// verilated_cov.cpp).
-    fn runtime(&self, cov: bool) -> Result<(PathBuf, PathBuf), String> {
-        static DONE: [OnceLock<Result<(PathBuf, PathBuf), String>>; 2] =
-            [OnceLock::new(), OnceLock::new()];
+    /// The runtime of a flavour's builds (its own flags; verilated_cov.cpp with code coverage,
+    /// verilated_vcd_c.cpp with tracing).
+    fn runtime(&self, flavour: Flavour) -> Result<(PathBuf, PathBuf), String> {
+        static DONE: [OnceLock<Result<(PathBuf, PathBuf), String>>; 3] =
+            [OnceLock::new(), OnceLock::new(), OnceLock::new()];
         let vroot = self.vroot()?;
-        let flags_now = cxxflags(cov);
-        DONE[usize::from(cov)]
+        let flags_now = flavour.cxxflags();
+        DONE[flavour.index()]
             .get_or_init(|| {
                 let key = format!(
                     "{:016x}",
@@ -666,7 +818,7 @@ impl VerilatorDut {
                 let (lease, ()) = crate::cache::obtain(
                     &dir,
                     || (dir.join("pre.h.gch").is_file() && rt.is_file()).then_some(()),
-                    || make_runtime(&vroot, flags_now, cov, &key, &dir),
+                    || make_runtime(&vroot, flags_now, flavour, &key, &dir),
                 )?;
                 LEASES
                     .lock()
@@ -678,7 +830,7 @@ impl VerilatorDut {
     }
 
     /// dut_map.h of a build (hdl/tb/lockstep/dut_lib.cpp).
-    fn map_header(&self, g: &[(String, u64)]) -> String {
+    fn map_header(&self, g: &[(String, u64)], mapped: &[(Entry, Mapped)]) -> String {
         let mut h = String::from("// generated by pmu50 regress (verif/src/dut/verilator.rs): the contract ports, the map, the parameters\n#pragma once\n");
         h.push_str("#define DUT_INPUTS(X)");
         for s in signals::INPUTS {
@@ -690,14 +842,10 @@ impl VerilatorDut {
         }
         let group = |h: &mut String, name: &str, regs: bool| {
             h.push_str(&format!("\n#define {name}(X)"));
-            for (e, s) in &self.mapped {
+            for (e, s) in mapped {
                 let is_reg = signals::REGISTERS.iter().any(|r| r.path() == e.model);
                 if is_reg == regs {
-                    h.push_str(&format!(
-                        " X(\"{}\", {})",
-                        e.model,
-                        verilator_member(&s.path)
-                    ));
+                    h.push_str(&format!(" X(\"{}\", {})", e.model, s.accessor()));
                 }
             }
         };
@@ -774,14 +922,6 @@ impl VerilatorDut {
     }
 }
 
-/// The compiler flags of a plain build or (`cov`) of one with code coverage.
-fn cxxflags(cov: bool) -> &'static [&'static str] {
-    if cov {
-        CXXFLAGS_COV
-    } else {
-        CXXFLAGS
-    }
-}
 
 /// The files a Verilator `--MMD` dependency file lists, less Verilator's own.
 fn verilator_deps(d: &Path, vroot: &Path) -> Vec<PathBuf> {
@@ -972,6 +1112,19 @@ impl Dut for VerilatorDut {
         self.notes.clone()
     }
 
+    fn rtl_wave(
+        &self,
+        sc: &Scenario,
+        rec: Recorded,
+        window: (u64, u64),
+        out: &Path,
+    ) -> Option<Result<(), DutError>> {
+        let Recorded::Inputs(inputs) = rec else {
+            return None;
+        };
+        Some(self.rtl_vcd(&sc.params, &inputs, window, sc.clock_ns(), out))
+    }
+
     fn trace(
         &self,
         sc: &Scenario,
@@ -1053,6 +1206,49 @@ impl VerilatorDut {
             .map_err(tool_err)
     }
 
+    /// The RTL's own waveform (a build with Verilator's `--trace`, every signal it keeps) of
+    /// ticks `from..=to` of a run on `inputs` with parameters `p`, one sample a tick at time
+    /// k x `ns_per_tick` ns, written to `out` (VCD).
+    pub fn rtl_vcd(
+        &self,
+        p: &Params,
+        inputs: &[u32],
+        window: (u64, u64),
+        ns_per_tick: u64,
+        out: &Path,
+    ) -> Result<(), DutError> {
+        if !self.fixed.holds(p) {
+            return Err(DutError::Usage(format!(
+                "the run's parameters do not keep what the RTL fixes ({})",
+                self.fixed.text()
+            )));
+        }
+        self.check_pair(p.sync_depth, p.cnt_width)?;
+        let mapped = self.mapped_for(p.sync_depth, p.cnt_width)?;
+        let lib = self
+            .build_as(&self.gparams(p), &mapped, Flavour::Trace)
+            .map_err(DutError::Tool)?;
+        let mut w = Worker::spawn(self.scratch.path()).map_err(tool_err)?;
+        match w
+            .vcd(
+                &lib,
+                p,
+                inputs,
+                window,
+                ns_per_tick,
+                out,
+                Duration::from_secs(300),
+            )
+            .map_err(tool_err)?
+        {
+            Answer::Reply(Reply::Pass { .. }) if out.is_file() => Ok(()),
+            Answer::Reply(Reply::Error { reason }) => Err(tool_err(reason)),
+            Answer::Reply(_) => Err(tool_err("the DUT worker wrote no waveform")),
+            Answer::TimedOut => Err(tool_err("the RTL's waveform did not end within 300 s")),
+            Answer::Died(how) => Err(tool_err(how)),
+        }
+    }
+
     /// How many registers and internals the map compares.
     pub fn mapped_counts(&self) -> (usize, usize) {
         let regs = self
@@ -1098,7 +1294,7 @@ pub static BACKEND: Backend = Backend {
 fn make_runtime(
     vroot: &Path,
     flags_now: &[&str],
-    cov: bool,
+    flavour: Flavour,
     key: &str,
     dir: &Path,
 ) -> Result<(), String> {
@@ -1127,16 +1323,7 @@ fn make_runtime(
         .arg(tmp.path().join("pre.h.gch"));
     step(&mut c, "g++ (precompiled header)")?;
     let mut objs = Vec::new();
-    let sources: &[&str] = if cov {
-        &[
-            "verilated.cpp",
-            "verilated_threads.cpp",
-            "verilated_cov.cpp",
-        ]
-    } else {
-        &["verilated.cpp", "verilated_threads.cpp"]
-    };
-    for f in sources {
+    for f in flavour.runtime_sources() {
         let o = tmp.path().join(f.replace(".cpp", ".o"));
         let mut c = Command::new("g++");
         flags(&mut c);

@@ -303,6 +303,53 @@ pub(super) fn trace(lib: &DutLib, inputs: &[u32], from: u64, to: u64) -> Reply {
     }
 }
 
+/// Step the RTL alone on `inputs` (a build with tracing) and write its own waveform of ticks
+/// `from..=to` (a tick `ns` nanoseconds long) to `out`.
+pub(super) fn vcd(lib: &DutLib, inputs: &[u32], from: u64, to: u64, ns: u64, out: &Path) -> Reply {
+    let Ok(path) = std::ffi::CString::new(out.as_os_str().as_encoded_bytes()) else {
+        return Reply::Error {
+            reason: format!("{}: a path with a NUL byte", out.display()),
+        };
+    };
+    let dut = Handle::new(lib);
+    let (mut x, mut o, mut regs) = (
+        [0u64; signals::N_INTERNALS],
+        [0u64; signals::N_OUTPUTS],
+        [0u64; signals::N_REGISTERS],
+    );
+    let mut open = false;
+    let last = to.min(inputs.len().saturating_sub(1) as u64);
+    for (k, &w) in inputs.iter().enumerate().take(last as usize + 1) {
+        if k as u64 == from {
+            // SAFETY: a handle of this library and a NUL-terminated path.
+            if unsafe { (lib.vcd_open)(dut.1, path.as_ptr(), ns) } != 0 {
+                return Reply::Error {
+                    reason: "the library was built without tracing (rebuild it)".into(),
+                };
+            }
+            open = true;
+        }
+        let (_, word) = input_words(w);
+        // SAFETY: arrays of at least the library's counts (checked at load).
+        unsafe {
+            (lib.tick)(
+                dut.1,
+                word.as_ptr(),
+                x.as_mut_ptr(),
+                o.as_mut_ptr(),
+                regs.as_mut_ptr(),
+            )
+        };
+    }
+    if open {
+        // SAFETY: a handle of this library with its VCD open.
+        unsafe { (lib.vcd_close)(dut.1) };
+    }
+    Reply::Pass {
+        ticks: last.saturating_sub(from) + 1,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

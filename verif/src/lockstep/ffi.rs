@@ -7,7 +7,7 @@ use std::ffi::{c_char, c_void, CStr};
 use std::path::Path;
 
 /// Interface version of hdl/tb/lockstep/dut_lib.cpp this worker speaks.
-pub(super) const DUT_ABI: u32 = 3;
+pub(super) const DUT_ABI: u32 = 4;
 
 pub(super) type DutNew = unsafe extern "C" fn() -> *mut c_void;
 pub(super) type DutFree = unsafe extern "C" fn(*mut c_void);
@@ -16,6 +16,7 @@ pub(super) type DutTick =
     unsafe extern "C" fn(*mut c_void, *const u64, *mut u64, *mut u64, *mut u64);
 pub(super) type DutStep = unsafe extern "C" fn(*mut c_void, *const u64, u64) -> u64;
 pub(super) type DutCovWrite = unsafe extern "C" fn(*mut c_void, *const c_char) -> i32;
+pub(super) type DutVcdOpen = unsafe extern "C" fn(*mut c_void, *const c_char, u64) -> i32;
 
 /// A loaded RTL library and where each of its values is in the model's signal table.
 pub(super) struct DutLib {
@@ -27,6 +28,9 @@ pub(super) struct DutLib {
     /// Whether the library counts code coverage, and its writer.
     pub(super) has_coverage: bool,
     pub(super) cov_write: DutCovWrite,
+    /// The VCD of a build with tracing: open (-1 without tracing) and close.
+    pub(super) vcd_open: DutVcdOpen,
+    pub(super) vcd_close: DutFree,
     /// The Verilog parameters the library was built with (name, value).
     pub(super) params: Vec<(String, u64)>,
     /// For each mapped register of the library, its index in [`signals::REGISTERS`].
@@ -141,6 +145,12 @@ impl DutLib {
                 )() == 1,
                 cov_write: std::mem::transmute::<*const c_void, DutCovWrite>(sym(
                     "pmu50_dut_cov_write",
+                )?),
+                vcd_open: std::mem::transmute::<*const c_void, DutVcdOpen>(sym(
+                    "pmu50_dut_vcd_open",
+                )?),
+                vcd_close: std::mem::transmute::<*const c_void, DutFree>(sym(
+                    "pmu50_dut_vcd_close",
                 )?),
                 params,
                 regs,

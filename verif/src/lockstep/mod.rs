@@ -20,7 +20,8 @@
 //! [`Params::hdl_parameters`]), the tick count (u64) and one packed input word (u32, [`pack`])
 //! per tick (a trace request then the first and last edge, u64 each; a lockstep with code
 //! coverage then the length (u32) and the path of the file the seed's counts go to, written
-//! before the reply). Reply = one line of JSON,
+//! before the reply; a VCD request the first and last tick and the nanoseconds of a tick, u64
+//! each, then the length (u32) and the path of the VCD the RTL's waveform goes to). Reply = one line of JSON,
 //! a [`Reply`]. The worker writes its replies on its own
 //! copy of stdout and sends the RTL's stdout (`$display`) to stderr, a log file kept to its last
 //! [`LOG_KEEP`] bytes: nothing the RTL prints can be taken for a verdict.

@@ -66,16 +66,20 @@ pub enum Request {
     Trace = 2,
     /// A lockstep, then the RTL's code coverage of the run written to a file.
     LockstepCoverage = 3,
+    /// Step the RTL alone (a build with tracing) and write its own waveform of the ticks of a
+    /// window to a VCD file.
+    Vcd = 4,
 }
 
-/// A request as the worker read it: its kind, the library, the 12 HDL parameters, the inputs
-/// and the window of a trace.
+/// A request as the worker read it: its kind, the library, the 12 HDL parameters, the inputs,
+/// the window of a trace (and, for a VCD, the nanoseconds of a tick), and the file a coverage or
+/// a VCD goes to.
 pub(super) type Received = (
     Request,
     PathBuf,
     [u64; 12],
     Vec<u32>,
-    (u64, u64),
+    (u64, u64, u64),
     Option<PathBuf>,
 );
 

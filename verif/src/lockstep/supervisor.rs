@@ -123,6 +123,34 @@ impl Worker {
         self.receive(timeout)
     }
 
+    /// A VCD request ([`Request::Vcd`]): the RTL's own waveform of ticks `from..=to` (a tick
+    /// `ns_per_tick` ns long) written to `out`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn vcd(
+        &mut self,
+        lib: &Path,
+        params: &Params,
+        inputs: &[u32],
+        (from, to): (u64, u64),
+        ns_per_tick: u64,
+        out: &Path,
+        timeout: Duration,
+    ) -> Result<Answer, String> {
+        let p = out.as_os_str().as_encoded_bytes();
+        let mut t = Vec::with_capacity(4 + p.len());
+        t.extend_from_slice(&(p.len() as u32).to_le_bytes());
+        t.extend_from_slice(p);
+        self.send_bytes(
+            Request::Vcd,
+            lib,
+            params,
+            inputs,
+            &[from, to, ns_per_tick],
+            &t,
+        );
+        self.receive(timeout)
+    }
+
     /// Hand a request to the worker; [`Worker::receive`] takes its answer. The log of the
     /// previous request is emptied.
     pub fn send(&mut self, kind: Request, lib: &Path, params: &Params, inputs: &[u32]) {

@@ -41,6 +41,7 @@ pub fn worker_main() -> i32 {
                 1 => Request::Probe,
                 2 => Request::Trace,
                 3 => Request::LockstepCoverage,
+                4 => Request::Vcd,
                 k => return Err(std::io::Error::other(format!("unknown request kind {k}"))),
             };
             let len = u32::from_le_bytes(read_exact(&mut input, 4)?.try_into().unwrap_or([0; 4]))
@@ -64,13 +65,18 @@ pub fn worker_main() -> i32 {
                 .chunks_exact(4)
                 .map(|c| u32::from_le_bytes(c.try_into().unwrap_or([0; 4])))
                 .collect();
-            let window = if kind == Request::Trace {
-                let w: Vec<u64> = u64s(&read_exact(&mut input, 16)?).collect();
-                (w[0], w[1])
-            } else {
-                (0, 0)
+            let window = match kind {
+                Request::Trace => {
+                    let w: Vec<u64> = u64s(&read_exact(&mut input, 16)?).collect();
+                    (w[0], w[1], 0)
+                }
+                Request::Vcd => {
+                    let w: Vec<u64> = u64s(&read_exact(&mut input, 24)?).collect();
+                    (w[0], w[1], w[2])
+                }
+                _ => (0, 0, 0),
             };
-            let cov = if kind == Request::LockstepCoverage {
+            let cov = if matches!(kind, Request::LockstepCoverage | Request::Vcd) {
                 let len =
                     u32::from_le_bytes(read_exact(&mut input, 4)?.try_into().unwrap_or([0; 4]))
                         as usize;
@@ -85,7 +91,7 @@ pub fn worker_main() -> i32 {
             };
             Ok((kind, path, hdl, inputs, window, cov))
         })();
-        let Ok((kind, path, hdl, inputs, (from, to), cov)) = request else {
+        let Ok((kind, path, hdl, inputs, (from, to, ns), cov)) = request else {
             return 2;
         };
         let answer = match (
@@ -100,6 +106,14 @@ pub fn worker_main() -> i32 {
                 trace(lib, &inputs, from, to.min(from.saturating_add(100_000)))
             }
             (Ok(lib), Ok(p), Request::Lockstep) => lockstep(lib, p, &inputs),
+            (Ok(lib), _, Request::Vcd) => vcd(
+                lib,
+                &inputs,
+                from,
+                to,
+                ns,
+                cov.as_deref().unwrap_or(Path::new("")),
+            ),
             (Ok(lib), Ok(p), Request::LockstepCoverage) => {
                 lockstep_coverage(lib, p, &inputs, cov.as_deref().unwrap_or(Path::new("")))
             }
