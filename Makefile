@@ -110,8 +110,8 @@ fusesoc: deps $(VENV)/.formal $(BIN)
 ## -flatten, default parameters); GLS_SEEDS directed seeds of the netlist against the model must
 ## pass, and the netlist of a mutant (GLS_MUTANT) must be caught with a repro.
 GLS_SEEDS ?= 500
-gls: deps $(BIN)
-	GLS_SEEDS=$(GLS_SEEDS) bash hdl/gls.sh
+gls: deps $(BIN) $(VENV)/.formal
+	GLS_SEEDS=$(GLS_SEEDS) $(if $(RTL),PMU50_FILELIST=$(abspath $(RTL))) bash hdl/gls.sh
 
 ## pmu50 regress against an RTL in a few seeds: the twin passes, a planted bug is found, shrunk
 ## and reproduced, the report renders in headless Chromium (hdl/regress_smoke.sh).
@@ -162,7 +162,7 @@ RIC3         := target/tools/bin/rIC3
 # hdl/formal/coverage.py are the same commands
 FORMAL_ENV := PYTHONPATH=$(CURDIR)/hdl/formal
 FORMAL_PY  := $(FORMAL_ENV) $(VPY) -m
-FORMAL := FORMAL_CACHE=$(FORMAL_CACHE) $(FORMAL_PY) pmu50_formal.kit $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
+FORMAL := FORMAL_CACHE=$(FORMAL_CACHE) PMU50=$(abspath $(BIN)) $(FORMAL_PY) pmu50_formal.kit $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
 $(VENV)/.formal: hdl/formal/requirements.txt $(VENV)/.ready
 	$(PIP) install -q -r hdl/formal/requirements.txt
 	@touch $@
@@ -177,9 +177,10 @@ $(RIC3):
 	RUSTC_BOOTSTRAP=1 $(CARGO) install rIC3 --version $(RIC3_VERSION) --locked --root target/tools \
 	  --target-dir target/tools/build >target/tools/rIC3-build.log 2>&1 || \
 	  { touch target/tools/rIC3.failed; echo "rIC3 did not build (target/tools/rIC3-build.log): ABC alone"; }
-formal: deps $(VENV)/.formal formal-tools
-	$(FORMAL)
-formal-quick: deps $(VENV)/.formal
+FORMAL_JSON ?= hdl/build/formal/formal.json
+formal: deps $(VENV)/.formal formal-tools $(BIN)
+	$(FORMAL) --json $(FORMAL_JSON)
+formal-quick: deps $(VENV)/.formal $(BIN)
 	$(FORMAL) --sets small
 formal-mutants: deps $(VENV)/.formal formal-tools
 	$(FORMAL_PY) pmu50_formal.kit --mutants --sets small --timeout 120
@@ -188,22 +189,28 @@ formal-test: deps $(VENV)/.formal $(BIN)
 	PMU50=$(abspath $(BIN)) $(VPY) -m pytest -q hdl/formal/tests
 
 ## Coverage proofs (hdl/formal/coverage.py): the coverage monitor generated from the model
-## (hdl/formal/pmu50_cov.sv, `pmu50 hdl coverage-monitor`) bound to the twin; every bin declared
-## unreachable proven unbounded (k-induction with the kit's lemmas, and with the claims of
-## hdl/coverage-waivers.toml, which are proven too) on the parameter sets small,
-## w8d4, sync1 and default, every other bin covered by a formal witness (small first) or, beyond
-## the bounded search, hit by a witness scenario of hdl/formal/deep replayed through the twin
-## with the monitor; the formal witnesses replayed on the model (a witness of a bin declared
-## unreachable fails it). Exit 0 only when no bin is left undecided.
-## Per-bin status: hdl/build/formal/coverage/coverage.json. COVERAGE_HITS=regress_out/x/coverage.json
-## also marks the bins a regression hit.
+## (hdl/formal/pmu50_cov.sv, `pmu50 hdl coverage-monitor`) bound to the RTL; every bin declared
+## unreachable proven unbounded (k-induction with the kit's lemmas, and with the claims of the
+## waivers, which are proven too) on every structural class the regression draws (32 parameter
+## sets: SYNC_DEPTH 1-4 x a CNT_W of each class x ADAPTIVE 0/1), every other bin covered by a
+## formal witness (sets small, w8d4, sync1, default in turn) or, beyond the bounded search, hit by a
+## witness scenario of hdl/formal/deep replayed through the RTL with the monitor; the formal
+## witnesses replayed on the model (a witness of a bin declared unreachable fails it). Exit 0
+## only when no bin is left undecided. Budgets are the search depths (steps), never wall time.
+## RTL=list.f MAP=map.toml WAIVERS=waivers.toml: any RTL (the monitor's internals bound through
+## its map, else rebuilt from its ports; the twin's waivers never apply to another RTL).
+## Sealed result: $(COVERAGE_OUT)/coverage.json (coverage-proofs.json of the sign-off).
+## COVERAGE_HITS=regress_out/x/coverage.json also marks the bins a regression hit.
 .PHONY: coverage-proofs
-COVERAGE_OUT := hdl/build/formal/coverage
+COVERAGE_OUT := hdl/build/formal/coverage$(if $(RTL),-$(basename $(notdir $(RTL))))
 coverage-proofs: deps $(VENV)/.formal $(BIN)
 	$(BIN) hdl coverage-monitor --check
 	rm -rf $(COVERAGE_OUT)/witness $(COVERAGE_OUT)/coverage.json
-	$(FORMAL_ENV) nice $(VPY) -m pmu50_formal.coverage --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
-	  COVERAGE_WITNESS_DIR=$(abspath $(COVERAGE_OUT))/witness $(CARGO) test --release -q -p pmu50-coverage --test witness || exit 1; \
+	$(FORMAL_ENV) PMU50=$(abspath $(BIN)) $(VPY) -m pmu50_formal.coverage --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) \
+	  $(if $(RTL),--rtl $(RTL)) $(if $(MAP),--map $(MAP)) $(if $(WAIVERS),--waivers $(WAIVERS)) \
+	  $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
+	  if [ -d $(COVERAGE_OUT)/witness ]; then \
+	    COVERAGE_WITNESS_DIR=$(abspath $(COVERAGE_OUT))/witness $(CARGO) test --release -q -p pmu50-coverage --test witness || exit 1; fi; \
 	  exit $$rc
 
 ## Sign-off on the twin (docs/verification.md "Sign-off"), into regress_out/signoff/: a directed

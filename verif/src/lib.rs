@@ -15,6 +15,7 @@ pub mod code_cov;
 mod curve;
 pub mod digest;
 pub mod dut;
+pub mod equivalence;
 pub mod error;
 pub mod filelist;
 pub mod folder;

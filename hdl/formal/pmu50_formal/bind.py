@@ -20,6 +20,7 @@ each `hit_<bin>` wire.
 
 import os
 import re
+
 import tomllib
 
 from .common import FORMAL, SetupError
@@ -70,7 +71,8 @@ FROM_NEXT = {
     "cnt_c_n": "cnt_c",
     "skip_n": "quadrant_skip",
     # |cnt_s - cnt_c| < 2 at CNT_W bits (docs/spec.md 2.7)
-    "in_range_n": "((cnt_s - cnt_c) == {CNT_W{1'b0}} || (cnt_s - cnt_c) == {{(CNT_W-1){1'b0}}, 1'b1}"
+    "in_range_n": "((cnt_s - cnt_c) == {CNT_W{1'b0}}"
+    " || (cnt_s - cnt_c) == {{(CNT_W-1){1'b0}}, 1'b1}"
     " || (cnt_s - cnt_c) == {CNT_W{1'b1}})",
 }
 # the map's key of an internal of the table ("register_file.pw" -> registers, "internals.kon"
@@ -82,8 +84,11 @@ def map_key(source):
     """(section, key) of the map entry that names a table source, or None."""
     if source.startswith("internals."):
         return ("internals", source.split(".", 1)[1])
-    if re.fullmatch(r"(action_switching\.sync|timing_generator\.tmr|comparator_latch\.vld"
-                    r"|register_file\.(adaptive|pw|pi|ps|si_max|si_min|t1|t2|cth|smp_on))", source):
+    if re.fullmatch(
+        r"(action_switching\.sync|timing_generator\.tmr|comparator_latch\.vld"
+        r"|register_file\.(adaptive|pw|pi|ps|si_max|si_min|t1|t2|cth|smp_on))",
+        source,
+    ):
         return ("registers", source)
     return None
 
@@ -99,12 +104,15 @@ def read_map(path):
     for sec, table in doc.items():
         if sec not in MAP_SECTIONS or not isinstance(table, dict):
             raise SetupError(
-                "%s: [%s] is not a section of a map (valid: %s)" % (path, sec, ", ".join(MAP_SECTIONS))
+                "%s: [%s] is not a section of a map (valid: %s)"
+                % (path, sec, ", ".join(MAP_SECTIONS))
             )
         for k, v in table.items():
-            if not isinstance(v, str) or not re.fullmatch(r"[A-Za-z_]\w*(\.[A-Za-z_]\w*(\[\d+\])*)+", v):
+            if not isinstance(v, str) or not re.fullmatch(
+                r"[A-Za-z_]\w*(\.[A-Za-z_]\w*(\[\d+\])*)+", v
+            ):
                 raise SetupError(
-                    "%s: [%s] %s = %r: expected \"top.instance.signal\" (fields of packed structs "
+                    '%s: [%s] %s = %r: expected "top.instance.signal" (fields of packed structs '
                     "and [index] allowed)" % (path, sec, k, v)
                 )
             out[(sec, k)] = v
@@ -218,17 +226,36 @@ def bind_top(name, table, bind, contract, defaults, checks=(), lemma_nets=(), le
         L += ["    wire %s%s;" % (rng(p), p["name"]) for p in outs]
     plist = ", ".join(".%s(%s)" % (k, k) for k in defaults)
     L += [
-        "    %s #(%s) dut (%s);" % (c["top"], plist, ", ".join(".%s(%s)" % (p["name"], p["name"]) for p in c["ports"])),
+        "    %s #(%s) dut (%s);"
+        % (c["top"], plist, ", ".join(".%s(%s)" % (p["name"], p["name"]) for p in c["ports"])),
         "    // the internals rebuilt from the ports (docs/spec.md)",
     ]
     view_outs = sorted(FROM_VIEW)
-    L += ["    wire %spv_%s;" % (width_decl(sigw.get(v, "16") if v in sigw else "16"), v) for v in view_outs]
+    L += [
+        "    wire %spv_%s;" % (width_decl(sigw.get(v, "16") if v in sigw else "16"), v)
+        for v in view_outs
+    ]
     L += [
         "    pmu50_port_view #(%s) pv (" % plist,
         "        "
         + ", ".join(
             ".%s(%s)" % (p, p)
-            for p in ("clk", "rst_n", "ig", "cmp_s", "cmp_c", "bus_we", "bus_addr", "bus_wdata", "sig", "smp", "sr", "cs", "cc", "si")
+            for p in (
+                "clk",
+                "rst_n",
+                "ig",
+                "cmp_s",
+                "cmp_c",
+                "bus_we",
+                "bus_addr",
+                "bus_wdata",
+                "sig",
+                "smp",
+                "sr",
+                "cs",
+                "cc",
+                "si",
+            )
         )
         + ",",
         "        " + ", ".join(".%s(pv_%s)" % (v, v) for v in view_outs),
@@ -269,7 +296,9 @@ def bind_top(name, table, bind, contract, defaults, checks=(), lemma_nets=(), le
         for lab, expr in lemmas.items():
             L.append("        if (f_started) %s: assert (%s);" % (lab, expr))
         for lab, kind, i in checks:
-            L.append("        %s: %s (%smhits[%d]);" % (lab, kind, "!" if kind == "assert" else "", i))
+            L.append(
+                "        %s: %s (%smhits[%d]);" % (lab, kind, "!" if kind == "assert" else "", i)
+            )
         L.append("    end")
     L += ["endmodule", "`default_nettype wire", ""]
     return "\n".join(L)

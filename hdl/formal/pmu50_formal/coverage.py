@@ -64,7 +64,7 @@ import subprocess
 import sys
 import time
 
-from . import bind, common, frontend
+from . import bind, common, frontend, kit
 from .common import FORMAL, HDL, ROOT, SetupError, run, write_atomic
 
 TABLE = os.path.join(FORMAL, "pmu50_cov.json")
@@ -133,8 +133,8 @@ def set_list(text, flag):
     bad = [x for x in names if x not in all_sets()]
     if bad or not names:
         raise SetupError(
-            "%s: unknown parameter sets %s (valid: %s, classes, or a class set d<1-4>w<2|4|8|16>a<0|1>)"
-            % (flag, ", ".join(bad) or "(none)", ", ".join(SET_NAMES))
+            "%s: unknown parameter sets %s (valid: %s, classes, or a class set "
+            "d<1-4>w<2|4|8|16>a<0|1>)" % (flag, ", ".join(bad) or "(none)", ", ".join(SET_NAMES))
         )
     return list(dict.fromkeys(names))
 
@@ -581,6 +581,18 @@ def induct(setname, ctx, labels, a, by_label, claims=()):
         for lab in failed:
             res[lab] = ("unknown", "not %d-inductive with the lemmas" % k, None, None)
         todo = [lab for lab in todo if lab not in failed]
+    # the assertions (and claims) k-induction left open: the property kit's engines, which find
+    # the strengthening invariants themselves (ABC's scorr over the whole model, then pdr on
+    # each cone it leaves), under the same CPU budget
+    left = [lab for lab in list(by_claim) + list(labels) if res.get(lab, ("",))[0] == "unknown"]
+    if left:
+        rnd += 1
+        d = os.path.join(a.out, setname, "pdr-%d" % rnd)
+        shutil.rmtree(d, ignore_errors=True)
+        for lab, (v, how) in aig_proofs(d, setname, ctx, left, by_label, by_claim, a).items():
+            res[lab] = (
+                (v, res[lab][1] + "; " + how, None, None) if v != "proven" else (v, how, None, None)
+            )
     # the assertions left open: a deeper bounded search from reset (to --cover-depth steps)
     # refutes the false ones, one trace at a time
     todo = [lab for lab in labels if res.get(lab, ("",))[0] == "unknown"]
@@ -619,6 +631,49 @@ def induct(setname, ctx, labels, a, by_label, claims=()):
             )
         todo = [lab for lab in todo if lab not in failed]
     return res
+
+
+def aig_proofs(d, setname, ctx, labels, by_label, by_claim, a):
+    """Prove the assertions `labels` (bins u_<index> and waivers' claims) as the property kit
+    does: one AIGER model with every assertion an output, ABC's scorr over it, ABC pdr on each
+    cone left (--cpu-limit CPU seconds each). Returns {label: (proven|refuted|unknown, how)}."""
+    os.makedirs(d, exist_ok=True)
+    checks = [(lab, "assert", by_label[lab]) for lab in labels if lab in by_label]
+    files = with_claims(ctx.rtl.files, [by_claim[lab] for lab in labels if lab in by_claim], d)
+    if ctx.native:
+        write_atomic(os.path.join(d, "top.sv"), formal_top(ctx.table, checks, lemmas=[]))
+        lines = design_script(setname, ctx.table, files, ctx.rtl.incs, ctx.rtl.defs, ctx.sets)
+    else:
+        lines = bound_script(d, setname, ctx, checks, files, [])
+    lines += ["write_rtlil design.il"]
+    write_atomic(os.path.join(d, "design.ys"), "\n".join(lines) + "\n")
+    if run(["yosys", "-q", "design.ys"], d, "design.log") != 0:
+        raise SetupError("yosys could not elaborate %s (see %s/design.log)" % (setname, d))
+    # a claim inside the RTL is a cell of the flattened DUT: named dut.<...>.waiver_N
+    il = open(os.path.join(d, "design.il")).read()
+    il = re.sub(r"(cell \$assert )\\\S*\.(waiver_\d+)$", r"\1\\\2", il, flags=re.M)
+    write_atomic(os.path.join(d, "design.il"), il)
+    m = kit.model_from_design(d, setname, a.cpu_limit, top=TOP, merged_ok=True)
+    out = {}
+    for lab in labels:
+        if lab not in m.index:
+            out[lab] = ("unknown", "not in the AIGER model")
+            continue
+        if m.proven_by_scorr(lab):
+            out[lab] = ("proven", "scorr (ABC signal correspondence, unbounded)")
+            continue
+        cd = os.path.join(d, lab)
+        os.makedirs(cd, exist_ok=True)
+        write_atomic(os.path.join(cd, "cone.aig"), m.cone(lab)[0])
+        v, frame, eng = kit.decisive(kit.run_engines([kit.AbcPdr()], "cone.aig", cd, a.cpu_limit))
+        out[lab] = (
+            (v, "%s (unbounded)" % eng)
+            if v == "proven"
+            else (v, "%s at cycle %s" % (eng, frame))
+            if v == "refuted"
+            else ("unknown", "scorr and abc-pdr open after %d CPU s" % a.cpu_limit)
+        )
+    return out
 
 
 def covers(setname, ctx, labels, a, by_label):
@@ -688,7 +743,12 @@ def harness(out, params, clock_ns, ctx, nbins):
         write_atomic(
             top,
             bind.bind_top(
-                "pmu50_cov_top", ctx.table, ctx.bind, common.contract(), common.default_set(), sim=True
+                "pmu50_cov_top",
+                ctx.table,
+                ctx.bind,
+                common.contract(),
+                common.default_set(),
+                sim=True,
             ),
         )
         extra = [bind.PORT_VIEW]
@@ -798,7 +858,12 @@ def deep_witnesses(a, ctx, nbins, want):
             i, tick = (int(x) for x in line.split())
             if i in want and i not in got:
                 # a bound monitor runs one cycle behind: its hit at tick t is the model's t - 1
-                got[i] = (os.path.relpath(s, ROOT), tick - ctx.lag, ticks, os.path.relpath(vec, ROOT))
+                got[i] = (
+                    os.path.relpath(s, ROOT),
+                    tick - ctx.lag,
+                    ticks,
+                    os.path.relpath(vec, ROOT),
+                )
                 new.append(i)
         print(
             "deep %-22s %7d ticks, %d bins witnessed; %.0f s"
@@ -1035,7 +1100,9 @@ def main(argv=None):
                 }
                 if vcd and (b["port_only"] or a.all_witnesses):
                     # the port-level bins' witnesses close them through the model
-                    f = vcd_to_vec(vcd, ctx.sets[s], b["name"], step, os.path.join(a.out, "witness"))
+                    f = vcd_to_vec(
+                        vcd, ctx.sets[s], b["name"], step, os.path.join(a.out, "witness")
+                    )
                     st["witness"] = os.path.relpath(f, ROOT)
             todo = [lab for lab in todo if lab not in got]
             print(
@@ -1097,7 +1164,11 @@ def main(argv=None):
             else "bound: %s, then the ports" % ("map " + a.map if a.map else "no map"),
             "bindings": {}
             if native
-            else {k: {"how": v[0], "from": v[1]} for k, v in sorted(ctx.bind.items()) if v[0] != "port"},
+            else {
+                k: {"how": v[0], "from": v[1]}
+                for k, v in sorted(ctx.bind.items())
+                if v[0] != "port"
+            },
             "waivers_file": waivers or None,
             "sets": {s: ctx.sets[s] for s in sets},
             "proof_sets": {s: ctx.sets[s] for s in psets},

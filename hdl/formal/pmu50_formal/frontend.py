@@ -60,7 +60,8 @@ def read_rtl(listpath):
     )
     if p.returncode != 0:
         raise SetupError(
-            "file list %s: %s" % (listpath, (p.stderr or p.stdout).strip() or "rc %d" % p.returncode)
+            "file list %s: %s"
+            % (listpath, (p.stderr or p.stdout).strip() or "rc %d" % p.returncode)
         )
     try:
         doc = json.loads(p.stdout)
@@ -179,7 +180,9 @@ def lower(d, rtl, extra, top, params, defines, keep_initial=True):
     )
     write_atomic(os.path.join(d, "lower.ys.txt"), script + "\n# mounts: %s\n" % env["YOWASP_MOUNT"])
     with open(os.path.join(d, "lower.log"), "w") as f:
-        rc = subprocess.run([exe, "-q", "-p", script], cwd=d, env=env, stdout=f, stderr=subprocess.STDOUT).returncode
+        rc = subprocess.run(
+            [exe, "-q", "-p", script], cwd=d, env=env, stdout=f, stderr=subprocess.STDOUT
+        ).returncode
     if rc != 0 or not os.path.exists(out + ".tmp"):
         log = open(os.path.join(d, "lower.log"), errors="replace").read()
         err = next((ln.strip() for ln in log.splitlines() if "error" in ln.lower()), "")
@@ -192,3 +195,34 @@ def lower(d, rtl, extra, top, params, defines, keep_initial=True):
     return out
 
 
+def main(argv=None):
+    """`python -m pmu50_formal.frontend --rtl LIST --top pmu50 --out DIR [--define X]`: the
+    RTL lowered to plain Verilog (DIR/lowered.v, printed) for tools that read Verilog-2005
+    only (hdl/gls.sh synthesizes it with yosys 0.23)."""
+    import argparse
+
+    from .common import use_project_tools
+
+    ap = argparse.ArgumentParser(description=main.__doc__.split("\n")[0])
+    ap.add_argument("--rtl", required=True)
+    ap.add_argument("--top", default="pmu50")
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--define", action="append", default=[])
+    ap.add_argument(
+        "--ignore-initial",
+        action="store_true",
+        help="drop initial blocks (synthesis: a netlist has none)",
+    )
+    a = ap.parse_args(argv)
+    use_project_tools()
+    try:
+        rtl = read_rtl(a.rtl)
+        print(lower(a.out, rtl, [], a.top, {}, a.define, keep_initial=not a.ignore_initial))
+    except SetupError as e:
+        print("frontend: %s" % e, file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -333,7 +333,11 @@ def read_script(d, params, rtl, fe, mutant):
             [mutant] if mutant else [],
         )
         # the don't-care bits ('x) slang leaves in the lowered text: any value, every cycle
-        return ["read_verilog -formal %s" % lowered, "hierarchy -top pmu50_formal", "setundef -anyseq"]
+        return [
+            "read_verilog -formal %s" % lowered,
+            "hierarchy -top pmu50_formal",
+            "setundef -anyseq",
+        ]
     dflags = " ".join("-D" + x for x in rtl.defs + ([mutant] if mutant else []))
     iflags = " ".join("-I" + x for x in rtl.incs)
     lines = ["read_verilog -formal -sv %s %s %s" % (dflags, iflags, PROPS_SV)]
@@ -359,7 +363,15 @@ def build_model(setname, params, rtl, fe, mutant, out, timeout, scorr=True, held
             "yosys could not read the design for set %s (rc %s): see %s"
             % (setname, rc, os.path.join(d, "design.log"))
         )
-    text, names = checks_to_outputs(open(os.path.join(d, "design.il")).read())
+    return model_from_design(d, setname, timeout, scorr, held)
+
+
+def model_from_design(
+    d, setname, timeout, scorr=True, held=None, top="pmu50_formal", merged_ok=False
+):
+    """d/design.il (the elaborated top `top` with its checks) -> its SetModel: every check an
+    output of model.aig, reduced by scorr."""
+    text, names = checks_to_outputs(open(os.path.join(d, "design.il")).read(), top)
     open(os.path.join(d, "checks.il"), "w").write(text)
     # bit-level AIG of the whole design (the engines optimise it themselves)
     ys = """read_rtlil checks.il
@@ -388,7 +400,7 @@ write_aiger -zinit -map model.aim model.aig
         if f and f[0] == "output" and f[3].startswith("chk__"):
             index[f[3][5:]] = int(f[1])
     missing = sorted(set(names) - set(index))
-    if missing:
+    if missing and not merged_ok:
         raise SetupError(
             "set %s: checks missing from the model: %s (see %s)"
             % (setname, ", ".join(missing), os.path.join(d, "model.aim"))
@@ -656,7 +668,7 @@ def run_portfolio(tasks, timeout):
                 t.aig, t.d = box[0]
                 start(t)
             done = None
-            for lab, (t, p, log, ts) in list(running.items()):
+            for lab, (t, p, log, _ts) in list(running.items()):
                 rc = p.poll()
                 lim = t.timeout if t.timeout is not None else timeout
                 # the kernel stops it at its CPU limit; this only catches a reading of /proc
@@ -1318,6 +1330,124 @@ def prove(a, sets, names, rtl):
     return 0 if all(v == "proven" for v in st) else 1
 
 
+EQUIV_TOP = "pmu50_equiv"
+
+
+def equiv_top():
+    """A top that drives the twin (`pmu50_gold`) and the mutant (`pmu50_gate`) with the same
+    inputs from reset and asserts every output of the contract equal in every cycle."""
+    c = common.contract()
+    ins = [p for p in c["ports"] if p["direction"] == "in" and p["name"] != c["reset"]]
+    outs = [p for p in c["ports"] if p["direction"] == "out"]
+
+    def rng(p):
+        return "" if p["max_width"] == 1 else "[%d:0] " % (p["max_width"] - 1)
+
+    L = [
+        "module %s (" % EQUIV_TOP,
+        ",\n".join("    input wire %s%s" % (rng(p), p["name"]) for p in ins),
+        ");",
+        "    reg f_started = 1'b0;",
+        "    always @(posedge %s) f_started <= 1'b1;" % c["clock"],
+        "    wire %s = f_started;" % c["reset"],
+    ]
+    for side in ("gold", "gate"):
+        L += ["    wire %s%s_%s;" % (rng(p), side, p["name"]) for p in outs]
+        conns = [".%s(%s)" % (p["name"], p["name"]) for p in c["ports"] if p["direction"] == "in"]
+        conns += [".%s(%s_%s)" % (p["name"], side, p["name"]) for p in outs]
+        L.append("    pmu50_%s %s (%s);" % (side, side, ", ".join(conns)))
+    L.append("    always @* begin")
+    for p in outs:
+        L.append("        eq_%s: assert (gold_%s == gate_%s);" % (p["name"], p["name"], p["name"]))
+    L += ["    end", "endmodule", ""]
+    return "\n".join(L)
+
+
+def equivalence(a, rtl, mutant, sets, engines):
+    """Is the twin with `mutant` equivalent to the twin? Per parameter set: both elaborated
+    apart (flattened, renamed pmu50_gold and pmu50_gate), driven by the same inputs from reset
+    in EQUIV_TOP, every output asserted equal; ABC's scorr proves equal latches and outputs
+    unbounded, each output it leaves goes to the engines (CPU budget --timeout). Writes the
+    sealed OUT/equivalence/<mutant>.json (the mutation table reads it) and returns (verdict,
+    how): equivalent (every output proven equal on every set), not_equivalent (an output
+    differs: the set and the cycle), undecided."""
+    per = {}
+    for s in sets:
+        d = os.path.join(a.out, "equivalence", mutant, s)
+        os.makedirs(d, exist_ok=True)
+        params = set_params(s)
+        for side, defs in (("gold", []), ("gate", [mutant])):
+            lines = read_script(
+                os.path.join(d, side), params, rtl, "yosys", defs[0] if defs else ""
+            )
+            lines = [ln for ln in lines if "pmu50_formal" not in ln]
+            lines += [
+                "chparam %s pmu50" % " ".join("-set %s %d" % kv for kv in params.items()),
+                "prep -flatten -top pmu50",
+                "rename pmu50 pmu50_%s" % side,
+                "write_rtlil %s.il" % side,
+            ]
+            write_atomic(os.path.join(d, side + ".ys"), "\n".join(lines) + "\n")
+            if run(["yosys", "-q", side + ".ys"], d, side + ".log", cpu=a.timeout) != 0:
+                raise SetupError("yosys could not read the %s of %s: see %s" % (side, mutant, d))
+        write_atomic(os.path.join(d, "top.sv"), equiv_top())
+        ys = "read_rtlil gold.il\nread_rtlil gate.il\nread_verilog -formal -sv top.sv\n"
+        ys += "prep -flatten -top %s\nasync2sync\nwrite_rtlil design.il\n" % EQUIV_TOP
+        write_atomic(os.path.join(d, "design.ys"), ys)
+        if run(["yosys", "-q", "design.ys"], d, "design.log", cpu=a.timeout) != 0:
+            raise SetupError("yosys could not build the equivalence top: see %s" % d)
+        # every output of the model (yosys merges the checks of equal nets into one output)
+        m = model_from_design(d, s, a.timeout, top=EQUIV_TOP, merged_ok=True)
+        name = {i: n for n, i in m.index.items()}
+        outs = range(len(m.model.outputs))
+        left = [k for k in outs if m.reduced.outputs[k] != 0]
+        res = {}
+        for k in left:
+            n = name.get(k, "chk_output_%d" % k)
+            cd = os.path.join(d, n)
+            os.makedirs(cd, exist_ok=True)
+            write_atomic(os.path.join(cd, "cone.aig"), m.reduced.cone(m.reduced.outputs[k])[0])
+            res[n] = decisive(run_engines(engines, "cone.aig", cd, a.timeout))
+        left = list(res)
+        bad = [(n, r) for n, r in res.items() if r[0] == "refuted"]
+        open_ = [n for n, r in res.items() if r[0] != "proven"]
+        if bad:
+            n, r = bad[0]
+            per[s] = ("not_equivalent", "%s differs (%s, cycle %s)" % (n[3:], r[2], r[1]))
+        elif open_:
+            per[s] = ("undecided", "%s open" % ", ".join(x[3:] for x in open_))
+        else:
+            per[s] = (
+                "equivalent",
+                "every output equal: scorr proves %d of the %d checks%s"
+                % (
+                    len(outs) - len(left),
+                    len(outs),
+                    "".join(", %s %s" % (res[n][2], n[3:]) for n in left),
+                ),
+            )
+    vs = [v for v, _ in per.values()]
+    verdict = (
+        "not_equivalent"
+        if "not_equivalent" in vs
+        else "undecided"
+        if "undecided" in vs
+        else "equivalent"
+    )
+    how = "; ".join("%s: %s (unbounded)" % (s, h) for s, (_, h) in per.items())
+    doc = {
+        "format": "pmu50-equivalence",
+        "mutant": mutant,
+        "verdict": verdict,
+        "how": how,
+        "sets": {s: {"verdict": v, "how": h} for s, (v, h) in per.items()},
+    }
+    f = os.path.join(a.out, "equivalence", mutant + ".json")
+    write_atomic(f, json.dumps(doc, indent=1, sort_keys=True) + "\n")
+    common.seal(f, "hdl/formal/run.py --mutants (equivalence)", a.rtl)
+    return verdict, how
+
+
 # The property expected to catch each mutant, tried first (then every other property).
 MUTANT_HINTS = {
     "MUT_CTH_OFF_BY_ONE": ["prop_si_expand", "prop_cnt_r_count"],
@@ -1362,21 +1492,22 @@ def mutants(a, sets, names, rtl):
     not prove, each checked on its reduced cone by both engines (ABC: bmc3 then pdr; rIC3: IC3)
     independently, until one is refuted. The table gives each engine's verdict, cycle and time;
     two engines disagreeing on a property fails the run."""
-    muts, scoped = [], []
+    # every mutant of hdl/mutants.txt: refuted by a property, or (declared `equivalent:`)
+    # proven equivalent to the twin by an equivalence check
+    muts, equiv, scope = [], [], {}
     for line in open(os.path.join(HDL, "mutants.txt")):
         line = line.strip()
         if line and not line.startswith("#"):
-            # a mutant with a scope (`regress`, `equivalent: ...`) is for `make mutation` only:
-            # run it here when --only names it
-            (scoped if len(line.split("|")) > 3 else muts).append(line.split("|")[0].strip())
+            f = [x.strip() for x in line.split("|")]
+            scope[f[0]] = f[3] if len(f) > 3 else ""
+            (equiv if scope[f[0]].startswith("equivalent") else muts).append(f[0])
     if a.only:
         want = a.only.split(",")
-        bad = [w for w in want if w not in muts + scoped]
+        bad = [w for w in want if w not in scope]
         if bad:
-            raise SetupError(
-                "unknown mutants %s (valid: %s)" % (", ".join(bad), ", ".join(muts + scoped))
-            )
-        muts = want
+            raise SetupError("unknown mutants %s (valid: %s)" % (", ".join(bad), ", ".join(scope)))
+        muts = [w for w in want if w in muts]
+        equiv = [w for w in want if w in equiv]
     pair = engine_pair(a)
     refuters = [r for r in a.refuters.split(",") if r and r not in sets]
     t_all = time.time()
@@ -1431,8 +1562,21 @@ def mutants(a, sets, names, rtl):
         return m, None, ",".join(sets), {}, time.time() - t0
 
     missed, split = 0, 0
+    table = []
     with cf.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
         for m, prop, s, row, secs in ex.map(one, muts):
+            table.append(
+                {
+                    "mutant": m,
+                    "scope": scope[m] or "every method",
+                    "formal": "refuted by %s on %s" % (prop, s)
+                    if prop and all(r[0] == "refuted" for r in row.values())
+                    else "not refuted",
+                    "engines": {
+                        k: {"verdict": r[0], "cycle": r[1], "how": r[2]} for k, r in row.items()
+                    },
+                }
+            )
             cells = []
             for ename in ("abc", "ric3"):
                 if ename not in row:
@@ -1466,12 +1610,34 @@ def mutants(a, sets, names, rtl):
                 ),
                 flush=True,
             )
+    not_equiv = 0
+    for m in equiv:
+        t0 = time.time()
+        v, how = equivalence(
+            a, rtl, m, sets + ["default"] * ("default" not in sets), Kit(a, rtl, "", a.out).engines
+        )
+        if v != "equivalent":
+            not_equiv += 1
+        table.append({"mutant": m, "scope": scope[m], "formal": v, "how": how})
+        print("%-30s %-26s %-6s %s  %.0f s" % (m, v.upper(), "", how, time.time() - t0), flush=True)
     print(
-        "formal-mutants: %d/%d mutants refuted, %d engine disagreements; %.0f s wall "
-        "(%s; @cycle = failing cycle of that engine's trace)"
-        % (len(muts) - missed, len(muts), split, time.time() - t_all, ",".join(sets))
+        "formal-mutants: %d/%d mutants refuted, %d/%d declared equivalent proven equivalent, %d "
+        "engine disagreements; %.0f s wall (%s; @cycle = failing cycle of that engine's trace)"
+        % (
+            len(muts) - missed,
+            len(muts),
+            len(equiv) - not_equiv,
+            len(equiv),
+            split,
+            time.time() - t_all,
+            ",".join(sets),
+        )
     )
-    return 0 if missed == 0 and split == 0 else 1
+    if a.json:
+        doc = {"format": "pmu50-formal-mutants", "sets": sets, "mutants": table}
+        write_atomic(os.path.abspath(a.json), json.dumps(doc, indent=1, sort_keys=True) + "\n")
+        common.seal(a.json, "hdl/formal/run.py --mutants", a.rtl)
+    return 0 if missed == 0 and split == 0 and not_equiv == 0 else 1
 
 
 if __name__ == "__main__":

@@ -1,0 +1,126 @@
+//! The proof behind a mutant declared equivalent (`equivalent: <reason>` in hdl/mutants.txt): the
+//! sealed verdict of the formal kit's equivalence check (`hdl/formal/run.py --mutants`, `make
+//! formal-mutants`: the twin and the twin with the mutant's define side by side from reset, every
+//! output compared, proven unbounded by ABC's signal correspondence or pdr). The mutation table
+//! counts a mutant as equivalent only with that file, made for this very twin.
+
+use crate::provenance;
+use std::path::{Path, PathBuf};
+
+/// The format of the kit's equivalence file.
+pub const FORMAT: &str = "pmu50-equivalence";
+
+/// Where the kit writes the proof of `mutant`, below the twin's folder `hdl`.
+pub fn proof_path(hdl: &Path, mutant: &str) -> PathBuf {
+    hdl.join("build")
+        .join("formal")
+        .join("equivalence")
+        .join(format!("{mutant}.json"))
+}
+
+/// The proof of `mutant` in `path`, for the twin whose content hash is `twin_hash`: Ok(how it
+/// was proven) when the sealed file says `equivalent` on every parameter set it names; Err(why
+/// not) when it is missing, edited, about another mutant or another RTL, or not a proof.
+pub fn check_proof(path: &Path, mutant: &str, twin_hash: &str) -> Result<String, String> {
+    let remedy = format!("make formal-mutants (hdl/formal/run.py --mutants --only {mutant})");
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        format!(
+            "no equivalence proof at {} ({e}): run {remedy}",
+            path.display()
+        )
+    })?;
+    let (m, p) = provenance::open(path, &text, &remedy).map_err(|e| e.to_string())?;
+    let field = |k: &str| m.get(k).and_then(|v| v.as_str()).unwrap_or("");
+    if field("format") != FORMAT {
+        return Err(format!(
+            "{}: format is {:?}, not {FORMAT}",
+            path.display(),
+            field("format")
+        ));
+    }
+    if field("mutant") != mutant {
+        return Err(format!(
+            "{}: the proof is of {:?}, not {mutant}",
+            path.display(),
+            field("mutant")
+        ));
+    }
+    match &p.rtl {
+        Some(r) if r.hash == twin_hash => {}
+        Some(r) => {
+            return Err(format!(
+                "{}: the proof is of the RTL {} ({}), not of this twin ({twin_hash}): run {remedy}",
+                path.display(),
+                r.list,
+                r.hash
+            ))
+        }
+        None => return Err(format!("{}: the proof names no RTL", path.display())),
+    }
+    if field("verdict") != "equivalent" {
+        return Err(format!(
+            "{}: verdict {:?}: {}",
+            path.display(),
+            field("verdict"),
+            field("how")
+        ));
+    }
+    Ok(field("how").to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::provenance::{Provenance, RtlId};
+
+    fn sealed(dir: &Path, mutant: &str, verdict: &str, hash: &str) -> PathBuf {
+        let mut m = serde_json::Map::new();
+        m.insert("format".into(), FORMAT.into());
+        m.insert("mutant".into(), mutant.into());
+        m.insert("verdict".into(), verdict.into());
+        m.insert("how".into(), "scorr (unbounded) on small, default".into());
+        let p = Provenance::now(
+            "hdl/formal/run.py --mutants",
+            Some(RtlId {
+                list: "hdl/pmu50.f".into(),
+                hash: hash.into(),
+            }),
+            "formal",
+            None,
+        );
+        let f = proof_path(dir, mutant);
+        std::fs::create_dir_all(f.parent().unwrap()).unwrap();
+        std::fs::write(&f, provenance::seal(m, &p)).unwrap();
+        f
+    }
+
+    #[test]
+    fn only_a_sealed_equivalent_verdict_of_this_twin_counts() {
+        let d = std::env::temp_dir().join(format!("pmu50-equiv-{}", std::process::id()));
+        let f = sealed(&d, "MUT_A", "equivalent", "sha256:aa");
+        assert!(check_proof(&f, "MUT_A", "sha256:aa").unwrap().contains("scorr"));
+        // another twin, another mutant
+        assert!(check_proof(&f, "MUT_A", "sha256:bb")
+            .unwrap_err()
+            .contains("not of this twin"));
+        assert!(check_proof(&f, "MUT_B", "sha256:aa")
+            .unwrap_err()
+            .contains("not MUT_B"));
+        // an edited byte
+        let t = std::fs::read_to_string(&f)
+            .unwrap()
+            .replace("equivalent\"", "equivalenT\"");
+        std::fs::write(&f, t).unwrap();
+        assert!(check_proof(&f, "MUT_A", "sha256:aa").is_err());
+        // not proven
+        let f = sealed(&d, "MUT_C", "not_equivalent", "sha256:aa");
+        assert!(check_proof(&f, "MUT_C", "sha256:aa")
+            .unwrap_err()
+            .contains("not_equivalent"));
+        // missing
+        assert!(check_proof(&d.join("none.json"), "MUT_D", "sha256:aa")
+            .unwrap_err()
+            .contains("make formal-mutants"));
+        let _ = std::fs::remove_dir_all(&d);
+    }
+}
