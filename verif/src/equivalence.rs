@@ -98,7 +98,9 @@ mod tests {
     fn only_a_sealed_equivalent_verdict_of_this_twin_counts() {
         let d = std::env::temp_dir().join(format!("pmu50-equiv-{}", std::process::id()));
         let f = sealed(&d, "MUT_A", "equivalent", "sha256:aa");
-        assert!(check_proof(&f, "MUT_A", "sha256:aa").unwrap().contains("scorr"));
+        assert!(check_proof(&f, "MUT_A", "sha256:aa")
+            .unwrap()
+            .contains("scorr"));
         // another twin, another mutant
         assert!(check_proof(&f, "MUT_A", "sha256:bb")
             .unwrap_err()
