@@ -589,13 +589,25 @@ def induct(setname, ctx, labels, a, by_label, claims=()):
         rnd += 1
         d = os.path.join(a.out, setname, "pdr-%d" % rnd)
         shutil.rmtree(d, ignore_errors=True)
-        for lab, (v, how) in aig_proofs(d, setname, ctx, left, by_label, by_claim, a).items():
+        for lab, (v, how, frame) in aig_proofs(
+            d, setname, ctx, left, by_label, by_claim, a
+        ).items():
             res[lab] = (
-                (v, res[lab][1] + "; " + how, None, None) if v != "proven" else (v, how, None, None)
+                (v, res[lab][1] + "; " + how, None, frame)
+                if v != "proven"
+                else (v, how, None, None)
             )
-    # the assertions left open: a deeper bounded search from reset (to --cover-depth steps)
-    # refutes the false ones, one trace at a time
-    todo = [lab for lab in labels if res.get(lab, ("",))[0] == "unknown"]
+    # the assertions left open, and those pdr refuted (its trace is not a shortest one, nor a
+    # vector file): a deeper bounded search from reset (to --cover-depth steps, or past pdr's
+    # failing cycle) refutes the false ones, one trace at a time, each trace the witness
+    todo = [
+        lab
+        for lab in labels
+        if res.get(lab, ("",))[0] == "unknown" or (res[lab][0] == "refuted" and not res[lab][2])
+    ]
+    depth = max(
+        [a.cover_depth] + [res[lab][3] + ctx.lag + 1 for lab in todo if res[lab][3] is not None]
+    )
     while todo:
         rnd += 1
         d = os.path.join(a.out, setname, "bmc-%d" % rnd)
@@ -608,15 +620,15 @@ def induct(setname, ctx, labels, a, by_label, claims=()):
             ctx.rtl.files,
             lemmas=[],
         )
-        rc, log = smtbmc(
-            d, ["-t", str(a.cover_depth), "--dump-vcd", "bmc.vcd"], "bmc.log", a.cpu_limit
-        )
+        rc, log = smtbmc(d, ["-t", str(depth), "--dump-vcd", "bmc.vcd"], "bmc.log", a.cpu_limit)
         failed = failed_labels(log)
         if not failed:
             for lab in todo:
+                if res[lab][0] == "refuted":
+                    continue  # pdr's verdict stands, without a witness
                 res[lab] = (
                     "unknown",
-                    res[lab][1] + "; no failure within %d steps" % a.cover_depth,
+                    res[lab][1] + "; no failure within %d steps" % depth,
                     None,
                     None,
                 )
@@ -627,7 +639,7 @@ def induct(setname, ctx, labels, a, by_label, claims=()):
                 "refuted",
                 "bounded search: fails at step %s" % (step[-1] if step else "?"),
                 os.path.join(d, "bmc.vcd"),
-                int(step[-1]) if step else a.cover_depth,
+                int(step[-1]) if step else depth,
             )
         todo = [lab for lab in todo if lab not in failed]
     return res
@@ -636,7 +648,8 @@ def induct(setname, ctx, labels, a, by_label, claims=()):
 def aig_proofs(d, setname, ctx, labels, by_label, by_claim, a):
     """Prove the assertions `labels` (bins u_<index> and waivers' claims) as the property kit
     does: one AIGER model with every assertion an output, ABC's scorr over it, ABC pdr on each
-    cone left (--cpu-limit CPU seconds each). Returns {label: (proven|refuted|unknown, how)}."""
+    cone left (--cpu-limit CPU seconds each). Returns {label: (proven|refuted|unknown, how,
+    failing cycle of a refutation or None)}."""
     os.makedirs(d, exist_ok=True)
     checks = [(lab, "assert", by_label[lab]) for lab in labels if lab in by_label]
     files = with_claims(ctx.rtl.files, [by_claim[lab] for lab in labels if lab in by_claim], d)
@@ -657,21 +670,21 @@ def aig_proofs(d, setname, ctx, labels, by_label, by_claim, a):
     out = {}
     for lab in labels:
         if lab not in m.index:
-            out[lab] = ("unknown", "not in the AIGER model")
+            out[lab] = ("unknown", "not in the AIGER model", None)
             continue
         if m.proven_by_scorr(lab):
-            out[lab] = ("proven", "scorr (ABC signal correspondence, unbounded)")
+            out[lab] = ("proven", "scorr (ABC signal correspondence, unbounded)", None)
             continue
         cd = os.path.join(d, lab)
         os.makedirs(cd, exist_ok=True)
         write_atomic(os.path.join(cd, "cone.aig"), m.cone(lab)[0])
         v, frame, eng = kit.decisive(kit.run_engines([kit.AbcPdr()], "cone.aig", cd, a.cpu_limit))
         out[lab] = (
-            (v, "%s (unbounded)" % eng)
+            (v, "%s (unbounded)" % eng, None)
             if v == "proven"
-            else (v, "%s at cycle %s" % (eng, frame))
+            else (v, "%s at cycle %s" % (eng, frame), frame)
             if v == "refuted"
-            else ("unknown", "scorr and abc-pdr open after %d CPU s" % a.cpu_limit)
+            else ("unknown", "scorr and abc-pdr open after %d CPU s" % a.cpu_limit, None)
         )
     return out
 
@@ -1067,7 +1080,8 @@ def main(argv=None):
                 st.update(
                     status="wrong_declaration",
                     set=s,
-                    step=per[s][3],
+                    # in the model's ticks, as the witness's rows (the monitor lags in bound mode)
+                    step=per[s][3] - ctx.lag if f else per[s][3],
                     witness=f and os.path.relpath(f, ROOT),
                 )
                 wrong.append(b["name"])
