@@ -66,15 +66,15 @@ TEST_GLS_SEEDS        ?= 100
 TEST_COCOTB_MAX_TICKS ?= 20000
 
 ## The same suites at full size: a parked day instead of half, 200 random cosim scenarios, whole
-## vector files in cocotb, the formal proof on both parameter sets and every method-check mutant refuted, and
-## the mutation table of the directed regression.
+## vector files in cocotb, the formal proof on both parameter sets and every method-check mutant refuted,
+## the mutation table of the directed regression, and the coverage proofs of every bin.
 test-long: deps
 	PMU50_TEST_LONG=1 $(CARGO) test --release --workspace --exclude pmu50-python
 	$(MAKE) cosim COSIM_RANDOM=200
 	$(MAKE) regress-smoke test-slurm gls test-install fusesoc mutation
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
 	$(MAKE) uvm UVM_MAX_TICKS=0 UVM_SEEDS=12 UVM_REGRESS_SEEDS=8
-	$(MAKE) formal formal-mutants
+	$(MAKE) formal formal-mutants coverage-proofs
 
 ## Random regression with functional coverage (docs/verification.md): SEEDS directed seeds of
 ## the Verilog twin on Verilator in lockstep with the model, into regress_out/twin/
@@ -91,8 +91,14 @@ regress: deps $(BIN)
 ## built with the mutant's define, up to the first failure (at most MUTATION_SEEDS), mutants in
 ## parallel on every core. Prints the table; regress_out/mutation/mutation.json and .txt. Fails
 ## when a mutant escapes and is not declared proven equivalent. MUTANTS=A,B: only these.
+## The mutants declared equivalent need the formal kit's sealed equivalence proof of this twin
+## (hdl/build/formal/equivalence/MUT.json), made here when the twin or the list changed.
 MUTATION_SEEDS ?= 400
-mutation: deps $(BIN)
+EQUIV_MUTANTS := $(shell awk -F'|' '$$4 ~ /^ *equivalent:/ {gsub(/ /, "", $$1); print $$1}' hdl/mutants.txt)
+EQUIV_PROOFS  := $(EQUIV_MUTANTS:%=hdl/build/formal/equivalence/%.json)
+$(EQUIV_PROOFS): hdl/mutants.txt hdl/pmu50.f hdl/pmu50.v $(wildcard hdl/rtl/*.v) | $(VENV)/.formal $(BIN)
+	PMU50=$(abspath $(BIN)) $(FORMAL_PY) pmu50_formal.kit --mutants --sets small --only $(basename $(notdir $@))
+mutation: deps $(BIN) $(EQUIV_PROOFS)
 	PMU50_HDL_DIR=$(CURDIR)/hdl $(BIN) mutation --iterations $(MUTATION_SEEDS) $(if $(MUTANTS),--only $(MUTANTS)) --out regress_out/mutation
 
 ## An installed pmu50 without its checkout (hdl/install_test.sh): cargo install of a copy of the
