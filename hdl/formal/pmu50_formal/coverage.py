@@ -704,10 +704,13 @@ def covers(setname, ctx, labels, a, by_label):
         "cover.log",
         a.cpu_limit,
     )
-    if rc is None:
+    # the limit is per process: the solver (yices, a child of yosys-smtbmc) stopped by it ends
+    # the search without a status line
+    if rc is None or not re.search(r"^.*Status: (PASSED|FAILED)", log, re.M):
         raise SetupError(
-            "set %s: the covers' search to %d steps used up its CPU budget of %d s (--cpu-limit); "
-            "see %s" % (setname, a.cover_depth, a.cpu_limit, os.path.join(d, "cover.log"))
+            "set %s: the covers' search to %d steps ended without a status: its CPU budget of "
+            "%d s per process (--cpu-limit) used up, or the solver failed; see %s"
+            % (setname, a.cover_depth, a.cpu_limit, os.path.join(d, "cover.log"))
         )
     reached, pending = {}, []
     for line in log.splitlines():
