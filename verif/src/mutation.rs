@@ -323,6 +323,7 @@ fn one(
                     &m.name,
                     &h,
                 )
+                .map_err(|e| e.to_string())
             });
         return match checked {
             Ok(how) => Outcome::Equivalent {
