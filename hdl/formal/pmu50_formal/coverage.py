@@ -961,6 +961,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     a.out = os.path.abspath(a.out)  # the tools run in folders of their own
     common.use_project_tools()
+    kit.stop_engines_on_sigterm()
     t0 = time.time()
     try:
         for tool, where in (

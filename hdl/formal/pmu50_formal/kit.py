@@ -586,6 +586,28 @@ class Task:
         self.label, self.prepare, self.timeout = label or engine.name, prepare, timeout
 
 
+# the process groups of the engines running now (each engine runs in a session of its own, so
+# that a portfolio can stop it with its children): stopped when the kit itself is stopped
+LIVE_ENGINES = set()
+LIVE_LOCK = threading.Lock()
+
+
+def stop_engines_on_sigterm():
+    """Install a SIGTERM handler that kills the engines' process groups, then exits 143: a
+    stopped run leaves no engine behind (the other tools share the kit's process group)."""
+
+    def handler(signum, frame):
+        with LIVE_LOCK:
+            for g in list(LIVE_ENGINES):
+                try:
+                    os.killpg(g, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+        os._exit(128 + signum)
+
+    signal.signal(signal.SIGTERM, handler)
+
+
 def run_portfolio(tasks, timeout):
     """Run the tasks side by side, each for at most its own time limit (`timeout` unless the
     task has one); the first verdict a task `decides` stops the others. Returns {label:
@@ -612,6 +634,8 @@ def run_portfolio(tasks, timeout):
             except ProcessLookupError:
                 pass
             q.wait()
+            with LIVE_LOCK:
+                LIVE_ENGINES.discard(q.pid)
             qlog.close()
             res[lab] = ("stopped", None, time.time() - t0)
         running.clear()
@@ -638,6 +662,8 @@ def run_portfolio(tasks, timeout):
             log.write(str(err))
             log.close()
             raise SetupError("%s could not start: %s" % (t.engine.name, err)) from err
+        with LIVE_LOCK:
+            LIVE_ENGINES.add(p.pid)
         running[t.label] = (t, p, log, time.time())
 
     try:
@@ -678,6 +704,8 @@ def run_portfolio(tasks, timeout):
                 if rc is None:
                     os.killpg(p.pid, signal.SIGKILL)
                     p.wait()
+                with LIVE_LOCK:
+                    LIVE_ENGINES.discard(p.pid)
                 log.close()
                 del running[lab]
                 text = open(os.path.join(t.d, t.engine.name + ".log"), errors="replace").read()
@@ -1150,6 +1178,7 @@ def main(argv=None):
     )
     a = ap.parse_args(argv)
     common.use_project_tools()
+    stop_engines_on_sigterm()
     try:
         for tool in ("yosys", "yosys-abc"):
             if not shutil.which(tool):

@@ -8,6 +8,7 @@ import json
 import os
 import subprocess
 import sys
+import time
 import types
 
 import pytest
@@ -170,3 +171,34 @@ def test_verdicts_do_not_depend_on_the_load(tmp_path):
         d.pop("provenance")
         docs.append(d)
     assert docs[0] == docs[1]
+
+
+def test_a_stopped_run_leaves_no_engine_behind(tmp_path):
+    # engines run in sessions of their own; SIGTERM to the kit stops them too
+    pidfile = tmp_path / "engine.pid"
+    script = (
+        "import sys; from pmu50_formal import kit\n"
+        "class Sleeper(kit.Engine):\n"
+        "    name = 'sleeper'\n"
+        "    def argv(self, aig, timeout):\n"
+        "        return ['sh', '-c', 'echo $$ > %s; exec sleep 300']\n"
+        "kit.stop_engines_on_sigterm()\n"
+        "kit.run_portfolio([kit.Task(Sleeper(), 'x.aig', %r)], 600)\n" % (pidfile, str(tmp_path))
+    )
+    p = subprocess.Popen([sys.executable, "-c", script], env=dict(os.environ, PYTHONPATH=KIT))
+    for _ in range(200):
+        if pidfile.exists() and pidfile.read_text().strip():
+            break
+        time.sleep(0.05)
+    engine = int(pidfile.read_text())
+    p.terminate()
+    assert p.wait(timeout=30) == 128 + 15
+    for _ in range(100):
+        try:
+            os.kill(engine, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.05)
+    else:
+        os.kill(engine, 9)
+        pytest.fail("the engine outlived the kit")
