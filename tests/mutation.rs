@@ -5,23 +5,59 @@ mod common;
 use common::*;
 
 /// A mutant caught at its first seed, one that needs more seeds than given (escaped: exit 1),
-/// and one declared proven equivalent (not run); the JSON says the same as the table.
+/// and one declared proven equivalent: counted equivalent (not run) only with the formal kit's
+/// sealed equivalence proof of this twin beside the mutants' list, refused without it; the JSON
+/// says the same as the table.
 #[test]
 fn table_counts_seeds_to_catch_and_escapes() {
     let d = tmp("table");
-    let out = d.join("m");
+    // the mutants' list in a folder of its own: its proofs are looked up below it
+    let list = d.join("mutants.txt");
+    std::fs::copy("hdl/mutants.txt", &list).unwrap();
+    let run = |tag: &str| {
+        let out = d.join(tag);
+        let o = pmu50(&[
+            "mutation",
+            "--iterations",
+            "1",
+            "--jobs",
+            "1",
+            "--mutants",
+            s(&list),
+            "--only",
+            "MUT_SR_RESET_ONE,MUT_KOFF_OLD_X,MUT_ERR_CLEAR_WINS",
+            "--out",
+            s(&out),
+        ]);
+        (exited(&o, 1), out)
+    };
+    // no proof: "equivalent" is refused
+    let (t, _) = run("noproof");
+    assert!(
+        t.contains("MUT_ERR_CLEAR_WINS")
+            && t.contains("declared equivalent, not proven")
+            && t.contains("make formal-mutants"),
+        "{t}"
+    );
+    assert!(t.contains("0 proven equivalent"), "{t}");
+    // the kit's sealed verdict for this twin
+    let proof = d.join("build/formal/equivalence/MUT_ERR_CLEAR_WINS.json");
+    std::fs::create_dir_all(proof.parent().unwrap()).unwrap();
+    std::fs::write(
+        &proof,
+        r#"{"format": "pmu50-equivalence", "mutant": "MUT_ERR_CLEAR_WINS", "verdict": "equivalent", "how": "small: every output equal: scorr proves 19 of the 19 checks (unbounded)"}"#,
+    )
+    .unwrap();
     let o = pmu50(&[
-        "mutation",
-        "--iterations",
-        "1",
-        "--jobs",
-        "1",
-        "--only",
-        "MUT_SR_RESET_ONE,MUT_KOFF_OLD_X,MUT_ERR_CLEAR_WINS",
-        "--out",
-        s(&out),
+        "seal",
+        s(&proof),
+        "--made-by",
+        "hdl/formal/run.py --mutants",
+        "--rtl",
+        "hdl/pmu50.f",
     ]);
-    let t = exited(&o, 1);
+    exited(&o, 0);
+    let (t, out) = run("proof");
     let row = |m: &str| {
         t.lines()
             .find(|l| l.starts_with(&format!("{m} ")))
@@ -53,6 +89,7 @@ fn table_counts_seeds_to_catch_and_escapes() {
     assert_eq!(rows[0]["signal"], "pmu50.sr");
     assert_eq!(rows[1]["result"], "escaped");
     assert_eq!(rows[2]["result"], "equivalent");
+    assert!(rows[2]["proof"].as_str().unwrap().contains("scorr proves"));
     assert_eq!(j["escaped"], 1);
     assert!(out.join("mutation.txt").is_file());
 }

@@ -17,6 +17,7 @@ pub mod criterion;
 mod curve;
 pub mod digest;
 pub mod dut;
+pub mod equivalence;
 pub mod error;
 pub mod evidence;
 pub mod filelist;

@@ -339,8 +339,26 @@ fn one(
     stop: &AtomicBool,
 ) -> Outcome {
     if let Scope::Equivalent(proof) = &m.scope {
-        return Outcome::Equivalent {
-            proof: proof.clone(),
+        // equivalent only with the formal kit's sealed proof of this very twin
+        let hdl = o.mutants.parent().unwrap_or(Path::new("."));
+        let checked = crate::filelist::FileList::read(&o.twin)
+            .and_then(|fl| fl.content_hash())
+            .map_err(|e| e.to_string())
+            .and_then(|h| {
+                crate::equivalence::check_proof(
+                    &crate::equivalence::proof_path(hdl, &m.name),
+                    &m.name,
+                    &h,
+                )
+                .map_err(|e| e.to_string())
+            });
+        return match checked {
+            Ok(how) => Outcome::Equivalent {
+                proof: format!("{proof}; proven: {how}"),
+            },
+            Err(why) => Outcome::Error {
+                reason: format!("declared equivalent, not proven: {why}"),
+            },
         };
     }
     let list = match mutant_list(o, m) {

@@ -4,8 +4,11 @@ Verilog file lists, running a tool, atomic writes and reading a VCD."""
 
 import functools
 import json
+import math
 import os
 import re
+import shutil
+import signal
 import subprocess
 import tempfile
 
@@ -157,47 +160,52 @@ def illegal_values(params):
     return bad
 
 
-def parse_filelist(path):
-    """Files, include dirs and defines of a Verilog file list (paths relative to the list)."""
-    base = os.path.dirname(os.path.abspath(path))
-    files, incs, defs = [], [], []
-    try:
-        lines = open(path).read().splitlines()
-    except OSError as e:
-        raise SetupError("cannot read file list %s: %s" % (path, e)) from e
-    for n, line in enumerate(lines, 1):
-        line = re.sub(r"(//|#).*", "", line).strip()
-        for tok in line.split():
-            if tok.startswith("+incdir+"):
-                incs += [os.path.join(base, d) for d in tok[8:].split("+") if d]
-            elif tok.startswith("+define+"):
-                defs += [d for d in tok[8:].split("+") if d]
-            elif tok.startswith(("-", "+")):
-                raise SetupError(
-                    "%s:%d: option %s is not supported (files, +incdir+, +define+)" % (path, n, tok)
-                )
-            else:
-                f = tok if os.path.isabs(tok) else os.path.join(base, tok)
-                if not os.path.isfile(f):
-                    raise SetupError("%s:%d: no such file %s" % (path, n, f))
-                files.append(f)
-    if not files:
-        raise SetupError("file list %s names no source file" % path)
-    return files, incs, defs
+def pmu50_binary():
+    """The pmu50 command: $PMU50, else target/release/pmu50 of the checkout, else on PATH."""
+    for cand in (
+        os.environ.get("PMU50", ""),
+        os.path.join(ROOT, "target", "release", "pmu50"),
+        shutil.which("pmu50") or "",
+    ):
+        if cand and os.access(cand, os.X_OK):
+            return os.path.abspath(cand)
+    raise SetupError(
+        "the pmu50 command is needed to read the file list (`pmu50 rtl-files`): set PMU50, or "
+        "build it with `cargo build --release`"
+    )
 
 
-def run(cmd, cwd, log, timeout=None):
-    """Run `cmd` in `cwd` with its output in the file `log` there: its exit code, None when it
-    ran out of time, 127 when it could not start."""
+def cpu_limit(seconds):
+    """A preexec_fn that gives the process (and each process it starts) at most `seconds` of
+    CPU time: the kernel stops it there (SIGXCPU, then SIGKILL), however busy the machine is.
+    None: no limit."""
+    if seconds is None:
+        return None
+    import resource
+
+    lim = max(1, int(math.ceil(seconds)))
+
+    def set_limit():
+        resource.setrlimit(resource.RLIMIT_CPU, (lim, lim + 5))
+
+    return set_limit
+
+
+def run(cmd, cwd, log, cpu=None):
+    """Run `cmd` in `cwd` with its output in the file `log` there, with at most `cpu` seconds of
+    CPU time (a budget that does not depend on the machine's load; None: none). Returns its exit
+    code, None when it ran out of its CPU budget, 127 when it could not start."""
     with open(os.path.join(cwd, log), "w") as f:
         try:
-            p = subprocess.run(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT, timeout=timeout)
-            return p.returncode
-        except subprocess.TimeoutExpired:
-            return None
+            p = subprocess.run(
+                cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT, preexec_fn=cpu_limit(cpu)
+            )
         except OSError as e:
             f.write(str(e))
             return 127
+    if p.returncode in (-signal.SIGXCPU, -signal.SIGKILL) and cpu is not None:
+        return None
+    return p.returncode
 
 
 def write_atomic(path, data):
@@ -267,3 +275,15 @@ def value_at(ch, t):
             break
         v = vv if vv is not None else 0
     return v
+
+
+def seal(path, made_by, rtl_list, dut="formal"):
+    """Seal a JSON file of evidence in place: its provenance (the RTL's file list and content
+    hash, the tools) and its digest, by `pmu50 seal` (the kit's one implementation)."""
+    p = subprocess.run(
+        [pmu50_binary(), "seal", path, "--made-by", made_by, "--rtl", rtl_list, "--dut", dut],
+        capture_output=True,
+        text=True,
+    )
+    if p.returncode != 0:
+        raise SetupError("pmu50 seal %s failed: %s" % (path, (p.stderr or p.stdout).strip()))

@@ -53,6 +53,7 @@ not proven; 2: setup or tool failure.
 
 import argparse
 import concurrent.futures as cf
+import copy
 import glob
 import hashlib
 import json
@@ -63,8 +64,8 @@ import subprocess
 import sys
 import time
 
-from . import common
-from .common import FORMAL, HDL, ROOT, SetupError, parse_filelist, run, write_atomic
+from . import bind, common, frontend, kit
+from .common import FORMAL, HDL, ROOT, SetupError, run, write_atomic
 
 TABLE = os.path.join(FORMAL, "pmu50_cov.json")
 MONITOR = os.path.join(FORMAL, "pmu50_cov.sv")
@@ -98,6 +99,75 @@ SET_NAMES = [*common.SET_NAMES, "w8d4"]
 def parameter_sets():
     """{name: {Verilog parameter: value}}: the kit's sets and w8d4."""
     return {**common.parameter_sets(), "w8d4": W8D4}
+
+
+# The structural classes the regression draws (the configuration bins config.sync_depth,
+# config.cnt_w, config.adaptive): every SYNC_DEPTH 1-4, a CNT_W of each class (2, 3-7, 8-15, 16)
+# and ADAPTIVE 0 and 1, all 32 combinations, with the reset values of `small` otherwise (a
+# key-off period of 9 ticks). `d<SYNC_DEPTH>w<CNT_W>a<ADAPTIVE>`. The clock classes change no
+# RTL: only the monitor's configuration bins read CLOCK_NS (bind.dependencies shows it; the
+# run checks that no proven bin or claim depends on it).
+CLASS_DEPTHS = (1, 2, 3, 4)
+CLASS_WIDTHS = (2, 4, 8, 16)
+
+
+def class_sets():
+    base = common.KIT_SETS["small"]
+    return {
+        "d%dw%da%d" % (d, w, ad): dict(base, SYNC_DEPTH=d, CNT_W=w, ADAPTIVE=ad)
+        for d in CLASS_DEPTHS
+        for w in CLASS_WIDTHS
+        for ad in (0, 1)
+    }
+
+
+def all_sets():
+    return {**parameter_sets(), **class_sets()}
+
+
+def set_list(text, flag):
+    """The names of a --sets or --proof-sets value (`classes`: every class set)."""
+    names = []
+    for x in text.split(","):
+        names += list(class_sets()) if x == "classes" else [x] if x else []
+    bad = [x for x in names if x not in all_sets()]
+    if bad or not names:
+        raise SetupError(
+            "%s: unknown parameter sets %s (valid: %s, classes, or a class set "
+            "d<1-4>w<2|4|8|16>a<0|1>)" % (flag, ", ".join(bad) or "(none)", ", ".join(SET_NAMES))
+        )
+    return list(dict.fromkeys(names))
+
+
+def waiver_file(a, twin):
+    """The waivers whose claims this run proves: --waivers, else the twin's own on the twin.
+    The twin's waivers never apply to another RTL (waivers are per RTL)."""
+    if a.no_waivers:
+        return ""
+    if a.waivers:
+        if not twin and os.path.realpath(a.waivers) == os.path.realpath(WAIVERS):
+            raise SetupError(
+                "--waivers %s: the twin's waivers apply to the twin only (hdl/pmu50.f); give "
+                "your RTL's own waivers file" % a.waivers
+            )
+        return a.waivers
+    return WAIVERS if twin else ""
+
+
+def needs_entries(table, binding):
+    """{bin name: [(monitor input, map entry)]} of the bins whose classifier reads an internal
+    that nothing binds (bind.bindings: `none`)."""
+    _, deps = bind.dependencies(MONITOR)
+    out = {}
+    for b in table["bins"]:
+        miss = [
+            (k, binding[k][2])
+            for k in sorted(deps.get(b["wire"], ()))
+            if k in binding and binding[k][0] == "none"
+        ]
+        if miss:
+            out[b["name"]] = miss
+    return out
 
 
 # Invariants of the twin that some unreachability proofs need and the engines do not find on
@@ -271,7 +341,35 @@ def formal_top(table, checks, assume_lemmas=False, lemmas=None):
     return "\n".join(lines)
 
 
-def design_script(setname, table, files, incs, defs):
+class Ctx:
+    """What every model of one run shares: the RTL, how the monitor binds to it and its
+    parameter sets.
+
+    `native` (the twin without a map): yosys 0.23 reads the monitor and the RTL and connects
+    the monitor's internal inputs to the twin's nets by name (`connect` after `flatten`).
+    Otherwise `bound` (pmu50_formal/bind.py): slang lowers a top that binds each internal
+    through the map or rebuilds it from the ports, the monitor one cycle behind the DUT."""
+
+    def __init__(self, rtl, table, mapping, native, sets):
+        self.rtl, self.table, self.native, self.sets = rtl, table, native, sets
+        self.mapping = mapping
+        self.bind = None if native else bind.bindings(table, mapping)
+        # steps the monitor runs behind the DUT: a witness ends that many steps earlier
+        self.lag = 0 if native else 1
+
+    def lemma_nets(self):
+        """[(name, width, Verilog expression)] of the nets the lemmas read (bound mode)."""
+        out = []
+        for n, w, path in LEMMA_NETS:
+            key = bind.map_key(path)
+            if key and key in self.mapping:
+                out.append((n, w, "dut." + self.mapping[key].split(".", 1)[1]))
+            else:
+                out.append((n, w, "pv_" + path.split(".")[-1]))
+        return out
+
+
+def design_script(setname, table, files, incs, defs, sets=None):
     """The yosys commands that read the formal top (top.sv of the folder), the monitor and the
     RTL, set the parameters and connect the monitor's and the lemmas' nets."""
     dflags = " ".join("-D" + x for x in defs)
@@ -283,7 +381,7 @@ def design_script(setname, table, files, incs, defs):
     for f in files:
         sv = "-sv " if f.endswith((".sv", ".svh")) else ""
         lines.append("read_verilog -formal %s%s %s %s" % (sv, dflags, iflags, f))
-    for k, v in parameter_sets()[setname].items():
+    for k, v in (sets or parameter_sets())[setname].items():
         lines.append("chparam -set %s %d %s" % (k, v, TOP))
     lines += ["hierarchy -top %s" % TOP, "proc", "flatten"]
     for sig in table["signals"]:
@@ -299,11 +397,54 @@ def design_script(setname, table, files, incs, defs):
     return lines
 
 
-def smt_model(d, setname, table, checks, files, incs, defs, lemmas):
+def bound_script(d, setname, ctx, checks, files, lemmas):
+    """The yosys 0.23 commands of a bound model: the top of bind.py with the monitor, the port
+    view and the RTL (`files`: the list's, or copies with claims) lowered by slang."""
+    c = common.contract()
+    text = bind.bind_top(
+        TOP,
+        ctx.table,
+        ctx.bind,
+        c,
+        common.default_set(),
+        checks=checks,
+        lemma_nets=ctx.lemma_nets(),
+        lemmas={k: v for k, v in LEMMAS.items() if k in lemmas},
+    )
+    write_atomic(os.path.join(d, "top.sv"), text)
+    rtl = copy.copy(ctx.rtl)
+    rtl.files = files
+    lowered = frontend.lower(
+        os.path.join(d, "slang"),
+        rtl,
+        [os.path.join(d, "top.sv"), MONITOR, bind.PORT_VIEW],
+        TOP,
+        ctx.sets[setname],
+        [],
+    )
+    return [
+        "read_verilog -formal %s" % lowered,
+        "hierarchy -top %s" % TOP,
+        "proc",
+        # the don't-care bits ('x) slang leaves in the lowered text: any value, every cycle
+        "setundef -anyseq",
+        "opt_expr -keepdc",
+        "opt_clean",
+        "async2sync",
+        "check -assert",
+    ]
+
+
+def smt_model(d, setname, ctx, checks, files, lemmas):
     """d/model.smt2 of the formal top with these checks and lemmas (yosys-smtbmc's input)."""
     os.makedirs(d, exist_ok=True)
-    write_atomic(os.path.join(d, "top.sv"), formal_top(table, checks, lemmas=lemmas))
-    lines = design_script(setname, table, files, incs, defs) + [
+    table = ctx.table
+    if ctx.native:
+        write_atomic(os.path.join(d, "top.sv"), formal_top(table, checks, lemmas=lemmas))
+        lines = design_script(setname, table, files, ctx.rtl.incs, ctx.rtl.defs, ctx.sets)
+    else:
+        lines = bound_script(d, setname, ctx, checks, files, lemmas)
+    lines += [
         "dffunmap",
         "write_smt2 -wires model.smt2",
     ]
@@ -336,18 +477,20 @@ def smt_model(d, setname, table, checks, files, incs, defs, lemmas):
         )
 
 
-def smtbmc(d, args, log, timeout):
-    """Run yosys-smtbmc (yices) in d; (exit code or None on timeout, log text)."""
+def smtbmc(d, args, log, cpu):
+    """Run yosys-smtbmc (yices) in d with at most `cpu` seconds of CPU time for the solver (a
+    budget that does not depend on the machine's load); (exit code or None when the budget ran
+    out, log text)."""
     rc = run(
         ["yosys-smtbmc", "-s", "yices", "--noprogress"] + args + ["model.smt2"],
         d,
         log,
-        timeout=timeout,
+        cpu=cpu,
     )
     return rc, open(os.path.join(d, log), errors="replace").read()
 
 
-def vcd_to_vec(vcd, setname, binname, steps, out):
+def vcd_to_vec(vcd, params, binname, steps, out):
     """Steps 1..steps of a yosys-smtbmc trace (step 0 is the reset cycle) -> a vector file of
     the inputs at each edge out of reset: the last row is the edge at which the bin is hit."""
     sigs, _ = common.read_vcd(vcd)
@@ -365,7 +508,7 @@ def vcd_to_vec(vcd, setname, binname, steps, out):
         "// bin %s" % binname,
         "// clock_ns 10000",
     ]
-    text += ["// param %s %d" % (k, v) for k, v in parameter_sets()[setname].items()]
+    text += ["// param %s %d" % (k, v) for k, v in params.items()]
     text += ["// ticks %d" % len(rows), "// columns " + " ".join(n for n, _ in ins)]
     os.makedirs(out, exist_ok=True)
     f = os.path.join(out, re.sub(r"[^A-Za-z0-9_.-]", "_", binname) + ".vec")
@@ -379,7 +522,7 @@ def failed_labels(log):
     return [x.rsplit(".", 1)[-1] for x in re.findall(r"Assert failed in %s: (\S+)" % TOP, log)]
 
 
-def induct(setname, table, labels, files, incs, defs, a, by_label, claims=()):
+def induct(setname, ctx, labels, a, by_label, claims=()):
     """Prove the lemmas, the waivers' claims and the assertions `labels` (u_<bin index>) on one
     set by k-induction (yosys-smtbmc, yices): a bounded base case and the inductive step, every
     assertion assumed in the k steps before. An assertion failing the base case is refuted (its
@@ -395,10 +538,10 @@ def induct(setname, table, labels, files, incs, defs, a, by_label, claims=()):
         d = os.path.join(a.out, setname, "induction-%d" % rnd)
         shutil.rmtree(d, ignore_errors=True)
         checks = [(lab, "assert", by_label[lab]) for lab in todo if lab in by_label]
-        rfiles = with_claims(files, [by_claim[lab] for lab in todo if lab in by_claim], d)
+        rfiles = with_claims(ctx.rtl.files, [by_claim[lab] for lab in todo if lab in by_claim], d)
         lemmas = [lab for lab in todo if lab in LEMMAS]
-        smt_model(d, setname, table, checks, rfiles, incs, defs, lemmas=lemmas)
-        rc, log = smtbmc(d, ["-t", str(k), "--dump-vcd", "base.vcd"], "base.log", a.timeout)
+        smt_model(d, setname, ctx, checks, rfiles, lemmas=lemmas)
+        rc, log = smtbmc(d, ["-t", str(k), "--dump-vcd", "base.vcd"], "base.log", a.cpu_limit)
         failed = failed_labels(log)
         if failed:
             step = re.findall(r"Checking assertions in step (\d+)", log)
@@ -420,7 +563,7 @@ def induct(setname, table, labels, files, incs, defs, a, by_label, claims=()):
                     None,
                 )
             break
-        rc, log = smtbmc(d, ["-i", "-t", str(k)], "step.log", a.timeout)
+        rc, log = smtbmc(d, ["-i", "-t", str(k)], "step.log", a.cpu_limit)
         if rc == 0 and "Status: PASSED" in log:
             for lab in todo:
                 res[lab] = (
@@ -444,9 +587,33 @@ def induct(setname, table, labels, files, incs, defs, a, by_label, claims=()):
         for lab in failed:
             res[lab] = ("unknown", "not %d-inductive with the lemmas" % k, None, None)
         todo = [lab for lab in todo if lab not in failed]
-    # the assertions left open: a deeper bounded search from reset (to --cover-depth steps)
-    # refutes the false ones, one trace at a time
-    todo = [lab for lab in labels if res.get(lab, ("",))[0] == "unknown"]
+    # the assertions (and claims) k-induction left open: the property kit's engines, which find
+    # the strengthening invariants themselves (ABC's scorr over the whole model, then pdr on
+    # each cone it leaves), under the same CPU budget
+    left = [lab for lab in list(by_claim) + list(labels) if res.get(lab, ("",))[0] == "unknown"]
+    if left:
+        rnd += 1
+        d = os.path.join(a.out, setname, "pdr-%d" % rnd)
+        shutil.rmtree(d, ignore_errors=True)
+        for lab, (v, how, frame) in aig_proofs(
+            d, setname, ctx, left, by_label, by_claim, a
+        ).items():
+            res[lab] = (
+                (v, res[lab][1] + "; " + how, None, frame)
+                if v != "proven"
+                else (v, how, None, None)
+            )
+    # the assertions left open, and those pdr refuted (its trace is not a shortest one, nor a
+    # vector file): a deeper bounded search from reset (to --cover-depth steps, or past pdr's
+    # failing cycle) refutes the false ones, one trace at a time, each trace the witness
+    todo = [
+        lab
+        for lab in labels
+        if res.get(lab, ("",))[0] == "unknown" or (res[lab][0] == "refuted" and not res[lab][2])
+    ]
+    depth = max(
+        [a.cover_depth] + [res[lab][3] + ctx.lag + 1 for lab in todo if res[lab][3] is not None]
+    )
     while todo:
         rnd += 1
         d = os.path.join(a.out, setname, "bmc-%d" % rnd)
@@ -454,22 +621,20 @@ def induct(setname, table, labels, files, incs, defs, a, by_label, claims=()):
         smt_model(
             d,
             setname,
-            table,
+            ctx,
             [(lab, "assert", by_label[lab]) for lab in todo],
-            files,
-            incs,
-            defs,
+            ctx.rtl.files,
             lemmas=[],
         )
-        rc, log = smtbmc(
-            d, ["-t", str(a.cover_depth), "--dump-vcd", "bmc.vcd"], "bmc.log", a.timeout
-        )
+        rc, log = smtbmc(d, ["-t", str(depth), "--dump-vcd", "bmc.vcd"], "bmc.log", a.cpu_limit)
         failed = failed_labels(log)
         if not failed:
             for lab in todo:
+                if res[lab][0] == "refuted":
+                    continue  # pdr's verdict stands, without a witness
                 res[lab] = (
                     "unknown",
-                    res[lab][1] + "; no failure within %d steps" % a.cover_depth,
+                    res[lab][1] + "; no failure within %d steps" % depth,
                     None,
                     None,
                 )
@@ -480,25 +645,79 @@ def induct(setname, table, labels, files, incs, defs, a, by_label, claims=()):
                 "refuted",
                 "bounded search: fails at step %s" % (step[-1] if step else "?"),
                 os.path.join(d, "bmc.vcd"),
-                int(step[-1]) if step else a.cover_depth,
+                int(step[-1]) if step else depth,
             )
         todo = [lab for lab in todo if lab not in failed]
     return res
 
 
-def covers(setname, table, labels, files, incs, defs, a, by_label):
+def aig_proofs(d, setname, ctx, labels, by_label, by_claim, a):
+    """Prove the assertions `labels` (bins u_<index> and waivers' claims) as the property kit
+    does: one AIGER model with every assertion an output, ABC's scorr over it, ABC pdr on each
+    cone left (--cpu-limit CPU seconds each). Returns {label: (proven|refuted|unknown, how,
+    failing cycle of a refutation or None)}."""
+    os.makedirs(d, exist_ok=True)
+    checks = [(lab, "assert", by_label[lab]) for lab in labels if lab in by_label]
+    files = with_claims(ctx.rtl.files, [by_claim[lab] for lab in labels if lab in by_claim], d)
+    if ctx.native:
+        write_atomic(os.path.join(d, "top.sv"), formal_top(ctx.table, checks, lemmas=[]))
+        lines = design_script(setname, ctx.table, files, ctx.rtl.incs, ctx.rtl.defs, ctx.sets)
+    else:
+        lines = bound_script(d, setname, ctx, checks, files, [])
+    lines += ["write_rtlil design.il"]
+    write_atomic(os.path.join(d, "design.ys"), "\n".join(lines) + "\n")
+    if run(["yosys", "-q", "design.ys"], d, "design.log") != 0:
+        raise SetupError("yosys could not elaborate %s (see %s/design.log)" % (setname, d))
+    # a claim inside the RTL is a cell of the flattened DUT: named dut.<...>.waiver_N
+    il = open(os.path.join(d, "design.il")).read()
+    il = re.sub(r"(cell \$assert )\\\S*\.(waiver_\d+)$", r"\1\\\2", il, flags=re.M)
+    write_atomic(os.path.join(d, "design.il"), il)
+    m = kit.model_from_design(d, setname, a.cpu_limit, top=TOP, merged_ok=True)
+    out = {}
+    for lab in labels:
+        if lab not in m.index:
+            out[lab] = ("unknown", "not in the AIGER model", None)
+            continue
+        if m.proven_by_scorr(lab):
+            out[lab] = ("proven", "scorr (ABC signal correspondence, unbounded)", None)
+            continue
+        cd = os.path.join(d, lab)
+        os.makedirs(cd, exist_ok=True)
+        write_atomic(os.path.join(cd, "cone.aig"), m.cone(lab)[0])
+        v, frame, eng = kit.decisive(kit.run_engines([kit.AbcPdr()], "cone.aig", cd, a.cpu_limit))
+        out[lab] = (
+            (v, "%s (unbounded)" % eng, None)
+            if v == "proven"
+            else (v, "%s at cycle %s" % (eng, frame), frame)
+            if v == "refuted"
+            else ("unknown", "scorr and abc-pdr open after %d CPU s" % a.cpu_limit, None)
+        )
+    return out
+
+
+def covers(setname, ctx, labels, a, by_label):
     """Reach the covers `labels` (c_<bin index>) on one set within --cover-depth steps
     (yosys-smtbmc cover mode). Returns {label: (step, trace vcd)} of those reached."""
     d = os.path.join(a.out, setname, "covers")
     shutil.rmtree(d, ignore_errors=True)
     checks = [(lab, "cover", by_label[lab]) for lab in labels]
-    smt_model(d, setname, table, checks, files, incs, defs, lemmas=[])
+    smt_model(d, setname, ctx, checks, ctx.rtl.files, lemmas=[])
+    # an effort budget (the depth), not a time limit: the same covers are reached on an idle and
+    # on a busy machine; the CPU limit only stops a runaway search (then the run says so)
     rc, log = smtbmc(
         d,
         ["-c", "-t", str(a.cover_depth), "--dump-vcd", "trace%.vcd"],
         "cover.log",
-        a.cover_timeout,
+        a.cpu_limit,
     )
+    # the limit is per process: the solver (yices, a child of yosys-smtbmc) stopped by it ends
+    # the search without a status line
+    if rc is None or not re.search(r"^.*Status: (PASSED|FAILED)", log, re.M):
+        raise SetupError(
+            "set %s: the covers' search to %d steps ended without a status: its CPU budget of "
+            "%d s per process (--cpu-limit) used up, or the solver failed; see %s"
+            % (setname, a.cover_depth, a.cpu_limit, os.path.join(d, "cover.log"))
+        )
     reached, pending = {}, []
     for line in log.splitlines():
         m = re.search(r"Reached cover statement at (\w+) in step (\d+)", line)
@@ -532,12 +751,31 @@ def vec_header(path):
     return params, clock, ticks
 
 
-def harness(out, params, clock_ns, files, incs, defs, nbins, timeout):
-    """The Verilator build of pmu50_cov_top (the RTL of the file list with the monitor over it)
-    for these parameters and clock, under OUT/deep/build/<digest>/ (reused while the sources
-    are unchanged). Returns the executable."""
+def harness(out, params, clock_ns, ctx, nbins):
+    """The Verilator build of pmu50_cov_top (the RTL of the file list with the monitor over it:
+    the generated one bound to the twin, or bind.py's bound through the map and the ports) for
+    these parameters and clock, under OUT/deep/build/<digest>/ (reused while the sources are
+    unchanged). Returns the executable."""
+    files, incs, defs = ctx.rtl.files, ctx.rtl.incs, ctx.rtl.defs
+    top = COV_TOP
+    extra = []
+    if not ctx.native:
+        top = os.path.join(out, "deep", "pmu50_cov_top.sv")
+        os.makedirs(os.path.dirname(top), exist_ok=True)
+        write_atomic(
+            top,
+            bind.bind_top(
+                "pmu50_cov_top",
+                ctx.table,
+                ctx.bind,
+                common.contract(),
+                common.default_set(),
+                sim=True,
+            ),
+        )
+        extra = [bind.PORT_VIEW]
     h = hashlib.sha256()
-    for f in files + [MONITOR, COV_TOP, COV_MAIN]:
+    for f in files + extra + [MONITOR, top, COV_MAIN]:
         h.update(f.encode() + b"\0" + open(f, "rb").read())
     gflags = ["-G%s=%d" % kv for kv in sorted(params.items())] + ["-GCLOCK_NS=%d" % clock_ns]
     h.update(" ".join(gflags + incs + defs).encode())
@@ -573,9 +811,10 @@ def harness(out, params, clock_ns, files, incs, defs, nbins, timeout):
         + ["-I" + i for i in incs]
         + ["-D" + x for x in defs]
         + files
-        + [MONITOR, COV_TOP, COV_MAIN]
+        + extra
+        + [MONITOR, top, COV_MAIN]
     )
-    if run(cmd, tmp, "verilator.log", timeout=timeout) != 0:
+    if run(cmd, tmp, "verilator.log") != 0:
         raise SetupError(
             "verilator could not build the monitor over the RTL: see %s"
             % os.path.join(tmp, "verilator.log")
@@ -585,7 +824,7 @@ def harness(out, params, clock_ns, files, incs, defs, nbins, timeout):
     return exe
 
 
-def deep_witnesses(a, files, incs, defs, nbins, want):
+def deep_witnesses(a, ctx, nbins, want):
     """Replay each witness scenario of DEEP through the RTL with the monitor. Returns
     {bin index: (scenario path, first tick, ticks, vector file)} of the bins in `want` hit."""
     scen = sorted(glob.glob(os.path.join(DEEP, "*.toml")))
@@ -624,26 +863,29 @@ def deep_witnesses(a, files, incs, defs, nbins, want):
                 "pmu50 vectors %s failed: see %s" % (s, os.path.join(d, name + ".vectors.log"))
             )
         params, clock_ns, ticks = vec_header(vec)
-        exe = harness(a.out, params, clock_ns, files, incs, defs, nbins, a.timeout)
+        exe = harness(a.out, params, clock_ns, ctx, nbins)
         log = os.path.join(d, name + ".hits")
         with open(vec) as fin, open(log, "w") as fout:
-            try:
-                rc = subprocess.run(
-                    [exe, "--first-hits"],
-                    stdin=fin,
-                    stdout=fout,
-                    stderr=subprocess.PIPE,
-                    timeout=a.timeout,
-                ).returncode
-            except subprocess.TimeoutExpired:
-                rc = None
+            rc = subprocess.run(
+                [exe, "--first-hits"],
+                stdin=fin,
+                stdout=fout,
+                stderr=subprocess.PIPE,
+                preexec_fn=common.cpu_limit(a.cpu_limit),
+            ).returncode
         if rc != 0:
             raise SetupError("the replay of %s through the monitor failed (rc %s)" % (vec, rc))
         new = []
         for line in open(log):
             i, tick = (int(x) for x in line.split())
             if i in want and i not in got:
-                got[i] = (os.path.relpath(s, ROOT), tick, ticks, os.path.relpath(vec, ROOT))
+                # a bound monitor runs one cycle behind: its hit at tick t is the model's t - 1
+                got[i] = (
+                    os.path.relpath(s, ROOT),
+                    tick - ctx.lag,
+                    ticks,
+                    os.path.relpath(vec, ROOT),
+                )
                 new.append(i)
         print(
             "deep %-22s %7d ticks, %d bins witnessed; %.0f s"
@@ -663,17 +905,27 @@ def main(argv=None):
         + ", ".join(SET_NAMES),
     )
     ap.add_argument(
-        "--timeout", type=int, default=600, help="seconds per yosys-smtbmc run of a proof"
+        "--proof-sets",
+        default="classes",
+        help="parameter sets of the unreachable bins' and the claims' proofs: `classes` (every "
+        "structural class the regression draws, CLASS_SETS), or names as --sets",
+    )
+    ap.add_argument(
+        "--cpu-limit",
+        type=int,
+        default=1800,
+        help="CPU seconds a solver run may take (a safety stop, not a budget that decides: "
+        "a run that reaches it fails or leaves its checks undecided, saying so)",
+    )
+    ap.add_argument(
+        "--map",
+        default="",
+        help="the RTL's map (pmu50 regress --map): binds the monitor's internal inputs; "
+        "without it, those the ports show are rebuilt from them",
     )
     ap.add_argument("--induction-depth", type=int, default=3, help="k of the k-induction")
     ap.add_argument(
         "--cover-depth", type=int, default=24, help="steps of the covers' bounded search"
-    )
-    ap.add_argument(
-        "--cover-timeout",
-        type=int,
-        default=360,
-        help="seconds of the covers' search per set (the covers reached by then count)",
     )
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument(
@@ -696,9 +948,9 @@ def main(argv=None):
     )
     ap.add_argument(
         "--waivers",
-        default=WAIVERS,
-        help="code-coverage waivers whose claims (`holds`) are proven with the lemmas "
-        "(default hdl/coverage-waivers.toml)",
+        default="",
+        help="code-coverage waivers whose claims (`holds`) are proven with the lemmas (default: "
+        "hdl/coverage-waivers.toml on the twin, none on another RTL: waivers are per RTL)",
     )
     ap.add_argument("--no-waivers", action="store_true", help="leave out the waivers' claims")
     ap.add_argument(
@@ -715,6 +967,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     a.out = os.path.abspath(a.out)  # the tools run in folders of their own
     common.use_project_tools()
+    kit.stop_engines_on_sigterm()
     t0 = time.time()
     try:
         for tool, where in (
@@ -725,13 +978,15 @@ def main(argv=None):
             if not shutil.which(tool):
                 raise SetupError("%s not found (%s)" % (tool, where))
         table = load_table()
-        sets = a.sets.split(",")
-        bad = [s for s in sets if s not in SET_NAMES]
-        if bad:
-            raise SetupError(
-                "unknown parameter sets %s (valid: %s)" % (", ".join(bad), ", ".join(SET_NAMES))
-            )
-        files, incs, defs = parse_filelist(a.rtl)
+        sets = set_list(a.sets, "--sets")
+        psets = set_list(a.proof_sets, "--proof-sets")
+        rtl = frontend.read_rtl(a.rtl)
+        twin = os.path.realpath(a.rtl) == os.path.realpath(os.path.join(HDL, "pmu50.f"))
+        native = twin and not a.map
+        mapping = bind.read_map(a.map) if a.map else {}
+        ctx = Ctx(rtl, table, mapping, native, all_sets())
+        files = rtl.files
+        waivers = waiver_file(a, twin)
         want = [w for w in a.bins.split(",") if w] or [""]
         bins = [b for b in table["bins"] if any(w in b["name"] for w in want)]
         if not bins:
@@ -750,7 +1005,19 @@ def main(argv=None):
         by_label = {"u_%d" % b["index"]: b["index"] for b in unreach}
         by_label.update({"c_%d" % b["index"]: b["index"] for b in reach})
         status = {}
-        claims = [] if a.no_waivers else load_claims(a.waivers, files)
+        claims = [] if not waivers else load_claims(waivers, files)
+        # bins whose classifier reads an internal that nothing binds: undecided, with the entry
+        unbound = {} if native else needs_entries(table, ctx.bind)
+        for b in bins:
+            if b["name"] in unbound:
+                status[b["name"]] = {
+                    "status": "undecided",
+                    "tried": "its classifier reads %s, which no port shows and the map does "
+                    "not name" % ", ".join(sorted({x[0] for x in unbound[b["name"]]})),
+                    "needs": sorted({bind.entry_text(x[1]) for x in unbound[b["name"]]}),
+                }
+        unreach = [b for b in unreach if b["name"] not in unbound]
+        reach = [b for b in reach if b["name"] not in unbound]
         # 1. proofs: the lemmas, the waivers' claims and every declared-unreachable bin, on
         # every set (in parallel)
         proofs = {}
@@ -760,35 +1027,32 @@ def main(argv=None):
                     ex.submit(
                         induct,
                         s,
-                        table,
+                        ctx,
                         ["u_%d" % b["index"] for b in unreach],
-                        files,
-                        incs,
-                        defs,
                         a,
                         by_label,
                         claims,
                     ): s
-                    for s in sets
+                    for s in psets
                 }
                 for f in cf.as_completed(futs):
                     proofs[futs[f]] = f.result()
-            for s in sets:
+            for s in psets:
                 for n in LEMMAS:
                     v = proofs[s][n]
                     print("%-58s %-8s %s (%s)" % (n, s, v[0], v[1]), flush=True)
         # the waivers' claims: proven on every set, or the waiver's reason is not shown to hold
         claim_status = []
         for c in claims:
-            per = {s: proofs[s][c["label"]] for s in sets}
-            proven = all(per[s][0] == "proven" for s in sets)
-            refuted = [s for s in sets if per[s][0] == "refuted"]
+            per = {s: proofs[s][c["label"]] for s in psets}
+            proven = all(per[s][0] == "proven" for s in psets)
+            refuted = [s for s in psets if per[s][0] == "refuted"]
             st = dict(
                 file=c["file"],
                 what=c["what"],
                 holds=c["holds"],
                 status="proven" if proven else "refuted" if refuted else "undecided",
-                proofs={s: {"verdict": per[s][0], "how": per[s][1]} for s in sets},
+                proofs={s: {"verdict": per[s][0], "how": per[s][1]} for s in psets},
             )
             if refuted:
                 st["step"] = per[refuted[0]][3]
@@ -798,7 +1062,7 @@ def main(argv=None):
                 % (
                     "%s %s: %s" % (c["file"], c["what"], c["holds"]),
                     "claim " + st["status"],
-                    ", ".join("%s %s" % (s, per[s][0]) for s in sets),
+                    ", ".join("%s %s" % (s, per[s][0]) for s in psets),
                 ),
                 flush=True,
             )
@@ -806,34 +1070,39 @@ def main(argv=None):
         wrong = []
         for b in unreach:
             label = "u_%d" % b["index"]
-            per = {s: proofs[s][label] for s in sets}
-            proven = [s for s in sets if per[s][0] == "proven"]
-            refuted = [s for s in sets if per[s][0] == "refuted"]
+            per = {s: proofs[s][label] for s in psets}
+            proven = [s for s in psets if per[s][0] == "proven"]
+            refuted = [s for s in psets if per[s][0] == "refuted"]
             st = {
                 "declared_unreachable": b["unreachable"],
                 "property": "assert (!%s)" % b["wire"],
-                "proofs": {s: {"verdict": per[s][0], "how": per[s][1]} for s in sets},
+                "proofs": {s: {"verdict": per[s][0], "how": per[s][1]} for s in psets},
             }
             if refuted:
                 s = refuted[0]
                 f = per[s][2] and vcd_to_vec(
-                    per[s][2], s, b["name"], per[s][3], os.path.join(a.out, "witness")
+                    per[s][2],
+                    ctx.sets[s],
+                    b["name"],
+                    per[s][3] - ctx.lag,
+                    os.path.join(a.out, "witness"),
                 )
                 st.update(
                     status="wrong_declaration",
                     set=s,
-                    step=per[s][3],
+                    # in the model's ticks, as the witness's rows (the monitor lags in bound mode)
+                    step=per[s][3] - ctx.lag if f else per[s][3],
                     witness=f and os.path.relpath(f, ROOT),
                 )
                 wrong.append(b["name"])
-            elif len(proven) == len(sets):
+            elif len(proven) == len(psets):
                 st.update(status="proven_unreachable", sets=proven)
             else:
                 st.update(status="undecided", sets_proven=proven)
             status[b["name"]] = st
             print(
                 "%-58s %-18s %s"
-                % (b["name"], st["status"], ", ".join("%s %s" % (s, per[s][0]) for s in sets)),
+                % (b["name"], st["status"], ", ".join("%s %s" % (s, per[s][0]) for s in psets)),
                 flush=True,
             )
         # 2. covers: each reachable bin on the first set that reaches it
@@ -843,8 +1112,9 @@ def main(argv=None):
             if not todo:
                 break
             t1 = time.time()
-            got = covers(s, table, todo, files, incs, defs, a, by_label)
+            got = covers(s, ctx, todo, a, by_label)
             for lab, (step, vcd) in got.items():
+                step -= ctx.lag
                 b = by_name[lab]
                 st = status[b["name"]] = {
                     "status": "witnessed",
@@ -854,7 +1124,9 @@ def main(argv=None):
                 }
                 if vcd and (b["port_only"] or a.all_witnesses):
                     # the port-level bins' witnesses close them through the model
-                    f = vcd_to_vec(vcd, s, b["name"], step, os.path.join(a.out, "witness"))
+                    f = vcd_to_vec(
+                        vcd, ctx.sets[s], b["name"], step, os.path.join(a.out, "witness")
+                    )
                     st["witness"] = os.path.relpath(f, ROOT)
             todo = [lab for lab in todo if lab not in got]
             print(
@@ -865,7 +1137,7 @@ def main(argv=None):
         # 3. the covers left: the witness scenarios' long traces, replayed through the RTL
         if todo and not a.no_deep:
             got = deep_witnesses(
-                a, files, incs, defs, len(table["bins"]), {by_name[lab]["index"] for lab in todo}
+                a, ctx, len(table["bins"]), {by_name[lab]["index"] for lab in todo}
             )
             for lab in todo:
                 b = by_name[lab]
@@ -905,18 +1177,35 @@ def main(argv=None):
         undecided_not_hit = sorted(
             n for n, st in status.items() if st["status"] == "undecided" and not st["hit"]
         )
+        # deterministic: no wall time, no path of this machine beyond the file list's; the
+        # same RTL gives the same file on an idle and on a busy machine
         doc = {
+            "format": "pmu50-coverage-proofs",
             "model_id": table["model_id"],
-            "sets": {s: parameter_sets()[s] for s in sets},
+            "rtl": a.rtl,
+            "binding": "native (the twin's nets by name)"
+            if native
+            else "bound: %s, then the ports" % ("map " + a.map if a.map else "no map"),
+            "bindings": {}
+            if native
+            else {
+                k: {"how": v[0], "from": v[1]}
+                for k, v in sorted(ctx.bind.items())
+                if v[0] != "port"
+            },
+            "waivers_file": waivers or None,
+            "sets": {s: ctx.sets[s] for s in sets},
+            "proof_sets": {s: ctx.sets[s] for s in psets},
             "cover_depth": a.cover_depth,
-            "timeout": a.timeout,
+            "induction_depth": a.induction_depth,
             "counts": counts,
             "waivers": claim_status,
-            "seconds": round(time.time() - t0, 1),
             "bins": [dict(name=b["name"], index=b["index"], **status[b["name"]]) for b in bins],
         }
         os.makedirs(a.out, exist_ok=True)
-        write_atomic(os.path.join(a.out, "coverage.json"), json.dumps(doc, indent=1) + "\n")
+        out = os.path.join(a.out, "coverage.json")
+        write_atomic(out, json.dumps(doc, indent=1, sort_keys=True) + "\n")
+        common.seal(out, "hdl/formal/coverage.py", a.rtl)
         print(
             "coverage-proofs: %d bins: %s; %d wrong declarations%s; %.0f s wall (%s, %d jobs) -> %s"
             % (

