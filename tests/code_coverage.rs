@@ -248,6 +248,10 @@ fn a_bad_waivers_file_is_refused_with_its_file_line_and_field() {
             ":2: field `reason`: missing",
         ),
         (
+            "[[waiver]]\nfile = \"rtl/timing_generator_56.v\"\nline = 3\nreason = \"a reason long enough\"\nterm = \"* => 0\"\n",
+            ":5: field `term`: a pattern of expression terms goes with `expr`",
+        ),
+        (
             "[[waiver]]\nfile = \"rtl/timing_generator_56.v\"\nline = 3\nreason = \"a reason long enough\"\nholds = \" \"\n",
             ":5: field `holds`: empty",
         ),

@@ -213,6 +213,13 @@ def load_table(path=TABLE):
     return t
 
 
+def span(v):
+    """A waiver's `line` or `expr` as `pmu50` writes it: `42` or `40-45`."""
+    a, _, b = str(v).partition("-")
+    a, b = a.strip(), (b.strip() or a.strip())
+    return a if a == b else "%s-%s" % (a, b)
+
+
 def load_claims(path, files):
     """The waivers of `path` that state a claim (`holds`): [{label, file, what, holds, src}],
     src the RTL file of the file list it is in."""
@@ -234,13 +241,16 @@ def load_claims(path, files):
                 "%s: waiver %d: file %r names %d files of the RTL (one is valid)"
                 % (path, k + 1, name, len(src))
             )
-        what = (
-            ("signal " + w["signal"])
-            if "signal" in w
-            else ("expr %s" % w["expr"])
-            if "expr" in w
-            else ("line %s" % w.get("line"))
-        )
+        # as `pmu50` names the waiver's target (verif/src/code_cov/waivers.rs, Waiver::what)
+        if "signal" in w:
+            what = "signal " + w["signal"]
+        elif "expr" in w:
+            what = "expr " + span(w["expr"])
+            if "term" in w:
+                what += " term " + str(w["term"]).strip()
+        else:
+            lines = span(w.get("line"))
+            what = ("lines " if "-" in lines else "line ") + lines
         out.append(
             dict(
                 label="waiver_%d" % (k + 1),

@@ -243,3 +243,34 @@ def test_cover_verdicts_do_not_depend_on_the_load(tmp_path):
         shutil.rmtree(d)
         docs.append(doc)
     assert docs[0] == docs[1]
+
+
+def test_a_claim_names_its_waiver_as_pmu50_does(tmp_path):
+    """`pmu50 waivers refresh` and the sign-off find a claim's verdict by the waiver's target as
+    pmu50 writes it (verif/src/code_cov/waivers.rs, Waiver::what)."""
+    sys.path.insert(0, KIT)
+    from pmu50_formal.coverage import load_claims
+
+    w = tmp_path / "w.toml"
+    w.write_text(
+        "\n".join(
+            '[[waiver]]\nfile = "rtl/x.v"\n%s\nholds = "a"\n' % t
+            for t in [
+                'signal = "t[17:16]"',
+                "line = 42",
+                'line = "40-45"',
+                'line = "42"',
+                "expr = 27",
+                'expr = "27-28"\nterm = "* => 0"',
+            ]
+        )
+    )
+    got = [c["what"] for c in load_claims(str(w), ["/d/rtl/x.v"])]
+    assert got == [
+        "signal t[17:16]",
+        "line 42",
+        "lines 40-45",
+        "line 42",
+        "expr 27",
+        "expr 27-28 term * => 0",
+    ]

@@ -22,7 +22,12 @@ pub fn render_html(r: &CodeReport) -> String {
     let mut h = format!("<style>{CSS}</style>\n");
     let _ = write!(
         h,
-        "<h2 id=\"code\">Code coverage of the RTL</h2>\n<p>Verilator line coverage (blocks and branches: hit at least once) and toggle coverage (each bit: rose and fell within one seed's run) over {} seed(s), after {} waiver(s) ({}). Files: <code>code/coverage.dat</code>, <code>code/lcov.info</code>, <code>code/summary.json</code>.</p>\n",
+        "<h2 id=\"code\">Code coverage of the RTL</h2>\n<p>Verilator line coverage (blocks and branches: hit at least once){} and toggle coverage (each bit: rose and fell within one seed's run) over {} seed(s), after {} waiver(s) ({}). Files: <code>code/coverage.dat</code>, <code>code/lcov.info</code>, <code>code/summary.json</code>.</p>\n",
+        if s.expr_measured {
+            ", expression coverage (each term of an expression's truth table: seen at least once)"
+        } else {
+            ""
+        },
         s.seeds,
         s.waivers.len(),
         esc(if s.waivers_file.is_empty() { "none" } else { &s.waivers_file })
@@ -37,22 +42,40 @@ pub fn render_html(r: &CodeReport) -> String {
             c.hit, c.total, c.pct, c.waived
         )
     };
-    h.push_str("<table><tr><th>file</th><th>line</th><th>%</th><th>waived</th><th>toggle</th><th>%</th><th>waived</th></tr>\n");
+    // the expression columns when the builds measured expression coverage
+    let expr = |c: &Count| {
+        if s.expr_measured {
+            cell(c)
+        } else {
+            String::new()
+        }
+    };
+    let _ = writeln!(
+        h,
+        "<table><tr><th>file</th><th>line</th><th>%</th><th>waived</th><th>toggle</th><th>%</th><th>waived</th>{}</tr>",
+        if s.expr_measured {
+            "<th>expression</th><th>%</th><th>waived</th>"
+        } else {
+            ""
+        }
+    );
     for f in &s.files {
         let _ = writeln!(
             h,
-            "<tr><td><a href=\"#code-{}\">{}</a></td>{}{}</tr>",
+            "<tr><td><a href=\"#code-{}\">{}</a></td>{}{}{}</tr>",
             esc(&anchor(&f.file)),
             esc(&f.file),
             cell(&f.line),
-            cell(&f.toggle)
+            cell(&f.toggle),
+            expr(&f.expr)
         );
     }
     let _ = writeln!(
         h,
-        "<tr><th>all</th>{}{}</tr></table>",
+        "<tr><th>all</th>{}{}{}</tr></table>",
         cell(&s.line),
-        cell(&s.toggle)
+        cell(&s.toggle),
+        expr(&s.expr)
     );
     if !s.waivers.is_empty() {
         h.push_str("<h3>Waivers</h3>\n<table><tr><th>file</th><th>what</th><th>points</th><th>reason</th></tr>\n");

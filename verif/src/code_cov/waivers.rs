@@ -30,8 +30,10 @@ pub enum Target {
         name: String,
         bits: Option<(u32, u32)>,
     },
-    /// The expression terms (`v_expr`) of these lines (first, last).
-    Expr(u32, u32),
+    /// The expression terms (`v_expr`) of these lines (first, last); with a pattern (`term`),
+    /// only the terms whose text, as Verilator writes it and the report lists it, matches it
+    /// (`*` stands for any characters).
+    Expr(u32, u32, Option<String>),
 }
 
 /// One waiver.
@@ -56,18 +58,28 @@ impl Waiver {
     /// The source lines it covers in `source` (its file): its lines, or those naming its signal.
     pub fn lines(&self, source: &str) -> Vec<u32> {
         match &self.target {
-            Target::Lines(a, b) | Target::Expr(a, b) => (*a..=*b).collect(),
+            Target::Lines(a, b) | Target::Expr(a, b, _) => (*a..=*b).collect(),
             Target::Signal { name, .. } => crate::waiver::lines_naming(source, name),
         }
     }
 
-    /// The target as written: `40`, `40-45`, `cnt`, `cnt[15:4]`.
+    /// The target as written: `line 40`, `lines 40-45`, `expr 52`, `expr 52 term (a==0) => *`,
+    /// `signal cnt`, `signal cnt[15:4]`.
     pub fn what(&self) -> String {
         match &self.target {
             Target::Lines(a, b) if a == b => format!("line {a}"),
             Target::Lines(a, b) => format!("lines {a}-{b}"),
-            Target::Expr(a, b) if a == b => format!("expr {a}"),
-            Target::Expr(a, b) => format!("expr {a}-{b}"),
+            Target::Expr(a, b, term) => {
+                let lines = if a == b {
+                    format!("expr {a}")
+                } else {
+                    format!("expr {a}-{b}")
+                };
+                match term {
+                    Some(t) => format!("{lines} term {t}"),
+                    None => lines,
+                }
+            }
             Target::Signal { name, bits: None } => format!("signal {name}"),
             Target::Signal {
                 name,
@@ -87,7 +99,11 @@ impl Waiver {
         }
         match &self.target {
             Target::Lines(a, b) => p.is_line() && (*a..=*b).contains(&p.line),
-            Target::Expr(a, b) => p.kind == Kind::Expr && (*a..=*b).contains(&p.line),
+            Target::Expr(a, b, term) => {
+                p.kind == Kind::Expr
+                    && (*a..=*b).contains(&p.line)
+                    && term.as_deref().is_none_or(|t| glob(t, &p.comment))
+            }
             Target::Signal { name, bits } => {
                 if p.kind != Kind::Toggle {
                     return false;
@@ -102,6 +118,26 @@ impl Waiver {
             }
         }
     }
+}
+
+/// Whether `text` matches `pattern`, whose `*` stands for any characters (none included) and
+/// every other character for itself.
+pub(super) fn glob(pattern: &str, text: &str) -> bool {
+    let parts: Vec<&str> = pattern.split('*').collect();
+    let (first, rest) = (parts[0], &parts[1..]);
+    let Some(mut left) = text.strip_prefix(first) else {
+        return false;
+    };
+    let Some((last, middle)) = rest.split_last() else {
+        return left.is_empty();
+    };
+    for m in middle {
+        match left.find(m) {
+            Some(i) => left = &left[i + m.len()..],
+            None => return false,
+        }
+    }
+    left.len() >= last.len() && left.ends_with(last)
 }
 
 /// Whether `path` is `file` or ends with it on a folder boundary.
@@ -135,6 +171,7 @@ pub(super) struct RawWaiver {
     pub(super) reason: Option<toml::Spanned<String>>,
     pub(super) holds: Option<toml::Spanned<String>>,
     pub(super) expr: Option<toml::Spanned<toml::Value>>,
+    pub(super) term: Option<toml::Spanned<String>>,
     pub(super) kind: Option<toml::Spanned<String>>,
     pub(super) reviewer: Option<toml::Spanned<String>>,
     pub(super) checksum: Option<toml::Spanned<String>>,
@@ -248,6 +285,13 @@ impl Waivers {
                 (None, Some(e)) => (Some(e), true),
                 (None, None) => (None, false),
             };
+            if let (Some(t), false) = (&w.term, is_expr) {
+                return Err(field_err(
+                    line_at(text, t.span().start),
+                    "term",
+                    "a pattern of expression terms goes with `expr` (the lines of the terms), not with `line` or `signal`".into(),
+                ));
+            }
             let target = match (line_field, w.signal) {
                 (Some(_), Some(s)) => {
                     return Err(field_err(
@@ -285,7 +329,18 @@ impl Waivers {
                         _ => return Err(bad()),
                     };
                     if is_expr {
-                        Target::Expr(a, b)
+                        let term = match w.term {
+                            Some(t) if t.get_ref().trim().is_empty() => {
+                                return Err(field_err(
+                                    line_at(text, t.span().start),
+                                    "term",
+                                    "empty: give the pattern of the terms waived, as the report lists them (`*` for any characters), or leave the field out".into(),
+                                ))
+                            }
+                            Some(t) => Some(t.into_inner().trim().to_string()),
+                            None => None,
+                        };
+                        Target::Expr(a, b, term)
                     } else {
                         Target::Lines(a, b)
                     }
@@ -345,7 +400,7 @@ impl Waivers {
                 };
                 let source = std::fs::read_to_string(src).unwrap_or_default();
                 match &target {
-                    Target::Lines(_, b) | Target::Expr(_, b) => {
+                    Target::Lines(_, b) | Target::Expr(_, b, _) => {
                         let n = source.lines().count() as u32;
                         if *b > n {
                             return Err(field_err(
@@ -433,5 +488,77 @@ impl Waivers {
             text: text.to_string(),
             origin: path.display().to_string(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn term(line: u32, text: &str) -> Point {
+        Point {
+            file: "rtl/count_diagnosis.v".into(),
+            line,
+            kind: Kind::Expr,
+            comment: text.into(),
+            lines: Vec::new(),
+        }
+    }
+
+    fn parse(text: &str) -> Result<Waivers, WaiverError> {
+        Waivers::parse(text, Path::new("w.toml"), None)
+    }
+
+    const HEAD: &str = "[[waiver]]\nfile = \"rtl/count_diagnosis.v\"\nreason = \"a reason long enough\"\nkind = \"UNR\"\nreviewer = \"me\"\n";
+
+    #[test]
+    fn a_glob_matches_the_whole_text_with_a_star_for_any_characters() {
+        assert!(glob("* => 0", "((d == 0)==0 && (d == 1)==0) => 0"));
+        assert!(!glob("* => 0", "((d == 0)==1) => 1"));
+        assert!(glob("(a==0) => 1", "(a==0) => 1"));
+        assert!(!glob("(a==0) => 1", "(a==0) => 1 "));
+        assert!(glob(
+            "((d == {*1'h1}})==1) => *",
+            "((d == {32'h1{1'h1}})==1) => 1"
+        ));
+        assert!(!glob("a*b*c", "acb"));
+        assert!(glob("a*b*c", "abbc"));
+        assert!(glob("*", ""));
+        assert!(
+            !glob("ab*ba", "aba"),
+            "the prefix and the suffix do not share characters"
+        );
+    }
+
+    #[test]
+    fn an_expr_waiver_with_a_term_waives_only_the_terms_it_matches() {
+        let w = parse(&format!("{HEAD}expr = 27\nterm = \"* => 0\"\n")).unwrap();
+        let w = &w.list[0];
+        assert_eq!(w.what(), "expr 27 term * => 0");
+        assert!(w.covers(&term(27, "((d == 0)==0 && (d == 1)==0) => 0")));
+        assert!(
+            !w.covers(&term(27, "((d == 0)==1) => 1")),
+            "a term it does not match"
+        );
+        assert!(!w.covers(&term(36, "(x==0) => 0")), "another line");
+        // without a term: every term of the lines
+        let all = parse(&format!("{HEAD}expr = \"27-28\"\n")).unwrap();
+        assert_eq!(all.list[0].what(), "expr 27-28");
+        assert!(all.list[0].covers(&term(28, "((d == 0)==1) => 1")));
+    }
+
+    #[test]
+    fn a_term_without_expr_or_empty_is_refused_at_its_line() {
+        let e = parse(&format!("{HEAD}line = 27\nterm = \"* => 0\"\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("w.toml:7: field `term`: a pattern of expression terms goes with `expr`"),
+            "{e}"
+        );
+        let e = parse(&format!("{HEAD}expr = 27\nterm = \" \"\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("w.toml:7: field `term`: empty"), "{e}");
     }
 }
