@@ -365,6 +365,9 @@ fn a_failure_folder_shows_the_model_and_the_rtl_of_every_diverging_signal() {
             "--iterations",
             "4",
             "--directed",
+            // each seed its own parameter set (no pool): two seeds of the planted bug differ
+            "--param-sets",
+            "0",
             "--dut",
             "verilator",
             "--rtl",
