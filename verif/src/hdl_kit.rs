@@ -191,6 +191,31 @@ pub const FILES: &[(&str, &str)] = &[
         "formal/tests/test_coverage.py",
         include_str!("../../hdl/formal/tests/test_coverage.py"),
     ),
+    (
+        "formal/pmu50_formal/bind.py",
+        include_str!("../../hdl/formal/pmu50_formal/bind.py"),
+    ),
+    (
+        "formal/pmu50_formal/frontend.py",
+        include_str!("../../hdl/formal/pmu50_formal/frontend.py"),
+    ),
+    (
+        "formal/pmu50_port_view.sv",
+        include_str!("../../hdl/formal/pmu50_port_view.sv"),
+    ),
+    (
+        "formal/tests/test_any_rtl.py",
+        include_str!("../../hdl/formal/tests/test_any_rtl.py"),
+    ),
+    (
+        "tb/coverage/ref_main.cpp",
+        include_str!("../../hdl/tb/coverage/ref_main.cpp"),
+    ),
+    (
+        "tb/coverage/requirements.txt",
+        include_str!("../../hdl/tb/coverage/requirements.txt"),
+    ),
+    ("tb/tb_xprop.v", include_str!("../../hdl/tb/tb_xprop.v")),
 ];
 
 /// Scripts, written executable.
