@@ -79,9 +79,26 @@ fn a_week_of_nightlies_turns_the_soak_row_from_missed_to_met() {
     );
     sealed(
         &r.join("code/summary.json"),
-        r#"{"format": "pmu50-code-coverage-1", "seeds": 2, "seeds_unaccounted": 0, "line": {"hit": 1, "total": 1, "waived": 0, "pct": 100.0}, "toggle": {"hit": 1, "total": 1, "waived": 0, "pct": 100.0}, "files": [], "waivers": [], "waivers_file": ""}"#,
+        r#"{"format": "pmu50-code-coverage-1", "seeds": 2, "seeds_unaccounted": 0, "line": {"hit": 1, "total": 1, "waived": 0, "pct": 100.0}, "toggle": {"hit": 1, "total": 1, "waived": 0, "pct": 100.0}, "expr": {"hit": 1, "total": 1, "waived": 0, "pct": 100.0}, "expr_measured": true, "files": [], "waivers": [], "waivers_file": ""}"#,
         "pmu50 regress --code-coverage",
         Some("1:2"),
+    );
+    let clean = r#"{"tool": "t", "ran": true, "reason": "", "findings": []}"#;
+    sealed(
+        &r.join("lint.json"),
+        &format!(
+            r#"{{"format": "pmu50-lint-1", "checks": [{clean}], "unwaived": [], "waivers": [], "waivers_file": ""}}"#
+        ),
+        "pmu50 lint",
+        None,
+    );
+    sealed(
+        &r.join("xprop.json"),
+        &format!(
+            r#"{{"format": "pmu50-xprop-1", "seeds": 1, "checks": [{clean}], "unwaived": [], "waivers": [], "waivers_file": ""}}"#
+        ),
+        "pmu50 xprop",
+        None,
     );
     let th = t.join("t.toml");
     std::fs::write(&th, "[thresholds]\nfunctional = 1\n").unwrap();

@@ -73,7 +73,7 @@ const CASES: &[(&str, &[&str])] = &[
     ("duration = \"10 ms\"\n[[events]]\nat = \"2 ms\"\nread = 224", &["bad.toml:3:", "events[0].read", "the key is off at this time"]),
     ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"2 ms\"\nwrite = { reg = \"T2\", value = 100 }\n[[events]]\nat = \"2 ms\"\nread = 224", &["bad.toml:10:", "events[2].read", "a read at 2 ms (the write of line 7 is at the same time)"]),
     ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\n[[events]]\nat = \"2 ms\"\nread = 224\n[[events]]\nat = \"2 ms\"\nwrite = { reg = \"T1\", value = 100 }", &["bad.toml:10:", "events[2].write", "a second bus access at 2 ms (the read of line 7 is at the same time)"]),
-    ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\nread = 224", &["bad.toml:2:", "events[0]", "exactly one action (ig, write, read or vs2_fault); this one has 2"]),
+    ("duration = \"10 ms\"\n[[events]]\nat = \"0 ms\"\nig = true\nread = 224", &["bad.toml:2:", "events[0]", "exactly one action (ig, write, read, bus_write, vs2_fault or vs2_pg_leak); this one has 2"]),
     // expectations and defaults that no longer fit name their line
     ("duration = \"10 ms\"\n[expect]\ndiag = false\nreadout_within_deg = -1.0", &["bad.toml:4:", "expect.readout_within_deg", "positive angle"]),
     ("duration = \"10 ms\"\n[expect]\n\nsi_sequence_ms = [6.6, 0.0]", &["bad.toml:4:", "expect.si_sequence_ms"]),

@@ -341,6 +341,23 @@ impl FileList {
         a
     }
 
+    /// yosys's command that reads the RTL (`read_verilog -sv` with `opts`, the include folders,
+    /// the defines and the sources): the same list as the simulators'.
+    pub fn yosys_read(&self, opts: &str) -> String {
+        let mut read = format!("read_verilog -sv{}", if opts.is_empty() { "" } else { " " });
+        read.push_str(opts);
+        for d in self.include_dirs() {
+            read.push_str(&format!(" -I{}", d.display()));
+        }
+        for d in self.define_args() {
+            read.push_str(&format!(" -D{d}"));
+        }
+        for f in &self.files {
+            read.push_str(&format!(" {}", f.display()));
+        }
+        read
+    }
+
     /// The files of the RTL whose content defines it: the sources, the library files and every
     /// file of the library folders with a library extension (sorted, each once).
     pub fn content_files(&self) -> Vec<PathBuf> {

@@ -126,16 +126,7 @@ pub fn verilator_lint(list: &FileList) -> Result<CheckRun, String> {
 /// yosys's `check` (hierarchy -top pmu50; proc) of the RTL as Debian's yosys reads it. An RTL it
 /// cannot read is not checked: `ran` false with yosys's error.
 pub fn yosys_check(list: &FileList, work: &Path) -> Result<CheckRun, String> {
-    let mut read = String::from("read_verilog -sv -nooverwrite");
-    for d in list.include_dirs() {
-        read.push_str(&format!(" -I{}", d.display()));
-    }
-    for d in list.define_args() {
-        read.push_str(&format!(" -D{d}"));
-    }
-    for f in &list.files {
-        read.push_str(&format!(" {}", f.display()));
-    }
+    let read = list.yosys_read("-nooverwrite");
     let log = work.join("yosys-check.log");
     let out = Command::new("yosys")
         .arg("-q")

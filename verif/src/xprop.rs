@@ -158,16 +158,7 @@ pub fn simulate(list: &FileList, n: u64, work: &Path) -> Result<CheckRun, String
 /// The flip-flops without reset (module doc).
 pub fn structural(list: &FileList, work: &Path) -> Result<CheckRun, String> {
     let tool = "yosys: flip-flops without reset".to_string();
-    let mut read = String::from("read_verilog -sv");
-    for d in list.include_dirs() {
-        read.push_str(&format!(" -I{}", d.display()));
-    }
-    for d in list.define_args() {
-        read.push_str(&format!(" -D{d}"));
-    }
-    for f in &list.files {
-        read.push_str(&format!(" {}", f.display()));
-    }
+    let read = list.yosys_read("");
     let json = work.join("flops.json");
     let out = Command::new("yosys")
         .arg("-q")
