@@ -8,8 +8,14 @@ use common::{expect, pmu50, s, tmp};
 #[test]
 fn a_graded_list_reproduces_its_regressions_coverage_in_fewer_seeds() {
     let t = tmp("grade");
-    for directed in [false, true] {
-        let dir = t.join(if directed { "d" } else { "r" });
+    // uniform, directed, and directed over a pool of parameter sets (build modes: the rerun
+    // draws each seed's set from the regression's pool, as the regression did)
+    for (directed, pool) in [(false, None), (true, None), (true, Some("4"))] {
+        let dir = t.join(match (directed, pool) {
+            (false, _) => "r",
+            (true, None) => "d",
+            (true, Some(_)) => "p",
+        });
         let mut args = vec![
             "regress",
             "--iterations",
@@ -23,7 +29,14 @@ fn a_graded_list_reproduces_its_regressions_coverage_in_fewer_seeds() {
         if directed {
             args.push("--directed");
         }
-        expect(&pmu50(&args), 0, &["120 pass"]);
+        if let Some(p) = pool {
+            args.extend(["--param-sets", p]);
+        }
+        let o = pmu50(&args);
+        expect(&o, 0, &["120 pass"]);
+        if pool.is_some() {
+            expect(&o, 0, &["4 parameter set(s) of at most 4"]);
+        }
         let o = pmu50(&["grade", s(&dir)]);
         let out = expect(&o, 0, &["grade: ", "graded.json"]);
         let g: serde_json::Value =
@@ -50,6 +63,7 @@ fn a_graded_list_reproduces_its_regressions_coverage_in_fewer_seeds() {
             s(&t.join("rerun")),
         ]);
         let out = expect(&o, 0, &["rerun: "]);
+        assert!(!out.contains("not hit again"), "{out}");
         assert!(
             out.contains(&format!("coverage {} bins", g["bins_hit"])),
             "{out}"

@@ -245,13 +245,15 @@ pub fn rerun(
     }
     let mut results = Vec::new();
     for (lo, todo) in groups {
+        // as the regression drew it: its bias, and its pool of parameter sets (build modes)
         let bias = if spec.directed {
             crate::gen::Bias::directed(&s.hits_before(lo)?, spec.pins).fixing(&spec.fixed)
         } else {
             crate::gen::Bias::uniform()
                 .pinned(spec.pins)
                 .fixing(&spec.fixed)
-        };
+        }
+        .pooled(&spec.pool);
         results.extend(crate::pool::run_pool(
             &spec,
             &todo,
