@@ -246,14 +246,12 @@ pub fn rerun(
     let mut results = Vec::new();
     for (lo, todo) in groups {
         // as the regression drew it: its bias, and its pool of parameter sets (build modes)
-        let bias = if spec.directed {
-            crate::gen::Bias::directed(&s.hits_before(lo)?, spec.pins).fixing(&spec.fixed)
+        let before = if spec.directed {
+            s.hits_before(lo)?
         } else {
-            crate::gen::Bias::uniform()
-                .pinned(spec.pins)
-                .fixing(&spec.fixed)
-        }
-        .pooled(&spec.pool);
+            Vec::new()
+        };
+        let bias = spec.bias(&before);
         results.extend(crate::pool::run_pool(
             &spec,
             &todo,

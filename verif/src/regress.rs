@@ -14,7 +14,6 @@
 //! `failures/<signature>/` (shrunk repro, command, waveform).
 
 use crate::error::{file_err, RegressError};
-use crate::gen::Bias;
 use crate::pool::{run_pool, BATCH};
 use crate::spec::{RunSpec, SeedResult, Verdict};
 use crate::summary::{Source, Summary};
@@ -187,9 +186,7 @@ pub fn run(
                     .map_err(RegressError::Usage)?;
                 cursor += 1;
             }
-            let bias = Bias::directed(&before, o.spec.pins)
-                .fixing(&o.spec.fixed)
-                .pooled(&o.spec.pool);
+            let bias = o.spec.bias(&before);
             let todo: Vec<u64> = (lo..hi).filter(|s| !done.contains(*s)).collect();
             let out = run_pool(
                 &o.spec,
@@ -213,10 +210,7 @@ pub fn run(
         // One queue over each chunk of the range: no core waits for the slowest seed of a
         // batch; the results are written in seed order as soon as every seed before them has
         // finished.
-        let bias = Bias::uniform()
-            .pinned(o.spec.pins)
-            .fixing(&o.spec.fixed)
-            .pooled(&o.spec.pool);
+        let bias = o.spec.bias(&[]);
         let mut pending: Vec<(SeedResult, Vec<u64>)> = Vec::new();
         let mut last = std::time::Instant::now();
         let mut lo = range.start;

@@ -88,6 +88,20 @@ impl RunSpec {
         }
     }
 
+    /// How this regression draws a batch's seeds: directed by `hits_before` (the coverage of
+    /// every seed before the batch; ignored by a uniform regression), within the structural
+    /// pins, keeping what the RTL fixes, and drawing parameters from the pool. The regression,
+    /// its graded rerun and the mutation table all draw through this one constructor, so a
+    /// seed is the same scenario in each.
+    pub fn bias(&self, hits_before: &[u64]) -> gen::Bias {
+        let bias = if self.directed {
+            gen::Bias::directed(hits_before, self.pins)
+        } else {
+            gen::Bias::uniform().pinned(self.pins)
+        };
+        bias.fixing(&self.fixed).pooled(&self.pool)
+    }
+
     /// The id of a seed's run in coverage.json: the same seed of the same regression is the
     /// same run, and is refused when merged twice.
     pub fn run_id(&self, seed: u64) -> String {
