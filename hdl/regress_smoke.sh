@@ -2,7 +2,7 @@
 # `pmu50 regress` against an RTL, as an HDL team runs it (run by `make test`):
 #   1. a directed regression of the Verilog twin on Verilator: every seed passes;
 #   2. a copy of the twin with one bug planted (MUT_CNT_C_SIGN, hdl/mutants.txt) given with
-#      --rtl: the regression fails (exit 1), the failure is shrunk into failures/<signature>/,
+#      --rtl: the regression fails (exit 1) in one signature, shrunk into failures/<signature>/,
 #      its command reproduces it, its save file marks the first divergence, and GTKWave-ready
 #      files are valid (pmu50 diff reads them);
 #   3. on Icarus the twin passes, and an RTL that hangs fails each seed at the time limit;
@@ -35,6 +35,9 @@ cat "$W/mut.log"
 [ $rc -eq 1 ] || fail "the planted bug was not found (exit $rc, expected 1)"
 n=$(ls -d "$W"/mut_run/failures/*/ 2>/dev/null | wc -l)
 [ "$n" -ge 1 ] || fail "no failure folder"
+# one root cause, one signature: the counter's error, whether or not the count diagnosis trips
+# on the same edge and whichever FIG. path the cycle took (verif/src/check.rs, Failure::signature)
+[ "$n" -eq 1 ] || fail "the one planted bug landed in $n signatures: $(ls "$W"/mut_run/failures | tr '\n' ' ')"
 for d in "$W"/mut_run/failures/*/; do
     for f in repro.toml command.txt failure.txt repro.vcd repro.gtkw divergence.svg; do [ -s "$d/$f" ] || fail "$d$f missing"; done
     # the picture: the diverging signal as the model and as the DUT (its trace) have it

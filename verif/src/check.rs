@@ -52,29 +52,38 @@ const SIGNATURE_SIGNALS: usize = 4;
 
 impl Failure {
     /// What groups failures: the kind, the set of signals that differ at the failing tick (the
-    /// first divergent signal where only one does) and the FIG. path. A root cause that shows on
-    /// two signals at once, whichever the DUT lists first, is one signature.
+    /// first divergent signal where only one does) and, when one of them is the interval
+    /// adaptation's, the FIG. path. A root cause that shows on two signals at once, whichever
+    /// the DUT lists first, is one signature.
     pub fn signature(&self) -> String {
-        let what = if self.diverging.len() > 1 {
-            let names: Vec<&str> = self
-                .diverging
+        let all: Vec<&str> = if self.diverging.is_empty() {
+            vec![self.signal.trim_start_matches("pmu50.")]
+        } else {
+            self.diverging
                 .iter()
                 .map(|s| s.trim_start_matches("pmu50."))
-                .collect();
-            if names.len() > SIGNATURE_SIGNALS {
-                format!(
-                    "{}+{}more_{:08x}",
-                    names[..SIGNATURE_SIGNALS].join("+"),
-                    names.len() - SIGNATURE_SIGNALS,
-                    crate::cache::fnv(&[names.join(",").as_bytes()]) as u32
-                )
-            } else {
-                names.join("+")
-            }
-        } else {
-            self.signal.trim_start_matches("pmu50.").to_string()
+                .collect()
         };
-        let raw = format!("{}-{}-{}", self.kind, what, self.fig.replace('/', "_"));
+        let names = causes(&all);
+        let what = if names.len() > SIGNATURE_SIGNALS {
+            format!(
+                "{}+{}more_{:08x}",
+                names[..SIGNATURE_SIGNALS].join("+"),
+                names.len() - SIGNATURE_SIGNALS,
+                crate::cache::fnv(&[names.join(",").as_bytes()]) as u32
+            )
+        } else {
+            names.join("+")
+        };
+        // The FIG. 17/18 path tells failures of the interval adaptation apart; a bug elsewhere
+        // (a counter, the register file) shows in whatever path the cycle took, and one root
+        // cause would fall into as many signatures as paths.
+        let fig = if names.iter().any(|s| decided_by_fig(s)) {
+            self.fig.replace('/', "_")
+        } else {
+            "-".to_string()
+        };
+        let raw = format!("{}-{}-{}", self.kind, what, fig);
         raw.chars()
             .map(|c| {
                 if c.is_ascii_alphanumeric() || "_-.+".contains(c) {
@@ -85,6 +94,42 @@ impl Failure {
             })
             .collect()
     }
+}
+
+/// The signals of a divergence that are not the same edge's consequence of another one of them:
+/// the count diagnosis compares the two counters ([0119], docs/spec.md 2.7), so `diag` beside a
+/// counter is that counter's error; a read shows a register, so `bus_rdata` beside another
+/// signal shows that signal's error. A root cause that sometimes trips its consequence on the
+/// same edge is one signature (the failure's text still lists every signal that differs).
+fn causes<'a>(diverging: &[&'a str]) -> Vec<&'a str> {
+    let counter = |s: &str| {
+        matches!(
+            s,
+            "cnt_s" | "cnt_c" | "updown_counter.cnt_s" | "updown_counter.cnt_c"
+        )
+    };
+    let has_counter = diverging.iter().any(|s| counter(s));
+    let kept: Vec<&str> = diverging
+        .iter()
+        .copied()
+        .filter(|s| !(has_counter && matches!(*s, "diag" | "count_diagnosis.diag")))
+        .collect();
+    if kept.len() > 1 {
+        kept.into_iter().filter(|s| *s != "bus_rdata").collect()
+    } else {
+        kept
+    }
+}
+
+/// Whether the FIG. 17/18 path decides `signal`'s value: the drive interval changing block's
+/// state (si, CNTr and the two history flags, at the ports or inside the block, [0240]-[0275])
+/// and the path itself.
+fn decided_by_fig(signal: &str) -> bool {
+    let s = signal.trim_start_matches("pmu50.");
+    matches!(
+        s,
+        "si" | "cnt_r" | "hist_s" | "hist_c" | "internals.fig17" | "internals.fig18"
+    ) || s.starts_with("drive_interval.")
 }
 
 /// FIG. 17/18 path of an edge, by the coverage bins' names (`s6_shorten/s23_detected_cs`, or
@@ -404,6 +449,65 @@ mod tests {
         assert!(
             s.starts_with("dut-s0+s1+s2+s3+5more_") && s.len() < 80,
             "{s}"
+        );
+    }
+
+    #[test]
+    fn the_fig_path_groups_only_the_interval_adaptations_failures() {
+        // a counter that counts the wrong way shows in whatever path the cycle took: one
+        // signature for every path
+        let mut a = diverged("pmu50.cnt_c", &["pmu50.cnt_c"]);
+        let mut b = a.clone();
+        a.fig = "s6_shorten/s23_detected_cs".into();
+        b.fig = "fixed".into();
+        assert_eq!(a.signature(), "dut-cnt_c--");
+        assert_eq!(a.signature(), b.signature());
+        // with the register inside the counter block too
+        a.diverging = vec!["pmu50.cnt_c".into(), "pmu50.updown_counter.cnt_c".into()];
+        assert_eq!(a.signature(), "dut-cnt_c+updown_counter.cnt_c--");
+        // the interval's state, at the ports or inside the block, keeps its path
+        for s in [
+            "pmu50.si",
+            "pmu50.drive_interval.cnt_r",
+            "pmu50.internals.fig17",
+        ] {
+            let f = diverged(s, &[s]);
+            assert!(
+                f.signature().ends_with("-s10_expand_s25_no_change"),
+                "{}",
+                f.signature()
+            );
+        }
+        // and a set with one of them keeps it too
+        let f = diverged("pmu50.cnt_c", &["pmu50.cnt_c", "pmu50.si"]);
+        assert_eq!(f.signature(), "dut-cnt_c+si-s10_expand_s25_no_change");
+    }
+
+    #[test]
+    fn a_consequence_on_the_same_edge_does_not_split_a_root_cause() {
+        // the count diagnosis trips on a wrong counter on some edges, not on others
+        let alone = diverged("pmu50.cnt_c", &["pmu50.cnt_c"]);
+        let tripped = diverged("pmu50.cnt_c", &["pmu50.cnt_c", "pmu50.diag"]);
+        assert_eq!(alone.signature(), "dut-cnt_c--");
+        assert_eq!(tripped.signature(), alone.signature());
+        // diag alone, or beside no counter, is its own
+        assert_eq!(
+            diverged("pmu50.diag", &["pmu50.diag"]).signature(),
+            "dut-diag--"
+        );
+        assert_eq!(
+            diverged("pmu50.diag", &["pmu50.diag", "pmu50.sr"]).signature(),
+            "dut-diag+sr--"
+        );
+        // a read of the wrong register is the register's error; a read alone is the read's
+        let read = diverged(
+            "pmu50.bus_rdata",
+            &["pmu50.bus_rdata", "pmu50.register_file.pw"],
+        );
+        assert_eq!(read.signature(), "dut-register_file.pw--");
+        assert_eq!(
+            diverged("pmu50.bus_rdata", &["pmu50.bus_rdata"]).signature(),
+            "dut-bus_rdata--"
         );
     }
 }
