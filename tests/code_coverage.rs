@@ -169,6 +169,23 @@ fn shards_merged_and_a_resumed_run_give_the_bytes_of_one_run() {
             "{out}"
         );
     }
+    // the Markdown table: a row per file and the totals of summary.json
+    let md = read(&code.join("summary.md"));
+    let all = format!(
+        "| **all** | **{}/{} (",
+        sum["line"]["hit"], sum["line"]["total"]
+    );
+    assert!(
+        md.contains(&all),
+        "summary.md's totals are summary.json's: {md}"
+    );
+    assert!(md.contains("| rtl/timing_generator_56.v | "), "{md}");
+    let timer_waived = "| 8 |";
+    assert!(
+        md.lines()
+            .any(|l| l.starts_with("| rtl/timing_generator_56.v") && l.contains(timer_waived)),
+        "the waived bits are on their file's row: {md}"
+    );
     let lcov = read(&code.join("lcov.info"));
     assert!(lcov.contains("SF:rtl/timing_generator_56.v\n") && lcov.contains("end_of_record"));
     let report = read(&whole.join("report.html"));
@@ -195,7 +212,13 @@ fn shards_merged_and_a_resumed_run_give_the_bytes_of_one_run() {
         s(&t.join("s1")),
     ]);
     expect(&o, 0, &["code coverage: line "]);
-    for f in ["coverage.dat", "lcov.info", "summary.json", "waivers.toml"] {
+    for f in [
+        "coverage.dat",
+        "lcov.info",
+        "summary.json",
+        "summary.md",
+        "waivers.toml",
+    ] {
         assert_eq!(
             read(&merged.join("code").join(f)),
             read(&code.join(f)),
@@ -217,7 +240,7 @@ fn shards_merged_and_a_resumed_run_give_the_bytes_of_one_run() {
         .output()
         .unwrap();
     expect(&o, 0, &["4 seeds, 4 pass"]);
-    for f in ["coverage.dat", "lcov.info", "summary.json"] {
+    for f in ["coverage.dat", "lcov.info", "summary.json", "summary.md"] {
         assert_eq!(
             read(&torn.join("code").join(f)),
             read(&code.join(f)),

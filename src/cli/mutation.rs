@@ -62,6 +62,9 @@ pub fn run(a: Args) -> CmdResult {
     let stop = AtomicBool::new(false);
     let r = mutation::run(&o, &stop, progress_line)?;
     out!("{}", r.text().trim_end());
-    out!("wrote {}/mutation.json, mutation.txt", a.out.display());
+    out!(
+        "wrote {}/mutation.json, mutation.txt, mutation.md",
+        a.out.display()
+    );
     Ok(Outcome::of(r.ok()))
 }

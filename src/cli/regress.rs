@@ -62,7 +62,7 @@ pub struct Args {
     #[arg(long, value_name = "DIR", conflicts_with_all = ["start_seed", "iterations", "shard", "shard_count", "directed", "check_spec", "dut", "rtl", "map", "repro", "sync_depth", "cnt_width", "out", "code_coverage", "waivers", "param_sets"])]
     pub resume: Option<PathBuf>,
     /// Measure the RTL's code coverage (Verilator line and toggle coverage; --dut verilator):
-    /// code/coverage.dat, code/lcov.info, code/summary.json and a section of report.html.
+    /// code/coverage.dat, code/lcov.info, code/summary.json, code/summary.md and a section of report.html.
     #[arg(long, conflicts_with = "repro")]
     pub code_coverage: bool,
     /// The waivers of the code coverage (TOML, docs/verification.md). Default: the twin's
@@ -312,7 +312,7 @@ pub fn run(a: Args) -> CmdResult {
         "wrote {}/results.jsonl, coverage.json, report.html{} ({:.1} s, {} jobs)",
         out_dir.display(),
         if s.code.is_some() {
-            ", code/coverage.dat, code/lcov.info, code/summary.json"
+            ", code/coverage.dat, code/lcov.info, code/summary.json, code/summary.md"
         } else {
             ""
         },

@@ -256,6 +256,67 @@ impl Report {
     }
 }
 
+impl Report {
+    /// The table as Markdown, as docs/verification.md quotes it (section 11; checked against a
+    /// run by tests/doc_figures.rs): a row per mutant, then the score line. No times: they vary
+    /// with the machine, the table does not.
+    pub fn markdown(&self) -> String {
+        let mut s = String::from(
+            "| mutant | block | scope | seeds to catch | first failure: seed, signature, tick |\n|---|---|---|---:|---|\n",
+        );
+        for r in &self.rows {
+            let scope = match &r.scope {
+                Scope::Every => "every method",
+                Scope::Regress => "regress",
+                Scope::Equivalent(_) => "equivalent",
+            };
+            let (n, what) = match &r.outcome {
+                Outcome::Caught {
+                    seeds,
+                    seed,
+                    signature,
+                    tick,
+                    ..
+                } => (seeds.to_string(), format!("{seed}, `{signature}`, {tick}")),
+                Outcome::Escaped { seeds } => ("escaped".into(), format!("all {seeds} seeds pass")),
+                Outcome::Equivalent { proof } => ("equivalent".into(), format!("proof: {proof}")),
+                Outcome::Error { reason } => ("error".into(), reason.replace('|', "\\|")),
+            };
+            s.push_str(&format!(
+                "| `{}` | {} | {scope} | {n} | {what} |\n",
+                r.mutant, r.block
+            ));
+        }
+        let run = self.rows.len() - self.equivalent;
+        let slowest: Vec<String> = self
+            .rows
+            .iter()
+            .filter(
+                |r| matches!(r.outcome, Outcome::Caught { seeds, .. } if seeds == self.max_seeds),
+            )
+            .map(|r| format!("`{}`", r.mutant))
+            .collect();
+        s.push_str(&format!(
+            "\nMutation score{}: {} of {run} caught within {} directed seeds ({:.1} %), {} escaped, {} proven equivalent{}; median {} seeds to catch, most {}{}.\n",
+            if self.compare == "ports" { " on the ports alone" } else { "" },
+            self.caught,
+            self.iterations,
+            self.score_percent,
+            self.escaped,
+            self.equivalent,
+            if self.errors > 0 { format!(", {} error(s)", self.errors) } else { String::new() },
+            self.median_seeds,
+            self.max_seeds,
+            if slowest.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", slowest.join(", "))
+            }
+        ));
+        s
+    }
+}
+
 /// The directed regression's scenarios: the bias of each batch, from the model's coverage of the
 /// seeds before it (as `pmu50 regress --directed` draws them).
 fn directed_biases(spec: &RunSpec, model: &dyn Dut) -> Result<Vec<Bias>, MutationError> {
@@ -267,9 +328,7 @@ fn directed_biases(spec: &RunSpec, model: &dyn Dut) -> Result<Vec<Bias>, Mutatio
     let mut lo = start;
     while lo < end {
         let hi = (lo + BATCH).min(end);
-        let bias = Bias::directed(&before, spec.pins)
-            .fixing(&spec.fixed)
-            .pooled(&spec.pool);
+        let bias = spec.bias(&before);
         let seeds: Vec<u64> = (lo..hi).collect();
         let out = run_pool(
             spec,
@@ -453,7 +512,7 @@ fn one(
     }
 }
 
-/// Run the mutation table into `o.out` (mutation.json, mutation.txt). `progress` is given each
+/// Run the mutation table into `o.out` (mutation.json, mutation.txt, mutation.md). `progress` is given each
 /// finished row's line.
 pub fn run(o: &Options, stop: &AtomicBool, progress: fn(&str)) -> Result<Report, MutationError> {
     let t0 = Instant::now();
@@ -623,6 +682,10 @@ pub fn run(o: &Options, stop: &AtomicBool, progress: fn(&str)) -> Result<Report,
     b.add(atomic_file::write_atomic(
         &o.out.join("mutation.txt"),
         report.text().as_bytes(),
+    )?);
+    b.add(atomic_file::write_atomic(
+        &o.out.join("mutation.md"),
+        report.markdown().as_bytes(),
     )?);
     b.commit()?;
     Ok(report)

@@ -115,6 +115,60 @@ pub struct CodeSummary {
     pub waivers_file: String,
 }
 
+impl CodeSummary {
+    /// The per-file table as Markdown (`code/summary.md`), as docs/verification.md quotes the
+    /// twin's figures (section 9; checked against a run by tests/doc_figures.rs): line, toggle
+    /// and expression points covered of those counted, and those waived; `-` where a file has
+    /// no point of a kind.
+    pub fn markdown(&self) -> String {
+        fn cell(c: &Count, bold: bool) -> String {
+            if c.total == 0 {
+                return "-".into();
+            }
+            let pct = if c.pct.fract() == 0.0 {
+                format!("{:.0} %", c.pct)
+            } else {
+                format!("{:.2} %", c.pct)
+            };
+            if bold {
+                format!("**{}/{} ({pct})**", c.hit, c.total)
+            } else {
+                format!("{}/{}", c.hit, c.total)
+            }
+        }
+        let expr = |c: &Count, bold: bool| {
+            if self.expr_measured {
+                cell(c, bold)
+            } else {
+                "not measured".to_string()
+            }
+        };
+        let mut t = String::from(
+            "| file | line | toggle | toggle waived | expression | expression waived |\n|---|---:|---:|---:|---:|---:|\n",
+        );
+        for f in &self.files {
+            t.push_str(&format!(
+                "| {} | {} | {} | {} | {} | {} |\n",
+                f.file,
+                cell(&f.line, false),
+                cell(&f.toggle, false),
+                f.toggle.waived,
+                expr(&f.expr, false),
+                f.expr.waived
+            ));
+        }
+        t.push_str(&format!(
+            "| **all** | {} | {} | **{}** | {} | **{}** |\n",
+            cell(&self.line, true),
+            cell(&self.toggle, true),
+            self.toggle.waived,
+            expr(&self.expr, true),
+            self.expr.waived
+        ));
+        t
+    }
+}
+
 /// A folder's code coverage, ready to write and to render.
 #[derive(Clone, Debug)]
 pub struct CodeReport {
@@ -271,7 +325,7 @@ impl CodeReport {
         }
     }
 
-    /// coverage.dat, lcov.info and summary.json of `dir/code/`, added to `batch`; the summary
+    /// coverage.dat, lcov.info, summary.json and summary.md of `dir/code/`, added to `batch`; the summary
     /// sealed with `prov` (crate::provenance) when given.
     pub fn write(
         &self,
@@ -301,6 +355,10 @@ impl CodeReport {
             }
         };
         batch.add(write_atomic(&cd.join("summary.json"), json.as_bytes())?);
+        batch.add(write_atomic(
+            &cd.join("summary.md"),
+            self.summary.markdown().as_bytes(),
+        )?);
         Ok(())
     }
 
