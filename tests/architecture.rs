@@ -786,3 +786,46 @@ fn docs_architecture_table_is_the_crates_dependencies() {
         );
     }
 }
+
+/// With `autotests = false`, a file of tests/ that is neither a module of tests/integration.rs
+/// nor a `[[test]]` of Cargo.toml is never compiled, and its tests never run: each is exactly
+/// one of them.
+#[test]
+fn every_test_file_is_compiled_once() {
+    let dir = root().join("tests");
+    let integration = std::fs::read_to_string(dir.join("integration.rs")).unwrap();
+    let modules: BTreeSet<String> = integration
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("mod ")?.strip_suffix(';'))
+        .map(|m| format!("{m}.rs"))
+        .collect();
+    let manifest = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    let targets: BTreeSet<String> = manifest
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("path = \"tests/")?.strip_suffix('"'))
+        .map(str::to_string)
+        .collect();
+    let mut problems = Vec::new();
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let name = e.unwrap().file_name().to_string_lossy().into_owned();
+        if !name.ends_with(".rs") || name == "integration.rs" {
+            continue;
+        }
+        match (modules.contains(&name), targets.contains(&name)) {
+            (true, true) => problems.push(format!(
+                "tests/{name} is both a module of tests/integration.rs and a [[test]] of Cargo.toml: its tests run twice"
+            )),
+            (false, false) => problems.push(format!(
+                "tests/{name} is compiled by nothing: add `mod {};` to tests/integration.rs (or a [[test]] to Cargo.toml)",
+                name.trim_end_matches(".rs")
+            )),
+            _ => {}
+        }
+    }
+    for m in modules.iter().chain(&targets) {
+        if !dir.join(m).is_file() {
+            problems.push(format!("tests/{m} is declared but does not exist"));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
