@@ -1,6 +1,6 @@
 //! The sign-off rows of the kit's checks of an RTL ([`crate::check_report::CheckReport`]: lint,
 //! X-propagation): findings not waived, at most 0. One row type, [`ChecksRow`]; each row is a
-//! value of it (`signoff_lint::Lint`, `signoff_xprop::XProp`) saying its file, format and what
+//! value of it (`signoff_lint::LINT`, `signoff_xprop::XPROP`) saying its file, format and what
 //! its figure is over. Missing when the folder has no sealed report, when a check could not run
 //! on the RTL (the row names why), or when the report counts over nothing.
 
