@@ -96,6 +96,14 @@ impl CheckReport {
         self.checks.iter().all(|c| c.ran) && self.unwaived.is_empty()
     }
 
+    /// ` over N file(s)`; empty for a report that does not count them (made before the count).
+    pub fn over_files(&self) -> String {
+        match self.files {
+            0 => String::new(),
+            n => format!(" over {n} file(s)"),
+        }
+    }
+
     /// Findings waived.
     pub fn waived(&self) -> u64 {
         self.waivers.iter().map(|u| u.waived).sum()

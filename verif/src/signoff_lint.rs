@@ -19,16 +19,10 @@ pub const LINT: ChecksRow = ChecksRow {
 
 /// `N warning(s) over F file(s) by TOOLS`.
 fn scope(r: &CheckReport) -> Result<String, String> {
-    if r.files == 0 {
-        return Err(format!(
-            "checked no source file (a report that does not count them: {})",
-            LINT.remedy
-        ));
-    }
     Ok(format!(
-        "{} warning(s) over {} file(s) by {}",
+        "{} warning(s){} by {}",
         r.checks.iter().map(|c| c.findings.len()).sum::<usize>(),
-        r.files,
+        r.over_files(),
         r.tools()
     ))
 }

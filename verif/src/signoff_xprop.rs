@@ -24,8 +24,8 @@ fn scope(r: &CheckReport) -> Result<String, String> {
     match r.seeds {
         None | Some(0) => Err("0 seeds simulated".into()),
         Some(n) => Ok(format!(
-            "{n} seed(s) in 4 states and every flip-flop's reset over {} file(s){}",
-            r.files,
+            "{n} seed(s) in 4 states and every flip-flop's reset{}{}",
+            r.over_files(),
             r.read_by()
         )),
     }
