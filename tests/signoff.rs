@@ -93,7 +93,7 @@ fn complete(dir: &Path) {
     sealed(
         &dir.join("lint.json"),
         &format!(
-            r#"{{"format": "pmu50-lint-1", "checks": [{}, {}], "unwaived": [], "waivers": [], "waivers_file": ""}}"#,
+            r#"{{"format": "pmu50-lint-1", "files": 9, "checks": [{}, {}], "unwaived": [], "waivers": [], "waivers_file": ""}}"#,
             clean("verilator -Wall --lint-only"),
             clean("yosys check")
         ),
@@ -104,7 +104,7 @@ fn complete(dir: &Path) {
     sealed(
         &dir.join("xprop.json"),
         &format!(
-            r#"{{"format": "pmu50-xprop-1", "seeds": 1, "checks": [{}, {}], "unwaived": [], "waivers": [], "waivers_file": ""}}"#,
+            r#"{{"format": "pmu50-xprop-1", "seeds": 1, "files": 9, "checks": [{}, {}], "unwaived": [], "waivers": [], "waivers_file": ""}}"#,
             clean("icarus 4-state"),
             clean("yosys flip-flop reset")
         ),

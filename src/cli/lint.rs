@@ -32,7 +32,12 @@ pub fn run(a: Args) -> CmdResult {
     let r = pmu50_verif::lint::run(&fl, waivers.as_ref()).map_err(CliError::Usage)?;
     for c in &r.checks {
         if c.ran {
-            out!("lint: {}: {} warning(s)", c.tool, c.findings.len());
+            out!(
+                "lint: {}: {} warning(s){}",
+                c.tool,
+                c.findings.len(),
+                pmu50_verif::rtl_reader::read_by(&c.reader)
+            );
         } else {
             out!("lint: {}: not run: {}", c.tool, c.reason);
         }

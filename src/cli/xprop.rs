@@ -44,7 +44,12 @@ pub fn run(a: Args) -> CmdResult {
         pmu50_verif::xprop::run(&fl, a.iterations, waivers.as_ref()).map_err(CliError::Usage)?;
     for c in &r.checks {
         if c.ran {
-            out!("xprop: {}: {} finding(s)", c.tool, c.findings.len());
+            out!(
+                "xprop: {}: {} finding(s){}",
+                c.tool,
+                c.findings.len(),
+                pmu50_verif::rtl_reader::read_by(&c.reader)
+            );
         } else {
             out!("xprop: {}: not run: {}", c.tool, c.reason);
         }
@@ -64,7 +69,7 @@ pub fn run(a: Args) -> CmdResult {
     out!(
         "xprop: {} finding(s) not waived over {} seed(s){}",
         r.unwaived.len(),
-        r.seeds,
+        a.iterations,
         if r.clean() { "" } else { ": not clean" }
     );
     let v = serde_json::to_value(&r).map_err(|e| CliError::Usage(e.to_string()))?;

@@ -1,18 +1,21 @@
 //! `pmu50 lint --rtl LIST [--waivers FILE] --out FILE.json`: the RTL's tool warnings, each waived
 //! with a reviewed reason or counted. Two checks, each its own function:
 //! - [`verilator_lint`]: Verilator `--lint-only -Wall` with the file list's options (those of the
-//!   regression's builds), top `pmu50`; every `%Warning-RULE: file:line:` is a finding;
+//!   regression's builds), top `pmu50`; every `%Warning-RULE: file:line:` is a finding. Verilator
+//!   reads SystemVerilog itself;
 //! - [`yosys_check`]: yosys's `check` after `hierarchy -top pmu50; proc` on the RTL as Debian's
-//!   yosys 0.23 reads it (`read_verilog -sv`); an RTL it cannot read (SystemVerilog beyond it:
-//!   package imports in module headers, typed parameters) is reported as not checked, with the
-//!   reason, not as clean.
+//!   yosys 0.23 gets it from [`crate::rtl_reader`]: a Verilog RTL read by yosys itself, an RTL
+//!   with SystemVerilog files lowered by slang first (findings at the RTL's files and lines,
+//!   from slang's `src` attributes); an RTL no reader gives is reported as not checked, with the
+//!   reason, never as clean.
 //!
-//! The output is sealed with its provenance ([`crate::provenance`]); the sign-off row
-//! (`signoff_lint`) reads it.
+//! The report ([`CheckReport`]) is sealed with its provenance ([`crate::provenance`]); the
+//! sign-off row (`signoff_lint`) reads it.
 
+use crate::check_report::{CheckReport, CheckRun};
 use crate::filelist::FileList;
-use crate::waiver::{Finding, SiteUse, SiteWaivers};
-use serde::{Deserialize, Serialize};
+use crate::rtl_reader::{readers, RtlReader};
+use crate::waiver::{Finding, SiteWaivers};
 use std::path::Path;
 use std::process::Command;
 
@@ -20,37 +23,6 @@ use std::process::Command;
 pub const FORMAT: &str = "pmu50-lint-1";
 /// Its name in a sign-off folder.
 pub const FILE: &str = "lint.json";
-
-/// One check's outcome.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct CheckRun {
-    /// `verilator -Wall --lint-only`, `yosys check`.
-    pub tool: String,
-    /// Whether it ran on the RTL; when not, why (`reason`).
-    pub ran: bool,
-    #[serde(default)]
-    pub reason: String,
-    pub findings: Vec<Finding>,
-}
-
-/// The lint report (`lint.json`, sealed).
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct LintReport {
-    pub format: String,
-    pub checks: Vec<CheckRun>,
-    /// The findings no applying waiver waives.
-    pub unwaived: Vec<Finding>,
-    pub waivers: Vec<SiteUse>,
-    /// The waivers file, as given (empty: none).
-    pub waivers_file: String,
-}
-
-impl LintReport {
-    /// Whether every check ran, and every finding is waived.
-    pub fn clean(&self) -> bool {
-        self.checks.iter().all(|c| c.ran) && self.unwaived.is_empty()
-    }
-}
 
 /// `%Warning-RULE: file:line:col: message` lines of Verilator's output.
 pub fn parse_verilator(log: &str) -> Vec<Finding> {
@@ -115,18 +87,46 @@ pub fn verilator_lint(list: &FileList) -> Result<CheckRun, String> {
     {
         return Err(format!("verilator --lint-only: {e}"));
     }
-    Ok(CheckRun {
-        tool: "verilator -Wall --lint-only".into(),
-        ran: true,
-        reason: String::new(),
-        findings: parse_verilator(&log),
-    })
+    Ok(CheckRun::ran(
+        "verilator -Wall --lint-only",
+        crate::rtl_reader::NATIVE.into(),
+        parse_verilator(&log),
+    ))
 }
 
-/// yosys's `check` (hierarchy -top pmu50; proc) of the RTL as Debian's yosys reads it. An RTL it
-/// cannot read is not checked: `ran` false with yosys's error.
+const YOSYS_CHECK: &str = "yosys check";
+
+/// yosys's `check` (hierarchy -top pmu50; proc) of the RTL as Debian's yosys gets it from the
+/// first reader that gives it ([`crate::rtl_reader::readers`]). An RTL none gives is not
+/// checked: `ran` false with every reader's reason.
 pub fn yosys_check(list: &FileList, work: &Path) -> Result<CheckRun, String> {
-    let read = list.yosys_read("-nooverwrite");
+    let mut why = Vec::new();
+    for r in readers(list) {
+        match check_with(list, r.as_ref(), work)? {
+            Ok(findings) => return Ok(CheckRun::ran(YOSYS_CHECK, r.name(), findings)),
+            Err(e) => why.push(format!("{}: {e}", r.name())),
+        }
+    }
+    Ok(CheckRun::not_run(
+        YOSYS_CHECK,
+        String::new(),
+        format!(
+            "yosys 0.23 cannot read this RTL ({}): not checked",
+            why.join("; ")
+        ),
+    ))
+}
+
+/// yosys's `check` of the RTL as `reader` gives it; `Err` (inner): why yosys could not read it.
+fn check_with(
+    list: &FileList,
+    reader: &dyn RtlReader,
+    work: &Path,
+) -> Result<Result<Vec<Finding>, String>, String> {
+    let read = match reader.sources(list, &[], "-nooverwrite") {
+        Ok(s) => s.yosys_read,
+        Err(e) => return Ok(Err(e)),
+    };
     let log = work.join("yosys-check.log");
     let out = Command::new("yosys")
         .arg("-q")
@@ -146,16 +146,9 @@ pub fn yosys_check(list: &FileList, work: &Path) -> Result<CheckRun, String> {
             .unwrap_or("yosys failed")
             .trim()
             .to_string();
-        return Ok(CheckRun {
-            tool: "yosys check".into(),
-            ran: false,
-            reason: format!(
-                "yosys 0.23 cannot read this RTL ({err}): not checked; a SystemVerilog front end lowering it first is the formal kit's (hdl/formal/pmu50_formal)"
-            ),
-            findings: Vec::new(),
-        });
+        return Ok(Err(err));
     }
-    let findings = text
+    Ok(Ok(text
         .lines()
         .filter_map(|l| l.trim().strip_prefix("Warning: "))
         .map(|m| {
@@ -178,49 +171,14 @@ pub fn yosys_check(list: &FileList, work: &Path) -> Result<CheckRun, String> {
         })
         .collect::<std::collections::BTreeSet<_>>()
         .into_iter()
-        .collect();
-    Ok(CheckRun {
-        tool: "yosys check".into(),
-        ran: true,
-        reason: String::new(),
-        findings,
-    })
-}
-
-impl PartialOrd for Finding {
-    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Finding {
-    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
-        (
-            &self.file,
-            self.line,
-            &self.rule,
-            &self.signal,
-            &self.message,
-        )
-            .cmp(&(&o.file, o.line, &o.rule, &o.signal, &o.message))
-    }
+        .collect()))
 }
 
 /// Both checks of `list`, with `waivers` applied.
-pub fn run(list: &FileList, waivers: Option<&SiteWaivers>) -> Result<LintReport, String> {
+pub fn run(list: &FileList, waivers: Option<&SiteWaivers>) -> Result<CheckReport, String> {
     let work = tempfile::tempdir().map_err(|e| format!("a scratch folder: {e}"))?;
     let checks = vec![verilator_lint(list)?, yosys_check(list, work.path())?];
-    let all: Vec<Finding> = checks.iter().flat_map(|c| c.findings.clone()).collect();
-    let (unwaived, uses) = match waivers {
-        Some(w) => w.apply(&all, &list.files),
-        None => (all, Vec::new()),
-    };
-    Ok(LintReport {
-        format: FORMAT.into(),
-        checks,
-        unwaived,
-        waivers: uses,
-        waivers_file: waivers.map(|w| w.path.clone()).unwrap_or_default(),
-    })
+    Ok(CheckReport::new(FORMAT, list, None, checks, waivers))
 }
 
 #[cfg(test)]

@@ -222,6 +222,25 @@ pub struct Finding {
     pub message: String,
 }
 
+/// Findings in order of place: file, line, rule, signal, message.
+impl PartialOrd for Finding {
+    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Finding {
+    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+        (
+            &self.file,
+            self.line,
+            &self.rule,
+            &self.signal,
+            &self.message,
+        )
+            .cmp(&(&o.file, o.line, &o.rule, &o.signal, &o.message))
+    }
+}
+
 /// A waiver of findings at one place (a lint or X waivers file, `[[waiver]]` tables): `rule`,
 /// `file`, `line`, optional `signal`, and the review (`kind`, `reason`, `reviewer`, `checksum`
 /// of its line).

@@ -5,19 +5,25 @@
 //!   the contract lets it float (docs/verification.md "X-propagation": `bus_wdata` while `bus_we`
 //!   is 0; `cmp_s`, `cmp_c` while `smp & sr` is 0, the only ticks the latches take them, spec
 //!   2.4); after reset, no contract output may be X or Z at any edge. The first X of each seed is
-//!   a finding, with the output and the tick. An RTL Icarus 11 cannot read is not checked: the
-//!   row is missing with the reason.
+//!   a finding, with the output and the tick.
 //! - [`structural`]: every flip-flop of the RTL is reset: yosys (`hierarchy -top pmu50; proc;
 //!   flatten; opt`) lists the flip-flops without an asynchronous reset (nor a synchronous one by
-//!   `rst_n`), each a finding named by its register and source line, unless a waiver says
-//!   why it needs none. An RTL yosys 0.23 cannot read is not checked, with the reason.
+//!   `rst_n`), each a finding named by its register (its instance path) and source line, unless a
+//!   waiver says why it needs none.
 //!
-//! The output is sealed with its provenance; the sign-off row (`signoff_xprop`) reads it.
+//! Both read the RTL through [`crate::rtl_reader`]: a Verilog RTL as Icarus and yosys read it, an
+//! RTL with SystemVerilog files (or one they cannot read) lowered by slang to plain Verilog, one
+//! lowering per parameter set, flip-flops kept with their reset or without, names and `src`
+//! lines the RTL's: a flop left out of reset still starts X in the simulation and is named as
+//! the RTL names it. An RTL no reader gives is not checked: the row is missing with the reason.
+//!
+//! The report ([`CheckReport`]) is sealed with its provenance; the sign-off row
+//! (`signoff_xprop`) reads it.
 
+use crate::check_report::{CheckReport, CheckRun};
 use crate::filelist::FileList;
-use crate::lint::CheckRun;
-use crate::waiver::{Finding, SiteUse, SiteWaivers};
-use serde::{Deserialize, Serialize};
+use crate::rtl_reader::{readers, RtlReader};
+use crate::waiver::{Finding, SiteWaivers};
 use std::io::Write;
 use std::path::Path;
 use std::process::Command;
@@ -26,24 +32,6 @@ pub const FORMAT: &str = "pmu50-xprop-1";
 pub const FILE: &str = "xprop.json";
 /// The bench (a variant of hdl/tb/tb_vectors.v with floating inputs), carried by the binary.
 pub const TB_XPROP: &str = include_str!("../../hdl/tb/tb_xprop.v");
-
-/// The X-propagation report (`xprop.json`, sealed).
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct XReport {
-    pub format: String,
-    /// Seeds simulated (1..=seeds).
-    pub seeds: u64,
-    pub checks: Vec<CheckRun>,
-    pub unwaived: Vec<Finding>,
-    pub waivers: Vec<SiteUse>,
-    pub waivers_file: String,
-}
-
-impl XReport {
-    pub fn clean(&self) -> bool {
-        self.checks.iter().all(|c| c.ran) && self.unwaived.is_empty()
-    }
-}
 
 /// The vector file of regression seed `seed` (the uniform generator's scenario) into `path`;
 /// its `// param` lines.
@@ -78,39 +66,61 @@ fn vectors(seed: u64, path: &Path) -> Result<Vec<(String, String)>, String> {
         .collect())
 }
 
-/// The 4-state simulation of seeds 1..=n (module doc).
+const SIMULATION: &str = "iverilog 4-state simulation (hdl/tb/tb_xprop.v)";
+
+/// The 4-state simulation of seeds 1..=n (module doc), with the first reader whose sources
+/// Icarus compiles.
 pub fn simulate(list: &FileList, n: u64, work: &Path) -> Result<CheckRun, String> {
-    let tool = "iverilog 4-state simulation (hdl/tb/tb_xprop.v)".to_string();
     let tb = work.join("tb_xprop.v");
     std::fs::write(&tb, TB_XPROP).map_err(|e| e.to_string())?;
+    let mut why = Vec::new();
+    for r in readers(list) {
+        match simulate_with(list, r.as_ref(), n, work, &tb)? {
+            Ok(findings) => return Ok(CheckRun::ran(SIMULATION, r.name(), findings)),
+            Err(e) => why.push(format!("{}: {e}", r.name())),
+        }
+    }
+    Ok(CheckRun::not_run(
+        SIMULATION,
+        String::new(),
+        format!(
+            "Icarus Verilog cannot read this RTL ({}): not simulated in 4 states; an RTL it cannot read has no X-propagation evidence",
+            why.join("; ")
+        ),
+    ))
+}
+
+/// The simulation of seeds 1..=n on the RTL as `reader` gives it; `Err` (inner): why Icarus
+/// could not compile it.
+fn simulate_with(
+    list: &FileList,
+    reader: &dyn RtlReader,
+    n: u64,
+    work: &Path,
+    tb: &Path,
+) -> Result<Result<Vec<Finding>, String>, String> {
     let mut findings = Vec::new();
     for seed in 1..=n {
         let vec = work.join(format!("seed{seed}.vec"));
         let params = vectors(seed, &vec)?;
+        let src = match reader.sources(list, &params, "") {
+            Ok(s) => s,
+            Err(e) => return Ok(Err(e)),
+        };
         let sim = work.join(format!("seed{seed}.vvp"));
         let mut c = Command::new("iverilog");
-        c.args(["-g2012", "-o"])
-            .arg(&sim)
-            .args(list.iverilog_args());
+        c.args(["-g2012", "-o"]).arg(&sim).args(&src.iverilog_args);
         for (k, v) in &params {
             c.arg(format!("-Ptb_xprop.{k}={v}"));
         }
-        c.arg(&tb).args(&list.files);
+        c.arg(tb).args(&src.files);
         let out = c
             .output()
             .map_err(|e| format!("cannot run iverilog (Debian package iverilog): {e}"))?;
         if !out.status.success() {
             let log = String::from_utf8_lossy(&out.stderr);
             let first = log.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
-            return Ok(CheckRun {
-                tool,
-                ran: false,
-                reason: format!(
-                    "Icarus Verilog cannot read this RTL ({}): not simulated in 4 states; an RTL it cannot read has no X-propagation evidence",
-                    first.trim()
-                ),
-                findings: Vec::new(),
-            });
+            return Ok(Err(first.trim().to_string()));
         }
         let out = Command::new("vvp")
             .arg("-n")
@@ -147,18 +157,42 @@ pub fn simulate(list: &FileList, n: u64, work: &Path) -> Result<CheckRun, String
             });
         }
     }
-    Ok(CheckRun {
-        tool,
-        ran: true,
-        reason: String::new(),
-        findings,
-    })
+    Ok(Ok(findings))
 }
 
-/// The flip-flops without reset (module doc).
+const STRUCTURAL: &str = "yosys: flip-flops without reset";
+
+/// The flip-flops without reset (module doc), of the RTL as the first reader that gives it to
+/// yosys gives it.
 pub fn structural(list: &FileList, work: &Path) -> Result<CheckRun, String> {
-    let tool = "yosys: flip-flops without reset".to_string();
-    let read = list.yosys_read("");
+    let mut why = Vec::new();
+    for r in readers(list) {
+        match flops_with(list, r.as_ref(), work)? {
+            Ok(findings) => return Ok(CheckRun::ran(STRUCTURAL, r.name(), findings)),
+            Err(e) => why.push(format!("{}: {e}", r.name())),
+        }
+    }
+    Ok(CheckRun::not_run(
+        STRUCTURAL,
+        String::new(),
+        format!(
+            "yosys 0.23 cannot read this RTL ({}): its flip-flops are not checked",
+            why.join("; ")
+        ),
+    ))
+}
+
+/// The flip-flops without reset of the RTL as `reader` gives it; `Err` (inner): why yosys could
+/// not read it.
+fn flops_with(
+    list: &FileList,
+    reader: &dyn RtlReader,
+    work: &Path,
+) -> Result<Result<Vec<Finding>, String>, String> {
+    let read = match reader.sources(list, &[], "") {
+        Ok(s) => s.yosys_read,
+        Err(e) => return Ok(Err(e)),
+    };
     let json = work.join("flops.json");
     let out = Command::new("yosys")
         .arg("-q")
@@ -177,25 +211,13 @@ pub fn structural(list: &FileList, work: &Path) -> Result<CheckRun, String> {
             .unwrap_or("yosys failed")
             .trim()
             .to_string();
-        return Ok(CheckRun {
-            tool,
-            ran: false,
-            reason: format!(
-                "yosys 0.23 cannot read this RTL ({err}): its flip-flops are not checked"
-            ),
-            findings: Vec::new(),
-        });
+        return Ok(Err(err));
     }
     let v: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(&json).map_err(|e| format!("{}: {e}", json.display()))?,
     )
     .map_err(|e| format!("{}: {e}", json.display()))?;
-    Ok(CheckRun {
-        tool,
-        ran: true,
-        reason: String::new(),
-        findings: unreset_flops(&v),
-    })
+    Ok(Ok(unreset_flops(&v)))
 }
 
 /// The flip-flop cells of yosys without an asynchronous reset. After `opt`, a register that
@@ -288,23 +310,15 @@ pub fn unreset_flops(v: &serde_json::Value) -> Vec<Finding> {
 }
 
 /// Both checks of `list`, with `waivers` applied.
-pub fn run(list: &FileList, seeds: u64, waivers: Option<&SiteWaivers>) -> Result<XReport, String> {
+pub fn run(
+    list: &FileList,
+    seeds: u64,
+    waivers: Option<&SiteWaivers>,
+) -> Result<CheckReport, String> {
     let work = tempfile::tempdir().map_err(|e| format!("a scratch folder: {e}"))?;
     let checks = vec![
         simulate(list, seeds, work.path())?,
         structural(list, work.path())?,
     ];
-    let all: Vec<Finding> = checks.iter().flat_map(|c| c.findings.clone()).collect();
-    let (unwaived, uses) = match waivers {
-        Some(w) => w.apply(&all, &list.files),
-        None => (all, Vec::new()),
-    };
-    Ok(XReport {
-        format: FORMAT.into(),
-        seeds,
-        checks,
-        unwaived,
-        waivers: uses,
-        waivers_file: waivers.map(|w| w.path.clone()).unwrap_or_default(),
-    })
+    Ok(CheckReport::new(FORMAT, list, Some(seeds), checks, waivers))
 }
