@@ -109,3 +109,6 @@ mod writer_thread;
 
 #[path = "xprop_lint.rs"]
 mod xprop_lint;
+
+#[path = "xprop_lint_sv.rs"]
+mod xprop_lint_sv;
