@@ -10,7 +10,9 @@
 //! is the RTL's files, the parameters, the map and the library's source; its record lists every
 //! file Verilator read (its `--MMD` dependency file: `` `include ``d files too) with a hash of
 //! each, and a build whose files changed is built again. A precompiled header of the Verilator
-//! runtime makes a build about half a second.
+//! runtime makes a build about half a second, and ccache, when installed ([`objcache`]), serves
+//! the objects of generated C++ compiled before. A regression builds its pool of parameter sets
+//! only ([`Dut::prebuild`], after [`super::prepare_for_pool`]).
 
 use super::api::{Backend, Build, Caps, Dut, DutError, DutTrace, InFlight, Needs, Recorded};
 use super::failure::{divergence, dut_failure, timed_out};
@@ -47,7 +49,8 @@ const CXXFLAGS: &[&str] = &[
 /// generated code about 18 000 lines for the twin, which `-O2` compiles in about 7.5 s of CPU;
 /// `-O0` compiles in 2.2 s but runs a seed several times slower, and a regression runs hundreds
 /// of seeds on each of the pool's builds: 400 directed seeds of the twin cost 139 s of CPU at
-/// `-O0` and 78 s at `-O1`, with the same counts.
+/// `-O0` and 78 s at `-O1`, with the same counts. Its slow code compiles apart at `-O0`
+/// ([`CXXFLAGS_COV_SLOW`]).
 const CXXFLAGS_COV: &[&str] = &[
     "-std=c++17",
     "-O1",
