@@ -7,7 +7,7 @@ SCENARIOS := $(sort $(wildcard scenarios/*.toml))
 SCENARIO  ?= fig15a
 
 # Debian packages the tests use, as "command:package".
-TOOLS := vcd2lxt2:gtkwave xvfb-run:xvfb xauth:xauth iverilog:iverilog verilator:verilator yosys:yosys chromium:chromium
+TOOLS := vcd2lxt2:gtkwave xvfb-run:xvfb xauth:xauth iverilog:iverilog verilator:verilator yosys:yosys chromium:chromium ccache:ccache
 
 # Python: a project-local virtual environment (nothing is installed outside the project folder).
 # The extension (python/, a member of the workspace) builds in the workspace's target folder with

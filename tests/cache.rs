@@ -112,6 +112,111 @@ fn an_rtl_edited_20_times_under_a_small_cap_stays_under_the_cap() {
     assert!(o.status.success(), "{}", text(&o));
     let o = pmu50_with(&cache, None, &["cache"]).output().unwrap();
     assert!(text(&o).contains(" 0 build(s)"), "{}", text(&o));
+    // and all it owns: no folder but the empty ones of the builds (the compiler cache and the
+    // unpacked HDL kits are gone too)
+    let left: Vec<String> = std::fs::read_dir(&cache)
+        .unwrap()
+        .flatten()
+        .filter(|e| e.path().is_dir())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| {
+            !matches!(n.as_str(), "verilator" | "icarus")
+                || std::fs::read_dir(cache.join(n)).unwrap().next().is_some()
+        })
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}
+
+fn have_ccache() -> bool {
+    Command::new("ccache")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// With ccache installed (`make deps` installs it) the builds compile through it, its objects in
+/// the cache folder: after a second edit of the RTL in place that leaves the generated C++ as it
+/// was (a comment), the build finds every object there.
+#[test]
+fn a_second_edit_in_place_finds_its_objects_in_the_compiler_cache() {
+    if !have_ccache() {
+        // without it the builds run g++ alone: a_build_killed_half_way_is_made_again_and_its_
+        // leftover_removed builds so
+        return;
+    }
+    let t = tmp("objcache");
+    let cache = t.join("cache");
+    let rtl = t.join("rtl");
+    let list = rtl.join("pmu50.f");
+    for edit in ["first", "second"] {
+        twin_copy(&rtl, edit);
+        let o = pmu50_with(&cache, None, &["rtl-info", "--rtl", list.to_str().unwrap()])
+            .env_remove("OBJCACHE")
+            .env_remove("CCACHE_DIR")
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{edit}: {}", text(&o));
+    }
+    let stats = Command::new("ccache")
+        .arg("--print-stats")
+        .env("CCACHE_DIR", cache.join("ccache"))
+        .output()
+        .unwrap();
+    let stats = String::from_utf8_lossy(&stats.stdout).into_owned();
+    let count = |keys: &[&str]| -> u64 {
+        stats
+            .lines()
+            .filter_map(|l| l.split_once('\t'))
+            .filter(|(k, _)| keys.contains(k))
+            .filter_map(|(_, v)| v.trim().parse::<u64>().ok())
+            .sum()
+    };
+    // the second build's unit: a hit; the first's and the runtime's: misses
+    assert_eq!(
+        count(&["direct_cache_hit", "preprocessed_cache_hit"]),
+        1,
+        "{stats}"
+    );
+    assert!(count(&["cache_miss"]) >= 2, "{stats}");
+    let logs: Vec<String> = std::fs::read_dir(cache.join("verilator"))
+        .unwrap()
+        .flatten()
+        .filter_map(|e| std::fs::read_to_string(e.path().join("builds.log")).ok())
+        .collect();
+    assert_eq!(logs.len(), 2, "{logs:?}");
+    assert!(logs.iter().all(|l| l.contains("(ccache)")), "{logs:?}");
+}
+
+/// `pmu50 cache clean` removes the HDL kits unpacked by pmu50 binaries (`hdl-<key>/`) and the
+/// compiler cache, but not a kit a running process holds.
+#[test]
+fn clean_removes_the_kits_and_the_compiler_cache_no_process_uses() {
+    let t = tmp("kits");
+    let cache = t.join("cache");
+    for d in ["hdl-0000000000000001", "hdl-0000000000000002", "ccache/a"] {
+        std::fs::create_dir_all(cache.join(d)).unwrap();
+        std::fs::write(cache.join(d).join("f"), "x").unwrap();
+    }
+    // a process using the second kit: its lease
+    let held = std::fs::File::create(cache.join("hdl-0000000000000002.lock")).unwrap();
+    held.lock_shared().unwrap();
+    let o = pmu50_with(&cache, None, &["cache", "clean"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!cache.join("hdl-0000000000000001").exists());
+    assert!(!cache.join("ccache").exists());
+    assert!(
+        cache.join("hdl-0000000000000002/f").is_file(),
+        "in use: kept"
+    );
+    assert!(text(&o).contains("1 in use"), "{}", text(&o));
+    drop(held);
+    let o = pmu50_with(&cache, None, &["cache", "clean"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!cache.join("hdl-0000000000000002").exists());
 }
 
 /// Two regressions of the same RTL started at once build each library once: the second waits
@@ -205,7 +310,12 @@ fn a_build_killed_half_way_is_made_again_and_its_leftover_removed() {
     let rtl = t.join("rtl");
     twin_copy(&rtl, "killed");
     let list = rtl.join("pmu50.f");
-    let info = || pmu50_with(&cache, None, &["rtl-info", "--rtl", list.to_str().unwrap()]);
+    // without a compiler cache: OBJCACHE empty, as on a machine without ccache
+    let info = || {
+        let mut c = pmu50_with(&cache, None, &["rtl-info", "--rtl", list.to_str().unwrap()]);
+        c.env("OBJCACHE", "");
+        c
+    };
     let leftovers = || -> Vec<std::path::PathBuf> {
         let Ok(d) = std::fs::read_dir(cache.join("verilator")) else {
             return Vec::new();
@@ -252,6 +362,10 @@ fn a_build_killed_half_way_is_made_again_and_its_leftover_removed() {
         .with_file_name(key)
         .join("libpmu50_dut.so")
         .is_file());
+    // built without the compiler cache: none made, and the build's record says so
+    assert!(!cache.join("ccache").exists());
+    let log = std::fs::read_to_string(killed[0].with_file_name("builds.log")).unwrap();
+    assert!(log.contains(" g++ ") && !log.contains("(ccache)"), "{log}");
     // and a trim removes the leftover, under the cap or not
     let o = pmu50_with(&cache, None, &["cache", "clean", "--to-cap"])
         .output()

@@ -63,7 +63,10 @@ pub fn run(a: Args) -> CmdResult {
                 "{}: {} in {} build(s), cap {} (PMU50_CACHE_MAX){}",
                 root.display(),
                 mib(size),
-                units.iter().filter(|u| !u.orphan).count(),
+                units
+                    .iter()
+                    .filter(|u| !u.orphan && matches!(u.kind, "verilator" | "icarus" | "runtime"))
+                    .count(),
                 mib(cap),
                 if size > cap {
                     " - over the cap: the next build trims it"
@@ -96,6 +99,10 @@ pub fn run(a: Args) -> CmdResult {
                     .unwrap_or_else(|_| {
                         if kind == "runtime" {
                             "(the Verilator runtime)".into()
+                        } else if kind == "kit" {
+                            format!("(the HDL kit of a pmu50 binary, {})", rtl.display())
+                        } else if kind == "ccache" {
+                            format!("(the compiler cache of the builds' C++, {})", rtl.display())
                         } else {
                             rtl.display().to_string()
                         }

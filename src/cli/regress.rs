@@ -238,7 +238,7 @@ pub fn run(a: Args) -> CmdResult {
     // build is bad input (exit 2), and what it fixes goes into the run's record.
     let t0 = Instant::now();
     let mut spec = spec;
-    let d = regress::dut::prepare(&spec)?;
+    let d = regress::dut::prepare_for_pool(&spec)?;
     if resume && spec.fixed != *d.fixed() {
         return Err(CliError::Usage(format!("--resume {}: the regression was run on an RTL that fixes {}, this RTL fixes {}: the RTL changed", out_dir.display(), if spec.fixed.is_empty() { "nothing".into() } else { spec.fixed.text() }, if d.fixed().is_empty() { "nothing".into() } else { d.fixed().text() })));
     }
@@ -272,6 +272,9 @@ pub fn run(a: Args) -> CmdResult {
             );
         }
     }
+    // Build modes: every parameter set of the pool built now, as many at once as the jobs
+    // allow; an RTL that builds for none of them is bad input (exit 2)
+    d.prebuild(&spec.pool, jobs)?;
     // what makes the folder: the RTL's content hash and every file's, the tools, the command
     let evidence = if resume {
         None

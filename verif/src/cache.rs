@@ -75,7 +75,9 @@ pub fn files_unchanged(record: &Path) -> bool {
 // `.compile-<key>-*`) and renamed into place complete, so a build killed half-way leaves only
 // that folder, which the next trim removes once no process holds its lock. An RTL's folder also
 // has a lease, `.lease`, held shared by every run on that RTL, and `rtl.txt`, the file list it
-// was made from.
+// was made from. Beside the builds: the HDL kits the binaries carry, unpacked (`hdl-<key>/`,
+// leased by each process that uses one through `hdl-<key>.lock`), and the compiler cache of the
+// builds' C++ (`ccache/`, leased through `ccache.lock`; its own cap, `CCACHE_MAXSIZE`).
 
 use std::fs::File;
 use std::time::SystemTime;
@@ -210,7 +212,7 @@ pub fn obtain<T>(
 /// One build of the cache, as trimming and `pmu50 cache` see it.
 #[derive(Clone, Debug)]
 pub struct Unit {
-    /// `verilator`, `icarus` or `runtime`.
+    /// `verilator`, `icarus`, `runtime`, `kit` (an unpacked HDL kit) or `ccache`.
     pub kind: &'static str,
     /// The RTL's folder (for a runtime, the folder of the runtimes).
     pub rtl: PathBuf,
@@ -294,6 +296,26 @@ pub fn units(root: &Path) -> Vec<Unit> {
             orphan,
         }
     };
+    for n in names(root) {
+        let p = root.join(&n);
+        if !p.is_dir() {
+            continue;
+        }
+        let kind = if n.starts_with("hdl-") {
+            "kit"
+        } else if n == "ccache" {
+            "ccache"
+        } else {
+            continue;
+        };
+        out.push(unit(
+            kind,
+            &p,
+            vec![p.clone()],
+            root.join(format!("{n}.lock")),
+            false,
+        ));
+    }
     let vdir = root.join("verilator");
     for n in names(&vdir) {
         let p = vdir.join(&n);
@@ -444,6 +466,20 @@ fn is_stale(p: &Path) -> bool {
     SystemTime::now()
         .duration_since(mtime(&p.join(".lease")))
         .is_ok_and(|d| d.as_secs() > 86_400)
+}
+
+/// The lease of a folder of the cache root that a process uses for as long as it runs (an
+/// unpacked HDL kit, the compiler cache): `<folder>.lock` held shared, taken once per folder
+/// and kept until the process ends, so that no `pmu50 cache clean` removes the folder under it.
+pub fn lease_for_process(folder: &Path) {
+    static HELD: std::sync::Mutex<Vec<(PathBuf, File)>> = std::sync::Mutex::new(Vec::new());
+    let mut held = HELD.lock().unwrap_or_else(|e| e.into_inner());
+    if held.iter().any(|(p, _)| p == folder) {
+        return;
+    }
+    if let Ok(f) = lease(folder) {
+        held.push((folder.to_path_buf(), f));
+    }
 }
 
 /// Trim the cache to its cap after a build (errors are not a run's business: the cap is kept

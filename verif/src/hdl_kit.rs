@@ -231,6 +231,8 @@ pub fn hdl_dir() -> PathBuf {
         return PathBuf::from(d);
     }
     let dir = crate::cache::cache_dir().join(format!("hdl-{:016x}", key()));
+    // leased for the process: `pmu50 cache clean` removes the kits no process uses
+    crate::cache::lease_for_process(&dir);
     if !dir.join("pmu50.f").is_file() {
         let _ = write(&dir);
     }

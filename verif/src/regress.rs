@@ -111,7 +111,9 @@ pub fn run(
         .map_err(|e| file_err(&results_path, e))?;
     // Build modes: every parameter set of the pool built once, before any seed, as many at
     // once as the jobs allow (a set that does not build fails the seeds that draw it).
-    d.prebuild(&o.spec.pool, o.jobs);
+    // (done already when the caller prebuilt the pool: the builds are kept by the DUT)
+    d.prebuild(&o.spec.pool, o.jobs)
+        .map_err(|e| RegressError::Dut(e.to_string()))?;
     let total_seeds = range.end - range.start;
     let mut n_done = done.len() as u64;
     let mut fails = done

@@ -89,8 +89,11 @@ pub trait Dut: Send + Sync {
         -> Result<Box<dyn InFlight + 'a>, DutError>;
     /// Build the RTL for each of these parameter sets now, `jobs` builds at once (build modes:
     /// a regression's pool is built before any seed). A set that does not build is left to
-    /// the seeds that draw it, which fail with the reason.
-    fn prebuild(&self, _sets: &[crate::gen::ParamSet], _jobs: usize) {}
+    /// the seeds that draw it, which fail with the reason; an RTL that builds for none of them
+    /// (or, with no sets, not for its defaults) is bad input, refused here.
+    fn prebuild(&self, _sets: &[crate::gen::ParamSet], _jobs: usize) -> Result<(), DutError> {
+        Ok(())
+    }
     /// What the report and the repro's command line say of this DUT beside the verdicts: the
     /// knobs not drawn, the fixed values, the map.
     fn notes(&self) -> Vec<String> {
@@ -169,6 +172,10 @@ pub struct Build<'a> {
     pub map: Option<RtlMap>,
     pub pins: Pins,
     pub code_coverage: bool,
+    /// The caller builds its pool next ([`Dut::prebuild`], which refuses an RTL that builds
+    /// for none of the sets): the constructor need not build the RTL's defaults to find a bad
+    /// RTL, a build no seed of a pool may use.
+    pub pool_next: bool,
 }
 
 /// One backend: a row of the registry (`super::registry::BACKENDS`).

@@ -462,7 +462,7 @@ impl Dut for IcarusDut {
             })
     }
 
-    fn prebuild(&self, sets: &[crate::gen::ParamSet], jobs: usize) {
+    fn prebuild(&self, sets: &[crate::gen::ParamSet], jobs: usize) -> Result<(), DutError> {
         let mut todo: Vec<(Params, u64)> = Vec::new();
         for s in sets {
             let k = (self.fixed.apply(&s.params), s.clock_us * 1000);
@@ -480,6 +480,7 @@ impl Dut for IcarusDut {
                 });
             }
         });
+        Ok(())
     }
 
     fn send<'a>(

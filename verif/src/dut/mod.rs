@@ -170,6 +170,17 @@ impl Backend {
 /// The DUT of a run spec: its backend, with the RTL (`spec.rtl`, default the twin) and the
 /// optional map. The RTL is analysed and built here: bad input fails now.
 pub fn prepare(spec: &RunSpec) -> Result<Box<dyn Dut>, DutError> {
+    prepare_as(spec, false)
+}
+
+/// [`prepare`] for a run that builds its pool of parameter sets next ([`Dut::prebuild`]): the
+/// RTL is analysed here, and a bad build refused by the prebuild (no build of the RTL's
+/// defaults, which the pool may not use).
+pub fn prepare_for_pool(spec: &RunSpec) -> Result<Box<dyn Dut>, DutError> {
+    prepare_as(spec, true)
+}
+
+fn prepare_as(spec: &RunSpec, pool_next: bool) -> Result<Box<dyn Dut>, DutError> {
     let backend = of(&spec.dut).map_err(DutError::Usage)?;
     backend
         .check(spec.rtl.is_some(), spec.map.is_some(), spec.code_coverage)
@@ -187,5 +198,6 @@ pub fn prepare(spec: &RunSpec) -> Result<Box<dyn Dut>, DutError> {
         map,
         pins: spec.pins,
         code_coverage: spec.code_coverage,
+        pool_next,
     })
 }

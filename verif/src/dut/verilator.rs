@@ -10,7 +10,9 @@
 //! is the RTL's files, the parameters, the map and the library's source; its record lists every
 //! file Verilator read (its `--MMD` dependency file: `` `include ``d files too) with a hash of
 //! each, and a build whose files changed is built again. A precompiled header of the Verilator
-//! runtime makes a build about half a second.
+//! runtime makes a build about half a second, and ccache, when installed ([`objcache`]), serves
+//! the objects of generated C++ compiled before. A regression builds its pool of parameter sets
+//! only ([`Dut::prebuild`], after [`super::prepare_for_pool`]).
 
 use super::api::{Backend, Build, Caps, Dut, DutError, DutTrace, InFlight, Needs, Recorded};
 use super::failure::{divergence, dut_failure, timed_out};
@@ -47,10 +49,22 @@ const CXXFLAGS: &[&str] = &[
 /// generated code about 18 000 lines for the twin, which `-O2` compiles in about 7.5 s of CPU;
 /// `-O0` compiles in 2.2 s but runs a seed several times slower, and a regression runs hundreds
 /// of seeds on each of the pool's builds: 400 directed seeds of the twin cost 139 s of CPU at
-/// `-O0` and 78 s at `-O1`, with the same counts.
+/// `-O0` and 78 s at `-O1`, with the same counts. Its slow code compiles apart at `-O0`
+/// ([`CXXFLAGS_COV_SLOW`]).
 const CXXFLAGS_COV: &[&str] = &[
     "-std=c++17",
     "-O1",
+    "-fPIC",
+    "-fvisibility=hidden",
+    "-DVM_TRACE=0",
+    "-DVM_COVERAGE=1",
+];
+/// The slow code of a build with code coverage (its `__Slow.cpp` files, about half of the
+/// twin's generated lines: the declarations of the coverage points): `-O0`, which compiles it
+/// in half the time of `-O1` (1.3 s against 2.8 s of CPU for the twin); it runs once a seed.
+const CXXFLAGS_COV_SLOW: &[&str] = &[
+    "-std=c++17",
+    "-O0",
     "-fPIC",
     "-fvisibility=hidden",
     "-DVM_TRACE=0",
@@ -106,6 +120,15 @@ impl Flavour {
             Flavour::Plain => CXXFLAGS,
             Flavour::Coverage => CXXFLAGS_COV,
             Flavour::Trace => CXXFLAGS_TRACE,
+        }
+    }
+    /// The flags of the code Verilator marks slow (`__Slow.cpp`: construction, the initial
+    /// settle, the declarations of the coverage points), compiled apart when set: run once
+    /// per seed, it need not be optimised.
+    fn slow_flags(self) -> Option<&'static [&'static str]> {
+        match self {
+            Flavour::Coverage => Some(CXXFLAGS_COV_SLOW),
+            Flavour::Plain | Flavour::Trace => None,
         }
     }
     fn verilator_args(self) -> &'static [&'static str] {
@@ -165,6 +188,11 @@ pub struct VerilatorDut {
     tool: vtool::Verilator,
     /// Whether the coverage builds count expression coverage.
     expr: bool,
+    /// The coverage builds' tool and options, part of their keys.
+    cov_tag: String,
+    /// The parameters of the library [`VerilatorDut::prepare`] builds (the top's defaults,
+    /// what the RTL fixes, the pins), once known; built then unless the pool comes next.
+    default_set: OnceLock<Params>,
     /// Verilator's installation (its runtime's sources), looked up at the first build.
     verilator_root: OnceLock<Result<PathBuf, String>>,
     builds: Mutex<HashMap<String, Slot>>,
@@ -220,16 +248,19 @@ impl VerilatorDut {
     /// learn what it fixes, check the map, and build the library of its default parameters:
     /// every way an RTL can be bad input fails here, before any seed.
     pub fn prepare(list: &Path, map: Option<RtlMap>, pins: Pins) -> Result<VerilatorDut, DutError> {
-        VerilatorDut::prepare_with(list, map, pins, false)
+        VerilatorDut::prepare_with(list, map, pins, false, false)
     }
 
     /// [`VerilatorDut::prepare`], with `code_coverage` the builds with Verilator's line and
-    /// toggle coverage (cached apart from the plain ones) and each seed's counts read back.
+    /// toggle coverage (cached apart from the plain ones) and each seed's counts read back;
+    /// with `pool_next` no build of the defaults (the caller's [`Dut::prebuild`] of its pool
+    /// refuses an RTL that does not build).
     pub fn prepare_with(
         list: &Path,
         map: Option<RtlMap>,
         pins: Pins,
         code_coverage: bool,
+        pool_next: bool,
     ) -> Result<VerilatorDut, DutError> {
         let fl = FileList::read(list).map_err(RtlError::from)?;
         let scratch = tempfile::Builder::new()
@@ -261,6 +292,17 @@ impl VerilatorDut {
             vtool::Verilator::system()
         };
         let expr = code_coverage && tool.expression_coverage();
+        // what the coverage builds' keys say of the tool: looked up once (finding Debian's
+        // root runs `verilator --getenv`, a Perl start, too dear for each seed's lookup)
+        let cov_tag = if code_coverage {
+            format!(
+                "{} {}",
+                if expr { VERILATOR_EXPR } else { "" },
+                tool.describe()
+            )
+        } else {
+            String::new()
+        };
         let mut notes = Vec::new();
         if code_coverage {
             notes.push(format!(
@@ -294,6 +336,8 @@ impl VerilatorDut {
             verilator_root: OnceLock::new(),
             tool,
             expr,
+            cov_tag,
+            default_set: OnceLock::new(),
             builds: Mutex::new(HashMap::new()),
             checked: Mutex::new(HashMap::new()),
             workers: Mutex::new(Vec::new()),
@@ -435,12 +479,15 @@ impl VerilatorDut {
             cnt_width: s0.cnt_width,
             ..dut.fixed.apply(&defaults)
         };
-        dut.build(&dut.gparams(&s0p), &dut.mapped)
-            .map_err(|log| RtlError::Build {
-                list: fl.list.clone(),
-                tool: "verilator",
-                log,
-            })?;
+        let _ = dut.default_set.set(s0p);
+        if !pool_next {
+            dut.build(&dut.gparams(&s0p), &dut.mapped)
+                .map_err(|log| RtlError::Build {
+                    list: fl.list.clone(),
+                    tool: "verilator",
+                    log,
+                })?;
+        }
         Ok(dut)
     }
 
@@ -595,15 +642,10 @@ impl VerilatorDut {
                 flavour.cxxflags().join(" ").as_bytes(),
                 flavour.verilator_args().join(" ").as_bytes(),
                 if flavour == Flavour::Coverage {
-                    format!(
-                        "{} {}",
-                        if self.expr { VERILATOR_EXPR } else { "" },
-                        self.tool.describe()
-                    )
+                    self.cov_tag.as_bytes()
                 } else {
-                    String::new()
+                    &[]
                 }
-                .as_bytes()
             ])
         );
         let slot = self
@@ -647,14 +689,14 @@ impl VerilatorDut {
         flavour: Flavour,
     ) -> Result<(), String> {
         let t0 = std::time::Instant::now();
-        self.build_now(key, g, mapped, header, flavour)?;
+        let steps = self.build_now(key, g, mapped, header, flavour)?;
         use std::io::Write;
         if let Ok(mut f) = std::fs::OpenOptions::new()
             .create(true)
             .append(true)
             .open(self.root.join("builds.log"))
         {
-            let _ = writeln!(f, "{key} {:.2} s", t0.elapsed().as_secs_f64());
+            let _ = writeln!(f, "{key} {:.2} s {steps}", t0.elapsed().as_secs_f64());
         }
         Ok(())
     }
@@ -666,9 +708,15 @@ impl VerilatorDut {
         mapped: &[(Entry, Mapped)],
         header: &str,
         flavour: Flavour,
-    ) -> Result<PathBuf, String> {
+    ) -> Result<String, String> {
         let dir = self.root.join(key);
         let lib = dir.join("libpmu50_dut.so");
+        let mut clock = std::time::Instant::now();
+        let mut lap = || {
+            let t = clock.elapsed().as_secs_f64();
+            clock = std::time::Instant::now();
+            t
+        };
         for tool in ["verilator", "g++"] {
             if !rtl::have_tool(tool) {
                 return Err(format!(
@@ -679,6 +727,7 @@ impl VerilatorDut {
         let vroot = self.vroot()?;
         let _ = std::fs::remove_dir_all(&dir);
         let (pch, runtime) = self.runtime(flavour)?;
+        let t_runtime = lap();
         std::fs::create_dir_all(&self.root).map_err(|e| format!("{}: {e}", self.root.display()))?;
         let tmp = tempfile::Builder::new()
             .prefix(&format!(".build-{key}-"))
@@ -723,9 +772,9 @@ impl VerilatorDut {
         }
         cmd.arg(obj.join("dut_map.vlt")).args(&self.list.files);
         step(&mut cmd, "verilator")?;
+        let t_verilator = lap();
         std::fs::write(obj.join("dut_map.h"), header).map_err(|e| e.to_string())?;
         std::fs::write(obj.join("dut_lib.cpp"), DUT_LIB_CPP).map_err(|e| e.to_string())?;
-        let mut unity = String::from("#include \"dut_lib.cpp\"\n");
         let mut gen: Vec<String> = std::fs::read_dir(&obj)
             .map_err(|e| e.to_string())?
             .filter_map(|e| e.ok())
@@ -733,30 +782,62 @@ impl VerilatorDut {
             .filter(|n| n.starts_with("Vpmu50") && n.ends_with(".cpp"))
             .collect();
         gen.sort();
-        for f in gen {
-            unity.push_str(&format!("#include \"{f}\"\n"));
-        }
-        std::fs::write(obj.join("unity.cpp"), unity).map_err(|e| e.to_string())?;
+        let units = unity_units(&gen, flavour.slow_flags().is_some());
         let inc = vroot.join("include");
-        let mut cc = Command::new("g++");
-        cc.args(flavour.cxxflags())
-            .arg(format!("-I{}", inc.display()))
-            .arg(format!("-I{}", inc.join("vltstd").display()))
-            .arg(format!("-I{}", obj.display()))
-            .arg("-include")
-            .arg(&pch)
-            .arg("-c")
-            .arg(obj.join("unity.cpp"))
-            .arg("-o")
-            .arg(obj.join("unity.o"));
-        step(&mut cc, "g++ (the Verilator model)")?;
+        // compiled in the build folder with names relative to it, so that a compiler cache
+        // finds the objects of another build folder of the same sources
+        let compiles: Vec<Command> = units
+            .iter()
+            .map(|(name, text, slow)| -> Result<Command, String> {
+                std::fs::write(obj.join(name), text).map_err(|e| e.to_string())?;
+                let mut cc = cxx();
+                cc.current_dir(&obj);
+                match flavour.slow_flags().filter(|_| *slow) {
+                    Some(flags) => {
+                        cc.args(flags);
+                    }
+                    None => {
+                        cc.args(flavour.cxxflags())
+                            .arg("-include")
+                            .arg(&pch)
+                            .arg("-fpch-preprocess");
+                    }
+                }
+                cc.arg(format!("-I{}", inc.display()))
+                    .arg(format!("-I{}", inc.join("vltstd").display()))
+                    .arg("-I.")
+                    .arg("-c")
+                    .arg(name)
+                    .arg("-o")
+                    .arg(name.replace(".cpp", ".o"));
+                Ok(cc)
+            })
+            .collect::<Result<_, _>>()?;
+        // the units at once (a build with code coverage: the fast code and the slow)
+        std::thread::scope(|s| {
+            let running: Vec<_> = compiles
+                .into_iter()
+                .map(|mut cc| s.spawn(move || step(&mut cc, "g++ (the Verilator model)")))
+                .collect();
+            running
+                .into_iter()
+                .map(|h| h.join().unwrap_or_else(|_| Err("g++: a thread died".into())))
+                .collect::<Result<Vec<()>, String>>()
+        })?;
+        let t_compile = lap();
         let mut ld = Command::new("g++");
         ld.args(["-shared", "-Wl,--exclude-libs,ALL", "-o"])
-            .arg(tmp.path().join("libpmu50_dut.so"))
-            .arg(obj.join("unity.o"))
-            .arg(&runtime)
-            .args(["-lpthread", "-ldl", "-lm"]);
+            .arg(tmp.path().join("libpmu50_dut.so"));
+        for (name, _, _) in &units {
+            ld.arg(obj.join(name.replace(".cpp", ".o")));
+        }
+        ld.arg(&runtime).args(["-lpthread", "-ldl", "-lm"]);
         step(&mut ld, "g++ (link)")?;
+        let steps = format!(
+            "runtime {t_runtime:.2} verilator {t_verilator:.2} g++ {t_compile:.2} link {:.2}{}",
+            lap(),
+            objcache().map_or(String::new(), |c| format!(" ({c})"))
+        );
         // every file Verilator read, with a hash of each (`include`d files too)
         // (the configuration file of the map is in the build folder, and in the key)
         let mut deps: Vec<PathBuf> = verilator_deps(&obj.join("Vpmu50__ver.d"), &vroot)
@@ -768,11 +849,11 @@ impl VerilatorDut {
         let _ = std::fs::remove_dir_all(&obj);
         let kept = tmp.keep();
         match std::fs::rename(&kept, &dir) {
-            Ok(()) => Ok(lib),
+            Ok(()) => Ok(steps),
             // another process built the same key meanwhile
             Err(_) if lib.is_file() => {
                 let _ = std::fs::remove_dir_all(&kept);
-                Ok(lib)
+                Ok(steps)
             }
             Err(e) => {
                 let _ = std::fs::remove_dir_all(&kept);
@@ -922,6 +1003,68 @@ impl VerilatorDut {
     }
 }
 
+
+/// The compilation units of a build: (file name, text, whether slow) including the library and
+/// the generated `.cpp` files `gen` (sorted): one, or with `split` the slow files apart.
+fn unity_units(gen: &[String], split: bool) -> Vec<(String, String, bool)> {
+    let mut fast = String::from("#include \"dut_lib.cpp\"\n");
+    let mut slow = String::new();
+    for f in gen {
+        let line = format!("#include \"{f}\"\n");
+        if split && f.ends_with("__Slow.cpp") {
+            slow.push_str(&line);
+        } else {
+            fast.push_str(&line);
+        }
+    }
+    let mut v = vec![("unity.cpp".to_string(), fast, false)];
+    if !slow.is_empty() {
+        v.push(("unity_slow.cpp".to_string(), slow, true));
+    }
+    v
+}
+
+/// The compiler cache of the builds' C++, as Verilator's makefiles take it: `OBJCACHE` (a
+/// command, e.g. `ccache`; empty: none), unset: `ccache` when it is installed. Its objects
+/// go to `ccache/` in the cache folder unless `CCACHE_DIR` says where.
+pub fn objcache() -> Option<String> {
+    match std::env::var("OBJCACHE") {
+        Ok(v) => Some(v.trim().to_string()).filter(|v| !v.is_empty()),
+        Err(_) => {
+            static HAVE: OnceLock<bool> = OnceLock::new();
+            HAVE.get_or_init(|| rtl::have_tool("ccache"))
+                .then(|| "ccache".to_string())
+        }
+    }
+}
+
+/// `g++`, behind the compiler cache when there is one ([`objcache`]).
+fn cxx() -> Command {
+    let Some(wrap) = objcache() else {
+        return Command::new("g++");
+    };
+    let mut words = wrap.split_whitespace();
+    let mut c = Command::new(words.next().unwrap_or("ccache"));
+    c.args(words).arg("g++");
+    if std::env::var_os("CCACHE_DIR").is_none() {
+        let dir = crate::cache::cache_dir().join("ccache");
+        crate::cache::lease_for_process(&dir);
+        c.env("CCACHE_DIR", dir);
+    }
+    if std::env::var_os("CCACHE_MAXSIZE").is_none() {
+        c.env("CCACHE_MAXSIZE", CCACHE_MAX);
+    }
+    // the precompiled header of the runtime, and the generated files newer than a second
+    c.env(
+        "CCACHE_SLOPPINESS",
+        "pch_defines,time_macros,include_file_mtime,include_file_ctime",
+    );
+    c
+}
+
+/// The cap of the compiler cache's objects (`CCACHE_MAXSIZE`), kept apart from the builds'
+/// cap: an object of the twin is about 0.5 MB.
+const CCACHE_MAX: &str = "200M";
 
 /// The files a Verilator `--MMD` dependency file lists, less Verilator's own.
 fn verilator_deps(d: &Path, vroot: &Path) -> Vec<PathBuf> {
@@ -1079,7 +1222,7 @@ impl Dut for VerilatorDut {
         }))
     }
 
-    fn prebuild(&self, sets: &[crate::gen::ParamSet], jobs: usize) {
+    fn prebuild(&self, sets: &[crate::gen::ParamSet], jobs: usize) -> Result<(), DutError> {
         let mut todo: Vec<Params> = Vec::new();
         for s in sets {
             let p = self.fixed.apply(&s.params);
@@ -1087,16 +1230,37 @@ impl Dut for VerilatorDut {
                 todo.push(p);
             }
         }
+        if todo.is_empty() {
+            todo.extend(self.default_set.get().copied());
+        }
         let next = std::sync::atomic::AtomicUsize::new(0);
+        let got: Mutex<Vec<(usize, Result<PathBuf, DutError>)>> = Mutex::new(Vec::new());
         std::thread::scope(|s| {
             for _ in 0..jobs.max(1).min(todo.len()) {
                 s.spawn(|| loop {
                     let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                     let Some(p) = todo.get(k) else { break };
-                    let _ = self.library(p);
+                    let r = self.library(p);
+                    got.lock().unwrap_or_else(|e| e.into_inner()).push((k, r));
                 });
             }
         });
+        let mut got = got.into_inner().unwrap_or_else(|e| e.into_inner());
+        got.sort_by_key(|(k, _)| *k);
+        if got.iter().any(|(_, r)| r.is_ok()) || got.is_empty() {
+            return Ok(());
+        }
+        // the RTL builds for no set: bad input, with the first set's reason
+        match got.swap_remove(0).1 {
+            Err(DutError::Tool(log)) => Err(RtlError::Build {
+                list: self.list.list.clone(),
+                tool: "verilator",
+                log,
+            }
+            .into()),
+            Err(e) => Err(e),
+            Ok(_) => Ok(()),
+        }
     }
 
     fn take_code_coverage(&self, name: &str) -> Option<code_cov::SeedCode> {
@@ -1284,6 +1448,7 @@ pub static BACKEND: Backend = Backend {
             b.map.clone(),
             b.pins,
             b.code_coverage,
+            b.pool_next,
         )?))
     },
 };
@@ -1321,16 +1486,27 @@ fn make_runtime(
         .arg(tmp.path().join("pre.h"))
         .arg("-o")
         .arg(tmp.path().join("pre.h.gch"));
-    step(&mut c, "g++ (precompiled header)")?;
+    let mut jobs = vec![(c, "g++ (precompiled header)")];
     let mut objs = Vec::new();
     for f in flavour.runtime_sources() {
         let o = tmp.path().join(f.replace(".cpp", ".o"));
-        let mut c = Command::new("g++");
+        let mut c = cxx();
         flags(&mut c);
         c.arg("-c").arg(inc.join(f)).arg("-o").arg(&o);
-        step(&mut c, "g++ (the Verilator runtime)")?;
+        jobs.push((c, "g++ (the Verilator runtime)"));
         objs.push(o);
     }
+    // at once: nothing else is built before the runtime
+    std::thread::scope(|s| {
+        let running: Vec<_> = jobs
+            .into_iter()
+            .map(|(mut c, what)| s.spawn(move || step(&mut c, what)))
+            .collect();
+        running
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|_| Err("g++: a thread died".into())))
+            .collect::<Result<Vec<()>, String>>()
+    })?;
     step(
         Command::new("ar")
             .arg("rcs")
