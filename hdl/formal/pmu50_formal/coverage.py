@@ -374,6 +374,15 @@ class Ctx:
         self.checks, self.claims, self.out = [], [], ""
         self.bases, self.base_locks, self.lock = {}, {}, threading.Lock()
 
+    def lemma_needs(self):
+        """The map entries of the registers the lemmas read that the map does not name (they
+        are rebuilt from the ports then)."""
+        return sorted(
+            bind.entry_text(bind.map_key(path))
+            for _, _, path in LEMMA_NETS
+            if not self.native and bind.map_key(path) not in self.mapping
+        )
+
     def lemma_nets(self):
         """[(name, width, Verilog expression)] of the nets the lemmas read (bound mode)."""
         out = []
@@ -1280,6 +1289,20 @@ def main(argv=None):
                 st.update(status="proven_unreachable", sets=proven)
             else:
                 st.update(status="undecided", sets_proven=proven)
+                open_lemmas = sorted(
+                    {n for s in psets for n in LEMMAS if proofs[s][n][0] != "proven"}
+                )
+                if open_lemmas and ctx.lemma_needs():
+                    # the lemmas over registers the port view rebuilds: the RTL's own ones,
+                    # named in the map, make them inductive
+                    st["tried"] = (
+                        "k-induction, scorr and %s within the CPU limit; %s open, over the "
+                        "parameter registers as the port view rebuilds them from the bus "
+                        "(the RTL's own registers, not bound, need not equal them in a state "
+                        "no trace reaches)"
+                        % ("/".join(e.name for e in proof_engines()), ", ".join(open_lemmas))
+                    )
+                    st["needs"] = ctx.lemma_needs()
             status[b["name"]] = st
             print(
                 "%-58s %-18s %s"
