@@ -21,8 +21,13 @@ the structural classes no kit set has), the formal top resets the twin in cycle 
   case is a wrong declaration: its trace becomes OUT/witness/<bin>.vec (the inputs at each edge
   out of reset and the set's `// param` lines), which the model replays
   (`COVERAGE_WITNESS_DIR=OUT/witness cargo test -p pmu50-coverage --test witness` fails,
-  naming the bin). One failing only the inductive step is left undecided, and the others are
-  proven again without it;
+  naming the bin). One failing only the inductive step is set aside, and the others are
+  proven again without it. A lemma set aside goes to the complete engines (ABC scorr, then
+  pdr and rIC3 on its cone), which find the strengthening invariants themselves; the bins set
+  aside are proven again with the lemmas they proved assumed, and what is still open gets the
+  engines too (induct). Each set's design is elaborated (on an SV RTL: lowered by slang) once
+  with every check; each model keeps the checks it needs (select_checks). A set whose checks
+  are all proven is cached by every input (proof_key; --no-cache, FORMAL_CACHE=0: cold);
 - for each code-coverage waiver of --waivers (hdl/coverage-waivers.toml) that states its claim
   (`holds`, a Verilog expression over the waived file's module), a clocked assertion at the end
   of a copy of that file, proven with the lemmas on every set: a waiver whose claim is refuted
@@ -40,7 +45,10 @@ the structural classes no kit set has), the formal top resets the twin in cycle 
   bin proves it reachable, however long.
 
 A bin neither proven nor witnessed is `undecided`. With --hits (a regression's coverage.json)
-each bin also says whether the regression hit it.
+each bin also says whether the regression hit it, and a reachable bin it hit is witnessed by
+the regression (a trace from reset through the RTL) instead of by a cover. The covers of the
+first set run in --jobs parts beside the proofs (each cover is reached at its first step,
+however the covers are split).
 
 Output: OUT/coverage.json: per bin its status (proven_unreachable with the property and the
 sets; witnessed with the set and the step; wrong_declaration with the witness file; undecided
@@ -1113,7 +1121,12 @@ def main(argv=None):
         action="store_true",
         help="write every cover's witness (default: the port-level bins' only)",
     )
-    ap.add_argument("--hits", default="", help="a regression's coverage.json: its hit bins")
+    ap.add_argument(
+        "--hits",
+        default="",
+        help="a regression's coverage.json: its hit bins (witnessed by the regression: the "
+        "covers search the others)",
+    )
     ap.add_argument(
         "--pmu50",
         default=os.environ.get("PMU50", ""),
@@ -1193,6 +1206,17 @@ def main(argv=None):
                 }
         unreach = [b for b in unreach if b["name"] not in unbound]
         reach = [b for b in reach if b["name"] not in unbound]
+        # a bin the RTL's regression hit (--hits: its seeds passed in lockstep with the model)
+        # is reachable, by that trace from reset: the covers search the others only
+        for b in reach:
+            if b["name"] in hit:
+                status[b["name"]] = {
+                    "status": "witnessed",
+                    "by": "regression",
+                    "set": "hit by the regression (%s)" % os.path.relpath(a.hits, ROOT),
+                    "property": "cover (%s)" % b["wire"],
+                }
+        reach = [b for b in reach if b["name"] not in hit]
         ctx.checks = [("u_%d" % b["index"], "assert", b["index"]) for b in unreach]
         ctx.checks += [("c_%d" % b["index"], "cover", b["index"]) for b in reach]
         ctx.claims, ctx.out = claims, a.out
