@@ -226,7 +226,11 @@ formal-test: deps $(VENV)/.formal $(BIN)
 ## RTL=list.f MAP=map.toml WAIVERS=waivers.toml: any RTL (the monitor's internals bound through
 ## its map, else rebuilt from its ports; the twin's waivers never apply to another RTL).
 ## Sealed result: $(COVERAGE_OUT)/coverage.json (coverage-proofs.json of the sign-off).
-## COVERAGE_HITS=regress_out/x/coverage.json also marks the bins a regression hit.
+## COVERAGE_HITS=regress_out/x/coverage.json: the reachable bins that regression of the RTL hit are
+## witnessed by it, and the covers search the others (the sign-off passes its regression's).
+## The declared-unreachable bins: k-induction first, then for what it leaves open ABC scorr, pdr
+## and rIC3 (when built); each set's design lowered once, its proofs cached by every input
+## (hdl/build/formal/cache/coverage; FORMAL_CACHE=0: cold).
 ## PROOF_SETS=small (or names, comma-separated): the unreachable bins' proofs on those sets only
 ## instead of the 32 class sets (a quicker look; the sign-off keeps every class).
 .PHONY: coverage-proofs
