@@ -215,7 +215,7 @@ def test_lemmas_that_induction_leaves_open_go_to_the_engines(tmp_path):
     m = tmp_path / "internals.map.toml"
     m.write_text(text[text.index("[internals]") :])
     p = subprocess.run(
-        [sys.executable, "-m", "pmu50_formal.coverage", "--rtl", ALT, "--map", str(m)]
+        [sys.executable, os.path.join(KIT, "coverage.py"), "--rtl", ALT, "--map", str(m)]
         + ["--proof-sets", "d1w2a1", "--no-covers", "--no-cache", "--cpu-limit", "2"]
         + ["--bins", "fig17_x_cnt_r.fixed", "--out", str(tmp_path / "out")],
         capture_output=True,
