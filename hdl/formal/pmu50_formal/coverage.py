@@ -21,8 +21,13 @@ the structural classes no kit set has), the formal top resets the twin in cycle 
   case is a wrong declaration: its trace becomes OUT/witness/<bin>.vec (the inputs at each edge
   out of reset and the set's `// param` lines), which the model replays
   (`COVERAGE_WITNESS_DIR=OUT/witness cargo test -p pmu50-coverage --test witness` fails,
-  naming the bin). One failing only the inductive step is left undecided, and the others are
-  proven again without it;
+  naming the bin). One failing only the inductive step is set aside, and the others are
+  proven again without it. A lemma set aside goes to the complete engines (ABC scorr, then
+  pdr and rIC3 on its cone), which find the strengthening invariants themselves; the bins set
+  aside are proven again with the lemmas they proved assumed, and what is still open gets the
+  engines too (induct). Each set's design is elaborated (on an SV RTL: lowered by slang) once
+  with every check; each model keeps the checks it needs (select_checks). A set whose checks
+  are all proven is cached by every input (proof_key; --no-cache, FORMAL_CACHE=0: cold);
 - for each code-coverage waiver of --waivers (hdl/coverage-waivers.toml) that states its claim
   (`holds`, a Verilog expression over the waived file's module), a clocked assertion at the end
   of a copy of that file, proven with the lemmas on every set: a waiver whose claim is refuted
@@ -40,7 +45,10 @@ the structural classes no kit set has), the formal top resets the twin in cycle 
   bin proves it reachable, however long.
 
 A bin neither proven nor witnessed is `undecided`. With --hits (a regression's coverage.json)
-each bin also says whether the regression hit it.
+each bin also says whether the regression hit it, and a reachable bin it hit is witnessed by
+the regression (a trace from reset through the RTL) instead of by a cover. The covers of the
+first set run in --jobs parts beside the proofs (each cover is reached at its first step,
+however the covers are split).
 
 Output: OUT/coverage.json: per bin its status (proven_unreachable with the property and the
 sets; witnessed with the set and the step; wrong_declaration with the witness file; undecided
@@ -62,6 +70,7 @@ import re
 import shutil
 import subprocess
 import sys
+import threading
 import time
 
 from . import bind, common, frontend, kit
@@ -77,6 +86,8 @@ COV_TOP = os.path.join(FORMAL, "pmu50_cov_top.sv")
 COV_MAIN = os.path.join(HDL, "tb", "coverage", "cov_main.cpp")
 # the code-coverage waivers; a waiver's `holds` is its claim, proven here with the lemmas
 WAIVERS = os.path.join(HDL, "coverage-waivers.toml")
+# one set's proofs, cached by every input (proof_key), beside the property kit's answers
+CACHE = os.path.join(HDL, "build", "formal", "cache", "coverage")
 # Beside the kit's parameter sets, one with the structural classes no kit set has (CNT_W in
 # 8..15, SYNC_DEPTH 4), short like `small`.
 W8D4 = dict(
@@ -366,6 +377,19 @@ class Ctx:
         self.bind = None if native else bind.bindings(table, mapping)
         # steps the monitor runs behind the DUT: a witness ends that many steps earlier
         self.lag = 0 if native else 1
+        # every check of the run ([(label, assert|cover, bin index)]) and the waivers' claims:
+        # one base design per parameter values holds them all (base_design)
+        self.checks, self.claims, self.out = [], [], ""
+        self.bases, self.base_locks, self.lock = {}, {}, threading.Lock()
+
+    def lemma_needs(self):
+        """The map entries of the registers the lemmas read that the map does not name (they
+        are rebuilt from the ports then)."""
+        return sorted(
+            bind.entry_text(bind.map_key(path))
+            for _, _, path in LEMMA_NETS
+            if not self.native and bind.map_key(path) not in self.mapping
+        )
 
     def lemma_nets(self):
         """[(name, width, Verilog expression)] of the nets the lemmas read (bound mode)."""
@@ -445,41 +469,113 @@ def bound_script(d, setname, ctx, checks, files, lemmas):
     ]
 
 
-def smt_model(d, setname, ctx, checks, files, lemmas):
-    """d/model.smt2 of the formal top with these checks and lemmas (yosys-smtbmc's input)."""
+# the labels of the checks this kit puts in a model: lemmas, waivers' claims, unreachable bins'
+# assertions (u_<bin>) and covers (c_<bin>); any other check (an RTL's own) is left as it is
+KIT_LABEL = re.compile(r"^(lemma_\w+|waiver_\d+|[uc]_\d+)$")
+
+
+def check_label(cell):
+    """The kit's label of a check cell's RTLIL name (`\\u_12`, `\\dut.u_x.waiver_1`), or None."""
+    lab = cell.lstrip("\\").rsplit(".", 1)[-1]
+    return lab if KIT_LABEL.match(lab) else None
+
+
+def select_checks(il, keep, assume=()):
+    """RTLIL text with only the kit's checks whose labels are in `keep`, those also in `assume`
+    turned into assumptions (`$assume`: proven invariants, which exclude no reachable state);
+    the checks that are not the kit's stay as they are."""
+    keep, assume = set(keep), set(assume)
+    lines = il.split("\n")
+    out = []
+    i = 0
+    while i < len(lines):
+        m = re.match(r"  cell \$(assert|cover) (\S+)$", lines[i])
+        lab = m and check_label(m.group(2))
+        if not lab:
+            out.append(lines[i])
+            i += 1
+            continue
+        j = i
+        while j < len(lines) and lines[j].strip() != "end":
+            j += 1
+        if lab in keep:
+            head = lines[i]
+            if lab in assume and m.group(1) == "assert":
+                head = "  cell $assume %s" % m.group(2)
+            out += [head] + lines[i + 1 : j + 1]
+        else:
+            while out and out[-1].startswith("  attribute"):
+                out.pop()
+        i = j + 1
+    return "\n".join(out)
+
+
+def base_design(setname, ctx):
+    """The elaborated design of a set with every check of the run (ctx.checks, every lemma and
+    claim), `base.il`: read (and in bound mode lowered by slang) once per parameter values and
+    reused by every model of the set, which keeps the checks it needs (select_checks)."""
+    key = tuple(sorted(ctx.sets[setname].items()))
+    with ctx.lock:
+        lock = ctx.base_locks.setdefault(key, threading.Lock())
+    with lock:
+        if key in ctx.bases:
+            return ctx.bases[key]
+        d = os.path.join(ctx.out, setname, "base")
+        shutil.rmtree(d, ignore_errors=True)
+        os.makedirs(d)
+        files = with_claims(ctx.rtl.files, ctx.claims, d)
+        if ctx.native:
+            write_atomic(os.path.join(d, "top.sv"), formal_top(ctx.table, ctx.checks))
+            lines = design_script(setname, ctx.table, files, ctx.rtl.incs, ctx.rtl.defs, ctx.sets)
+        else:
+            lines = bound_script(d, setname, ctx, ctx.checks, files, list(LEMMAS))
+        lines += ["write_rtlil base.il"]
+        write_atomic(os.path.join(d, "base.ys"), "\n".join(lines) + "\n")
+        if run(["yosys", "-q", "base.ys"], d, "base.log") != 0:
+            log = os.path.join(d, "base.log")
+            text = open(log, errors="replace").read().splitlines()
+            err = next((ln.strip() for ln in text if ln.startswith("ERROR")), "")
+            claim = next((ln.strip() for ln in text if "/claims/" in ln), "")
+            if claim:
+                err = claim if "/claims/" not in err else err
+                # the copy of an RTL file with the waivers' claims at its end
+                raise SetupError(
+                    "a waiver's claim (holds) does not elaborate: %s (the claims are "
+                    "the assertions waiver_N at the end of the copy; N counts the "
+                    "waivers of the waivers file from 1); see %s" % (err, log)
+                )
+            raise SetupError(
+                "yosys could not read the monitor over the RTL for set %s: %s; see %s "
+                "(a net of the monitor's table missing from the RTL?)"
+                % (setname, err or "no ERROR line", log)
+            )
+        ctx.bases[key] = os.path.join(d, "base.il")
+        return ctx.bases[key]
+
+
+def smt_model(d, setname, ctx, keep, assume=()):
+    """d/model.smt2 (yosys-smtbmc's input): the set's base design with the checks `keep`
+    (labels), those of `assume` assumed."""
     os.makedirs(d, exist_ok=True)
-    table = ctx.table
-    if ctx.native:
-        write_atomic(os.path.join(d, "top.sv"), formal_top(table, checks, lemmas=lemmas))
-        lines = design_script(setname, table, files, ctx.rtl.incs, ctx.rtl.defs, ctx.sets)
-    else:
-        lines = bound_script(d, setname, ctx, checks, files, lemmas)
-    lines += [
+    base = base_design(setname, ctx)
+    write_atomic(os.path.join(d, "model.il"), select_checks(open(base).read(), keep, assume))
+    lines = [
+        "read_rtlil model.il",
+        "opt_clean",
+        "check -assert",
         "dffunmap",
         "write_smt2 -wires model.smt2",
     ]
     write_atomic(os.path.join(d, "smt2.ys"), "\n".join(lines) + "\n")
     if run(["yosys", "-q", "smt2.ys"], d, "smt2.log") != 0:
-        log = os.path.join(d, "smt2.log")
-        lines = open(log, errors="replace").read().splitlines()
-        err = next((lab.strip() for lab in lines if lab.startswith("ERROR")), "")
-        claim = next((lab.strip() for lab in lines if "/claims/" in lab), "")
-        if claim:
-            err = claim if "/claims/" not in err else err
-            # the copy of an RTL file with the waivers' claims at its end
-            raise SetupError(
-                "a waiver's claim (holds) does not elaborate: %s (the claims are "
-                "the assertions waiver_N at the end of the copy; N counts the "
-                "waivers of the waivers file from 1); see %s" % (err, log)
-            )
         raise SetupError(
-            "yosys could not read the monitor over the RTL for set %s: %s; see %s "
-            "(a net of the monitor's table missing from the RTL?)"
-            % (setname, err or "no ERROR line", log)
+            "yosys could not write the model of set %s: see %s"
+            % (setname, os.path.join(d, "smt2.log"))
         )
     text = open(os.path.join(d, "model.smt2")).read()
-    present = set(re.findall(r"^; yosys-smt2-(?:cover|assert) \d+ (\S+)$", text, re.M))
-    lost = [c[0] for c in checks if c[0] not in present]
+    present = set(re.findall(r"^; yosys-smt2-(?:cover|assert|assume) \d+ (\S+)$", text, re.M))
+    present = {x.rsplit(".", 1)[-1] for x in present}
+    lost = [lab for lab in keep if lab not in present]
     if lost:
         raise SetupError(
             "set %s: checks missing from %s: %s"
@@ -534,85 +630,117 @@ def failed_labels(log):
 
 def induct(setname, ctx, labels, a, by_label, claims=()):
     """Prove the lemmas, the waivers' claims and the assertions `labels` (u_<bin index>) on one
-    set by k-induction (yosys-smtbmc, yices): a bounded base case and the inductive step, every
-    assertion assumed in the k steps before. An assertion failing the base case is refuted (its
-    trace is the witness); one failing only the inductive step is set aside and the rest tried
-    again. Returns {label: (verdict, how, witness vcd or None, step)}."""
+    set. Returns {label: (verdict, how, witness vcd or None, step)}.
+
+    1. k-induction (yosys-smtbmc, yices): a bounded base case and the inductive step, every
+       assertion assumed in the k steps before. An assertion failing the base case is refuted
+       (its trace is the witness); one failing only the inductive step is set aside and the rest
+       tried again (rounds).
+    2. The lemmas k-induction left open (an RTL's own state, unreachable, can satisfy their
+       hypotheses): the complete engines (ABC pdr, then rIC3 when built), which find the
+       strengthening invariants themselves, each lemma's cone with the proven lemmas assumed.
+    3. The claims and assertions set aside, when step 2 proved a lemma: k-induction again, with
+       every proven lemma assumed (a proven invariant excludes no reachable state).
+    4. What is still open: the engines too (ABC scorr over all of them, then pdr and rIC3 on
+       each cone left), the proven lemmas assumed; then a bounded search from reset refutes
+       the false ones, its trace the witness."""
     res = {}
     by_claim = {c["label"]: c for c in claims}
-    todo = list(LEMMAS) + list(by_claim) + list(labels)
     k = a.induction_depth
-    rnd = 0
-    while todo:
-        rnd += 1
-        d = os.path.join(a.out, setname, "induction-%d" % rnd)
+    rnd = [0]
+    base_ok = [False]  # the base case passed for every check still to prove
+
+    def folder(kind):
+        rnd[0] += 1
+        d = os.path.join(a.out, setname, "%s-%d" % (kind, rnd[0]))
         shutil.rmtree(d, ignore_errors=True)
-        checks = [(lab, "assert", by_label[lab]) for lab in todo if lab in by_label]
-        rfiles = with_claims(ctx.rtl.files, [by_claim[lab] for lab in todo if lab in by_claim], d)
-        lemmas = [lab for lab in todo if lab in LEMMAS]
-        smt_model(d, setname, ctx, checks, rfiles, lemmas=lemmas)
-        rc, log = smtbmc(d, ["-t", str(k), "--dump-vcd", "base.vcd"], "base.log", a.cpu_limit)
-        failed = failed_labels(log)
-        if failed:
-            step = re.findall(r"Checking assertions in step (\d+)", log)
+        return d
+
+    def rounds(todo, assumed):
+        while todo:
+            d = folder("induction")
+            smt_model(d, setname, ctx, list(todo) + list(assumed), assumed)
+            if base_ok[0]:
+                # the base case held for a superset of these checks (and without the
+                # assumptions, which only remove traces): it holds for these
+                rc, log = 0, "Status: PASSED (the base case of an earlier round)"
+            else:
+                rc, log = smtbmc(
+                    d, ["-t", str(k), "--dump-vcd", "base.vcd"], "base.log", a.cpu_limit
+                )
+            failed = failed_labels(log)
+            if failed:
+                step = re.findall(r"Checking assertions in step (\d+)", log)
+                for lab in failed:
+                    res[lab] = (
+                        "refuted",
+                        "base case of %d steps" % k,
+                        os.path.join(d, "base.vcd"),
+                        int(step[-1]) if step else k,
+                    )
+                todo = [lab for lab in todo if lab not in failed]
+                continue
+            if rc != 0 or "Status: PASSED" not in log:
+                for lab in todo:
+                    res[lab] = (
+                        "unknown",
+                        "base case: yosys-smtbmc rc %s (%s/base.log)" % (rc, d),
+                        None,
+                        None,
+                    )
+                return
+            base_ok[0] = True
+            rc, log = smtbmc(d, ["-i", "-t", str(k)], "step.log", a.cpu_limit)
+            if rc == 0 and "Status: PASSED" in log:
+                how_lemmas = ", ".join(
+                    [x for x in todo if x in LEMMAS] + ["%s (assumed, proven)" % x for x in assumed]
+                )
+                for lab in todo:
+                    res[lab] = (
+                        "proven",
+                        "%d-induction (yosys-smtbmc, yices) with %s"
+                        % (k, how_lemmas or "no lemma"),
+                        None,
+                        None,
+                    )
+                return
+            failed = failed_labels(log)
+            if not failed:
+                for lab in todo:
+                    res[lab] = (
+                        "unknown",
+                        "inductive step: yosys-smtbmc rc %s (%s/step.log)" % (rc, d),
+                        None,
+                        None,
+                    )
+                return
             for lab in failed:
-                res[lab] = (
-                    "refuted",
-                    "base case of %d steps" % k,
-                    os.path.join(d, "base.vcd"),
-                    int(step[-1]) if step else k,
-                )
+                res[lab] = ("unknown", "not %d-inductive with the lemmas" % k, None, None)
             todo = [lab for lab in todo if lab not in failed]
-            continue
-        if rc != 0 or "Status: PASSED" not in log:
-            for lab in todo:
-                res[lab] = (
-                    "unknown",
-                    "base case: yosys-smtbmc rc %s (%s/base.log)" % (rc, d),
-                    None,
-                    None,
-                )
-            break
-        rc, log = smtbmc(d, ["-i", "-t", str(k)], "step.log", a.cpu_limit)
-        if rc == 0 and "Status: PASSED" in log:
-            for lab in todo:
-                res[lab] = (
-                    "proven",
-                    "%d-induction (yosys-smtbmc, yices) with %s"
-                    % (k, ", ".join(x for x in todo if x in LEMMAS) or "no lemma"),
-                    None,
-                    None,
-                )
-            break
-        failed = failed_labels(log)
-        if not failed:
-            for lab in todo:
-                res[lab] = (
-                    "unknown",
-                    "inductive step: yosys-smtbmc rc %s (%s/step.log)" % (rc, d),
-                    None,
-                    None,
-                )
-            break
-        for lab in failed:
-            res[lab] = ("unknown", "not %d-inductive with the lemmas" % k, None, None)
-        todo = [lab for lab in todo if lab not in failed]
-    # the assertions (and claims) k-induction left open: the property kit's engines, which find
-    # the strengthening invariants themselves (ABC's scorr over the whole model, then pdr on
-    # each cone it leaves), under the same CPU budget
-    left = [lab for lab in list(by_claim) + list(labels) if res.get(lab, ("",))[0] == "unknown"]
-    if left:
-        rnd += 1
-        d = os.path.join(a.out, setname, "pdr-%d" % rnd)
-        shutil.rmtree(d, ignore_errors=True)
-        for lab, (v, how, frame) in aig_proofs(
-            d, setname, ctx, left, by_label, by_claim, a
-        ).items():
+
+    def proven_lemmas():
+        return [x for x in LEMMAS if res.get(x, ("",))[0] == "proven"]
+
+    def engines(todo, assumed):
+        d = folder("pdr")
+        for lab, (v, how, frame) in aig_proofs(d, setname, ctx, todo, assumed, a).items():
             res[lab] = (
                 (v, res[lab][1] + "; " + how, None, frame)
                 if v != "proven"
                 else (v, how, None, None)
             )
+
+    rounds(list(LEMMAS) + list(by_claim) + list(labels), [])
+    open_lemmas = [x for x in LEMMAS if res[x][0] == "unknown"]
+    if open_lemmas:
+        before = set(proven_lemmas())
+        engines(open_lemmas, proven_lemmas())
+        left = [lab for lab in list(by_claim) + list(labels) if res[lab][0] == "unknown"]
+        if left and set(proven_lemmas()) - before:
+            rounds(left, proven_lemmas())
+    left = [lab for lab in list(by_claim) + list(labels) if res.get(lab, ("",))[0] == "unknown"]
+    if left:
+        engines(left, proven_lemmas())
     # the assertions left open, and those pdr refuted (its trace is not a shortest one, nor a
     # vector file): a deeper bounded search from reset (to --cover-depth steps, or past pdr's
     # failing cycle) refutes the false ones, one trace at a time, each trace the witness
@@ -625,17 +753,8 @@ def induct(setname, ctx, labels, a, by_label, claims=()):
         [a.cover_depth] + [res[lab][3] + ctx.lag + 1 for lab in todo if res[lab][3] is not None]
     )
     while todo:
-        rnd += 1
-        d = os.path.join(a.out, setname, "bmc-%d" % rnd)
-        shutil.rmtree(d, ignore_errors=True)
-        smt_model(
-            d,
-            setname,
-            ctx,
-            [(lab, "assert", by_label[lab]) for lab in todo],
-            ctx.rtl.files,
-            lemmas=[],
-        )
+        d = folder("bmc")
+        smt_model(d, setname, ctx, todo)
         rc, log = smtbmc(d, ["-t", str(depth), "--dump-vcd", "bmc.vcd"], "bmc.log", a.cpu_limit)
         failed = failed_labels(log)
         if not failed:
@@ -661,28 +780,67 @@ def induct(setname, ctx, labels, a, by_label, claims=()):
     return res
 
 
-def aig_proofs(d, setname, ctx, labels, by_label, by_claim, a):
-    """Prove the assertions `labels` (bins u_<index> and waivers' claims) as the property kit
-    does: one AIGER model with every assertion an output, ABC's scorr over it, ABC pdr on each
-    cone left (--cpu-limit CPU seconds each). Returns {label: (proven|refuted|unknown, how,
-    failing cycle of a refutation or None)}."""
+def proof_engines():
+    """The complete engines, in the property kit's order (kit.Kit): ABC pdr, then rIC3 when
+    `make formal-tools` has built it; the first decisive answer wins."""
+    return [e for e in (kit.AbcPdr(), kit.Ric3()) if e.available()]
+
+
+# files whose change invalidates a cached set of proofs, beside the RTL's and the kit's own
+COVERAGE_FILES = [os.path.abspath(__file__), os.path.abspath(bind.__file__), TABLE, MONITOR]
+
+
+def proof_key(setname, ctx, labels, a):
+    """The cache key of one set's proofs: every file read (the RTL, the kit, the monitor and
+    its table, the port view, the map), the claims, the checks, the set's parameter values,
+    the budgets, the engines and the tools' versions."""
+    files = ctx.rtl.files + ctx.rtl.libfiles + COVERAGE_FILES + [bind.PORT_VIEW]
+    engines = [e.name for e in proof_engines()]
+    return kit.Cache.key(
+        kit.sources_digest(files, ctx.rtl.incs, ctx.rtl.defs, None),
+        sorted(ctx.mapping.items()),
+        ctx.native,
+        [(c["label"], c["holds"], os.path.basename(c["src"])) for c in ctx.claims],
+        list(labels),
+        sorted(ctx.sets[setname].items()),
+        a.induction_depth,
+        a.cover_depth,
+        a.cpu_limit,
+        engines,
+        kit.tool_versions(",".join(x.split("-")[0] for x in engines)),
+    )
+
+
+def cached_induct(setname, ctx, labels, a, by_label, claims, cache):
+    """induct() of one set, its answer taken from the cache when every check was proven there
+    before with the same inputs (a refutation carries a trace, which is made afresh)."""
+    key = proof_key(setname, ctx, labels, a)
+    hit = cache.get(key)
+    if hit:
+        # the same verdicts and hows as the run that made them: coverage.json stays the same
+        print("proofs %-8s cached (%s)" % (setname, os.path.relpath(CACHE, ROOT)), flush=True)
+        return {lab: (v, how, None, None) for lab, (v, how) in hit.items()}
+    res = induct(setname, ctx, labels, a, by_label, claims)
+    if all(v[0] == "proven" for v in res.values()):
+        cache.put(key, {lab: (v[0], v[1]) for lab, v in res.items()})
+    return res
+
+
+def aig_proofs(d, setname, ctx, labels, assumed, a):
+    """Prove the assertions `labels` (lemmas, bins u_<index> and waivers' claims) as the
+    property kit does, with the lemmas `assumed` (proven invariants) as constraints: one AIGER
+    model with every assertion an output, ABC's scorr over it, then the engines on each cone
+    left (--cpu-limit CPU seconds each). Returns {label: (proven|refuted|unknown, how, failing
+    cycle of a refutation or None)}."""
     os.makedirs(d, exist_ok=True)
-    checks = [(lab, "assert", by_label[lab]) for lab in labels if lab in by_label]
-    files = with_claims(ctx.rtl.files, [by_claim[lab] for lab in labels if lab in by_claim], d)
-    if ctx.native:
-        write_atomic(os.path.join(d, "top.sv"), formal_top(ctx.table, checks, lemmas=[]))
-        lines = design_script(setname, ctx.table, files, ctx.rtl.incs, ctx.rtl.defs, ctx.sets)
-    else:
-        lines = bound_script(d, setname, ctx, checks, files, [])
-    lines += ["write_rtlil design.il"]
-    write_atomic(os.path.join(d, "design.ys"), "\n".join(lines) + "\n")
-    if run(["yosys", "-q", "design.ys"], d, "design.log") != 0:
-        raise SetupError("yosys could not elaborate %s (see %s/design.log)" % (setname, d))
+    il = select_checks(
+        open(base_design(setname, ctx)).read(), list(labels) + list(assumed), assumed
+    )
     # a claim inside the RTL is a cell of the flattened DUT: named dut.<...>.waiver_N
-    il = open(os.path.join(d, "design.il")).read()
     il = re.sub(r"(cell \$assert )\\\S*\.(waiver_\d+)$", r"\1\\\2", il, flags=re.M)
     write_atomic(os.path.join(d, "design.il"), il)
     m = kit.model_from_design(d, setname, a.cpu_limit, top=TOP, merged_ok=True)
+    engines = proof_engines()
     out = {}
     for lab in labels:
         if lab not in m.index:
@@ -694,24 +852,31 @@ def aig_proofs(d, setname, ctx, labels, by_label, by_claim, a):
         cd = os.path.join(d, lab)
         os.makedirs(cd, exist_ok=True)
         write_atomic(os.path.join(cd, "cone.aig"), m.cone(lab)[0])
-        v, frame, eng = kit.decisive(kit.run_engines([kit.AbcPdr()], "cone.aig", cd, a.cpu_limit))
+        v, frame, eng = kit.decisive(kit.run_engines(engines, "cone.aig", cd, a.cpu_limit))
+        with_ = " with %s assumed" % ", ".join(assumed) if assumed else ""
         out[lab] = (
-            (v, "%s (unbounded)" % eng, None)
+            (v, "%s (unbounded)%s" % (eng, with_), None)
             if v == "proven"
             else (v, "%s at cycle %s" % (eng, frame), frame)
             if v == "refuted"
-            else ("unknown", "scorr and abc-pdr open after %d CPU s" % a.cpu_limit, None)
+            else (
+                "unknown",
+                "scorr and %s open after %d CPU s each"
+                % (", ".join(e.name for e in engines), a.cpu_limit),
+                None,
+            )
         )
     return out
 
 
-def covers(setname, ctx, labels, a, by_label):
+def covers(setname, ctx, labels, a, by_label, part=None):
     """Reach the covers `labels` (c_<bin index>) on one set within --cover-depth steps
-    (yosys-smtbmc cover mode). Returns {label: (step, trace vcd)} of those reached."""
-    d = os.path.join(a.out, setname, "covers")
+    (yosys-smtbmc cover mode: each cover at the first step that reaches it, so the steps do not
+    depend on how the covers are split into parts). Returns {label: (step, trace vcd)} of
+    those reached."""
+    d = os.path.join(a.out, setname, "covers" + ("-%d" % part if part else ""))
     shutil.rmtree(d, ignore_errors=True)
-    checks = [(lab, "cover", by_label[lab]) for lab in labels]
-    smt_model(d, setname, ctx, checks, ctx.rtl.files, lemmas=[])
+    smt_model(d, setname, ctx, labels)
     # an effort budget (the depth), not a time limit: the same covers are reached on an idle and
     # on a busy machine; the CPU limit only stops a runaway search (then the run says so)
     rc, log = smtbmc(
@@ -943,13 +1108,25 @@ def main(argv=None):
         default="",
         help="only bins whose name holds one of these strings (comma-separated)",
     )
+    ap.add_argument(
+        "--no-cache",
+        action="store_true",
+        default=os.environ.get("FORMAL_CACHE", "1") == "0",
+        help="neither read nor write the proofs' cache %s (env FORMAL_CACHE=0)"
+        % os.path.relpath(os.path.join(HDL, "build", "formal", "cache"), ROOT),
+    )
     ap.add_argument("--no-covers", action="store_true", help="the unreachable bins' proofs only")
     ap.add_argument(
         "--all-witnesses",
         action="store_true",
         help="write every cover's witness (default: the port-level bins' only)",
     )
-    ap.add_argument("--hits", default="", help="a regression's coverage.json: its hit bins")
+    ap.add_argument(
+        "--hits",
+        default="",
+        help="a regression's coverage.json: its hit bins (witnessed by the regression: the "
+        "covers search the others)",
+    )
     ap.add_argument(
         "--pmu50",
         default=os.environ.get("PMU50", ""),
@@ -979,6 +1156,7 @@ def main(argv=None):
     common.use_project_tools()
     kit.stop_engines_on_sigterm()
     t0 = time.time()
+    ex = None
     try:
         for tool, where in (
             ("yosys", "Debian package yosys"),
@@ -1028,25 +1206,51 @@ def main(argv=None):
                 }
         unreach = [b for b in unreach if b["name"] not in unbound]
         reach = [b for b in reach if b["name"] not in unbound]
+        # a bin the RTL's regression hit (--hits: its seeds passed in lockstep with the model)
+        # is reachable, by that trace from reset: the covers search the others only
+        for b in reach:
+            if b["name"] in hit:
+                status[b["name"]] = {
+                    "status": "witnessed",
+                    "by": "regression",
+                    "set": "hit by the regression (%s)" % os.path.relpath(a.hits, ROOT),
+                    "property": "cover (%s)" % b["wire"],
+                }
+        reach = [b for b in reach if b["name"] not in hit]
+        ctx.checks = [("u_%d" % b["index"], "assert", b["index"]) for b in unreach]
+        ctx.checks += [("c_%d" % b["index"], "cover", b["index"]) for b in reach]
+        ctx.claims, ctx.out = claims, a.out
+        cache = kit.Cache(CACHE, not a.no_cache)
         # 1. proofs: the lemmas, the waivers' claims and every declared-unreachable bin, on
-        # every set (in parallel)
+        # every set; beside them the covers' search on the first set, in --jobs parts (the
+        # longest part of the run). --jobs solver runs at a time.
+        ex = cf.ThreadPoolExecutor(max_workers=max(1, a.jobs))
+        todo = ["c_%d" % b["index"] for b in reach]
+        by_name = {"c_%d" % b["index"]: b for b in reach}
+        parts = [todo[i :: max(1, a.jobs)] for i in range(max(1, a.jobs))]
+        t_covers = time.time()
+        first_covers = [
+            ex.submit(covers, sets[0], ctx, part, a, by_label, len(parts) > 1 and i + 1)
+            for i, part in enumerate(parts)
+            if part
+        ]
         proofs = {}
         if unreach or claims:
-            with cf.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
-                futs = {
-                    ex.submit(
-                        induct,
-                        s,
-                        ctx,
-                        ["u_%d" % b["index"] for b in unreach],
-                        a,
-                        by_label,
-                        claims,
-                    ): s
-                    for s in psets
-                }
-                for f in cf.as_completed(futs):
-                    proofs[futs[f]] = f.result()
+            futs = {
+                ex.submit(
+                    cached_induct,
+                    s,
+                    ctx,
+                    ["u_%d" % b["index"] for b in unreach],
+                    a,
+                    by_label,
+                    claims,
+                    cache,
+                ): s
+                for s in psets
+            }
+            for f in cf.as_completed(futs):
+                proofs[futs[f]] = f.result()
             for s in psets:
                 for n in LEMMAS:
                     v = proofs[s][n]
@@ -1109,6 +1313,20 @@ def main(argv=None):
                 st.update(status="proven_unreachable", sets=proven)
             else:
                 st.update(status="undecided", sets_proven=proven)
+                open_lemmas = sorted(
+                    {n for s in psets for n in LEMMAS if proofs[s][n][0] != "proven"}
+                )
+                if open_lemmas and ctx.lemma_needs():
+                    # the lemmas over registers the port view rebuilds: the RTL's own ones,
+                    # named in the map, make them inductive
+                    st["tried"] = (
+                        "k-induction, scorr and %s within the CPU limit; %s open, over the "
+                        "parameter registers as the port view rebuilds them from the bus "
+                        "(the RTL's own registers, not bound, need not equal them in a state "
+                        "no trace reaches)"
+                        % ("/".join(e.name for e in proof_engines()), ", ".join(open_lemmas))
+                    )
+                    st["needs"] = ctx.lemma_needs()
             status[b["name"]] = st
             print(
                 "%-58s %-18s %s"
@@ -1116,14 +1334,18 @@ def main(argv=None):
                 flush=True,
             )
         # 2. covers: each reachable bin on the first set that reaches it
-        todo = ["c_%d" % b["index"] for b in reach]
-        by_name = {"c_%d" % b["index"]: b for b in reach}
         for s in sets:
             if not todo:
                 break
             t1 = time.time()
-            got = covers(s, ctx, todo, a, by_label)
-            for lab, (step, vcd) in got.items():
+            if s == sets[0]:
+                got = {}
+                for f in first_covers:
+                    got.update(f.result())
+                t1 = t_covers
+            else:
+                got = covers(s, ctx, todo, a, by_label)
+            for lab, (step, vcd) in sorted(got.items()):
                 step -= ctx.lag
                 b = by_name[lab]
                 st = status[b["name"]] = {
@@ -1255,6 +1477,9 @@ def main(argv=None):
     except SetupError as e:
         print("coverage-proofs: %s" % e, file=sys.stderr)
         return 2
+    finally:
+        if ex is not None:
+            ex.shutdown(cancel_futures=True)
 
 
 if __name__ == "__main__":

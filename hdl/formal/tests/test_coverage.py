@@ -182,8 +182,11 @@ def test_the_twins_waiver_claims_are_proven(tmp_path):
     # every waiver of hdl/coverage-waivers.toml states its claim, proven with the lemmas
     rc, out, d = run(tmp_path, "--no-covers", "--bins", "history.both")
     doc = json.load(open(d / "coverage.json"))
-    assert len(doc["waivers"]) == 14 and all(w["status"] == "proven" for w in doc["waivers"]), out
-    assert "14 of 14 waivers' claims proven on every set" in out
+    text = open(os.path.join(HDL, "coverage-waivers.toml")).read()
+    n = len(re.findall(r"^holds\s*=", text, re.M))
+    assert n >= 14 and len(doc["waivers"]) == n, out
+    assert all(w["status"] == "proven" for w in doc["waivers"]), out
+    assert "%d of %d waivers' claims proven on every set" % (n, n) in out
     assert rc == 0, out
 
 
