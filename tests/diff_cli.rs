@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use pmu50_waves::fuzzing::{MALFORMED, VALID_SAMPLE};
 
-mod common;
+use crate::common;
 use common::{exited, tmp, write};
 
 /// Runs `pmu50 args`, killing it after 20 s (a FIFO must never block it).

@@ -7,7 +7,7 @@
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
-mod common;
+use crate::common;
 use common::{exited, tmp};
 
 fn pmu50(args: &[&str]) -> Output {

@@ -2,7 +2,7 @@
 //! alone (`pmu50 regress --seeds-from`) hits every bin the whole regression hit, in far fewer
 //! seeds.
 
-mod common;
+use crate::common;
 use common::{expect, pmu50, s, tmp};
 
 #[test]

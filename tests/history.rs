@@ -7,7 +7,7 @@ use pmu50_verif::history::{self, Location};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-mod common;
+use crate::common;
 use common::{expect, pmu50, s, tmp, BIN};
 
 const DAY: i64 = 86_400;

@@ -7,6 +7,9 @@
 //! tests/architecture.rs fails on a file that is neither, which would never run.
 //!
 //! One file, one module: `cargo test --release --test integration rtl_sv::` runs tests/rtl_sv.rs.
+//! Their shared helpers are `tests/common/` (`use crate::common;`).
+
+mod common;
 
 #[path = "architecture.rs"]
 mod architecture;

@@ -1,7 +1,7 @@
 //! `pmu50 mutation`: the mutation table of the directed regression (docs/verification.md,
 //! "Mutation score"), on a few mutants of hdl/mutants.txt and a few seeds.
 
-mod common;
+use crate::common;
 use common::*;
 
 /// A mutant caught at its first seed, one that needs more seeds than given (escaped: exit 1),

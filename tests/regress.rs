@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-mod common;
+use crate::common;
 use common::{expect_code, pmu50, s, text};
 
 fn tmp() -> tempfile::TempDir {

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
-mod common;
+use crate::common;
 use common::{expect, pmu50, s, tmp};
 
 /// `pmu50 regress` of `n` seeds from `start` into `dir` (the model; no triage), checked to pass.

@@ -2,7 +2,7 @@
 //! other names inside, a top without parameters, a map for the deeper compare, and bad RTL
 //! refused before any seed. Needs verilator and iverilog (`make deps`).
 
-mod common;
+use crate::common;
 use common::*;
 use std::path::{Path, PathBuf};
 

