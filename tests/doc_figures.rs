@@ -59,19 +59,23 @@ fn the_docs_signoff_table_is_the_table_of_the_run() {
         std::fs::write(&path, new).unwrap();
         return;
     }
-    let quoted = &doc[a..b];
+    same_lines(&doc[a..b], &run, "the sign-off table");
+}
+
+/// The docs' quote of a run is the run's text, line for line.
+fn same_lines(quoted: &str, run: &str, what: &str) {
     for (n, (q, r)) in quoted.lines().zip(run.lines()).enumerate() {
         assert_eq!(
             q,
             r,
-            "docs/verification.md, the sign-off table's line {}: the run printed otherwise (PMU50_UPDATE_DOCS=1 make docs-figures rewrites it)",
+            "docs/verification.md, {what}, its line {}: the run printed otherwise (PMU50_UPDATE_DOCS=1 make docs-figures rewrites it)",
             n + 1
         );
     }
     assert_eq!(
         quoted.lines().count(),
         run.lines().count(),
-        "docs/verification.md's sign-off table has another number of rows than the run's"
+        "docs/verification.md's {what} has another number of lines than the run's"
     );
 }
 
@@ -132,20 +136,7 @@ fn the_docs_code_coverage_and_mutation_tables_are_the_runs() {
             doc = format!("{}{run}{}", &doc[..a], &doc[b..]);
             continue;
         }
-        let quoted = &doc[a..b];
-        for (n, (q, r)) in quoted.lines().zip(run.lines()).enumerate() {
-            assert_eq!(
-                q,
-                r,
-                "docs/verification.md, the quote of {file}, its line {}: the run printed otherwise (PMU50_UPDATE_DOCS=1 make docs-figures rewrites it)",
-                n + 1
-            );
-        }
-        assert_eq!(
-            quoted.lines().count(),
-            run.lines().count(),
-            "docs/verification.md's quote of {file} has another number of lines than the run's"
-        );
+        same_lines(&doc[a..b], &run, &format!("the quote of {file}"));
     }
     if update {
         std::fs::write(&path, doc).unwrap();

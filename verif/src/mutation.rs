@@ -168,6 +168,36 @@ pub enum Outcome {
     Error { reason: String },
 }
 
+impl Outcome {
+    /// The table's last two cells: seeds to catch (or what happened instead) and the first
+    /// failure, as plain text or as a Markdown cell (code spans, `|` escaped).
+    fn cells(&self, markdown: bool) -> (String, String) {
+        match self {
+            Outcome::Caught {
+                seeds,
+                seed,
+                signature,
+                tick,
+                ..
+            } if markdown => (seeds.to_string(), format!("{seed}, `{signature}`, {tick}")),
+            Outcome::Caught {
+                seeds,
+                seed,
+                signature,
+                tick,
+                ..
+            } => (seeds.to_string(), format!("{seed}: {signature} @{tick}")),
+            Outcome::Escaped { seeds } => ("escaped".into(), format!("all {seeds} seeds pass")),
+            Outcome::Equivalent { proof } if markdown => {
+                ("equivalent".into(), format!("proof: {proof}"))
+            }
+            Outcome::Equivalent { proof } => ("equiv".into(), format!("proven: {proof}")),
+            Outcome::Error { reason } if markdown => ("error".into(), reason.replace('|', "\\|")),
+            Outcome::Error { reason } => ("error".into(), reason.clone()),
+        }
+    }
+}
+
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
     pub mutant: String,
@@ -215,18 +245,7 @@ impl Report {
             "mutant", "block", "seeds", "first failure (seed: signature, tick)"
         );
         for r in &self.rows {
-            let (n, what) = match &r.outcome {
-                Outcome::Caught {
-                    seeds,
-                    seed,
-                    signature,
-                    tick,
-                    ..
-                } => (seeds.to_string(), format!("{seed}: {signature} @{tick}")),
-                Outcome::Escaped { seeds } => ("escaped".into(), format!("all {seeds} seeds pass")),
-                Outcome::Equivalent { proof } => ("equiv".into(), format!("proven: {proof}")),
-                Outcome::Error { reason } => ("error".into(), reason.clone()),
-            };
+            let (n, what) = r.outcome.cells(false);
             s.push_str(&format!(
                 "{:<30} {:<30} {:>8}  {}\n",
                 r.mutant, r.block, n, what
@@ -270,18 +289,7 @@ impl Report {
                 Scope::Regress => "regress",
                 Scope::Equivalent(_) => "equivalent",
             };
-            let (n, what) = match &r.outcome {
-                Outcome::Caught {
-                    seeds,
-                    seed,
-                    signature,
-                    tick,
-                    ..
-                } => (seeds.to_string(), format!("{seed}, `{signature}`, {tick}")),
-                Outcome::Escaped { seeds } => ("escaped".into(), format!("all {seeds} seeds pass")),
-                Outcome::Equivalent { proof } => ("equivalent".into(), format!("proof: {proof}")),
-                Outcome::Error { reason } => ("error".into(), reason.replace('|', "\\|")),
-            };
+            let (n, what) = r.outcome.cells(true);
             s.push_str(&format!(
                 "| `{}` | {} | {scope} | {n} | {what} |\n",
                 r.mutant, r.block
