@@ -451,7 +451,7 @@ fn with_failure(dir: &Path, sig: &str) {
             let mut v: serde_json::Value = serde_json::from_str(l).unwrap();
             if v["seed"] == 3 {
                 v["verdict"] = "fail".into();
-                v["failure"] = serde_json::json!({"kind": "dut", "tick": 12, "signal": "pmu50.diag", "expected": "0", "got": "1", "block": "b", "fig": "s1", "detail": "planted"});
+                v["failure"] = serde_json::json!({"kind": "dut", "tick": 12, "signal": "pmu50.si", "expected": "0", "got": "1", "block": "b", "fig": "s1", "detail": "planted"});
             }
             v.to_string()
         })
@@ -475,7 +475,7 @@ fn with_failure(dir: &Path, sig: &str) {
 #[test]
 fn merge_carries_the_repro_folders_it_links_and_drops_stale_ones() {
     let t = tmp("repros");
-    let sig = "dut-diag-s1";
+    let sig = "dut-si-s1";
     let (a, b) = (t.join("a"), t.join("b"));
     for (i, d) in [&a, &b].into_iter().enumerate() {
         let o = pmu50(&[
