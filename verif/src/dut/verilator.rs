@@ -243,6 +243,21 @@ fn step(cmd: &mut Command, what: &str) -> Result<(), String> {
     ))
 }
 
+/// Run build steps at once, each on its own thread: the first failure, or every step done.
+fn steps_at_once(jobs: Vec<(Command, &str)>) -> Result<(), String> {
+    std::thread::scope(|s| {
+        let running: Vec<_> = jobs
+            .into_iter()
+            .map(|(mut c, what)| s.spawn(move || step(&mut c, what)))
+            .collect();
+        running
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|_| Err("g++: a thread died".into())))
+            .collect::<Result<Vec<()>, String>>()
+    })?;
+    Ok(())
+}
+
 impl VerilatorDut {
     /// Analyse the RTL of `list` (ports, parameters, hierarchy), check it against the contract,
     /// learn what it fixes, check the map, and build the library of its default parameters:
@@ -814,16 +829,12 @@ impl VerilatorDut {
             })
             .collect::<Result<_, _>>()?;
         // the units at once (a build with code coverage: the fast code and the slow)
-        std::thread::scope(|s| {
-            let running: Vec<_> = compiles
+        steps_at_once(
+            compiles
                 .into_iter()
-                .map(|mut cc| s.spawn(move || step(&mut cc, "g++ (the Verilator model)")))
-                .collect();
-            running
-                .into_iter()
-                .map(|h| h.join().unwrap_or_else(|_| Err("g++: a thread died".into())))
-                .collect::<Result<Vec<()>, String>>()
-        })?;
+                .map(|cc| (cc, "g++ (the Verilator model)"))
+                .collect(),
+        )?;
         let t_compile = lap();
         let mut ld = Command::new("g++");
         ld.args(["-shared", "-Wl,--exclude-libs,ALL", "-o"])
@@ -1497,16 +1508,7 @@ fn make_runtime(
         objs.push(o);
     }
     // at once: nothing else is built before the runtime
-    std::thread::scope(|s| {
-        let running: Vec<_> = jobs
-            .into_iter()
-            .map(|(mut c, what)| s.spawn(move || step(&mut c, what)))
-            .collect();
-        running
-            .into_iter()
-            .map(|h| h.join().unwrap_or_else(|_| Err("g++: a thread died".into())))
-            .collect::<Result<Vec<()>, String>>()
-    })?;
+    steps_at_once(jobs)?;
     step(
         Command::new("ar")
             .arg("rcs")
